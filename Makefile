@@ -1,0 +1,53 @@
+# Entry points: `make report` (main job) and `make test`. `make help` lists targets.
+# Everything runs inside .venv, created on first use from the pinned requirements.lock.
+
+SHELL := /bin/bash
+PYTHON ?= python3
+VENV := .venv
+PY := $(VENV)/bin/python
+STAMP := $(VENV)/.installed
+BUILD := reports/build
+
+.DEFAULT_GOAL := help
+
+## help: list the targets
+.PHONY: help
+help:
+	@grep -hE '^## ' $(MAKEFILE_LIST) | sed -e 's/^## /  /'
+
+# The venv is a real file target: it is rebuilt only when the pins change.
+$(STAMP): requirements.lock pyproject.toml
+	@test -x $(PY) || $(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install --quiet --disable-pip-version-check -r requirements.lock
+	@touch $(STAMP)
+
+## venv: create .venv and install the pinned dependencies
+.PHONY: venv
+venv: $(STAMP)
+
+## test: run the test suite (creates .venv when missing)
+.PHONY: test
+test: $(STAMP)
+	$(PY) -m pytest
+
+## bench: time the solver, the survey analytics and the report build (results in reports/build/bench/)
+.PHONY: bench
+bench: $(STAMP)
+	@mkdir -p $(BUILD)/bench
+	@set -e; for f in tests/bench/bench_*.py; do echo "== $$f"; $(PY) $$f; done
+
+## report: build the verification report and the reproducible paper into reports/build/
+.PHONY: report
+report: $(STAMP)
+	@mkdir -p $(BUILD)
+	@echo "report: nothing to build yet"
+
+## clean: remove build outputs (keeps .venv)
+.PHONY: clean
+clean:
+	rm -rf $(BUILD)
+
+## distclean: remove build outputs and .venv
+.PHONY: distclean
+distclean: clean
+	rm -rf $(VENV)

@@ -1,0 +1,1 @@
+"""Likert survey analytics and verification of published percentage tables."""

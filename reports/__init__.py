@@ -1,0 +1,1 @@
+"""Build of the verification report and the reproducible paper (``make report``)."""

@@ -1,0 +1,1 @@
+"""Planar rigid-body solver built on the generalized Euler equation (paper Eq. 10-15)."""
