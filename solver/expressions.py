@@ -1,0 +1,294 @@
+"""A whitelist parser for the expressions written in scene files.
+
+Scene files hold formulas as text: positions such as ``"l_b/2"``, an
+orientation ``"pi - theta"``, a force history ``"F_0*sin(w*t)"``. Text from a
+file is data, never code, so nothing here calls ``eval``, ``exec``,
+``sympify`` or ``parse_expr``. The text is parsed into a Python syntax tree
+(:func:`ast.parse` only builds the tree; it runs nothing) and the tree is
+walked node by node. Only the node types listed below are accepted; each is
+turned directly into the matching sympy object. Anything else is refused
+with an :class:`~solver.errors.ExpressionError` that says where the text came
+from, what is not allowed, and the offending piece of text.
+
+Accepted
+--------
+* numbers: integers, decimals and scientific notation (``2``, ``0.5``,
+  ``1.5e-3``). Decimals become *exact* rationals (``0.5`` -> 1/2), so
+  symbolic comparisons stay exact; ``1/3`` is ``Rational(1, 3)``;
+* names given by the caller (parameters, the coordinate, ``t`` ...) and
+  ``pi``;
+* ``+ - * /``, powers written ``**`` or ``^``, unary ``+``/``-``,
+  parentheses;
+* calls of the functions in :data:`FUNCTIONS` with positional arguments.
+"""
+from __future__ import annotations
+
+import ast
+from collections.abc import Callable, Mapping
+from fractions import Fraction
+
+import sympy as sp
+
+from solver.errors import ExpressionError
+
+MAX_LENGTH = 500
+"""Longest accepted expression text [characters]."""
+MAX_DEPTH = 100
+"""Deepest accepted nesting of operations and calls."""
+MAX_DIGITS = 300
+"""Largest number of decimal digits a numeric power may produce (keeps
+``9**9**9`` from computing a huge integer)."""
+
+# name -> (sympy function, allowed argument counts)
+FUNCTIONS: dict[str, tuple[Callable[..., sp.Expr], tuple[int, ...]]] = {
+    "sin": (sp.sin, (1,)),
+    "cos": (sp.cos, (1,)),
+    "tan": (sp.tan, (1,)),
+    "asin": (sp.asin, (1,)),
+    "acos": (sp.acos, (1,)),
+    "atan": (sp.atan, (1,)),
+    "atan2": (sp.atan2, (2,)),
+    "sqrt": (sp.sqrt, (1,)),
+    "exp": (sp.exp, (1,)),
+    "log": (sp.log, (1, 2)),
+    "abs": (sp.Abs, (1,)),
+    "sinh": (sp.sinh, (1,)),
+    "cosh": (sp.cosh, (1,)),
+    "tanh": (sp.tanh, (1,)),
+    "sign": (sp.sign, (1,)),
+    "min": (sp.Min, (2, 3, 4, 5, 6, 7, 8)),
+    "max": (sp.Max, (2, 3, 4, 5, 6, 7, 8)),
+}
+CONSTANTS: dict[str, sp.Expr] = {"pi": sp.pi}
+RESERVED_NAMES = frozenset(FUNCTIONS) | frozenset(CONSTANTS)
+"""Names a scene cannot use for its own parameters."""
+
+_BINARY = {
+    ast.Add: lambda a, b: a + b,
+    ast.Sub: lambda a, b: a - b,
+    ast.Mult: lambda a, b: a * b,
+    ast.Div: lambda a, b: a / b,
+    ast.Pow: lambda a, b: a**b,
+}
+
+# Friendly names for refused syntax, so the message says what was written.
+_REFUSED = {
+    ast.Attribute: "attribute access",
+    ast.Subscript: "subscripts",
+    ast.Lambda: "lambda functions",
+    ast.ListComp: "comprehensions",
+    ast.SetComp: "comprehensions",
+    ast.DictComp: "comprehensions",
+    ast.GeneratorExp: "comprehensions",
+    ast.Starred: "starred arguments",
+    ast.List: "lists",
+    ast.Tuple: "tuples",
+    ast.Dict: "dictionaries",
+    ast.Set: "sets",
+    ast.Compare: "comparisons",
+    ast.BoolOp: "boolean operators",
+    ast.IfExp: "conditional expressions",
+    ast.NamedExpr: "assignments",
+    ast.JoinedStr: "strings",
+    ast.Await: "await",
+    ast.Yield: "yield",
+    ast.YieldFrom: "yield",
+    ast.Slice: "slices",
+}
+
+
+def parse_expression(text: str, names: Mapping[str, sp.Symbol], where: str) -> sp.Expr:
+    """Parse one scene expression into a sympy expression, by whitelist.
+
+    Parameters
+    ----------
+    text : str
+        The expression as written, e.g. ``"l_b*sin(beta - theta)/sin(beta)"``.
+        ``^`` means power, like ``**``.
+    names : Mapping[str, sympy.Symbol]
+        The names the expression may use (parameters, the coordinate, ``t``),
+        each mapped to its sympy symbol. ``pi`` is always available.
+    where : str
+        Where the text came from, e.g. ``"sliding_bar.toml: points.B"``;
+        it starts every error message.
+
+    Returns
+    -------
+    sympy.Expr
+        The expression; exact rationals for decimal numbers.
+
+    Raises
+    ------
+    ExpressionError
+        ``"<where>: <what is wrong> in '<text>'"`` for anything outside the
+        whitelist (attributes, subscripts, lambdas, comprehensions, strings,
+        keyword arguments, unknown names or functions), for text longer than
+        :data:`MAX_LENGTH` or nested deeper than :data:`MAX_DEPTH`, and for
+        expressions that are undefined (division by zero).
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> l_b = sp.Symbol("l_b", real=True)
+    >>> parse_expression("l_b/3 + 0.25*l_b", {"l_b": l_b}, "demo")
+    7*l_b/12
+    """
+    _validate_parse_expression(text, names, where)
+    source = text.replace("^", "**")
+    try:
+        tree = ast.parse(source.strip(), mode="eval")
+    except SyntaxError as err:
+        detail = err.msg or "invalid syntax"
+        if err.offset:
+            detail += f" at column {err.offset}"
+        raise ExpressionError(f"{where}: syntax error ({detail}) in {text!r}") from None
+    except (ValueError, RecursionError, MemoryError):
+        raise ExpressionError(f"{where}: cannot parse {text!r}") from None
+    builder = _Builder(source.strip(), text, names, where)
+    expr = builder.build(tree.body, 0)
+    if expr.has(sp.zoo, sp.nan, sp.oo, -sp.oo):
+        raise ExpressionError(
+            f"{where}: the expression is undefined (division by zero or a "
+            f"function outside its domain) in {text!r}"
+        )
+    return expr
+
+
+def _validate_parse_expression(text: object, names: Mapping[str, sp.Symbol], where: str) -> None:
+    if not isinstance(text, str):
+        raise ExpressionError(
+            f"{where}: expected an expression written as text, got {type(text).__name__} {text!r}"
+        )
+    if not text.strip():
+        raise ExpressionError(f"{where}: empty expression")
+    if len(text) > MAX_LENGTH:
+        raise ExpressionError(
+            f"{where}: expression is {len(text)} characters long; the limit is "
+            f"{MAX_LENGTH} in {text[:40]!r}..."
+        )
+    for name, symbol in names.items():
+        if not isinstance(symbol, sp.Symbol):  # a caller bug, not a user error
+            raise TypeError(f"`names[{name!r}]` must be a sympy Symbol, got {symbol!r}")
+
+
+def _too_large_power(base: sp.Expr, exponent: sp.Expr) -> bool:
+    """True when ``base**exponent`` of two numbers would have more than
+    :data:`MAX_DIGITS` digits (sympy evaluates integer powers eagerly)."""
+    if not (base.is_number and exponent.is_number):
+        return False
+    try:
+        size = abs(complex(exponent.evalf(15))) * float(sp.log(abs(base) + 1, 10).evalf(15))
+    except (TypeError, ValueError, OverflowError):
+        return True
+    return not size <= MAX_DIGITS
+
+
+class _Builder:
+    """Walks a parsed tree and builds the sympy expression, node by node."""
+
+    def __init__(self, source: str, text: str, names: Mapping[str, sp.Symbol], where: str):
+        self.source = source
+        self.text = text
+        self.names = names
+        self.where = where
+
+    # -- helpers ------------------------------------------------------------
+    def _segment(self, node: ast.AST) -> str:
+        seg = ast.get_source_segment(self.source, node)
+        return seg if seg is not None else type(node).__name__
+
+    def _fail(self, what: str, node: ast.AST | None = None) -> ExpressionError:
+        piece = ""
+        if node is not None:
+            seg = self._segment(node)
+            if seg.strip() != self.source:
+                piece = f": {seg!r}"
+        return ExpressionError(f"{self.where}: {what}{piece} in {self.text!r}")
+
+    # -- the walk -----------------------------------------------------------
+    def build(self, node: ast.AST, depth: int) -> sp.Expr:
+        if depth > MAX_DEPTH:
+            raise self._fail(f"nesting deeper than {MAX_DEPTH} levels")
+        if isinstance(node, ast.Constant):
+            return self._constant(node)
+        if isinstance(node, ast.Name):
+            return self._name(node)
+        if isinstance(node, ast.UnaryOp):
+            operand = self.build(node.operand, depth + 1)
+            if isinstance(node.op, ast.USub):
+                return -operand
+            if isinstance(node.op, ast.UAdd):
+                return operand
+            raise self._fail(f"operator {type(node.op).__name__} is not allowed", node)
+        if isinstance(node, ast.BinOp):
+            return self._binop(node, depth)
+        if isinstance(node, ast.Call):
+            return self._call(node, depth)
+        what = _REFUSED.get(type(node), f"{type(node).__name__} syntax")
+        raise self._fail(f"{what} not allowed", node)
+
+    def _constant(self, node: ast.Constant) -> sp.Expr:
+        value = node.value
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            kind = "strings" if isinstance(value, (str, bytes)) else f"{type(value).__name__} values"
+            raise self._fail(f"{kind} not allowed", node)
+        if isinstance(value, int):
+            return sp.Integer(value)
+        # Exact rational from the digits as written (0.1 -> 1/10, not the binary float).
+        try:
+            frac = Fraction(self._segment(node).replace("_", ""))
+        except (ValueError, ZeroDivisionError):
+            frac = Fraction(value)
+        return sp.Rational(frac.numerator, frac.denominator)
+
+    def _name(self, node: ast.Name) -> sp.Expr:
+        if node.id in self.names:
+            return self.names[node.id]
+        if node.id in CONSTANTS:
+            return CONSTANTS[node.id]
+        if node.id in FUNCTIONS:
+            raise self._fail(f"function {node.id!r} used without calling it")
+        known = ", ".join(sorted(set(self.names) | set(CONSTANTS))) or "none"
+        raise self._fail(f"unknown name {node.id!r} (known names: {known})")
+
+    def _binop(self, node: ast.BinOp, depth: int) -> sp.Expr:
+        op = _BINARY.get(type(node.op))
+        if op is None:
+            raise self._fail(f"operator {type(node.op).__name__} is not allowed", node)
+        left = self.build(node.left, depth + 1)
+        right = self.build(node.right, depth + 1)
+        if isinstance(node.op, ast.Pow) and _too_large_power(left, right):
+            raise self._fail(f"number too large (more than {MAX_DIGITS} digits)", node)
+        if isinstance(node.op, ast.Div) and right == 0:
+            raise self._fail("division by zero", node)
+        return op(left, right)
+
+    def _call(self, node: ast.Call, depth: int) -> sp.Expr:
+        if not isinstance(node.func, ast.Name):
+            what = _REFUSED.get(type(node.func), "calling this")
+            raise self._fail(f"{what} not allowed", node.func)
+        name = node.func.id
+        if name not in FUNCTIONS:
+            valid = ", ".join(sorted(FUNCTIONS))
+            raise self._fail(f"unknown function {name!r} (valid functions: {valid})")
+        if node.keywords:
+            raise self._fail("keyword arguments not allowed", node)
+        func, counts = FUNCTIONS[name]
+        for arg in node.args:
+            if isinstance(arg, ast.Starred):
+                raise self._fail("starred arguments not allowed", arg)
+        if len(node.args) not in counts:
+            if len(counts) == 1:
+                expected = str(counts[0])
+            elif len(counts) == 2:
+                expected = f"{counts[0]} or {counts[1]}"
+            else:
+                expected = f"{counts[0]} to {counts[-1]}"
+            raise self._fail(
+                f"{name}() takes {expected} argument(s), got {len(node.args)}", node
+            )
+        args = [self.build(arg, depth + 1) for arg in node.args]
+        return func(*args)
+
+
+__all__ = ["parse_expression", "FUNCTIONS", "CONSTANTS", "RESERVED_NAMES", "MAX_LENGTH"]
