@@ -1,0 +1,727 @@
+"""One-degree-of-freedom energy model and the exact period of free oscillation.
+
+The scene's equation of motion in its coordinate q (``theta``) has the form
+
+    M(q) q'' + 1/2 M'(q) q'^2 + V'(q) = Q(q, q', t)
+
+(the normalised ``Derivation.eom``; for Example 2 this is the paper's Eq. 44
+with the sign of F_a corrected). :class:`OneDofSystem` holds M, V, Q, the
+angular acceleration and the reactions as sympy expressions and compiles them
+once into numeric functions. The rest of the dynamics modules
+(:mod:`solver.simulate`, :mod:`solver.friction`, :mod:`solver.fidelity`) work
+on it.
+
+With Q depending on q alone the energy E = 1/2 M q'^2 + V - int Q dq is
+conserved, and released from rest at q0 the system swings between q0 and the
+other turning point q1 (V(q1) = V(q0)) with the period
+
+    T = 2 int_{q1}^{q0} sqrt( M(q) / (2 (V(q0) - V(q))) ) dq .
+
+The integrand has inverse square-root singularities at both turning points.
+:func:`exact_period` removes them with the substitution
+q = q_m + h sin(u) (q_m the midpoint, h the half-width): then
+(q0 - q)(q - q1) = h^2 cos^2 u, and
+
+    T = 2 int_{-pi/2}^{pi/2} sqrt( M(q) / (2 g(q)) ) du ,
+    g(q) = (V(q0) - V(q)) / ((q0 - q)(q - q1)) > 0 ,
+
+a smooth integrand whose even, periodic extension in u makes the midpoint
+rule (Gauss-Chebyshev quadrature of the first kind) converge geometrically.
+Near the turning points V(q0) - V(q) is a difference of nearly equal numbers;
+when the estimated round-off of that difference threatens the requested
+tolerance the sum is evaluated in mpmath at higher precision.
+
+The linearized period about the stable equilibrium q_e is
+T_0 = 2 pi sqrt(M(q_e) / V''(q_e)) (paper Eq. 46 for Example 2).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from typing import Any, Callable, Mapping
+
+import mpmath
+import numpy as np
+import sympy as sp
+from scipy.optimize import brentq
+
+from .errors import InputError, NoRestoringError
+
+__all__ = [
+    "FrictionPair",
+    "OneDofSystem",
+    "Equilibrium",
+    "PeriodResult",
+    "find_equilibrium",
+    "turning_points",
+    "linear_period",
+    "exact_period",
+    "TOL_MIN",
+    "TOL_MAX",
+]
+
+# Tolerances outside this range are refused: below TOL_MIN float64 cannot hold
+# the answer, above TOL_MAX the word "period" has lost its meaning.
+TOL_MIN = 1e-15
+TOL_MAX = 0.1
+_EPS = np.finfo(float).eps
+_MAX_NODES = 2**17
+_MP_DPS = 34
+
+
+# --------------------------------------------------------------------------- model
+@dataclass(frozen=True)
+class FrictionPair:
+    """The two reactions of one rolling contact and its friction coefficient.
+
+    Attributes
+    ----------
+    constraint : str
+        Name of the rolling constraint.
+    friction, normal : str
+        Reaction names: tangential (friction) and normal force. [N]
+    mu : float or None
+        Coefficient of static friction given by the scene, if any.
+    """
+
+    constraint: str
+    friction: str
+    normal: str
+    mu: float | None = None
+
+
+def _lambdify(args, expr, modules):
+    return sp.lambdify(args, expr, modules=modules, cse=True)
+
+
+@dataclass(frozen=True, eq=False)
+class OneDofSystem:
+    """A one-degree-of-freedom system in the energy form of its equation of motion.
+
+    All expressions are sympy in the coordinate ``q``, its rate ``qd``, time
+    ``t`` and the parameter symbols ``params`` (whose numeric SI values are
+    ``values``); the reactions and ``alpha`` have theta_ddot already
+    eliminated where the Derivation provides them so.
+
+    Attributes
+    ----------
+    q, qd, qdd, t : sympy.Symbol
+    mass : sympy.Expr
+        Generalized mass M(q). [kg m^2 for an angle]
+    potential : sympy.Expr
+        Potential energy V(q) of gravity. [J]
+    generalized_force : sympy.Expr
+        Q(q, qd, t) of the other (non-gravity) loads. [N m]
+    alpha : sympy.Expr
+        k-component of the angular acceleration in (q, qd, qdd). [rad/s^2]
+    reactions : dict[str, sympy.Expr]
+        Reactions in (q, qd, t) with qdd eliminated. [N or N m]
+    reaction_units : dict[str, str]
+    one_sided : tuple[str, ...]
+        Reactions that can only push (simulation stops when one turns negative).
+    friction_pairs : tuple[FrictionPair, ...]
+    reaction_constraints : dict[str, str]
+        Reaction name -> name of the constraint that brings it (for messages).
+    params : tuple[sympy.Symbol, ...]
+    values : tuple[float, ...]
+        SI values of ``params``.
+    name : str
+        For messages (the scene file).
+    """
+
+    q: sp.Symbol
+    qd: sp.Symbol
+    qdd: sp.Symbol
+    t: sp.Symbol
+    mass: sp.Expr
+    potential: sp.Expr
+    generalized_force: sp.Expr = sp.Integer(0)
+    alpha: sp.Expr | None = None
+    reactions: dict[str, sp.Expr] = field(default_factory=dict)
+    reaction_units: dict[str, str] = field(default_factory=dict)
+    one_sided: tuple[str, ...] = ()
+    friction_pairs: tuple[FrictionPair, ...] = ()
+    reaction_constraints: dict[str, str] = field(default_factory=dict)
+    params: tuple[sp.Symbol, ...] = ()
+    values: tuple[float, ...] = ()
+    name: str = "system"
+    _cache: dict = field(default_factory=dict, repr=False, compare=False)
+
+    # -- construction ---------------------------------------------------------
+    @classmethod
+    def from_derivation(cls, derivation: Any) -> "OneDofSystem":
+        """Build the model from a :class:`solver.derivation.Derivation`.
+
+        Uses ``mass``, ``potential_energy``, ``generalized_force``, ``alpha``,
+        ``reactions``, ``reaction_units`` and the scene's constraints (rolling
+        normal forces are always one-sided; ``Constraint.one_sided`` marks the
+        others). Parameter values are the scene's SI values.
+        """
+        scene = derivation.scene
+        si = scene.si_values()
+        params = tuple(si)
+        values = tuple(float(v) for v in si.values())
+        subs = dict(si)
+        one_sided: list[str] = []
+        pairs: list[FrictionPair] = []
+        owners: dict[str, str] = {}
+        for c in scene.constraints:
+            owners.update({r: c.name for r in c.reactions})
+            if c.kind == "rolling":
+                friction, normal = c.reactions[0], c.reactions[1]
+                one_sided.append(normal)
+                mu = None
+                if c.friction_coefficient is not None:
+                    mu = float(sp.sympify(c.friction_coefficient).xreplace(subs))
+                pairs.append(FrictionPair(c.name, friction, normal, mu))
+            elif c.one_sided:
+                one_sided.extend(c.reactions)
+        from .kinematics import scene_label
+
+        reactions = dict(derivation.reactions)
+        units = dict(getattr(derivation, "reaction_units", {}) or {})
+        return cls(
+            q=derivation.q,
+            qd=derivation.qd,
+            qdd=derivation.qdd,
+            t=derivation.t,
+            mass=derivation.mass,
+            potential=derivation.potential_energy,
+            generalized_force=derivation.generalized_force,
+            alpha=derivation.alpha,
+            reactions=reactions,
+            reaction_units={k: units.get(k, "N") for k in reactions},
+            one_sided=tuple(one_sided),
+            friction_pairs=tuple(pairs),
+            reaction_constraints=owners,
+            params=params,
+            values=values,
+            name=scene_label(scene),
+        )
+
+    def with_values(self, **changes: float) -> "OneDofSystem":
+        """A copy with some parameter values changed (SI), sharing the compiled code."""
+        names = [p.name for p in self.params]
+        values = list(self.values)
+        for key, val in changes.items():
+            if key not in names:
+                raise InputError(
+                    f"{self.name}: unknown parameter {key!r}; parameters are {', '.join(names)}"
+                )
+            values[names.index(key)] = float(val)
+        return replace(self, values=tuple(values), _cache=self._cache)
+
+    def value_of(self, name: str) -> float:
+        names = [p.name for p in self.params]
+        if name not in names:
+            raise InputError(f"{self.name}: the scene has no parameter {name!r}; parameters are {', '.join(names)}")
+        return self.values[names.index(name)]
+
+    # -- derived expressions --------------------------------------------------
+    def _memo(self, key, build):
+        if key not in self._cache:
+            self._cache[key] = build()
+        return self._cache[key]
+
+    @property
+    def is_conservative(self) -> bool:
+        """True when Q depends on q at most (then the energy integral applies)."""
+        Q = self.generalized_force
+        return not ({self.qd, self.t} & Q.free_symbols)
+
+    def effective_potential(self) -> sp.Expr:
+        """V(q) - int_0^q Q(s) ds: the potential of gravity plus the position-dependent loads.
+
+        Raises
+        ------
+        InputError
+            When Q depends on the rate or on time (no potential exists).
+        """
+
+        def build():
+            Q = sp.sympify(self.generalized_force)
+            if not self.is_conservative:
+                raise InputError(
+                    f"{self.name}: the loads' generalized force depends on the rate or on time "
+                    f"(Q = {Q}); free oscillation needs them constant or position-dependent "
+                    "(set them to zero with --set)"
+                )
+            if Q == 0:
+                return self.potential
+            s = sp.Dummy("s", real=True)
+            work = sp.integrate(Q.subs(self.q, s), (s, 0, self.q))
+            if work.has(sp.Integral):
+                raise InputError(f"{self.name}: cannot integrate the generalized force Q = {Q} into a potential")
+            return self.potential - work
+
+        return self._memo("V_eff", build)
+
+    def qdd_expression(self) -> sp.Expr:
+        """theta_ddot = (Q - 1/2 M' qd^2 - V') / M  (the normalised eom solved for qdd)."""
+
+        def build():
+            M = self.mass
+            return (self.generalized_force - sp.Rational(1, 2) * sp.diff(M, self.q) * self.qd**2
+                    - sp.diff(self.potential, self.q)) / M
+
+        return self._memo("qdd", build)
+
+    # -- compiled functions (args: state..., *params) --------------------------
+    def _fn(self, key: str, args: tuple, expr_builder: Callable[[], Any], modules) -> Callable:
+        def build():
+            f = _lambdify(tuple(args) + self.params, expr_builder(), modules)
+            return f
+
+        return self._memo((key, str(modules)), build)
+
+    def mass_fn(self) -> Callable[[Any], Any]:
+        f = self._fn("M", (self.q,), lambda: self.mass, "numpy")
+        vals = self.values
+        return lambda q: np.asarray(f(q, *vals), dtype=float) + 0.0 * np.asarray(q, dtype=float)
+
+    def potential_fn(self, derivative: int = 0, precision: str = "float64") -> Callable[[Any], Any]:
+        """V_eff^(derivative)(q) as a function; ``precision="mpmath"`` for an mpmath version."""
+        def expr():
+            return sp.diff(self.effective_potential(), self.q, derivative)
+
+        if precision == "mpmath":
+            f = self._fn(f"V{derivative}", (self.q,), expr, "mpmath")
+            mvals = [mpmath.mpf(v) for v in self.values]
+            return lambda q: f(q, *mvals)
+        f = self._fn(f"V{derivative}", (self.q,), expr, "numpy")
+        vals = self.values
+        return lambda q: np.asarray(f(q, *vals), dtype=float) + 0.0 * np.asarray(q, dtype=float)
+
+    def qdd_fn(self) -> Callable:
+        """Vectorised theta_ddot(q, qd, t)."""
+        f = self._fn("qdd", (self.q, self.qd, self.t), self.qdd_expression, "numpy")
+        vals = self.values
+        return lambda q, qd, t: f(q, qd, t, *vals)
+
+    def qdd_scalar_fn(self) -> Callable[[float, float, float], float]:
+        """theta_ddot(q, qd, t) on Python floats (``math`` module: the fast rhs)."""
+        try:
+            f = self._fn("qdd", (self.q, self.qd, self.t), self.qdd_expression, "math")
+            f(0.1, 0.2, 0.0, *self.values)
+        except (NameError, TypeError, AttributeError, KeyError):
+            f = self._fn("qdd", (self.q, self.qd, self.t), self.qdd_expression, "numpy")
+        vals = self.values
+        return lambda q, qd, t: float(f(q, qd, t, *vals))
+
+    def reactions_fn(self) -> Callable[[Any, Any, Any], dict[str, np.ndarray]]:
+        """Vectorised reactions(q, qd, t) -> {name: array}."""
+        names = tuple(self.reactions)
+        if not names:
+            return lambda q, qd, t: {}
+        f = self._fn("R", (self.q, self.qd, self.t), lambda: [self.reactions[n] for n in names], "numpy")
+        vals = self.values
+
+        def g(q, qd, t):
+            shape = np.broadcast(np.asarray(q), np.asarray(qd), np.asarray(t)).shape
+            out = f(q, qd, t, *vals)
+            return {n: np.broadcast_to(np.asarray(v, dtype=float), shape).copy() for n, v in zip(names, out)}
+
+        return g
+
+    def reaction_scalar_fns(self) -> dict[str, Callable[[float, float, float], float]]:
+        """Each reaction(q, qd, t) on Python floats (for event functions)."""
+
+        def build():
+            out = {}
+            for name, expr in self.reactions.items():
+                args = (self.q, self.qd, self.t) + self.params
+                try:
+                    f = _lambdify(args, expr, "math")
+                    f(0.1, 0.2, 0.0, *self.values)
+                except (NameError, TypeError, AttributeError, KeyError):
+                    f = _lambdify(args, expr, "numpy")
+                except (ZeroDivisionError, ValueError, OverflowError):
+                    pass
+                out[name] = f
+            return out
+
+        fns = self._memo("R_scalar", build)
+        vals = self.values
+        return {n: (lambda f: (lambda q, qd, t: float(f(q, qd, t, *vals))))(f) for n, f in fns.items()}
+
+    def alpha_fn(self) -> Callable:
+        """Vectorised alpha(q, qd, qdd) (k-component of the angular acceleration)."""
+        expr = self.alpha if self.alpha is not None else self.qdd
+        f = self._fn("alpha", (self.q, self.qd, self.qdd), lambda: expr, "numpy")
+        vals = self.values
+
+        def g(q, qd, qdd):
+            shape = np.broadcast(np.asarray(q), np.asarray(qd), np.asarray(qdd)).shape
+            return np.broadcast_to(np.asarray(f(q, qd, qdd, *vals), dtype=float), shape).copy()
+
+        return g
+
+    def energy_fn(self) -> Callable:
+        """Vectorised mechanical energy E(q, qd) = 1/2 M qd^2 + V (gravity only). [J]"""
+        M = self.mass_fn()
+        f = self._fn("V0", (self.q,), lambda: self.potential, "numpy")
+        vals = self.values
+        return lambda q, qd: 0.5 * M(q) * np.asarray(qd) ** 2 + np.asarray(f(q, *vals), dtype=float) + 0.0 * np.asarray(q)
+
+
+# --------------------------------------------------------------------------- equilibrium
+@dataclass(frozen=True)
+class Equilibrium:
+    """A stable equilibrium of V_eff.
+
+    Attributes
+    ----------
+    q : float
+        Coordinate. [rad]
+    mass : float
+        M(q_e).
+    stiffness : float
+        V_eff''(q_e) > 0.
+    """
+
+    q: float
+    mass: float
+    stiffness: float
+
+    @property
+    def omega(self) -> float:
+        """Small-oscillation angular frequency sqrt(k / M). [rad/s]"""
+        return math.sqrt(self.stiffness / self.mass)
+
+    @property
+    def period(self) -> float:
+        """Linearized period 2 pi / omega. [s]"""
+        return 2.0 * math.pi / self.omega
+
+
+def _validate_find_equilibrium(system: OneDofSystem, near: float, span: float) -> None:
+    if not isinstance(system, OneDofSystem):
+        raise TypeError(f"`system` must be a OneDofSystem, got {type(system).__name__}")
+    if not (math.isfinite(near) and math.isfinite(span) and span > 0):
+        raise ValueError(f"`near` must be finite and `span` positive, got near={near!r}, span={span!r}")
+
+
+def find_equilibrium(system: OneDofSystem, near: float = 0.0, span: float = 2.0 * math.pi) -> Equilibrium:
+    """The stable equilibrium of V_eff (minimum) nearest to ``near``.
+
+    Searches [near - span, near + span] for sign changes of V_eff' from - to +.
+
+    Raises
+    ------
+    NoRestoringError
+        No minimum with positive stiffness (e.g. a massless bar on a rolling
+        disk: V is constant, no restoring moment).
+    """
+    _validate_find_equilibrium(system, near, span)
+    V_expr = system.effective_potential()
+    if not V_expr.has(system.q) or sp.diff(V_expr, system.q).xreplace(dict(zip(system.params, system.values))) == 0:
+        raise NoRestoringError(
+            f"{system.name}: the potential energy does not depend on {system.q} "
+            "(no restoring moment: no oscillation, no period)"
+        )
+    dV = system.potential_fn(1)
+    d2V = system.potential_fn(2)
+    grid = np.linspace(near - span, near + span, 4097)
+    with np.errstate(all="ignore"):
+        d = dV(grid)
+    scale = float(np.nanmax(np.abs(d))) if np.any(np.isfinite(d)) else 0.0
+    if not scale > 0:
+        raise NoRestoringError(f"{system.name}: no restoring moment near {system.q} = {near:g} rad")
+    candidates: list[float] = []
+    for i in range(len(grid) - 1):
+        a, b = d[i], d[i + 1]
+        if not (np.isfinite(a) and np.isfinite(b)):
+            continue
+        if a < 0 <= b or (a == 0 and i > 0 and d[i - 1] < 0 < b):
+            if b == 0:
+                root = grid[i + 1]
+            else:
+                root = brentq(lambda x: float(dV(x)), grid[i], grid[i + 1], xtol=1e-300, rtol=4 * _EPS, maxiter=200)
+            candidates.append(float(root))
+    stable = []
+    for r in candidates:
+        k = float(d2V(r))
+        m = float(system.mass_fn()(r))
+        if k > 0 and m > 0 and math.isfinite(k):
+            stable.append(Equilibrium(r, m, k))
+    if not stable:
+        raise NoRestoringError(
+            f"{system.name}: no stable equilibrium (minimum of the potential with positive stiffness) "
+            f"within {span:g} rad of {system.q} = {near:g} rad"
+        )
+    return min(stable, key=lambda e: (abs(e.q - near), e.q))
+
+
+def linear_period(system: OneDofSystem, equilibrium: Equilibrium | None = None) -> float:
+    """Linearized period T0 = 2 pi sqrt(M(q_e) / V''(q_e)) [s] (paper Eq. 46 for Example 2)."""
+    eq = equilibrium if equilibrium is not None else find_equilibrium(system)
+    return eq.period
+
+
+# --------------------------------------------------------------------------- turning points
+def _separatrix_error(system: OneDofSystem, amplitude: float, q_max: float, where: str) -> InputError:
+    return InputError(
+        f"{system.name}: amplitude {math.degrees(amplitude):.6g} deg is at or past the separatrix: "
+        f"the unstable equilibrium at {system.q} = {math.degrees(q_max):.6g} deg {where}; "
+        "released there the body does not oscillate (no period)"
+    )
+
+
+def turning_points(system: OneDofSystem, equilibrium: Equilibrium, amplitude: float) -> tuple[float, float]:
+    """Both turning points (q1, q0) of a release from rest at q0 = q_e + amplitude.
+
+    Returns the pair sorted (low, high).
+
+    Raises
+    ------
+    InputError
+        When the release point is at or past the separatrix (a maximum of
+        V_eff lies between q_e and q0, or the other side's barrier is lower
+        than V_eff(q0)).
+    """
+    qe = equilibrium.q
+    q0 = qe + amplitude
+    s = 1.0 if amplitude > 0 else -1.0
+    V = system.potential_fn(0)
+    dV = system.potential_fn(1)
+    # same side: V must rise monotonically from q_e to q0
+    side = qe + np.linspace(0.0, amplitude, 2049)[1:]
+    slope = s * dV(side)
+    scale = float(np.max(np.abs(slope))) if slope.size else 0.0
+    bad = np.nonzero(slope <= 1e-12 * scale)[0]
+    if bad.size:
+        qm = float(side[bad[0]])
+        raise _separatrix_error(system, amplitude, qm, "lies between the equilibrium and the release point")
+    V0 = float(V(q0))
+    # other side: walk away from q_e until V >= V0, refusing a maximum on the way
+    reach = max(4.0 * abs(amplitude), 4.0 * math.pi)
+    other = qe - s * np.linspace(0.0, reach, 8193)[1:]
+    Vo = V(other)
+    so = -s * dV(other)
+    above = np.nonzero(Vo >= V0)[0]
+    if not above.size:
+        raise InputError(
+            f"{system.name}: released at {system.q} = {math.degrees(q0):.6g} deg the body does not come back "
+            f"within {math.degrees(reach):.6g} deg of the equilibrium (not an oscillation)"
+        )
+    j = int(above[0])
+    falling = np.nonzero(so[: j + 1] < -1e-12 * scale)[0]
+    if falling.size:
+        qm = float(other[falling[0]])
+        raise _separatrix_error(system, amplitude, qm, "on the far side is lower than the release point")
+    lo = qe if j == 0 else float(other[j - 1])
+    hi = float(other[j])
+    f = lambda x: float(V(x)) - V0  # noqa: E731
+    if f(hi) == 0.0:
+        q1 = hi
+    else:
+        q1 = brentq(f, lo, hi, xtol=1e-300, rtol=4 * _EPS, maxiter=500)
+    # a turning point at a (numerically) flat potential is the separatrix itself
+    if abs(float(dV(q1))) <= 1e-9 * scale or abs(float(dV(q0))) <= 1e-9 * scale:
+        raise _separatrix_error(system, amplitude, q1 if abs(float(dV(q1))) <= 1e-9 * scale else q0,
+                                "is reached exactly")
+    return (min(q0, q1), max(q0, q1))
+
+
+# --------------------------------------------------------------------------- period
+@dataclass(frozen=True)
+class PeriodResult:
+    """The period of free oscillation released from rest.
+
+    Attributes
+    ----------
+    period : float
+        Period T. [s]
+    period_linear : float
+        Linearized period T0 about the equilibrium. [s]
+    ratio : float
+        T / T0.
+    amplitude : float
+        Release point minus equilibrium. [rad]
+    equilibrium : float
+        Stable equilibrium q_e. [rad]
+    turning_points : tuple[float, float]
+        (q1, q0) sorted. [rad]
+    model : str
+        ``"quadrature"``, ``"linear"`` or ``"integration"``.
+    error_estimate : float
+        Estimated relative error of ``period``.
+    nodes : int
+        Quadrature nodes (or integrator steps) used.
+    precision : str
+        ``"float64"`` or ``"mpmath"``.
+    """
+
+    period: float
+    period_linear: float
+    ratio: float
+    amplitude: float
+    equilibrium: float
+    turning_points: tuple[float, float]
+    model: str
+    error_estimate: float
+    nodes: int = 0
+    precision: str = "float64"
+
+    def to_dict(self) -> dict:
+        """JSON-ready dict: ``{"period": {"value", "unit"}, "period_linear": {...}, "ratio", ...}``."""
+        return {
+            "period": {"value": self.period, "unit": "s"},
+            "period_linear": {"value": self.period_linear, "unit": "s"},
+            "ratio": self.ratio,
+            "model": self.model,
+            "error_estimate": self.error_estimate,
+            "amplitude": {"value": math.degrees(self.amplitude), "unit": "deg"},
+            "equilibrium": {"value": math.degrees(self.equilibrium), "unit": "deg"},
+            "turning_points": {"value": [math.degrees(x) for x in self.turning_points], "unit": "deg"},
+            "nodes": self.nodes,
+            "precision": self.precision,
+        }
+
+
+def _validate_exact_period(system: OneDofSystem, amplitude: float, tol: float) -> None:
+    if not isinstance(system, OneDofSystem):
+        raise TypeError(f"`system` must be a OneDofSystem, got {type(system).__name__}")
+    if not math.isfinite(amplitude):
+        raise InputError(f"{system.name}: amplitude must be a finite angle, got {amplitude!r}")
+    if not (TOL_MIN <= tol <= TOL_MAX):
+        raise InputError(f"tolerance must lie in [{TOL_MIN:g}, {TOL_MAX:g}], got {tol!r}")
+
+
+def _float_sum(M, V, V0, q0, q1, n):
+    """Midpoint rule in u with n nodes; returns (T, round-off estimate, ok)."""
+    qm, h = 0.5 * (q0 + q1), 0.5 * (q0 - q1)
+    u = -0.5 * math.pi + math.pi * (np.arange(n) + 0.5) / n
+    w = 0.25 * math.pi - 0.5 * u
+    d0 = 2.0 * h * np.sin(w) ** 2  # q0 - q, free of cancellation
+    d1 = 2.0 * h * np.cos(w) ** 2  # q - q1
+    q = qm + h * np.sin(u)
+    Vq = V(q)
+    dV = V0 - Vq
+    with np.errstate(all="ignore"):
+        g = dV / (d0 * d1)
+        Mq = M(q)
+        ok = bool(np.all(np.isfinite(g)) and np.all(g > 0) and np.all(Mq > 0))
+        if not ok:
+            return math.nan, math.inf, False
+        hq = np.sqrt(Mq / (2.0 * g))
+    T = 2.0 * math.pi / n * float(np.sum(hq))
+    # round-off in V0 - V(q) (and in q itself) relative to the difference, weighted as in the sum
+    scale = np.abs(V0) + np.abs(Vq) + np.abs(q) * np.abs(dV / np.maximum(d0, d1))
+    rel = 0.5 * 4.0 * _EPS * scale / np.abs(dV)
+    err = float(np.sum(hq * rel) / np.sum(hq))
+    return T, err, True
+
+
+def _mp_sum(system, q0, q1, n, dps=_MP_DPS):
+    """The same midpoint sum with V0 - V(q) and the nodes in mpmath at ``dps`` digits."""
+    Vmp = system.potential_fn(0, precision="mpmath")
+    M = system.mass_fn()
+    with mpmath.workdps(dps):
+        mq0, mq1 = mpmath.mpf(q0), mpmath.mpf(q1)
+        V0 = Vmp(mq0)
+        # sharpen the far turning point in the higher precision
+        try:
+            mq1 = mpmath.findroot(lambda x: Vmp(x) - V0, mq1, tol=mpmath.mpf(10) ** (-dps + 4))
+        except (ValueError, ZeroDivisionError):
+            pass
+        qm, h = (mq0 + mq1) / 2, (mq0 - mq1) / 2
+        total = mpmath.mpf(0)
+        for k in range(n):
+            u = -mpmath.pi / 2 + mpmath.pi * (k + mpmath.mpf(1) / 2) / n
+            w = mpmath.pi / 4 - u / 2
+            d0 = 2 * h * mpmath.sin(w) ** 2
+            d1 = 2 * h * mpmath.cos(w) ** 2
+            q = qm + h * mpmath.sin(u)
+            g = (V0 - Vmp(q)) / (d0 * d1)
+            if not g > 0:
+                return math.nan, False
+            total += mpmath.sqrt(mpmath.mpf(float(M(float(q)))) / (2 * g))
+        return float(2 * mpmath.pi / n * total), True
+
+
+def exact_period(
+    system: OneDofSystem,
+    amplitude: float,
+    tol: float = 1e-10,
+    equilibrium: Equilibrium | None = None,
+    precision: str = "auto",
+) -> PeriodResult:
+    """Period of free oscillation released from rest at q_e + amplitude, to relative ``tol``.
+
+    Parameters
+    ----------
+    system : OneDofSystem
+    amplitude : float
+        Release point minus the stable equilibrium (either sign). [rad]
+    tol : float
+        Requested relative accuracy, in [1e-15, 0.1].
+    equilibrium : Equilibrium, optional
+        Found with :func:`find_equilibrium` when not given.
+    precision : {"auto", "float64", "mpmath"}
+        Arithmetic of the potential differences; ``"auto"`` switches to mpmath
+        when the estimated round-off exceeds tol / 4.
+
+    Returns
+    -------
+    PeriodResult
+        ``model="quadrature"``; ``error_estimate`` is the difference between
+        the last two node counts plus the round-off estimate (an upper bound:
+        the convergence is geometric).
+
+    Raises
+    ------
+    InputError
+        Amplitude at or past the separatrix, tolerance out of range, or no
+        convergence within 2**17 nodes.
+    NoRestoringError
+        No stable equilibrium.
+
+    Notes
+    -----
+    T = 2 int sqrt(M / (2 (V(q0) - V))) dq with q = q_m + h sin u (module
+    docstring); T0 from paper Eq. 46 generalised: 2 pi sqrt(M(q_e)/V''(q_e)).
+    """
+    _validate_exact_period(system, amplitude, tol)
+    valid = ("auto", "float64", "mpmath")
+    if precision not in valid:
+        raise ValueError(f"`precision` must be one of {valid}, got {precision!r}")
+    eq = equilibrium if equilibrium is not None else find_equilibrium(system)
+    T0 = eq.period
+    if amplitude == 0.0:
+        return PeriodResult(T0, T0, 1.0, 0.0, eq.q, (eq.q, eq.q), "quadrature", 0.0, 0, "float64")
+    q1, q0 = turning_points(system, eq, amplitude)
+    M = system.mass_fn()
+    V = system.potential_fn(0)
+    V0 = float(V(q0))
+    use_mp = precision == "mpmath"
+    n = 8
+    prev = None
+    err_round = 0.0
+    while n <= _MAX_NODES:
+        if use_mp:
+            T, ok = _mp_sum(system, q0, q1, n)
+            err_round = 10.0 ** (-_MP_DPS + 8)
+        else:
+            T, err_round, ok = _float_sum(M, V, V0, q0, q1, n)
+            if (not ok or err_round > tol / 4) and precision == "auto":
+                use_mp = True
+                prev = None
+                continue
+            if not ok:
+                raise InputError(
+                    f"{system.name}: the potential difference is not resolved in float64 at amplitude "
+                    f"{math.degrees(amplitude):.6g} deg; use precision='mpmath'"
+                )
+        if prev is not None:
+            diff = abs(T - prev) / abs(T)
+            if diff <= tol / 2:
+                est = max(diff + err_round, 2 * _EPS)
+                return PeriodResult(T, T0, T / T0, amplitude, eq.q, (q1, q0), "quadrature",
+                                    est, n, "mpmath" if use_mp else "float64")
+        prev = T
+        n *= 2
+    raise InputError(
+        f"{system.name}: the period quadrature did not reach tolerance {tol:g} with {_MAX_NODES} nodes "
+        f"at amplitude {math.degrees(amplitude):.6g} deg (too close to the separatrix)"
+    )

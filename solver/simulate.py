@@ -1,0 +1,464 @@
+"""Time histories of a one-degree-of-freedom scene by ``scipy.integrate.solve_ivp``.
+
+The state is y = (theta, theta_dot); the right-hand side is the compiled
+(lambdified with common subexpressions) theta_ddot of the equation of motion
+M(q) q'' + 1/2 M'(q) q'^2 + V'(q) = Q(q, q', t) (for Example 2 the paper's
+Eq. 44 with the sign of F_a corrected). After the run the dense output is
+sampled and the angular acceleration alpha, every reaction (with theta_ddot
+eliminated, Eqs. 39-40 for Example 2, Eqs. 24-25 and 28 for Example 1) and the
+mechanical energy are evaluated on the samples.
+
+Terminal events stop a run when
+
+* a one-sided reaction (a rolling contact's normal force, or a constraint
+  marked ``one_sided``) would turn negative: the body leaves its support;
+* a rolling contact would need more friction than it has:
+  |F_f| > mu F_n (mu from the constraint's ``friction_coefficient`` or the
+  ``mu`` argument).
+
+The result says why the run stopped.
+"""
+from __future__ import annotations
+
+import csv
+import math
+import os
+import sys
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from .errors import InputError
+from .period import Equilibrium, OneDofSystem, find_equilibrium
+
+__all__ = [
+    "METHODS",
+    "StopEvent",
+    "SimulationResult",
+    "simulate",
+    "period_by_integration",
+    "write_csv",
+]
+
+METHODS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
+
+
+@dataclass(frozen=True)
+class StopEvent:
+    """Why and where a run stopped early.
+
+    Attributes
+    ----------
+    kind : str
+        ``"lost_contact"`` (a one-sided reaction reached zero) or ``"slip"``
+        (|F_f| reached mu F_n).
+    reaction : str
+        The reaction concerned (the normal force for a slip).
+    constraint : str
+    time : float  [s]
+    theta, theta_dot : float  [rad], [rad/s]
+    """
+
+    kind: str
+    reaction: str
+    constraint: str
+    time: float
+    theta: float
+    theta_dot: float
+
+
+@dataclass(frozen=True)
+class SimulationResult:
+    """Sampled time history of a run.
+
+    Attributes
+    ----------
+    t, theta, theta_dot, theta_ddot, alpha, energy : numpy.ndarray
+        [s], [rad], [rad/s], [rad/s^2], [rad/s^2], [J].
+    reactions : dict[str, numpy.ndarray]
+        Every reaction on the samples. [N or N m]
+    reaction_units : dict[str, str]
+    status : str
+        ``"completed"``, ``"lost_contact"``, ``"slip"`` or ``"failed"``.
+    reason : str
+        One sentence: why the run stopped.
+    event : StopEvent or None
+    method : str
+    rtol, atol : float
+    nfev : int
+        Right-hand-side evaluations.
+    sol : callable or None
+        Dense output y(t) of the integrator.
+    """
+
+    t: np.ndarray
+    theta: np.ndarray
+    theta_dot: np.ndarray
+    theta_ddot: np.ndarray
+    alpha: np.ndarray
+    reactions: dict[str, np.ndarray]
+    energy: np.ndarray
+    reaction_units: dict[str, str]
+    status: str
+    reason: str
+    event: StopEvent | None
+    method: str
+    rtol: float
+    atol: float
+    nfev: int
+    sol: Any = field(default=None, repr=False)
+
+    @property
+    def energy_drift(self) -> float:
+        """max |E - E(0)| over the run, relative to the energy scale
+        max(|E(0)|, max 1/2 M qd^2 ... ) (here: the range of the kinetic energy + |E(0)|)."""
+        E = self.energy
+        scale = max(float(np.max(np.abs(E - np.min(E)))), float(abs(E[0])), 1e-300)
+        return float(np.max(np.abs(E - E[0])) / scale)
+
+    def columns(self) -> dict[str, tuple[np.ndarray, str]]:
+        """Ordered columns name -> (values, unit) as written to CSV."""
+        cols = {
+            "t": (self.t, "s"),
+            "theta": (self.theta, "rad"),
+            "theta_dot": (self.theta_dot, "rad/s"),
+            "theta_ddot": (self.theta_ddot, "rad/s**2"),
+            "alpha": (self.alpha, "rad/s**2"),
+        }
+        for name, values in self.reactions.items():
+            cols[name] = (values, self.reaction_units.get(name, "N"))
+        cols["energy"] = (self.energy, "J")
+        return cols
+
+    def to_dict(self) -> dict:
+        """Summary for ``--json``: final state, reason, counts."""
+        out = {
+            "status": self.status,
+            "reason": self.reason,
+            "t_end": {"value": float(self.t[-1]), "unit": "s"},
+            "theta_end": {"value": float(self.theta[-1]), "unit": "rad"},
+            "theta_dot_end": {"value": float(self.theta_dot[-1]), "unit": "rad/s"},
+            "energy_drift": self.energy_drift,
+            "method": self.method,
+            "rtol": self.rtol,
+            "atol": self.atol,
+            "nfev": self.nfev,
+            "samples": int(self.t.size),
+        }
+        if self.event is not None:
+            out["event"] = {
+                "kind": self.event.kind,
+                "reaction": self.event.reaction,
+                "constraint": self.event.constraint,
+                "time": {"value": self.event.time, "unit": "s"},
+                "theta": {"value": self.event.theta, "unit": "rad"},
+            }
+        return out
+
+    def __repr__(self) -> str:
+        return (f"SimulationResult(status={self.status!r}, t_end={float(self.t[-1]):.6g} s, "
+                f"samples={self.t.size}, method={self.method!r}, reason={self.reason!r})")
+
+
+def write_csv(result: SimulationResult, path: str | os.PathLike) -> Path:
+    """Write the samples as CSV, atomically (temporary file in the same folder, then rename).
+
+    The header names each column with its unit, e.g. ``theta [rad]``.
+    """
+    path = Path(path)
+    folder = path.parent if str(path.parent) else Path(".")
+    if not folder.is_dir():
+        raise InputError(f"{path}: folder {folder} does not exist")
+    cols = result.columns()
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=folder)
+    try:
+        with os.fdopen(fd, "w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow([f"{name} [{unit}]" for name, (_, unit) in cols.items()])
+            data = np.column_stack([v for v, _ in cols.values()])
+            for row in data:
+                w.writerow([repr(float(x)) for x in row])
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
+    return path
+
+
+# --------------------------------------------------------------------------- helpers
+class _Progress:
+    """A tqdm bar on stderr driven by the integrator's time (only forward moves count)."""
+
+    def __init__(self, t_end: float, enabled: bool | None):
+        self.bar = None
+        auto = enabled is None
+        if auto:
+            enabled = sys.stderr.isatty()
+        if enabled:
+            from tqdm import tqdm
+
+            # delay: in auto mode a short run finishes before the bar would appear
+            self.bar = tqdm(total=t_end, file=sys.stderr, unit="s", delay=0.5 if auto else 0.0,
+                            bar_format="{l_bar}{bar}| {n:.3g}/{total:.3g} s simulated [{elapsed}<{remaining}]")
+        self.done = 0.0
+        self.step = t_end / 500.0
+
+    def wrap(self, f: Callable) -> Callable:
+        if self.bar is None:
+            return f
+
+        def g(t, y):
+            if t - self.done > self.step:
+                self.bar.update(t - self.done)
+                self.done = t
+            return f(t, y)
+
+        return g
+
+    def close(self, t_final: float) -> None:
+        if self.bar is not None:
+            if t_final > self.done:
+                self.bar.update(t_final - self.done)
+            self.bar.close()
+
+
+def _validate_simulate(system, t_end, method, rtol, atol, mu, samples) -> None:
+    if not isinstance(system, OneDofSystem):
+        raise TypeError(f"`system` must be a OneDofSystem, got {type(system).__name__}")
+    if method not in METHODS:
+        raise ValueError(f"`method` must be one of {METHODS}, got {method!r}")
+    if not (isinstance(t_end, (int, float)) and math.isfinite(t_end) and t_end > 0):
+        raise InputError(f"--t-end must be a positive, finite time, got {t_end!r}")
+    if not (0 < rtol < 1 and math.isfinite(rtol)):
+        raise InputError(f"--rtol must lie in (0, 1), got {rtol!r}")
+    if not (0 < atol and math.isfinite(atol)):
+        raise InputError(f"--atol must be positive, got {atol!r}")
+    if mu is not None and not (math.isfinite(mu) and mu >= 0):
+        raise InputError(f"--mu must be a non-negative number, got {mu!r}")
+    if samples is not None and (int(samples) != samples or samples < 2):
+        raise InputError(f"samples must be an integer >= 2, got {samples!r}")
+
+
+def simulate(
+    system: OneDofSystem,
+    t_end: float,
+    y0: tuple[float, float] | None = None,
+    method: str = "DOP853",
+    rtol: float = 1e-9,
+    atol: float = 1e-12,
+    mu: float | None = None,
+    samples: int | None = None,
+    progress: bool | None = None,
+    events: bool = True,
+) -> SimulationResult:
+    """Integrate the equation of motion from ``y0`` over [0, t_end].
+
+    Parameters
+    ----------
+    system : OneDofSystem
+    t_end : float
+        End time. [s]
+    y0 : (theta, theta_dot), optional
+        Initial state [rad, rad/s]; default: the system's ``initial`` state
+        is not stored, so callers pass the scene's state (``scene.state_si()``).
+    method : str
+        One of :data:`METHODS` (solve_ivp methods).
+    rtol, atol : float
+        Integrator tolerances.
+    mu : float, optional
+        Friction coefficient for every rolling contact; overrides the
+        scene's ``friction_coefficient``. Without either, slip is not checked.
+    samples : int, optional
+        Number of uniformly spaced output samples (default: 20 per
+        linearized period, at least 1001, at most 200001).
+    progress : bool or None
+        Progress bar on stderr: None = when stderr is a terminal and the run
+        is long, True = always, False = never.
+    events : bool
+        Stop on loss of contact / slip (default True).
+
+    Returns
+    -------
+    SimulationResult
+
+    Raises
+    ------
+    InputError
+        Bad times or tolerances.
+    ValueError
+        Unknown ``method`` (lists the valid ones).
+    """
+    _validate_simulate(system, t_end, method, rtol, atol, mu, samples)
+    if y0 is None:
+        y0 = (0.0, 0.0)
+    q0, qd0 = float(y0[0]), float(y0[1])
+    rhs_qdd = system.qdd_scalar_fn()
+
+    def rhs(t, y):
+        return (y[1], rhs_qdd(y[0], y[1], t))
+
+    # event functions -------------------------------------------------------
+    scalar_R = system.reaction_scalar_fns() if (events and system.reactions) else {}
+    ev_funcs: list[Callable] = []
+    ev_info: list[tuple[str, str, str]] = []
+    for name in system.one_sided:
+        if name in scalar_R:
+            f = scalar_R[name]
+            fn = (lambda f: (lambda t, y: f(y[0], y[1], t)))(f)
+            ev_funcs.append(fn)
+            ev_info.append(("lost_contact", name, system.reaction_constraints.get(name, name)))
+    for pair in system.friction_pairs:
+        m = mu if mu is not None else pair.mu
+        if m is None or pair.friction not in scalar_R or pair.normal not in scalar_R:
+            continue
+        ff, fn_ = scalar_R[pair.friction], scalar_R[pair.normal]
+        fn = (lambda ff, fn_, m: (lambda t, y: m * fn_(y[0], y[1], t) - abs(ff(y[0], y[1], t))))(ff, fn_, m)
+        ev_funcs.append(fn)
+        ev_info.append(("slip", pair.normal, pair.constraint))
+    for fn in ev_funcs:
+        fn.terminal = True
+        fn.direction = -1
+
+    # already violated at the start?
+    for fn, (kind, name, cons) in zip(ev_funcs, ev_info):
+        if fn(0.0, (q0, qd0)) < 0:
+            ev = StopEvent(kind, name, cons, 0.0, q0, qd0)
+            return _finish(system, None, np.array([0.0]), method, rtol, atol, 1, ev,
+                           _reason(system, ev, mu, at_start=True), "lost_contact" if kind == "lost_contact" else "slip",
+                           y_single=(q0, qd0))
+
+    bar = _Progress(float(t_end), progress)
+    try:
+        with np.errstate(all="ignore"):
+            sol = solve_ivp(bar.wrap(rhs), (0.0, float(t_end)), [q0, qd0], method=method, rtol=rtol, atol=atol,
+                            dense_output=True, events=ev_funcs or None)
+    except (ZeroDivisionError, ValueError, OverflowError) as exc:
+        bar.close(0.0)
+        raise InputError(f"{system.name}: integration failed: {exc}") from None
+    bar.close(float(sol.t[-1]))
+    event = None
+    status = "completed"
+    if sol.status == -1:
+        status = "failed"
+        reason = f"integration failed at t = {sol.t[-1]:.6g} s: {sol.message}"
+    elif sol.status == 1:
+        for k, te in enumerate(sol.t_events):
+            if len(te):
+                kind, name, cons = ev_info[k]
+                ye = sol.y_events[k][0]
+                event = StopEvent(kind, name, cons, float(te[0]), float(ye[0]), float(ye[1]))
+                break
+        status = event.kind if event else "completed"
+        reason = _reason(system, event, mu) if event else "stopped by an event"
+    else:
+        reason = f"reached t_end = {t_end:g} s"
+    t_final = float(sol.t[-1])
+    if samples is None:
+        try:
+            T0 = find_equilibrium(system, near=q0).period
+            samples = int(min(max(1001, 20 * t_final / T0 + 1), 200001))
+        except InputError:
+            samples = 1001
+    t = np.linspace(0.0, t_final, int(samples))
+    return _finish(system, sol, t, method, rtol, atol, int(sol.nfev), event, reason, status)
+
+
+def _reason(system: OneDofSystem, ev: StopEvent, mu: float | None, at_start: bool = False) -> str:
+    when = "at the start" if at_start else f"at t = {ev.time:.6g} s"
+    where = f"({system.q} = {math.degrees(ev.theta):.6g} deg, {system.qd} = {ev.theta_dot:.6g} rad/s)"
+    if ev.kind == "lost_contact":
+        return (f"{ev.reaction} would turn negative {when} {where}: the body leaves the support of "
+                f"constraint {ev.constraint}")
+    m = mu
+    if m is None:
+        m = next((p.mu for p in system.friction_pairs if p.normal == ev.reaction), None)
+    return (f"rolling at {ev.constraint} would need more friction than mu = {m:g} gives {when} {where}: "
+            f"|friction| > mu * {ev.reaction}, the disk starts to slip")
+
+
+def _finish(system, sol, t, method, rtol, atol, nfev, event, reason, status, y_single=None) -> SimulationResult:
+    if sol is not None:
+        y = sol.sol(t)
+        if event is not None:  # the last sample is exactly the event state
+            y[:, -1] = (event.theta, event.theta_dot)
+        q, qd = y[0], y[1]
+    else:
+        q, qd = np.array([y_single[0]]), np.array([y_single[1]])
+    with np.errstate(all="ignore"):
+        qdd = np.asarray(system.qdd_fn()(q, qd, t), dtype=float) + 0.0 * q
+        alpha = system.alpha_fn()(q, qd, qdd)
+        reactions = system.reactions_fn()(q, qd, t)
+        energy = system.energy_fn()(q, qd)
+    return SimulationResult(t=t, theta=q, theta_dot=qd, theta_ddot=qdd, alpha=alpha, reactions=reactions,
+                            energy=np.asarray(energy, dtype=float), reaction_units=dict(system.reaction_units),
+                            status=status, reason=reason, event=event, method=method, rtol=rtol, atol=atol,
+                            nfev=nfev, sol=sol.sol if sol is not None else None)
+
+
+# --------------------------------------------------------------------------- period by integration
+@dataclass(frozen=True)
+class IntegratedPeriod:
+    """Period from the time between turning points of an integrated free oscillation.
+
+    Attributes
+    ----------
+    period : float  [s]
+    nfev : int
+    method : str
+    rtol : float
+    """
+
+    period: float
+    nfev: int
+    method: str
+    rtol: float
+
+
+def period_by_integration(
+    system: OneDofSystem,
+    amplitude: float,
+    method: str = "DOP853",
+    rtol: float = 1e-10,
+    atol: float | None = None,
+    equilibrium: Equilibrium | None = None,
+) -> IntegratedPeriod:
+    """Period of a release from rest at q_e + amplitude by ``solve_ivp`` and an event.
+
+    Released from rest at q0 the rate first takes the sign opposite to the
+    amplitude and returns to zero at the far turning point after half a
+    period (time reversal symmetry of a conservative system); the event
+    theta_dot = 0 (located on the dense output) gives T = 2 t_half.
+    """
+    if method not in METHODS:
+        raise ValueError(f"`method` must be one of {METHODS}, got {method!r}")
+    eq = equilibrium if equilibrium is not None else find_equilibrium(system)
+    if not system.is_conservative:
+        system.effective_potential()  # raises the explanatory InputError
+    qdd = system.qdd_scalar_fn()
+    # generalized force of position-dependent loads is already in qdd
+    rhs = lambda t, y: (y[1], qdd(y[0], y[1], t))  # noqa: E731
+    sgn = 1.0 if amplitude > 0 else -1.0
+
+    def turn(t, y):
+        return y[1]
+
+    turn.terminal = True
+    turn.direction = sgn  # rate goes from -sgn back through zero
+    T0 = eq.period
+    if atol is None:
+        atol = rtol * max(abs(amplitude), 1e-300) * 1e-2
+    with np.errstate(all="ignore"):
+        sol = solve_ivp(rhs, (0.0, 50.0 * T0), [eq.q + amplitude, 0.0], method=method, rtol=rtol, atol=atol,
+                        events=turn, dense_output=False)
+    te = sol.t_events[0]
+    te = te[te > 0.05 * T0]
+    if not len(te):
+        raise InputError(f"{system.name}: no turning point found within 50 linearized periods")
+    return IntegratedPeriod(2.0 * float(te[0]), int(sol.nfev), method, rtol)
