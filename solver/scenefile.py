@@ -1,0 +1,929 @@
+"""Read a scene file (TOML) into a validated :class:`solver.scene.Scene`.
+
+The format is documented, with both of the paper's examples walked through,
+in ``data/scenes/README.md``. This module is the one place where a scene is
+checked: every problem a user can make in a scene file (a misspelt key, a
+parameter used but never defined, a mass given in feet, a negative length,
+two parallel rails, a body whose placement is not fixed, ...) is reported
+here as a :class:`~solver.errors.SceneError` with one line of the form
+``"<file>: <key path>: <what is wrong>"``, before anything is derived.
+
+Expressions in the file go through the whitelist parser
+:func:`solver.expressions.parse_expression`; quantities (``"50 lbm"``) are
+split into a number and a unit, and only the unit is handed to pint.
+"""
+from __future__ import annotations
+
+import keyword
+import math
+import re
+import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import pint
+import sympy as sp
+from pint.util import UnitsContainer
+
+from solver.errors import ExpressionError, SceneError
+from solver.expressions import RESERVED_NAMES, parse_expression
+from solver.scene import (
+    CONSTRAINT_KINDS,
+    ELEMENT_KINDS,
+    LOAD_KINDS,
+    Constraint,
+    Element,
+    Load,
+    Point,
+    Scene,
+)
+from solver.units import Q_, ureg
+
+# -- the format's keys ---------------------------------------------------------------
+
+TOP_KEYS = (
+    "name", "description", "parameters", "coordinate", "body", "points",
+    "elements", "constraints", "loads", "output_units",
+)
+COORDINATE_KEYS = ("name", "value", "rate")
+BODY_KEYS = ("orientation", "reference_point", "position")
+POSITION_KEYS = ("point", "at")
+POINT_KEYS = ("at", "relative_to", "offset")
+
+ELEMENT_COMMON = ("name", "kind", "mass")
+ELEMENT_KEYS: dict[str, tuple[str, ...]] = {
+    "slender_bar": ("from", "to", "center", "length", "angle"),
+    "uniform_disk": ("center", "radius"),
+    "thin_ring": ("center", "radius"),
+    "rectangular_plate": ("center", "width", "height", "angle"),
+    "point_mass": ("at",),
+    "semicircular_disk": ("center", "radius", "angle"),
+}
+ROUND_KINDS = ("uniform_disk", "thin_ring", "semicircular_disk")
+"""Element kinds with a round rim that can roll."""
+
+CONSTRAINT_COMMON = ("kind", "name", "one_sided")
+CONSTRAINT_KEYS: dict[str, tuple[str, ...]] = {
+    "rail": ("point", "through", "angle", "reaction"),
+    "rolling": (
+        "element", "through", "angle", "contact_at_zero", "friction", "normal",
+        "friction_coefficient",
+    ),
+    "pivot": ("point", "at", "reaction_x", "reaction_y"),
+}
+FREEDOMS_REMOVED = {"rail": 1, "rolling": 2, "pivot": 2}
+"""How many of the body's two translational freedoms each constraint fixes."""
+
+LOAD_COMMON = ("kind", "name")
+LOAD_KEYS: dict[str, tuple[str, ...]] = {
+    "gravity": ("g", "direction"),
+    "force": ("point", "components"),
+    "couple": ("moment",),
+}
+
+# -- dimensions -------------------------------------------------------------------------
+
+DIMENSIONLESS = UnitsContainer()
+MASS = ureg.get_dimensionality("kg")
+LENGTH = ureg.get_dimensionality("m")
+TIME = ureg.get_dimensionality("s")
+RATE = ureg.get_dimensionality("1/s")
+ACCELERATION = ureg.get_dimensionality("m/s^2")
+FORCE = ureg.get_dimensionality("N")
+MOMENT = ureg.get_dimensionality("N*m")
+
+OUTPUT_UNIT_DIMENSIONS: dict[str, UnitsContainer] = {
+    "force": FORCE,
+    "moment": MOMENT,
+    "length": LENGTH,
+    "mass": MASS,
+    "angle": DIMENSIONLESS,
+    "angular_velocity": RATE,
+    "angular_acceleration": ureg.get_dimensionality("1/s^2"),
+    "time": TIME,
+}
+
+_DIMENSION_WORDS = {
+    DIMENSIONLESS: "an angle or pure number",
+    MASS: "a mass",
+    LENGTH: "a length",
+    TIME: "a time",
+    RATE: "an angular velocity (1/time)",
+    ACCELERATION: "an acceleration",
+    FORCE: "a force",
+    MOMENT: "a moment (force x length)",
+}
+
+_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+_QUANTITY = re.compile(r"^\s*([+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?)\s*(.*?)\s*$")
+_MAX_UNIT_LENGTH = 100
+_GEOMETRY_TOL = 1e-9  # relative tolerance for "parallel" and "consistent" checks
+
+
+def describe_dimension(dim: UnitsContainer) -> str:
+    """Words for a dimension, e.g. ``"a length"`` or ``"[mass] / [time]"``."""
+    if dim in _DIMENSION_WORDS:
+        return _DIMENSION_WORDS[dim]
+    return str(dim)
+
+
+def parse_quantity(text: Any, where: str) -> pint.Quantity:
+    """Parse ``"<number> <unit>"`` (``"50 lbm"``, ``"32.174 ft/s^2"``, ``"0.3"``).
+
+    Only the unit part reaches pint (its unit parser); the number is read
+    here, so no arithmetic from the text is ever evaluated.
+
+    Raises
+    ------
+    SceneError
+        ``"<where>: ..."`` when the text is not a finite number followed by a
+        known unit.
+    """
+    if isinstance(text, bool):
+        raise SceneError(f"{where}: expected a quantity such as \"4 ft\", got {text!r}")
+    if isinstance(text, (int, float)):
+        number, unit_text = float(text), ""
+    elif isinstance(text, str):
+        match = _QUANTITY.match(text)
+        if match is None:
+            raise SceneError(
+                f"{where}: expected a number followed by a unit, such as \"4 ft\" or "
+                f"\"45 deg\", got {text!r}"
+            )
+        number, unit_text = float(match.group(1)), match.group(2)
+        if unit_text and not (unit_text[0].isalpha() or unit_text[0] in "°%"):
+            raise SceneError(
+                f"{where}: expected a number followed by a unit, such as \"4 ft\" or "
+                f"\"45 deg\", got {text!r}"
+            )
+    else:
+        raise SceneError(
+            f"{where}: expected a quantity such as \"4 ft\", got {type(text).__name__} {text!r}"
+        )
+    if not math.isfinite(number):
+        raise SceneError(f"{where}: the number in {text!r} is not finite")
+    if len(unit_text) > _MAX_UNIT_LENGTH:
+        raise SceneError(f"{where}: unit text longer than {_MAX_UNIT_LENGTH} characters")
+    try:
+        unit = ureg.parse_units(unit_text) if unit_text else ureg.dimensionless
+    except Exception as err:  # pint raises several types for bad unit text
+        raise SceneError(f"{where}: unknown unit {unit_text!r} in {text!r} ({err})") from None
+    return Q_(number, unit)
+
+
+def load_scene(path: str | Path, overrides: Mapping[str, str] | None = None) -> Scene:
+    """Read, check and build a scene from a TOML scene file.
+
+    Parameters
+    ----------
+    path : str or Path
+        The scene file (format: ``data/scenes/README.md``).
+    overrides : Mapping[str, str], optional
+        ``--set`` values: a parameter name or the state (``theta``,
+        ``theta_dot``) mapped to a quantity string such as ``"90 deg"``. The
+        dimension must match the value in the file.
+
+    Returns
+    -------
+    Scene
+        The validated scene; parameters and state as pint quantities,
+        geometry as sympy expressions in the parameter symbols.
+
+    Raises
+    ------
+    SceneError
+        ``"<file>: <key path>: <what is wrong>"`` for any problem: unreadable
+        file, TOML syntax (with line and column), unknown keys or kinds (the
+        valid ones listed), missing keys, names used but not defined, wrong
+        dimensions, non-positive masses or lengths, duplicate names, unknown
+        points or elements, rolling on a non-round element, parallel rails,
+        a body whose placement is not fixed or is over-constrained, bad
+        output units, and bad overrides.
+
+    Examples
+    --------
+    >>> scene = load_scene("data/scenes/sliding_bar.toml", {"beta": "60 deg"})
+    >>> scene.default_point, scene.reaction_names()
+    ('A', ('R_A', 'R_B'))
+    """
+    _validate_load_scene(path, overrides)
+    return _SceneLoader(Path(path)).load(dict(overrides or {}))
+
+
+def _validate_load_scene(path: Any, overrides: Any) -> None:
+    if not isinstance(path, (str, Path)):
+        raise TypeError(f"`path` must be a str or Path, got {type(path).__name__}")
+    if overrides is not None:
+        if not isinstance(overrides, Mapping):
+            raise TypeError(f"`overrides` must be a mapping, got {type(overrides).__name__}")
+        for key, value in overrides.items():
+            if not isinstance(key, str) or not isinstance(value, str):
+                raise TypeError(f"`overrides` must map str to str, got {key!r}: {value!r}")
+
+
+# -- dimension analysis of sympy expressions ---------------------------------------------
+
+
+class _DimensionError(Exception):
+    pass
+
+
+def _dimension(expr: sp.Expr, dims: Mapping[sp.Symbol, UnitsContainer]) -> UnitsContainer:
+    """The physical dimension of ``expr`` given each symbol's dimension.
+
+    Sums must add like to like, function arguments (sin, exp, ...) must be
+    dimensionless, and powers of dimensional bases need a numeric exponent.
+    """
+    if expr.is_Symbol:
+        return dims[expr]
+    if expr.is_number:
+        return DIMENSIONLESS
+    if expr.is_Add:
+        found: UnitsContainer | None = None
+        for term in expr.args:
+            d = _dimension(term, dims)
+            if found is None:
+                found = d
+            elif d != found:
+                raise _DimensionError(
+                    f"adds {describe_dimension(found)} to {describe_dimension(d)} "
+                    f"({sp.sstr(term)})"
+                )
+        return found if found is not None else DIMENSIONLESS
+    if expr.is_Mul:
+        out = DIMENSIONLESS
+        for factor in expr.args:
+            out = out * _dimension(factor, dims)
+        return out
+    if expr.is_Pow:
+        base, exponent = expr.args
+        d_base = _dimension(base, dims)
+        d_exp = _dimension(exponent, dims)
+        if d_exp != DIMENSIONLESS:
+            raise _DimensionError(f"the exponent {sp.sstr(exponent)} has a unit")
+        if d_base == DIMENSIONLESS:
+            return DIMENSIONLESS
+        if not exponent.is_number:
+            raise _DimensionError(
+                f"{sp.sstr(base)} has a unit and is raised to a non-numeric power"
+            )
+        return d_base ** float(exponent)
+    if isinstance(expr, (sp.Abs, sp.Min, sp.Max)):
+        arg_dims = {_dimension(a, dims) for a in expr.args}
+        if len(arg_dims) > 1:
+            raise _DimensionError(f"{sp.sstr(expr)} mixes different dimensions")
+        return arg_dims.pop()
+    if isinstance(expr, sp.atan2):
+        if _dimension(expr.args[0], dims) != _dimension(expr.args[1], dims):
+            raise _DimensionError(f"atan2 arguments differ in dimension in {sp.sstr(expr)}")
+        return DIMENSIONLESS
+    if isinstance(expr, sp.sign):
+        _dimension(expr.args[0], dims)
+        return DIMENSIONLESS
+    if isinstance(expr, sp.Function):
+        for arg in expr.args:
+            if _dimension(arg, dims) != DIMENSIONLESS:
+                raise _DimensionError(
+                    f"the argument of {type(expr).__name__} must be an angle or pure "
+                    f"number, but {sp.sstr(arg)} is {describe_dimension(_dimension(arg, dims))}"
+                )
+        return DIMENSIONLESS
+    raise _DimensionError(f"cannot determine the dimension of {sp.sstr(expr)}")
+
+
+# -- the loader ---------------------------------------------------------------------------
+
+
+@dataclass
+class _Names:
+    """Symbols available in the different kinds of expression."""
+
+    params: dict[str, sp.Symbol]
+    with_q: dict[str, sp.Symbol]
+    with_state_t: dict[str, sp.Symbol]
+
+
+class _SceneLoader:
+    """Reads one file; every check lives in one of its ``_read_*`` methods."""
+
+    def __init__(self, path: Path):
+        self.path = path
+        self.label = str(path)
+
+    # -- messages ----------------------------------------------------------------
+    def fail(self, key: str, what: str) -> SceneError:
+        return SceneError(f"{self.label}: {key}: {what}" if key else f"{self.label}: {what}")
+
+    def check_keys(self, table: Mapping[str, Any], valid: tuple[str, ...], key: str, what: str) -> None:
+        for name in table:
+            if name not in valid:
+                raise self.fail(
+                    f"{key}.{name}" if key else name,
+                    f"unknown key {name!r} (valid keys for {what}: {', '.join(sorted(valid))})",
+                )
+
+    def require(self, table: Mapping[str, Any], name: str, key: str, what: str) -> Any:
+        if name not in table:
+            raise self.fail(key, f"missing key {name!r} ({what})")
+        return table[name]
+
+    def table(self, value: Any, key: str) -> dict[str, Any]:
+        if not isinstance(value, dict):
+            raise self.fail(key, f"expected a table, got {type(value).__name__} {value!r}")
+        return value
+
+    def array_of_tables(self, value: Any, key: str) -> list[dict[str, Any]]:
+        if not isinstance(value, list) or not all(isinstance(v, dict) for v in value):
+            raise self.fail(key, f"expected an array of tables ([[{key}]] sections)")
+        return value
+
+    def text(self, value: Any, key: str) -> str:
+        if not isinstance(value, str):
+            raise self.fail(key, f"expected text in quotes, got {type(value).__name__} {value!r}")
+        return value
+
+    def identifier(self, value: Any, key: str, what: str) -> str:
+        name = self.text(value, key)
+        if not _NAME.match(name) or keyword.iskeyword(name):
+            raise self.fail(
+                key, f"{what} {name!r} is not a valid name (letters, digits and _, not starting with a digit)"
+            )
+        return name
+
+    def boolean(self, value: Any, key: str) -> bool:
+        if not isinstance(value, bool):
+            raise self.fail(key, f"expected true or false, got {value!r}")
+        return value
+
+    # -- expressions ----------------------------------------------------------------
+    def expr(self, value: Any, key: str, names: Mapping[str, sp.Symbol], need: UnitsContainer) -> sp.Expr:
+        """Parse an expression and check its dimension is ``need``."""
+        if isinstance(value, bool):
+            raise self.fail(key, f"expected an expression, got {value!r}")
+        if isinstance(value, int):
+            value = str(value)
+        elif isinstance(value, float):
+            if not math.isfinite(value):
+                raise self.fail(key, f"{value!r} is not a finite number")
+            value = repr(value)
+        elif not isinstance(value, str):
+            raise self.fail(key, f"expected an expression in quotes, got {type(value).__name__} {value!r}")
+        try:
+            result = parse_expression(value, names, f"{self.label}: {key}")
+        except ExpressionError as err:
+            message = str(err)
+            if _QUANTITY.match(value) and _QUANTITY.match(value).group(2):
+                message += (
+                    "; quantities with units belong in [parameters] (e.g. m_1 = \"2 kg\"), "
+                    "expressions then use the parameter's name"
+                )
+            raise SceneError(message) from None
+        if result == 0:
+            return result
+        try:
+            dim = _dimension(result, self.dims)
+        except _DimensionError as err:
+            raise self.fail(key, f"{err} in {value!r}") from None
+        if dim != need:
+            if result.is_Symbol and result.name in self.parameters:
+                quantity = self.parameters[result.name]
+                got = f"parameter {result.name} = {quantity:~P} is {describe_dimension(dim)}"
+            elif dim == DIMENSIONLESS and result.is_number:
+                got = f"{value!r} is a bare number without a unit (define a parameter with a unit)"
+            else:
+                got = f"{value!r} is {describe_dimension(dim)}"
+            raise self.fail(key, f"{got}, but {describe_dimension(need)} is needed here")
+        return result
+
+    def vector(self, value: Any, key: str, names: Mapping[str, sp.Symbol], need: UnitsContainer) -> sp.Matrix:
+        if not isinstance(value, list) or len(value) != 2:
+            raise self.fail(key, f"expected a pair [x, y] of expressions, got {value!r}")
+        return sp.Matrix([self.expr(v, f"{key}[{i}]", names, need) for i, v in enumerate(value)])
+
+    def si(self, expr: sp.Expr, key: str) -> float:
+        """Numeric SI value of a parameter expression (for sign and geometry checks)."""
+        try:
+            value = complex(expr.evalf(subs=self.si_values))
+        except (TypeError, ValueError):
+            raise self.fail(key, f"cannot evaluate {sp.sstr(expr)} with the given parameters") from None
+        if not math.isfinite(value.real) or abs(value.imag) > 1e-12 * max(1.0, abs(value.real)):
+            raise self.fail(key, f"{sp.sstr(expr)} is not a finite real number for the given parameters")
+        return value.real
+
+    def positive(self, expr: sp.Expr, key: str, what: str) -> sp.Expr:
+        value = self.si(expr, key)
+        if not value > 0:
+            raise self.fail(key, f"{what} must be positive, got {sp.sstr(expr)} = {value:.6g} (SI)")
+        return expr
+
+    # -- the whole file ----------------------------------------------------------------
+    def load(self, overrides: dict[str, str]) -> Scene:
+        data = self._read_toml()
+        self.check_keys(data, TOP_KEYS, "", "a scene file")
+        name = self.text(data.get("name", self.path.stem), "name")
+        description = self.text(data.get("description", ""), "description")
+
+        self._read_parameters(self.table(self.require(data, "parameters", "parameters", "the table [parameters]"), "parameters"))
+        coordinate, state = self._read_coordinate(
+            self.table(self.require(data, "coordinate", "coordinate", "the table [coordinate]"), "coordinate")
+        )
+        self._apply_overrides(overrides, coordinate, state)
+        self.state_q = float(state[coordinate].to("rad").magnitude)
+        self._setup_symbols(coordinate)
+
+        body = self.table(self.require(data, "body", "body", "the table [body] with orientation"), "body")
+        self.check_keys(body, BODY_KEYS, "body", "[body]")
+        orientation = self.expr(
+            self.require(body, "orientation", "body", "the body frame's angle as a function of the coordinate"),
+            "body.orientation", self.names.with_q, DIMENSIONLESS,
+        )
+        points = self._read_points(self.table(self.require(data, "points", "points", "the table [points]"), "points"))
+        elements = self._read_elements(
+            self.array_of_tables(self.require(data, "elements", "elements", "at least one [[elements]] entry"), "elements"),
+            points,
+        )
+        position = self._read_position(body, points)
+        constraints = self._read_constraints(
+            self.array_of_tables(self.require(data, "constraints", "constraints", "at least one [[constraints]] entry"), "constraints"),
+            points, elements,
+        )
+        loads = self._read_loads(self.array_of_tables(data.get("loads", []), "loads"), points)
+        output_units = self._read_output_units(self.table(data.get("output_units", {}), "output_units"))
+
+        if "reference_point" in body:
+            default_point = self.text(body["reference_point"], "body.reference_point")
+            if default_point not in points:
+                raise self.fail(
+                    "body.reference_point",
+                    f"{default_point!r} is not a point of the body (points: {', '.join(points)})",
+                )
+        else:
+            default_point = next(iter(points))
+
+        self._check_placement(orientation, position, points, elements, constraints)
+        return Scene(
+            name=name,
+            description=description,
+            source=self.path,
+            parameters=dict(self.parameters),
+            coordinate=coordinate,
+            state=state,
+            orientation=orientation,
+            points=points,
+            elements=tuple(elements),
+            constraints=tuple(constraints),
+            loads=tuple(loads),
+            default_point=default_point,
+            position=position,
+            output_units=output_units,
+        )
+
+    def _read_toml(self) -> dict[str, Any]:
+        try:
+            raw = self.path.read_bytes()
+        except OSError as err:
+            raise self.fail("", f"cannot read the scene file ({err.strerror or err})") from None
+        try:
+            return tomllib.loads(raw.decode("utf-8"))
+        except UnicodeDecodeError as err:
+            raise self.fail("", f"not UTF-8 text (byte {err.start})") from None
+        except tomllib.TOMLDecodeError as err:
+            raise self.fail("", f"TOML syntax error: {err}") from None
+
+    # -- parameters and state -----------------------------------------------------------
+    def _read_parameters(self, table: dict[str, Any]) -> None:
+        self.parameters: dict[str, pint.Quantity] = {}
+        for name, value in table.items():
+            key = f"parameters.{name}"
+            self.identifier(name, key, "parameter name")
+            if name in RESERVED_NAMES or name == "t":
+                raise self.fail(key, f"{name!r} is reserved (a function, constant or time) and cannot be a parameter name")
+            self.parameters[name] = parse_quantity(value, f"{self.label}: {key}")
+
+    def _read_coordinate(self, table: dict[str, Any]) -> tuple[str, dict[str, pint.Quantity]]:
+        self.check_keys(table, COORDINATE_KEYS, "coordinate", "[coordinate]")
+        coordinate = self.identifier(table.get("name", "theta"), "coordinate.name", "coordinate name")
+        reserved = {coordinate, coordinate + "_dot", coordinate + "_ddot"}
+        for name in self.parameters:
+            if name in reserved:
+                raise self.fail(f"parameters.{name}", f"{name!r} is the coordinate or its rate and cannot also be a parameter")
+        if coordinate in RESERVED_NAMES or coordinate in {"t", "alpha"}:
+            raise self.fail("coordinate.name", f"{coordinate!r} is reserved; use e.g. \"theta\"")
+        value = parse_quantity(
+            self.require(table, "value", "coordinate", "the coordinate's value, e.g. \"30 deg\""),
+            f"{self.label}: coordinate.value",
+        )
+        rate = parse_quantity(
+            self.require(table, "rate", "coordinate", "the coordinate's rate, e.g. \"0 rad/s\""),
+            f"{self.label}: coordinate.rate",
+        )
+        self._check_state_dimension(value, DIMENSIONLESS, "coordinate.value", "an angle")
+        self._check_state_dimension(rate, RATE, "coordinate.rate", "an angular velocity such as \"0 rad/s\"")
+        return coordinate, {coordinate: value, coordinate + "_dot": rate}
+
+    def _check_state_dimension(self, quantity: pint.Quantity, need: UnitsContainer, key: str, what: str) -> None:
+        if quantity.dimensionality != need:
+            raise self.fail(key, f"{quantity:~P} is {describe_dimension(quantity.dimensionality)}, but {what} is needed")
+
+    def _apply_overrides(self, overrides: dict[str, str], coordinate: str, state: dict[str, pint.Quantity]) -> None:
+        self.overridden: set[str] = set()
+        for name, text in overrides.items():
+            key = f"--set {name}"
+            quantity = parse_quantity(text, f"{self.label}: {key}")
+            if name in self.parameters:
+                old = self.parameters[name]
+                if quantity.dimensionality != old.dimensionality:
+                    raise self.fail(
+                        key,
+                        f"{text!r} is {describe_dimension(quantity.dimensionality)}, but {name} is "
+                        f"{describe_dimension(old.dimensionality)} (in the scene: {old:~P})",
+                    )
+                self.parameters[name] = quantity
+                self.overridden.add(name)
+            elif name in state:
+                need = DIMENSIONLESS if name == coordinate else RATE
+                self._check_state_dimension(quantity, need, key, "an angle" if need == DIMENSIONLESS else "an angular velocity")
+                state[name] = quantity
+            else:
+                valid = ", ".join([*self.parameters, *state])
+                raise self.fail(key, f"unknown name {name!r} (parameters and state: {valid})")
+
+    def _setup_symbols(self, coordinate: str) -> None:
+        params = {n: sp.Symbol(n, real=True) for n in self.parameters}
+        q = sp.Symbol(coordinate, real=True)
+        qd = sp.Symbol(coordinate + "_dot", real=True)
+        t = sp.Symbol("t", real=True)
+        self.names = _Names(
+            params=params,
+            with_q={**params, coordinate: q},
+            with_state_t={**params, coordinate: q, coordinate + "_dot": qd, "t": t},
+        )
+        self.dims = {params[n]: quantity.dimensionality for n, quantity in self.parameters.items()}
+        self.dims.update({q: DIMENSIONLESS, qd: RATE, t: TIME})
+        self.si_values = {
+            params[n]: float(quantity.to_base_units().magnitude) for n, quantity in self.parameters.items()
+        }
+        self.coordinate = coordinate
+        self.q = q
+        # Masses and lengths are sizes: positive. (A negative offset is written "-d".)
+        for name, quantity in self.parameters.items():
+            if quantity.dimensionality in (MASS, LENGTH) and not quantity.magnitude > 0:
+                key = f"--set {name}" if name in self.overridden else f"parameters.{name}"
+                raise self.fail(
+                    key,
+                    f"{describe_dimension(quantity.dimensionality)[2:]} must be positive, got {quantity:~P} "
+                    "(masses and lengths are sizes; write a negative offset as \"-d\" in the expression)",
+                )
+
+    # -- points and elements --------------------------------------------------------------
+    def _read_points(self, table: dict[str, Any]) -> dict[str, Point]:
+        if not table:
+            raise self.fail("points", "no points defined; name at least the reference point, e.g. A = [\"0\", \"0\"]")
+        points: dict[str, Point] = {}
+        instants: list[tuple[str, dict[str, Any]]] = []
+        for name, value in table.items():
+            key = f"points.{name}"
+            self.identifier(name, key, "point name")
+            if isinstance(value, list):
+                points[name] = Point(name, self.vector(value, key, self.names.params, LENGTH))
+                continue
+            spec = self.table(value, key)
+            self.check_keys(spec, POINT_KEYS, key, "a point (use at = [x, y], or relative_to + offset)")
+            if "at" in spec:
+                if "offset" in spec or "relative_to" in spec:
+                    raise self.fail(key, "give either at (body frame) or relative_to + offset (fixed-frame offset), not both")
+                points[name] = Point(name, self.vector(spec["at"], f"{key}.at", self.names.params, LENGTH))
+            else:
+                instants.append((name, spec))
+        for name, spec in instants:
+            key = f"points.{name}"
+            base = self.text(self.require(spec, "relative_to", key, "the body point this point is measured from"), f"{key}.relative_to")
+            if base not in points:
+                raise self.fail(
+                    f"{key}.relative_to",
+                    f"{base!r} is not a body-frame point (body-frame points: {', '.join(points)})",
+                )
+            offset = self.vector(self.require(spec, "offset", key, "its fixed-frame offset [dx, dy]"), f"{key}.offset", self.names.params, LENGTH)
+            points[name] = Point(name, offset, frame="instant", relative_to=base)
+        return {name: points[name] for name in table}  # file order
+
+    def _place(self, value: Any, key: str, points: Mapping[str, Point]) -> sp.Matrix:
+        """A body-frame position: a point name or a pair of expressions."""
+        if isinstance(value, str):
+            if value not in points:
+                raise self.fail(key, f"unknown point {value!r} (points: {', '.join(points)})")
+            if points[value].frame != "body":
+                raise self.fail(key, f"point {value!r} is an instant point; elements need body-frame points")
+            return points[value].coords
+        return self.vector(value, key, self.names.params, LENGTH)
+
+    def _read_elements(self, entries: list[dict[str, Any]], points: Mapping[str, Point]) -> list[Element]:
+        if not entries:
+            raise self.fail("elements", "the body has no elements")
+        elements: list[Element] = []
+        seen: set[str] = set()
+        for i, spec in enumerate(entries):
+            key = f"elements[{i}]"
+            kind = self.text(self.require(spec, "kind", key, f"one of {', '.join(ELEMENT_KINDS)}"), f"{key}.kind")
+            if kind not in ELEMENT_KEYS:
+                raise self.fail(f"{key}.kind", f"unknown element kind {kind!r} (valid kinds: {', '.join(ELEMENT_KINDS)})")
+            self.check_keys(spec, ELEMENT_COMMON + ELEMENT_KEYS[kind], key, f"a {kind} element")
+            name = self.identifier(spec.get("name", f"{kind}_{i + 1}"), f"{key}.name", "element name")
+            if name in seen:
+                raise self.fail(f"{key}.name", f"duplicate element name {name!r}")
+            seen.add(name)
+            mass = self.positive(
+                self.expr(self.require(spec, "mass", key, "the element's mass, e.g. mass = \"m_b\""), f"{key}.mass", self.names.params, MASS),
+                f"{key}.mass", "the mass",
+            )
+            elements.append(self._element_geometry(spec, key, kind, name, mass, points))
+        return elements
+
+    def _length(self, spec: dict[str, Any], dim: str, key: str) -> sp.Expr:
+        expr = self.expr(self.require(spec, dim, key, f"the {dim}"), f"{key}.{dim}", self.names.params, LENGTH)
+        return self.positive(expr, f"{key}.{dim}", f"the {dim}")
+
+    def _angle(self, spec: dict[str, Any], key: str) -> sp.Expr:
+        return self.expr(spec.get("angle", 0), f"{key}.angle", self.names.params, DIMENSIONLESS)
+
+    def _element_geometry(self, spec, key, kind, name, mass, points) -> Element:
+        if kind == "slender_bar":
+            if "from" in spec or "to" in spec:
+                clash = [k for k in ("center", "length", "angle") if k in spec]
+                if clash:
+                    raise self.fail(key, f"give a bar either from/to or center/length/angle, not both (also has {', '.join(clash)})")
+                start = self._place(self.require(spec, "from", key, "the bar's first end"), f"{key}.from", points)
+                end = self._place(self.require(spec, "to", key, "the bar's second end"), f"{key}.to", points)
+                length, angle = self._segment(start, end, key)
+                center = (start + end) / 2
+            else:
+                center = self._place(self.require(spec, "center", key, "the bar's midpoint (or give from/to)"), f"{key}.center", points)
+                length = self._length(spec, "length", key)
+                angle = self._angle(spec, key)
+            return Element(name, kind, mass, center, angle, {"length": length})
+        if kind == "point_mass":
+            at = self._place(self.require(spec, "at", key, "where the mass sits"), f"{key}.at", points)
+            return Element(name, kind, mass, at, sp.Integer(0), {})
+        center = self._place(self.require(spec, "center", key, "the element's centre"), f"{key}.center", points)
+        if kind == "rectangular_plate":
+            dims = {"width": self._length(spec, "width", key), "height": self._length(spec, "height", key)}
+            return Element(name, kind, mass, center, self._angle(spec, key), dims)
+        dims = {"radius": self._length(spec, "radius", key)}
+        angle = self._angle(spec, key) if kind == "semicircular_disk" else sp.Integer(0)
+        return Element(name, kind, mass, center, angle, dims)
+
+    def _segment(self, start: sp.Matrix, end: sp.Matrix, key: str) -> tuple[sp.Expr, sp.Expr]:
+        """Length and direction angle of a bar from its two ends, kept simple
+        for the common axis-aligned case (no sqrt(l**2) = Abs(l))."""
+        dx, dy = sp.expand(end[0] - start[0]), sp.expand(end[1] - start[1])
+        if self.si(dx, f"{key}.to") == 0 and self.si(dy, f"{key}.to") == 0:
+            raise self.fail(f"{key}.to", "the bar's two ends coincide (its length would be 0)")
+        if dy == 0 and dx != 0:
+            sign = 1 if self.si(dx, f"{key}.to") > 0 else -1
+            length, angle = sign * dx, (sp.Integer(0) if sign > 0 else sp.pi)
+        elif dx == 0 and dy != 0:
+            sign = 1 if self.si(dy, f"{key}.to") > 0 else -1
+            length, angle = sign * dy, sign * sp.pi / 2
+        else:
+            length, angle = sp.sqrt(dx**2 + dy**2), sp.atan2(dy, dx)
+        self.positive(length, f"{key}.to", "the bar's length (distance from `from` to `to`)")
+        return length, angle
+
+    def _read_position(self, body: dict[str, Any], points: Mapping[str, Point]) -> tuple[str, sp.Matrix] | None:
+        if "position" not in body:
+            return None
+        spec = self.table(body["position"], "body.position")
+        self.check_keys(spec, POSITION_KEYS, "body.position", "body.position")
+        point = self.text(self.require(spec, "point", "body.position", "the body point whose path is given"), "body.position.point")
+        if point not in points or points[point].frame != "body":
+            raise self.fail("body.position.point", f"{point!r} is not a body-frame point (points: {', '.join(points)})")
+        at = self.vector(self.require(spec, "at", "body.position", "its fixed-frame position [x(theta), y(theta)]"), "body.position.at", self.names.with_q, LENGTH)
+        return point, at
+
+    # -- constraints ---------------------------------------------------------------------------
+    def _read_constraints(self, entries, points, elements) -> list[Constraint]:
+        if not entries:
+            raise self.fail("constraints", "no constraints: the body's placement is not determined")
+        by_name = {e.name: e for e in elements}
+        constraints: list[Constraint] = []
+        names: set[str] = set()
+        reactions: dict[str, str] = {}
+        for i, spec in enumerate(entries):
+            key = f"constraints[{i}]"
+            kind = self.text(self.require(spec, "kind", key, f"one of {', '.join(CONSTRAINT_KINDS)}"), f"{key}.kind")
+            if kind not in CONSTRAINT_KEYS:
+                raise self.fail(f"{key}.kind", f"unknown constraint kind {kind!r} (valid kinds: {', '.join(CONSTRAINT_KINDS)})")
+            self.check_keys(spec, CONSTRAINT_COMMON + CONSTRAINT_KEYS[kind], key, f"a {kind} constraint")
+            one_sided = self.boolean(spec.get("one_sided", False), f"{key}.one_sided")
+            if kind in ("rail", "pivot"):
+                point = self.text(self.require(spec, "point", key, "the body point it holds"), f"{key}.point")
+                if point not in points:
+                    raise self.fail(f"{key}.point", f"unknown point {point!r} (points: {', '.join(points)})")
+                if points[point].frame != "body":
+                    raise self.fail(f"{key}.point", f"{point!r} is an instant point; a {kind} needs a body-frame point")
+                origin_key = "through" if kind == "rail" else "at"
+                origin = self.vector(spec.get(origin_key, [0, 0]), f"{key}.{origin_key}", self.names.params, LENGTH)
+                if kind == "rail":
+                    angle = self.expr(spec.get("angle", 0), f"{key}.angle", self.names.params, DIMENSIONLESS)
+                    reaction_names = [(f"{key}.reaction", spec.get("reaction", f"R_{point}"))]
+                else:
+                    angle = sp.Integer(0)
+                    reaction_names = [
+                        (f"{key}.reaction_x", spec.get("reaction_x", f"R_{point}x")),
+                        (f"{key}.reaction_y", spec.get("reaction_y", f"R_{point}y")),
+                    ]
+                constraint_name = spec.get("name", f"{kind}_{point}")
+                extra: dict[str, Any] = {"point": point}
+            else:  # rolling
+                element = self.text(self.require(spec, "element", key, "the round element that rolls"), f"{key}.element")
+                if element not in by_name:
+                    raise self.fail(f"{key}.element", f"unknown element {element!r} (elements: {', '.join(by_name)})")
+                if by_name[element].kind not in ROUND_KINDS:
+                    raise self.fail(
+                        f"{key}.element",
+                        f"element {element!r} is a {by_name[element].kind}, which cannot roll "
+                        f"(rolling needs one of: {', '.join(ROUND_KINDS)})",
+                    )
+                origin = self.vector(spec.get("through", [0, 0]), f"{key}.through", self.names.params, LENGTH)
+                angle = self.expr(spec.get("angle", 0), f"{key}.angle", self.names.params, DIMENSIONLESS)
+                contact = self.expr(spec.get("contact_at_zero", 0), f"{key}.contact_at_zero", self.names.params, LENGTH)
+                reaction_names = [
+                    (f"{key}.friction", spec.get("friction", "F_f")),
+                    (f"{key}.normal", spec.get("normal", "F_n")),
+                ]
+                constraint_name = spec.get("name", f"rolling_{element}")
+                extra = {"element": element, "contact_at_zero": contact}
+                if "friction_coefficient" in spec:
+                    mu = self.expr(spec["friction_coefficient"], f"{key}.friction_coefficient", self.names.params, DIMENSIONLESS)
+                    if self.si(mu, f"{key}.friction_coefficient") < 0:
+                        raise self.fail(f"{key}.friction_coefficient", f"must not be negative, got {sp.sstr(mu)}")
+                    extra["friction_coefficient"] = mu
+            constraint_name = self.identifier(constraint_name, f"{key}.name", "constraint name")
+            if constraint_name in names:
+                raise self.fail(f"{key}.name", f"duplicate constraint name {constraint_name!r}")
+            names.add(constraint_name)
+            reaction_list = []
+            for rkey, rname in reaction_names:
+                rname = self.identifier(rname, rkey, "reaction name")
+                self._check_reaction_name(rname, rkey, reactions)
+                reactions[rname] = rkey
+                reaction_list.append(rname)
+            constraints.append(
+                Constraint(
+                    name=constraint_name, kind=kind, reactions=tuple(reaction_list), origin=origin,
+                    angle=angle, one_sided=one_sided, **extra,
+                )
+            )
+        return constraints
+
+    def _check_reaction_name(self, name: str, key: str, seen: Mapping[str, str]) -> None:
+        taken = {"alpha", "t", self.coordinate, self.coordinate + "_dot", self.coordinate + "_ddot"}
+        if name in seen:
+            raise self.fail(key, f"duplicate reaction name {name!r} (also used at {seen[name]})")
+        if name in self.parameters:
+            raise self.fail(key, f"reaction name {name!r} is already a parameter")
+        if name in taken or name in RESERVED_NAMES:
+            raise self.fail(key, f"reaction name {name!r} is reserved")
+
+    # -- loads and units -------------------------------------------------------------------------
+    def _read_loads(self, entries: list[dict[str, Any]], points: Mapping[str, Point]) -> list[Load]:
+        loads: list[Load] = []
+        names: set[str] = set()
+        for i, spec in enumerate(entries):
+            key = f"loads[{i}]"
+            kind = self.text(self.require(spec, "kind", key, f"one of {', '.join(LOAD_KINDS)}"), f"{key}.kind")
+            if kind not in LOAD_KEYS:
+                raise self.fail(f"{key}.kind", f"unknown load kind {kind!r} (valid kinds: {', '.join(LOAD_KINDS)})")
+            self.check_keys(spec, LOAD_COMMON + LOAD_KEYS[kind], key, f"a {kind} load")
+            name = self.identifier(spec.get("name", kind if kind == "gravity" else f"{kind}_{i + 1}"), f"{key}.name", "load name")
+            if name in names:
+                raise self.fail(f"{key}.name", f"duplicate load name {name!r}" + (" (only one gravity load is allowed)" if kind == "gravity" else ""))
+            names.add(name)
+            if kind == "gravity":
+                if any(load.kind == "gravity" for load in loads):
+                    raise self.fail(key, "a second gravity load (gravity acts once on every element)")
+                g = self.expr(self.require(spec, "g", key, "the gravitational acceleration, e.g. g = \"g\""), f"{key}.g", self.names.params, ACCELERATION)
+                self.positive(g, f"{key}.g", "g")
+                direction = self.vector(spec.get("direction", [0, -1]), f"{key}.direction", self.names.params, DIMENSIONLESS)
+                dx, dy = (self.si(c, f"{key}.direction") for c in direction)
+                if math.hypot(dx, dy) < 1e-12:
+                    raise self.fail(f"{key}.direction", "the direction is the zero vector")
+                if abs(math.hypot(dx, dy) - 1.0) > 1e-12:
+                    direction = direction / sp.sqrt(direction[0] ** 2 + direction[1] ** 2)
+                loads.append(Load(name, kind, magnitude=g, direction=direction))
+            elif kind == "force":
+                point = self.text(self.require(spec, "point", key, "the body point where it acts"), f"{key}.point")
+                if point not in points:
+                    raise self.fail(f"{key}.point", f"unknown point {point!r} (points: {', '.join(points)})")
+                components = self.vector(
+                    self.require(spec, "components", key, "its fixed-frame components [Fx, Fy]"),
+                    f"{key}.components", self.names.with_state_t, FORCE,
+                )
+                loads.append(Load(name, kind, point=point, components=components))
+            else:
+                moment = self.expr(self.require(spec, "moment", key, "its k-component, counter-clockwise positive"), f"{key}.moment", self.names.with_state_t, MOMENT)
+                loads.append(Load(name, kind, magnitude=moment))
+        return loads
+
+    def _read_output_units(self, table: dict[str, Any]) -> dict[str, str]:
+        units: dict[str, str] = {}
+        for name, value in table.items():
+            key = f"output_units.{name}"
+            if name not in OUTPUT_UNIT_DIMENSIONS:
+                raise self.fail(key, f"unknown key {name!r} (valid keys: {', '.join(OUTPUT_UNIT_DIMENSIONS)})")
+            text = self.text(value, key)
+            try:
+                dim = ureg.get_dimensionality(ureg.parse_units(text))
+            except Exception as err:  # pint raises several types for bad unit text
+                raise self.fail(key, f"unknown unit {text!r} ({err})") from None
+            if dim != OUTPUT_UNIT_DIMENSIONS[name]:
+                raise self.fail(
+                    key, f"{text!r} is {describe_dimension(dim)}, but {name} needs {describe_dimension(OUTPUT_UNIT_DIMENSIONS[name])}"
+                )
+            units[name] = text
+        return units
+
+    # -- placement ------------------------------------------------------------------------------
+    def _check_placement(self, orientation, position, points, elements, constraints) -> None:
+        """The constraints must fix the body's two translational freedoms,
+        exactly, with a geometry that exists (rails not parallel)."""
+        removed = sum(FREEDOMS_REMOVED[c.kind] for c in constraints)
+        summary = ", ".join(f"{c.kind} ({FREEDOMS_REMOVED[c.kind]})" for c in constraints)
+        if removed < 2:
+            raise self.fail(
+                "constraints",
+                f"the body's placement is not determined: the constraints fix {removed} of its 2 "
+                f"translational freedoms [{summary}]; add a second rail, or use a pivot or a rolling contact",
+            )
+        if removed > 2:
+            raise self.fail(
+                "constraints",
+                f"the body is over-constrained: the constraints fix {removed} translational freedoms "
+                f"but it has only 2 [{summary}]; a single coordinate cannot then change",
+            )
+        rails = [(i, c) for i, c in enumerate(constraints) if c.kind == "rail"]
+        if len(rails) == 2:
+            (i1, r1), (i2, r2) = rails
+            if r1.point == r2.point:
+                raise self.fail(
+                    f"constraints[{i2}].point",
+                    f"both rails hold point {r1.point!r}, which fixes it; use a pivot there, or put the second rail on another point",
+                )
+            a1 = self.si(r1.angle, f"constraints[{i1}].angle")
+            a2 = self.si(r2.angle, f"constraints[{i2}].angle")
+            if abs(math.sin(a2 - a1)) < _GEOMETRY_TOL:
+                raise self.fail(
+                    f"constraints[{i2}].angle",
+                    f"impossible geometry: the rails of constraints[{i1}] and constraints[{i2}] are parallel "
+                    f"(directions {math.degrees(a1):.6g} deg and {math.degrees(a2):.6g} deg), so they cannot fix the body",
+                )
+        if not orientation.has(self.q) and (position is None or not position[1].has(self.q)):
+            raise self.fail(
+                "body.orientation",
+                f"the body cannot move: neither its orientation nor its position depends on {self.coordinate}",
+            )
+        if position is not None:
+            self._check_position_consistent(orientation, position, points, elements, constraints)
+
+    def _check_position_consistent(self, orientation, position, points, elements, constraints) -> None:
+        """An explicit position must agree with every constraint (checked at a few angles)."""
+        name, at = position
+        ref = points[name].coords
+        by_name = {e.name: e for e in elements}
+        q0 = self.state_q
+        for q in (q0, q0 + 0.37, q0 - 0.51):
+            subs = {**self.si_values, self.q: q}
+            phi = float(orientation.evalf(subs=subs))
+            rot = sp.Matrix([[math.cos(phi), -math.sin(phi)], [math.sin(phi), math.cos(phi)]])
+
+            def fixed(body_coords: sp.Matrix) -> tuple[float, float]:
+                value = at + rot * (body_coords - ref)
+                return float(value[0].evalf(subs=subs)), float(value[1].evalf(subs=subs))
+
+            for i, c in enumerate(constraints):
+                ox, oy = (float(v.evalf(subs=subs)) for v in c.origin)
+                if c.kind == "rolling":
+                    element = by_name[c.element]
+                    px, py = fixed(element.center)
+                    ang = float(c.angle.evalf(subs=subs))
+                    gap = -math.sin(ang) * (px - ox) + math.cos(ang) * (py - oy) - float(element.dims["radius"].evalf(subs=subs))
+                    scale = float(element.dims["radius"].evalf(subs=subs))
+                else:
+                    px, py = fixed(points[c.point].coords)
+                    if c.kind == "rail":
+                        ang = float(c.angle.evalf(subs=subs))
+                        gap = -math.sin(ang) * (px - ox) + math.cos(ang) * (py - oy)
+                    else:
+                        gap = math.hypot(px - ox, py - oy)
+                    scale = max(1.0, math.hypot(px, py), math.hypot(ox, oy))
+                if abs(gap) > 1e-7 * max(scale, 1e-12):
+                    raise self.fail(
+                        "body.position",
+                        f"the given position of {name!r} disagrees with constraints[{i}] ({c.kind}) at "
+                        f"{self.coordinate} = {math.degrees(q):.6g} deg (off by {gap:.3g} m)",
+                    )
+
+
+__all__ = ["load_scene", "parse_quantity", "describe_dimension", "OUTPUT_UNIT_DIMENSIONS"]
