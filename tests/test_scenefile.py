@@ -1,0 +1,203 @@
+"""Tests for the scene loader (solver/scenefile.py) and the shipped scenes.
+
+Each class of bad input is made by editing one line of a shipped example
+scene, so every case differs from a valid file in exactly the way it names;
+the test checks that the loader refuses it with a SceneError whose single
+line names the file, the key path and the problem.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+import sympy as sp
+
+from solver.errors import SceneError
+from solver.scene import Scene
+from solver.scenefile import load_scene
+from solver.units import Q_
+
+SCENES = Path(__file__).resolve().parents[1] / "data" / "scenes"
+SLIDING_BAR = SCENES / "sliding_bar.toml"
+DISK_BAR = SCENES / "disk_bar.toml"
+
+# Paper Example 1 data (paper text above Eq. 16): m_b = 50 lbm, l_b = 4 ft,
+# beta = 45 deg, released from rest at theta = 30 deg.
+EXAMPLE1 = {"m_b": Q_(50, "lb"), "l_b": Q_(4, "ft"), "beta": Q_(45, "deg")}
+
+
+def _sym(name: str) -> sp.Symbol:
+    return sp.Symbol(name, real=True)
+
+
+# -- the two examples load with the paper's structure ---------------------------------------
+
+
+def test_sliding_bar_loads_with_paper_data() -> None:
+    scene = load_scene(SLIDING_BAR)
+    assert isinstance(scene, Scene)
+    for name, expected in EXAMPLE1.items():
+        # exact decimal data: compared in SI to 1e-12 relative (float conversion only)
+        assert scene.parameters[name].to_base_units().magnitude == pytest.approx(
+            expected.to_base_units().magnitude, rel=1e-12
+        )
+    assert scene.state_si() == pytest.approx((sp.pi.evalf() / 6, 0.0), rel=1e-12)
+    assert scene.default_point == "A"
+    assert set(scene.points) == {"A", "B", "G"}
+    assert scene.reaction_names() == ("R_A", "R_B")
+    assert scene.orientation == sp.pi - _sym("theta")
+    (bar,) = scene.elements
+    assert bar.kind == "slender_bar" and bar.dims["length"] == _sym("l_b")
+    assert list(bar.center) == [_sym("l_b") / 2, 0]
+    rail_b = scene.constraints[1]
+    assert rail_b.point == "B" and rail_b.angle == -_sym("beta")
+    assert scene.output_units["force"] == "lbf"
+
+
+def test_disk_bar_loads_with_paper_structure() -> None:
+    scene = load_scene(DISK_BAR)
+    assert scene.default_point == "P"
+    assert scene.reaction_names() == ("F_f", "F_n")
+    assert scene.orientation == -_sym("theta")  # Eq. 33: omega = -theta_dot k
+    contact = scene.points["C"]
+    assert contact.frame == "instant" and contact.relative_to == "P"
+    assert list(contact.coords) == [0, -_sym("r_d")]  # Eq. 32: r_C/P = -r_d j
+    assert list(scene.points["Q"].coords) == [0, -_sym("l_b") / 2]
+    disk, bar = scene.elements
+    assert disk.kind == "uniform_disk" and disk.dims["radius"] == _sym("r_d")
+    assert bar.dims["length"] == _sym("l_b")
+    (rolling,) = scene.constraints
+    assert rolling.kind == "rolling" and rolling.element == "disk"
+    force = [load for load in scene.loads if load.kind == "force"][0]
+    assert force.point == "P" and list(force.components) == [_sym("F_a"), 0]
+
+
+@pytest.mark.parametrize("path", sorted(SCENES.glob("*.toml")), ids=lambda p: p.name)
+def test_every_shipped_scene_loads(path: Path) -> None:
+    scene = load_scene(path)
+    assert scene.default_point in scene.points
+
+
+# -- overrides -------------------------------------------------------------------------------
+
+
+def test_overrides_replace_parameters_and_state() -> None:
+    scene = load_scene(SLIDING_BAR, {"beta": "90 deg", "theta_dot": "1.5 rad/s", "theta": "0.2 rad"})
+    assert scene.parameters["beta"].to("deg").magnitude == pytest.approx(90)
+    assert scene.state_si() == pytest.approx((0.2, 1.5))
+
+
+@pytest.mark.parametrize(
+    ("overrides", "message"),
+    [
+        ({"beta": "2 m"}, "--set beta: '2 m' is a length, but beta is"),
+        ({"m_b": "3 ft"}, "--set m_b: '3 ft' is a length"),
+        ({"theta": "1 rad/s"}, "--set theta:"),
+        ({"zeta": "1"}, "--set zeta: unknown name 'zeta'"),
+        ({"m_b": "-3 kg"}, "--set m_b: mass must be positive"),
+        ({"m_b": "50 pounds of feathers"}, "--set m_b: unknown unit"),
+        ({"beta": "0 deg"}, "impossible geometry"),  # B's rail becomes parallel to A's
+    ],
+)
+def test_bad_overrides(overrides: dict[str, str], message: str) -> None:
+    with pytest.raises(SceneError) as info:
+        load_scene(SLIDING_BAR, overrides)
+    assert message in str(info.value)
+    assert str(info.value).startswith(str(SLIDING_BAR) + ": ")
+
+
+# -- bad input: one edit each ---------------------------------------------------------------
+
+BAR = SLIDING_BAR.read_text()
+DISK = DISK_BAR.read_text()
+
+
+def _edit(text: str, old: str, new: str) -> str:
+    assert old in text, old  # the edit must apply, or the case tests nothing
+    return text.replace(old, new, 1)
+
+
+BAD = [
+    # (label, scene text, key path, words of the message)
+    ("unknown top key", "colour = 'red'\n" + BAR, "colour", "valid keys for a scene file"),
+    ("unknown element key", _edit(BAR, 'to   = "B"', 'to   = "B"\nwidth = "l_b"'),
+     "elements[0].width", "valid keys for a slender_bar element: angle, center, from"),
+    ("mass in ft", _edit(BAR, '"50 lbm"', '"50 ft"'), "elements[0].mass", "is a length, but a mass is needed"),
+    ("g as a speed", _edit(BAR, '"32.174 ft/s^2"', '"32.174 ft/s"'), "loads[0].g", "an acceleration is needed"),
+    ("angle given a length", _edit(BAR, 'angle    = "-beta"', 'angle    = "-l_b"'),
+     "constraints[1].angle", "is a length, but an angle"),
+    ("dimension mismatch in a sum", _edit(BAR, 'G = ["l_b/2", "0"]', 'G = ["l_b/2 + beta", "0"]'),
+     "points.G[0]", "adds"),
+    ("bare number as length", _edit(BAR, 'B = ["l_b", "0"]', 'B = ["4", "0"]'), "points.B[0]", "bare number"),
+    ("missing parameter", _edit(BAR, 'l_b  = "4 ft"', ''), "points.B[0]", "unknown name 'l_b'"),
+    ("missing key", _edit(BAR, 'mass = "m_b"', ''), "elements[0]", "missing key 'mass'"),
+    ("negative mass", _edit(BAR, '"50 lbm"', '"-50 lbm"'), "parameters.m_b", "must be positive"),
+    ("zero length", _edit(BAR, '"4 ft"', '"0 ft"'), "parameters.l_b", "must be positive"),
+    ("duplicate element", BAR + '\n[[elements]]\nname = "bar"\nkind = "point_mass"\nmass = "m_b"\nat = "A"\n',
+     "elements[1].name", "duplicate element name 'bar'"),
+    ("duplicate reaction", _edit(BAR, 'reaction = "R_B"', 'reaction = "R_A"'),
+     "constraints[1].reaction", "duplicate reaction name 'R_A'"),
+    ("reference point not in body", _edit(BAR, 'reference_point = "A"', 'reference_point = "O"'),
+     "body.reference_point", "'O' is not a point of the body (points: A, B, G)"),
+    ("element at unknown point", _edit(BAR, 'to   = "B"', 'to   = "Z"'), "elements[0].to", "unknown point 'Z'"),
+    ("rail at unknown point", _edit(BAR, 'point    = "B"', 'point    = "Z"'), "constraints[1].point", "unknown point 'Z'"),
+    ("rolling bar", _edit(DISK, 'element         = "disk"', 'element         = "bar"'),
+     "constraints[0].element", "cannot roll"),
+    ("parallel rails", _edit(BAR, 'angle    = "-beta"', 'angle    = "pi"'),
+     "constraints[1].angle", "impossible geometry"),
+    ("one rail only", BAR.split("[[constraints]]          # B")[0] + '[[loads]]\nkind = "gravity"\ng = "g"\n',
+     "constraints", "placement is not determined"),
+    ("over-constrained", BAR + '\n[[constraints]]\nkind = "pivot"\npoint = "G"\n', "constraints", "over-constrained"),
+    ("unknown element kind", _edit(BAR, '"slender_bar"', '"rod"'), "elements[0].kind",
+     "valid kinds: slender_bar, uniform_disk, thin_ring, rectangular_plate, point_mass, semicircular_disk"),
+    ("unknown constraint kind", _edit(BAR, 'kind     = "rail"', 'kind     = "slot"'), "constraints[0].kind",
+     "valid kinds: rail, rolling, pivot"),
+    ("unknown load kind", _edit(BAR, 'kind = "gravity"', 'kind = "wind"'), "loads[0].kind",
+     "valid kinds: gravity, force, couple"),
+    ("code in an expression", _edit(BAR, 'angle    = "-beta"', "angle    = \"__import__('os').system('true')\""),
+     "constraints[1].angle", "not allowed"),
+    ("bad unit", _edit(BAR, '"50 lbm"', '"50 lbz"'), "parameters.m_b", "unknown unit 'lbz'"),
+    ("output unit of wrong dimension", _edit(BAR, 'force  = "lbf"', 'force  = "ft"'),
+     "output_units.force", "is a length, but force needs a force"),
+    ("unknown output unit key", _edit(BAR, 'force  = "lbf"', 'speed  = "ft/s"'), "output_units.speed", "valid keys"),
+    ("rate without time", _edit(BAR, 'rate  = "0 rad/s"', 'rate  = "0 rad"'), "coordinate.rate", "angular velocity"),
+    ("force of wrong dimension", _edit(DISK, 'components = ["F_a", "0"]', 'components = ["F_a*t", "0"]'),
+     "loads[1].components[0]", "a force is needed"),
+    ("position disagrees with rolling", _edit(DISK, 'orientation     = "-theta"',
+     'orientation     = "-theta"\nposition = { point = "P", at = ["r_d*theta", "2*r_d"] }'),
+     "body.position", "disagrees with constraints[0] (rolling)"),
+]
+
+
+@pytest.mark.parametrize(("label", "text", "key", "words"), BAD, ids=[case[0] for case in BAD])
+def test_bad_scene_is_refused_with_key_path(tmp_path: Path, label: str, text: str, key: str, words: str) -> None:
+    path = tmp_path / "scene.toml"
+    path.write_text(text)
+    with pytest.raises(SceneError) as info:
+        load_scene(path)
+    message = str(info.value)
+    assert message.startswith(f"{path}: {key}: "), message
+    assert words in message, message
+    assert "\n" not in message
+
+
+def test_toml_syntax_error_names_the_line(tmp_path: Path) -> None:
+    path = tmp_path / "broken.toml"
+    path.write_text(_edit(BAR, 'm_b  = "50 lbm"', 'm_b  = 50 lbm"'))
+    line = 1 + BAR.splitlines().index('m_b  = "50 lbm"          # bar mass')
+    with pytest.raises(SceneError, match=rf"TOML syntax error: .*line {line}, column"):
+        load_scene(path)
+
+
+def test_missing_file_is_a_scene_error(tmp_path: Path) -> None:
+    with pytest.raises(SceneError, match="cannot read the scene file"):
+        load_scene(tmp_path / "nope.toml")
+
+
+def test_consistent_explicit_position_is_accepted(tmp_path: Path) -> None:
+    # x_P = r_d theta, y_P = r_d is exactly what the rolling contact implies (Eq. 31).
+    path = tmp_path / "placed.toml"
+    path.write_text(_edit(DISK, 'orientation     = "-theta"',
+                          'orientation     = "-theta"\nposition = { point = "P", at = ["r_d*theta", "r_d"] }'))
+    scene = load_scene(path)
+    assert scene.position == ("P", sp.Matrix([_sym("r_d") * _sym("theta"), _sym("r_d")]))
