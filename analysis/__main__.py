@@ -1,0 +1,219 @@
+"""Command line: ``python -m analysis <command> ...``.
+
+Commands
+--------
+``summarize FILE [--scale NAME|FILE] [--items ...] [--group COLUMN] [--json]``
+    Table 1 for a survey export; ``--json`` prints
+    ``{"respondents": int, "items": [{"item", "n", "missing", "excluded", "counts",
+    "percent", "agree": {"share", "ci"}}]}`` (shares 0-1, percents 0-100). With
+    ``--group`` the JSON gains ``"groups"``; with ``--reliability`` it gains ``"reliability"``.
+``claims FILE CLAIMS [--json]``
+    Evaluate a claims TOML file against a survey export.
+``verify-table TABLE [--n N | --n-range LO HI] [--json]``
+    Check a published percentage table; ``--json`` prints
+    ``{"n": int, "rows": [{"item", "cells": [{"label", "published", "attainable",
+    "counts"}], "sum_ok"}]}``. Without N, the range 1..1000 is searched.
+``report FILE -o OUT.html [--claims CLAIMS]``
+    Self-contained HTML report of a survey export.
+``rebuild-table1 OUT.csv``
+    Write the respondent-level dataset rebuilt from the paper's Table 1.
+
+Bad input prints one line ``error: <file>: row R, column 'C': <what>`` on stderr
+and exits with status 2; nothing is written in part.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+from .errors import SurveyInputError
+
+DEFAULT_N_RANGE = (1, 1000)
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):          # one line, exit 2 (argparse prints usage otherwise)
+        sys.stderr.write(f"error: {self.prog}: {message}\n")
+        raise SystemExit(2)
+
+
+def _reading_options(p: argparse.ArgumentParser) -> None:
+    from .ingest import SHAPES
+    p.add_argument("file", help="survey export: CSV (wide, long, Google Forms, Qualtrics) or .xlsx")
+    p.add_argument("--scale", help="built-in scale name or a scale .toml file (default: detect)")
+    p.add_argument("--items", nargs="+", metavar="ITEM",
+                   help="item columns by name or pattern (default: detect)")
+    p.add_argument("--shape", choices=SHAPES, default="auto", help="input shape (default: detect)")
+    p.add_argument("--unknown-as-missing", action="store_true",
+                   help="count answers that match no label as missing (each one is reported)")
+    p.add_argument("--encoding", default="utf-8", help="text encoding of a CSV file")
+    p.add_argument("--reverse", nargs="+", metavar="ITEM", help="reverse-keyed items")
+    p.add_argument("--respondents", type=int, metavar="N",
+                   help="declared respondents (absent ones are missing on every item)")
+    p.add_argument("--ci", choices=("wilson", "beta"), default="wilson",
+                   help="interval method: Wilson (default) or Clopper-Pearson ('beta')")
+    p.add_argument("--confidence", type=float, default=0.95, help="confidence level")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser (exposed for documentation and tests)."""
+    parser = _Parser(prog="python -m analysis",
+                     description="Likert survey analytics and published-table verification.")
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+
+    s = sub.add_parser("summarize", help="per-item counts, percentages and intervals")
+    _reading_options(s)
+    s.add_argument("--group", help="grouping column (group comparisons)")
+    s.add_argument("--min-group", type=int, default=5,
+                   help="suppress groups smaller than this (default 5)")
+    s.add_argument("--reliability", nargs="*", metavar="ITEM",
+                   help="Cronbach's alpha for these items (none given: all items)")
+    s.add_argument("--decimals", type=int, default=1, help="printed decimals (text output)")
+    s.add_argument("--percent-method", choices=("round", "largest_remainder"), default="round",
+                   help="printed percentages: round each (default) or make rows sum to 100")
+    s.add_argument("--json", action="store_true", help="print JSON")
+
+    c = sub.add_parser("claims", help="evaluate claims (TOML) against a survey")
+    _reading_options(c)
+    c.add_argument("claims", help="claims .toml file")
+    c.add_argument("--json", action="store_true", help="print JSON")
+
+    v = sub.add_parser("verify-table", help="check a published percentage table")
+    v.add_argument("table", help="CSV with an 'item' column and one column per label")
+    g = v.add_mutually_exclusive_group()
+    g.add_argument("--n", type=int, help="number of respondents")
+    g.add_argument("--n-range", type=int, nargs=2, metavar=("LO", "HI"),
+                   help=f"search N in LO..HI (default {DEFAULT_N_RANGE[0]}..{DEFAULT_N_RANGE[1]})")
+    v.add_argument("--rule", choices=("half_away", "half_even", "truncate", "ceil"),
+                   default="half_away", help="rounding rule of the table (default half_away)")
+    v.add_argument("--decimals", type=int, help="printed decimals (default: from each cell)")
+    v.add_argument("--full", action="store_true",
+                   help="with --json: add nearest values, reconstructed counts and reasons")
+    v.add_argument("--json", action="store_true", help="print JSON")
+
+    r = sub.add_parser("report", help="self-contained HTML report of a survey")
+    _reading_options(r)
+    r.add_argument("-o", "--output", required=True, help="HTML file to write")
+    r.add_argument("--claims", help="claims .toml file to evaluate in the report")
+    r.add_argument("--group", help="grouping column (group comparisons)")
+    r.add_argument("--min-group", type=int, default=5, help="suppress groups smaller than this")
+    r.add_argument("--title", default=None, help="report title")
+
+    b = sub.add_parser("rebuild-table1", help="write the dataset rebuilt from the paper's Table 1")
+    b.add_argument("output", help="CSV file to write")
+    return parser
+
+
+def _read(args):
+    from .ingest import read_survey
+    return read_survey(args.file, scale=args.scale, items=args.items, shape=args.shape,
+                       unknown="missing" if args.unknown_as_missing else "error",
+                       encoding=args.encoding, group=getattr(args, "group", None),
+                       reverse=args.reverse, respondents=args.respondents)
+
+
+def _notes(data) -> None:
+    for u in data.unknown_answers:
+        sys.stderr.write(f"warning: {u.line(data.source)}\n")
+    for d in data.dropped:
+        sys.stderr.write(f"note: {data.source}: row {d.row}: {d.reason} dropped\n")
+
+
+def _cmd_summarize(args) -> int:
+    from .likert import summarize
+    data = _read(args)
+    _notes(data)
+    summary = summarize(data, args.confidence, args.ci)
+    extra = {}
+    if args.group:
+        from .groups import compare_groups
+        extra["groups"] = compare_groups(data, args.group, min_size=args.min_group)
+    if args.reliability is not None:
+        from .reliability import cronbach_alpha_for
+        extra["reliability"] = cronbach_alpha_for(data, args.reliability or None,
+                                                  confidence_level=args.confidence)
+    if args.json:
+        out = summary.to_dict()
+        out.update({k: v.to_dict() for k, v in extra.items()})
+        print(json.dumps(out, indent=2, ensure_ascii=False))
+    else:
+        print(summary.format_text(args.decimals, args.percent_method))
+        for v in extra.values():
+            print(v.format_text())
+    return 0
+
+
+def _cmd_claims(args) -> int:
+    from .claims import evaluate_claims, load_claims
+    claims = load_claims(args.claims)       # check the claims file before reading data
+    data = _read(args)
+    _notes(data)
+    from .likert import summarize
+    rep = evaluate_claims(claims, summarize(data, args.confidence, args.ci),
+                          confidence_level=args.confidence, method=args.ci)
+    rep.claims_file = args.claims
+    print(json.dumps(rep.to_dict(), indent=2, ensure_ascii=False) if args.json
+          else rep.format_text())
+    return 0
+
+
+def _cmd_verify(args) -> int:
+    from .tables import read_table_csv, verify_table
+    table = read_table_csv(args.table)
+    if args.n is not None:
+        check = verify_table(table, n=args.n, rule=args.rule, decimals=args.decimals)
+    else:
+        rng = tuple(args.n_range) if args.n_range else DEFAULT_N_RANGE
+        check = verify_table(table, n_range=rng, rule=args.rule, decimals=args.decimals)
+    if args.json:
+        print(json.dumps(check.to_full_dict() if args.full else check.to_dict(), indent=2,
+                         ensure_ascii=False))
+    else:
+        print(check.format_text())
+    return 0
+
+
+def _cmd_report(args) -> int:
+    from .report import build_report
+    data = _read(args)
+    _notes(data)
+    res = build_report(data, args.output, claims=args.claims, group=args.group,
+                       min_group=args.min_group, title=args.title,
+                       confidence_level=args.confidence, method=args.ci)
+    print(f"wrote {res}")
+    return 0
+
+
+def _cmd_rebuild(args) -> int:
+    from .respondents import rebuild_table1_dataset
+    res = rebuild_table1_dataset(args.output)
+    print(f"wrote {res.path}: {res.respondents} respondents x {len(res.items)} items "
+          f"(rebuilt from published marginals)")
+    return 0
+
+
+_COMMANDS = {"summarize": _cmd_summarize, "claims": _cmd_claims, "verify-table": _cmd_verify,
+             "report": _cmd_report, "rebuild-table1": _cmd_rebuild}
+
+
+def main(argv: "list[str] | None" = None) -> int:
+    """Run the command line; returns the exit status (2 for bad input)."""
+    args = build_parser().parse_args(argv)
+    try:
+        return _COMMANDS[args.command](args)
+    except SurveyInputError as e:
+        sys.stderr.write(f"error: {e.line()}\n")
+        return 2
+    except ValueError as e:            # bad option values (messages list the valid ones)
+        msg = str(e).splitlines()[0] if str(e) else type(e).__name__
+        sys.stderr.write(f"error: {msg}\n")
+        return 2
+    except BrokenPipeError:            # output piped into e.g. `head`
+        import os
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,264 @@
+"""Claims about survey shares, stated in TOML and evaluated with honest uncertainty.
+
+A claims file holds ``[[claims]]`` tables::
+
+    [[claims]]
+    id = "item2-usefulness"
+    item = 2                        # 1-based position in questionnaire order, or a column header
+    categories = ["Definitely Agree", "Partially Agree"]
+    comparison = ">"                # one of >, >=, <, <=
+    threshold = 90
+    unit = "%"                      # "%" (0-100) or "fraction" (0-1)
+    statement = "..."               # optional, shown in reports
+    printed = "over 90%"            # optional, the wording as printed
+
+Verdicts (:data:`VERDICTS`)
+---------------------------
+``holds``
+    The observed share satisfies the comparison *and* the whole confidence
+    interval does (for ``>``/``>=`` its lower bound clears the threshold).
+``holds for this sample only``
+    The observed share satisfies the comparison but the interval reaches the
+    other side of the threshold: it describes these respondents, but the data
+    cannot rule out a population share on the other side.
+``does not hold``
+    The observed share does not satisfy the comparison.
+
+Public API: :func:`load_claims`, :func:`evaluate_claims` (returns
+:class:`ClaimsReport` with ``to_dict()``), :func:`evaluate_claim`.
+"""
+from __future__ import annotations
+
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .errors import SurveyInputError
+from .likert import CI_METHODS, SurveySummary, proportion
+from .scales import normalize_answer
+
+__all__ = ["COMPARISONS", "VERDICTS", "Claim", "ClaimResult", "ClaimsReport", "load_claims",
+           "evaluate_claim", "evaluate_claims"]
+
+COMPARISONS = (">", ">=", "<", "<=")
+#: verdict code -> wording
+VERDICTS = {
+    "holds": "holds (interval lower bound clears threshold)",
+    "sample_only": "holds for this sample only",
+    "does_not_hold": "does not hold",
+}
+
+
+@dataclass(frozen=True)
+class Claim:
+    """One claim: the share of ``item`` answering one of ``categories`` ``comparison`` ``threshold``.
+
+    ``threshold`` is stored as a fraction (0-1); ``printed`` keeps the wording.
+    """
+
+    id: str
+    item: "str | int"
+    categories: tuple[str, ...]
+    comparison: str
+    threshold: float
+    statement: str = ""
+    printed: str = ""
+
+    def to_dict(self) -> dict:
+        return {"id": self.id, "item": self.item, "categories": list(self.categories),
+                "comparison": self.comparison, "threshold": self.threshold,
+                "statement": self.statement, "printed": self.printed}
+
+
+@dataclass
+class ClaimResult:
+    """A claim checked against data.
+
+    Attributes
+    ----------
+    claim : Claim
+    item : str
+        The item's column header.
+    k, n : int
+        Respondents in the categories, and valid answers.
+    share : float or None
+    ci : (float, float)
+    method : str
+    confidence_level : float
+    verdict_code : {"holds", "sample_only", "does_not_hold"}
+    verdict : str
+        Wording from :data:`VERDICTS`.
+    reason : str
+    """
+
+    claim: Claim
+    item: str
+    k: int
+    n: int
+    share: float | None
+    ci: tuple
+    method: str
+    confidence_level: float
+    verdict_code: str
+    verdict: str
+    reason: str
+
+    def to_dict(self) -> dict:
+        return {"id": self.claim.id, "item": self.item, "categories": list(self.claim.categories),
+                "comparison": self.claim.comparison, "threshold": self.claim.threshold,
+                "printed": self.claim.printed, "statement": self.claim.statement,
+                "k": self.k, "n": self.n, "share": self.share, "ci": list(self.ci),
+                "ci_method": self.method, "confidence_level": self.confidence_level,
+                "verdict": self.verdict, "verdict_code": self.verdict_code,
+                "reason": self.reason}
+
+
+@dataclass
+class ClaimsReport:
+    """All claims of one file checked against one survey."""
+
+    results: list[ClaimResult]
+    source: str
+    claims_file: str
+    respondents: int
+    method: str = "wilson"
+    confidence_level: float = 0.95
+    extra: dict = field(default_factory=dict)
+
+    def to_dict(self) -> dict:
+        """``claims --json`` shape: ``{"source", "claims_file", "respondents", "claims": [...]}``."""
+        return {"source": self.source, "claims_file": self.claims_file,
+                "respondents": self.respondents, "ci_method": self.method,
+                "confidence_level": self.confidence_level,
+                "claims": [r.to_dict() for r in self.results]}
+
+    def format_text(self) -> str:
+        out = [f"{self.source}: claims from {self.claims_file} "
+               f"({self.confidence_level:.0%} {self.method} intervals)"]
+        for r in self.results:
+            share = "n/a" if r.share is None else f"{r.share:.1%}"
+            ci = "" if r.share is None else f" [{r.ci[0]:.1%}, {r.ci[1]:.1%}]"
+            out.append(f"  {r.claim.id}: {r.item} share {r.k}/{r.n} = {share}{ci} "
+                       f"{r.claim.comparison} {100 * r.claim.threshold:g}%: {r.verdict}")
+        return "\n".join(out)
+
+
+def load_claims(path: "str | Path") -> list[Claim]:
+    """Read a claims TOML file (see the module docstring).
+
+    Raises
+    ------
+    SurveyInputError
+        Missing file, TOML error, or a bad key (named as ``claims[i].key``).
+    """
+    p = Path(path)
+    src = str(p)
+    try:
+        data = tomllib.loads(p.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise SurveyInputError("no such file", src) from None
+    except UnicodeDecodeError as e:
+        raise SurveyInputError(f"not valid UTF-8 (byte offset {e.start})", src) from None
+    except tomllib.TOMLDecodeError as e:
+        raise SurveyInputError(f"invalid TOML: {e}", src) from None
+    entries = data.get("claims")
+    if not isinstance(entries, list) or not entries:
+        raise SurveyInputError("key 'claims': needs at least one [[claims]] table", src)
+    out = []
+    for i, e in enumerate(entries):
+        where = f"claims[{i}]"
+
+        def bad(key, what):
+            return SurveyInputError(f"key '{where}.{key}': {what}", src)
+        item = e.get("item")
+        if isinstance(item, bool) or not isinstance(item, (int, str)) or item == "":
+            raise bad("item", f"must be a column header or a 1-based position, got {item!r}")
+        cats = e.get("categories")
+        if not isinstance(cats, list) or not cats or not all(isinstance(c, str) for c in cats):
+            raise bad("categories", "must be a non-empty list of answer labels")
+        comp = e.get("comparison", ">")
+        if comp not in COMPARISONS:
+            raise bad("comparison", f"must be one of {list(COMPARISONS)}, got {comp!r}")
+        thr = e.get("threshold")
+        if isinstance(thr, bool) or not isinstance(thr, (int, float)):
+            raise bad("threshold", f"must be a number, got {thr!r}")
+        unit = e.get("unit", "%")
+        if unit not in ("%", "fraction"):
+            raise bad("unit", f"must be one of ['%', 'fraction'], got {unit!r}")
+        frac = thr / 100 if unit == "%" else float(thr)
+        if not 0 <= frac <= 1:
+            raise bad("threshold", f"must lie in 0..100 % (0..1 as a fraction), got {thr!r}")
+        out.append(Claim(id=str(e.get("id", f"claim{i + 1}")), item=item,
+                         categories=tuple(cats), comparison=comp, threshold=float(frac),
+                         statement=str(e.get("statement", "")), printed=str(e.get("printed", ""))))
+    return out
+
+
+def _satisfies(x: float, comparison: str, threshold: float) -> bool:
+    return {">": x > threshold, ">=": x >= threshold,
+            "<": x < threshold, "<=": x <= threshold}[comparison]
+
+
+def evaluate_claim(claim: Claim, summary: SurveySummary, confidence_level: float = 0.95,
+                   method: str = "wilson", source: str = "<claims>") -> ClaimResult:
+    """Evaluate one claim against a survey summary.
+
+    Raises
+    ------
+    SurveyInputError
+        The claim names an item or a category the survey does not have.
+    """
+    if method not in CI_METHODS:
+        raise ValueError(f"`method` must be one of {list(CI_METHODS)}, got {method!r}")
+    try:
+        it = summary.item(claim.item)
+    except (KeyError, IndexError):
+        raise SurveyInputError(
+            f"claim {claim.id!r}: no item {claim.item!r}; items are "
+            f"{[i.item for i in summary.items]} (or positions 1..{len(summary.items)})",
+            source) from None
+    keys = {normalize_answer(lab): lab for lab in it.labels}
+    k = 0
+    for cat in claim.categories:
+        lab = keys.get(normalize_answer(cat))
+        if lab is None:
+            raise SurveyInputError(f"claim {claim.id!r}: category {cat!r} is not a label; "
+                                   f"labels are {it.labels}", source)
+        k += it.counts[lab]
+    p = proportion(k, it.n, confidence_level, method)
+    if p.share is None:
+        code, reason = "does_not_hold", "no valid answers to this item"
+    elif not _satisfies(p.share, claim.comparison, claim.threshold):
+        code = "does_not_hold"
+        reason = f"observed share {p.share:.4f} is not {claim.comparison} {claim.threshold:g}"
+    else:
+        bound = p.ci[0] if claim.comparison in (">", ">=") else p.ci[1]
+        side = "lower" if claim.comparison in (">", ">=") else "upper"
+        if _satisfies(bound, claim.comparison, claim.threshold):
+            code = "holds"
+            reason = f"the interval's {side} bound {bound:.4f} clears {claim.threshold:.4g}"
+        else:
+            code = "sample_only"
+            reason = (f"observed share {p.share:.4f} {claim.comparison} {claim.threshold:.4g}, "
+                      f"but the interval's {side} bound {bound:.4f} does not clear it")
+    return ClaimResult(claim=claim, item=it.item, k=k, n=it.n, share=p.share, ci=p.ci,
+                       method=method, confidence_level=confidence_level, verdict_code=code,
+                       verdict=VERDICTS[code], reason=reason)
+
+
+def evaluate_claims(claims: "list[Claim] | str | Path", summary: SurveySummary,
+                    confidence_level: float = 0.95, method: str = "wilson") -> ClaimsReport:
+    """Evaluate every claim (a list, or a claims TOML file) against a survey summary.
+
+    Returns
+    -------
+    ClaimsReport
+    """
+    src = "<claims>"
+    if isinstance(claims, (str, Path)):
+        src = str(claims)
+        claims = load_claims(claims)
+    results = [evaluate_claim(c, summary, confidence_level, method, src) for c in claims]
+    return ClaimsReport(results=results, source=summary.source, claims_file=src,
+                        respondents=summary.respondents, method=method,
+                        confidence_level=confidence_level)

@@ -1,0 +1,805 @@
+"""Reading survey exports into a respondent-by-item matrix of scale positions.
+
+Supported shapes (:data:`SHAPES`), detected from the file unless named:
+
+``wide``
+    A row per respondent, a column per item (plus any other columns).
+``long``
+    A row per answer: respondent, item, answer columns (names such as
+    ``respondent``/``id``, ``item``/``question``, ``answer``/``response``/``value``).
+``google``
+    Google Forms export: a ``Timestamp`` column, maybe an e-mail column, the
+    question text as headers and answers as label text.
+``qualtrics``
+    Qualtrics export: three header rows (field ids, question text, ``{"ImportId": ...}``);
+    responses whose ``Status`` is ``Survey Preview`` are dropped and reported.
+
+CSV files and ``.xlsx`` workbooks (first sheet, read with openpyxl) are accepted.
+Leading lines that start with ``#`` in a CSV are comments.
+
+Item columns are detected: a column is an item when at least half of its
+non-blank answers are label texts of the scale (one stray answer then is an
+error, not a reason to drop the column); when no column has label texts, columns
+whose every answer is a numeric code of the scale are taken. Items may instead
+be chosen by name or ``fnmatch`` pattern. Answers match labels ignoring case and
+surrounding white space; numeric codes are accepted. An answer that matches no
+label raises :class:`~analysis.errors.SurveyInputError` naming file, row, column,
+value and the valid labels, unless ``unknown="missing"``, in which case each such
+answer is recorded in :attr:`SurveyData.unknown_answers` and counted as missing.
+
+Row numbers count records as a spreadsheet shows them: the (first) header row is
+row 1, comment lines count too.
+
+Public API: :func:`read_survey` (a file) and :func:`survey_from_frame` (a
+pandas DataFrame of text), both returning :class:`SurveyData`.
+"""
+from __future__ import annotations
+
+import csv
+import fnmatch
+import io
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from .errors import SurveyInputError
+from .scales import BUILTIN_SCALES, Scale, get_scale, normalize_answer
+
+__all__ = ["SHAPES", "UNKNOWN_POLICIES", "SurveyData", "UnknownAnswer", "DroppedRow",
+           "read_survey", "survey_from_frame", "BLANK", "NOT_APPLICABLE", "UNKNOWN"]
+
+#: Valid ``shape`` values.
+SHAPES = ("auto", "wide", "long", "google", "qualtrics")
+#: Valid ``unknown`` values: raise on an unknown answer, or count it as missing.
+UNKNOWN_POLICIES = ("error", "missing")
+
+#: Cell codes in :attr:`SurveyData.answers` besides label positions 0..k-1.
+BLANK = -1
+NOT_APPLICABLE = -2
+UNKNOWN = -3          # unknown answer counted as missing (``unknown="missing"``)
+_NO_MATCH = -9
+
+_GOOGLE_META = {"timestamp", "email address", "email", "username", "score", "e-mail address"}
+_QUALTRICS_META = {
+    "startdate", "enddate", "status", "ipaddress", "progress", "duration (in seconds)",
+    "finished", "recordeddate", "responseid", "recipientlastname", "recipientfirstname",
+    "recipientemail", "externalreference", "externaldatareference", "locationlatitude",
+    "locationlongitude", "distributionchannel", "userlanguage", "q_recaptchascore",
+    "q_relevantidduplicate", "q_relevantidduplicatescore", "q_relevantidfraudscore",
+    "q_relevantidlaststartdate",
+}
+_ID_LIKE = re.compile(r"^(respondent|respondent[ _]?id|id|response[ _]?id|record|row|#|"
+                      r"student|student[ _]?id|participant|participant[ _]?id)$", re.I)
+_LONG_RESP = ("respondent", "respondent_id", "respondentid", "respondent id", "id",
+              "response_id", "responseid", "participant", "participant_id")
+_LONG_ITEM = ("item", "question", "question_id", "questionid", "item_id")
+_LONG_ANSWER = ("answer", "response", "value", "choice")
+
+
+@dataclass(frozen=True)
+class UnknownAnswer:
+    """An answer that matched no label and was counted as missing."""
+
+    row: int
+    column: str
+    value: str
+
+    def line(self, source: str) -> str:
+        return (f"{source}: row {self.row}, column {self.column!r}: "
+                f"unknown answer {self.value!r} counted as missing")
+
+
+@dataclass(frozen=True)
+class DroppedRow:
+    """A row left out on purpose (e.g. a Qualtrics ``Survey Preview`` response)."""
+
+    row: int
+    reason: str
+
+
+@dataclass
+class SurveyData:
+    """Answers of every respondent to every item, as positions on one scale.
+
+    Attributes
+    ----------
+    source : str
+        File name (or ``"<dataframe>"``).
+    shape : str
+        Input shape that was read (one of :data:`SHAPES` except ``"auto"``).
+    scale : Scale
+    items : list of str
+        Item column headers, in questionnaire (column) order.
+    item_texts : list of str
+        Question text per item (Qualtrics second header row; else the header).
+    answers : numpy.ndarray of int8, shape (respondents, items)
+        ``0..k-1`` label position on ``scale.labels``; :data:`BLANK` (-1),
+        :data:`NOT_APPLICABLE` (-2), :data:`UNKNOWN` (-3).
+    rows : numpy.ndarray of int
+        Spreadsheet row of each respondent (first row for long files; 0 for
+        respondents declared but absent from the file).
+    groups : dict of str to numpy.ndarray
+        Other columns kept for grouping (text, blank -> ``""``).
+    unknown_answers : list of UnknownAnswer
+    dropped : list of DroppedRow
+    reverse : set of str
+        Reverse-keyed items (affects codes, not counts).
+    """
+
+    source: str
+    shape: str
+    scale: Scale
+    items: list[str]
+    item_texts: list[str]
+    answers: np.ndarray
+    rows: np.ndarray
+    groups: dict = field(default_factory=dict)
+    unknown_answers: list[UnknownAnswer] = field(default_factory=list)
+    dropped: list[DroppedRow] = field(default_factory=list)
+    reverse: set = field(default_factory=set)
+
+    @property
+    def respondents(self) -> int:
+        """Number of respondents (rows of :attr:`answers`)."""
+        return int(self.answers.shape[0])
+
+    def item_index(self, item: "str | int") -> int:
+        """Column index of an item given by header (any case/spacing) or 1-based position."""
+        if isinstance(item, int) and not isinstance(item, bool):
+            if 1 <= item <= len(self.items):
+                return item - 1
+            raise ValueError(f"item position {item} out of range 1..{len(self.items)}")
+        key = normalize_answer(item)
+        for j, name in enumerate(self.items):
+            if normalize_answer(name) == key:
+                return j
+        raise ValueError(f"no item {item!r}; items are {self.items!r}")
+
+    def labels_frame(self) -> pd.DataFrame:
+        """Answers as label text (blank -> ``""``, N/A -> ``"N/A"``, unknown -> ``""``)."""
+        lut = np.array(list(self.scale.labels) + ["", "N/A", ""], dtype=object)
+        idx = np.where(self.answers >= 0, self.answers, len(self.scale.labels) - self.answers - 1)
+        return pd.DataFrame(lut[idx], columns=self.items)
+
+    def __repr__(self):
+        return (f"SurveyData({self.source!r}, shape={self.shape!r}, scale={self.scale.name!r}, "
+                f"respondents={self.respondents}, items={self.items!r})")
+
+
+# ---------------------------------------------------------------------------
+# raw reading
+# ---------------------------------------------------------------------------
+@dataclass
+class _Column:
+    name: str
+    cats: list[str]          # distinct cell texts
+    codes: np.ndarray        # index into cats per row
+
+    def counts(self) -> np.ndarray:
+        cached = self.__dict__.get("_counts")
+        if cached is None:
+            cached = np.bincount(self.codes, minlength=len(self.cats))
+            self.__dict__["_counts"] = cached
+        return cached
+
+
+@dataclass
+class _Raw:
+    source: str
+    header: list[str]
+    columns: list[_Column]
+    first_row: int           # spreadsheet row of the first data record
+    nrows: int
+    extra_header: list[list[str]] = field(default_factory=list)   # Qualtrics rows 2-3
+
+
+def _frame_to_columns(df: pd.DataFrame) -> list[_Column]:
+    cols = []
+    for name in df.columns:
+        s = df[name]
+        if isinstance(s.dtype, pd.CategoricalDtype):
+            cats = [str(c) for c in s.cat.categories]
+            codes = s.cat.codes.to_numpy()
+            if (codes < 0).any():             # NaN -> blank
+                cats = cats + [""]
+                codes = np.where(codes < 0, len(cats) - 1, codes)
+        else:
+            vals = s.astype(object).where(s.notna(), "")
+            codes, uniq = pd.factorize(vals.map(_cell_text), sort=False)
+            cats = [str(u) for u in uniq]
+        cols.append(_Column(str(name), cats, np.asarray(codes, dtype=np.int64)))
+    return cols
+
+
+def _cell_text(v) -> str:
+    if v is None:
+        return ""
+    if isinstance(v, float):
+        if v != v:
+            return ""
+        if v.is_integer():
+            return str(int(v))
+    if isinstance(v, bool):
+        return str(v).upper()
+    return str(v)
+
+
+def _decode_error(raw: bytes, encoding: str, source: str) -> SurveyInputError:
+    try:
+        raw.decode(encoding)
+    except UnicodeDecodeError as e:
+        row = raw[:e.start].count(b"\n") + 1
+        return SurveyInputError(
+            f"byte 0x{raw[e.start]:02x} at offset {e.start} is not valid {encoding}; "
+            f"give the file's encoding (e.g. --encoding cp1252)", source, row)
+    except LookupError:
+        return SurveyInputError(f"unknown encoding {encoding!r}", source)
+    return SurveyInputError(f"cannot decode as {encoding}", source)
+
+
+def _read_csv_raw(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]:
+    source = str(path)
+    try:
+        raw = path.read_bytes()
+    except FileNotFoundError:
+        raise SurveyInputError("no such file", source) from None
+    except OSError as e:
+        raise SurveyInputError(f"cannot read: {e.strerror}", source) from None
+    if raw.startswith(b"\xef\xbb\xbf"):
+        raw = raw[3:]
+    if not raw.strip():
+        raise SurveyInputError("empty file", source)
+    try:
+        "".encode(encoding)
+    except LookupError:
+        raise SurveyInputError(f"unknown encoding {encoding!r}", source) from None
+    # leading comment lines
+    skip = 0
+    pos = 0
+    while pos < len(raw) and raw[pos:pos + 1] == b"#":
+        nl = raw.find(b"\n", pos)
+        if nl < 0:
+            pos = len(raw)
+        else:
+            pos = nl + 1
+        skip += 1
+    body = raw[pos:]
+    if not body.strip():
+        raise SurveyInputError("empty file (only comment lines)", source)
+    head_text = body[:262144].decode(encoding, errors="replace")
+    peek = []
+    for rec in csv.reader(io.StringIO(head_text)):
+        peek.append(rec)
+        if len(peek) >= 4:
+            break
+    try:
+        df = pd.read_csv(io.BytesIO(body), dtype="category", keep_default_na=False,
+                         na_filter=False, encoding=encoding, engine="c", skipinitialspace=False)
+    except UnicodeDecodeError:
+        raise _decode_error(raw, encoding, source) from None
+    except pd.errors.EmptyDataError:
+        raise SurveyInputError("empty file", source) from None
+    except pd.errors.ParserError as e:
+        m = re.search(r"line (\d+)", str(e))
+        row = int(m.group(1)) + skip if m else None
+        raise SurveyInputError(f"not a well-formed CSV ({str(e).strip().splitlines()[-1]})",
+                               source, row) from None
+    header = [str(c) for c in df.columns]
+    return _Raw(source, header, _frame_to_columns(df), skip + 2, len(df)), peek
+
+
+def _read_xlsx_raw(path: Path) -> tuple[_Raw, list[list[str]]]:
+    import openpyxl
+    source = str(path)
+    try:
+        wb = openpyxl.load_workbook(path, read_only=True, data_only=True)
+    except FileNotFoundError:
+        raise SurveyInputError("no such file", source) from None
+    except Exception as e:  # zipfile.BadZipFile, KeyError, InvalidFileException ...
+        raise SurveyInputError(f"not a readable .xlsx workbook ({type(e).__name__})",
+                               source) from None
+    try:
+        ws = wb.worksheets[0]
+        rows = [[_cell_text(v) for v in r] for r in ws.iter_rows(values_only=True)]
+    finally:
+        wb.close()
+    first = 0
+    while first < len(rows) and not any(c.strip() for c in rows[first]):
+        first += 1
+    if first >= len(rows):
+        raise SurveyInputError("empty file (no cells in the first sheet)", source)
+    rows = rows[first:]
+    while rows and not any(c.strip() for c in rows[-1]):
+        rows.pop()
+    width = max(len(r) for r in rows)
+    header = rows[0] + [""] * (width - len(rows[0]))
+    while width > 0 and header[width - 1] == "" and all(
+            len(r) < width or r[width - 1] == "" for r in rows):
+        width -= 1
+    header = [h if h else f"column {j + 1}" for j, h in enumerate(header[:width])]
+    body = [(r + [""] * width)[:width] for r in rows[1:]]
+    df = pd.DataFrame(body, columns=header, dtype=object) if body else pd.DataFrame(
+        columns=header)
+    peek = [header] + body[:3]
+    return _Raw(source, header, _frame_to_columns(df), first + 2, len(body)), peek
+
+
+def _raw_from_frame(df: pd.DataFrame, source: str, first_row: int) -> tuple[_Raw, list]:
+    header = [str(c) for c in df.columns]
+    cols = _frame_to_columns(df)
+    peek = [header]
+    for i in range(min(3, len(df))):
+        peek.append([c.cats[c.codes[i]] for c in cols])
+    return _Raw(source, header, cols, first_row, len(df)), peek
+
+
+# ---------------------------------------------------------------------------
+# shapes
+# ---------------------------------------------------------------------------
+def _find(header: list[str], names) -> int | None:
+    keys = [h.strip().casefold() for h in header]
+    for n in names:
+        if n in keys:
+            return keys.index(n)
+    return None
+
+
+def _detect_shape(raw: _Raw, peek: list[list[str]]) -> str:
+    if len(peek) >= 3 and any(c.strip().startswith('{"ImportId"') or c.strip().startswith("{'ImportId'")
+                              for c in peek[2]):
+        return "qualtrics"
+    keys = {h.strip().casefold() for h in raw.header}
+    if "timestamp" in keys:
+        return "google"
+    if (_find(raw.header, _LONG_RESP) is not None and _find(raw.header, _LONG_ITEM) is not None
+            and _find(raw.header, _LONG_ANSWER) is not None):
+        return "long"
+    return "wide"
+
+
+def _validate_read(shape, unknown, respondents):
+    if shape not in SHAPES:
+        raise ValueError(f"`shape` must be one of {list(SHAPES)}, got {shape!r}")
+    if unknown not in UNKNOWN_POLICIES:
+        raise ValueError(f"`unknown` must be one of {list(UNKNOWN_POLICIES)}, got {unknown!r}")
+    if respondents is not None and (not isinstance(respondents, int) or respondents < 1):
+        raise ValueError(f"`respondents` must be a positive integer or None, got {respondents!r}")
+
+
+def read_survey(path: "str | Path", scale: "str | Scale | None" = None,
+                items: "list[str] | None" = None, shape: str = "auto",
+                unknown: str = "error", encoding: str = "utf-8",
+                group: "str | list[str] | None" = None, reverse: "list[str] | None" = None,
+                respondents: int | None = None) -> SurveyData:
+    """Read a survey export.
+
+    Parameters
+    ----------
+    path : str or Path
+        CSV (any shape) or ``.xlsx`` file.
+    scale : str, Scale or None
+        Built-in scale name, TOML file, or Scale; None detects a built-in scale.
+    items : list of str, optional
+        Item column names or ``fnmatch`` patterns (case-insensitive); default: detect.
+    shape : {"auto", "wide", "long", "google", "qualtrics"}
+    unknown : {"error", "missing"}
+        What to do with an answer that matches no label.
+    encoding : str
+        Text encoding of a CSV file.
+    group : str or list of str, optional
+        Columns kept for grouping.
+    reverse : list of str, optional
+        Reverse-keyed items (names or patterns).
+    respondents : int, optional
+        Declared number of respondents; respondents absent from the file are
+        missing on every item. Fewer than the file holds is an error.
+
+    Returns
+    -------
+    SurveyData
+
+    Raises
+    ------
+    SurveyInputError
+        Empty or unreadable file, bad encoding, no item columns, mixed scales,
+        unknown answers (with ``unknown="error"``), unknown column names.
+    ValueError
+        Bad option strings (the message lists the valid ones).
+    """
+    _validate_read(shape, unknown, respondents)
+    p = Path(path)
+    if p.suffix.lower() in (".xlsx", ".xlsm"):
+        raw, peek = _read_xlsx_raw(p)
+    elif p.suffix.lower() == ".xls":
+        raise SurveyInputError("old .xls workbooks are not supported; save as .xlsx or CSV",
+                               str(p))
+    else:
+        raw, peek = _read_csv_raw(p, encoding)
+    return _build(raw, peek, scale, items, shape, unknown, group, reverse, respondents)
+
+
+def survey_from_frame(df: pd.DataFrame, scale: "str | Scale | None" = None,
+                      items: "list[str] | None" = None, shape: str = "auto",
+                      unknown: str = "error", group=None, reverse=None,
+                      respondents: int | None = None, source: str = "<dataframe>",
+                      first_row: int = 2) -> SurveyData:
+    """Like :func:`read_survey`, for a DataFrame whose cells are answer text.
+
+    ``first_row`` is the spreadsheet row of the frame's first record (for messages).
+    """
+    _validate_read(shape, unknown, respondents)
+    if df.shape[1] == 0:
+        raise SurveyInputError("empty table (no columns)", source)
+    raw, peek = _raw_from_frame(df, source, first_row)
+    return _build(raw, peek, scale, items, shape, unknown, group, reverse, respondents)
+
+
+def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respondents):
+    if shape == "auto":
+        shape = _detect_shape(raw, peek)
+    dropped: list[DroppedRow] = []
+    texts: dict[str, str] = {}
+    keep = None
+    if shape == "qualtrics":
+        if raw.nrows < 2:
+            raise SurveyInputError("Qualtrics export needs three header rows", raw.source)
+        for c in raw.columns:
+            texts[c.name] = c.cats[c.codes[0]]
+        keep = np.arange(2, raw.nrows)
+        raw.first_row += 0
+        status = _find(raw.header, ("status",))
+        if status is not None:
+            col = raw.columns[status]
+            vals = np.array([normalize_answer(x) for x in col.cats], dtype=object)[col.codes[keep]]
+            numeric = all(_isint(v) for v in set(vals) if v != "")
+            preview = (vals == "survey preview") | ((vals == "1") if numeric else False)
+            for i in np.flatnonzero(preview):
+                dropped.append(DroppedRow(int(raw.first_row + keep[i]), "Survey Preview response"))
+            keep = keep[~preview]
+    if raw.nrows == 0 or (keep is not None and len(keep) == 0 and not dropped):
+        raise SurveyInputError("no responses below the header", raw.source)
+    if shape == "long":
+        return _build_long(raw, scale, items, unknown, group, reverse, respondents)
+    if keep is None:
+        keep = np.arange(raw.nrows)
+    rows = raw.first_row + keep
+    exclude = set()
+    if shape == "google":
+        exclude = {j for j, h in enumerate(raw.header) if h.strip().casefold() in _GOOGLE_META}
+    elif shape == "qualtrics":
+        exclude = {j for j, h in enumerate(raw.header) if h.strip().casefold() in _QUALTRICS_META}
+    group_names = _as_list(group)
+    group_idx = [_column_index(raw, g) for g in group_names]
+    exclude |= set(group_idx)
+    cols = [(j, _Column(c.name, c.cats, c.codes[keep])) for j, c in enumerate(raw.columns)]
+    scale_obj, item_cols = _choose_items(raw, cols, exclude, scale, items, rows)
+    answers, unknowns = _match(raw.source, scale_obj, item_cols, rows, unknown)
+    names = [c.name for _, c in item_cols]
+    groups = {raw.columns[j].name: np.array(raw.columns[j].cats, dtype=object)[
+        raw.columns[j].codes[keep]] for j in group_idx}
+    data = SurveyData(source=raw.source, shape=shape, scale=scale_obj, items=names,
+                      item_texts=[texts.get(n, n) for n in names], answers=answers,
+                      rows=np.asarray(rows, dtype=np.int64), groups=groups,
+                      unknown_answers=unknowns, dropped=dropped,
+                      reverse=_resolve_reverse(raw.source, names, reverse))
+    return _declare(data, respondents)
+
+
+def _isint(s: str) -> bool:
+    try:
+        int(s)
+        return True
+    except ValueError:
+        return False
+
+
+def _as_list(x) -> list[str]:
+    if x is None:
+        return []
+    if isinstance(x, str):
+        return [x]
+    return list(x)
+
+
+def _column_index(raw: _Raw, name: str) -> int:
+    key = normalize_answer(name)
+    for j, h in enumerate(raw.header):
+        if normalize_answer(h) == key:
+            return j
+    raise SurveyInputError(f"no column {name!r}; columns are {raw.header!r}", raw.source, 1)
+
+
+def _resolve_reverse(source, names, reverse) -> set:
+    out = set()
+    for pat in _as_list(reverse):
+        hits = [n for n in names if fnmatch.fnmatch(n.casefold(), pat.casefold())
+                or normalize_answer(n) == normalize_answer(pat)]
+        if not hits:
+            raise SurveyInputError(f"reverse-keyed item {pat!r} is not an item; items are {names!r}",
+                                   source)
+        out.update(hits)
+    return out
+
+
+def _declare(data: SurveyData, respondents: int | None) -> SurveyData:
+    if respondents is None:
+        return data
+    have = data.respondents
+    if respondents < have:
+        raise SurveyInputError(
+            f"{respondents} respondents declared, but the file holds {have} responses",
+            data.source)
+    if respondents > have:
+        pad = np.full((respondents - have, len(data.items)), BLANK, dtype=np.int8)
+        data.answers = np.vstack([data.answers, pad])
+        data.rows = np.concatenate([data.rows, np.zeros(respondents - have, dtype=np.int64)])
+        for g in list(data.groups):
+            data.groups[g] = np.concatenate([data.groups[g],
+                                             np.array([""] * (respondents - have), dtype=object)])
+    return data
+
+
+# ---------------------------------------------------------------------------
+# item detection and matching
+# ---------------------------------------------------------------------------
+def _column_stats(col: _Column, scale: Scale) -> tuple[int, int, int]:
+    """(non-blank answers, label-text matches, code matches) in a column."""
+    counts = col.counts()
+    nonblank = labels = codes = 0
+    for text, cnt in zip(col.cats, counts):
+        if cnt == 0 or normalize_answer(text) == "":
+            continue
+        nonblank += cnt
+        if scale.matches_label(text):
+            labels += cnt
+        elif scale.matches_code(text):
+            codes += cnt
+    return int(nonblank), int(labels), int(codes)
+
+
+def _label_item(stats) -> bool:
+    nonblank, labels, _ = stats
+    return nonblank > 0 and 2 * labels >= nonblank
+
+
+def _choose_items(raw: _Raw, cols, exclude, scale, items, rows):
+    source = raw.source
+    if items:
+        chosen = []
+        for pat in items:
+            hits = [(j, c) for j, c in cols
+                    if normalize_answer(c.name) == normalize_answer(pat)
+                    or fnmatch.fnmatch(c.name.casefold(), pat.strip().casefold())]
+            if not hits:
+                raise SurveyInputError(f"no column matches item {pat!r}; columns are "
+                                       f"{raw.header!r}", source, 1)
+            chosen.extend(h for h in hits if h[0] not in {j for j, _ in chosen})
+        chosen.sort(key=lambda t: t[0])
+        if scale is None:
+            scale_obj = _detect_scale(source, chosen, require_all=True)
+        else:
+            scale_obj = _get_scale(scale, source)
+        return scale_obj, chosen
+    candidates = [(j, c) for j, c in cols if j not in exclude
+                  and not _ID_LIKE.match(c.name.strip())]
+    if scale is None:
+        scale_obj = _detect_scale(source, candidates, require_all=False)
+    else:
+        scale_obj = _get_scale(scale, source)
+    stats = {j: _column_stats(c, scale_obj) for j, c in candidates}
+    chosen = [(j, c) for j, c in candidates if _label_item(stats[j])]
+    if not chosen:
+        chosen = [(j, c) for j, c in candidates
+                  if stats[j][0] > 0 and stats[j][2] == stats[j][0]]
+    if not chosen:
+        raise SurveyInputError(
+            f"no item columns: no column's answers are labels of scale {scale_obj.name!r} "
+            f"({scale_obj.describe_valid()}); name the items with --items or the scale "
+            f"with --scale", source)
+    # a column that holds another scale's labels is a mixed-scale survey
+    chosen_idx = {j for j, _ in chosen}
+    for j, c in candidates:
+        if j in chosen_idx:
+            continue
+        for other in BUILTIN_SCALES.values():
+            if other.name != scale_obj.name and _label_item(_column_stats(c, other)):
+                raise SurveyInputError(
+                    f"mixed scales: answers are labels of scale {other.name!r}, while "
+                    f"column {chosen[0][1].name!r} uses {scale_obj.name!r}; analyse one "
+                    f"scale at a time with --items and --scale", source, 1, c.name)
+    return scale_obj, chosen
+
+
+def _get_scale(scale, source) -> Scale:
+    try:
+        return get_scale(scale)
+    except SurveyInputError:
+        raise
+    except ValueError as e:
+        raise SurveyInputError(str(e), source) from None
+
+
+def _detect_scale(source, cols, require_all: bool) -> Scale:
+    """The built-in scale whose labels every item-like column uses."""
+    per_col = []
+    for j, c in cols:
+        fits = {}
+        for s in BUILTIN_SCALES.values():
+            st = _column_stats(c, s)
+            if _label_item(st):
+                fits[s.name] = st[1] / st[0]
+        if fits or require_all:
+            per_col.append((c.name, fits))
+    if not per_col or not any(f for _, f in per_col):
+        raise SurveyInputError(
+            "no item columns: no column's answers are labels of a built-in scale "
+            f"({', '.join(BUILTIN_SCALES)}); give --scale (a name or a .toml file) "
+            "and, for numeric codes, --items", source)
+    common = None
+    for name, fits in per_col:
+        common = set(fits) if common is None else common & set(fits)
+    if not common:
+        a = per_col[0]
+        for b in per_col[1:]:
+            if not set(a[1]) & set(b[1]):
+                raise SurveyInputError(
+                    f"mixed scales: column {a[0]!r} uses {sorted(a[1]) or 'no known scale'}, "
+                    f"column {b[0]!r} uses {sorted(b[1]) or 'no known scale'}; analyse one "
+                    f"scale at a time with --items and --scale", source, 1, b[0])
+        raise SurveyInputError("mixed scales: no one scale fits every item column", source)
+    order = list(BUILTIN_SCALES)
+
+    def score(name):
+        return (-sum(f[name] for _, f in per_col if name in f),
+                BUILTIN_SCALES[name].k, order.index(name))
+    return BUILTIN_SCALES[min(common, key=score)]
+
+
+def _lut(scale: Scale, cats: list[str]) -> np.ndarray:
+    lut = np.empty(len(cats), dtype=np.int8)
+    for i, text in enumerate(cats):
+        m = scale.match(text)
+        lut[i] = _NO_MATCH if m is None else m
+    return lut
+
+
+def _match(source, scale, item_cols, rows, unknown):
+    n = len(rows)
+    answers = np.empty((n, len(item_cols)), dtype=np.int8)
+    unknowns: list[UnknownAnswer] = []
+    for k, (_, col) in enumerate(item_cols):
+        lut = _lut(scale, col.cats)
+        a = lut[col.codes]
+        bad = a == _NO_MATCH
+        if bad.any():
+            where = np.flatnonzero(bad)
+            if unknown == "error":
+                i = int(where[0])
+                value = col.cats[col.codes[i]]
+                raise SurveyInputError(
+                    f"answer {value!r} is not on scale {scale.name!r}; valid labels: "
+                    f"{scale.describe_valid()} (or use --unknown-as-missing)",
+                    source, int(rows[i]), col.name)
+            for i in where:
+                unknowns.append(UnknownAnswer(int(rows[i]), col.name, col.cats[col.codes[i]]))
+            a[bad] = UNKNOWN
+        answers[:, k] = a
+    unknowns.sort(key=lambda u: (u.row, u.column))
+    return answers, unknowns
+
+
+# ---------------------------------------------------------------------------
+# long shape
+# ---------------------------------------------------------------------------
+def _build_long(raw: _Raw, scale, items, unknown, group, reverse, respondents):
+    source = raw.source
+    ri, ii, ai = (_find(raw.header, _LONG_RESP), _find(raw.header, _LONG_ITEM),
+                  _find(raw.header, _LONG_ANSWER))
+    for idx, what, names in ((ri, "respondent", _LONG_RESP), (ii, "item", _LONG_ITEM),
+                             (ai, "answer", _LONG_ANSWER)):
+        if idx is None:
+            raise SurveyInputError(f"long shape needs a {what} column (one of {list(names)}); "
+                                   f"header is {raw.header!r}", source, 1)
+    rows = raw.first_row + np.arange(raw.nrows)
+    rc, ic, ac = raw.columns[ri], raw.columns[ii], raw.columns[ai]
+    rkeys = np.array([normalize_answer(x) for x in rc.cats], dtype=object)
+    blank_r = rkeys[rc.codes] == ""
+    if blank_r.any():
+        i = int(np.flatnonzero(blank_r)[0])
+        raise SurveyInputError("blank respondent id", source, int(rows[i]), rc.name)
+    ikeys = np.array([x.strip() for x in ic.cats], dtype=object)
+    blank_i = ikeys[ic.codes] == ""
+    if blank_i.any():
+        i = int(np.flatnonzero(blank_i)[0])
+        raise SurveyInputError("blank item name", source, int(rows[i]), ic.name)
+    resp_code, resp_ids = pd.factorize(pd.Series(rkeys[rc.codes]), sort=False)
+    item_code, item_names = pd.factorize(pd.Series(ikeys[ic.codes]), sort=False)
+    item_names = [str(x) for x in item_names]
+    nresp, nitem = len(resp_ids), len(item_names)
+    # choose items among the item names, by pattern or by detection
+    if items:
+        wanted = []
+        for pat in items:
+            hits = [k for k, nm in enumerate(item_names)
+                    if normalize_answer(nm) == normalize_answer(pat)
+                    or fnmatch.fnmatch(nm.casefold(), pat.strip().casefold())]
+            if not hits:
+                raise SurveyInputError(f"no item matches {pat!r}; items are {item_names!r}",
+                                       source)
+            wanted.extend(h for h in hits if h not in wanted)
+        wanted.sort()
+    else:
+        wanted = list(range(nitem))
+    per_item = []
+    for k in wanted:
+        sel = item_code == k
+        per_item.append((k, _Column(item_names[k], ac.cats, ac.codes[sel])))
+    if scale is None:
+        scale_obj = _detect_scale(source, per_item, require_all=False)
+    else:
+        scale_obj = _get_scale(scale, source)
+    if not items:
+        stats = {k: _column_stats(c, scale_obj) for k, c in per_item}
+        keep = [k for k, c in per_item if _label_item(stats[k])]
+        if not keep:
+            keep = [k for k, c in per_item if stats[k][0] > 0 and stats[k][2] == stats[k][0]]
+        if not keep:
+            raise SurveyInputError(f"no item columns: no item's answers are labels of scale "
+                                   f"{scale_obj.name!r} ({scale_obj.describe_valid()})", source)
+        for k, c in per_item:
+            if k in keep:
+                continue
+            for other in BUILTIN_SCALES.values():
+                if other.name != scale_obj.name and _label_item(_column_stats(c, other)):
+                    raise SurveyInputError(
+                        f"mixed scales: item {c.name!r} uses scale {other.name!r}, others use "
+                        f"{scale_obj.name!r}; choose items with --items", source)
+        wanted = keep
+    pos = {k: p for p, k in enumerate(wanted)}
+    sel = np.isin(item_code, wanted)
+    lut = _lut(scale_obj, ac.cats)
+    a = lut[ac.codes[sel]]
+    r_sel, i_sel, rows_sel = resp_code[sel], np.array([pos[k] for k in item_code[sel]],
+                                                      dtype=np.int64), rows[sel]
+    flat = r_sel * len(wanted) + i_sel
+    order = np.argsort(flat, kind="stable")
+    dup = np.flatnonzero(np.diff(flat[order]) == 0)
+    if dup.size:
+        i = int(order[dup[0] + 1])
+        raise SurveyInputError(
+            f"respondent {resp_ids[r_sel[i]]!r} answers item {item_names[wanted[i_sel[i]]]!r} "
+            f"twice", source, int(rows_sel[i]), ac.name)
+    bad = a == _NO_MATCH
+    unknowns: list[UnknownAnswer] = []
+    if bad.any():
+        if unknown == "error":
+            i = int(np.flatnonzero(bad)[0])
+            value = ac.cats[ac.codes[sel][i]]
+            raise SurveyInputError(
+                f"answer {value!r} is not on scale {scale_obj.name!r}; valid labels: "
+                f"{scale_obj.describe_valid()} (or use --unknown-as-missing)",
+                source, int(rows_sel[i]), ac.name)
+        for i in np.flatnonzero(bad):
+            unknowns.append(UnknownAnswer(int(rows_sel[i]), ac.name, ac.cats[ac.codes[sel][i]]))
+        a = a.copy()
+        a[bad] = UNKNOWN
+    answers = np.full((nresp, len(wanted)), BLANK, dtype=np.int8)
+    answers[r_sel, i_sel] = a
+    first_rows = np.full(nresp, np.iinfo(np.int64).max, dtype=np.int64)
+    np.minimum.at(first_rows, resp_code, rows)
+    groups = {}
+    for g in _as_list(group):
+        j = _column_index(raw, g)
+        col = raw.columns[j]
+        vals = np.array(col.cats, dtype=object)[col.codes]
+        first_idx = first_rows - raw.first_row
+        groups[col.name] = vals[first_idx]
+    names = [item_names[k] for k in wanted]
+    data = SurveyData(source=source, shape="long", scale=scale_obj, items=names,
+                      item_texts=list(names), answers=answers, rows=first_rows,
+                      groups=groups, unknown_answers=unknowns,
+                      reverse=_resolve_reverse(source, names, reverse))
+    return _declare(data, respondents)

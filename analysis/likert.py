@@ -1,0 +1,413 @@
+"""Per-item summaries of Likert answers (the paper's Table 1 for any class).
+
+For every item: counts and percentages per answer label, the valid n, blank
+(missing) and not-applicable (excluded) answers, the agreement (top box),
+neutral and disagreement shares with confidence intervals, and the median and
+interquartile range of the codes. Mean and standard deviation of the codes are
+given only as a labelled extra (the codes are ordinal).
+
+Invariant, per item: ``n + missing + excluded == respondents``.
+
+Percentages and rounding
+------------------------
+``percent`` holds exact shares of the valid n, ``100 * count / n``. Printed
+percentages (:meth:`ItemSummary.printed_percent`) are rounded to ``decimals``
+places *half away from zero*, computed on exact fractions (so 45/2 prints 22.5
+at 0 decimals as 23, not as Python's banker's 22). With
+``method="largest_remainder"`` (Hamilton's method) each row is made to add up to
+exactly 100: every share is first cut down to ``decimals`` places, then the
+missing units go, one each, to the labels with the largest remainders (ties to
+the label printed first).
+
+Intervals
+---------
+Shares use :func:`statsmodels.stats.proportion.proportion_confint`:
+``method="wilson"`` (default, Wilson 1927) or ``"beta"`` (Clopper-Pearson exact).
+
+Public API
+----------
+:func:`summarize` (a :class:`~analysis.ingest.SurveyData`),
+:func:`summarize_dataframe` (a DataFrame of answer text), :func:`proportion`;
+results :class:`SurveySummary`, :class:`ItemSummary`, :class:`Proportion`, each with
+``to_dict()``. ``SurveySummary.to_dict()`` is the ``summarize --json`` shape.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from fractions import Fraction
+
+import numpy as np
+from statsmodels.stats.proportion import proportion_confint
+
+from .ingest import BLANK, NOT_APPLICABLE, UNKNOWN, SurveyData, survey_from_frame
+
+__all__ = ["CI_METHODS", "PERCENT_METHODS", "Proportion", "ItemSummary", "SurveySummary",
+           "proportion", "summarize", "summarize_dataframe", "round_half_away",
+           "largest_remainder"]
+
+#: Valid interval methods (statsmodels names): Wilson score, Clopper-Pearson.
+CI_METHODS = ("wilson", "beta")
+#: Valid printed-percentage methods.
+PERCENT_METHODS = ("round", "largest_remainder")
+
+
+def _validate_ci(method, confidence_level):
+    if method not in CI_METHODS:
+        raise ValueError(f"`method` must be one of {list(CI_METHODS)}, got {method!r}")
+    if not (0 < confidence_level < 1):
+        raise ValueError(f"`confidence_level` must be in (0, 1), got {confidence_level!r}")
+
+
+@dataclass(frozen=True)
+class Proportion:
+    """k successes out of n, with a confidence interval.
+
+    Attributes
+    ----------
+    k, n : int
+    share : float or None
+        k / n (None when n == 0).
+    ci : (float, float) or (None, None)
+        Interval at ``confidence_level`` by ``method``.
+    method : str
+        ``"wilson"`` or ``"beta"`` (Clopper-Pearson).
+    confidence_level : float
+    """
+
+    k: int
+    n: int
+    share: float | None
+    ci: tuple
+    method: str
+    confidence_level: float
+
+    def confidence_interval(self, confidence_level: float = 0.95,
+                            method: str = "wilson") -> tuple[float, float]:
+        """Interval for the share at another level or by another method."""
+        return proportion(self.k, self.n, confidence_level, method).ci
+
+    def to_dict(self) -> dict:
+        return {"share": self.share, "ci": list(self.ci)}
+
+    def __repr__(self):
+        if self.share is None:
+            return f"Proportion({self.k}/{self.n})"
+        return (f"Proportion({self.k}/{self.n} = {self.share:.4f}, "
+                f"{self.confidence_level:.0%} {self.method} CI [{self.ci[0]:.4f}, {self.ci[1]:.4f}])")
+
+
+def proportion(k: int, n: int, confidence_level: float = 0.95,
+               method: str = "wilson") -> Proportion:
+    """Share k/n with its confidence interval (statsmodels ``proportion_confint``).
+
+    Parameters
+    ----------
+    k, n : int
+        Successes and trials (0 <= k <= n).
+    confidence_level : float
+        E.g. 0.95.
+    method : {"wilson", "beta"}
+        Wilson score interval or Clopper-Pearson ("beta").
+
+    Returns
+    -------
+    Proportion
+    """
+    _validate_ci(method, confidence_level)
+    k, n = int(k), int(n)
+    if n < 0 or k < 0 or k > n:
+        raise ValueError(f"need 0 <= k <= n, got k={k}, n={n}")
+    if n == 0:
+        return Proportion(0, 0, None, (None, None), method, confidence_level)
+    lo, hi = proportion_confint(k, n, alpha=1 - confidence_level, method=method)
+    # the bounds are exact at the ends; clear floating-point dust (e.g. 5e-17 for k = 0)
+    lo = 0.0 if k == 0 else min(max(float(lo), 0.0), 1.0)
+    hi = 1.0 if k == n else min(max(float(hi), 0.0), 1.0)
+    return Proportion(k, n, k / n, (float(lo), float(hi)), method, confidence_level)
+
+
+def round_half_away(x: Fraction, decimals: int) -> Fraction:
+    """Round an exact non-negative rational half away from zero."""
+    scale = 10 ** decimals
+    y = Fraction(x) * scale
+    sign = -1 if y < 0 else 1
+    return Fraction(sign * math.floor(abs(y) + Fraction(1, 2)), scale)
+
+
+def largest_remainder(counts: list[int], decimals: int = 1) -> list[Fraction]:
+    """Percentages of ``counts`` that add up to exactly 100 (Hamilton's method).
+
+    Each share ``100 c / n`` is truncated to ``decimals`` places; the units still
+    missing from 100 go one each to the largest remainders (ties: first label).
+    """
+    n = sum(counts)
+    if n == 0:
+        return [Fraction(0)] * len(counts)
+    units = 100 * 10 ** decimals
+    quotas = [Fraction(c * units, n) for c in counts]
+    floors = [math.floor(q) for q in quotas]
+    left = units - sum(floors)
+    order = sorted(range(len(counts)), key=lambda i: (-(quotas[i] - floors[i]), i))
+    for i in order[:left]:
+        floors[i] += 1
+    return [Fraction(f, 10 ** decimals) for f in floors]
+
+
+def _weighted_quantile(codes: np.ndarray, counts: np.ndarray, q: float) -> float | None:
+    """numpy's default (linear) quantile of the values ``codes`` repeated ``counts`` times."""
+    n = int(counts.sum())
+    if n == 0:
+        return None
+    order = np.argsort(codes)
+    v, c = codes[order], counts[order]
+    cum = np.cumsum(c)
+    h = (n - 1) * q
+    lo, hi = math.floor(h), math.ceil(h)
+    vlo = v[np.searchsorted(cum, lo + 1)]
+    vhi = v[np.searchsorted(cum, hi + 1)]
+    return float(vlo + (h - lo) * (vhi - vlo))
+
+
+@dataclass
+class ItemSummary:
+    """Summary of one item.
+
+    Attributes
+    ----------
+    item : str
+        Column header.
+    text : str
+        Question text (when the export carries it; else the header).
+    labels : list of str
+        Scale labels in questionnaire order.
+    counts : dict of str to int
+        Answers per label.
+    n : int
+        Valid answers (sum of counts).
+    missing : int
+        Blank answers (and unknown answers counted as missing).
+    excluded : int
+        Not-applicable answers.
+    respondents : int
+    percent : dict of str to float
+        Exact ``100 * count / n`` (0-100); NaN-free: empty dict values are 0 when n == 0.
+    agree, neutral, disagree : Proportion
+        Shares of n answering a positive / neutral / negative label.
+    median, q1, q3 : float or None
+        Of the codes (reverse-keyed items use reversed codes).
+    mean, sd : float or None
+        Extra, labelled: mean and sample sd of the codes (ordinal data!).
+    reverse : bool
+        Item is reverse-keyed.
+    unknown : int
+        Unknown answers counted as missing.
+    """
+
+    item: str
+    text: str
+    labels: list[str]
+    counts: dict[str, int]
+    n: int
+    missing: int
+    excluded: int
+    respondents: int
+    percent: dict[str, float]
+    agree: Proportion
+    neutral: Proportion
+    disagree: Proportion
+    median: float | None
+    q1: float | None
+    q3: float | None
+    mean: float | None
+    sd: float | None
+    reverse: bool = False
+    unknown: int = 0
+
+    @property
+    def iqr(self) -> float | None:
+        """Interquartile range of the codes, q3 - q1."""
+        return None if self.q1 is None else self.q3 - self.q1
+
+    def printed_percent(self, decimals: int = 1, method: str = "round") -> dict[str, float]:
+        """Percentages as they would be printed.
+
+        Parameters
+        ----------
+        decimals : int
+            Places after the decimal point.
+        method : {"round", "largest_remainder"}
+            Round each cell half away from zero, or make the row add up to 100.
+        """
+        if method not in PERCENT_METHODS:
+            raise ValueError(f"`method` must be one of {list(PERCENT_METHODS)}, got {method!r}")
+        cs = [self.counts[lab] for lab in self.labels]
+        if self.n == 0:
+            return {lab: 0.0 for lab in self.labels}
+        if method == "round":
+            vals = [round_half_away(Fraction(100 * c, self.n), decimals) for c in cs]
+        else:
+            vals = largest_remainder(cs, decimals)
+        return {lab: float(v) for lab, v in zip(self.labels, vals)}
+
+    def to_dict(self) -> dict:
+        """The ``summarize --json`` item (plus ``excluded`` for the invariant)."""
+        return {"item": self.item, "n": self.n, "missing": self.missing,
+                "excluded": self.excluded, "counts": dict(self.counts),
+                "percent": dict(self.percent), "agree": self.agree.to_dict()}
+
+    def to_full_dict(self) -> dict:
+        d = self.to_dict()
+        d.update(text=self.text, respondents=self.respondents,
+                 neutral=self.neutral.to_dict(), disagree=self.disagree.to_dict(),
+                 ci_method=self.agree.method, median=self.median, q1=self.q1, q3=self.q3,
+                 iqr=self.iqr, extra_mean_of_codes=self.mean, extra_sd_of_codes=self.sd,
+                 reverse=self.reverse, unknown_as_missing=self.unknown)
+        return d
+
+    def __repr__(self):
+        cs = ", ".join(f"{k}={v}" for k, v in self.counts.items())
+        return (f"ItemSummary({self.item!r}, n={self.n}, missing={self.missing}, "
+                f"excluded={self.excluded}, {cs})")
+
+
+@dataclass
+class SurveySummary:
+    """Summaries of every item of one survey.
+
+    Attributes
+    ----------
+    respondents : int
+    items : list of ItemSummary
+    scale : Scale
+    source, shape : str
+    unknown_answers, dropped : list
+        Reports from reading (see :class:`~analysis.ingest.SurveyData`).
+    ci_method : str
+    confidence_level : float
+    """
+
+    respondents: int
+    items: list[ItemSummary]
+    scale: object
+    source: str
+    shape: str
+    unknown_answers: list = field(default_factory=list)
+    dropped: list = field(default_factory=list)
+    ci_method: str = "wilson"
+    confidence_level: float = 0.95
+
+    def item(self, name: "str | int") -> ItemSummary:
+        """An item by header (any case) or 1-based position."""
+        if isinstance(name, int) and not isinstance(name, bool):
+            return self.items[name - 1]
+        key = str(name).strip().casefold()
+        for it in self.items:
+            if it.item.strip().casefold() == key:
+                return it
+        raise KeyError(f"no item {name!r}; items are {[i.item for i in self.items]}")
+
+    def to_dict(self) -> dict:
+        """The ``summarize --json`` shape: ``{"respondents": int, "items": [...]}``."""
+        return {"respondents": self.respondents, "items": [i.to_dict() for i in self.items]}
+
+    def to_full_dict(self) -> dict:
+        return {"respondents": self.respondents, "source": self.source, "shape": self.shape,
+                "scale": self.scale.to_dict(), "ci_method": self.ci_method,
+                "confidence_level": self.confidence_level,
+                "items": [i.to_full_dict() for i in self.items],
+                "unknown_answers": [vars(u) for u in self.unknown_answers],
+                "dropped": [vars(d) for d in self.dropped]}
+
+    def format_text(self, decimals: int = 1, method: str = "round") -> str:
+        """Plain-text Table 1 with n, missing and the agreement interval."""
+        labels = list(self.scale.labels)
+        out = [f"{self.source}: {self.respondents} respondents, scale {self.scale.name!r}, "
+               f"shape {self.shape}"]
+        width = max([len(i.item) for i in self.items] + [4])
+        head = f"{'item':<{width}}  " + "  ".join(f"{lab[:18]:>18}" for lab in labels)
+        out.append(head + f"  {'n':>5} {'miss':>5} {'n/a':>5}  agree [95% CI]")
+        for it in self.items:
+            pp = it.printed_percent(decimals, method)
+            cells = "  ".join(f"{f'{pp[lab]:.{decimals}f}% ({it.counts[lab]})':>18}" for lab in labels)
+            ag = it.agree
+            agree = ("-" if ag.share is None else
+                     f"{ag.share:.1%} [{ag.ci[0]:.1%}, {ag.ci[1]:.1%}]")
+            out.append(f"{it.item:<{width}}  {cells}  {it.n:>5} {it.missing:>5} "
+                       f"{it.excluded:>5}  {agree}")
+        for d in self.dropped:
+            out.append(f"dropped row {d.row}: {d.reason}")
+        return "\n".join(out)
+
+
+def _validate_summarize(data, confidence_level, method):
+    if not isinstance(data, SurveyData):
+        raise TypeError(f"`data` must be SurveyData, got {type(data).__name__}")
+    _validate_ci(method, confidence_level)
+
+
+def summarize(data: SurveyData, confidence_level: float = 0.95,
+              method: str = "wilson") -> SurveySummary:
+    """Summarise every item of a survey.
+
+    Parameters
+    ----------
+    data : SurveyData
+        From :func:`~analysis.ingest.read_survey` or :func:`~analysis.ingest.survey_from_frame`.
+    confidence_level : float
+        Level of the share intervals.
+    method : {"wilson", "beta"}
+        Interval method (statsmodels ``proportion_confint``).
+
+    Returns
+    -------
+    SurveySummary
+    """
+    _validate_summarize(data, confidence_level, method)
+    scale = data.scale
+    k = scale.k
+    labels = list(scale.labels)
+    pos = [labels.index(x) for x in scale.positive]
+    neu = [labels.index(x) for x in scale.neutral]
+    neg = [labels.index(x) for x in scale.negative]
+    out = []
+    for j, name in enumerate(data.items):
+        col = data.answers[:, j]
+        # one pass: bincount over shifted codes (-3..k-1 -> 0..k+2)
+        tally = np.bincount(col.astype(np.int64) + 3, minlength=k + 3)
+        unknown = int(tally[UNKNOWN + 3])
+        excluded = int(tally[NOT_APPLICABLE + 3])
+        missing = int(tally[BLANK + 3]) + unknown
+        cnt = tally[3:3 + k]
+        n = int(cnt.sum())
+        counts = {lab: int(c) for lab, c in zip(labels, cnt)}
+        percent = {lab: (100.0 * int(c) / n if n else 0.0) for lab, c in zip(labels, cnt)}
+        rev = name in data.reverse
+        codes = np.array(scale.reversed_codes() if rev else scale.codes, dtype=float)
+        median = _weighted_quantile(codes, cnt, 0.5)
+        q1 = _weighted_quantile(codes, cnt, 0.25)
+        q3 = _weighted_quantile(codes, cnt, 0.75)
+        if n:
+            mean = float((codes * cnt).sum() / n)
+            sd = float(math.sqrt(((codes - mean) ** 2 * cnt).sum() / (n - 1))) if n > 1 else None
+        else:
+            mean = sd = None
+        out.append(ItemSummary(
+            item=name, text=data.item_texts[j], labels=labels, counts=counts, n=n,
+            missing=missing, excluded=excluded, respondents=data.respondents, percent=percent,
+            agree=proportion(int(cnt[pos].sum()), n, confidence_level, method),
+            neutral=proportion(int(cnt[neu].sum()), n, confidence_level, method),
+            disagree=proportion(int(cnt[neg].sum()), n, confidence_level, method),
+            median=median, q1=q1, q3=q3, mean=mean, sd=sd, reverse=rev, unknown=unknown))
+    return SurveySummary(respondents=data.respondents, items=out, scale=scale,
+                         source=data.source, shape=data.shape,
+                         unknown_answers=list(data.unknown_answers), dropped=list(data.dropped),
+                         ci_method=method, confidence_level=confidence_level)
+
+
+def summarize_dataframe(df, scale=None, items=None, shape: str = "auto",
+                        unknown: str = "error", confidence_level: float = 0.95,
+                        method: str = "wilson", **kwargs) -> SurveySummary:
+    """Summarise a DataFrame of answer text (see :func:`~analysis.ingest.survey_from_frame`)."""
+    data = survey_from_frame(df, scale=scale, items=items, shape=shape, unknown=unknown, **kwargs)
+    return summarize(data, confidence_level, method)

@@ -1,0 +1,331 @@
+"""Response scales: ordered answer labels with numeric codes.
+
+A :class:`Scale` lists its labels in questionnaire order, gives each a numeric
+code, and says which labels count as agreeing (``positive``), neutral and
+disagreeing (``negative``). Answers such as "Not applicable" are neither: they
+are *excluded* from every denominator and reported apart.
+
+Built-in scales (:data:`BUILTIN_SCALES`): ``paper`` (the five-point scale of the
+paper's questionnaire, Definitely Agree ... Definitely Disagree), ``agree5``,
+``agree7``, ``frequency5`` and ``satisfaction5``. Custom scales come from a small
+TOML file (:func:`load_scale`)::
+
+    name = "confidence4"
+    labels = ["Not at all", "Slightly", "Fairly", "Very"]   # questionnaire order
+    codes = [1, 2, 3, 4]                 # optional; default 1..k
+    positive = ["Fairly", "Very"]        # optional; default codes above the middle
+    negative = ["Not at all", "Slightly"]
+    neutral = []
+    not_applicable = ["N/A"]             # optional
+    [aliases]                            # optional other spellings
+    "not at all confident" = "Not at all"
+
+Matching of answers ignores case and surrounding white space
+(:meth:`Scale.match`); numeric codes are accepted where the scale defines them.
+"""
+from __future__ import annotations
+
+import re
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .errors import SurveyInputError
+
+__all__ = ["Scale", "BUILTIN_SCALES", "get_scale", "load_scale", "normalize_answer",
+           "DEFAULT_NOT_APPLICABLE"]
+
+#: Answers treated as "not applicable" unless a scale names its own.
+DEFAULT_NOT_APPLICABLE = ("Not applicable", "N/A", "Does not apply")
+
+_SPACE = re.compile(r"\s+")
+
+
+def normalize_answer(text: str) -> str:
+    """Key used to match an answer to a label.
+
+    Surrounding white space is removed, inner runs of white space collapse to
+    one space and case is folded, so ``"  definitely   AGREE "`` matches
+    ``"Definitely Agree"``.
+    """
+    return _SPACE.sub(" ", str(text).strip()).casefold()
+
+
+def _code_key(text: str) -> str | None:
+    """Canonical form of a numeric answer (``"5"``, ``"5.0"``, ``" 5 "`` -> ``"5"``)."""
+    t = str(text).strip()
+    try:
+        value = float(t)
+    except ValueError:
+        return None
+    if value != value or value in (float("inf"), float("-inf")):
+        return None
+    if value.is_integer():
+        return str(int(value))
+    return repr(value)
+
+
+@dataclass(frozen=True)
+class Scale:
+    """An ordered response scale.
+
+    Parameters
+    ----------
+    name : str
+        Short name (``"paper"``, ``"agree5"``, ...).
+    labels : tuple of str
+        Answer labels in questionnaire order.
+    codes : tuple of float
+        Numeric code of each label (same order). Higher codes mean more
+        agreement / frequency / satisfaction.
+    positive, neutral, negative : tuple of str
+        Labels counted as agreeing (the top box(es)), neutral and disagreeing.
+    not_applicable : tuple of str
+        Answers excluded from denominators and reported apart.
+    aliases : dict
+        Other spellings, mapped to a label.
+    description : str
+        One line for listings.
+    """
+
+    name: str
+    labels: tuple[str, ...]
+    codes: tuple[float, ...]
+    positive: tuple[str, ...]
+    neutral: tuple[str, ...]
+    negative: tuple[str, ...]
+    not_applicable: tuple[str, ...] = DEFAULT_NOT_APPLICABLE
+    aliases: dict = field(default_factory=dict, compare=False, hash=False)
+    description: str = ""
+
+    def __post_init__(self):
+        _validate_scale(self)
+
+    # -- lookup -------------------------------------------------------------
+    @property
+    def k(self) -> int:
+        """Number of labels."""
+        return len(self.labels)
+
+    def _lookup(self) -> dict:
+        cache = self.__dict__.get("_lookup_cache")
+        if cache is None:
+            cache = {}
+            for i, label in enumerate(self.labels):
+                cache[normalize_answer(label)] = i
+            for alias, label in self.aliases.items():
+                cache[normalize_answer(alias)] = self.labels.index(label)
+            for na in self.not_applicable:
+                cache.setdefault(normalize_answer(na), -2)
+            codes = {}
+            for i, code in enumerate(self.codes):
+                codes[_code_key(code)] = i
+            object.__setattr__(self, "_lookup_cache", cache)
+            object.__setattr__(self, "_code_cache", codes)
+        return cache
+
+    def match(self, answer: str, accept_codes: bool = True) -> int | None:
+        """Index of the label an answer stands for.
+
+        Returns
+        -------
+        int or None
+            ``0 .. k-1`` for a label, :data:`Scale.NOT_APPLICABLE` (-2) for a
+            not-applicable answer, :data:`Scale.BLANK` (-1) for a blank answer,
+            ``None`` when the answer matches nothing.
+        """
+        key = normalize_answer(answer)
+        if key == "":
+            return self.BLANK
+        hit = self._lookup().get(key)
+        if hit is not None:
+            return hit
+        if accept_codes:
+            ck = _code_key(key)
+            if ck is not None:
+                return self.__dict__["_code_cache"].get(ck)
+        return None
+
+    def matches_label(self, answer: str) -> bool:
+        """True when ``answer`` is one of the label texts (or an alias / N/A text)."""
+        key = normalize_answer(answer)
+        return key != "" and key in self._lookup()
+
+    def matches_code(self, answer: str) -> bool:
+        """True when ``answer`` is one of the numeric codes."""
+        self._lookup()
+        ck = _code_key(answer)
+        return ck is not None and ck in self.__dict__["_code_cache"]
+
+    BLANK = -1
+    NOT_APPLICABLE = -2
+
+    # -- derived ------------------------------------------------------------
+    def index(self, label: str) -> int:
+        """Index of a label given in any case / spacing; ValueError if unknown."""
+        i = self.match(label, accept_codes=False)
+        if i is None or i < 0:
+            raise ValueError(
+                f"label {label!r} is not on scale {self.name!r}; valid labels: "
+                + ", ".join(self.labels))
+        return i
+
+    def reversed_codes(self) -> tuple[float, ...]:
+        """Codes for a reverse-keyed item: ``min + max - code``."""
+        lo, hi = min(self.codes), max(self.codes)
+        return tuple(lo + hi - c for c in self.codes)
+
+    def describe_valid(self) -> str:
+        """The valid answers, for error messages."""
+        codes = ", ".join(_code_key(c) for c in self.codes)
+        na = ", ".join(self.not_applicable)
+        text = ", ".join(self.labels) + f" (or codes {codes})"
+        if na:
+            text += f"; not applicable: {na}"
+        return text
+
+    def to_dict(self) -> dict:
+        """Plain-data form (for JSON)."""
+        return {"name": self.name, "labels": list(self.labels),
+                "codes": list(self.codes), "positive": list(self.positive),
+                "neutral": list(self.neutral), "negative": list(self.negative),
+                "not_applicable": list(self.not_applicable)}
+
+    def __repr__(self):
+        return f"Scale({self.name!r}, labels={list(self.labels)!r})"
+
+
+def _validate_scale(s: Scale) -> None:
+    where = f"scale {s.name!r}"
+    if not isinstance(s.name, str) or not s.name.strip():
+        raise ValueError("scale `name` must be a non-empty string")
+    if len(s.labels) < 2:
+        raise ValueError(f"{where}: needs at least two labels, got {list(s.labels)!r}")
+    if len(s.codes) != len(s.labels):
+        raise ValueError(f"{where}: {len(s.codes)} codes for {len(s.labels)} labels")
+    keys = [normalize_answer(x) for x in s.labels]
+    if len(set(keys)) != len(keys) or "" in keys:
+        raise ValueError(f"{where}: labels must be distinct and non-blank (ignoring case), "
+                         f"got {list(s.labels)!r}")
+    if len({float(c) for c in s.codes}) != len(s.codes):
+        raise ValueError(f"{where}: codes must be distinct, got {list(s.codes)!r}")
+    for group_name in ("positive", "neutral", "negative"):
+        for lab in getattr(s, group_name):
+            if lab not in s.labels:
+                raise ValueError(f"{where}: {group_name} label {lab!r} is not one of "
+                                 f"{list(s.labels)!r}")
+    groups = list(s.positive) + list(s.neutral) + list(s.negative)
+    if len(set(groups)) != len(groups):
+        raise ValueError(f"{where}: a label is in more than one of positive/neutral/negative")
+    for na in s.not_applicable:
+        if normalize_answer(na) in keys:
+            raise ValueError(f"{where}: not-applicable answer {na!r} is also a label")
+    for alias, lab in s.aliases.items():
+        if lab not in s.labels:
+            raise ValueError(f"{where}: alias {alias!r} points to {lab!r}, "
+                             f"which is not one of {list(s.labels)!r}")
+
+
+def _make(name, labels, codes, positive, neutral, negative, description, aliases=None):
+    return Scale(name=name, labels=tuple(labels), codes=tuple(float(c) for c in codes),
+                 positive=tuple(positive), neutral=tuple(neutral), negative=tuple(negative),
+                 aliases=dict(aliases or {}), description=description)
+
+
+_PAPER = ("Definitely Agree", "Partially Agree", "Neutral", "Partially Disagree",
+          "Definitely Disagree")
+_AGREE5 = ("Strongly disagree", "Disagree", "Neither agree nor disagree", "Agree",
+           "Strongly agree")
+_AGREE7 = ("Strongly disagree", "Disagree", "Somewhat disagree",
+           "Neither agree nor disagree", "Somewhat agree", "Agree", "Strongly agree")
+_FREQ5 = ("Never", "Rarely", "Sometimes", "Often", "Always")
+_SAT5 = ("Very dissatisfied", "Dissatisfied", "Neither satisfied nor dissatisfied",
+         "Satisfied", "Very satisfied")
+
+#: Built-in scales by name. Order matters for automatic detection (first wins ties).
+BUILTIN_SCALES: dict[str, Scale] = {
+    "paper": _make("paper", _PAPER, (5, 4, 3, 2, 1), _PAPER[:2], _PAPER[2:3], _PAPER[3:],
+                   "five-point scale of the paper's questionnaire (Definitely Agree first)"),
+    "agree5": _make("agree5", _AGREE5, (1, 2, 3, 4, 5), _AGREE5[3:], _AGREE5[2:3], _AGREE5[:2],
+                    "five-point Likert agreement", {"Neutral": _AGREE5[2]}),
+    "agree7": _make("agree7", _AGREE7, range(1, 8), _AGREE7[4:], _AGREE7[3:4], _AGREE7[:3],
+                    "seven-point Likert agreement", {"Neutral": _AGREE7[3]}),
+    "frequency5": _make("frequency5", _FREQ5, (1, 2, 3, 4, 5), _FREQ5[3:], _FREQ5[2:3], _FREQ5[:2],
+                        "five-point frequency (Never ... Always)"),
+    "satisfaction5": _make("satisfaction5", _SAT5, (1, 2, 3, 4, 5), _SAT5[3:], _SAT5[2:3], _SAT5[:2],
+                           "five-point satisfaction", {"Neutral": _SAT5[2]}),
+}
+
+
+def get_scale(name_or_path: "str | Path | Scale") -> Scale:
+    """A built-in scale by name, or a custom scale from a TOML file.
+
+    Raises
+    ------
+    ValueError
+        Unknown name (the message lists the built-in names).
+    SurveyInputError
+        The TOML file is unreadable or invalid.
+    """
+    if isinstance(name_or_path, Scale):
+        return name_or_path
+    text = str(name_or_path)
+    if text in BUILTIN_SCALES:
+        return BUILTIN_SCALES[text]
+    if text.lower().endswith(".toml") or Path(text).is_file():
+        return load_scale(text)
+    raise ValueError(f"`scale` must be one of {sorted(BUILTIN_SCALES)} or a .toml file, "
+                     f"got {text!r}")
+
+
+def load_scale(path: "str | Path") -> Scale:
+    """Read a custom scale from TOML (see the module docstring for the keys).
+
+    Raises
+    ------
+    SurveyInputError
+        Missing file, TOML syntax error, or a key with a bad value (named).
+    """
+    p = Path(path)
+    try:
+        data = tomllib.loads(p.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise SurveyInputError("no such file", str(p)) from None
+    except UnicodeDecodeError as e:
+        raise SurveyInputError(f"not valid UTF-8 (byte offset {e.start})", str(p)) from None
+    except tomllib.TOMLDecodeError as e:
+        raise SurveyInputError(f"invalid TOML: {e}", str(p)) from None
+    allowed = {"name", "labels", "codes", "positive", "neutral", "negative",
+               "not_applicable", "aliases", "description"}
+    for key in data:
+        if key not in allowed:
+            raise SurveyInputError(f"key {key!r}: unknown key; allowed: {sorted(allowed)}", str(p))
+    labels = data.get("labels")
+    if not isinstance(labels, list) or not all(isinstance(x, str) for x in labels):
+        raise SurveyInputError("key 'labels': must be a list of strings", str(p))
+    k = len(labels)
+    codes = data.get("codes", list(range(1, k + 1)))
+    if (not isinstance(codes, list) or len(codes) != k
+            or not all(isinstance(c, (int, float)) and not isinstance(c, bool) for c in codes)):
+        raise SurveyInputError(f"key 'codes': must be a list of {k} numbers", str(p))
+    mid = (min(codes) + max(codes)) / 2 if codes else 0
+    default_pos = [lab for lab, c in zip(labels, codes) if c > mid]
+    default_neg = [lab for lab, c in zip(labels, codes) if c < mid]
+    default_neu = [lab for lab, c in zip(labels, codes) if c == mid]
+    groups = {}
+    for key, default in (("positive", default_pos), ("neutral", default_neu),
+                         ("negative", default_neg), ("not_applicable", list(DEFAULT_NOT_APPLICABLE))):
+        value = data.get(key, default)
+        if not isinstance(value, list) or not all(isinstance(x, str) for x in value):
+            raise SurveyInputError(f"key {key!r}: must be a list of strings", str(p))
+        groups[key] = tuple(value)
+    aliases = data.get("aliases", {})
+    if not isinstance(aliases, dict) or not all(isinstance(v, str) for v in aliases.values()):
+        raise SurveyInputError("key 'aliases': must be a table of strings", str(p))
+    name = data.get("name", p.stem)
+    try:
+        return Scale(name=str(name), labels=tuple(labels), codes=tuple(float(c) for c in codes),
+                     aliases=dict(aliases), description=str(data.get("description", "")),
+                     **groups)
+    except ValueError as e:
+        raise SurveyInputError(str(e), str(p)) from None

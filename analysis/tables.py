@@ -1,0 +1,682 @@
+"""Verification of published percentage tables.
+
+Given a table of printed percentages (a row per item, a column per answer) and
+the number of respondents N, decide for every cell whether some whole number of
+respondents k gives that percentage at the printed precision, reconstruct the
+counts, and check that each row's counts can add up to N. When N is not stated,
+list the N in a range that make the whole table attainable.
+
+Attainability rule
+------------------
+A printed value p with d decimals is attainable by a count k out of N when::
+
+    round(100 * k / N, d) == p
+
+evaluated in exact rational arithmetic (``fractions.Fraction``), so no binary
+floating-point error can decide a tie. ``round`` is, by default, *half away from
+zero* (``rule="half_away"``, what hand calculators and spreadsheets print);
+``"half_even"`` (banker's rounding, Python's ``round``), ``"truncate"`` and
+``"ceil"`` are available to test other ways a table might have been produced.
+The printed precision d is taken from each cell's text (``"50.0"`` has one
+decimal) unless given.
+
+Public API
+----------
+- :func:`read_table_csv` -- read a CSV with an ``item`` column and one column per label.
+- :func:`verify_table` -- check a :class:`PublishedTable` for one N or a range of N.
+- :func:`table1_check` -- the paper's Table 1 against its stated respondents,
+  read from ``data/published/`` (returns a :class:`TableCheck`).
+- :func:`attainable_counts`, :func:`nearest_attainable` -- the cell-level rule.
+
+Every result is a dataclass with ``to_dict()``; :meth:`TableCheck.to_dict` gives
+the command line's ``--json`` shape, :meth:`TableCheck.to_full_dict` adds the
+nearest attainable values, reconstructed counts and reasons.
+"""
+from __future__ import annotations
+
+import csv
+import io
+import math
+import tomllib
+from dataclasses import dataclass, field
+from decimal import Decimal, InvalidOperation
+from fractions import Fraction
+from pathlib import Path
+
+from .errors import SurveyInputError
+
+__all__ = ["ROUNDING_RULES", "PublishedTable", "CellCheck", "RowCheck", "TableCheck",
+           "read_table_csv", "verify_table", "table1_check", "published_dir",
+           "round_fraction", "attainable_counts", "nearest_attainable", "load_table1"]
+
+#: Valid values of the ``rule`` argument.
+ROUNDING_RULES = ("half_away", "half_even", "truncate", "ceil")
+
+#: Largest N searched for a single table (guards against accidental huge ranges).
+MAX_N = 1_000_000
+
+
+def published_dir() -> Path:
+    """Folder holding the paper's values as printed (``data/published/``)."""
+    return Path(__file__).resolve().parents[1] / "data" / "published"
+
+
+# ---------------------------------------------------------------------------
+# exact rounding
+# ---------------------------------------------------------------------------
+def round_fraction(x: Fraction, decimals: int, rule: str = "half_away") -> Fraction:
+    """Round an exact rational to ``decimals`` places by ``rule``.
+
+    Parameters
+    ----------
+    x : Fraction
+        Value to round (here a percentage ``100 k / N``).
+    decimals : int
+        Places after the decimal point (0 or more).
+    rule : {"half_away", "half_even", "truncate", "ceil"}
+        Tie handling / direction. ``half_away`` rounds halves away from zero.
+
+    Returns
+    -------
+    Fraction
+        The rounded value, exactly.
+    """
+    _validate_rule(rule)
+    scale = 10 ** decimals
+    y = Fraction(x) * scale
+    sign = -1 if y < 0 else 1
+    a = abs(y)
+    if rule == "half_away":
+        m = math.floor(a + Fraction(1, 2))
+    elif rule == "half_even":
+        fl = math.floor(a)
+        rem = a - fl
+        if rem > Fraction(1, 2) or (rem == Fraction(1, 2) and fl % 2 == 1):
+            m = fl + 1
+        else:
+            m = fl
+    elif rule == "truncate":
+        m = math.floor(a)
+    else:  # ceil (towards +infinity; percentages are not negative)
+        return Fraction(math.ceil(y), scale)
+    return Fraction(sign * m, scale)
+
+
+def _validate_rule(rule: str) -> None:
+    if rule not in ROUNDING_RULES:
+        raise ValueError(f"`rule` must be one of {list(ROUNDING_RULES)}, got {rule!r}")
+
+
+def attainable_counts(printed: Fraction, decimals: int, n: int,
+                      rule: str = "half_away") -> list[int]:
+    """All counts k in 0..n with ``round(100 k / n, decimals) == printed``.
+
+    Parameters
+    ----------
+    printed : Fraction or str
+        The printed percentage (exact, e.g. ``Fraction("4.5")``).
+    decimals : int
+        Printed precision.
+    n : int
+        Number of respondents (the denominator), n >= 1.
+    rule : str
+        Rounding rule, see :func:`round_fraction`.
+
+    Returns
+    -------
+    list of int
+        Ascending; empty when the printed value is not attainable.
+    """
+    p = Fraction(printed)
+    unit = Fraction(1, 10 ** decimals)
+    lo = math.floor((p - unit) * n / 100)
+    hi = math.ceil((p + unit) * n / 100)
+    return [k for k in range(max(lo, 0), min(hi, n) + 1)
+            if round_fraction(Fraction(100 * k, n), decimals, rule) == p]
+
+
+def nearest_attainable(printed: Fraction, decimals: int, n: int,
+                       rule: str = "half_away") -> tuple[list[int], list[Fraction]]:
+    """Counts whose exact percentage lies nearest the printed value, and what they print as.
+
+    Returns
+    -------
+    counts : list of int
+        One count, or two when the printed value lies exactly between them.
+    values : list of Fraction
+        ``round(100 k / n, decimals)`` for each count.
+    """
+    p = Fraction(printed)
+    k0 = p * n / 100
+    cands = sorted({min(max(math.floor(k0), 0), n), min(max(math.ceil(k0), 0), n)})
+    dist = {k: abs(Fraction(100 * k, n) - p) for k in cands}
+    best = min(dist.values())
+    counts = [k for k in cands if dist[k] == best]
+    return counts, [round_fraction(Fraction(100 * k, n), decimals, rule) for k in counts]
+
+
+def _fmt(value: Fraction, decimals: int) -> str:
+    q = Decimal(value.numerator) / Decimal(value.denominator)
+    return f"{q:.{decimals}f}"
+
+
+# ---------------------------------------------------------------------------
+# the table as printed
+# ---------------------------------------------------------------------------
+@dataclass(frozen=True)
+class PublishedTable:
+    """A percentage table as printed.
+
+    Attributes
+    ----------
+    items : tuple of str
+        Row labels (the ``item`` column), in printed order.
+    labels : tuple of str
+        Answer labels (column headers), in printed order.
+    cells : tuple of tuple of str
+        Cell text as printed (``"4.5"``; a trailing ``%`` is allowed).
+    source : str
+        Where the table came from (file name), for messages.
+    """
+
+    items: tuple[str, ...]
+    labels: tuple[str, ...]
+    cells: tuple[tuple[str, ...], ...]
+    source: str = "<table>"
+
+    def value(self, i: int, j: int) -> tuple[Fraction, int]:
+        """Exact value and printed decimals of cell (i, j)."""
+        return _parse_cell(self.cells[i][j], self.source, i + 2, self.labels[j])
+
+
+def _parse_cell(text: str, source: str, row: int, column: str) -> tuple[Fraction, int]:
+    t = str(text).strip()
+    if t.endswith("%"):
+        t = t[:-1].strip()
+    if t == "":
+        raise SurveyInputError("blank cell; every cell needs a printed percentage",
+                               source, row, column)
+    try:
+        d = Decimal(t)
+    except InvalidOperation:
+        raise SurveyInputError(f"not a percentage: {text!r}", source, row, column) from None
+    if not d.is_finite() or d < 0 or d > 100:
+        raise SurveyInputError(f"percentage must be between 0 and 100, got {text!r}",
+                               source, row, column)
+    exp = d.as_tuple().exponent
+    decimals = max(0, -exp) if isinstance(exp, int) else 0
+    return Fraction(d), decimals
+
+
+def read_table_csv(path: "str | Path", item_column: str = "item",
+                   encoding: str = "utf-8-sig") -> PublishedTable:
+    """Read a published table from CSV: an ``item`` column and one column per label.
+
+    Raises
+    ------
+    SurveyInputError
+        Missing or empty file, undecodable bytes, no ``item`` column, fewer than
+        two label columns, ragged rows, or a cell that is not a percentage (the
+        error names the row and column).
+    """
+    p = Path(path)
+    src = str(p)
+    try:
+        raw = p.read_bytes()
+    except FileNotFoundError:
+        raise SurveyInputError("no such file", src) from None
+    except OSError as e:
+        raise SurveyInputError(f"cannot read: {e.strerror}", src) from None
+    try:
+        text = raw.decode(encoding)
+    except UnicodeDecodeError as e:
+        line = raw[:e.start].count(b"\n") + 1
+        raise SurveyInputError(f"byte 0x{raw[e.start]:02x} is not valid {encoding}",
+                               src, line) from None
+    rows = [r for r in csv.reader(io.StringIO(text))]
+    rows = [r for r in rows if any(c.strip() for c in r)]
+    if not rows:
+        raise SurveyInputError("empty file", src)
+    header = [h.strip() for h in rows[0]]
+    keys = [h.casefold() for h in header]
+    if item_column.casefold() not in keys:
+        raise SurveyInputError(f"no {item_column!r} column; header is {header!r}", src, 1)
+    ic = keys.index(item_column.casefold())
+    labels = tuple(h for j, h in enumerate(header) if j != ic)
+    if len(labels) < 2:
+        raise SurveyInputError("needs at least two label columns besides the item column", src, 1)
+    if len(rows) < 2:
+        raise SurveyInputError("no table rows below the header", src)
+    items, cells = [], []
+    for r, row in enumerate(rows[1:], start=2):
+        if len(row) != len(header):
+            raise SurveyInputError(f"{len(row)} cells, header has {len(header)}", src, r)
+        items.append(row[ic].strip())
+        cells.append(tuple(c for j, c in enumerate(row) if j != ic))
+    table = PublishedTable(tuple(items), labels, tuple(cells), src)
+    for i in range(len(items)):          # fail early on bad cells, naming the place
+        for j in range(len(labels)):
+            table.value(i, j)
+    return table
+
+
+# ---------------------------------------------------------------------------
+# results
+# ---------------------------------------------------------------------------
+@dataclass
+class CellCheck:
+    """One printed cell checked against N.
+
+    Attributes
+    ----------
+    item, label : str
+        Row and column.
+    published : float
+        The printed value.
+    printed : str
+        The printed text.
+    decimals : int
+        Printed precision.
+    attainable : bool
+        Some count k gives the printed value.
+    counts : list of int
+        All such counts (empty when not attainable).
+    nearest_counts : list of int
+        Counts whose exact percentage is nearest the printed value.
+    nearest_values : list of float
+        What those counts print as; equal to ``published`` when attainable.
+    reason : str
+        One sentence explaining the verdict.
+    """
+
+    item: str
+    label: str
+    published: float
+    printed: str
+    decimals: int
+    attainable: bool
+    counts: list[int]
+    nearest_counts: list[int]
+    nearest_values: list[float]
+    reason: str
+
+    def to_dict(self) -> dict:
+        """The ``--json`` cell: label, published, attainable, counts."""
+        return {"label": self.label, "published": self.published,
+                "attainable": self.attainable, "counts": list(self.counts)}
+
+    def to_full_dict(self) -> dict:
+        d = self.to_dict()
+        d.update(printed=self.printed, decimals=self.decimals,
+                 nearest_counts=list(self.nearest_counts),
+                 nearest_values=list(self.nearest_values), reason=self.reason)
+        return d
+
+
+@dataclass
+class RowCheck:
+    """One row checked against N.
+
+    Attributes
+    ----------
+    item : str
+        Row label.
+    cells : list of CellCheck
+    sum_ok : bool
+        Every cell is attainable and some choice of candidate counts adds up to N.
+    printed_sum : float
+        Sum of the printed values (as printed, exactly).
+    reconstructed : list of int or None
+        Counts that add up to N, taking for each cell a candidate count (or, for
+        a cell that is not attainable, the count nearest its printed value) and,
+        among several such choices, the one closest to the printed values.
+        None when no such choice exists.
+    unique : bool
+        Exactly one choice of candidate counts adds up to N.
+    reason : str
+    """
+
+    item: str
+    cells: list[CellCheck]
+    sum_ok: bool
+    printed_sum: float
+    reconstructed: list[int] | None
+    unique: bool
+    reason: str
+
+    def to_dict(self) -> dict:
+        """The ``--json`` row: item, cells, sum_ok."""
+        return {"item": self.item, "cells": [c.to_dict() for c in self.cells],
+                "sum_ok": self.sum_ok}
+
+    def to_full_dict(self) -> dict:
+        return {"item": self.item, "cells": [c.to_full_dict() for c in self.cells],
+                "sum_ok": self.sum_ok, "printed_sum": self.printed_sum,
+                "reconstructed": self.reconstructed, "unique": self.unique,
+                "reason": self.reason}
+
+
+@dataclass
+class TableCheck:
+    """A published table checked against a number of respondents.
+
+    Attributes
+    ----------
+    n : int
+        The N the rows were checked against (the stated N, or with a range
+        the smallest N that makes the whole table attainable; when none does,
+        the N attaining the most cells).
+    rows : list of RowCheck
+    rule : str
+        Rounding rule used.
+    source : str
+        Table file.
+    n_range : tuple of int or None
+        The range searched, when N was not stated.
+    feasible_n : list of int or None
+        With a range: every N that makes the whole table attainable.
+    """
+
+    n: int
+    rows: list[RowCheck]
+    rule: str
+    source: str
+    n_range: tuple[int, int] | None = None
+    feasible_n: list[int] | None = None
+    labels: list[str] = field(default_factory=list)
+
+    @property
+    def all_attainable(self) -> bool:
+        """Every cell attainable and every row can sum to N."""
+        return all(r.sum_ok for r in self.rows)
+
+    @property
+    def unattainable(self) -> list[CellCheck]:
+        """Cells no count can produce."""
+        return [c for r in self.rows for c in r.cells if not c.attainable]
+
+    def counts_table(self) -> dict[str, list[int] | None]:
+        """Reconstructed counts per item (None for a row that cannot be rebuilt)."""
+        return {r.item: r.reconstructed for r in self.rows}
+
+    def to_dict(self) -> dict:
+        """The command line's ``--json`` shape: ``{"n": int, "rows": [...]}``."""
+        return {"n": self.n, "rows": [r.to_dict() for r in self.rows]}
+
+    def to_full_dict(self) -> dict:
+        """Everything: the ``--json`` fields plus nearest values, reconstruction and reasons."""
+        return {"n": self.n, "rule": self.rule, "source": self.source,
+                "labels": list(self.labels),
+                "n_range": list(self.n_range) if self.n_range else None,
+                "feasible_n": self.feasible_n,
+                "all_attainable": self.all_attainable,
+                "rows": [r.to_full_dict() for r in self.rows]}
+
+    def format_text(self) -> str:
+        """Human-readable report (one line per cell that is not attainable)."""
+        out = [f"{self.source}: checked against N = {self.n} (rounding: {self.rule})"]
+        if self.n_range is not None:
+            lo, hi = self.n_range
+            fn = self.feasible_n or []
+            shown = ", ".join(map(str, fn[:50])) + (" ..." if len(fn) > 50 else "")
+            out.append(f"N in {lo}..{hi} making the whole table attainable: "
+                       + (shown if fn else "none"))
+        for r in self.rows:
+            rec = "" if r.reconstructed is None else " counts " + ",".join(map(str, r.reconstructed))
+            out.append(f"  {r.item}: {'sum ok' if r.sum_ok else 'SUM NOT OK'} "
+                       f"(printed sum {r.printed_sum:g}){rec}")
+            for c in r.cells:
+                if not c.attainable:
+                    out.append(f"    {c.label} = {c.printed}: {c.reason}")
+        bad = len(self.unattainable)
+        total = sum(len(r.cells) for r in self.rows)
+        out.append(f"{total - bad} of {total} cells attainable")
+        return "\n".join(out)
+
+    def __repr__(self):
+        return (f"TableCheck(n={self.n}, rows={len(self.rows)}, "
+                f"unattainable={[(c.item, c.label) for c in self.unattainable]})")
+
+
+# ---------------------------------------------------------------------------
+# checking
+# ---------------------------------------------------------------------------
+def _validate_verify(table, n, n_range, rule, decimals):
+    if not isinstance(table, PublishedTable):
+        raise TypeError(f"`table` must be a PublishedTable, got {type(table).__name__}")
+    _validate_rule(rule)
+    if (n is None) == (n_range is None):
+        raise ValueError("give exactly one of `n` and `n_range`")
+    if n is not None and (not isinstance(n, int) or isinstance(n, bool) or n < 1 or n > MAX_N):
+        raise SurveyInputError(f"N must be a whole number from 1 to {MAX_N}, got {n!r}",
+                               table.source)
+    if n_range is not None:
+        lo, hi = n_range
+        if not (isinstance(lo, int) and isinstance(hi, int)) or lo < 1 or hi < lo or hi > MAX_N:
+            raise SurveyInputError(
+                f"N range must satisfy 1 <= LO <= HI <= {MAX_N}, got {lo!r}..{hi!r}", table.source)
+    if decimals is not None and (not isinstance(decimals, int) or decimals < 0 or decimals > 6):
+        raise ValueError(f"`decimals` must be an integer 0..6 or None, got {decimals!r}")
+
+
+def _check_cell(item, label, value, dec, text, n, rule) -> CellCheck:
+    counts = attainable_counts(value, dec, n, rule)
+    near_k, near_v = nearest_attainable(value, dec, n, rule)
+    shown = text.strip().rstrip("%").strip()
+    if counts:
+        ks = ", ".join(map(str, counts))
+        reason = f"attainable: {ks} of {n} print as {shown}"
+        near_k, near_v = list(counts), [value] * len(counts)
+    else:
+        alts = " or ".join(f"{_fmt(v, dec)} ({k}/{n})" for k, v in zip(near_k, near_v))
+        exact = " / ".join(f"{k}/{n} = {float(Fraction(100 * k, n)):.4g}%" for k in near_k)
+        reason = (f"not attainable: no count out of {n} rounds to {shown}; "
+                  f"nearest attainable {alts}, exact {exact}")
+    return CellCheck(item=item, label=label, published=float(value), printed=text.strip(),
+                     decimals=dec, attainable=bool(counts), counts=counts,
+                     nearest_counts=near_k, nearest_values=[float(v) for v in near_v],
+                     reason=reason)
+
+
+def _reachable(options: list[list[int]], n: int) -> int:
+    """Bit set of sums reachable by choosing one option per cell (capped at n)."""
+    mask = (1 << (n + 1)) - 1
+    reach = 1
+    for opts in options:
+        nxt = 0
+        for k in opts:
+            nxt |= reach << k
+        reach = nxt & mask
+    return reach
+
+
+def _count_solutions(options: list[list[int]], n: int, cap: int = 2) -> int:
+    ways = {0: 1}
+    for opts in options:
+        nxt: dict[int, int] = {}
+        for s, w in ways.items():
+            for k in opts:
+                if s + k <= n:
+                    nxt[s + k] = min(cap, nxt.get(s + k, 0) + w)
+        ways = nxt
+    return ways.get(n, 0)
+
+
+def _reconstruct(options: list[list[int]], targets: list[Fraction], n: int) -> list[int] | None:
+    """Choice of one option per cell summing to n, closest to the printed values."""
+    best: dict[int, tuple[Fraction, tuple[int, ...]]] = {0: (Fraction(0), ())}
+    for opts, p in zip(options, targets):
+        nxt: dict[int, tuple[Fraction, tuple[int, ...]]] = {}
+        for s, (cost, chosen) in best.items():
+            for k in opts:
+                t = s + k
+                if t > n:
+                    continue
+                c = cost + abs(Fraction(100 * k, n) - p)
+                if t not in nxt or c < nxt[t][0]:
+                    nxt[t] = (c, chosen + (k,))
+        best = nxt
+    hit = best.get(n)
+    return list(hit[1]) if hit else None
+
+
+def _check_rows(table: PublishedTable, n: int, rule: str, decimals) -> list[RowCheck]:
+    rows = []
+    for i, item in enumerate(table.items):
+        cells, values = [], []
+        for j, label in enumerate(table.labels):
+            value, dec = table.value(i, j)
+            dec = dec if decimals is None else decimals
+            values.append(value)
+            cells.append(_check_cell(item, label, value, dec, table.cells[i][j], n, rule))
+        strict = [c.counts for c in cells]
+        all_ok = all(strict)
+        sum_ok = all_ok and bool((_reachable(strict, n) >> n) & 1)
+        unique = sum_ok and _count_solutions(strict, n) == 1
+        loose = [c.counts if c.attainable else c.nearest_counts for c in cells]
+        rec = _reconstruct(loose, values, n)
+        printed_sum = float(sum(values))
+        if sum_ok:
+            reason = "every cell attainable and the counts can add up to N"
+        elif not all_ok:
+            bad = ", ".join(c.label for c in cells if not c.attainable)
+            reason = f"not attainable: {bad}"
+            if rec is not None:
+                reason += "; with the nearest attainable values the counts add up to N"
+        else:
+            reason = "every cell attainable, but no choice of counts adds up to N"
+        rows.append(RowCheck(item=item, cells=cells, sum_ok=sum_ok, printed_sum=printed_sum,
+                             reconstructed=rec, unique=unique, reason=reason))
+    return rows
+
+
+def verify_table(table: PublishedTable, n: int | None = None,
+                 n_range: tuple[int, int] | None = None, rule: str = "half_away",
+                 decimals: int | None = None) -> TableCheck:
+    """Check every printed cell of ``table`` against a number of respondents.
+
+    Parameters
+    ----------
+    table : PublishedTable
+        The table as printed (see :func:`read_table_csv`).
+    n : int, optional
+        Stated number of respondents (the denominator of every row).
+    n_range : (int, int), optional
+        Inclusive range of N to search when N is not stated.
+    rule : {"half_away", "half_even", "truncate", "ceil"}
+        How the table's author rounded; default half away from zero.
+    decimals : int, optional
+        Printed precision; by default read from each cell's text.
+
+    Returns
+    -------
+    TableCheck
+
+    Raises
+    ------
+    SurveyInputError
+        N out of range (names the table file).
+    ValueError
+        Unknown ``rule`` (lists the valid rules), both or neither of ``n`` and ``n_range``.
+
+    Notes
+    -----
+    A cell is attainable when ``round(100 k / N, d) == p`` for some integer
+    ``0 <= k <= N`` (exact rational arithmetic). A row is consistent (``sum_ok``)
+    when one may choose an attainable count per cell so that the counts add up to N.
+    """
+    _validate_verify(table, n, n_range, rule, decimals)
+    labels = list(table.labels)
+    if n is not None:
+        return TableCheck(n=n, rows=_check_rows(table, n, rule, decimals), rule=rule,
+                          source=table.source, labels=labels)
+    lo, hi = n_range
+    feasible, best_n, best_score = [], lo, -1
+    for cand in range(lo, hi + 1):
+        rows = _check_rows_fast(table, cand, rule, decimals)
+        score, ok = rows
+        if ok:
+            feasible.append(cand)
+        if score > best_score:
+            best_n, best_score = cand, score
+    shown = feasible[0] if feasible else best_n
+    return TableCheck(n=shown, rows=_check_rows(table, shown, rule, decimals), rule=rule,
+                      source=table.source, n_range=(lo, hi), feasible_n=feasible, labels=labels)
+
+
+def _check_rows_fast(table, n, rule, decimals) -> tuple[int, bool]:
+    """(number of attainable cells, whole table consistent) for one N."""
+    score, ok = 0, True
+    for i in range(len(table.items)):
+        opts = []
+        for j in range(len(table.labels)):
+            value, dec = table.value(i, j)
+            ks = attainable_counts(value, dec if decimals is None else decimals, n, rule)
+            score += bool(ks)
+            opts.append(ks)
+        if ok and not (all(opts) and (_reachable(opts, n) >> n) & 1):
+            ok = False
+    return score, ok
+
+
+# ---------------------------------------------------------------------------
+# the paper's Table 1
+# ---------------------------------------------------------------------------
+@dataclass(frozen=True)
+class SurveyFacts:
+    """Response facts printed with a table (from ``data/published/survey.toml``)."""
+
+    table_id: str
+    title: str
+    respondents: int
+    enrolled: int
+    decimals: int
+    scale: str
+    labels: tuple[str, ...]
+    item_ids: tuple[str, ...]
+    item_texts: tuple[str, ...]
+    table_file: Path
+
+
+def load_survey_facts(path: "str | Path | None" = None) -> SurveyFacts:
+    """Read ``survey.toml`` (respondents, enrolled, items, scale, table id)."""
+    p = Path(path) if path is not None else published_dir() / "survey.toml"
+    try:
+        data = tomllib.loads(p.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise SurveyInputError("no such file", str(p)) from None
+    except tomllib.TOMLDecodeError as e:
+        raise SurveyInputError(f"invalid TOML: {e}", str(p)) from None
+    try:
+        t, r = data["table"], data["response"]
+        items = data["items"]
+        return SurveyFacts(table_id=str(t["id"]), title=str(t.get("title", "")),
+                           respondents=int(r["respondents"]), enrolled=int(r["enrolled"]),
+                           decimals=int(t["decimals"]), scale=str(t.get("scale", "paper")),
+                           labels=tuple(data["scale"]["labels"]),
+                           item_ids=tuple(str(x["id"]) for x in items),
+                           item_texts=tuple(str(x["text"]) for x in items),
+                           table_file=p.parent / str(t["file"]))
+    except KeyError as e:
+        raise SurveyInputError(f"key {e.args[0]!r}: missing", str(p)) from None
+
+
+def load_table1() -> tuple[PublishedTable, SurveyFacts]:
+    """The paper's Table 1 as printed and its response facts."""
+    facts = load_survey_facts()
+    return read_table_csv(facts.table_file), facts
+
+
+def table1_check(rule: str = "half_away") -> TableCheck:
+    """Check the paper's Table 1 against its stated number of respondents.
+
+    Reads ``data/published/table1.csv`` and ``survey.toml``; nothing is typed in code.
+
+    Returns
+    -------
+    TableCheck
+        ``.rows[i].reconstructed`` holds the rebuilt counts per item,
+        ``.unattainable`` the printed cells no count can give.
+    """
+    table, facts = load_table1()
+    return verify_table(table, n=facts.respondents, rule=rule, decimals=facts.decimals)

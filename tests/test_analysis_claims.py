@@ -1,0 +1,109 @@
+"""The paper's two claims (data/published/claims.toml) evaluated on the rebuilt Table 1 data.
+
+Reference values
+----------------
+- Thresholds, categories and items: data/published/claims.toml (as printed, "over 90%", "upwards of 85%").
+- Agree counts: from the Table 1 reconstruction (analysis.tables), 20/22 for item 2 and 19/22 for item 3.
+- Wilson interval: closed form (Wilson 1927), written out here independently of statsmodels:
+  centre (k + z^2/2)/(n + z^2), half-width z sqrt(k(n-k)/n + z^2/4)/(n + z^2).
+- Clopper-Pearson: scipy.stats.beta quantiles.
+"""
+import json
+import math
+import tomllib
+
+import pytest
+from scipy import stats
+
+from analysis.__main__ import main
+from analysis.claims import VERDICTS, evaluate_claims, load_claims
+from analysis.ingest import read_survey
+from analysis.likert import proportion, summarize
+from analysis.respondents import rebuild_table1_dataset
+from analysis.tables import published_dir, table1_check
+
+CLAIMS = published_dir() / "claims.toml"
+EXPECTED_AGREE = {2: (20, 22), 3: (19, 22)}   # module docstring
+
+
+def _wilson(k, n, level=0.95):
+    z = stats.norm.ppf(1 - (1 - level) / 2)
+    centre = (k + z * z / 2) / (n + z * z)
+    half = z * math.sqrt(k * (n - k) / n + z * z / 4) / (n + z * z)
+    return centre - half, centre + half
+
+
+@pytest.fixture(scope="module")
+def rebuilt(tmp_path_factory):
+    path = tmp_path_factory.mktemp("t1") / "table1_rebuilt.csv"
+    rebuild_table1_dataset(path)
+    return path
+
+
+def test_paper_claims(rebuilt):
+    raw = tomllib.loads(CLAIMS.read_text())["claims"]
+    report = evaluate_claims(CLAIMS, summarize(read_survey(rebuilt)))
+    check = table1_check()
+    assert len(report.results) == len(raw) == 2
+    for spec, res in zip(raw, report.results):
+        row = check.rows[spec["item"] - 1]
+        k_expected = sum(row.reconstructed[:2])
+        assert (res.k, res.n) == EXPECTED_AGREE[spec["item"]] == (k_expected, check.n)
+        assert res.claim.threshold == pytest.approx(spec["threshold"] / 100, abs=1e-12)
+        lo, hi = _wilson(res.k, res.n)
+        # statsmodels vs closed form: same formula, only float rounding differs
+        assert res.ci == pytest.approx((lo, hi), abs=1e-12)
+        assert res.share > res.claim.threshold > res.ci[0]
+        assert res.verdict == VERDICTS["sample_only"] == "holds for this sample only"
+
+
+def test_verdicts_and_clopper_pearson():
+    # 95/100 > 0.8 with a lower bound well above: holds; 50/100 > 0.8: does not hold
+    from analysis.claims import Claim, evaluate_claim
+    import pandas as pd
+    from analysis.likert import summarize_dataframe
+    df = pd.DataFrame({"q": ["Definitely Agree"] * 95 + ["Neutral"] * 5,
+                       "r": ["Partially Agree"] * 50 + ["Definitely Disagree"] * 50})
+    s = summarize_dataframe(df)
+    up = Claim("a", "q", ("Definitely Agree", "partially agree"), ">", 0.8)
+    down = Claim("b", 2, ("Definitely Agree", "Partially Agree"), ">", 0.8)
+    below = Claim("c", "r", ("definitely disagree",), "<", 0.55)
+    assert evaluate_claim(up, s).verdict_code == "holds"
+    assert evaluate_claim(down, s).verdict_code == "does_not_hold"
+    assert evaluate_claim(below, s).verdict_code == "sample_only"
+    p = proportion(19, 22, method="beta")
+    lo = stats.beta.ppf(0.025, 19, 4)
+    hi = stats.beta.ppf(0.975, 20, 3)
+    assert p.ci == pytest.approx((lo, hi), abs=1e-9)  # two libraries, same quantiles
+
+
+def test_cli_claims_json(rebuilt, capsys):
+    assert main(["claims", str(rebuilt), str(CLAIMS), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert [c["verdict"] for c in out["claims"]] == ["holds for this sample only"] * 2
+
+
+@pytest.mark.parametrize("body, key", [
+    ('[[claims]]\nitem = 2\ncategories = ["Definitely Agree"]\ncomparison = "=>"\nthreshold = 90\n',
+     "claims[0].comparison"),
+    ('[[claims]]\nitem = 2\ncategories = []\nthreshold = 90\n', "claims[0].categories"),
+    ('[[claims]]\nitem = 2\ncategories = ["Definitely Agree"]\nthreshold = 190\n',
+     "claims[0].threshold"),
+    ('claims = 3', "claims"),
+    ('[[claims]\n', "invalid TOML"),
+])
+def test_bad_claims_files(tmp_path, rebuilt, capsys, body, key):
+    f = tmp_path / "c.toml"
+    f.write_text(body)
+    assert main(["claims", str(rebuilt), str(f)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and str(f) in err and key in err
+    with pytest.raises(Exception):
+        load_claims(f)
+
+
+def test_claim_on_missing_item(tmp_path, rebuilt, capsys):
+    f = tmp_path / "c.toml"
+    f.write_text('[[claims]]\nitem = "item9"\ncategories = ["Neutral"]\nthreshold = 10\n')
+    assert main(["claims", str(rebuilt), str(f)]) == 2
+    assert "item9" in capsys.readouterr().err

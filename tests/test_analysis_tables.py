@@ -1,0 +1,147 @@
+"""Verification of published percentage tables (analysis.tables) against the paper's Table 1.
+
+Reference values
+----------------
+- Table 1 cells, N = 22 respondents, printed precision: read from data/published/ (as printed).
+- Counts behind each row at N = 22 (hand check: k/22 * 100 rounded to one decimal,
+  e.g. 13/22 = 59.09..., 14/22 = 63.63..., 12/22 = 54.54...):
+"""
+import csv
+import json
+from decimal import ROUND_HALF_UP, Decimal
+from fractions import Fraction
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from analysis.__main__ import main
+from analysis.errors import SurveyInputError
+from analysis.tables import (ROUNDING_RULES, PublishedTable, attainable_counts, load_table1,
+                             published_dir, read_table_csv, round_fraction, table1_check,
+                             verify_table)
+
+EXPECTED_COUNTS = {  # hand check at N = 22, see module docstring
+    "#1": [11, 6, 3, 2, 0],
+    "#2": [13, 7, 0, 1, 1],
+    "#3": [14, 5, 2, 0, 1],
+    "#4": [12, 7, 2, 1, 0],
+    "#5": [5, 6, 6, 5, 0],
+}
+# (item, label) -> nearest attainable printed value at N = 22 (13/22, 14/22, 12/22 at one decimal)
+EXPECTED_UNATTAINABLE = {("#2", "Definitely Agree"): "59.1",
+                         ("#3", "Definitely Agree"): "63.6",
+                         ("#4", "Definitely Agree"): "54.5"}
+
+
+def _published_rows():
+    with open(published_dir() / "table1.csv", newline="", encoding="utf-8") as fh:
+        return list(csv.DictReader(fh))
+
+
+def _brute_attainable(printed: str, n: int) -> list[int]:
+    """Independent route: decimal.Decimal ROUND_HALF_UP over every k (no Fractions)."""
+    p = Decimal(printed)
+    q = Decimal(1).scaleb(p.as_tuple().exponent)
+    return [k for k in range(n + 1)
+            if (Decimal(100 * k) / Decimal(n)).quantize(q, rounding=ROUND_HALF_UP) == p]
+
+
+def test_table1_as_published():
+    """Every published cell is judged as the brute-force rule says; the three known cells fail."""
+    check = table1_check()
+    _, facts = load_table1()
+    assert check.n == facts.respondents
+    rows = {r["item"]: r for r in _published_rows()}
+    bad = {}
+    for row in check.rows:
+        # printed rows add up to 100.0 exactly (as printed)
+        assert sum(Decimal(rows[row.item][c.label]) for c in row.cells) == Decimal("100.0")
+        for c in row.cells:
+            printed = rows[row.item][c.label]
+            assert c.counts == _brute_attainable(printed, check.n)
+            assert c.published == float(printed)
+            if not c.attainable:
+                bad[(row.item, c.label)] = f"{c.nearest_values[0]:.1f}"
+        assert row.reconstructed == EXPECTED_COUNTS[row.item]
+        assert sum(row.reconstructed) == check.n
+        assert row.sum_ok == all(c.attainable for c in row.cells)
+    assert bad == EXPECTED_UNATTAINABLE
+
+
+def test_unknown_n_search_contains_no_n_but_stated_best():
+    """No N in 1..300 attains the whole table; N = 22 attains the most cells."""
+    table, facts = load_table1()
+    check = verify_table(table, n_range=(1, 300))
+    assert check.feasible_n == []
+    assert check.n == facts.respondents
+
+
+@settings(max_examples=40)
+@given(st.lists(st.integers(0, 40), min_size=2, max_size=6).filter(lambda c: sum(c) > 0),
+       st.integers(0, 2), st.sampled_from(ROUNDING_RULES))
+def test_round_trip_random_rows(counts, decimals, rule):
+    """Percentages printed from real counts are always attainable, rows can sum to N,
+    and the true N is among the N that make the table attainable."""
+    n = sum(counts)
+    printed = [round_fraction(Fraction(100 * c, n), decimals, rule) for c in counts]
+    cells = tuple(f"{Decimal(p.numerator) / Decimal(p.denominator):.{decimals}f}" for p in printed)
+    labels = tuple(f"L{j}" for j in range(len(counts)))
+    table = PublishedTable(("q",), labels, (cells,))
+    check = verify_table(table, n=n, rule=rule)
+    row = check.rows[0]
+    assert all(c.attainable for c in row.cells)
+    assert row.sum_ok
+    for c, k in zip(row.cells, counts):
+        assert k in c.counts
+    if 100 / n > 10 ** -decimals:      # one count per printed step: reconstruction is exact
+        assert row.reconstructed == counts
+    ranged = verify_table(table, n_range=(max(1, n - 3), n + 3), rule=rule)
+    assert n in ranged.feasible_n
+
+
+def test_rounding_rules_differ_on_ties():
+    # 22.5 exactly: half-away gives 23, half-even gives 22, truncate 22, ceil 23
+    x = Fraction(45, 2)
+    assert [round_fraction(x, 0, r) for r in ROUNDING_RULES] == [23, 22, 22, 23]
+    assert attainable_counts(Fraction(0), 1, 22) == [0]
+    with pytest.raises(ValueError, match="half_away"):
+        round_fraction(x, 0, "bankers")
+
+
+def test_cli_json_shape(tmp_path, capsys):
+    _, facts = load_table1()
+    assert main(["verify-table", str(published_dir() / "table1.csv"), "--n",
+                 str(facts.respondents), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert set(out) == {"n", "rows"} and out["n"] == facts.respondents
+    for row in out["rows"]:
+        assert set(row) == {"item", "cells", "sum_ok"}
+        for cell in row["cells"]:
+            assert set(cell) == {"label", "published", "attainable", "counts"}
+    flags = {(r["item"], c["label"]) for r in out["rows"] for c in r["cells"] if not c["attainable"]}
+    assert flags == set(EXPECTED_UNATTAINABLE)
+
+
+@pytest.mark.parametrize("text, where", [
+    ("item,A,B\nq1,50.0,5O.0\n", "row 2, column 'B'"),
+    ("item,A,B\nq1,50.0,150\n", "row 2, column 'B'"),
+    ("item,A,B\nq1,50.0\n", "row 2"),
+    ("name,A,B\nq1,50.0,50.0\n", "row 1"),
+    ("", "empty file"),
+])
+def test_bad_tables_one_line(tmp_path, capsys, text, where):
+    f = tmp_path / "t.csv"
+    f.write_text(text)
+    assert main(["verify-table", str(f), "--n", "10"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith(f"error: {f}") and where in err
+    with pytest.raises(SurveyInputError):
+        read_table_csv(f)
+
+
+def test_bad_n(tmp_path, capsys):
+    assert main(["verify-table", str(published_dir() / "table1.csv"), "--n", "0"]) == 2
+    assert main(["verify-table", str(published_dir() / "table1.csv"), "--n-range", "9", "3"]) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 2 and all(e.startswith("error: ") for e in err)
