@@ -48,6 +48,7 @@ from scipy.optimize import brentq
 from .errors import InputError, NoRestoringError
 
 __all__ = [
+    "QuadratureError",
     "FrictionPair",
     "OneDofSystem",
     "Equilibrium",
@@ -67,6 +68,10 @@ TOL_MAX = 0.1
 _EPS = np.finfo(float).eps
 _MAX_NODES = 2**17
 _MP_DPS = 34
+
+
+class QuadratureError(InputError):
+    """The period quadrature did not converge to the tolerance (very near the separatrix)."""
 
 
 # --------------------------------------------------------------------------- model
@@ -122,6 +127,13 @@ class OneDofSystem:
     friction_pairs : tuple[FrictionPair, ...]
     reaction_constraints : dict[str, str]
         Reaction name -> name of the constraint that brings it (for messages).
+    system_matrix, system_rhs : sympy.Matrix, optional
+        The instantaneous linear system A @ unknowns = b of the Derivation
+        (unknowns = (theta_ddot, *reactions), named in ``unknown_names``).
+        When given, reactions are computed by solving it numerically, which
+        stays finite where the closed-form reaction expressions have a
+        removable 0/0 (e.g. Example 2's expressions at theta = 0).
+    unknown_names : tuple[str, ...]
     params : tuple[sympy.Symbol, ...]
     values : tuple[float, ...]
         SI values of ``params``.
@@ -142,6 +154,9 @@ class OneDofSystem:
     one_sided: tuple[str, ...] = ()
     friction_pairs: tuple[FrictionPair, ...] = ()
     reaction_constraints: dict[str, str] = field(default_factory=dict)
+    system_matrix: sp.Matrix | None = None
+    system_rhs: sp.Matrix | None = None
+    unknown_names: tuple[str, ...] = ()
     params: tuple[sp.Symbol, ...] = ()
     values: tuple[float, ...] = ()
     name: str = "system"
@@ -179,6 +194,7 @@ class OneDofSystem:
         from .kinematics import scene_label
 
         reactions = dict(derivation.reactions)
+        A, b = derivation.linear_system()
         units = dict(getattr(derivation, "reaction_units", {}) or {})
         return cls(
             q=derivation.q,
@@ -194,6 +210,9 @@ class OneDofSystem:
             one_sided=tuple(one_sided),
             friction_pairs=tuple(pairs),
             reaction_constraints=owners,
+            system_matrix=A,
+            system_rhs=b,
+            unknown_names=tuple(str(u) for u in derivation.unknowns),
             params=params,
             values=values,
             name=scene_label(scene),
@@ -303,46 +322,94 @@ class OneDofSystem:
         try:
             f = self._fn("qdd", (self.q, self.qd, self.t), self.qdd_expression, "math")
             f(0.1, 0.2, 0.0, *self.values)
-        except (NameError, TypeError, AttributeError, KeyError):
+        except (NameError, TypeError, AttributeError, KeyError, ZeroDivisionError, ValueError, OverflowError):
             f = self._fn("qdd", (self.q, self.qd, self.t), self.qdd_expression, "numpy")
         vals = self.values
         return lambda q, qd, t: float(f(q, qd, t, *vals))
 
+    def linear_system_fn(self) -> Callable[[Any, Any, Any], tuple[np.ndarray, np.ndarray]]:
+        """Vectorised (A, b) of the instantaneous linear system, shapes (..., n, n) and (..., n)."""
+        if self.system_matrix is None:
+            raise InputError(f"{self.name}: no instantaneous linear system attached")
+        A, b = self.system_matrix, self.system_rhs
+        n = A.shape[0]
+        f = self._fn("Ab", (self.q, self.qd, self.t), lambda: list(A) + list(b), "numpy")
+        vals = self.values
+
+        def g(q, qd, t):
+            q, qd, t = np.broadcast_arrays(np.asarray(q, dtype=float), np.asarray(qd, dtype=float),
+                                           np.asarray(t, dtype=float))
+            with np.errstate(all="ignore"):
+                out = f(q, qd, t, *vals)
+            out = [np.broadcast_to(np.asarray(v, dtype=float), q.shape) for v in out]
+            Am = np.stack(out[: n * n], axis=-1).reshape(q.shape + (n, n))
+            bm = np.stack(out[n * n:], axis=-1)
+            return Am, bm
+
+        return g
+
+    def _solve_fn(self) -> Callable:
+        """Vectorised unknowns by solving A x = b; singular states (cond > 1e12) give nan."""
+        Ab = self.linear_system_fn()
+
+        def g(q, qd, t):
+            A, b = Ab(q, qd, t)
+            with np.errstate(all="ignore"):
+                cond = np.linalg.cond(np.where(np.isfinite(A), A, 0.0))
+            bad = ~np.isfinite(cond) | (cond > 1e12) | ~np.all(np.isfinite(A), axis=(-2, -1))
+            eye = np.broadcast_to(np.eye(A.shape[-1]), A.shape)
+            A = np.where(bad[..., None, None], eye, A)
+            x = np.linalg.solve(A, np.where(bad[..., None], 0.0, b)[..., None])[..., 0]
+            return np.where(bad[..., None], np.nan, x)
+
+        return g
+
     def reactions_fn(self) -> Callable[[Any, Any, Any], dict[str, np.ndarray]]:
-        """Vectorised reactions(q, qd, t) -> {name: array}."""
+        """Vectorised reactions(q, qd, t) -> {name: array} (nan at singular configurations)."""
         names = tuple(self.reactions)
         if not names:
             return lambda q, qd, t: {}
+        if self.system_matrix is not None:
+            solve = self._solve_fn()
+            idx = [self.unknown_names.index(n) for n in names]
+
+            def gs(q, qd, t):
+                x = solve(q, qd, t)
+                return {n: np.array(x[..., i], dtype=float) for n, i in zip(names, idx)}
+
+            return gs
         f = self._fn("R", (self.q, self.qd, self.t), lambda: [self.reactions[n] for n in names], "numpy")
         vals = self.values
 
         def g(q, qd, t):
             shape = np.broadcast(np.asarray(q), np.asarray(qd), np.asarray(t)).shape
-            out = f(q, qd, t, *vals)
+            with np.errstate(all="ignore"):
+                out = f(q, qd, t, *vals)
             return {n: np.broadcast_to(np.asarray(v, dtype=float), shape).copy() for n, v in zip(names, out)}
 
         return g
 
     def reaction_scalar_fns(self) -> dict[str, Callable[[float, float, float], float]]:
         """Each reaction(q, qd, t) on Python floats (for event functions)."""
+        R = self.reactions_fn()
+        return {n: (lambda n: (lambda q, qd, t: float(R(q, qd, t)[n])))(n) for n in self.reactions}
 
-        def build():
-            out = {}
-            for name, expr in self.reactions.items():
-                args = (self.q, self.qd, self.t) + self.params
-                try:
-                    f = _lambdify(args, expr, "math")
-                    f(0.1, 0.2, 0.0, *self.values)
-                except (NameError, TypeError, AttributeError, KeyError):
-                    f = _lambdify(args, expr, "numpy")
-                except (ZeroDivisionError, ValueError, OverflowError):
-                    pass
-                out[name] = f
-            return out
+    def singularity_fn(self) -> Callable[[float, float, float], float] | None:
+        """det(A) of the row-scaled linear system as a scalar function (None without a system).
 
-        fns = self._memo("R_scalar", build)
-        vals = self.values
-        return {n: (lambda f: (lambda q, qd, t: float(f(q, qd, t, *vals))))(f) for n, f in fns.items()}
+        Changes sign where the constraints stop determining the motion.
+        """
+        if self.system_matrix is None:
+            return None
+        Ab = self.linear_system_fn()
+
+        def g(q, qd, t):
+            A, _ = Ab(q, qd, t)
+            with np.errstate(all="ignore"):
+                rows = np.linalg.norm(A, axis=-1, keepdims=True)
+                return float(np.linalg.det(A / np.where(rows > 0, rows, 1.0)))
+
+        return g
 
     def alpha_fn(self) -> Callable:
         """Vectorised alpha(q, qd, qdd) (k-component of the angular acceleration)."""
@@ -721,7 +788,7 @@ def exact_period(
                                     est, n, "mpmath" if use_mp else "float64")
         prev = T
         n *= 2
-    raise InputError(
+    raise QuadratureError(
         f"{system.name}: the period quadrature did not reach tolerance {tol:g} with {_MAX_NODES} nodes "
         f"at amplitude {math.degrees(amplitude):.6g} deg (too close to the separatrix)"
     )

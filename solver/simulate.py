@@ -54,8 +54,9 @@ class StopEvent:
     Attributes
     ----------
     kind : str
-        ``"lost_contact"`` (a one-sided reaction reached zero) or ``"slip"``
-        (|F_f| reached mu F_n).
+        ``"lost_contact"`` (a one-sided reaction reached zero), ``"slip"``
+        (|F_f| reached mu F_n) or ``"singular"`` (the constraints stop
+        determining the motion).
     reaction : str
         The reaction concerned (the normal force for a slip).
     constraint : str
@@ -83,7 +84,7 @@ class SimulationResult:
         Every reaction on the samples. [N or N m]
     reaction_units : dict[str, str]
     status : str
-        ``"completed"``, ``"lost_contact"``, ``"slip"`` or ``"failed"``.
+        ``"completed"``, ``"lost_contact"``, ``"slip"``, ``"singular"`` or ``"failed"``.
     reason : str
         One sentence: why the run stopped.
     event : StopEvent or None
@@ -325,6 +326,21 @@ def simulate(
     for fn in ev_funcs:
         fn.terminal = True
         fn.direction = -1
+    det = system.singularity_fn() if events else None
+    if det is not None:
+        d0 = det(q0, qd0, 0.0)
+        if not (math.isfinite(d0) and abs(d0) > 1e-12):
+            from .errors import SingularConfigurationError
+
+            raise SingularConfigurationError(
+                f"{system.name}: singular configuration at the start ({system.q} = {math.degrees(q0):.6g} deg): "
+                "the constraints do not determine the motion"
+            )
+        sing = lambda t, y: det(y[0], y[1], t)  # noqa: E731
+        sing.terminal = True
+        sing.direction = 0
+        ev_funcs.append(sing)
+        ev_info.append(("singular", "", "constraints"))
 
     # already violated at the start?
     for fn, (kind, name, cons) in zip(ev_funcs, ev_info):
@@ -373,6 +389,9 @@ def simulate(
 def _reason(system: OneDofSystem, ev: StopEvent, mu: float | None, at_start: bool = False) -> str:
     when = "at the start" if at_start else f"at t = {ev.time:.6g} s"
     where = f"({system.q} = {math.degrees(ev.theta):.6g} deg, {system.qd} = {ev.theta_dot:.6g} rad/s)"
+    if ev.kind == "singular":
+        return (f"singular configuration reached {when} {where}: the constraints stop determining the "
+                "motion (the linear system's determinant vanishes)")
     if ev.kind == "lost_contact":
         return (f"{ev.reaction} would turn negative {when} {where}: the body leaves the support of "
                 f"constraint {ev.constraint}")

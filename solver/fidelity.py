@@ -1,0 +1,173 @@
+"""Pick the cheapest model of the period that meets a requested accuracy.
+
+Models, cheapest first:
+
+``"linear"``
+    T0 = 2 pi sqrt(M(q_e) / V''(q_e)) (paper Eq. 46 for Example 2). Its
+    relative error follows from the amplitude series of the period,
+    T = T0 (1 + c2 a^2 + O(a^3)), with c2 from the scene's M and V
+    (:func:`amplitude_coefficient`). It is accepted when
+    ``MARGIN * |c2| a^2 <= tol`` and the series is clearly in its
+    asymptotic regime (|c2| a^2 <= 1e-2, a <= 0.35 rad).
+``"quadrature"``
+    The energy integral (:func:`solver.period.exact_period`), to ``tol``.
+``"integration"``
+    ``solve_ivp`` (DOP853) between turning points, used only when the
+    quadrature cannot converge; its error estimate is the difference
+    between runs at rtol and rtol / 100.
+
+Derivation of c2 (Landau & Lifshitz, Mechanics, section 28): with
+x = q - q_e, M = m0 + m1 x + m2 x^2 + ..., V = k/2 x^2 + v3 x^3 + v4 x^4 + ...,
+the coordinate s = int sqrt(M) dx has unit mass; in s the motion is
+s'' + w0^2 s + e2 s^2 + e3 s^3 = 0 with w0^2 = k / m0, whose frequency is
+w = w0 + (3 e3 / (8 w0) - 5 e2^2 / (12 w0^3)) A^2. Back in x this gives
+
+    c2 = (4 k^2 m0 m2 - k^2 m1^2 - 24 k m0^2 v4 - 12 k m0 m1 v3 + 60 m0^2 v3^2)
+         / (16 k^2 m0^2)
+
+(1/16 for the simple pendulum; 1/16 + m_b r_d l_b / (8 M(0)) for Example 2).
+"""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, replace
+
+import sympy as sp
+
+from .errors import InputError
+from .period import (TOL_MAX, TOL_MIN, Equilibrium, OneDofSystem, PeriodResult, QuadratureError, exact_period,
+                     find_equilibrium, turning_points)
+
+__all__ = ["MODELS", "MARGIN", "SeriesCoefficients", "amplitude_coefficient", "period_to_tolerance"]
+
+MODELS = ("auto", "linear", "quadrature", "integration")
+# Safety factor on the leading series term: the next terms (a^3, a^4) are
+# below |c2| a^2 in the accepted regime, so twice the leading term bounds them.
+MARGIN = 2.0
+_SERIES_LIMIT = 1e-2
+_AMPLITUDE_LIMIT = 0.35
+
+
+@dataclass(frozen=True)
+class SeriesCoefficients:
+    """Taylor data at the equilibrium and the period's amplitude coefficient.
+
+    Attributes
+    ----------
+    m0, m1, m2 : float
+        M(q_e + x) = m0 + m1 x + m2 x^2 + ...
+    k, v3, v4 : float
+        V(q_e + x) - V(q_e) = k/2 x^2 + v3 x^3 + v4 x^4 + ...
+    c2 : float
+        T = T0 (1 + c2 a^2 + O(a^3)). [1/rad^2]
+    """
+
+    m0: float
+    m1: float
+    m2: float
+    k: float
+    v3: float
+    v4: float
+    c2: float
+
+
+def _validate_amplitude_coefficient(system: OneDofSystem) -> None:
+    if not isinstance(system, OneDofSystem):
+        raise TypeError(f"`system` must be a OneDofSystem, got {type(system).__name__}")
+
+
+def amplitude_coefficient(system: OneDofSystem, equilibrium: Equilibrium | None = None) -> SeriesCoefficients:
+    """c2 of T = T0 (1 + c2 a^2 + ...) from the series of M and V about q_e (module docstring)."""
+    _validate_amplitude_coefficient(system)
+    eq = equilibrium if equilibrium is not None else find_equilibrium(system)
+    q = system.q
+    subs = dict(zip(system.params, system.values))
+    M = sp.sympify(system.mass).xreplace(subs)
+    V = sp.sympify(system.effective_potential()).xreplace(subs)
+
+    def at(expr, n):
+        return float(sp.diff(expr, q, n).subs(q, eq.q).evalf(30))
+
+    m0, m1, m2 = at(M, 0), at(M, 1), at(M, 2) / 2
+    k, v3, v4 = at(V, 2), at(V, 3) / 6, at(V, 4) / 24
+    c2 = (4 * k**2 * m0 * m2 - k**2 * m1**2 - 24 * k * m0**2 * v4 - 12 * k * m0 * m1 * v3
+          + 60 * m0**2 * v3**2) / (16 * k**2 * m0**2)
+    return SeriesCoefficients(m0, m1, m2, k, v3, v4, c2)
+
+
+def _validate_period_to_tolerance(system, amplitude, tol, model) -> None:
+    if model not in MODELS:
+        raise ValueError(f"`model` must be one of {MODELS}, got {model!r}")
+    if not (TOL_MIN <= tol <= TOL_MAX):
+        raise InputError(f"--tol must lie in [{TOL_MIN:g}, {TOL_MAX:g}], got {tol!r}")
+    if not math.isfinite(amplitude):
+        raise InputError(f"--amplitude must be a finite angle, got {amplitude!r}")
+
+
+def period_to_tolerance(
+    system: OneDofSystem,
+    amplitude: float,
+    tol: float = 1e-10,
+    model: str = "auto",
+    equilibrium: Equilibrium | None = None,
+) -> PeriodResult:
+    """The period of free oscillation from the cheapest model that meets ``tol``.
+
+    Parameters
+    ----------
+    system : OneDofSystem
+    amplitude : float
+        Release from rest at q_e + amplitude. [rad]
+    tol : float
+        Requested relative accuracy.
+    model : {"auto", "linear", "quadrature", "integration"}
+        ``"auto"`` picks; the others force a model (``"linear"`` then reports
+        its error estimate, which may exceed tol).
+
+    Returns
+    -------
+    PeriodResult
+        ``model`` and ``error_estimate`` say which model answered and how
+        accurate it is estimated to be.
+
+    Raises
+    ------
+    InputError
+        Separatrix, non-conservative loads, bad tolerance.
+    NoRestoringError
+        No stable equilibrium.
+    """
+    _validate_period_to_tolerance(system, amplitude, tol, model)
+    eq = equilibrium if equilibrium is not None else find_equilibrium(system)
+    T0 = eq.period
+    if model in ("auto", "linear"):
+        if amplitude == 0.0:
+            return PeriodResult(T0, T0, 1.0, 0.0, eq.q, (eq.q, eq.q), "linear", 0.0, 0, "float64")
+        coeff = amplitude_coefficient(system, eq)
+        lead = abs(coeff.c2) * amplitude**2
+        regime = lead <= _SERIES_LIMIT and abs(amplitude) <= _AMPLITUDE_LIMIT and abs(coeff.c2) > 1e-9
+        if model == "linear" or (regime and MARGIN * lead <= tol):
+            q1, q0 = turning_points(system, eq, amplitude)  # refuses the separatrix here too
+            est = MARGIN * lead if regime else max(MARGIN * lead, 1.0)
+            return PeriodResult(T0, T0, 1.0, amplitude, eq.q, (q1, q0), "linear", est, 0, "float64")
+    if model in ("auto", "quadrature"):
+        try:
+            return exact_period(system, amplitude, tol=tol, equilibrium=eq)
+        except QuadratureError:
+            if model == "quadrature":
+                raise
+    return _integrated(system, amplitude, tol, eq)
+
+
+def _integrated(system: OneDofSystem, amplitude: float, tol: float, eq: Equilibrium) -> PeriodResult:
+    from .simulate import period_by_integration
+
+    q1, q0 = turning_points(system, eq, amplitude)
+    rtol = max(tol / 10.0, 1e-13)
+    a = period_by_integration(system, amplitude, "DOP853", rtol=rtol, equilibrium=eq)
+    b = period_by_integration(system, amplitude, "DOP853", rtol=max(rtol / 100.0, 2.3e-14), equilibrium=eq)
+    est = max(abs(a.period - b.period) / b.period, 2.2e-16)
+    T = b.period
+    return PeriodResult(T, eq.period, T / eq.period, amplitude, eq.q, (q1, q0), "integration", est,
+                        a.nfev + b.nfev, "float64")
