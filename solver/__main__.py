@@ -1,0 +1,80 @@
+"""Command line: ``python -m solver COMMAND SCENE [options]``.
+
+The commands come from the modules in :data:`COMMAND_MODULES`; each defines
+``register(subparsers)`` adding its subcommands with a ``handler``. A module
+that is not there (ImportError) is skipped, so the command line works with
+whatever parts of the solver are installed. ``python -m solver --help``
+lists the commands; ``python -m solver COMMAND --help`` their options.
+"""
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+from collections.abc import Sequence
+
+from solver.cli_common import OneLineArgumentParser, run_handler
+
+COMMAND_MODULES = ["solver.cli_instant", "solver.cli_dynamics"]
+
+DESCRIPTION = (
+    "Planar rigid-body solver built on the generalized Euler equation (moments about any "
+    "embedded point P). Scenes are TOML files; see data/scenes/README.md."
+)
+EPILOG = (
+    "examples:\n"
+    "  python -m solver solve data/scenes/sliding_bar.toml --point B\n"
+    "  python -m solver solve data/scenes/sliding_bar.toml --set beta=\"60 deg\" --json\n"
+    "  python -m solver eom data/scenes/disk_bar.toml --latex\n"
+    "  python -m solver frequency data/scenes/disk_bar.toml\n"
+    "bad input: one line 'error: ...' on stderr, exit status 2."
+)
+
+
+def build_parser() -> OneLineArgumentParser:
+    """The argument parser with every available command registered."""
+    parser = OneLineArgumentParser(
+        prog="python -m solver",
+        description=DESCRIPTION,
+        epilog=EPILOG,
+        formatter_class=lambda prog: _Formatter(prog, max_help_position=28),
+    )
+    subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", title="commands", required=True)
+    for name in COMMAND_MODULES:
+        try:
+            module = importlib.import_module(name)
+        except ImportError:
+            continue  # that part of the solver is not installed
+        before = set(subparsers.choices)
+        try:
+            module.register(subparsers)
+        except Exception as err:  # noqa: BLE001 - a broken module must not take the others down
+            _forget_commands(subparsers, set(subparsers.choices) - before)
+            parser.unavailable.append(f"commands from {name} are unavailable ({type(err).__name__}: {err})")
+    if parser.unavailable:
+        parser.epilog = (parser.epilog or "") + "\nnote: " + "; ".join(parser.unavailable)
+    return parser
+
+
+def _forget_commands(subparsers: argparse._SubParsersAction, names: set[str]) -> None:
+    """Remove half-registered subcommands of a module whose register() failed."""
+    for command in names:
+        subparsers.choices.pop(command, None)
+    subparsers._choices_actions[:] = [
+        a for a in subparsers._choices_actions if a.dest not in names  # noqa: SLF001 - argparse has no API
+    ]
+
+
+class _Formatter(argparse.RawDescriptionHelpFormatter):
+    """Keeps the examples in the epilog as written."""
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Parse ``argv`` and run the command; returns the exit status."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    return run_handler(args.handler, args)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,277 @@
+"""What every ``python -m solver`` command shares.
+
+Command modules (``solver.cli_instant``, ``solver.cli_dynamics``) each define
+``register(subparsers)``; inside it they build their subcommands with the
+helpers here so that options look and behave the same everywhere:
+
+>>> def register(subparsers):                                  # doctest: +SKIP
+...     p = subparsers.add_parser("solve", help="...")
+...     add_common_arguments(p)            # SCENE --point --method --set --json
+...     p.set_defaults(handler=_solve)     # handler(args) -> int exit status
+...
+... def _solve(args):
+...     scene = load_scene_from_args(args)  # applies --set, raises SceneError
+...     ...
+...     print_json({...})                   # refuses NaN/inf
+
+Bad input anywhere (an :class:`~solver.errors.InputError` from loading,
+deriving or solving, a bad ``--set``, an argparse usage error) ends in ONE
+line ``error: ...`` on stderr and exit status 2, without a traceback:
+:func:`run_handler` and :class:`OneLineArgumentParser` do this.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import sys
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from typing import Any, NoReturn
+
+import pint
+
+from solver.errors import InputError
+from solver.scene import Scene
+
+EXIT_OK = 0
+EXIT_INTERNAL = 1
+EXIT_INPUT = 2
+
+DEBUG_ENV = "SOLVER_DEBUG"
+"""Set this environment variable to 1 to see tracebacks of internal errors."""
+
+
+class UsageError(InputError):
+    """A malformed command line (raised by :class:`OneLineArgumentParser`)."""
+
+
+class OneLineArgumentParser(argparse.ArgumentParser):
+    """An ArgumentParser whose usage errors are one ``error: ...`` line, exit 2.
+
+    (argparse's own handler prints the whole usage block first.) Subparsers
+    made from it inherit the behaviour.
+    """
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self.unavailable: list[str] = []  # command modules that failed to register
+
+    def error(self, message: str) -> NoReturn:
+        note = f"; note: {'; '.join(self.unavailable)}" if self.unavailable else ""
+        fail(f"{self.prog}: {message} (see {self.prog} --help){note}")
+
+
+def one_line(message: str) -> str:
+    """Collapse a message to one line (no embedded newlines)."""
+    return " ".join(str(message).split())
+
+
+def fail(message: str, status: int = EXIT_INPUT) -> NoReturn:
+    """Print ``error: <message>`` as one line on stderr and exit."""
+    sys.stderr.write(f"error: {one_line(message)}\n")
+    sys.stderr.flush()
+    raise SystemExit(status)
+
+
+# -- options -----------------------------------------------------------------------------
+
+
+def add_scene_argument(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("scene", metavar="SCENE", help="scene file (TOML), e.g. data/scenes/sliding_bar.toml")
+
+
+def add_set_option(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--set",
+        dest="overrides",
+        metavar="NAME=VALUE",
+        action="append",
+        default=[],
+        help='override a parameter or the state, with its unit: --set beta="90 deg" '
+        '--set theta_dot="1.5 rad/s" (repeatable)',
+    )
+
+
+def add_point_option(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--point",
+        metavar="NAME",
+        default=None,
+        help="reference point P for the moment equation (a point of the body, or G; "
+        "default: the scene's reference_point)",
+    )
+
+
+def add_method_option(parser: argparse.ArgumentParser) -> None:
+    from solver.derivation import METHODS
+
+    parser.add_argument(
+        "--method",
+        choices=METHODS,
+        default=METHODS[0],
+        help=f"route to the equations (default: {METHODS[0]})",
+    )
+
+
+def add_json_option(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--json", action="store_true", help="print one JSON object instead of text")
+
+
+def add_common_arguments(
+    parser: argparse.ArgumentParser, *, point: bool = True, method: bool = True, json_output: bool = True
+) -> None:
+    """Add SCENE, ``--point``, ``--method``, ``--set`` and ``--json`` (each optional but SCENE)."""
+    add_scene_argument(parser)
+    if point:
+        add_point_option(parser)
+    if method:
+        add_method_option(parser)
+    add_set_option(parser)
+    if json_output:
+        add_json_option(parser)
+
+
+def parse_overrides(items: Iterable[str]) -> dict[str, str]:
+    """``["beta=90 deg", ...]`` -> ``{"beta": "90 deg"}``.
+
+    Raises
+    ------
+    UsageError
+        An item without ``=``, an empty name or value, or a name given twice.
+    """
+    out: dict[str, str] = {}
+    for item in items:
+        name, sep, value = item.partition("=")
+        name, value = name.strip(), value.strip()
+        if not sep or not name or not value:
+            raise UsageError(f"--set {item!r}: expected NAME=VALUE, e.g. --set beta=\"90 deg\"")
+        if name in out:
+            raise UsageError(f"--set {name}: given twice ({out[name]!r} and {value!r})")
+        out[name] = value
+    return out
+
+
+def load_scene_from_args(args: argparse.Namespace) -> Scene:
+    """Load ``args.scene`` with ``args.overrides`` (``--set``) applied."""
+    from solver.scenefile import load_scene
+
+    return load_scene(args.scene, parse_overrides(getattr(args, "overrides", []) or []))
+
+
+# -- output --------------------------------------------------------------------------------
+
+
+def check_finite(values: Mapping[str, float], context: str) -> None:
+    """Refuse to print NaN or infinity as an answer.
+
+    Raises
+    ------
+    InputError
+        Naming the first non-finite entry.
+    """
+    for name, value in values.items():
+        if not math.isfinite(float(value)):
+            raise InputError(
+                f"{context}: {name} is not a finite number ({value}); the configuration is "
+                "singular or the parameters are out of range, so no answer is printed"
+            )
+
+
+def quantity_entry(quantity: pint.Quantity, unit: str | None = None) -> dict[str, Any]:
+    """``{"value": float, "unit": str}`` for JSON, converted to ``unit`` if given."""
+    if unit is not None:
+        quantity = quantity.to(unit)
+        unit_text = unit
+    else:
+        unit_text = f"{quantity.units:~}" or "dimensionless"
+    return {"value": float(quantity.magnitude), "unit": unit_text}
+
+
+def print_json(payload: Any) -> None:
+    """Print ``payload`` as JSON; NaN or infinity anywhere is refused."""
+    try:
+        text = json.dumps(payload, indent=2, allow_nan=False)
+    except ValueError:
+        raise InputError("the result contains a value that is not a finite number; nothing printed") from None
+    print(text)
+
+
+def format_number(value: float, digits: int = 6) -> str:
+    """Readable fixed-significance number (``-0`` shown as ``0``)."""
+    if value == 0:
+        value = 0.0
+    return f"{value:.{digits}g}"
+
+
+def format_table(header: Sequence[str], rows: Sequence[Sequence[str]], align: str | None = None) -> str:
+    """A plain text table; ``align`` is one letter per column, ``l`` or ``r``."""
+    align = align or "l" * len(header)
+    widths = [max(len(str(r[i])) for r in [header, *rows]) for i in range(len(header))]
+
+    def line(cells: Sequence[str]) -> str:
+        parts = [
+            str(c).rjust(w) if a == "r" else str(c).ljust(w) for c, w, a in zip(cells, widths, align)
+        ]
+        return "  ".join(parts).rstrip()
+
+    rule = "  ".join("-" * w for w in widths)
+    return "\n".join([line(header), rule, *(line(r) for r in rows)])
+
+
+def state_text(scene: Scene) -> str:
+    """``theta = 30 deg, theta_dot = 0 rad/s`` as given in the scene/--set."""
+    return ", ".join(f"{name} = {format_number(float(q.magnitude))} {q.units:~P}" for name, q in scene.state.items())
+
+
+# -- running ---------------------------------------------------------------------------------
+
+
+def run_handler(handler: Callable[[argparse.Namespace], int | None], args: argparse.Namespace) -> int:
+    """Run a command handler; bad input -> one ``error:`` line and status 2.
+
+    An unexpected exception (a bug, not bad input) is reported on one line
+    with status 1; set ``SOLVER_DEBUG=1`` to see its traceback instead.
+    """
+    try:
+        status = handler(args)
+    except InputError as err:
+        fail(str(err), EXIT_INPUT)
+    except ValueError as err:  # bad option strings from the library (listing the valid ones)
+        fail(str(err), EXIT_INPUT)
+    except BrokenPipeError:  # output piped into `head` and closed: not an error
+        try:
+            sys.stdout = open(os.devnull, "w")  # noqa: SIM115 - swallow the final flush
+        except OSError:
+            pass
+        return EXIT_OK
+    except Exception as err:  # noqa: BLE001 - last resort: never a bare traceback for users
+        if os.environ.get(DEBUG_ENV):
+            raise
+        fail(f"internal error ({type(err).__name__}: {err}); please report it "
+             f"(set {DEBUG_ENV}=1 for the traceback)", EXIT_INTERNAL)
+    return EXIT_OK if status is None else int(status)
+
+
+__all__ = [
+    "OneLineArgumentParser",
+    "UsageError",
+    "add_common_arguments",
+    "add_scene_argument",
+    "add_set_option",
+    "add_point_option",
+    "add_method_option",
+    "add_json_option",
+    "parse_overrides",
+    "load_scene_from_args",
+    "check_finite",
+    "quantity_entry",
+    "print_json",
+    "format_number",
+    "format_table",
+    "state_text",
+    "run_handler",
+    "fail",
+    "EXIT_OK",
+    "EXIT_INPUT",
+]
