@@ -28,6 +28,9 @@ def atomic_write(path: "str | Path", data: "str | bytes", encoding: str = "utf-8
     try:
         with os.fdopen(fd, "wb") as fh:
             fh.write(raw)
+        mask = os.umask(0)
+        os.umask(mask)
+        os.chmod(tmp, 0o666 & ~mask)      # mkstemp creates 0600; give the usual mode
         os.replace(tmp, p)
     except BaseException:
         try:

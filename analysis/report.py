@@ -1,0 +1,107 @@
+"""Self-contained HTML report of one survey (``python -m analysis report FILE -o OUT.html``).
+
+The page holds the per-item table (percent and count per label, n, missing, not
+applicable), the agreement / neutral / disagreement shares with intervals, the
+median and IQR of the codes, the diverging bar chart as inline SVG, and, when
+asked, claims, Cronbach's alpha and group comparisons. It is rendered with Jinja2
+(``analysis/templates/survey_report.html.j2``) with autoescaping on, so every
+text that came from the input (headers, question text, labels of custom scales,
+group names, unknown answers) is escaped; only the SVG produced by matplotlib
+(whose text matplotlib escapes itself) is inserted as markup. The file is written
+atomically.
+
+Public API: :func:`render_report` -> ``str``, :func:`build_report` -> ``Path``.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+from jinja2 import Environment, FileSystemLoader, StrictUndefined
+from markupsafe import Markup
+
+from ._io import atomic_write
+from .chart import diverging_bar, figure_svg
+from .claims import evaluate_claims
+from .ingest import SurveyData
+from .likert import summarize
+
+__all__ = ["render_report", "build_report", "template_environment"]
+
+_TEMPLATES = Path(__file__).resolve().parent / "templates"
+
+
+def template_environment() -> Environment:
+    """The Jinja2 environment (autoescape on for every template)."""
+    return Environment(loader=FileSystemLoader(str(_TEMPLATES)), autoescape=True,
+                       undefined=StrictUndefined, trim_blocks=False, lstrip_blocks=False)
+
+
+def _fmt(x, digits: int = 1) -> str:
+    return "–" if x is None else f"{x:.{digits}f}"
+
+
+def _validate_report(data, decimals, percent_method):
+    if not isinstance(data, SurveyData):
+        raise TypeError(f"`data` must be SurveyData, got {type(data).__name__}")
+    if not isinstance(decimals, int) or not 0 <= decimals <= 4:
+        raise ValueError(f"`decimals` must be an integer 0..4, got {decimals!r}")
+    if percent_method not in ("round", "largest_remainder"):
+        raise ValueError("`percent_method` must be one of ['round', 'largest_remainder'], "
+                         f"got {percent_method!r}")
+
+
+def render_report(data: SurveyData, claims=None, group: str | None = None, min_group: int = 5,
+                  title: str | None = None, confidence_level: float = 0.95,
+                  method: str = "wilson", decimals: int = 1, percent_method: str = "round",
+                  reliability: bool = True) -> str:
+    """HTML text of the survey report.
+
+    Parameters
+    ----------
+    data : SurveyData
+    claims : str, Path or list of Claim, optional
+        Claims to evaluate.
+    group : str, optional
+        Grouping column (the survey must have been read with ``group=``).
+    min_group : int
+        Smallest group shown.
+    title : str, optional
+    confidence_level : float
+    method : {"wilson", "beta"}
+    decimals : int
+        Printed decimals of percentages.
+    percent_method : {"round", "largest_remainder"}
+    reliability : bool
+        Add Cronbach's alpha of all items (when there are two or more).
+
+    Returns
+    -------
+    str
+    """
+    _validate_report(data, decimals, percent_method)
+    s = summarize(data, confidence_level, method)
+    svg = figure_svg(diverging_bar(s))
+    claims_rep = evaluate_claims(claims, s, confidence_level, method) if claims else None
+    groups = None
+    if group:
+        from .groups import compare_groups
+        groups = compare_groups(data, group, min_group)
+    rel = None
+    if reliability and len(data.items) >= 2:
+        from .reliability import cronbach_alpha_for
+        rel = cronbach_alpha_for(data, None, confidence_level)
+    rounding = ("half away from zero to %d decimal(s)" % decimals if percent_method == "round"
+                else "by largest remainder so that every row adds up to exactly 100")
+    env = template_environment()
+    return env.get_template("survey_report.html.j2").render(
+        title=title or f"Survey report: {Path(data.source).name}", s=s,
+        printed=[it.printed_percent(decimals, percent_method) for it in s.items],
+        decimals=decimals, rounding_note=rounding,
+        ci_name={"wilson": "Wilson", "beta": "Clopper-Pearson"}[method],
+        fmt=_fmt, svg=Markup(svg), claims=claims_rep, groups=groups, reliability=rel)
+
+
+def build_report(data: SurveyData, out_path: "str | Path", **kwargs) -> Path:
+    """Render the report (see :func:`render_report`) and write it atomically to ``out_path``."""
+    html = render_report(data, **kwargs)
+    return atomic_write(out_path, html)
