@@ -326,6 +326,14 @@ def simulate(
     for fn in ev_funcs:
         fn.terminal = True
         fn.direction = -1
+    # already violated at the start?
+    for fn, (kind, name, cons) in zip(ev_funcs, ev_info):
+        if fn(0.0, (q0, qd0)) < 0:
+            ev = StopEvent(kind, name, cons, 0.0, q0, qd0)
+            return _finish(system, None, np.array([0.0]), method, rtol, atol, 1, ev,
+                           _reason(system, ev, mu, at_start=True), kind,
+                           y_single=(q0, qd0))
+
     det = system.singularity_fn() if events else None
     if det is not None:
         d0 = det(q0, qd0, 0.0)
@@ -341,14 +349,6 @@ def simulate(
         sing.direction = 0
         ev_funcs.append(sing)
         ev_info.append(("singular", "", "constraints"))
-
-    # already violated at the start?
-    for fn, (kind, name, cons) in zip(ev_funcs, ev_info):
-        if fn(0.0, (q0, qd0)) < 0:
-            ev = StopEvent(kind, name, cons, 0.0, q0, qd0)
-            return _finish(system, None, np.array([0.0]), method, rtol, atol, 1, ev,
-                           _reason(system, ev, mu, at_start=True), "lost_contact" if kind == "lost_contact" else "slip",
-                           y_single=(q0, qd0))
 
     bar = _Progress(float(t_end), progress)
     try:

@@ -1,0 +1,307 @@
+"""Commands beyond the instant: ``period``, ``simulate``, ``friction``, ``precision``.
+
+* ``period SCENE --amplitude ANGLE [--tol REL] [--model M] [--json]``: the
+  period of free oscillation released from rest at the amplitude (measured
+  from the stable equilibrium), from the cheapest model meeting ``--tol``
+  (:mod:`solver.fidelity`), beside the linearized period (cf. Eq. 46).
+* ``simulate SCENE --t-end T [--method M] [--rtol R] [--atol A] [--out FILE.csv] [--mu MU]``:
+  the time history from the scene's state (:mod:`solver.simulate`).
+* ``friction SCENE``: for a rolling scene (Example 2) the least friction
+  coefficient over a free oscillation (``--amplitude``, ``--mass-ratio``,
+  repeatable); for a scene without rolling (Example 1) the release angles at
+  which every reaction is >= 0 (``--range``, ``--reactions``).
+* ``precision SCENE [--precision P] [--dps N]``: the instantaneous solve in
+  float64, exact and mpmath arithmetic, with the condition number.
+
+Angles on the command line take a unit (``"30 deg"``, ``"0.5 rad"``); a bare
+number is in degrees. Times likewise (``"10 s"``); a bare number is seconds.
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+
+from solver.cli_common import (
+    add_common_arguments,
+    format_number,
+    format_table,
+    load_scene_from_args,
+    print_json,
+)
+from solver.errors import InputError
+
+__all__ = ["register"]
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add ``period``, ``simulate``, ``friction`` and ``precision`` to the command line."""
+    from solver.fidelity import MODELS
+    from solver.simulate import METHODS
+
+    p = subparsers.add_parser(
+        "period",
+        help="exact period of free oscillation at an amplitude, beside the linearized one",
+        description="Period of free oscillation released from rest at ANGLE from the stable equilibrium: "
+        "the energy integral with its end singularities removed, or the linearized formula (cf. Eq. 46) "
+        "when its error bound meets --tol. Loads other than gravity must be zero, constant or "
+        "position-dependent.",
+    )
+    add_common_arguments(p)
+    p.add_argument("--amplitude", required=True, metavar="ANGLE",
+                   help='release angle from the equilibrium, e.g. "30 deg" (bare number: degrees)')
+    p.add_argument("--tol", type=float, default=1e-10, metavar="REL",
+                   help="requested relative accuracy of the period (default 1e-10)")
+    p.add_argument("--model", choices=MODELS, default="auto",
+                   help="force a model instead of the cheapest that meets --tol (default: auto)")
+    p.set_defaults(handler=period_command)
+
+    p = subparsers.add_parser(
+        "simulate",
+        help="time history by solve_ivp, stopping when a support is lost or rolling would slip",
+        description="Integrate the equation of motion from the scene's state. Stops early, and says why, "
+        "when a one-sided reaction would turn negative, when |F_f| > mu F_n at a rolling contact, or at a "
+        "singular configuration.",
+    )
+    add_common_arguments(p, method=False)  # --method is the integrator here
+    p.add_argument("--t-end", required=True, metavar="T", help='end time, e.g. "10 s" (bare number: seconds)')
+    p.add_argument("--method", dest="ivp_method", choices=METHODS, default="DOP853",
+                   help="solve_ivp method (default DOP853)")
+    p.add_argument("--rtol", type=float, default=1e-9, help="relative tolerance (default 1e-9)")
+    p.add_argument("--atol", type=float, default=1e-12, help="absolute tolerance (default 1e-12)")
+    p.add_argument("--out", metavar="FILE.csv", default=None, help="write the samples to a CSV file (atomically)")
+    p.add_argument("--mu", type=float, default=None,
+                   help="friction coefficient of every rolling contact (default: the scene's, if any)")
+    p.add_argument("--samples", type=int, default=None, help="number of output samples (default: 20 per period)")
+    bar = p.add_mutually_exclusive_group()
+    bar.add_argument("--progress", dest="progress", action="store_true", default=None,
+                     help="always show a progress bar on stderr")
+    bar.add_argument("--no-progress", dest="progress", action="store_false",
+                     help="never show a progress bar (default: only on a terminal, for long runs)")
+    p.set_defaults(handler=simulate_command)
+
+    p = subparsers.add_parser(
+        "friction",
+        help="least friction coefficient for rolling (Ex. 2) or release angles keeping supports pressed (Ex. 1)",
+        description="With a rolling contact: the least mu that keeps rolling without slip over a free "
+        "oscillation (max |F_f|/F_n over the swing, Eqs. 39-40), per amplitude and mass ratio. Without: the "
+        "release angles (from rest) at which every reaction is >= 0.",
+    )
+    add_common_arguments(p)
+    p.add_argument("--amplitude", action="append", default=[], metavar="ANGLE",
+                   help="amplitude(s) of the free oscillation (repeatable; default: the scene's theta)")
+    p.add_argument("--mass-ratio", action="append", type=float, default=[], metavar="R",
+                   help="m_b/m_d value(s) to tabulate (repeatable; sets m_b = R m_d)")
+    p.add_argument("--ratio-of", default="m_b/m_d", metavar="NUM/DEN",
+                   help="the two mass parameters of the ratio (default m_b/m_d)")
+    p.add_argument("--range", nargs=2, default=None, metavar=("LOW", "HIGH"),
+                   help="release angles searched, without rolling (default 0 deg 180 deg)")
+    p.add_argument("--reactions", default=None, metavar="NAMES",
+                   help="comma-separated reactions that must stay >= 0 (default: all)")
+    p.set_defaults(handler=friction_command)
+
+    p = subparsers.add_parser(
+        "precision",
+        help="the instantaneous solve in float64, exact and mpmath arithmetic, with the condition number",
+        description="Solve the instantaneous linear system at the scene's state in float64, exactly "
+        "(sympy, parameters as exact decimals) and in mpmath at --dps digits; report the condition number "
+        "and the relative error of float64.",
+    )
+    add_common_arguments(p)
+    p.add_argument("--precision", dest="precision", choices=("float64", "exact", "mpmath", "all"), default="all",
+                   help="arithmetic (default: all three)")
+    p.add_argument("--dps", type=int, default=50, help="decimal digits for mpmath and printing (default 50)")
+    p.set_defaults(handler=precision_command)
+
+
+# -- helpers -----------------------------------------------------------------------------------
+def _angle(text: str, where: str) -> float:
+    """An angle in rad from ``"30 deg"`` / ``"0.5 rad"`` / ``"30"`` (degrees)."""
+    from solver.scenefile import parse_quantity
+
+    q = parse_quantity(text, where)
+    if q.dimensionless and str(q.units) in ("", "dimensionless"):
+        return math.radians(float(q.magnitude))
+    try:
+        return float(q.to("rad").magnitude)
+    except Exception:  # noqa: BLE001 - pint's DimensionalityError and friends
+        raise InputError(f"{where}: expected an angle such as \"30 deg\", got {text!r}") from None
+
+
+def _time(text: str, where: str) -> float:
+    from solver.scenefile import parse_quantity
+
+    q = parse_quantity(text, where)
+    if str(q.units) in ("", "dimensionless"):
+        return float(q.magnitude)
+    try:
+        return float(q.to("s").magnitude)
+    except Exception:  # noqa: BLE001
+        raise InputError(f"{where}: expected a time such as \"10 s\", got {text!r}") from None
+
+
+def _system(args):
+    from solver.derivation import derive
+    from solver.period import OneDofSystem
+
+    scene = load_scene_from_args(args)
+    d = derive(scene, getattr(args, "point", None), getattr(args, "method", "generalized_euler"))
+    return scene, d, OneDofSystem.from_derivation(d)
+
+
+def _where(scene) -> str:
+    return str(scene.source) if scene.source is not None else scene.name
+
+
+# -- period ------------------------------------------------------------------------------------
+def period_command(args: argparse.Namespace) -> int:
+    from solver.fidelity import period_to_tolerance
+    from solver.period import find_equilibrium
+
+    amplitude = _angle(args.amplitude, "--amplitude")
+    scene, _, system = _system(args)
+    eq = find_equilibrium(system, near=scene.state_si()[0])
+    res = period_to_tolerance(system, amplitude, tol=args.tol, model=args.model, equilibrium=eq)
+    if args.json:
+        payload = {"scene": scene.name}
+        payload.update(res.to_dict())
+        payload["tol"] = args.tol
+        print_json(payload)
+        return 0
+    rows = [
+        ("period", format_number(res.period, 12), "s"),
+        ("period_linear", format_number(res.period_linear, 12), "s"),
+        ("ratio", format_number(res.ratio, 12), ""),
+        ("equilibrium", format_number(math.degrees(res.equilibrium), 10), "deg"),
+        ("turning points", ", ".join(format_number(math.degrees(x), 10) for x in res.turning_points), "deg"),
+    ]
+    print(f"scene   {scene.name}  ({_where(scene)})")
+    print(f"amplitude {format_number(math.degrees(amplitude), 10)} deg from the equilibrium, released from rest")
+    print()
+    print(format_table(("name", "value", "unit"), rows, align="lrl"))
+    print()
+    print(f"model: {res.model}, estimated relative error {res.error_estimate:.2g} (requested {args.tol:g}"
+          + (f", {res.nodes} nodes, {res.precision}" if res.model == "quadrature" else "") + ")")
+    return 0
+
+
+# -- simulate ----------------------------------------------------------------------------------
+def simulate_command(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    from solver.simulate import simulate, write_csv
+
+    t_end = _time(args.t_end, "--t-end")
+    if args.out is not None:
+        folder = Path(args.out).parent
+        if str(folder) and not folder.is_dir():
+            raise InputError(f"--out {args.out}: folder {folder} does not exist")
+    scene, _, system = _system(args)
+    res = simulate(system, t_end, y0=scene.state_si(), method=args.ivp_method, rtol=args.rtol, atol=args.atol,
+                   mu=args.mu, samples=args.samples, progress=args.progress)
+    if args.out is not None:
+        write_csv(res, args.out)
+    if args.json:
+        payload = {"scene": scene.name}
+        payload.update(res.to_dict())
+        if args.out is not None:
+            payload["out"] = str(args.out)
+        print_json(payload)
+        return 0
+    print(f"scene   {scene.name}  ({_where(scene)})")
+    print(f"method  {res.method}  rtol {res.rtol:g}  atol {res.atol:g}  ({res.nfev} rhs evaluations)")
+    print(f"status  {res.status}: {res.reason}")
+    rows = [("t", format_number(float(res.t[-1]), 10), "s"),
+            ("theta", format_number(math.degrees(float(res.theta[-1])), 10), "deg"),
+            ("theta_dot", format_number(float(res.theta_dot[-1]), 10), "rad/s"),
+            ("alpha", format_number(float(res.alpha[-1]), 10), "rad/s**2")]
+    for name, values in res.reactions.items():
+        if math.isfinite(float(values[-1])):
+            rows.append((name, format_number(float(values[-1]), 10), res.reaction_units.get(name, "N")))
+    print()
+    print("final state:")
+    print(format_table(("name", "value", "unit"), rows, align="lrl"))
+    print()
+    print(f"energy drift (relative): {res.energy_drift:.3g}   samples: {res.t.size}")
+    if args.out is not None:
+        print(f"wrote {args.out}")
+    return 0
+
+
+# -- friction ----------------------------------------------------------------------------------
+def friction_command(args: argparse.Namespace) -> int:
+    from solver.friction import friction_map, release_window
+    from solver.period import find_equilibrium
+
+    scene, _, system = _system(args)
+    if system.friction_pairs:
+        eq = find_equilibrium(system, near=scene.state_si()[0])
+        if args.amplitude:
+            amps = [_angle(a, "--amplitude") for a in args.amplitude]
+        else:
+            amps = [scene.state_si()[0] - eq.q]
+        num, _, den = args.ratio_of.partition("/")
+        fmap = friction_map(system, amps, args.mass_ratio or None, ratio_of=(num.strip(), den.strip()))
+        if args.json:
+            payload = {"scene": scene.name, "mode": "rolling"}
+            payload.update(fmap.to_dict())
+            payload["results"] = [[r.to_dict() for r in row] for row in fmap.results]
+            print_json(payload)
+            return 0
+        print(f"scene   {scene.name}  ({_where(scene)})")
+        print(f"least friction coefficient mu_min = max |{system.friction_pairs[0].friction}| / "
+              f"{system.friction_pairs[0].normal} over a free oscillation")
+        header = (f"{fmap.ratio_of[0]}/{fmap.ratio_of[1]}", *[f"{math.degrees(a):.6g} deg" for a in fmap.amplitudes])
+        rows = [(format_number(r, 6), *[format_number(v, 6) if math.isfinite(v) else "lifts off" for v in row])
+                for r, row in zip(fmap.mass_ratios, fmap.mu_min)]
+        print(format_table(header, rows, align="r" * len(header)))
+        return 0
+    lo, hi = (0.0, math.pi)
+    if args.range is not None:
+        lo, hi = (_angle(args.range[0], "--range LOW"), _angle(args.range[1], "--range HIGH"))
+    names = None
+    if args.reactions:
+        names = [n.strip() for n in args.reactions.split(",") if n.strip()]
+    win = release_window(system, names, (lo, hi), theta_dot=scene.state_si()[1])
+    if args.json:
+        payload = {"scene": scene.name, "mode": "release"}
+        payload.update(win.to_dict())
+        print_json(payload)
+        return 0
+    print(f"scene   {scene.name}  ({_where(scene)})")
+    print(f"release angles with {', '.join(win.reactions)} >= 0 "
+          f"(searched {math.degrees(lo):.6g} .. {math.degrees(hi):.6g} deg):")
+    if not win.intervals:
+        print("  none")
+    for iv in win.intervals:
+        print(f"  {math.degrees(iv.low):.10g} deg ({iv.low_reason}) .. {math.degrees(iv.high):.10g} deg "
+              f"({iv.high_reason})")
+    return 0
+
+
+# -- precision ---------------------------------------------------------------------------------
+def precision_command(args: argparse.Namespace) -> int:
+    from solver.derivation import derive
+    from solver.precision import PRECISIONS, solve_precise
+
+    scene = load_scene_from_args(args)
+    d = derive(scene, args.point, args.method)
+    which = PRECISIONS if args.precision == "all" else (args.precision,)
+    results = [solve_precise(d, p, args.dps) for p in which]
+    if args.json:
+        print_json({"scene": scene.name, "point": d.point, "method": d.method,
+                    "condition_number": results[0].condition_number,
+                    "solutions": {r.precision: r.to_dict() for r in results}})
+        return 0
+    print(f"scene   {scene.name}  ({_where(scene)})")
+    print(f"condition number of the linear system (2-norm): {results[0].condition_number:.6g} "
+          f"(float64 relative error bound ~ {results[0].condition_number * 2.2e-16:.2g})")
+    for r in results:
+        print()
+        print(f"{r.precision}" + (f" ({r.dps} digits)" if r.precision != "float64" else ""))
+        rows = [(n, r.text[n], r.units.get(n, ""), f"{r.float64_error.get(n, 0.0):.2g}") for n in r.unknowns]
+        print(format_table(("name", "value (SI)", "unit", "float64 rel. error"), rows, align="lrll"))
+        for n, e in r.exact_form.items():
+            print(f"  {n} = {e}")
+    sys.stdout.flush()
+    return 0
