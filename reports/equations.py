@@ -1,0 +1,397 @@
+"""Symbolic comparison of the paper's printed equations with the solver's derivation.
+
+Each printed equation (``data/published/equations.toml``) is parsed by the
+whitelist parser, its printed symbols are replaced by the quantities the
+solver derives (alpha, point accelerations, reactions, inertia, omega_n), the
+paper's conditions are applied (Example 1: omega = 0), and the difference of
+its two sides is tested for zero:
+
+* ``identity`` (kinematics, inertia): as it stands, for every state;
+* ``relation`` (components of Eq. 1 / Eqs. 10-11): after substituting the
+  solver's solution, theta_ddot and every reaction as functions of the state;
+* ``eom``: additionally, the printed equation must equal the derived equation
+  of motion times a constant factor; the difference is the residual shown;
+* ``frequency``: against sqrt(stiffness / mass) of the derived equation of
+  motion linearised about the printed state (Eq. 45), after checking that the
+  linearisation has the printed form (no rate or forcing term).
+
+Zero is decided twice: numerically at random points to 30 digits (a nonzero
+residual cannot pass) and symbolically with sympy's ``simplify`` (which shows
+the residual in closed form). A nonzero residual is diagnosed when it is a
+multiple of one printed term ("the term F_a r_d has the wrong sign").
+"""
+from __future__ import annotations
+
+import random
+import zlib
+from dataclasses import dataclass, field
+
+import mpmath
+import sympy as sp
+
+from reports.published import ReportInputError, Transcription
+from solver.expressions import parse_expression
+
+__all__ = ["EquationOutcome", "check_equation", "is_zero"]
+
+_RANDOM_POINTS = 4
+"""Random points at which a residual is evaluated."""
+_DIGITS = 30
+"""Working precision of the numeric zero test [decimal digits]."""
+_ZERO_REL = sp.Float("1e-20")
+"""A residual counts as zero when |residual| <= 1e-20 * (|lhs| + |rhs|): ten orders of
+magnitude above the 30-digit round-off, twenty below any real discrepancy."""
+
+
+@dataclass
+class EquationOutcome:
+    """Result of comparing one printed equation with the derivation.
+
+    Attributes
+    ----------
+    transcription : Transcription
+    printed_lhs, printed_rhs : sympy.Expr
+        The equation as printed (parsed, printed symbols kept).
+    residual : sympy.Expr or None
+        ``printed (lhs - rhs) - factor * derived`` for kind ``eom``; otherwise
+        ``lhs - rhs`` with the derived quantities and the solution substituted;
+        simplified. Zero when the equation agrees.
+    factor : sympy.Expr or None
+        Constant between the printed and the derived equation of motion (``eom``).
+    derived_lhs, derived_rhs : sympy.Expr or None
+        The derived counterpart, for display.
+    verdict : str
+        "agrees", "disagrees" or "not-checkable".
+    detail : str
+    diagnosis : str
+        A plain statement of the error when it is a single wrong term.
+    symbolic_zero : bool
+        Whether sympy reduced the residual to 0 (besides the numeric test).
+    """
+
+    transcription: Transcription
+    printed_lhs: sp.Expr
+    printed_rhs: sp.Expr
+    residual: sp.Expr | None
+    verdict: str
+    detail: str
+    factor: sp.Expr | None = None
+    derived_lhs: sp.Expr | None = None
+    derived_rhs: sp.Expr | None = None
+    diagnosis: str = ""
+    symbolic_zero: bool = False
+    notes: list[str] = field(default_factory=list)
+
+
+def _names(scene, deriv, tr: Transcription) -> dict[str, sp.Symbol]:
+    names = dict(scene.symbols)
+    names.update({deriv.q.name: deriv.q, deriv.qd.name: deriv.qd, deriv.qdd.name: deriv.qdd})
+    names[deriv.t.name] = deriv.t
+    for symbol in tr.symbols:
+        if symbol in names:
+            raise ReportInputError(
+                f"{tr.where}.symbols.{symbol}: already a parameter or state name of scene "
+                f"{tr.scene!r}; printed symbols need names of their own"
+            )
+        names[symbol] = sp.Symbol(symbol, real=True)
+    return names
+
+
+def _state_subs(table: dict[str, str], scene, deriv, tr: Transcription, key: str) -> dict:
+    base = dict(scene.symbols)
+    subs = {}
+    targets = {deriv.q.name: deriv.q, deriv.qd.name: deriv.qd, deriv.t.name: deriv.t, **base}
+    for name, text in table.items():
+        if name not in targets:
+            raise ReportInputError(
+                f"{tr.where}.{key}.{name}: not a parameter or state of scene {tr.scene!r}; "
+                f"valid: {', '.join(sorted(targets))}"
+            )
+        subs[targets[name]] = parse_expression(text, base, where=f"{tr.where}.{key}.{name}")
+    return subs
+
+
+def _linearisation(deriv, assume: dict, about: dict):
+    """(M0, K, C, E0) of the derived eom (conditions applied) about ``about``."""
+    eom = deriv.eom.subs(assume)
+    q, qd, qdd = deriv.q, deriv.qd, deriv.qdd
+    at = {q: about.get(q, sp.Integer(0)), qd: about.get(qd, sp.Integer(0))}
+    mass = sp.simplify(sp.diff(eom, qdd).subs(at))
+    stiffness = sp.simplify(sp.diff(eom, q).subs(qdd, 0).subs(at))
+    damping = sp.simplify(sp.diff(eom, qd).subs(qdd, 0).subs(at))
+    offset = sp.simplify(eom.subs(qdd, 0).subs(at))
+    return mass, stiffness, damping, offset
+
+
+def _meaning_value(meaning, scene, deriv, tr: Transcription, lin) -> sp.Expr:
+    where = f"{tr.where}.symbols.{meaning.symbol}"
+    quantity = meaning.quantity
+    if quantity == "alpha":
+        return deriv.alpha
+    if quantity == "omega":
+        return deriv.omega
+    if quantity in ("acceleration", "inertia_about") and meaning.point not in scene.points and meaning.point != "G":
+        raise ReportInputError(
+            f"{where}.point: {meaning.point!r} is not a point of scene {tr.scene!r}; "
+            f"valid: {', '.join(scene.points)}"
+        )
+    if quantity == "acceleration":
+        base = dict(scene.symbols)
+        u = sp.Matrix([parse_expression(x, base, where=f"{where}.along") for x in meaning.along])
+        if sp.simplify(u.dot(u) - 1) != 0:
+            raise ReportInputError(f"{where}.along: must be a unit vector, got {list(meaning.along)}")
+        return (deriv.acceleration(meaning.point).T * u)[0]
+    if quantity == "reaction":
+        if meaning.name not in deriv.reactions:
+            raise ReportInputError(
+                f"{where}.name: {meaning.name!r} is not a reaction of scene {tr.scene!r}; "
+                f"valid: {', '.join(deriv.reactions)}"
+            )
+        return deriv.reactions[meaning.name]
+    if quantity == "inertia_about":
+        return deriv.inertia_about(meaning.point)
+    if quantity == "natural_frequency":
+        if lin is None:
+            raise ReportInputError(f"{where}: natural_frequency needs an 'about' table on the equation")
+        mass, stiffness = lin[0], lin[1]
+        return sp.sqrt(stiffness / mass)
+    raise ReportInputError(f"{where}.quantity: unsupported quantity {quantity!r}")  # pragma: no cover
+
+
+def _random_point(symbols, seed: int) -> dict:
+    rng = random.Random(seed)
+    # Positive values of moderate size: masses, lengths, angles and rates alike. Rationals keep the
+    # substitution exact; evaluation is at _DIGITS digits.
+    return {s: sp.Rational(rng.randint(23, 181), 97) for s in sorted(symbols, key=lambda s: s.name)}
+
+
+def is_zero(expr: sp.Expr, scale_terms=(), seed: int = 0) -> tuple[bool, float]:
+    """Numeric zero test of ``expr`` at random points.
+
+    Parameters
+    ----------
+    expr : sympy.Expr
+    scale_terms : iterable of sympy.Expr
+        Expressions whose magnitudes set the scale of "zero" (the terms of both sides).
+    seed : int
+
+    Returns
+    -------
+    (bool, float)
+        Whether |expr| <= 1e-20 * sum |scale_terms| at every point, and the largest
+        relative residual (NaN when no point could be evaluated).
+    """
+    expr = sp.sympify(expr)
+    scale_terms = [sp.sympify(t) for t in scale_terms]
+    symbols = set(expr.free_symbols)
+    for term in scale_terms:
+        symbols |= term.free_symbols
+    ordered = sorted(symbols, key=lambda s: s.name)
+    # mpmath at _DIGITS digits: lambdify only translates the (already parsed) sympy tree.
+    value_fn = sp.lambdify(ordered, expr, modules="mpmath")
+    scale_fn = sp.lambdify(ordered, scale_terms or [sp.Integer(1)], modules="mpmath")
+    worst = 0.0
+    tried = attempt = 0
+    with mpmath.workdps(_DIGITS):
+        while tried < _RANDOM_POINTS and attempt < 5 * _RANDOM_POINTS:
+            point = _random_point(ordered, seed + attempt)
+            attempt += 1
+            args = [mpmath.mpf(point[s].p) / point[s].q for s in ordered]
+            try:
+                value = abs(value_fn(*args))
+                scale = sum(abs(x) for x in scale_fn(*args))
+            except (ZeroDivisionError, ValueError, TypeError):
+                continue
+            if not (mpmath.isfinite(value) and mpmath.isfinite(scale)):
+                continue
+            tried += 1
+            rel = float(value / max(scale, mpmath.mpf("1e-300")))
+            worst = max(worst, rel)
+    if tried == 0:
+        return False, float("nan")
+    return worst <= float(_ZERO_REL), worst
+
+
+def _trig_reduce(expr: sp.Expr) -> sp.Expr | None:
+    """Normal form of a rational expression in sin/cos of plain symbols.
+
+    tan and cot become sin/cos, sums of angles are expanded, the numerator is
+    written as a polynomial in S_a = sin(a), C_a = cos(a) for every angle a and
+    reduced modulo S_a**2 + C_a**2 - 1 (a Groebner basis, so zero is decided
+    exactly). Returns None when the expression has other trigonometric arguments.
+    """
+    e = expr.replace(sp.tan, lambda a: sp.sin(a) / sp.cos(a)).replace(sp.cot, lambda a: sp.cos(a) / sp.sin(a))
+    e = sp.expand_trig(e)
+    num, den = sp.fraction(sp.cancel(sp.together(e)))
+    functions = num.atoms(sp.sin, sp.cos) | den.atoms(sp.sin, sp.cos)
+    if any(not f.args[0].is_Symbol for f in functions):
+        return None
+    angles = sorted({f.args[0] for f in functions}, key=lambda a: a.name)
+    sines = {a: sp.Dummy(f"S_{a.name}") for a in angles}
+    cosines = {a: sp.Dummy(f"C_{a.name}") for a in angles}
+    to_poly = {}
+    for a in angles:
+        to_poly[sp.sin(a)] = sines[a]
+        to_poly[sp.cos(a)] = cosines[a]
+    poly = sp.expand(num.subs(to_poly))
+    for a in angles:
+        poly = sp.expand(sp.rem(poly, sines[a] ** 2 + cosines[a] ** 2 - 1, sines[a]))
+    back = {sines[a]: sp.sin(a) for a in angles} | {cosines[a]: sp.cos(a) for a in angles}
+    return poly.subs(back) / den
+
+
+def _simplify(expr: sp.Expr) -> sp.Expr:
+    """Reduce a residual: exact trigonometric normal form first, ``simplify`` for display."""
+    reduced = _trig_reduce(expr)
+    if reduced is not None and reduced == 0:
+        return sp.Integer(0)
+    full = sp.simplify(expr)
+    if reduced is None:
+        return full
+    reduced = sp.factor(reduced)
+    return full if sp.count_ops(full) <= sp.count_ops(reduced) else reduced
+
+
+def _diagnose(residual: sp.Expr, printed: sp.Expr, solution: dict) -> str:
+    """Say which printed term is wrong when the residual is a multiple of one term."""
+    if residual == 0:
+        return ""
+    for term in sp.Add.make_args(sp.expand(printed)):
+        term_value = term.subs(solution) if solution else term
+        if term_value == 0:
+            continue
+        ratio = sp.simplify(residual / term_value)
+        if ratio.is_number and ratio != 0:
+            shown = sp.sstr(term)
+            correct = sp.nsimplify(1 - ratio)
+            if correct == -1:
+                return f"the term {shown} has the wrong sign: the derivation gives {sp.sstr(-term)}"
+            return f"the term {shown} should be {sp.sstr(sp.expand(correct * term))}"
+    return ""
+
+
+def check_equation(tr: Transcription, scene, deriv) -> EquationOutcome:
+    """Compare one printed equation with the solver's derivation.
+
+    Parameters
+    ----------
+    tr : Transcription
+        The printed equation.
+    scene : solver.scene.Scene
+        The scene of the example it belongs to.
+    deriv : solver.derivation.Derivation
+        The derivation of that scene about the paper's reference point.
+
+    Returns
+    -------
+    EquationOutcome
+
+    Raises
+    ------
+    ReportInputError
+        A transcription that names unknown symbols, points, reactions or states.
+    """
+    names = _names(scene, deriv, tr)
+    lhs = parse_expression(tr.lhs, names, where=f"{tr.where}.lhs")
+    rhs = parse_expression(tr.rhs, names, where=f"{tr.where}.rhs")
+    assume = _state_subs(tr.assume, scene, deriv, tr, "assume")
+    about = _state_subs(tr.about, scene, deriv, tr, "about")
+    lin = _linearisation(deriv, assume, about) if tr.kind == "frequency" else None
+    meanings = {names[s]: _meaning_value(m, scene, deriv, tr, lin) for s, m in tr.symbols.items()}
+    seed = zlib.crc32(tr.id.encode())
+
+    q, qd, qdd = deriv.q, deriv.qd, deriv.qdd
+    mapped_l = lhs.subs(meanings).subs(assume)
+    mapped_r = rhs.subs(meanings).subs(assume)
+    eom = deriv.eom.subs(assume)
+    printed = mapped_l - mapped_r
+    notes: list[str] = []
+    factor = None
+    derived_l = derived_r = None
+    solution: dict = {}
+
+    if tr.kind == "identity":
+        diff = printed
+        derived_l, derived_r = mapped_l, mapped_r
+    elif tr.kind in ("relation", "eom"):
+        qdd_solution = -eom.subs(qdd, 0) / sp.diff(eom, qdd)
+        solution = {qdd: qdd_solution}
+        diff = printed.subs(solution)
+        if tr.kind == "eom":
+            if printed.has(*[sp.Symbol(r, real=True) for r in deriv.reactions]):
+                raise ReportInputError(f"{tr.where}: kind 'eom' must not contain reactions")
+            factor = sp.simplify(sp.diff(printed, qdd) / sp.diff(eom, qdd))
+            if factor.free_symbols & {q, qd, qdd, deriv.t}:
+                notes.append(
+                    "the printed and derived equations of motion are not proportional "
+                    f"(their theta_ddot coefficients differ by the state-dependent factor {sp.sstr(factor)})"
+                )
+                factor = None
+            else:
+                diff = printed - factor * eom
+                derived_l, derived_r = sp.expand(factor * eom), sp.Integer(0)
+    elif tr.kind == "frequency":
+        mass, stiffness, damping, offset = lin
+        if offset != 0:
+            notes.append(f"the linearisation point is not an equilibrium (residual force {sp.sstr(offset)})")
+        if damping != 0:
+            notes.append(f"the linearised equation keeps a rate term {sp.sstr(damping)} theta_dot")
+        diff = printed
+        derived_l, derived_r = lhs, sp.sqrt(sp.simplify(stiffness / mass))
+    else:  # pragma: no cover - validated on load
+        raise ReportInputError(f"{tr.where}.kind: unknown kind {tr.kind!r}")
+
+    scale_terms = [
+        term.subs(meanings).subs(assume).subs(solution)
+        for side in (lhs, rhs)
+        for term in sp.Add.make_args(side)
+    ]
+    numeric_zero, worst = is_zero(diff, scale_terms, seed)
+    residual = _simplify(diff)
+    symbolic_zero = residual == 0
+    if tr.kind == "frequency" and not symbolic_zero:
+        # Square roots resist simplify; compare squares of the (positive) sides instead.
+        squares = sp.simplify(mapped_l**2 - mapped_r**2)
+        if squares == 0:
+            symbolic_zero = True
+            residual = sp.Integer(0)
+    agrees = numeric_zero and not notes
+    diagnosis = "" if agrees else _diagnose(residual, printed, solution)
+
+    if agrees:
+        how = "reduces to 0 symbolically" if symbolic_zero else (
+            f"is 0 to {_DIGITS} digits at {_RANDOM_POINTS} random points (sympy's simplify left it unreduced)"
+        )
+        detail = {
+            "identity": f"printed lhs - rhs with the derived quantities substituted {how}.",
+            "relation": f"printed lhs - rhs with the solver's solution (theta_ddot and reactions) substituted {how}.",
+            "eom": f"printed equation = {sp.sstr(factor)} x derived equation of motion; the difference {how}.",
+            "frequency": f"printed omega_n = sqrt(stiffness/mass) of the linearised derived equation of motion; the difference {how}.",
+        }[tr.kind]
+        verdict = "agrees"
+    else:
+        verdict = "disagrees"
+        parts = [f"residual (printed lhs - rhs{' - factor x derived' if factor is not None else ''}) = {sp.sstr(residual)}"]
+        if worst == worst:  # not NaN
+            parts.append("nonzero at the random test points")
+        if diagnosis:
+            parts.append(diagnosis)
+        parts.extend(notes)
+        detail = "; ".join(parts) + "."
+    conditions = ", ".join(f"{k} = {v}" for k, v in {**tr.assume, **tr.about}.items())
+    if conditions:
+        detail += f" Conditions applied: {conditions}."
+    return EquationOutcome(
+        transcription=tr,
+        printed_lhs=lhs,
+        printed_rhs=rhs,
+        residual=residual,
+        verdict=verdict,
+        detail=detail,
+        factor=factor,
+        derived_lhs=derived_l,
+        derived_rhs=derived_r,
+        diagnosis=diagnosis,
+        symbolic_zero=symbolic_zero,
+        notes=notes,
+    )
