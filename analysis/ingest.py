@@ -7,6 +7,8 @@ Supported shapes (:data:`SHAPES`), detected from the file unless named:
 ``long``
     A row per answer: respondent, item, answer columns (names such as
     ``respondent``/``id``, ``item``/``question``, ``answer``/``response``/``value``).
+    Items come in order of first appearance; a (respondent, item) pair with no row
+    is missing; a pair given twice is an error.
 ``google``
     Google Forms export: a ``Timestamp`` column, maybe an e-mail column, the
     question text as headers and answers as label text.
@@ -17,10 +19,11 @@ Supported shapes (:data:`SHAPES`), detected from the file unless named:
 CSV files and ``.xlsx`` workbooks (first sheet, read with openpyxl) are accepted.
 Leading lines that start with ``#`` in a CSV are comments.
 
-Item columns are detected: a column is an item when at least half of its
-non-blank answers are label texts of the scale (one stray answer then is an
-error, not a reason to drop the column); when no column has label texts, columns
-whose every answer is a numeric code of the scale are taken. Items may instead
+Item columns are detected: a column is an item when it holds at least one label
+text of the scale and at least half of its non-blank answers are labels or codes
+of the scale (one stray answer then is an error, not a reason to drop the
+column); when no column has label texts, columns whose every answer is a numeric
+code of the scale are taken (identifier-like and known metadata columns aside). Items may instead
 be chosen by name or ``fnmatch`` pattern. Answers match labels ignoring case and
 surrounding white space; numeric codes are accepted. An answer that matches no
 label raises :class:`~analysis.errors.SurveyInputError` naming file, row, column,
@@ -561,8 +564,9 @@ def _column_stats(col: _Column, scale: Scale) -> tuple[int, int, int]:
 
 
 def _label_item(stats) -> bool:
-    nonblank, labels, _ = stats
-    return nonblank > 0 and 2 * labels >= nonblank
+    """At least one label text, and labels or codes make up half the answers or more."""
+    nonblank, labels, codes = stats
+    return nonblank > 0 and labels > 0 and 2 * (labels + codes) >= nonblank
 
 
 def _choose_items(raw: _Raw, cols, exclude, scale, items, rows):
@@ -614,12 +618,7 @@ def _choose_items(raw: _Raw, cols, exclude, scale, items, rows):
 
 
 def _get_scale(scale, source) -> Scale:
-    try:
-        return get_scale(scale)
-    except SurveyInputError:
-        raise
-    except ValueError as e:
-        raise SurveyInputError(str(e), source) from None
+    return get_scale(scale)          # ValueError lists the built-in names
 
 
 def _detect_scale(source, cols, require_all: bool) -> Scale:
