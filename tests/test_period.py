@@ -1,0 +1,226 @@
+"""Exact period by the energy integral (solver.period) and model selection (solver.fidelity).
+
+Independent routes used as references:
+* simple / compound pendulum: T = 4 K(m) sqrt(l_eq / g), m = sin^2(theta0 / 2)
+  (complete elliptic integral, scipy.special.ellipkm1 with 1 - m = cos^2(theta0/2)
+  so that amplitudes near 180 deg keep full precision);
+* Example 2: M(theta) and V(theta) typed from the paper's Eq. 44 (F_a = 0) and
+  the singular energy integral evaluated by mpmath's tanh-sinh quadrature at
+  30 digits (no substitution, no code shared with solver.period);
+* Eq. 46 for the linearized frequency; c2 = 1/16 for the pendulum (textbook
+  series T = T0 (1 + theta0^2 / 16 + ...)).
+"""
+from __future__ import annotations
+
+import json
+import math
+from functools import lru_cache
+
+import mpmath
+import numpy as np
+import pytest
+import sympy as sp
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy.special import ellipkm1
+
+from solver.errors import InputError, NoRestoringError
+from solver.fidelity import amplitude_coefficient, period_to_tolerance
+from solver.period import OneDofSystem, exact_period, find_equilibrium
+from solver.simulate import period_by_integration
+
+q, qd, qdd, t = sp.symbols("theta theta_dot theta_ddot t", real=True)
+m, l, g = sp.symbols("m l g", real=True)
+
+SCENE = "data/scenes/disk_bar.toml"
+# Example 2 values as chosen in data/scenes/disk_bar.toml (SI)
+EX2 = dict(m_d=4.0, r_d=0.25, m_b=1.5, l_b=0.2, g=9.80665)
+
+
+def pendulum(length=1.5, gravity=9.81, mass=2.0) -> OneDofSystem:
+    return OneDofSystem(q, qd, qdd, t, mass=m * l**2, potential=-m * g * l * sp.cos(q),
+                        params=(m, l, g), values=(mass, length, gravity), name="pendulum")
+
+
+def elliptic_period(amplitude: float, length: float, gravity: float) -> float:
+    """Closed form 4 K(sin^2(a/2)) sqrt(l/g)."""
+    return 4.0 * float(ellipkm1(math.cos(amplitude / 2) ** 2)) * math.sqrt(length / gravity)
+
+
+def ex2_reference_period(amplitude: float, p=EX2) -> float:
+    """Eq. 44 (F_a = 0): T = 2 int sqrt(M / (2 (V(a) - V))) by mpmath tanh-sinh at 30 digits."""
+    with mpmath.workdps(30):
+        md, rd, mb, lb, gg = (mpmath.mpf(repr(p[k])) for k in ("m_d", "r_d", "m_b", "l_b", "g"))
+        a = mpmath.mpf(amplitude)
+
+        def f(x):
+            M = (mpmath.mpf(3) / 2 * md + mb) * rd**2 + mb * lb**2 / 3 - mb * rd * lb * mpmath.cos(x)
+            dV = mb * gg * lb / 2 * (mpmath.cos(x) - mpmath.cos(a))
+            # a node rounded onto an end point (integrable singularity there): contributes nothing
+            return mpmath.sqrt(M / (2 * dV)) if dV > 0 else mpmath.mpf(0)
+
+        return float(2 * mpmath.quad(f, [-a, 0, a]))
+
+
+def eq46_period(p=EX2) -> float:
+    """Paper Eq. 46: omega_n^2 = (m_b g l_b / 2) / ((3/2 m_d + m_b) r_d^2 + m_b l_b (l_b / 3 - r_d))."""
+    w2 = (0.5 * p["m_b"] * p["g"] * p["l_b"]) / (
+        (1.5 * p["m_d"] + p["m_b"]) * p["r_d"] ** 2 + p["m_b"] * p["l_b"] * (p["l_b"] / 3 - p["r_d"]))
+    return 2 * math.pi / math.sqrt(w2)
+
+
+@lru_cache(maxsize=None)
+def ex2_system() -> OneDofSystem:
+    from solver.derivation import derive
+    from solver.scenefile import load_scene
+
+    return OneDofSystem.from_derivation(derive(load_scene(SCENE)))
+
+
+# ------------------------------------------------------------------ closed forms
+@pytest.mark.parametrize("deg", [0.5, 10.0, 90.0, 150.0, 170.0, 179.0, 179.9])
+def test_pendulum_period_matches_elliptic_integral(deg):
+    a = math.radians(deg)
+    res = exact_period(pendulum(), a, tol=1e-12)
+    # tol 1e-12 requested; allow 5x for the reference's own rounding (ellipkm1 ~1e-15) and the estimate
+    np.testing.assert_allclose(res.period, elliptic_period(a, 1.5, 9.81), rtol=5e-12)
+    assert res.error_estimate <= 1e-12
+    np.testing.assert_allclose(res.period_linear, 2 * math.pi * math.sqrt(1.5 / 9.81), rtol=1e-14)
+
+
+@settings(max_examples=30)
+@given(length=st.floats(1e-3, 1e3), gravity=st.floats(0.1, 100.0), deg=st.floats(0.1, 178.0),
+       sign=st.sampled_from([1.0, -1.0]))
+def test_pendulum_period_property(length, gravity, deg, sign):
+    a = sign * math.radians(deg)
+    res = exact_period(pendulum(length, gravity), a, tol=1e-10)
+    # the requested tolerance, with a factor 2 for the reference's rounding
+    np.testing.assert_allclose(res.period, elliptic_period(abs(a), length, gravity), rtol=2e-10)
+
+
+def test_compound_pendulum():
+    # a uniform bar of length L pivoted at one end: M = m L^2 / 3, V = -m g L cos / 2 -> l_eq = 2 L / 3
+    L = 0.8
+    s = OneDofSystem(q, qd, qdd, t, mass=m * l**2 / 3, potential=-m * g * l / 2 * sp.cos(q),
+                     params=(m, l, g), values=(3.0, L, 9.80665))
+    a = math.radians(120)
+    np.testing.assert_allclose(exact_period(s, a, tol=1e-12).period, elliptic_period(a, 2 * L / 3, 9.80665),
+                               rtol=5e-12)
+
+
+def test_asymmetric_potential_against_integration():
+    # M and V without symmetry (turning points not symmetric): independent route = DOP853 between turning points
+    s = OneDofSystem(q, qd, qdd, t, mass=2 + sp.sin(q) / 2, potential=1 - sp.cos(q) + sp.Rational(3, 10) * q**3,
+                     name="asym")
+    for a in (0.4, -0.6):
+        res = exact_period(s, a, tol=1e-12)
+        lo, hi = res.turning_points
+        assert abs(abs(lo) - abs(hi)) > 1e-3  # really asymmetric
+        ref = period_by_integration(s, a, "DOP853", rtol=1e-13).period
+        # DOP853 at rtol 1e-13 over one period is good to ~1e-11
+        np.testing.assert_allclose(res.period, ref, rtol=1e-10)
+
+
+# ------------------------------------------------------------------ Example 2 (the scene)
+@pytest.mark.parametrize("deg", [5.0, 60.0, 170.0])
+def test_example2_period_against_eq44_energy_integral(deg):
+    a = math.radians(deg)
+    res = exact_period(ex2_system(), a, tol=1e-12)
+    # mpmath tanh-sinh at 30 digits is good to ~1e-20; the limit is the requested 1e-12
+    np.testing.assert_allclose(res.period, ex2_reference_period(a), rtol=2e-12)
+    # linearized period is Eq. 46 (to rounding)
+    np.testing.assert_allclose(res.period_linear, eq46_period(), rtol=1e-13)
+
+
+def test_example2_linear_period_equals_natural_frequency():
+    from solver.derivation import natural_frequency
+    from solver.scenefile import load_scene
+
+    fr = natural_frequency(load_scene(SCENE))
+    np.testing.assert_allclose(find_equilibrium(ex2_system()).period, fr.period.to("s").magnitude, rtol=1e-12)
+
+
+@pytest.mark.parametrize("deg", [180.0, 200.0, -180.0])
+def test_separatrix_is_refused(deg):
+    with pytest.raises(InputError, match="separatrix"):
+        exact_period(ex2_system(), math.radians(deg))
+
+
+def test_bad_tolerance_and_no_restoring():
+    with pytest.raises(InputError, match="tolerance"):
+        exact_period(pendulum(), 0.3, tol=1e-20)
+    flat = OneDofSystem(q, qd, qdd, t, mass=sp.Integer(1), potential=sp.Integer(0))
+    with pytest.raises(NoRestoringError):
+        exact_period(flat, 0.3)
+
+
+# ------------------------------------------------------------------ fidelity
+def test_amplitude_coefficient_closed_forms():
+    # pendulum: T = T0 (1 + a^2/16 + ...)
+    assert amplitude_coefficient(pendulum()).c2 == pytest.approx(1 / 16, rel=1e-14)
+    # Example 2: M = M0 + B (1 - cos), V = -C cos -> c2 = 1/16 + B / (8 M0), B = m_b r_d l_b
+    p = EX2
+    M0 = (1.5 * p["m_d"] + p["m_b"]) * p["r_d"] ** 2 + p["m_b"] * p["l_b"] ** 2 / 3 - p["m_b"] * p["r_d"] * p["l_b"]
+    B = p["m_b"] * p["r_d"] * p["l_b"]
+    assert amplitude_coefficient(ex2_system()).c2 == pytest.approx(1 / 16 + B / (8 * M0), rel=1e-12)
+
+
+def test_amplitude_coefficient_asymmetric_against_quadrature():
+    # (T(a)/T0 - 1)/a^2 -> c2 as a -> 0; the symmetric average removes the a^3 term
+    s = OneDofSystem(q, qd, qdd, t, mass=2 + sp.sin(q) / 2, potential=1 - sp.cos(q) + sp.Rational(3, 10) * q**3)
+    c2 = amplitude_coefficient(s).c2
+    a = 1e-2
+    Tp, Tm = exact_period(s, a, tol=1e-14), exact_period(s, -a, tol=1e-14)
+    est = ((Tp.period + Tm.period) / 2 / Tp.period_linear - 1) / a**2
+    # O(a^2) = 1e-4 relative remainder of the series, on c2 ~ 0.1
+    assert est == pytest.approx(c2, rel=1e-3, abs=1e-6)
+
+
+@pytest.mark.parametrize("deg,tol,model", [(0.5, 1e-4, "linear"), (0.5, 1e-12, "quadrature"),
+                                           (60.0, 1e-3, "quadrature")])
+def test_fidelity_picks_cheapest_model_that_meets_tol(deg, tol, model):
+    a = math.radians(deg)
+    res = period_to_tolerance(ex2_system(), a, tol=tol)
+    assert res.model == model
+    err = abs(res.period - ex2_reference_period(a)) / ex2_reference_period(a)
+    assert err <= tol
+    assert err <= res.error_estimate * 1.01 + 1e-15  # the estimate is an upper bound
+
+
+def test_fidelity_integration_model():
+    a = math.radians(40)
+    res = period_to_tolerance(ex2_system(), a, tol=1e-8, model="integration")
+    assert res.model == "integration"
+    np.testing.assert_allclose(res.period, ex2_reference_period(a), rtol=1e-8)
+
+
+# ------------------------------------------------------------------ command line
+def _run(capsys, *argv):
+    from solver.__main__ import main
+
+    with pytest.raises(SystemExit) as exc:
+        raise SystemExit(main(list(argv)))
+    out = capsys.readouterr()
+    return exc.value.code, out.out, out.err
+
+
+def test_cli_period_json(capsys):
+    code, out, _ = _run(capsys, "period", SCENE, "--amplitude", "30 deg", "--tol", "1e-11", "--json")
+    assert code == 0
+    data = json.loads(out)
+    assert data["period"]["unit"] == "s" and data["period_linear"]["unit"] == "s"
+    ref = ex2_reference_period(math.radians(30))
+    np.testing.assert_allclose(data["period"]["value"], ref, rtol=1e-11)
+    np.testing.assert_allclose(data["period_linear"]["value"], eq46_period(), rtol=1e-13)
+    assert data["ratio"] == pytest.approx(ref / eq46_period(), rel=1e-11)
+    assert data["model"] in ("linear", "quadrature", "integration")
+    assert 0 <= data["error_estimate"] <= 1e-11
+
+
+def test_cli_period_units_and_errors(capsys):
+    code, out, _ = _run(capsys, "period", SCENE, "--amplitude", "0.5 rad", "--json")
+    assert json.loads(out)["period"]["value"] == pytest.approx(ex2_reference_period(0.5), rel=1e-10)
+    code, out, err = _run(capsys, "period", SCENE, "--amplitude", "185 deg")
+    assert code == 2 and err.count("\n") == 1 and "separatrix" in err and "Traceback" not in err
+    code, out, err = _run(capsys, "period", SCENE, "--amplitude", "3 kg")
+    assert code == 2 and "--amplitude" in err
