@@ -1,0 +1,179 @@
+"""Time histories (solver.simulate) against the paper's equations and closed forms.
+
+Independent references:
+* Example 2 with a horizontal force F_a at P: theta_ddot from Eq. 44 with the
+  sign of F_a corrected (right side +F_a r_d, see notes/example_scenes), F_f and
+  F_n from Eqs. 39 and 40, alpha = -theta_ddot (Eq. 33), all typed here;
+* the potential of a constant F_a is -F_a r_d theta (x_P = r_d theta, Eq. 31),
+  so E - F_a r_d theta is conserved;
+* string pendulum: tension m g cos + m l w^2 vanishes where
+  cos theta* = (2 g - l w0^2) / (3 g) (energy + radial Newton, closed form);
+* the exact period from solver.period (itself checked against elliptic integrals).
+"""
+from __future__ import annotations
+
+import csv
+import json
+import math
+import os
+from functools import lru_cache
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from solver.errors import InputError
+from solver.period import OneDofSystem, exact_period
+from solver.simulate import simulate, write_csv
+
+SCENE = "data/scenes/disk_bar.toml"
+EX2 = dict(m_d=4.0, r_d=0.25, m_b=1.5, l_b=0.2, g=9.80665)
+
+
+@lru_cache(maxsize=None)
+def ex2(**overrides) -> OneDofSystem:
+    from solver.derivation import derive
+    from solver.scenefile import load_scene
+
+    return OneDofSystem.from_derivation(derive(load_scene(SCENE, dict(overrides))))
+
+
+def paper_ex2(theta, theta_dot, F_a=0.0, p=EX2):
+    """(theta_ddot, F_f, F_n) from Eqs. 44 (sign of F_a corrected), 39 and 40."""
+    md, rd, mb, lb, g = (p[k] for k in ("m_d", "r_d", "m_b", "l_b", "g"))
+    s, c = np.sin(theta), np.cos(theta)
+    M = (1.5 * md + mb) * rd**2 + mb * lb**2 / 3 - mb * rd * lb * c
+    qdd = (F_a * rd - 0.5 * mb * rd * lb * s * theta_dot**2 - 0.5 * mb * g * lb * s) / M
+    F_f = (md + mb) * rd * qdd + 0.5 * mb * lb * (theta_dot**2 * s - qdd * c) - F_a  # Eq. 39
+    F_n = (md + mb) * g + 0.5 * mb * lb * (theta_dot**2 * c + qdd * s)  # Eq. 40
+    return qdd, F_f, F_n
+
+
+def test_example2_history_against_paper_equations():
+    F_a = 2.0
+    s = ex2(F_a="2 N")
+    res = simulate(s, 3.0, y0=(math.radians(10), 0.0), rtol=1e-10, atol=1e-12)
+    assert res.status == "completed"
+    qdd, F_f, F_n = paper_ex2(res.theta, res.theta_dot, F_a)
+    # same state, closed-form evaluation: agreement to rounding of the two formulae
+    np.testing.assert_allclose(res.theta_ddot, qdd, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(res.alpha, -qdd, rtol=1e-9, atol=1e-12)  # Eq. 33
+    np.testing.assert_allclose(res.reactions["F_f"], F_f, rtol=1e-9, atol=1e-10)
+    np.testing.assert_allclose(res.reactions["F_n"], F_n, rtol=1e-9)
+    # conserved: E - F_a r_d theta; integrator error at rtol 1e-10 over 3 s
+    E = res.energy - F_a * EX2["r_d"] * res.theta
+    assert np.ptp(E) / np.ptp(res.energy) < 1e-7
+    assert res.theta[-1] > res.theta[0]  # a push along +i increases theta (x_P = r_d theta)
+
+
+def test_free_oscillation_returns_after_the_exact_period():
+    s = ex2()
+    a = math.radians(30)
+    T = exact_period(s, a, tol=1e-13).period
+    res = simulate(s, T, y0=(a, 0.0), rtol=1e-12, atol=1e-14, samples=11)
+    # DOP853 at rtol 1e-12 over one period: state good to ~1e-10
+    assert res.theta[-1] == pytest.approx(a, abs=1e-9)
+    assert res.theta_dot[-1] == pytest.approx(0.0, abs=1e-9)
+    assert res.energy_drift < 1e-10
+
+
+def test_string_pendulum_loses_tension_where_the_closed_form_says():
+    q, qd, qdd, t = sp.symbols("theta theta_dot theta_ddot t", real=True)
+    m, l, g = sp.symbols("m l g", real=True)
+    s = OneDofSystem(q, qd, qdd, t, mass=m * l**2, potential=-m * g * l * sp.cos(q),
+                     reactions={"T": m * g * sp.cos(q) + m * l * qd**2}, one_sided=("T",),
+                     reaction_constraints={"T": "string"}, params=(m, l, g), values=(2.0, 1.5, 9.81))
+    w0 = 5.0
+    res = simulate(s, 10.0, y0=(0.0, w0), rtol=1e-11, atol=1e-13)
+    assert res.status == "lost_contact" and res.event.reaction == "T"
+    expected = math.acos((2 * 9.81 - 1.5 * w0**2) / (3 * 9.81))
+    # event located on the dense output by brentq: angle good to ~1e-9
+    assert res.event.theta == pytest.approx(expected, abs=1e-8)
+    assert "T would turn negative" in res.reason and "string" in res.reason
+    assert res.reactions["T"][-1] == pytest.approx(0.0, abs=1e-6)
+
+
+def test_disk_leaves_the_floor():
+    s = ex2()
+    res = simulate(s, 5.0, y0=(0.0, 25.0), rtol=1e-11, atol=1e-12)
+    assert res.status == "lost_contact" and res.event.reaction == "F_n"
+    _, _, F_n = paper_ex2(res.event.theta, res.event.theta_dot)
+    assert abs(F_n) < 1e-6 * EX2["g"] * (EX2["m_d"] + EX2["m_b"])  # Eq. 40 is zero there
+    assert math.cos(res.event.theta) < 0  # bar above the centre: the only place it can happen
+
+
+def test_slip_event_mid_swing():
+    s = ex2()
+    # start at the bottom with the rate of a 170 deg swing; its mu_min is ~0.0726 (see test_friction),
+    # reached near theta = 92 deg, so mu = 0.07 slips mid-swing
+    M0 = (1.5 * EX2["m_d"] + EX2["m_b"]) * EX2["r_d"] ** 2 + EX2["m_b"] * EX2["l_b"] ** 2 / 3 \
+        - EX2["m_b"] * EX2["r_d"] * EX2["l_b"]
+    dV = 0.5 * EX2["m_b"] * EX2["g"] * EX2["l_b"] * (1 - math.cos(math.radians(170)))
+    w = math.sqrt(2 * dV / M0)
+    res = simulate(s, 10.0, y0=(0.0, w), rtol=1e-11, atol=1e-13, mu=0.07)
+    assert res.status == "slip" and res.event.time > 0.1
+    _, F_f, F_n = paper_ex2(res.event.theta, res.event.theta_dot)
+    assert abs(F_f) / F_n == pytest.approx(0.07, rel=1e-7)
+    # before the event the ratio stayed below mu
+    _, F_f, F_n = paper_ex2(res.theta[:-1], res.theta_dot[:-1])
+    assert np.all(np.abs(F_f) / F_n <= 0.07 * (1 + 1e-9))
+    assert "mu = 0.07" in res.reason
+
+
+def test_csv_is_written_atomically(tmp_path, monkeypatch):
+    res = simulate(ex2(), 1.0, y0=(0.2, 0.0), samples=51)
+    out = tmp_path / "run.csv"
+    write_csv(res, out)
+    with open(out, newline="") as fh:
+        rows = list(csv.reader(fh))
+    assert rows[0] == ["t [s]", "theta [rad]", "theta_dot [rad/s]", "theta_ddot [rad/s**2]", "alpha [rad/s**2]",
+                       "F_f [N]", "F_n [N]", "energy [J]"]
+    assert len(rows) == 52
+    np.testing.assert_allclose([float(r[1]) for r in rows[1:]], res.theta, rtol=0, atol=0)  # repr round-trips
+    # a failure while writing leaves neither the target nor a temporary file
+    target = tmp_path / "broken.csv"
+
+    def boom(*args, **kwargs):
+        raise OSError("disk full")
+
+    monkeypatch.setattr("solver.simulate.np.column_stack", boom)
+    with pytest.raises(OSError):
+        write_csv(res, target)
+    assert sorted(os.listdir(tmp_path)) == ["run.csv"]
+    with pytest.raises(InputError, match="does not exist"):
+        write_csv(res, tmp_path / "missing" / "x.csv")
+
+
+def test_bad_options():
+    with pytest.raises(ValueError, match="RK45"):
+        simulate(ex2(), 1.0, method="Euler")
+    with pytest.raises(InputError, match="t-end"):
+        simulate(ex2(), -1.0)
+
+
+def _run(capsys, *argv):
+    from solver.__main__ import main
+
+    with pytest.raises(SystemExit) as exc:
+        raise SystemExit(main(list(argv)))
+    out = capsys.readouterr()
+    return exc.value.code, out.out, out.err
+
+
+def test_cli_simulate(capsys, tmp_path):
+    out = tmp_path / "h.csv"
+    code, text, _ = _run(capsys, "simulate", SCENE, "--t-end", "2 s", "--rtol", "1e-10", "--out", str(out),
+                         "--json", "--no-progress")
+    assert code == 0
+    data = json.loads(text)
+    assert data["status"] == "completed" and data["t_end"] == {"value": 2.0, "unit": "s"}
+    assert out.exists()
+    code, text, err = _run(capsys, "simulate", SCENE, "--t-end", "2 kg")
+    assert code == 2 and err.count("\n") == 1
+    code, text, err = _run(capsys, "simulate", SCENE, "--t-end", "1", "--out", str(tmp_path / "no" / "x.csv"))
+    assert code == 2 and "does not exist" in err
+
+
+def test_progress_bar_when_forced(capsys):
+    simulate(ex2(), 1.0, y0=(0.2, 0.0), progress=True, samples=11)
+    assert "simulated" in capsys.readouterr().err
