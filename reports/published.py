@@ -108,6 +108,7 @@ class EquationSet:
     scenes: dict[str, Path]
     equations: tuple[Transcription, ...]
     ranges: dict[str, dict]
+    systems: dict[str, dict] = field(default_factory=dict)
 
 
 def read_toml(path: Path) -> dict:
@@ -237,10 +238,28 @@ def load_equations(path: Path) -> EquationSet:
     ranges = data.get("ranges", {})
     if not isinstance(ranges, dict):
         raise ReportInputError(f"{path}: 'ranges' must be a table")
-    return EquationSet(path=path, scenes=scenes, equations=tuple(equations), ranges=ranges)
+    systems = data.get("systems", {})
+    for key, system in systems.items():
+        where = f"{path}: systems.{key}"
+        if not isinstance(system, dict):
+            raise ReportInputError(f"{where}: must be a table")
+        for need in ("scene", "rows", "unknowns"):
+            if need not in system:
+                raise ReportInputError(f"{where}: key '{need}' is missing")
+        if system["scene"] not in scenes:
+            raise ReportInputError(f"{where}.scene: unknown scene {system['scene']!r}")
+        for row, eq_id in system["rows"].items():
+            if eq_id not in ids:
+                raise ReportInputError(f"{where}.rows.{row}: unknown equation id {eq_id!r}")
+        for unknown, row in system.get("back_substitution", {}).items():
+            if unknown not in system["unknowns"] or row not in system["rows"]:
+                raise ReportInputError(
+                    f"{where}.back_substitution.{unknown}: must name an unknown and a row, got {row!r}"
+                )
+    return EquationSet(path=path, scenes=scenes, equations=tuple(equations), ranges=ranges, systems=systems)
 
 
-_TOP_KEYS = ("schema", "scenes", "equation", "ranges")
+_TOP_KEYS = ("schema", "scenes", "equation", "ranges", "systems")
 _EQUATION_KEYS = (
     "id", "number", "scene", "kind", "lhs", "rhs", "symbols", "assume", "about", "derived_from", "note",
 )

@@ -1,0 +1,690 @@
+"""Every published number and equation of the paper, checked against computed results.
+
+One :class:`Check` per printed item, in the shape of ``verification.json``:
+``{"id", "kind", "published", "computed", "verdict", "detail"}``, plus what the
+HTML report shows beside it (units, tolerance, MathML).
+
+Tolerances (documented once, applied everywhere)
+------------------------------------------------
+* A printed number is taken to be correctly rounded: it stands for every value
+  within half a unit of its last printed digit (``"22.53"`` -> +/- 0.005).
+  Numbers the paper marks as exact (problem data) get no tolerance beyond
+  floating point (relative 1e-9).
+* Eq. 30 was computed by hand from Eq. 29, whose coefficients the paper rounded
+  to 4 significant figures, and each result was rounded before it was used in
+  the next step. The tolerance of an Eq. 30 value adds the first-order effect of
+  that rounding: sum over every printed Eq. 29 coefficient c of
+  |d(result)/dc| * halfunit(c), plus, for an unknown obtained by back
+  substitution (``back_substitution`` in equations.toml), sum over the other
+  unknowns v of |d(result)/dv| * halfunit(v) in that row.
+* Units: a printed unit is parsed by pint and compared by dimension with the
+  computed quantity; values are compared after conversion into the printed
+  unit (or, when the printed unit has the wrong dimension, in the dimensionally
+  correct unit the paper evidently meant, and the unit gets its own row).
+* Table cells: attainable when some integer count k out of N rounds (half away
+  from zero) to the printed percentage (exact rational arithmetic, analysis.tables).
+"""
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, field
+from decimal import Decimal
+from fractions import Fraction
+from pathlib import Path
+
+import numpy as np
+import sympy as sp
+
+from reports.equations import EquationOutcome, check_equation
+from reports.published import EquationSet, ReportInputError, read_toml
+from solver.expressions import parse_expression
+from solver.units import Q_, ureg
+
+__all__ = [
+    "Check",
+    "VERDICTS",
+    "KINDS",
+    "equation_checks",
+    "example1_value_checks",
+    "survey_checks",
+    "half_unit",
+]
+
+VERDICTS = ("agrees", "disagrees", "not-checkable")
+KINDS = ("value", "unit", "equation", "table-cell", "claim")
+_EXACT_RTOL = 2e-5
+"""Relative tolerance for numbers the paper states as exact. They are exact in the paper's own
+arithmetic (m_b = 50/32.174 slug, so m_b g = 50 lbf), while the scene enters pound-mass through pint
+(1 lbm = 1 lbf / 32.17405 ft/s^2) with the printed g = 32.174 ft/s^2: the two differ by the printed
+precision of g, half a unit in its last digit relative, 0.0005/32.174 = 1.6e-5."""
+
+
+@dataclass
+class Check:
+    """One row of the verification.
+
+    Attributes
+    ----------
+    id, kind, published, computed, verdict, detail
+        The ``verification.json`` fields.
+    label : str
+        Short human name ("Eq. (30): alpha").
+    section : str
+        "example1", "example2" or "survey".
+    published_unit, computed_unit, tolerance : str
+        For the HTML table.
+    explanation : str
+        Why it disagrees (for the findings section), when it does.
+    outcome : EquationOutcome or None
+        The symbolic comparison behind an equation row.
+    """
+
+    id: str
+    kind: str
+    published: object
+    computed: object
+    verdict: str
+    detail: str
+    label: str = ""
+    section: str = ""
+    published_unit: str = ""
+    computed_unit: str = ""
+    tolerance: str = ""
+    explanation: str = ""
+    caveat: str = ""
+    outcome: EquationOutcome | None = field(default=None, repr=False)
+
+    def __post_init__(self) -> None:
+        if self.kind not in KINDS:
+            raise ValueError(f"`kind` must be one of {KINDS}, got {self.kind!r}")
+        if self.verdict not in VERDICTS:
+            raise ValueError(f"`verdict` must be one of {VERDICTS}, got {self.verdict!r}")
+
+    def to_json(self) -> dict:
+        """The exact ``verification.json`` row."""
+        return {
+            "id": self.id,
+            "kind": self.kind,
+            "published": self.published,
+            "computed": self.computed,
+            "verdict": self.verdict,
+            "detail": self.detail,
+        }
+
+
+def not_checkable(id_: str, kind: str, published, reason: str, label: str = "", section: str = "") -> Check:
+    """A row that cannot be checked, saying why."""
+    return Check(id_, kind, published, None, "not-checkable", f"not checkable: {reason}", label=label, section=section)
+
+
+# --------------------------------------------------------------------------- numbers
+def half_unit(printed: str) -> float:
+    """Half a unit in the last printed digit of ``printed`` ("22.53" -> 0.005)."""
+    text = printed.strip().lstrip("+-")
+    if not re.fullmatch(r"\d+(\.\d*)?", text):
+        raise ValueError(f"`printed` must be a plain decimal number, got {printed!r}")
+    exponent = Decimal(text).as_tuple().exponent
+    return 0.5 * 10.0**exponent
+
+
+def _digits(printed: str, extra: int = 3) -> int:
+    text = printed.strip()
+    decimals = len(text.split(".")[1]) if "." in text else 0
+    return decimals + extra
+
+
+def _fmt(value: float, decimals: int) -> str:
+    return f"{value:.{decimals}f}"
+
+
+def _unit(text: str):
+    """pint unit of a printed unit string ("(lbf·s^2)/ft" -> lbf*s**2/ft)."""
+    cleaned = text.replace("·", "*").replace("^", "**").strip()
+    return ureg.Unit(cleaned) if cleaned else ureg.dimensionless
+
+
+def _unit_label(unit) -> str:
+    return f"{unit:~P}" if unit != ureg.dimensionless else "1"
+
+
+# --------------------------------------------------------------------------- equations
+def equation_checks(eqset: EquationSet, scenes: dict, derivations: dict) -> list[Check]:
+    """One ``equation`` row per transcribed printed equation.
+
+    Parameters
+    ----------
+    eqset : EquationSet
+    scenes, derivations : dict
+        Keyed like ``eqset.scenes``; derivations about each scene's default point (A; P).
+    """
+    rows: list[Check] = []
+    outcomes: dict[str, EquationOutcome] = {}
+    for tr in eqset.equations:
+        outcome = check_equation(tr, scenes[tr.scene], derivations[tr.scene])
+        outcomes[tr.id] = outcome
+        computed = "0" if outcome.residual == 0 else sp.sstr(outcome.residual)
+        rows.append(
+            Check(
+                id=tr.id,
+                kind="equation",
+                published=f"{tr.lhs} = {tr.rhs}",
+                computed=f"residual {computed}",
+                verdict=outcome.verdict,
+                detail=outcome.detail,
+                label=f"Eq. ({tr.number})" + (f" {tr.id.split('-', 1)[1]}" if "-" in tr.id else ""),
+                section="example1" if scenes[tr.scene].name == "sliding_bar" else "example2",
+                outcome=outcome,
+            )
+        )
+    # Where does an error enter? Follow derived_from.
+    by_id = {r.id: r for r in rows}
+    for row in rows:
+        tr = row.outcome.transcription
+        if row.verdict != "disagrees":
+            sources = [by_id[s] for s in tr.derived_from]
+            if any(s.verdict == "disagrees" for s in sources) and tr.assume:
+                conds = ", ".join(f"{k} = {v}" for k, v in tr.assume.items())
+                row.caveat = (
+                    f"derived from {', '.join(s.id for s in sources if s.verdict == 'disagrees')}, which "
+                    f"disagrees; the error vanishes under this equation's condition ({conds})."
+                )
+            continue
+        sources = [by_id[s] for s in tr.derived_from]
+        parts = []
+        if row.outcome.diagnosis:
+            parts.append(f"In Eq. ({tr.number}), {row.outcome.diagnosis}.")
+        if sources and all(s.verdict == "agrees" for s in sources):
+            parts.append(
+                f"It is obtained from {', '.join(s.label for s in sources)}, which agree with the "
+                "derivation, so the error enters in this step."
+            )
+        elif any(s.verdict == "disagrees" for s in sources):
+            bad = [s for s in sources if s.verdict == "disagrees"]
+            same = all(
+                s.outcome.residual is not None and sp.simplify(s.outcome.residual - row.outcome.residual) == 0
+                for s in bad
+            )
+            parts.append(
+                f"It is carried over from {', '.join(s.label for s in bad)}"
+                + (" (same residual)." if same else ".")
+            )
+        row.explanation = " ".join(parts)
+    return rows
+
+
+# --------------------------------------------------------------------------- Example 1 values
+def _scene_quantity(scene, name: str):
+    if name in scene.parameters:
+        return scene.parameters[name]
+    if name == scene.coordinate:
+        return scene.state[scene.coordinate]
+    if name == "omega":
+        return scene.state[scene.coordinate + "_dot"]
+    return None
+
+
+def _lambdify_units(expr: sp.Expr, scene, extra: dict):
+    """Evaluate a parameter expression with pint quantities (units follow)."""
+    values = {sp.Symbol(n, real=True): q for n, q in scene.parameters.items()}
+    values.update(extra)
+    symbols = sorted(expr.free_symbols, key=lambda s: s.name)
+    missing = [s for s in symbols if s not in values]
+    if missing:
+        raise ReportInputError(f"cannot evaluate {sp.sstr(expr)}: no value for {', '.join(map(str, missing))}")
+    fn = sp.lambdify(symbols, expr, modules="numpy")
+    result = fn(*[values[s] for s in symbols])
+    return result if isinstance(result, ureg.Quantity) else Q_(float(result), "")
+
+
+def _system_values(eqset: EquationSet, key: str, scene, deriv) -> tuple[dict, dict]:
+    """Coefficient expressions of a printed linear system (e.g. Eq. 29), by (row, unknown|"rhs")."""
+    system = eqset.systems[key]
+    by_id = {e.id: e for e in eqset.equations}
+    unknowns = list(system["unknowns"])
+    state = {deriv.q: scene.state[scene.coordinate], deriv.qd: scene.state[scene.coordinate + "_dot"]}
+    coefficients: dict[tuple[str, str], object] = {}
+    for row, eq_id in system["rows"].items():
+        tr = by_id[eq_id]
+        names = dict(scene.symbols)
+        names.update({deriv.q.name: deriv.q, deriv.qd.name: deriv.qd, deriv.qdd.name: deriv.qdd})
+        placeholders = {u: sp.Symbol(u, real=True) for u in unknowns}
+        names.update(placeholders)
+        lhs = parse_expression(tr.lhs, names, where=f"{tr.where}.lhs")
+        rhs = parse_expression(tr.rhs, names, where=f"{tr.where}.rhs")
+        expr = lhs - rhs
+        for u, sym in placeholders.items():
+            coefficients[(row, u)] = sp.diff(expr, sym)
+        coefficients[(row, "rhs")] = -expr.subs({s: 0 for s in placeholders.values()})
+    return system, coefficients, state
+
+
+def _rounding_bound(system: dict, A: np.ndarray, b: np.ndarray, hA: np.ndarray, hb: np.ndarray,
+                    h_result: dict[str, float]) -> dict[str, float]:
+    """First-order effect of the printed rounding on each unknown (see module notes)."""
+    unknowns = list(system["unknowns"])
+    x = np.linalg.solve(A, b)
+    inv = np.linalg.inv(A)
+    bound = np.zeros(len(unknowns))
+    for i in range(A.shape[0]):
+        bound += np.abs(inv[:, i]) * hb[i]
+        for j in range(A.shape[1]):
+            bound += np.abs(inv[:, i] * x[j]) * hA[i, j]
+    rows = list(system["rows"])
+    out = {u: float(bound[k]) for k, u in enumerate(unknowns)}
+    for u, row in system.get("back_substitution", {}).items():
+        r = rows.index(row)
+        ku = unknowns.index(u)
+        extra = sum(
+            abs(A[r, kv] / A[r, ku]) * h_result.get(v, 0.0)
+            for kv, v in enumerate(unknowns)
+            if v != u
+        )
+        out[u] += extra
+    return out
+
+
+def example1_value_checks(values_path: Path, eqset: EquationSet, scene, deriv, solution) -> list[Check]:
+    """Rows for every printed number of Example 1 (problem data, Eq. 29, Eq. 30).
+
+    Parameters
+    ----------
+    values_path : pathlib.Path
+        ``data/published/example1.toml``.
+    eqset : EquationSet
+        For ``[systems.eq29]`` (which printed equation each Eq. 29 row comes from).
+    scene, deriv
+        Example 1's scene and derivation about A.
+    solution : solver.derivation.InstantSolution
+        The solver's answer at release.
+    """
+    data = read_toml(values_path)
+    entries = data.get("value")
+    if not isinstance(entries, list) or not entries:
+        raise ReportInputError(f"{values_path}: no [[value]] entries")
+    for index, entry in enumerate(entries):
+        for key in ("id", "printed", "value", "unit"):
+            if key not in entry:
+                raise ReportInputError(f"{values_path}: value[{index}]: key '{key}' is missing")
+    published = {e["id"]: e for e in entries}
+    rows: list[Check] = []
+
+    # ---- Eq. 29: the exact coefficients of the printed (and symbolically checked) equations
+    system_key = next(iter(eqset.systems), None)
+    system, coefficients, state = _system_values(eqset, system_key, scene, deriv) if system_key else ({}, {}, {})
+    # Problem data the paper printed rounded and then computed with (m_b = 1.554 slug): their
+    # rounding propagates into Eq. 29 (first order, in units).
+    rounded_data = {}
+    for key, entry in published.items():
+        base = key[len("data-"):].partition("-")[0] if key.startswith("data-") else None
+        if base in scene.parameters and not entry.get("exact", False) and entry.get("printed"):
+            unit = _unit(entry["unit"] or entry.get("implied_unit", ""))
+            rounded_data[base] = (Q_(half_unit(entry["printed"]), unit), key)
+    prefix = system_key or "eq29"
+    unknowns = list(system.get("unknowns", []))
+    row_names = list(system.get("rows", {}))
+    A = np.zeros((len(row_names), len(unknowns)))
+    b = np.zeros(len(row_names))
+    hA = np.zeros_like(A)
+    hb = np.zeros_like(b)
+    for i, row in enumerate(row_names):
+        for j, column in enumerate(unknowns + ["rhs"]):
+            key = f"{prefix}-{row}-{column}"
+            entry = published.get(key)
+            if entry is None:
+                continue
+            expression = coefficients[(row, column)]
+            computed_q = _lambdify_units(expression, scene, state)
+            unit = _unit(entry.get("implied_unit") or entry["unit"])
+            data_effect = 0.0
+            data_used = []
+            for name, (h_q, data_key) in rounded_data.items():
+                symbol = sp.Symbol(name, real=True)
+                if expression.has(symbol):
+                    effect = _lambdify_units(sp.diff(expression, symbol), scene, state) * h_q
+                    try:
+                        data_effect += abs(float(effect.to(unit).magnitude))
+                        data_used.append(data_key)
+                    except Exception:  # noqa: BLE001 - incompatible units: no contribution
+                        pass
+            try:
+                magnitude = float(computed_q.to(unit).magnitude)
+            except Exception:  # noqa: BLE001 - pint raises several error types for dimension mismatches
+                magnitude = float(computed_q.to_base_units().magnitude)
+            exact = bool(entry.get("exact", False))
+            printed = entry["printed"]
+            h = 0.0 if exact or not printed else half_unit(printed)
+            if column == "rhs":
+                b[i], hb[i] = magnitude, h
+            else:
+                A[i, j], hA[i, j] = magnitude, h
+            value = float(entry["value"])
+            tol = (h + data_effect) if h else _EXACT_RTOL * max(1.0, abs(value))
+            ok = abs(magnitude - value) <= tol
+            within_half = abs(magnitude - value) <= (h if h else tol)
+            source_eq = system["rows"][row]
+            how = "(exact number)" if not h else "(half a unit in the last printed digit"
+            if h and data_used:
+                how += (
+                    f" + {data_effect:.2g}, the first-order effect of the rounded printed data the paper "
+                    f"computed with: {', '.join(data_used)})"
+                )
+            elif h:
+                how += ")"
+            if ok and not within_half:
+                how += "; outside the half-unit band alone, explained by the paper's rounded data"
+            rows.append(
+                Check(
+                    id=key,
+                    kind="value",
+                    published=value,
+                    computed=round(magnitude, _digits(printed or "0", 4)),
+                    verdict="agrees" if ok else "disagrees",
+                    detail=(
+                        f"{entry.get('meaning', '')}; computed from {source_eq} (printed form, checked "
+                        f"symbolically in row {source_eq}) with the problem data; |difference| = "
+                        f"{abs(magnitude - value):.2g}, tolerance {tol:.2g} {how}"
+                    ),
+                    label=f"Eq. (29) row {row[1:]}: " + ("right side" if column == "rhs" else f"coefficient of {column}"),
+                    section="example1",
+                    published_unit=entry.get("unit") or "",
+                    computed_unit=_unit_label(unit) if unit is not None else "",
+                    tolerance=f"±{tol:.2g}",
+                    explanation="" if ok else "The printed coefficient is not the rounded value of the exact one.",
+                )
+            )
+
+    # ---- Eq. 30: the solver's solution vs the printed results
+    h_result = {}
+    for u in unknowns:
+        entry = published.get(f"{system.get('results', 'eq30')}-{u}")
+        if entry:
+            h_result[u] = half_unit(entry["printed"])
+    bound = _rounding_bound(system, A, b, hA, hb, h_result) if unknowns else {}
+    results_prefix = system.get("results", "eq30")
+    for u in unknowns:
+        key = f"{results_prefix}-{u}"
+        entry = published.get(key)
+        if entry is None:
+            continue
+        if u not in solution.unknowns:
+            rows.append(not_checkable(key, "value", entry["value"], f"the solver gives no unknown {u!r}",
+                                      section="example1"))
+            continue
+        computed_q = solution.unknowns[u]
+        printed_unit = _unit(entry["unit"])
+        value = float(entry["value"])
+        unit_ok = computed_q.dimensionality == (1 * printed_unit).dimensionality
+        if unit_ok:
+            compare_unit = printed_unit
+        else:
+            # The printed unit has the wrong dimension: compare the number in the unit of the
+            # computed quantity expressed with the printed unit's base (rad/s -> rad/s**2).
+            compare_unit = computed_q.units
+        magnitude = float(computed_q.to(compare_unit).magnitude)
+        h = half_unit(entry["printed"])
+        tol = h + bound.get(u, 0.0)
+        diff = abs(magnitude - value)
+        ok = diff <= tol
+        within_half = diff <= h
+        detail = (
+            f"{entry.get('meaning', '')}; solver (generalized Euler about {deriv.point}, confirmed by the "
+            f"mass-centre and Lagrange routes in the solver's tests) gives {magnitude:.6g} {_unit_label(compare_unit)}; "
+            f"|difference| = {diff:.2g}; tolerance {tol:.2g} = half unit of the last printed digit ({h:.2g})"
+            f" + first-order effect of the paper's 4-significant-figure rounding in Eq. 29 ({bound.get(u, 0.0):.2g})"
+        )
+        if ok and not within_half:
+            detail += "; outside the half-unit band alone, inside once the paper's intermediate rounding is allowed for"
+        rows.append(
+            Check(
+                id=key,
+                kind="value",
+                published=value,
+                computed=round(magnitude, _digits(entry["printed"])),
+                verdict="agrees" if ok else "disagrees",
+                detail=detail,
+                label=f"Eq. (30): {u}",
+                section="example1",
+                published_unit=entry["unit"],
+                computed_unit=_unit_label(compare_unit),
+                tolerance=f"±{tol:.2g}",
+                explanation="" if ok else "The printed result is not explained by rounding.",
+            )
+        )
+        if entry["unit"]:
+            expected = _unit_label(compare_unit)
+            printed_dim = str((1 * printed_unit).dimensionality)
+            computed_dim = str(computed_q.dimensionality)
+            rows.append(
+                Check(
+                    id=f"{key}-unit",
+                    kind="unit",
+                    published=entry["unit"],
+                    computed=expected,
+                    verdict="agrees" if unit_ok else "disagrees",
+                    detail=f"dimension of the printed unit {printed_dim} vs the computed quantity {computed_dim}",
+                    label=f"Eq. (30): unit of {u}",
+                    section="example1",
+                    published_unit=entry["unit"],
+                    computed_unit=expected,
+                    explanation="" if unit_ok else (
+                        f"Eq. ({results_prefix[2:]}) prints the unit of {u} as {entry['unit']} (dimension "
+                        f"{printed_dim}), but {u} is computed with dimension {computed_dim}, unit {expected}."
+                        + (
+                            f" The number itself agrees (row {key}), so the unit is a typographical slip."
+                            if ok else ""
+                        )
+                    ),
+                )
+            )
+
+    # ---- problem data: the scene holds what the paper states
+    for key, entry in published.items():
+        if not key.startswith("data-"):
+            continue
+        name = key[len("data-"):]
+        base, _, _ = name.partition("-")
+        target = _scene_quantity(scene, base)
+        value = float(entry["value"])
+        unit_text = entry["unit"] or entry.get("implied_unit", "")
+        if target is None:
+            rows.append(not_checkable(key, "value", value, f"scene {scene.name!r} has no quantity {base!r}",
+                                      section="example1"))
+            continue
+        unit = _unit(unit_text)
+        try:
+            magnitude = float(target.to(unit).magnitude)
+        except Exception:  # noqa: BLE001 - any pint conversion failure is a dimension mismatch
+            rows.append(
+                Check(key, "value", value, str(target), "disagrees",
+                      f"{entry.get('meaning', '')}; scene value {target} cannot be expressed in {unit_text}",
+                      label=f"Problem data: {name}", section="example1", published_unit=unit_text,
+                      explanation="The scene's value has another dimension than the printed one.")
+            )
+            continue
+        exact = bool(entry.get("exact", False))
+        h = 0.0 if exact else half_unit(entry["printed"])
+        tol = h if h else _EXACT_RTOL * max(1.0, abs(value))
+        ok = abs(magnitude - value) <= tol
+        rows.append(
+            Check(
+                id=key,
+                kind="value",
+                published=value,
+                computed=round(magnitude, _digits(entry["printed"], 4)),
+                verdict="agrees" if ok else "disagrees",
+                detail=(
+                    f"{entry.get('meaning', '')}; scene value {target:~P} = {magnitude:.6g} {_unit_label(unit)}; "
+                    + ("exact number" if not h else f"tolerance {tol:.2g} (half a unit in the last printed digit)")
+                ),
+                label=f"Problem data: {name}",
+                section="example1",
+                published_unit=unit_text,
+                computed_unit=_unit_label(unit),
+                tolerance=f"±{tol:.2g}",
+                explanation="" if ok else "The printed number does not follow from the problem data.",
+            )
+        )
+        if entry["unit"] and h:
+            unit_ok = target.dimensionality == (1 * unit).dimensionality
+            rows.append(
+                Check(f"{key}-unit", "unit", entry["unit"], _unit_label(unit), "agrees" if unit_ok else "disagrees",
+                      f"printed unit {entry['unit']} has the dimension of the quantity ({dict(target.dimensionality)})",
+                      label=f"Problem data: unit of {name}", section="example1", published_unit=entry["unit"],
+                      computed_unit=_unit_label(unit))
+            )
+    return rows
+
+
+# --------------------------------------------------------------------------- survey
+def _slug(text: str) -> str:
+    return re.sub(r"[^a-z0-9]+", "-", text.lower()).strip("-")
+
+
+@dataclass
+class SurveyResults:
+    """What the survey part of the report needs (beyond the rows)."""
+
+    facts: object
+    table_check: object
+    summary: object
+    claims: object
+    dataset: object
+    largest_remainder: dict = field(default_factory=dict)
+
+
+def survey_checks(dataset_path: Path) -> tuple[list[Check], SurveyResults]:
+    """Table 1 cells, the response facts and the two claims.
+
+    Parameters
+    ----------
+    dataset_path : pathlib.Path
+        Where to write the respondent-level dataset rebuilt from Table 1
+        (analysis.respondents), which is then read back through the same
+        ingestion path an instructor's export takes.
+    """
+    from analysis.claims import evaluate_claims
+    from analysis.ingest import read_survey
+    from analysis.likert import largest_remainder, round_half_away, summarize
+    from analysis.respondents import rebuild_table1_dataset
+    from analysis.tables import load_table1, published_dir, table1_check, verify_table
+
+    table, facts = load_table1()
+    check = table1_check()
+    dataset = rebuild_table1_dataset(dataset_path)
+    data = read_survey(dataset_path, scale=facts.scale)
+    summary = summarize(data)
+    claims = evaluate_claims(published_dir() / "claims.toml", summary)
+    rows: list[Check] = []
+    lr: dict[str, list[float]] = {}
+
+    for index, row in enumerate(check.rows):
+        item_no = index + 1
+        item = summary.items[index]
+        exact_row = [Fraction(item.counts[label] * 100, item.n) for label in check.labels]
+        rounded = [float(round_half_away(x, facts.decimals)) for x in exact_row]
+        lr_row = [float(x) for x in largest_remainder([item.counts[label] for label in check.labels], facts.decimals)]
+        lr[row.item] = lr_row
+        printed_row = [c.published for c in row.cells]
+        for j, cell in enumerate(row.cells):
+            computed = rounded[j]
+            ok = cell.attainable and math.isclose(computed, cell.published, abs_tol=1e-9)
+            detail = (
+                f"{cell.reason}; rebuilt dataset: {item.counts[cell.label]}/{item.n} = "
+                f"{float(exact_row[j]):.3f}% -> {computed:.{facts.decimals}f}% (half away from zero)"
+            )
+            explanation = ""
+            if not ok:
+                sum_correct = sum(rounded)
+                explanation = (
+                    f"No count out of N = {check.n} gives {cell.printed}%: {cell.nearest_counts[0] if cell.nearest_counts else '?'}"
+                    f"/{check.n} is {float(exact_row[j]):.2f}%, printed correctly as {computed:.{facts.decimals}f}%. "
+                    f"The printed row adds up to {sum(printed_row):.1f}%; correctly rounded cells add up to "
+                    f"{sum_correct:.1f}%"
+                    + (
+                        ", so this cell appears to have been raised to make the row total 100%"
+                        if abs(sum(printed_row) - 100) < 1e-9 and abs(sum_correct - 100) > 1e-9
+                        else ""
+                    )
+                    + (
+                        "; a largest-remainder rounding would also print "
+                        f"{lr_row[j]:.{facts.decimals}f}% here"
+                        if lr_row[j] != cell.published
+                        else "; a largest-remainder rounding (rows forced to 100%) does print this value"
+                    )
+                    + "."
+                )
+            rows.append(
+                Check(
+                    id=f"table1-item{item_no}-{_slug(cell.label)}",
+                    kind="table-cell",
+                    published=cell.published,
+                    computed=computed,
+                    verdict="agrees" if ok else "disagrees",
+                    detail=detail,
+                    label=f"Table 1, item {row.item}, {cell.label}",
+                    section="survey",
+                    published_unit="%",
+                    computed_unit="%",
+                    tolerance="attainable at N" if ok else "",
+                    explanation=explanation,
+                )
+            )
+
+    # ---- response facts
+    search = verify_table(table, n_range=(1, max(facts.enrolled, facts.respondents)))
+    rate = facts.respondents / facts.enrolled
+    rows_ok = all(sum(r.reconstructed or []) == facts.respondents for r in check.rows)
+    most = search.n
+    ok = summary.respondents == facts.respondents and most == facts.respondents and rows_ok
+    rows.append(
+        Check(
+            id="response-rate",
+            kind="value",
+            published=f"{facts.respondents} of {facts.enrolled}",
+            computed=f"{summary.respondents} of {facts.enrolled} ({100 * summary.respondents / facts.enrolled:.1f}%)",
+            verdict="agrees" if ok else "disagrees",
+            detail=(
+                f"response rate {facts.respondents}/{facts.enrolled} = {100 * rate:.1f}%; every item's rebuilt counts "
+                f"add up to N = {facts.respondents}; among N = 1..{max(facts.enrolled, facts.respondents)}, "
+                f"N = {most} makes the most printed cells attainable"
+                + (f" (no N makes all of them attainable)" if not search.feasible_n else
+                   f" (N making every cell attainable: {search.feasible_n})")
+            ),
+            label="Table 1 note: respondents of enrolled",
+            section="survey",
+        )
+    )
+
+    # ---- claims
+    for result in claims.results:
+        c = result.claim
+        item_no = c.item if isinstance(c.item, int) else summary.items.index(summary.item(c.item)) + 1
+        holds = result.verdict_code in ("holds", "sample_only")
+        share = f"{100 * result.share:.1f}%" if result.share is not None else "n/a"
+        ci = f"[{100 * result.ci[0]:.1f}%, {100 * result.ci[1]:.1f}%]" if result.share is not None else ""
+        caveat = ""
+        if result.verdict_code == "sample_only":
+            caveat = (
+                f"True of the {result.n} respondents ({result.k}/{result.n} = {share}), but the 95% "
+                f"{result.method.title()} interval {ci} reaches below {100 * c.threshold:.0f}%: with {result.n} "
+                "answers the data cannot show that the share in the wider student population clears the threshold."
+            )
+        rows.append(
+            Check(
+                id=f"claim-item{item_no}",
+                kind="claim",
+                published=c.printed or c.statement,
+                computed=f"{share} {ci}".strip(),
+                verdict="agrees" if holds else "disagrees",
+                detail=f"{c.statement} Verdict: {result.verdict}; {result.reason} "
+                f"({result.k}/{result.n}, 95% {result.method} interval {ci}).",
+                label=f"Claim about item {item_no}",
+                section="survey",
+                explanation="" if holds else f"The observed share {share} does not satisfy the claim.",
+                caveat=caveat,
+            )
+        )
+    results = SurveyResults(facts=facts, table_check=check, summary=summary, claims=claims, dataset=dataset,
+                            largest_remainder=lr)
+    return rows, results
