@@ -1,0 +1,76 @@
+"""Chart and HTML report: geometry of the diverging bars, escaping of everything from input,
+and the end-to-end command line on the rebuilt Table 1 data."""
+import subprocess
+import sys
+from pathlib import Path
+
+import pandas as pd
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from matplotlib.figure import Figure
+
+from analysis.__main__ import main
+from analysis.chart import diverging_bar, figure_svg
+from analysis.ingest import survey_from_frame
+from analysis.likert import summarize
+from analysis.report import render_report
+from analysis.respondents import rebuild_table1_dataset
+from analysis.tables import load_survey_facts
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def test_chart_geometry():
+    df = pd.DataFrame({"all neutral": ["Neutral"] * 4,
+                       "half": ["Definitely Agree", "Definitely Agree", "Partially Disagree", ""]})
+    s = summarize(survey_from_frame(df))
+    fig = diverging_bar(s)
+    assert isinstance(fig, Figure)
+    ax = fig.axes[0]
+    bars = [p for p in ax.patches if p.get_width() > 0]
+    # questionnaire order top to bottom: first item has the highest y
+    top = [b for b in bars if b.get_y() > 0.5]
+    low = [b for b in bars if b.get_y() < 0.5]
+    assert len(top) == 1 and top[0].get_x() == pytest.approx(-50) and top[0].get_width() == pytest.approx(100)
+    # 'half': 1 of 3 valid disagree (left of 0), 2 of 3 agree (right of 0), no neutral
+    xs = sorted((b.get_x(), b.get_x() + b.get_width()) for b in low)
+    assert xs[0] == pytest.approx((-100 / 3, 0)) and xs[1] == pytest.approx((0, 200 / 3))
+    by_y = {round(float(y)): t.get_text() for y, t in zip(ax.get_yticks(), ax.get_yticklabels())}
+    assert by_y[1].startswith("all neutral") and "(n = 4)" in by_y[1] and "(n = 3)" in by_y[0]
+
+
+@settings(max_examples=10, deadline=None)
+@given(st.text(alphabet="<>&\"'$\\ab/", min_size=1, max_size=12))
+def test_report_escapes_input(evil):
+    head = f"<x-evil>{evil}"
+    df = pd.DataFrame({head: ["Definitely Agree", "Neutral", "<x-evil>"],
+                       "grp": [f"<x-evil>{evil}"] * 3, "q2": ["Neutral"] * 3})
+    data = survey_from_frame(df, group="grp", unknown="missing", source=f"<x-evil>{evil}.csv")
+    html = render_report(data, group="grp", min_group=1, title=f"<x-evil>{evil}")
+    assert "<x-evil>" not in html and "&lt;x-evil&gt;" in html
+    assert "<script" not in html.lower() or "<script" not in evil
+
+
+def test_report_cli_end_to_end(tmp_path):
+    data = tmp_path / "t1.csv"
+    out = tmp_path / "report.html"
+    assert main(["rebuild-table1", str(data)]) == 0
+    first = data.read_text().splitlines()[0]
+    assert first.startswith("#") and "REBUILT" in first and "marginals" in first
+    assert main(["report", str(data), "-o", str(out), "--claims",
+                 str(ROOT / "data/published/claims.toml")]) == 0
+    html = out.read_text()
+    facts = load_survey_facts()
+    assert "<svg" in html and "holds for this sample only" in html
+    assert f"{facts.respondents} respondents" in html
+    assert 'src="http' not in html and "<link" not in html        # self-contained
+
+
+def test_bad_input_has_no_traceback(tmp_path):
+    f = tmp_path / "x.csv"
+    f.write_bytes(b"\xff\xfe\x00garbage")
+    r = subprocess.run([sys.executable, "-m", "analysis", "summarize", str(f)], cwd=ROOT,
+                       capture_output=True, text=True)
+    assert r.returncode == 2 and "Traceback" not in r.stderr
+    assert r.stderr.count("\n") == 1 and r.stderr.startswith(f"error: {f}")
