@@ -279,3 +279,32 @@ def test_help_lists_the_commands() -> None:
     for command in ("solve", "eom", "frequency"):
         assert command in text
     assert COMMAND_MODULES[0] == "solver.cli_instant"
+
+
+# -- the extra scenes: closed forms for pivot, plate, point mass, semicircular rolling ----------
+
+
+def _frequency(capsys: pytest.CaptureFixture[str], scene: str) -> float:
+    status, out, err = run_main(capsys, "frequency", str(ROOT / "data" / "scenes" / scene), "--json")
+    assert status == 0, err
+    return json.loads(out)["omega_n"]["value"]
+
+
+def test_compound_pendulum_frequency_closed_form(capsys: pytest.CaptureFixture[str]) -> None:
+    # Values from data/scenes/compound_pendulum.toml; omega^2 = g m d_G / I_O
+    # (parallel axes, Eq. 12: plate m(a^2+b^2)/12 + m(a/2)^2, tip m_t a^2).
+    m_p, a, b, m_t, g = 2.0, 0.6, 0.1, 0.5, 9.80665
+    inertia = m_p * (a**2 + b**2) / 12 + m_p * (a / 2) ** 2 + m_t * a**2
+    omega = math.sqrt(g * (m_p * a / 2 + m_t * a) / inertia)
+    assert _frequency(capsys, "compound_pendulum.toml") == pytest.approx(omega, rel=1e-9)  # exact formulas
+
+
+def test_rocking_semicircle_frequency_closed_form(capsys: pytest.CaptureFixture[str]) -> None:
+    # Values from data/scenes/rocking_semicircle.toml. Rolling about the
+    # contact point at theta = 0, which lies r - c below G (c = 4r/(3 pi)):
+    # omega^2 = m g c / (I_G + m (r - c)^2).
+    m, r, g = 1.2, 0.1, 9.80665
+    c = 4 * r / (3 * math.pi)
+    inertia_g = (0.5 - 16 / (9 * math.pi**2)) * m * r**2
+    omega = math.sqrt(m * g * c / (inertia_g + m * (r - c) ** 2))
+    assert _frequency(capsys, "rocking_semicircle.toml") == pytest.approx(omega, rel=1e-9)  # exact formulas
