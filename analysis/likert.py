@@ -38,7 +38,6 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 
 import numpy as np
-from statsmodels.stats.proportion import proportion_confint
 
 from .ingest import BLANK, NOT_APPLICABLE, UNKNOWN, SurveyData, survey_from_frame
 
@@ -120,6 +119,7 @@ def proportion(k: int, n: int, confidence_level: float = 0.95,
         raise ValueError(f"need 0 <= k <= n, got k={k}, n={n}")
     if n == 0:
         return Proportion(0, 0, None, (None, None), method, confidence_level)
+    from statsmodels.stats.proportion import proportion_confint   # heavy import: only when used
     lo, hi = proportion_confint(k, n, alpha=1 - confidence_level, method=method)
     # the bounds are exact at the ends; clear floating-point dust (e.g. 5e-17 for k = 0)
     lo = 0.0 if k == 0 else min(max(float(lo), 0.0), 1.0)

@@ -108,3 +108,14 @@ def test_reverse_keying_changes_codes_not_counts():
     assert a.counts == b.counts and a.agree.share == b.agree.share
     lo, hi = min(data.scale.codes), max(data.scale.codes)     # reverse = lo + hi - code
     assert b.median == lo + hi - a.median and b.reverse and not a.reverse
+
+
+def test_table1_reproduction_chain(tmp_path):
+    from analysis.paper import table1_reproduction
+    rep = table1_reproduction(tmp_path)
+    assert rep.dataset.path.parent == tmp_path
+    unattainable = {(c.item, c.label) for c in rep.check.unattainable}
+    assert {(c.item, c.label) for c in rep.mismatches} == unattainable and len(unattainable) == 3
+    assert [r.verdict_code for r in rep.claims.results] == ["sample_only", "sample_only"]
+    json_ready = rep.to_dict()
+    assert len(json_ready["cells"]) == 25
