@@ -16,8 +16,10 @@ Supported shapes (:data:`SHAPES`), detected from the file unless named:
     Qualtrics export: three header rows (field ids, question text, ``{"ImportId": ...}``);
     responses whose ``Status`` is ``Survey Preview`` are dropped and reported.
 
-CSV files and ``.xlsx`` workbooks (first sheet, read with openpyxl) are accepted.
-Leading lines that start with ``#`` in a CSV are comments.
+CSV files and ``.xlsx`` workbooks (first sheet, read with openpyxl) are accepted;
+``shape="xlsx"`` reads a workbook whatever its file name and detects its layout.
+Leading lines that start with ``#`` in a CSV are comments; a header line with
+semicolons or tabs and no commas sets the delimiter.
 
 Item columns are detected: a column is an item when it holds at least one label
 text of the scale and at least half of its non-blank answers are labels or codes
@@ -55,7 +57,7 @@ __all__ = ["SHAPES", "UNKNOWN_POLICIES", "SurveyData", "UnknownAnswer", "Dropped
            "read_survey", "survey_from_frame", "BLANK", "NOT_APPLICABLE", "UNKNOWN"]
 
 #: Valid ``shape`` values.
-SHAPES = ("auto", "wide", "long", "google", "qualtrics")
+SHAPES = ("auto", "wide", "long", "google", "qualtrics", "xlsx")
 #: Valid ``unknown`` values: raise on an unknown answer, or count it as missing.
 UNKNOWN_POLICIES = ("error", "missing")
 
@@ -77,9 +79,11 @@ _QUALTRICS_META = {
 _ID_LIKE = re.compile(r"^(respondent|respondent[ _]?id|id|response[ _]?id|record|row|#|"
                       r"student|student[ _]?id|participant|participant[ _]?id)$", re.I)
 _LONG_RESP = ("respondent", "respondent_id", "respondentid", "respondent id", "id",
-              "response_id", "responseid", "participant", "participant_id")
-_LONG_ITEM = ("item", "question", "question_id", "questionid", "item_id")
-_LONG_ANSWER = ("answer", "response", "value", "choice")
+              "response_id", "responseid", "response id", "participant", "participant_id",
+              "student", "student_id", "student id", "user", "user_id")
+_LONG_ITEM = ("item", "question", "question_id", "questionid", "item_id", "question id",
+              "item id")
+_LONG_ANSWER = ("answer", "response", "value", "choice", "rating")
 
 
 @dataclass(frozen=True)
@@ -278,8 +282,15 @@ def _read_csv_raw(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]:
         peek.append(rec)
         if len(peek) >= 4:
             break
+    first_line = peek[0] if peek else []
+    line0 = head_text.split("\n", 1)[0]
+    sep = ","
+    if "," not in line0 and len(first_line) <= 1:
+        sep = ";" if ";" in line0 else ("\t" if "\t" in line0 else ",")
+        if sep != ",":
+            peek = list(csv.reader(io.StringIO(head_text), delimiter=sep))[:4]
     try:
-        df = pd.read_csv(io.BytesIO(body), dtype="category", keep_default_na=False,
+        df = pd.read_csv(io.BytesIO(body), dtype="category", keep_default_na=False, sep=sep,
                          na_filter=False, encoding=encoding, engine="c", skipinitialspace=False)
     except UnicodeDecodeError:
         raise _decode_error(raw, encoding, source) from None
@@ -414,8 +425,9 @@ def read_survey(path: "str | Path", scale: "str | Scale | None" = None,
     """
     _validate_read(shape, unknown, respondents)
     p = Path(path)
-    if p.suffix.lower() in (".xlsx", ".xlsm"):
+    if shape == "xlsx" or p.suffix.lower() in (".xlsx", ".xlsm"):
         raw, peek = _read_xlsx_raw(p)
+        shape = "auto"
     elif p.suffix.lower() == ".xls":
         raise SurveyInputError("old .xls workbooks are not supported; save as .xlsx or CSV",
                                str(p))

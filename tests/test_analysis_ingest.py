@@ -217,3 +217,14 @@ def test_numeric_codes_and_custom_scale(tmp_path):
         read_survey(f, scale=str(bad))
     with pytest.raises(ValueError, match="agree5"):
         read_survey(f, scale="nonsense")
+
+
+def test_shipped_custom_scale_and_semicolons(tmp_path):
+    from pathlib import Path
+    scale = Path(__file__).resolve().parents[1] / "data" / "scales" / "confidence4.toml"
+    f = tmp_path / "s.csv"
+    f.write_text("id;q1\n1;very CONFIDENT\n2;not confident\n3;Did not attempt\n4;\n")
+    it = summarize(read_survey(f, scale=str(scale))).items[0]
+    assert (it.n, it.missing, it.excluded) == (2, 1, 1)
+    assert it.counts["Very confident"] == it.counts["Not at all confident"] == 1
+    assert it.agree.share == 0.5
