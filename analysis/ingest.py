@@ -464,7 +464,6 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
         for c in raw.columns:
             texts[c.name] = c.cats[c.codes[0]]
         keep = np.arange(2, raw.nrows)
-        raw.first_row += 0
         status = _find(raw.header, ("status",))
         if status is not None:
             col = raw.columns[status]
@@ -474,8 +473,9 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
             for i in np.flatnonzero(preview):
                 dropped.append(DroppedRow(int(raw.first_row + keep[i]), "Survey Preview response"))
             keep = keep[~preview]
-    if raw.nrows == 0 or (keep is not None and len(keep) == 0 and not dropped):
-        raise SurveyInputError("no responses below the header", raw.source)
+    if raw.nrows == 0 or (keep is not None and len(keep) == 0):
+        extra = f" (after dropping {len(dropped)} Survey Preview rows)" if dropped else ""
+        raise SurveyInputError(f"no responses below the header{extra}", raw.source)
     if shape == "long":
         return _build_long(raw, scale, items, unknown, group, reverse, respondents)
     if keep is None:

@@ -325,11 +325,12 @@ class SurveySummary:
         out = [f"{self.source}: {self.respondents} respondents, scale {self.scale.name!r}, "
                f"shape {self.shape}"]
         width = max([len(i.item) for i in self.items] + [4])
-        head = f"{'item':<{width}}  " + "  ".join(f"{lab[:18]:>18}" for lab in labels)
+        cw = max([len(lab) for lab in labels] + [14])
+        head = f"{'item':<{width}}  " + "  ".join(f"{lab:>{cw}}" for lab in labels)
         out.append(head + f"  {'n':>5} {'miss':>5} {'n/a':>5}  agree [95% CI]")
         for it in self.items:
             pp = it.printed_percent(decimals, method)
-            cells = "  ".join(f"{f'{pp[lab]:.{decimals}f}% ({it.counts[lab]})':>18}" for lab in labels)
+            cells = "  ".join(f"{f'{pp[lab]:.{decimals}f}% ({it.counts[lab]})':>{cw}}" for lab in labels)
             ag = it.agree
             agree = ("-" if ag.share is None else
                      f"{ag.share:.1%} [{ag.ci[0]:.1%}, {ag.ci[1]:.1%}]")

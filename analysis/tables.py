@@ -423,8 +423,9 @@ class TableCheck:
                        + (shown if fn else "none"))
         for r in self.rows:
             rec = "" if r.reconstructed is None else " counts " + ",".join(map(str, r.reconstructed))
+            d = max(c.decimals for c in r.cells)
             out.append(f"  {r.item}: {'sum ok' if r.sum_ok else 'SUM NOT OK'} "
-                       f"(printed sum {r.printed_sum:g}){rec}")
+                       f"(printed sum {r.printed_sum:.{d}f}){rec}")
             for c in r.cells:
                 if not c.attainable:
                     out.append(f"    {c.label} = {c.printed}: {c.reason}")
@@ -520,6 +521,37 @@ def _reconstruct(options: list[list[int]], targets: list[Fraction], n: int) -> l
     return list(hit[1]) if hit else None
 
 
+def _explain_adjustment(counts: list[int], printed: list[Fraction], cells: list[CellCheck],
+                        n: int, rule: str) -> str:
+    """A known way the printed row could come from ``counts``, or ``""``.
+
+    Tested: (a) every cell rounded, then the row's rounding deficit added to its
+    largest cell so the row shows 100; (b) largest-remainder (Hamilton) rounding.
+    """
+    decs = [c.decimals for c in cells]
+    rounded = [round_fraction(Fraction(100 * k, n), d, rule) for k, d in zip(counts, decs)]
+    if rounded == printed:
+        return ""
+    deficit = 100 - sum(rounded)
+    off = [j for j in range(len(counts)) if rounded[j] != printed[j]]
+    big = max(range(len(counts)), key=lambda j: counts[j])
+    if (sum(printed) == 100 and deficit != 0 and off == [big]
+            and printed[big] - rounded[big] == deficit):
+        return (f"consistent with rounding every cell and adding the row's deficit of "
+                f"{_fmt(deficit, max(decs))} to its largest cell, so that the row shows 100")
+    if len(set(decs)) == 1 and sum(printed) == 100:
+        d = decs[0]
+        units = 100 * 10 ** d
+        quotas = [Fraction(k * units, n) for k in counts]
+        floors = [q.numerator // q.denominator for q in quotas]
+        order = sorted(range(len(counts)), key=lambda j: (-(quotas[j] - floors[j]), j))
+        for j in order[:units - sum(floors)]:
+            floors[j] += 1
+        if [Fraction(f, 10 ** d) for f in floors] == printed:
+            return "consistent with largest-remainder rounding, so that the row shows 100"
+    return ""
+
+
 def _check_rows(table: PublishedTable, n: int, rule: str, decimals) -> list[RowCheck]:
     rows = []
     for i, item in enumerate(table.items):
@@ -543,6 +575,12 @@ def _check_rows(table: PublishedTable, n: int, rule: str, decimals) -> list[RowC
             reason = f"not attainable: {bad}"
             if rec is not None:
                 reason += "; with the nearest attainable values the counts add up to N"
+                why = _explain_adjustment(rec, values, cells, n, rule)
+                if why:
+                    reason += f"; {why}"
+                    for c in cells:
+                        if not c.attainable:
+                            c.reason += f" ({why})"
         else:
             reason = "every cell attainable, but no choice of counts adds up to N"
         rows.append(RowCheck(item=item, cells=cells, sum_ok=sum_ok, printed_sum=printed_sum,

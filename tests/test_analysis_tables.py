@@ -69,6 +69,16 @@ def test_table1_as_published():
     assert bad == EXPECTED_UNATTAINABLE
 
 
+def test_unattainable_cells_explained_by_row_forcing():
+    """Each printed row whose cells rounded from its counts add to 99.9 shows its largest
+    cell 0.1 higher: the table was forced to show 100 per row."""
+    check = table1_check()
+    for row in check.rows:
+        forced = "adding the row's deficit" in row.reason
+        assert forced == (not row.sum_ok)
+        assert all(("adding the row's deficit" in c.reason) == (not c.attainable) for c in row.cells)
+
+
 def test_unknown_n_search_contains_no_n_but_stated_best():
     """No N in 1..300 attains the whole table; N = 22 attains the most cells."""
     table, facts = load_table1()
