@@ -11,11 +11,10 @@ from hypothesis import strategies as st
 from matplotlib.figure import Figure
 
 from analysis.__main__ import main
-from analysis.chart import diverging_bar, figure_svg
+from analysis.chart import diverging_bar
 from analysis.ingest import survey_from_frame
 from analysis.likert import summarize
 from analysis.report import render_report
-from analysis.respondents import rebuild_table1_dataset
 from analysis.tables import load_survey_facts
 
 ROOT = Path(__file__).resolve().parents[1]
