@@ -6,8 +6,11 @@ disagreeing (``negative``). Answers such as "Not applicable" are neither: they
 are *excluded* from every denominator and reported apart.
 
 Built-in scales (:data:`BUILTIN_SCALES`): ``paper`` (the five-point scale of the
-paper's questionnaire, Definitely Agree ... Definitely Disagree), ``agree5``,
-``agree7``, ``frequency5`` and ``satisfaction5``. Custom scales come from a small
+paper's questionnaire, Definitely Agree ... Definitely Disagree), ``agree5``
+(Strongly disagree ... Strongly agree), ``agree5-somewhat`` (with "Somewhat"),
+``agree7``, ``frequency5`` and ``satisfaction5``. When no scale is named, the
+built-in scale whose labels every item column uses is chosen (the best label
+match, then the fewest labels, then this order). Custom scales come from a small
 TOML file (:func:`load_scale`)::
 
     name = "confidence4"
@@ -236,6 +239,8 @@ _PAPER = ("Definitely Agree", "Partially Agree", "Neutral", "Partially Disagree"
           "Definitely Disagree")
 _AGREE5 = ("Strongly disagree", "Disagree", "Neither agree nor disagree", "Agree",
            "Strongly agree")
+_AGREE5S = ("Strongly disagree", "Somewhat disagree", "Neither agree nor disagree",
+            "Somewhat agree", "Strongly agree")
 _AGREE7 = ("Strongly disagree", "Disagree", "Somewhat disagree",
            "Neither agree nor disagree", "Somewhat agree", "Agree", "Strongly agree")
 _FREQ5 = ("Never", "Rarely", "Sometimes", "Often", "Always")
@@ -248,6 +253,10 @@ BUILTIN_SCALES: dict[str, Scale] = {
                    "five-point scale of the paper's questionnaire (Definitely Agree first)"),
     "agree5": _make("agree5", _AGREE5, (1, 2, 3, 4, 5), _AGREE5[3:], _AGREE5[2:3], _AGREE5[:2],
                     "five-point Likert agreement", {"Neutral": _AGREE5[2]}),
+    "agree5-somewhat": _make("agree5-somewhat", _AGREE5S, (1, 2, 3, 4, 5), _AGREE5S[3:],
+                             _AGREE5S[2:3], _AGREE5S[:2],
+                             "five-point agreement with 'Somewhat' (Qualtrics default)",
+                             {"Neutral": _AGREE5S[2]}),
     "agree7": _make("agree7", _AGREE7, range(1, 8), _AGREE7[4:], _AGREE7[3:4], _AGREE7[:3],
                     "seven-point Likert agreement", {"Neutral": _AGREE7[3]}),
     "frequency5": _make("frequency5", _FREQ5, (1, 2, 3, 4, 5), _FREQ5[3:], _FREQ5[2:3], _FREQ5[:2],
