@@ -8,8 +8,9 @@ Tolerances (documented once, applied everywhere)
 ------------------------------------------------
 * A printed number is taken to be correctly rounded: it stands for every value
   within half a unit of its last printed digit (``"22.53"`` -> +/- 0.005).
-  Numbers the paper marks as exact (problem data) get no tolerance beyond
-  floating point (relative 1e-9).
+  Numbers the paper marks as exact (problem data, m_b g = 50 lbf) get a relative
+  tolerance of 2e-5: they are exact in the paper's arithmetic, while the scene
+  enters pound-mass through pint with the printed g (5 significant figures).
 * Eq. 30 was computed by hand from Eq. 29, whose coefficients the paper rounded
   to 4 significant figures, and each result was rounded before it was used in
   the next step. The tolerance of an Eq. 30 value adds the first-order effect of

@@ -1,0 +1,250 @@
+"""Figures of the report and the paper: matplotlib (Agg), vector SVG, deterministic.
+
+Every figure is computed here from the solver or the survey analytics; the SVG
+text is embedded inline in the HTML (no files fetched) and also written next to
+the LaTeX source (``figures/*.svg``; the PDF build converts nothing, it uses
+the PDF twins written by :func:`save_pdf` when a LaTeX engine exists).
+
+Determinism: ``svg.hashsalt`` is fixed, no date or creator is written, text is
+kept as text (``svg.fonttype = "none"``), and element ids are stable.
+"""
+from __future__ import annotations
+
+import io
+import math
+from dataclasses import dataclass
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import numpy as np  # noqa: E402
+from matplotlib import rc_context  # noqa: E402
+from matplotlib.figure import Figure  # noqa: E402
+from scipy.integrate import solve_ivp  # noqa: E402
+
+from solver.units import Q_  # noqa: E402
+
+__all__ = ["FigureResult", "svg_text", "example1_release_sweep", "example2_free_motion", "likert_chart",
+           "benchmark_figure", "RC"]
+
+RC = {
+    "svg.hashsalt": "alt-euler-report",
+    "svg.fonttype": "none",
+    "font.size": 9,
+    "axes.grid": True,
+    "grid.alpha": 0.3,
+}
+"""matplotlib settings shared by every figure (fixed hash salt: reproducible SVG ids)."""
+
+
+@dataclass
+class FigureResult:
+    """A figure as SVG text plus the numbers the text around it quotes.
+
+    Attributes
+    ----------
+    name : str
+        File stem (``example1_sweep``).
+    caption : str
+        Caption written from computed values.
+    svg : str
+        ``<svg ...>...</svg>`` (no XML prolog), safe to inline.
+    pdf : bytes
+        The same figure as PDF (for the LaTeX build).
+    facts : dict
+        Computed numbers quoted in the caption and the paper.
+    """
+
+    name: str
+    caption: str
+    svg: str
+    pdf: bytes
+    facts: dict
+
+
+def svg_text(fig: Figure) -> str:
+    """SVG of a figure, without prolog, reproducible."""
+    buf = io.StringIO()
+    with rc_context(RC):
+        fig.savefig(buf, format="svg", metadata={"Date": None, "Creator": None})
+    text = buf.getvalue()
+    return text[text.find("<svg"):]
+
+
+def _pdf_bytes(fig: Figure) -> bytes:
+    buf = io.BytesIO()
+    with rc_context(RC):
+        fig.savefig(buf, format="pdf", metadata={"CreationDate": None, "Creator": None, "Producer": None})
+    return buf.getvalue()
+
+
+def _result(name: str, fig: Figure, caption: str, facts: dict) -> FigureResult:
+    return FigureResult(name=name, caption=caption, svg=svg_text(fig), pdf=_pdf_bytes(fig), facts=facts)
+
+
+# --------------------------------------------------------------------------- Example 1
+def example1_release_sweep(scene, deriv, n: int = 400) -> FigureResult:
+    """R_A, R_B and alpha at release from rest against the release angle (Example 1).
+
+    Parameters
+    ----------
+    scene : solver.scene.Scene
+        Example 1 (sliding bar).
+    deriv : solver.derivation.Derivation
+        Its derivation about A.
+    n : int
+        Number of release angles between 0.5 deg and 89.5 deg.
+    """
+    _validate_n(n)
+    with rc_context(RC):
+        model = deriv.numeric()
+        theta = np.radians(np.linspace(0.5, 89.5, n))
+        force_unit = scene.output_units.get("force", "N")
+        result = model.solve(theta, np.zeros_like(theta))
+        reactions = [r for r in scene.reaction_names()]
+        released = math.degrees(scene.state_si()[0])
+        at = model.solve(np.array([scene.state_si()[0]]), np.array([0.0]))
+        fig = Figure(figsize=(7.0, 4.6), layout="constrained")
+        ax_r, ax_a = fig.subplots(2, 1, sharex=True)
+        deg = np.degrees(theta)
+        facts = {"released_deg": released, "force_unit": force_unit}
+        for name in reactions:
+            values = Q_(result[name], "N").to(force_unit).magnitude
+            ax_r.plot(deg, values, label=name)
+            negative = deg[values < 0]
+            facts[f"{name}_negative_from_deg"] = float(negative.min()) if negative.size else None
+            facts[f"{name}_at_release"] = float(Q_(at[name][0], "N").to(force_unit).magnitude)
+        ax_r.axhline(0, color="black", linewidth=0.6)
+        ax_r.axvline(released, color="grey", linestyle="--", linewidth=0.8)
+        ax_r.set_ylabel(f"reaction [{force_unit}]")
+        ax_r.legend(loc="best", fontsize=8)
+        alpha = result["alpha"]
+        ax_a.plot(deg, alpha, color="tab:red", label="alpha")
+        ax_a.axvline(released, color="grey", linestyle="--", linewidth=0.8)
+        ax_a.set_ylabel("alpha [rad/s²]")
+        ax_a.set_xlabel("release angle theta [deg] (from rest)")
+        facts["alpha_at_release"] = float(at["alpha"][0])
+        fig.suptitle("Example 1: reactions and angular acceleration at release", fontsize=10)
+    caption = (
+        f"Example 1, released from rest: reactions (in {force_unit}) and the angular acceleration alpha "
+        f"against the release angle, computed by the solver about A. The dashed line marks the paper's "
+        f"release angle, {released:.0f} deg."
+    )
+    for name in reactions:
+        start = facts[f"{name}_negative_from_deg"]
+        if start is not None:
+            caption += f" {name} would have to pull (it is negative) for release angles from about {start:.0f} deg."
+    return _result("example1_sweep", fig, caption, facts)
+
+
+def _validate_n(n: int) -> None:
+    if not isinstance(n, int) or n < 10:
+        raise ValueError(f"`n` must be an integer >= 10, got {n!r}")
+
+
+# --------------------------------------------------------------------------- Example 2
+def example2_free_motion(scene, deriv, amplitude: float, omega_n: float, periods: float = 3.0) -> FigureResult:
+    """Free oscillation from rest at ``amplitude``: the nonlinear equation of motion vs Eq. 46.
+
+    Parameters
+    ----------
+    scene : solver.scene.Scene
+        Example 2 with F_a = 0.
+    deriv : solver.derivation.Derivation
+    amplitude : float
+        Release angle [rad] (the paper's largest small amplitude, Eq. 45).
+    omega_n : float
+        Linear natural frequency [rad/s] (solver.natural_frequency, Eq. 46).
+    periods : float
+        Length of the run in linear periods.
+    """
+    if not (amplitude > 0 and omega_n > 0):
+        raise ValueError(f"`amplitude` and `omega_n` must be positive, got {amplitude!r}, {omega_n!r}")
+    model = deriv.numeric()
+    t_end = periods * 2 * math.pi / omega_n
+
+    def rhs(t, y):
+        return [y[1], float(model.qdd(y[0], y[1], t))]
+
+    def back_at_start(t, y):  # theta_dot falls through zero: the turning point at +amplitude again
+        return y[1]
+
+    back_at_start.direction = -1
+
+    # rtol 1e-10: the exact curve must be accurate far below the plot's resolution and far below the
+    # exact-vs-linear difference it is compared with.
+    sol = solve_ivp(rhs, (0.0, t_end), [amplitude, 0.0], method="DOP853", rtol=1e-10, atol=1e-12,
+                    dense_output=True, events=back_at_start)
+    t = np.linspace(0.0, t_end, 1500)
+    exact = sol.sol(t)[0]
+    linear = amplitude * np.cos(omega_n * t)
+    # Period of the exact motion: the first return to rest at theta = +amplitude.
+    # (theta_dot also leaves zero downwards at t = 0; skip events in the first half period.)
+    linear_period = 2 * math.pi / omega_n
+    stops = [ts for ts in sol.t_events[0] if ts > 0.5 * linear_period]
+    exact_period = float(stops[0]) if stops else float("nan")
+    linear_period = 2 * math.pi / omega_n
+    with rc_context(RC):
+        fig = Figure(figsize=(7.0, 4.4), layout="constrained")
+        ax, ax_d = fig.subplots(2, 1, sharex=True, height_ratios=[2, 1])
+        ax.plot(t, np.degrees(exact), label="nonlinear equation of motion (solve_ivp)")
+        ax.plot(t, np.degrees(linear), linestyle="--", label="linear model (Eq. 46)")
+        ax.set_ylabel("theta [deg]")
+        ax.legend(loc="upper right", fontsize=8)
+        ax_d.plot(t, np.degrees(exact - linear), color="tab:purple")
+        ax_d.set_ylabel("difference [deg]")
+        ax_d.set_xlabel("time t [s]")
+        fig.suptitle(
+            f"Example 2: free motion from rest at theta_0 = {math.degrees(amplitude):.0f} deg", fontsize=10
+        )
+    facts = {
+        "amplitude_deg": math.degrees(amplitude),
+        "linear_period_s": linear_period,
+        "exact_period_s": exact_period,
+        "period_ratio": exact_period / linear_period,
+        "max_difference_deg": float(np.max(np.abs(np.degrees(exact - linear)))),
+        "t_end_s": t_end,
+    }
+    caption = (
+        f"Example 2 with F_a = 0, released from rest at {facts['amplitude_deg']:.0f} deg, the largest amplitude "
+        f"the paper treats as small (Eq. 45): the full equation of motion integrated numerically against the "
+        f"linear model of Eq. 46. The full motion's period is {exact_period:.4f} s, "
+        f"{100 * (facts['period_ratio'] - 1):.2f}% longer than the linear {linear_period:.4f} s; after "
+        f"{periods:.0f} linear periods the two curves differ by up to {facts['max_difference_deg']:.2f} deg."
+    )
+    return _result("example2_motion", fig, caption, facts)
+
+
+# --------------------------------------------------------------------------- survey
+def likert_chart(summary, item_texts: dict[str, str] | None = None) -> FigureResult:
+    """The diverging stacked bar chart of the survey (analysis.chart)."""
+    from analysis.chart import diverging_bar
+
+    with rc_context(RC):
+        fig = diverging_bar(summary, order="questionnaire")
+    caption = (
+        f"Answers of the {summary.respondents} respondents to the five items, from the dataset rebuilt from "
+        "Table 1: disagreement to the left, agreement to the right, neutral answers split across the centre."
+    )
+    return _result("likert", fig, caption, {"respondents": summary.respondents})
+
+
+# --------------------------------------------------------------------------- benchmarks
+def benchmark_figure(series: dict[str, list[tuple[float, float]]], title: str, xlabel: str,
+                     ylabel: str) -> FigureResult:
+    """A log-log work-precision style plot from benchmark JSON series (name -> [(x, y), ...])."""
+    with rc_context(RC):
+        fig = Figure(figsize=(7.0, 4.2), layout="constrained")
+        ax = fig.subplots()
+        for name, points in sorted(series.items()):
+            pts = [(x, y) for x, y in points if x and y and x > 0 and y > 0]
+            if not pts:
+                continue
+            xs, ys = zip(*sorted(pts))
+            ax.loglog(xs, ys, marker="o", markersize=3, label=name)
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel(ylabel)
+        ax.legend(fontsize=7, loc="best")
+        fig.suptitle(title, fontsize=10)
+    return _result("benchmark", fig, title, {})

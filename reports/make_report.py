@@ -1,0 +1,476 @@
+"""Build the verification report and the reproducible paper (``make report``).
+
+``python -m reports [--out DIR] [--pdf auto|never]`` writes into DIR
+(default ``reports/build``):
+
+* ``report.html``: every published number and equation with its verdict,
+  the findings that differ from the paper first;
+* ``verification.json``: the same rows, machine-readable;
+* ``paper.html`` and ``paper.tex`` (and ``paper.pdf`` when a LaTeX engine is
+  installed): the paper rewritten from computed results;
+* ``figures/*.svg`` (+ ``*.pdf`` for LaTeX) and ``table1_respondents.csv``.
+
+Outputs are written to a temporary folder first and moved into place only when
+everything succeeded, so a failed build leaves the previous outputs intact.
+Bad input ends the build with one line naming the file and place, exit status 2.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import sympy as sp
+from jinja2 import Environment, FileSystemLoader, StrictUndefined, select_autoescape
+from markupsafe import Markup
+
+from reports import checks as checks_mod
+from reports import figures, paper, provenance
+from reports.mathml import equation_mathml, to_latex, to_mathml
+from reports.published import ReportInputError, load_equations
+from solver.errors import InputError
+from solver.expressions import parse_expression
+
+__all__ = ["build", "main", "html_environment", "latex_environment", "latex_escape", "LATEX_ENGINES"]
+
+ROOT = Path(__file__).resolve().parent.parent
+TEMPLATES = Path(__file__).resolve().parent / "templates"
+LATEX_ENGINES = ("tectonic", "lualatex", "pdflatex", "xelatex")
+"""LaTeX engines tried, in order, for paper.pdf."""
+
+
+# --------------------------------------------------------------------------- environments
+def html_environment(templates: Path = TEMPLATES) -> Environment:
+    """Jinja2 environment for ``*.html.j2``: autoescaped, StrictUndefined."""
+    env = Environment(
+        loader=FileSystemLoader(str(templates)),
+        undefined=StrictUndefined,
+        autoescape=select_autoescape(["html", "html.j2"]),
+        trim_blocks=True,
+        lstrip_blocks=True,
+        keep_trailing_newline=True,
+    )
+    env.filters["num"] = format_number
+    env.filters["verdict_class"] = lambda v: {"agrees": "ok", "disagrees": "bad"}.get(v, "na")
+    return env
+
+
+_LATEX_SPECIAL = {
+    "\\": r"\textbackslash{}",
+    "&": r"\&",
+    "%": r"\%",
+    "$": r"\$",
+    "#": r"\#",
+    "_": r"\_",
+    "{": r"\{",
+    "}": r"\}",
+    "~": r"\textasciitilde{}",
+    "^": r"\textasciicircum{}",
+    "<": r"\textless{}",
+    ">": r"\textgreater{}",
+    "²": r"\textsuperscript{2}",
+    "·": r"\ensuremath{\cdot}",
+    "±": r"\ensuremath{\pm}",
+}
+
+
+def latex_escape(value) -> str:
+    """Escape text for LaTeX (every special character, so input text stays text)."""
+    return "".join(_LATEX_SPECIAL.get(ch, ch) for ch in str(value))
+
+
+def latex_environment(templates: Path = TEMPLATES) -> Environment:
+    r"""Jinja2 environment for ``*.tex.j2`` with LaTeX-safe delimiters.
+
+    ``\VAR{...}`` for values, ``\BLOCK{...}`` for statements, ``\#{...}`` for
+    comments; values pass through the ``latex`` escape filter explicitly, and
+    math produced by sympy's LaTeX printer is inserted as is.
+    """
+    env = Environment(
+        loader=FileSystemLoader(str(templates)),
+        undefined=StrictUndefined,
+        autoescape=False,
+        block_start_string=r"\BLOCK{",
+        block_end_string="}",
+        variable_start_string=r"\VAR{",
+        variable_end_string="}",
+        comment_start_string=r"\#{",
+        comment_end_string="}",
+        line_statement_prefix="%%",
+        line_comment_prefix="%#",
+        trim_blocks=True,
+        lstrip_blocks=True,
+        keep_trailing_newline=True,
+    )
+    env.filters["latex"] = latex_escape
+    env.filters["num"] = format_number
+    return env
+
+
+def format_number(value, digits: int = 4) -> str:
+    """Significant-figure text of a number ("-" for None, integers as integers)."""
+    if value is None:
+        return "–"
+    if isinstance(value, bool):
+        return str(value)
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        if not math.isfinite(value):
+            return str(value)
+        return f"{value:.{digits}g}"
+    return str(value)
+
+
+# --------------------------------------------------------------------------- helpers
+def _eval_text(text: str, where: str) -> float:
+    """A numeric expression from a data file (e.g. "pi/6"), through the whitelist parser."""
+    return float(parse_expression(text, {}, where=where))
+
+
+def _engine() -> str | None:
+    for name in LATEX_ENGINES:
+        path = shutil.which(name)
+        if path:
+            return path
+    return None
+
+
+def _benchmarks(bench_dir: Path) -> list[dict]:
+    """Summaries of the benchmark JSON files that exist (other helpers' `make bench`)."""
+    found = []
+    if not bench_dir.is_dir():
+        return found
+    for path in sorted(bench_dir.glob("*.json")):
+        if path.name == "report.json":
+            continue
+        try:
+            data = json.loads(path.read_text(encoding="utf-8"))
+        except (OSError, ValueError) as err:
+            found.append({"name": path.stem, "error": f"unreadable: {err}", "scalars": []})
+            continue
+        scalars = []
+
+        def walk(prefix, obj, depth=0):
+            if len(scalars) >= 40 or depth > 3:
+                return
+            if isinstance(obj, dict):
+                for k, v in obj.items():
+                    walk(f"{prefix}.{k}" if prefix else str(k), v, depth + 1)
+            elif isinstance(obj, (int, float, str, bool)) and not isinstance(obj, str) or (
+                isinstance(obj, str) and len(obj) < 80
+            ):
+                scalars.append({"key": prefix, "value": obj})
+
+        walk("", data)
+        found.append({"name": path.stem, "error": "", "scalars": scalars, "data": data})
+    return found
+
+
+def _work_precision_series(bench: list[dict]) -> dict:
+    """(time, error) series per method from a dynamics benchmark, when one has them."""
+    series: dict[str, list[tuple[float, float]]] = {}
+    for entry in bench:
+        data = entry.get("data")
+        rows = None
+        if isinstance(data, dict):
+            for key in ("work_precision", "work-precision", "workprecision"):
+                if isinstance(data.get(key), list):
+                    rows = data[key]
+                    break
+                if isinstance(data.get(key), dict) and isinstance(data[key].get("rows"), list):
+                    rows = data[key]["rows"]
+                    break
+        if not rows:
+            continue
+        for row in rows:
+            if not isinstance(row, dict):
+                continue
+            name = row.get("method") or row.get("model") or row.get("name")
+            t = row.get("time_s", row.get("seconds", row.get("time")))
+            err = row.get("error", row.get("rel_error", row.get("relative_error")))
+            if name is None or not isinstance(t, (int, float)) or not isinstance(err, (int, float)):
+                continue
+            series.setdefault(str(name), []).append((float(t), float(err)))
+    return series
+
+
+# --------------------------------------------------------------------------- build
+def build(root: Path = ROOT, out: Path | None = None, pdf: str = "auto", log=print) -> dict:
+    """Build every output into ``out``.
+
+    Parameters
+    ----------
+    root : pathlib.Path
+        Project root (inputs are read from its ``data/``).
+    out : pathlib.Path, optional
+        Output folder (default ``root / "reports/build"``).
+    pdf : {"auto", "never"}
+        Build paper.pdf when a LaTeX engine exists ("auto"), or not at all.
+    log : callable
+        Progress messages.
+
+    Returns
+    -------
+    dict
+        Paths written, verdict counts and timings.
+
+    Raises
+    ------
+    InputError
+        Bad input files (one line).
+    """
+    _validate_build(root, pdf)
+    root = Path(root)
+    out = Path(out) if out is not None else root / "reports" / "build"
+    out.parent.mkdir(parents=True, exist_ok=True)
+    started = time.perf_counter()
+    timings = {}
+
+    from solver.derivation import derive, natural_frequency, solve_instant
+    from solver.scenefile import load_scene
+
+    staging = Path(tempfile.mkdtemp(prefix=".report-", dir=str(out.parent)))
+    try:
+        prov = provenance.collect(root)
+        eqset = load_equations(root / "data" / "published" / "equations.toml")
+        scenes = {key: load_scene(path) for key, path in eqset.scenes.items()}
+        derivations = {key: derive(scene) for key, scene in scenes.items()}
+        timings["load"] = time.perf_counter() - started
+
+        # ---------------- checks
+        t0 = time.perf_counter()
+        rows = checks_mod.equation_checks(eqset, scenes, derivations)
+        timings["equations"] = time.perf_counter() - t0
+        system = next(iter(eqset.systems.values()), None)
+        ex1_key = system["scene"] if system else None
+        values_path = root / "data" / "published" / "example1.toml"
+        if ex1_key and values_path.exists():
+            solution = solve_instant(scenes[ex1_key])
+            rows += checks_mod.example1_value_checks(values_path, eqset, scenes[ex1_key],
+                                                     derivations[ex1_key], solution)
+        else:
+            rows.append(checks_mod.not_checkable("eq30-alpha", "value", None,
+                                                 "data/published/example1.toml or [systems] missing"))
+        t0 = time.perf_counter()
+        (staging / "data").mkdir()
+        try:
+            survey_rows, survey = checks_mod.survey_checks(staging / "data" / "table1_respondents.csv")
+        except ImportError as err:  # the analysis package has not landed
+            survey_rows, survey = [checks_mod.not_checkable(
+                "table1", "table-cell", None, f"survey analytics unavailable ({err})")], None
+        rows += survey_rows
+        timings["survey"] = time.perf_counter() - t0
+
+        # ---------------- figures
+        t0 = time.perf_counter()
+        figs = {}
+        ex2_key = next((k for k in eqset.scenes if k != ex1_key), None)
+        figs["example1"] = figures.example1_release_sweep(scenes[ex1_key], derivations[ex1_key])
+        eq45 = eqset.ranges.get("eq45", {})
+        amplitude = _eval_text(eq45.get("amplitude_max", "0"), f"{eqset.path}: ranges.eq45.amplitude_max")
+        freq = natural_frequency(scenes[ex2_key])
+        omega_n = float(freq.omega_n.to("rad/s").magnitude)
+        figs["example2"] = figures.example2_free_motion(scenes[ex2_key], derivations[ex2_key], amplitude, omega_n)
+        if survey is not None:
+            figs["likert"] = figures.likert_chart(survey.summary)
+        bench = _benchmarks(root / "reports" / "build" / "bench")
+        series = _work_precision_series(bench)
+        if series:
+            figs["benchmark"] = figures.benchmark_figure(
+                series, "Example 2 period: error against run time (make bench)", "wall time [s]",
+                "relative error of the period")
+        timings["figures"] = time.perf_counter() - t0
+
+        # ---------------- paper content
+        t0 = time.perf_counter()
+        period_cross = None
+        try:
+            from solver.period import OneDofSystem, exact_period
+
+            result = exact_period(OneDofSystem.from_derivation(derivations[ex2_key]), amplitude)
+            period_cross = {"period": result.period, "linear": result.period_linear, "ratio": result.ratio,
+                            "model": result.model}
+        except ImportError:
+            period_cross = None
+        lin_mass, lin_stiff, lin_w2 = paper.linearisation(
+            derivations[ex2_key],
+            about={},
+            assume={sp.Symbol("F_a", real=True): 0} if "F_a" in scenes[ex2_key].parameters else {},
+        )
+        examples = {
+            "ex1": {
+                "scene": scenes[ex1_key],
+                "point": derivations[ex1_key].point,
+                "parameters": paper.parameter_rows(scenes[ex1_key]),
+                "steps": paper.example_steps(scenes[ex1_key], derivations[ex1_key], at_rest=True),
+                "solution": solve_instant(scenes[ex1_key]),
+            },
+            "ex2": {
+                "scene": scenes[ex2_key],
+                "point": derivations[ex2_key].point,
+                "parameters": paper.parameter_rows(scenes[ex2_key]),
+                "steps": paper.example_steps(scenes[ex2_key], derivations[ex2_key], at_rest=False),
+                "frequency": freq,
+                "omega_n_formula": paper.shown(sp.Symbol("omega_n") ** 2, lin_w2, "Linearised", ""),
+                "amplitude_deg": math.degrees(amplitude),
+                "period_cross": period_cross,
+            },
+        }
+        ex1_solution = examples["ex1"]["solution"]
+        out_units = scenes[ex1_key].output_units
+        ex1_results = []
+        for name, q in ex1_solution.unknowns.items():
+            unit = out_units.get("force") if q.check("[force]") else None
+            shown_q = q.to(unit) if unit else q
+            ex1_results.append({"name": paper.inline(sp.Symbol(name, real=True)), "value": paper.quantity_text(shown_q),
+                                "text": name})
+        examples["ex1"]["results"] = ex1_results
+        timings["paper"] = time.perf_counter() - t0
+
+        # ---------------- verdicts and findings
+        counts = {v: sum(1 for r in rows if r.verdict == v) for v in checks_mod.VERDICTS}
+        findings = [r for r in rows if r.verdict == "disagrees"]
+        caveats = [r for r in rows if r.verdict != "disagrees" and r.caveat]
+        missing = [r for r in rows if r.verdict == "not-checkable"]
+        sections = [
+            ("example1-equations", "Example 1: printed equations",
+             [r for r in rows if r.section == "example1" and r.kind == "equation"]),
+            ("example1-values", "Example 1: printed numbers and units",
+             [r for r in rows if r.section == "example1" and r.kind != "equation"]),
+            ("example2-equations", "Example 2: printed equations",
+             [r for r in rows if r.section == "example2"]),
+            ("survey", "Survey: Table 1, response facts and claims",
+             [r for r in rows if r.section == "survey"]),
+            ("other", "Other", [r for r in rows if r.section not in ("example1", "example2", "survey")]),
+        ]
+        equation_views = {}
+        for r in rows:
+            if r.outcome is not None:
+                o = r.outcome
+                equation_views[r.id] = {
+                    "printed": equation_mathml(o.printed_lhs, o.printed_rhs),
+                    "printed_inline": equation_mathml(o.printed_lhs, o.printed_rhs, display="inline"),
+                    "residual": to_mathml(o.residual) if o.residual is not None else Markup(""),
+                    "derived": (equation_mathml(o.derived_lhs, o.derived_rhs)
+                                if o.derived_lhs is not None and r.kind == "equation" and
+                                o.transcription.kind in ("eom", "frequency") else None),
+                    "printed_latex": to_latex(o.printed_lhs) + " = " + to_latex(o.printed_rhs),
+                    "residual_latex": to_latex(o.residual) if o.residual is not None else "",
+                }
+        context = {
+            "title": "Alternative form of Euler's equation: verification report",
+            "rows": rows,
+            "counts": counts,
+            "findings": findings,
+            "caveats": caveats,
+            "missing": missing,
+            "sections": [s for s in sections if s[2]],
+            "equation_views": equation_views,
+            "figures": figs,
+            "provenance": prov,
+            "method": paper.method_equations(),
+            "examples": examples,
+            "survey": survey,
+            "benchmarks": bench,
+            "tolerance_notes": checks_mod.__doc__.split("Tolerances (documented once, applied everywhere)")[1]
+            .split("\n", 2)[2].strip(),
+            "engine": None,
+        }
+
+        # ---------------- render
+        t0 = time.perf_counter()
+        html = html_environment()
+        (staging / "report.html").write_text(html.get_template("report.html.j2").render(**context), encoding="utf-8")
+        (staging / "paper.html").write_text(html.get_template("paper.html.j2").render(**context), encoding="utf-8")
+        fig_dir = staging / "figures"
+        fig_dir.mkdir()
+        for fig in figs.values():
+            (fig_dir / f"{fig.name}.svg").write_text(fig.svg, encoding="utf-8")
+            (fig_dir / f"{fig.name}.pdf").write_bytes(fig.pdf)
+        latex = latex_environment()
+        (staging / "paper.tex").write_text(latex.get_template("paper.tex.j2").render(**context), encoding="utf-8")
+        payload = {"checks": [r.to_json() for r in rows]}
+        (staging / "verification.json").write_text(json.dumps(payload, indent=2, ensure_ascii=False) + "\n",
+                                                   encoding="utf-8")
+        timings["render"] = time.perf_counter() - t0
+
+        engine = _engine() if pdf == "auto" else None
+        if engine:
+            t0 = time.perf_counter()
+            _run_latex(engine, staging)
+            timings["pdf"] = time.perf_counter() - t0
+        elif pdf == "auto":
+            log("paper.pdf: skipped, no LaTeX engine found (tried " + ", ".join(LATEX_ENGINES) + ")")
+
+        # ---------------- move into place
+        out.mkdir(parents=True, exist_ok=True)
+        written = []
+        for path in sorted(staging.rglob("*")):
+            if path.is_dir():
+                continue
+            rel = path.relative_to(staging)
+            target = out / rel
+            target.parent.mkdir(parents=True, exist_ok=True)
+            os.replace(path, target)
+            written.append(str(rel))
+        if not engine and (out / "paper.pdf").exists():
+            (out / "paper.pdf").unlink()  # a stale PDF would no longer match paper.tex
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
+    timings["total"] = time.perf_counter() - started
+    return {"out": str(out), "written": written, "counts": counts, "timings": timings}
+
+
+def _run_latex(engine: str, folder: Path) -> None:
+    name = Path(engine).name
+    cmd = [engine, "paper.tex"] if name == "tectonic" else [engine, "-interaction=nonstopmode", "-halt-on-error",
+                                                            "paper.tex"]
+    for _ in range(1 if name == "tectonic" else 2):
+        done = subprocess.run(cmd, cwd=folder, capture_output=True, text=True, timeout=300, check=False)
+        if done.returncode != 0:
+            tail = (done.stdout + done.stderr).strip().splitlines()[-5:]
+            raise ReportInputError(f"paper.tex: {name} failed: " + " | ".join(tail))
+    for junk in ("paper.aux", "paper.log", "paper.out"):
+        (folder / junk).unlink(missing_ok=True)
+
+
+def _validate_build(root, pdf) -> None:
+    if pdf not in ("auto", "never"):
+        raise ValueError(f"`pdf` must be one of ('auto', 'never'), got {pdf!r}")
+    if not (Path(root) / "data").is_dir():
+        raise ReportInputError(f"{root}: not the project root (no data/ folder)")
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Command line: ``python -m reports [--out DIR] [--pdf auto|never]``."""
+    parser = argparse.ArgumentParser(prog="python -m reports", description=__doc__.split("\n\n")[0])
+    parser.add_argument("--out", type=Path, default=None, help="output folder (default reports/build)")
+    parser.add_argument("--root", type=Path, default=ROOT, help="project root (default: this checkout)")
+    parser.add_argument("--pdf", choices=("auto", "never"), default="auto",
+                        help="build paper.pdf when a LaTeX engine exists (auto) or never")
+    args = parser.parse_args(argv)
+    try:
+        result = build(args.root, args.out, pdf=args.pdf)
+    except (InputError, ValueError) as err:
+        print(f"error: {err}", file=sys.stderr)
+        return 2
+    except Exception as err:  # noqa: BLE001 - survey input errors come from another package
+        if type(err).__name__ == "SurveyInputError":
+            print(f"error: {err}", file=sys.stderr)
+            return 2
+        raise
+    c = result["counts"]
+    print(
+        f"report: {len(result['written'])} files in {result['out']} "
+        f"({c['agrees']} agree, {c['disagrees']} disagree, {c['not-checkable']} not checkable; "
+        f"{result['timings']['total']:.1f} s)"
+    )
+    return 0

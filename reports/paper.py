@@ -1,0 +1,168 @@
+"""The derived content of the reproducible paper: method, both examples step by step.
+
+Everything returned here is computed: equations come from the solver's
+derivation (as sympy expressions, rendered by :mod:`reports.mathml`), numbers
+from its numeric solution. The templates only arrange them.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import sympy as sp
+
+from reports.mathml import equation_latex, equation_mathml, to_latex, to_mathml
+
+__all__ = ["Shown", "shown", "method_equations", "example_steps", "quantity_text", "linearisation"]
+
+
+@dataclass
+class Shown:
+    """An equation ready for both outputs."""
+
+    mathml: str
+    latex: str
+    text: str
+    label: str = ""
+    ref: str = ""
+
+
+def shown(lhs, rhs, label: str = "", ref: str = "") -> Shown:
+    """Render ``lhs = rhs`` as MathML (block) and LaTeX."""
+    return Shown(
+        mathml=equation_mathml(lhs, rhs),
+        latex=equation_latex(lhs, rhs),
+        text=f"{sp.sstr(lhs)} = {sp.sstr(rhs)}",
+        label=label,
+        ref=ref,
+    )
+
+
+def inline(expr) -> dict:
+    """An expression for inline use in both outputs."""
+    return {"mathml": to_mathml(expr), "latex": to_latex(expr), "text": sp.sstr(expr)}
+
+
+def quantity_text(q, digits: int = 4) -> str:
+    """``"2.297 rad/s²"``-style text of a pint quantity (significant figures)."""
+    return f"{q.magnitude:.{digits}g} {q.units:~P}".strip()
+
+
+def _tidy(expr: sp.Expr) -> sp.Expr:
+    return sp.trigsimp(sp.simplify(expr))
+
+
+def method_equations() -> dict[str, Shown]:
+    """Eq. 10 (single body) and Eq. 11 (composite body) in planar scalar form, derived by sympy.
+
+    The k-component of r x (m a_P) is computed from the cross product of
+    planar vectors, so the displayed forms are produced, not typed.
+    """
+    x, y, ax, ay, m, M_P, I_P, alpha = sp.symbols("x_G/P y_G/P a_Px a_Py m M_P I_P alpha", real=True)
+    r = sp.Matrix([x, y, 0])
+    a = sp.Matrix([ax, ay, 0])
+    inertial = (r.cross(m * a))[2]
+    eq10 = shown(M_P - inertial, I_P * alpha, "Moments about an embedded point P", "Eq. (10)")
+    k, n = sp.symbols("k n", integer=True, positive=True)
+    mk, xk, yk, Ik = (sp.IndexedBase(s) for s in ("m", "x", "y", "I_P"))
+    rk = sp.Matrix([xk[k], yk[k], 0])
+    term = (rk.cross(mk[k] * a))[2]
+    eq11 = shown(M_P - sp.Sum(term, (k, 1, n)), sp.Sum(Ik[k], (k, 1, n)) * alpha,
+                 "Composite body of n elements", "Eq. (11)")
+    eq1 = shown(sp.Symbol("F_x"), sp.Sum(mk[k] * sp.Indexed(sp.IndexedBase("a_x"), k), (k, 1, n)),
+                "Newton's law for the composite body, x component", "Eq. (14)")
+    return {"eq10": eq10, "eq11": eq11, "eq14": eq1, "inertial_term": inline(inertial)}
+
+
+def linearisation(deriv, about: dict, assume: dict | None = None):
+    """(mass M0, stiffness K, omega_n^2 = K/M0) of the derived eom about a state."""
+    eom = deriv.eom.subs(assume or {})
+    q, qd, qdd = deriv.q, deriv.qd, deriv.qdd
+    at = {q: about.get(q, 0), qd: about.get(qd, 0)}
+    mass = sp.simplify(sp.diff(eom, qdd).subs(at))
+    stiffness = sp.simplify(sp.diff(eom, q).subs(qdd, 0).subs(at))
+    return mass, stiffness, sp.simplify(stiffness / mass)
+
+
+def example_steps(scene, deriv, at_rest: bool) -> dict:
+    """The derivation of one example, step by step, for the paper.
+
+    Parameters
+    ----------
+    scene : solver.scene.Scene
+    deriv : solver.derivation.Derivation
+        About the paper's reference point.
+    at_rest : bool
+        Show the equations at theta_dot = 0 (Example 1 is released from rest).
+    """
+    q, qd, qdd = deriv.q, deriv.qd, deriv.qdd
+    rest = {qd: 0} if at_rest else {}
+    steps = {}
+    # kinematics of the reference point and of every named point
+    points = {}
+    for name in scene.points:
+        acc = deriv.acceleration(name).subs(rest)
+        points[name] = {
+            "x": inline(_tidy(acc[0])),
+            "y": inline(_tidy(acc[1])),
+        }
+    steps["accelerations"] = points
+    steps["omega"] = inline(deriv.omega)
+    steps["alpha"] = inline(deriv.alpha)
+    steps["inertia"] = inline(_tidy(deriv.inertia_about(deriv.point)))
+    # the equations written by the solver (Newton components, Euler about P)
+    equations = []
+    for eq in deriv.equations:
+        equations.append(shown(_tidy(eq.expr.subs(rest)), sp.Integer(0), eq.name, eq.ref))
+    steps["equations"] = equations
+    # equation of motion: M qdd + ... = Q
+    Q = deriv.generalized_force
+    lhs = sp.collect(sp.expand(_tidy(deriv.eom.subs(rest) + Q.subs(rest))), qdd)
+    steps["eom"] = shown(lhs, _tidy(Q.subs(rest)), "Equation of motion", "")
+    steps["mass"] = inline(_tidy(deriv.mass))
+    # closed-form theta_ddot and alpha (at rest for Example 1)
+    eom = deriv.eom.subs(rest)
+    qdd_sol = _tidy(-eom.subs(qdd, 0) / sp.diff(eom, qdd))
+    steps["qdd_solution"] = shown(qdd, qdd_sol, "Angular acceleration", "")
+    steps["alpha_solution"] = shown(sp.Symbol("alpha"), _tidy(deriv.alpha.subs(qdd, qdd_sol)), "alpha", "")
+    # reactions from the Newton components, theta_ddot left symbolic (cf. Eqs. 24-25, 39-40)
+    reactions = []
+    newton = [e for e in deriv.equations if "Newton" in e.name]
+    symbols = [sp.Symbol(r, real=True) for r in scene.reaction_names()]
+    try:
+        solved = sp.solve([e.expr.subs(rest) for e in newton], symbols, dict=True)
+    except NotImplementedError:  # pragma: no cover - linear systems always solve
+        solved = []
+    if solved:
+        for s in symbols:
+            if s in solved[0]:
+                reactions.append(shown(s, _tidy(solved[0][s]), f"Reaction {s}", ""))
+    steps["reactions"] = reactions
+    return steps
+
+
+def degrees(x: float) -> float:
+    return math.degrees(x)
+
+
+@dataclass
+class Example:
+    """Everything the paper says about one example."""
+
+    key: str
+    scene: object
+    point: str
+    parameters: list[dict] = field(default_factory=list)
+    steps: dict = field(default_factory=dict)
+    results: list[dict] = field(default_factory=list)
+    extra: dict = field(default_factory=dict)
+
+
+def parameter_rows(scene) -> list[dict]:
+    """The scene's parameters and state as rows (name as math, value with unit)."""
+    rows = []
+    for name, q in scene.parameters.items():
+        rows.append({"name": inline(sp.Symbol(name, real=True)), "value": f"{q:~P}"})
+    for name, q in scene.state.items():
+        rows.append({"name": inline(sp.Symbol(name, real=True)), "value": f"{q:~P}"})
+    return rows
