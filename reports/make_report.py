@@ -38,7 +38,7 @@ from reports.published import ReportInputError, load_equations
 from solver.errors import InputError
 from solver.expressions import parse_expression
 
-__all__ = ["build", "main", "html_environment", "latex_environment", "latex_escape", "LATEX_ENGINES"]
+__all__ = ["build", "build_cached", "main", "html_environment", "latex_environment", "latex_escape", "LATEX_ENGINES"]
 
 ROOT = Path(__file__).resolve().parent.parent
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -426,7 +426,18 @@ def build(root: Path = ROOT, out: Path | None = None, pdf: str = "auto", log=pri
     finally:
         shutil.rmtree(staging, ignore_errors=True)
     timings["total"] = time.perf_counter() - started
-    return {"out": str(out), "written": written, "counts": counts, "timings": timings}
+    return {"out": str(out), "written": written, "counts": counts, "timings": timings, "context": context}
+
+
+_SESSION_CACHE: dict[tuple[str, str], dict] = {}
+
+
+def build_cached(out: Path, root: Path = ROOT) -> dict:
+    """:func:`build` once per process and output folder (the test suite shares one build)."""
+    key = (str(Path(root).resolve()), str(Path(out).resolve()))
+    if key not in _SESSION_CACHE:
+        _SESSION_CACHE[key] = build(root, out, pdf="never", log=lambda *_: None)
+    return _SESSION_CACHE[key]
 
 
 def _run_latex(engine: str, folder: Path) -> None:
