@@ -320,17 +320,41 @@ class Derivation:
             route = lagrange_route(scene)
             self.equations = route.equations
             self._lagrange = route
-        if method == "lagrange":
-            self.kinetic_energy = self._lagrange.kinetic_energy
-            self.potential_energy = self._lagrange.potential_energy
-            self.generalized_force = self._lagrange.generalized_force
-            self.mass = self._lagrange.mass
-        else:
-            self.kinetic_energy, self.potential_energy, self.generalized_force, self.mass = _energies(kin)
+        self._energy = None
         self._system = None
         self._eom = None
         self._reactions = None
         self._numeric = None
+
+    # -- energies (lazy) ----------------------------------------------------
+    def _energies(self):
+        if self._energy is None:
+            if self.method == "lagrange":
+                r = self._lagrange
+                self._energy = (r.kinetic_energy, r.potential_energy, r.generalized_force, r.mass)
+            else:
+                self._energy = _energies(self._kin)
+        return self._energy
+
+    @property
+    def kinetic_energy(self) -> sp.Expr:
+        """T(q, qd) = 1/2 M(q) qd^2."""
+        return self._energies()[0]
+
+    @property
+    def potential_energy(self) -> sp.Expr:
+        """V(q), gravity."""
+        return self._energies()[1]
+
+    @property
+    def generalized_force(self) -> sp.Expr:
+        """Q(q, qd, t) of the non-gravity applied loads."""
+        return self._energies()[2]
+
+    @property
+    def mass(self) -> sp.Expr:
+        """M(q), the generalized mass."""
+        return self._energies()[3]
 
     # -- kinematics ------------------------------------------------------------
     def position(self, point: str) -> sp.Matrix:
@@ -372,11 +396,20 @@ class Derivation:
     # -- the system --------------------------------------------------------
     def linear_system(self) -> tuple[sp.Matrix, sp.Matrix]:
         """(A, b) with A @ unknowns = b, from the equations (linear in the unknowns)."""
-        if self._system is None:
-            exprs = sp.Matrix([e.expr for e in self.equations])
-            A = exprs.jacobian(sp.Matrix(self.unknowns))
-            b = -exprs.subs({u: 0 for u in self.unknowns})
+        if self._system is None and all(e.row is not None for e in self.equations):
+            A = sp.Matrix([list(e.row) for e in self.equations])
+            b = sp.Matrix([e.rhs for e in self.equations])
             self._system = (A, b)
+        if self._system is None:
+            # The equations are affine in the unknowns by construction, so the
+            # coefficients follow from substitutions (much cheaper than diff).
+            zero = {u: sp.Integer(0) for u in self.unknowns}
+            rows_b, rows_A = [], []
+            for e in self.equations:
+                e0 = e.expr.xreplace(zero)
+                rows_b.append(-e0)
+                rows_A.append([e.expr.xreplace({**zero, u: sp.Integer(1)}) - e0 for u in self.unknowns])
+            self._system = (sp.Matrix(rows_A), sp.Matrix(rows_b))
         return self._system
 
     @property

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from .kinematics import BodyKinematics, cross_k
+from .kinematics import BodyKinematics, cross_k, k_cross
 
 __all__ = [
     "NamedEquation",
@@ -43,11 +43,17 @@ class NamedEquation:
     expr : sympy.Expr
     ref : str
         The paper equation it instantiates, e.g. ``"Eq. (11)"``.
+    row, rhs : tuple of sympy.Expr and sympy.Expr, optional
+        When known from the construction: the coefficients of the unknowns
+        (theta_ddot, reactions...) and the right-hand side, so that
+        ``expr == row . unknowns - rhs``.
     """
 
     name: str
     expr: sp.Expr
     ref: str
+    row: tuple | None = None
+    rhs: sp.Expr | None = None
 
 
 @dataclass(frozen=True)
@@ -130,6 +136,13 @@ def _body_coords(kin: BodyKinematics, point: str) -> sp.Matrix:
     return sp.Matrix(p.coords) if p is not None else kin.body.mass_center()
 
 
+def _assemble(name, ref, const, coef_qdd, coef_reactions, kin) -> NamedEquation:
+    """expr = const + coef_qdd qdd + sum coef_R R, with its row and rhs."""
+    unknown_terms = [coef_qdd * kin.qdd] + [c * r.symbol for c, r in zip(coef_reactions, kin.reactions)]
+    expr = sp.Add(const, *unknown_terms)
+    return NamedEquation(name, expr, ref, row=(coef_qdd, *coef_reactions), rhs=-const)
+
+
 def generalized_euler_equations(kin: BodyKinematics, point: str) -> tuple[NamedEquation, ...]:
     """Newton (Eq. 14 with Eq. 15) and the generalized Euler equation about P (Eq. 11).
 
@@ -149,40 +162,46 @@ def generalized_euler_equations(kin: BodyKinematics, point: str) -> tuple[NamedE
     -----
     a_k = a_P + alpha x (r_k - r_P) - omega^2 (r_k - r_P)   (Eq. 15)
     F = sum_k m_k a_k                                         (Eq. 14)
-    M_P - [sum_k m_k (r_k - r_P)] x a_P = [sum_k (I_P)_k] alpha  (Eq. 11)
+      = m a_P + alpha x S - omega^2 S,  S = sum_k m_k (r_k - r_P)
+    M_P - S x a_P = [sum_k (I_P)_k] alpha                     (Eq. 11)
     with (I_P)_k = I_k + m_k d_k^2 (Eq. 12). For a single element these are
-    Eqs. (1), (6) and (10).
+    Eqs. (1), (6) and (10). Each equation is assembled term by term as
+    constant + coefficient x unknown (the system is linear in theta_ddot and
+    the reactions), so the linear system needs no differentiation.
     """
-    forces, couples = applied_loads(kin)
+    forces, couples = applied_loads(kin, include_reactions=False)
     r_P = kin.position(point)
-    a_P = kin.acceleration(point)
+    a0, a1 = kin.acceleration_parts(point)
+    al0, al1 = kin.alpha_parts
+    w2 = kin.omega**2
     centers = kin.element_mass_centers()
     composite = len(kin.body.parts) > 1
     newton_ref = "Eq. (14)" if composite else "Eq. (1)"
     euler_ref = "Eq. (11)" if composite else "Eq. (10)"
-
-    # Eq. (15) for each element, Eq. (14) for the body.
-    inertia_force = sp.zeros(2, 1)
-    first_moment = sp.zeros(2, 1)
-    for part in kin.body.parts:
-        rel = centers[part.name] - r_P
-        a_k = kin.rigid_acceleration(centers[part.name], point)
-        inertia_force += part.mass * a_k
-        first_moment += part.mass * rel
-    newton = _resultant(forces) - inertia_force
-
+    m = kin.body.total_mass
+    # S = sum m_k (r_k - r_P), the bracket of Eq. (11)
+    S = sum((p.mass * (centers[p.name] - r_P) for p in kin.body.parts), sp.zeros(2, 1))
     # Eq. (12): I_P; body-frame differences keep it free of theta for body points.
     if _is_body_point(kin, point):
         I_P = kin.body.inertia_about(_body_coords(kin, point))
     else:
         I_P = sp.Add(*[p.I_G + p.mass * ((centers[p.name] - r_P).T * (centers[p.name] - r_P))[0]
                        for p in kin.body.parts])
-    # Eq. (11)
-    euler = _moment_about(forces, couples, r_P) - cross_k(first_moment, a_P) - I_P * kin.alpha
+
+    # constant part (unknowns = 0): applied loads, velocity-squared inertia terms
+    newton0 = _resultant(forces) - (m * a0 + k_cross(al0, S) - w2 * S)
+    euler0 = _moment_about(forces, couples, r_P) - cross_k(S, a0) - I_P * al0
+    # coefficient of theta_ddot
+    newton1 = -(m * a1 + k_cross(al1, S))
+    euler1 = -cross_k(S, a1) - I_P * al1
+    # coefficients of the reactions
+    rx = [r.direction[0] for r in kin.reactions]
+    ry = [r.direction[1] for r in kin.reactions]
+    rm = [cross_k(r.position - r_P, r.direction) for r in kin.reactions]
     return (
-        NamedEquation("Newton x", newton[0], newton_ref),
-        NamedEquation("Newton y", newton[1], newton_ref),
-        NamedEquation(f"Euler about {point}", euler, euler_ref),
+        _assemble("Newton x", newton_ref, newton0[0], newton1[0], rx, kin),
+        _assemble("Newton y", newton_ref, newton0[1], newton1[1], ry, kin),
+        _assemble(f"Euler about {point}", euler_ref, euler0, euler1, rm, kin),
     )
 
 
@@ -194,15 +213,21 @@ def mass_center_equations(kin: BodyKinematics) -> tuple[NamedEquation, ...]:
     r_G = sum_k m_k r_k / m (Eq. 13), a_G = d2 r_G / dt2, F = m a_G (Eq. 1),
     M_G = I_G alpha (Eqs. 2, 5) with I_G = sum_k [I_k + m_k |r_k - r_G|^2].
     """
-    forces, couples = applied_loads(kin)
+    forces, couples = applied_loads(kin, include_reactions=False)
     m = kin.body.total_mass
     r_G = kin.body_point(kin.body.mass_center())
-    a_G = kin.differentiated_acceleration(r_G)
-    newton = _resultant(forces) - m * a_G
+    g0, g1 = kin.differentiated_acceleration_parts(r_G)
+    al0, al1 = kin.alpha_parts
     I_G = kin.body.centroidal_inertia()
-    euler = _moment_about(forces, couples, r_G) - I_G * kin.alpha
+    newton0 = _resultant(forces) - m * g0
+    euler0 = _moment_about(forces, couples, r_G) - I_G * al0
+    newton1 = -m * g1
+    euler1 = -I_G * al1
+    rx = [r.direction[0] for r in kin.reactions]
+    ry = [r.direction[1] for r in kin.reactions]
+    rm = [cross_k(r.position - r_G, r.direction) for r in kin.reactions]
     return (
-        NamedEquation("Newton x", newton[0], "Eq. (1)"),
-        NamedEquation("Newton y", newton[1], "Eq. (1)"),
-        NamedEquation("Euler about G", euler, "Eq. (2)"),
+        _assemble("Newton x", "Eq. (1)", newton0[0], newton1[0], rx, kin),
+        _assemble("Newton y", "Eq. (1)", newton0[1], newton1[1], ry, kin),
+        _assemble("Euler about G", "Eq. (2)", euler0, euler1, rm, kin),
     )

@@ -310,22 +310,40 @@ class BodyKinematics:
 
     def acceleration(self, name: str) -> sp.Matrix:
         """Acceleration of the material body point at ``name`` (Eq. 6 for instant points)."""
+        a0, a1 = self.acceleration_parts(name)
+        return a0 + a1 * self.qdd
+
+    def acceleration_parts(self, name: str) -> tuple[sp.Matrix, sp.Matrix]:
+        """(a0, a1) with acceleration = a0 + a1 * theta_ddot (a0 holds the theta_dot^2 terms)."""
         self._check_point(name)
         key = ("acc", name)
         if key not in self._cache:
             inst = self._instant_offset(name)
             if inst is not None:
                 ref, c = inst
-                val = self.acceleration(ref) + k_cross(self.alpha, c) - self.omega**2 * c
+                a0, a1 = self.acceleration_parts(ref)
+                # Eq. (6): a = a_ref + alpha x c - omega^2 c, alpha = ddphi qd^2 + dphi qdd
+                val = (a0 + k_cross(self.ddphi * self.qd**2, c) - self.omega**2 * c,
+                       a1 + k_cross(self.dphi, c))
             else:
-                val = self.differentiated_acceleration(self.position(name))
+                val = self.differentiated_acceleration_parts(self.position(name))
             self._cache[key] = val
         return self._cache[key]
 
     def differentiated_acceleration(self, r: sp.Matrix) -> sp.Matrix:
         """d2r/dt2 of a position r(theta) by the chain rule."""
+        a0, a1 = self.differentiated_acceleration_parts(r)
+        return a0 + a1 * self.qdd
+
+    def differentiated_acceleration_parts(self, r: sp.Matrix) -> tuple[sp.Matrix, sp.Matrix]:
+        """(r'' qd^2, r') so that d2r/dt2 = r'' qd^2 + r' qdd (' = d/dtheta)."""
         r_q = sp.diff(r, self.q)
-        return sp.diff(r_q, self.q) * self.qd**2 + r_q * self.qdd
+        return sp.diff(r_q, self.q) * self.qd**2, r_q
+
+    @property
+    def alpha_parts(self) -> tuple[sp.Expr, sp.Expr]:
+        """(phi'' qd^2, phi') so that alpha = phi'' qd^2 + phi' qdd."""
+        return self.ddphi * self.qd**2, self.dphi
 
     def rigid_acceleration(self, r: sp.Matrix, at: str) -> sp.Matrix:
         """Acceleration of the body point at fixed-frame position r, from point

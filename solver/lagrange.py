@@ -5,9 +5,12 @@ Built from the scene directly with ``ReferenceFrame``, ``Point``,
 :mod:`solver.kinematics` or :mod:`solver.euler` except the element mass
 properties of :mod:`solver.bodies` (checked against integration in the tests).
 
-* Equation of motion: ``LagrangesMethod`` with L = T - V (gravity as the
-  potential V) and the other loads in the force list, giving
-  ``d/dt(dL/dqd) - dL/dq - Q = M qdd + 1/2 M' qd^2 + V' - Q``.
+* Equation of motion: Kane's equation Fr + Fr* = 0 for the generalized
+  speed u = theta_dot (``KanesMethod``, gravity as forces), negated so that
+  it reads ``M qdd + 1/2 M' qd^2 + V' - Q``; or, with ``eom_by="lagrange"``,
+  ``LagrangesMethod`` with L = T - V (gravity as the potential V) and the
+  other loads in the force list, ``d/dt(dL/dqd) - dL/dq - Q``, the same
+  normalised expression.
 * Reactions: ``KanesMethod`` with two auxiliary generalized speeds, a
   translation of the whole body along x and along y, that bring the
   (otherwise noncontributing) constraint forces into evidence; the two
@@ -30,6 +33,8 @@ __all__ = ["LagrangeRoute", "lagrange_route"]
 
 REF_LAGRANGE = "Lagrange's equation (sympy.physics.mechanics.LagrangesMethod)"
 REF_KANE = "Kane's auxiliary equation (sympy.physics.mechanics.KanesMethod, u_auxiliary)"
+REF_KANE_MAIN = "Kane's equation (sympy.physics.mechanics.KanesMethod)"
+EOM_BY = ("kane", "lagrange")
 
 
 @dataclass(frozen=True)
@@ -57,12 +62,17 @@ def _vec(frame, m):
     return m[0] * frame.x + m[1] * frame.y
 
 
-def lagrange_route(scene: Scene) -> LagrangeRoute:
+def lagrange_route(scene: Scene, eom_by: str = "kane") -> LagrangeRoute:
     """Build the equations of ``scene`` with sympy.physics.mechanics.
 
     Parameters
     ----------
     scene : Scene
+    eom_by : {"kane", "lagrange"}
+        Which mechanics class gives the equation of motion: ``KanesMethod``
+        (default, several times faster on composite bodies) or
+        ``LagrangesMethod`` with L = T - V. Both normalise to
+        M qdd + 1/2 M' qd^2 + V' - Q; the tests hold them equal.
 
     Returns
     -------
@@ -73,6 +83,8 @@ def lagrange_route(scene: Scene) -> LagrangeRoute:
     SceneError
         A constraint set the route cannot place the body with.
     """
+    if eom_by not in EOM_BY:
+        raise ValueError(f"`eom_by` must be one of {EOM_BY}, got {eom_by!r}")
     label = scene_label(scene)
     q_s, qd_s, qdd_s, t_s = scene.q, scene.qd, scene.qdd, scene.t
     th = me.dynamicsymbols(scene.coordinate + "_f")
@@ -114,33 +126,38 @@ def lagrange_route(scene: Scene) -> LagrangeRoute:
         s = c.contact_at_zero - r * (phi - phi.subs(th, 0))
         r_origin = _vec(N, c.origin) + s * d + r * n - body_vec(element.center)
     elif kinds == ["rail", "rail"]:
-        X, Y = sp.symbols("X_o Y_o", real=True)
-        eqs = []
-        for c in scene.constraints:
-            n = -sp.sin(c.angle) * N.x + sp.cos(c.angle) * N.y
-            r_pt = X * N.x + Y * N.y + body_vec(points[c.point].coords) - _vec(N, c.origin)
-            eqs.append(r_pt.dot(n))
-        sol = sp.solve(eqs, [X, Y], dict=True)
-        if len(sol) != 1:
-            raise SceneError(f"{label}: impossible geometry: the two rails cannot fix the body's position")
-        r_origin = sol[0][X] * N.x + sol[0][Y] * N.y
+        # Point 1 sits at o1 + s d1 on rail 1; s follows from point 2 lying on
+        # rail 2: n2 . (o1 + s d1 + (p2 - p1) - o2) = 0.
+        c1, c2 = scene.constraints
+        d1 = sp.cos(c1.angle) * N.x + sp.sin(c1.angle) * N.y
+        n2 = -sp.sin(c2.angle) * N.x + sp.cos(c2.angle) * N.y
+        p1, p2 = body_vec(points[c1.point].coords), body_vec(points[c2.point].coords)
+        o1, o2 = _vec(N, c1.origin), _vec(N, c2.origin)
+        denom = d1.dot(n2)
+        if denom == 0:
+            raise SceneError(f"{label}: impossible geometry: the two rails are parallel")
+        s = (o2 - o1 - (p2 - p1)).dot(n2) / denom
+        r_origin = o1 + s * d1 - p1
     else:
         raise SceneError(f"{label}: unsupported constraint set ({', '.join(kinds)})")
     Bo = O.locatenew("Bo", r_origin)
+    Bo.set_vel(N, r_origin.dt(N))  # the only differentiated position; the rest by v2pt_theory
 
     # -- bodies ---------------------------------------------------------------
     lag_bodies, kane_bodies = [], []
     omega_u = sp.diff(phi, th) * u  # angular velocity with theta_dot -> u
 
-    def kane_point(name, pos):
-        """Point with velocity in u plus the two auxiliary translations."""
-        P = me.Point(name + "_k")
-        P.set_pos(O, pos)
-        P.set_vel(N, pos.dt(N).subs(thd, u) + ux * N.x + uy * N.y)
-        return P
-
     B_k = N.orientnew("Bk", "Axis", (phi, N.z))
     B_k.set_ang_vel(N, omega_u * N.z)
+    Bo_k = me.Point("Bo_k")
+    Bo_k.set_pos(O, r_origin)
+    Bo_k.set_vel(N, Bo.vel(N).subs(thd, u) + ux * N.x + uy * N.y)
+
+    def kane_point(name, pos):
+        """Body point at ``pos`` (from O), velocity in u plus the auxiliary translations."""
+        P = Bo_k.locatenew(name + "_k", pos - r_origin)
+        P.v2pt_theory(Bo_k, N, B_k)
+        return P
     gravity = [ld for ld in scene.loads if ld.kind == "gravity"]
     kane_loads = []
     V = sp.Integer(0)
@@ -148,8 +165,8 @@ def lagrange_route(scene: Scene) -> LagrangeRoute:
         props = element_properties(element)
         m = props.mass
         pos = Bo.pos_from(O) + body_vec(props.center)
-        G_l = O.locatenew(element.name + "_G", pos)
-        G_l.set_vel(N, pos.dt(N))
+        G_l = Bo.locatenew(element.name + "_G", body_vec(props.center))
+        G_l.v2pt_theory(Bo, N, B)
         V_k = sp.Integer(0)
         for ld in gravity:
             V_k += -m * in_time(ld.magnitude) * pos.dot(_vec(N, sp.Matrix(ld.direction)))
@@ -181,7 +198,7 @@ def lagrange_route(scene: Scene) -> LagrangeRoute:
             return material_velocity(p.relative_to) + (sp.diff(phi, th) * thd * N.z).cross(
                 _vec(N, sp.Matrix(p.coords).applyfunc(in_time))
             )
-        return point_position(name).dt(N)
+        return Bo.vel(N) + B.ang_vel_in(N).cross(body_vec(p.coords))
 
     forcelist, Q_terms = [], []
     for ld in scene.loads:
@@ -217,14 +234,22 @@ def lagrange_route(scene: Scene) -> LagrangeRoute:
             kane_loads.append((kane_point(c.name + "_pt", contact), syms[0] * d + syms[1] * n))
 
     # -- Lagrange ---------------------------------------------------------------
-    L = me.Lagrangian(N, *lag_bodies)
-    LM = me.LagrangesMethod(L, [th], forcelist=forcelist or None, frame=N)
-    lag_eq = LM.form_lagranges_equations()[0]
-
-    # -- Kane with auxiliary speeds (reactions) -----------------------------
+    # -- Kane with auxiliary speeds (reactions; and the eom by default) -------
     KM = me.KanesMethod(N, q_ind=[th], u_ind=[u], kd_eqs=[thd - u], u_auxiliary=[ux, uy])
-    KM.kanes_equations(kane_bodies, kane_loads)
+    fr, frstar = KM.kanes_equations(kane_bodies, kane_loads)
     aux = KM.auxiliary_eqs
+    if eom_by == "lagrange":
+        L = me.Lagrangian(N, *lag_bodies)
+        LM = me.LagrangesMethod(L, [th], forcelist=forcelist or None, frame=N)
+        main_eq = LM.form_lagranges_equations()[0]
+        main_name, main_ref = "Lagrange's equation", REF_LAGRANGE
+    else:
+        # Fr + Fr* = 0 for the true speed u. The constraint forces are
+        # noncontributing (their points move along the rails / roll without
+        # slip), so their coefficients vanish identically: drop them.
+        reaction_zero = {sp.Symbol(nm, real=True): 0 for nm in scene.reaction_names()}
+        main_eq = -(fr[0] + frstar[0]).subs(reaction_zero)
+        main_name, main_ref = "Kane's equation", REF_KANE_MAIN
 
     to_plain = {
         u.diff(t): qdd_s, th.diff(t, 2): qdd_s, u: qd_s, thd: qd_s,
@@ -237,9 +262,9 @@ def lagrange_route(scene: Scene) -> LagrangeRoute:
 
     T = plain(sum((b.kinetic_energy(N) for b in lag_bodies), sp.Integer(0)))
     M = sp.diff(T, qd_s, 2)
-    eom = plain(lag_eq)
+    eom = plain(main_eq)
     equations = (
-        NamedEquation("Lagrange's equation", eom, REF_LAGRANGE),
+        NamedEquation(main_name, eom, main_ref),
         NamedEquation("Kane auxiliary (x translation)", plain(aux[0]), REF_KANE),
         NamedEquation("Kane auxiliary (y translation)", plain(aux[1]), REF_KANE),
     )

@@ -77,3 +77,86 @@ def example2(theta_deg=10.0, theta_dot=0.0, F_a=None, values=None) -> Scene:
         default_point="P",
         output_units={},
     )
+
+
+# ---------------------------------------------------------------------------
+# Random composite bodies (hypothesis strategies). Numbers are exact rationals
+# so the symbolic work stays small; only theta, theta_dot and t stay symbolic.
+from hypothesis import strategies as st  # noqa: E402
+
+KINDS = ("slender_bar", "uniform_disk", "thin_ring", "rectangular_plate", "point_mass", "semicircular_disk")
+ROUND = ("uniform_disk", "thin_ring", "semicircular_disk")
+
+
+def _rat(lo, hi, den=20):
+    return st.integers(int(lo * den), int(hi * den)).map(lambda v: sp.Rational(v, den))
+
+
+def _dims(draw, kind):
+    size = _rat(0.1, 1.0)
+    return {
+        "slender_bar": lambda: {"length": draw(size)},
+        "uniform_disk": lambda: {"radius": draw(size)},
+        "thin_ring": lambda: {"radius": draw(size)},
+        "rectangular_plate": lambda: {"width": draw(size), "height": draw(size)},
+        "point_mass": lambda: {},
+        "semicircular_disk": lambda: {"radius": draw(size)},
+    }[kind]()
+
+
+@st.composite
+def random_scene(draw, constraint=None):
+    """A random composite body (1-4 elements) under a random constraint set.
+
+    Points: "A", "B", "K" (random body points), "I" (an instant point at a
+    random fixed-frame offset from "K"); "G" is the composite mass centre.
+    """
+    g = sp.Symbol("g", real=True)
+    kind_of_constraint = constraint or draw(st.sampled_from(("pivot", "rolling", "rails")))
+    n = draw(st.integers(1, 4))
+    coord = _rat(-1, 1)
+    elements = []
+    for i in range(n):
+        kind = draw(st.sampled_from(ROUND if (i == 0 and kind_of_constraint == "rolling") else KINDS))
+        elements.append(Element(f"e{i}", kind, draw(_rat(0.2, 5)), sp.Matrix([draw(coord), draw(coord)]),
+                                draw(_rat(-3, 3)), _dims(draw, kind)))
+    A = sp.Matrix([draw(coord), draw(coord)])
+    B = A + sp.Matrix([draw(_rat(0.3, 1.5)), draw(_rat(-1, 1))])
+    K = sp.Matrix([draw(coord), draw(coord)])
+    points = {
+        "A": Point("A", A), "B": Point("B", B), "K": Point("K", K),
+        "I": Point("I", sp.Matrix([draw(coord), draw(coord)]), frame="instant", relative_to="K"),
+    }
+    if kind_of_constraint == "pivot":
+        constraints = (Constraint("pin", "pivot", ("R_x", "R_y"), point=draw(st.sampled_from(["A", "K"])),
+                                  origin=sp.Matrix([draw(coord), draw(coord)])),)
+    elif kind_of_constraint == "rolling":
+        constraints = (Constraint("ground", "rolling", ("F_f", "F_n"), element="e0",
+                                  origin=sp.Matrix([draw(coord), draw(coord)]), angle=draw(_rat(-0.5, 0.5)),
+                                  contact_at_zero=draw(coord)),)
+    else:
+        a1 = draw(_rat(-1.5, 1.5))
+        a2 = a1 + draw(st.sampled_from([-1, 1])) * draw(_rat(0.5, 2.6))  # far from parallel
+        constraints = (
+            Constraint("rail1", "rail", ("R_1",), point="A", origin=sp.Matrix([draw(coord), draw(coord)]), angle=a1),
+            Constraint("rail2", "rail", ("R_2",), point="B", origin=sp.Matrix([draw(coord), draw(coord)]), angle=a2),
+        )
+    sign = draw(st.sampled_from([1, -1]))
+    orientation = sign * theta + draw(_rat(-3, 3))
+    qd = sp.Symbol("theta_dot", real=True)
+    loads = [Load("gravity", "gravity", magnitude=g,
+                  direction=sp.Matrix([0, -1]) if draw(st.booleans()) else
+                  sp.Matrix([sp.Rational(3, 5), -sp.Rational(4, 5)]))]
+    if draw(st.booleans()):
+        loads.append(Load("push", "force", point=draw(st.sampled_from(["A", "B", "K", "I"])),
+                          components=sp.Matrix([draw(_rat(-20, 20)) + draw(_rat(-5, 5)) * sp.sin(t),
+                                                draw(_rat(-20, 20)) + draw(_rat(-2, 2)) * qd])))
+    if draw(st.booleans()):
+        loads.append(Load("torque", "couple", magnitude=draw(_rat(-10, 10)) + draw(_rat(-2, 2)) * qd))
+    state = {"theta": Q_(float(draw(_rat(-3, 3, 100))), "rad"), "theta_dot": Q_(float(draw(_rat(-3, 3))), "rad/s")}
+    return Scene(
+        name="random", description="random composite", source=None,
+        parameters={"g": Q_(9.81, "m/s**2")}, coordinate="theta", state=state,
+        orientation=orientation, points=points, elements=tuple(elements), constraints=constraints,
+        loads=tuple(loads), default_point="A",
+    )

@@ -1,0 +1,224 @@
+"""The three routes agree, the choice of P does not matter, energy balances, and
+closed forms are reproduced.
+
+References:
+* Independent route: sympy.physics.mechanics (Kane's equations with auxiliary
+  speeds, method="lagrange"); the mass-centre form Eqs. (1)-(2).
+* Work-energy: dE/dt = power of the non-gravity applied loads (ideal
+  constraints do no work).
+* Closed forms (textbook results, derived in the docstrings below):
+  compound pendulum theta'' = -m g d sin(theta) / I_O; a disk or ring rolling
+  down an incline, a = g sin(a) / (1 + I/(m r^2)); a ladder released from
+  rest on perpendicular rails, alpha = 3 g cos(theta) / (2 l).
+
+Random scenes are evaluated by exact substitution into the linear system
+(``linear_system()``), which is cheap; the public ``solve_instant`` path is
+exercised on the closed-form cases.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import sympy as sp
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
+
+from solver.derivation import METHODS, derive, solve_instant
+from solver.errors import SingularConfigurationError
+from solver.scene import Constraint, Element, Load, Point, Scene
+from solver.units import Q_
+
+from scenes_factory import example1, example2, random_scene
+
+POINTS = ("A", "B", "K", "I", "G")
+# Random scenes with a worse-conditioned system than this are skipped: the
+# comparisons below assume double-precision solves good to ~cond * 1e-16.
+COND_MAX = 1e6
+# cond * eps * (expression round-off, a few hundred operations) stays below this.
+RTOL = 1e-8
+
+
+def evaluate(d, scene, t=0.0):
+    """(unknowns, condition number) of derivation ``d`` at the scene's state, by
+    substituting numbers into its symbolic linear system."""
+    A, b = d.linear_system()
+    q, qd = scene.state_si()
+    vals = {d.q: sp.Float(q), d.qd: sp.Float(qd), d.t: sp.Float(t)}
+    vals.update({k: sp.Float(v) for k, v in scene.si_values().items()})
+    An = np.array(A.xreplace(vals).evalf(), dtype=float)
+    bn = np.array(b.xreplace(vals).evalf(), dtype=float).ravel()
+    return np.linalg.solve(An, bn), np.linalg.cond(An)
+
+
+def assert_same(x, ref):
+    scale = max(1.0, float(np.max(np.abs(ref))))
+    np.testing.assert_allclose(x, ref, rtol=RTOL, atol=RTOL * scale)
+
+
+@settings(max_examples=25)
+@given(random_scene())
+def test_independent_of_point_and_equal_to_mass_center_form(scene):
+    """Eq. (11) about every named point (incl. an instant point and G) gives the
+    same theta_ddot and reactions as Eqs. (1)-(2) about G."""
+    ref, cond = evaluate(derive(scene, "A", "mass_center"), scene)
+    assume(cond < COND_MAX)
+    for point in POINTS:
+        x, _ = evaluate(derive(scene, point, "generalized_euler"), scene)
+        assert_same(x, ref)
+
+
+@settings(max_examples=10)
+@given(random_scene())
+def test_mechanics_route_agrees(scene):
+    """sympy.physics.mechanics (Kane + auxiliary speeds) against Eq. (11) about a random P."""
+    ref, cond = evaluate(derive(scene, "K", "generalized_euler"), scene)
+    assume(cond < COND_MAX)
+    x, _ = evaluate(derive(scene, None, "lagrange"), scene)
+    assert_same(x, ref)
+
+
+@settings(max_examples=25)
+@given(random_scene())
+def test_energy_rate_equals_power_of_applied_loads(scene):
+    """d(T + V)/dt = sum F . v_point + C omega (reactions of ideal constraints do no work)."""
+    d = derive(scene, "I", "generalized_euler")
+    x, cond = evaluate(d, scene)
+    assume(cond < COND_MAX)
+    q, qd = scene.state_si()
+    vals = {d.q: q, d.qd: qd, d.t: 0.0, d.qdd: x[0], **scene.si_values()}
+    E = d.kinetic_energy + d.potential_energy
+    dE = sp.diff(E, d.q) * d.qd + sp.diff(E, d.qd) * d.qdd
+    power_terms = []
+    for load in scene.loads:
+        if load.kind == "force":
+            power_terms.append((load.components.T * d.velocity(load.point))[0])
+        elif load.kind == "couple":
+            power_terms.append(load.magnitude * d.omega)
+    power = sp.Add(*power_terms)
+    lhs, rhs = float(dE.subs(vals)), float(power.subs(vals))
+    # scale: the largest single contribution (kinetic-energy rate terms and power terms)
+    scale = max(1.0, abs(float((sp.diff(E, d.qd) * d.qdd).subs(vals))), abs(rhs))
+    assert abs(lhs - rhs) <= 1e-8 * scale
+
+
+# -- closed forms -----------------------------------------------------------------
+def pendulum(m, d, L, theta, theta_dot, extra_disk=False) -> Scene:
+    """A bar of length L hanging from a pivot at body origin O, its centre at (0, -d)."""
+    elements = [Element("bar", "slender_bar", m, sp.Matrix([0, -d]), sp.pi / 2, {"length": L})]
+    return Scene(
+        name="pendulum", description="", source=None, parameters={"g": Q_(9.81, "m/s**2")},
+        coordinate="theta", state={"theta": Q_(theta, "rad"), "theta_dot": Q_(theta_dot, "rad/s")},
+        orientation=sp.Symbol("theta", real=True),
+        points={"O": Point("O", sp.zeros(2, 1)), "E": Point("E", sp.Matrix([0, -L]))},
+        elements=tuple(elements),
+        constraints=(Constraint("pin", "pivot", ("R_x", "R_y"), point="O"),),
+        loads=(Load("gravity", "gravity", magnitude=sp.Symbol("g", real=True)),),
+        default_point="O",
+    )
+
+
+pos = st.integers(1, 100).map(lambda v: sp.Rational(v, 20))
+
+
+@settings(max_examples=10)
+@given(pos, pos, pos, st.floats(-3, 3), st.floats(-3, 3), st.sampled_from(METHODS))
+def test_compound_pendulum(m, d, L, theta, theta_dot, method):
+    """I_O theta'' = -m g d sin(theta); R = m a_G - W with r_G = d (sin th, -cos th)."""
+    scene = pendulum(m, d, L, theta, theta_dot)
+    g = 9.81
+    mf, df, Lf = float(m), float(d), float(L)
+    I_O = mf * Lf**2 / 12 + mf * df**2
+    qdd = -mf * g * df * math.sin(theta) / I_O
+    a_Gx = df * (qdd * math.cos(theta) - theta_dot**2 * math.sin(theta))
+    a_Gy = df * (qdd * math.sin(theta) + theta_dot**2 * math.cos(theta))
+    for point in ("O", "E", "G"):
+        x, _ = evaluate(derive(scene, point, method), scene)
+        # pivot systems are well conditioned (cond < 1e3): 1e-9 is round-off only
+        np.testing.assert_allclose(x, [qdd, mf * a_Gx, mf * a_Gy + mf * g], rtol=1e-9, atol=1e-9)
+
+
+def rolling_on_incline(kind, m, r, slope) -> Scene:
+    """A disk/ring on a surface sloping down to the right at ``slope``; phi = -theta,
+    so the centre moves down the slope by r theta."""
+    return Scene(
+        name="incline", description="", source=None, parameters={"g": Q_(9.81, "m/s**2")},
+        coordinate="theta", state={"theta": Q_(0.4, "rad"), "theta_dot": Q_(1.7, "rad/s")},
+        orientation=-sp.Symbol("theta", real=True),
+        points={"P": Point("P", sp.zeros(2, 1)),
+                "C": Point("C", sp.Matrix([r * sp.sin(slope), -r * sp.cos(slope)]), "instant", "P")},
+        elements=(Element("wheel", kind, m, sp.zeros(2, 1), sp.Integer(0), {"radius": r}),),
+        constraints=(Constraint("slope", "rolling", ("F_f", "F_n"), element="wheel", angle=-slope),),
+        loads=(Load("gravity", "gravity", magnitude=sp.Symbol("g", real=True)),),
+        default_point="C",
+    )
+
+
+@pytest.mark.parametrize("kind,k", [("uniform_disk", 0.5), ("thin_ring", 1.0)])
+@pytest.mark.parametrize("method", METHODS)
+def test_rolling_down_an_incline(kind, k, method):
+    """a = g sin(a) / (1 + k), k = I/(m r^2); F_n = m g cos(a); F_f = -m g sin(a) k/(1 + k)."""
+    m, r, slope, g = sp.Rational(3), sp.Rational(2, 5), sp.Rational(3, 10), 9.81
+    scene = rolling_on_incline(kind, m, r, slope)
+    a = g * math.sin(0.3) / (1 + k)
+    expected = {"theta_ddot": a / 0.4, "F_f": -3 * g * math.sin(0.3) * k / (1 + k), "F_n": 3 * g * math.cos(0.3)}
+    for point in ("P", "C", "G"):
+        sol = solve_instant(scene, point, method)
+        for name, want in expected.items():
+            # round-off only (cond < 10)
+            assert sol.unknowns[name].to_base_units().magnitude == pytest.approx(want, rel=1e-9, abs=1e-12)
+
+
+@pytest.mark.parametrize("theta_deg", [15.0, 40.0, 70.0])
+@pytest.mark.parametrize("method", METHODS)
+def test_ladder_released_from_rest(theta_deg, method):
+    """Example 1 with beta = 90 deg is a ladder against a wall: from rest,
+    alpha = 3 g cos(theta) / (2 l); R_B = m a_Gx, R_A = m g + m a_Gy with
+    G = (l/2)(cos th, sin th)."""
+    scene = example1(theta_deg=theta_deg, beta_deg=90.0)
+    g = Q_(32.174, "ft/s**2").to("m/s**2").magnitude
+    l = Q_(4, "ft").to("m").magnitude
+    m = Q_(50, "lbm").to("kg").magnitude
+    th = math.radians(theta_deg)
+    alpha = 3 * g * math.cos(th) / (2 * l)
+    qdd = -alpha
+    a_Gx, a_Gy = -(l / 2) * math.sin(th) * qdd, (l / 2) * math.cos(th) * qdd
+    for point in ("A", "B", "G"):
+        sol = solve_instant(scene, point, method)
+        assert sol.unknowns["alpha"].magnitude == pytest.approx(alpha, rel=1e-10)
+        assert sol.unknowns["R_B"].to("N").magnitude == pytest.approx(m * a_Gx, rel=1e-9)
+        assert sol.unknowns["R_A"].to("N").magnitude == pytest.approx(m * g + m * a_Gy, rel=1e-9)
+
+
+@pytest.mark.parametrize("beta_deg,theta_deg,theta_dot", [(30.0, 10.0, 0.8), (60.0, 50.0, -1.5), (120.0, 80.0, 2.0)])
+def test_example1_other_geometries_and_states(beta_deg, theta_deg, theta_dot):
+    """Other rail angles and moving states: every route and point agrees."""
+    scene = example1(theta_deg=theta_deg, theta_dot=theta_dot, beta_deg=beta_deg,
+                     extra_loads=(Load("push", "force", point="G", components=sp.Matrix([40, -15])),))
+    ref = solve_instant(scene, "A", "lagrange").unknowns
+    for method in METHODS:
+        for point in ("A", "B", "G"):
+            sol = solve_instant(scene, point, method).unknowns
+            for name, v in ref.items():
+                assert sol[name].magnitude == pytest.approx(v.magnitude, rel=1e-9, abs=1e-9)
+
+
+def test_example2_time_dependent_force_all_routes():
+    t = sp.Symbol("t", real=True)
+    scene = example2(theta_deg=-20.0, theta_dot=2.0, F_a=5 * sp.cos(3 * t))
+    ms = [derive(scene, p, m).numeric() for m in METHODS for p in ("P", "Q", "C")]
+    ts = np.linspace(0.0, 2.0, 5)
+    ref = ms[-1].solve(-0.35, 2.0, ts)
+    for nm in ms:
+        res = nm.solve(-0.35, 2.0, ts)  # vectorised over t
+        for name in ("theta_ddot", "F_f", "F_n"):
+            np.testing.assert_allclose(res[name], ref[name], rtol=1e-9, atol=1e-9)
+
+
+def test_kane_and_lagranges_method_agree_on_example2():
+    from solver.lagrange import lagrange_route
+
+    scene = example2()
+    diff = lagrange_route(scene, "kane").eom - lagrange_route(scene, "lagrange").eom
+    assert sp.simplify(diff) == 0
