@@ -419,7 +419,7 @@ class Derivation:
         if self._eom is None:
             if self.method == "lagrange":
                 raw = self._lagrange.eom
-                self._eom = _tidy(sp.diff(raw, self.qdd)) * self.qdd + _tidy(raw.subs(self.qdd, 0))
+                self._eom = _tidy(sp.diff(raw, self.qdd)) * self.qdd + _tidy_by_rate(raw.subs(self.qdd, 0), self.qd)
             else:
                 A, _ = self.linear_system()
                 # Left null vector of the two reaction columns: their cross product.
@@ -431,7 +431,8 @@ class Derivation:
                 rest = reduced.subs(self.qdd, 0)
                 # normalise the qdd coefficient to M(q) (the reduced equation is
                 # proportional to Lagrange's: ideal constraints do no work)
-                self._eom = _tidy(self.mass) * self.qdd + _tidy(rest * self.mass / c)
+                k = _tidy(self.mass / c)
+                self._eom = _tidy(self.mass) * self.qdd + _tidy_by_rate(rest * k, self.qd)
         return self._eom
 
     @property
@@ -469,6 +470,16 @@ def _tidy(expr: sp.Expr) -> sp.Expr:
         return sp.cancel(sp.together(expr))
     except (sp.PolynomialError, ValueError):  # pragma: no cover - defensive
         return expr
+
+
+def _tidy_by_rate(expr: sp.Expr, qd: sp.Symbol) -> sp.Expr:
+    """Display clean-up term by term in powers of theta_dot (trigsimp each
+    coefficient; cheaper and more readable than simplifying the whole)."""
+    try:
+        parts = sp.collect(sp.expand(expr), qd, evaluate=False)
+        return sp.Add(*[sp.factor_terms(sp.trigsimp(v)) * k for k, v in parts.items()])
+    except (sp.PolynomialError, ValueError):  # pragma: no cover - defensive
+        return _tidy(expr)
 
 
 def _energies(kin: BodyKinematics):

@@ -69,7 +69,7 @@ def test_independent_of_point_and_equal_to_mass_center_form(scene):
         assert_same(x, ref)
 
 
-@settings(max_examples=10)
+@settings(max_examples=8)
 @given(random_scene())
 def test_mechanics_route_agrees(scene):
     """sympy.physics.mechanics (Kane + auxiliary speeds) against Eq. (11) about a random P."""
@@ -88,8 +88,10 @@ def test_energy_rate_equals_power_of_applied_loads(scene):
     assume(cond < COND_MAX)
     q, qd = scene.state_si()
     vals = {d.q: q, d.qd: qd, d.t: 0.0, d.qdd: x[0], **scene.si_values()}
-    E = d.kinetic_energy + d.potential_energy
-    dE = sp.diff(E, d.q) * d.qd + sp.diff(E, d.qd) * d.qdd
+    vals = {k: sp.Float(v) for k, v in vals.items()}
+    # T = 1/2 M qd^2: dE/dt = (1/2 M' qd^2 + V') qd + M qd qdd
+    M, V = d.mass, d.potential_energy
+    dE = (sp.diff(M, d.q) * d.qd**2 / 2 + sp.diff(V, d.q)) * d.qd + M * d.qd * d.qdd
     power_terms = []
     for load in scene.loads:
         if load.kind == "force":
@@ -97,9 +99,9 @@ def test_energy_rate_equals_power_of_applied_loads(scene):
         elif load.kind == "couple":
             power_terms.append(load.magnitude * d.omega)
     power = sp.Add(*power_terms)
-    lhs, rhs = float(dE.subs(vals)), float(power.subs(vals))
+    lhs, rhs = float(dE.xreplace(vals)), float(power.xreplace(vals))
     # scale: the largest single contribution (kinetic-energy rate terms and power terms)
-    scale = max(1.0, abs(float((sp.diff(E, d.qd) * d.qdd).subs(vals))), abs(rhs))
+    scale = max(1.0, abs(float((M * d.qd * d.qdd).xreplace(vals))), abs(rhs))
     assert abs(lhs - rhs) <= 1e-8 * scale
 
 
