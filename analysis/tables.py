@@ -400,8 +400,16 @@ class TableCheck:
         return {r.item: r.reconstructed for r in self.rows}
 
     def to_dict(self) -> dict:
-        """The command line's ``--json`` shape: ``{"n": int, "rows": [...]}``."""
-        return {"n": self.n, "rows": [r.to_dict() for r in self.rows]}
+        """The command line's ``--json`` shape: ``{"n": int, "rows": [...]}``.
+
+        When N was searched in a range, ``"n_range": [lo, hi]`` and ``"feasible_n"``
+        (every N making the whole table attainable) are added.
+        """
+        out = {"n": self.n, "rows": [r.to_dict() for r in self.rows]}
+        if self.n_range is not None:
+            out["n_range"] = list(self.n_range)
+            out["feasible_n"] = list(self.feasible_n or [])
+        return out
 
     def to_full_dict(self) -> dict:
         """Everything: the ``--json`` fields plus nearest values, reconstruction and reasons."""

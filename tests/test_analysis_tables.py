@@ -155,3 +155,12 @@ def test_bad_n(tmp_path, capsys):
     assert main(["verify-table", str(published_dir() / "table1.csv"), "--n-range", "9", "3"]) == 2
     err = capsys.readouterr().err.splitlines()
     assert len(err) == 2 and all(e.startswith("error: ") for e in err)
+
+
+def test_cli_range_lists_feasible_n(tmp_path, capsys):
+    # thirds print as 33.3 / 66.7 at one decimal only when N is a multiple of 3 (below 30)
+    f = tmp_path / "t.csv"
+    f.write_text("item,A,B,C\nq1,33.3,33.3,33.3\nq2,66.7,33.3,0.0\n")
+    assert main(["verify-table", str(f), "--n-range", "1", "29", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["feasible_n"] == list(range(3, 30, 3)) and out["n"] == 3
