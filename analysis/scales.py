@@ -266,6 +266,12 @@ BUILTIN_SCALES: dict[str, Scale] = {
 }
 
 
+#: Other names accepted for the built-in scales.
+ALIASES = {"definitely5": "paper", "likert5": "agree5", "agreement": "agree5",
+           "agreement5": "agree5", "likert7": "agree7", "agreement7": "agree7",
+           "frequency": "frequency5", "satisfaction": "satisfaction5"}
+
+
 def get_scale(name_or_path: "str | Path | Scale") -> Scale:
     """A built-in scale by name, or a custom scale from a TOML file.
 
@@ -279,11 +285,12 @@ def get_scale(name_or_path: "str | Path | Scale") -> Scale:
     if isinstance(name_or_path, Scale):
         return name_or_path
     text = str(name_or_path)
-    if text in BUILTIN_SCALES:
-        return BUILTIN_SCALES[text]
+    key = ALIASES.get(text.strip().lower(), text.strip().lower())
+    if key in BUILTIN_SCALES:
+        return BUILTIN_SCALES[key]
     if text.lower().endswith(".toml") or Path(text).is_file():
         return load_scale(text)
-    raise ValueError(f"`scale` must be one of {sorted(BUILTIN_SCALES)} or a .toml file, "
+    raise ValueError(f"`scale` must be one of {list(BUILTIN_SCALES)} or a .toml file, "
                      f"got {text!r}")
 
 

@@ -468,6 +468,16 @@ def _validate_verify(table, n, n_range, rule, decimals):
         raise ValueError(f"`decimals` must be an integer 0..6 or None, got {decimals!r}")
 
 
+def _validate_n_needed(table: PublishedTable, n: int) -> None:
+    """Every non-zero printed cell needs at least one respondent: N below that is bad input."""
+    for i, item in enumerate(table.items):
+        nonzero = sum(1 for j in range(len(table.labels)) if table.value(i, j)[0] > 0)
+        if n < nonzero:
+            raise SurveyInputError(
+                f"N = {n} is smaller than the counts need: row {item!r} has {nonzero} non-zero "
+                f"cells, so at least {nonzero} respondents", table.source, i + 2)
+
+
 def _check_cell(item, label, value, dec, text, n, rule) -> CellCheck:
     counts = attainable_counts(value, dec, n, rule)
     near_k, near_v = nearest_attainable(value, dec, n, rule)
@@ -621,7 +631,8 @@ def verify_table(table: PublishedTable, n: int | None = None,
     Raises
     ------
     SurveyInputError
-        N out of range (names the table file).
+        N out of range, or smaller than a row's non-zero cells need (names the
+        table file and row).
     ValueError
         Unknown ``rule`` (lists the valid rules), both or neither of ``n`` and ``n_range``.
 
@@ -632,6 +643,7 @@ def verify_table(table: PublishedTable, n: int | None = None,
     when one may choose an attainable count per cell so that the counts add up to N.
     """
     _validate_verify(table, n, n_range, rule, decimals)
+    _validate_n_needed(table, n if n is not None else n_range[1])
     labels = list(table.labels)
     if n is not None:
         return TableCheck(n=n, rows=_check_rows(table, n, rule, decimals), rule=rule,

@@ -164,3 +164,13 @@ def test_cli_range_lists_feasible_n(tmp_path, capsys):
     assert main(["verify-table", str(f), "--n-range", "1", "29", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["feasible_n"] == list(range(3, 30, 3)) and out["n"] == 3
+
+
+def test_n_smaller_than_counts_need(capsys):
+    # Table 1 rows have up to four non-zero cells: N = 3 cannot produce them
+    table, _ = load_table1()
+    need = max(sum(1 for x in row if Decimal(x) > 0) for row in table.cells)
+    assert main(["verify-table", str(published_dir() / "table1.csv"), "--n", str(need - 1)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "smaller than the counts need" in err
+    assert main(["verify-table", str(published_dir() / "table1.csv"), "--n", str(need)]) == 0
