@@ -642,13 +642,18 @@ def _detect_scale(source, cols, require_all: bool) -> Scale:
             st = _column_stats(c, s)
             if _label_item(st):
                 fits[s.name] = st[1] / st[0]
-        if fits or require_all:
+        if not fits and require_all:
+            raise SurveyInputError(
+                "answers are not labels of any built-in scale "
+                f"({', '.join(BUILTIN_SCALES)}); give --scale (a name or a .toml file)",
+                source, 1, c.name)
+        if fits:
             per_col.append((c.name, fits))
     if not per_col or not any(f for _, f in per_col):
         raise SurveyInputError(
             "no item columns: no column's answers are labels of a built-in scale "
             f"({', '.join(BUILTIN_SCALES)}); give --scale (a name or a .toml file) "
-            "and, for numeric codes, --items", source)
+            "(numeric codes are read once the scale is named)", source)
     common = None
     for name, fits in per_col:
         common = set(fits) if common is None else common & set(fits)
