@@ -12,7 +12,7 @@ Percentages and rounding
 ------------------------
 ``percent`` holds exact shares of the valid n, ``100 * count / n``. Printed
 percentages (:meth:`ItemSummary.printed_percent`) are rounded to ``decimals``
-places *half away from zero*, computed on exact fractions (so 45/2 prints 22.5
+places *half away from zero* (:func:`analysis.rounding.round_fraction`), computed on exact fractions (so 45/2 prints 22.5
 at 0 decimals as 23, not as Python's banker's 22). With
 ``method="largest_remainder"`` (Hamilton's method) each row is made to add up to
 exactly 100: every share is first cut down to ``decimals`` places, then the
@@ -40,10 +40,10 @@ from fractions import Fraction
 import numpy as np
 
 from .ingest import BLANK, NOT_APPLICABLE, UNKNOWN, SurveyData, survey_from_frame
+from .rounding import largest_remainder, round_fraction
 
 __all__ = ["CI_METHODS", "PERCENT_METHODS", "Proportion", "ItemSummary", "SurveySummary",
-           "proportion", "summarize", "summarize_dataframe", "round_half_away",
-           "largest_remainder"]
+           "proportion", "summarize", "summarize_dataframe"]
 
 #: Valid interval methods (statsmodels names): Wilson score, Clopper-Pearson.
 CI_METHODS = ("wilson", "beta")
@@ -125,33 +125,6 @@ def proportion(k: int, n: int, confidence_level: float = 0.95,
     lo = 0.0 if k == 0 else min(max(float(lo), 0.0), 1.0)
     hi = 1.0 if k == n else min(max(float(hi), 0.0), 1.0)
     return Proportion(k, n, k / n, (float(lo), float(hi)), method, confidence_level)
-
-
-def round_half_away(x: Fraction, decimals: int) -> Fraction:
-    """Round an exact non-negative rational half away from zero."""
-    scale = 10 ** decimals
-    y = Fraction(x) * scale
-    sign = -1 if y < 0 else 1
-    return Fraction(sign * math.floor(abs(y) + Fraction(1, 2)), scale)
-
-
-def largest_remainder(counts: list[int], decimals: int = 1) -> list[Fraction]:
-    """Percentages of ``counts`` that add up to exactly 100 (Hamilton's method).
-
-    Each share ``100 c / n`` is truncated to ``decimals`` places; the units still
-    missing from 100 go one each to the largest remainders (ties: first label).
-    """
-    n = sum(counts)
-    if n == 0:
-        return [Fraction(0)] * len(counts)
-    units = 100 * 10 ** decimals
-    quotas = [Fraction(c * units, n) for c in counts]
-    floors = [math.floor(q) for q in quotas]
-    left = units - sum(floors)
-    order = sorted(range(len(counts)), key=lambda i: (-(quotas[i] - floors[i]), i))
-    for i in order[:left]:
-        floors[i] += 1
-    return [Fraction(f, 10 ** decimals) for f in floors]
 
 
 def _weighted_quantile(codes: np.ndarray, counts: np.ndarray, q: float) -> float | None:
@@ -245,7 +218,7 @@ class ItemSummary:
         if self.n == 0:
             return {lab: 0.0 for lab in self.labels}
         if method == "round":
-            vals = [round_half_away(Fraction(100 * c, self.n), decimals) for c in cs]
+            vals = [round_fraction(Fraction(100 * c, self.n), decimals, "half_away") for c in cs]
         else:
             vals = largest_remainder(cs, decimals)
         return {lab: float(v) for lab, v in zip(self.labels, vals)}

@@ -44,13 +44,11 @@ from fractions import Fraction
 from pathlib import Path
 
 from .errors import SurveyInputError
+from .rounding import ROUNDING_RULES, _validate_rule, largest_remainder, round_fraction
 
 __all__ = ["ROUNDING_RULES", "PublishedTable", "CellCheck", "RowCheck", "TableCheck",
            "read_table_csv", "verify_table", "table1_check", "published_dir",
            "round_fraction", "attainable_counts", "nearest_attainable", "load_table1"]
-
-#: Valid values of the ``rule`` argument.
-ROUNDING_RULES = ("half_away", "half_even", "truncate", "ceil")
 
 #: Largest N searched for a single table (guards against accidental huge ranges).
 MAX_N = 1_000_000
@@ -59,52 +57,6 @@ MAX_N = 1_000_000
 def published_dir() -> Path:
     """Folder holding the paper's values as printed (``data/published/``)."""
     return Path(__file__).resolve().parents[1] / "data" / "published"
-
-
-# ---------------------------------------------------------------------------
-# exact rounding
-# ---------------------------------------------------------------------------
-def round_fraction(x: Fraction, decimals: int, rule: str = "half_away") -> Fraction:
-    """Round an exact rational to ``decimals`` places by ``rule``.
-
-    Parameters
-    ----------
-    x : Fraction
-        Value to round (here a percentage ``100 k / N``).
-    decimals : int
-        Places after the decimal point (0 or more).
-    rule : {"half_away", "half_even", "truncate", "ceil"}
-        Tie handling / direction. ``half_away`` rounds halves away from zero.
-
-    Returns
-    -------
-    Fraction
-        The rounded value, exactly.
-    """
-    _validate_rule(rule)
-    scale = 10 ** decimals
-    y = Fraction(x) * scale
-    sign = -1 if y < 0 else 1
-    a = abs(y)
-    if rule == "half_away":
-        m = math.floor(a + Fraction(1, 2))
-    elif rule == "half_even":
-        fl = math.floor(a)
-        rem = a - fl
-        if rem > Fraction(1, 2) or (rem == Fraction(1, 2) and fl % 2 == 1):
-            m = fl + 1
-        else:
-            m = fl
-    elif rule == "truncate":
-        m = math.floor(a)
-    else:  # ceil (towards +infinity; percentages are not negative)
-        return Fraction(math.ceil(y), scale)
-    return Fraction(sign * m, scale)
-
-
-def _validate_rule(rule: str) -> None:
-    if rule not in ROUNDING_RULES:
-        raise ValueError(f"`rule` must be one of {list(ROUNDING_RULES)}, got {rule!r}")
 
 
 def attainable_counts(printed: Fraction, decimals: int, n: int,
@@ -558,14 +510,7 @@ def _explain_adjustment(counts: list[int], printed: list[Fraction], cells: list[
         return (f"consistent with rounding every cell and adding the row's deficit of "
                 f"{_fmt(deficit, max(decs))} to its largest cell, so that the row shows 100")
     if len(set(decs)) == 1 and sum(printed) == 100:
-        d = decs[0]
-        units = 100 * 10 ** d
-        quotas = [Fraction(k * units, n) for k in counts]
-        floors = [q.numerator // q.denominator for q in quotas]
-        order = sorted(range(len(counts)), key=lambda j: (-(quotas[j] - floors[j]), j))
-        for j in order[:units - sum(floors)]:
-            floors[j] += 1
-        if [Fraction(f, 10 ** d) for f in floors] == printed:
+        if largest_remainder(counts, decs[0]) == printed:
             return "consistent with largest-remainder rounding, so that the row shows 100"
     return ""
 

@@ -19,7 +19,8 @@ from hypothesis import strategies as st
 
 from analysis.__main__ import main
 from analysis.ingest import read_survey, survey_from_frame
-from analysis.likert import largest_remainder, round_half_away, summarize
+from analysis.likert import summarize
+from analysis.rounding import largest_remainder, round_fraction
 from analysis.respondents import rebuild_table1_dataset
 from analysis.tables import load_table1, table1_check
 
@@ -66,8 +67,8 @@ def test_summarize_json_shape(rebuilt, capsys):
 
 def test_round_half_away_is_not_bankers():
     # 1/8 = 12.5 %: half away gives 13, Python's round gives 12
-    assert round_half_away(Fraction(100, 8), 0) == 13 and round(12.5) == 12
-    assert round_half_away(Fraction(1, 40) * 100, 0) == 3       # 2.5 -> 3
+    assert round_fraction(Fraction(100, 8), 0) == 13 and round(12.5) == 12
+    assert round_fraction(Fraction(1, 40) * 100, 0) == 3       # 2.5 -> 3
 
 
 @settings(max_examples=50)

@@ -1,0 +1,83 @@
+"""Exact rounding of percentages (shared by table verification and summaries).
+
+All arithmetic is on :class:`fractions.Fraction`, so a value exactly half-way
+between two printed values is recognised as such (binary floats cannot).
+
+- :func:`round_fraction` -- round to ``decimals`` places by a named rule
+  (:data:`ROUNDING_RULES`); ``"half_away"`` (half away from zero) is the
+  project's documented rule for printed percentages.
+- :func:`largest_remainder` -- Hamilton's method: percentages of counts that
+  add up to exactly 100.
+"""
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+
+__all__ = ["ROUNDING_RULES", "round_fraction", "largest_remainder"]
+
+#: Valid values of the ``rule`` argument.
+ROUNDING_RULES = ("half_away", "half_even", "truncate", "ceil")
+
+
+def round_fraction(x: Fraction, decimals: int, rule: str = "half_away") -> Fraction:
+    """Round an exact rational to ``decimals`` places by ``rule``.
+
+    Parameters
+    ----------
+    x : Fraction
+        Value to round (here a percentage ``100 k / N``).
+    decimals : int
+        Places after the decimal point (0 or more).
+    rule : {"half_away", "half_even", "truncate", "ceil"}
+        Tie handling / direction. ``half_away`` rounds halves away from zero.
+
+    Returns
+    -------
+    Fraction
+        The rounded value, exactly.
+    """
+    _validate_rule(rule)
+    scale = 10 ** decimals
+    y = Fraction(x) * scale
+    sign = -1 if y < 0 else 1
+    a = abs(y)
+    if rule == "half_away":
+        m = math.floor(a + Fraction(1, 2))
+    elif rule == "half_even":
+        fl = math.floor(a)
+        rem = a - fl
+        if rem > Fraction(1, 2) or (rem == Fraction(1, 2) and fl % 2 == 1):
+            m = fl + 1
+        else:
+            m = fl
+    elif rule == "truncate":
+        m = math.floor(a)
+    else:  # ceil (towards +infinity; percentages are not negative)
+        return Fraction(math.ceil(y), scale)
+    return Fraction(sign * m, scale)
+
+
+def _validate_rule(rule: str) -> None:
+    if rule not in ROUNDING_RULES:
+        raise ValueError(f"`rule` must be one of {list(ROUNDING_RULES)}, got {rule!r}")
+
+
+
+def largest_remainder(counts: list[int], decimals: int = 1) -> list[Fraction]:
+    """Percentages of ``counts`` that add up to exactly 100 (Hamilton's method).
+
+    Each share ``100 c / n`` is truncated to ``decimals`` places; the units still
+    missing from 100 go one each to the largest remainders (ties: first label).
+    """
+    n = sum(counts)
+    if n == 0:
+        return [Fraction(0)] * len(counts)
+    units = 100 * 10 ** decimals
+    quotas = [Fraction(c * units, n) for c in counts]
+    floors = [math.floor(q) for q in quotas]
+    left = units - sum(floors)
+    order = sorted(range(len(counts)), key=lambda i: (-(quotas[i] - floors[i]), i))
+    for i in order[:left]:
+        floors[i] += 1
+    return [Fraction(f, 10 ** decimals) for f in floors]
