@@ -511,6 +511,12 @@ def _isint(s: str) -> bool:
         return False
 
 
+def name_matches(pattern: str, name: str) -> bool:
+    """A column name matches a name or ``fnmatch`` pattern, ignoring case and outer spaces."""
+    return (normalize_answer(name) == normalize_answer(pattern)
+            or fnmatch.fnmatch(name.strip().casefold(), pattern.strip().casefold()))
+
+
 def _as_list(x) -> list[str]:
     if x is None:
         return []
@@ -530,8 +536,7 @@ def _column_index(raw: _Raw, name: str) -> int:
 def _resolve_reverse(source, names, reverse) -> set:
     out = set()
     for pat in _as_list(reverse):
-        hits = [n for n in names if fnmatch.fnmatch(n.casefold(), pat.casefold())
-                or normalize_answer(n) == normalize_answer(pat)]
+        hits = [n for n in names if name_matches(pat, n)]
         if not hits:
             raise SurveyInputError(f"reverse-keyed item {pat!r} is not an item; items are {names!r}",
                                    source)
@@ -586,9 +591,7 @@ def _choose_items(raw: _Raw, cols, exclude, scale, items, rows):
     if items:
         chosen = []
         for pat in items:
-            hits = [(j, c) for j, c in cols
-                    if normalize_answer(c.name) == normalize_answer(pat)
-                    or fnmatch.fnmatch(c.name.casefold(), pat.strip().casefold())]
+            hits = [(j, c) for j, c in cols if name_matches(pat, c.name)]
             if not hits:
                 raise SurveyInputError(f"no column matches item {pat!r}; columns are "
                                        f"{raw.header!r}", source, 1)
@@ -739,9 +742,7 @@ def _build_long(raw: _Raw, scale, items, unknown, group, reverse, respondents):
     if items:
         wanted = []
         for pat in items:
-            hits = [k for k, nm in enumerate(item_names)
-                    if normalize_answer(nm) == normalize_answer(pat)
-                    or fnmatch.fnmatch(nm.casefold(), pat.strip().casefold())]
+            hits = [k for k, nm in enumerate(item_names) if name_matches(pat, nm)]
             if not hits:
                 raise SurveyInputError(f"no item matches {pat!r}; items are {item_names!r}",
                                        source)

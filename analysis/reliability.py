@@ -29,15 +29,13 @@ reliability coefficient twenty. Psychometrika 30, 357-370.
 """
 from __future__ import annotations
 
-import fnmatch
 from dataclasses import dataclass
 
 import numpy as np
 from scipy import stats
 
 from .errors import SurveyInputError
-from .ingest import SurveyData
-from .scales import normalize_answer
+from .ingest import SurveyData, name_matches
 
 __all__ = ["ReliabilityResult", "cronbach_alpha", "cronbach_alpha_for"]
 
@@ -149,9 +147,7 @@ def cronbach_alpha_for(data: SurveyData, items=None,
     if items:
         idx = []
         for pat in items:
-            hits = [j for j, nm in enumerate(data.items)
-                    if normalize_answer(nm) == normalize_answer(pat)
-                    or fnmatch.fnmatch(nm.casefold(), pat.casefold())]
+            hits = [j for j, nm in enumerate(data.items) if name_matches(pat, nm)]
             if not hits:
                 raise SurveyInputError(f"reliability item {pat!r} is not an item; items are "
                                        f"{data.items!r}", data.source)

@@ -23,7 +23,7 @@ from ._io import atomic_write
 from .chart import diverging_bar, figure_svg
 from .claims import evaluate_claims
 from .ingest import SurveyData
-from .likert import summarize
+from .likert import PERCENT_METHODS, summarize
 
 __all__ = ["render_report", "build_report", "template_environment"]
 
@@ -45,8 +45,8 @@ def _validate_report(data, decimals, percent_method):
         raise TypeError(f"`data` must be SurveyData, got {type(data).__name__}")
     if not isinstance(decimals, int) or not 0 <= decimals <= 4:
         raise ValueError(f"`decimals` must be an integer 0..4, got {decimals!r}")
-    if percent_method not in ("round", "largest_remainder"):
-        raise ValueError("`percent_method` must be one of ['round', 'largest_remainder'], "
+    if percent_method not in PERCENT_METHODS:
+        raise ValueError(f"`percent_method` must be one of {list(PERCENT_METHODS)}, "
                          f"got {percent_method!r}")
 
 
