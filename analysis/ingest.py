@@ -490,7 +490,7 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
     group_idx = [_column_index(raw, g) for g in group_names]
     exclude |= set(group_idx)
     cols = [(j, _Column(c.name, c.cats, c.codes[keep])) for j, c in enumerate(raw.columns)]
-    scale_obj, item_cols = _choose_items(raw, cols, exclude, scale, items, rows)
+    scale_obj, item_cols = _choose_items(raw.source, raw.header, cols, exclude, scale, items)
     answers, unknowns = _match(raw.source, scale_obj, item_cols, rows, unknown)
     names = [c.name for _, c in item_cols]
     groups = {raw.columns[j].name: np.array(raw.columns[j].cats, dtype=object)[
@@ -586,26 +586,32 @@ def _label_item(stats) -> bool:
     return nonblank > 0 and labels > 0 and 2 * (labels + codes) >= nonblank
 
 
-def _choose_items(raw: _Raw, cols, exclude, scale, items, rows):
-    source = raw.source
+def _choose_items(source: str, names: list[str], cols, exclude, scale, items,
+                  long: bool = False):
+    """The scale and the item columns: named by ``items`` patterns, or detected.
+
+    ``cols`` is a list of (index, _Column); ``names`` are the names listed in messages
+    (column headers, or item names of a long file).
+    """
+    what = "item" if long else "column"
     if items:
         chosen = []
         for pat in items:
             hits = [(j, c) for j, c in cols if name_matches(pat, c.name)]
             if not hits:
-                raise SurveyInputError(f"no column matches item {pat!r}; columns are "
-                                       f"{raw.header!r}", source, 1)
+                raise SurveyInputError(f"no {what} matches item {pat!r}; {what}s are {names!r}",
+                                       source, None if long else 1)
             chosen.extend(h for h in hits if h[0] not in {j for j, _ in chosen})
         chosen.sort(key=lambda t: t[0])
         if scale is None:
-            scale_obj = _detect_scale(source, chosen, require_all=True)
+            scale_obj = _detect_scale(source, chosen, require_all=True, long=long)
         else:
             scale_obj = _get_scale(scale, source)
         return scale_obj, chosen
     candidates = [(j, c) for j, c in cols if j not in exclude
-                  and not _ID_LIKE.match(c.name.strip())]
+                  and (long or not _ID_LIKE.match(c.name.strip()))]
     if scale is None:
-        scale_obj = _detect_scale(source, candidates, require_all=False)
+        scale_obj = _detect_scale(source, candidates, require_all=False, long=long)
     else:
         scale_obj = _get_scale(scale, source)
     stats = {j: _column_stats(c, scale_obj) for j, c in candidates}
@@ -615,7 +621,7 @@ def _choose_items(raw: _Raw, cols, exclude, scale, items, rows):
                   if stats[j][0] > 0 and stats[j][2] == stats[j][0]]
     if not chosen:
         raise SurveyInputError(
-            f"no item columns: no column's answers are labels of scale {scale_obj.name!r} "
+            f"no item columns: no {what}'s answers are labels of scale {scale_obj.name!r} "
             f"({scale_obj.describe_valid()}); name the items with --items or the scale "
             f"with --scale", source)
     # a column that holds another scale's labels is a mixed-scale survey
@@ -625,10 +631,12 @@ def _choose_items(raw: _Raw, cols, exclude, scale, items, rows):
             continue
         for other in BUILTIN_SCALES.values():
             if other.name != scale_obj.name and _label_item(_column_stats(c, other)):
+                head = f"item {c.name!r}: " if long else ""
                 raise SurveyInputError(
-                    f"mixed scales: answers are labels of scale {other.name!r}, while "
-                    f"column {chosen[0][1].name!r} uses {scale_obj.name!r}; analyse one "
-                    f"scale at a time with --items and --scale", source, 1, c.name)
+                    f"{head}mixed scales: answers are labels of scale {other.name!r}, while "
+                    f"{what} {chosen[0][1].name!r} uses {scale_obj.name!r}; analyse one "
+                    f"scale at a time with --items and --scale", source,
+                    None if long else 1, None if long else c.name)
     return scale_obj, chosen
 
 
@@ -636,8 +644,9 @@ def _get_scale(scale, source) -> Scale:
     return get_scale(scale)          # ValueError lists the built-in names
 
 
-def _detect_scale(source, cols, require_all: bool) -> Scale:
+def _detect_scale(source, cols, require_all: bool, long: bool = False) -> Scale:
     """The built-in scale whose labels every item-like column uses."""
+    what = "item" if long else "column"
     per_col = []
     for j, c in cols:
         fits = {}
@@ -647,9 +656,9 @@ def _detect_scale(source, cols, require_all: bool) -> Scale:
                 fits[s.name] = st[1] / st[0]
         if not fits and require_all:
             raise SurveyInputError(
-                "answers are not labels of any built-in scale "
-                f"({', '.join(BUILTIN_SCALES)}); give --scale (a name or a .toml file)",
-                source, 1, c.name)
+                f"{'item ' + repr(c.name) + ': ' if long else ''}answers are not labels of any "
+                f"built-in scale ({', '.join(BUILTIN_SCALES)}); give --scale (a name or a "
+                ".toml file)", source, None if long else 1, None if long else c.name)
         if fits:
             per_col.append((c.name, fits))
     if not per_col or not any(f for _, f in per_col):
@@ -665,9 +674,10 @@ def _detect_scale(source, cols, require_all: bool) -> Scale:
         for b in per_col[1:]:
             if not set(a[1]) & set(b[1]):
                 raise SurveyInputError(
-                    f"mixed scales: column {a[0]!r} uses {sorted(a[1]) or 'no known scale'}, "
-                    f"column {b[0]!r} uses {sorted(b[1]) or 'no known scale'}; analyse one "
-                    f"scale at a time with --items and --scale", source, 1, b[0])
+                    f"mixed scales: {what} {a[0]!r} uses {sorted(a[1]) or 'no known scale'}, "
+                    f"{what} {b[0]!r} uses {sorted(b[1]) or 'no known scale'}; analyse one "
+                    f"scale at a time with --items and --scale", source,
+                    None if long else 1, None if long else b[0])
         raise SurveyInputError("mixed scales: no one scale fits every item column", source)
     order = list(BUILTIN_SCALES)
 
@@ -739,42 +749,11 @@ def _build_long(raw: _Raw, scale, items, unknown, group, reverse, respondents):
     item_names = [str(x) for x in item_names]
     nresp, nitem = len(resp_ids), len(item_names)
     # choose items among the item names, by pattern or by detection
-    if items:
-        wanted = []
-        for pat in items:
-            hits = [k for k, nm in enumerate(item_names) if name_matches(pat, nm)]
-            if not hits:
-                raise SurveyInputError(f"no item matches {pat!r}; items are {item_names!r}",
-                                       source)
-            wanted.extend(h for h in hits if h not in wanted)
-        wanted.sort()
-    else:
-        wanted = list(range(nitem))
-    per_item = []
-    for k in wanted:
-        sel = item_code == k
-        per_item.append((k, _Column(item_names[k], ac.cats, ac.codes[sel])))
-    if scale is None:
-        scale_obj = _detect_scale(source, per_item, require_all=False)
-    else:
-        scale_obj = _get_scale(scale, source)
-    if not items:
-        stats = {k: _column_stats(c, scale_obj) for k, c in per_item}
-        keep = [k for k, c in per_item if _label_item(stats[k])]
-        if not keep:
-            keep = [k for k, c in per_item if stats[k][0] > 0 and stats[k][2] == stats[k][0]]
-        if not keep:
-            raise SurveyInputError(f"no item columns: no item's answers are labels of scale "
-                                   f"{scale_obj.name!r} ({scale_obj.describe_valid()})", source)
-        for k, c in per_item:
-            if k in keep:
-                continue
-            for other in BUILTIN_SCALES.values():
-                if other.name != scale_obj.name and _label_item(_column_stats(c, other)):
-                    raise SurveyInputError(
-                        f"mixed scales: item {c.name!r} uses scale {other.name!r}, others use "
-                        f"{scale_obj.name!r}; choose items with --items", source)
-        wanted = keep
+    per_item = [(k, _Column(item_names[k], ac.cats, ac.codes[item_code == k]))
+                for k in range(nitem)]
+    scale_obj, chosen = _choose_items(source, item_names, per_item, set(), scale, items,
+                                      long=True)
+    wanted = [k for k, _ in chosen]
     pos = {k: p for p, k in enumerate(wanted)}
     sel = np.isin(item_code, wanted)
     lut = _lut(scale_obj, ac.cats)
