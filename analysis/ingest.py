@@ -695,27 +695,31 @@ def _lut(scale: Scale, cats: list[str]) -> np.ndarray:
     return lut
 
 
+def _map_column(source, scale, name, cats, codes, rows, unknown):
+    """Scale positions of one column's answers; unknown answers raise or become UNKNOWN."""
+    a = _lut(scale, cats)[codes]
+    unknowns: list[UnknownAnswer] = []
+    bad = a == _NO_MATCH
+    if bad.any():
+        where = np.flatnonzero(bad)
+        if unknown == "error":
+            i = int(where[0])
+            raise SurveyInputError(
+                f"answer {cats[codes[i]]!r} is not on scale {scale.name!r}; valid labels: "
+                f"{scale.describe_valid()} (or use --unknown-as-missing)",
+                source, int(rows[i]), name)
+        unknowns = [UnknownAnswer(int(rows[i]), name, cats[codes[i]]) for i in where]
+        a[bad] = UNKNOWN
+    return a, unknowns
+
+
 def _match(source, scale, item_cols, rows, unknown):
-    n = len(rows)
-    answers = np.empty((n, len(item_cols)), dtype=np.int8)
+    answers = np.empty((len(rows), len(item_cols)), dtype=np.int8)
     unknowns: list[UnknownAnswer] = []
     for k, (_, col) in enumerate(item_cols):
-        lut = _lut(scale, col.cats)
-        a = lut[col.codes]
-        bad = a == _NO_MATCH
-        if bad.any():
-            where = np.flatnonzero(bad)
-            if unknown == "error":
-                i = int(where[0])
-                value = col.cats[col.codes[i]]
-                raise SurveyInputError(
-                    f"answer {value!r} is not on scale {scale.name!r}; valid labels: "
-                    f"{scale.describe_valid()} (or use --unknown-as-missing)",
-                    source, int(rows[i]), col.name)
-            for i in where:
-                unknowns.append(UnknownAnswer(int(rows[i]), col.name, col.cats[col.codes[i]]))
-            a[bad] = UNKNOWN
-        answers[:, k] = a
+        answers[:, k], found = _map_column(source, scale, col.name, col.cats, col.codes, rows,
+                                           unknown)
+        unknowns.extend(found)
     unknowns.sort(key=lambda u: (u.row, u.column))
     return answers, unknowns
 
@@ -734,7 +738,7 @@ def _build_long(raw: _Raw, scale, items, unknown, group, reverse, respondents):
                                    f"header is {raw.header!r}", source, 1)
     rows = raw.first_row + np.arange(raw.nrows)
     rc, ic, ac = raw.columns[ri], raw.columns[ii], raw.columns[ai]
-    rkeys = np.array([normalize_answer(x) for x in rc.cats], dtype=object)
+    rkeys = np.array([x.strip() for x in rc.cats], dtype=object)
     blank_r = rkeys[rc.codes] == ""
     if blank_r.any():
         i = int(np.flatnonzero(blank_r)[0])
@@ -756,8 +760,6 @@ def _build_long(raw: _Raw, scale, items, unknown, group, reverse, respondents):
     wanted = [k for k, _ in chosen]
     pos = {k: p for p, k in enumerate(wanted)}
     sel = np.isin(item_code, wanted)
-    lut = _lut(scale_obj, ac.cats)
-    a = lut[ac.codes[sel]]
     r_sel, i_sel, rows_sel = resp_code[sel], np.array([pos[k] for k in item_code[sel]],
                                                       dtype=np.int64), rows[sel]
     flat = r_sel * len(wanted) + i_sel
@@ -768,20 +770,8 @@ def _build_long(raw: _Raw, scale, items, unknown, group, reverse, respondents):
         raise SurveyInputError(
             f"respondent {resp_ids[r_sel[i]]!r} answers item {item_names[wanted[i_sel[i]]]!r} "
             f"twice", source, int(rows_sel[i]), ac.name)
-    bad = a == _NO_MATCH
-    unknowns: list[UnknownAnswer] = []
-    if bad.any():
-        if unknown == "error":
-            i = int(np.flatnonzero(bad)[0])
-            value = ac.cats[ac.codes[sel][i]]
-            raise SurveyInputError(
-                f"answer {value!r} is not on scale {scale_obj.name!r}; valid labels: "
-                f"{scale_obj.describe_valid()} (or use --unknown-as-missing)",
-                source, int(rows_sel[i]), ac.name)
-        for i in np.flatnonzero(bad):
-            unknowns.append(UnknownAnswer(int(rows_sel[i]), ac.name, ac.cats[ac.codes[sel][i]]))
-        a = a.copy()
-        a[bad] = UNKNOWN
+    a, unknowns = _map_column(source, scale_obj, ac.name, ac.cats, ac.codes[sel], rows_sel,
+                              unknown)
     answers = np.full((nresp, len(wanted)), BLANK, dtype=np.int8)
     answers[r_sel, i_sel] = a
     first_rows = np.full(nresp, np.iinfo(np.int64).max, dtype=np.int64)
