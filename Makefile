@@ -50,10 +50,11 @@ REPORT_INPUTS := $(shell find data -type f 2>/dev/null) \
 $(REPORT_STAMP): $(STAMP) $(REPORT_INPUTS)
 	@mkdir -p $(BUILD)
 	$(PY) -m reports --out $(BUILD)
-	@touch $@
+	@touch $@ && touch $(REPORT_OUTPUTS)
 
+# An output deleted by hand is rebuilt (the outputs are never older than the stamp otherwise).
 $(REPORT_OUTPUTS): $(REPORT_STAMP)
-	@test -f $@ || { rm -f $(REPORT_STAMP); echo "$@ missing: run make report again"; exit 1; }
+	@test -f $@ || { rm -f $(REPORT_STAMP) && $(MAKE) --no-print-directory $(REPORT_STAMP); }
 
 ## report: build the verification report and the reproducible paper into reports/build/
 .PHONY: report

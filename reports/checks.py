@@ -566,7 +566,13 @@ def survey_checks(dataset_path: Path) -> tuple[list[Check], SurveyResults]:
     """
     from analysis.claims import evaluate_claims
     from analysis.ingest import read_survey
-    from analysis.likert import largest_remainder, round_half_away, summarize
+    from analysis.likert import summarize
+
+    try:
+        from analysis.rounding import largest_remainder, round_fraction
+    except ImportError:  # older layout of the analysis package
+        from analysis.likert import largest_remainder
+        from analysis.likert import round_half_away as round_fraction
     from analysis.respondents import rebuild_table1_dataset
     from analysis.tables import load_table1, published_dir, table1_check, verify_table
 
@@ -583,7 +589,7 @@ def survey_checks(dataset_path: Path) -> tuple[list[Check], SurveyResults]:
         item_no = index + 1
         item = summary.items[index]
         exact_row = [Fraction(item.counts[label] * 100, item.n) for label in check.labels]
-        rounded = [float(round_half_away(x, facts.decimals)) for x in exact_row]
+        rounded = [float(round_fraction(x, facts.decimals)) for x in exact_row]
         lr_row = [float(x) for x in largest_remainder([item.counts[label] for label in check.labels], facts.decimals)]
         lr[row.item] = lr_row
         printed_row = [c.published for c in row.cells]
