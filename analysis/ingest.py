@@ -134,6 +134,9 @@ class SurveyData:
     dropped : list of DroppedRow
     reverse : set of str
         Reverse-keyed items (affects codes, not counts).
+    other_columns : list of str
+        Columns read but not taken as items (metadata, ids, free text), so that a
+        column left out is never left out silently.
     """
 
     source: str
@@ -147,6 +150,7 @@ class SurveyData:
     unknown_answers: list[UnknownAnswer] = field(default_factory=list)
     dropped: list[DroppedRow] = field(default_factory=list)
     reverse: set = field(default_factory=set)
+    other_columns: list = field(default_factory=list)
 
     @property
     def respondents(self) -> int:
@@ -257,6 +261,13 @@ def _read_csv_raw(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]:
         raise SurveyInputError(f"cannot read: {e.strerror}", source) from None
     if raw.startswith(b"\xef\xbb\xbf"):
         raw = raw[3:]
+    elif raw[:2] in (b"\xff\xfe", b"\xfe\xff"):       # UTF-16 with BOM (Excel "Unicode text")
+        try:
+            raw = raw.decode("utf-16").encode("utf-8")
+        except UnicodeDecodeError as e:
+            raise SurveyInputError(f"starts like UTF-16 but byte offset {e.start} cannot be "
+                                   f"decoded", source) from None
+        encoding = "utf-8"
     if not raw.strip():
         raise SurveyInputError("empty file", source)
     try:
@@ -499,7 +510,9 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
                       item_texts=[texts.get(n, n) for n in names], answers=answers,
                       rows=np.asarray(rows, dtype=np.int64), groups=groups,
                       unknown_answers=unknowns, dropped=dropped,
-                      reverse=_resolve_reverse(raw.source, names, reverse))
+                      reverse=_resolve_reverse(raw.source, names, reverse),
+                      other_columns=[c.name for j, c in enumerate(raw.columns)
+                                     if j not in {i for i, _ in item_cols}])
     return _declare(data, respondents)
 
 
@@ -787,5 +800,6 @@ def _build_long(raw: _Raw, scale, items, unknown, group, reverse, respondents):
     data = SurveyData(source=source, shape="long", scale=scale_obj, items=names,
                       item_texts=list(names), answers=answers, rows=first_rows,
                       groups=groups, unknown_answers=unknowns,
-                      reverse=_resolve_reverse(source, names, reverse))
+                      reverse=_resolve_reverse(source, names, reverse),
+                      other_columns=[item_names[k] for k in range(nitem) if k not in wanted])
     return _declare(data, respondents)

@@ -269,6 +269,7 @@ class SurveySummary:
     dropped: list = field(default_factory=list)
     ci_method: str = "wilson"
     confidence_level: float = 0.95
+    other_columns: list = field(default_factory=list)
 
     def item(self, name: "str | int") -> ItemSummary:
         """An item by header (any case) or 1-based position."""
@@ -290,7 +291,8 @@ class SurveySummary:
                 "confidence_level": self.confidence_level,
                 "items": [i.to_full_dict() for i in self.items],
                 "unknown_answers": [vars(u) for u in self.unknown_answers],
-                "dropped": [vars(d) for d in self.dropped]}
+                "dropped": [vars(d) for d in self.dropped],
+                "other_columns": list(self.other_columns)}
 
     def format_text(self, decimals: int = 1, method: str = "round") -> str:
         """Plain-text Table 1 with n, missing and the agreement interval."""
@@ -311,6 +313,8 @@ class SurveySummary:
                        f"{it.excluded:>5}  {agree}")
         for d in self.dropped:
             out.append(f"dropped row {d.row}: {d.reason}")
+        if self.other_columns:
+            out.append("not items (left out of the table): " + ", ".join(self.other_columns))
         return "\n".join(out)
 
 
@@ -376,7 +380,8 @@ def summarize(data: SurveyData, confidence_level: float = 0.95,
     return SurveySummary(respondents=data.respondents, items=out, scale=scale,
                          source=data.source, shape=data.shape,
                          unknown_answers=list(data.unknown_answers), dropped=list(data.dropped),
-                         ci_method=method, confidence_level=confidence_level)
+                         ci_method=method, confidence_level=confidence_level,
+                         other_columns=list(data.other_columns))
 
 
 def summarize_dataframe(df, scale=None, items=None, shape: str = "auto",
