@@ -7,7 +7,7 @@ HTML report shows beside it (units, tolerance, MathML).
 Tolerances (documented once, applied everywhere)
 ------------------------------------------------
 * A printed number is taken to be correctly rounded: it stands for every value
-  within half a unit of its last printed digit (``"22.53"`` -> +/- 0.005).
+  within half a unit of its last printed digit (``"12.34"`` -> +/- 0.005).
   Numbers the paper marks as exact (problem data, m_b g = 50 lbf) get a relative
   tolerance of 2e-5: they are exact in the paper's arithmetic, while the scene
   enters pound-mass through pint with the printed g (5 significant figures).
@@ -56,9 +56,10 @@ VERDICTS = ("agrees", "disagrees", "not-checkable")
 KINDS = ("value", "unit", "equation", "table-cell", "claim")
 _EXACT_RTOL = 2e-5
 """Relative tolerance for numbers the paper states as exact. They are exact in the paper's own
-arithmetic (m_b = 50/32.174 slug, so m_b g = 50 lbf), while the scene enters pound-mass through pint
-(1 lbm = 1 lbf / 32.17405 ft/s^2) with the printed g = 32.174 ft/s^2: the two differ by the printed
-precision of g, half a unit in its last digit relative, 0.0005/32.174 = 1.6e-5."""
+arithmetic (m_b in slug is the mass in lbm divided by the printed g, so m_b g is the weight in lbf
+exactly), while the scene enters pound-mass through pint (standard gravity to full precision) with the
+printed g (5 significant figures): the two differ by up to half a unit in the last digit of g,
+relative 0.0005 / 32 ~ 1.6e-5."""
 
 
 @dataclass
@@ -121,7 +122,7 @@ def not_checkable(id_: str, kind: str, published, reason: str, label: str = "", 
 
 # --------------------------------------------------------------------------- numbers
 def half_unit(printed: str) -> float:
-    """Half a unit in the last printed digit of ``printed`` ("22.53" -> 0.005)."""
+    """Half a unit in the last printed digit of ``printed`` ("12.34" -> 0.005)."""
     text = printed.strip().lstrip("+-")
     if not re.fullmatch(r"\d+(\.\d*)?", text):
         raise ValueError(f"`printed` must be a plain decimal number, got {printed!r}")
@@ -313,7 +314,7 @@ def example1_value_checks(values_path: Path, eqset: EquationSet, scene, deriv, s
     # ---- Eq. 29: the exact coefficients of the printed (and symbolically checked) equations
     system_key = next(iter(eqset.systems), None)
     system, coefficients, state = _system_values(eqset, system_key, scene, deriv) if system_key else ({}, {}, {})
-    # Problem data the paper printed rounded and then computed with (m_b = 1.554 slug): their
+    # Problem data the paper printed rounded and then computed with (m_b in slug): their
     # rounding propagates into Eq. 29 (first order, in units).
     rounded_data = {}
     for key, entry in published.items():
@@ -392,6 +393,11 @@ def example1_value_checks(values_path: Path, eqset: EquationSet, scene, deriv, s
                     computed_unit=_unit_label(unit) if unit is not None else "",
                     tolerance=f"±{tol:.2g}",
                     explanation="" if ok else "The printed coefficient is not the rounded value of the exact one.",
+                    caveat="" if within_half or not ok else (
+                        f"The exact value {magnitude:.{_digits(printed, 2)}f} does not round to the printed "
+                        f"{printed}; the paper evidently computed with its rounded intermediate data "
+                        f"({', '.join(data_used)}), which explains the last digit."
+                    ),
                 )
             )
 
@@ -450,6 +456,11 @@ def example1_value_checks(values_path: Path, eqset: EquationSet, scene, deriv, s
                 computed_unit=_unit_label(compare_unit),
                 tolerance=f"±{tol:.2g}",
                 explanation="" if ok else "The printed result is not explained by rounding.",
+                caveat="" if within_half or not ok else (
+                    f"The exact value {magnitude:.{_digits(entry['printed'], 2)}f} does not round to the printed "
+                    f"{entry['printed']}; the difference is within what the paper's 4-significant-figure "
+                    "rounding of the Eq. 29 coefficients and of the intermediate results explains."
+                ),
             )
         )
         if entry["unit"]:

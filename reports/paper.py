@@ -44,7 +44,7 @@ def inline(expr) -> dict:
 
 
 def quantity_text(q, digits: int = 4) -> str:
-    """``"2.297 rad/s²"``-style text of a pint quantity (significant figures)."""
+    """``"1.234 rad/s²"``-style text of a pint quantity (significant figures)."""
     return f"{q.magnitude:.{digits}g} {q.units:~P}".strip()
 
 

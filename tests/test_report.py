@@ -8,9 +8,8 @@ recorded in /work/notes/example_scenes.md:
   Eq. 43, so the correct equation of motion ends in "= +F_a r_d"; the printed
   forms therefore differ from the derivation by exactly 2 F_a r_d.
 * Eq. 30 prints alpha's unit as rad/s: an angular acceleration is rad/s^2.
-* Table 1 cells 59.2, 63.7 and 54.6 (Definitely Agree, items 2-4) cannot come
-  from any count out of N = 22 at one decimal (13/22 = 59.09%, 14/22 = 63.64%,
-  12/22 = 54.55%).
+* Table 1's Definitely Agree cells of items 2-4 cannot come from any count out
+  of N = 22 at one decimal (13/22, 14/22 and 12/22 print one tenth lower).
 * Everything else printed in the two examples holds.
 """
 from __future__ import annotations
@@ -187,8 +186,8 @@ def test_a_changed_published_value_disagrees(equations, tmp_path):
 
 
 def test_half_unit_follows_printed_digits():
-    assert half_unit("22.53") == pytest.approx(0.005)
-    assert half_unit("0.05080") == pytest.approx(0.000005)
+    assert half_unit("12.34") == pytest.approx(0.005)
+    assert half_unit("0.04560") == pytest.approx(0.000005)
     assert half_unit("50") == pytest.approx(0.5)
     with pytest.raises(ValueError, match="plain decimal"):
         half_unit("1e3")
