@@ -228,3 +228,11 @@ def test_shipped_custom_scale_and_semicolons(tmp_path):
     assert (it.n, it.missing, it.excluded) == (2, 1, 1)
     assert it.counts["Very confident"] == it.counts["Not at all confident"] == 1
     assert it.agree.share == 0.5
+
+
+def test_utf16_tab_export_and_other_columns_listed(tmp_path):
+    f = tmp_path / "excel_unicode.txt"
+    f.write_bytes("id\tq1\tcomment\n1\tNeutral\tfine\n2\tDefinitely Agree\t\n".encode("utf-16"))
+    data = read_survey(f)
+    assert data.items == ["q1"] and data.other_columns == ["id", "comment"]
+    assert summarize(data).items[0].n == 2
