@@ -2,7 +2,7 @@
 
 Commands
 --------
-``summarize FILE [--scale NAME|FILE] [--items ...] [--group COLUMN] [--json]``
+``summarize FILE [--scale NAME|FILE] [--items ...] [--group COLUMN] [--chart OUT.svg] [--json]``
     Table 1 for a survey export; ``--json`` prints
     ``{"respondents": int, "items": [{"item", "n", "missing", "excluded", "counts",
     "percent", "agree": {"share", "ci"}}]}`` (shares 0-1, percents 0-100). With
@@ -74,6 +74,9 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--decimals", type=int, default=1, help="printed decimals (text output)")
     s.add_argument("--percent-method", choices=("round", "largest_remainder"), default="round",
                    help="printed percentages: round each (default) or make rows sum to 100")
+    s.add_argument("--chart", metavar="OUT.svg", help="also write the diverging bar chart (SVG)")
+    s.add_argument("--order", choices=("questionnaire", "agree"), default="questionnaire",
+                   help="item order in the chart (default: as asked)")
     s.add_argument("--json", action="store_true", help="print JSON")
 
     c = sub.add_parser("claims", help="evaluate claims (TOML) against a survey")
@@ -135,6 +138,10 @@ def _cmd_summarize(args) -> int:
         from .reliability import cronbach_alpha_for
         extra["reliability"] = cronbach_alpha_for(data, args.reliability or None,
                                                   confidence_level=args.confidence)
+    if args.chart:
+        from ._io import atomic_write
+        from .chart import diverging_bar, figure_svg
+        atomic_write(args.chart, figure_svg(diverging_bar(summary, order=args.order)))
     if args.json:
         out = summary.to_dict()
         out.update({k: v.to_dict() for k, v in extra.items()})

@@ -60,6 +60,9 @@ def test_report_cli_end_to_end(tmp_path):
     assert main(["report", str(data), "-o", str(out), "--claims",
                  str(ROOT / "data/published/claims.toml")]) == 0
     html = out.read_text()
+    svg = tmp_path / "chart.svg"
+    assert main(["summarize", str(data), "--chart", str(svg)]) == 0
+    assert svg.read_text().startswith("<svg")
     facts = load_survey_facts()
     assert "<svg" in html and "holds for this sample only" in html
     assert f"{facts.respondents} respondents" in html
