@@ -16,6 +16,8 @@ from __future__ import annotations
 
 import argparse
 import math
+import signal
+import threading
 
 import sympy as sp
 
@@ -164,13 +166,44 @@ def eom_command(args: argparse.Namespace) -> int:
     return 0
 
 
+DISPLAY_BUDGET_S = 4.0
+"""Most CPU time spent tidying one expression for display [s]."""
+DISPLAY_MAX_OPS = 200
+"""Expressions larger than this are printed as derived (cancel gets slow)."""
+
+
+class _OutOfTime(Exception):
+    pass
+
+
 def _display_form(expr: sp.Expr) -> sp.Expr:
-    """A readable equivalent of ``expr`` for printing (never used to compute)."""
+    """A readable equivalent of ``expr`` for printing (never used to compute).
+
+    ``sympy.cancel`` removes common factors (and with them removable 0/0
+    points such as a sin(theta) above and below). It can be slow, so it is
+    tried only on moderate expressions and within :data:`DISPLAY_BUDGET_S`
+    of CPU time (on the main thread of a POSIX system); otherwise the
+    derived form is printed unchanged.
+    """
+    ops = sp.count_ops(expr)
+    if ops > DISPLAY_MAX_OPS:
+        return expr
+    timed = hasattr(signal, "SIGPROF") and threading.current_thread() is threading.main_thread()
+    if timed:
+        def _alarm(signum, frame):
+            raise _OutOfTime
+
+        previous = signal.signal(signal.SIGPROF, _alarm)
+        signal.setitimer(signal.ITIMER_PROF, DISPLAY_BUDGET_S)
     try:
         tidy = sp.cancel(expr)
-    except (sp.PolynomialError, ValueError, TypeError):  # pragma: no cover - cancel declines
+    except (_OutOfTime, sp.PolynomialError, ValueError, TypeError):
         return expr
-    return tidy if sp.count_ops(tidy) <= sp.count_ops(expr) else expr
+    finally:
+        if timed:
+            signal.setitimer(signal.ITIMER_PROF, 0)
+            signal.signal(signal.SIGPROF, previous)
+    return tidy if sp.count_ops(tidy) <= ops else expr
 
 
 def _latex_names(scene: Scene) -> dict[sp.Symbol, str]:
