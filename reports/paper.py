@@ -52,6 +52,17 @@ def _tidy(expr: sp.Expr) -> sp.Expr:
     return sp.trigsimp(sp.simplify(expr))
 
 
+def _grouped(expr: sp.Expr, keys) -> sp.Expr:
+    """Display form: collected by ``keys`` (unknowns, rates), each coefficient factored."""
+    terms = sp.collect(sp.expand(sp.expand_trig(expr)), list(keys), evaluate=False)
+
+    def best(coefficient):
+        options = [sp.factor(sp.trigsimp(coefficient)), sp.simplify(coefficient)]
+        return min(options, key=sp.count_ops)
+
+    return sp.Add(*[best(coefficient) * key for key, coefficient in terms.items()])
+
+
 def method_equations() -> dict[str, Shown]:
     """Eq. 10 (single body) and Eq. 11 (composite body) in planar scalar form, derived by sympy.
 
@@ -111,13 +122,15 @@ def example_steps(scene, deriv, at_rest: bool) -> dict:
     steps["alpha"] = inline(deriv.alpha)
     steps["inertia"] = inline(_tidy(deriv.inertia_about(deriv.point)))
     # the equations written by the solver (Newton components, Euler about P)
+    symbols = [sp.Symbol(r, real=True) for r in scene.reaction_names()]
+    keys = [*symbols, qdd, qd**2]
     equations = []
     for eq in deriv.equations:
-        equations.append(shown(_tidy(eq.expr.subs(rest)), sp.Integer(0), eq.name, eq.ref))
+        equations.append(shown(_grouped(eq.expr.subs(rest), keys), sp.Integer(0), eq.name, eq.ref))
     steps["equations"] = equations
     # equation of motion: M qdd + ... = Q
     Q = deriv.generalized_force
-    lhs = sp.collect(sp.expand(_tidy(deriv.eom.subs(rest) + Q.subs(rest))), qdd)
+    lhs = _grouped(deriv.eom.subs(rest) + Q.subs(rest), [qdd, qd**2])
     steps["eom"] = shown(lhs, _tidy(Q.subs(rest)), "Equation of motion", "")
     steps["mass"] = inline(_tidy(deriv.mass))
     # closed-form theta_ddot and alpha (at rest for Example 1)
@@ -128,7 +141,6 @@ def example_steps(scene, deriv, at_rest: bool) -> dict:
     # reactions from the Newton components, theta_ddot left symbolic (cf. Eqs. 24-25, 39-40)
     reactions = []
     newton = [e for e in deriv.equations if "Newton" in e.name]
-    symbols = [sp.Symbol(r, real=True) for r in scene.reaction_names()]
     try:
         solved = sp.solve([e.expr.subs(rest) for e in newton], symbols, dict=True)
     except NotImplementedError:  # pragma: no cover - linear systems always solve
@@ -136,7 +148,7 @@ def example_steps(scene, deriv, at_rest: bool) -> dict:
     if solved:
         for s in symbols:
             if s in solved[0]:
-                reactions.append(shown(s, _tidy(solved[0][s]), f"Reaction {s}", ""))
+                reactions.append(shown(s, _grouped(solved[0][s], [qdd, qd**2]), f"Reaction {s}", ""))
     steps["reactions"] = reactions
     return steps
 
