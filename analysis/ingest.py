@@ -137,6 +137,8 @@ class SurveyData:
     other_columns : list of str
         Columns read but not taken as items (metadata, ids, free text), so that a
         column left out is never left out silently.
+    comments : list of str
+        Leading ``#`` comment lines of a CSV file (without the ``#``).
     """
 
     source: str
@@ -151,6 +153,7 @@ class SurveyData:
     dropped: list[DroppedRow] = field(default_factory=list)
     reverse: set = field(default_factory=set)
     other_columns: list = field(default_factory=list)
+    comments: list = field(default_factory=list)
 
     @property
     def respondents(self) -> int:
@@ -204,7 +207,7 @@ class _Raw:
     columns: list[_Column]
     first_row: int           # spreadsheet row of the first data record
     nrows: int
-    extra_header: list[list[str]] = field(default_factory=list)   # Qualtrics rows 2-3
+    comments: list[str] = field(default_factory=list)             # leading '#' lines
 
 
 def _frame_to_columns(df: pd.DataFrame) -> list[_Column]:
@@ -313,7 +316,9 @@ def _read_csv_raw(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]:
         raise SurveyInputError(f"not a well-formed CSV ({str(e).strip().splitlines()[-1]})",
                                source, row) from None
     header = [str(c) for c in df.columns]
-    return _Raw(source, header, _frame_to_columns(df), skip + 2, len(df)), peek
+    comments = [ln.decode(encoding, errors="replace").lstrip("#").strip()
+                for ln in raw[:pos].splitlines()]
+    return _Raw(source, header, _frame_to_columns(df), skip + 2, len(df), comments), peek
 
 
 def _read_xlsx_raw(path: Path) -> tuple[_Raw, list[list[str]]]:
@@ -512,7 +517,8 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
                       unknown_answers=unknowns, dropped=dropped,
                       reverse=_resolve_reverse(raw.source, names, reverse),
                       other_columns=[c.name for j, c in enumerate(raw.columns)
-                                     if j not in {i for i, _ in item_cols}])
+                                     if j not in {i for i, _ in item_cols}],
+                      comments=list(raw.comments))
     return _declare(data, respondents)
 
 
@@ -801,5 +807,6 @@ def _build_long(raw: _Raw, scale, items, unknown, group, reverse, respondents):
                       item_texts=list(names), answers=answers, rows=first_rows,
                       groups=groups, unknown_answers=unknowns,
                       reverse=_resolve_reverse(source, names, reverse),
-                      other_columns=[item_names[k] for k in range(nitem) if k not in wanted])
+                      other_columns=[item_names[k] for k in range(nitem) if k not in wanted],
+                      comments=list(raw.comments))
     return _declare(data, respondents)

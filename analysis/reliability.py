@@ -36,6 +36,7 @@ from scipy import stats
 
 from .errors import SurveyInputError
 from .ingest import SurveyData, name_matches
+from .respondents import PAIRING_UNKNOWN
 
 __all__ = ["ReliabilityResult", "cronbach_alpha", "cronbach_alpha_for"]
 
@@ -162,5 +163,8 @@ def cronbach_alpha_for(data: SurveyData, items=None,
         codes = np.array(data.scale.reversed_codes() if rev else data.scale.codes, dtype=float)
         a = data.answers[:, j]
         cols.append(np.where(a >= 0, codes[np.clip(a, 0, None)], np.nan))
-    return cronbach_alpha(np.column_stack(cols), confidence_level,
-                          [data.items[j] for j in idx])
+    res = cronbach_alpha(np.column_stack(cols), confidence_level, [data.items[j] for j in idx])
+    if any(PAIRING_UNKNOWN in c for c in data.comments):
+        res.note = ("the file was rebuilt from per-item marginals: alpha describes an "
+                    "arbitrary pairing of answers, not the respondents")
+    return res

@@ -24,6 +24,7 @@ from .chart import diverging_bar, figure_svg
 from .claims import evaluate_claims
 from .ingest import SurveyData
 from .likert import PERCENT_METHODS, summarize
+from .respondents import PAIRING_UNKNOWN
 
 __all__ = ["render_report", "build_report", "template_environment"]
 
@@ -72,7 +73,8 @@ def render_report(data: SurveyData, claims=None, group: str | None = None, min_g
         Printed decimals of percentages.
     percent_method : {"round", "largest_remainder"}
     reliability : bool
-        Add Cronbach's alpha of all items (when there are two or more).
+        Add Cronbach's alpha of all items (when there are two or more), unless the
+        file says it was rebuilt from marginals (pairing of answers unknown).
 
     Returns
     -------
@@ -87,7 +89,8 @@ def render_report(data: SurveyData, claims=None, group: str | None = None, min_g
         from .groups import compare_groups
         groups = compare_groups(data, group, min_group)
     rel = None
-    if reliability and len(data.items) >= 2:
+    pairing_unknown = any(PAIRING_UNKNOWN in c for c in data.comments)
+    if reliability and len(data.items) >= 2 and not pairing_unknown:
         from .reliability import cronbach_alpha_for
         rel = cronbach_alpha_for(data, None, confidence_level)
     rounding = ("half away from zero to %d decimal(s)" % decimals if percent_method == "round"
@@ -98,7 +101,8 @@ def render_report(data: SurveyData, claims=None, group: str | None = None, min_g
         printed=[it.printed_percent(decimals, percent_method) for it in s.items],
         decimals=decimals, rounding_note=rounding,
         ci_name={"wilson": "Wilson", "beta": "Clopper-Pearson"}[method],
-        fmt=_fmt, svg=Markup(svg), claims=claims_rep, groups=groups, reliability=rel)
+        fmt=_fmt, svg=Markup(svg), claims=claims_rep, groups=groups, reliability=rel,
+        comments=data.comments, pairing_unknown=pairing_unknown)
 
 
 def build_report(data: SurveyData, out_path: "str | Path", **kwargs) -> Path:

@@ -65,6 +65,7 @@ def test_report_cli_end_to_end(tmp_path):
     assert svg.read_text().startswith("<svg")
     facts = load_survey_facts()
     assert "<svg" in html and "holds for this sample only" in html
+    assert "Not computed" in html          # no alpha on data whose pairing is unknown
     assert f"{facts.respondents} respondents" in html
     assert 'src="http' not in html and "<link" not in html        # self-contained
 
