@@ -24,6 +24,7 @@ Accepted
 from __future__ import annotations
 
 import ast
+import math
 from collections.abc import Callable, Mapping
 from fractions import Fraction
 
@@ -172,15 +173,21 @@ def _validate_parse_expression(text: object, names: Mapping[str, sp.Symbol], whe
 
 
 def _too_large_power(base: sp.Expr, exponent: sp.Expr) -> bool:
-    """True when ``base**exponent`` of two numbers would have more than
-    :data:`MAX_DIGITS` digits (sympy evaluates integer powers eagerly)."""
-    if not (base.is_number and exponent.is_number):
+    """True when ``base**exponent`` would make sympy compute an exact rational
+    with more than :data:`MAX_DIGITS` digits.
+
+    sympy evaluates powers of rationals eagerly (also the rational factor of
+    a product, ``(9*x)**2 = 81*x**2``); symbolic factors such as ``exp(230)``
+    stay unevaluated and cost nothing.
+    """
+    if not exponent.is_Rational:
         return False
-    try:
-        size = abs(complex(exponent.evalf(15))) * float(sp.log(abs(base) + 1, 10).evalf(15))
-    except (TypeError, ValueError, OverflowError):
-        return True
-    return not size <= MAX_DIGITS
+    coefficient = base.as_coeff_Mul()[0] if base.is_Mul else base
+    if not coefficient.is_Rational:
+        return False
+    p, q = abs(int(coefficient.p)), int(coefficient.q)
+    digits = max(math.log10(p) if p else 0.0, math.log10(q))
+    return abs(float(exponent)) * digits > MAX_DIGITS
 
 
 class _Builder:
