@@ -115,7 +115,7 @@ class PreciseSolution:
         out = {
             "precision": self.precision,
             "dps": self.dps,
-            "unknowns": {n: {"value": float(sp.N(v, 17)) if self.precision == "exact" else float(v),
+            "unknowns": {n: {"value": float(self.text[n]),
                              "text": self.text[n], "unit": self.units.get(n, "")}
                          for n, v in self.unknowns.items()},
             "condition_number": self.condition_number,
@@ -200,18 +200,19 @@ def solve_precise(derivation: Any, precision: str = "float64", dps: int = 50,
         return PreciseSolution("float64", 16, fl, text, cond, {n: 0.0 for n in fl}, units)
 
     if precision == "exact":
-        Ae = A.xreplace(subs)
-        be = b.xreplace(subs)
-        if Ae.det() == 0:
-            raise SingularConfigurationError(
-                f"{scene.source or scene.name}: singular configuration at {d.q} = {q_ex}: det(A) = 0 exactly"
-            )
-        x = Ae.LUsolve(be)
-        vals = {n: sp.radsimp(x[i]) for i, n in enumerate(names)}
-        vals["alpha"] = sp.expand(alpha_expr.xreplace({d.q: q_ex, d.qd: qd_ex, d.qdd: vals[names[0]]}))
-        text = {n: sp.N(v, dps).__str__() for n, v in vals.items()}
-        err = {n: _relerr(fl[n], sp.N(v, dps + 5)) for n, v in vals.items()}
-        exact_form = {n: str(v) for n, v in vals.items()}
+        # rational values are substituted; irrational ones (angles: multiples of pi) stay symbols
+        # until the end, so that sympy never expands e.g. sin(41 pi/120) into nested radicals
+        rational = {k: v for k, v in subs.items() if sp.sympify(v).is_Rational}
+        kept = {k: v for k, v in subs.items() if k not in rational}
+        where = f"{scene.source or scene.name}: singular configuration at {d.q} = {q_ex}"
+        x = _exact_solve(A.xreplace(rational), b.xreplace(rational), kept, where)
+        sym = {n: x[i] for i, n in enumerate(names)}
+        sym["alpha"] = alpha_expr.xreplace(rational).xreplace({d.qdd: sym[names[0]]})
+        vals = {n: _exact_value(v, kept) for n, v in sym.items()}
+        text = {n: str(_evalf(v, kept, dps)) for n, v in sym.items()}
+        err = {n: _relerr(fl[n], _evalf(v, kept, dps + 5)) for n, v in sym.items()}
+        at = ", ".join(f"{k} = {v}" for k, v in kept.items())
+        exact_form = {n: str(v) + (f"   at {at}" if at else "") for n, v in sym.items()}
         return PreciseSolution("exact", dps, vals, text, cond, err, units, exact_form)
 
     # mpmath ----------------------------------------------------------------
@@ -235,6 +236,54 @@ def solve_precise(derivation: Any, precision: str = "float64", dps: int = 50,
         text = {n: mpmath.nstr(v, dps) for n, v in vals.items()}
         err = {n: _relerr(fl[n], v) for n, v in vals.items()}
     return PreciseSolution("mpmath", dps, vals, text, cond, err, units)
+
+
+def _evalf(expr: sp.Expr, kept: Mapping, dps: int) -> sp.Float:
+    """expr at the kept symbols' exact values, to ``dps`` digits (numeric substitution, no expansion)."""
+    return sp.sympify(expr).evalf(dps, subs={k: sp.N(v, dps + 15) for k, v in kept.items()})
+
+
+def _exact_value(expr: sp.Expr, kept: Mapping) -> sp.Expr:
+    """expr with the kept symbols replaced by their exact values (sympy evaluates what it can)."""
+    return sp.sympify(expr).xreplace(dict(kept))
+
+
+def _exact_solve(A: sp.Matrix, b: sp.Matrix, kept: Mapping, where: str) -> sp.Matrix:
+    """Solve A x = b exactly; A and b hold rationals and the ``kept`` symbols (exact angles).
+
+    Every function of the kept symbols (sin(theta), cos(beta - theta), ...) is
+    replaced by a fresh symbol, and the system is solved over the field of
+    rational functions in those symbols and the kept symbols (sympy
+    DomainMatrix: fraction-free, exact, fast). By Cramer's rule the solution
+    is det(A_i) / det(A), a polynomial identity in the atoms, so putting the
+    atoms back is exact whenever det(A) != 0 at the actual values, which is
+    checked to 50 digits.
+    """
+    from sympy.polys.matrices import DomainMatrix
+
+    exprs = [sp.sympify(e) for e in list(A) + list(b)]
+    atoms: set = set()
+    for e in exprs:
+        atoms |= {a for a in e.atoms(sp.Function) if a.free_symbols}
+        atoms |= {a for a in e.atoms(sp.Pow) if a.free_symbols and not a.exp.is_Integer}
+    ordered = sorted(atoms, key=lambda a: -sp.count_ops(a))
+    syms = sp.symbols(f"_atom0:{len(ordered)}")
+    rep = dict(zip(ordered, syms))
+    back = dict(zip(syms, ordered))
+    As, bs = A.xreplace(rep), b.xreplace(rep)
+    gens = tuple(syms) + tuple(sorted((As.free_symbols | bs.free_symbols) - set(syms), key=str))
+    stray = [g for g in gens if g not in syms and g not in kept]
+    if stray or As.atoms(sp.Function) or bs.atoms(sp.Function):
+        raise InputError(f"{where}: cannot solve exactly (left-over {stray or As.atoms(sp.Function)})")
+    dom = sp.QQ.frac_field(*gens) if gens else sp.QQ
+    dA = DomainMatrix.from_Matrix(As).convert_to(dom)
+    db = DomainMatrix.from_Matrix(bs).convert_to(dom)
+    det = dom.to_sympy(dA.det()).xreplace(back)
+    if det == 0 or _evalf(det, kept, 50) == 0 or abs(_evalf(det, kept, 50)) < sp.Float(10) ** -40 * max(
+            sp.Float(1), *[abs(_evalf(e.xreplace(back), kept, 5)) for e in list(As)]) ** A.rows:
+        raise SingularConfigurationError(f"{where}: the linear system is exactly singular (det A = 0)")
+    x = dA.lu_solve(db).to_Matrix()
+    return x.xreplace(back)
 
 
 def _relerr(approx: float, ref) -> float:

@@ -1,0 +1,113 @@
+"""The instantaneous solve in float64, exact and mpmath arithmetic (solver.precision).
+
+Independent references:
+* exact SI values of the units by their definitions: 1 lb = 0.45359237 kg,
+  1 ft = 0.3048 m (exact), 1 deg = pi/180;
+* Example 1: the 3x3 system of the paper's Eqs. 24, 25 and 28 typed here and
+  solved by sympy with exact parameters (no code shared with the Derivation);
+* the paper's printed alpha (Eq. 30), read from data/published/example1.toml;
+* the float64 error bound cond(A) * eps.
+"""
+from __future__ import annotations
+
+import json
+import tomllib
+from functools import lru_cache
+from pathlib import Path
+
+import mpmath
+import pytest
+import sympy as sp
+
+from solver.precision import exact_quantity, solve_precise
+from solver.units import Q_
+
+BAR = "data/scenes/sliding_bar.toml"
+PUBLISHED = Path("data/published/example1.toml")
+
+
+@lru_cache(maxsize=None)
+def derivation(**overrides):
+    from solver.derivation import derive
+    from solver.scenefile import load_scene
+
+    return derive(load_scene(BAR, dict(overrides)))
+
+
+def paper_eqs_exact(theta, beta):
+    """(alpha, R_A, R_B) from Eqs. 24, 25, 28 with exact data, omega = 0."""
+    m = sp.Rational(50) * sp.Rational("0.45359237")
+    l = 4 * sp.Rational("0.3048")
+    g = sp.Rational("32.174") * sp.Rational("0.3048")
+    a, RA, RB = sp.symbols("alpha R_A R_B")
+    eqs = [
+        sp.sin(beta) * RB - m * (sp.cos(theta) / sp.tan(beta) + sp.sin(theta) / 2) * l * a,  # Eq. 24
+        RA + sp.cos(beta) * RB + m * sp.cos(theta) * l * a / 2 - m * g,  # Eq. 25
+        sp.cos(beta - theta) * RB + (sp.Rational(1, 3) - sp.sin(theta) / 2 * (sp.cos(theta) / sp.tan(beta)
+                                                                          + sp.sin(theta))) * m * l * a
+        - sp.cos(theta) * m * g / 2,  # Eq. 28
+    ]
+    sol = sp.solve(eqs, [a, RA, RB], dict=True)[0]
+    return sol[a], sol[RA], sol[RB]
+
+
+def test_exact_unit_values():
+    assert exact_quantity(Q_("50 lbm")) == sp.Rational(50) * sp.Rational("0.45359237")
+    assert exact_quantity(Q_("4 ft")) == sp.Rational(762, 625)
+    assert exact_quantity(Q_("32.174 ft/s^2")) == sp.Rational("32.174") * sp.Rational("0.3048")
+    assert exact_quantity(Q_("45 deg")) == sp.pi / 4
+    assert exact_quantity(Q_("1 lbf")) == sp.Rational("4.4482216152605")
+
+
+def test_exact_solution_equals_paper_system():
+    res = solve_precise(derivation(), "exact", dps=60)
+    alpha, RA, RB = paper_eqs_exact(sp.pi / 6, sp.pi / 4)
+    for mine, ref in ((res.unknowns["alpha"], alpha), (res.unknowns["R_A"], RA), (res.unknowns["R_B"], RB)):
+        assert sp.simplify(sp.radsimp(mine - ref)) == 0  # exactly equal, not just to 60 digits
+    # the paper rounds alpha to 4 significant figures: within one unit of the last printed digit
+    published = {v["id"]: v for v in tomllib.loads(PUBLISHED.read_text())["value"]}
+    assert abs(float(res.unknowns["alpha"]) - published["eq30-alpha"]["value"]) <= 1e-3
+
+
+def test_mpmath_agrees_with_exact_and_float64_within_its_bound():
+    ex = solve_precise(derivation(), "exact", dps=50)
+    mp = solve_precise(derivation(), "mpmath", dps=50)
+    fl = solve_precise(derivation(), "float64")
+    for name in ("alpha", "theta_ddot", "R_A", "R_B"):
+        with mpmath.workdps(50):
+            ref = mpmath.mpf(str(sp.N(ex.unknowns[name], 60)))
+            assert abs(mp.unknowns[name] - ref) <= abs(ref) * mpmath.mpf(10) ** -45  # 50 digits, 5 spare
+        # float64 is within cond(A) * eps of the exact value (Wilkinson), with a factor 10 to spare
+        assert fl.float64_error == {n: 0.0 for n in fl.unknowns}
+        assert mp.float64_error[name] <= 10 * fl.condition_number * 2.2e-16
+
+
+def test_exact_with_an_angle_without_closed_trig_values():
+    d = derivation(theta="37 deg", beta="61.5 deg", theta_dot="0.75 rad/s")
+    ex = solve_precise(d, "exact", dps=40)
+    mp = solve_precise(d, "mpmath", dps=40)
+    for name in ("alpha", "R_A", "R_B"):
+        # both printed to 40 digits; allow 5 digits for the last-digit rounding of each
+        with mpmath.workdps(45):
+            a, b = mpmath.mpf(ex.text[name]), mpmath.mpf(mp.text[name])
+            assert abs(a - b) <= mpmath.mpf(10) ** -35 * abs(b)
+
+
+def test_bad_options():
+    with pytest.raises(ValueError, match="float64"):
+        solve_precise(derivation(), "quad")
+    from solver.errors import InputError
+
+    with pytest.raises(InputError, match="dps"):
+        solve_precise(derivation(), "mpmath", dps=2)
+
+
+def test_cli_precision(capsys):
+    from solver.__main__ import main
+
+    code = main(["precision", BAR, "--json", "--dps", "30"])
+    data = json.loads(capsys.readouterr().out)
+    assert code == 0 and set(data["solutions"]) == {"float64", "exact", "mpmath"}
+    assert data["condition_number"] > 1
+    alpha = data["solutions"]["exact"]["unknowns"]["alpha"]
+    assert alpha["unit"] == "rad/s**2" and alpha["text"].startswith("2.29692800110232616837")
