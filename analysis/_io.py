@@ -1,11 +1,39 @@
-"""Atomic file output: write to a temporary file in the same folder, then rename."""
+"""File input and output shared by the analysis modules.
+
+- :func:`read_bytes` -- a file's bytes, with one-line errors for missing/unreadable files.
+- :func:`read_toml` -- a TOML file, with one-line errors naming the file.
+- :func:`atomic_write` -- write to a temporary file in the same folder, then rename.
+"""
 from __future__ import annotations
 
 import os
 import tempfile
+import tomllib
 from pathlib import Path
 
 from .errors import SurveyInputError
+
+
+def read_bytes(path: "str | Path") -> bytes:
+    """The bytes of ``path``; SurveyInputError (naming the file) if it cannot be read."""
+    p = Path(path)
+    try:
+        return p.read_bytes()
+    except FileNotFoundError:
+        raise SurveyInputError("no such file", str(p)) from None
+    except OSError as e:
+        raise SurveyInputError(f"cannot read: {e.strerror}", str(p)) from None
+
+
+def read_toml(path: "str | Path") -> dict:
+    """A TOML file as a dict; SurveyInputError (naming the file) on any problem."""
+    raw = read_bytes(path)
+    try:
+        return tomllib.loads(raw.decode("utf-8"))
+    except UnicodeDecodeError as e:
+        raise SurveyInputError(f"not valid UTF-8 (byte offset {e.start})", str(path)) from None
+    except tomllib.TOMLDecodeError as e:
+        raise SurveyInputError(f"invalid TOML: {e}", str(path)) from None
 
 
 def atomic_write(path: "str | Path", data: "str | bytes", encoding: str = "utf-8") -> Path:

@@ -29,12 +29,12 @@ Public API: :func:`load_claims`, :func:`evaluate_claims` (returns
 """
 from __future__ import annotations
 
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ._io import read_toml
 from .errors import SurveyInputError
-from .likert import CI_METHODS, SurveySummary, proportion
+from .likert import CI_METHODS, Proportion, SurveySummary, proportion
 from .scales import normalize_answer
 
 __all__ = ["COMPARISONS", "VERDICTS", "Claim", "ClaimResult", "ClaimsReport", "load_claims",
@@ -79,12 +79,10 @@ class ClaimResult:
     claim : Claim
     item : str
         The item's column header.
-    k, n : int
-        Respondents in the categories, and valid answers.
-    share : float or None
-    ci : (float, float)
-    method : str
-    confidence_level : float
+    proportion : Proportion
+        Respondents in the categories (``k``) out of valid answers (``n``), the
+        share and its interval; ``k``, ``n``, ``share``, ``ci``, ``method`` and
+        ``confidence_level`` are also available directly.
     verdict_code : {"holds", "sample_only", "does_not_hold"}
     verdict : str
         Wording from :data:`VERDICTS`.
@@ -93,15 +91,17 @@ class ClaimResult:
 
     claim: Claim
     item: str
-    k: int
-    n: int
-    share: float | None
-    ci: tuple
-    method: str
-    confidence_level: float
+    proportion: Proportion
     verdict_code: str
     verdict: str
     reason: str
+
+    k = property(lambda self: self.proportion.k)
+    n = property(lambda self: self.proportion.n)
+    share = property(lambda self: self.proportion.share)
+    ci = property(lambda self: self.proportion.ci)
+    method = property(lambda self: self.proportion.method)
+    confidence_level = property(lambda self: self.proportion.confidence_level)
 
     def to_dict(self) -> dict:
         return {"id": self.claim.id, "item": self.item, "categories": list(self.claim.categories),
@@ -153,14 +153,7 @@ def load_claims(path: "str | Path") -> list[Claim]:
     """
     p = Path(path)
     src = str(p)
-    try:
-        data = tomllib.loads(p.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise SurveyInputError("no such file", src) from None
-    except UnicodeDecodeError as e:
-        raise SurveyInputError(f"not valid UTF-8 (byte offset {e.start})", src) from None
-    except tomllib.TOMLDecodeError as e:
-        raise SurveyInputError(f"invalid TOML: {e}", src) from None
+    data = read_toml(p)
     entries = data.get("claims")
     if not isinstance(entries, list) or not entries:
         raise SurveyInputError("key 'claims': needs at least one [[claims]] table", src)
@@ -241,8 +234,7 @@ def evaluate_claim(claim: Claim, summary: SurveySummary, confidence_level: float
             code = "sample_only"
             reason = (f"observed share {p.share:.4f} {claim.comparison} {claim.threshold:.4g}, "
                       f"but the interval's {side} bound {bound:.4f} does not clear it")
-    return ClaimResult(claim=claim, item=it.item, k=k, n=it.n, share=p.share, ci=p.ci,
-                       method=method, confidence_level=confidence_level, verdict_code=code,
+    return ClaimResult(claim=claim, item=it.item, proportion=p, verdict_code=code,
                        verdict=VERDICTS[code], reason=reason)
 
 

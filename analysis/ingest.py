@@ -50,6 +50,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ._io import read_bytes
 from .errors import SurveyInputError
 from .scales import BUILTIN_SCALES, Scale, get_scale, normalize_answer
 
@@ -256,12 +257,7 @@ def _decode_error(raw: bytes, encoding: str, source: str) -> SurveyInputError:
 
 def _read_csv_raw(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]:
     source = str(path)
-    try:
-        raw = path.read_bytes()
-    except FileNotFoundError:
-        raise SurveyInputError("no such file", source) from None
-    except OSError as e:
-        raise SurveyInputError(f"cannot read: {e.strerror}", source) from None
+    raw = read_bytes(path)
     if raw.startswith(b"\xef\xbb\xbf"):
         raw = raw[3:]
     elif raw[:2] in (b"\xff\xfe", b"\xfe\xff"):       # UTF-16 with BOM (Excel "Unicode text")

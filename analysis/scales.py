@@ -29,10 +29,10 @@ Matching of answers ignores case and surrounding white space
 from __future__ import annotations
 
 import re
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ._io import read_toml
 from .errors import SurveyInputError
 
 __all__ = ["Scale", "BUILTIN_SCALES", "get_scale", "load_scale", "normalize_answer",
@@ -303,14 +303,7 @@ def load_scale(path: "str | Path") -> Scale:
         Missing file, TOML syntax error, or a key with a bad value (named).
     """
     p = Path(path)
-    try:
-        data = tomllib.loads(p.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise SurveyInputError("no such file", str(p)) from None
-    except UnicodeDecodeError as e:
-        raise SurveyInputError(f"not valid UTF-8 (byte offset {e.start})", str(p)) from None
-    except tomllib.TOMLDecodeError as e:
-        raise SurveyInputError(f"invalid TOML: {e}", str(p)) from None
+    data = read_toml(p)
     allowed = {"name", "labels", "codes", "positive", "neutral", "negative",
                "not_applicable", "aliases", "description"}
     for key in data:

@@ -37,12 +37,12 @@ from __future__ import annotations
 import csv
 import io
 import math
-import tomllib
 from dataclasses import dataclass, field
 from decimal import Decimal, InvalidOperation
 from fractions import Fraction
 from pathlib import Path
 
+from ._io import read_bytes, read_toml
 from .errors import SurveyInputError
 from .rounding import ROUNDING_RULES, _validate_rule, largest_remainder, round_fraction
 
@@ -173,12 +173,7 @@ def read_table_csv(path: "str | Path", item_column: str = "item",
     """
     p = Path(path)
     src = str(p)
-    try:
-        raw = p.read_bytes()
-    except FileNotFoundError:
-        raise SurveyInputError("no such file", src) from None
-    except OSError as e:
-        raise SurveyInputError(f"cannot read: {e.strerror}", src) from None
+    raw = read_bytes(p)
     try:
         text = raw.decode(encoding)
     except UnicodeDecodeError as e:
@@ -644,12 +639,7 @@ class SurveyFacts:
 def load_survey_facts(path: "str | Path | None" = None) -> SurveyFacts:
     """Read ``survey.toml`` (respondents, enrolled, items, scale, table id)."""
     p = Path(path) if path is not None else published_dir() / "survey.toml"
-    try:
-        data = tomllib.loads(p.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise SurveyInputError("no such file", str(p)) from None
-    except tomllib.TOMLDecodeError as e:
-        raise SurveyInputError(f"invalid TOML: {e}", str(p)) from None
+    data = read_toml(p)
     try:
         t, r = data["table"], data["response"]
         items = data["items"]
