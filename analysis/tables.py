@@ -20,6 +20,18 @@ zero* (``rule="half_away"``, what hand calculators and spreadsheets print);
 The printed precision d is taken from each cell's text (``"50.0"`` has one
 decimal) unless given.
 
+Rows and reconstruction
+-----------------------
+A row is consistent (``sum_ok``) when one attainable count per cell can be chosen
+so that the counts add up to N (a subset-sum over the candidate sets). The counts
+are reconstructed even for a row with unattainable cells, taking the count
+nearest each such cell, and among choices adding up to N the one closest to the
+printed values. For such rows two known ways of producing a table are tested and
+named when they reproduce the printed row exactly: rounding every cell and then
+adding the row's deficit to its largest cell so the row shows 100, and
+largest-remainder rounding. A non-zero printed cell needs at least one
+respondent, so an N below a row's number of non-zero cells is bad input.
+
 Public API
 ----------
 - :func:`read_table_csv` -- read a CSV with an ``item`` column and one column per label.
