@@ -48,7 +48,6 @@ def test_report_escapes_input(evil):
     data = survey_from_frame(df, group="grp", unknown="missing", source=f"<x-evil>{evil}.csv")
     html = render_report(data, group="grp", min_group=1, title=f"<x-evil>{evil}")
     assert "<x-evil>" not in html and "&lt;x-evil&gt;" in html
-    assert "<script" not in html.lower() or "<script" not in evil
 
 
 def test_report_cli_end_to_end(tmp_path):
