@@ -300,6 +300,16 @@ def build(root: Path = ROOT, out: Path | None = None, pdf: str = "auto", log=pri
                             "model": result.model}
         except ImportError:
             period_cross = None
+        friction = None
+        try:
+            from solver.friction import least_friction
+            from solver.period import OneDofSystem
+
+            least = least_friction(OneDofSystem.from_derivation(derivations[ex2_key]), amplitude)
+            friction = {"mu_min": least.mu_min, "theta_deg": math.degrees(least.theta_at_max),
+                        "lifts_off": least.lifts_off}
+        except ImportError:
+            friction = None
         lin_mass, lin_stiff, lin_w2 = paper.linearisation(
             derivations[ex2_key],
             about={},
@@ -322,6 +332,7 @@ def build(root: Path = ROOT, out: Path | None = None, pdf: str = "auto", log=pri
                 "omega_n_formula": paper.shown(sp.Symbol("omega_n") ** 2, lin_w2, "Linearised", ""),
                 "amplitude_deg": math.degrees(amplitude),
                 "period_cross": period_cross,
+                "friction": friction,
             },
         }
         ex1_solution = examples["ex1"]["solution"]
