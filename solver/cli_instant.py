@@ -99,7 +99,8 @@ def solve_command(args: argparse.Namespace) -> int:
         (name, format_number(entry["value"]), entry["unit"]) for name, entry in unknowns.items()
     ]
     print(f"scene   {scene.name}  ({_where(scene)})")
-    print(f"state   {state_text(scene)}")
+    timed = any(_uses_time(load, scene) for load in scene.loads)
+    print(f"state   {state_text(scene)}" + ("   (loads taken at t = 0 s)" if timed else ""))
     print(f"point   {solution.point}   method  {solution.method}")
     print()
     print(format_table(("name", "value", "unit"), rows, align="lrl"))
@@ -107,6 +108,11 @@ def solve_command(args: argparse.Namespace) -> int:
     print(f"condition number of the system: {format_number(result['condition_number'], 3)}")
     print("alpha is the k-component of the angular acceleration (counter-clockwise positive).")
     return 0
+
+
+def _uses_time(load, scene: Scene) -> bool:
+    exprs = [load.magnitude] if load.components is None else list(load.components)
+    return any(e is not None and e.has(scene.t) for e in exprs)
 
 
 # -- eom -------------------------------------------------------------------------------------

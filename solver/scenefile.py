@@ -374,7 +374,14 @@ class _SceneLoader:
             result = parse_expression(value, names, f"{self.label}: {key}")
         except ExpressionError as err:
             message = str(err)
-            if _QUANTITY.match(value) and _QUANTITY.match(value).group(2):
+            state_names = set(self.names.with_state_t) - set(names)
+            unknown = re.search(r"unknown name '(\w+)'", message)
+            if unknown and unknown.group(1) in state_names:
+                message += (
+                    f"; {unknown.group(1)} cannot be used here (the coordinate is allowed only in "
+                    "body.orientation, body.position and loads; its rate and t only in force and couple loads)"
+                )
+            elif _QUANTITY.match(value) and _QUANTITY.match(value).group(2):
                 message += (
                     "; quantities with units belong in [parameters] (e.g. m_1 = \"2 kg\"), "
                     "expressions then use the parameter's name"
