@@ -30,8 +30,7 @@ w = w0 + (3 e3 / (8 w0) - 5 e2^2 / (12 w0^3)) A^2. Back in x this gives
 from __future__ import annotations
 
 import math
-import time
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import sympy as sp
 

@@ -210,6 +210,17 @@ class FrictionMap:
         }
 
 
+def _validate_friction_map(system: OneDofSystem, amplitudes, ratio_of) -> None:
+    if not isinstance(system, OneDofSystem):
+        raise TypeError(f"`system` must be a OneDofSystem, got {type(system).__name__}")
+    if len(list(amplitudes)) == 0:
+        raise InputError("give at least one amplitude")
+    if len(ratio_of) != 2 or not all(ratio_of):
+        raise InputError(f"the mass ratio must name two parameters as NUM/DEN, got {'/'.join(ratio_of)!r}")
+    for name in ratio_of:
+        system.value_of(name)  # raises naming the parameters
+
+
 def friction_map(
     system: OneDofSystem,
     amplitudes: Sequence[float],
@@ -224,6 +235,7 @@ def friction_map(
     InputError
         Unknown mass parameters, non-positive ratios.
     """
+    _validate_friction_map(system, amplitudes, ratio_of)
     amps = np.asarray([float(a) for a in amplitudes])
     if mass_ratios is None:
         ratios = np.array([system.value_of(ratio_of[0]) / system.value_of(ratio_of[1])])

@@ -38,7 +38,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
-from typing import Any, Callable, Mapping
+from typing import Any, Callable
 
 import mpmath
 import numpy as np
@@ -699,7 +699,10 @@ class PeriodResult:
         }
 
 
-def _validate_exact_period(system: OneDofSystem, amplitude: float, tol: float) -> None:
+def _validate_exact_period(system: OneDofSystem, amplitude: float, tol: float, precision: str) -> None:
+    valid = ("auto", "float64", "mpmath")
+    if precision not in valid:
+        raise ValueError(f"`precision` must be one of {valid}, got {precision!r}")
     if not isinstance(system, OneDofSystem):
         raise TypeError(f"`system` must be a OneDofSystem, got {type(system).__name__}")
     if not math.isfinite(amplitude):
@@ -802,10 +805,7 @@ def exact_period(
     T = 2 int sqrt(M / (2 (V(q0) - V))) dq with q = q_m + h sin u (module
     docstring); T0 from paper Eq. 46 generalised: 2 pi sqrt(M(q_e)/V''(q_e)).
     """
-    _validate_exact_period(system, amplitude, tol)
-    valid = ("auto", "float64", "mpmath")
-    if precision not in valid:
-        raise ValueError(f"`precision` must be one of {valid}, got {precision!r}")
+    _validate_exact_period(system, amplitude, tol, precision)
     eq = equilibrium if equilibrium is not None else find_equilibrium(system)
     T0 = eq.period
     if amplitude == 0.0:

@@ -440,6 +440,15 @@ class IntegratedPeriod:
     rtol: float
 
 
+def _validate_period_by_integration(method: str, rtol: float, amplitude: float) -> None:
+    if method not in METHODS:
+        raise ValueError(f"`method` must be one of {METHODS}, got {method!r}")
+    if not (0 < rtol < 1):
+        raise InputError(f"rtol must lie in (0, 1), got {rtol!r}")
+    if not (math.isfinite(amplitude) and amplitude != 0):
+        raise InputError(f"amplitude must be a non-zero finite angle, got {amplitude!r}")
+
+
 def period_by_integration(
     system: OneDofSystem,
     amplitude: float,
@@ -455,8 +464,7 @@ def period_by_integration(
     period (time reversal symmetry of a conservative system); the event
     theta_dot = 0 (located on the dense output) gives T = 2 t_half.
     """
-    if method not in METHODS:
-        raise ValueError(f"`method` must be one of {METHODS}, got {method!r}")
+    _validate_period_by_integration(method, rtol, amplitude)
     eq = equilibrium if equilibrium is not None else find_equilibrium(system)
     if not system.is_conservative:
         system.effective_potential()  # raises the explanatory InputError
