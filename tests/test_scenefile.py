@@ -11,6 +11,8 @@ from pathlib import Path
 
 import pytest
 import sympy as sp
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from solver.errors import SceneError
 from solver.scene import Scene
@@ -201,3 +203,38 @@ def test_consistent_explicit_position_is_accepted(tmp_path: Path) -> None:
                           'orientation     = "-theta"\nposition = { point = "P", at = ["r_d*theta", "r_d"] }'))
     scene = load_scene(path)
     assert scene.position == ("P", sp.Matrix([_sym("r_d") * _sym("theta"), _sym("r_d")]))
+
+
+# -- properties --------------------------------------------------------------------------------
+
+# Units of several dimensions; only those of the right dimension may load.
+UNITS = ["kg", "lbm", "slug", "g", "ft", "m", "s", "N", "lbf", "deg", "ft/s^2", "m/s**2", ""]
+MASS_UNITS = {"kg", "lbm", "slug", "g"}
+ACCELERATION_UNITS = {"ft/s^2", "m/s**2"}
+
+
+@pytest.mark.parametrize("unit", UNITS)
+def test_dimension_of_each_parameter_is_checked_where_used(unit: str) -> None:
+    # m_b is used as an element mass, g as gravity: each must have its dimension.
+    for name, valid in (("m_b", MASS_UNITS), ("g", ACCELERATION_UNITS)):
+        overrides = {name: f"7 {unit}".strip()}
+        if unit in valid:
+            load_scene(SLIDING_BAR, overrides)
+        else:
+            with pytest.raises(SceneError, match=rf"--set {name}: .* is "):
+                load_scene(SLIDING_BAR, overrides)
+
+
+@settings(max_examples=30)  # one small TOML load each (~20 ms)
+@given(st.integers(-4, 4), st.floats(-1e-3, 1e-3))
+def test_rails_are_refused_exactly_when_parallel(turns: int, offset_deg: float) -> None:
+    # B's rail at angle -beta is parallel to A's (angle 0) iff beta is a
+    # multiple of 180 deg. The loader's tolerance is 1e-9 on sin(beta); the
+    # smallest non-zero offset tried is 1e-6 deg = 1.7e-8 rad, well above it.
+    beta = 180.0 * turns + (offset_deg if abs(offset_deg) >= 1e-6 else 0.0)
+    overrides = {"beta": f"{beta!r} deg"}
+    if beta % 180.0 == 0.0:
+        with pytest.raises(SceneError, match="impossible geometry"):
+            load_scene(SLIDING_BAR, overrides)
+    else:
+        assert load_scene(SLIDING_BAR, overrides).parameters["beta"].to("deg").magnitude == pytest.approx(beta)
