@@ -239,6 +239,8 @@ def run_handler(handler: Callable[[argparse.Namespace], int | None], args: argpa
         fail(str(err), EXIT_INPUT)
     except ValueError as err:  # bad option strings from the library (listing the valid ones)
         fail(str(err), EXIT_INPUT)
+    except KeyboardInterrupt:
+        fail("interrupted", 130)
     except BrokenPipeError:  # output piped into `head` and closed: not an error
         try:
             sys.stdout = open(os.devnull, "w")  # noqa: SIM115 - swallow the final flush
