@@ -252,21 +252,28 @@ def _simplify(expr: sp.Expr) -> sp.Expr:
     return full if sp.count_ops(full) <= sp.count_ops(reduced) else reduced
 
 
-def _diagnose(residual: sp.Expr, printed: sp.Expr, solution: dict) -> str:
-    """Say which printed term is wrong when the residual is a multiple of one term."""
+def _diagnose(residual: sp.Expr, lhs: sp.Expr, rhs: sp.Expr, solution: dict) -> str:
+    """Say which printed term is wrong when the residual is a multiple of one term.
+
+    ``lhs``/``rhs`` are the printed sides with the derived quantities substituted
+    (before the solution); the residual is printed (lhs - rhs) minus the derived form.
+    """
     if residual == 0:
         return ""
-    for term in sp.Add.make_args(sp.expand(printed)):
-        term_value = term.subs(solution) if solution else term
-        if term_value == 0:
-            continue
-        ratio = sp.simplify(residual / term_value)
-        if ratio.is_number and ratio != 0:
-            shown = sp.sstr(term)
-            correct = sp.nsimplify(1 - ratio)
-            if correct == -1:
-                return f"the term {shown} has the wrong sign: the derivation gives {sp.sstr(-term)}"
-            return f"the term {shown} should be {sp.sstr(sp.expand(correct * term))}"
+    for side, sign, expr in (("left-hand side", 1, lhs), ("right-hand side", -1, rhs)):
+        for term in sp.Add.make_args(sp.expand(expr)):
+            value = (sign * term).subs(solution) if solution else sign * term
+            if value == 0:
+                continue
+            ratio = sp.simplify(residual / value)
+            if ratio.is_number and ratio != 0:
+                factor = sp.nsimplify(1 - ratio)
+                if factor == -1:
+                    return (
+                        f"the term {sp.sstr(term)} on the {side} has the wrong sign: "
+                        f"the derivation gives {sp.sstr(-term)} there"
+                    )
+                return f"the term {sp.sstr(term)} on the {side} should be {sp.sstr(sp.expand(factor * term))}"
     return ""
 
 
@@ -356,7 +363,7 @@ def check_equation(tr: Transcription, scene, deriv) -> EquationOutcome:
             symbolic_zero = True
             residual = sp.Integer(0)
     agrees = numeric_zero and not notes
-    diagnosis = "" if agrees else _diagnose(residual, printed, solution)
+    diagnosis = "" if agrees else _diagnose(residual, mapped_l, mapped_r, solution)
 
     if agrees:
         how = "reduces to 0 symbolically" if symbolic_zero else (

@@ -75,6 +75,11 @@ def test_build_writes_every_output(built):
     assert {p.suffix for p in (out / "figures").iterdir()} == {".svg", ".pdf"}
     tex = (out / "paper.tex").read_text(encoding="utf-8")
     assert "\\VAR{" not in tex and "\\BLOCK{" not in tex and tex.rstrip().endswith("\\end{document}")
+    # environments balanced (a LaTeX engine is optional, so check the structure here)
+    begins = re.findall(r"\\begin\{(\w+\*?)\}", tex)
+    ends = re.findall(r"\\end\{(\w+\*?)\}", tex)
+    assert sorted(begins) == sorted(ends)
+    assert tex.count("{") - tex.count("\\{") == tex.count("}") - tex.count("\\}")
 
 
 def test_verification_json_schema_and_required_rows(verification):
