@@ -224,7 +224,8 @@ def simulate_command(args: argparse.Namespace) -> int:
     print()
     print(f"energy drift (relative): {res.energy_drift:.3g}   samples: {res.t.size}")
     if args.out is not None:
-        print(f"wrote {args.out}")
+        units = ", ".join(f"{n} [{u}]" for n, u in res.to_dict()["columns"].items())
+        print(f"wrote {args.out} (SI columns: {units})")
     return 0
 
 

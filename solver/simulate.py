@@ -149,6 +149,7 @@ class SimulationResult:
             "atol": self.atol,
             "nfev": self.nfev,
             "samples": int(self.t.size),
+            "columns": {name: unit for name, (_, unit) in self.columns().items()},
         }
         if self.event is not None:
             out["event"] = {
@@ -168,7 +169,12 @@ class SimulationResult:
 def write_csv(result: SimulationResult, path: str | os.PathLike) -> Path:
     """Write the samples as CSV, atomically (temporary file in the same folder, then rename).
 
-    The header names each column with its unit, e.g. ``theta [rad]``.
+    The header row holds the plain column names (``t, theta, theta_dot,
+    theta_ddot, alpha, <reactions...>, energy``) so that tools can address
+    columns by name; every value is SI: t [s], theta [rad], theta_dot [rad/s],
+    theta_ddot and alpha [rad/s^2], reactions [N or N m as
+    ``SimulationResult.reaction_units``], energy [J]
+    (:meth:`SimulationResult.columns` lists them).
     """
     path = Path(path)
     folder = path.parent if str(path.parent) else Path(".")
@@ -179,7 +185,7 @@ def write_csv(result: SimulationResult, path: str | os.PathLike) -> Path:
     try:
         with os.fdopen(fd, "w", newline="") as fh:
             w = csv.writer(fh)
-            w.writerow([f"{name} [{unit}]" for name, (_, unit) in cols.items()])
+            w.writerow(list(cols))
             data = np.column_stack([v for v, _ in cols.values()])
             for row in data:
                 w.writerow([repr(float(x)) for x in row])
