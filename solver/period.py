@@ -95,6 +95,15 @@ class FrictionPair:
     mu: float | None = None
 
 
+def _drop_constants(V: sp.Expr, q: sp.Symbol) -> sp.Expr:
+    """V without its additive terms free of q (they do not change the motion, but a large
+    constant such as m_d g r_d would swamp the differences V(q0) - V(q) in float64)."""
+    expanded = sp.expand(V)
+    if sp.count_ops(expanded) > 4 * sp.count_ops(V) + 20:
+        return V
+    return sp.Add(*[term for term in sp.Add.make_args(expanded) if term.has(q)])
+
+
 def _lambdify(args, expr, modules):
     return sp.lambdify(args, expr, modules=modules, cse=True)
 
@@ -251,6 +260,8 @@ class OneDofSystem:
     def effective_potential(self) -> sp.Expr:
         """V(q) - int_0^q Q(s) ds: the potential of gravity plus the position-dependent loads.
 
+        Additive constants of V are dropped (they do not change the motion).
+
         Raises
         ------
         InputError
@@ -265,13 +276,14 @@ class OneDofSystem:
                     f"(Q = {Q}); free oscillation needs them constant or position-dependent "
                     "(set them to zero with --set)"
                 )
+            V = _drop_constants(sp.sympify(self.potential), self.q)
             if Q == 0:
-                return self.potential
+                return V
             s = sp.Dummy("s", real=True)
             work = sp.integrate(Q.subs(self.q, s), (s, 0, self.q))
             if work.has(sp.Integral):
                 raise InputError(f"{self.name}: cannot integrate the generalized force Q = {Q} into a potential")
-            return self.potential - work
+            return V - work
 
         return self._memo("V_eff", build)
 
@@ -534,7 +546,10 @@ def find_equilibrium(system: OneDofSystem, near: float = 0.0, span: float = 2.0 
     """
     _validate_find_equilibrium(system, near, span)
     V_expr = system.effective_potential()
-    if not V_expr.has(system.q) or sp.diff(V_expr, system.q).xreplace(dict(zip(system.params, system.values))) == 0:
+    flat = system._memo(("flat", system.values), lambda: (
+        not V_expr.has(system.q)
+        or sp.diff(V_expr, system.q).xreplace(dict(zip(system.params, system.values))) == 0))
+    if flat:
         raise NoRestoringError(
             f"{system.name}: the potential energy does not depend on {system.q} "
             "(no restoring moment: no oscillation, no period)"
