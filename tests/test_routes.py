@@ -57,7 +57,7 @@ def assert_same(x, ref):
     np.testing.assert_allclose(x, ref, rtol=RTOL, atol=RTOL * scale)
 
 
-@settings(max_examples=25)
+@settings(max_examples=20)
 @given(random_scene())
 def test_independent_of_point_and_equal_to_mass_center_form(scene):
     """Eq. (11) about every named point (incl. an instant point and G) gives the
