@@ -99,6 +99,8 @@ class InstantSolution:
     point, method : str
     theta, theta_dot : pint.Quantity
         The state solved at.
+    scene : str
+        The scene's name.
     """
 
     unknowns: dict[str, pint.Quantity]
@@ -107,6 +109,7 @@ class InstantSolution:
     method: str
     theta: pint.Quantity | None = None
     theta_dot: pint.Quantity | None = None
+    scene: str | None = None
 
     def to_dict(self, units: Mapping[str, str] | None = None) -> dict:
         """JSON-ready dict; ``units`` maps dimension names (``force``,
@@ -117,7 +120,9 @@ class InstantSolution:
             si = _unit_string(qty)
             target = units.get(_DIMENSION_OF_UNIT.get(si, ""), si)
             out[name] = {"value": float(qty.to(target).magnitude), "unit": target}
+        head = {"scene": self.scene} if self.scene is not None else {}
         return {
+            **head,
             "point": self.point,
             "method": self.method,
             "unknowns": out,
@@ -581,6 +586,7 @@ def solve_instant(scene: Scene, point: str | None = None, method: str = "general
         method,
         theta=Q_(q, "rad"),
         theta_dot=Q_(qd, "rad/s"),
+        scene=scene.name,
     )
 
 

@@ -124,6 +124,8 @@ class BodyKinematics:
         self._validate()
         self.origin = self._place()
         self.reactions = self._reactions()
+        if scene.position is not None:
+            self._check_position_consistent()
 
     # -- validation -------------------------------------------------------
     def _validate(self) -> None:
@@ -232,6 +234,34 @@ class BodyKinematics:
         x = (rhs1 * n2[1] - n1[1] * rhs2) / det
         y = (n1[0] * rhs2 - rhs1 * n2[0]) / det
         return sp.Matrix([x, y])
+
+    def _check_position_consistent(self) -> None:
+        """An explicit position must satisfy every constraint (checked at three angles)."""
+        q0, _ = self.scene.state_si()
+        values = self.scene.si_values()
+        for c in self.scene.constraints:
+            if c.kind == "rail":
+                res = [(_left_normal(c.angle).T * (self.position(c.point) - sp.Matrix(c.origin)))[0]]
+            elif c.kind == "pivot":
+                res = list(self.position(c.point) - sp.Matrix(c.origin))
+            else:
+                element = self._element(c.element, c.name)
+                r = element.dims["radius"]
+                center = self.body_point(sp.Matrix(element.center))
+                n, d = _left_normal(c.angle), _unit(c.angle)
+                res = [(n.T * (center - sp.Matrix(c.origin)))[0] - r,
+                       (d.T * sp.diff(center, self.q))[0] + r * self.dphi]  # no slip
+            for q in (q0, q0 + 0.3, q0 - 0.7):
+                for e in res:
+                    try:
+                        v = float(sp.sympify(e).subs(values).subs(self.q, q))
+                    except TypeError:
+                        continue  # unresolved symbols: cannot check
+                    if abs(v) > 1e-9:
+                        raise SceneError(
+                            f"{self.label}: position of {self.scene.position[0]!r} violates constraint "
+                            f"{c.name!r} ({c.kind}) at {self.q} = {q:.6g} rad (residual {v:.3g})"
+                        )
 
     def _reactions(self) -> tuple[ReactionForce, ...]:
         out = []

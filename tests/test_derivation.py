@@ -229,3 +229,19 @@ def test_numeric_is_vectorised_and_matches_solve_instant():
     A, b = nm.matrices(q, 0.5)
     assert A.shape == (7, 3, 3) and b.shape == (7, 3)
     np.testing.assert_allclose(nm.qdd(q, 0.5), res["theta_ddot"])
+
+
+def test_explicit_position_equals_constraint_placement():
+    # Example 1 with A's position given explicitly, x_A = l_b sin(beta - theta)/sin(beta)
+    s = example1(theta_deg=35.0, theta_dot=0.7)
+    beta = S("beta")
+    pos = sp.Matrix([l_b * sp.sin(beta - th) / sp.sin(beta), 0])
+    explicit = Scene(**{**s.__dict__, "position": ("A", pos)})
+    a = solve_instant(s, "B").unknowns
+    b = solve_instant(explicit, "B").unknowns
+    for k in a:
+        assert b[k].magnitude == pytest.approx(a[k].magnitude, rel=1e-12)
+    # a position that breaks a rail is refused
+    bad = Scene(**{**s.__dict__, "position": ("A", sp.Matrix([l_b * sp.cos(th), 0]))})
+    with pytest.raises(SceneError, match="violates constraint 'rail_B'"):
+        derive(bad)
