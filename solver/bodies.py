@@ -110,10 +110,6 @@ def element_properties(element: Element) -> ElementProperties:
     return ElementProperties(element.name, m, c, inertia)
 
 
-def _cross2(a: sp.Matrix, b: sp.Matrix) -> sp.Expr:
-    return a[0] * b[1] - a[1] * b[0]
-
-
 class CompositeBody:
     """A rigid body made of rigidly joined elements (paper Eqs. 11-14).
 

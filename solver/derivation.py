@@ -166,9 +166,7 @@ class FrequencyResult:
     period: pint.Quantity
 
     def to_dict(self) -> dict:
-        def q(x):
-            return {"value": float(x.magnitude), "unit": str(x.units)}
-
+        """JSON-ready dict of values and units."""
         return {
             "omega_n": {"value": float(self.omega_n.to("rad/s").magnitude), "unit": "rad/s"},
             "period": {"value": float(self.period.to("s").magnitude), "unit": "s"},
@@ -444,8 +442,17 @@ class Derivation:
     def reactions(self) -> dict[str, sp.Expr]:
         """Each reaction as a function of (q, qd, t, params), qdd eliminated."""
         if self._reactions is None:
+            # Cramer's rule with division-free (Berkowitz) determinants: the only
+            # denominator is det(A), which vanishes exactly where the system is
+            # singular (LU pivoting would divide by entries that may vanish at
+            # regular configurations, e.g. sin(theta) at theta = 0).
             A, b = self.linear_system()
-            x = A.LUsolve(b)
+            det = A.det(method="berkowitz")
+            x = []
+            for i in range(A.shape[1]):
+                Ai = A.copy()
+                Ai[:, i] = b
+                x.append(Ai.det(method="berkowitz") / det)
             self._reactions = {str(s): x[i] for i, s in enumerate(self.unknowns) if i > 0}
             self._qdd_solution = x[0]
         return self._reactions
@@ -637,16 +644,22 @@ def natural_frequency(scene: Scene, method: str = "generalized_euler") -> Freque
     f_dV = sp.lambdify(q, dV, "numpy")
     f_ddV = sp.lambdify(q, ddV, "numpy")
     f_M = sp.lambdify(q, M, "numpy")
+    f_V = sp.lambdify(q, V, "numpy")
     q0, _ = scene.state_si()
     grid = np.linspace(q0 - 2 * np.pi, q0 + 2 * np.pi, 2881)
     with np.errstate(all="ignore"):
         g = np.broadcast_to(np.asarray(f_dV(grid), dtype=float), grid.shape)
-        scale = float(np.nanmax(np.abs(np.broadcast_to(np.asarray(f_ddV(grid), dtype=float), grid.shape))))
-    if not np.isfinite(scale) or scale == 0.0 or np.nanmax(np.abs(g)) <= 1e-12 * max(scale, 1e-300):
+        h = np.broadcast_to(np.asarray(f_ddV(grid), dtype=float), grid.shape)
+        v = np.broadcast_to(np.asarray(f_V(grid), dtype=float), grid.shape)
+    gmax = float(np.nanmax(np.abs(g))) if np.any(np.isfinite(g)) else 0.0
+    vmax = float(np.nanmax(np.abs(v))) if np.any(np.isfinite(v)) else 0.0
+    # V' at round-off level of V's own terms counts as zero (a float cancellation)
+    if dV == 0 or gmax <= 1e-13 * vmax:
         raise NoRestoringError(
             f"{label}: no restoring moment: the potential energy does not change with {q} "
-            f"(V'' = 0; e.g. no mass off the rolling/pivot axis), so there are no small oscillations"
+            f"(V' = V'' = 0; no mass off the rolling/pivot axis), so there are no small oscillations"
         )
+    scale = float(np.nanmax(np.abs(h))) if np.any(np.isfinite(h)) else 0.0
     from scipy.optimize import brentq
 
     candidates = []
@@ -658,6 +671,11 @@ def natural_frequency(scene: Scene, method: str = "generalized_euler") -> Freque
             root = grid[i] if a == 0 else brentq(f_dV, grid[i], grid[i + 1], xtol=1e-14)
             candidates.append(float(root))
     stable = [r for r in candidates if float(f_ddV(r)) > 1e-12 * scale]
+    if candidates and not stable:
+        raise NoRestoringError(
+            f"{label}: no restoring moment: V'' = 0 at the equilibrium {q} = {candidates[0]:.6g} rad "
+            f"(neutral, not stable), so there are no small oscillations"
+        )
     if not stable:
         raise NoRestoringError(
             f"{label}: no stable equilibrium (V' = 0 with V'' > 0) within 2 pi of {q} = {q0:.6g} rad: "

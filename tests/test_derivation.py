@@ -245,3 +245,16 @@ def test_explicit_position_equals_constraint_placement():
     bad = Scene(**{**s.__dict__, "position": ("A", sp.Matrix([l_b * sp.cos(th), 0]))})
     with pytest.raises(SceneError, match="violates constraint 'rail_B'"):
         derive(bad)
+
+
+def test_symbolic_reactions_regular_where_the_system_is():
+    # theta = 0 is a regular configuration of Example 2: the symbolic reactions
+    # must evaluate there (no spurious 1/sin(theta) from pivoting).
+    s = example2(theta_deg=0.0, theta_dot=0.0)
+    d = derive(s, "P")
+    vals = {**s.si_values(), th: 0.0, thd: 0.0, S("t"): 0.0}
+    sol = solve_instant(s, "P")
+    for name, expr in d.reactions.items():
+        v = complex(expr.subs(vals))
+        assert v.imag == 0 and math.isfinite(v.real)
+        assert v.real == pytest.approx(sol.unknowns[name].magnitude, rel=1e-12, abs=1e-12)

@@ -224,3 +224,27 @@ def test_kane_and_lagranges_method_agree_on_example2():
     scene = example2()
     diff = lagrange_route(scene, "kane").eom - lagrange_route(scene, "lagrange").eom
     assert sp.simplify(diff) == 0
+
+
+@pytest.mark.parametrize("theta0", [0.3, 2.0, -2.5])
+def test_compound_pendulum_frequency(theta0):
+    """omega_n^2 = m g d / I_O about theta = 0, whatever state the scene starts in
+    (within 2 pi); the equilibrium found is the one nearest that state."""
+    from solver.derivation import natural_frequency
+
+    m, d, L = sp.Rational(3, 2), sp.Rational(2, 5), sp.Rational(6, 5)
+    res = natural_frequency(pendulum(m, d, L, theta0, 0.0))
+    I_O = float(m * L**2 / 12 + m * d**2)
+    want = math.sqrt(float(m * d) * 9.81 / I_O)
+    # 1e-9: brentq locates theta_e = 0 to 1e-14, then a closed-form ratio
+    assert res.omega_n.to("rad/s").magnitude == pytest.approx(want, rel=1e-9)
+    assert abs(res.equilibrium.to("rad").magnitude) < 1e-9
+
+
+def test_no_equilibrium_on_an_incline():
+    """A uniform disk on a slope has V linear in theta: no stable equilibrium."""
+    from solver.derivation import natural_frequency
+    from solver.errors import NoRestoringError
+
+    with pytest.raises(NoRestoringError, match="no stable equilibrium"):
+        natural_frequency(rolling_on_incline("uniform_disk", sp.Integer(3), sp.Rational(2, 5), sp.Rational(3, 10)))
