@@ -5,8 +5,9 @@ results, as printed). Nothing published is typed into this file.
 
 Tolerances come from the paper's rounding, not from taste:
 * each printed number carries +/- half a unit in its last printed digit;
-* the paper computed Eq. 29 with m_b rounded to 1.554 slug (4 s.f.), which
-  moves every m_b-proportional coefficient by up to 0.0005/1.554 relative;
+* the paper computed Eq. 29 with m_b in slug rounded to 4 s.f. (id
+  data-m_b-slug), which moves every m_b-proportional coefficient by up to
+  half a unit of that figure, relative;
 * Eq. 30 is the solution of the *printed* (rounded) Eq. 29, so its error is
   the 2x2 (and row-3) solve's sensitivity to those coefficient errors,
   propagated to first order as a worst case, plus half a unit in the last
@@ -38,7 +39,7 @@ def half_unit(entry: dict) -> float:
     return 0.5 * 10 ** (math.floor(math.log10(v)) - entry["sig_figs"] + 1)
 
 
-# The paper's intermediate m_b = 1.554 slug is 50/32.174 rounded to 4 s.f.:
+# The paper's intermediate m_b in slug (data-m_b-slug) is 50/32.174 rounded to 4 s.f.:
 MB = PUBLISHED["data-m_b-slug"]
 REL_MB = half_unit(MB) / MB["value"]
 ALPHA_COEFS = ("eq29-r1-alpha", "eq29-r2-alpha", "eq29-r3-alpha")
@@ -157,6 +158,6 @@ def test_eq29_coefficients_recomputed():
             if cid not in PUBLISHED:
                 assert abs(value) < 1e-9, (cid, value)  # printed rows omit zero coefficients
                 continue
-            # printed to 4 s.f. from m_b = 1.554: half a unit + the m_b rounding
+            # printed to 4 s.f. from the rounded slug mass: half a unit + the m_b rounding
             assert abs(value - PUBLISHED[cid]["value"]) <= coefficient_uncertainty(cid) + 1e-12, (
                 cid, value, PUBLISHED[cid]["value"])
