@@ -64,9 +64,13 @@ _kinematics_cache: "OrderedDict[int, tuple[Scene, BodyKinematics]]" = OrderedDic
 _derivation_cache: "OrderedDict[tuple, tuple[Scene, Derivation]]" = OrderedDict()
 
 
+_mechanics_cache: "OrderedDict[int, tuple]" = OrderedDict()
+
+
 def clear_cache() -> None:
-    """Forget every cached kinematics model and derivation."""
+    """Forget every cached kinematics model, mechanics route and derivation."""
     _kinematics_cache.clear()
+    _mechanics_cache.clear()
     _derivation_cache.clear()
 
 
@@ -83,6 +87,16 @@ def _kinematics(scene: Scene) -> BodyKinematics:
     if hit is not None and hit[0] is scene:
         return hit[1]
     return _remember(_kinematics_cache, id(scene), scene, BodyKinematics(scene))
+
+
+def _mechanics_route(scene: Scene):
+    """The sympy.physics.mechanics route of a scene (independent of P), cached."""
+    from .lagrange import lagrange_route
+
+    hit = _mechanics_cache.get(id(scene))
+    if hit is not None and hit[0] is scene:
+        return hit[1]
+    return _remember(_mechanics_cache, id(scene), scene, lagrange_route(scene))
 
 
 # ---------------------------------------------------------------------------
@@ -318,9 +332,7 @@ class Derivation:
         elif method == "mass_center":
             self.equations = mass_center_equations(kin)
         else:
-            from .lagrange import lagrange_route
-
-            route = lagrange_route(scene)
+            route = _mechanics_route(scene)
             self.equations = route.equations
             self._lagrange = route
         self._energy = None
