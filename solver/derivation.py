@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import math
 from collections import OrderedDict
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Mapping
 
 import numpy as np
@@ -30,7 +30,7 @@ import sympy as sp
 
 from .errors import NoRestoringError, SceneError, SingularConfigurationError
 from .euler import NamedEquation, applied_loads, generalized_euler_equations, mass_center_equations
-from .kinematics import BodyKinematics, cross_k, scene_label
+from .kinematics import BodyKinematics, scene_label
 from .scene import Scene
 from .units import Q_
 
@@ -38,6 +38,7 @@ __all__ = [
     "METHODS",
     "CONDITION_LIMIT",
     "Derivation",
+    "NamedEquation",
     "NumericModel",
     "InstantSolution",
     "FrequencyResult",

@@ -26,7 +26,6 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from solver.derivation import METHODS, derive, solve_instant
-from solver.errors import SingularConfigurationError
 from solver.scene import Constraint, Element, Load, Point, Scene
 from solver.units import Q_
 
