@@ -241,10 +241,14 @@ def benchmark_figure(series: dict[str, list[tuple[float, float]]], title: str, x
             pts = [(x, y) for x, y in points if x and y and x > 0 and y > 0]
             if not pts:
                 continue
-            xs, ys = zip(*sorted(pts))
+            xs, ys = zip(*sorted(pts, key=lambda p: -p[1]))  # from loose to tight accuracy
             ax.loglog(xs, ys, marker="o", markersize=3, label=name)
         ax.set_xlabel(xlabel)
         ax.set_ylabel(ylabel)
         ax.legend(fontsize=7, loc="best")
         fig.suptitle(title, fontsize=10)
-    return _result("benchmark", fig, title, {})
+    caption = (
+        f"{title}. Each point is one method at one tolerance setting: the median run time and the largest "
+        "relative error over all amplitudes benchmarked (read from reports/build/bench/*.json)."
+    )
+    return _result("benchmark", fig, caption, {})
