@@ -395,7 +395,7 @@ def example1_value_checks(values_path: Path, eqset: EquationSet, scene, deriv, s
                     explanation="" if ok else "The printed coefficient is not the rounded value of the exact one.",
                     caveat="" if within_half or not ok else (
                         f"The exact value {magnitude:.{_digits(printed, 2)}f} does not round to the printed "
-                        f"{printed}; the paper evidently computed with its rounded intermediate data "
+                        f"{value:.{_digits(printed, 0)}f}; the paper evidently computed with its rounded intermediate data "
                         f"({', '.join(data_used)}), which explains the last digit."
                     ),
                 )
