@@ -324,6 +324,15 @@ class _SceneLoader:
                     f"unknown key {name!r} (valid keys for {what}: {', '.join(sorted(valid))})",
                 )
 
+    def kind_of(self, spec: Mapping[str, Any], key: str, what: str,
+                kinds: tuple[str, ...], common: tuple[str, ...], keys: Mapping[str, tuple[str, ...]]) -> str:
+        """Read ``spec.kind`` (one of ``kinds``) and check the table's keys against that kind's."""
+        kind = self.text(self.require(spec, "kind", key, f"one of {', '.join(kinds)}"), f"{key}.kind")
+        if kind not in keys:
+            raise self.fail(f"{key}.kind", f"unknown {what} kind {kind!r} (valid kinds: {', '.join(kinds)})")
+        self.check_keys(spec, common + keys[kind], key, f"a {kind} {what}")
+        return kind
+
     def require(self, table: Mapping[str, Any], name: str, key: str, what: str) -> Any:
         if name not in table:
             raise self.fail(key, f"missing key {name!r} ({what})")
@@ -633,10 +642,7 @@ class _SceneLoader:
         seen: set[str] = set()
         for i, spec in enumerate(entries):
             key = f"elements[{i}]"
-            kind = self.text(self.require(spec, "kind", key, f"one of {', '.join(ELEMENT_KINDS)}"), f"{key}.kind")
-            if kind not in ELEMENT_KEYS:
-                raise self.fail(f"{key}.kind", f"unknown element kind {kind!r} (valid kinds: {', '.join(ELEMENT_KINDS)})")
-            self.check_keys(spec, ELEMENT_COMMON + ELEMENT_KEYS[kind], key, f"a {kind} element")
+            kind = self.kind_of(spec, key, "element", ELEMENT_KINDS, ELEMENT_COMMON, ELEMENT_KEYS)
             name = self.identifier(spec.get("name", f"{kind}_{i + 1}"), f"{key}.name", "element name")
             if name in seen:
                 raise self.fail(f"{key}.name", f"duplicate element name {name!r}")
@@ -719,10 +725,7 @@ class _SceneLoader:
         reactions: dict[str, str] = {}
         for i, spec in enumerate(entries):
             key = f"constraints[{i}]"
-            kind = self.text(self.require(spec, "kind", key, f"one of {', '.join(CONSTRAINT_KINDS)}"), f"{key}.kind")
-            if kind not in CONSTRAINT_KEYS:
-                raise self.fail(f"{key}.kind", f"unknown constraint kind {kind!r} (valid kinds: {', '.join(CONSTRAINT_KINDS)})")
-            self.check_keys(spec, CONSTRAINT_COMMON + CONSTRAINT_KEYS[kind], key, f"a {kind} constraint")
+            kind = self.kind_of(spec, key, "constraint", CONSTRAINT_KINDS, CONSTRAINT_COMMON, CONSTRAINT_KEYS)
             one_sided = self.boolean(spec.get("one_sided", False), f"{key}.one_sided")
             if kind in ("rail", "pivot"):
                 point = self.text(self.require(spec, "point", key, "the body point it holds"), f"{key}.point")
@@ -800,10 +803,7 @@ class _SceneLoader:
         names: set[str] = set()
         for i, spec in enumerate(entries):
             key = f"loads[{i}]"
-            kind = self.text(self.require(spec, "kind", key, f"one of {', '.join(LOAD_KINDS)}"), f"{key}.kind")
-            if kind not in LOAD_KEYS:
-                raise self.fail(f"{key}.kind", f"unknown load kind {kind!r} (valid kinds: {', '.join(LOAD_KINDS)})")
-            self.check_keys(spec, LOAD_COMMON + LOAD_KEYS[kind], key, f"a {kind} load")
+            kind = self.kind_of(spec, key, "load", LOAD_KINDS, LOAD_COMMON, LOAD_KEYS)
             name = self.identifier(spec.get("name", kind if kind == "gravity" else f"{kind}_{i + 1}"), f"{key}.name", "load name")
             if name in names:
                 raise self.fail(f"{key}.name", f"duplicate load name {name!r}" + (" (only one gravity load is allowed)" if kind == "gravity" else ""))
