@@ -121,7 +121,8 @@ def _uses_time(load, scene: Scene) -> bool:
 def eom_command(args: argparse.Namespace) -> int:
     scene = load_scene_from_args(args)
     d = derivation.derive(scene, args.point, args.method)
-    eom, mass = d.eom, d.mass
+    eom = d.eom
+    mass = _display_form(d.mass, _collect_trig)
     # Display form only: cancel common factors (removes removable 0/0 points
     # such as a sin(theta) in both numerator and denominator).
     reactions = {name: _display_form(expr) for name, expr in d.reactions.items()}
@@ -182,11 +183,17 @@ class _OutOfTime(Exception):
     pass
 
 
-def _display_form(expr: sp.Expr) -> sp.Expr:
+def _collect_trig(expr: sp.Expr) -> sp.Expr:
+    """Expand, then let sin**2 + cos**2 = 1 combine (e.g. a generalized mass)."""
+    return sp.trigsimp(sp.expand(expr))
+
+
+def _display_form(expr: sp.Expr, tidy_with=sp.cancel) -> sp.Expr:
     """A readable equivalent of ``expr`` for printing (never used to compute).
 
-    ``sympy.cancel`` removes common factors (and with them removable 0/0
-    points such as a sin(theta) above and below). It can be slow, so it is
+    ``tidy_with`` (default ``sympy.cancel``, which removes common factors and
+    with them removable 0/0 points such as a sin(theta) above and below) can
+    be slow, so it is
     tried only on moderate expressions and within :data:`DISPLAY_BUDGET_S`
     of CPU time (on the main thread of a POSIX system); otherwise the
     derived form is printed unchanged.
@@ -202,7 +209,7 @@ def _display_form(expr: sp.Expr) -> sp.Expr:
         previous = signal.signal(signal.SIGPROF, _alarm)
         signal.setitimer(signal.ITIMER_PROF, DISPLAY_BUDGET_S)
     try:
-        tidy = sp.cancel(expr)
+        tidy = tidy_with(expr)
     except (_OutOfTime, sp.PolynomialError, ValueError, TypeError):
         return expr
     finally:
