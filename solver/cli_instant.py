@@ -105,7 +105,7 @@ def solve_command(args: argparse.Namespace) -> int:
     print()
     print(format_table(("name", "value", "unit"), rows, align="lrl"))
     print()
-    print(f"condition number of the system: {format_number(result['condition_number'], 3)}")
+    print(f"condition number of the system (rows and columns equilibrated, so unit-free): {format_number(result['condition_number'], 3)}")
     print("alpha is the k-component of the angular acceleration (counter-clockwise positive).")
     return 0
 
