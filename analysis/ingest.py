@@ -580,25 +580,38 @@ def _declare(data: SurveyData, respondents: int | None) -> SurveyData:
 # ---------------------------------------------------------------------------
 # item detection and matching
 # ---------------------------------------------------------------------------
-def _column_stats(col: _Column, scale: Scale) -> tuple[int, int, int]:
-    """(non-blank answers, label-text matches, code matches) in a column."""
+def _column_stats(col: _Column, scale: Scale) -> tuple[int, int, int, int]:
+    """(non-blank answers, label-text matches, code matches, not-applicable answers).
+
+    Not-applicable texts ("N/A", ...) are counted apart: they fit every scale and are
+    common in free-text columns, so they are no evidence that a column is an item.
+    """
     counts = col.counts()
-    nonblank = labels = codes = 0
+    nonblank = labels = codes = na = 0
     for text, cnt in zip(col.cats, counts):
         if cnt == 0 or normalize_answer(text) == "":
             continue
         nonblank += cnt
-        if scale.matches_label(text):
+        m = scale.match(text, accept_codes=False)
+        if m == Scale.NOT_APPLICABLE:
+            na += cnt
+        elif m is not None:
             labels += cnt
         elif scale.matches_code(text):
             codes += cnt
-    return int(nonblank), int(labels), int(codes)
+    return int(nonblank), int(labels), int(codes), int(na)
 
 
 def _label_item(stats) -> bool:
-    """At least one label text, and labels or codes make up half the answers or more."""
-    nonblank, labels, codes = stats
-    return nonblank > 0 and labels > 0 and 2 * (labels + codes) >= nonblank
+    """At least one label text, and labels, codes or N/A make up half the answers or more."""
+    nonblank, labels, codes, na = stats
+    return nonblank > 0 and labels > 0 and 2 * (labels + codes + na) >= nonblank
+
+
+def _code_item(stats) -> bool:
+    """Every non-blank answer is a numeric code of the scale (or not applicable)."""
+    nonblank, labels, codes, na = stats
+    return codes > 0 and codes + na == nonblank
 
 
 def _choose_items(source: str, names: list[str], cols, exclude, scale, items,
@@ -632,8 +645,7 @@ def _choose_items(source: str, names: list[str], cols, exclude, scale, items,
     stats = {j: _column_stats(c, scale_obj) for j, c in candidates}
     chosen = [(j, c) for j, c in candidates if _label_item(stats[j])]
     if not chosen:
-        chosen = [(j, c) for j, c in candidates
-                  if stats[j][0] > 0 and stats[j][2] == stats[j][0]]
+        chosen = [(j, c) for j, c in candidates if _code_item(stats[j])]
     if not chosen:
         raise SurveyInputError(
             f"no item columns: no {what}'s answers are labels of scale {scale_obj.name!r} "

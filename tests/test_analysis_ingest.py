@@ -236,3 +236,24 @@ def test_utf16_tab_export_and_other_columns_listed(tmp_path):
     data = read_survey(f)
     assert data.items == ["q1"] and data.other_columns == ["id", "comment"]
     assert summarize(data).items[0].n == 2
+
+
+def test_not_applicable_is_no_evidence_of_an_item(tmp_path):
+    """A free-text column where people wrote "N/A" is not an item; numeric items may hold N/A.
+
+    Regression: "N/A" counted as a label, so a comment column of "N/A"s and remarks was taken
+    as an item (and its remarks raised unknown-answer errors), a column of only "N/A" became
+    an item, and a numeric-coded item with one "N/A" was chosen while an all-code item was not.
+    """
+    f = tmp_path / "q.csv"
+    f.write_text("id,Q1,Q2,Comments\n1,Neutral,Definitely Agree,N/A\n"
+                 "2,Partially Agree,N/A,N/A\n3,Neutral,Neutral,ok\n")
+    data = read_survey(f)
+    assert data.items == ["Q1", "Q2"] and data.other_columns == ["id", "Comments"]
+    coded = tmp_path / "codes.csv"
+    coded.write_text("id,Q1,Q2,Note\n1,1,2,N/A\n2,5,N/A,\n3,4,3,N/A\n")
+    with pytest.raises(SurveyInputError, match="no item columns"):
+        read_survey(coded)                     # codes alone do not say which scale
+    s = summarize(read_survey(coded, scale="agree5"))
+    assert [it.item for it in s.items] == ["Q1", "Q2"]
+    assert [(it.n, it.missing, it.excluded) for it in s.items] == [(3, 0, 0), (2, 0, 1)]
