@@ -209,12 +209,20 @@ class _Raw:
     first_row: int           # spreadsheet row of the first data record
     nrows: int
     comments: list[str] = field(default_factory=list)             # leading '#' lines
+    row_map: "np.ndarray | None" = None   # spreadsheet row per record when not consecutive
+
+    def row_of(self, idx):
+        """Spreadsheet row of data record(s) ``idx`` (0-based record indices)."""
+        if self.row_map is None:
+            return self.first_row + np.asarray(idx, dtype=np.int64)
+        return self.row_map[np.asarray(idx, dtype=np.int64)]
 
 
 def _frame_to_columns(df: pd.DataFrame) -> list[_Column]:
     cols = []
-    for name in df.columns:
-        s = df[name]
+    names = _distinct([str(c) for c in df.columns])
+    for j, name in enumerate(names):
+        s = df.iloc[:, j]
         if isinstance(s.dtype, pd.CategoricalDtype):
             cats = [str(c) for c in s.cat.categories]
             codes = s.cat.codes.to_numpy()
@@ -287,21 +295,18 @@ def _read_csv_raw(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]:
     if not body.strip():
         raise SurveyInputError("empty file (only comment lines)", source)
     head_text = body[:262144].decode(encoding, errors="replace")
-    peek = []
-    for rec in csv.reader(io.StringIO(head_text)):
-        peek.append(rec)
-        if len(peek) >= 4:
-            break
-    first_line = peek[0] if peek else []
-    line0 = head_text.split("\n", 1)[0]
-    sep = ","
-    if "," not in line0 and len(first_line) <= 1:
-        sep = ";" if ";" in line0 else ("\t" if "\t" in line0 else ",")
-        if sep != ",":
-            peek = list(csv.reader(io.StringIO(head_text), delimiter=sep))[:4]
+    sep, peek = _sniff_delimiter(head_text)
+    single = len(peek[0]) <= 1 if peek else True
+    if single:
+        # one column: an empty line is a blank answer (as Excel writes a blank cell);
+        # empty lines before the header and at the end are not records
+        lead = re.match(rb"(?:[ \t]*\r?\n)*", body).end()
+        skip += body[:lead].count(b"\n")
+        body = body[lead:].rstrip(b" \t\r\n") + b"\n"
     try:
         df = pd.read_csv(io.BytesIO(body), dtype="category", keep_default_na=False, sep=sep,
-                         na_filter=False, encoding=encoding, engine="c", skipinitialspace=False)
+                         na_filter=False, encoding=encoding, engine="c", skipinitialspace=False,
+                         skip_blank_lines=not single)
     except UnicodeDecodeError:
         raise _decode_error(raw, encoding, source) from None
     except pd.errors.EmptyDataError:
@@ -311,10 +316,71 @@ def _read_csv_raw(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]:
         row = int(m.group(1)) + skip if m else None
         raise SurveyInputError(f"not a well-formed CSV ({str(e).strip().splitlines()[-1]})",
                                source, row) from None
+    row_map = None
+    if not single and _BLANK_LINE.search(b"\n" + body):
+        row_map = _record_rows(body, encoding, sep, skip, len(df))
     header = [str(c) for c in df.columns]
     comments = [ln.decode(encoding, errors="replace").lstrip("#").strip()
                 for ln in raw[:pos].splitlines()]
-    return _Raw(source, header, _frame_to_columns(df), skip + 2, len(df), comments), peek
+    first = skip + 2 if row_map is None or not len(row_map) else int(row_map[0])
+    return _Raw(source, header, _frame_to_columns(df), first, len(df), comments,
+                row_map), peek
+
+
+_DELIMITERS = (",", ";", "\t")
+_BLANK_LINE = re.compile(rb"\n[ \t]*\r?\n[^\r\n]")
+
+
+def _sniff_delimiter(head_text: str) -> tuple[str, list[list[str]]]:
+    """The delimiter (comma, semicolon or tab) and the first few records.
+
+    The delimiter that splits the header into the most fields wins, among those that
+    split the next records into as many (quotes respected, so a question text with
+    commas in a semicolon file, or with semicolons in a comma file, does not mislead);
+    ties go to the comma.
+    """
+    best = None
+    for sep in _DELIMITERS:
+        recs = []
+        for rec in csv.reader(io.StringIO(head_text), delimiter=sep):
+            if rec and any(c.strip() for c in rec):
+                recs.append(rec)
+            if len(recs) >= 6:
+                break
+        if not recs:
+            continue
+        width = len(recs[0])
+        consistent = all(len(r) == width for r in recs[1:5])
+        key = (consistent, width)
+        if best is None or key > best[0]:
+            best = (key, sep, recs[:4])
+    if best is None:
+        return ",", []
+    return best[1], best[2]
+
+
+def _record_rows(body: bytes, encoding: str, sep: str, skip: int, nrows: int):
+    """Spreadsheet rows of the data records of a CSV body with blank lines in it.
+
+    pandas skips blank lines; a spreadsheet shows them as rows, so later row numbers
+    in messages would be off. Only run when the body has a blank line.
+    """
+    text = body.decode(encoding, errors="replace")
+    rows = []
+    reader = csv.reader(io.StringIO(text, newline=""), delimiter=sep)
+    line = skip
+    header_seen = False
+    for rec in reader:
+        line += 1
+        if len(rec) <= 1 and not "".join(rec).strip():
+            continue                  # pandas skips it; the spreadsheet row still counts
+        if not header_seen:
+            header_seen = True
+            continue
+        rows.append(line)
+    if len(rows) != nrows:            # could not align with pandas: keep consecutive rows
+        return None
+    return np.asarray(rows, dtype=np.int64)
 
 
 def _read_xlsx_raw(path: Path) -> tuple[_Raw, list[list[str]]]:
@@ -345,7 +411,7 @@ def _read_xlsx_raw(path: Path) -> tuple[_Raw, list[list[str]]]:
     while width > 0 and header[width - 1] == "" and all(
             len(r) < width or r[width - 1] == "" for r in rows):
         width -= 1
-    header = [h if h else f"column {j + 1}" for j, h in enumerate(header[:width])]
+    header = _distinct([h if h else f"column {j + 1}" for j, h in enumerate(header[:width])])
     body = [(r + [""] * width)[:width] for r in rows[1:]]
     df = pd.DataFrame(body, columns=header, dtype=object) if body else pd.DataFrame(
         columns=header)
@@ -353,9 +419,29 @@ def _read_xlsx_raw(path: Path) -> tuple[_Raw, list[list[str]]]:
     return _Raw(source, header, _frame_to_columns(df), first + 2, len(body)), peek
 
 
+def _distinct(header: list[str]) -> list[str]:
+    """Headers made distinct as pandas' CSV reader does: a repeated ``Q1`` becomes ``Q1.1``."""
+    seen = set(header)
+    count: dict[str, int] = {}
+    out = []
+    for h in header:
+        if h in count:
+            k = count[h]
+            while f"{h}.{k}" in seen:
+                k += 1
+            count[h] = k + 1
+            name = f"{h}.{k}"
+            seen.add(name)
+            out.append(name)
+        else:
+            count[h] = 1
+            out.append(h)
+    return out
+
+
 def _raw_from_frame(df: pd.DataFrame, source: str, first_row: int) -> tuple[_Raw, list]:
-    header = [str(c) for c in df.columns]
     cols = _frame_to_columns(df)
+    header = [c.name for c in cols]
     peek = [header]
     for i in range(min(3, len(df))):
         peek.append([c.cats[c.codes[i]] for c in cols])
@@ -483,7 +569,7 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
             numeric = all(_isint(v) for v in set(vals) if v != "")
             preview = (vals == "survey preview") | ((vals == "1") if numeric else False)
             for i in np.flatnonzero(preview):
-                dropped.append(DroppedRow(int(raw.first_row + keep[i]), "Survey Preview response"))
+                dropped.append(DroppedRow(int(raw.row_of(keep[i])), "Survey Preview response"))
             keep = keep[~preview]
     if raw.nrows == 0 or (keep is not None and len(keep) == 0):
         extra = f" (after dropping {len(dropped)} Survey Preview rows)" if dropped else ""
@@ -492,7 +578,7 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
         return _build_long(raw, scale, items, unknown, group, reverse, respondents)
     if keep is None:
         keep = np.arange(raw.nrows)
-    rows = raw.first_row + keep
+    rows = raw.row_of(keep)
     exclude = set()
     if shape == "google":
         exclude = {j for j, h in enumerate(raw.header) if h.strip().casefold() in _GOOGLE_META}
@@ -763,7 +849,7 @@ def _build_long(raw: _Raw, scale, items, unknown, group, reverse, respondents):
         if idx is None:
             raise SurveyInputError(f"long shape needs a {what} column (one of {list(names)}); "
                                    f"header is {raw.header!r}", source, 1)
-    rows = raw.first_row + np.arange(raw.nrows)
+    rows = raw.row_of(np.arange(raw.nrows))
     rc, ic, ac = raw.columns[ri], raw.columns[ii], raw.columns[ai]
     rkeys = np.array([x.strip() for x in rc.cats], dtype=object)
     blank_r = rkeys[rc.codes] == ""
@@ -801,14 +887,14 @@ def _build_long(raw: _Raw, scale, items, unknown, group, reverse, respondents):
                               unknown)
     answers = np.full((nresp, len(wanted)), BLANK, dtype=np.int8)
     answers[r_sel, i_sel] = a
-    first_rows = np.full(nresp, np.iinfo(np.int64).max, dtype=np.int64)
-    np.minimum.at(first_rows, resp_code, rows)
+    first_idx = np.full(nresp, np.iinfo(np.int64).max, dtype=np.int64)
+    np.minimum.at(first_idx, resp_code, np.arange(raw.nrows))
+    first_rows = raw.row_of(first_idx)
     groups = {}
     for g in _as_list(group):
         j = _column_index(raw, g)
         col = raw.columns[j]
         vals = np.array(col.cats, dtype=object)[col.codes]
-        first_idx = first_rows - raw.first_row
         groups[col.name] = vals[first_idx]
     names = [item_names[k] for k in wanted]
     data = SurveyData(source=source, shape="long", scale=scale_obj, items=names,

@@ -257,3 +257,34 @@ def test_not_applicable_is_no_evidence_of_an_item(tmp_path):
     s = summarize(read_survey(coded, scale="agree5"))
     assert [it.item for it in s.items] == ["Q1", "Q2"]
     assert [(it.n, it.missing, it.excluded) for it in s.items] == [(3, 0, 0), (2, 0, 1)]
+
+
+def test_csv_layout_quirks(tmp_path, capsys):
+    """Delimiters, blank lines and repeated headers as spreadsheets write them.
+
+    Regressions: a semicolon file whose quoted question text has a comma was split on
+    commas (no items found); rows after a blank line were misnumbered in errors; a blank
+    answer written as an empty line in a one-column file was dropped; a workbook with a
+    repeated header crashed with a traceback.
+    """
+    semi = tmp_path / "semi.csv"
+    semi.write_bytes(b'Name;"Q1, the method";Q2\r\nAda;Neutral;Definitely Agree\r\n'
+                     b'Bob;Partially Agree;Neutral\r\n')
+    assert read_survey(semi).items == ["Q1, the method", "Q2"]
+    comma = tmp_path / "comma.csv"
+    comma.write_text('Timestamp,"Q1; about P; any point",Q2\n1,Neutral,Neutral\n2,Neutral,Neutral\n')
+    assert read_survey(comma).items == ["Q1; about P; any point", "Q2"]
+    gaps = tmp_path / "gaps.csv"
+    gaps.write_bytes(b"q1,q2\r\n\r\nNeutral,Neutral\r\n  \r\n\r\nNeutral,Maybe\r\n\r\n")
+    assert "row 6, column 'q2'" in _one_line_error(capsys, ["summarize", str(gaps)])
+    one = tmp_path / "one.csv"
+    one.write_text("q1\nNeutral\n\nNeutral\n  \nPartially Agree\n\n\n")
+    it = summarize(read_survey(one)).items[0]
+    assert (it.respondents, it.n, it.missing) == (5, 3, 2)
+    wb = openpyxl.Workbook()
+    wb.active.append(["q1", "q1", "q2"])
+    wb.active.append(["Neutral", "Definitely Agree", "Neutral"])
+    wb.save(tmp_path / "dup.xlsx")
+    data = read_survey(tmp_path / "dup.xlsx")
+    assert data.items == ["q1", "q1.1", "q2"]         # as pandas names a repeated CSV header
+    assert list(data.answers[0]) == [2, 0, 2]
