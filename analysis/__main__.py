@@ -160,8 +160,8 @@ def _cmd_claims(args) -> int:
     _notes(data)
     from .likert import summarize
     rep = evaluate_claims(claims, summarize(data, args.confidence, args.ci),
-                          confidence_level=args.confidence, method=args.ci)
-    rep.claims_file = args.claims
+                          confidence_level=args.confidence, method=args.ci,
+                          claims_file=args.claims)
     print(json.dumps(rep.to_dict(), indent=2, ensure_ascii=False) if args.json
           else rep.format_text())
     return 0

@@ -29,7 +29,7 @@ def read_toml(path: "str | Path") -> dict:
     """A TOML file as a dict; SurveyInputError (naming the file) on any problem."""
     raw = read_bytes(path)
     try:
-        return tomllib.loads(raw.decode("utf-8"))
+        return tomllib.loads(raw.decode("utf-8-sig"))      # Notepad may write a BOM
     except UnicodeDecodeError as e:
         raise SurveyInputError(f"not valid UTF-8 (byte offset {e.start})", str(path)) from None
     except tomllib.TOMLDecodeError as e:

@@ -136,7 +136,7 @@ class ClaimsReport:
         out = [f"{self.source}: claims from {self.claims_file} "
                f"({self.confidence_level:.0%} {self.method} intervals)"]
         for r in self.results:
-            share = "n/a" if r.share is None else f"{r.share:.1%}"
+            share = "n/a" if r.share is None else f"{r.proportion.percent_text(1)}%"
             ci = "" if r.share is None else f" [{r.ci[0]:.1%}, {r.ci[1]:.1%}]"
             out.append(f"  {r.claim.id}: {r.item} share {r.k}/{r.n} = {share}{ci} "
                        f"{r.claim.comparison} {100 * r.claim.threshold:g}%: {r.verdict}")
@@ -239,14 +239,17 @@ def evaluate_claim(claim: Claim, summary: SurveySummary, confidence_level: float
 
 
 def evaluate_claims(claims: "list[Claim] | str | Path", summary: SurveySummary,
-                    confidence_level: float = 0.95, method: str = "wilson") -> ClaimsReport:
+                    confidence_level: float = 0.95, method: str = "wilson",
+                    claims_file: "str | None" = None) -> ClaimsReport:
     """Evaluate every claim (a list, or a claims TOML file) against a survey summary.
+
+    ``claims_file`` names the file a list of claims was read from (for messages).
 
     Returns
     -------
     ClaimsReport
     """
-    src = "<claims>"
+    src = str(claims_file) if claims_file else "<claims>"
     if isinstance(claims, (str, Path)):
         src = str(claims)
         claims = load_claims(claims)

@@ -86,6 +86,14 @@ class Proportion:
         """Interval for the share at another level or by another method."""
         return proportion(self.k, self.n, confidence_level, method).ci
 
+    def percent_text(self, decimals: int = 1) -> str:
+        """The share in percent as printed: the exact ``100 k / n`` rounded half away from
+        zero (the rule of :meth:`ItemSummary.printed_percent`, so 5/16 prints 31.3 both as
+        a category and as a share); ``"-"`` when n == 0."""
+        if self.n == 0:
+            return "-"
+        return f"{float(round_fraction(Fraction(100 * self.k, self.n), decimals)):.{decimals}f}"
+
     def to_dict(self) -> dict:
         return {"share": self.share, "ci": list(self.ci)}
 
@@ -214,6 +222,8 @@ class ItemSummary:
         """
         if method not in PERCENT_METHODS:
             raise ValueError(f"`method` must be one of {list(PERCENT_METHODS)}, got {method!r}")
+        if isinstance(decimals, bool) or not isinstance(decimals, int) or not 0 <= decimals <= 6:
+            raise ValueError(f"`decimals` must be an integer 0..6, got {decimals!r}")
         cs = [self.counts[lab] for lab in self.labels]
         if self.n == 0:
             return {lab: 0.0 for lab in self.labels}
@@ -308,7 +318,7 @@ class SurveySummary:
             cells = "  ".join(f"{f'{pp[lab]:.{decimals}f}% ({it.counts[lab]})':>{cw}}" for lab in labels)
             ag = it.agree
             agree = ("-" if ag.share is None else
-                     f"{ag.share:.1%} [{ag.ci[0]:.1%}, {ag.ci[1]:.1%}]")
+                     f"{ag.percent_text(1)}% [{ag.ci[0]:.1%}, {ag.ci[1]:.1%}]")
             out.append(f"{it.item:<{width}}  {cells}  {it.n:>5} {it.missing:>5} "
                        f"{it.excluded:>5}  {agree}")
         for d in self.dropped:

@@ -107,3 +107,22 @@ def test_claim_on_missing_item(tmp_path, rebuilt, capsys):
     f.write_text('[[claims]]\nitem = "item9"\ncategories = ["Neutral"]\nthreshold = 10\n')
     assert main(["claims", str(rebuilt), str(f)]) == 2
     assert "item9" in capsys.readouterr().err
+
+
+def test_claims_file_named_and_bom_accepted(tmp_path, capsys):
+    """A bad category names the claims file; a TOML file saved with a BOM (Notepad) is read.
+
+    Regression: the error said ``<claims>`` instead of the file; a BOM was "invalid TOML".
+    """
+    f = tmp_path / "s.csv"
+    f.write_text("q1\nNeutral\nDefinitely Agree\n")
+    good = tmp_path / "bom.toml"
+    good.write_bytes(b'\xef\xbb\xbf[[claims]]\nitem = 1\ncategories = ["Neutral"]\n'
+                     b'comparison = ">"\nthreshold = 10\n')
+    assert main(["claims", str(f), str(good)]) == 0
+    assert "1/2 = 50.0%" in capsys.readouterr().out
+    bad = tmp_path / "bad.toml"
+    bad.write_text('[[claims]]\nitem = 1\ncategories = ["Agree"]\nthreshold = 10\n')
+    assert main(["claims", str(f), str(bad)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"error: {bad}: ") and "'Agree'" in err and err.count("\n") == 1

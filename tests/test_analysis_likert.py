@@ -120,3 +120,24 @@ def test_table1_reproduction_chain(tmp_path):
     assert [r.verdict_code for r in rep.claims.results] == ["sample_only", "sample_only"]
     json_ready = rep.to_dict()
     assert len(json_ready["cells"]) == 25
+
+
+def test_shares_printed_by_the_same_rule_as_cells(tmp_path, capsys):
+    """5/16 = 31.25 % prints 31.3 as a cell and as the agreement share (half away from zero).
+
+    Regression: the share went through float formatting (31.2) beside a cell showing 31.3;
+    and ``--decimals -1`` ended in a traceback instead of one line and status 2.
+    """
+    scale = tmp_path / "yn.toml"
+    scale.write_text('labels = ["No", "Yes"]\npositive = ["Yes"]\nnegative = ["No"]\n')
+    f = tmp_path / "s.csv"
+    f.write_text("q1\n" + "Yes\n" * 5 + "No\n" * 11)
+    assert main(["summarize", str(f), "--scale", str(scale)]) == 0
+    row = capsys.readouterr().out.splitlines()[2]
+    assert "31.3% (5)" in row and "31.3% [" in row and "31.2" not in row
+    out = tmp_path / "r.html"
+    assert main(["report", str(f), "--scale", str(scale), "-o", str(out)]) == 0
+    assert "31.2" not in out.read_text()
+    assert main(["summarize", str(f), "--scale", str(scale), "--decimals", "-1"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "decimals" in err and "Traceback" not in err
