@@ -7,8 +7,9 @@ Supported shapes (:data:`SHAPES`), detected from the file unless named:
 ``long``
     A row per answer: respondent, item, answer columns (names such as
     ``respondent``/``id``, ``item``/``question``, ``answer``/``response``/``value``).
-    Items come in order of first appearance; a (respondent, item) pair with no row
-    is missing; a pair given twice is an error.
+    Items come in questionnaire order, merged from the order of each respondent's
+    rows (first appearance breaks ties); a (respondent, item) pair with no row is
+    missing; a pair given twice is an error.
 ``google``
     Google Forms export: a ``Timestamp`` column, maybe an e-mail column, the
     question text as headers and answers as label text.
@@ -42,6 +43,7 @@ from __future__ import annotations
 
 import csv
 import fnmatch
+import heapq
 import io
 import re
 from dataclasses import dataclass, field
@@ -840,6 +842,42 @@ def _match(source, scale, item_cols, rows, unknown):
 # ---------------------------------------------------------------------------
 # long shape
 # ---------------------------------------------------------------------------
+def _questionnaire_order(resp_code: np.ndarray, item_code: np.ndarray, nitem: int) -> list[int]:
+    """Item codes in questionnaire order, from the order of each respondent's rows.
+
+    First appearance alone misorders items when the first respondents skipped one (a
+    long export often leaves unanswered items out): item B answered only from the
+    second respondent on would come after C. Each respondent's rows say "A before B";
+    these precedences are merged (Kahn's algorithm, ties by first appearance). Rows
+    that contradict each other fall back to first appearance.
+    """
+    if nitem <= 1:
+        return list(range(nitem))
+    order = np.argsort(resp_code, kind="stable")
+    r, i = resp_code[order], item_code[order]
+    same = (r[1:] == r[:-1]) & (i[1:] != i[:-1])
+    pairs = np.unique(i[:-1][same] * nitem + i[1:][same])
+    succ: list[list[int]] = [[] for _ in range(nitem)]
+    indeg = np.zeros(nitem, dtype=np.int64)
+    for pr in pairs.tolist():
+        a, b = divmod(pr, nitem)
+        succ[a].append(b)
+        indeg[b] += 1
+    ready = [k for k in range(nitem) if indeg[k] == 0]
+    heapq.heapify(ready)
+    out = []
+    while ready:
+        k = heapq.heappop(ready)
+        out.append(k)
+        for b in succ[k]:
+            indeg[b] -= 1
+            if indeg[b] == 0:
+                heapq.heappush(ready, b)
+    if len(out) != nitem:          # contradictory orders: keep first appearance
+        return list(range(nitem))
+    return out
+
+
 def _build_long(raw: _Raw, scale, items, unknown, group, reverse, respondents):
     source = raw.source
     ri, ii, ai = (_find(raw.header, _LONG_RESP), _find(raw.header, _LONG_ITEM),
@@ -863,7 +901,11 @@ def _build_long(raw: _Raw, scale, items, unknown, group, reverse, respondents):
         raise SurveyInputError("blank item name", source, int(rows[i]), ic.name)
     resp_code, resp_ids = pd.factorize(pd.Series(rkeys[rc.codes]), sort=False)
     item_code, item_names = pd.factorize(pd.Series(ikeys[ic.codes]), sort=False)
-    item_names = [str(x) for x in item_names]
+    perm = _questionnaire_order(resp_code, item_code, len(item_names))
+    inv = np.empty(len(perm), dtype=np.int64)
+    inv[perm] = np.arange(len(perm))
+    item_code = inv[item_code]
+    item_names = [str(item_names[k]) for k in perm]
     nresp, nitem = len(resp_ids), len(item_names)
     # choose items among the item names, by pattern or by detection
     per_item = [(k, _Column(item_names[k], ac.cats, ac.codes[item_code == k]))

@@ -288,3 +288,18 @@ def test_csv_layout_quirks(tmp_path, capsys):
     data = read_survey(tmp_path / "dup.xlsx")
     assert data.items == ["q1", "q1.1", "q2"]         # as pandas names a repeated CSV header
     assert list(data.answers[0]) == [2, 0, 2]
+
+
+def test_long_items_in_questionnaire_order_when_first_rows_skip_one(tmp_path):
+    """A long export that leaves out unanswered items still lists items as asked.
+
+    Regression: items came in order of first appearance, so Q2 (skipped by the first
+    respondent) was listed after Q3.
+    """
+    f = tmp_path / "long.csv"
+    f.write_text("respondent,item,answer\nr1,Q1,Neutral\nr1,Q3,Neutral\n"
+                 "r2,Q1,Neutral\nr2,Q2,Definitely Agree\nr2,Q3,N/A\n")
+    s = summarize(read_survey(f))
+    assert [it.item for it in s.items] == ["Q1", "Q2", "Q3"]
+    assert [(it.n, it.missing, it.excluded) for it in s.items] == [(2, 0, 0), (1, 1, 0), (1, 0, 1)]
+    assert s.item("Q2").counts["Definitely Agree"] == 1
