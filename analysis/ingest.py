@@ -19,7 +19,8 @@ Supported shapes (:data:`SHAPES`), detected from the file unless named:
 
 CSV files and ``.xlsx`` workbooks (first sheet, read with openpyxl) are accepted;
 ``shape="xlsx"`` reads a workbook whatever its file name and detects its layout.
-Leading lines that start with ``#`` in a CSV are comments; a header line with
+Leading lines that start with ``#`` in a CSV are comments (a header whose first
+field is ``#``, such as ``#,Q1,Q2``, is not); a header line with
 semicolons or tabs and no commas sets the delimiter.
 
 Item columns are detected: a column is an item when it holds at least one label
@@ -286,7 +287,9 @@ def _read_csv_raw(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]:
     # leading comment lines
     skip = 0
     pos = 0
-    while pos < len(raw) and raw[pos:pos + 1] == b"#":
+    # (a header whose first field is "#", as in "#,Q1,Q2", is not a comment)
+    while (pos < len(raw) and raw[pos:pos + 1] == b"#"
+           and raw[pos + 1:pos + 2] not in (b",", b";", b"\t")):
         nl = raw.find(b"\n", pos)
         if nl < 0:
             pos = len(raw)

@@ -303,3 +303,13 @@ def test_long_items_in_questionnaire_order_when_first_rows_skip_one(tmp_path):
     assert [it.item for it in s.items] == ["Q1", "Q2", "Q3"]
     assert [(it.n, it.missing, it.excluded) for it in s.items] == [(2, 0, 0), (1, 1, 0), (1, 0, 1)]
     assert s.item("Q2").counts["Definitely Agree"] == 1
+
+
+def test_header_whose_first_field_is_hash_is_not_a_comment(tmp_path):
+    """Regression: a "#,Q1,Q2" header was skipped as a comment line, so the first
+    respondent's answers became the headers and that respondent was lost."""
+    f = tmp_path / "h.csv"
+    f.write_text("# exported from the LMS\n#,Q1,Q2\n1,Neutral,Neutral\n2,Definitely Agree,\n")
+    data = read_survey(f)
+    assert data.items == ["Q1", "Q2"] and data.respondents == 2
+    assert data.comments == ["exported from the LMS"] and list(data.rows) == [3, 4]
