@@ -20,8 +20,9 @@ Supported shapes (:data:`SHAPES`), detected from the file unless named:
 CSV files and ``.xlsx`` workbooks (first sheet, read with openpyxl) are accepted;
 ``shape="xlsx"`` reads a workbook whatever its file name and detects its layout.
 Leading lines that start with ``#`` in a CSV are comments (a header whose first
-field is ``#``, such as ``#,Q1,Q2``, is not); a header line with
-semicolons or tabs and no commas sets the delimiter.
+field is ``#``, such as ``#,Q1,Q2``, is not). The delimiter (comma, semicolon or
+tab) is the one that splits the header and the next records into the same number
+of fields; a workbook is recognised by its content whatever its file name.
 
 Item columns are detected: a column is an item when it holds at least one label
 text of the scale and at least half of its non-blank answers are labels or codes
@@ -47,6 +48,7 @@ import fnmatch
 import heapq
 import io
 import re
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -299,6 +301,10 @@ def _read_csv_raw(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]:
     body = raw[pos:]
     if not body.strip():
         raise SurveyInputError("empty file (only comment lines)", source)
+    if b"\x00" in body[:4096] and not encoding.lower().replace("-", "").startswith("utf16"):
+        raise SurveyInputError("holds NUL bytes: UTF-16 text without a byte-order mark, or "
+                               "not a text file; give --encoding utf-16-le (or save as CSV)",
+                               source)
     head_text = body[:262144].decode(encoding, errors="replace")
     sep, peek = _sniff_delimiter(head_text)
     single = len(peek[0]) <= 1 if peek else True
@@ -309,9 +315,14 @@ def _read_csv_raw(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]:
         skip += body[:lead].count(b"\n")
         body = body[lead:].rstrip(b" \t\r\n") + b"\n"
     try:
-        df = pd.read_csv(io.BytesIO(body), dtype="category", keep_default_na=False, sep=sep,
-                         na_filter=False, encoding=encoding, engine="c", skipinitialspace=False,
-                         skip_blank_lines=not single)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", pd.errors.ParserWarning)
+            # index_col=False: a data row with a trailing delimiter must not turn the
+            # first column into an index and shift every answer one column left
+            df = pd.read_csv(io.BytesIO(body), dtype="category", keep_default_na=False,
+                             sep=sep, na_filter=False, encoding=encoding, engine="c",
+                             skipinitialspace=False, skip_blank_lines=not single,
+                             index_col=False)
     except UnicodeDecodeError:
         raise _decode_error(raw, encoding, source) from None
     except pd.errors.EmptyDataError:
@@ -321,6 +332,8 @@ def _read_csv_raw(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]:
         row = int(m.group(1)) + skip if m else None
         raise SurveyInputError(f"not a well-formed CSV ({str(e).strip().splitlines()[-1]})",
                                source, row) from None
+    if any(issubclass(w.category, pd.errors.ParserWarning) for w in caught):
+        _check_extra_fields(body, encoding, sep, df.shape[1], source, skip)
     row_map = None
     if not single and _BLANK_LINE.search(b"\n" + body):
         row_map = _record_rows(body, encoding, sep, skip, len(df))
@@ -347,21 +360,42 @@ def _sniff_delimiter(head_text: str) -> tuple[str, list[list[str]]]:
     best = None
     for sep in _DELIMITERS:
         recs = []
-        for rec in csv.reader(io.StringIO(head_text), delimiter=sep):
-            if rec and any(c.strip() for c in rec):
-                recs.append(rec)
-            if len(recs) >= 6:
-                break
+        try:
+            for rec in csv.reader(io.StringIO(head_text, newline=""), delimiter=sep):
+                if rec and any(c.strip() for c in rec):
+                    recs.append(rec)
+                if len(recs) >= 6:
+                    break
+        except csv.Error:             # not text a CSV reader takes: pandas will say what
+            pass
         if not recs:
             continue
         width = len(recs[0])
-        consistent = all(len(r) == width for r in recs[1:5])
+        consistent = width > 1 and all(len(r) == width for r in recs[1:5])
         key = (consistent, width)
         if best is None or key > best[0]:
             best = (key, sep, recs[:4])
     if best is None:
         return ",", []
     return best[1], best[2]
+
+
+def _check_extra_fields(body: bytes, encoding: str, sep: str, width: int, source: str,
+                        skip: int) -> None:
+    """Raise when a record has a non-blank value beyond the header's last column.
+
+    Blank trailing fields (a delimiter at the end of each line) are harmless and left
+    out; a value there has no column, and leaving it out would drop it silently.
+    """
+    text = body.decode(encoding, errors="replace")
+    line = skip
+    for rec in csv.reader(io.StringIO(text, newline=""), delimiter=sep):
+        line += 1
+        extra = [c for c in rec[width:] if c.strip()]
+        if extra:
+            raise SurveyInputError(
+                f"{len(rec)} fields, but the header has {width}: value {extra[0]!r} has no "
+                f"column", source, line)
 
 
 def _record_rows(body: bytes, encoding: str, sep: str, skip: int, nrows: int):
@@ -391,10 +425,10 @@ def _record_rows(body: bytes, encoding: str, sep: str, skip: int, nrows: int):
 def _read_xlsx_raw(path: Path) -> tuple[_Raw, list[list[str]]]:
     import openpyxl
     source = str(path)
+    # from the bytes: openpyxl refuses a workbook whose name does not end in .xlsx
+    content = io.BytesIO(read_bytes(path))
     try:
-        wb = openpyxl.load_workbook(path, read_only=True, data_only=True)
-    except FileNotFoundError:
-        raise SurveyInputError("no such file", source) from None
+        wb = openpyxl.load_workbook(content, read_only=True, data_only=True)
     except Exception as e:  # zipfile.BadZipFile, KeyError, InvalidFileException ...
         raise SurveyInputError(f"not a readable .xlsx workbook ({type(e).__name__})",
                                source) from None
@@ -477,6 +511,15 @@ def _detect_shape(raw: _Raw, peek: list[list[str]]) -> str:
     return "wide"
 
 
+def _is_zip(path: Path) -> bool:
+    """True for a zip container (an .xlsx workbook saved under another name)."""
+    try:
+        with open(path, "rb") as fh:
+            return fh.read(4) == b"PK\x03\x04"
+    except OSError:
+        return False             # read_bytes names the problem
+
+
 def _validate_read(shape, unknown, respondents):
     if shape not in SHAPES:
         raise ValueError(f"`shape` must be one of {list(SHAPES)}, got {shape!r}")
@@ -528,7 +571,7 @@ def read_survey(path: "str | Path", scale: "str | Scale | None" = None,
     """
     _validate_read(shape, unknown, respondents)
     p = Path(path)
-    if shape == "xlsx" or p.suffix.lower() in (".xlsx", ".xlsm"):
+    if shape == "xlsx" or p.suffix.lower() in (".xlsx", ".xlsm") or _is_zip(p):
         raw, peek = _read_xlsx_raw(p)
         shape = "auto"
     elif p.suffix.lower() == ".xls":

@@ -313,3 +313,30 @@ def test_header_whose_first_field_is_hash_is_not_a_comment(tmp_path):
     data = read_survey(f)
     assert data.items == ["Q1", "Q2"] and data.respondents == 2
     assert data.comments == ["exported from the LMS"] and list(data.rows) == [3, 4]
+
+
+def test_trailing_delimiters_short_rows_and_misnamed_files(tmp_path, capsys):
+    """Regressions: a trailing comma on each data row made pandas take the first column
+    as an index, shifting every answer one column left (silently); a value beyond the
+    header was dropped; a short first row switched the delimiter to ';'; binary input
+    and a workbook saved as .csv ended in tracebacks."""
+    trail = tmp_path / "trail.csv"
+    trail.write_text("q1,q2\nNeutral,Definitely Agree,\nPartially Agree,Neutral,\n")
+    s = summarize(read_survey(trail))
+    assert s.item("q1").counts["Neutral"] == 1 and s.item("q1").counts["Partially Agree"] == 1
+    assert s.item("q2").counts["Definitely Agree"] == 1 and s.item("q2").missing == 0
+    extra = tmp_path / "extra.csv"
+    extra.write_text("q1,q2\nNeutral,Definitely Agree,\nPartially Agree,Neutral,Neutral\n")
+    assert "row 3: 3 fields, but the header has 2" in _one_line_error(capsys, ["summarize", str(extra)])
+    short = tmp_path / "short.csv"
+    short.write_text("q1,q2\nNeutral\nNeutral,Neutral\n")
+    s = summarize(read_survey(short))
+    assert [(it.n, it.missing) for it in s.items] == [(2, 0), (1, 1)]
+    binary = tmp_path / "bin.csv"
+    binary.write_bytes(b"\x7fELF\x02\x01\x01\x00\x00\x00\r\x00\x03\x00>\x00\x01\x00\x00\x00\n\xff")
+    _one_line_error(capsys, ["summarize", str(binary)])
+    wb = openpyxl.Workbook()
+    wb.active.append(["q1"])
+    wb.active.append(["Neutral"])
+    wb.save(tmp_path / "book.csv")
+    assert read_survey(tmp_path / "book.csv").respondents == 1
