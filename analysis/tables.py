@@ -141,22 +141,31 @@ class PublishedTable:
         Cell text as printed (``"4.5"``; a trailing ``%`` is allowed).
     source : str
         Where the table came from (file name), for messages.
+    rows : tuple of int
+        Spreadsheet row of each item in the file (default: header in row 1, no gaps).
     """
 
     items: tuple[str, ...]
     labels: tuple[str, ...]
     cells: tuple[tuple[str, ...], ...]
     source: str = "<table>"
+    rows: tuple[int, ...] = ()
+
+    def row_of(self, i: int) -> int:
+        """Spreadsheet row of item ``i`` (for messages)."""
+        return self.rows[i] if i < len(self.rows) else i + 2
 
     def value(self, i: int, j: int) -> tuple[Fraction, int]:
         """Exact value and printed decimals of cell (i, j)."""
-        return _parse_cell(self.cells[i][j], self.source, i + 2, self.labels[j])
+        return _parse_cell(self.cells[i][j], self.source, self.row_of(i), self.labels[j])
 
 
 def _parse_cell(text: str, source: str, row: int, column: str) -> tuple[Fraction, int]:
     t = str(text).strip()
     if t.endswith("%"):
         t = t[:-1].strip()
+    if t.count(",") == 1 and t.replace(",", "").isdigit():
+        t = t.replace(",", ".")          # decimal comma ("27,3"), as European tables print
     if t == "":
         raise SurveyInputError("blank cell; every cell needs a printed percentage",
                                source, row, column)
@@ -176,6 +185,9 @@ def read_table_csv(path: "str | Path", item_column: str = "item",
                    encoding: str = "utf-8-sig") -> PublishedTable:
     """Read a published table from CSV: an ``item`` column and one column per label.
 
+    Comma, semicolon or tab delimited (detected); a cell may end in ``%`` and may use a
+    decimal comma (``27,3``). Rows are numbered as a spreadsheet shows them.
+
     Raises
     ------
     SurveyInputError
@@ -192,27 +204,40 @@ def read_table_csv(path: "str | Path", item_column: str = "item",
         line = raw[:e.start].count(b"\n") + 1
         raise SurveyInputError(f"byte 0x{raw[e.start]:02x} is not valid {encoding}",
                                src, line) from None
-    rows = [r for r in csv.reader(io.StringIO(text))]
-    rows = [r for r in rows if any(c.strip() for c in r)]
-    if not rows:
+    from .ingest import _sniff_delimiter
+    sep, _ = _sniff_delimiter(text[:65536])
+    try:
+        records = list(csv.reader(io.StringIO(text, newline=""), delimiter=sep))
+    except csv.Error as e:
+        raise SurveyInputError(f"not a well-formed CSV ({e})", src) from None
+    # keep each record's spreadsheet row: blank lines still count as rows
+    numbered = [(r, rec) for r, rec in enumerate(records, start=1) if any(c.strip() for c in rec)]
+    if not numbered:
         raise SurveyInputError("empty file", src)
-    header = [h.strip() for h in rows[0]]
+    head_row, first = numbered[0]
+    header = [h.strip() for h in first]
     keys = [h.casefold() for h in header]
     if item_column.casefold() not in keys:
-        raise SurveyInputError(f"no {item_column!r} column; header is {header!r}", src, 1)
+        raise SurveyInputError(f"no {item_column!r} column; header is {header!r}", src, head_row)
     ic = keys.index(item_column.casefold())
     labels = tuple(h for j, h in enumerate(header) if j != ic)
     if len(labels) < 2:
-        raise SurveyInputError("needs at least two label columns besides the item column", src, 1)
-    if len(rows) < 2:
+        raise SurveyInputError("needs at least two label columns besides the item column", src,
+                               head_row)
+    for j, lab in enumerate(labels):
+        if not lab or lab.casefold() in [x.casefold() for x in labels[:j]]:
+            raise SurveyInputError(f"label column {j + 1} is {'blank' if not lab else 'repeated'}"
+                                   f" ({lab!r}); labels are {list(labels)!r}", src, head_row)
+    if len(numbered) < 2:
         raise SurveyInputError("no table rows below the header", src)
-    items, cells = [], []
-    for r, row in enumerate(rows[1:], start=2):
+    items, cells, rows = [], [], []
+    for r, row in numbered[1:]:
         if len(row) != len(header):
             raise SurveyInputError(f"{len(row)} cells, header has {len(header)}", src, r)
         items.append(row[ic].strip())
         cells.append(tuple(c for j, c in enumerate(row) if j != ic))
-    table = PublishedTable(tuple(items), labels, tuple(cells), src)
+        rows.append(r)
+    table = PublishedTable(tuple(items), labels, tuple(cells), src, tuple(rows))
     for i in range(len(items)):          # fail early on bad cells, naming the place
         for j in range(len(labels)):
             table.value(i, j)
@@ -434,7 +459,7 @@ def _validate_n_needed(table: PublishedTable, n: int) -> None:
         if n < nonzero:
             raise SurveyInputError(
                 f"N = {n} is smaller than the counts need: row {item!r} has {nonzero} non-zero "
-                f"cells, so at least {nonzero} respondents", table.source, i + 2)
+                f"cells, so at least {nonzero} respondents", table.source, table.row_of(i))
 
 
 def _check_cell(item, label, value, dec, text, n, rule) -> CellCheck:

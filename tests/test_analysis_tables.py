@@ -174,3 +174,25 @@ def test_n_smaller_than_counts_need(capsys):
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "smaller than the counts need" in err
     assert main(["verify-table", str(published_dir() / "table1.csv"), "--n", str(need)]) == 0
+
+
+def test_table_csv_as_european_spreadsheets_write_it(tmp_path, capsys):
+    """Semicolons with decimal commas are read; rows keep their numbers past blank lines;
+    a repeated label column is refused.
+
+    Regressions: a semicolon table failed with "no 'item' column"; an error after a blank
+    line named the wrong row; two 'Agree' columns were checked as if distinct.
+    """
+    semi = tmp_path / "semi.csv"
+    semi.write_bytes(b"\xef\xbb\xbfItem;Agree;Neutral;Disagree\r\nQ1;\"50,0 %\";25,0;25,0\r\n")
+    assert main(["verify-table", str(semi), "--n", "4", "--json"]) == 0
+    row = json.loads(capsys.readouterr().out)["rows"][0]
+    assert [c["counts"] for c in row["cells"]] == [[2], [1], [1]] and row["sum_ok"]
+    gaps = tmp_path / "gaps.csv"
+    gaps.write_text("item,Agree,Neutral,Disagree\n\nQ1,50,25,25\n\nQ2,50,x,25\n")
+    assert main(["verify-table", str(gaps), "--n", "4"]) == 2
+    assert "row 5, column 'Neutral'" in capsys.readouterr().err
+    dup = tmp_path / "dup.csv"
+    dup.write_text("item,Agree,agree,Disagree\nQ1,50,25,25\n")
+    assert main(["verify-table", str(dup), "--n", "4"]) == 2
+    assert "repeated" in capsys.readouterr().err
