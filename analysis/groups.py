@@ -12,6 +12,7 @@ computed here by sorting and binary search (no n_A * n_B pair matrix).
 
 Groups with fewer respondents than ``min_size`` (default 5) are suppressed: their
 results are not shown and they take no part in the tests; the reason is given.
+Group values match as answers do, ignoring case and white space ("Mon", " mon ").
 
 Public API: :func:`compare_groups` -> :class:`GroupComparison` (``to_dict()``,
 ``format_text()``), :func:`cliffs_delta`.
@@ -150,8 +151,16 @@ def compare_groups(data: SurveyData, column: str, min_size: int = 5) -> GroupCom
     GroupComparison
     """
     name = _validate_groups(data, column, min_size)
-    raw = np.array([str(v).strip() or BLANK_GROUP for v in data.groups[name]], dtype=object)
-    values, inverse = np.unique(raw, return_inverse=True)
+    # spellings of one value ("Mon", " mon ") are one group, named by its commonest spelling
+    texts = [str(v) for v in data.groups[name]]
+    keys = np.array([normalize_answer(t) for t in texts], dtype=object)
+    keys_u, inverse = np.unique(keys, return_inverse=True)
+    spelled: list[dict] = [{} for _ in keys_u]
+    for g, t in zip(inverse, texts):
+        t = " ".join(t.split())
+        spelled[g][t] = spelled[g].get(t, 0) + 1
+    values = np.array([BLANK_GROUP if k == "" else max(sp, key=lambda t: (sp[t], t))
+                       for k, sp in zip(keys_u, spelled)], dtype=object)
     infos, shown = [], []
     for g, val in enumerate(values):
         size = int((inverse == g).sum())

@@ -101,3 +101,15 @@ def test_groups_suppression_and_tests():
     assert comp3.items[0].statistic == pytest.approx(h, rel=1e-12)
     with pytest.raises(SurveyInputError, match="term"):
         compare_groups(data, "term")
+
+
+def test_group_spellings_are_one_group():
+    """Regression: "Mon", "mon " and "MON" were three groups (each then suppressed as too
+    small) instead of one group of 6 compared against "Wed"."""
+    sect = ["Mon", "mon ", "MON", "Mon", "Mon", " mon"] + ["Wed"] * 5
+    ans = ["Definitely Agree"] * 6 + ["Neutral"] * 5
+    data = survey_from_frame(pd.DataFrame({"section": sect, "q1": ans}), group="section")
+    comp = compare_groups(data, "section")
+    assert [(g.name, g.respondents, g.suppressed) for g in comp.groups] == [
+        ("Mon", 6, False), ("Wed", 5, False)]
+    assert comp.items[0].test == "mann-whitney"
