@@ -38,7 +38,13 @@ MAX_DEPTH = 100
 """Deepest accepted nesting of operations and calls."""
 MAX_DIGITS = 300
 """Largest number of decimal digits a numeric power may produce (keeps
-``9**9**9`` from computing a huge integer)."""
+``9**9**9`` from computing a huge integer). Every constant part of an
+expression (a literal, or a sub-expression free of names) must also lie
+within 10**-MAX_DIGITS .. 10**MAX_DIGITS in size (or be 0) and be real."""
+MAX_ARGUMENT = 1e15
+"""Largest size of a constant function argument (``exp(1e6)``, ``cos(1e200)``):
+beyond it float64 has lost the value (or the result overflows), and sympy's
+exact evaluation of ``exp(exp(exp(100)))`` would never finish."""
 
 # name -> (sympy function, allowed argument counts)
 FUNCTIONS: dict[str, tuple[Callable[..., sp.Expr], tuple[int, ...]]] = {
@@ -190,6 +196,31 @@ def _too_large_power(base: sp.Expr, exponent: sp.Expr) -> bool:
     return abs(float(exponent)) * digits > MAX_DIGITS
 
 
+def _size(value: sp.Expr) -> float | None:
+    """|value| of a constant built from bounded parts (cheap to evaluate), or None when it
+    is not real or cannot be evaluated."""
+    try:
+        z = complex(sp.N(value, 20))
+    except (TypeError, ValueError, OverflowError, ArithmeticError):
+        return None
+    if not (math.isfinite(z.real) and math.isfinite(z.imag)):
+        return math.inf
+    if abs(z.imag) > 1e-12 * max(abs(z.real), 1e-300):
+        return None
+    return abs(z.real)
+
+
+def _huge_power(base: sp.Expr, exponent: sp.Expr) -> bool:
+    """True when a constant ``base**exponent`` (e.g. ``pi**(10**100)``) would be larger
+    than 10**MAX_DIGITS or smaller than 10**-MAX_DIGITS; checked before sympy builds it."""
+    if not (base.is_number and exponent.is_number):
+        return False
+    b, e = _size(base), _size(exponent)
+    if b is None or e is None or b == 0:
+        return False  # complex or 0**e: left to the other checks
+    return abs(e * math.log10(b)) > MAX_DIGITS
+
+
 class _Builder:
     """Walks a parsed tree and builds the sympy expression, node by node."""
 
@@ -246,6 +277,8 @@ class _Builder:
             frac = Fraction(self._segment(node).replace("_", ""))
         except (ValueError, ZeroDivisionError):
             frac = Fraction(value)
+        if frac and max(len(str(abs(frac.numerator))), len(str(frac.denominator))) > MAX_DIGITS:
+            raise self._fail(f"number too large or too small (more than {MAX_DIGITS} digits)", node)
         return sp.Rational(frac.numerator, frac.denominator)
 
     def _name(self, node: ast.Name) -> sp.Expr:
@@ -264,11 +297,11 @@ class _Builder:
             raise self._fail(f"operator {type(node.op).__name__} is not allowed", node)
         left = self.build(node.left, depth + 1)
         right = self.build(node.right, depth + 1)
-        if isinstance(node.op, ast.Pow) and _too_large_power(left, right):
+        if isinstance(node.op, ast.Pow) and (_too_large_power(left, right) or _huge_power(left, right)):
             raise self._fail(f"number too large (more than {MAX_DIGITS} digits)", node)
         if isinstance(node.op, ast.Div) and right == 0:
             raise self._fail("division by zero", node)
-        return op(left, right)
+        return self._checked(op(left, right), node)
 
     def _call(self, node: ast.Call, depth: int) -> sp.Expr:
         if not isinstance(node.func, ast.Name):
@@ -295,7 +328,30 @@ class _Builder:
                 f"{name}() takes {expected} argument(s), got {len(node.args)}", node
             )
         args = [self.build(arg, depth + 1) for arg in node.args]
-        return func(*args)
+        for arg, arg_node in zip(args, node.args):
+            if arg.is_number and not arg.has(sp.zoo, sp.nan, sp.oo, -sp.oo):
+                size = _size(arg)
+                if size is None or size > MAX_ARGUMENT:
+                    raise self._fail(
+                        f"constant argument of {name}() too large (more than {MAX_ARGUMENT:g} in size)", arg_node
+                    )
+        return self._checked(func(*args), node)
+
+    def _checked(self, value: sp.Expr, node: ast.AST) -> sp.Expr:
+        """A constant sub-expression must be a real number of bounded size (or undefined,
+        which :func:`parse_expression` reports); names pass unchecked."""
+        if not value.is_number or value.has(sp.zoo, sp.nan, sp.oo, -sp.oo):
+            # constant factors combine as they are built: L*1e299*1e299 holds 10**598
+            for r in value.atoms(sp.Rational):
+                if max(len(str(abs(r.p))), len(str(r.q))) > MAX_DIGITS:
+                    raise self._fail(f"number too large or too small (more than {MAX_DIGITS} digits)", node)
+            return value
+        size = _size(value)
+        if size is None:
+            raise self._fail("the constant is not a real number", node)
+        if size != 0 and not (10.0**-MAX_DIGITS <= size <= 10.0**MAX_DIGITS):
+            raise self._fail(f"number too large or too small (more than {MAX_DIGITS} digits)", node)
+        return value
 
 
 __all__ = ["parse_expression", "FUNCTIONS", "CONSTANTS", "RESERVED_NAMES", "MAX_LENGTH"]
