@@ -594,6 +594,36 @@ def linear_period(system: OneDofSystem, equilibrium: Equilibrium | None = None) 
 
 
 # --------------------------------------------------------------------------- turning points
+# Below this many float64 ulps of |V| the rise V(q0) - V(q_e) places the far turning
+# point to worse than ~1e-8 relative in float64 (its error is eps |V| / (2 rise)).
+_RESOLVED = 1e8
+
+
+def _small_amplitude_turning_point(system: OneDofSystem, equilibrium: Equilibrium, amplitude: float) -> float:
+    """Far turning point of a release at q_e + amplitude when float64 cannot resolve V there.
+
+    Solves V(q1) = V(q_e + amplitude) with mpmath, at enough digits for the rise
+    k a^2 / 2; the start q_e - amplitude is the quadratic approximation (kept if the
+    root finder strays).
+    """
+    qe, a = equilibrium.q, amplitude
+    guess = qe - a
+    if a == 0.0 or qe + a == qe:
+        return guess
+    dps = _MP_DPS + max(0, int(math.ceil(-2.0 * math.log10(abs(a)))))
+    Vmp = system.potential_fn(0, precision="mpmath")
+    with mpmath.workdps(dps):
+        mq0 = mpmath.mpf(qe) + mpmath.mpf(a)
+        V0 = Vmp(mq0)
+        try:
+            root = mpmath.findroot(lambda x: Vmp(x) - V0, mpmath.mpf(guess))
+        except (ValueError, ZeroDivisionError):
+            return guess
+        q1 = float(root)
+    if not (math.isfinite(q1) and 0.5 * abs(a) <= abs(q1 - qe) <= 2.0 * abs(a) and (q1 - qe) * a < 0):
+        return guess
+    return q1
+
 def _separatrix_error(system: OneDofSystem, amplitude: float, q_max: float, where: str) -> InputError:
     return InputError(
         f"{system.name}: amplitude {math.degrees(amplitude):.6g} deg is at or past the separatrix: "
@@ -619,6 +649,12 @@ def turning_points(system: OneDofSystem, equilibrium: Equilibrium, amplitude: fl
     s = 1.0 if amplitude > 0 else -1.0
     V = system.potential_fn(0)
     dV = system.potential_fn(1)
+    # A tiny amplitude raises V by less than float64 resolves: place the far turning
+    # point in higher precision (no maximum can lie that close to a minimum).
+    rise, level = float(V(q0)) - float(V(qe)), max(abs(float(V(q0))), abs(float(V(qe))))
+    if not rise > _RESOLVED * _EPS * level:
+        q1 = _small_amplitude_turning_point(system, equilibrium, amplitude)
+        return (min(q0, q1), max(q0, q1))
     # same side: V must rise monotonically from q_e to q0
     side = qe + np.linspace(0.0, amplitude, 2049)[1:]
     slope = s * dV(side)
@@ -830,13 +866,20 @@ def exact_period(
     V = system.potential_fn(0)
     V0 = float(V(q0))
     use_mp = precision == "mpmath"
+    # V0 - V(q) shrinks like amplitude**2: add digits for small amplitudes
+    mp_dps = _MP_DPS + max(0, int(math.ceil(-2.0 * math.log10(abs(amplitude)))))
     n = 8
     prev = None
     err_round = 0.0
     while n <= _MAX_NODES:
         if use_mp:
-            T, ok = _mp_sum(system, q0, q1, n)
+            T, ok = _mp_sum(system, q0, q1, n, dps=mp_dps)
             err_round = 10.0 ** (-_MP_DPS + 8)
+            if not ok:
+                raise QuadratureError(
+                    f"{system.name}: the potential difference is not resolved at amplitude "
+                    f"{math.degrees(amplitude):.6g} deg even in {mp_dps}-digit arithmetic"
+                )
         else:
             T, err_round, ok = _float_sum(M, V, V0, q0, q1, n)
             if (not ok or err_round > tol / 4) and precision == "auto":

@@ -224,3 +224,20 @@ def test_cli_period_units_and_errors(capsys):
     assert code == 2 and err.count("\n") == 1 and "separatrix" in err and "Traceback" not in err
     code, out, err = _run(capsys, "period", SCENE, "--amplitude", "3 kg")
     assert code == 2 and "--amplitude" in err
+
+
+@pytest.mark.parametrize("deg", [1e-9, -1e-6, 1e-3])
+def test_tiny_amplitudes_are_small_oscillations_not_the_separatrix(deg):
+    # Regression: below ~1e-7 deg float64 cannot resolve V(a) - V(0) ~ k a^2 / 2, and the
+    # release was refused as "at the separatrix"; the turning points came out up to 16% off.
+    s = pendulum()
+    a = math.radians(deg)
+    T0 = 2 * math.pi * math.sqrt(1.5 / 9.81)  # linearized pendulum
+    auto = period_to_tolerance(s, a, tol=1e-12)
+    quad = period_to_tolerance(s, a, tol=1e-12, model="quadrature")
+    for res in (auto, quad):
+        # series T = T0 (1 + a^2/16): at most 2e-8 relative at 1e-3 deg; quadrature to 1e-12
+        assert res.period == pytest.approx(T0 * (1 + a**2 / 16), rel=1e-11)
+        # symmetric potential: turning points -|a|, +|a| (mpmath root, 1e-9 relative)
+        assert res.turning_points[0] == pytest.approx(-abs(a), rel=1e-9)
+        assert res.turning_points[1] == pytest.approx(abs(a), rel=1e-9)
