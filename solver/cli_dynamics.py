@@ -222,7 +222,10 @@ def simulate_command(args: argparse.Namespace) -> int:
     print("final state:")
     print(format_table(("name", "value", "unit"), rows, align="lrl"))
     print()
-    print(f"energy drift (relative): {res.energy_drift:.3g}   samples: {res.t.size}")
+    drift = res.energy_drift
+    drift_text = (f"{drift:.3g}" if drift is not None
+                  else "not applicable (the loads depend on time or rate: they do work)")
+    print(f"energy drift (relative to the largest kinetic energy): {drift_text}   samples: {res.t.size}")
     if args.out is not None:
         units = ", ".join(f"{n} [{u}]" for n, u in res.to_dict()["columns"].items())
         print(f"wrote {args.out} (SI columns: {units})")

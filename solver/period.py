@@ -491,7 +491,7 @@ class OneDofSystem:
     def energy_fn(self) -> Callable:
         """Vectorised mechanical energy E(q, qd) = 1/2 M qd^2 + V (gravity only). [J]"""
         M = self.mass_fn()
-        f = self._fn("V0", (self.q,), lambda: self.potential, "numpy")
+        f = self._fn("V_gravity", (self.q,), lambda: self.potential, "numpy")  # not "V0": that is V_eff (potential_fn)
         vals = self.values
         return lambda q, qd: 0.5 * M(q) * np.asarray(qd) ** 2 + np.asarray(f(q, *vals), dtype=float) + 0.0 * np.asarray(q)
 
