@@ -657,7 +657,10 @@ def natural_frequency(scene: Scene, method: str = "generalized_euler") -> Freque
     f_dV = sp.lambdify(q, dV, "numpy")
     f_ddV = sp.lambdify(q, ddV, "numpy")
     f_M = sp.lambdify(q, M, "numpy")
-    f_V = sp.lambdify(q, V, "numpy")
+    # additive constants (e.g. m g r_d of a rolling disk) do not set the scale of V's variation
+    from .period import _drop_constants
+
+    f_V = sp.lambdify(q, _drop_constants(V, q), "numpy")
     q0, _ = scene.state_si()
     grid = np.linspace(q0 - 2 * np.pi, q0 + 2 * np.pi, 2881)
     with np.errstate(all="ignore"):

@@ -90,8 +90,9 @@ def amplitude_coefficient(system: OneDofSystem, equilibrium: Equilibrium | None 
 
     m0, m1, m2 = at(M, 0), at(M, 1), at(M, 2) / 2
     k, v3, v4 = at(V, 2), at(V, 3) / 6, at(V, 4) / 24
-    c2 = (4 * k**2 * m0 * m2 - k**2 * m1**2 - 24 * k * m0**2 * v4 - 12 * k * m0 * m1 * v3
-          + 60 * m0**2 * v3**2) / (16 * k**2 * m0**2)
+    # the closed form divided through by k^2 m0^2 (no under/overflow for tiny or huge k, m0)
+    r1, r2, s3, s4 = m1 / m0, m2 / m0, v3 / k, v4 / k
+    c2 = (4 * r2 - r1**2 - 24 * s4 - 12 * r1 * s3 + 60 * s3**2) / 16
     return SeriesCoefficients(m0, m1, m2, k, v3, v4, c2)
 
 

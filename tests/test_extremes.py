@@ -204,3 +204,20 @@ def test_massless_bar_on_the_command_line(capsys):
 def test_period_input_errors_are_one_line():
     with pytest.raises(InputError, match="separatrix"):
         period_to_tolerance(system(DISK), math.radians(181), tol=1e-6)
+
+
+@pytest.mark.parametrize("m_b", [1e-12, 1e-300])
+def test_tiny_bar_mass_keeps_its_small_restoring_moment(m_b):
+    # Regression: `frequency` called V' "zero" when below 1e-13 of V's constant m g r_d
+    # (m_b = 1e-12 kg gave "no restoring moment" while `period` answered), and the
+    # series coefficient of the period divided by k^2 m0^2, which underflows (1e-300 kg).
+    from solver.derivation import natural_frequency
+
+    p = dict(EX2, m_b=m_b)
+    k = p["m_b"] * p["g"] * p["l_b"] / 2  # V''(0) of V = -m_b g (l_b/2) cos theta
+    M0 = 1.5 * p["m_d"] * p["r_d"] ** 2 + p["m_b"] * (p["r_d"] - p["l_b"] / 2) ** 2 + p["m_b"] * p["l_b"] ** 2 / 12
+    w = math.sqrt(k / M0)  # Eq. 46 with these values
+    got = natural_frequency(scene(DISK, m_b=f"{m_b} kg")).omega_n.to("rad/s").magnitude
+    assert got == pytest.approx(w, rel=1e-12)  # closed form; only round-off differs
+    res = period_to_tolerance(system(DISK).with_values(m_b=m_b), math.radians(1e-4), tol=1e-10)
+    assert res.period == pytest.approx(2 * math.pi / w, rel=1e-10)  # linear model within tol
