@@ -54,6 +54,8 @@ from decimal import Decimal, InvalidOperation
 from fractions import Fraction
 from pathlib import Path
 
+import numpy as np
+
 from ._io import read_bytes, read_toml
 from .errors import SurveyInputError
 from .rounding import ROUNDING_RULES, _validate_rule, largest_remainder, round_fraction
@@ -626,31 +628,68 @@ def verify_table(table: PublishedTable, n: int | None = None,
         return TableCheck(n=n, rows=_check_rows(table, n, rule, decimals), rule=rule,
                           source=table.source, labels=labels)
     lo, hi = n_range
-    feasible, best_n, best_score = [], lo, -1
-    for cand in range(lo, hi + 1):
-        rows = _check_rows_fast(table, cand, rule, decimals)
-        score, ok = rows
-        if ok:
-            feasible.append(cand)
-        if score > best_score:
-            best_n, best_score = cand, score
+    score, ok = _scan_n(table, lo, hi, rule, decimals)
+    feasible = [int(x) for x in np.flatnonzero(ok) + lo]
+    best_n = int(np.argmax(score)) + lo           # first N attaining the most cells
     shown = feasible[0] if feasible else best_n
     return TableCheck(n=shown, rows=_check_rows(table, shown, rule, decimals), rule=rule,
                       source=table.source, n_range=(lo, hi), feasible_n=feasible, labels=labels)
 
 
-def _check_rows_fast(table, n, rule, decimals) -> tuple[int, bool]:
-    """(number of attainable cells, whole table consistent) for one N."""
-    score, ok = 0, True
+def _count_bounds(value: Fraction, dec: int, n: "np.ndarray", rule: str):
+    """Smallest and largest count k with ``round(100 k / n, dec) == value``, for many n.
+
+    The counts that print as one value form a run of consecutive integers (rounding
+    is monotone), so two bounds describe them; empty when ``lo > hi``. In integers,
+    with ``y = 100 S k / n``, ``S = 10**dec`` and ``P = value * S``:
+    half_away ``P - 1/2 <= y < P + 1/2``; half_even the same, both ends closed for
+    even P and open for odd P; truncate ``P <= y < P + 1``; ceil ``P - 1 < y <= P``.
+    """
+    S = 10 ** dec
+    Pf = value * S
+    if Pf.denominator != 1:          # more printed decimals than the rounding keeps
+        return np.ones_like(n), np.zeros_like(n)
+    P = Pf.numerator
+
+    def ceil_div(a, b):
+        return -((-a) // b)
+    if rule in ("half_away", "half_even"):
+        a, b, d = (2 * P - 1) * n, (2 * P + 1) * n, 200 * S
+        if rule == "half_away" or P % 2 == 1:
+            lo = a // d + 1 if rule == "half_even" else ceil_div(a, d)
+            hi = ceil_div(b, d) - 1
+        else:
+            lo, hi = ceil_div(a, d), b // d
+    elif rule == "truncate":
+        lo, hi = ceil_div(P * n, 100 * S), ceil_div((P + 1) * n, 100 * S) - 1
+    else:  # ceil
+        lo, hi = ((P - 1) * n) // (100 * S) + 1, (P * n) // (100 * S)
+    return np.maximum(lo, 0), np.minimum(hi, n)
+
+
+def _scan_n(table, lo_n: int, hi_n: int, rule: str, decimals) -> tuple:
+    """For every N in lo_n..hi_n at once: (attainable cells, whole table consistent).
+
+    A row is consistent when each cell has a count and the sum of the smallest counts
+    <= N <= the sum of the largest (every sum in between is reachable, the sets being
+    runs of consecutive integers). Vectorised over N: a range up to MAX_N takes
+    seconds, where checking each N in turn took hours.
+    """
+    n = np.arange(lo_n, hi_n + 1, dtype=np.int64)
+    score = np.zeros(n.size, dtype=np.int64)
+    ok = np.ones(n.size, dtype=bool)
     for i in range(len(table.items)):
-        opts = []
+        sum_lo = np.zeros(n.size, dtype=np.int64)
+        sum_hi = np.zeros(n.size, dtype=np.int64)
         for j in range(len(table.labels)):
             value, dec = table.value(i, j)
-            ks = attainable_counts(value, dec if decimals is None else decimals, n, rule)
-            score += bool(ks)
-            opts.append(ks)
-        if ok and not (all(opts) and (_reachable(opts, n) >> n) & 1):
-            ok = False
+            klo, khi = _count_bounds(value, dec if decimals is None else decimals, n, rule)
+            have = klo <= khi
+            score += have
+            ok &= have
+            sum_lo += klo
+            sum_hi += khi
+        ok &= (sum_lo <= n) & (n <= sum_hi)
     return score, ok
 
 
