@@ -573,7 +573,8 @@ def read_survey(path: "str | Path", scale: "str | Scale | None" = None,
     p = Path(path)
     if shape == "xlsx" or p.suffix.lower() in (".xlsx", ".xlsm") or _is_zip(p):
         raw, peek = _read_xlsx_raw(p)
-        shape = "auto"
+        if shape == "xlsx":            # a workbook of any layout; a named layout is kept
+            shape = "auto"
     elif p.suffix.lower() == ".xls":
         raise SurveyInputError("old .xls workbooks are not supported; save as .xlsx or CSV",
                                str(p))

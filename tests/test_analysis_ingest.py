@@ -340,3 +340,15 @@ def test_trailing_delimiters_short_rows_and_misnamed_files(tmp_path, capsys):
     wb.active.append(["Neutral"])
     wb.save(tmp_path / "book.csv")
     assert read_survey(tmp_path / "book.csv").respondents == 1
+
+
+def test_shape_named_for_a_workbook_is_kept(tmp_path):
+    """Regression: for a .xlsx file a named shape (e.g. ``wide`` for a sheet whose columns
+    happen to be called respondent/item/answer) was replaced by detection."""
+    wb = openpyxl.Workbook()
+    wb.active.append(["respondent", "item", "answer"])
+    wb.active.append(["Neutral", "Definitely Agree", "Neutral"])
+    wb.save(tmp_path / "w.xlsx")
+    data = read_survey(tmp_path / "w.xlsx", shape="wide")
+    assert data.shape == "wide" and data.items == ["respondent", "item", "answer"]
+    assert read_survey(tmp_path / "w.xlsx", shape="xlsx").shape == "long"
