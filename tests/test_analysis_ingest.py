@@ -350,5 +350,5 @@ def test_shape_named_for_a_workbook_is_kept(tmp_path):
     wb.active.append(["Neutral", "Definitely Agree", "Neutral"])
     wb.save(tmp_path / "w.xlsx")
     data = read_survey(tmp_path / "w.xlsx", shape="wide")
-    assert data.shape == "wide" and data.items == ["respondent", "item", "answer"]
+    assert data.shape == "wide" and data.items == ["item", "answer"]   # respondent: an id
     assert read_survey(tmp_path / "w.xlsx", shape="xlsx").shape == "long"
