@@ -43,6 +43,7 @@ pandas DataFrame of text), both returning :class:`SurveyData`.
 """
 from __future__ import annotations
 
+import codecs
 import csv
 import fnmatch
 import heapq
@@ -301,7 +302,8 @@ def _read_csv_raw(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]:
     body = raw[pos:]
     if not body.strip():
         raise SurveyInputError("empty file (only comment lines)", source)
-    if b"\x00" in body[:4096] and not encoding.lower().replace("-", "").startswith("utf16"):
+    if b"\x00" in body[:4096] and not codecs.lookup(encoding).name.startswith(("utf-16",
+                                                                               "utf-32")):
         raise SurveyInputError("holds NUL bytes: UTF-16 text without a byte-order mark, or "
                                "not a text file; give --encoding utf-16-le (or save as CSV)",
                                source)

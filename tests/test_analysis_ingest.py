@@ -335,6 +335,10 @@ def test_trailing_delimiters_short_rows_and_misnamed_files(tmp_path, capsys):
     binary = tmp_path / "bin.csv"
     binary.write_bytes(b"\x7fELF\x02\x01\x01\x00\x00\x00\r\x00\x03\x00>\x00\x01\x00\x00\x00\n\xff")
     _one_line_error(capsys, ["summarize", str(binary)])
+    u16 = tmp_path / "u16.csv"                      # UTF-16 without a byte-order mark
+    u16.write_bytes("q1\nNeutral\n".encode("utf-16-le"))
+    assert "utf-16-le" in _one_line_error(capsys, ["summarize", str(u16)])
+    assert read_survey(u16, encoding="utf_16_le").respondents == 1
     wb = openpyxl.Workbook()
     wb.active.append(["q1"])
     wb.active.append(["Neutral"])
