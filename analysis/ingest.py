@@ -287,6 +287,13 @@ def _read_csv_raw(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]:
         "".encode(encoding)
     except LookupError:
         raise SurveyInputError(f"unknown encoding {encoding!r}", source) from None
+    if codecs.lookup(encoding).name.startswith(("utf-16", "utf-32")):
+        # the steps below work on ASCII-compatible bytes: re-encode as UTF-8 first
+        try:
+            raw = raw.decode(encoding).encode("utf-8")
+        except UnicodeDecodeError:
+            raise _decode_error(raw, encoding, source) from None
+        encoding = "utf-8"
     # leading comment lines
     skip = 0
     pos = 0
@@ -302,8 +309,7 @@ def _read_csv_raw(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]:
     body = raw[pos:]
     if not body.strip():
         raise SurveyInputError("empty file (only comment lines)", source)
-    if b"\x00" in body[:4096] and not codecs.lookup(encoding).name.startswith(("utf-16",
-                                                                               "utf-32")):
+    if b"\x00" in body[:4096]:
         raise SurveyInputError("holds NUL bytes: UTF-16 text without a byte-order mark, or "
                                "not a text file; give --encoding utf-16-le (or save as CSV)",
                                source)
