@@ -188,6 +188,35 @@ def quantity_entry(quantity: pint.Quantity, unit: str | None = None) -> dict[str
     return {"value": float(quantity.magnitude), "unit": unit_text}
 
 
+# SI (or degree) unit strings the commands print -> the [output_units] key that may convert them.
+# Only these exact strings are converted ("Hz", "N*m/rad", "kg*m**2", "J" stay as they are).
+_OUTPUT_KEY_OF_UNIT = {
+    "N": "force", "N*m": "moment", "m": "length", "kg": "mass", "s": "time",
+    "rad": "angle", "deg": "angle", "rad/s": "angular_velocity", "rad/s**2": "angular_acceleration",
+}
+
+
+def to_output_units(payload: Any, units: Mapping[str, str] | None) -> Any:
+    """``payload`` with every ``{"value": ..., "unit": u}`` entry converted to the scene's
+    ``[output_units]`` (values may be numbers or lists of numbers); the rest unchanged."""
+    if not units:
+        return payload
+    if isinstance(payload, list):
+        return [to_output_units(item, units) for item in payload]
+    if not isinstance(payload, dict):
+        return payload
+    unit = payload.get("unit")
+    target = units.get(_OUTPUT_KEY_OF_UNIT.get(unit, ""), None) if isinstance(unit, str) else None
+    if target is not None and "value" in payload and target != unit:
+        from solver.units import ureg
+
+        factor = float(ureg.Quantity(1.0, unit).to(target).magnitude)
+        value = payload["value"]
+        converted = [float(v) * factor for v in value] if isinstance(value, list) else float(value) * factor
+        return {**payload, "value": converted, "unit": target}
+    return {key: to_output_units(item, units) for key, item in payload.items()}
+
+
 def print_json(payload: Any) -> None:
     """Print ``payload`` as JSON; NaN or infinity anywhere is refused."""
     try:

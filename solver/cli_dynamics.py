@@ -28,6 +28,7 @@ from solver.cli_common import (
     format_table,
     load_scene_from_args,
     print_json,
+    to_output_units,
 )
 from solver.errors import InputError
 
@@ -162,15 +163,16 @@ def period_command(args: argparse.Namespace) -> int:
     scene, _, system = _system(args)
     eq = find_equilibrium(system, near=scene.state_si()[0])
     res = period_to_tolerance(system, amplitude, tol=args.tol, model=args.model, equilibrium=eq)
+    shown = to_output_units(res.to_dict(), scene.output_units)
     if args.json:
         payload = {"scene": scene.name}
-        payload.update(res.to_dict())
+        payload.update(shown)
         payload["tol"] = args.tol
         print_json(payload)
         return 0
     rows = [
-        ("period", format_number(res.period, 12), "s"),
-        ("period_linear", format_number(res.period_linear, 12), "s"),
+        ("period", format_number(shown["period"]["value"], 12), shown["period"]["unit"]),
+        ("period_linear", format_number(shown["period_linear"]["value"], 12), shown["period_linear"]["unit"]),
         ("ratio", format_number(res.ratio, 12), ""),
         ("equilibrium", format_number(math.degrees(res.equilibrium), 10), "deg"),
         ("turning points", ", ".join(format_number(math.degrees(x), 10) for x in res.turning_points), "deg"),
@@ -203,7 +205,7 @@ def simulate_command(args: argparse.Namespace) -> int:
         write_csv(res, args.out)
     if args.json:
         payload = {"scene": scene.name}
-        payload.update(res.to_dict())
+        payload.update(to_output_units(res.to_dict(), scene.output_units))  # "columns" (the CSV) stay SI
         if args.out is not None:
             payload["out"] = str(args.out)
         print_json(payload)
@@ -218,6 +220,10 @@ def simulate_command(args: argparse.Namespace) -> int:
     for name, values in res.reactions.items():
         if math.isfinite(float(values[-1])):
             rows.append((name, format_number(float(values[-1]), 10), res.reaction_units.get(name, "N")))
+    for i, (name, text, unit) in enumerate(rows):
+        shown = to_output_units({"value": float(text), "unit": unit}, scene.output_units)
+        if shown["unit"] != unit:
+            rows[i] = (name, format_number(shown["value"], 10), shown["unit"])
     print()
     print("final state:")
     print(format_table(("name", "value", "unit"), rows, align="lrl"))
@@ -250,7 +256,7 @@ def friction_command(args: argparse.Namespace) -> int:
             payload = {"scene": scene.name, "mode": "rolling"}
             payload.update(fmap.to_dict())
             payload["results"] = [[r.to_dict() for r in row] for row in fmap.results]
-            print_json(payload)
+            print_json(to_output_units(payload, scene.output_units))
             return 0
         print(f"scene   {scene.name}  ({_where(scene)})")
         print(f"least friction coefficient mu_min = max |{system.friction_pairs[0].friction}| / "
@@ -270,7 +276,7 @@ def friction_command(args: argparse.Namespace) -> int:
     if args.json:
         payload = {"scene": scene.name, "mode": "release"}
         payload.update(win.to_dict())
-        print_json(payload)
+        print_json(to_output_units(payload, scene.output_units))
         return 0
     print(f"scene   {scene.name}  ({_where(scene)})")
     print(f"release angles with {', '.join(win.reactions)} >= 0 "

@@ -31,6 +31,7 @@ from solver.cli_common import (
     print_json,
     quantity_entry,
     state_text,
+    to_output_units,
 )
 from solver.errors import InputError
 from solver.scene import Scene
@@ -239,7 +240,7 @@ def frequency_command(args: argparse.Namespace) -> int:
     check_finite({"omega_n": omega, "period": period, "equilibrium": equilibrium}, _where(scene))
     if not omega > 0:
         raise InputError(f"{_where(scene)}: the natural frequency came out as {omega}; no oscillation")
-    payload = result.to_dict()
+    payload = to_output_units(result.to_dict(), scene.output_units)
     payload["frequency"] = {"value": omega / (2 * math.pi), "unit": "Hz"}
     if args.json:
         print_json({"scene": scene.name, "method": args.method, **payload})
@@ -251,9 +252,9 @@ def frequency_command(args: argparse.Namespace) -> int:
           f"({format_number(equilibrium)} rad), gravity only")
     print()
     rows = [
-        ("omega_n", format_number(omega), "rad/s"),
+        ("omega_n", format_number(payload["omega_n"]["value"]), payload["omega_n"]["unit"]),
         ("frequency", format_number(omega / (2 * math.pi)), "Hz"),
-        ("period", format_number(period), "s"),
+        ("period", format_number(payload["period"]["value"]), payload["period"]["unit"]),
         ("stiffness", format_number(payload["stiffness"]["value"]), payload["stiffness"]["unit"]),
         ("mass", format_number(payload["mass"]["value"]), payload["mass"]["unit"]),
     ]

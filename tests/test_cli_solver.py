@@ -308,3 +308,59 @@ def test_rocking_semicircle_frequency_closed_form(capsys: pytest.CaptureFixture[
     inertia_g = (0.5 - 16 / (9 * math.pi**2)) * m * r**2
     omega = math.sqrt(m * g * c / (inertia_g + m * (r - c) ** 2))
     assert _frequency(capsys, "rocking_semicircle.toml") == pytest.approx(omega, rel=1e-9)  # exact formulas
+
+
+PENDULUM_IN_MINUTES = """
+[parameters]
+m = "2 kg"
+L = "1.5 m"
+g = "9.81 m/s^2"
+[coordinate]
+value = "30 deg"
+rate = "0 rad/s"
+[body]
+orientation = "theta - pi/2"
+[points]
+O = ["0", "0"]
+M = ["L", "0"]
+[[elements]]
+kind = "point_mass"
+mass = "m"
+at = "M"
+[[constraints]]
+kind = "pivot"
+point = "O"
+[[loads]]
+kind = "gravity"
+g = "g"
+[output_units]
+force = "lbf"
+time = "min"
+angular_velocity = "rpm"
+angle = "deg"
+"""
+
+
+def test_every_command_prints_in_the_scenes_output_units(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    # Regression: only `solve` honoured [output_units]; frequency, period, simulate and
+    # friction printed rad/s, s, rad and N whatever the scene asked for.
+    # Reference: simple pendulum, omega_n = sqrt(g / L), T0 = 2 pi / omega_n (closed forms).
+    from solver.units import ureg
+
+    scene = tmp_path / "pendulum.toml"
+    scene.write_text(PENDULUM_IN_MINUTES)
+    omega = math.sqrt(9.81 / 1.5)
+    runs = {cmd: json.loads(run_main(capsys, *cmd.split(), str(scene), "--json")[1])
+            for cmd in ("frequency", "period --amplitude 1e-3", "simulate --t-end 0.5", "friction")}
+    checks = [
+        (runs["frequency"]["omega_n"], "rpm", omega, "rad/s"),
+        (runs["frequency"]["period"], "min", 2 * math.pi / omega, "s"),
+        (runs["period --amplitude 1e-3"]["period_linear"], "min", 2 * math.pi / omega, "s"),
+        (runs["simulate --t-end 0.5"]["t_end"], "min", 0.5, "s"),
+    ]
+    for entry, unit, si_value, si_unit in checks:
+        assert entry["unit"] == unit
+        # pint-parsable, and the same quantity (unit conversion only: round-off)
+        assert ureg.Quantity(entry["value"], entry["unit"]).to(si_unit).magnitude == pytest.approx(si_value, rel=1e-12)
+    assert runs["simulate --t-end 0.5"]["theta_end"]["unit"] == "deg"
+    assert runs["friction"]["search_range"] == {"value": [0.0, 180.0], "unit": "deg"}
