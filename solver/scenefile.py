@@ -502,7 +502,8 @@ class _SceneLoader:
         except OSError as err:
             raise self.fail("", f"cannot read the scene file ({err.strerror or err})") from None
         try:
-            return tomllib.loads(raw.decode("utf-8"))
+            # utf-8-sig: a byte-order mark (saved by some Windows editors) is not an error
+            return tomllib.loads(raw.decode("utf-8-sig"))
         except UnicodeDecodeError as err:
             raise self.fail("", f"not UTF-8 text (byte {err.start})") from None
         except tomllib.TOMLDecodeError as err:

@@ -238,3 +238,10 @@ def test_rails_are_refused_exactly_when_parallel(turns: int, offset_deg: float) 
             load_scene(SLIDING_BAR, overrides)
     else:
         assert load_scene(SLIDING_BAR, overrides).parameters["beta"].to("deg").magnitude == pytest.approx(beta)
+
+
+def test_byte_order_mark_is_accepted(tmp_path: Path) -> None:
+    # Regression: a UTF-8 file with a byte-order mark was a "TOML syntax error at line 1, column 1".
+    path = tmp_path / "bom.toml"
+    path.write_bytes(b"\xef\xbb\xbf" + (SCENES / "sliding_bar.toml").read_bytes())
+    assert load_scene(path).parameters == load_scene(SCENES / "sliding_bar.toml").parameters
