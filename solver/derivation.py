@@ -28,7 +28,7 @@ import numpy as np
 import pint
 import sympy as sp
 
-from .errors import NoRestoringError, SceneError, SingularConfigurationError
+from .errors import InputError, NoRestoringError, SceneError, SingularConfigurationError
 from .euler import NamedEquation, applied_loads, generalized_euler_equations, mass_center_equations
 from .kinematics import BodyKinematics, scene_label
 from .scene import Scene
@@ -592,6 +592,15 @@ def solve_instant(scene: Scene, point: str | None = None, method: str = "general
     """
     d = derive(scene, point, method)
     q, qd = scene.state_si()
+    from .kinematics import scene_label
+    from .period import rim_limits
+
+    for text, g in rim_limits(scene, d.q):
+        if float(g.subs(scene.si_values()).subs(d.q, q)) < -1e-12:
+            raise InputError(
+                f"{scene_label(scene)}: {d.q} = {math.degrees(q):.6g} deg is outside the model: it holds only "
+                f"while {text} (there the straight edge meets the surface)"
+            )
     res = d.numeric().solve(q, qd, 0.0)
     unknowns = {
         "alpha": Q_(float(res["alpha"]), "rad/s**2"),

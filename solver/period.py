@@ -59,6 +59,8 @@ __all__ = [
     "exact_period",
     "TOL_MIN",
     "TOL_MAX",
+    "rim_limits",
+    "check_limits",
 ]
 
 # Tolerances outside this range are refused: below TOL_MIN float64 cannot hold
@@ -108,6 +110,37 @@ def _lambdify(args, expr, modules):
     return sp.lambdify(args, expr, modules=modules, cse=True)
 
 
+def rim_limits(scene: Any, q: sp.Symbol) -> tuple[tuple[str, sp.Expr], ...]:
+    """Where a rolling semicircular disk's model holds: g(q) >= 0.
+
+    The contact point is directly "below" the rim's centre, along -n (n the
+    surface's left normal, at the surface angle + pi/2). It lies on the curved
+    rim while the symmetry axis (body angle phi + the element's ``angle``) is
+    within 90 deg of -n: g = cos(phi + angle - (surface angle - pi/2)). Past it
+    the straight edge would meet the surface, which the model does not describe.
+    """
+    out = []
+    elements = {e.name: e for e in scene.elements}
+    phi = sp.sympify(scene.orientation).subs(scene.q, q)
+    for c in scene.constraints:
+        element = elements.get(getattr(c, "element", None) or "")
+        if c.kind == "rolling" and element is not None and element.kind == "semicircular_disk":
+            g = sp.cos(phi + element.angle - (c.angle - sp.pi / 2))
+            out.append((f"the contact point of {element.name!r} ({c.name}) stays on its curved rim", g))
+    return tuple(out)
+
+
+def check_limits(system: "OneDofSystem", q: float, what: str) -> None:
+    """InputError when a model limit g(q) >= 0 of ``system`` fails at ``q`` [rad]."""
+    for text, g in system.limits:
+        value = float(sp.sympify(g).subs(dict(zip(system.params, system.values))).subs(system.q, q))
+        if value < -1e-12:
+            raise InputError(
+                f"{system.name}: {system.q} = {math.degrees(q):.6g} deg ({what}) is outside the model: "
+                f"it holds only while {text} (there the straight edge meets the surface)"
+            )
+
+
 @dataclass(frozen=True, eq=False)
 class OneDofSystem:
     """A one-degree-of-freedom system in the energy form of its equation of motion.
@@ -148,6 +181,10 @@ class OneDofSystem:
         SI values of ``params``.
     name : str
         For messages (the scene file).
+    limits : tuple of (str, sympy.Expr)
+        Conditions g(q) >= 0 for the model to hold, each with a description: a
+        semicircular disk rolls on its curved rim only while the contact point
+        lies on the rim (:func:`rim_limits`).
     """
 
     q: sp.Symbol
@@ -169,6 +206,7 @@ class OneDofSystem:
     params: tuple[sp.Symbol, ...] = ()
     values: tuple[float, ...] = ()
     name: str = "system"
+    limits: tuple[tuple[str, sp.Expr], ...] = ()
     _cache: dict = field(default_factory=dict, repr=False, compare=False)
 
     # -- construction ---------------------------------------------------------
@@ -225,6 +263,7 @@ class OneDofSystem:
             params=params,
             values=values,
             name=scene_label(scene),
+            limits=rim_limits(scene, derivation.q),
         )
 
     def with_values(self, **changes: float) -> "OneDofSystem":
@@ -251,10 +290,17 @@ class OneDofSystem:
             self._cache[key] = build()
         return self._cache[key]
 
+    def _active_force(self) -> tuple[sp.Expr, tuple[str, ...]]:
+        """Q with the parameters whose value is 0 set to 0 (``--set F_0="0 N"`` switches a
+        time-dependent push off), and the names of those parameters."""
+        zeros = {p: sp.Integer(0) for p, v in zip(self.params, self.values) if v == 0}
+        Q = sp.sympify(self.generalized_force)
+        return (Q.xreplace(zeros) if zeros else Q), tuple(sorted(p.name for p in zeros))
+
     @property
     def is_conservative(self) -> bool:
         """True when Q depends on q at most (then the energy integral applies)."""
-        Q = self.generalized_force
+        Q, _ = self._active_force()
         return not ({self.qd, self.t} & Q.free_symbols)
 
     def effective_potential(self) -> sp.Expr:
@@ -268,8 +314,9 @@ class OneDofSystem:
             When Q depends on the rate or on time (no potential exists).
         """
 
+        Q, zeros = self._active_force()
+
         def build():
-            Q = sp.sympify(self.generalized_force)
             if not self.is_conservative:
                 raise InputError(
                     f"{self.name}: the loads' generalized force depends on the rate or on time "
@@ -285,7 +332,7 @@ class OneDofSystem:
                 raise InputError(f"{self.name}: cannot integrate the generalized force Q = {Q} into a potential")
             return V - work
 
-        return self._memo("V_eff", build)
+        return self._memo(("V_eff", zeros), build)
 
     def qdd_expression(self) -> sp.Expr:
         """theta_ddot = (Q - 1/2 M' qd^2 - V') / M  (the normalised eom solved for qdd)."""
@@ -315,11 +362,12 @@ class OneDofSystem:
         def expr():
             return sp.diff(self.effective_potential(), self.q, derivative)
 
+        zeros = self._active_force()[1]  # V_eff depends on which loads are switched off
         if precision == "mpmath":
-            f = self._fn(f"V{derivative}", (self.q,), expr, "mpmath")
+            f = self._fn((f"V{derivative}", zeros), (self.q,), expr, "mpmath")
             mvals = [mpmath.mpf(v) for v in self.values]
             return lambda q: f(q, *mvals)
-        f = self._fn(f"V{derivative}", (self.q,), expr, "numpy")
+        f = self._fn((f"V{derivative}", zeros), (self.q,), expr, "numpy")
         vals = self.values
         return lambda q: np.asarray(f(q, *vals), dtype=float) + 0.0 * np.asarray(q, dtype=float)
 
@@ -691,6 +739,8 @@ def turning_points(system: OneDofSystem, equilibrium: Equilibrium, amplitude: fl
     if abs(float(dV(q1))) <= 1e-9 * scale or abs(float(dV(q0))) <= 1e-9 * scale:
         raise _separatrix_error(system, amplitude, q1 if abs(float(dV(q1))) <= 1e-9 * scale else q0,
                                 "is reached exactly")
+    for turn in (q0, q1):
+        check_limits(system, turn, "a turning point of the swing")
     return (min(q0, q1), max(q0, q1))
 
 

@@ -14,7 +14,9 @@ Terminal events stop a run when
   marked ``one_sided``) would turn negative: the body leaves its support;
 * a rolling contact would need more friction than it has:
   |F_f| > mu F_n (mu from the constraint's ``friction_coefficient`` or the
-  ``mu`` argument).
+  ``mu`` argument);
+* a rolling semicircular disk's contact point reaches the end of its curved
+  rim (``OneDofSystem.limits``): past it the model does not hold.
 
 The result says why the run stopped.
 """
@@ -30,6 +32,7 @@ from pathlib import Path
 from typing import Any, Callable
 
 import numpy as np
+import sympy as sp
 from scipy.integrate import solve_ivp
 
 from .errors import InputError
@@ -55,10 +58,12 @@ class StopEvent:
     ----------
     kind : str
         ``"lost_contact"`` (a one-sided reaction reached zero), ``"slip"``
-        (|F_f| reached mu F_n) or ``"singular"`` (the constraints stop
-        determining the motion).
+        (|F_f| reached mu F_n), ``"singular"`` (the constraints stop
+        determining the motion) or ``"model_limit"`` (a semicircular disk's
+        contact point reached the end of its curved rim).
     reaction : str
-        The reaction concerned (the normal force for a slip).
+        The reaction concerned (the normal force for a slip; for
+        ``"model_limit"`` the condition that stopped holding).
     constraint : str
     time : float  [s]
     theta, theta_dot : float  [rad], [rad/s]
@@ -84,7 +89,7 @@ class SimulationResult:
         Every reaction on the samples. [N or N m]
     reaction_units : dict[str, str]
     status : str
-        ``"completed"``, ``"lost_contact"``, ``"slip"``, ``"singular"`` or ``"failed"``.
+        ``"completed"``, ``"lost_contact"``, ``"slip"``, ``"singular"``, ``"model_limit"`` or ``"failed"``.
     reason : str
         One sentence: why the run stopped.
     event : StopEvent or None
@@ -341,6 +346,11 @@ def simulate(
         fn = (lambda ff, fn_, m: (lambda t, y: m * fn_(y[0], y[1], t) - abs(ff(y[0], y[1], t))))(ff, fn_, m)
         ev_funcs.append(fn)
         ev_info.append(("slip", pair.normal, pair.constraint))
+    for text, g in system.limits:
+        gf = sp.lambdify((system.q,) + system.params, g, "math")
+        fn = (lambda gf: (lambda t, y: float(gf(y[0], *system.values))))(gf)
+        ev_funcs.append(fn)
+        ev_info.append(("model_limit", text, ""))
     for fn in ev_funcs:
         fn.terminal = True
         fn.direction = -1
@@ -410,6 +420,9 @@ def _reason(system: OneDofSystem, ev: StopEvent, mu: float | None, at_start: boo
     if ev.kind == "singular":
         return (f"singular configuration reached {when} {where}: the constraints stop determining the "
                 "motion (the linear system's determinant vanishes)")
+    if ev.kind == "model_limit":
+        return (f"the model's limit is reached {when} {where}: it holds only while {ev.reaction} "
+                "(there the straight edge meets the surface)")
     if ev.kind == "lost_contact":
         return (f"{ev.reaction} would turn negative {when} {where}: the body leaves the support of "
                 f"constraint {ev.constraint}")

@@ -221,3 +221,25 @@ def test_tiny_bar_mass_keeps_its_small_restoring_moment(m_b):
     assert got == pytest.approx(w, rel=1e-12)  # closed form; only round-off differs
     res = period_to_tolerance(system(DISK).with_values(m_b=m_b), math.radians(1e-4), tol=1e-10)
     assert res.period == pytest.approx(2 * math.pi / w, rel=1e-10)  # linear model within tol
+
+
+ROCKER = "data/scenes/rocking_semicircle.toml"
+
+
+def test_semicircle_beyond_its_rim_is_outside_the_model(capsys):
+    # Regression: the rocking semicircle was solved past 90 deg, where the straight edge, not
+    # the curved rim, meets the floor (the model rolled it on a full circle).
+    from solver.__main__ import main
+
+    with pytest.raises(SystemExit) as exc:
+        raise SystemExit(main(["solve", ROCKER, "--set", "theta=100 deg"]))
+    err = capsys.readouterr().err
+    assert exc.value.code == 2 and err.count("\n") == 1 and "rim" in err
+    s = system(ROCKER)
+    assert period_to_tolerance(s, math.radians(89), tol=1e-8).model == "quadrature"
+    with pytest.raises(InputError, match="rim"):
+        period_to_tolerance(s, math.radians(91), tol=1e-8)
+    # thrown from the bottom fast enough to reach 90 deg: the run stops there
+    res = simulate(s, 2.0, y0=(0.0, 20.0))
+    assert res.status == "model_limit"
+    assert res.event.theta == pytest.approx(math.pi / 2, abs=1e-9)  # event located to solve_ivp's root tolerance
