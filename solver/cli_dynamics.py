@@ -261,8 +261,10 @@ def friction_command(args: argparse.Namespace) -> int:
         print(f"scene   {scene.name}  ({_where(scene)})")
         print(f"least friction coefficient mu_min = max |{system.friction_pairs[0].friction}| / "
               f"{system.friction_pairs[0].normal} over a free oscillation")
-        header = (f"{fmap.ratio_of[0]}/{fmap.ratio_of[1]}", *[f"{math.degrees(a):.6g} deg" for a in fmap.amplitudes])
-        rows = [(format_number(r, 6), *[format_number(v, 6) if math.isfinite(v) else "lifts off" for v in row])
+        first = f"{fmap.ratio_of[0]}/{fmap.ratio_of[1]}" if fmap.ratio_of else "masses"
+        header = (first, *[f"{math.degrees(a):.6g} deg" for a in fmap.amplitudes])
+        rows = [(format_number(r, 6) if fmap.ratio_of else "as in scene",
+                 *[format_number(v, 6) if math.isfinite(v) else "lifts off" for v in row])
                 for r, row in zip(fmap.mass_ratios, fmap.mu_min)]
         print(format_table(header, rows, align="r" * len(header)))
         return 0

@@ -189,11 +189,13 @@ class FrictionMap:
     ----------
     amplitudes : numpy.ndarray  [rad]
     mass_ratios : numpy.ndarray
-        m_b / m_d (the ``ratio_of`` parameters).
+        m_b / m_d (the ``ratio_of`` parameters); [nan] when the scene's own
+        masses were used (``ratio_of`` empty).
     mu_min : numpy.ndarray
         shape (len(mass_ratios), len(amplitudes)); ``inf`` where the disk lifts off.
-    ratio_of : tuple[str, str]
-        (numerator parameter, denominator parameter), e.g. ("m_b", "m_d").
+    ratio_of : tuple[str, str] or ()
+        (numerator parameter, denominator parameter), e.g. ("m_b", "m_d");
+        empty when the scene has no such parameters and no ratios were asked for.
     """
 
     amplitudes: np.ndarray
@@ -203,22 +205,33 @@ class FrictionMap:
     results: list = field(default_factory=list, repr=False)
 
     def to_dict(self) -> dict:
+        """JSON-ready dict; ``mass_ratio`` is None when the scene's own masses were used
+        (it has no ``ratio_of`` parameters and no ratios were asked for)."""
+        ratio = ({"of": list(self.ratio_of), "value": [float(r) for r in self.mass_ratios]}
+                 if self.ratio_of else None)
         return {
             "amplitudes": {"value": [math.degrees(a) for a in self.amplitudes], "unit": "deg"},
-            "mass_ratio": {"of": list(self.ratio_of), "value": [float(r) for r in self.mass_ratios]},
+            "mass_ratio": ratio,
             "mu_min": [[float(v) if math.isfinite(v) else None for v in row] for row in self.mu_min],
         }
 
 
-def _validate_friction_map(system: OneDofSystem, amplitudes, ratio_of) -> None:
+def _validate_friction_map(system: OneDofSystem, amplitudes, mass_ratios, ratio_of) -> None:
     if not isinstance(system, OneDofSystem):
         raise TypeError(f"`system` must be a OneDofSystem, got {type(system).__name__}")
     if len(list(amplitudes)) == 0:
         raise InputError("give at least one amplitude")
     if len(ratio_of) != 2 or not all(ratio_of):
         raise InputError(f"the mass ratio must name two parameters as NUM/DEN, got {'/'.join(ratio_of)!r}")
+    if mass_ratios is None and not _has_ratio(system, ratio_of):
+        return  # no ratio asked for: the scene's own masses are used
     for name in ratio_of:
         system.value_of(name)  # raises naming the parameters
+
+
+def _has_ratio(system: OneDofSystem, ratio_of) -> bool:
+    names = {p.name for p in system.params}
+    return all(name in names for name in ratio_of)
 
 
 def friction_map(
@@ -235,8 +248,12 @@ def friction_map(
     InputError
         Unknown mass parameters, non-positive ratios.
     """
-    _validate_friction_map(system, amplitudes, ratio_of)
+    _validate_friction_map(system, amplitudes, mass_ratios, ratio_of)
     amps = np.asarray([float(a) for a in amplitudes])
+    if mass_ratios is None and not _has_ratio(system, ratio_of):
+        eq = find_equilibrium(system)
+        row = [least_friction(system, float(a), samples=samples, equilibrium=eq) for a in amps]
+        return FrictionMap(amps, np.array([math.nan]), np.array([[r.mu_min for r in row]]), (), [row])
     if mass_ratios is None:
         ratios = np.array([system.value_of(ratio_of[0]) / system.value_of(ratio_of[1])])
     else:

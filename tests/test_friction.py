@@ -144,3 +144,29 @@ def test_cli_friction_both_modes(capsys):
     assert data["intervals"][0]["high"]["value"] == pytest.approx(90.0, abs=1e-9)
     code, out, err = _run(capsys, "friction", BAR, "--reactions", "R_X")
     assert code == 2 and "R_X" in err
+
+
+ROCKER = "data/scenes/rocking_semicircle.toml"
+
+
+def rocker_brute_mu(amplitude: float, m=1.2, r=0.1, g=9.80665, n=400001) -> float:
+    """max |F_f| / F_n for the rocking semicircle (scene values), by energy + Newton on G on a grid.
+
+    O = (r theta, r), G = O + c(-sin, -cos), c = 4 r / (3 pi), I_G = (1/2 - 16/(9 pi^2)) m r^2."""
+    c = 4 * r / (3 * math.pi)
+    th = np.linspace(-amplitude, amplitude, n)
+    M = m * (r * r - 2 * r * c * np.cos(th) + c * c) + (0.5 - 16 / (9 * math.pi**2)) * m * r * r
+    w2 = np.maximum(2 * m * g * c * (np.cos(th) - math.cos(amplitude)) / M, 0.0)
+    al = -(m * r * c * np.sin(th) * w2 + m * g * c * np.sin(th)) / M
+    Ff = m * (r * al - c * (np.cos(th) * al - np.sin(th) * w2))
+    Fn = m * g + m * c * (np.sin(th) * al + np.cos(th) * w2)
+    return float(np.max(np.abs(Ff) / Fn))
+
+
+def test_friction_uses_the_scenes_masses_when_it_has_no_mass_ratio():
+    # Regression: a rolling scene without m_b, m_d (the default --ratio-of) was refused
+    # ("no parameter 'm_b'") even when no mass ratio was asked for.
+    fmap = friction_map(system(ROCKER), [math.radians(30)])
+    assert fmap.ratio_of == () and fmap.to_dict()["mass_ratio"] is None
+    # grid of 4e5 points on a smooth maximum: agreement to ~1e-9
+    assert fmap.mu_min[0, 0] == pytest.approx(rocker_brute_mu(math.radians(30)), rel=1e-8)
