@@ -241,3 +241,17 @@ def test_tiny_amplitudes_are_small_oscillations_not_the_separatrix(deg):
         # symmetric potential: turning points -|a|, +|a| (mpmath root, 1e-9 relative)
         assert res.turning_points[0] == pytest.approx(-abs(a), rel=1e-9)
         assert res.turning_points[1] == pytest.approx(abs(a), rel=1e-9)
+
+
+def test_a_time_dependent_load_set_to_zero_leaves_a_free_oscillation():
+    # Regression: Q = F l cos(t) with F = 0 (what the error message tells the user to do with
+    # --set) still counted as time-dependent, so `period` kept refusing.
+    F = sp.Symbol("F", real=True)
+    base = dict(mass=m * l**2, potential=-m * g * l * sp.cos(q), generalized_force=F * l * sp.cos(t),
+                params=(m, l, g, F), name="forced pendulum")
+    off = OneDofSystem(q, qd, qdd, t, values=(2.0, 1.5, 9.81, 0.0), **base)
+    a = math.radians(60)
+    assert exact_period(off, a, tol=1e-12).period == pytest.approx(elliptic_period(a, 1.5, 9.81), rel=1e-11)
+    on = off.with_values(F=1.0)  # shares the compiled code: must not reuse the F = 0 potential
+    with pytest.raises(InputError, match="depends on the rate or on time"):
+        exact_period(on, a)
