@@ -354,4 +354,4 @@ class _Builder:
         return value
 
 
-__all__ = ["parse_expression", "FUNCTIONS", "CONSTANTS", "RESERVED_NAMES", "MAX_LENGTH"]
+__all__ = ["parse_expression", "FUNCTIONS", "CONSTANTS", "RESERVED_NAMES", "MAX_LENGTH", "MAX_ARGUMENT"]

@@ -19,7 +19,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from solver.errors import ExpressionError, InputError
-from solver.expressions import MAX_LENGTH, parse_expression
+from solver.expressions import MAX_ARGUMENT, MAX_LENGTH, parse_expression
 
 X = sp.Symbol("x", real=True)
 Y = sp.Symbol("y", real=True)
@@ -186,12 +186,29 @@ def _extend(children):
         lambda t: (f"{_wrap(t[0], 5)}{t[2]}{t[1]}", 4, t[0][2] ** t[1], t[0][3])
     )
     call = st.tuples(st.sampled_from(["sin", "cos", "sqrt", "exp"]), children).map(
-        lambda t: (f"{t[0]}({t[1][0]})", 5, getattr(sp, t[0])(t[1][2]), t[1][3])
+        lambda t: (f"{t[0]}({t[1][0]})", 5, getattr(sp, t[0])(t[1][2]),
+                   t[1][3] or (t[1][2].is_number and abs(complex(sp.N(t[1][2], 20))) > MAX_ARGUMENT))
     )
-    return st.one_of(binary, negation, power, call)
+    # a constant outside the documented limits anywhere in the tree must be refused too
+    return st.one_of(binary, negation, power, call).map(
+        lambda t: (*t[:3], t[3] or not _constant_within_limits(t[2]))
+    )
 
 
 trees = st.recursive(_leaves, _extend, max_leaves=8)
+
+
+def _constant_within_limits(expr: sp.Expr) -> bool:
+    """A constant node is real, 0 or within 1e-300..1e300 in size, and a constant function
+    argument is at most MAX_ARGUMENT in size (the parser's documented limits: exp(691),
+    sin(exp(35)) and sqrt(-2) are refused). Applied node by node as the tree grows, so
+    nothing huge is ever evaluated."""
+    if not expr.is_number or expr.has(sp.zoo, sp.nan, sp.oo, -sp.oo):
+        return True
+    z = complex(sp.N(expr, 20))
+    if abs(z.imag) > 1e-12 * max(abs(z.real), 1e-300):
+        return False
+    return z.real == 0 or 1e-300 <= abs(z.real) <= 1e300
 
 
 @settings(max_examples=50)  # each example is a parse plus a sympy comparison (~ms)
