@@ -693,7 +693,7 @@ def natural_frequency(scene: Scene, method: str = "generalized_euler") -> Freque
         if not (np.isfinite(a) and np.isfinite(b)):
             continue
         if a < 0 <= b or (a == 0 and b > 0):  # V' from - to +: a minimum of V
-            root = grid[i] if a == 0 else brentq(f_dV, grid[i], grid[i + 1], xtol=1e-14)
+            root = grid[i] if a == 0 else brentq(f_dV, grid[i], grid[i + 1], xtol=1e-14, disp=False)
             candidates.append(float(root))
     stable = [r for r in candidates if float(f_ddV(r)) > 1e-12 * scale]
     if candidates and not stable:

@@ -419,7 +419,7 @@ def release_window(
             s = np.sign(np.where(np.abs(v) <= tiny, 0.0, v))
             for i in range(samples - 1):
                 if s[i] * s[i + 1] < 0:
-                    r = brentq(lambda x: float(f(x)), grid[i], grid[i + 1], xtol=1e-15, rtol=1e-15)
+                    r = brentq(lambda x: float(f(x)), grid[i], grid[i + 1], xtol=1e-15, rtol=1e-15, disp=False)
                     cuts.append((float(r), label))
                 elif s[i] == 0 and (i == 0 or s[i - 1] != 0):
                     cuts.append((float(grid[i]), label))

@@ -619,13 +619,19 @@ def find_equilibrium(system: OneDofSystem, near: float = 0.0, span: float = 2.0 
             if b == 0:
                 root = grid[i + 1]
             else:
-                root = brentq(lambda x: float(dV(x)), grid[i], grid[i + 1], xtol=1e-300, rtol=4 * _EPS, maxiter=200)
+                root = brentq(lambda x: float(dV(x)), grid[i], grid[i + 1], xtol=1e-300, rtol=4 * _EPS, maxiter=200,
+                              disp=False)  # a very flat root (V' ~ x^5): keep the last bracket
             candidates.append(float(root))
     stable = []
+    with np.errstate(all="ignore"):
+        h = np.abs(np.asarray(d2V(grid), dtype=float))
+    # V'' at the round-off level of its size elsewhere counts as 0 (a flat minimum such as
+    # V ~ x^6 has no linear oscillation), as in natural_frequency
+    k_floor = 1e-12 * (float(np.nanmax(h)) if np.any(np.isfinite(h)) else 0.0)
     for r in candidates:
         k = float(d2V(r))
         m = float(system.mass_fn()(r))
-        if k > 0 and m > 0 and math.isfinite(k):
+        if k > k_floor and k > 0 and m > 0 and math.isfinite(k):
             stable.append(Equilibrium(r, m, k))
     if not stable:
         raise NoRestoringError(
@@ -734,7 +740,7 @@ def turning_points(system: OneDofSystem, equilibrium: Equilibrium, amplitude: fl
     if f(hi) == 0.0:
         q1 = hi
     else:
-        q1 = brentq(f, lo, hi, xtol=1e-300, rtol=4 * _EPS, maxiter=500)
+        q1 = brentq(f, lo, hi, xtol=1e-300, rtol=4 * _EPS, maxiter=500, disp=False)
     # a turning point at a (numerically) flat potential is the separatrix itself
     if abs(float(dV(q1))) <= 1e-9 * scale or abs(float(dV(q0))) <= 1e-9 * scale:
         raise _separatrix_error(system, amplitude, q1 if abs(float(dV(q1))) <= 1e-9 * scale else q0,

@@ -255,3 +255,11 @@ def test_a_time_dependent_load_set_to_zero_leaves_a_free_oscillation():
     on = off.with_values(F=1.0)  # shares the compiled code: must not reuse the F = 0 potential
     with pytest.raises(InputError, match="depends on the rate or on time"):
         exact_period(on, a)
+
+
+def test_flat_minimum_is_no_restoring_moment_not_an_internal_error():
+    # Regression: V = theta^6 has V' ~ x^5 at its minimum; brentq (xtol 1e-300) gave up with a
+    # RuntimeError (an "internal error" on the command line). V''(0) = 0: no linear oscillation.
+    flat6 = OneDofSystem(q, qd, qdd, t, mass=sp.Integer(1), potential=q**6, name="flat")
+    with pytest.raises(NoRestoringError, match="no stable equilibrium"):
+        find_equilibrium(flat6, near=0.1)
