@@ -277,7 +277,7 @@ class _Builder:
             frac = Fraction(self._segment(node).replace("_", ""))
         except (ValueError, ZeroDivisionError):
             frac = Fraction(value)
-        if frac and max(len(str(abs(frac.numerator))), len(str(frac.denominator))) > MAX_DIGITS:
+        if frac and max(len(str(abs(frac.numerator))), len(str(frac.denominator))) > MAX_DIGITS + 1:  # 10**300 has 301 digits
             raise self._fail(f"number too large or too small (more than {MAX_DIGITS} digits)", node)
         return sp.Rational(frac.numerator, frac.denominator)
 
@@ -343,7 +343,7 @@ class _Builder:
         if not value.is_number or value.has(sp.zoo, sp.nan, sp.oo, -sp.oo):
             # constant factors combine as they are built: L*1e299*1e299 holds 10**598
             for r in value.atoms(sp.Rational):
-                if max(len(str(abs(r.p))), len(str(r.q))) > MAX_DIGITS:
+                if max(len(str(abs(r.p))), len(str(r.q))) > MAX_DIGITS + 1:
                     raise self._fail(f"number too large or too small (more than {MAX_DIGITS} digits)", node)
             return value
         size = _size(value)
