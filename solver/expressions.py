@@ -277,7 +277,8 @@ class _Builder:
             frac = Fraction(self._segment(node).replace("_", ""))
         except (ValueError, ZeroDivisionError):
             frac = Fraction(value)
-        if frac and max(len(str(abs(frac.numerator))), len(str(frac.denominator))) > MAX_DIGITS + 1:  # 10**300 has 301 digits
+        # 10**300 itself has MAX_DIGITS + 1 digits
+        if frac and max(len(str(abs(frac.numerator))), len(str(frac.denominator))) > MAX_DIGITS + 1:
             raise self._fail(f"number too large or too small (more than {MAX_DIGITS} digits)", node)
         return sp.Rational(frac.numerator, frac.denominator)
 
