@@ -251,6 +251,11 @@ def friction_command(args: argparse.Namespace) -> int:
         else:
             amps = [scene.state_si()[0] - eq.q]
         num, _, den = args.ratio_of.partition("/")
+        num, den = num.strip(), den.strip()
+        if num in scene.parameters and den in scene.parameters and (
+                scene.parameters[num].dimensionality != scene.parameters[den].dimensionality):
+            raise InputError(f"{_where(scene)}: --ratio-of {args.ratio_of}: {num} and {den} are not quantities "
+                             f"of the same kind ({scene.parameters[num]:~P} and {scene.parameters[den]:~P})")
         fmap = friction_map(system, amps, args.mass_ratio or None, ratio_of=(num.strip(), den.strip()))
         if args.json:
             payload = {"scene": scene.name, "mode": "rolling"}

@@ -259,7 +259,7 @@ def friction_map(
     else:
         ratios = np.asarray([float(r) for r in mass_ratios])
     if np.any(~np.isfinite(ratios)) or np.any(ratios <= 0):
-        raise InputError(f"mass ratios must be positive and finite, got {list(ratios)}")
+        raise InputError(f"mass ratios must be positive and finite, got {[float(r) for r in ratios]}")
     base = system.value_of(ratio_of[1])
     out = np.empty((ratios.size, amps.size))
     results = []

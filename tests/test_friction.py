@@ -170,3 +170,13 @@ def test_friction_uses_the_scenes_masses_when_it_has_no_mass_ratio():
     assert fmap.ratio_of == () and fmap.to_dict()["mass_ratio"] is None
     # grid of 4e5 points on a smooth maximum: agreement to ~1e-9
     assert fmap.mu_min[0, 0] == pytest.approx(rocker_brute_mu(math.radians(30)), rel=1e-8)
+
+
+def test_ratio_of_a_mass_and_a_length_is_refused(capsys):
+    # Regression: --ratio-of m_d/l_b --mass-ratio 2 set the disk's mass to "2 x 0.2 m" silently.
+    from solver.__main__ import main
+
+    with pytest.raises(SystemExit) as exc:
+        raise SystemExit(main(["friction", DISK, "--amplitude", "30 deg", "--ratio-of", "m_d/l_b", "--mass-ratio", "2"]))
+    err = capsys.readouterr().err
+    assert exc.value.code == 2 and err.count("\n") == 1 and "same kind" in err
