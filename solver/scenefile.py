@@ -584,13 +584,17 @@ class _SceneLoader:
         }
         self.coordinate = coordinate
         self.q = q
-        # Masses and lengths are sizes: positive. (A negative offset is written "-d".)
+        # Lengths are sizes: positive (a negative offset is written "-d"). A mass may be zero (a
+        # massless element is a legitimate limit, e.g. Example 2 without its bar) but not negative;
+        # the body as a whole must have mass (checked with the elements).
         for name, quantity in self.parameters.items():
-            if quantity.dimensionality in (MASS, LENGTH) and not quantity.magnitude > 0:
+            dim = quantity.dimensionality
+            if (dim == LENGTH and not quantity.magnitude > 0) or (dim == MASS and not quantity.magnitude >= 0):
                 key = f"--set {name}" if name in self.overridden else f"parameters.{name}"
+                what = "must be positive" if dim == LENGTH else "must not be negative"
                 raise self.fail(
                     key,
-                    f"{describe_dimension(quantity.dimensionality)[2:]} must be positive, got {quantity:~P} "
+                    f"{describe_dimension(dim)[2:]} {what}, got {quantity:~P} "
                     "(masses and lengths are sizes; write a negative offset as \"-d\" in the expression)",
                 )
 
@@ -648,11 +652,14 @@ class _SceneLoader:
             if name in seen:
                 raise self.fail(f"{key}.name", f"duplicate element name {name!r}")
             seen.add(name)
-            mass = self.positive(
-                self.expr(self.require(spec, "mass", key, "the element's mass, e.g. mass = \"m_b\""), f"{key}.mass", self.names.params, MASS),
-                f"{key}.mass", "the mass",
-            )
+            mass = self.expr(self.require(spec, "mass", key, "the element's mass, e.g. mass = \"m_b\""), f"{key}.mass", self.names.params, MASS)
+            value = self.si(mass, f"{key}.mass")
+            if not value >= 0:
+                raise self.fail(f"{key}.mass", f"the mass must not be negative, got {sp.sstr(mass)} = {value:.6g} (SI)")
             elements.append(self._element_geometry(spec, key, kind, name, mass, points))
+        total = sum(self.si(e.mass, "elements") for e in elements)
+        if not total > 0:
+            raise self.fail("elements", "the body has no mass: every element's mass is zero (a massless element is allowed, a massless body is not)")
         return elements
 
     def _length(self, spec: dict[str, Any], dim: str, key: str) -> sp.Expr:

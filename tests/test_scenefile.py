@@ -96,7 +96,7 @@ def test_overrides_replace_parameters_and_state() -> None:
         ({"m_b": "3 ft"}, "--set m_b: '3 ft' is a length"),
         ({"theta": "1 rad/s"}, "--set theta:"),
         ({"zeta": "1"}, "--set zeta: unknown name 'zeta'"),
-        ({"m_b": "-3 kg"}, "--set m_b: mass must be positive"),
+        ({"m_b": "-3 kg"}, "--set m_b: mass must not be negative"),
         ({"m_b": "50 pounds of feathers"}, "--set m_b: unknown unit"),
         ({"beta": "0 deg"}, "impossible geometry"),  # B's rail becomes parallel to A's
     ],
@@ -133,7 +133,8 @@ BAD = [
     ("bare number as length", _edit(BAR, 'B = ["l_b", "0"]', 'B = ["4", "0"]'), "points.B[0]", "bare number"),
     ("missing parameter", _edit(BAR, 'l_b  = "4 ft"', ''), "points.B[0]", "unknown name 'l_b'"),
     ("missing key", _edit(BAR, 'mass = "m_b"', ''), "elements[0]", "missing key 'mass'"),
-    ("negative mass", _edit(BAR, '"50 lbm"', '"-50 lbm"'), "parameters.m_b", "must be positive"),
+    ("negative mass", _edit(BAR, '"50 lbm"', '"-50 lbm"'), "parameters.m_b", "must not be negative"),
+    ("massless body", _edit(BAR, '"50 lbm"', '"0 lbm"'), "elements", "the body has no mass"),
     ("zero length", _edit(BAR, '"4 ft"', '"0 ft"'), "parameters.l_b", "must be positive"),
     ("duplicate element", BAR + '\n[[elements]]\nname = "bar"\nkind = "point_mass"\nmass = "m_b"\nat = "A"\n',
      "elements[1].name", "duplicate element name 'bar'"),
