@@ -19,8 +19,8 @@ from functools import lru_cache
 import mpmath
 import numpy as np
 import pytest
-from scipy.special import ellipkm1
 
+from references import EX2, elliptic_period, ex2_reference_period
 from solver.errors import InputError, NoRestoringError, SceneError, SingularConfigurationError
 from solver.fidelity import period_to_tolerance
 from solver.period import OneDofSystem, exact_period, find_equilibrium
@@ -29,7 +29,6 @@ from solver.simulate import period_by_integration, simulate
 BAR = "data/scenes/sliding_bar.toml"
 DISK = "data/scenes/disk_bar.toml"
 EX1 = dict(m_b=50 * 0.45359237, l_b=4 * 0.3048, g=32.174 * 0.3048)
-EX2 = dict(m_d=4.0, r_d=0.25, m_b=1.5, l_b=0.2, g=9.80665)
 
 
 def scene(path, **overrides):
@@ -99,19 +98,6 @@ def test_rail_angles_near_0_and_180_deg(beta):
 
 
 # ------------------------------------------------------------------ Example 2 mass ratios and lengths
-def ex2_reference_period(amplitude, p):
-    with mpmath.workdps(30):
-        md, rd, mb, lb, gg = (mpmath.mpf(repr(p[k])) for k in ("m_d", "r_d", "m_b", "l_b", "g"))
-        a = mpmath.mpf(amplitude)
-
-        def f(x):
-            M = (mpmath.mpf(3) / 2 * md + mb) * rd**2 + mb * lb**2 / 3 - mb * rd * lb * mpmath.cos(x)
-            dV = mb * gg * lb / 2 * (mpmath.cos(x) - mpmath.cos(a))
-            return mpmath.sqrt(M / (2 * dV)) if dV > 0 else mpmath.mpf(0)
-
-        return float(2 * mpmath.quad(f, [-a, 0, a]))
-
-
 def eq46_omega(p):
     return math.sqrt((0.5 * p["m_b"] * p["g"] * p["l_b"]) / (
         (1.5 * p["m_d"] + p["m_b"]) * p["r_d"] ** 2 + p["m_b"] * p["l_b"] * (p["l_b"] / 3 - p["r_d"])))
@@ -179,7 +165,7 @@ def test_vanishing_disk_radius_is_a_compound_pendulum():
     w = natural_frequency(scene(DISK, r_d="1e-9 m")).omega_n.to("rad/s").magnitude
     assert w**2 == pytest.approx(3 * g / (2 * l_b), rel=1e-7)
     a = math.radians(60)
-    compound = 4 * float(ellipkm1(math.cos(a / 2) ** 2)) * math.sqrt(2 * l_b / 3 / g)
+    compound = elliptic_period(a, 2 * l_b / 3, g)
     assert exact_period(s, a, tol=1e-12).period == pytest.approx(compound, rel=1e-7)
 
 

@@ -16,14 +16,13 @@ import json
 import math
 from functools import lru_cache
 
-import mpmath
 import numpy as np
 import pytest
 import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from scipy.special import ellipkm1
 
+from references import EX2, elliptic_period, ex2_reference_period
 from solver.errors import InputError, NoRestoringError
 from solver.fidelity import amplitude_coefficient, period_to_tolerance
 from solver.period import OneDofSystem, exact_period, find_equilibrium
@@ -33,33 +32,11 @@ q, qd, qdd, t = sp.symbols("theta theta_dot theta_ddot t", real=True)
 m, l, g = sp.symbols("m l g", real=True)
 
 SCENE = "data/scenes/disk_bar.toml"
-# Example 2 values as chosen in data/scenes/disk_bar.toml (SI)
-EX2 = dict(m_d=4.0, r_d=0.25, m_b=1.5, l_b=0.2, g=9.80665)
 
 
 def pendulum(length=1.5, gravity=9.81, mass=2.0) -> OneDofSystem:
     return OneDofSystem(q, qd, qdd, t, mass=m * l**2, potential=-m * g * l * sp.cos(q),
                         params=(m, l, g), values=(mass, length, gravity), name="pendulum")
-
-
-def elliptic_period(amplitude: float, length: float, gravity: float) -> float:
-    """Closed form 4 K(sin^2(a/2)) sqrt(l/g)."""
-    return 4.0 * float(ellipkm1(math.cos(amplitude / 2) ** 2)) * math.sqrt(length / gravity)
-
-
-def ex2_reference_period(amplitude: float, p=EX2) -> float:
-    """Eq. 44 (F_a = 0): T = 2 int sqrt(M / (2 (V(a) - V))) by mpmath tanh-sinh at 30 digits."""
-    with mpmath.workdps(30):
-        md, rd, mb, lb, gg = (mpmath.mpf(repr(p[k])) for k in ("m_d", "r_d", "m_b", "l_b", "g"))
-        a = mpmath.mpf(amplitude)
-
-        def f(x):
-            M = (mpmath.mpf(3) / 2 * md + mb) * rd**2 + mb * lb**2 / 3 - mb * rd * lb * mpmath.cos(x)
-            dV = mb * gg * lb / 2 * (mpmath.cos(x) - mpmath.cos(a))
-            # a node rounded onto an end point (integrable singularity there): contributes nothing
-            return mpmath.sqrt(M / (2 * dV)) if dV > 0 else mpmath.mpf(0)
-
-        return float(2 * mpmath.quad(f, [-a, 0, a]))
 
 
 def eq46_period(p=EX2) -> float:
