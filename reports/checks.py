@@ -666,7 +666,7 @@ def survey_checks(dataset_path: Path) -> tuple[list[Check], SurveyResults]:
                 f"response rate {facts.respondents}/{facts.enrolled} = {100 * rate:.1f}%; every item's rebuilt counts "
                 f"add up to N = {facts.respondents}; among N = 1..{max(facts.enrolled, facts.respondents)}, "
                 f"N = {most} makes the most printed cells attainable"
-                + (f" (no N makes all of them attainable)" if not search.feasible_n else
+                + (" (no N makes all of them attainable)" if not search.feasible_n else
                    f" (N making every cell attainable: {search.feasible_n})")
             ),
             label="Table 1 note: respondents of enrolled",

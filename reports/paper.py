@@ -106,7 +106,7 @@ def example_steps(scene, deriv, at_rest: bool) -> dict:
     at_rest : bool
         Show the equations at theta_dot = 0 (Example 1 is released from rest).
     """
-    q, qd, qdd = deriv.q, deriv.qd, deriv.qdd
+    qd, qdd = deriv.qd, deriv.qdd
     rest = {qd: 0} if at_rest else {}
     steps = {}
     # kinematics of the reference point and of every named point

@@ -69,7 +69,6 @@ def eq30_tolerances() -> dict[str, float]:
     """First-order worst case of printed_solution under the coefficients' rounding,
     plus half a unit of the printed Eq. 30 value."""
     coefs = {k: v["value"] for k, v in PUBLISHED.items() if k.startswith("eq29-")}
-    base = printed_solution(coefs)
     spread = np.zeros(3)
     for cid in coefs:
         du = coefficient_uncertainty(cid)
