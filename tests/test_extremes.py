@@ -178,14 +178,10 @@ def test_massless_bar_has_no_restoring_moment():
 
 
 @pytest.mark.parametrize("command", [["period", DISK, "--amplitude", "10 deg"], ["frequency", DISK]])
-def test_massless_bar_on_the_command_line(capsys, command):
-    from solver.__main__ import main
-
-    with pytest.raises(SystemExit) as exc:
-        raise SystemExit(main([*command, "--set", "m_b=0 kg"]))
-    err = capsys.readouterr().err
+def test_massless_bar_on_the_command_line(solver_cli, command):
+    code, _, err = solver_cli(*command, "--set", "m_b=0 kg")
     # A massless element is a legal limit; the answer is "no restoring moment", one line, exit 2.
-    assert exc.value.code == 2 and err.count("\n") == 1 and "restoring" in err
+    assert code == 2 and err.count("\n") == 1 and "restoring" in err
     assert "nan" not in err.lower() or "finite" in err.lower()
 
 
@@ -214,15 +210,11 @@ def test_tiny_bar_mass_keeps_its_small_restoring_moment(m_b):
 ROCKER = "data/scenes/rocking_semicircle.toml"
 
 
-def test_semicircle_beyond_its_rim_is_outside_the_model(capsys):
+def test_semicircle_beyond_its_rim_is_outside_the_model(solver_cli):
     # Regression: the rocking semicircle was solved past 90 deg, where the straight edge, not
     # the curved rim, meets the floor (the model rolled it on a full circle).
-    from solver.__main__ import main
-
-    with pytest.raises(SystemExit) as exc:
-        raise SystemExit(main(["solve", ROCKER, "--set", "theta=100 deg"]))
-    err = capsys.readouterr().err
-    assert exc.value.code == 2 and err.count("\n") == 1 and "rim" in err
+    code, _, err = solver_cli("solve", ROCKER, "--set", "theta=100 deg")
+    assert code == 2 and err.count("\n") == 1 and "rim" in err
     s = system(ROCKER)
     assert period_to_tolerance(s, math.radians(89), tol=1e-8).model == "quadrature"
     with pytest.raises(InputError, match="rim"):

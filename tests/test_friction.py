@@ -123,26 +123,17 @@ def test_vertical_bar_edge_is_exactly_90_deg():
     assert any(abs(e - math.pi / 2) < 1e-12 for e in ends)  # root found to brentq's xtol
 
 
-def _run(capsys, *argv):
-    from solver.__main__ import main
-
-    with pytest.raises(SystemExit) as exc:
-        raise SystemExit(main(list(argv)))
-    out = capsys.readouterr()
-    return exc.value.code, out.out, out.err
-
-
-def test_cli_friction_both_modes(capsys):
-    code, out, _ = _run(capsys, "friction", DISK, "--amplitude", "60 deg", "--mass-ratio", "0.375", "--json")
+def test_cli_friction_both_modes(solver_cli):
+    code, out, _ = solver_cli("friction", DISK, "--amplitude", "60 deg", "--mass-ratio", "0.375", "--json")
     assert code == 0
     data = json.loads(out)
     assert data["mode"] == "rolling"
     assert data["mu_min"][0][0] == pytest.approx(brute_mu(math.radians(60)), rel=1e-7)
-    code, out, _ = _run(capsys, "friction", BAR, "--json")
+    code, out, _ = solver_cli("friction", BAR, "--json")
     data = json.loads(out)
     assert data["mode"] == "release"
     assert data["intervals"][0]["high"]["value"] == pytest.approx(90.0, abs=1e-9)
-    code, out, err = _run(capsys, "friction", BAR, "--reactions", "R_X")
+    code, out, err = solver_cli("friction", BAR, "--reactions", "R_X")
     assert code == 2 and "R_X" in err
 
 
@@ -172,11 +163,7 @@ def test_friction_uses_the_scenes_masses_when_it_has_no_mass_ratio():
     assert fmap.mu_min[0, 0] == pytest.approx(rocker_brute_mu(math.radians(30)), rel=1e-8)
 
 
-def test_ratio_of_a_mass_and_a_length_is_refused(capsys):
+def test_ratio_of_a_mass_and_a_length_is_refused(solver_cli):
     # Regression: --ratio-of m_d/l_b --mass-ratio 2 set the disk's mass to "2 x 0.2 m" silently.
-    from solver.__main__ import main
-
-    with pytest.raises(SystemExit) as exc:
-        raise SystemExit(main(["friction", DISK, "--amplitude", "30 deg", "--ratio-of", "m_d/l_b", "--mass-ratio", "2"]))
-    err = capsys.readouterr().err
-    assert exc.value.code == 2 and err.count("\n") == 1 and "same kind" in err
+    code, _, err = solver_cli("friction", DISK, "--amplitude", "30 deg", "--ratio-of", "m_d/l_b", "--mass-ratio", "2")
+    assert code == 2 and err.count("\n") == 1 and "same kind" in err

@@ -172,17 +172,8 @@ def test_fidelity_integration_model():
 
 
 # ------------------------------------------------------------------ command line
-def _run(capsys, *argv):
-    from solver.__main__ import main
-
-    with pytest.raises(SystemExit) as exc:
-        raise SystemExit(main(list(argv)))
-    out = capsys.readouterr()
-    return exc.value.code, out.out, out.err
-
-
-def test_cli_period_json(capsys):
-    code, out, _ = _run(capsys, "period", SCENE, "--amplitude", "30 deg", "--tol", "1e-11", "--json")
+def test_cli_period_json(solver_cli):
+    code, out, _ = solver_cli("period", SCENE, "--amplitude", "30 deg", "--tol", "1e-11", "--json")
     assert code == 0
     data = json.loads(out)
     assert data["period"]["unit"] == "s" and data["period_linear"]["unit"] == "s"
@@ -194,12 +185,12 @@ def test_cli_period_json(capsys):
     assert 0 <= data["error_estimate"] <= 1e-11
 
 
-def test_cli_period_units_and_errors(capsys):
-    code, out, _ = _run(capsys, "period", SCENE, "--amplitude", "0.5 rad", "--json")
+def test_cli_period_units_and_errors(solver_cli):
+    code, out, _ = solver_cli("period", SCENE, "--amplitude", "0.5 rad", "--json")
     assert json.loads(out)["period"]["value"] == pytest.approx(ex2_reference_period(0.5), rel=1e-10)
-    code, out, err = _run(capsys, "period", SCENE, "--amplitude", "185 deg")
+    code, out, err = solver_cli("period", SCENE, "--amplitude", "185 deg")
     assert code == 2 and err.count("\n") == 1 and "separatrix" in err and "Traceback" not in err
-    code, out, err = _run(capsys, "period", SCENE, "--amplitude", "3 kg")
+    code, out, err = solver_cli("period", SCENE, "--amplitude", "3 kg")
     assert code == 2 and "--amplitude" in err
 
 

@@ -151,26 +151,17 @@ def test_bad_options():
         simulate(ex2(), -1.0)
 
 
-def _run(capsys, *argv):
-    from solver.__main__ import main
-
-    with pytest.raises(SystemExit) as exc:
-        raise SystemExit(main(list(argv)))
-    out = capsys.readouterr()
-    return exc.value.code, out.out, out.err
-
-
-def test_cli_simulate(capsys, tmp_path):
+def test_cli_simulate(solver_cli, tmp_path):
     out = tmp_path / "h.csv"
-    code, text, _ = _run(capsys, "simulate", SCENE, "--t-end", "2 s", "--rtol", "1e-10", "--out", str(out),
+    code, text, _ = solver_cli("simulate", SCENE, "--t-end", "2 s", "--rtol", "1e-10", "--out", str(out),
                          "--json", "--no-progress")
     assert code == 0
     data = json.loads(text)
     assert data["status"] == "completed" and data["t_end"] == {"value": 2.0, "unit": "s"}
     assert out.exists()
-    code, text, err = _run(capsys, "simulate", SCENE, "--t-end", "2 kg")
+    code, text, err = solver_cli("simulate", SCENE, "--t-end", "2 kg")
     assert code == 2 and err.count("\n") == 1
-    code, text, err = _run(capsys, "simulate", SCENE, "--t-end", "1", "--out", str(tmp_path / "no" / "x.csv"))
+    code, text, err = solver_cli("simulate", SCENE, "--t-end", "1", "--out", str(tmp_path / "no" / "x.csv"))
     assert code == 2 and "does not exist" in err
 
 
