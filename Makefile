@@ -44,7 +44,8 @@ bench: $(STAMP)
 REPORT_OUTPUTS := $(BUILD)/report.html $(BUILD)/verification.json $(BUILD)/paper.html $(BUILD)/paper.tex
 REPORT_STAMP := $(BUILD)/.report.stamp
 REPORT_INPUTS := $(shell find data -type f 2>/dev/null) \
-	$(wildcard solver/*.py analysis/*.py analysis/templates/* reports/*.py reports/templates/*) \
+	$(shell find solver analysis reports -name '*.py' -not -path '*/build/*' 2>/dev/null) \
+	$(wildcard analysis/templates/* reports/templates/*) \
 	$(filter-out $(BUILD)/bench/report.json,$(wildcard $(BUILD)/bench/*.json))
 
 $(REPORT_STAMP): $(STAMP) $(REPORT_INPUTS)

@@ -32,7 +32,6 @@ from typing import Any, NoReturn
 import pint
 
 from solver.errors import InputError
-from solver.scene import Scene
 
 EXIT_OK = 0
 EXIT_INTERNAL = 1
@@ -152,11 +151,28 @@ def parse_overrides(items: Iterable[str]) -> dict[str, str]:
     return out
 
 
-def load_scene_from_args(args: argparse.Namespace) -> Scene:
-    """Load ``args.scene`` with ``args.overrides`` (``--set``) applied."""
-    from solver.scenefile import load_scene
+def load_scene_from_args(args: argparse.Namespace):
+    """Load ``args.scene`` (either format) as a System, with ``args.overrides`` (``--set``) applied."""
+    from solver.io.scenes import load_system
 
-    return load_scene(args.scene, parse_overrides(getattr(args, "overrides", []) or []))
+    return load_system(args.scene, parse_overrides(getattr(args, "overrides", []) or []))
+
+
+def state_si(system) -> tuple[float, float]:
+    """(value, rate) of the single free coordinate (SI) of a one-degree-of-freedom system.
+
+    Raises
+    ------
+    InputError
+        When the system has more than one free coordinate.
+    """
+    free = system.free
+    if len(free) != 1 or system.closure:
+        raise InputError(
+            f"{system.label}: this command needs one degree of freedom without closure constraints; "
+            f"the scene has {len(free)} free coordinate(s) ({', '.join(c.name for c in free) or 'none'})"
+        )
+    return free[0].value, free[0].rate
 
 
 # -- output --------------------------------------------------------------------------------
@@ -248,9 +264,19 @@ def format_table(header: Sequence[str], rows: Sequence[Sequence[str]], align: st
     return "\n".join([line(header), rule, *(line(r) for r in rows)])
 
 
-def state_text(scene: Scene) -> str:
-    """``theta = 30 deg, theta_dot = 0 rad/s`` as given in the scene/--set."""
-    return ", ".join(f"{name} = {format_number(float(q.magnitude))} {q.units:~P}" for name, q in scene.state.items())
+def state_text(system, state=None) -> str:
+    """``theta = 30 deg, theta_dot = 0 rad/s`` (angles in degrees, rates in rad/s, lengths in m)."""
+    parts = []
+    q = [c.value for c in system.free] if state is None else state.q
+    qd = [c.rate for c in system.free] if state is None else state.qd
+    for c, v, r in zip(system.free, q, qd):
+        if c.kind == "angle":
+            parts += [f"{c.name} = {format_number(math.degrees(v))} deg", f"{c.name}_dot = {format_number(r)} rad/s"]
+        else:
+            parts += [f"{c.name} = {format_number(v)} m", f"{c.name}_dot = {format_number(r)} m/s"]
+    if system.motion_subs:
+        parts.append(f"t = {format_number(system.time if state is None else state.t)} s")
+    return ", ".join(parts)
 
 
 # -- running ---------------------------------------------------------------------------------
@@ -301,6 +327,7 @@ __all__ = [
     "format_number",
     "format_table",
     "state_text",
+    "state_si",
     "run_handler",
     "fail",
     "EXIT_OK",

@@ -23,6 +23,7 @@ import math
 import sys
 
 from solver.cli_common import (
+    state_si,
     add_common_arguments,
     format_number,
     format_table,
@@ -151,7 +152,7 @@ def _system(args):
 
 
 def _where(scene) -> str:
-    return str(scene.source) if scene.source is not None else scene.name
+    return scene.label
 
 
 # -- period ------------------------------------------------------------------------------------
@@ -161,7 +162,7 @@ def period_command(args: argparse.Namespace) -> int:
 
     amplitude = _angle(args.amplitude, "--amplitude")
     scene, _, system = _system(args)
-    eq = find_equilibrium(system, near=scene.state_si()[0])
+    eq = find_equilibrium(system, near=state_si(scene)[0])
     res = period_to_tolerance(system, amplitude, tol=args.tol, model=args.model, equilibrium=eq)
     shown = to_output_units(res.to_dict(), scene.output_units)
     if args.json:
@@ -199,7 +200,7 @@ def simulate_command(args: argparse.Namespace) -> int:
         if str(folder) and not folder.is_dir():
             raise InputError(f"--out {args.out}: folder {folder} does not exist")
     scene, _, system = _system(args)
-    res = simulate(system, t_end, y0=scene.state_si(), method=args.ivp_method, rtol=args.rtol, atol=args.atol,
+    res = simulate(system, t_end, y0=state_si(scene), method=args.ivp_method, rtol=args.rtol, atol=args.atol,
                    mu=args.mu, samples=args.samples, progress=args.progress)
     if args.out is not None:
         write_csv(res, args.out)
@@ -245,11 +246,11 @@ def friction_command(args: argparse.Namespace) -> int:
 
     scene, _, system = _system(args)
     if system.friction_pairs:
-        eq = find_equilibrium(system, near=scene.state_si()[0])
+        eq = find_equilibrium(system, near=state_si(scene)[0])
         if args.amplitude:
             amps = [_angle(a, "--amplitude") for a in args.amplitude]
         else:
-            amps = [scene.state_si()[0] - eq.q]
+            amps = [state_si(scene)[0] - eq.q]
         num, _, den = args.ratio_of.partition("/")
         num, den = num.strip(), den.strip()
         if num in scene.parameters and den in scene.parameters and (
@@ -279,7 +280,7 @@ def friction_command(args: argparse.Namespace) -> int:
     names = None
     if args.reactions:
         names = [n.strip() for n in args.reactions.split(",") if n.strip()]
-    win = release_window(system, names, (lo, hi), theta_dot=scene.state_si()[1])
+    win = release_window(system, names, (lo, hi), theta_dot=state_si(scene)[1])
     if args.json:
         payload = {"scene": scene.name, "mode": "release"}
         payload.update(win.to_dict())

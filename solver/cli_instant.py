@@ -34,7 +34,6 @@ from solver.cli_common import (
     to_output_units,
 )
 from solver.errors import InputError
-from solver.scene import Scene
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -61,6 +60,15 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.set_defaults(handler=eom_command)
 
     p = subparsers.add_parser(
+        "kinematics",
+        help="positions, velocities and accelerations of every named point at the state",
+        description="Positions, velocities and accelerations of every named point, and each body's "
+        "omega and alpha, at the scene's state (accelerations from the instantaneous solve).",
+    )
+    add_common_arguments(p)
+    p.set_defaults(handler=kinematics_command)
+
+    p = subparsers.add_parser(
         "frequency",
         help="natural frequency of small oscillations about the stable equilibrium",
         description="Natural frequency of small oscillations about the stable equilibrium under "
@@ -71,69 +79,113 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.set_defaults(handler=frequency_command)
 
 
-def _where(scene: Scene) -> str:
-    return str(scene.source) if scene.source is not None else scene.name
+def _where(scene) -> str:
+    return scene.label
 
 
 # -- solve -----------------------------------------------------------------------------------
 
 
 def solve_command(args: argparse.Namespace) -> int:
-    scene = load_scene_from_args(args)
-    solution = derivation.solve_instant(scene, args.point, args.method)
-    result = solution.to_dict(scene.output_units)
+    system = load_scene_from_args(args)
+    solution = derivation.solve_instant(system, args.point, args.method)
+    result = solution.to_dict(system.output_units)
     unknowns = result["unknowns"]
-    check_finite({name: entry["value"] for name, entry in unknowns.items()}, _where(scene))
-    check_finite({"condition number": result["condition_number"]}, _where(scene))
+    check_finite({name: entry["value"] for name, entry in unknowns.items()}, _where(system))
+    check_finite({"condition number": result["condition_number"]}, _where(system))
     if args.json:
-        print_json(
-            {
-                "scene": scene.name,
-                "point": solution.point,
-                "method": solution.method,
-                "unknowns": unknowns,
-                "condition_number": float(result["condition_number"]),
-            }
-        )
+        payload = {
+            "scene": system.name,
+            "point": solution.point,
+            "method": solution.method,
+            "unknowns": unknowns,
+            "condition_number": float(result["condition_number"]),
+        }
+        if system.dependent or system.motion_subs:  # the solved state is part of the answer
+            payload["state"] = _state_payload(system, solution.state)
+        print_json(payload)
         return 0
     rows = [
         (name, format_number(entry["value"]), entry["unit"]) for name, entry in unknowns.items()
     ]
-    print(f"scene   {scene.name}  ({_where(scene)})")
-    timed = any(_uses_time(load, scene) for load in scene.loads)
-    print(f"state   {state_text(scene)}" + ("   (loads taken at t = 0 s)" if timed else ""))
+    print(f"scene   {system.name}  ({_where(system)})")
+    timed = any(_has_time(a, system) for a in system.applied_loads)
+    print(f"state   {state_text(system, solution.state)}" + ("   (loads taken at the scene's time)" if timed else ""))
     print(f"point   {solution.point}   method  {solution.method}")
     print()
     print(format_table(("name", "value", "unit"), rows, align="lrl"))
     print()
     print(f"condition number of the system (rows and columns equilibrated, so unit-free): {format_number(result['condition_number'], 3)}")
-    print("alpha is the k-component of the angular acceleration (counter-clockwise positive).")
+    if "alpha" in unknowns:
+        print("alpha is the k-component of the angular acceleration (counter-clockwise positive).")
     return 0
 
 
-def _uses_time(load, scene: Scene) -> bool:
-    exprs = [load.magnitude] if load.components is None else list(load.components)
-    return any(e is not None and e.has(scene.t) for e in exprs)
+def _state_payload(system, state) -> dict:
+    out = {}
+    for c, v, r in zip(system.free, state.q, state.qd):
+        out[c.name] = {"value": v, "unit": c.unit}
+        out[f"{c.name}_dot"] = {"value": r, "unit": f"{c.unit}/s"}
+    out["t"] = {"value": state.t, "unit": "s"}
+    return out
+
+
+def _has_time(load, system) -> bool:
+    exprs = [load.couple] + ([] if load.force is None else list(load.force))
+    return any(sp.sympify(e).has(system.t) for e in exprs)
+
+
+# -- kinematics ------------------------------------------------------------------------------
+
+
+def kinematics_command(args: argparse.Namespace) -> int:
+    from solver.analyses.kinematics import kinematics_at
+
+    system = load_scene_from_args(args)
+    result = kinematics_at(system, args.point, args.method)
+    if args.json:
+        print_json({"scene": system.name, **result})
+        return 0
+    print(f"scene   {system.name}  ({_where(system)})")
+    print(f"state   {state_text(system)}")
+    print()
+    rows = []
+    for body, b in result["bodies"].items():
+        rows.append((body, "omega", format_number(b["omega"]["value"]), b["omega"]["unit"]))
+        rows.append((body, "alpha", format_number(b["alpha"]["value"]), b["alpha"]["unit"]))
+    print(format_table(("body", "quantity", "value", "unit"), rows, align="llrl"))
+    print()
+    rows = []
+    for name, p in result["points"].items():
+        for what in ("position", "velocity", "acceleration"):
+            x, y = p[what]["value"]
+            rows.append((name, what, format_number(x), format_number(y), p[what]["unit"]))
+    print(format_table(("point", "quantity", "x", "y", "unit"), rows, align="llrrl"))
+    return 0
 
 
 # -- eom -------------------------------------------------------------------------------------
 
 
 def eom_command(args: argparse.Namespace) -> int:
-    scene = load_scene_from_args(args)
-    d = derivation.derive(scene, args.point, args.method)
+    system = load_scene_from_args(args)
+    if len(system.free) != 1 or system.closure:
+        return _eom_multi(args, system)
+    d = derivation.derive(system, args.point, args.method)
     eom = d.eom
     mass = _display_form(d.mass, _collect_trig)
     # Display form only: cancel common factors (removes removable 0/0 points
     # such as a sin(theta) in both numerator and denominator).
     reactions = {name: _display_form(expr) for name, expr in d.reactions.items()}
+    units = {name: _output_unit(system, unit) for name, unit in d.reaction_units.items()}
+    q = system.free[0].name
     if args.json:
         print_json(
             {
-                "scene": scene.name,
+                "scene": system.name,
                 "point": d.point,
                 "method": d.method,
-                "coordinate": scene.coordinate,
+                "coordinate": q,
                 "eom": str(eom),
                 "mass": str(mass),
                 "kinetic_energy": str(d.kinetic_energy),
@@ -144,22 +196,21 @@ def eom_command(args: argparse.Namespace) -> int:
             }
         )
         return 0
-    q = scene.coordinate
     if args.latex:
-        names = _latex_names(scene)
+        names = _latex_names(system)
 
         def latex(expr: sp.Expr) -> str:
             return sp.latex(expr, symbol_names=names)
 
-        print(f"% {scene.name}: equation of motion (about {d.point}, {d.method}); reactions eliminated")
+        print(f"% {system.name}: equation of motion (about {d.point}, {d.method}); reactions eliminated")
         print(f"{latex(eom)} = 0")
         print(f"% generalized mass M({q})")
         print(f"M = {latex(mass)}")
-        print("% reactions as functions of the state")
+        print("% reactions as functions of the state (SI)")
         for name, expr in reactions.items():
             print(f"{sp.latex(sp.Symbol(name))} = {latex(expr)}")
         return 0
-    print(f"scene   {scene.name}  ({_where(scene)})")
+    print(f"scene   {system.name}  ({_where(system)})")
     print(f"point   {d.point}   method  {d.method}")
     print()
     print(f"equation of motion ({q}_ddot is the second derivative of {q}):")
@@ -168,10 +219,72 @@ def eom_command(args: argparse.Namespace) -> int:
     print(f"generalized mass M({q}) (kinetic energy T = 1/2 M {q}_dot**2):")
     print(f"  M = {sp.sstr(mass)}")
     print()
-    print("reactions as functions of the state:")
+    print("reactions as functions of the state (parameters in SI):")
     for name, expr in reactions.items():
-        print(f"  {name} = {sp.sstr(expr)}    [{d.reaction_units.get(name, '')}]")
+        print(f"  {name} = {sp.sstr(expr)}    [{d.reaction_units.get(name, '')}, SI]")
     return 0
+
+
+def _output_unit(system, unit: str) -> str:
+    key = {"N": "force", "N*m": "moment"}.get(unit)
+    return system.output_units.get(key, unit) if key else unit
+
+
+def _eom_multi(args, system) -> int:
+    """n equations of motion M(q) q'' = f(q, q', t) (reactions eliminated)."""
+    from solver.analyses.eom import equations_of_motion
+    from solver.formulations import formulate
+
+    f = formulate(system, args.method, args.point)
+    if system.closure:
+        raise InputError(
+            f"{system.label}: eom: this scene has closure constraints "
+            f"({', '.join(sorted({r.joint.name for r in system.closure}))}); their reduced equations of motion "
+            "are not printed: use `solve` or `simulate`"
+        )
+    if not system.free:
+        raise InputError(f"{system.label}: eom: every coordinate is prescribed: there is no equation of motion "
+                         "(use `solve` for the driving forces and reactions)")
+    eqs = equations_of_motion(f)
+    shown = [_tidy_multi(e, system) for e in eqs]
+    if args.json:
+        print_json({"scene": system.name, "point": ",".join(f"{b}:{p}" for b, p in f.points.items()),
+                    "method": f.method, "coordinates": [c.name for c in system.free],
+                    "eom": [str(e) for e in shown],
+                    "kinetic_energy": str(system.kinetic_energy()),
+                    "potential_energy": str(system.potential_energy()),
+                    "generalized_forces": [str(q) for q in system.generalized_forces()]})
+        return 0
+    if args.latex:
+        names = {}
+        for c in system.free:
+            base = sp.latex(c.q)
+            names[c.qd] = rf"\dot{{{base}}}"
+            names[c.qdd] = rf"\ddot{{{base}}}"
+        print(f"% {system.name}: equations of motion ({f.method}); reactions eliminated")
+        for c, e in zip(system.free, shown):
+            print(f"% for {c.name}")
+            print(f"{sp.latex(e, symbol_names=names)} = 0")
+        return 0
+    print(f"scene   {system.name}  ({_where(system)})")
+    print(f"method  {f.method}   {len(system.free)} degrees of freedom: {', '.join(c.name for c in system.free)}")
+    print()
+    for c, e in zip(system.free, shown):
+        print(f"equation for {c.name} (reactions eliminated):")
+        print(f"  {sp.sstr(e)} = 0")
+        print()
+    return 0
+
+
+def _tidy_multi(expr, system):
+    from solver.derivation import _tidy_by_rate
+
+    parts = []
+    for c in system.free:
+        coef = expr.xreplace({x.qdd: (1 if x is c else 0) for x in system.free}) - expr.xreplace({x.qdd: 0 for x in system.free})
+        parts.append(_display_form(coef, _collect_trig) * c.qdd)
+    rest = expr.xreplace({x.qdd: 0 for x in system.free})
+    return sp.Add(*parts) + _tidy_by_rate(rest, system.free[0].qd)
 
 
 DISPLAY_BUDGET_S = 4.0
@@ -220,10 +333,11 @@ def _display_form(expr: sp.Expr, tidy_with=sp.cancel) -> sp.Expr:
     return tidy if sp.count_ops(tidy) <= ops else expr
 
 
-def _latex_names(scene: Scene) -> dict[sp.Symbol, str]:
+def _latex_names(system) -> dict[sp.Symbol, str]:
     """theta_dot -> \\dot{\\theta}, theta_ddot -> \\ddot{\\theta}."""
-    base = sp.latex(scene.q)
-    return {scene.qd: rf"\dot{{{base}}}", scene.qdd: rf"\ddot{{{base}}}"}
+    c = system.free[0]
+    base = sp.latex(c.q)
+    return {c.qd: rf"\dot{{{base}}}", c.qdd: rf"\ddot{{{base}}}"}
 
 
 # -- frequency -------------------------------------------------------------------------------
@@ -245,7 +359,7 @@ def frequency_command(args: argparse.Namespace) -> int:
     if args.json:
         print_json({"scene": scene.name, "method": args.method, **payload})
         return 0
-    q = scene.coordinate
+    q = scene.free[0].name if scene.free else "q"
     eq_deg = math.degrees(equilibrium)
     print(f"scene   {scene.name}  ({_where(scene)})")
     print(f"small oscillations about the stable equilibrium {q} = {format_number(eq_deg)} deg "

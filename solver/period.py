@@ -59,7 +59,6 @@ __all__ = [
     "exact_period",
     "TOL_MIN",
     "TOL_MAX",
-    "rim_limits",
     "check_limits",
 ]
 
@@ -108,26 +107,6 @@ def _drop_constants(V: sp.Expr, q: sp.Symbol) -> sp.Expr:
 
 def _lambdify(args, expr, modules):
     return sp.lambdify(args, expr, modules=modules, cse=True)
-
-
-def rim_limits(scene: Any, q: sp.Symbol) -> tuple[tuple[str, sp.Expr], ...]:
-    """Where a rolling semicircular disk's model holds: g(q) >= 0.
-
-    The contact point is directly "below" the rim's centre, along -n (n the
-    surface's left normal, at the surface angle + pi/2). It lies on the curved
-    rim while the symmetry axis (body angle phi + the element's ``angle``) is
-    within 90 deg of -n: g = cos(phi + angle - (surface angle - pi/2)). Past it
-    the straight edge would meet the surface, which the model does not describe.
-    """
-    out = []
-    elements = {e.name: e for e in scene.elements}
-    phi = sp.sympify(scene.orientation).subs(scene.q, q)
-    for c in scene.constraints:
-        element = elements.get(getattr(c, "element", None) or "")
-        if c.kind == "rolling" and element is not None and element.kind == "semicircular_disk":
-            g = sp.cos(phi + element.angle - (c.angle - sp.pi / 2))
-            out.append((f"the contact point of {element.name!r} ({c.name}) stays on its curved rim", g))
-    return tuple(out)
 
 
 def check_limits(system: "OneDofSystem", q: float, what: str) -> None:
@@ -184,7 +163,7 @@ class OneDofSystem:
     limits : tuple of (str, sympy.Expr)
         Conditions g(q) >= 0 for the model to hold, each with a description: a
         semicircular disk rolls on its curved rim only while the contact point
-        lies on the rim (:func:`rim_limits`).
+        lies on the rim (``Rolling.limits``).
     """
 
     q: sp.Symbol
@@ -219,27 +198,21 @@ class OneDofSystem:
         normal forces are always one-sided; ``Constraint.one_sided`` marks the
         others). Parameter values are the scene's SI values.
         """
-        scene = derivation.scene
-        si = scene.si_values()
+        system = derivation.system
+        si = system.si_values()
         params = tuple(si)
         values = tuple(float(v) for v in si.values())
         subs = dict(si)
         one_sided: list[str] = []
         pairs: list[FrictionPair] = []
         owners: dict[str, str] = {}
-        for c in scene.constraints:
-            owners.update({r: c.name for r in c.reactions})
-            if c.kind == "rolling":
-                friction, normal = c.reactions[0], c.reactions[1]
-                one_sided.append(normal)
-                mu = None
-                if c.friction_coefficient is not None:
-                    mu = float(sp.sympify(c.friction_coefficient).xreplace(subs))
-                pairs.append(FrictionPair(c.name, friction, normal, mu))
-            elif c.one_sided:
-                one_sided.extend(c.reactions)
-        from .kinematics import scene_label
-
+        for j in system.joints:
+            owners.update({r.name: j.name for r in j.reactions})
+            one_sided.extend(j.one_sided)
+            if j.friction_pair is not None:
+                friction, normal, mu = j.friction_pair
+                mu = None if mu is None else float(sp.sympify(mu).xreplace(subs))
+                pairs.append(FrictionPair(j.name, friction, normal, mu))
         reactions = dict(derivation.reactions)
         A, b = derivation.linear_system()
         units = dict(getattr(derivation, "reaction_units", {}) or {})
@@ -262,8 +235,8 @@ class OneDofSystem:
             unknown_names=tuple(str(u) for u in derivation.unknowns),
             params=params,
             values=values,
-            name=scene_label(scene),
-            limits=rim_limits(scene, derivation.q),
+            name=system.label,
+            limits=tuple(system.limits()),
         )
 
     def with_values(self, **changes: float) -> "OneDofSystem":

@@ -73,10 +73,14 @@ def exact_quantity(quantity: pint.Quantity) -> sp.Expr:
 
 def exact_values(scene: Any) -> tuple[dict[sp.Symbol, sp.Expr], sp.Expr, sp.Expr]:
     """(parameter symbol -> exact SI value, exact theta, exact theta_dot) of a scene."""
-    params = {sp.Symbol(n, real=True): exact_quantity(q) for n, q in scene.parameters.items()}
-    q = exact_quantity(scene.state[scene.coordinate])
-    qd = exact_quantity(scene.state[scene.coordinate + "_dot"])
-    return params, q, qd
+    from .derivation import as_system
+
+    system = as_system(scene)
+    params = {sp.Symbol(n, real=True): exact_quantity(q) for n, q in system.parameters.items()}
+    c = system.free[0]
+    if c.given is not None:
+        return params, exact_quantity(c.given[0]), exact_quantity(c.given[1])
+    return params, sp.Rational(repr(c.value)), sp.Rational(repr(c.rate))
 
 
 @dataclass(frozen=True)

@@ -3,7 +3,7 @@
 References: the mass centre and centroidal moment of inertia of each shape
 computed here by numerical quadrature over its area/length with uniform
 density (scipy.integrate), independent of the textbook formulas in
-solver/bodies.py.
+solver/model/elements.py.
 """
 from __future__ import annotations
 
@@ -16,9 +16,12 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import integrate
 
-from solver.bodies import CompositeBody, element_properties
-from solver.errors import SceneError
-from solver.scene import Element
+from solver.model.bodies import RigidBody
+from solver.model.elements import ELEMENT_CLASSES
+
+
+def Element(name, kind, mass, center, angle=sp.Integer(0), dims=None):
+    return ELEMENT_CLASSES[kind](name, mass, sp.Matrix(center), angle, dict(dims or {}))
 
 # quad/dblquad on smooth integrands reach ~1e-12; 1e-9 leaves room, and any
 # wrong formula factor (1/12 vs 1/3, 4/(3 pi) vs 1/2, ...) is off by > 1e-2.
@@ -74,25 +77,18 @@ def test_element_properties_match_integration(kind):
     ang = 0.6
     e = Element("e", kind, sp.Float(M), sp.Matrix([0.3, -0.2]), sp.Float(ang),
                 {k: sp.Float(v) for k, v in DIMS[kind].items()})
-    p = element_properties(e)
+    p = e
     c = np.array([0.3, -0.2]) + np.array([[math.cos(ang), -math.sin(ang)], [math.sin(ang), math.cos(ang)]]) @ [xg, yg]
-    np.testing.assert_allclose(np.array(p.center, dtype=float).ravel(), c, rtol=RTOL, atol=1e-12)
+    np.testing.assert_allclose(np.array(p.mass_center, dtype=float).ravel(), c, rtol=RTOL, atol=1e-12)
     assert float(p.I_G) == pytest.approx(I_G, rel=RTOL, abs=1e-12)
     assert float(p.mass) == M
 
 
 def test_semicircular_disk_formulas_exact():
     r, m = sp.symbols("r m", positive=True)
-    p = element_properties(Element("s", "semicircular_disk", m, sp.zeros(2, 1), sp.Integer(0), {"radius": r}))
-    assert sp.simplify(p.center[0] - 4 * r / (3 * sp.pi)) == 0
+    p = Element("s", "semicircular_disk", m, sp.zeros(2, 1), sp.Integer(0), {"radius": r})
+    assert sp.simplify(p.mass_center[0] - 4 * r / (3 * sp.pi)) == 0
     assert sp.simplify(p.I_G - (sp.Rational(1, 2) - 16 / (9 * sp.pi**2)) * m * r**2) == 0
-
-
-def test_missing_dimension_and_bad_kind():
-    with pytest.raises(SceneError, match="radius"):
-        element_properties(Element("d", "uniform_disk", sp.Integer(1), sp.zeros(2, 1)))
-    with pytest.raises(SceneError, match="kind must be one of"):
-        element_properties(Element("d", "sphere", sp.Integer(1), sp.zeros(2, 1)))
 
 
 coord = st.floats(-2, 2, allow_nan=False).map(lambda v: sp.Rational(round(v * 100), 100))
@@ -111,7 +107,7 @@ def elements(draw):
 @given(st.lists(elements(), min_size=1, max_size=4), coord, coord)
 def test_composite_parallel_axis(elems, px, py):
     """Eq. 12 summed over elements equals I_G + m |r_G - r_P|^2 with G from Eq. 13."""
-    body = CompositeBody(elems)
+    body = RigidBody("b", tuple(elems))
     P = sp.Matrix([px, py])
     G = body.mass_center()
     d = G - P

@@ -3,10 +3,11 @@ vectorised numerics.
 
 References: Example 2's kinematics as printed in the paper (Eqs. 31-33, 38)
 written in sympy below; everything else is checked against the contract
-(/work/notes/solver_contract.md) or against another route.
+(the solver's documented API) or against another route.
 """
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 
@@ -16,8 +17,7 @@ import sympy as sp
 
 from solver.derivation import (
     METHODS,
-    Derivation,
-    clear_cache,
+    as_system,
     derive,
     natural_frequency,
     solve_instant,
@@ -92,16 +92,9 @@ def test_stationary_orientation_is_singular_at_that_theta():
 
 def test_wrong_reaction_count():
     s = example1()
-    bad = Scene(**{**s.__dict__, "constraints": s.constraints[:1]})
-    with pytest.raises(SceneError, match="exactly 2 reaction"):
+    bad = dataclasses.replace(s, constraints=s.constraints[:1])
+    with pytest.raises(SceneError, match=r"under-constrained: 1 body x 3 freedoms - 1 removed .* = 2, but the coordinates describe 1"):
         derive(bad)
-
-
-def test_no_restoring_for_constant_potential():
-    # A single centred disk rolling on the floor: V does not depend on theta.
-    s = example2(values={"m_b": Q_(0.0, "kg")})
-    with pytest.raises(NoRestoringError):
-        natural_frequency(s)
 
 
 # -- results, units, JSON ------------------------------------------------------------
@@ -181,12 +174,15 @@ def test_mass_properties_accessors():
     assert is_zero(d.inertia_about("C") - I_C)
 
 
-def test_eom_normalised_form():
-    # eom = M qdd + 1/2 M' qd^2 + V' - Q for every route
+def test_eom_is_eq44_with_the_sign_of_F_a_corrected():
+    # Reference: the paper's Eq. 44 written here, with +F_a r_d on the right (the
+    # paper prints -F_a r_d; Eqs. 39 and 42 give +), for every route.
+    m_d, m_b, g, F_a = S("m_d"), S("m_b"), S("g"), S("F_a")
+    eq44 = (((sp.Rational(3, 2) * m_d + m_b) * r_d**2 + m_b * l_b**2 / 3 - m_b * r_d * l_b * sp.cos(th)) * thdd
+            + m_b * r_d * l_b * sp.sin(th) * thd**2 / 2 + m_b * g * l_b * sp.sin(th) / 2 - F_a * r_d)
     for method in METHODS:
         d = derive(example2(), "P", method)
-        form = d.mass * thdd + sp.diff(d.mass, th) * thd**2 / 2 + sp.diff(d.potential_energy, th) - d.generalized_force
-        assert is_zero(d.eom - form), method
+        assert is_zero(d.eom - eq44), method
 
 
 def test_linear_system_shape_and_equation_refs():
@@ -211,9 +207,8 @@ def test_cache_per_scene_point_method():
     assert derive(s, "B") is not d1
     assert derive(example1(), "A") is not d1  # another scene object
     assert d1.numeric() is d1.numeric()
-    clear_cache()
+    as_system(s).reset()  # the model changed: every derived result is forgotten
     assert derive(s, "A") is not d1
-    assert isinstance(d1, Derivation)
 
 
 def test_numeric_is_vectorised_and_matches_solve_instant():
@@ -228,7 +223,6 @@ def test_numeric_is_vectorised_and_matches_solve_instant():
     assert float(r1["F_n"]) == pytest.approx(one.unknowns["F_n"].magnitude, rel=1e-12)
     A, b = nm.matrices(q, 0.5)
     assert A.shape == (7, 3, 3) and b.shape == (7, 3)
-    np.testing.assert_allclose(nm.qdd(q, 0.5), res["theta_ddot"])
 
 
 def test_explicit_position_equals_constraint_placement():
@@ -236,14 +230,14 @@ def test_explicit_position_equals_constraint_placement():
     s = example1(theta_deg=35.0, theta_dot=0.7)
     beta = S("beta")
     pos = sp.Matrix([l_b * sp.sin(beta - th) / sp.sin(beta), 0])
-    explicit = Scene(**{**s.__dict__, "position": ("A", pos)})
+    explicit = dataclasses.replace(s, position=("A", pos))
     a = solve_instant(s, "B").unknowns
     b = solve_instant(explicit, "B").unknowns
     for k in a:
         assert b[k].magnitude == pytest.approx(a[k].magnitude, rel=1e-12)
     # a position that breaks a rail is refused
-    bad = Scene(**{**s.__dict__, "position": ("A", sp.Matrix([l_b * sp.cos(th), 0]))})
-    with pytest.raises(SceneError, match="violates constraint 'rail_B'"):
+    bad = dataclasses.replace(s, position=("A", sp.Matrix([l_b * sp.cos(th), 0])))
+    with pytest.raises(SceneError, match="joint\\(s\\) 'rail_B' are not satisfied"):
         derive(bad)
 
 

@@ -217,14 +217,6 @@ def test_example2_time_dependent_force_all_routes():
             np.testing.assert_allclose(res[name], ref[name], rtol=1e-9, atol=1e-9)
 
 
-def test_kane_and_lagranges_method_agree_on_example2():
-    from solver.lagrange import lagrange_route
-
-    scene = example2()
-    diff = lagrange_route(scene, "kane").eom - lagrange_route(scene, "lagrange").eom
-    assert sp.simplify(diff) == 0
-
-
 @pytest.mark.parametrize("theta0", [0.3, 2.0, -2.5])
 def test_compound_pendulum_frequency(theta0):
     """omega_n^2 = m g d / I_O about theta = 0, whatever state the scene starts in

@@ -1,0 +1,367 @@
+"""The instantaneous solve: every acceleration and every reaction at a state.
+
+:class:`NumericModel` turns a formulation's linear system A(q, q', t) x = b
+into numpy functions (lambdified once, ``cse=True``) and solves it,
+vectorised over any number of states. The singularity decision lives here,
+once: the 1-norm condition number of the row- and column-equilibrated A,
+computed from its inverse; above :data:`CONDITION_LIMIT` the configuration is
+singular and :class:`SingularConfigurationError` names the joints and
+coordinates the null vector involves. Nothing returns NaN.
+
+:func:`assemble` completes a state: the dependent coordinates from the
+closure equations (Newton's method from their guesses), the dependent rates
+from their velocity form.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Mapping
+
+import numpy as np
+import pint
+import sympy as sp
+
+from ..errors import InputError, SingularConfigurationError
+from ..units import Q_
+
+__all__ = ["CONDITION_LIMIT", "NumericModel", "InstantSolution", "State", "assemble", "solve_instant",
+           "condition_numbers"]
+
+CONDITION_LIMIT = 1e12
+"""Above this condition number the answer is meaningless: SingularConfigurationError."""
+_NEWTON_STEPS = 60
+
+
+def condition_numbers(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(1-norm condition numbers of the equilibrated A, its inverse) for a stack of matrices.
+
+    Rows and columns are scaled by their largest entries first, so that the
+    number measures the configuration, not the units. Degenerate matrices
+    (a zero row or column, non-finite entries) get an infinite condition.
+    """
+    n = A.shape[-1]
+    with np.errstate(all="ignore"):
+        col = np.max(np.abs(A), axis=-2, keepdims=True)
+        As = A / np.where(col > 0, col, np.nan)
+        row = np.max(np.abs(As), axis=-1, keepdims=True)
+        As = As / np.where(row > 0, row, np.nan)
+    bad = ~np.all(np.isfinite(As), axis=(-2, -1))
+    As = np.where(bad[..., None, None], np.eye(n), As)
+    try:
+        inv = np.linalg.inv(As)
+        cond = np.linalg.norm(As, 1, axis=(-2, -1)) * np.linalg.norm(inv, 1, axis=(-2, -1))
+    except np.linalg.LinAlgError:
+        inv = None
+        cond = np.full(A.shape[:-2], np.inf)
+        bad = np.ones(A.shape[:-2], dtype=bool)
+    cond = np.where(bad | ~np.isfinite(cond), np.inf, cond)
+    return cond, inv
+
+
+class NumericModel:
+    """Numeric, numpy-vectorised form of a formulation.
+
+    Methods take arrays (or scalars) of each free coordinate, each rate and t,
+    broadcast together; results are SI.
+    """
+
+    def __init__(self, formulation):
+        f = formulation
+        sysm = f.system
+        self.formulation = f
+        self.system = sysm
+        self.label = sysm.label
+        A, b = f.linear_system()
+        self.n = A.shape[0]
+        self.shape = A.shape
+        self.names = tuple(str(u) for u in f.unknowns)
+        self.owner = {}
+        for c in sysm.free:
+            self.owner[str(c.qdd)] = f"coordinate {c.name}"
+        for j in sysm.joints:
+            for r in j.reactions:
+                self.owner[r.name] = f"joint {j.name!r} ({j.kind})"
+        values = sysm.si_values()
+        params = sorted(values, key=str)
+        self._param_values = tuple(values[p] for p in params)
+        self.args = (*sysm.q, *sysm.qd, sysm.t)
+        entries = list(A) + list(b)
+        stray = set().union(*[sp.sympify(e).free_symbols for e in entries]) - set(self.args) - set(params)
+        if stray:
+            raise InputError(f"{self.label}: undefined name(s) {', '.join(sorted(map(str, stray)))} in the scene's expressions")
+        self._f = sp.lambdify((*self.args, *params), entries, modules="numpy", cse=True)
+
+    def matrices(self, q, qd, t=0.0):
+        """(A, b) at the states: q and qd are sequences (one array per free coordinate)."""
+        arrays = [np.asarray(v, dtype=float) for v in (*q, *qd, t)]
+        arrays = np.broadcast_arrays(*arrays) if arrays else arrays
+        shape = arrays[0].shape if arrays else ()
+        with np.errstate(all="ignore"):
+            vals = self._f(*arrays, *self._param_values)
+        vals = [np.broadcast_to(np.asarray(v, dtype=float), shape) for v in vals]
+        m, k = self.shape
+        A = np.stack(vals[: m * k], axis=-1).reshape(shape + (m, k))
+        b = np.stack(vals[m * k:], axis=-1)
+        return A, b
+
+    def solve(self, q, qd, t=0.0) -> dict[str, np.ndarray]:
+        """Every unknown (SI) at the given states, with ``condition_number``.
+
+        Raises
+        ------
+        SingularConfigurationError
+            When any state's system is singular or its condition number exceeds
+            :data:`CONDITION_LIMIT`.
+        """
+        A, b = self.matrices(q, qd, t)
+        if A.shape[-1] != A.shape[-2]:
+            raise InputError(f"{self.label}: the equations are not square ({A.shape[-2]} equations, "
+                             f"{A.shape[-1]} unknowns)")
+        cond, inv = condition_numbers(A)
+        if np.any(cond > CONDITION_LIMIT):
+            self.singular(q, qd, t, A, cond)
+        # x = A^-1 b through the equilibrated inverse: A = Dr^-1 As Dc^-1  =>  A^-1 = Dc As^-1 Dr
+        with np.errstate(all="ignore"):
+            col = np.max(np.abs(A), axis=-2)
+            rs = np.max(np.abs(A / col[..., None, :]), axis=-1)
+            xs = np.einsum("...ij,...j->...i", inv, b / rs)
+            x = xs / col
+        out = {name: x[..., i] for i, name in enumerate(self.names)}
+        out["condition_number"] = cond
+        return out
+
+    def singular(self, q, qd, t, A, cond):
+        """Raise SingularConfigurationError for the worst state, naming what the null vector involves."""
+        idx = np.unravel_index(int(np.argmax(cond)), cond.shape) if cond.ndim else ()
+        c = float(cond[idx])
+        M = A[idx]
+        involved = []
+        if np.all(np.isfinite(M)):
+            colscale = np.max(np.abs(M), axis=0)
+            colscale[colscale == 0] = 1.0
+            _, _, vt = np.linalg.svd(M / colscale)
+            v = np.abs(vt[-1])
+            for name, weight in sorted(zip(self.names, v), key=lambda p: -p[1]):
+                if weight > 0.1 * v.max() and self.owner[name] not in involved:
+                    involved.append(self.owner[name])
+        if not any(o.startswith("joint") for o in involved):
+            joints = [f"joint {j.name!r} ({j.kind})" for j in self.system.joints]
+            if joints:
+                involved.append("with " + ", ".join(joints))
+        state = _state_text(self.system, q, qd, t, idx)
+        cond_text = "infinite" if not math.isfinite(c) else f"{c:.3g}"
+        raise SingularConfigurationError(
+            f"{self.label}: singular configuration at {state}: the equations of "
+            f"{', '.join(involved) or 'the system'} do not determine the motion "
+            f"(condition number {cond_text} > {CONDITION_LIMIT:.0e})"
+        )
+
+
+def _state_text(system, q, qd, t, idx) -> str:
+    parts = []
+    for c, v in zip(system.free, q):
+        val = float(np.asarray(v, dtype=float)[idx] if np.ndim(v) else v)
+        parts.append(f"{c.name} = {math.degrees(val):.6g} deg" if c.kind == "angle" else f"{c.name} = {val:.6g} m")
+    if system.motion_subs:
+        tv = float(np.asarray(t, dtype=float)[idx] if np.ndim(t) else t)
+        parts.append(f"t = {tv:.6g} s")
+    return ", ".join(parts) or "the state"
+
+
+# --------------------------------------------------------------------------- the state
+@dataclass
+class State:
+    """A complete state: every free coordinate's value and rate, and t (SI)."""
+
+    q: tuple[float, ...]
+    qd: tuple[float, ...]
+    t: float = 0.0
+
+
+def _closure_functions(system):
+    def build():
+        rows = [r.expr for r in system.closure]
+        dep = [c.q for c in system.dependent]
+        args = (*system.q, system.t)
+        values = system.si_values()
+        params = sorted(values, key=str)
+        pv = [values[p] for p in params]
+        if not rows:
+            return None
+        Phi = sp.Matrix(rows)
+        J = Phi.jacobian(sp.Matrix(system.q)) if system.q else sp.zeros(len(rows), 0)
+        Pt = sp.diff(Phi, system.t)
+        fPhi = sp.lambdify((*args, *params), list(Phi), "numpy", cse=True)
+        fJ = sp.lambdify((*args, *params), list(J), "numpy", cse=True)
+        fPt = sp.lambdify((*args, *params), list(Pt), "numpy", cse=True)
+        return fPhi, fJ, fPt, pv, len(rows), dep
+    return system._memo("closure_numeric", build)
+
+
+def assemble(system, q=None, qd=None, t=None) -> State:
+    """Complete a state: solve the dependent coordinates and rates.
+
+    Parameters
+    ----------
+    q, qd : sequences of float, optional
+        Values and rates of the free coordinates (dependent ones are guesses
+        and are ignored for rates); default the scene's state.
+    t : float, optional
+        Time [s]; default the scene's.
+
+    Raises
+    ------
+    InputError
+        The closure equations cannot be satisfied near the guesses, or the
+        state violates a closure equation that no dependent coordinate can
+        absorb (inconsistent prescribed motion).
+    """
+    free = system.free
+    q = np.array([c.value for c in free] if q is None else q, dtype=float)
+    qd = np.array([c.rate for c in free] if qd is None else qd, dtype=float)
+    t = system.time if t is None else float(t)
+    funcs = _closure_functions(system)
+    if funcs is None:
+        return State(tuple(q), tuple(qd), t)
+    fPhi, fJ, fPt, pv, m, _ = funcs
+    n = len(free)
+    dep = [i for i, c in enumerate(free) if c.dependent]
+    ind = [i for i, c in enumerate(free) if not c.dependent]
+    for _ in range(_NEWTON_STEPS):
+        res = np.array(fPhi(*q, t, *pv), dtype=float)
+        J = np.array(fJ(*q, t, *pv), dtype=float).reshape(m, n)
+        if np.all(np.abs(res) < 1e-13 * (1 + np.abs(q).max())):
+            break
+        if not dep:
+            break
+        step, *_ = np.linalg.lstsq(J[:, dep], -res, rcond=None)
+        q[dep] += step
+        if not np.all(np.isfinite(q)):
+            break
+    res = np.array(fPhi(*q, t, *pv), dtype=float)
+    if not np.all(np.abs(res) < 1e-9 * (1 + np.abs(q).max())):
+        worst = int(np.argmax(np.abs(res)))
+        row = system.closure[worst]
+        what = ("no configuration near the dependent coordinates' guesses satisfies it"
+                if dep else "no coordinate is marked dependent (give one a `guess` instead of a `value`)")
+        raise InputError(
+            f"{system.label}: joint {row.joint.name!r} ({row.joint.kind}) cannot be satisfied at the "
+            f"state (residual {res[worst]:.3g}): {what}; check the prescribed motion and the guesses"
+        )
+    J = np.array(fJ(*q, t, *pv), dtype=float).reshape(m, n)
+    Pt = np.array(fPt(*q, t, *pv), dtype=float)
+    if dep:
+        rhs = -(Pt + J[:, ind] @ qd[ind])
+        sol, *_ = np.linalg.lstsq(J[:, dep], rhs, rcond=None)
+        qd[dep] = sol
+    return State(tuple(q), tuple(qd), t)
+
+
+# --------------------------------------------------------------------------- results
+_DIMENSION_OF_UNIT = {"N": "force", "N*m": "moment", "rad/s**2": "angular_acceleration",
+                      "m/s**2": "acceleration"}
+
+
+@dataclass
+class InstantSolution:
+    """Every acceleration and reaction at one state.
+
+    Attributes
+    ----------
+    unknowns : dict[str, pint.Quantity]
+        ``alpha`` (one-body systems) and each coordinate's second derivative
+        [rad/s**2 or m/s**2], then each reaction [N or N*m].
+    condition_number : float
+    point : str
+    method : str
+    state : State
+    scene : str
+    """
+
+    unknowns: dict[str, pint.Quantity]
+    condition_number: float
+    point: str
+    method: str
+    state: State | None = None
+    scene: str | None = None
+    extra: dict = field(default_factory=dict)
+
+    def to_dict(self, units: Mapping[str, str] | None = None) -> dict:
+        """JSON-ready dict; ``units`` maps dimension names (``force``, ``moment``,
+        ``angular_acceleration``) to display units (e.g. ``lbf``)."""
+        units = dict(units or {})
+        out = {}
+        for name, qty in self.unknowns.items():
+            si = _unit_string(qty)
+            target = units.get(_DIMENSION_OF_UNIT.get(si, ""), si)
+            out[name] = {"value": float(qty.to(target).magnitude), "unit": target}
+        head = {"scene": self.scene} if self.scene is not None else {}
+        return {**head, "point": self.point, "method": self.method, "unknowns": out,
+                "condition_number": float(self.condition_number), **self.extra}
+
+    def __repr__(self) -> str:
+        vals = ", ".join(f"{k}={v:.6g~P}" for k, v in self.unknowns.items())
+        return f"InstantSolution({vals}, cond={self.condition_number:.3g}, point={self.point!r}, method={self.method!r})"
+
+
+def _unit_string(qty: pint.Quantity) -> str:
+    for s in _DIMENSION_OF_UNIT:
+        if qty.units == Q_(1, s).units:
+            return s
+    return str(qty.units)
+
+
+def solve_instant(system, point: str | None = None, method: str = "generalized_euler",
+                  state: State | None = None) -> InstantSolution:
+    """Every acceleration and reaction at the system's state (or ``state``).
+
+    Raises
+    ------
+    SingularConfigurationError
+        Singular or badly conditioned system (condition number > 1e12).
+    InputError
+        A state outside a joint's model (a semicircle past its rim) or an
+        inconsistent prescribed motion.
+    """
+    from ..formulations import formulate, resolve_points
+
+    f = formulate(system, method, point)
+    state = assemble(system) if state is None else state
+    _check_limits(system, state)
+    res = f.numeric().solve(state.q, state.qd, state.t)
+    unknowns: dict[str, pint.Quantity] = {}
+    if len(system.bodies) == 1:
+        body = next(iter(system.bodies))
+        unknowns["alpha"] = Q_(_alpha_value(system, body, state, res), "rad/s**2")
+    for c in system.free:
+        unit = "rad/s**2" if c.kind == "angle" else "m/s**2"
+        unknowns[str(c.qdd)] = Q_(float(res[str(c.qdd)]), unit)
+    for r in system.reactions:
+        unknowns[r.name] = Q_(float(res[r.name]), r.unit)
+    points = resolve_points(system, point)
+    shown = point if point is not None else ",".join(f"{b}:{p}" for b, p in points.items()) \
+        if len(points) > 1 else next(iter(points.values()))
+    return InstantSolution(unknowns, float(res["condition_number"]), shown, method, state, system.name)
+
+
+def _alpha_value(system, body, state, res) -> float:
+    al = system.alpha(body)
+    vals = dict(zip(system.q, state.q))
+    vals.update(zip(system.qd, state.qd))
+    vals.update({c.qdd: float(res[str(c.qdd)]) for c in system.free})
+    vals[system.t] = state.t
+    vals.update(system.si_values())
+    return float(sp.sympify(al).xreplace({k: sp.Float(v) for k, v in vals.items()}))
+
+
+def _check_limits(system, state: State) -> None:
+    for text, g in system.limits():
+        vals = dict(zip(system.q, state.q))
+        vals[system.t] = state.t
+        vals.update(system.si_values())
+        value = float(sp.sympify(g).xreplace({k: sp.Float(v) for k, v in vals.items()}))
+        if value < -1e-12:
+            where = _state_text(system, state.q, state.qd, state.t, ())
+            raise InputError(f"{system.label}: {where} is outside the model: it holds only while {text} "
+                             "(there the straight edge meets the surface)")

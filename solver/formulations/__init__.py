@@ -1,0 +1,131 @@
+"""The equations of a system, by a chosen route, and their elimination.
+
+Routes (``method=``), all linear in the same unknowns (the second derivatives
+of the free coordinates, then every reaction):
+
+* ``"generalized_euler"``: per body, Newton (Eq. 1 / Eq. 14 with Eq. 15) and
+  the generalized Euler equation about a point P of that body (Eq. 10 / 11);
+* ``"mass_center"``: per body, Eqs. (1)-(2) about its mass centre G;
+* ``"lagrange"``: Lagrange's equations with multipliers, built with
+  ``sympy.physics.mechanics.LagrangesMethod`` in body coordinates.
+
+A :class:`Formulation` is cached on its system (cleared with the system).
+"""
+from __future__ import annotations
+
+import sympy as sp
+
+from ..errors import SceneError
+from .newton_euler import NamedEquation, generalized_euler_equations, mass_center_equations
+
+__all__ = ["METHODS", "Formulation", "formulate", "NamedEquation", "resolve_points"]
+
+METHODS = ("generalized_euler", "mass_center", "lagrange")
+
+
+def resolve_points(system, point: str | None) -> dict[str, str]:
+    """The reference point of every body from a ``--point`` value.
+
+    ``point`` is ``None`` (each body's default), ``BODY:POINT`` (that body's
+    point; the others keep their defaults), or a bare ``POINT`` (a point name:
+    for a one-body system, that body's point; otherwise every body that has a
+    point of that name uses it).
+    """
+    points = {name: body.default_point for name, body in system.bodies.items()}
+    if point is None:
+        return points
+    if ":" in point:
+        body, name = point.split(":", 1)
+        if body not in system.bodies:
+            raise SceneError(f"{system.label}: --point {point}: unknown body {body!r} "
+                             f"(bodies: {', '.join(system.bodies)})")
+        targets = [body]
+    else:
+        name = point
+        targets = [b for b, body in system.bodies.items() if name in body.point_names()]
+        if not targets and len(system.bodies) == 1:
+            body = next(iter(system.bodies.values()))
+            raise SceneError(f"{system.label}: point {name!r} is not a point of the body "
+                             f"(points: {', '.join(body.point_names())})")
+        if not targets:
+            every = sorted({f"{b}:{p}" for b, body in system.bodies.items() for p in body.point_names()})
+            raise SceneError(f"{system.label}: --point {point}: no body has a point {name!r} "
+                             f"(points: {', '.join(every)})")
+    for body in targets:
+        if name not in system.bodies[body].point_names():
+            raise SceneError(
+                f"{system.label}: point {name!r} is not a point of the body {body!r} "
+                f"(points: {', '.join(system.bodies[body].point_names())})"
+            )
+        points[body] = name
+    return points
+
+
+class Formulation:
+    """The equations of ``system`` by ``method`` about ``points`` (body -> point).
+
+    Attributes
+    ----------
+    unknowns : tuple of sympy.Symbol
+        (q_ddot of each free coordinate, then each reaction).
+    equations : tuple of NamedEquation
+    """
+
+    def __init__(self, system, method: str, points: dict[str, str]):
+        self.system = system
+        self.method = method
+        self.points = dict(points)
+        self.unknowns = tuple(system.qdd) + tuple(r.symbol for r in system.reactions)
+        if method == "generalized_euler":
+            eqs = generalized_euler_equations(system, self.points)
+        elif method == "mass_center":
+            eqs = mass_center_equations(system)
+        else:
+            from .lagrange import lagrange_equations
+
+            eqs = lagrange_equations(system)
+        self.equations = tuple(eqs)
+        self._system_matrices = None
+        self._numeric = None
+
+    def linear_system(self) -> tuple[sp.Matrix, sp.Matrix]:
+        """(A, b) with A @ unknowns = b. The equations are affine in the
+        unknowns by construction, so coefficients follow by substitution."""
+        if self._system_matrices is None:
+            zero = {u: sp.Integer(0) for u in self.unknowns}
+            rows_A, rows_b = [], []
+            for e in self.equations:
+                e0 = e.expr.xreplace(zero)
+                rows_b.append(-e0)
+                rows_A.append([e.expr.xreplace({**zero, u: sp.Integer(1)}) - e0 for u in self.unknowns])
+            self._system_matrices = (sp.Matrix(rows_A), sp.Matrix(rows_b))
+        return self._system_matrices
+
+    def numeric(self):
+        """The lambdified, vectorised model (built once)."""
+        if self._numeric is None:
+            from ..analyses.instant import NumericModel
+
+            self._numeric = NumericModel(self)
+        return self._numeric
+
+    def __repr__(self) -> str:
+        return f"Formulation({self.system.name!r}, method={self.method!r}, points={self.points})"
+
+
+def formulate(system, method: str = "generalized_euler", point: str | None = None) -> Formulation:
+    """The (cached) formulation of ``system`` by ``method`` about ``point``.
+
+    Raises
+    ------
+    ValueError
+        Unknown method (the message lists :data:`METHODS`).
+    SceneError
+        Unknown point.
+    """
+    if method not in METHODS:
+        raise ValueError(f"`method` must be one of {METHODS}, got {method!r}")
+    system.validate()
+    points = resolve_points(system, point)
+    key = ("formulation", method, tuple(sorted(points.items())) if method == "generalized_euler" else None)
+    return system._memo(key, lambda: Formulation(system, method, points))

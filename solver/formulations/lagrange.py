@@ -1,0 +1,174 @@
+"""The independent route: Lagrange's equations with multipliers, by sympy.physics.mechanics.
+
+Every body gets its own three body coordinates (x_b, y_b, phi_b) as
+``dynamicsymbols``; its kinetic energy is built from the elements' masses and
+centroidal inertias with ``ReferenceFrame``/``Point``/``RigidBody`` and
+``Particle``; the potential energy of gravity and springs enters the
+Lagrangian; every joint equation is a holonomic constraint of
+``LagrangesMethod``, so that its multiplier is the joint's reaction
+(R_k = -lambda_k in sympy's sign convention, whose equations read
+M q'' - Q + Phi_q^T lambda = 0); the other loads enter the force list.
+
+The body coordinates are then expressed through the scene's coordinates
+(x_b = X_b(q, t), ...), which turns Lagrange's 3N equations and the
+constraints that the placement does not satisfy identically into a square
+system linear in the q'' and the reactions, solved like the Newton-Euler
+routes. It shares with them only the model's inputs: element mass
+properties, joint geometry and applied forces at the state.
+"""
+from __future__ import annotations
+
+import sympy as sp
+from sympy.physics import mechanics as me
+
+from .newton_euler import NamedEquation
+
+__all__ = ["lagrange_equations"]
+
+REF = "Lagrange's equation with multipliers (sympy.physics.mechanics.LagrangesMethod)"
+
+
+def lagrange_equations(system) -> list[NamedEquation]:
+    """Lagrange's equations in body coordinates, expressed in the scene's coordinates."""
+    t = me.dynamicsymbols._t
+    N = me.ReferenceFrame("N")
+    O = me.Point("O")
+    O.set_vel(N, 0)
+    coords, poses, frames, origins = [], {}, {}, {}
+    for name in system.bodies:
+        x, y, ph = me.dynamicsymbols(f"x_{name} y_{name} phi_{name}")
+        coords += [x, y, ph]
+        poses[name] = (sp.Matrix([x, y]), ph)
+        F = N.orientnew(f"F_{name}", "Axis", [ph, N.z])
+        frames[name] = F
+        Pb = O.locatenew(f"O_{name}", x * N.x + y * N.y)
+        Pb.set_vel(N, x.diff(t) * N.x + y.diff(t) * N.y)
+        origins[name] = Pb
+
+    def pose(b):
+        if b == "ground":
+            return sp.zeros(2, 1), sp.Integer(0)
+        return poses[b]
+
+    # kinetic energy: each element as a rigid body (or a particle) of the body's frame
+    parts = []
+    for name, body in system.bodies.items():
+        F, Pb = frames[name], origins[name]
+        for e in body.elements:
+            c = e.mass_center
+            G = Pb.locatenew(f"G_{name}_{e.name}", c[0] * F.x + c[1] * F.y)
+            G.v2pt_theory(Pb, N, F)
+            if e.I_G == 0:
+                parts.append(me.Particle(f"p_{name}_{e.name}", G, e.mass))
+            else:
+                parts.append(me.RigidBody(f"b_{name}_{e.name}", G, F, e.mass, (me.inertia(F, 0, 0, e.I_G), G)))
+    # the scene's coordinates as functions of time, to express loads and the placement
+    tt = system.t
+    qfun = {c.q: me.dynamicsymbols(c.name) for c in system.free}
+    to_dyn = dict(qfun)
+    to_dyn.update({c.qd: qfun[c.q].diff(t) for c in system.free})
+    to_dyn[tt] = t
+    # potential energy of the conservative loads, rebuilt in body coordinates
+    V = _potential(system, pose)
+    L = me.Lagrangian(N, *parts) - V.xreplace({tt: t})
+    forcelist = _forces(system, N, frames, origins, to_dyn)
+    rows = []
+    for j in system.joints:
+        system._bind_prescribed(j)
+        for row in j.rows(pose, tt):
+            rows.append(sp.sympify(system.prescribe(sp.sympify(row))).xreplace(to_dyn))
+    lm = me.LagrangesMethod(L, coords, hol_coneqs=rows, forcelist=forcelist or None, frame=N)
+    eom = lm.form_lagranges_equations()
+    reactions = [r.symbol for r in system.reactions]
+    lam = {l: -R for l, R in zip(lm.lam_vec, reactions)}
+    # body coordinates through the scene's coordinates
+    subs = {}
+    for name in system.bodies:
+        origin, phi = system.origin(name), system.angle(name)
+        for dyn, expr in zip(poses[name][0][:] + [poses[name][1]], list(origin) + [phi]):
+            d1 = system.D(expr)
+            subs[dyn.diff(t, 2)] = system.D(d1)
+            subs[dyn.diff(t)] = d1
+            subs[dyn] = expr
+    back = {v: k for k, v in to_dyn.items() if k != tt}
+    back_d = {qfun[c.q].diff(t): c.qd for c in system.free}
+    out = []
+    for i, e in enumerate(eom):
+        expr = -e.xreplace(lam)  # same sign as the Newton-Euler rows: applied - inertial
+        expr = _plain(expr, subs, back_d, back, t, tt)
+        body, what = divmod(i, 3)
+        bname = list(system.bodies)[body]
+        label = ("x", "y", "phi")[what]
+        out.append(NamedEquation(f"Lagrange {label}_{bname}", expr, REF, bname))
+    from .newton_euler import closure_equations
+
+    return out + closure_equations(system)
+
+
+def _plain(expr, subs, back_d, back, t, tt):
+    # highest derivatives first so that xreplace does not split them
+    expr = expr.xreplace({k: v for k, v in subs.items() if k.is_Derivative and k.derivative_count == 2})
+    expr = expr.xreplace({k: v for k, v in subs.items() if k.is_Derivative})
+    expr = expr.xreplace({k: v for k, v in subs.items() if not k.is_Derivative})
+    expr = expr.xreplace(back_d).xreplace(back)
+    return expr.xreplace({t: tt})
+
+
+def _potential(system, pose):
+    from ..model.joints import rotation
+    from ..model.loads import Gravity, Spring, TorsionalSpring
+
+    terms = []
+    for load in system.loads:
+        if isinstance(load, Gravity):
+            for name, body in system.bodies.items():
+                o, ph = pose(name)
+                for e in body.elements:
+                    r = o + rotation(ph) * e.mass_center
+                    terms.append(-e.mass * load.g * (load.direction.T * r)[0])
+        elif isinstance(load, Spring):
+            ra = _point(system, pose, *load.a)
+            rb = _point(system, pose, *load.b)
+            d = rb - ra
+            terms.append(load.stiffness * (sp.sqrt(d[0] ** 2 + d[1] ** 2) - load.free_length) ** 2 / 2)
+        elif isinstance(load, TorsionalSpring):
+            rel = pose(load.second)[1] - pose(load.first)[1]
+            terms.append(load.stiffness * (rel - load.free_angle) ** 2 / 2)
+    return system.prescribe(sp.Add(*terms))
+
+
+def _point(system, pose, body, point):
+    from ..model.joints import rotation
+
+    kind, data = system._resolve(body, point)
+    if kind == "instant":
+        ref, offset = data
+        return _point(system, pose, body, ref) + offset
+    o, ph = pose(body)
+    return o + rotation(ph) * data
+
+
+def _forces(system, N, frames, origins, to_dyn):
+    """Non-conservative loads as (Point, Vector) and (Frame, Vector) pairs of the mechanics API."""
+    out = []
+    t = me.dynamicsymbols._t
+    for load in system.loads:
+        if load.conservative:
+            continue
+        for a in load.applied(system):
+            body = a.body
+            F, Pb = frames[body], origins[body]
+            if a.force is not None:
+                # the application point, fixed in the body at the state's body coordinates
+                rel = system.prescribe(sp.Matrix(a.at) - system.origin(body))
+                rel_body = (sp.Matrix([[sp.cos(system.angle(body)), sp.sin(system.angle(body))],
+                                       [-sp.sin(system.angle(body)), sp.cos(system.angle(body))]]) * rel)
+                rel_body = rel_body.xreplace(to_dyn)
+                P = Pb.locatenew(f"P_{a.name}_{len(out)}", rel_body[0] * F.x + rel_body[1] * F.y)
+                P.v2pt_theory(Pb, N, F)
+                f = system.prescribe(sp.Matrix(a.force)).xreplace(to_dyn)
+                out.append((P, f[0] * N.x + f[1] * N.y))
+            if a.couple != 0:
+                out.append((F, system.prescribe(sp.sympify(a.couple)).xreplace(to_dyn) * N.z))
+    _ = t
+    return out

@@ -1,0 +1,603 @@
+"""Joints: one class per kind, each owning its reactions and its equations.
+
+A joint connects a *first* body (or the ground) to a *second* body. Each
+reaction unknown it brings acts on the second body as written (a force along a
+named direction at a named point, or a couple) and, equal and opposite, on the
+first body. Every reaction pairs with one constraint equation
+Phi_k(poses, t) = 0 whose gradient with respect to the second body's pose
+(x, y, phi) is exactly the generalized force of a unit reaction: the reaction
+is the Lagrange multiplier of its equation. Freedoms removed = number of
+reactions.
+
+A joint is evaluated against a *pose provider* ``pose(body) -> (origin, phi)``
+(fixed-frame position of the body frame's origin and the body's angle), so the
+same equations serve the placed system (poses as functions of the
+coordinates) and the Lagrange route (poses as free body coordinates).
+
+Kinds: :class:`Pin`, :class:`Rail` (a point on a line; :class:`PinInSlot` is
+the same on another body), :class:`Slider` (prismatic), :class:`Rolling` (on
+a line), :class:`RollingOnCircle`, :class:`GearMesh`, :class:`Cord` (wound on
+a drum), :class:`Motor` (driven rotation) and :class:`Actuator` (driven
+translation).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable, ClassVar
+
+import sympy as sp
+
+__all__ = [
+    "Reaction", "JointLoad", "Joint", "Pin", "Rail", "PinInSlot", "Slider", "Rolling",
+    "RollingOnCircle", "GearMesh", "Cord", "Motor", "Actuator", "JOINT_CLASSES",
+    "rotation", "cross_k", "k_cross",
+]
+
+Pose = Callable[[str], tuple[sp.Matrix, sp.Expr]]
+
+
+def rotation(phi: sp.Expr) -> sp.Matrix:
+    """R(phi): body frame -> fixed frame."""
+    c, s = sp.cos(phi), sp.sin(phi)
+    return sp.Matrix([[c, -s], [s, c]])
+
+
+def cross_k(a: sp.Matrix, b: sp.Matrix) -> sp.Expr:
+    """k-component of a x b for in-plane vectors."""
+    return a[0] * b[1] - a[1] * b[0]
+
+
+def k_cross(w: sp.Expr, r: sp.Matrix) -> sp.Matrix:
+    """(w k) x r for an in-plane vector r."""
+    return sp.Matrix([-w * r[1], w * r[0]])
+
+
+def _unit(angle: sp.Expr) -> sp.Matrix:
+    return sp.Matrix([sp.cos(angle), sp.sin(angle)])
+
+
+def _left_normal(angle: sp.Expr) -> sp.Matrix:
+    return sp.Matrix([-sp.sin(angle), sp.cos(angle)])
+
+
+def _at(pose: Pose, body: str, coords: sp.Matrix) -> sp.Matrix:
+    origin, phi = pose(body)
+    return origin + rotation(phi) * sp.Matrix(coords)
+
+
+@dataclass(frozen=True)
+class Reaction:
+    """One reaction unknown.
+
+    Attributes
+    ----------
+    name : str
+        As the scene names it (``R_A``, ``F_f``, ``M_drive``).
+    joint : str
+        The joint that brings it.
+    unit : str
+        ``"N"`` (a force) or ``"N*m"`` (a couple).
+    one_sided : bool
+        True when it can only push (or, for a cord, only pull): a contact that
+        can separate. Simulation stops when it would change sign.
+    """
+
+    name: str
+    joint: str
+    unit: str = "N"
+    one_sided: bool = False
+
+    @property
+    def symbol(self) -> sp.Symbol:
+        return sp.Symbol(self.name, real=True)
+
+
+@dataclass(frozen=True)
+class JointLoad:
+    """A reaction as a load on one body (for the free-body diagram).
+
+    ``force`` is the 2x1 fixed-frame force per unit reaction (None for a
+    couple), applied at fixed-frame position ``at``; ``couple`` is the
+    k-moment per unit reaction (0 for a force).
+    """
+
+    reaction: Reaction
+    body: str
+    force: sp.Matrix | None
+    at: sp.Matrix | None
+    couple: sp.Expr = sp.Integer(0)
+
+
+@dataclass(eq=False)
+class Joint:
+    """Base class. Subclasses set :attr:`kind`, :attr:`reaction_units` and the equations.
+
+    Attributes
+    ----------
+    name : str
+    first, second : str
+        Body names (``"ground"`` for the fixed frame). Reactions act on
+        ``second`` as written and oppositely on ``first``.
+    reactions : tuple of Reaction
+    """
+
+    kind: ClassVar[str] = ""
+    reaction_units: ClassVar[tuple[str, ...]] = ()
+    default_one_sided: ClassVar[tuple[bool, ...]] = ()
+
+    name: str
+    first: str
+    second: str
+    reactions: tuple[Reaction, ...] = ()
+
+    @property
+    def bodies(self) -> tuple[str, str]:
+        return (self.first, self.second)
+
+    @property
+    def freedoms_removed(self) -> int:
+        return len(self.reactions)
+
+    # -- equations -----------------------------------------------------------------
+    def rows(self, pose: Pose, t: sp.Symbol) -> list[sp.Expr]:
+        """Phi_k(poses, t), one per reaction, in reaction order."""
+        raise NotImplementedError
+
+    def loads(self, pose: Pose, t: sp.Symbol) -> list[JointLoad]:
+        """Each reaction as unit loads on the second body and, opposite, on the first."""
+        out = []
+        for reaction, (force, at, couple) in zip(self.reactions, self._unit_loads(pose, t)):
+            for body, sign in ((self.second, 1), (self.first, -1)):
+                out.append(JointLoad(
+                    reaction, body,
+                    None if force is None else sign * force,
+                    at,
+                    sign * couple,
+                ))
+        return out
+
+    def _unit_loads(self, pose: Pose, t: sp.Symbol):
+        """(force per unit reaction or None, application point, couple) per reaction."""
+        raise NotImplementedError
+
+    # -- placement -----------------------------------------------------------------
+    def orientation_of(self, body: str, pose: Pose, t: sp.Symbol) -> sp.Expr | None:
+        """The angle of ``body`` implied by this joint, given the other body's pose, or None."""
+        return None
+
+    def place(self, body: str, pose: Pose, t: sp.Symbol) -> sp.Matrix | None:
+        """The origin of ``body`` fully fixed by this joint alone (given its angle), or None."""
+        return None
+
+    # -- model limits and contact data ----------------------------------------------
+    def limits(self, pose: Pose) -> list[tuple[str, sp.Expr]]:
+        """Conditions g >= 0 under which the joint's model holds, with a description."""
+        return []
+
+    @property
+    def one_sided(self) -> tuple[str, ...]:
+        return tuple(r.name for r in self.reactions if r.one_sided)
+
+    @property
+    def friction_pair(self):
+        """(friction reaction, normal reaction, mu expression or None), or None."""
+        return None
+
+    def __repr__(self) -> str:
+        names = ", ".join(r.name for r in self.reactions)
+        return f"{type(self).__name__}({self.name!r}, {self.first} -> {self.second}, [{names}])"
+
+
+# --------------------------------------------------------------------------- pin
+@dataclass(eq=False, repr=False)
+class Pin(Joint):
+    """A pin (revolute joint): point ``at_first`` of the first body and
+    ``at_second`` of the second coincide. Reactions: the fixed-frame x and y
+    components of the force on the second body. Removes 2 freedoms."""
+
+    kind: ClassVar[str] = "pin"
+    reaction_units: ClassVar[tuple[str, ...]] = ("N", "N")
+    at_first: sp.Matrix = field(default_factory=lambda: sp.zeros(2, 1))
+    at_second: sp.Matrix = field(default_factory=lambda: sp.zeros(2, 1))
+
+    def rows(self, pose, t):
+        d = _at(pose, self.second, self.at_second) - _at(pose, self.first, self.at_first)
+        return [d[0], d[1]]
+
+    def _unit_loads(self, pose, t):
+        at = _at(pose, self.second, self.at_second)
+        return [(sp.Matrix([1, 0]), at, 0), (sp.Matrix([0, 1]), at, 0)]
+
+
+# --------------------------------------------------------------------------- rail
+@dataclass(eq=False, repr=False)
+class Rail(Joint):
+    """Point ``point`` of the second body moves on the straight line of the
+    first body through ``through`` with direction ``angle`` (first body's
+    frame). Frictionless: one reaction along the line's left normal
+    n = (-sin a, cos a), positive pushing the second body along n."""
+
+    kind: ClassVar[str] = "rail"
+    reaction_units: ClassVar[tuple[str, ...]] = ("N",)
+    point: sp.Matrix = field(default_factory=lambda: sp.zeros(2, 1))
+    through: sp.Matrix = field(default_factory=lambda: sp.zeros(2, 1))
+    angle: sp.Expr = sp.Integer(0)
+
+    def _normal(self, pose):
+        _, phi1 = pose(self.first)
+        return rotation(phi1) * _left_normal(self.angle)
+
+    def _direction(self, pose):
+        _, phi1 = pose(self.first)
+        return rotation(phi1) * _unit(self.angle)
+
+    def rows(self, pose, t):
+        p = _at(pose, self.second, self.point)
+        o = _at(pose, self.first, self.through)
+        return [(self._normal(pose).T * (p - o))[0]]
+
+    def _unit_loads(self, pose, t):
+        return [(self._normal(pose), _at(pose, self.second, self.point), 0)]
+
+
+@dataclass(eq=False, repr=False)
+class PinInSlot(Rail):
+    """A pin of the second body in a straight slot of the first body: the
+    same equations as :class:`Rail` (one reaction normal to the slot)."""
+
+    kind: ClassVar[str] = "pin_in_slot"
+
+
+# --------------------------------------------------------------------------- slider
+@dataclass(eq=False, repr=False)
+class Slider(Rail):
+    """A slider (prismatic joint): the second body translates along the first
+    body's line without turning relative to it. Reactions: the normal force
+    (along the left normal, at ``point``) and the couple that keeps the
+    relative angle at ``relative_angle``. Removes 2 freedoms."""
+
+    kind: ClassVar[str] = "slider"
+    reaction_units: ClassVar[tuple[str, ...]] = ("N", "N*m")
+    relative_angle: sp.Expr = sp.Integer(0)
+
+    def rows(self, pose, t):
+        _, phi1 = pose(self.first)
+        _, phi2 = pose(self.second)
+        return super().rows(pose, t) + [phi2 - phi1 - self.relative_angle]
+
+    def _unit_loads(self, pose, t):
+        return super()._unit_loads(pose, t) + [(None, None, 1)]
+
+    def orientation_of(self, body, pose, t):
+        if body == self.second:
+            return pose(self.first)[1] + self.relative_angle
+        if body == self.first:
+            return pose(self.second)[1] - self.relative_angle
+        return None
+
+
+# --------------------------------------------------------------------------- rolling on a line
+@dataclass(eq=False, repr=False)
+class Rolling(Joint):
+    """Round element of the second body (rim centre ``center``, radius
+    ``radius``, body frame) rolls without slipping on the straight line of the
+    first body through ``through`` with direction ``angle``, on the side of the
+    line's left normal n. Reactions, in order: friction along the line's
+    direction d, normal force along n (one-sided), both at the contact point.
+
+    Equations: n.(c - o) - r = 0 (contact) and
+    d.(c - o) + r (phi_2 - phi_1 - phi_ref) - s_ref = 0 (no slip, integrated:
+    the contact point advances by -r dphi along d; Eq. 31 for Example 2).
+    """
+
+    kind: ClassVar[str] = "rolling"
+    reaction_units: ClassVar[tuple[str, ...]] = ("N", "N")
+    element: str = ""
+    center: sp.Matrix = field(default_factory=lambda: sp.zeros(2, 1))
+    radius: sp.Expr = sp.Integer(1)
+    through: sp.Matrix = field(default_factory=lambda: sp.zeros(2, 1))
+    angle: sp.Expr = sp.Integer(0)
+    s_ref: sp.Expr = sp.Integer(0)
+    phi_ref: sp.Expr = sp.Integer(0)
+    mu: sp.Expr | None = None
+    semicircle_axis: sp.Expr | None = None
+
+    def _frame(self, pose):
+        _, phi1 = pose(self.first)
+        R = rotation(phi1)
+        return R * _unit(self.angle), R * _left_normal(self.angle)
+
+    def rows(self, pose, t):
+        d, n = self._frame(pose)
+        c = _at(pose, self.second, self.center)
+        o = _at(pose, self.first, self.through)
+        _, phi1 = pose(self.first)
+        _, phi2 = pose(self.second)
+        return [
+            (d.T * (c - o))[0] + self.radius * (phi2 - phi1 - self.phi_ref) - self.s_ref,
+            (n.T * (c - o))[0] - self.radius,
+        ]
+
+    def contact_point(self, pose) -> sp.Matrix:
+        d, n = self._frame(pose)
+        return _at(pose, self.second, self.center) - self.radius * n
+
+    def _unit_loads(self, pose, t):
+        d, n = self._frame(pose)
+        at = self.contact_point(pose)
+        return [(d, at, 0), (n, at, 0)]
+
+    @property
+    def friction_pair(self):
+        return (self.reactions[0].name, self.reactions[1].name, self.mu)
+
+    def limits(self, pose):
+        if self.semicircle_axis is None:
+            return []
+        # The contact point lies on the curved rim while the symmetry axis points
+        # within 90 deg of -n (towards the surface).
+        _, phi1 = pose(self.first)
+        _, phi2 = pose(self.second)
+        g = sp.cos(phi2 + self.semicircle_axis - (phi1 + self.angle - sp.pi / 2))
+        return [(f"the contact point of {self.element!r} ({self.name}) stays on its curved rim", g)]
+
+
+# --------------------------------------------------------------------------- rolling on a circle
+@dataclass(eq=False, repr=False)
+class RollingOnCircle(Joint):
+    """Round element of the second body rolls without slipping on a circle of
+    the first body (centre ``circle_center``, radius ``circle_radius``, first
+    body's frame), outside or inside it. Reactions: friction along the
+    tangent e_t = k x e (e the unit vector from the circle's centre to the
+    element's), normal force (one-sided) along e outside, -e inside.
+
+    Equations, with psi the angle of e relative to the first body and
+    R_c = R + r (outside) or R - r (inside):
+    |c - O| - R_c = 0 (outside; R_c - |c - O| inside) and the integrated
+    no-slip condition R_c psi -/+ r (phi_2 - phi_1) = const
+    (r phi_2' = (R + r) psi' outside, r phi_2' = -(R - r) psi' inside, for a
+    fixed circle). ``position_angle`` (an expression in the coordinates), when
+    given, places the element: psi = position_angle; the body's angle then
+    follows from rolling unless the body gives it.
+    """
+
+    kind: ClassVar[str] = "rolling_on_circle"
+    reaction_units: ClassVar[tuple[str, ...]] = ("N", "N")
+    element: str = ""
+    center: sp.Matrix = field(default_factory=lambda: sp.zeros(2, 1))
+    radius: sp.Expr = sp.Integer(1)
+    circle_center: sp.Matrix = field(default_factory=lambda: sp.zeros(2, 1))
+    circle_radius: sp.Expr = sp.Integer(1)
+    inside: bool = False
+    position_angle: sp.Expr | None = None
+    phase: sp.Expr = sp.Integer(0)
+    mu: sp.Expr | None = None
+
+    @property
+    def _Rc(self):
+        return self.circle_radius - self.radius if self.inside else self.circle_radius + self.radius
+
+    def _geometry(self, pose):
+        c = _at(pose, self.second, self.center)
+        O = _at(pose, self.first, self.circle_center)
+        rel = c - O
+        dist = sp.sqrt(rel[0] ** 2 + rel[1] ** 2)
+        e = rel / dist
+        return c, O, rel, dist, e
+
+    def rows(self, pose, t):
+        c, O, rel, dist, e = self._geometry(pose)
+        _, phi1 = pose(self.first)
+        _, phi2 = pose(self.second)
+        psi = sp.atan2(rel[1], rel[0]) - phi1
+        normal = self._Rc - dist if self.inside else dist - self._Rc
+        sign = 1 if self.inside else -1
+        slip = self._Rc * psi + sign * self.radius * (phi2 - phi1) - self.phase
+        return [slip, normal]
+
+    def contact_point(self, pose):
+        c, O, rel, dist, e = self._geometry(pose)
+        return c + self.radius * e if self.inside else c - self.radius * e
+
+    def _unit_loads(self, pose, t):
+        c, O, rel, dist, e = self._geometry(pose)
+        et = sp.Matrix([-e[1], e[0]])
+        at = self.contact_point(pose)
+        return [(et, at, 0), (-e if self.inside else e, at, 0)]
+
+    def orientation_of(self, body, pose, t):
+        if body != self.second or self.position_angle is None:
+            return None
+        _, phi1 = pose(self.first)
+        sign = 1 if self.inside else -1
+        # from the no-slip equation with psi = position_angle
+        return phi1 + (self.phase - self._Rc * self.position_angle) / (sign * self.radius)
+
+    def place(self, body, pose, t):
+        if body != self.second or self.position_angle is None:
+            return None
+        origin1, phi1 = pose(self.first)
+        _, phi2 = pose(self.second)
+        O = origin1 + rotation(phi1) * self.circle_center
+        c = O + self._Rc * _unit(phi1 + self.position_angle)
+        return c - rotation(phi2) * self.center
+
+    @property
+    def friction_pair(self):
+        return (self.reactions[0].name, self.reactions[1].name, self.mu)
+
+
+# --------------------------------------------------------------------------- gears
+@dataclass(eq=False, repr=False)
+class GearMesh(Joint):
+    """Two pitch circles (round elements, one on each body) mesh without
+    slipping, externally or internally (the second inside the first's ring).
+    Reaction: the tangential tooth force on the second body at the pitch
+    point, along e_t = k x e (e from the first gear's centre to the second's).
+
+    Equation (external): r_1 (phi_1 - psi) + r_2 (phi_2 - psi) = const, psi the
+    angle of e; internal: r_1 (phi_1 - psi) - r_2 (phi_2 - psi) = const. The
+    constant is the mesh's phase at the scene's state. The centre distance is
+    held by the bodies' other joints.
+    """
+
+    kind: ClassVar[str] = "gear"
+    reaction_units: ClassVar[tuple[str, ...]] = ("N",)
+    center_first: sp.Matrix = field(default_factory=lambda: sp.zeros(2, 1))
+    center_second: sp.Matrix = field(default_factory=lambda: sp.zeros(2, 1))
+    radius_first: sp.Expr = sp.Integer(1)
+    radius_second: sp.Expr = sp.Integer(1)
+    internal: bool = False
+    phase: sp.Expr = sp.Integer(0)
+
+    def _e(self, pose):
+        c1 = _at(pose, self.first, self.center_first)
+        c2 = _at(pose, self.second, self.center_second)
+        rel = c2 - c1
+        dist = sp.sqrt(rel[0] ** 2 + rel[1] ** 2)
+        return c1, c2, rel, dist
+
+    def rows(self, pose, t):
+        c1, c2, rel, dist = self._e(pose)
+        psi = sp.atan2(rel[1], rel[0])
+        _, phi1 = pose(self.first)
+        _, phi2 = pose(self.second)
+        r1, r2 = self.radius_first, self.radius_second
+        s = -1 if self.internal else 1
+        # signed so that its gradient is the generalized force of a unit tooth force along e_t
+        return [-(r1 * (phi1 - psi) + s * r2 * (phi2 - psi)) + self.phase]
+
+    def _unit_loads(self, pose, t):
+        c1, c2, rel, dist = self._e(pose)
+        e = rel / dist
+        et = sp.Matrix([-e[1], e[0]])
+        # the pitch point: r_1 from the first centre along e (outside the second's centre for internal)
+        at = c1 + self.radius_first * e
+        return [(et, at, 0)]
+
+
+# --------------------------------------------------------------------------- cord on a drum
+@dataclass(eq=False, repr=False)
+class Cord(Joint):
+    """An inextensible cord wound on a drum of the first body (rim centre
+    ``center``, radius ``radius``) whose straight free part runs along the
+    fixed direction ``direction`` (unit, fixed frame) from the drum to point
+    ``point`` of the second body. ``winds`` says which sense of the drum's
+    rotation (relative to ... the fixed frame) winds the cord up: ``"ccw"`` or
+    ``"cw"``. Reaction: the tension T (one-sided, >= 0), pulling the second
+    body towards the drum (along -direction) and the drum along +direction
+    at the tangent point.
+
+    Equation: direction.(p - c) + s r phi_1 - length = 0 (s = +1 for ccw,
+    -1 for cw), ``length`` the free length when phi_1 = 0; written with the
+    sign that makes T the multiplier.
+    """
+
+    kind: ClassVar[str] = "cord"
+    reaction_units: ClassVar[tuple[str, ...]] = ("N",)
+    default_one_sided: ClassVar[tuple[bool, ...]] = (True,)
+    center: sp.Matrix = field(default_factory=lambda: sp.zeros(2, 1))
+    radius: sp.Expr = sp.Integer(1)
+    direction: sp.Matrix = field(default_factory=lambda: sp.Matrix([0, -1]))
+    point: sp.Matrix = field(default_factory=lambda: sp.zeros(2, 1))
+    winds: str = "ccw"
+    length: sp.Expr = sp.Integer(0)
+
+    @property
+    def _s(self):
+        return 1 if self.winds == "ccw" else -1
+
+    def rows(self, pose, t):
+        p = _at(pose, self.second, self.point)
+        c = _at(pose, self.first, self.center)
+        _, phi1 = pose(self.first)
+        free = (self.direction.T * (p - c))[0]
+        return [-(free + self._s * self.radius * phi1 - self.length)]
+
+    def tangent_point(self, pose):
+        d = self.direction
+        side = sp.Matrix([-d[1], d[0]]) * self._s
+        return _at(pose, self.first, self.center) + self.radius * side
+
+    def _unit_loads(self, pose, t):
+        return [(-self.direction, _at(pose, self.second, self.point), 0)]
+
+    def loads(self, pose, t):
+        reaction = self.reactions[0]
+        return [
+            JointLoad(reaction, self.second, -self.direction, _at(pose, self.second, self.point)),
+            JointLoad(reaction, self.first, sp.Matrix(self.direction), self.tangent_point(pose)),
+        ]
+
+
+# --------------------------------------------------------------------------- drivers
+@dataclass(eq=False, repr=False)
+class Motor(Joint):
+    """A rotary driver: the second body's angle relative to the first is
+    ``angle(t)``, or, when ``angle`` is None, is prescribed by the scene's
+    coordinates. Reaction: the driving torque on the second body (and its
+    opposite on the first). Removes 1 freedom; usually paired with a pin."""
+
+    kind: ClassVar[str] = "motor"
+    reaction_units: ClassVar[tuple[str, ...]] = ("N*m",)
+    angle: sp.Expr | None = None
+    prescribed: sp.Expr | None = None  # set by the system when angle is None
+
+    def rows(self, pose, t):
+        _, phi1 = pose(self.first)
+        _, phi2 = pose(self.second)
+        target = self.angle if self.angle is not None else self.prescribed
+        if target is None:
+            raise ValueError(f"motor {self.name!r}: its relative angle is not prescribed")
+        return [phi2 - phi1 - target]
+
+    def _unit_loads(self, pose, t):
+        return [(None, None, 1)]
+
+    def orientation_of(self, body, pose, t):
+        if self.angle is None:
+            return None
+        if body == self.second:
+            return pose(self.first)[1] + self.angle
+        if body == self.first:
+            return pose(self.second)[1] - self.angle
+        return None
+
+
+@dataclass(eq=False, repr=False)
+class Actuator(Joint):
+    """A linear driver: point ``point`` of the second body is at distance
+    ``position(t)`` from ``through`` along the first body's direction
+    ``angle`` (or, when ``position`` is None, the scene's coordinates
+    prescribe it). Reaction: the driving force along that direction on the
+    second body. Removes 1 freedom; usually paired with a slider."""
+
+    kind: ClassVar[str] = "actuator"
+    reaction_units: ClassVar[tuple[str, ...]] = ("N",)
+    point: sp.Matrix = field(default_factory=lambda: sp.zeros(2, 1))
+    through: sp.Matrix = field(default_factory=lambda: sp.zeros(2, 1))
+    angle: sp.Expr = sp.Integer(0)
+    position: sp.Expr | None = None
+    prescribed: sp.Expr | None = None
+
+    def _direction(self, pose):
+        _, phi1 = pose(self.first)
+        return rotation(phi1) * _unit(self.angle)
+
+    def rows(self, pose, t):
+        p = _at(pose, self.second, self.point)
+        o = _at(pose, self.first, self.through)
+        target = self.position if self.position is not None else self.prescribed
+        if target is None:
+            raise ValueError(f"actuator {self.name!r}: its position is not prescribed")
+        return [(self._direction(pose).T * (p - o))[0] - target]
+
+    def _unit_loads(self, pose, t):
+        return [(self._direction(pose), _at(pose, self.second, self.point), 0)]
+
+
+JOINT_CLASSES: dict[str, type[Joint]] = {
+    cls.kind: cls
+    for cls in (Pin, Rail, PinInSlot, Slider, Rolling, RollingOnCircle, GearMesh, Cord, Motor, Actuator)
+}
+"""Joint kind (the scene's ``kind`` key) -> class."""

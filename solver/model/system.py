@@ -1,0 +1,650 @@
+"""The planar multibody system: coordinates, bodies, joints, loads and their kinematics.
+
+A :class:`System` holds what a scene file says. From it, and cached on it
+(cleared by :meth:`System.reset` whenever the model changes, as
+``sympy.physics.mechanics.System`` clears its equations), it derives:
+
+* the **placement** of every body: its angle phi_b(q, t) and the position of its
+  frame's origin r_b(q, t). An angle is given by the scene (``orientation``) or
+  implied by a joint (a slider, a motor, rolling on a circle); a position is
+  given explicitly, fixed by one joint (rolling on a circle with a position
+  angle) or solved from the joint equations that are linear in the body's
+  translation (pins, rails, rolling on a line, cords, actuators), using those
+  of joints to bodies already placed.
+* the **closure** equations: every joint equation that the placement does not
+  satisfy identically (a loop of a four-bar or a slider-crank). They tie the
+  *dependent* coordinates (given with a ``guess``) to the free ones.
+* the **kinematics** of every point: positions, velocities and accelerations
+  from each body's origin by the rigid-body relation (paper Eqs. 6 and 15).
+
+Conventions: fixed frame x right, y up, k out of the plane; every angle and
+angular rate is a k-component, counter-clockwise positive. Each coordinate
+``q`` has the sympy symbols ``q``, ``q_dot`` and ``q_ddot``; time is ``t``.
+A prescribed coordinate (``motion``) is replaced by its function of t.
+"""
+from __future__ import annotations
+
+import math
+import random
+from dataclasses import dataclass, field
+from typing import Iterable
+
+import numpy as np
+import pint
+import sympy as sp
+
+from ..errors import SceneError
+from .bodies import GROUND, Ground, RigidBody
+from .joints import Joint, Motor, Actuator, k_cross, rotation
+from .loads import Load
+
+__all__ = ["Coordinate", "System", "ClosureRow"]
+
+_PLACEMENT_PRIORITY = {"pin": 0, "rolling": 1, "actuator": 2, "cord": 3, "rail": 4, "pin_in_slot": 4, "slider": 5}
+_IDENTICAL_TOL = 1e-9
+
+
+@dataclass(frozen=True)
+class Coordinate:
+    """A generalized coordinate.
+
+    Attributes
+    ----------
+    name : str
+    kind : str
+        ``"angle"`` [rad] or ``"length"`` [m].
+    value, rate : float
+        SI value and rate at the scene's state (for a dependent coordinate the
+        value is the guess that picks the assembly branch; the rate is solved).
+    dependent : bool
+        Solved from the closure equations.
+    motion : sympy.Expr or None
+        Prescribed coordinate: its function of t.
+    """
+
+    name: str
+    kind: str = "angle"
+    value: float = 0.0
+    rate: float = 0.0
+    dependent: bool = False
+    motion: sp.Expr | None = None
+    given: tuple | None = None  # (value, rate) pint quantities as written, for exact arithmetic
+
+    @property
+    def q(self) -> sp.Symbol:
+        return sp.Symbol(self.name, real=True)
+
+    @property
+    def qd(self) -> sp.Symbol:
+        return sp.Symbol(self.name + "_dot", real=True)
+
+    @property
+    def qdd(self) -> sp.Symbol:
+        return sp.Symbol(self.name + "_ddot", real=True)
+
+    @property
+    def unit(self) -> str:
+        return "rad" if self.kind == "angle" else "m"
+
+    @property
+    def prescribed(self) -> bool:
+        return self.motion is not None
+
+
+@dataclass(frozen=True)
+class ClosureRow:
+    """A joint equation the placement does not satisfy identically."""
+
+    joint: Joint
+    index: int
+    expr: sp.Expr
+
+    @property
+    def reaction(self):
+        return self.joint.reactions[self.index]
+
+
+class System:
+    """A planar multibody system (see the module docstring).
+
+    Parameters
+    ----------
+    name : str
+    parameters : dict[str, pint.Quantity]
+    coordinates : list of Coordinate
+    bodies : list of RigidBody
+    joints : list of Joint
+    loads : list of Load
+    ground : Ground, optional
+    time : float
+        The instant of the state [s] (prescribed motions are evaluated there).
+    source : str, optional
+        File name used in messages.
+    output_units : dict[str, str], optional
+    description : str
+    """
+
+    def __init__(self, name: str, parameters: dict, coordinates: Iterable[Coordinate],
+                 bodies: Iterable[RigidBody], joints: Iterable[Joint] = (), loads: Iterable[Load] = (),
+                 ground: Ground | None = None, time: float = 0.0, source: str | None = None,
+                 output_units: dict | None = None, description: str = ""):
+        self.name = name
+        self.description = description
+        self.parameters = dict(parameters)
+        self.coordinates = list(coordinates)
+        self.bodies: dict[str, RigidBody] = {b.name: b for b in bodies}
+        self.joints: list[Joint] = list(joints)
+        self.loads: list[Load] = list(loads)
+        self.ground = ground or Ground()
+        self.time = float(time)
+        self.source = source
+        self.output_units = dict(output_units or {})
+        self.t = sp.Symbol("t", real=True)
+        self.reset()
+
+    # -- cache ---------------------------------------------------------------------------
+    def reset(self) -> None:
+        """Forget every derived result (call after changing the model)."""
+        self._cache: dict = {}
+
+    def _memo(self, key, build):
+        if key not in self._cache:
+            self._cache[key] = build()
+        return self._cache[key]
+
+    def add_body(self, body: RigidBody) -> None:
+        self.bodies[body.name] = body
+        self.reset()
+
+    def add_joint(self, joint: Joint) -> None:
+        self.joints.append(joint)
+        self.reset()
+
+    def add_load(self, load: Load) -> None:
+        self.loads.append(load)
+        self.reset()
+
+    @property
+    def label(self) -> str:
+        return self.source if self.source is not None else f"scene {self.name!r}"
+
+    def fail(self, what: str) -> SceneError:
+        return SceneError(f"{self.label}: {what}")
+
+    # -- symbols and values -----------------------------------------------------------------
+    @property
+    def symbols(self) -> dict[str, sp.Symbol]:
+        return {n: sp.Symbol(n, real=True) for n in self.parameters}
+
+    def si_values(self) -> dict[sp.Symbol, float]:
+        """Parameter symbol -> SI value (angles in rad)."""
+        return self._memo("si", lambda: {
+            sp.Symbol(n, real=True): float(q.to_base_units().magnitude) for n, q in self.parameters.items()
+        })
+
+    @property
+    def free(self) -> list[Coordinate]:
+        """Coordinates that are not prescribed (independent and dependent)."""
+        return [c for c in self.coordinates if not c.prescribed]
+
+    @property
+    def independent(self) -> list[Coordinate]:
+        return [c for c in self.free if not c.dependent]
+
+    @property
+    def dependent(self) -> list[Coordinate]:
+        return [c for c in self.free if c.dependent]
+
+    @property
+    def q(self) -> list[sp.Symbol]:
+        return [c.q for c in self.free]
+
+    @property
+    def qd(self) -> list[sp.Symbol]:
+        return [c.qd for c in self.free]
+
+    @property
+    def qdd(self) -> list[sp.Symbol]:
+        return [c.qdd for c in self.free]
+
+    @property
+    def motion_subs(self) -> dict[sp.Symbol, sp.Expr]:
+        """Prescribed coordinate -> its function of t (and rates -> derivatives)."""
+        def build():
+            out = {}
+            for c in self.coordinates:
+                if c.prescribed:
+                    out[c.q] = c.motion
+                    out[c.qd] = sp.diff(c.motion, self.t)
+                    out[c.qdd] = sp.diff(c.motion, self.t, 2)
+            return out
+        return self._memo("motion", build)
+
+    def prescribe(self, expr):
+        """Replace prescribed coordinates by their functions of t."""
+        subs = self.motion_subs
+        if not subs:
+            return expr
+        return expr.xreplace(subs)
+
+    # -- time derivative ---------------------------------------------------------------------
+    def D(self, expr):
+        """d/dt of an expression (or Matrix) in (q, q_dot, t) with prescribed motion substituted."""
+        out = sp.diff(expr, self.t)
+        for c in self.free:
+            out = out + sp.diff(expr, c.q) * c.qd + sp.diff(expr, c.qd) * c.qdd
+        return out
+
+    # -- placement -----------------------------------------------------------------------------
+    def _pose_fn(self, poses):
+        def pose(name):
+            if name == GROUND:
+                return sp.zeros(2, 1), sp.Integer(0)
+            return poses[name]
+        return pose
+
+    @property
+    def poses(self) -> dict[str, tuple[sp.Matrix, sp.Expr]]:
+        """Body name -> (origin r_b(q, t), angle phi_b(q, t)), prescribed motion substituted."""
+        return self._memo("poses", self._place)[0]
+
+    @property
+    def placement_rows(self) -> set[tuple[str, int]]:
+        """(joint name, row index) of the joint equations used to place the bodies."""
+        return self._memo("poses", self._place)[1]
+
+    def _state_values(self) -> dict[sp.Symbol, float]:
+        vals = dict(self.si_values())
+        for c in self.coordinates:
+            vals[c.q] = c.value
+            vals[c.qd] = c.rate
+        vals[self.t] = self.time
+        return vals
+
+    def _num(self, expr, values) -> float:
+        try:
+            return float(sp.sympify(expr).xreplace({k: sp.Float(v) for k, v in values.items()}).evalf())
+        except (TypeError, ValueError):
+            return float("nan")
+
+    def _joint_touching(self, body):
+        for j in self.joints:
+            if body in j.bodies:
+                yield j, (j.first if j.second == body else j.second)
+
+    def _place(self):
+        t = self.t
+        poses: dict[str, tuple] = {}
+        phis = {n: (None if b.orientation is None else self.prescribe(sp.sympify(b.orientation)))
+                for n, b in self.bodies.items()}
+        used: set[tuple[str, int]] = set()
+        pending = list(self.bodies)
+        pose = self._pose_fn(poses)
+        values = self._state_values()
+        X, Y = sp.symbols("_X _Y", real=True)
+        while pending:
+            progress = False
+            for name in list(pending):
+                body = self.bodies[name]
+                if phis[name] is None:
+                    for j, other in self._joint_touching(name):
+                        if other == GROUND or other in poses:
+                            o = j.orientation_of(name, pose, t)
+                            if o is not None:
+                                phis[name] = self.prescribe(o)
+                                used.add((j.name, _orientation_row(j)))
+                                break
+                if phis[name] is None:
+                    continue
+                phi = phis[name]
+                origin = None
+                if body.position is not None:
+                    pname, at = body.position
+                    origin = self.prescribe(sp.Matrix(at)) - rotation(phi) * body.body_coords(pname)
+                if origin is None:
+                    trial = dict(poses)
+                    trial[name] = (sp.zeros(2, 1), phi)
+                    for j, other in self._joint_touching(name):
+                        if other == GROUND or other in poses:
+                            o = j.place(name, self._pose_fn(trial), t)
+                            if o is not None:
+                                origin = self.prescribe(o)
+                                used.update((j.name, k) for k in _place_rows(j))
+                                break
+                if origin is None:
+                    origin, rows_used = self._place_linear(name, phi, poses, values, X, Y)
+                    if origin is not None:
+                        used.update(rows_used)
+                if origin is not None:
+                    poses[name] = (sp.Matrix(origin), phi)
+                    pending.remove(name)
+                    progress = True
+            if not progress:
+                missing = ", ".join(repr(n) for n in pending)
+                raise self.fail(
+                    f"cannot place body {missing}: give its `orientation` (or a joint that fixes its angle: "
+                    f"slider, motor), and connect it to the ground or to a placed body by joints that fix "
+                    f"its position (a pin; two rails; a rolling contact; a cord with a guide) or give `position`"
+                )
+        return poses, used
+
+    def _place_linear(self, name, phi, poses, values, X, Y):
+        trial = dict(poses)
+        trial[name] = (sp.Matrix([X, Y]), phi)
+        pose = self._pose_fn(trial)
+        candidates = []
+        for j, other in self._joint_touching(name):
+            if not (other == GROUND or other in poses):
+                continue
+            try:
+                rows = j.rows(pose, self.t)
+            except ValueError:
+                continue
+            for k, row in enumerate(rows):
+                a, b = sp.diff(row, X), sp.diff(row, Y)
+                if a == 0 and b == 0:
+                    continue
+                if any(sp.diff(c, s) != 0 for c in (a, b) for s in (X, Y)):
+                    continue  # not linear in the translation
+                candidates.append((_PLACEMENT_PRIORITY.get(j.kind, 9), j, k, a, b, row))
+        candidates.sort(key=lambda c: c[0])
+        chosen = []
+        for cand in candidates:
+            trial_rows = chosen + [cand]
+            M = np.array([[self._num(c[3], values), self._num(c[4], values)] for c in trial_rows])
+            if np.all(np.isfinite(M)) and np.linalg.matrix_rank(M, tol=1e-9 * max(1.0, np.abs(M).max())) == len(trial_rows):
+                chosen.append(cand)
+            if len(chosen) == 2:
+                break
+        if len(chosen) < 2:
+            if len(candidates) >= 2 and len({id(c[1]) for c in candidates}) >= 2 and len(chosen) == 1:
+                names = ", ".join(dict.fromkeys(repr(c[1].name) for c in candidates))
+                raise self.fail(
+                    f"impossible geometry: the joints {names} cannot fix the position of body {name!r}: "
+                    f"their lines are parallel (or their equations dependent) at the scene's state"
+                )
+            return None, set()
+        (_, j1, k1, a1, b1, r1), (_, j2, k2, a2, b2, r2) = chosen
+        c1 = r1.xreplace({X: 0, Y: 0})
+        c2 = r2.xreplace({X: 0, Y: 0})
+        det = a1 * b2 - a2 * b1
+        x = (-c1 * b2 + c2 * b1) / det
+        y = (-a1 * c2 + a2 * c1) / det
+        return sp.Matrix([x, y]), {(j1.name, k1), (j2.name, k2)}
+
+    # -- validation --------------------------------------------------------------------------------
+    def validate(self) -> None:
+        """One pass over the whole model: freedoms against reactions, then placement and closure.
+
+        Each body has 3 freedoms; each reaction unknown removes one. The
+        coordinates (free ones, less one per closure equation) must describe
+        exactly the freedoms that remain.
+
+        Raises
+        ------
+        SceneError
+            Naming the bodies and joints and the counts when the system is over-
+            or under-constrained, or a body cannot be placed.
+        """
+        def check():
+            n_bodies = len(self.bodies)
+            removed = len(self.reactions)
+            left = 3 * n_bodies - removed
+            described = len(self.free) - len(self.closure)
+            joints = ", ".join(f"{j.name} ({j.kind}, {j.freedoms_removed})" for j in self.joints) or "none"
+            if len(self.closure) > len(self.dependent):
+                names = ", ".join(dict.fromkeys(repr(r.joint.name) for r in self.closure))
+                raise self.fail(
+                    f"joint(s) {names} are not satisfied by the bodies' given orientations and positions for "
+                    f"every value of the coordinates ({len(self.closure)} closure equation(s), "
+                    f"{len(self.dependent)} dependent coordinate(s)): fix the orientation/position, or give "
+                    f"as many coordinates a `guess` (dependent) as there are closure equations"
+                )
+            counts = (f"{n_bodies} bod{'y' if n_bodies == 1 else 'ies'} x 3 freedoms - {removed} removed by the "
+                      f"joints [{joints}] = {left}, but the coordinates describe {described}")
+            if left > described:
+                raise self.fail(
+                    f"under-constrained: {counts}; a body can move in ways no coordinate describes: add a joint "
+                    f"(e.g. a second rail, a slider instead of a rail, a motor for a prescribed motion) "
+                    f"or a coordinate"
+                )
+            if left < described:
+                raise self.fail(
+                    f"over-constrained: {counts}; remove a joint or mark a coordinate dependent "
+                    f"(guess = ...) or prescribed (motion = ...)"
+                )
+            return True
+        try:
+            self.poses  # placement first: its errors name the body
+        except SceneError:
+            left = 3 * len(self.bodies) - len(self.reactions)
+            if left > len(self.free):  # too few joints to place anything: say so with the counts
+                joints = ", ".join(f"{j.name} ({j.kind}, {j.freedoms_removed})" for j in self.joints) or "none"
+                raise self.fail(
+                    f"under-constrained: {len(self.bodies)} bod{'y' if len(self.bodies) == 1 else 'ies'} x 3 "
+                    f"freedoms - {len(self.reactions)} removed by the joints [{joints}] = {left}, but the "
+                    f"coordinates describe {len(self.free)}; add a joint or a coordinate"
+                ) from None
+            raise
+        self._memo("validated", check)
+
+    # -- kinematics -------------------------------------------------------------------------------
+    def angle(self, body: str) -> sp.Expr:
+        """phi_b(q, t) [rad] (0 for the ground)."""
+        return sp.Integer(0) if body == GROUND else self.poses[body][1]
+
+    def origin(self, body: str) -> sp.Matrix:
+        return sp.zeros(2, 1) if body == GROUND else self.poses[body][0]
+
+    def omega(self, body: str) -> sp.Expr:
+        """omega_b = d phi_b / dt (k-component) [rad/s]."""
+        if body == GROUND:
+            return sp.Integer(0)
+        return self._memo(("omega", body), lambda: self.D(self.angle(body)))
+
+    def alpha(self, body: str) -> sp.Expr:
+        """alpha_b = d omega_b / dt (k-component), linear in the q_ddot [rad/s^2]."""
+        if body == GROUND:
+            return sp.Integer(0)
+        return self._memo(("alpha", body), lambda: self.D(self.omega(body)))
+
+    def body_point(self, body: str, coords: sp.Matrix) -> sp.Matrix:
+        """Fixed-frame position of the body point with body-frame ``coords``."""
+        if body == GROUND:
+            return sp.Matrix(coords)
+        return self.origin(body) + rotation(self.angle(body)) * sp.Matrix(coords)
+
+    def _origin_velocity(self, body):
+        return self._memo(("v0", body), lambda: self.D(self.origin(body)))
+
+    def _origin_acceleration(self, body):
+        return self._memo(("a0", body), lambda: self.D(self._origin_velocity(body)))
+
+    def _resolve(self, body: str, point: str):
+        """(kind, data) of a named point: ('body', coords) or ('instant', (ref, offset))."""
+        holder = self.ground if body == GROUND else self.bodies.get(body)
+        if holder is None:
+            raise self.fail(f"unknown body {body!r} (bodies: {', '.join(self.bodies)})")
+        if point in holder.points:
+            p = holder.points[point]
+            if p.is_instant:
+                return "instant", (p.relative_to, sp.Matrix(p.coords))
+            return "body", sp.Matrix(p.coords)
+        if point == "G" and body != GROUND:
+            return "body", holder.mass_center()
+        names = holder.point_names()
+        raise self.fail(f"point {point!r} is not a point of body {body!r} (points: {', '.join(names)})")
+
+    def point_position(self, body: str, point: str) -> sp.Matrix:
+        """Fixed-frame position of a named point (``G`` = the body's mass centre)."""
+        def build():
+            kind, data = self._resolve(body, point)
+            if kind == "instant":
+                ref, offset = data
+                return self.point_position(body, ref) + offset
+            return self.body_point(body, data)
+        return self._memo(("pos", body, point), build)
+
+    def point_velocity(self, body: str, point: str) -> sp.Matrix:
+        """Velocity of the material point at ``point`` (Eq. 6): v_O + omega x (r - r_O)."""
+        def build():
+            if body == GROUND:
+                return sp.zeros(2, 1)
+            rel = self.point_position(body, point) - self.origin(body)
+            return self._origin_velocity(body) + k_cross(self.omega(body), rel)
+        return self._memo(("vel", body, point), build)
+
+    def point_acceleration(self, body: str, point: str) -> sp.Matrix:
+        """Acceleration of the material point at ``point`` by the rigid-body
+        relation from the body's origin (Eqs. 6, 15):
+        a = a_O + alpha x r - omega^2 r, r = r_point - r_O. Linear in the q_ddot."""
+        def build():
+            if body == GROUND:
+                return sp.zeros(2, 1)
+            rel = self.point_position(body, point) - self.origin(body)
+            w = self.omega(body)
+            return self._origin_acceleration(body) + k_cross(self.alpha(body), rel) - w**2 * rel
+        return self._memo(("acc", body, point), build)
+
+    def material_acceleration(self, body: str, r: sp.Matrix) -> sp.Matrix:
+        """Acceleration of the body's material point at fixed-frame position r (Eq. 15)."""
+        rel = sp.Matrix(r) - self.origin(body)
+        w = self.omega(body)
+        return self._origin_acceleration(body) + k_cross(self.alpha(body), rel) - w**2 * rel
+
+    def is_body_point(self, body: str, point: str) -> bool:
+        return self._resolve(body, point)[0] == "body"
+
+    # -- joints: reactions, closure ---------------------------------------------------------------
+    @property
+    def reactions(self):
+        """Every reaction unknown, in joint order."""
+        return [r for j in self.joints for r in j.reactions]
+
+    @property
+    def closure(self) -> list[ClosureRow]:
+        """The joint equations not satisfied identically by the placement."""
+        return self._memo("closure", self._closure)
+
+    def _closure(self) -> list[ClosureRow]:
+        pose = self._pose_fn(self.poses)
+        used = self.placement_rows
+        values = self._state_values()
+        rng = random.Random(12345)
+        samples = []
+        for _ in range(3):
+            v = dict(values)
+            for c in self.free:
+                v[c.q] = c.value + rng.uniform(-0.4, 0.4) * (1.0 if c.kind == "angle" else max(abs(c.value), 0.1))
+            v[self.t] = self.time + rng.uniform(0.1, 0.5)
+            samples.append(v)
+        out = []
+        for j in self.joints:
+            self._bind_prescribed(j)
+            rows = j.rows(pose, self.t)
+            for k, row in enumerate(rows):
+                if (j.name, k) in used:
+                    continue
+                row = self.prescribe(sp.sympify(row))
+                if row == 0:
+                    continue
+                scale = 1.0 + sum(abs(self._num(term, values)) for term in sp.Add.make_args(row))
+                if all(abs(self._num(row, s)) <= _IDENTICAL_TOL * scale for s in [values] + samples):
+                    continue
+                out.append(ClosureRow(j, k, row))
+        return out
+
+    def _bind_prescribed(self, j: Joint) -> None:
+        """A motor or actuator without its own motion drives what the coordinates prescribe."""
+        if isinstance(j, Motor) and j.angle is None and j.prescribed is None:
+            rel = self.angle(j.second) - self.angle(j.first)
+            j.prescribed = rel
+        if isinstance(j, Actuator) and j.position is None and j.prescribed is None:
+            pose = self._pose_fn(self.poses)
+            o = pose(j.first)
+            d = rotation(o[1]) * sp.Matrix([sp.cos(j.angle), sp.sin(j.angle)])
+            p = self.body_point(j.second, j.point)
+            th = self.body_point(j.first, j.through)
+            j.prescribed = (d.T * (p - th))[0]
+
+    # -- loads ------------------------------------------------------------------------------------
+    @property
+    def applied_loads(self):
+        """Every applied (non-reaction) force and couple, with prescribed motion substituted."""
+        def build():
+            out = []
+            for load in self.loads:
+                for a in load.applied(self):
+                    out.append(type(a)(
+                        a.name, a.kind, a.body,
+                        None if a.force is None else self.prescribe(sp.Matrix(a.force)),
+                        a.at, self.prescribe(sp.sympify(a.couple)), a.point,
+                    ))
+            return out
+        return self._memo("applied", build)
+
+    def joint_loads(self):
+        """Every reaction as unit loads on bodies (JointLoad), for the Newton-Euler equations."""
+        def build():
+            pose = self._pose_fn(self.poses)
+            return [jl for j in self.joints for jl in j.loads(pose, self.t)]
+        return self._memo("joint_loads", build)
+
+    # -- energies ---------------------------------------------------------------------------------
+    def potential_energy(self) -> sp.Expr:
+        """V(q, t) of the conservative loads (gravity, springs). [J]"""
+        def build():
+            terms = [load.potential(self) for load in self.loads if load.conservative]
+            return self.prescribe(sp.Add(*[t for t in terms if t is not None]))
+        return self._memo("V", build)
+
+    def kinetic_energy(self) -> sp.Expr:
+        """T = sum over elements of 1/2 m_k |v_k|^2 + 1/2 I-bar_k omega^2. [J]"""
+        def build():
+            terms = []
+            for name, body in self.bodies.items():
+                w = self.omega(name)
+                for e in body.elements:
+                    v = self._origin_velocity(name) + k_cross(w, rotation(self.angle(name)) * e.mass_center)
+                    terms.append(e.mass * (v[0] ** 2 + v[1] ** 2) / 2 + e.I_G * w**2 / 2)
+            return sp.Add(*terms)
+        return self._memo("T", build)
+
+    def generalized_forces(self) -> list[sp.Expr]:
+        """Q_i of the non-conservative loads (forces, couples, dampers), by partial velocities."""
+        def build():
+            out = []
+            for c in self.free:
+                terms = []
+                for load in self.loads:
+                    if load.conservative:
+                        continue
+                    for a in load.applied(self):
+                        if a.force is not None:
+                            if a.point is not None:
+                                v = self.point_velocity(*a.point)
+                            else:
+                                raise self.fail(f"load {a.name!r}: no point to take its velocity")
+                            terms.append((sp.Matrix(a.force).T * sp.diff(v, c.qd))[0])
+                        if a.couple != 0:
+                            terms.append(a.couple * sp.diff(self.omega(a.body), c.qd))
+                out.append(self.prescribe(sp.Add(*terms)))
+            return out
+        return self._memo("Q", build)
+
+    # -- model limits -----------------------------------------------------------------------------
+    def limits(self) -> list[tuple[str, sp.Expr]]:
+        pose = self._pose_fn(self.poses)
+        return [lim for j in self.joints for lim in j.limits(pose)]
+
+    def __repr__(self) -> str:
+        return (f"System({self.name!r}, bodies=[{', '.join(self.bodies)}], "
+                f"coordinates=[{', '.join(c.name for c in self.coordinates)}], joints={len(self.joints)})")
+
+
+def _orientation_row(j: Joint) -> int:
+    return {"slider": 1, "motor": 0, "rolling_on_circle": 0}.get(j.kind, 0)
+
+
+def _place_rows(j: Joint) -> tuple[int, ...]:
+    return {"rolling_on_circle": (1,)}.get(j.kind, ())
