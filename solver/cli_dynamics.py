@@ -147,6 +147,13 @@ def _system(args):
     from solver.period import OneDofSystem
 
     scene = load_scene_from_args(args)
+    if len(scene.free) != 1 or scene.closure or scene.motion_subs:
+        raise InputError(
+            f"{scene.label}: {args.command} needs one degree of freedom (one free coordinate, no closure "
+            f"constraints, no prescribed motion); this scene has {len(scene.free)} free coordinate(s) "
+            f"({', '.join(c.name for c in scene.free) or 'none'}){' and closure constraints' if scene.closure else ''}: "
+            "use `frequency` for its natural modes or `simulate` for its motion"
+        )
     d = derive(scene, getattr(args, "point", None), getattr(args, "method", "generalized_euler"))
     return scene, d, OneDofSystem.from_derivation(d)
 
@@ -189,6 +196,36 @@ def period_command(args: argparse.Namespace) -> int:
 
 
 # -- simulate ----------------------------------------------------------------------------------
+def _simulate_multibody(args, system, t_end) -> int:
+    """simulate for n degrees of freedom, closure equations or prescribed motion."""
+    from solver.analyses.motion import simulate_system, write_motion_csv
+
+    res = simulate_system(system, t_end, method=args.ivp_method, rtol=args.rtol, atol=args.atol, mu=args.mu,
+                          samples=args.samples)
+    if args.out is not None:
+        write_motion_csv(res, args.out)
+    if args.json:
+        payload = {"scene": system.name, **to_output_units(res.to_dict(), system.output_units)}
+        if args.out is not None:
+            payload["out"] = str(args.out)
+        print_json(payload)
+        return 0
+    print(f"scene   {system.name}  ({_where(system)})")
+    print(f"status  {res.status}: {res.reason}   ({res.nfev} rhs evaluations, {len(res.t)} samples)")
+    rows = [("t", format_number(float(res.t[-1]), 10), "s")]
+    for name, (values, unit) in res.columns.items():
+        shown = to_output_units({"value": float(values[-1]), "unit": unit}, system.output_units)
+        rows.append((name, format_number(shown["value"], 10), shown["unit"]))
+    print()
+    print("final sample:")
+    print(format_table(("name", "value", "unit"), rows, align="lrl"))
+    if res.energy_drift is not None:
+        print(f"\nenergy drift over the run: {format_number(res.energy_drift, 3)} (of the largest kinetic energy)")
+    if args.out is not None:
+        print(f"\ntime history written to {args.out} (SI units)")
+    return 0
+
+
 def simulate_command(args: argparse.Namespace) -> int:
     from pathlib import Path
 
@@ -199,6 +236,11 @@ def simulate_command(args: argparse.Namespace) -> int:
         folder = Path(args.out).parent
         if str(folder) and not folder.is_dir():
             raise InputError(f"--out {args.out}: folder {folder} does not exist")
+        if Path(args.out).is_dir():
+            raise InputError(f"--out {args.out}: is a folder; give a file name")
+    loaded = load_scene_from_args(args)
+    if len(loaded.free) != 1 or loaded.closure or len(loaded.bodies) != 1:
+        return _simulate_multibody(args, loaded, t_end)
     scene, _, system = _system(args)
     res = simulate(system, t_end, y0=state_si(scene), method=args.ivp_method, rtol=args.rtol, atol=args.atol,
                    mu=args.mu, samples=args.samples, progress=args.progress)

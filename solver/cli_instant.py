@@ -71,8 +71,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p = subparsers.add_parser(
         "frequency",
         help="natural frequency of small oscillations about the stable equilibrium",
-        description="Natural frequency of small oscillations about the stable equilibrium under "
-        "gravity (other loads set aside), cf. Eq. 46. It does not depend on P; --point is "
+        description="Natural frequencies and mode shapes of small oscillations about the stable "
+        "equilibrium nearest the scene's state, with every load that depends on position only (gravity, "
+        "springs, constant forces and couples), cf. Eq. 46. It does not depend on P; --point is "
         "accepted for uniformity and checked.",
     )
     add_common_arguments(p)
@@ -345,6 +346,8 @@ def _latex_names(system) -> dict[sp.Symbol, str]:
 
 def frequency_command(args: argparse.Namespace) -> int:
     scene = load_scene_from_args(args)
+    if len(scene.free) != 1 or scene.closure:
+        return _modes_command(args, scene)
     if args.point is not None:
         derivation.derive(scene, args.point, args.method)  # checks the point (SceneError)
     result = derivation.natural_frequency(scene, args.method)
@@ -363,7 +366,7 @@ def frequency_command(args: argparse.Namespace) -> int:
     eq_deg = math.degrees(equilibrium)
     print(f"scene   {scene.name}  ({_where(scene)})")
     print(f"small oscillations about the stable equilibrium {q} = {format_number(eq_deg)} deg "
-          f"({format_number(equilibrium)} rad), gravity only")
+          f"({format_number(equilibrium)} rad), every position-dependent load included")
     print()
     rows = [
         ("omega_n", format_number(payload["omega_n"]["value"]), payload["omega_n"]["unit"]),
@@ -375,6 +378,32 @@ def frequency_command(args: argparse.Namespace) -> int:
     print(format_table(("name", "value", "unit"), rows, align="lrl"))
     print()
     print(f"omega_n**2 = V''({q}_e) / M({q}_e): stiffness of the potential over the generalized mass.")
+    return 0
+
+
+def _modes_command(args, system) -> int:
+    from solver.analyses.modes import modes
+    from solver.formulations import formulate
+
+    formulate(system, args.method, args.point)  # checks the point
+    result = modes(system, args.method)
+    payload = result.to_dict()
+    if args.json:
+        print_json({"scene": system.name, "method": args.method, **payload})
+        return 0
+    print(f"scene   {system.name}  ({_where(system)})")
+    eq = ", ".join(f"{k} = {format_number(math.degrees(v) if result.units[k] == 'rad' else v)} "
+                   f"{'deg' if result.units[k] == 'rad' else result.units[k]}" for k, v in result.equilibrium.items())
+    print(f"small oscillations about the stable equilibrium {eq}")
+    print()
+    rows = []
+    for i, m in enumerate(result.modes, 1):
+        shape = ", ".join(f"{k}: {format_number(v, 4)}" for k, v in m.shape.items())
+        rows.append((str(i), format_number(m.omega), format_number(m.frequency),
+                     format_number(m.period) if math.isfinite(m.period) else "-", shape))
+    print(format_table(("mode", "omega_n [rad/s]", "f [Hz]", "period [s]", "shape"), rows, align="rrrrl"))
+    if any(m.omega == 0 for m in result.modes):
+        print("\na mode with omega_n = 0 is a neutral direction: nothing restores it.")
     return 0
 
 

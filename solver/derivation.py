@@ -375,18 +375,14 @@ def _tidy_by_rate(expr: sp.Expr, qd: sp.Symbol) -> sp.Expr:
         return _tidy(expr)
 
 
-def _validate_frequency(scene) -> None:
-    as_system(scene)
-
-
-def natural_frequency(scene: Scene, method: str = "generalized_euler") -> FrequencyResult:
-    """Small-oscillation natural frequency about the stable equilibrium.
+def natural_frequency(scene, method: str = "generalized_euler") -> FrequencyResult:
+    """Small-oscillation natural frequency of a one-coordinate system about its stable equilibrium.
 
     Parameters
     ----------
-    scene : Scene
+    scene : System or Scene
     method : str
-        Route for M(q) and V(q) (all agree).
+        Route for M(q) and the loads (all agree).
 
     Returns
     -------
@@ -400,77 +396,24 @@ def natural_frequency(scene: Scene, method: str = "generalized_euler") -> Freque
 
     Notes
     -----
-    Gravity only (other loads set aside). The equilibrium q_e solves
-    V'(q_e) = 0 with V''(q_e) > 0, searched over q0 +/- 2 pi around the
-    scene's state q0 and taken nearest to it (ties: nearest to 0).
-    Linearising M qdd + 1/2 M' qd^2 + V' = 0 about q_e gives
-    omega_n^2 = V''(q_e) / M(q_e) (cf. Eq. 46 for Example 2).
+    Every load that depends on position only is included: the effective
+    potential V_eff = V - int Q dq of :class:`solver.period.OneDofSystem`, whose
+    equilibrium search (:func:`solver.period.find_equilibrium`, the one place
+    it is done) ``period`` uses too, so the two agree. Linearising
+    M qdd + 1/2 M' qd^2 + V_eff' = 0 about q_e gives
+    omega_n^2 = V_eff''(q_e) / M(q_e) (cf. Eq. 46 for Example 2).
     """
-    _validate_frequency(scene)
-    d = derive(scene, None, method)
-    label = scene_label(scene)
-    values = as_system(scene).si_values()
-    q = d.q
-    V = d.potential_energy.subs(values)
-    dV = sp.diff(V, q)
-    ddV = sp.diff(dV, q)
-    M = d.mass.subs(values)
-    stray = (dV.free_symbols | ddV.free_symbols | M.free_symbols) - {q}
-    if stray:
-        raise SceneError(f"{label}: undefined name(s) {', '.join(sorted(map(str, stray)))}")
-    f_dV = sp.lambdify(q, dV, "numpy")
-    f_ddV = sp.lambdify(q, ddV, "numpy")
-    f_M = sp.lambdify(q, M, "numpy")
-    # additive constants (e.g. m g r_d of a rolling disk) do not set the scale of V's variation
-    from .period import _drop_constants
+    from .period import OneDofSystem, find_equilibrium
 
-    f_V = sp.lambdify(q, _drop_constants(V, q), "numpy")
-    q0 = as_system(scene).free[0].value
-    grid = np.linspace(q0 - 2 * np.pi, q0 + 2 * np.pi, 2881)
-    with np.errstate(all="ignore"):
-        g = np.broadcast_to(np.asarray(f_dV(grid), dtype=float), grid.shape)
-        h = np.broadcast_to(np.asarray(f_ddV(grid), dtype=float), grid.shape)
-        v = np.broadcast_to(np.asarray(f_V(grid), dtype=float), grid.shape)
-    gmax = float(np.nanmax(np.abs(g))) if np.any(np.isfinite(g)) else 0.0
-    vmax = float(np.nanmax(np.abs(v))) if np.any(np.isfinite(v)) else 0.0
-    # V' at round-off level of V's own terms counts as zero (a float cancellation)
-    if dV == 0 or gmax <= 1e-13 * vmax:
-        raise NoRestoringError(
-            f"{label}: no restoring moment: the potential energy does not change with {q} "
-            f"(V' = V'' = 0; no mass off the rolling/pivot axis), so there are no small oscillations"
-        )
-    scale = float(np.nanmax(np.abs(h))) if np.any(np.isfinite(h)) else 0.0
-    from scipy.optimize import brentq
-
-    candidates = []
-    for i in range(len(grid) - 1):
-        a, b = g[i], g[i + 1]
-        if not (np.isfinite(a) and np.isfinite(b)):
-            continue
-        if a < 0 <= b or (a == 0 and b > 0):  # V' from - to +: a minimum of V
-            root = grid[i] if a == 0 else brentq(f_dV, grid[i], grid[i + 1], xtol=1e-14, disp=False)
-            candidates.append(float(root))
-    stable = [r for r in candidates if float(f_ddV(r)) > 1e-12 * scale]
-    if candidates and not stable:
-        raise NoRestoringError(
-            f"{label}: no restoring moment: V'' = 0 at the equilibrium {q} = {candidates[0]:.6g} rad "
-            f"(neutral, not stable), so there are no small oscillations"
-        )
-    if not stable:
-        raise NoRestoringError(
-            f"{label}: no stable equilibrium (V' = 0 with V'' > 0) within 2 pi of {q} = {q0:.6g} rad: "
-            f"gravity gives no restoring moment"
-        )
-    qe = min(stable, key=lambda r: (round(abs(r - q0), 9), abs(r)))
-    k = float(f_ddV(qe))
-    m = float(f_M(qe))
-    if not (m > 0 and np.isfinite(m)):
-        raise NoRestoringError(f"{label}: the generalized mass M({q}) at the equilibrium is {m:.3g}: no inertia")
-    w = math.sqrt(k / m)
+    system = as_system(scene)
+    d = derive(system, None, method)
+    one = OneDofSystem.from_derivation(d)
+    eq = find_equilibrium(one, near=system.free[0].value)
+    w = eq.omega
     return FrequencyResult(
         omega_n=Q_(w, "rad/s"),
-        equilibrium=Q_(qe, "rad"),
-        stiffness=Q_(k, "N*m/rad"),
-        mass=Q_(m, "kg*m**2"),
+        equilibrium=Q_(eq.q, "rad"),
+        stiffness=Q_(eq.stiffness, "N*m/rad"),
+        mass=Q_(eq.mass, "kg*m**2"),
         period=Q_(2 * math.pi / w, "s"),
     )

@@ -224,7 +224,7 @@ class OneDofSystem:
             mass=derivation.mass,
             potential=derivation.potential_energy,
             generalized_force=derivation.generalized_force,
-            alpha=derivation.alpha,
+            alpha=derivation.alpha if len(derivation.system.bodies) == 1 else None,
             reactions=reactions,
             reaction_units={k: units.get(k, "N") for k in reactions},
             one_sided=tuple(one_sided),

@@ -76,8 +76,12 @@ def test_disk_bar_loads_with_paper_structure() -> None:
 
 @pytest.mark.parametrize("path", sorted(SCENES.glob("*.toml")), ids=lambda p: p.name)
 def test_every_shipped_scene_loads(path: Path) -> None:
-    scene = load_scene(path)
-    assert scene.default_point in scene.points
+    from solver.io.scenes import load_system
+
+    system = load_system(path)
+    system.validate()
+    for body in system.bodies.values():  # each body's reference point is one of its points (or G)
+        assert body.default_point in body.point_names()
 
 
 # -- overrides -------------------------------------------------------------------------------

@@ -1,0 +1,248 @@
+"""Equilibrium and small oscillations of a system with any number of degrees of freedom.
+
+At rest (every rate zero) the instantaneous solve gives the accelerations
+u'' = g(u) of the independent coordinates u (dependent ones follow from the
+closure equations). An equilibrium solves g(u_e) = 0; linearising,
+u'' = J (u - u_e) with J = dg/du, and the natural frequencies are
+omega_i = sqrt(lambda_i) for the eigenvalues lambda_i of -J (= M^-1 K), the
+mode shapes its eigenvectors. Every load that depends on position only is
+included (gravity, springs, constant forces and couples); dampers vanish at
+rest; loads that depend on time have no equilibrium and are refused.
+
+J is taken by fourth-order central differences of g (step 1e-3 of each
+coordinate's scale), whose truncation error, h^4 g^(5) / 30 ~ 1e-13 relative,
+and round-off, eps |g| / h ~ 1e-13, keep the frequencies to about 1e-11.
+
+For one coordinate without closure equations the equilibrium comes from
+:func:`solver.period.find_equilibrium` (a scan of the effective potential,
+robust to any starting state), so ``frequency`` and ``period`` agree.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import sympy as sp
+
+from ..errors import InputError, NoRestoringError
+from .instant import assemble
+
+__all__ = ["Mode", "ModesResult", "modes"]
+
+_STEP = 1e-3
+_NEWTON = 50
+
+
+@dataclass
+class Mode:
+    """One natural mode: angular frequency [rad/s] and shape (largest component 1)."""
+
+    omega: float
+    shape: dict[str, float]
+
+    @property
+    def frequency(self) -> float:
+        return self.omega / (2 * math.pi)
+
+    @property
+    def period(self) -> float:
+        return 2 * math.pi / self.omega if self.omega > 0 else math.inf
+
+
+@dataclass
+class ModesResult:
+    """Small oscillations about a stable equilibrium.
+
+    Attributes
+    ----------
+    equilibrium : dict[str, float]
+        Every free coordinate's value there (SI).
+    modes : list of Mode
+        Ascending frequencies; a neutral direction (no restoring force, e.g. a
+        free cart's position) has omega = 0.
+    units : dict[str, str]
+        Coordinate units.
+    """
+
+    equilibrium: dict[str, float]
+    modes: list[Mode]
+    units: dict[str, str]
+
+    def to_dict(self) -> dict:
+        return {
+            "equilibrium": {k: {"value": v, "unit": self.units[k]} for k, v in self.equilibrium.items()},
+            "modes": [
+                {"omega_n": {"value": m.omega, "unit": "rad/s"},
+                 "frequency": {"value": m.frequency, "unit": "Hz"},
+                 "period": {"value": m.period if math.isfinite(m.period) else None, "unit": "s"},
+                 "shape": m.shape}
+                for m in self.modes
+            ],
+        }
+
+
+def _accelerations(system, method):
+    """g(u): independent accelerations at rest, u -> u''."""
+    from ..formulations import formulate
+
+    model = formulate(system, method).numeric()
+    free = system.free
+    ind = [i for i, c in enumerate(free) if not c.dependent]
+    names = [str(free[i].qdd) for i in ind]
+    t = system.time
+
+    last = [c.value for c in free]  # continuation: dependent coordinates start from the last solution
+
+    def g(u):
+        q = list(last)
+        for k, i in enumerate(ind):
+            q[i] = u[k]
+        state = assemble(system, q, [0.0] * len(free), t)
+        last[:] = state.q
+        res = model.solve(state.q, state.qd, t)
+        return np.array([float(res[n]) for n in names])
+    return g, ind
+
+
+def _jacobian(g, u, scales):
+    n = len(u)
+    J = np.empty((n, n))
+    for j in range(n):
+        h = _STEP * scales[j]
+        e = np.zeros(n)
+        e[j] = h
+        J[:, j] = (-g(u + 2 * e) + 8 * g(u + e) - 8 * g(u - e) + g(u - 2 * e)) / (12 * h)
+    return J
+
+
+def _check_time_independent(system):
+    t = system.t
+    for a in system.applied_loads:
+        exprs = [a.couple] + ([] if a.force is None else list(a.force))
+        if any(sp.sympify(e).has(t) for e in exprs):
+            raise InputError(f"{system.label}: load {a.name!r} depends on time, so there is no equilibrium to "
+                             "oscillate about (set it to zero with --set)")
+    if any(any(sp.sympify(x).has(t) for x in (*origin, phi)) for origin, phi in system.poses.values()):
+        raise InputError(f"{system.label}: the motion is prescribed as a function of time: no free oscillation")
+
+
+def modes(system, method: str = "generalized_euler") -> ModesResult:
+    """Equilibrium nearest the scene's state and the natural modes about it.
+
+    Raises
+    ------
+    NoRestoringError
+        No stable equilibrium near the state.
+    InputError
+        No degrees of freedom, or loads that depend on time.
+    """
+    free = system.free
+    ind = [c for c in free if not c.dependent]
+    if not ind:
+        raise InputError(f"{system.label}: no degrees of freedom (every motion is prescribed): no oscillation")
+    _check_time_independent(system)
+    g, idx = _accelerations(system, method)
+    scales = np.array([1.0 if c.kind == "angle" else max(abs(c.value), 0.1) for c in ind])
+    u = np.array([c.value for c in ind], dtype=float)
+    if len(ind) == 1 and not system.closure:
+        u = np.array([_one_dof_equilibrium(system, method, u[0])])
+    elif len(ind) == 1 and ind[0].kind == "angle":
+        u = np.array([_scan_one_angle(g, u[0], system)])
+    else:
+        u = _newton(g, u, scales, system)
+    J = _jacobian(g, u, scales)
+    lam, vec = np.linalg.eig(-J)
+    tries = 0
+    while np.any(lam.real < -1e-9 * max(1.0, float(np.max(np.abs(lam))))) and tries < 8:
+        # an unstable equilibrium: step off it along an unstable direction and search again
+        k = int(np.argmin(lam.real))
+        direction = vec[:, k].real / np.max(np.abs(vec[:, k].real))
+        step = (0.5 * (1 + tries // 2)) * (1 if tries % 2 == 0 else -1)
+        try:
+            u_new = _newton(g, u + step * direction * scales, scales, system)
+        except NoRestoringError:
+            tries += 1
+            continue
+        u = u_new
+        J = _jacobian(g, u, scales)
+        lam, vec = np.linalg.eig(-J)
+        tries += 1
+    if np.max(np.abs(lam.imag)) > 1e-6 * max(1.0, np.max(np.abs(lam.real))):
+        raise NoRestoringError(f"{system.label}: the linearised motion about the equilibrium is not oscillatory "
+                               "(complex eigenvalues)")
+    lam = lam.real
+    vec = vec.real
+    tol = 1e-9 * max(1.0, float(np.max(np.abs(lam))))
+    if np.any(lam < -tol):
+        raise NoRestoringError(
+            f"{system.label}: the equilibrium found near the state ("
+            + ", ".join(f"{c.name} = {v:.6g}" for c, v in zip(ind, u))
+            + ") is unstable: no small oscillations about it")
+    if np.all(np.abs(lam) <= tol):
+        raise NoRestoringError(f"{system.label}: no restoring force in any coordinate: no small oscillations")
+    order = np.argsort(lam)
+    out = []
+    for k in order:
+        v = vec[:, k]
+        v = v / v[np.argmax(np.abs(v))]
+        v = np.where(np.abs(v) < 1e-12, 0.0, v)  # round-off of an uncoupled direction
+        omega = math.sqrt(max(lam[k], 0.0)) if abs(lam[k]) > tol else 0.0
+        out.append(Mode(omega, {c.name: float(x) for c, x in zip(ind, v)}))
+    # an equilibrium at round-off distance from 0 is 0
+    eq = {c.name: (0.0 if abs(x) < 1e-12 * sc else float(x)) for c, x, sc in zip(ind, u, scales)}
+    return ModesResult(eq, out, {c.name: c.unit for c in ind})
+
+
+def _newton(g, u, scales, system):
+    for _ in range(_NEWTON):
+        r = g(u)
+        if np.all(np.abs(r) < 1e-12 * (1 + np.abs(r).max())):
+            return u
+        J = _jacobian(g, u, scales)
+        step, *_ = np.linalg.lstsq(J, -r, rcond=1e-10)
+        step = np.clip(step, -0.5 * scales, 0.5 * scales)
+        u = u + step
+        if not np.all(np.isfinite(u)):
+            break
+        if np.all(np.abs(step) < 1e-14 * scales):
+            return u
+    if np.all(np.abs(g(u)) < 1e-9):
+        return u
+    raise NoRestoringError(f"{system.label}: no equilibrium found near the scene's state")
+
+
+def _one_dof_equilibrium(system, method, near):
+    from ..derivation import derive
+    from ..period import OneDofSystem, find_equilibrium
+
+    return find_equilibrium(OneDofSystem.from_derivation(derive(system, None, method)), near=near).q
+
+
+def _scan_one_angle(g, u0, system):
+    """The stable equilibrium nearest u0 of one angle coordinate with closure equations:
+    a scan of u'' = g(u) over u0 +/- pi (continuing the assembly) for sign changes from + to -."""
+    from scipy.optimize import brentq
+
+    def f(x):
+        return float(g(np.array([x]))[0])
+
+    found = []
+    for sign in (1, -1):  # walk away from u0 both ways so the assembly follows continuously
+        grid = u0 + sign * np.linspace(0.0, math.pi, 181)
+        vals = []
+        for x in grid:
+            try:
+                vals.append(f(x))
+            except InputError:
+                break
+        for i in range(len(vals) - 1):
+            a, b = (grid[i], grid[i + 1]) if sign > 0 else (grid[i + 1], grid[i])
+            fa, fb = (vals[i], vals[i + 1]) if sign > 0 else (vals[i + 1], vals[i])
+            if fa > 0 >= fb:
+                f(grid[i])  # restore the assembly near the bracket
+                found.append(brentq(f, a, b, xtol=1e-14, rtol=1e-15))
+                break
+    if not found:
+        raise NoRestoringError(f"{system.label}: no stable equilibrium within pi of the state")
+    return min(found, key=lambda x: abs(x - u0))
