@@ -121,7 +121,7 @@ class _OneDofNumeric:
     def condition_number(self, A):
         from .analyses.instant import condition_numbers
 
-        return condition_numbers(A)[0]
+        return condition_numbers(A)
 
     def solve(self, q, qd, t=0.0):
         res = self.model.solve([q], [qd], t)

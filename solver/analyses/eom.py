@@ -10,14 +10,15 @@ This is exact for any point P: with v_G = v_P + omega x r_G/P the combination
 equals the one about G (the generalized Euler equation differs from Euler's
 about G by r_G/P x N, Eq. 3). Ideal joints do no work on motions the
 coordinates allow, so the reactions of every joint that the placement
-satisfies drop out; a closure joint's reactions are then eliminated with the
-velocity transformation q' = B u of the independent coordinates u.
+satisfies drop out. A closure joint's reactions would remain; systems with
+closure equations are integrated and solved through the instantaneous system
+instead.
 """
 from __future__ import annotations
 
 import sympy as sp
 
-__all__ = ["equations_of_motion", "mass_matrix_and_forcing"]
+__all__ = ["equations_of_motion"]
 
 
 def _reference_velocity(formulation, body: str) -> sp.Matrix:
@@ -33,8 +34,8 @@ def equations_of_motion(formulation) -> list[sp.Expr]:
     """One expression (== 0) per free coordinate, reactions of placed joints eliminated,
     in the form  M q'' + (terms in q', q, t) - Q  (so the q'' coefficients are the mass matrix).
 
-    Closure reactions remain when the system has closure equations; see
-    :func:`mass_matrix_and_forcing` for the reduced form.
+    Closure reactions remain when the system has closure equations (their
+    reduced form is not built; ``eom`` says so).
     """
     s = formulation.system
 
@@ -59,21 +60,3 @@ def equations_of_motion(formulation) -> list[sp.Expr]:
 
 def _is_closure(system, reaction) -> bool:
     return any(row.reaction.name == reaction.name for row in system.closure)
-
-
-def mass_matrix_and_forcing(formulation):
-    """(M, f, u): M(q) u'' = f(q, q', t) in the independent coordinates u.
-
-    For a system without closure equations u is every free coordinate. With
-    closure equations Phi(q, t) = 0 the dependent rates follow from
-    Phi_q q' + Phi_t = 0 as q' = B u' + b, and the reduced equations are
-    B^T (equations) with q'' = B u'' + (d/dt of B and b terms) substituted.
-    """
-    s = formulation.system
-    eqs = equations_of_motion(formulation)
-    qdd = s.qdd
-    if not s.closure:
-        M = sp.Matrix([[sp.expand(sp.diff(e, a)) if False else e.xreplace({**{x: 0 for x in qdd}, a: 1}) - e.xreplace({x: 0 for x in qdd}) for a in qdd] for e in eqs])
-        f = sp.Matrix([-e.xreplace({x: 0 for x in qdd}) for e in eqs])
-        return M, f, [c for c in s.free]
-    raise NotImplementedError("reduced equations of motion with closure equations")

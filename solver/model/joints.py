@@ -124,6 +124,12 @@ class Joint:
     kind: ClassVar[str] = ""
     reaction_units: ClassVar[tuple[str, ...]] = ()
     default_one_sided: ClassVar[tuple[bool, ...]] = ()
+    placement_priority: ClassVar[int] = 9
+    """Order in which joints' equations linear in a body's translation are used to place it."""
+    orientation_row: ClassVar[int | None] = None
+    """The row that :meth:`orientation_of` satisfies, when the joint can give a body's angle."""
+    place_rows: ClassVar[tuple[int, ...]] = ()
+    """The rows that :meth:`place` satisfies, when the joint can place a body alone."""
 
     name: str
     first: str
@@ -196,6 +202,7 @@ class Pin(Joint):
     components of the force on the second body. Removes 2 freedoms."""
 
     kind: ClassVar[str] = "pin"
+    placement_priority: ClassVar[int] = 0
     reaction_units: ClassVar[tuple[str, ...]] = ("N", "N")
     at_first: sp.Matrix = field(default_factory=lambda: sp.zeros(2, 1))
     at_second: sp.Matrix = field(default_factory=lambda: sp.zeros(2, 1))
@@ -218,6 +225,7 @@ class Rail(Joint):
     n = (-sin a, cos a), positive pushing the second body along n."""
 
     kind: ClassVar[str] = "rail"
+    placement_priority: ClassVar[int] = 4
     reaction_units: ClassVar[tuple[str, ...]] = ("N",)
     point: sp.Matrix = field(default_factory=lambda: sp.zeros(2, 1))
     through: sp.Matrix = field(default_factory=lambda: sp.zeros(2, 1))
@@ -257,6 +265,8 @@ class Slider(Rail):
     relative angle at ``relative_angle``. Removes 2 freedoms."""
 
     kind: ClassVar[str] = "slider"
+    placement_priority: ClassVar[int] = 5
+    orientation_row: ClassVar[int | None] = 1
     reaction_units: ClassVar[tuple[str, ...]] = ("N", "N*m")
     relative_angle: sp.Expr = sp.Integer(0)
 
@@ -291,6 +301,7 @@ class Rolling(Joint):
     """
 
     kind: ClassVar[str] = "rolling"
+    placement_priority: ClassVar[int] = 1
     reaction_units: ClassVar[tuple[str, ...]] = ("N", "N")
     element: str = ""
     center: sp.Matrix = field(default_factory=lambda: sp.zeros(2, 1))
@@ -362,6 +373,8 @@ class RollingOnCircle(Joint):
     """
 
     kind: ClassVar[str] = "rolling_on_circle"
+    orientation_row: ClassVar[int | None] = 0
+    place_rows: ClassVar[tuple[int, ...]] = (1,)
     reaction_units: ClassVar[tuple[str, ...]] = ("N", "N")
     element: str = ""
     center: sp.Matrix = field(default_factory=lambda: sp.zeros(2, 1))
@@ -494,6 +507,7 @@ class Cord(Joint):
     """
 
     kind: ClassVar[str] = "cord"
+    placement_priority: ClassVar[int] = 3
     reaction_units: ClassVar[tuple[str, ...]] = ("N",)
     default_one_sided: ClassVar[tuple[bool, ...]] = (True,)
     center: sp.Matrix = field(default_factory=lambda: sp.zeros(2, 1))
@@ -539,6 +553,7 @@ class Motor(Joint):
     opposite on the first). Removes 1 freedom; usually paired with a pin."""
 
     kind: ClassVar[str] = "motor"
+    orientation_row: ClassVar[int | None] = 0
     reaction_units: ClassVar[tuple[str, ...]] = ("N*m",)
     angle: sp.Expr | None = None
     prescribed: sp.Expr | None = None  # set by the system when angle is None
@@ -573,6 +588,7 @@ class Actuator(Joint):
     second body. Removes 1 freedom; usually paired with a slider."""
 
     kind: ClassVar[str] = "actuator"
+    placement_priority: ClassVar[int] = 2
     reaction_units: ClassVar[tuple[str, ...]] = ("N",)
     point: sp.Matrix = field(default_factory=lambda: sp.zeros(2, 1))
     through: sp.Matrix = field(default_factory=lambda: sp.zeros(2, 1))

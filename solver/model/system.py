@@ -40,7 +40,6 @@ from .loads import Load
 
 __all__ = ["Coordinate", "System", "ClosureRow"]
 
-_PLACEMENT_PRIORITY = {"pin": 0, "rolling": 1, "actuator": 2, "cord": 3, "rail": 4, "pin_in_slot": 4, "slider": 5}
 _IDENTICAL_TOL = 1e-9
 
 
@@ -292,7 +291,7 @@ class System:
                             o = j.orientation_of(name, pose, t)
                             if o is not None:
                                 phis[name] = self.prescribe(o)
-                                used.add((j.name, _orientation_row(j)))
+                                used.add((j.name, j.orientation_row))
                                 break
                 if phis[name] is None:
                     continue
@@ -309,7 +308,7 @@ class System:
                             o = j.place(name, self._pose_fn(trial), t)
                             if o is not None:
                                 origin = self.prescribe(o)
-                                used.update((j.name, k) for k in _place_rows(j))
+                                used.update((j.name, k) for k in j.place_rows)
                                 break
                 if origin is None:
                     origin, rows_used = self._place_linear(name, phi, poses, values, X, Y)
@@ -346,7 +345,7 @@ class System:
                     continue
                 if any(sp.diff(c, s) != 0 for c in (a, b) for s in (X, Y)):
                     continue  # not linear in the translation
-                candidates.append((_PLACEMENT_PRIORITY.get(j.kind, 9), j, k, a, b, row))
+                candidates.append((j.placement_priority, j, k, a, b, row))
         candidates.sort(key=lambda c: c[0])
         chosen = []
         for cand in candidates:
@@ -640,11 +639,3 @@ class System:
     def __repr__(self) -> str:
         return (f"System({self.name!r}, bodies=[{', '.join(self.bodies)}], "
                 f"coordinates=[{', '.join(c.name for c in self.coordinates)}], joints={len(self.joints)})")
-
-
-def _orientation_row(j: Joint) -> int:
-    return {"slider": 1, "motor": 0, "rolling_on_circle": 0}.get(j.kind, 0)
-
-
-def _place_rows(j: Joint) -> tuple[int, ...]:
-    return {"rolling_on_circle": (1,)}.get(j.kind, ())
