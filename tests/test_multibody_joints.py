@@ -1,0 +1,107 @@
+"""Joint kinds beyond the shipped scenes, against closed forms and across routes.
+
+Each scene in tests/data/multibody exercises joints and loads that the six
+shipped multibody scenes do not: a gear mesh, rolling inside a circle, a pivot
+moving on a prescribed path with a torsional spring, a coordinate prescribed as
+a function of time with its driving motor, a collar sliding on a turning arm
+with a spring and a damper. References are textbook closed forms written here;
+the routes must also agree with each other (the Lagrange route uses each
+joint's constraint equations, the Newton-Euler routes its reaction forces, so
+agreement checks every joint's sign conventions).
+"""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+
+from solver.analyses.instant import solve_instant
+from solver.io.scenes import load_system
+
+DATA = Path(__file__).parent / "data" / "multibody"
+G = 9.80665
+# The routes solve equivalent well-conditioned linear systems (condition numbers below 10):
+# they agree to round-off, ~1e-13 relative; 1e-10 leaves room and catches any wrong term.
+RTOL = 1e-10
+# (abs=1e-9 [N, rad/s^2] below only for quantities whose exact value is 0, e.g. a frictionless collar's
+# normal force at its centre of percussion; round-off there is ~1e-15.)
+
+
+def values(name, method="generalized_euler", point=None):
+    sol = solve_instant(load_system(DATA / name), point, method)
+    return {k: v.to_base_units().magnitude for k, v in sol.unknowns.items()}
+
+
+def test_gear_pair_driven_by_a_couple():
+    # I_eff = I1 + I2 (r1/r2)^2 reflects the second gear to the first; F = I2 alpha2 / r2.
+    m1, m2, r1, r2, C = 2.0, 1.0, 0.2, 0.1, 3.0
+    I1, I2 = m1 * r1**2 / 2, m2 * r2**2 / 2
+    alpha1 = C / (I1 + I2 * (r1 / r2) ** 2)
+    v = values("gears.toml")
+    assert v["th_ddot"] == pytest.approx(alpha1, rel=RTOL)
+    assert v["F_mesh"] == pytest.approx(I2 * alpha1 * (r1 / r2) / r2, rel=RTOL)
+
+
+def test_disk_rolling_inside_a_bowl():
+    # beta = psi + pi/2 from the bottom: beta'' = -2 g sin(beta) / (3 (R - r)); alpha of the disk
+    # from rolling inside: omega = -(R - r) psi' / r.
+    R, r, beta = 0.5, 0.05, math.radians(30.0)
+    v = values("disk_in_bowl.toml")
+    psi_dd = -2 * G * math.sin(beta) / (3 * (R - r))
+    assert v["psi_ddot"] == pytest.approx(psi_dd, rel=RTOL)
+    assert v["alpha"] == pytest.approx(-(R - r) * psi_dd / r, rel=RTOL)
+    # normal force: m (R - r) psi'^2 + m g cos(beta) = N ... minus nothing else (friction is tangential)
+    assert v["N_bowl"] == pytest.approx(1.0 * (R - r) * 0.5**2 + 1.0 * G * math.cos(beta), rel=RTOL)
+
+
+def test_pendulum_on_a_moving_pivot_with_a_torsional_spring():
+    # Pivot x_P = A sin(w t): at t = 0 it accelerates at 0 but moves at A w. Bar from the
+    # downward vertical at th: I_O th'' = -m g (L/2) sin th - k th - m (L/2) cos(th) x_P''.
+    m, L, k, th = 1.0, 0.5, 2.0, math.radians(20.0)
+    I_O = m * L**2 / 3
+    v = values("moving_pivot.toml")
+    assert v["th_ddot"] == pytest.approx((-m * G * L / 2 * math.sin(th) - k * th) / I_O, rel=RTOL)
+
+
+def test_prescribed_coordinate_returns_the_driving_torque():
+    # th = w t + al t^2 / 2: at t = 0, th = 0 (bar horizontal), th' = w, th'' = al.
+    m, L, w, al = 1.0, 0.5, 3.0, 2.0
+    v = values("driven_coord.toml")
+    assert v["M"] == pytest.approx(m * L**2 / 3 * al + m * G * L / 2, rel=RTOL)
+    assert v["alpha"] == pytest.approx(al, rel=RTOL)
+    # the pin force: the centre moves on a circle: a_G = (L/2)(-w^2, al) at th = 0
+    assert v["pin_1_x"] == pytest.approx(-m * L / 2 * w**2, rel=RTOL)
+    assert v["pin_1_y"] == pytest.approx(m * L / 2 * al + m * G, rel=RTOL)
+
+
+def test_collar_on_a_turning_arm_with_spring_and_damper():
+    # Arm (bar M, L) pinned at O; collar (point mass m) at distance s along it, pushed by a
+    # spring k (s - L0) and a damper c s' towards O. With N the collar's normal force:
+    #   m (s'' - s th'^2) = -k (s - L0) - c s' - m g sin th
+    #   m (s th'' + 2 s' th') = N - m g cos th
+    #   I_O th'' = -M g (L/2) cos th - N s
+    m, k, c, L0, M, L, th, thd, s, sd = 2.0, 100.0, 1.0, 0.3, 1.0, 0.6, math.radians(30.0), 1.0, 0.4, 0.0
+    I_O = M * L**2 / 3
+    # eliminate N: (I_O + m s^2) th'' = -M g L/2 cos th - m g s cos th - 2 m s s' th'
+    th_dd = (-M * G * L / 2 * math.cos(th) - m * G * s * math.cos(th) - 2 * m * s * sd * thd) / (I_O + m * s**2)
+    s_dd = s * thd**2 + (-k * (s - L0) - c * sd - m * G * math.sin(th)) / m
+    for method in ("generalized_euler", "mass_center"):
+        v = values("spring_slot.toml", method)
+        assert v["th_ddot"] == pytest.approx(th_dd, rel=RTOL)
+        assert v["s_ddot"] == pytest.approx(s_dd, rel=RTOL)
+
+
+@pytest.mark.parametrize("name", ["gears.toml", "disk_in_bowl.toml", "moving_pivot.toml", "driven_coord.toml",
+                                  "spring_slot.toml"])
+def test_routes_and_points_agree(name):
+    ref = values(name)
+    system = load_system(DATA / name)
+    points = [f"{b}:{p}" for b, body in system.bodies.items() for p in body.point_names()]
+    for point in points[:3]:
+        other = values(name, point=point)
+        for key, value in ref.items():
+            assert other[key] == pytest.approx(value, rel=RTOL, abs=1e-9), (point, key)
+    other = values(name, "lagrange")
+    for key, value in ref.items():
+        assert other[key] == pytest.approx(value, rel=RTOL, abs=1e-9), ("lagrange", key)
