@@ -93,7 +93,7 @@ def test_stationary_orientation_is_singular_at_that_theta():
 def test_wrong_reaction_count():
     s = example1()
     bad = dataclasses.replace(s, constraints=s.constraints[:1])
-    with pytest.raises(SceneError, match=r"under-constrained: 1 body x 3 freedoms - 1 removed .* = 2, but the coordinates describe 1"):
+    with pytest.raises(SceneError, match=r"under-constrained: 1 body x 3 freedoms - 1 removed .* = 2, and the scene fixes motions that no joint holds"):
         derive(bad)
 
 

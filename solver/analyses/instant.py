@@ -293,10 +293,34 @@ def assemble(system, q=None, qd=None, t=None) -> State:
     J = np.array(fJ(*q, t, *pv), dtype=float).reshape(m, n)
     Pt = np.array(fPt(*q, t, *pv), dtype=float)
     if dep:
+        _check_closure_jacobian(system, J[:, dep], q, t)
         rhs = -(Pt + J[:, ind] @ qd[ind])
         sol, *_ = np.linalg.lstsq(J[:, dep], rhs, rcond=None)
         qd[dep] = sol
     return State(tuple(q), tuple(qd), t)
+
+
+CLOSURE_CONDITION_LIMIT = 1e6
+"""Above this condition number of the closure equations' Jacobian in the dependent
+coordinates (columns equilibrated), they do not determine those coordinates (a
+linkage at a dead centre). Much lower than :data:`CONDITION_LIMIT` because at such
+a singular root the residual is quadratic in the error, so Newton's method stops
+about sqrt(1e-13) ~ 3e-7 away from it, where the condition is ~3e6 instead of
+infinite. A regular assembly this close to a dead centre (1e-6 rad) is refused too."""
+
+
+def _check_closure_jacobian(system, Jd: np.ndarray, q, t) -> None:
+    with np.errstate(all="ignore"):
+        s = np.linalg.svd(Jd / np.maximum(np.max(np.abs(Jd), axis=0), 1e-300), compute_uv=False)
+    cond = s[0] / s[-1] if s[-1] > 0 else math.inf
+    if not cond <= CLOSURE_CONDITION_LIMIT:
+        joints = ", ".join(dict.fromkeys(repr(r.joint.name) for r in system.closure))
+        where = _state_text(system, q, [0.0] * len(q), t, ())
+        raise SingularConfigurationError(
+            f"{system.label}: singular configuration at {where}: the closure equations of joints {joints} do not "
+            f"determine the dependent coordinates ({', '.join(c.name for c in system.dependent)}) there, a dead "
+            f"centre (condition number {cond:.3g} > {CLOSURE_CONDITION_LIMIT:.0e})"
+        )
 
 
 # --------------------------------------------------------------------------- results

@@ -54,7 +54,7 @@ def resolve_points(system, point: str | None) -> dict[str, str]:
     for body in targets:
         if name not in system.bodies[body].point_names():
             raise SceneError(
-                f"{system.label}: point {name!r} is not a point of the body {body!r} "
+                f"{system.label}: --point {point}: point {name!r} is not a point of the body {body!r} "
                 f"(points: {', '.join(system.bodies[body].point_names())})"
             )
         points[body] = name

@@ -144,6 +144,12 @@ class _MultibodyReader:
             base = oname[:-4] if oname.endswith("_dot") else oname
             if oname in L.parameters:
                 continue
+            if base in table and isinstance(table[base], dict) and "motion" in table[base]:
+                raise self.fail(f"--set {oname}", f"{base} is prescribed (motion = {table[base]['motion']!r}); "
+                                "its value and rate follow from the time: set a parameter of the motion or `time`")
+            if oname.endswith("_dot") and base in table and isinstance(table[base], dict) and "guess" in table[base]:
+                raise self.fail(f"--set {oname}", f"{base} is a dependent coordinate: its rate is solved from the "
+                                "closure equations, not given")
             if base not in table:
                 valid = ", ".join([*L.parameters, *table, *(f"{c}_dot" for c in table)])
                 raise self.fail(f"--set {oname}", f"unknown name {oname!r} (parameters and state: {valid})")

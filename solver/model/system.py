@@ -90,6 +90,10 @@ class Coordinate:
         return self.motion is not None
 
 
+class _Unplaceable(SceneError):
+    """A body that the joints cannot place (reported with the freedom count by ``validate``)."""
+
+
 @dataclass(frozen=True)
 class ClosureRow:
     """A joint equation the placement does not satisfy identically."""
@@ -319,12 +323,16 @@ class System:
                     pending.remove(name)
                     progress = True
             if not progress:
-                missing = ", ".join(repr(n) for n in pending)
-                raise self.fail(
-                    f"cannot place body {missing}: give its `orientation` (or a joint that fixes its angle: "
-                    f"slider, motor), and connect it to the ground or to a placed body by joints that fix "
-                    f"its position (a pin; two rails; a rolling contact; a cord with a guide) or give `position`"
-                )
+                reasons = []
+                for n in pending:
+                    if phis[n] is None:
+                        reasons.append(f"body {n!r}: its angle is neither given (`orientation`) nor fixed by a joint "
+                                       "(slider, motor, rolling_on_circle with position_angle), so its joints leave it "
+                                       "free to turn")
+                    else:
+                        reasons.append(f"body {n!r}: its joints to placed bodies do not fix its position (needs a pin, "
+                                       "two rails, a rolling contact, a cord with a guide, or `position`)")
+                raise _Unplaceable(f"{self.label}: cannot place " + "; ".join(reasons))
         return poses, used
 
     def _place_linear(self, name, phi, poses, values, X, Y):
@@ -415,16 +423,14 @@ class System:
             return True
         try:
             self.poses  # placement first: its errors name the body
-        except SceneError:
+        except _Unplaceable as err:
             left = 3 * len(self.bodies) - len(self.reactions)
-            if left > len(self.free):  # too few joints to place anything: say so with the counts
-                joints = ", ".join(f"{j.name} ({j.kind}, {j.freedoms_removed})" for j in self.joints) or "none"
-                raise self.fail(
-                    f"under-constrained: {len(self.bodies)} bod{'y' if len(self.bodies) == 1 else 'ies'} x 3 "
-                    f"freedoms - {len(self.reactions)} removed by the joints [{joints}] = {left}, but the "
-                    f"coordinates describe {len(self.free)}; add a joint or a coordinate"
-                ) from None
-            raise
+            joints = ", ".join(f"{j.name} ({j.kind}, {j.freedoms_removed})" for j in self.joints) or "none"
+            raise self.fail(
+                f"under-constrained: {len(self.bodies)} bod{'y' if len(self.bodies) == 1 else 'ies'} x 3 "
+                f"freedoms - {len(self.reactions)} removed by the joints [{joints}] = {left}, and the scene fixes "
+                f"motions that no joint holds: {str(err.args[0]).split(': cannot place ', 1)[-1]}"
+            ) from None
         self._memo("validated", check)
 
     # -- kinematics -------------------------------------------------------------------------------
