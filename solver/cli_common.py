@@ -95,10 +95,10 @@ def add_set_option(parser: argparse.ArgumentParser) -> None:
 def add_point_option(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--point",
-        metavar="NAME",
+        metavar="BODY:POINT",
         default=None,
-        help="reference point P for the moment equation (a point of the body, or G; "
-        "default: the scene's reference_point)",
+        help="reference point P of a body's moment equation: BODY:POINT, or a point name (every body "
+        "that has it; for a one-body scene any point or G); default: each body's reference_point",
     )
 
 
@@ -209,6 +209,7 @@ def quantity_entry(quantity: pint.Quantity, unit: str | None = None) -> dict[str
 _OUTPUT_KEY_OF_UNIT = {
     "N": "force", "N*m": "moment", "m": "length", "kg": "mass", "s": "time",
     "rad": "angle", "deg": "angle", "rad/s": "angular_velocity", "rad/s**2": "angular_acceleration",
+    "m/s**2": "acceleration", "m/s": "velocity",
 }
 
 
@@ -274,7 +275,7 @@ def state_text(system, state=None) -> str:
             parts += [f"{c.name} = {format_number(math.degrees(v))} deg", f"{c.name}_dot = {format_number(r)} rad/s"]
         else:
             parts += [f"{c.name} = {format_number(v)} m", f"{c.name}_dot = {format_number(r)} m/s"]
-    if system.motion_subs:
+    if system.time_dependent:
         parts.append(f"t = {format_number(system.time if state is None else state.t)} s")
     return ", ".join(parts)
 

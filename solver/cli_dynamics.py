@@ -147,10 +147,10 @@ def _system(args):
     from solver.period import OneDofSystem
 
     scene = load_scene_from_args(args)
-    if len(scene.free) != 1 or scene.closure or scene.motion_subs:
+    if len(scene.free) != 1 or scene.closure or scene.time_dependent or scene.free[0].kind != "angle":
         raise InputError(
-            f"{scene.label}: {args.command} needs one degree of freedom (one free coordinate, no closure "
-            f"constraints, no prescribed motion); this scene has {len(scene.free)} free coordinate(s) "
+            f"{scene.label}: {args.command} needs one degree of freedom given by an angle (one free angle "
+            f"coordinate, no closure constraints, no prescribed motion); this scene has {len(scene.free)} free coordinate(s) "
             f"({', '.join(c.name for c in scene.free) or 'none'}){' and closure constraints' if scene.closure else ''}: "
             "use `frequency` for its natural modes or `simulate` for its motion"
         )
@@ -239,7 +239,8 @@ def simulate_command(args: argparse.Namespace) -> int:
         if Path(args.out).is_dir():
             raise InputError(f"--out {args.out}: is a folder; give a file name")
     loaded = load_scene_from_args(args)
-    if len(loaded.free) != 1 or loaded.closure or len(loaded.bodies) != 1:
+    if len(loaded.free) != 1 or loaded.closure or len(loaded.bodies) != 1 or loaded.free[0].kind != "angle" \
+            or loaded.time_dependent:
         return _simulate_multibody(args, loaded, t_end)
     scene, _, system = _system(args)
     res = simulate(system, t_end, y0=state_si(scene), method=args.ivp_method, rtol=args.rtol, atol=args.atol,

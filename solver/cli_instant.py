@@ -40,9 +40,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     """Add ``solve``, ``eom`` and ``frequency`` to the command line."""
     p = subparsers.add_parser(
         "solve",
-        help="angular acceleration and reactions at the scene's state",
-        description="Solve for alpha, theta_ddot and every reaction at the scene's state "
-        "(Newton, Eq. 1/14, with the moment equation about P, Eq. 10/11).",
+        help="every acceleration and reaction at the scene's state",
+        description="Solve for the second derivative of every coordinate (and alpha for a one-body scene), "
+        "every reaction and every driving force or torque at the scene's state (per body: Newton, Eq. 1/14, "
+        "with the moment equation about P, Eq. 10/11; plus the closure equations).",
     )
     add_common_arguments(p)
     p.set_defaults(handler=solve_command)
@@ -70,7 +71,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
     p = subparsers.add_parser(
         "frequency",
-        help="natural frequency of small oscillations about the stable equilibrium",
+        help="natural frequencies and mode shapes about the stable equilibrium",
         description="Natural frequencies and mode shapes of small oscillations about the stable "
         "equilibrium nearest the scene's state, with every load that depends on position only (gravity, "
         "springs, constant forces and couples), cf. Eq. 46. It does not depend on P; --point is "
@@ -102,7 +103,7 @@ def solve_command(args: argparse.Namespace) -> int:
             "unknowns": unknowns,
             "condition_number": float(result["condition_number"]),
         }
-        if system.dependent or system.motion_subs:  # the solved state is part of the answer
+        if system.dependent or system.time_dependent:  # the solved state is part of the answer
             payload["state"] = _state_payload(system, solution.state)
         print_json(payload)
         return 0
@@ -147,8 +148,10 @@ def kinematics_command(args: argparse.Namespace) -> int:
     if args.json:
         print_json({"scene": system.name, **result})
         return 0
+    from solver.analyses.instant import assemble
+
     print(f"scene   {system.name}  ({_where(system)})")
-    print(f"state   {state_text(system)}")
+    print(f"state   {state_text(system, assemble(system))}")
     print()
     rows = []
     for body, b in result["bodies"].items():

@@ -102,6 +102,8 @@ OUTPUT_UNIT_DIMENSIONS: dict[str, UnitsContainer] = {
     "angle": DIMENSIONLESS,
     "angular_velocity": RATE,
     "angular_acceleration": ureg.get_dimensionality("1/s^2"),
+    "acceleration": ACCELERATION,
+    "velocity": ureg.get_dimensionality("m/s"),
     "time": TIME,
 }
 

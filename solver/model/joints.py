@@ -384,6 +384,7 @@ class RollingOnCircle(Joint):
     inside: bool = False
     position_angle: sp.Expr | None = None
     phase: sp.Expr = sp.Integer(0)
+    phase_from_state: bool = True
     mu: sp.Expr | None = None
 
     @property
@@ -462,6 +463,7 @@ class GearMesh(Joint):
     radius_second: sp.Expr = sp.Integer(1)
     internal: bool = False
     phase: sp.Expr = sp.Integer(0)
+    phase_from_state: bool = True
 
     def _e(self, pose):
         c1 = _at(pose, self.first, self.center_first)

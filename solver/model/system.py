@@ -223,6 +223,13 @@ class System:
             return out
         return self._memo("motion", build)
 
+    @property
+    def time_dependent(self) -> bool:
+        """True when a body's placement depends on time (prescribed motion, a driver, a moving support)."""
+        t = self.t
+        return self._memo("time_dependent", lambda: any(
+            sp.sympify(x).has(t) for origin, phi in self.poses.values() for x in (*origin, phi)))
+
     def prescribe(self, expr):
         """Replace prescribed coordinates by their functions of t."""
         subs = self.motion_subs
@@ -546,6 +553,7 @@ class System:
         out = []
         for j in self.joints:
             self._bind_prescribed(j)
+            self._bind_phase(j, pose, values)
             rows = j.rows(pose, self.t)
             for k, row in enumerate(rows):
                 if (j.name, k) in used:
@@ -558,6 +566,16 @@ class System:
                     continue
                 out.append(ClosureRow(j, k, row))
         return out
+
+    def _bind_phase(self, j: Joint, pose, values) -> None:
+        """A gear mesh's (or a rolling-on-circle contact's) phase: the value that satisfies it at the state."""
+        if getattr(j, "phase_from_state", False) and (j.name, 0) not in self.placement_rows:
+            j.phase = sp.Integer(0)
+            r0 = self._num(self.prescribe(sp.sympify(j.rows(pose, self.t)[0])), values)
+            j.phase = sp.Integer(1)
+            r1 = self._num(self.prescribe(sp.sympify(j.rows(pose, self.t)[0])), values)
+            j.phase = sp.Float(-r0 / (r1 - r0))  # the row is affine in the phase: zero at the state
+            j.phase_from_state = False
 
     def _bind_prescribed(self, j: Joint) -> None:
         """A motor or actuator without its own motion drives what the coordinates prescribe."""
