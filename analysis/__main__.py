@@ -42,14 +42,21 @@ class _Parser(argparse.ArgumentParser):
 
 def _reading_options(p: argparse.ArgumentParser) -> None:
     from .ingest import SHAPES
-    p.add_argument("file", help="survey export: CSV (wide, long, Google Forms, Qualtrics) or .xlsx")
+    p.add_argument("file", nargs="?",
+                   help="survey export: CSV or .xlsx (wide, long, Google Forms, Microsoft "
+                        "Forms, Qualtrics, SurveyMonkey, Canvas, LimeSurvey, Moodle)")
     p.add_argument("--scale", help="built-in scale name or a scale .toml file (default: detect)")
     p.add_argument("--items", nargs="+", metavar="ITEM",
                    help="item columns by name or pattern (default: detect)")
     p.add_argument("--shape", choices=SHAPES, default="auto", help="input shape (default: detect)")
     p.add_argument("--unknown-as-missing", action="store_true",
                    help="count answers that match no label as missing (each one is reported)")
-    p.add_argument("--encoding", default="utf-8", help="text encoding of a CSV file")
+    p.add_argument("--encoding", default=None,
+                   help="text encoding of a CSV file (default: UTF-8, else Windows-1252 "
+                        "with a note)")
+    p.add_argument("--codes", metavar="FILE",
+                   help="what numeric answer codes mean: Qualtrics .qsf, LimeSurvey .lss or "
+                        "a .toml code map")
     p.add_argument("--reverse", nargs="+", metavar="ITEM", help="reverse-keyed items")
     p.add_argument("--respondents", type=int, metavar="N",
                    help="declared respondents (absent ones are missing on every item)")
@@ -74,14 +81,15 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--decimals", type=int, default=1, help="printed decimals (text output)")
     s.add_argument("--percent-method", choices=("round", "largest_remainder"), default="round",
                    help="printed percentages: round each (default) or make rows sum to 100")
-    s.add_argument("--chart", metavar="OUT.svg", help="also write the diverging bar chart (SVG)")
+    s.add_argument("--chart", metavar="OUT.svg",
+                   help="also write the diverging bar chart (.svg, .png or .pdf by suffix)")
     s.add_argument("--order", choices=("questionnaire", "agree"), default="questionnaire",
                    help="item order in the chart (default: as asked)")
     s.add_argument("--json", action="store_true", help="print JSON")
 
     c = sub.add_parser("claims", help="evaluate claims (TOML) against a survey")
     _reading_options(c)
-    c.add_argument("claims", help="claims .toml file")
+    c.add_argument("claims", nargs="?", help="claims .toml file")
     c.add_argument("--json", action="store_true", help="print JSON")
 
     v = sub.add_parser("verify-table", help="check a published percentage table")
@@ -115,14 +123,52 @@ def _read(args):
     return read_survey(args.file, scale=args.scale, items=args.items, shape=args.shape,
                        unknown="missing" if args.unknown_as_missing else "error",
                        encoding=args.encoding, group=getattr(args, "group", None),
-                       reverse=args.reverse, respondents=args.respondents)
+                       reverse=args.reverse, respondents=args.respondents, codes=args.codes)
+
+
+def _positionals_from_lists(args, argv) -> None:
+    """Give back positionals swallowed by a list option (``--items Q1 Q2 FILE``).
+
+    ``--items``, ``--reverse`` and ``--reliability`` take any number of values, so a file
+    name after them is read as one more value; it is taken back from the option given
+    last on the command line.
+    """
+    positionals = {"summarize": ("file",), "report": ("file",), "claims": ("file", "claims")}
+    wanted = [p for p in positionals.get(args.command, ()) if getattr(args, p) is None]
+    if not wanted:
+        return
+    opts = [a for a in argv if a in ("--items", "--reverse", "--reliability")]
+    values = getattr(args, opts[-1].lstrip("-"), None) if opts else None
+    if not values or len(values) < len(wanted):
+        raise SystemExit(_usage_error(f"{args.command}: the following arguments are "
+                                      f"required: {', '.join(wanted)}"))
+    taken = values[len(values) - len(wanted):]
+    del values[len(values) - len(wanted):]
+    for name, value in zip(wanted, taken):
+        setattr(args, name, value)
+    if opts[-1] != "--reliability" and not values:
+        raise SystemExit(_usage_error(f"{args.command}: {opts[-1]} needs at least one value "
+                                      f"before the file name"))
+
+
+def _usage_error(message: str) -> int:
+    sys.stderr.write(f"error: python -m analysis {message}\n")
+    return 2
 
 
 def _notes(data) -> None:
     for u in data.unknown_answers:
         sys.stderr.write(f"warning: {u.line(data.source)}\n")
+    counts: dict = {}
     for d in data.dropped:
+        counts[d.reason] = counts.get(d.reason, 0) + 1
         sys.stderr.write(f"note: {data.source}: row {d.row}: {d.reason} dropped\n")
+    for reason, k in counts.items():
+        sys.stderr.write(f"note: {data.source}: {k} {reason}{'s' if k != 1 else ''} dropped "
+                         f"in all (not respondents)\n")
+    for note in getattr(data, "notes", []):
+        sys.stderr.write(note if note.startswith("warning:") else f"note: {note}")
+        sys.stderr.write("\n")
 
 
 def _cmd_summarize(args) -> int:
@@ -140,8 +186,9 @@ def _cmd_summarize(args) -> int:
                                                   confidence_level=args.confidence)
     if args.chart:
         from ._io import atomic_write
-        from .chart import diverging_bar, figure_svg
-        atomic_write(args.chart, figure_svg(diverging_bar(summary, order=args.order)))
+        from .chart import chart_format, diverging_bar, figure_bytes
+        fmt = chart_format(args.chart)
+        atomic_write(args.chart, figure_bytes(diverging_bar(summary, order=args.order), fmt))
     if args.json:
         out = summary.to_dict()
         out.update({k: v.to_dict() for k, v in extra.items()})
@@ -169,6 +216,10 @@ def _cmd_claims(args) -> int:
 
 def _cmd_verify(args) -> int:
     from .tables import read_table_csv, verify_table
+    if args.n is None and args.n_range is None:
+        return _usage_error("verify-table: give --n N (the number of respondents), or "
+                            f"--n-range LO HI to search N (e.g. --n-range {DEFAULT_N_RANGE[0]} "
+                            f"{DEFAULT_N_RANGE[1]}); N is never chosen silently")
     table = read_table_csv(args.table)
     if args.n is not None:
         check = verify_table(table, n=args.n, rule=args.rule, decimals=args.decimals)
@@ -210,6 +261,7 @@ def main(argv: "list[str] | None" = None) -> int:
     """Run the command line; returns the exit status (2 for bad input)."""
     args = build_parser().parse_args(argv)
     try:
+        _positionals_from_lists(args, sys.argv[1:] if argv is None else argv)
         return _COMMANDS[args.command](args)
     except SurveyInputError as e:
         sys.stderr.write(f"error: {e.line()}\n")

@@ -27,7 +27,11 @@ from matplotlib.patches import Patch
 
 from .likert import SurveySummary
 
-__all__ = ["ORDERS", "diverging_bar", "figure_svg"]
+__all__ = ["ORDERS", "CHART_FORMATS", "diverging_bar", "figure_svg", "figure_bytes",
+           "chart_format"]
+
+#: Chart file formats, chosen by the output file's suffix.
+CHART_FORMATS = ("svg", "png", "pdf")
 
 #: Valid ``order`` values.
 ORDERS = ("questionnaire", "agree")
@@ -136,3 +140,31 @@ def figure_svg(fig: Figure) -> str:
     start = svg.find("<svg")
     return svg[start:] if start >= 0 else svg
 
+
+
+def chart_format(path) -> str:
+    """The chart format of an output file name by its suffix (``.svg``, ``.png``, ``.pdf``).
+
+    Raises
+    ------
+    ValueError
+        Another suffix (the message names ``--chart`` and the valid suffixes).
+    """
+    from pathlib import Path
+    fmt = Path(str(path)).suffix.lower().lstrip(".")
+    if fmt not in CHART_FORMATS:
+        raise ValueError(f"--chart {str(path)!r}: the file name must end in "
+                         f"{', '.join('.' + f for f in CHART_FORMATS)} (the format follows it)")
+    return fmt
+
+
+def figure_bytes(fig: Figure, fmt: str = "svg") -> bytes:
+    """A figure as SVG, PNG (150 dpi) or PDF bytes, without dates (reproducible)."""
+    if fmt == "svg":
+        return figure_svg(fig).encode("utf-8")
+    if fmt not in CHART_FORMATS:
+        raise ValueError(f"`fmt` must be one of {list(CHART_FORMATS)}, got {fmt!r}")
+    buf = io.BytesIO()
+    meta = {"CreationDate": None} if fmt == "pdf" else {"Software": None}
+    fig.savefig(buf, format=fmt, dpi=150, metadata=meta)
+    return buf.getvalue()
