@@ -126,29 +126,28 @@ def _read(args):
                        reverse=args.reverse, respondents=args.respondents, codes=args.codes)
 
 
-def _positionals_from_lists(args, argv) -> None:
+def _positionals_from_lists(args, argv) -> "str | None":
     """Give back positionals swallowed by a list option (``--items Q1 Q2 FILE``).
 
     ``--items``, ``--reverse`` and ``--reliability`` take any number of values, so a file
     name after them is read as one more value; it is taken back from the option given
-    last on the command line.
+    last on the command line. Returns the error message when a positional is missing.
     """
     positionals = {"summarize": ("file",), "report": ("file",), "claims": ("file", "claims")}
     wanted = [p for p in positionals.get(args.command, ()) if getattr(args, p) is None]
     if not wanted:
-        return
+        return None
     opts = [a for a in argv if a in ("--items", "--reverse", "--reliability")]
     values = getattr(args, opts[-1].lstrip("-"), None) if opts else None
     if not values or len(values) < len(wanted):
-        raise SystemExit(_usage_error(f"{args.command}: the following arguments are "
-                                      f"required: {', '.join(wanted)}"))
+        return f"{args.command}: the following arguments are required: {', '.join(wanted)}"
     taken = values[len(values) - len(wanted):]
     del values[len(values) - len(wanted):]
     for name, value in zip(wanted, taken):
         setattr(args, name, value)
     if opts[-1] != "--reliability" and not values:
-        raise SystemExit(_usage_error(f"{args.command}: {opts[-1]} needs at least one value "
-                                      f"before the file name"))
+        return f"{args.command}: {opts[-1]} needs at least one value before the file name"
+    return None
 
 
 def _usage_error(message: str) -> int:
@@ -261,7 +260,9 @@ def main(argv: "list[str] | None" = None) -> int:
     """Run the command line; returns the exit status (2 for bad input)."""
     args = build_parser().parse_args(argv)
     try:
-        _positionals_from_lists(args, sys.argv[1:] if argv is None else argv)
+        missing = _positionals_from_lists(args, sys.argv[1:] if argv is None else argv)
+        if missing:
+            return _usage_error(missing)
         return _COMMANDS[args.command](args)
     except SurveyInputError as e:
         sys.stderr.write(f"error: {e.line()}\n")

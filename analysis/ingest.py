@@ -658,29 +658,33 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
         return _build_long(raw, scale, items, unknown, group, reverse, respondents)
     keep = np.arange(extra, raw.nrows)
     dropped: list[DroppedRow] = []
+    text_row = ([c.cats[c.codes[0]] for c in raw.columns] if shape == "qualtrics" and extra
+                else [""] * len(raw.header))
     if shape == "qualtrics":
-        keep, dropped = _drop_qualtrics_tests(raw, keep)
+        keep, dropped = _drop_qualtrics_tests(raw, keep, text_row)
         if len(keep) == 0:
             raise SurveyInputError(f"no responses below the header (after dropping "
                                    f"{len(dropped)} preview and test rows)", raw.source)
     names, stems = _item_names(raw, shape, extra, codes)
     rows = raw.row_of(keep)
-    exclude = {j for j, h in enumerate(raw.header) if not platforms.candidate(shape, h)}
+    exclude = {j for j, h in enumerate(raw.header)
+               if not platforms.candidate(shape, h, text_row[j])}
     group_names = _as_list(group)
     group_idx = [_column_index(raw, g) for g in group_names]
     exclude |= set(group_idx)
     cols = [(j, _Column(names[j], c.cats, c.codes[keep], c.name))
             for j, c in enumerate(raw.columns)]
     if codes is not None:
-        cols = _apply_codebook(cols, codes, exclude, notes, raw.source)
+        cols = _apply_codebook(cols, codes, exclude - set(group_idx), notes, raw.source)
     scale_obj, item_cols = _choose_items(raw.source, names, cols, exclude, scale, items,
                                          notes=notes)
     answers, unknowns = _match(raw.source, scale_obj, item_cols, rows, unknown)
     _warn_unused_labels(scale_obj, answers, notes)
     chosen = [j for j, _ in item_cols]
     item_names = [names[j] for j in chosen]
-    groups = {raw.columns[j].name: np.array(raw.columns[j].cats, dtype=object)[
-        raw.columns[j].codes[keep]] for j in group_idx}
+    by_index = dict(cols)                   # answer text after any code map
+    groups = {raw.columns[j].name: np.array(by_index[j].cats, dtype=object)[by_index[j].codes]
+              for j in group_idx}
     data = SurveyData(source=raw.source, shape=shape, scale=scale_obj, items=item_names,
                       item_texts=item_names, answers=answers,
                       rows=np.asarray(rows, dtype=np.int64), groups=groups,
@@ -698,9 +702,11 @@ _QUALTRICS_NOT_RESPONDENTS = {"survey preview": "Survey Preview", "1": "Survey P
                               "survey test": "Survey Test", "2": "Survey Test"}
 
 
-def _drop_qualtrics_tests(raw: _Raw, keep: np.ndarray):
+def _drop_qualtrics_tests(raw: _Raw, keep: np.ndarray, text_row: list[str]):
     """Rows kept and rows dropped: preview and test responses are not respondents."""
     status = _find(raw.header, ("status",))
+    if status is None:
+        status = _find(text_row, ("status",))        # legacy export: field V7
     if status is None:
         return keep, []
     col = raw.columns[status]

@@ -183,6 +183,8 @@ class ItemSummary:
         Item is reverse-keyed.
     unknown : int
         Unknown answers counted as missing.
+    stem : str
+        Question stem of a grid/matrix item ("" for a single question).
     """
 
     item: str
@@ -204,6 +206,7 @@ class ItemSummary:
     sd: float | None
     reverse: bool = False
     unknown: int = 0
+    stem: str = ""
 
     @property
     def iqr(self) -> float | None:
@@ -237,11 +240,12 @@ class ItemSummary:
         """The ``summarize --json`` item (plus ``excluded`` for the invariant)."""
         return {"item": self.item, "n": self.n, "missing": self.missing,
                 "excluded": self.excluded, "counts": dict(self.counts),
-                "percent": dict(self.percent), "agree": self.agree.to_dict()}
+                "percent": dict(self.percent), "agree": self.agree.to_dict(),
+                "median": self.median, "iqr": self.iqr, "mean": self.mean, "sd": self.sd}
 
     def to_full_dict(self) -> dict:
         d = self.to_dict()
-        d.update(text=self.text, respondents=self.respondents,
+        d.update(text=self.text, stem=self.stem, respondents=self.respondents,
                  neutral=self.neutral.to_dict(), disagree=self.disagree.to_dict(),
                  ci_method=self.agree.method, median=self.median, q1=self.q1, q3=self.q3,
                  iqr=self.iqr, extra_mean_of_codes=self.mean, extra_sd_of_codes=self.sd,
@@ -312,20 +316,31 @@ class SurveySummary:
         width = max([len(i.item) for i in self.items] + [4])
         cw = max([len(lab) for lab in labels] + [14])
         head = f"{'item':<{width}}  " + "  ".join(f"{lab:>{cw}}" for lab in labels)
-        out.append(head + f"  {'n':>5} {'miss':>5} {'n/a':>5}  agree [95% CI]")
+        out.append(head + f"  {'n':>5} {'miss':>5} {'n/a':>5}  {'median':>6} {'IQR':>5} "
+                   f"{'mean':>5} {'SD':>5}  agree [95% CI]")
+        stem = ""
         for it in self.items:
+            if it.stem and it.stem != stem:
+                out.append(f"{it.stem}")         # a grid's question, once above its rows
+            stem = it.stem
             pp = it.printed_percent(decimals, method)
             cells = "  ".join(f"{f'{pp[lab]:.{decimals}f}% ({it.counts[lab]})':>{cw}}" for lab in labels)
             ag = it.agree
             agree = ("-" if ag.share is None else
                      f"{ag.percent_text(1)}% [{ag.ci[0]:.1%}, {ag.ci[1]:.1%}]")
             out.append(f"{it.item:<{width}}  {cells}  {it.n:>5} {it.missing:>5} "
-                       f"{it.excluded:>5}  {agree}")
+                       f"{it.excluded:>5}  {_num(it.median):>6} {_num(it.iqr):>5} "
+                       f"{_num(it.mean, 2):>5} {_num(it.sd, 2):>5}  {agree}")
         for d in self.dropped:
             out.append(f"dropped row {d.row}: {d.reason}")
         if self.other_columns:
             out.append("not items (left out of the table): " + ", ".join(self.other_columns))
         return "\n".join(out)
+
+
+def _num(x, decimals: int = 1) -> str:
+    """A statistic as printed ("-" when there is none)."""
+    return "-" if x is None else f"{x:.{decimals}f}"
 
 
 def _validate_summarize(data, confidence_level, method):
@@ -386,7 +401,8 @@ def summarize(data: SurveyData, confidence_level: float = 0.95,
             agree=proportion(int(cnt[pos].sum()), n, confidence_level, method),
             neutral=proportion(int(cnt[neu].sum()), n, confidence_level, method),
             disagree=proportion(int(cnt[neg].sum()), n, confidence_level, method),
-            median=median, q1=q1, q3=q3, mean=mean, sd=sd, reverse=rev, unknown=unknown))
+            median=median, q1=q1, q3=q3, mean=mean, sd=sd, reverse=rev, unknown=unknown,
+            stem=data.stems[j] if j < len(data.stems) else ""))
     return SurveySummary(respondents=data.respondents, items=out, scale=scale,
                          source=data.source, shape=data.shape,
                          unknown_answers=list(data.unknown_answers), dropped=list(data.dropped),

@@ -64,7 +64,7 @@ META = {
 }
 
 _CANVAS_ITEM = re.compile(r"^\s*\d+\s*:\s*(.+)$", re.S)
-_BRACKET = re.compile(r"^(.*\S)\s*\[([^\[\]]+)\]\s*$", re.S)
+_BRACKET = re.compile(r"^([^\[]*\S)\s*\[(.+)\]\s*$", re.S)
 _UNNAMED = re.compile(r"^(Unnamed: \d+(_level_\d+)?|column \d+)(\.\d+)?$")
 _MATRIX_FIELD = re.compile(r"_\d+$")
 
@@ -134,12 +134,16 @@ def signature_missing(shape: str, header: list[str], peek: list[list[str]]) -> "
             + (f"; it looks like a {found} export" if found else ""))
 
 
-def candidate(shape: str, name: str) -> bool:
-    """Whether a column may be an item at all (metadata columns may not)."""
-    key = name.strip().casefold()
+def candidate(shape: str, name: str, text: str = "") -> bool:
+    """Whether a column may be an item at all (metadata columns may not).
+
+    ``text`` is the column's question-text row where the export has one (the legacy
+    Qualtrics field row says ``V7`` where the text row says ``Status``).
+    """
     if shape == "canvas":
         return bool(_CANVAS_ITEM.match(name))
-    return key not in META.get(shape, ())
+    meta = META.get(shape, ())
+    return name.strip().casefold() not in meta and text.strip().casefold() not in meta
 
 
 def split_stem(shape: str, field: str, text: str) -> tuple[str, str]:
