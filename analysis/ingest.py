@@ -49,7 +49,7 @@ import heapq
 import io
 import re
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -143,6 +143,11 @@ class SurveyData:
         their statement, and the stem of a grid/matrix is shown once above them.
     fields : list of str
         The export's column header of each item (``Q1_1``, ``Q3[SQ001]``).
+    ids : numpy.ndarray of str or None
+        Respondent id per respondent (a student id, e-mail or id column), used to
+        pair pre/post answers; None when the export has no such column.
+    id_column : str
+        The column ``ids`` came from.
     notes : list of str
         What reading noticed and the user should know (encoding used, columns left
         out and why, a scale with unused labels); printed by the command line.
@@ -164,6 +169,15 @@ class SurveyData:
     stems: list = field(default_factory=list)
     fields: list = field(default_factory=list)
     notes: list = field(default_factory=list)
+    ids: "np.ndarray | None" = None
+    id_column: str = ""
+
+    def subset(self, mask) -> "SurveyData":
+        """The respondents selected by a boolean mask (or index array), as a new survey."""
+        mask = np.asarray(mask)
+        return replace(self, answers=self.answers[mask], rows=self.rows[mask],
+                       groups={k: v[mask] for k, v in self.groups.items()},
+                       ids=None if self.ids is None else self.ids[mask])
 
     @property
     def respondents(self) -> int:
@@ -694,7 +708,22 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
                                      if j not in set(chosen)],
                       comments=list(raw.comments), stems=[stems[j] for j in chosen],
                       fields=[raw.columns[j].name for j in chosen], notes=notes)
+    pid = _id_column(raw.header)
+    if pid is not None:
+        c = raw.columns[pid]
+        data.ids, data.id_column = np.array(c.cats, dtype=object)[c.codes[keep]], c.name
     return _declare(data, respondents)
+
+
+#: Columns that identify a person across surveys (pre/post pairing), best first.
+_PERSON_ID = ("student id", "student_id", "studentid", "sis_id", "sis user id", "sis id",
+              "externalreference", "external reference", "externaldatareference",
+              "participant id", "participant_id", "respondent id", "respondent_id", "id",
+              "username", "user", "email address", "email", "recipientemail")
+
+
+def _id_column(header: list[str]) -> "int | None":
+    return _find(header, _PERSON_ID)
 
 
 #: Qualtrics ``Status`` values that are not real respondents (text and numeric export).
@@ -866,6 +895,9 @@ def _declare(data: SurveyData, respondents: int | None) -> SurveyData:
         for g in list(data.groups):
             data.groups[g] = np.concatenate([data.groups[g],
                                              np.array([""] * (respondents - have), dtype=object)])
+        if data.ids is not None:
+            data.ids = np.concatenate([data.ids, np.array([""] * (respondents - have),
+                                                          dtype=object)])
     return data
 
 
