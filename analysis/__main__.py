@@ -74,6 +74,11 @@ def build_parser() -> argparse.ArgumentParser:
     s = sub.add_parser("summarize", help="per-item counts, percentages and intervals")
     _reading_options(s)
     s.add_argument("--group", help="grouping column (group comparisons)")
+    s.add_argument("--group-order", nargs="+", metavar="VALUE",
+                   help="order of the groups, e.g. terms (default: as they first appear)")
+    s.add_argument("--table", metavar="OUT.csv",
+                   help="also write the summary table (.csv or .xlsx by suffix; with --group "
+                        "one row per item and group)")
     s.add_argument("--min-group", type=int, default=5,
                    help="suppress groups smaller than this (default 5)")
     s.add_argument("--reliability", nargs="*", metavar="ITEM",
@@ -111,6 +116,8 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--claims", help="claims .toml file to evaluate in the report")
     r.add_argument("--group", help="grouping column (group comparisons)")
     r.add_argument("--min-group", type=int, default=5, help="suppress groups smaller than this")
+    r.add_argument("--group-order", nargs="+", metavar="VALUE",
+                   help="order of the groups, e.g. terms (default: as they first appear)")
     r.add_argument("--title", default=None, help="report title")
 
     b = sub.add_parser("rebuild-table1", help="write the dataset rebuilt from the paper's Table 1")
@@ -137,7 +144,7 @@ def _positionals_from_lists(args, argv) -> "str | None":
     wanted = [p for p in positionals.get(args.command, ()) if getattr(args, p) is None]
     if not wanted:
         return None
-    opts = [a for a in argv if a in ("--items", "--reverse", "--reliability")]
+    opts = [a for a in argv if a in ("--items", "--reverse", "--reliability", "--group-order")]
     values = getattr(args, opts[-1].lstrip("-"), None) if opts else None
     if not values or len(values) < len(wanted):
         return f"{args.command}: the following arguments are required: {', '.join(wanted)}"
@@ -178,7 +185,8 @@ def _cmd_summarize(args) -> int:
     extra = {}
     if args.group:
         from .groups import compare_groups
-        extra["groups"] = compare_groups(data, args.group, min_size=args.min_group)
+        extra["groups"] = compare_groups(data, args.group, min_size=args.min_group,
+                                         order=args.group_order)
     if args.reliability is not None:
         from .reliability import cronbach_alpha_for
         extra["reliability"] = cronbach_alpha_for(data, args.reliability or None,
@@ -187,7 +195,18 @@ def _cmd_summarize(args) -> int:
         from ._io import atomic_write
         from .chart import chart_format, diverging_bar, figure_bytes
         fmt = chart_format(args.chart)
-        atomic_write(args.chart, figure_bytes(diverging_bar(summary, order=args.order), fmt))
+        if "groups" in extra:
+            from .chart import faceted_bar
+            fig = faceted_bar(extra["groups"])
+        else:
+            fig = diverging_bar(summary, order=args.order)
+        atomic_write(args.chart, figure_bytes(fig, fmt))
+    if args.table:
+        from .export import summary_frame, table_format, write_table
+        table_format(args.table)
+        frame = (extra["groups"].distribution_frame() if "groups" in extra
+                 else summary_frame(summary))
+        write_table(frame, args.table)
     if args.json:
         out = summary.to_dict()
         out.update({k: v.to_dict() for k, v in extra.items()})
@@ -238,7 +257,7 @@ def _cmd_report(args) -> int:
     data = _read(args)
     _notes(data)
     res = build_report(data, args.output, claims=args.claims, group=args.group,
-                       min_group=args.min_group, title=args.title,
+                       min_group=args.min_group, group_order=args.group_order, title=args.title,
                        confidence_level=args.confidence, method=args.ci)
     print(f"wrote {res}")
     return 0

@@ -295,6 +295,11 @@ class SurveySummary:
                 return it
         raise KeyError(f"no item {name!r}; items are {[i.item for i in self.items]}")
 
+    def to_frame(self):
+        """One row per item as a pandas DataFrame (see :func:`analysis.export.summary_frame`)."""
+        from .export import summary_frame
+        return summary_frame(self)
+
     def to_dict(self) -> dict:
         """The ``summarize --json`` shape: ``{"respondents": int, "items": [...]}``."""
         return {"respondents": self.respondents, "items": [i.to_dict() for i in self.items]}
