@@ -41,7 +41,7 @@ class _Parser(argparse.ArgumentParser):
 
 
 def _reading_options(p: argparse.ArgumentParser) -> None:
-    from .ingest import SHAPES
+    from .platforms import SHAPES
     p.add_argument("file", nargs="?",
                    help="survey export: CSV or .xlsx (wide, long, Google Forms, Microsoft "
                         "Forms, Qualtrics, SurveyMonkey, Canvas, LimeSurvey, Moodle)")

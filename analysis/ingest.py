@@ -65,7 +65,7 @@ __all__ = ["SHAPES", "UNKNOWN_POLICIES", "SurveyData", "UnknownAnswer", "Dropped
            "read_survey", "survey_from_frame", "BLANK", "NOT_APPLICABLE", "UNKNOWN"]
 
 #: Valid ``shape`` values.
-SHAPES = ("auto", "wide", "long") + platforms.PLATFORMS + ("xlsx",)
+SHAPES = platforms.SHAPES
 #: Valid ``unknown`` values: raise on an unknown answer, or count it as missing.
 UNKNOWN_POLICIES = ("error", "missing")
 
@@ -258,7 +258,10 @@ def _frame_to_columns(df: pd.DataFrame) -> list[_Column]:
             vals = s.astype(object).where(s.notna(), "")
             codes, uniq = pd.factorize(vals.map(_cell_text), sort=False)
             cats = [str(u) for u in uniq]
-        cols.append(_Column(str(name), cats, np.asarray(codes, dtype=np.int64)))
+        codes = np.asarray(codes)
+        if codes.dtype.kind != "i":
+            codes = codes.astype(np.int64)
+        cols.append(_Column(str(name), cats, codes))     # pandas' small int codes, no copy
     return cols
 
 
@@ -318,7 +321,7 @@ def _read_csv_encoded(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]
             raise SurveyInputError(f"starts like UTF-16 but byte offset {e.start} cannot be "
                                    f"decoded", source) from None
         encoding = "utf-8"
-    if not raw.strip():
+    if _blank(raw):
         raise SurveyInputError("empty file", source)
     try:
         "".encode(encoding)
@@ -344,7 +347,7 @@ def _read_csv_encoded(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]
             pos = nl + 1
         skip += 1
     body = raw[pos:]
-    if not body.strip():
+    if _blank(body):
         raise SurveyInputError("empty file (only comment lines)", source)
     if b"\x00" in body[:4096]:
         raise SurveyInputError("holds NUL bytes: UTF-16 text without a byte-order mark, or "
@@ -380,7 +383,7 @@ def _read_csv_encoded(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]
     if any(issubclass(w.category, pd.errors.ParserWarning) for w in caught):
         _check_extra_fields(body, encoding, sep, df.shape[1], source, skip)
     row_map = None
-    if not single and _BLANK_LINE.search(b"\n" + body):
+    if not single and _may_have_blank_lines(body, len(df)) and _BLANK_LINE.search(b"\n" + body):
         row_map = _record_rows(body, encoding, sep, skip, len(df))
     header = [str(c) for c in df.columns]
     comments = [ln.decode(encoding, errors="replace").lstrip("#").strip()
@@ -388,6 +391,17 @@ def _read_csv_encoded(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]
     first = skip + 2 if row_map is None or not len(row_map) else int(row_map[0])
     return _Raw(source, header, _frame_to_columns(df), first, len(df), comments,
                 row_map), peek
+
+
+def _blank(b: bytes) -> bool:
+    """Only white space (without copying a large file as ``strip`` would)."""
+    return not b or b.isspace()
+
+
+def _may_have_blank_lines(body: bytes, nrows: int) -> bool:
+    """False when the line count shows one line per record (no blank line to renumber)."""
+    lines = body.count(b"\n") + (0 if body.endswith(b"\n") else 1)
+    return lines != nrows + 1
 
 
 _DELIMITERS = (",", ";", "\t")
@@ -686,6 +700,7 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
     group_names = _as_list(group)
     group_idx = [_column_index(raw, g) for g in group_names]
     exclude |= set(group_idx)
+    keep = _as_slice(keep)
     cols = [(j, _Column(names[j], c.cats, c.codes[keep], c.name))
             for j, c in enumerate(raw.columns)]
     if codes is not None:
@@ -729,6 +744,13 @@ def _id_column(header: list[str]) -> "int | None":
 #: Qualtrics ``Status`` values that are not real respondents (text and numeric export).
 _QUALTRICS_NOT_RESPONDENTS = {"survey preview": "Survey Preview", "1": "Survey Preview",
                               "survey test": "Survey Test", "2": "Survey Test"}
+
+
+def _as_slice(keep: np.ndarray):
+    """A run of consecutive rows as a slice (a view: no copy of a million codes per column)."""
+    if len(keep) and keep[-1] - keep[0] == len(keep) - 1:
+        return slice(int(keep[0]), int(keep[-1]) + 1)
+    return keep
 
 
 def _drop_qualtrics_tests(raw: _Raw, keep: np.ndarray, text_row: list[str]):
@@ -815,7 +837,10 @@ def _apply_codebook(cols, book, exclude, notes, source):
 
 def _warn_unused_labels(scale: Scale, answers: np.ndarray, notes: list) -> None:
     """Note when labels go unused and another built-in scale fits the answers exactly."""
-    used = np.unique(answers[answers >= 0]) if answers.size else np.array([], dtype=int)
+    tally = np.zeros(scale.k + 3, dtype=np.int64)
+    for j in range(answers.shape[1]):
+        tally += np.bincount(answers[:, j].astype(np.int64) + 3, minlength=scale.k + 3)
+    used = np.flatnonzero(tally[3:])
     if len(used) == scale.k or len(used) == 0:
         return
     got = {normalize_answer(scale.labels[i]) for i in used}

@@ -21,8 +21,11 @@ the label printed first).
 
 Intervals
 ---------
-Shares use :func:`statsmodels.stats.proportion.proportion_confint`:
-``method="wilson"`` (default, Wilson 1927) or ``"beta"`` (Clopper-Pearson exact).
+``method="wilson"`` (default, Wilson 1927) is computed here in closed form, with the
+formula and operation order of :func:`statsmodels.stats.proportion.proportion_confint`
+and the normal quantile of :class:`statistics.NormalDist` (no scipy import, which
+would cost more than reading a large file); ``"beta"`` (Clopper-Pearson exact) comes
+from ``proportion_confint``.
 
 Public API
 ----------
@@ -127,12 +130,27 @@ def proportion(k: int, n: int, confidence_level: float = 0.95,
         raise ValueError(f"need 0 <= k <= n, got k={k}, n={n}")
     if n == 0:
         return Proportion(0, 0, None, (None, None), method, confidence_level)
-    from statsmodels.stats.proportion import proportion_confint   # heavy import: only when used
-    lo, hi = proportion_confint(k, n, alpha=1 - confidence_level, method=method)
+    if method == "wilson":
+        lo, hi = _wilson(k, n, 1 - confidence_level)
+    else:
+        from statsmodels.stats.proportion import proportion_confint   # heavy: only when used
+        lo, hi = proportion_confint(k, n, alpha=1 - confidence_level, method=method)
     # the bounds are exact at the ends; clear floating-point dust (e.g. 5e-17 for k = 0)
     lo = 0.0 if k == 0 else min(max(float(lo), 0.0), 1.0)
     hi = 1.0 if k == n else min(max(float(hi), 0.0), 1.0)
     return Proportion(k, n, k / n, (float(lo), float(hi)), method, confidence_level)
+
+
+def _wilson(k: int, n: int, alpha: float) -> tuple[float, float]:
+    """Wilson score interval (statsmodels' formula: centre and half-width over 1 + z^2/n)."""
+    from statistics import NormalDist
+    crit = NormalDist().inv_cdf(1 - alpha / 2)
+    q = k / n
+    crit2 = crit ** 2
+    denom = 1 + crit2 / n
+    center = (q + crit2 / (2 * n)) / denom
+    dist = crit * math.sqrt(q * (1.0 - q) / n + crit2 / (4.0 * n ** 2)) / denom
+    return center - dist, center + dist
 
 
 def _weighted_quantile(codes: np.ndarray, counts: np.ndarray, q: float) -> float | None:

@@ -34,10 +34,13 @@ from __future__ import annotations
 
 import re
 
-__all__ = ["PLATFORMS", "META", "detect", "header_rows", "signature_missing", "split_stem",
+__all__ = ["PLATFORMS", "SHAPES", "META", "detect", "header_rows", "signature_missing", "split_stem",
            "candidate", "is_blank_header"]
 
 PLATFORMS = ("google", "qualtrics", "surveymonkey", "canvas", "limesurvey", "moodle", "msforms")
+#: Valid ``shape`` values of :func:`analysis.ingest.read_survey` (here, so that the
+#: command line can list them without importing pandas).
+SHAPES = ("auto", "wide", "long") + PLATFORMS + ("xlsx",)
 
 META = {
     "google": {"timestamp", "email address", "email", "username", "score", "e-mail address"},
