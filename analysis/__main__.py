@@ -74,6 +74,9 @@ def build_parser() -> argparse.ArgumentParser:
     s = sub.add_parser("summarize", help="per-item counts, percentages and intervals")
     _reading_options(s)
     s.add_argument("--group", help="grouping column (group comparisons)")
+    s.add_argument("--by", nargs="+", metavar="COLUMN",
+                   help="count a large CSV/Parquet file out of core (DuckDB) by these columns "
+                        "(e.g. course term section), with institution-wide totals")
     s.add_argument("--group-order", nargs="+", metavar="VALUE",
                    help="order of the groups, e.g. terms (default: as they first appear)")
     s.add_argument("--table", metavar="OUT.csv",
@@ -144,7 +147,8 @@ def _positionals_from_lists(args, argv) -> "str | None":
     wanted = [p for p in positionals.get(args.command, ()) if getattr(args, p) is None]
     if not wanted:
         return None
-    opts = [a for a in argv if a in ("--items", "--reverse", "--reliability", "--group-order")]
+    opts = [a for a in argv if a in ("--items", "--reverse", "--reliability", "--group-order",
+                                     "--by")]
     values = getattr(args, opts[-1].lstrip("-"), None) if opts else None
     if not values or len(values) < len(wanted):
         return f"{args.command}: the following arguments are required: {', '.join(wanted)}"
@@ -177,7 +181,32 @@ def _notes(data) -> None:
         sys.stderr.write("\n")
 
 
+def _cmd_summarize_by(args) -> int:
+    """Large files: counted out of core by DuckDB per group (``--by``)."""
+    for flag, value in (("--group", args.group), ("--chart", args.chart),
+                        ("--reliability", args.reliability), ("--codes", args.codes)):
+        if value is not None:
+            return _usage_error(f"summarize: {flag} is not available with --by (the "
+                                "out-of-core count); use --group on a file that fits memory")
+    from .institution import summarize_by
+    res = summarize_by(args.file, args.by, scale=args.scale, items=args.items,
+                       min_group=args.min_group)
+    if args.table:
+        import pandas as pd
+        from .export import table_format, write_table
+        table_format(args.table)
+        write_table(pd.DataFrame(res.rows()), args.table)
+    print(json.dumps(res.to_dict(), indent=2, ensure_ascii=False) if args.json
+          else res.format_text())
+    return 0
+
+
 def _cmd_summarize(args) -> int:
+    if args.by or str(args.file).lower().endswith(".parquet"):
+        if not args.by:
+            return _usage_error("summarize: a Parquet file is counted out of core: give --by "
+                                "COLUMN [COLUMN ...] (e.g. --by course term)")
+        return _cmd_summarize_by(args)
     from .likert import summarize
     data = _read(args)
     _notes(data)

@@ -59,7 +59,8 @@ from . import platforms
 from ._io import read_bytes
 from .codebook import CODES_HINT
 from .errors import SurveyInputError
-from .scales import BUILTIN_SCALES, DEFAULT_NOT_APPLICABLE, Scale, get_scale, normalize_answer
+from .scales import (BLANK, BUILTIN_SCALES, DEFAULT_NOT_APPLICABLE, NOT_APPLICABLE, UNKNOWN,
+                     Scale, get_scale, normalize_answer)
 
 __all__ = ["SHAPES", "UNKNOWN_POLICIES", "SurveyData", "UnknownAnswer", "DroppedRow",
            "read_survey", "survey_from_frame", "BLANK", "NOT_APPLICABLE", "UNKNOWN"]
@@ -69,20 +70,14 @@ SHAPES = platforms.SHAPES
 #: Valid ``unknown`` values: raise on an unknown answer, or count it as missing.
 UNKNOWN_POLICIES = ("error", "missing")
 
-#: Cell codes in :attr:`SurveyData.answers` besides label positions 0..k-1.
-BLANK = -1
-NOT_APPLICABLE = -2
-UNKNOWN = -3          # unknown answer counted as missing (``unknown="missing"``)
+#: Cell codes in :attr:`SurveyData.answers` besides label positions 0..k-1 (defined in
+#: :mod:`analysis.scales`): BLANK (-1), NOT_APPLICABLE (-2), UNKNOWN (-3, an unknown
+#: answer counted as missing with ``unknown="missing"``).
 _NO_MATCH = -9
 
 _ID_LIKE = re.compile(r"^(respondent|respondent[ _]?id|id|response[ _]?id|record|row|#|"
                       r"student|student[ _]?id|participant|participant[ _]?id)$", re.I)
-_LONG_RESP = ("respondent", "respondent_id", "respondentid", "respondent id", "id",
-              "response_id", "responseid", "response id", "participant", "participant_id",
-              "student", "student_id", "student id", "user", "user_id")
-_LONG_ITEM = ("item", "question", "question_id", "questionid", "item_id", "question id",
-              "item id")
-_LONG_ANSWER = ("answer", "response", "value", "choice", "rating")
+_LONG_RESP, _LONG_ITEM, _LONG_ANSWER = platforms.LONG_RESP, platforms.LONG_ITEM, platforms.LONG_ANSWER
 
 
 @dataclass(frozen=True)
@@ -549,12 +544,7 @@ def _raw_from_frame(df: pd.DataFrame, source: str, first_row: int) -> tuple[_Raw
 # ---------------------------------------------------------------------------
 # shapes
 # ---------------------------------------------------------------------------
-def _find(header: list[str], names) -> int | None:
-    keys = [h.strip().casefold() for h in header]
-    for n in names:
-        if n in keys:
-            return keys.index(n)
-    return None
+_find = platforms.find_column
 
 
 def _detect_shape(raw: _Raw, peek: list[list[str]]) -> str:
@@ -862,20 +852,7 @@ def _isint(s: str) -> bool:
         return False
 
 
-def name_matches(pattern: str, name: str) -> bool:
-    """A column name matches a name or a pattern, ignoring case and outer spaces.
-
-    In a pattern ``*`` stands for any text and ``?`` for one character; everything else,
-    square brackets included, is literal (Google and LimeSurvey headers hold
-    ``[statement]``, which ``fnmatch`` would read as a set of characters).
-    """
-    if normalize_answer(name) == normalize_answer(pattern):
-        return True
-    if "*" not in pattern and "?" not in pattern:
-        return False
-    rx = "".join(".*" if ch == "*" else "." if ch == "?" else re.escape(ch)
-                 for ch in normalize_answer(pattern))
-    return re.fullmatch(rx, normalize_answer(name), re.S) is not None
+name_matches = platforms.name_matches
 
 
 def _as_list(x) -> list[str]:

@@ -42,7 +42,6 @@ from fractions import Fraction
 
 import numpy as np
 
-from .ingest import BLANK, NOT_APPLICABLE, UNKNOWN, SurveyData, survey_from_frame
 from .rounding import largest_remainder, round_fraction
 
 __all__ = ["CI_METHODS", "PERCENT_METHODS", "Proportion", "ItemSummary", "SurveySummary",
@@ -367,6 +366,7 @@ def _num(x, decimals: int = 1) -> str:
 
 
 def _validate_summarize(data, confidence_level, method):
+    from .ingest import SurveyData
     if not isinstance(data, SurveyData):
         raise TypeError(f"`data` must be SurveyData, got {type(data).__name__}")
     _validate_ci(method, confidence_level)
@@ -391,41 +391,15 @@ def summarize(data: SurveyData, confidence_level: float = 0.95,
     """
     _validate_summarize(data, confidence_level, method)
     scale = data.scale
-    k = scale.k
-    labels = list(scale.labels)
-    pos = [labels.index(x) for x in scale.positive]
-    neu = [labels.index(x) for x in scale.neutral]
-    neg = [labels.index(x) for x in scale.negative]
     out = []
     for j, name in enumerate(data.items):
         col = data.answers[:, j]
         # one pass: bincount over shifted codes (-3..k-1 -> 0..k+2)
-        tally = np.bincount(col.astype(np.int64) + 3, minlength=k + 3)
-        unknown = int(tally[UNKNOWN + 3])
-        excluded = int(tally[NOT_APPLICABLE + 3])
-        missing = int(tally[BLANK + 3]) + unknown
-        cnt = tally[3:3 + k]
-        n = int(cnt.sum())
-        counts = {lab: int(c) for lab, c in zip(labels, cnt)}
-        percent = {lab: (100.0 * int(c) / n if n else 0.0) for lab, c in zip(labels, cnt)}
-        rev = name in data.reverse
-        codes = np.array(scale.reversed_codes() if rev else scale.codes, dtype=float)
-        median = _weighted_quantile(codes, cnt, 0.5)
-        q1 = _weighted_quantile(codes, cnt, 0.25)
-        q3 = _weighted_quantile(codes, cnt, 0.75)
-        if n:
-            mean = float((codes * cnt).sum() / n)
-            sd = float(math.sqrt(((codes - mean) ** 2 * cnt).sum() / (n - 1))) if n > 1 else None
-        else:
-            mean = sd = None
-        out.append(ItemSummary(
-            item=name, text=data.item_texts[j], labels=labels, counts=counts, n=n,
-            missing=missing, excluded=excluded, respondents=data.respondents, percent=percent,
-            agree=proportion(int(cnt[pos].sum()), n, confidence_level, method),
-            neutral=proportion(int(cnt[neu].sum()), n, confidence_level, method),
-            disagree=proportion(int(cnt[neg].sum()), n, confidence_level, method),
-            median=median, q1=q1, q3=q3, mean=mean, sd=sd, reverse=rev, unknown=unknown,
-            stem=data.stems[j] if j < len(data.stems) else ""))
+        tally = np.bincount(col.astype(np.int64) + 3, minlength=scale.k + 3)
+        out.append(summarize_tally(
+            tally, scale, name, text=data.item_texts[j], respondents=data.respondents,
+            reverse=name in data.reverse, stem=data.stems[j] if j < len(data.stems) else "",
+            confidence_level=confidence_level, method=method))
     return SurveySummary(respondents=data.respondents, items=out, scale=scale,
                          source=data.source, shape=data.shape,
                          unknown_answers=list(data.unknown_answers), dropped=list(data.dropped),
@@ -433,9 +407,62 @@ def summarize(data: SurveyData, confidence_level: float = 0.95,
                          other_columns=list(data.other_columns))
 
 
+def summarize_tally(tally, scale, name: str, text: str = "", respondents: "int | None" = None,
+                    reverse: bool = False, stem: str = "", confidence_level: float = 0.95,
+                    method: str = "wilson") -> ItemSummary:
+    """One item's summary from its tally (the one route to every item's numbers).
+
+    Parameters
+    ----------
+    tally : array of int, length ``scale.k + 3``
+        Answers per code shifted by 3: unknown (counted missing), not applicable,
+        blank, then one count per label in scale order.
+    scale : Scale
+    name, text, stem : str
+    respondents : int, optional
+        Default: the tally's total.
+    reverse : bool
+        Reverse-keyed (reversed codes for median, quartiles, mean, SD).
+    """
+    from .scales import BLANK, NOT_APPLICABLE, UNKNOWN
+    tally = np.asarray(tally, dtype=np.int64)
+    k = scale.k
+    labels = list(scale.labels)
+    pos = [labels.index(x) for x in scale.positive]
+    neu = [labels.index(x) for x in scale.neutral]
+    neg = [labels.index(x) for x in scale.negative]
+    unknown = int(tally[UNKNOWN + 3])
+    excluded = int(tally[NOT_APPLICABLE + 3])
+    missing = int(tally[BLANK + 3]) + unknown
+    cnt = tally[3:3 + k]
+    n = int(cnt.sum())
+    counts = {lab: int(c) for lab, c in zip(labels, cnt)}
+    percent = {lab: (100.0 * int(c) / n if n else 0.0) for lab, c in zip(labels, cnt)}
+    rev = reverse
+    codes = np.array(scale.reversed_codes() if rev else scale.codes, dtype=float)
+    median = _weighted_quantile(codes, cnt, 0.5)
+    q1 = _weighted_quantile(codes, cnt, 0.25)
+    q3 = _weighted_quantile(codes, cnt, 0.75)
+    if n:
+        mean = float((codes * cnt).sum() / n)
+        sd = float(math.sqrt(((codes - mean) ** 2 * cnt).sum() / (n - 1))) if n > 1 else None
+    else:
+        mean = sd = None
+    return ItemSummary(
+        item=name, text=text or name, labels=labels, counts=counts, n=n,
+        missing=missing, excluded=excluded,
+        respondents=int(tally.sum()) if respondents is None else int(respondents),
+        percent=percent,
+        agree=proportion(int(cnt[pos].sum()), n, confidence_level, method),
+        neutral=proportion(int(cnt[neu].sum()), n, confidence_level, method),
+        disagree=proportion(int(cnt[neg].sum()), n, confidence_level, method),
+        median=median, q1=q1, q3=q3, mean=mean, sd=sd, reverse=rev, unknown=unknown, stem=stem)
+
+
 def summarize_dataframe(df, scale=None, items=None, shape: str = "auto",
                         unknown: str = "error", confidence_level: float = 0.95,
                         method: str = "wilson", **kwargs) -> SurveySummary:
     """Summarise a DataFrame of answer text (see :func:`~analysis.ingest.survey_from_frame`)."""
+    from .ingest import survey_from_frame
     data = survey_from_frame(df, scale=scale, items=items, shape=shape, unknown=unknown, **kwargs)
     return summarize(data, confidence_level, method)

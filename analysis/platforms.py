@@ -35,7 +35,8 @@ from __future__ import annotations
 import re
 
 __all__ = ["PLATFORMS", "SHAPES", "META", "detect", "header_rows", "signature_missing", "split_stem",
-           "candidate", "is_blank_header"]
+           "candidate", "is_blank_header",
+           "name_matches", "find_column"]
 
 PLATFORMS = ("google", "qualtrics", "surveymonkey", "canvas", "limesurvey", "moodle", "msforms")
 #: Valid ``shape`` values of :func:`analysis.ingest.read_survey` (here, so that the
@@ -66,10 +67,45 @@ META = {
                 "total points", "quiz feedback", "language"},
 }
 
+#: Column names of a long file (a row per answer): respondent, item, answer.
+LONG_RESP = ("respondent", "respondent_id", "respondentid", "respondent id", "id",
+              "response_id", "responseid", "response id", "participant", "participant_id",
+              "student", "student_id", "student id", "user", "user_id")
+LONG_ITEM = ("item", "question", "question_id", "questionid", "item_id", "question id",
+              "item id")
+LONG_ANSWER = ("answer", "response", "value", "choice", "rating")
+
+
+def find_column(header: list[str], names) -> "int | None":
+    """Index of the first of ``names`` among the header (ignoring case and outer spaces)."""
+    keys = [h.strip().casefold() for h in header]
+    for n in names:
+        if n in keys:
+            return keys.index(n)
+    return None
+
+
 _CANVAS_ITEM = re.compile(r"^\s*\d+\s*:\s*(.+)$", re.S)
 _BRACKET = re.compile(r"^([^\[]*\S)\s*\[(.+)\]\s*$", re.S)
 _UNNAMED = re.compile(r"^(Unnamed: \d+(_level_\d+)?|column \d+)(\.\d+)?$")
 _MATRIX_FIELD = re.compile(r"_\d+$")
+
+
+def name_matches(pattern: str, name: str) -> bool:
+    """A column name matches a name or a pattern, ignoring case and outer spaces.
+
+    In a pattern ``*`` stands for any text and ``?`` for one character; everything else,
+    square brackets included, is literal (Google and LimeSurvey headers hold
+    ``[statement]``, which ``fnmatch`` would read as a set of characters).
+    """
+    from .scales import normalize_answer
+    if normalize_answer(name) == normalize_answer(pattern):
+        return True
+    if "*" not in pattern and "?" not in pattern:
+        return False
+    rx = "".join(".*" if ch == "*" else "." if ch == "?" else re.escape(ch)
+                 for ch in normalize_answer(pattern))
+    return re.fullmatch(rx, normalize_answer(name), re.S) is not None
 
 
 def is_blank_header(h: str) -> bool:

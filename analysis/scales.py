@@ -43,6 +43,13 @@ from .errors import SurveyInputError
 __all__ = ["Scale", "BUILTIN_SCALES", "get_scale", "load_scale", "normalize_answer",
            "DEFAULT_NOT_APPLICABLE"]
 
+#: Cell codes of an answer matrix besides label positions 0..k-1 (see
+#: :attr:`analysis.ingest.SurveyData.answers`): blank, not applicable, and an unknown
+#: answer counted as missing.
+BLANK = -1
+NOT_APPLICABLE = -2
+UNKNOWN = -3
+
 #: Answers treated as "not applicable" unless a scale names its own.
 DEFAULT_NOT_APPLICABLE = ("Not applicable", "N/A", "Does not apply")
 
