@@ -656,6 +656,10 @@ def survey_from_frame(df: pd.DataFrame, scale: "str | Scale | None" = None,
     if df.shape[1] == 0:
         raise SurveyInputError("empty table (no columns)", source)
     raw, peek = _raw_from_frame(df, source, first_row)
+    if df.isna().to_numpy().any():
+        raw.notes.append(f"{source}: empty (NaN) cells are counted as blank answers; "
+                         "pandas.read_csv turns \"N/A\" answers into NaN unless given "
+                         "keep_default_na=False (or read the file with read_survey)")
     return _build(raw, peek, scale, items, shape, unknown, group, reverse, respondents,
                   _codebook(codes))
 

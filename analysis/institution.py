@@ -34,7 +34,10 @@ from .scales import BUILTIN_SCALES, Scale, get_scale, normalize_answer
 __all__ = ["GroupedSummary", "summarize_by", "DEFAULT_MEMORY_LIMIT"]
 
 #: DuckDB's memory limit unless given: the counting spills to disk beyond it.
-DEFAULT_MEMORY_LIMIT = "64MB"
+DEFAULT_MEMORY_LIMIT = "48MB"
+#: If DuckDB runs out of memory that it cannot spill, the count is retried with the
+#: limit multiplied by these factors (a count that fails is worse than one that uses more).
+_RETRY_FACTORS = (1, 4, 16)
 _MAX_GROUP_COLUMNS = 8
 _BUFFER, _MAX_LINE = 8 * 2 ** 20, 2 ** 20        # CSV read buffer; longest line accepted
 
@@ -164,7 +167,7 @@ def _validate_by(path, by, min_group):
 
 def summarize_by(path: "str | Path", by: "list[str]", scale=None, items=None,
                  min_group: int = 5, memory_limit: str = DEFAULT_MEMORY_LIMIT,
-                 threads: int = 2) -> GroupedSummary:
+                 threads: int = 1) -> GroupedSummary:
     """Count a large survey file by grouping columns, out of core.
 
     Parameters
@@ -182,6 +185,7 @@ def summarize_by(path: "str | Path", by: "list[str]", scale=None, items=None,
     memory_limit : str
         DuckDB's memory limit (it spills to a temporary folder beyond it).
     threads : int
+        DuckDB threads (each holds its own read buffers and hash tables).
 
     Returns
     -------
@@ -189,6 +193,26 @@ def summarize_by(path: "str | Path", by: "list[str]", scale=None, items=None,
     """
     import duckdb
     p = _validate_by(path, by, min_group)
+    size, unit = _split_limit(memory_limit)
+    for factor in _RETRY_FACTORS:
+        try:
+            return _count(p, by, scale, items, min_group, f"{size * factor}{unit}", threads)
+        except duckdb.OutOfMemoryException:
+            continue
+    raise SurveyInputError(f"counting needs more than {size * _RETRY_FACTORS[-1]}{unit} of "
+                           f"memory; give a larger memory limit", str(p))
+
+
+def _split_limit(limit: str) -> tuple[int, str]:
+    import re
+    m = re.fullmatch(r"\s*(\d+)\s*([KMGT]i?B)\s*", str(limit), re.I)
+    if not m:
+        raise ValueError(f"`memory_limit` must look like '48MB', got {limit!r}")
+    return int(m.group(1)), m.group(2)
+
+
+def _count(p, by, scale, items, min_group, memory_limit, threads) -> GroupedSummary:
+    import duckdb
     import tempfile
     spill = tempfile.TemporaryDirectory(prefix="analysis-duckdb-")
     con = duckdb.connect(config={"memory_limit": memory_limit, "threads": int(threads),
@@ -198,6 +222,8 @@ def summarize_by(path: "str | Path", by: "list[str]", scale=None, items=None,
         src = _source_sql(p)
         try:
             header = [r[0] for r in con.execute(f"DESCRIBE SELECT * FROM {src}").fetchall()]
+        except duckdb.OutOfMemoryException:
+            raise
         except duckdb.Error as e:
             raise SurveyInputError(f"cannot read as CSV/Parquet ({str(e).splitlines()[0]})",
                                    str(p)) from None
@@ -225,6 +251,8 @@ def summarize_by(path: "str | Path", by: "list[str]", scale=None, items=None,
             if not cand:
                 raise SurveyInputError("no item columns to count", str(p), 1)
             rows = _count_wide(con, src, gcols, cand)
+    except duckdb.OutOfMemoryException:
+        raise
     except duckdb.Error as e:
         raise SurveyInputError(f"counting failed ({str(e).splitlines()[0]})", str(p)) from None
     finally:

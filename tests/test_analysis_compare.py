@@ -175,3 +175,20 @@ def test_verify_table_needs_n_or_a_range(capsys):
     assert main(["verify-table", str(published_dir() / "table1.csv")]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "--n" in err and "--n-range" in err
+
+
+def test_python_api_gives_the_cli_numbers_and_keeps_na_as_text(tmp_path, capsys):
+    import pandas as pd
+
+    import analysis
+    f = tmp_path / "s.csv"
+    f.write_text("Q1,Q2\nAgree,N/A\nN/A,Disagree\nAgree,Agree\n,Agree\n")
+    frame = analysis.summarize(analysis.read_survey(f)).to_frame()
+    assert main(["summarize", str(f), "--json"]) == 0
+    cli = json.loads(capsys.readouterr().out)["items"]
+    assert list(frame["excluded"]) == [1, 1] == [it["excluded"] for it in cli]   # "N/A" x 1
+    assert list(frame["n"]) == [it["n"] for it in cli]
+    assert list(frame["median"]) == [it["median"] for it in cli]
+    # a frame read by pandas with its defaults has lost "N/A": said in the notes
+    data = analysis.survey_from_frame(pd.read_csv(f))
+    assert any("keep_default_na=False" in n for n in data.notes)
