@@ -703,6 +703,8 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
                                          notes=notes)
     answers, unknowns = _match(raw.source, scale_obj, item_cols, rows, unknown)
     _warn_unused_labels(scale_obj, answers, notes)
+    if scale is None:
+        _note_no_neutral(scale_obj, notes)
     chosen = [j for j, _ in item_cols]
     item_names = [names[j] for j in chosen]
     by_index = dict(cols)                   # answer text after any code map
@@ -827,6 +829,19 @@ def _apply_codebook(cols, book, exclude, notes, source):
                              "(e.g. a section), not an item; list the item columns under "
                              "'columns' in the code map to take it as one")
     return out
+
+
+def _note_no_neutral(scale: Scale, notes: list) -> None:
+    """Say so when a scale without a neutral answer was detected inside a wider one."""
+    if scale.neutral:
+        return
+    mine = {normalize_answer(x) for x in scale.labels}
+    for other in BUILTIN_SCALES.values():
+        if other.neutral and mine < {normalize_answer(x) for x in other.labels}:
+            notes.append(f"read as the {scale.k}-point scale {scale.name!r} (no neutral answer "
+                         f"in the data); give --scale {other.name} if the questionnaire offered "
+                         f"{other.neutral[0]!r}")
+            return
 
 
 def _warn_unused_labels(scale: Scale, answers: np.ndarray, notes: list) -> None:
@@ -1091,8 +1106,8 @@ def _detect_scale(source, cols, require_all: bool, long: bool = False) -> Scale:
     if not per_col or not any(f for _, f in per_col):
         raise SurveyInputError(
             "no item columns: no column's answers are labels of a built-in scale "
-            f"({', '.join(BUILTIN_SCALES)}); give --scale (a name or a .toml file) "
-            "(numeric codes are read once the scale is named)", source)
+            f"({', '.join(BUILTIN_SCALES)}); give --scale (a name or a .toml file), or, "
+            "for answer codes, --codes (a .qsf, .lss or .toml code map)", source)
     common = None
     for name, fits in per_col:
         common = set(fits) if common is None else common & set(fits)

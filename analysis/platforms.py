@@ -133,7 +133,7 @@ def detect(header: list[str], peek: list[list[str]]) -> "str | None":
             "section_id" in keys and any(_CANVAS_ITEM.match(h) for h in header)):
         return "canvas"
     if {"submitdate", "lastpage"} <= keys or {"startlanguage", "lastpage"} <= keys or (
-            {"date submitted", "last page", "start language"} <= keys):
+            {"response id", "date submitted", "last page"} <= keys):
         return "limesurvey"
     if {"submitted on:", "full name"} <= keys or {"response", "submitted on:"} <= keys or (
             {"full name", "username", "course"} <= keys):
