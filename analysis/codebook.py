@@ -37,13 +37,10 @@ from pathlib import Path
 
 from ._io import read_bytes, read_toml
 from .errors import SurveyInputError
+from .platforms import CODES_HINT
 
 __all__ = ["Codebook", "load_codebook", "CODES_HINT"]
 
-#: How to supply a code map, for messages.
-CODES_HINT = ("give the survey definition with --codes FILE.qsf (Qualtrics) or FILE.lss "
-              "(LimeSurvey), or a code map --codes MAP.toml ([codes] 1 = \"Strongly "
-              "disagree\" ...)")
 
 _MAX_DEFINITION_BYTES = 50_000_000
 _TAG = re.compile(r"<[^>]*>")

@@ -56,8 +56,8 @@ import numpy as np
 import pandas as pd
 
 from . import platforms
+from .platforms import CODES_HINT
 from ._io import read_bytes
-from .codebook import CODES_HINT
 from .errors import SurveyInputError
 from .scales import (BLANK, BUILTIN_SCALES, DEFAULT_NOT_APPLICABLE, NOT_APPLICABLE, UNKNOWN,
                      Scale, get_scale, normalize_answer)
@@ -846,10 +846,11 @@ def _note_no_neutral(scale: Scale, notes: list) -> None:
 
 def _warn_unused_labels(scale: Scale, answers: np.ndarray, notes: list) -> None:
     """Note when labels go unused and another built-in scale fits the answers exactly."""
-    tally = np.zeros(scale.k + 3, dtype=np.int64)
+    seen = np.zeros(256, dtype=bool)             # int8 codes read as uint8, no copy
     for j in range(answers.shape[1]):
-        tally += np.bincount(answers[:, j].astype(np.int64) + 3, minlength=scale.k + 3)
-    used = np.flatnonzero(tally[3:])
+        seen |= np.bincount(np.ascontiguousarray(answers[:, j]).view(np.uint8),
+                            minlength=256) > 0
+    used = np.flatnonzero(seen[:scale.k])
     if len(used) == scale.k or len(used) == 0:
         return
     got = {normalize_answer(scale.labels[i]) for i in used}
@@ -1164,7 +1165,7 @@ def _map_column(source, scale, name, cats, codes, rows, unknown):
 
 
 def _match(source, scale, item_cols, rows, unknown):
-    answers = np.empty((len(rows), len(item_cols)), dtype=np.int8)
+    answers = np.empty((len(rows), len(item_cols)), dtype=np.int8, order="F")   # columns contiguous
     unknowns: list[UnknownAnswer] = []
     for k, (_, col) in enumerate(item_cols):
         answers[:, k], found = _map_column(source, scale, col.name, col.cats, col.codes, rows,

@@ -352,7 +352,7 @@ def _scale_for(source, texts: dict, scale) -> Scale:
     if best is None:
         numeric = all(t.strip().isdigit() for t in answered)
         if numeric:
-            from .codebook import CODES_HINT
+            from .platforms import CODES_HINT
             raise SurveyInputError("answers are numeric codes, and which end of the numbering "
                                    f"means agreement is not known; name the scale with --scale "
                                    f"FILE.toml (codes stated), or {CODES_HINT}", source)

@@ -393,9 +393,7 @@ def summarize(data: SurveyData, confidence_level: float = 0.95,
     scale = data.scale
     out = []
     for j, name in enumerate(data.items):
-        col = data.answers[:, j]
-        # one pass: bincount over shifted codes (-3..k-1 -> 0..k+2)
-        tally = np.bincount(col.astype(np.int64) + 3, minlength=scale.k + 3)
+        tally = _tally(data.answers[:, j], scale.k)
         out.append(summarize_tally(
             tally, scale, name, text=data.item_texts[j], respondents=data.respondents,
             reverse=name in data.reverse, stem=data.stems[j] if j < len(data.stems) else "",
@@ -405,6 +403,15 @@ def summarize(data: SurveyData, confidence_level: float = 0.95,
                          unknown_answers=list(data.unknown_answers), dropped=list(data.dropped),
                          ci_method=method, confidence_level=confidence_level,
                          other_columns=list(data.other_columns))
+
+
+def _tally(col: np.ndarray, k: int) -> np.ndarray:
+    """Counts of the codes -3..k-1 of one int8 answer column, shifted to 0..k+2.
+
+    One pass without a copy: the int8 codes are read as uint8 (-3..-1 become 253..255).
+    """
+    t = np.bincount(np.ascontiguousarray(col).view(np.uint8), minlength=256)
+    return np.concatenate([t[253:256], t[:k]])
 
 
 def summarize_tally(tally, scale, name: str, text: str = "", respondents: "int | None" = None,

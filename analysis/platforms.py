@@ -38,6 +38,11 @@ __all__ = ["PLATFORMS", "SHAPES", "META", "detect", "header_rows", "signature_mi
            "candidate", "is_blank_header",
            "name_matches", "find_column"]
 
+#: How to supply a code map, for messages.
+CODES_HINT = ("give the survey definition with --codes FILE.qsf (Qualtrics) or FILE.lss "
+              "(LimeSurvey), or a code map --codes MAP.toml ([codes] 1 = \"Strongly "
+              "disagree\" ...)")
+
 PLATFORMS = ("google", "qualtrics", "surveymonkey", "canvas", "limesurvey", "moodle", "msforms")
 #: Valid ``shape`` values of :func:`analysis.ingest.read_survey` (here, so that the
 #: command line can list them without importing pandas).
