@@ -134,9 +134,11 @@ class GroupedSummary:
                 continue
             dist = " ".join(f"{rec[f'{lab} (count)']}" for lab in labels)
             agree = "-" if rec["agree_share"] is None else f"{100 * rec['agree_share']:.1f}%"
-            med = "-" if rec["median"] is None else f"{rec['median']:.1f}"
+            stats = " ".join(f"{k} {'-' if rec[key] is None else format(rec[key], f)}"
+                             for k, key, f in (("median", "median", ".1f"), ("IQR", "iqr", ".1f"),
+                                               ("mean", "mean", ".2f"), ("SD", "sd", ".2f")))
             out.append(f"{head}: {rec['item']}: n={rec['n']} missing={rec['missing']} "
-                       f"n/a={rec['excluded']} counts [{dist}] agree {agree} median {med}")
+                       f"n/a={rec['excluded']} counts [{dist}] agree {agree} {stats}")
         out.append("counts in scale order: " + ", ".join(labels))
         return "\n".join(out)
 

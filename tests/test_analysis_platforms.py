@@ -119,6 +119,10 @@ def test_qualtrics_choice_text_drops_preview_and_test_rows(tmp_path, capsys):
     out = capsys.readouterr()
     assert f"{kinds.count('Survey Test')} Survey Test responses dropped" in out.err
     assert out.out.count(STEM) == 1                  # the stem is shown once
+    html = tmp_path / "q.html"
+    assert main(["report", str(f), "-o", str(html)]) == 0
+    text = html.read_text()
+    assert text.count(f'class="stem">{STEM}<') == 1 and f">{STATEMENTS[0]}<" in text
     # the statement names the item, the export's field id too
     assert read_survey(f, items=["Q1_2"]).items == [STATEMENTS[1]]
     assert read_survey(f, items=["The labs helped me, [really]"]).items == [STATEMENTS[1]]
