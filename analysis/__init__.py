@@ -49,6 +49,9 @@ _EXPORTS = {
     "render_report": "report", "build_report": "report",
     "cronbach_alpha": "reliability", "cronbach_alpha_for": "reliability",
     "compare_groups": "groups", "cliffs_delta": "groups",
+    "summarize_by": "institution", "GroupedSummary": "institution",
+    "summary_frame": "export", "write_table": "export", "load_codebook": "codebook",
+    "faceted_bar": "chart", "figure_bytes": "chart", "summarize_tally": "likert",
     "get_scale": "scales", "Scale": "scales", "BUILTIN_SCALES": "scales",
     "SurveyInputError": "errors",
 }

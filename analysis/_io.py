@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import os
 import tempfile
-import tomllib
 from pathlib import Path
 
 from .errors import SurveyInputError
@@ -27,6 +26,7 @@ def read_bytes(path: "str | Path") -> bytes:
 
 def read_toml(path: "str | Path") -> dict:
     """A TOML file as a dict; SurveyInputError (naming the file) on any problem."""
+    import tomllib                  # here: its import compiles regular expressions
     raw = read_bytes(path)
     try:
         return tomllib.loads(raw.decode("utf-8-sig"))      # Notepad may write a BOM

@@ -4,7 +4,9 @@ Each item is one bar of its valid answers (percent of n). Disagreeing answers
 extend left of zero, agreeing answers right, and neutral answers are split half
 on each side of the centre line. Items are drawn in questionnaire order (top to
 bottom) unless ``order="agree"`` sorts them by agreement share; each item's
-label carries its n.
+label carries its n. The disagreeing and agreeing totals stand at the bar ends, and
+the figure has a title. :func:`faceted_bar` draws one panel per item with a bar per
+group (sections, terms) in the comparison's order.
 
 The figure is built with :class:`matplotlib.figure.Figure` directly (no pyplot
 state, no GUI backend). :func:`figure_svg` renders it to SVG text with the text
@@ -27,7 +29,11 @@ from matplotlib.patches import Patch
 
 from .likert import SurveySummary
 
-__all__ = ["ORDERS", "diverging_bar", "figure_svg"]
+__all__ = ["ORDERS", "CHART_FORMATS", "diverging_bar", "faceted_bar", "figure_svg",
+           "figure_bytes", "chart_format"]
+
+#: Chart file formats, chosen by the output file's suffix.
+CHART_FORMATS = ("svg", "png", "pdf")
 
 #: Valid ``order`` values.
 ORDERS = ("questionnaire", "agree")
@@ -66,6 +72,56 @@ def _validate_chart(summary, order):
         raise ValueError(f"`order` must be one of {list(ORDERS)}, got {order!r}")
 
 
+def _draw_bars(ax, bars, scale, wrap: int) -> None:
+    """Draw one diverging bar per (name, counts, n), top to bottom, with end totals.
+
+    The disagreeing total is printed beyond the left end of each bar, the agreeing total
+    beyond the right end (percent of valid answers, neutral not included in either).
+    """
+    code = dict(zip(scale.labels, scale.codes))
+    drawn = sorted(scale.labels, key=lambda lab: code[lab])     # left to right
+    colors = _colors(scale)
+    neutral, negative, positive = set(scale.neutral), set(scale.negative), set(scale.positive)
+    y = np.arange(len(bars))[::-1]
+    for yi, (_, counts, n) in zip(y, bars):
+        pct = {lab: (100.0 * counts[lab] / n if n else 0.0) for lab in scale.labels}
+        left = -(sum(pct[lab] for lab in negative) + sum(pct[lab] for lab in neutral) / 2)
+        start = left
+        for lab in drawn:
+            w = pct[lab]
+            if w > 0:
+                ax.barh(yi, w, left=left, color=colors[lab], edgecolor="white", linewidth=0.5,
+                        height=0.7)
+                if w >= 8:
+                    ax.text(left + w / 2, yi, f"{w:.0f}", ha="center", va="center", fontsize=7,
+                            color="white" if lab not in neutral else "black")
+            left += w
+        if n:
+            dis = sum(pct[lab] for lab in negative)
+            agr = sum(pct[lab] for lab in positive)
+            ax.text(start - 1.5, yi, f"{dis:.0f}%", ha="right", va="center", fontsize=7,
+                    color=_NEG[0], fontweight="bold")
+            ax.text(left + 1.5, yi, f"{agr:.0f}%", ha="left", va="center", fontsize=7,
+                    color=_POS[0], fontweight="bold")
+    names = ["\n".join(textwrap.wrap(_plain(name), wrap) or [""]) + f"\n(n = {n})"
+             for name, _, n in bars]
+    ax.set_yticks(y, names, fontsize=8)
+    ax.axvline(0, color="black", linewidth=0.8)
+    ax.set_xlim(-115, 115)
+    ticks = np.arange(-100, 101, 25)
+    ax.set_xticks(ticks, [f"{abs(t):.0f}%" for t in ticks], fontsize=8)
+    for side in ("top", "right"):
+        ax.spines[side].set_visible(False)
+
+
+def _legend(fig, scale, ncol_anchor) -> None:
+    code = dict(zip(scale.labels, scale.codes))
+    drawn = sorted(scale.labels, key=lambda lab: code[lab])
+    colors = _colors(scale)
+    fig.legend([Patch(facecolor=colors[lab]) for lab in drawn], [_plain(lab) for lab in drawn],
+               loc="outside lower center", ncol=min(5, scale.k), fontsize=7, frameon=False)
+
+
 def diverging_bar(summary: SurveySummary, order: str = "questionnaire",
                   title: str | None = None, wrap: int = 40) -> Figure:
     """Diverging stacked bar chart of every item's answers.
@@ -76,54 +132,68 @@ def diverging_bar(summary: SurveySummary, order: str = "questionnaire",
     order : {"questionnaire", "agree"}
         Item order top to bottom: as asked, or by agreement share (highest first).
     title : str, optional
+        Default: the file name and "answers per item".
     wrap : int
         Wrap item labels at this many characters.
 
     Returns
     -------
     matplotlib.figure.Figure
+        Disagreeing and agreeing totals (percent of valid answers) stand at the bar ends.
     """
     _validate_chart(summary, order)
-    scale = summary.scale
     items = list(summary.items)
     if order == "agree":
         items.sort(key=lambda it: -(it.agree.share or 0.0))
-    code = dict(zip(scale.labels, scale.codes))
-    drawn = sorted(scale.labels, key=lambda lab: code[lab])     # left to right
-    colors = _colors(scale)
-    neutral = set(scale.neutral)
-    negative = set(scale.negative)
-    fig = Figure(figsize=(8.5, 1.0 + 0.55 * len(items)), layout="constrained")
+    fig = Figure(figsize=(8.5, 1.6 + 0.55 * len(items)), layout="constrained")
     ax = fig.add_subplot()
-    y = np.arange(len(items))[::-1]
-    for yi, it in zip(y, items):
-        pct = {lab: (100.0 * it.counts[lab] / it.n if it.n else 0.0) for lab in scale.labels}
-        left = -(sum(pct[lab] for lab in negative) + sum(pct[lab] for lab in neutral) / 2)
-        for lab in drawn:
-            w = pct[lab]
-            if w > 0:
-                ax.barh(yi, w, left=left, color=colors[lab], edgecolor="white", linewidth=0.5,
-                        height=0.7)
-                if w >= 8:
-                    ax.text(left + w / 2, yi, f"{w:.0f}", ha="center", va="center", fontsize=7,
-                            color="white" if lab not in neutral else "black")
-            left += w
-    names = ["\n".join(textwrap.wrap(_plain(it.item), wrap) or [""]) + f"\n(n = {it.n})"
-             for it in items]
-    ax.set_yticks(y, names, fontsize=8)
-    ax.axvline(0, color="black", linewidth=0.8)
-    ax.set_xlim(-100, 100)
-    ticks = np.arange(-100, 101, 25)
-    ax.set_xticks(ticks, [f"{abs(t):.0f}%" for t in ticks], fontsize=8)
-    ax.set_xlabel("percent of valid answers (neutral split across the centre)", fontsize=8)
-    for side in ("top", "right"):
-        ax.spines[side].set_visible(False)
-    ax.legend([Patch(facecolor=colors[lab]) for lab in drawn],
-              [_plain(lab) for lab in drawn], loc="upper center",
-              bbox_to_anchor=(0.5, -0.18 if len(items) > 2 else -0.35), ncol=min(5, scale.k),
-              fontsize=7, frameon=False)
+    _draw_bars(ax, [(it.item, it.counts, it.n) for it in items], summary.scale, wrap)
+    ax.set_xlabel("percent of valid answers (neutral split across the centre; totals: "
+                  "disagree left, agree right)", fontsize=8)
+    _legend(fig, summary.scale, len(items))
+    if title is None:
+        from pathlib import Path
+        title = f"{Path(summary.source).name}: answers per item"
     if title:
-        ax.set_title(_plain(title), fontsize=10)
+        fig.suptitle(_plain(title), fontsize=10)
+    return fig
+
+
+def faceted_bar(comparison, title: str | None = None, wrap: int = 60) -> Figure:
+    """Diverging bars per group, one panel (facet) per item, groups in the comparison's order.
+
+    Parameters
+    ----------
+    comparison : GroupComparison
+        From :func:`~analysis.groups.compare_groups`; suppressed groups are not drawn.
+    title : str, optional
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from .groups import GroupComparison
+    if not isinstance(comparison, GroupComparison):
+        raise TypeError(f"`comparison` must be a GroupComparison, got "
+                        f"{type(comparison).__name__}")
+    shown = comparison.shown
+    if not shown or not comparison.summaries:
+        raise ValueError("no group to draw: every group is suppressed (--min-group)")
+    first = comparison.summaries[shown[0]]
+    scale = first.scale
+    nitems = len(first.items)
+    fig = Figure(figsize=(8.5, 1.4 + nitems * (0.5 + 0.42 * len(shown))), layout="constrained")
+    axes = fig.subplots(nitems, 1, squeeze=False)[:, 0]
+    for j, ax in enumerate(axes):
+        bars = [(g, comparison.summaries[g].items[j].counts, comparison.summaries[g].items[j].n)
+                for g in shown]
+        _draw_bars(ax, bars, scale, 30)
+        ax.set_title("\n".join(textwrap.wrap(_plain(first.items[j].item), wrap)), fontsize=9,
+                     loc="left")
+    axes[-1].set_xlabel("percent of valid answers (totals: disagree left, agree right)",
+                        fontsize=8)
+    _legend(fig, scale, nitems)
+    fig.suptitle(_plain(title or f"Answers by {comparison.column}"), fontsize=10)
     return fig
 
 
@@ -136,3 +206,31 @@ def figure_svg(fig: Figure) -> str:
     start = svg.find("<svg")
     return svg[start:] if start >= 0 else svg
 
+
+
+def chart_format(path) -> str:
+    """The chart format of an output file name by its suffix (``.svg``, ``.png``, ``.pdf``).
+
+    Raises
+    ------
+    ValueError
+        Another suffix (the message names ``--chart`` and the valid suffixes).
+    """
+    from pathlib import Path
+    fmt = Path(str(path)).suffix.lower().lstrip(".")
+    if fmt not in CHART_FORMATS:
+        raise ValueError(f"--chart {str(path)!r}: the file name must end in "
+                         f"{', '.join('.' + f for f in CHART_FORMATS)} (the format follows it)")
+    return fmt
+
+
+def figure_bytes(fig: Figure, fmt: str = "svg") -> bytes:
+    """A figure as SVG, PNG (150 dpi) or PDF bytes, without dates (reproducible)."""
+    if fmt == "svg":
+        return figure_svg(fig).encode("utf-8")
+    if fmt not in CHART_FORMATS:
+        raise ValueError(f"`fmt` must be one of {list(CHART_FORMATS)}, got {fmt!r}")
+    buf = io.BytesIO()
+    meta = {"CreationDate": None} if fmt == "pdf" else {"Software": None}
+    fig.savefig(buf, format=fmt, dpi=150, metadata=meta)
+    return buf.getvalue()

@@ -16,7 +16,8 @@ Verdicts (:data:`VERDICTS`)
 ---------------------------
 ``holds``
     The observed share satisfies the comparison *and* the whole confidence
-    interval does (for ``>``/``>=`` its lower bound clears the threshold).
+    interval does (for ``>``/``>=`` its lower bound clears the threshold, for
+    ``<``/``<=`` its upper bound); the reason names the bound.
 ``holds for this sample only``
     The observed share satisfies the comparison but the interval reaches the
     other side of the threshold: it describes these respondents, but the data
@@ -43,7 +44,7 @@ __all__ = ["COMPARISONS", "VERDICTS", "Claim", "ClaimResult", "ClaimsReport", "l
 COMPARISONS = (">", ">=", "<", "<=")
 #: verdict code -> wording
 VERDICTS = {
-    "holds": "holds (interval lower bound clears threshold)",
+    "holds": "holds (the whole interval clears the threshold)",
     "sample_only": "holds for this sample only",
     "does_not_hold": "does not hold",
 }
@@ -214,6 +215,9 @@ def evaluate_claim(claim: Claim, summary: SurveySummary, confidence_level: float
     k = 0
     for cat in claim.categories:
         lab = keys.get(normalize_answer(cat))
+        if lab is None and summary.scale is not None:     # an alias ("Neutral") as answers
+            m = summary.scale.match(cat, accept_codes=False)
+            lab = it.labels[m] if m is not None and m >= 0 else None
         if lab is None:
             raise SurveyInputError(f"claim {claim.id!r}: category {cat!r} is not a label; "
                                    f"labels are {it.labels}", source)

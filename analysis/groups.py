@@ -1,8 +1,22 @@
 """Group comparisons of Likert items over a grouping column (section, term, ...).
 
+Per shown group and item: the distribution (counts and percent per label), n, the
+agreement share, median, IQR, mean and SD of the codes (the same numbers as
+:func:`~analysis.likert.summarize` on that group alone). Groups come in data order
+(first appearance) or in a given ``order`` (e.g. terms as the user lists them).
+
 Two groups: Mann-Whitney U (``scipy.stats.mannwhitneyu``, two-sided) with
-Cliff's delta as the ordinal effect size. More groups: Kruskal-Wallis H
-(``scipy.stats.kruskal``) with epsilon-squared, :math:`H/(n-1)`.
+Cliff's delta as the ordinal effect size. When the survey carries respondent ids
+(:attr:`~analysis.ingest.SurveyData.ids`) and at least ``min_size`` ids answered in
+both groups (pre/post), those pairs are compared instead with the Wilcoxon
+signed-rank test (``scipy.stats.wilcoxon`` on second minus first group, zero
+differences dropped) and the matched-pairs rank-biserial correlation
+:math:`r = (T^+ - T^-)/(T^+ + T^-)` (Kerby 2014), positive when the second group
+answers higher. More groups: Kruskal-Wallis H (``scipy.stats.kruskal``) with
+epsilon-squared, :math:`H/(n-1)`, and a trend over the groups in their order:
+Spearman's rho between the group's position and the answer code
+(``scipy.stats.spearmanr``). When several items are tested, p-values are also
+given Holm-adjusted (``statsmodels`` ``multipletests(method="holm")``).
 
 Cliff's delta of group A against group B is
 
@@ -15,7 +29,8 @@ results are not shown and they take no part in the tests; the reason is given.
 Group values match as answers do, ignoring case and white space ("Mon", " mon ").
 
 Public API: :func:`compare_groups` -> :class:`GroupComparison` (``to_dict()``,
-``format_text()``), :func:`cliffs_delta`.
+``format_text()``, ``distribution_frame()``), :func:`cliffs_delta`,
+:func:`rank_biserial_paired`.
 """
 from __future__ import annotations
 
@@ -28,7 +43,8 @@ from .errors import SurveyInputError
 from .ingest import SurveyData
 from .scales import normalize_answer
 
-__all__ = ["GroupInfo", "ItemComparison", "GroupComparison", "compare_groups", "cliffs_delta"]
+__all__ = ["GroupInfo", "ItemComparison", "GroupComparison", "compare_groups", "cliffs_delta",
+           "rank_biserial_paired"]
 
 BLANK_GROUP = "(blank)"
 
@@ -45,6 +61,22 @@ def cliffs_delta(x, y) -> float:
     below = np.searchsorted(y, x, side="left")
     above = y.size - np.searchsorted(y, x, side="right")
     return float((below - above).sum() / (x.size * y.size))
+
+
+def rank_biserial_paired(d) -> float:
+    """Matched-pairs rank-biserial correlation of paired differences ``d`` (-1..1).
+
+    Zero differences are dropped (as ``scipy.stats.wilcoxon`` does by default); the
+    absolute differences are ranked (ties get mean ranks) and
+    ``r = (T+ - T-) / (T+ + T-)``.
+    """
+    d = np.asarray(d, dtype=float)
+    d = d[d != 0]
+    if d.size == 0:
+        raise ValueError("rank_biserial_paired needs a non-zero difference")
+    ranks = stats.rankdata(np.abs(d))
+    tp, tm = ranks[d > 0].sum(), ranks[d < 0].sum()
+    return float((tp - tm) / (tp + tm))
 
 
 @dataclass
@@ -75,8 +107,15 @@ class ItemComparison:
         ``"cliffs_delta"`` (first shown group against the second) or ``"epsilon_squared"``.
     effect : float or None
     per_group : dict
-        Per shown group: valid n, median code and agreement share.
+        Per shown group: n, missing, excluded, counts and percent per label, agreement
+        share, median, IQR, mean and SD of the codes.
     note : str
+    p_holm : float or None
+        Holm-adjusted p-value over the items tested.
+    pairs : int
+        Respondents paired across the two groups (Wilcoxon test), else 0.
+    trend : dict or None
+        More than two groups: Spearman ``rho`` and ``p_value`` of code on group position.
     """
 
     item: str
@@ -87,11 +126,15 @@ class ItemComparison:
     effect: float | None
     per_group: dict
     note: str = ""
+    p_holm: float | None = None
+    pairs: int = 0
+    trend: dict | None = None
 
     def to_dict(self) -> dict:
         return {"item": self.item, "test": self.test, "statistic": self.statistic,
-                "p_value": self.p_value, "effect_name": self.effect_name,
-                "effect": self.effect, "per_group": self.per_group, "note": self.note}
+                "p_value": self.p_value, "p_holm": self.p_holm, "effect_name": self.effect_name,
+                "effect": self.effect, "pairs": self.pairs, "trend": self.trend,
+                "per_group": self.per_group, "note": self.note}
 
 
 @dataclass
@@ -102,31 +145,73 @@ class GroupComparison:
     min_size: int
     groups: list[GroupInfo]
     items: list[ItemComparison] = field(default_factory=list)
+    labels: list = field(default_factory=list)
+    summaries: dict = field(default_factory=dict, repr=False)   # shown group -> SurveySummary
+    paired_by: str = ""
+
+    @property
+    def shown(self) -> list[str]:
+        """Names of the groups shown (not suppressed), in order."""
+        return [g.name for g in self.groups if not g.suppressed]
 
     def to_dict(self) -> dict:
-        return {"column": self.column, "min_size": self.min_size,
+        return {"column": self.column, "min_size": self.min_size, "paired_by": self.paired_by,
                 "groups": [g.to_dict() for g in self.groups],
                 "items": [i.to_dict() for i in self.items]}
 
+    def distribution_frame(self):
+        """Per item and shown group: counts, percent, n and the statistics (pandas)."""
+        import pandas as pd
+        rows = []
+        for it in self.items:
+            for g, d in it.per_group.items():
+                row = {"item": it.item, "group": g, "n": d["n"], "missing": d["missing"],
+                       "excluded": d["excluded"]}
+                row.update({f"{lab} (count)": d["counts"][lab] for lab in self.labels})
+                row.update({f"{lab} (%)": d["percent"][lab] for lab in self.labels})
+                row.update({k: d[k] for k in ("agree_share", "median", "iqr", "mean", "sd")})
+                row.update(test=it.test, p_value=it.p_value, p_holm=it.p_holm)
+                rows.append(row)
+        return pd.DataFrame(rows)
+
     def format_text(self) -> str:
-        out = [f"groups by {self.column!r} (groups under {self.min_size} respondents suppressed)"]
+        out = [f"groups by {self.column!r} (groups under {self.min_size} respondents suppressed)"
+               + (f"; pre/post paired by {self.paired_by!r}" if self.paired_by else "")]
         for g in self.groups:
             out.append(f"  {g.name}: {g.respondents} respondents"
                        + (f" -- suppressed: {g.reason}" if g.suppressed else ""))
+        width = max([len(g) for g in self.shown] + [5])
         for it in self.items:
             if it.test == "none":
                 out.append(f"  {it.item}: no test ({it.note})")
-                continue
-            out.append(f"  {it.item}: {it.test} statistic {it.statistic:.4g}, p = {it.p_value:.4g}, "
-                       f"{it.effect_name} = {it.effect:.3f}")
+            else:
+                holm = "" if it.p_holm is None else f", Holm p = {it.p_holm:.4g}"
+                pairs = f" on {it.pairs} pairs" if it.pairs else ""
+                out.append(f"  {it.item}: {it.test}{pairs} statistic {it.statistic:.4g}, "
+                           f"p = {it.p_value:.4g}{holm}, {it.effect_name} = {it.effect:.3f}")
+            if it.trend:
+                out.append(f"    trend over {' -> '.join(self.shown)}: Spearman rho = "
+                           f"{it.trend['rho']:.3f}, p = {it.trend['p_value']:.4g}")
+            for g, d in it.per_group.items():
+                dist = " ".join(f"{lab} {d['percent'][lab]:.0f}%" for lab in self.labels)
+                agree = "-" if d["agree_share"] is None else f"{100 * d['agree_share']:.0f}%"
+                out.append(f"    {g:<{width}} n={d['n']:<4} agree {agree:>4} | {dist} | "
+                           f"median {_num(d['median'])} IQR {_num(d['iqr'])} "
+                           f"mean {_num(d['mean'], 2)} SD {_num(d['sd'], 2)}")
         return "\n".join(out)
 
 
-def _validate_groups(data, column, min_size):
+def _num(x, decimals: int = 1) -> str:
+    return "-" if x is None else f"{x:.{decimals}f}"
+
+
+def _validate_groups(data, column, min_size, order):
     if not isinstance(data, SurveyData):
         raise TypeError(f"`data` must be SurveyData, got {type(data).__name__}")
     if not isinstance(min_size, int) or min_size < 1:
         raise ValueError(f"`min_size` must be a positive integer, got {min_size!r}")
+    if order is not None and (isinstance(order, str) or not all(isinstance(o, str) for o in order)):
+        raise ValueError(f"`order` must be a list of group names, got {order!r}")
     for name in data.groups:
         if normalize_answer(name) == normalize_answer(column):
             return name
@@ -134,7 +219,39 @@ def _validate_groups(data, column, min_size):
                            f"group={column!r} (columns kept: {list(data.groups)})", data.source)
 
 
-def compare_groups(data: SurveyData, column: str, min_size: int = 5) -> GroupComparison:
+def _group_values(texts: list[str], order, source):
+    """(group index per respondent, group names in order).
+
+    Spellings of one value ("Mon", " mon ") are one group, named by its commonest
+    spelling; groups come in first-appearance order, or in ``order``.
+    """
+    keys = [normalize_answer(t) for t in texts]
+    first: dict[str, int] = {}
+    spelled: dict[str, dict] = {}
+    for i, (k, t) in enumerate(zip(keys, texts)):
+        first.setdefault(k, i)
+        t = " ".join(t.split())
+        sp = spelled.setdefault(k, {})
+        sp[t] = sp.get(t, 0) + 1
+    ranked = sorted(first, key=first.get)
+    if order:
+        want = [normalize_answer(o) for o in order]
+        missing = [o for o, k in zip(order, want) if k not in first]
+        if missing:
+            raise SurveyInputError(f"--group-order names {missing[0]!r}, which is not a value of "
+                                   f"the grouping column; values are "
+                                   f"{[max(spelled[k], key=spelled[k].get) for k in ranked]}",
+                                   source)
+        ranked = want + [k for k in ranked if k not in want]
+    index = {k: g for g, k in enumerate(ranked)}
+    inverse = np.array([index[k] for k in keys], dtype=np.int64)
+    names = [BLANK_GROUP if k == "" else max(spelled[k], key=lambda t: (spelled[k][t], t))
+             for k in ranked]
+    return inverse, names
+
+
+def compare_groups(data: SurveyData, column: str, min_size: int = 5,
+                   order: "list[str] | None" = None, paired: bool = True) -> GroupComparison:
     """Compare every item across the values of a grouping column.
 
     Parameters
@@ -144,23 +261,20 @@ def compare_groups(data: SurveyData, column: str, min_size: int = 5) -> GroupCom
     column : str
         Grouping column.
     min_size : int
-        Groups with fewer respondents are suppressed (reason given).
+        Groups with fewer respondents are suppressed (reason given); so are paired
+        tests on fewer pairs.
+    order : list of str, optional
+        Group order (e.g. terms); default: order of first appearance in the data.
+    paired : bool
+        Pair respondents by :attr:`SurveyData.ids` across two groups when possible.
 
     Returns
     -------
     GroupComparison
     """
-    name = _validate_groups(data, column, min_size)
-    # spellings of one value ("Mon", " mon ") are one group, named by its commonest spelling
-    texts = [str(v) for v in data.groups[name]]
-    keys = np.array([normalize_answer(t) for t in texts], dtype=object)
-    keys_u, inverse = np.unique(keys, return_inverse=True)
-    spelled: list[dict] = [{} for _ in keys_u]
-    for g, t in zip(inverse, texts):
-        t = " ".join(t.split())
-        spelled[g][t] = spelled[g].get(t, 0) + 1
-    values = np.array([BLANK_GROUP if k == "" else max(sp, key=lambda t: (sp[t], t))
-                       for k, sp in zip(keys_u, spelled)], dtype=object)
+    from .likert import summarize
+    name = _validate_groups(data, column, min_size, order)
+    inverse, values = _group_values([str(v) for v in data.groups[name]], order, data.source)
     infos, shown = [], []
     for g, val in enumerate(values):
         size = int((inverse == g).sum())
@@ -171,41 +285,86 @@ def compare_groups(data: SurveyData, column: str, min_size: int = 5) -> GroupCom
         else:
             infos.append(GroupInfo(str(val), size, False))
             shown.append(g)
-    comp = GroupComparison(column=name, min_size=min_size, groups=infos)
+    comp = GroupComparison(column=name, min_size=min_size, groups=infos,
+                           labels=list(data.scale.labels))
+    for g in shown:
+        comp.summaries[str(values[g])] = summarize(data.subset(inverse == g))
+    pairs = _pairs(data, inverse, shown, min_size) if paired and len(shown) == 2 else None
+    if pairs is not None:
+        comp.paired_by = data.id_column
     scale = data.scale
-    pos = [scale.labels.index(x) for x in scale.positive]
     for j, item in enumerate(data.items):
         rev = item in data.reverse
         codes = np.array(scale.reversed_codes() if rev else scale.codes, dtype=float)
         a = data.answers[:, j]
-        samples, per = [], {}
-        for g in shown:
-            sel = a[(inverse == g) & (a >= 0)]
-            x = codes[sel]
-            samples.append(x)
-            per[str(values[g])] = {
-                "n": int(x.size),
-                "median": float(np.median(x)) if x.size else None,
-                "agree_share": float(np.isin(sel, pos).mean()) if x.size else None}
-        usable = [s for s in samples if s.size]
-        if len(usable) < 2:
-            comp.items.append(ItemComparison(item, "none", None, None, "", None, per,
-                                             "fewer than two groups to compare after suppression"))
-            continue
-        allx = np.concatenate(usable)
-        if np.all(allx == allx[0]):
-            comp.items.append(ItemComparison(item, "none", None, None, "", None, per,
-                                             "every answer is the same"))
-            continue
-        if len(usable) == 2:
-            res = stats.mannwhitneyu(usable[0], usable[1], alternative="two-sided")
-            comp.items.append(ItemComparison(item, "mann-whitney", float(res.statistic),
-                                             float(res.pvalue), "cliffs_delta",
-                                             cliffs_delta(usable[0], usable[1]), per))
-        else:
-            res = stats.kruskal(*usable)
-            n = allx.size
-            comp.items.append(ItemComparison(item, "kruskal-wallis", float(res.statistic),
-                                             float(res.pvalue), "epsilon_squared",
-                                             float(res.statistic / (n - 1)), per))
+        per = {str(values[g]): _per_group(comp.summaries[str(values[g])].items[j])
+               for g in shown}
+        samples = [codes[a[(inverse == g) & (a >= 0)]] for g in shown]
+        comp.items.append(_test_item(item, samples, per, codes, a, pairs, min_size))
+    _holm(comp.items)
     return comp
+
+
+def _per_group(it) -> dict:
+    return {"n": it.n, "missing": it.missing, "excluded": it.excluded,
+            "counts": dict(it.counts), "percent": dict(it.percent),
+            "agree_share": it.agree.share, "median": it.median, "iqr": it.iqr,
+            "mean": it.mean, "sd": it.sd}
+
+
+def _pairs(data, inverse, shown, min_size):
+    """(row index in first group, row index in second) of ids found once in each, or None."""
+    if data.ids is None:
+        return None
+    ids = np.array([normalize_answer(str(x)) for x in data.ids], dtype=object)
+    idx = []
+    for g in shown:
+        rows = np.flatnonzero((inverse == g) & (ids != ""))
+        keys = ids[rows]
+        uniq, cnt = np.unique(keys, return_counts=True)
+        once = set(uniq[cnt == 1].tolist())
+        idx.append({k: r for k, r in zip(keys, rows) if k in once})
+    common = [k for k in idx[0] if k in idx[1]]
+    if len(common) < min_size:
+        return None
+    return (np.array([idx[0][k] for k in common], dtype=np.int64),
+            np.array([idx[1][k] for k in common], dtype=np.int64))
+
+
+def _test_item(item, samples, per, codes, a, pairs, min_size) -> ItemComparison:
+    usable = [s for s in samples if s.size]
+    if len(usable) < 2:
+        return ItemComparison(item, "none", None, None, "", None, per,
+                              "fewer than two groups with answers to compare after suppression")
+    allx = np.concatenate(usable)
+    if np.all(allx == allx[0]):
+        return ItemComparison(item, "none", None, None, "", None, per, "every answer is the same")
+    if pairs is not None:
+        both = (a[pairs[0]] >= 0) & (a[pairs[1]] >= 0)
+        pre, post = codes[a[pairs[0][both]]], codes[a[pairs[1][both]]]
+        if both.sum() >= min_size and np.any(post != pre):
+            res = stats.wilcoxon(post, pre)
+            return ItemComparison(item, "wilcoxon-signed-rank", float(res.statistic),
+                                  float(res.pvalue), "rank_biserial_paired",
+                                  rank_biserial_paired(post - pre), per, pairs=int(both.sum()))
+    if len(usable) == 2:
+        res = stats.mannwhitneyu(usable[0], usable[1], alternative="two-sided")
+        return ItemComparison(item, "mann-whitney", float(res.statistic), float(res.pvalue),
+                              "cliffs_delta", cliffs_delta(usable[0], usable[1]), per)
+    res = stats.kruskal(*usable)
+    n = allx.size
+    position = np.concatenate([np.full(s.size, k, dtype=float) for k, s in enumerate(usable)])
+    rho = stats.spearmanr(position, allx)
+    return ItemComparison(item, "kruskal-wallis", float(res.statistic), float(res.pvalue),
+                          "epsilon_squared", float(res.statistic / (n - 1)), per,
+                          trend={"rho": float(rho.statistic), "p_value": float(rho.pvalue)})
+
+
+def _holm(items) -> None:
+    tested = [it for it in items if it.p_value is not None]
+    if len(tested) < 2:
+        return
+    from statsmodels.stats.multitest import multipletests
+    adjusted = multipletests([it.p_value for it in tested], method="holm")[1]
+    for it, p in zip(tested, adjusted):
+        it.p_holm = float(p)

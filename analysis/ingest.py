@@ -45,52 +45,39 @@ from __future__ import annotations
 
 import codecs
 import csv
-import fnmatch
 import heapq
 import io
 import re
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
+from . import platforms
+from .platforms import CODES_HINT
 from ._io import read_bytes
 from .errors import SurveyInputError
-from .scales import BUILTIN_SCALES, Scale, get_scale, normalize_answer
+from .scales import (BLANK, BUILTIN_SCALES, DEFAULT_NOT_APPLICABLE, NOT_APPLICABLE, UNKNOWN,
+                     Scale, get_scale, normalize_answer)
 
 __all__ = ["SHAPES", "UNKNOWN_POLICIES", "SurveyData", "UnknownAnswer", "DroppedRow",
            "read_survey", "survey_from_frame", "BLANK", "NOT_APPLICABLE", "UNKNOWN"]
 
 #: Valid ``shape`` values.
-SHAPES = ("auto", "wide", "long", "google", "qualtrics", "xlsx")
+SHAPES = platforms.SHAPES
 #: Valid ``unknown`` values: raise on an unknown answer, or count it as missing.
 UNKNOWN_POLICIES = ("error", "missing")
 
-#: Cell codes in :attr:`SurveyData.answers` besides label positions 0..k-1.
-BLANK = -1
-NOT_APPLICABLE = -2
-UNKNOWN = -3          # unknown answer counted as missing (``unknown="missing"``)
+#: Cell codes in :attr:`SurveyData.answers` besides label positions 0..k-1 (defined in
+#: :mod:`analysis.scales`): BLANK (-1), NOT_APPLICABLE (-2), UNKNOWN (-3, an unknown
+#: answer counted as missing with ``unknown="missing"``).
 _NO_MATCH = -9
 
-_GOOGLE_META = {"timestamp", "email address", "email", "username", "score", "e-mail address"}
-_QUALTRICS_META = {
-    "startdate", "enddate", "status", "ipaddress", "progress", "duration (in seconds)",
-    "finished", "recordeddate", "responseid", "recipientlastname", "recipientfirstname",
-    "recipientemail", "externalreference", "externaldatareference", "locationlatitude",
-    "locationlongitude", "distributionchannel", "userlanguage", "q_recaptchascore",
-    "q_relevantidduplicate", "q_relevantidduplicatescore", "q_relevantidfraudscore",
-    "q_relevantidlaststartdate",
-}
 _ID_LIKE = re.compile(r"^(respondent|respondent[ _]?id|id|response[ _]?id|record|row|#|"
                       r"student|student[ _]?id|participant|participant[ _]?id)$", re.I)
-_LONG_RESP = ("respondent", "respondent_id", "respondentid", "respondent id", "id",
-              "response_id", "responseid", "response id", "participant", "participant_id",
-              "student", "student_id", "student id", "user", "user_id")
-_LONG_ITEM = ("item", "question", "question_id", "questionid", "item_id", "question id",
-              "item id")
-_LONG_ANSWER = ("answer", "response", "value", "choice", "rating")
+_LONG_RESP, _LONG_ITEM, _LONG_ANSWER = platforms.LONG_RESP, platforms.LONG_ITEM, platforms.LONG_ANSWER
 
 
 @dataclass(frozen=True)
@@ -146,6 +133,19 @@ class SurveyData:
         column left out is never left out silently.
     comments : list of str
         Leading ``#`` comment lines of a CSV file (without the ``#``).
+    stems : list of str
+        Question stem of each item ("" for a single question): items are named by
+        their statement, and the stem of a grid/matrix is shown once above them.
+    fields : list of str
+        The export's column header of each item (``Q1_1``, ``Q3[SQ001]``).
+    ids : numpy.ndarray of str or None
+        Respondent id per respondent (a student id, e-mail or id column), used to
+        pair pre/post answers; None when the export has no such column.
+    id_column : str
+        The column ``ids`` came from.
+    notes : list of str
+        What reading noticed and the user should know (encoding used, columns left
+        out and why, a scale with unused labels); printed by the command line.
     """
 
     source: str
@@ -161,6 +161,18 @@ class SurveyData:
     reverse: set = field(default_factory=set)
     other_columns: list = field(default_factory=list)
     comments: list = field(default_factory=list)
+    stems: list = field(default_factory=list)
+    fields: list = field(default_factory=list)
+    notes: list = field(default_factory=list)
+    ids: "np.ndarray | None" = None
+    id_column: str = ""
+
+    def subset(self, mask) -> "SurveyData":
+        """The respondents selected by a boolean mask (or index array), as a new survey."""
+        mask = np.asarray(mask)
+        return replace(self, answers=self.answers[mask], rows=self.rows[mask],
+                       groups={k: v[mask] for k, v in self.groups.items()},
+                       ids=None if self.ids is None else self.ids[mask])
 
     @property
     def respondents(self) -> int:
@@ -198,6 +210,7 @@ class _Column:
     name: str
     cats: list[str]          # distinct cell texts
     codes: np.ndarray        # index into cats per row
+    field: str = ""          # the export's header when ``name`` is the statement text
 
     def counts(self) -> np.ndarray:
         cached = self.__dict__.get("_counts")
@@ -216,6 +229,7 @@ class _Raw:
     nrows: int
     comments: list[str] = field(default_factory=list)             # leading '#' lines
     row_map: "np.ndarray | None" = None   # spreadsheet row per record when not consecutive
+    notes: list[str] = field(default_factory=list)
 
     def row_of(self, idx):
         """Spreadsheet row of data record(s) ``idx`` (0-based record indices)."""
@@ -239,7 +253,10 @@ def _frame_to_columns(df: pd.DataFrame) -> list[_Column]:
             vals = s.astype(object).where(s.notna(), "")
             codes, uniq = pd.factorize(vals.map(_cell_text), sort=False)
             cats = [str(u) for u in uniq]
-        cols.append(_Column(str(name), cats, np.asarray(codes, dtype=np.int64)))
+        codes = np.asarray(codes)
+        if codes.dtype.kind != "i":
+            codes = codes.astype(np.int64)
+        cols.append(_Column(str(name), cats, codes))     # pandas' small int codes, no copy
     return cols
 
 
@@ -256,12 +273,16 @@ def _cell_text(v) -> str:
     return str(v)
 
 
+class _DecodeError(SurveyInputError):
+    """The bytes are not text in the encoding tried."""
+
+
 def _decode_error(raw: bytes, encoding: str, source: str) -> SurveyInputError:
     try:
         raw.decode(encoding)
     except UnicodeDecodeError as e:
         row = raw[:e.start].count(b"\n") + 1
-        return SurveyInputError(
+        return _DecodeError(
             f"byte 0x{raw[e.start]:02x} at offset {e.start} is not valid {encoding}; "
             f"give the file's encoding (e.g. --encoding cp1252)", source, row)
     except LookupError:
@@ -269,7 +290,21 @@ def _decode_error(raw: bytes, encoding: str, source: str) -> SurveyInputError:
     return SurveyInputError(f"cannot decode as {encoding}", source)
 
 
-def _read_csv_raw(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]:
+def _read_csv_raw(path: Path, encoding: "str | None") -> tuple[_Raw, list[list[str]]]:
+    """A CSV file's records; ``encoding=None`` is UTF-8, else Windows-1252 with a note."""
+    if encoding is not None:
+        return _read_csv_encoded(path, encoding)
+    try:
+        return _read_csv_encoded(path, "utf-8")
+    except _DecodeError:
+        pass
+    raw, peek = _read_csv_encoded(path, "cp1252")
+    raw.notes.append(f"{path}: not valid UTF-8; read as Windows-1252 (cp1252), the encoding "
+                     "Excel on Windows saves CSV in (give --encoding to choose another)")
+    return raw, peek
+
+
+def _read_csv_encoded(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]:
     source = str(path)
     raw = read_bytes(path)
     if raw.startswith(b"\xef\xbb\xbf"):
@@ -281,7 +316,7 @@ def _read_csv_raw(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]:
             raise SurveyInputError(f"starts like UTF-16 but byte offset {e.start} cannot be "
                                    f"decoded", source) from None
         encoding = "utf-8"
-    if not raw.strip():
+    if _blank(raw):
         raise SurveyInputError("empty file", source)
     try:
         "".encode(encoding)
@@ -307,7 +342,7 @@ def _read_csv_raw(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]:
             pos = nl + 1
         skip += 1
     body = raw[pos:]
-    if not body.strip():
+    if _blank(body):
         raise SurveyInputError("empty file (only comment lines)", source)
     if b"\x00" in body[:4096]:
         raise SurveyInputError("holds NUL bytes: UTF-16 text without a byte-order mark, or "
@@ -343,7 +378,7 @@ def _read_csv_raw(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]:
     if any(issubclass(w.category, pd.errors.ParserWarning) for w in caught):
         _check_extra_fields(body, encoding, sep, df.shape[1], source, skip)
     row_map = None
-    if not single and _BLANK_LINE.search(b"\n" + body):
+    if not single and _may_have_blank_lines(body, len(df)) and _BLANK_LINE.search(b"\n" + body):
         row_map = _record_rows(body, encoding, sep, skip, len(df))
     header = [str(c) for c in df.columns]
     comments = [ln.decode(encoding, errors="replace").lstrip("#").strip()
@@ -351,6 +386,17 @@ def _read_csv_raw(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]:
     first = skip + 2 if row_map is None or not len(row_map) else int(row_map[0])
     return _Raw(source, header, _frame_to_columns(df), first, len(df), comments,
                 row_map), peek
+
+
+def _blank(b: bytes) -> bool:
+    """Only white space (without copying a large file as ``strip`` would)."""
+    return not b or b.isspace()
+
+
+def _may_have_blank_lines(body: bytes, nrows: int) -> bool:
+    """False when the line count shows one line per record (no blank line to renumber)."""
+    lines = body.count(b"\n") + (0 if body.endswith(b"\n") else 1)
+    return lines != nrows + 1
 
 
 _DELIMITERS = (",", ";", "\t")
@@ -498,21 +544,13 @@ def _raw_from_frame(df: pd.DataFrame, source: str, first_row: int) -> tuple[_Raw
 # ---------------------------------------------------------------------------
 # shapes
 # ---------------------------------------------------------------------------
-def _find(header: list[str], names) -> int | None:
-    keys = [h.strip().casefold() for h in header]
-    for n in names:
-        if n in keys:
-            return keys.index(n)
-    return None
+_find = platforms.find_column
 
 
 def _detect_shape(raw: _Raw, peek: list[list[str]]) -> str:
-    if len(peek) >= 3 and any(c.strip().startswith('{"ImportId"') or c.strip().startswith("{'ImportId'")
-                              for c in peek[2]):
-        return "qualtrics"
-    keys = {h.strip().casefold() for h in raw.header}
-    if "timestamp" in keys:
-        return "google"
+    found = platforms.detect(raw.header, peek)
+    if found is not None:
+        return found
     if (_find(raw.header, _LONG_RESP) is not None and _find(raw.header, _LONG_ITEM) is not None
             and _find(raw.header, _LONG_ANSWER) is not None):
         return "long"
@@ -539,9 +577,9 @@ def _validate_read(shape, unknown, respondents):
 
 def read_survey(path: "str | Path", scale: "str | Scale | None" = None,
                 items: "list[str] | None" = None, shape: str = "auto",
-                unknown: str = "error", encoding: str = "utf-8",
+                unknown: str = "error", encoding: "str | None" = None,
                 group: "str | list[str] | None" = None, reverse: "list[str] | None" = None,
-                respondents: int | None = None) -> SurveyData:
+                respondents: int | None = None, codes=None) -> SurveyData:
     """Read a survey export.
 
     Parameters
@@ -555,8 +593,9 @@ def read_survey(path: "str | Path", scale: "str | Scale | None" = None,
     shape : {"auto", "wide", "long", "google", "qualtrics"}
     unknown : {"error", "missing"}
         What to do with an answer that matches no label.
-    encoding : str
-        Text encoding of a CSV file.
+    encoding : str or None
+        Text encoding of a CSV file; None reads UTF-8, and a file that is not valid
+        UTF-8 as Windows-1252 (with a note in :attr:`SurveyData.notes`).
     group : str or list of str, optional
         Columns kept for grouping.
     reverse : list of str, optional
@@ -564,6 +603,11 @@ def read_survey(path: "str | Path", scale: "str | Scale | None" = None,
     respondents : int, optional
         Declared number of respondents; respondents absent from the file are
         missing on every item. Fewer than the file holds is an error.
+    codes : str, Path or Codebook, optional
+        What numeric (or short) answer codes mean: a Qualtrics ``.qsf``, a LimeSurvey
+        ``.lss`` or a ``.toml`` code map (:mod:`analysis.codebook`). Without it,
+        numeric answers are refused unless ``scale`` is a scale file (whose codes are
+        stated).
 
     Returns
     -------
@@ -588,14 +632,22 @@ def read_survey(path: "str | Path", scale: "str | Scale | None" = None,
                                str(p))
     else:
         raw, peek = _read_csv_raw(p, encoding)
-    return _build(raw, peek, scale, items, shape, unknown, group, reverse, respondents)
+    return _build(raw, peek, scale, items, shape, unknown, group, reverse, respondents,
+                  _codebook(codes))
+
+
+def _codebook(codes):
+    if codes is None:
+        return None
+    from .codebook import Codebook, load_codebook
+    return codes if isinstance(codes, Codebook) else load_codebook(codes)
 
 
 def survey_from_frame(df: pd.DataFrame, scale: "str | Scale | None" = None,
                       items: "list[str] | None" = None, shape: str = "auto",
                       unknown: str = "error", group=None, reverse=None,
                       respondents: int | None = None, source: str = "<dataframe>",
-                      first_row: int = 2) -> SurveyData:
+                      first_row: int = 2, codes=None) -> SurveyData:
     """Like :func:`read_survey`, for a DataFrame whose cells are answer text.
 
     ``first_row`` is the spreadsheet row of the frame's first record (for messages).
@@ -604,61 +656,212 @@ def survey_from_frame(df: pd.DataFrame, scale: "str | Scale | None" = None,
     if df.shape[1] == 0:
         raise SurveyInputError("empty table (no columns)", source)
     raw, peek = _raw_from_frame(df, source, first_row)
-    return _build(raw, peek, scale, items, shape, unknown, group, reverse, respondents)
+    if df.isna().to_numpy().any():
+        raw.notes.append(f"{source}: empty (NaN) cells are counted as blank answers; "
+                         "pandas.read_csv turns \"N/A\" answers into NaN unless given "
+                         "keep_default_na=False (or read the file with read_survey)")
+    return _build(raw, peek, scale, items, shape, unknown, group, reverse, respondents,
+                  _codebook(codes))
 
 
-def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respondents):
+def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respondents,
+           codes=None):
     if shape == "auto":
         shape = _detect_shape(raw, peek)
-    dropped: list[DroppedRow] = []
-    texts: dict[str, str] = {}
-    keep = None
-    if shape == "qualtrics":
-        if raw.nrows < 2:
-            raise SurveyInputError("Qualtrics export needs three header rows", raw.source)
-        for c in raw.columns:
-            texts[c.name] = c.cats[c.codes[0]]
-        keep = np.arange(2, raw.nrows)
-        status = _find(raw.header, ("status",))
-        if status is not None:
-            col = raw.columns[status]
-            vals = np.array([normalize_answer(x) for x in col.cats], dtype=object)[col.codes[keep]]
-            numeric = all(_isint(v) for v in set(vals) if v != "")
-            preview = (vals == "survey preview") | ((vals == "1") if numeric else False)
-            for i in np.flatnonzero(preview):
-                dropped.append(DroppedRow(int(raw.row_of(keep[i])), "Survey Preview response"))
-            keep = keep[~preview]
-    if raw.nrows == 0 or (keep is not None and len(keep) == 0):
-        extra = f" (after dropping {len(dropped)} Survey Preview rows)" if dropped else ""
-        raise SurveyInputError(f"no responses below the header{extra}", raw.source)
+    else:
+        why = platforms.signature_missing(shape, raw.header, peek)
+        if why:
+            raise SurveyInputError(why, raw.source)
+    notes = list(raw.notes)
+    extra = platforms.header_rows(shape, raw.header, peek) if raw.nrows else 0
+    if raw.nrows <= extra and shape != "long":
+        raise SurveyInputError(f"no responses below the {extra + 1} header rows", raw.source)
     if shape == "long":
         return _build_long(raw, scale, items, unknown, group, reverse, respondents)
-    if keep is None:
-        keep = np.arange(raw.nrows)
+    keep = np.arange(extra, raw.nrows)
+    dropped: list[DroppedRow] = []
+    text_row = ([c.cats[c.codes[0]] for c in raw.columns] if shape == "qualtrics" and extra
+                else [""] * len(raw.header))
+    if shape == "qualtrics":
+        keep, dropped = _drop_qualtrics_tests(raw, keep, text_row)
+        if len(keep) == 0:
+            raise SurveyInputError(f"no responses below the header (after dropping "
+                                   f"{len(dropped)} preview and test rows)", raw.source)
+    names, stems = _item_names(raw, shape, extra, codes)
     rows = raw.row_of(keep)
-    exclude = set()
-    if shape == "google":
-        exclude = {j for j, h in enumerate(raw.header) if h.strip().casefold() in _GOOGLE_META}
-    elif shape == "qualtrics":
-        exclude = {j for j, h in enumerate(raw.header) if h.strip().casefold() in _QUALTRICS_META}
+    exclude = {j for j, h in enumerate(raw.header)
+               if not platforms.candidate(shape, h, text_row[j])}
     group_names = _as_list(group)
     group_idx = [_column_index(raw, g) for g in group_names]
     exclude |= set(group_idx)
-    cols = [(j, _Column(c.name, c.cats, c.codes[keep])) for j, c in enumerate(raw.columns)]
-    scale_obj, item_cols = _choose_items(raw.source, raw.header, cols, exclude, scale, items)
+    keep = _as_slice(keep)
+    cols = [(j, _Column(names[j], c.cats, c.codes[keep], c.name))
+            for j, c in enumerate(raw.columns)]
+    if codes is not None:
+        cols = _apply_codebook(cols, codes, exclude - set(group_idx), notes, raw.source)
+    scale_obj, item_cols = _choose_items(raw.source, names, cols, exclude, scale, items,
+                                         notes=notes)
     answers, unknowns = _match(raw.source, scale_obj, item_cols, rows, unknown)
-    names = [c.name for _, c in item_cols]
-    groups = {raw.columns[j].name: np.array(raw.columns[j].cats, dtype=object)[
-        raw.columns[j].codes[keep]] for j in group_idx}
-    data = SurveyData(source=raw.source, shape=shape, scale=scale_obj, items=names,
-                      item_texts=[texts.get(n, n) for n in names], answers=answers,
+    _warn_unused_labels(scale_obj, answers, notes)
+    if scale is None:
+        _note_no_neutral(scale_obj, notes)
+    chosen = [j for j, _ in item_cols]
+    item_names = [names[j] for j in chosen]
+    by_index = dict(cols)                   # answer text after any code map
+    groups = {raw.columns[j].name: np.array(by_index[j].cats, dtype=object)[by_index[j].codes]
+              for j in group_idx}
+    data = SurveyData(source=raw.source, shape=shape, scale=scale_obj, items=item_names,
+                      item_texts=item_names, answers=answers,
                       rows=np.asarray(rows, dtype=np.int64), groups=groups,
                       unknown_answers=unknowns, dropped=dropped,
-                      reverse=_resolve_reverse(raw.source, names, reverse),
-                      other_columns=[c.name for j, c in enumerate(raw.columns)
-                                     if j not in {i for i, _ in item_cols}],
-                      comments=list(raw.comments))
+                      reverse=_resolve_reverse(raw.source, item_names, reverse),
+                      other_columns=[names[j] for j in range(len(raw.columns))
+                                     if j not in set(chosen)],
+                      comments=list(raw.comments), stems=[stems[j] for j in chosen],
+                      fields=[raw.columns[j].name for j in chosen], notes=notes)
+    pid = _id_column(raw.header)
+    if pid is not None:
+        c = raw.columns[pid]
+        data.ids, data.id_column = np.array(c.cats, dtype=object)[c.codes[keep]], c.name
     return _declare(data, respondents)
+
+
+#: Columns that identify a person across surveys (pre/post pairing), best first.
+_PERSON_ID = ("student id", "student_id", "studentid", "sis_id", "sis user id", "sis id",
+              "externalreference", "external reference", "externaldatareference",
+              "participant id", "participant_id", "respondent id", "respondent_id", "id",
+              "username", "user", "email address", "email", "recipientemail")
+
+
+def _id_column(header: list[str]) -> "int | None":
+    return _find(header, _PERSON_ID)
+
+
+#: Qualtrics ``Status`` values that are not real respondents (text and numeric export).
+_QUALTRICS_NOT_RESPONDENTS = {"survey preview": "Survey Preview", "1": "Survey Preview",
+                              "survey test": "Survey Test", "2": "Survey Test"}
+
+
+def _as_slice(keep: np.ndarray):
+    """A run of consecutive rows as a slice (a view: no copy of a million codes per column)."""
+    if len(keep) and keep[-1] - keep[0] == len(keep) - 1:
+        return slice(int(keep[0]), int(keep[-1]) + 1)
+    return keep
+
+
+def _drop_qualtrics_tests(raw: _Raw, keep: np.ndarray, text_row: list[str]):
+    """Rows kept and rows dropped: preview and test responses are not respondents."""
+    status = _find(raw.header, ("status",))
+    if status is None:
+        status = _find(text_row, ("status",))        # legacy export: field V7
+    if status is None:
+        return keep, []
+    col = raw.columns[status]
+    vals = np.array([normalize_answer(x) for x in col.cats], dtype=object)[col.codes[keep]]
+    numeric = all(_isint(v) for v in set(vals) if v != "")
+    drop = np.array([v in _QUALTRICS_NOT_RESPONDENTS and (numeric or not _isint(v))
+                     for v in vals], dtype=bool)
+    dropped = [DroppedRow(int(raw.row_of(keep[i])),
+                          f"{_QUALTRICS_NOT_RESPONDENTS[vals[i]]} response")
+               for i in np.flatnonzero(drop)]
+    return keep[~drop], dropped
+
+
+def _item_names(raw: _Raw, shape: str, extra: int, codes) -> tuple[list[str], list[str]]:
+    """Statement name and stem of every column (names made distinct)."""
+    header = raw.header
+    if shape == "surveymonkey":
+        second = [c.cats[c.codes[0]] for c in raw.columns]
+        pairs = platforms.surveymonkey_names(header, second)
+    else:
+        texts = ([c.cats[c.codes[0]] for c in raw.columns] if shape == "qualtrics" and extra
+                 else header)
+        pairs = [platforms.split_stem(shape, h, t if t.strip() else h)
+                 for h, t in zip(header, texts)]
+    if codes is not None:
+        pairs = [(codes.texts.get(h.strip().casefold()) or n,
+                  codes.stems.get(h.strip().casefold(), s))
+                 for h, (n, s) in zip(header, pairs)]
+    names = [" ".join(n.split()) or h for h, (n, _) in zip(header, pairs)]
+    seen: dict[str, int] = {}
+    for n in names:
+        seen[normalize_answer(n)] = seen.get(normalize_answer(n), 0) + 1
+    names = [n if seen[normalize_answer(n)] == 1 else h for n, h in zip(names, header)]
+    return _distinct(names), [s for _, s in pairs]
+
+
+def _is_na_text(text: str) -> bool:
+    return normalize_answer(text) in {normalize_answer(x) for x in DEFAULT_NOT_APPLICABLE}
+
+
+def _apply_codebook(cols, book, exclude, notes, source):
+    """Columns with their codes replaced by answer text, where the code map covers them."""
+    from .codebook import Codebook
+    out = []
+    mapped_general = []
+    for j, c in cols:
+        m = book.map_for(c.field or c.name)
+        if m is None or j in exclude:
+            out.append((j, c))
+            continue
+        general = m is book.default and not book.patterns
+        keys = [Codebook.key(t) for t in c.cats]
+        used = [k for t, k, cnt in zip(c.cats, keys, c.counts()) if cnt and t.strip()
+                and not _is_na_text(t)]
+        if general and (not used or any(k not in m for k in used)):
+            out.append((j, c))              # not all codes of the map: not a coded item
+            continue
+        cats = [m.get(k, t) if t.strip() else t for t, k in zip(c.cats, keys)]
+        new = _Column(c.name, cats, c.codes, c.field)
+        out.append((j, new))
+        if general:
+            mapped_general.append((j, set(used)))
+    # a column coded 1/2 among 5-point items is a question of its own (e.g. a section)
+    most = max((len(d) for _, d in mapped_general), default=0)
+    if book.default is not None and len(book.default) >= 4 and most >= 3:
+        narrow = {j for j, d in mapped_general if d == {"1", "2"}}
+        for i, (j, c) in enumerate(out):
+            if j in narrow:
+                old = next(col for jj, col in cols if jj == j)
+                out[i] = (j, old)
+                notes.append(f"{source}: column {old.field or old.name!r} holds only codes 1 "
+                             "and 2 while other items use more: read as a question of its own "
+                             "(e.g. a section), not an item; list the item columns under "
+                             "'columns' in the code map to take it as one")
+    return out
+
+
+def _note_no_neutral(scale: Scale, notes: list) -> None:
+    """Say so when a scale without a neutral answer was detected inside a wider one."""
+    if scale.neutral:
+        return
+    mine = {normalize_answer(x) for x in scale.labels}
+    for other in BUILTIN_SCALES.values():
+        if other.neutral and mine < {normalize_answer(x) for x in other.labels}:
+            notes.append(f"read as the {scale.k}-point scale {scale.name!r} (no neutral answer "
+                         f"in the data); give --scale {other.name} if the questionnaire offered "
+                         f"{other.neutral[0]!r}")
+            return
+
+
+def _warn_unused_labels(scale: Scale, answers: np.ndarray, notes: list) -> None:
+    """Note when labels go unused and another built-in scale fits the answers exactly."""
+    seen = np.zeros(256, dtype=bool)             # int8 codes read as uint8, no copy
+    for j in range(answers.shape[1]):
+        seen |= np.bincount(np.ascontiguousarray(answers[:, j]).view(np.uint8),
+                            minlength=256) > 0
+    used = np.flatnonzero(seen[:scale.k])
+    if len(used) == scale.k or len(used) == 0:
+        return
+    got = {normalize_answer(scale.labels[i]) for i in used}
+    for other in BUILTIN_SCALES.values():
+        if other.name != scale.name and {normalize_answer(x) for x in other.labels} == got:
+            unused = [lab for i, lab in enumerate(scale.labels) if i not in set(used.tolist())]
+            notes.append(f"warning: scale {scale.name!r} has labels no answer uses "
+                         f"({', '.join(unused)}), while scale {other.name!r} fits the answers "
+                         f"exactly; give --scale {other.name} if that is the questionnaire's "
+                         f"scale (medians and codes depend on it)")
+            return
 
 
 def _isint(s: str) -> bool:
@@ -669,10 +872,7 @@ def _isint(s: str) -> bool:
         return False
 
 
-def name_matches(pattern: str, name: str) -> bool:
-    """A column name matches a name or ``fnmatch`` pattern, ignoring case and outer spaces."""
-    return (normalize_answer(name) == normalize_answer(pattern)
-            or fnmatch.fnmatch(name.strip().casefold(), pattern.strip().casefold()))
+name_matches = platforms.name_matches
 
 
 def _as_list(x) -> list[str]:
@@ -717,6 +917,9 @@ def _declare(data: SurveyData, respondents: int | None) -> SurveyData:
         for g in list(data.groups):
             data.groups[g] = np.concatenate([data.groups[g],
                                              np.array([""] * (respondents - have), dtype=object)])
+        if data.ids is not None:
+            data.ids = np.concatenate([data.ids, np.array([""] * (respondents - have),
+                                                          dtype=object)])
     return data
 
 
@@ -757,8 +960,37 @@ def _code_item(stats) -> bool:
     return codes > 0 and codes + na == nonblank
 
 
+def _numeric_only(col: _Column) -> bool:
+    """Every non-blank answer is a whole number 0..11 (or not applicable), and there is one.
+
+    Such a column is a coded item unless a code map says otherwise (ages, years and
+    scores lie outside the range).
+    """
+    seen = False
+    for text, cnt in zip(col.cats, col.counts()):
+        t = text.strip()
+        if not cnt or not t or _is_na_text(t):
+            continue
+        try:
+            v = float(t)
+        except ValueError:
+            return False
+        if not (v == v and v.is_integer() and 0 <= v <= 11):    # scale codes, NPS 0-10
+            return False
+        seen = True
+    return seen
+
+
+def _refuse_codes(source: str, col: _Column, long: bool):
+    where = f"item {col.name!r}: " if long else ""
+    return SurveyInputError(
+        f"{where}answers are numeric codes, and which end of the numbering means agreement "
+        f"is not known; {CODES_HINT}", source, None if long else 1,
+        None if long else (col.field or col.name))
+
+
 def _choose_items(source: str, names: list[str], cols, exclude, scale, items,
-                  long: bool = False):
+                  long: bool = False, notes: "list | None" = None):
     """The scale and the item columns: named by ``items`` patterns, or detected.
 
     ``cols`` is a list of (index, _Column); ``names`` are the names listed in messages
@@ -768,13 +1000,17 @@ def _choose_items(source: str, names: list[str], cols, exclude, scale, items,
     if items:
         chosen = []
         for pat in items:
-            hits = [(j, c) for j, c in cols if name_matches(pat, c.name)]
+            hits = [(j, c) for j, c in cols if name_matches(pat, c.name)
+                    or (c.field and name_matches(pat, c.field))]
             if not hits:
                 raise SurveyInputError(f"no {what} matches item {pat!r}; {what}s are {names!r}",
                                        source, None if long else 1)
             chosen.extend(h for h in hits if h[0] not in {j for j, _ in chosen})
         chosen.sort(key=lambda t: t[0])
         if scale is None:
+            for _, c in chosen:
+                if _numeric_only(c):
+                    raise _refuse_codes(source, c, long)
             scale_obj = _detect_scale(source, chosen, require_all=True, long=long)
         else:
             scale_obj = _get_scale(scale, source)
@@ -782,6 +1018,11 @@ def _choose_items(source: str, names: list[str], cols, exclude, scale, items,
     candidates = [(j, c) for j, c in cols if j not in exclude
                   and (long or not _ID_LIKE.match(c.name.strip()))]
     if scale is None:
+        if not any(_label_item(_column_stats(c, s)) for _, c in candidates
+                   for s in BUILTIN_SCALES.values()):
+            coded = [c for _, c in candidates if _numeric_only(c)]
+            if coded:
+                raise _refuse_codes(source, coded[0], long)
         scale_obj = _detect_scale(source, candidates, require_all=False, long=long)
     else:
         scale_obj = _get_scale(scale, source)
@@ -789,6 +1030,9 @@ def _choose_items(source: str, names: list[str], cols, exclude, scale, items,
     chosen = [(j, c) for j, c in candidates if _label_item(stats[j])]
     if not chosen:
         chosen = [(j, c) for j, c in candidates if _code_item(stats[j])]
+        if chosen and not scale_obj.numeric_codes:
+            raise _refuse_codes(source, chosen[0][1], long)
+        chosen = _drop_narrow_coded(source, chosen, scale_obj, notes, long)
     if not chosen:
         raise SurveyInputError(
             f"no item columns: no {what}'s answers are labels of scale {scale_obj.name!r} "
@@ -808,6 +1052,35 @@ def _choose_items(source: str, names: list[str], cols, exclude, scale, items,
                     f"scale at a time with --items and --scale", source,
                     None if long else 1, None if long else c.name)
     return scale_obj, chosen
+
+
+def _drop_narrow_coded(source, chosen, scale, notes, long):
+    """Leave out a coded column holding only codes 1 and 2 among items using three or more.
+
+    In a numeric export, a question such as "Which section?" coded 1/2 is all codes of
+    a five-point scale too; it is reported in the notes, not taken as an item.
+    """
+    if scale.k < 4 or long:
+        return chosen
+    used = {j: {_code_text(t) for t, cnt in zip(c.cats, c.counts()) if cnt and t.strip()
+                and not _is_na_text(t)} for j, c in chosen}
+    if max((len(u) for u in used.values()), default=0) < 3:
+        return chosen
+    keep = []
+    for j, c in chosen:
+        if used[j] == {"1", "2"}:
+            if notes is not None:
+                notes.append(f"{source}: column {(c.field or c.name)!r} holds only codes 1 "
+                             f"and 2 while other items use more: read as a question of its own (e.g. a section), not an "
+                             f"item; name it with --items to take it as one")
+        else:
+            keep.append((j, c))
+    return keep
+
+
+def _code_text(text: str) -> str:
+    from .codebook import Codebook
+    return Codebook.key(text)
 
 
 def _get_scale(scale, source) -> Scale:
@@ -834,8 +1107,8 @@ def _detect_scale(source, cols, require_all: bool, long: bool = False) -> Scale:
     if not per_col or not any(f for _, f in per_col):
         raise SurveyInputError(
             "no item columns: no column's answers are labels of a built-in scale "
-            f"({', '.join(BUILTIN_SCALES)}); give --scale (a name or a .toml file) "
-            "(numeric codes are read once the scale is named)", source)
+            f"({', '.join(BUILTIN_SCALES)}); give --scale (a name or a .toml file), or, "
+            "for answer codes, --codes (a .qsf, .lss or .toml code map)", source)
     common = None
     for name, fits in per_col:
         common = set(fits) if common is None else common & set(fits)
@@ -872,6 +1145,14 @@ def _map_column(source, scale, name, cats, codes, rows, unknown):
     bad = a == _NO_MATCH
     if bad.any():
         where = np.flatnonzero(bad)
+        if not scale.numeric_codes:
+            for i in where:
+                text = cats[codes[i]]
+                if scale.matches_code(text) and _numeric_only(
+                        _Column(name, [text], np.zeros(1, dtype=np.int64))):
+                    raise SurveyInputError(
+                        f"numeric answer {text!r}: which end of the numbering means "
+                        f"agreement is not known; {CODES_HINT}", source, int(rows[i]), name)
         if unknown == "error":
             i = int(where[0])
             raise SurveyInputError(
@@ -884,7 +1165,7 @@ def _map_column(source, scale, name, cats, codes, rows, unknown):
 
 
 def _match(source, scale, item_cols, rows, unknown):
-    answers = np.empty((len(rows), len(item_cols)), dtype=np.int8)
+    answers = np.empty((len(rows), len(item_cols)), dtype=np.int8, order="F")   # columns contiguous
     unknowns: list[UnknownAnswer] = []
     for k, (_, col) in enumerate(item_cols):
         answers[:, k], found = _map_column(source, scale, col.name, col.cats, col.codes, rows,

@@ -21,8 +21,11 @@ the label printed first).
 
 Intervals
 ---------
-Shares use :func:`statsmodels.stats.proportion.proportion_confint`:
-``method="wilson"`` (default, Wilson 1927) or ``"beta"`` (Clopper-Pearson exact).
+``method="wilson"`` (default, Wilson 1927) is computed here in closed form, with the
+formula and operation order of :func:`statsmodels.stats.proportion.proportion_confint`
+and the normal quantile of :class:`statistics.NormalDist` (no scipy import, which
+would cost more than reading a large file); ``"beta"`` (Clopper-Pearson exact) comes
+from ``proportion_confint``.
 
 Public API
 ----------
@@ -39,7 +42,6 @@ from fractions import Fraction
 
 import numpy as np
 
-from .ingest import BLANK, NOT_APPLICABLE, UNKNOWN, SurveyData, survey_from_frame
 from .rounding import largest_remainder, round_fraction
 
 __all__ = ["CI_METHODS", "PERCENT_METHODS", "Proportion", "ItemSummary", "SurveySummary",
@@ -127,12 +129,27 @@ def proportion(k: int, n: int, confidence_level: float = 0.95,
         raise ValueError(f"need 0 <= k <= n, got k={k}, n={n}")
     if n == 0:
         return Proportion(0, 0, None, (None, None), method, confidence_level)
-    from statsmodels.stats.proportion import proportion_confint   # heavy import: only when used
-    lo, hi = proportion_confint(k, n, alpha=1 - confidence_level, method=method)
+    if method == "wilson":
+        lo, hi = _wilson(k, n, 1 - confidence_level)
+    else:
+        from statsmodels.stats.proportion import proportion_confint   # heavy: only when used
+        lo, hi = proportion_confint(k, n, alpha=1 - confidence_level, method=method)
     # the bounds are exact at the ends; clear floating-point dust (e.g. 5e-17 for k = 0)
     lo = 0.0 if k == 0 else min(max(float(lo), 0.0), 1.0)
     hi = 1.0 if k == n else min(max(float(hi), 0.0), 1.0)
     return Proportion(k, n, k / n, (float(lo), float(hi)), method, confidence_level)
+
+
+def _wilson(k: int, n: int, alpha: float) -> tuple[float, float]:
+    """Wilson score interval (statsmodels' formula: centre and half-width over 1 + z^2/n)."""
+    from statistics import NormalDist
+    crit = NormalDist().inv_cdf(1 - alpha / 2)
+    q = k / n
+    crit2 = crit ** 2
+    denom = 1 + crit2 / n
+    center = (q + crit2 / (2 * n)) / denom
+    dist = crit * math.sqrt(q * (1.0 - q) / n + crit2 / (4.0 * n ** 2)) / denom
+    return center - dist, center + dist
 
 
 def _weighted_quantile(codes: np.ndarray, counts: np.ndarray, q: float) -> float | None:
@@ -183,6 +200,8 @@ class ItemSummary:
         Item is reverse-keyed.
     unknown : int
         Unknown answers counted as missing.
+    stem : str
+        Question stem of a grid/matrix item ("" for a single question).
     """
 
     item: str
@@ -204,6 +223,7 @@ class ItemSummary:
     sd: float | None
     reverse: bool = False
     unknown: int = 0
+    stem: str = ""
 
     @property
     def iqr(self) -> float | None:
@@ -237,11 +257,12 @@ class ItemSummary:
         """The ``summarize --json`` item (plus ``excluded`` for the invariant)."""
         return {"item": self.item, "n": self.n, "missing": self.missing,
                 "excluded": self.excluded, "counts": dict(self.counts),
-                "percent": dict(self.percent), "agree": self.agree.to_dict()}
+                "percent": dict(self.percent), "agree": self.agree.to_dict(),
+                "median": self.median, "iqr": self.iqr, "mean": self.mean, "sd": self.sd}
 
     def to_full_dict(self) -> dict:
         d = self.to_dict()
-        d.update(text=self.text, respondents=self.respondents,
+        d.update(text=self.text, stem=self.stem, respondents=self.respondents,
                  neutral=self.neutral.to_dict(), disagree=self.disagree.to_dict(),
                  ci_method=self.agree.method, median=self.median, q1=self.q1, q3=self.q3,
                  iqr=self.iqr, extra_mean_of_codes=self.mean, extra_sd_of_codes=self.sd,
@@ -291,6 +312,11 @@ class SurveySummary:
                 return it
         raise KeyError(f"no item {name!r}; items are {[i.item for i in self.items]}")
 
+    def to_frame(self):
+        """One row per item as a pandas DataFrame (see :func:`analysis.export.summary_frame`)."""
+        from .export import summary_frame
+        return summary_frame(self)
+
     def to_dict(self) -> dict:
         """The ``summarize --json`` shape: ``{"respondents": int, "items": [...]}``."""
         return {"respondents": self.respondents, "items": [i.to_dict() for i in self.items]}
@@ -312,15 +338,21 @@ class SurveySummary:
         width = max([len(i.item) for i in self.items] + [4])
         cw = max([len(lab) for lab in labels] + [14])
         head = f"{'item':<{width}}  " + "  ".join(f"{lab:>{cw}}" for lab in labels)
-        out.append(head + f"  {'n':>5} {'miss':>5} {'n/a':>5}  agree [95% CI]")
+        out.append(head + f"  {'n':>5} {'miss':>5} {'n/a':>5}  {'median':>6} {'IQR':>5} "
+                   f"{'mean':>5} {'SD':>5}  agree [95% CI]")
+        stem = ""
         for it in self.items:
+            if it.stem and it.stem != stem:
+                out.append(f"{it.stem}")         # a grid's question, once above its rows
+            stem = it.stem
             pp = it.printed_percent(decimals, method)
             cells = "  ".join(f"{f'{pp[lab]:.{decimals}f}% ({it.counts[lab]})':>{cw}}" for lab in labels)
             ag = it.agree
             agree = ("-" if ag.share is None else
                      f"{ag.percent_text(1)}% [{ag.ci[0]:.1%}, {ag.ci[1]:.1%}]")
             out.append(f"{it.item:<{width}}  {cells}  {it.n:>5} {it.missing:>5} "
-                       f"{it.excluded:>5}  {agree}")
+                       f"{it.excluded:>5}  {_num(it.median):>6} {_num(it.iqr):>5} "
+                       f"{_num(it.mean, 2):>5} {_num(it.sd, 2):>5}  {agree}")
         for d in self.dropped:
             out.append(f"dropped row {d.row}: {d.reason}")
         if self.other_columns:
@@ -328,7 +360,13 @@ class SurveySummary:
         return "\n".join(out)
 
 
+def _num(x, decimals: int = 1) -> str:
+    """A statistic as printed ("-" when there is none)."""
+    return "-" if x is None else f"{x:.{decimals}f}"
+
+
 def _validate_summarize(data, confidence_level, method):
+    from .ingest import SurveyData
     if not isinstance(data, SurveyData):
         raise TypeError(f"`data` must be SurveyData, got {type(data).__name__}")
     _validate_ci(method, confidence_level)
@@ -353,40 +391,13 @@ def summarize(data: SurveyData, confidence_level: float = 0.95,
     """
     _validate_summarize(data, confidence_level, method)
     scale = data.scale
-    k = scale.k
-    labels = list(scale.labels)
-    pos = [labels.index(x) for x in scale.positive]
-    neu = [labels.index(x) for x in scale.neutral]
-    neg = [labels.index(x) for x in scale.negative]
     out = []
     for j, name in enumerate(data.items):
-        col = data.answers[:, j]
-        # one pass: bincount over shifted codes (-3..k-1 -> 0..k+2)
-        tally = np.bincount(col.astype(np.int64) + 3, minlength=k + 3)
-        unknown = int(tally[UNKNOWN + 3])
-        excluded = int(tally[NOT_APPLICABLE + 3])
-        missing = int(tally[BLANK + 3]) + unknown
-        cnt = tally[3:3 + k]
-        n = int(cnt.sum())
-        counts = {lab: int(c) for lab, c in zip(labels, cnt)}
-        percent = {lab: (100.0 * int(c) / n if n else 0.0) for lab, c in zip(labels, cnt)}
-        rev = name in data.reverse
-        codes = np.array(scale.reversed_codes() if rev else scale.codes, dtype=float)
-        median = _weighted_quantile(codes, cnt, 0.5)
-        q1 = _weighted_quantile(codes, cnt, 0.25)
-        q3 = _weighted_quantile(codes, cnt, 0.75)
-        if n:
-            mean = float((codes * cnt).sum() / n)
-            sd = float(math.sqrt(((codes - mean) ** 2 * cnt).sum() / (n - 1))) if n > 1 else None
-        else:
-            mean = sd = None
-        out.append(ItemSummary(
-            item=name, text=data.item_texts[j], labels=labels, counts=counts, n=n,
-            missing=missing, excluded=excluded, respondents=data.respondents, percent=percent,
-            agree=proportion(int(cnt[pos].sum()), n, confidence_level, method),
-            neutral=proportion(int(cnt[neu].sum()), n, confidence_level, method),
-            disagree=proportion(int(cnt[neg].sum()), n, confidence_level, method),
-            median=median, q1=q1, q3=q3, mean=mean, sd=sd, reverse=rev, unknown=unknown))
+        tally = _tally(data.answers[:, j], scale.k)
+        out.append(summarize_tally(
+            tally, scale, name, text=data.item_texts[j], respondents=data.respondents,
+            reverse=name in data.reverse, stem=data.stems[j] if j < len(data.stems) else "",
+            confidence_level=confidence_level, method=method))
     return SurveySummary(respondents=data.respondents, items=out, scale=scale,
                          source=data.source, shape=data.shape,
                          unknown_answers=list(data.unknown_answers), dropped=list(data.dropped),
@@ -394,9 +405,71 @@ def summarize(data: SurveyData, confidence_level: float = 0.95,
                          other_columns=list(data.other_columns))
 
 
+def _tally(col: np.ndarray, k: int) -> np.ndarray:
+    """Counts of the codes -3..k-1 of one int8 answer column, shifted to 0..k+2.
+
+    One pass without a copy: the int8 codes are read as uint8 (-3..-1 become 253..255).
+    """
+    t = np.bincount(np.ascontiguousarray(col).view(np.uint8), minlength=256)
+    return np.concatenate([t[253:256], t[:k]])
+
+
+def summarize_tally(tally, scale, name: str, text: str = "", respondents: "int | None" = None,
+                    reverse: bool = False, stem: str = "", confidence_level: float = 0.95,
+                    method: str = "wilson") -> ItemSummary:
+    """One item's summary from its tally (the one route to every item's numbers).
+
+    Parameters
+    ----------
+    tally : array of int, length ``scale.k + 3``
+        Answers per code shifted by 3: unknown (counted missing), not applicable,
+        blank, then one count per label in scale order.
+    scale : Scale
+    name, text, stem : str
+    respondents : int, optional
+        Default: the tally's total.
+    reverse : bool
+        Reverse-keyed (reversed codes for median, quartiles, mean, SD).
+    """
+    from .scales import BLANK, NOT_APPLICABLE, UNKNOWN
+    tally = np.asarray(tally, dtype=np.int64)
+    k = scale.k
+    labels = list(scale.labels)
+    pos = [labels.index(x) for x in scale.positive]
+    neu = [labels.index(x) for x in scale.neutral]
+    neg = [labels.index(x) for x in scale.negative]
+    unknown = int(tally[UNKNOWN + 3])
+    excluded = int(tally[NOT_APPLICABLE + 3])
+    missing = int(tally[BLANK + 3]) + unknown
+    cnt = tally[3:3 + k]
+    n = int(cnt.sum())
+    counts = {lab: int(c) for lab, c in zip(labels, cnt)}
+    percent = {lab: (100.0 * int(c) / n if n else 0.0) for lab, c in zip(labels, cnt)}
+    rev = reverse
+    codes = np.array(scale.reversed_codes() if rev else scale.codes, dtype=float)
+    median = _weighted_quantile(codes, cnt, 0.5)
+    q1 = _weighted_quantile(codes, cnt, 0.25)
+    q3 = _weighted_quantile(codes, cnt, 0.75)
+    if n:
+        mean = float((codes * cnt).sum() / n)
+        sd = float(math.sqrt(((codes - mean) ** 2 * cnt).sum() / (n - 1))) if n > 1 else None
+    else:
+        mean = sd = None
+    return ItemSummary(
+        item=name, text=text or name, labels=labels, counts=counts, n=n,
+        missing=missing, excluded=excluded,
+        respondents=int(tally.sum()) if respondents is None else int(respondents),
+        percent=percent,
+        agree=proportion(int(cnt[pos].sum()), n, confidence_level, method),
+        neutral=proportion(int(cnt[neu].sum()), n, confidence_level, method),
+        disagree=proportion(int(cnt[neg].sum()), n, confidence_level, method),
+        median=median, q1=q1, q3=q3, mean=mean, sd=sd, reverse=rev, unknown=unknown, stem=stem)
+
+
 def summarize_dataframe(df, scale=None, items=None, shape: str = "auto",
                         unknown: str = "error", confidence_level: float = 0.95,
                         method: str = "wilson", **kwargs) -> SurveySummary:
     """Summarise a DataFrame of answer text (see :func:`~analysis.ingest.survey_from_frame`)."""
+    from .ingest import survey_from_frame
     data = survey_from_frame(df, scale=scale, items=items, shape=shape, unknown=unknown, **kwargs)
     return summarize(data, confidence_level, method)

@@ -52,7 +52,7 @@ def _validate_report(data, decimals, percent_method):
 
 
 def render_report(data: SurveyData, claims=None, group: str | None = None, min_group: int = 5,
-                  title: str | None = None, confidence_level: float = 0.95,
+                  group_order: "list[str] | None" = None, title: str | None = None, confidence_level: float = 0.95,
                   method: str = "wilson", decimals: int = 1, percent_method: str = "round",
                   reliability: bool = True) -> str:
     """HTML text of the survey report.
@@ -66,6 +66,8 @@ def render_report(data: SurveyData, claims=None, group: str | None = None, min_g
         Grouping column (the survey must have been read with ``group=``).
     min_group : int
         Smallest group shown.
+    group_order : list of str, optional
+        Order of the groups (default: first appearance).
     title : str, optional
     confidence_level : float
     method : {"wilson", "beta"}
@@ -85,9 +87,13 @@ def render_report(data: SurveyData, claims=None, group: str | None = None, min_g
     svg = figure_svg(diverging_bar(s))
     claims_rep = evaluate_claims(claims, s, confidence_level, method) if claims else None
     groups = None
+    group_svg = None
     if group:
+        from .chart import faceted_bar
         from .groups import compare_groups
-        groups = compare_groups(data, group, min_group)
+        groups = compare_groups(data, group, min_group, order=group_order)
+        if groups.shown:
+            group_svg = Markup(figure_svg(faceted_bar(groups)))
     rel = None
     pairing_unknown = any(PAIRING_UNKNOWN in c for c in data.comments)
     if reliability and len(data.items) >= 2 and not pairing_unknown:
@@ -101,7 +107,8 @@ def render_report(data: SurveyData, claims=None, group: str | None = None, min_g
         printed=[it.printed_percent(decimals, percent_method) for it in s.items],
         decimals=decimals, rounding_note=rounding,
         ci_name={"wilson": "Wilson", "beta": "Clopper-Pearson"}[method],
-        fmt=_fmt, svg=Markup(svg), claims=claims_rep, groups=groups, reliability=rel,
+        fmt=_fmt, svg=Markup(svg), claims=claims_rep, groups=groups, group_svg=group_svg,
+        reliability=rel,
         comments=data.comments, pairing_unknown=pairing_unknown)
 
 

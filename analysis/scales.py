@@ -8,7 +8,9 @@ are *excluded* from every denominator and reported apart.
 Built-in scales (:data:`BUILTIN_SCALES`): ``paper`` (the five-point scale of the
 paper's questionnaire, Definitely Agree ... Definitely Disagree), ``agree5``
 (Strongly disagree ... Strongly agree), ``agree5-somewhat`` (with "Somewhat"),
-``agree7``, ``frequency5`` and ``satisfaction5``. When no scale is named, the
+``agree7``, the four-point ``agree4`` (Strongly disagree, Disagree, Agree, Strongly
+agree) and ``frequency4`` (Never, Sometimes, Often, Always), ``frequency5`` and
+``satisfaction5``. When no scale is named, the
 built-in scale whose labels every item column uses is chosen (the best label
 match, then the fewest labels, then this order). Custom scales come from a small
 TOML file (:func:`load_scale`)::
@@ -24,7 +26,10 @@ TOML file (:func:`load_scale`)::
     "not at all confident" = "Not at all"
 
 Matching of answers ignores case and surrounding white space
-(:meth:`Scale.match`); numeric codes are accepted where the scale defines them.
+(:meth:`Scale.match`). Numeric answers are read only through a scale file's codes
+(``Scale.numeric_codes``) or a code map / survey definition
+(:mod:`analysis.codebook`): the built-in scales never guess which end of an export's
+numbering means agreement.
 """
 from __future__ import annotations
 
@@ -37,6 +42,13 @@ from .errors import SurveyInputError
 
 __all__ = ["Scale", "BUILTIN_SCALES", "get_scale", "load_scale", "normalize_answer",
            "DEFAULT_NOT_APPLICABLE"]
+
+#: Cell codes of an answer matrix besides label positions 0..k-1 (see
+#: :attr:`analysis.ingest.SurveyData.answers`): blank, not applicable, and an unknown
+#: answer counted as missing.
+BLANK = -1
+NOT_APPLICABLE = -2
+UNKNOWN = -3
 
 #: Answers treated as "not applicable" unless a scale names its own.
 DEFAULT_NOT_APPLICABLE = ("Not applicable", "N/A", "Does not apply")
@@ -89,6 +101,12 @@ class Scale:
         Other spellings, mapped to a label.
     description : str
         One line for listings.
+    numeric_codes : bool
+        Numeric answers may be read through ``codes``. False for the built-in
+        scales: an export's numbers follow the order the survey author listed the
+        choices in, which the built-in scale cannot know (a Qualtrics numeric export
+        may code "Strongly agree" as 1). True for a scale file, whose author states
+        the codes (``codes``, or 1..k in the order of ``labels``).
     """
 
     name: str
@@ -100,6 +118,7 @@ class Scale:
     not_applicable: tuple[str, ...] = DEFAULT_NOT_APPLICABLE
     aliases: dict = field(default_factory=dict, compare=False, hash=False)
     description: str = ""
+    numeric_codes: bool = field(default=False, compare=False)
 
     def __post_init__(self):
         _validate_scale(self)
@@ -143,7 +162,7 @@ class Scale:
         hit = self._lookup().get(key)
         if hit is not None:
             return hit
-        if accept_codes:
+        if accept_codes and self.numeric_codes:
             ck = _code_key(key)
             if ck is not None:
                 return self.__dict__["_code_cache"].get(ck)
@@ -182,7 +201,7 @@ class Scale:
         """The valid answers, for error messages."""
         codes = ", ".join(_code_key(c) for c in self.codes)
         na = ", ".join(self.not_applicable)
-        text = ", ".join(self.labels) + f" (or codes {codes})"
+        text = ", ".join(self.labels) + (f" (or codes {codes})" if self.numeric_codes else "")
         if na:
             text += f"; not applicable: {na}"
         return text
@@ -244,6 +263,8 @@ _AGREE5S = ("Strongly disagree", "Somewhat disagree", "Neither agree nor disagre
 _AGREE7 = ("Strongly disagree", "Disagree", "Somewhat disagree",
            "Neither agree nor disagree", "Somewhat agree", "Agree", "Strongly agree")
 _FREQ5 = ("Never", "Rarely", "Sometimes", "Often", "Always")
+_AGREE4 = ("Strongly disagree", "Disagree", "Agree", "Strongly agree")
+_FREQ4 = ("Never", "Sometimes", "Often", "Always")
 _SAT5 = ("Very dissatisfied", "Dissatisfied", "Neither satisfied nor dissatisfied",
          "Satisfied", "Very satisfied")
 
@@ -259,6 +280,10 @@ BUILTIN_SCALES: dict[str, Scale] = {
                              {"Neutral": _AGREE5S[2]}),
     "agree7": _make("agree7", _AGREE7, range(1, 8), _AGREE7[4:], _AGREE7[3:4], _AGREE7[:3],
                     "seven-point Likert agreement", {"Neutral": _AGREE7[3]}),
+    "agree4": _make("agree4", _AGREE4, (1, 2, 3, 4), _AGREE4[2:], (), _AGREE4[:2],
+                    "four-point agreement, no neutral (e.g. Canvas surveys)"),
+    "frequency4": _make("frequency4", _FREQ4, (1, 2, 3, 4), _FREQ4[2:], (), _FREQ4[:2],
+                        "four-point frequency (Never, Sometimes, Often, Always)"),
     "frequency5": _make("frequency5", _FREQ5, (1, 2, 3, 4, 5), _FREQ5[3:], _FREQ5[2:3], _FREQ5[:2],
                         "five-point frequency (Never ... Always)"),
     "satisfaction5": _make("satisfaction5", _SAT5, (1, 2, 3, 4, 5), _SAT5[3:], _SAT5[2:3], _SAT5[:2],
@@ -335,6 +360,6 @@ def load_scale(path: "str | Path") -> Scale:
     try:
         return Scale(name=str(name), labels=tuple(labels), codes=tuple(float(c) for c in codes),
                      aliases=dict(aliases), description=str(data.get("description", "")),
-                     **groups)
+                     numeric_codes=True, **groups)
     except ValueError as e:
         raise SurveyInputError(str(e), str(p)) from None

@@ -1,8 +1,9 @@
 """Reading survey exports: every shape counts exactly, and bad input gets one clear line.
 
 Reference values: the truth is the random response matrix each test draws itself; the
-files are rendered from it in each export shape with messy case, white space, numeric
-codes, blanks and not-applicable answers. The invariant counted + missing + excluded =
+files are rendered from it in each export shape with messy case, white space, blanks
+and not-applicable answers (numeric codes are refused without a code map: see
+tests/test_analysis_platforms.py). The invariant counted + missing + excluded =
 respondents must hold per item, and counts must equal the matrix's own tallies.
 """
 import csv
@@ -31,9 +32,7 @@ NA, BLANK = -2, -1
 def _messy(draw, label: str) -> str:
     """A label as a careless export might write it."""
     kind = draw(st.integers(0, 9))
-    if kind == 0:
-        text = CODES[label]
-    elif kind == 1:
+    if kind == 1:
         text = label.upper()
     elif kind == 2:
         text = label.lower()
@@ -57,12 +56,6 @@ def surveys(draw):
         # labels must be the majority answer kind; keep N/A from outnumbering them
     texts = [[("" if v == BLANK else draw(st.sampled_from(["Not applicable", " n/a ", "N/A"])))
               if v < 0 else _messy(draw, LABELS[v]) for v in row] for row in truth]
-    # a column of only codes and N/A would be read as numeric-coded: keep one label text
-    for j in range(m):
-        col = [texts[i][j] for i in range(n) if truth[i, j] >= 0]
-        if all(t.strip().isdigit() for t in col):
-            i = int(np.flatnonzero(truth[:, j] >= 0)[0])
-            texts[i][j] = LABELS[truth[i, j]]
     return truth, texts
 
 
@@ -126,7 +119,8 @@ def test_every_shape_counts_exactly(tmp_path_factory, shape):
         n, m = truth.shape
         assert s.respondents == n
         names = ([f'Question {j + 1}, "quoted", text' for j in range(m)] if shape == "google"
-                 else [f"Q{j + 1}" for j in range(m)])
+                 else [f"Question text {j}" for j in range(m)] if shape == "qualtrics"
+                 else [f"Q{j + 1}" for j in range(m)])     # Qualtrics items: by their text
         got = [it.item for it in s.items]
         # long files carry no column order: items come in order of first appearance
         assert (sorted(got) if shape == "long" else got) == names
@@ -180,8 +174,16 @@ def test_bad_inputs(tmp_path, capsys):
     empty.write_text("")
     assert "empty file" in _one_line_error(capsys, ["summarize", str(empty)])
     latin = tmp_path / "latin.csv"
+    latin.write_bytes(b"q1,\x93the method\x94 is caf\xe9-proof\nNeutral,Neutral\nNeutral,Neutral\n"
+                      b"Neutral,Neutral\n")
+    # Excel on Windows: not UTF-8, read as Windows-1252 with a note naming it
+    assert main(["summarize", str(latin), "--json"]) == 0
+    out = capsys.readouterr()
+    assert [(it["item"], it["counts"]["Neutral"]) for it in json.loads(out.out)["items"]] == [
+        ("q1", 3), ("\u201cthe method\u201d is caf\u00e9-proof", 3)]
+    assert "Windows-1252" in out.err
     latin.write_bytes("q1,q2\nNeutral,Neutral\nNeutral,Neutral\n".encode() + b"Neutral,N\xe9utral\n")
-    err = _one_line_error(capsys, ["summarize", str(latin)])
+    err = _one_line_error(capsys, ["summarize", str(latin), "--encoding", "utf-8"])
     assert "row 4" in err and "0xe9" in err
     noitems = tmp_path / "noitems.csv"
     noitems.write_text("name,age\nAda,36\nBob,41\n")
@@ -252,9 +254,13 @@ def test_not_applicable_is_no_evidence_of_an_item(tmp_path):
     assert data.items == ["Q1", "Q2"] and data.other_columns == ["id", "Comments"]
     coded = tmp_path / "codes.csv"
     coded.write_text("id,Q1,Q2,Note\n1,1,2,N/A\n2,5,N/A,\n3,4,3,N/A\n")
-    with pytest.raises(SurveyInputError, match="no item columns"):
-        read_survey(coded)                     # codes alone do not say which scale
-    s = summarize(read_survey(coded, scale="agree5"))
+    for scale in (None, "agree5"):             # codes alone do not say which end agrees
+        with pytest.raises(SurveyInputError, match="numeric codes.*--codes"):
+            read_survey(coded, scale=scale)
+    book = tmp_path / "map.toml"
+    book.write_text('[codes]\n1 = "Strongly disagree"\n2 = "Disagree"\n'
+                    '3 = "Neither agree nor disagree"\n4 = "Agree"\n5 = "Strongly agree"\n')
+    s = summarize(read_survey(coded, codes=book))
     assert [it.item for it in s.items] == ["Q1", "Q2"]
     assert [(it.n, it.missing, it.excluded) for it in s.items] == [(3, 0, 0), (2, 0, 1)]
 

@@ -1,0 +1,363 @@
+"""Institution-scale counting: many courses x sections x terms, files larger than memory.
+
+The answers are counted by DuckDB (an embedded columnar engine) straight from the
+CSV or Parquet file, out of core: memory stays bounded by ``memory_limit`` whatever the
+file's size, and DuckDB spills to a temporary folder when its hash tables would not
+fit. One scan of the file yields the answers per (grouping values, item, answer
+text) and the respondents per group; the institution-wide distribution is the sum of
+the groups' tallies (no second scan). Answer texts are then matched to the scale in
+Python (there are few distinct texts), and every per-group and institution-wide item
+summary comes from :func:`analysis.likert.summarize_tally`, the same route as
+``summarize`` on a small file, so the numbers agree.
+
+Layouts: *long* (a row per answer: respondent, item, answer columns, named as in
+:mod:`analysis.ingest`) or *wide* (a row per respondent, a column per item: items are
+the columns named by ``items``, else every column that is not a grouping or id
+column). In a long file a respondent of a group with no row for an item is missing
+on it (respondents per group are distinct respondent ids).
+
+pandas is not imported on this path (it would cost more memory than the counting).
+
+Public API: :func:`summarize_by` -> :class:`GroupedSummary`.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from . import platforms
+from .errors import SurveyInputError
+from .scales import BUILTIN_SCALES, Scale, get_scale, normalize_answer
+
+__all__ = ["GroupedSummary", "summarize_by", "DEFAULT_MEMORY_LIMIT"]
+
+#: DuckDB's memory limit unless given: the counting spills to disk beyond it.
+DEFAULT_MEMORY_LIMIT = "48MB"
+#: If DuckDB runs out of memory that it cannot spill, the count is retried with the
+#: limit multiplied by these factors (a count that fails is worse than one that uses more).
+_RETRY_FACTORS = (1, 4, 16)
+_MAX_GROUP_COLUMNS = 8
+_BUFFER, _MAX_LINE = 8 * 2 ** 20, 2 ** 20        # CSV read buffer; longest line accepted
+
+
+@dataclass
+class GroupedSummary:
+    """Item summaries per group (e.g. course x term) and institution-wide.
+
+    Attributes
+    ----------
+    source : str
+    by : list of str
+        Grouping columns.
+    scale : Scale
+    items : list of str
+    groups : list of tuple of str
+        Grouping values, in first-seen-sorted order (sorted as text).
+    respondents : numpy.ndarray of int, shape (groups,)
+    tallies : numpy.ndarray of int, shape (groups, items, k + 3)
+        Per group and item: unknown (0), not applicable (1), blank/absent (2), then
+        the count of each label (the layout of :func:`analysis.likert.summarize_tally`).
+    shape : str
+        ``"long"`` or ``"wide"``.
+    min_group : int
+        Groups with fewer respondents are suppressed in outputs (small cells).
+    """
+
+    source: str
+    by: list
+    scale: Scale
+    items: list
+    groups: list
+    respondents: np.ndarray
+    tallies: np.ndarray
+    shape: str
+    min_group: int = 5
+    notes: list = field(default_factory=list)
+
+    def overall(self, confidence_level=0.95, method="wilson") -> list:
+        """Institution-wide item summaries (the sum of every group's tally)."""
+        from .likert import summarize_tally
+        total = self.tallies.sum(axis=0)
+        resp = int(self.respondents.sum())
+        return [summarize_tally(total[i], self.scale, name, respondents=resp,
+                                confidence_level=confidence_level, method=method)
+                for i, name in enumerate(self.items)]
+
+    def group_summaries(self, g: int, confidence_level=0.95, method="wilson") -> list:
+        """Item summaries of group ``g`` (an index into :attr:`groups`)."""
+        from .likert import summarize_tally
+        return [summarize_tally(self.tallies[g, i], self.scale, name,
+                                respondents=int(self.respondents[g]),
+                                confidence_level=confidence_level, method=method)
+                for i, name in enumerate(self.items)]
+
+    def suppressed(self, g: int) -> bool:
+        return int(self.respondents[g]) < self.min_group
+
+    def rows(self) -> list[dict]:
+        """One record per (group, item), institution-wide first; suppressed groups blanked."""
+        out = []
+        for g in [None] + list(range(len(self.groups))):
+            values = ["(all)"] * len(self.by) if g is None else list(self.groups[g])
+            key = dict(zip(self.by, values))
+            if g is not None and self.suppressed(g):
+                out.append({**key, "item": "", "respondents": int(self.respondents[g]),
+                            "suppressed": f"fewer than {self.min_group} respondents"})
+                continue
+            sums = self.overall() if g is None else self.group_summaries(g)
+            for it in sums:
+                rec = {**key, "item": it.item, "respondents": it.respondents, "n": it.n,
+                       "missing": it.missing, "excluded": it.excluded}
+                rec.update({f"{lab} (count)": it.counts[lab] for lab in it.labels})
+                rec.update({"agree_share": it.agree.share, "median": it.median, "iqr": it.iqr,
+                            "mean": it.mean, "sd": it.sd})
+                out.append(rec)
+        return out
+
+    def to_dict(self) -> dict:
+        return {"source": self.source, "by": list(self.by), "shape": self.shape,
+                "scale": self.scale.name, "min_group": self.min_group,
+                "respondents": int(self.respondents.sum()), "groups": len(self.groups),
+                "overall": [it.to_dict() for it in self.overall()], "rows": self.rows()}
+
+    def format_text(self) -> str:
+        out = [f"{self.source}: {int(self.respondents.sum())} respondents in {len(self.groups)} "
+               f"groups by {', '.join(self.by)}; scale {self.scale.name!r}; {self.shape} file "
+               f"counted out of core (DuckDB)"]
+        labels = list(self.scale.labels)
+        for rec in self.rows():
+            head = " / ".join(str(rec[b]) for b in self.by)
+            if "suppressed" in rec:
+                out.append(f"{head}: suppressed ({rec['suppressed']})")
+                continue
+            dist = " ".join(f"{rec[f'{lab} (count)']}" for lab in labels)
+            agree = "-" if rec["agree_share"] is None else f"{100 * rec['agree_share']:.1f}%"
+            stats = " ".join(f"{k} {'-' if rec[key] is None else format(rec[key], f)}"
+                             for k, key, f in (("median", "median", ".1f"), ("IQR", "iqr", ".1f"),
+                                               ("mean", "mean", ".2f"), ("SD", "sd", ".2f")))
+            out.append(f"{head}: {rec['item']}: n={rec['n']} missing={rec['missing']} "
+                       f"n/a={rec['excluded']} counts [{dist}] agree {agree} {stats}")
+        out.append("counts in scale order: " + ", ".join(labels))
+        return "\n".join(out)
+
+
+def _quote(name: str) -> str:
+    return '"' + name.replace('"', '""') + '"'
+
+
+def _source_sql(path: Path) -> str:
+    lit = "'" + str(path).replace("'", "''") + "'"
+    if path.suffix.lower() == ".parquet":
+        return f"read_parquet({lit})"
+    # small read buffers (DuckDB's default is 32 MB per buffer): memory stays bounded
+    return (f"read_csv({lit}, all_varchar = true, header = true, buffer_size = {_BUFFER}, "
+            f"max_line_size = {_MAX_LINE})")
+
+
+def _validate_by(path, by, min_group):
+    p = Path(path)
+    if not p.is_file():
+        raise SurveyInputError("no such file", str(p))
+    if not by or len(by) > _MAX_GROUP_COLUMNS:
+        raise ValueError(f"--by needs 1..{_MAX_GROUP_COLUMNS} grouping columns, got {by!r}")
+    if not isinstance(min_group, int) or min_group < 1:
+        raise ValueError(f"--min-group must be a positive integer, got {min_group!r}")
+    return p
+
+
+def summarize_by(path: "str | Path", by: "list[str]", scale=None, items=None,
+                 min_group: int = 5, memory_limit: str = DEFAULT_MEMORY_LIMIT,
+                 threads: int = 1) -> GroupedSummary:
+    """Count a large survey file by grouping columns, out of core.
+
+    Parameters
+    ----------
+    path : str or Path
+        CSV (UTF-8, header row) or Parquet file, long or wide layout.
+    by : list of str
+        Grouping columns (course, term, section ...).
+    scale : str, Scale or None
+        Built-in name, TOML file or Scale; None detects the built-in scale all answers use.
+    items : list of str, optional
+        Item names or ``*`` patterns (wide: columns; long: values of the item column).
+    min_group : int
+        Groups with fewer respondents are suppressed in the outputs.
+    memory_limit : str
+        DuckDB's memory limit (it spills to a temporary folder beyond it).
+    threads : int
+        DuckDB threads (each holds its own read buffers and hash tables).
+
+    Returns
+    -------
+    GroupedSummary
+    """
+    import duckdb
+    p = _validate_by(path, by, min_group)
+    size, unit = _split_limit(memory_limit)
+    for factor in _RETRY_FACTORS:
+        try:
+            return _count(p, by, scale, items, min_group, f"{size * factor}{unit}", threads)
+        except duckdb.OutOfMemoryException:
+            continue
+    raise SurveyInputError(f"counting needs more than {size * _RETRY_FACTORS[-1]}{unit} of "
+                           f"memory; give a larger memory limit", str(p))
+
+
+def _split_limit(limit: str) -> tuple[int, str]:
+    import re
+    m = re.fullmatch(r"\s*(\d+)\s*([KMGT]i?B)\s*", str(limit), re.I)
+    if not m:
+        raise ValueError(f"`memory_limit` must look like '48MB', got {limit!r}")
+    return int(m.group(1)), m.group(2)
+
+
+def _count(p, by, scale, items, min_group, memory_limit, threads) -> GroupedSummary:
+    import duckdb
+    import tempfile
+    spill = tempfile.TemporaryDirectory(prefix="analysis-duckdb-")
+    con = duckdb.connect(config={"memory_limit": memory_limit, "threads": int(threads),
+                                 "preserve_insertion_order": False,
+                                 "temp_directory": spill.name})
+    try:
+        src = _source_sql(p)
+        try:
+            header = [r[0] for r in con.execute(f"DESCRIBE SELECT * FROM {src}").fetchall()]
+        except duckdb.OutOfMemoryException:
+            raise
+        except duckdb.Error as e:
+            raise SurveyInputError(f"cannot read as CSV/Parquet ({str(e).splitlines()[0]})",
+                                   str(p)) from None
+        gcols = []
+        for b in by:
+            j = platforms.find_column(header, (b.strip().casefold(),))
+            if j is None:
+                raise SurveyInputError(f"--by {b!r}: no such column; columns are {header!r}",
+                                       str(p), 1)
+            gcols.append(header[j])
+        ri, ii, ai = (platforms.find_column(header, platforms.LONG_RESP),
+                      platforms.find_column(header, platforms.LONG_ITEM),
+                      platforms.find_column(header, platforms.LONG_ANSWER))
+        if None not in (ri, ii, ai):
+            shape = "long"
+            rows = _count_long(con, src, gcols, header[ri], header[ii], header[ai])
+        else:
+            shape = "wide"
+            idcols = {header[j] for j in range(len(header)) if platforms.find_column(
+                [header[j]], platforms.LONG_RESP) is not None}
+            cand = [h for h in header if h not in gcols and h not in idcols]
+            if items:
+                from .platforms import name_matches
+                cand = [h for h in cand if any(name_matches(pat, h) for pat in items)]
+            if not cand:
+                raise SurveyInputError("no item columns to count", str(p), 1)
+            rows = _count_wide(con, src, gcols, cand)
+    except duckdb.OutOfMemoryException:
+        raise
+    except duckdb.Error as e:
+        raise SurveyInputError(f"counting failed ({str(e).splitlines()[0]})", str(p)) from None
+    finally:
+        con.close()
+        spill.cleanup()
+    return _assemble(str(p), gcols, shape, rows, scale, items, min_group,
+                     cand if shape == "wide" else None)
+
+
+def _count_long(con, src, gcols, resp, item, answer):
+    """One scan: answers per (groups, item, answer) and distinct respondents per group."""
+    g = ", ".join(_quote(c) for c in gcols)
+    sql = f"""
+        WITH agg AS (
+            SELECT {g}, {_quote(item)} AS item, {_quote(answer)} AS answer,
+                   {_quote(resp)} AS resp, GROUPING({_quote(item)}) AS by_resp,
+                   count(*) AS c
+            FROM {src}
+            GROUP BY GROUPING SETS (({g}, {_quote(item)}, {_quote(answer)}), ({g}, {_quote(resp)})))
+        SELECT {g}, item, answer, by_resp, CASE WHEN by_resp = 1 THEN count(*) ELSE sum(c) END
+        FROM agg GROUP BY {g}, item, answer, by_resp"""
+    return con.execute(sql).fetchall()
+
+
+def _count_wide(con, src, gcols, cand):
+    g = ", ".join(_quote(c) for c in gcols)
+    cols = ", ".join(_quote(c) for c in cand)
+    names = ", ".join("'" + c.replace("'", "''") + "'" for c in cand)
+    # two lists unnested side by side: one row per (respondent, item), blank answers kept
+    sql = f"""
+        SELECT {g}, item, answer, 0 AS by_resp, count(*) FROM (
+            SELECT {g}, unnest([{names}]) AS item, unnest([{cols}]) AS answer FROM {src})
+        GROUP BY ALL"""
+    return con.execute(sql).fetchall()
+
+
+def _assemble(source, gcols, shape, rows, scale, items, min_group,
+              wide_items=None) -> GroupedSummary:
+    """Tallies from the aggregated rows: texts matched to the scale, groups indexed."""
+    ng = len(gcols)
+    texts: dict[str, int] = {}
+    for r in rows:
+        if not r[ng + 2] and r[ng + 1] is not None:
+            texts[r[ng + 1]] = texts.get(r[ng + 1], 0) + r[ng + 3]
+    scale_obj = _scale_for(source, texts, scale)
+    names = sorted({r[ng] for r in rows if not r[ng + 2] and r[ng] is not None},
+                   key=lambda x: str(x))
+    if items and shape == "long":
+        from .platforms import name_matches
+        names = [n for n in names if any(name_matches(pat, str(n)) for pat in items)]
+    if wide_items is not None:
+        names = list(wide_items)            # column order
+    index_item = {n: i for i, n in enumerate(names)}
+    keys = sorted({tuple("" if v is None else str(v) for v in r[:ng]) for r in rows})
+    index_group = {k: i for i, k in enumerate(keys)}
+    k = scale_obj.k
+    tallies = np.zeros((len(keys), len(names), k + 3), dtype=np.int64)
+    respondents = np.zeros(len(keys), dtype=np.int64)
+    lut = {}
+    for t in texts:
+        m = scale_obj.match(t)
+        if m is None:
+            raise SurveyInputError(f"answer {t!r} ({texts[t]} times) is not on scale "
+                                   f"{scale_obj.name!r}; valid labels: "
+                                   f"{scale_obj.describe_valid()}", source)
+        lut[t] = m + 3
+    for r in rows:
+        g = index_group[tuple("" if v is None else str(v) for v in r[:ng])]
+        if r[ng + 2]:
+            respondents[g] += r[ng + 3]
+            continue
+        i = index_item.get(r[ng])
+        if i is None:
+            continue
+        pos = 2 if r[ng + 1] is None else lut[r[ng + 1]]
+        tallies[g, i, pos] += r[ng + 3]
+    if shape == "wide":
+        respondents = tallies[:, 0, :].sum(axis=1) if names else respondents
+    else:            # respondents with no row for an item are missing on it
+        tallies[:, :, 2] += np.maximum(respondents[:, None] - tallies.sum(axis=2), 0)
+    return GroupedSummary(source=source, by=list(gcols), scale=scale_obj, items=[str(n) for n in names],
+                          groups=keys, respondents=respondents, tallies=tallies, shape=shape,
+                          min_group=min_group)
+
+
+def _scale_for(source, texts: dict, scale) -> Scale:
+    """The scale named, or the built-in scale whose labels cover every answer text."""
+    if scale is not None:
+        return get_scale(scale)
+    answered = {t: c for t, c in texts.items() if normalize_answer(t) != ""}
+    best = None
+    for s in BUILTIN_SCALES.values():
+        hits = [s.match(t, accept_codes=False) for t in answered]
+        if all(h is not None for h in hits) and any(h is not None and h >= 0 for h in hits):
+            if best is None or s.k < best.k:
+                best = s
+    if best is None:
+        numeric = all(t.strip().isdigit() for t in answered)
+        if numeric:
+            from .platforms import CODES_HINT
+            raise SurveyInputError("answers are numeric codes, and which end of the numbering "
+                                   f"means agreement is not known; name the scale with --scale "
+                                   f"FILE.toml (codes stated), or {CODES_HINT}", source)
+        raise SurveyInputError("answers are not the labels of one built-in scale "
+                               f"({', '.join(BUILTIN_SCALES)}); give --scale", source)
+    return best

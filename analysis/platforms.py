@@ -1,0 +1,234 @@
+"""Survey platforms' export layouts: how each is recognised, its header rows, its metadata.
+
+Each platform's export is recognised from its header (no option needed):
+
+``qualtrics``
+    Three header rows (field ids, question text, ``{"ImportId": ...}``), or the legacy
+    two (``V1``/``ResponseID``, ``ResponseSet`` ... then the question text). Matrix
+    columns (``Q1_1``) carry ``stem - statement`` in the text row.
+``surveymonkey``
+    ``Respondent ID``, ``Collector ID`` ...; a second header row names each matrix
+    column's statement (``Response`` for a single question); the stem stands above the
+    first column of its matrix only.
+``canvas``
+    Canvas survey/quiz "Student Analysis" report: ``name, id, sis_id, section,
+    section_id, section_sis_id, submitted, attempt``, question columns
+    ``"12345: question text"``, each (in quizzes) followed by a points column; only the
+    question columns can be items.
+``limesurvey``
+    ``id, submitdate, lastpage, startlanguage`` ... (or their full-text headings);
+    array statements as ``Q1[SQ001]`` or ``question [statement]``.
+``moodle``
+    Questionnaire or feedback export (``Response, Submitted on:, Institution,
+    Department, Course, Group, ID, Full name, Username``); rate questions as
+    ``Qnn_name->statement``.
+``msforms``
+    Microsoft Forms workbook (``ID, Start time, Completion time, Email, Name``).
+``google``
+    A ``Timestamp`` column; grid statements as ``question [row]``.
+
+Items are named by their statement text; the question stem is kept apart
+(:func:`split_stem`) so reports show it once above its statements.
+"""
+from __future__ import annotations
+
+import re
+
+__all__ = ["PLATFORMS", "SHAPES", "META", "detect", "header_rows", "signature_missing", "split_stem",
+           "candidate", "is_blank_header",
+           "name_matches", "find_column"]
+
+#: How to supply a code map, for messages.
+CODES_HINT = ("give the survey definition with --codes FILE.qsf (Qualtrics) or FILE.lss "
+              "(LimeSurvey), or a code map --codes MAP.toml ([codes] 1 = \"Strongly "
+              "disagree\" ...)")
+
+PLATFORMS = ("google", "qualtrics", "surveymonkey", "canvas", "limesurvey", "moodle", "msforms")
+#: Valid ``shape`` values of :func:`analysis.ingest.read_survey` (here, so that the
+#: command line can list them without importing pandas).
+SHAPES = ("auto", "wide", "long") + PLATFORMS + ("xlsx",)
+
+META = {
+    "google": {"timestamp", "email address", "email", "username", "score", "e-mail address"},
+    "qualtrics": {
+        "startdate", "enddate", "status", "ipaddress", "progress", "duration (in seconds)",
+        "finished", "recordeddate", "responseid", "recipientlastname", "recipientfirstname",
+        "recipientemail", "externalreference", "externaldatareference", "locationlatitude",
+        "locationlongitude", "distributionchannel", "userlanguage", "q_recaptchascore",
+        "q_relevantidduplicate", "q_relevantidduplicatescore", "q_relevantidfraudscore",
+        "q_relevantidlaststartdate", "responseset", "name", "emailaddress", "locationaccuracy"},
+    "surveymonkey": {"respondent id", "collector id", "start date", "end date", "ip address",
+                     "email address", "first name", "last name", "custom data 1",
+                     "custom data"},
+    "canvas": set(),          # only "<id>: <question>" columns are candidates
+    "limesurvey": {"id", "submitdate", "lastpage", "startlanguage", "seed", "token",
+                   "startdate", "datestamp", "ipaddr", "refurl", "response id",
+                   "date submitted", "last page", "start language", "date started",
+                   "date last action", "ip address", "referrer url"},
+    "moodle": {"response", "submitted on:", "submitted on", "institution", "department",
+               "course", "group", "groups", "id", "full name", "username", "user", "userid",
+               "date", "email address", "id number"},
+    "msforms": {"id", "start time", "completion time", "email", "name", "last modified time",
+                "total points", "quiz feedback", "language"},
+}
+
+#: Column names of a long file (a row per answer): respondent, item, answer.
+LONG_RESP = ("respondent", "respondent_id", "respondentid", "respondent id", "id",
+              "response_id", "responseid", "response id", "participant", "participant_id",
+              "student", "student_id", "student id", "user", "user_id")
+LONG_ITEM = ("item", "question", "question_id", "questionid", "item_id", "question id",
+              "item id")
+LONG_ANSWER = ("answer", "response", "value", "choice", "rating")
+
+
+def find_column(header: list[str], names) -> "int | None":
+    """Index of the first of ``names`` among the header (ignoring case and outer spaces)."""
+    keys = [h.strip().casefold() for h in header]
+    for n in names:
+        if n in keys:
+            return keys.index(n)
+    return None
+
+
+_CANVAS_ITEM = re.compile(r"^\s*\d+\s*:\s*(.+)$", re.S)
+_BRACKET = re.compile(r"^([^\[]*\S)\s*\[(.+)\]\s*$", re.S)
+_UNNAMED = re.compile(r"^(Unnamed: \d+(_level_\d+)?|column \d+)(\.\d+)?$")
+_MATRIX_FIELD = re.compile(r"_\d+$")
+
+
+def name_matches(pattern: str, name: str) -> bool:
+    """A column name matches a name or a pattern, ignoring case and outer spaces.
+
+    In a pattern ``*`` stands for any text and ``?`` for one character; everything else,
+    square brackets included, is literal (Google and LimeSurvey headers hold
+    ``[statement]``, which ``fnmatch`` would read as a set of characters).
+    """
+    from .scales import normalize_answer
+    if normalize_answer(name) == normalize_answer(pattern):
+        return True
+    if "*" not in pattern and "?" not in pattern:
+        return False
+    rx = "".join(".*" if ch == "*" else "." if ch == "?" else re.escape(ch)
+                 for ch in normalize_answer(pattern))
+    return re.fullmatch(rx, normalize_answer(name), re.S) is not None
+
+
+def is_blank_header(h: str) -> bool:
+    """A header cell the reader had to name (pandas ``Unnamed: 3``, workbook ``column 4``)."""
+    return not h.strip() or bool(_UNNAMED.match(h))
+
+
+def _keys(header) -> set:
+    return {h.strip().casefold() for h in header}
+
+
+def _import_id_row(peek) -> bool:
+    return len(peek) >= 3 and any(c.strip().startswith(('{"ImportId"', "{'ImportId'"))
+                                  for c in peek[2])
+
+
+def detect(header: list[str], peek: list[list[str]]) -> "str | None":
+    """The platform whose export this header is, or None."""
+    keys = _keys(header)
+    if _import_id_row(peek) or "responseset" in keys or {"v1", "v2", "v3"} <= keys:
+        return "qualtrics"
+    if {"respondent id", "collector id"} <= keys:
+        return "surveymonkey"
+    if {"sis_id", "submitted", "attempt"} <= keys or (
+            "section_id" in keys and any(_CANVAS_ITEM.match(h) for h in header)):
+        return "canvas"
+    if {"submitdate", "lastpage"} <= keys or {"startlanguage", "lastpage"} <= keys or (
+            {"response id", "date submitted", "last page"} <= keys):
+        return "limesurvey"
+    if {"submitted on:", "full name"} <= keys or {"response", "submitted on:"} <= keys or (
+            {"full name", "username", "course"} <= keys):
+        return "moodle"
+    if {"start time", "completion time"} <= keys:
+        return "msforms"
+    if "timestamp" in keys:
+        return "google"
+    return None
+
+
+def header_rows(shape: str, header: list[str], peek: list[list[str]]) -> int:
+    """Header rows below the first that are not responses (0, 1 or 2)."""
+    if shape == "qualtrics":
+        return 2 if _import_id_row(peek) else 1
+    if shape == "surveymonkey":
+        return 1
+    return 0
+
+
+def signature_missing(shape: str, header: list[str], peek: list[list[str]]) -> "str | None":
+    """Why a forced ``shape`` does not fit the file (None when it fits)."""
+    found = detect(header, peek)
+    if shape in ("wide", "long") or found == shape:
+        return None
+    what = {"qualtrics": "no Qualtrics header rows (third row of {\"ImportId\": ...}, or "
+                         "legacy ResponseSet / V1 columns)",
+            "surveymonkey": "no Respondent ID and Collector ID columns",
+            "canvas": "no Canvas Student Analysis columns (sis_id, submitted, attempt)",
+            "limesurvey": "no LimeSurvey columns (submitdate, lastpage)",
+            "moodle": "no Moodle columns (Submitted on:, Full name)",
+            "msforms": "no Microsoft Forms columns (Start time, Completion time)",
+            "google": "no Timestamp column"}.get(shape)
+    if what is None:
+        return None
+    return (f"--shape {shape} does not fit this file: {what}"
+            + (f"; it looks like a {found} export" if found else ""))
+
+
+def candidate(shape: str, name: str, text: str = "") -> bool:
+    """Whether a column may be an item at all (metadata columns may not).
+
+    ``text`` is the column's question-text row where the export has one (the legacy
+    Qualtrics field row says ``V7`` where the text row says ``Status``).
+    """
+    if shape == "canvas":
+        return bool(_CANVAS_ITEM.match(name))
+    meta = META.get(shape, ())
+    return name.strip().casefold() not in meta and text.strip().casefold() not in meta
+
+
+def split_stem(shape: str, field: str, text: str) -> tuple[str, str]:
+    """(statement, stem) of a column from its header ``field`` and its question ``text``.
+
+    ``text`` is the question-text row (Qualtrics) or the header itself. The stem is ""
+    for a single question.
+    """
+    if shape == "canvas":
+        m = _CANVAS_ITEM.match(text)
+        return (" ".join(m.group(1).split()) if m else text), ""
+    if shape == "qualtrics" and _MATRIX_FIELD.search(field.strip()):
+        sep = " - " if " - " in text else "-"
+        if sep in text:
+            stem, _, statement = text.rpartition(sep)
+            if statement.strip() and stem.strip():
+                return statement.strip(), stem.strip()
+        return text, ""
+    if "->" in text and shape == "moodle":
+        stem, _, statement = text.rpartition("->")
+        return statement.strip(), stem.strip()
+    m = _BRACKET.match(text)
+    if m and shape in ("google", "limesurvey", "moodle", "msforms", "wide", None):
+        return m.group(2).strip(), m.group(1).strip()
+    return text, ""
+
+
+def surveymonkey_names(header: list[str], second: list[str]) -> list[tuple[str, str]]:
+    """(statement, stem) per column of a SurveyMonkey export's two header rows.
+
+    The stem is written above the first column of a matrix only; later columns of the
+    same matrix have a blank first-row cell (named ``Unnamed: n`` by the reader).
+    """
+    out = []
+    stem = ""
+    for h, s in zip(header, second + [""] * (len(header) - len(second))):
+        if not is_blank_header(h):
+            stem = h.strip()
+        s = s.strip()
+        if s in ("", "Response", "Open-Ended Response") or s.casefold() == stem.casefold():
+            out.append((stem, ""))
+        else:
+            out.append((s, stem))
+    return out

@@ -1,0 +1,194 @@
+"""Comparisons across sections and terms, and results an instructor can reuse.
+
+References: per-group counts are tallied from the drawn cells with ``Counter``; the paired
+test is ``scipy.stats.wilcoxon`` on pairs matched here by a dict on the student id; the
+matched-pairs rank-biserial correlation comes from the Wilcoxon statistic
+(``r = (S - 2 min(T+, T-)) / S`` with ``S = n (n + 1) / 2``, signed by the larger sum);
+Holm's adjustment is written out (sorted p times the number of hypotheses left, running
+maximum).
+"""
+import csv
+import io
+import json
+import random
+import re
+from collections import Counter
+
+import numpy as np
+import openpyxl
+import pytest
+from scipy import stats
+
+from analysis.__main__ import main
+from analysis.groups import compare_groups
+from analysis.ingest import read_survey
+from analysis.likert import summarize
+from analysis.scales import BUILTIN_SCALES
+
+AGREE5 = list(BUILTIN_SCALES["agree5"].labels)
+CODE = {lab: k + 1 for k, lab in enumerate(AGREE5)}
+TERMS = ["Spring 2024", "Fall 2023", "Fall 2024"]      # not alphabetical on purpose
+
+
+def _two_terms(tmp_path, seed=3, n=40):
+    """Pre/post file: the same students answer in two terms (plus a few in one only)."""
+    rng = random.Random(seed)
+    rows = [["Student ID", "Term", "Q1", "Q2", "Comment"]]
+    for i in range(n):
+        pre = [rng.choice(AGREE5[:4]) for _ in range(2)]
+        post = [rng.choice(AGREE5[1:]) if rng.random() < 0.9 else "" for _ in range(2)]
+        rows.append([f"s{i:03d}", "Pre", *pre, ""])
+        if i % 8 != 0:
+            rows.append([f"s{i:03d}", "Post", *post, "=cmd()"])
+    rows.append(["", "Post", "Agree", "Agree", ""])         # no id: unpaired
+    buf = io.StringIO()
+    csv.writer(buf).writerows(rows)
+    f = tmp_path / "prepost.csv"
+    f.write_text(buf.getvalue())
+    return f, rows[1:]
+
+
+def test_pre_post_paired_by_id_matches_scipy(tmp_path, capsys):
+    f, rows = _two_terms(tmp_path)
+    data = read_survey(f, group="Term")
+    comp = compare_groups(data, "Term")
+    assert comp.shown == ["Pre", "Post"] and comp.paired_by == "Student ID"
+    pre = {r[0]: r for r in rows if r[1] == "Pre"}
+    post = {r[0]: r for r in rows if r[1] == "Post" and r[0]}
+    for j, it in enumerate(comp.items):
+        pairs = [(CODE[pre[k][2 + j]], CODE[post[k][2 + j]]) for k in pre
+                 if k in post and pre[k][2 + j] and post[k][2 + j]]
+        x, y = np.array(pairs).T
+        ref = stats.wilcoxon(y, x)
+        assert it.test == "wilcoxon-signed-rank" and it.pairs == len(pairs)
+        assert (it.statistic, it.p_value) == pytest.approx((ref.statistic, ref.pvalue), rel=1e-12)
+        d = (y - x)[y != x]
+        s_total = d.size * (d.size + 1) / 2
+        sign = 1 if np.sum(stats.rankdata(np.abs(d))[d > 0]) > s_total / 2 else -1
+        assert it.effect == pytest.approx(sign * (s_total - 2 * ref.statistic) / s_total,
+                                          abs=1e-12)      # float sums of ranks only
+        # per-group distribution against a tally of the cells
+        for g in ("Pre", "Post"):
+            cells = Counter(r[2 + j] for r in rows if r[1] == g)
+            per = it.per_group[g]
+            assert per["counts"] == {lab: cells.get(lab, 0) for lab in AGREE5}
+            assert per["missing"] == cells.get("", 0)
+    # Holm over the two items, written out
+    p = sorted((it.p_value, k) for k, it in enumerate(comp.items))
+    holm = {}
+    running = 0.0
+    for i, (pv, k) in enumerate(p):
+        running = max(running, min(1.0, (len(p) - i) * pv))
+        holm[k] = running
+    assert [it.p_holm for it in comp.items] == pytest.approx([holm[0], holm[1]], rel=1e-12)
+    # text and HTML show the per-group distributions, not only p-values
+    assert main(["summarize", str(f), "--group", "Term"]) == 0
+    out = capsys.readouterr().out
+    pre_agree = 100 * comp.items[0].per_group["Pre"]["agree_share"]
+    assert re.search(rf"Pre +n=40 +agree +{pre_agree:.0f}%", out)
+    assert "Holm p" in out and "pairs" in out
+    html = tmp_path / "r.html"
+    assert main(["report", str(f), "--group", "Term", "-o", str(html)]) == 0
+    text = html.read_text()
+    assert "Answers per group" in text and text.count("<svg") == 2      # faceted chart too
+
+
+def test_unpaired_without_ids_and_order_as_given(tmp_path, capsys):
+    rng = random.Random(5)
+    rows = [["Term", "Q1"]] + [[t, rng.choice(AGREE5)] for t in TERMS for _ in range(12)]
+    rows += [["Fall 2025", "Agree"]] * 2                       # suppressed: 2 < 5
+    f = tmp_path / "terms.csv"
+    f.write_text("\n".join(",".join(r) for r in rows) + "\n")
+    data = read_survey(f, group="Term")
+    order = ["Fall 2023", "Spring 2024", "Fall 2024"]
+    comp = compare_groups(data, "Term", order=order)
+    assert comp.shown == order and comp.paired_by == ""
+    it = comp.items[0]
+    assert it.test == "kruskal-wallis" and list(it.per_group) == order
+    assert "Fall 2025" not in it.per_group            # small cell suppressed everywhere
+    pos = [k for t in order for k, r in enumerate(rows[1:]) if r[0] == t]
+    x = [order.index(rows[1 + k][0]) for k in pos]
+    y = [CODE[rows[1 + k][1]] for k in pos]
+    rho = stats.spearmanr(x, y)
+    assert (it.trend["rho"], it.trend["p_value"]) == pytest.approx((rho.statistic, rho.pvalue),
+                                                                   rel=1e-12)
+    assert compare_groups(data, "Term").shown == TERMS          # data order by default
+    png = tmp_path / "facets.png"
+    assert main(["summarize", str(f), "--group", "Term", "--group-order", *order,
+                 "--chart", str(png), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert list(out["groups"]["items"][0]["per_group"]) == order
+    assert png.read_bytes().startswith(b"\x89PNG")
+
+
+def test_tables_csv_xlsx_neutralise_formulas_and_match_json(tmp_path, capsys):
+    f = tmp_path / "s.csv"
+    f.write_text('"=HYPERLINK(""http://x"")",@SUM(A1),Q3\nAgree,Disagree,Agree\n'
+                 "Strongly agree,Agree,Neutral\nAgree,,Disagree\n")
+    assert main(["summarize", str(f), "--json"]) == 0
+    ref = json.loads(capsys.readouterr().out)["items"]
+    for suffix in (".csv", ".xlsx"):
+        out = tmp_path / f"table{suffix}"
+        assert main(["summarize", str(f), "--table", str(out)]) == 0
+        if suffix == ".csv":
+            recs = list(csv.DictReader(io.StringIO(out.read_text(encoding="utf-8-sig"))))
+        else:
+            ws = openpyxl.load_workbook(out).active
+            vals = [[c.value for c in r] for r in ws.iter_rows()]
+            assert all(c.data_type != "f" for r in ws.iter_rows() for c in r)
+            recs = [dict(zip(vals[0], v)) for v in vals[1:]]
+        assert [r["item"] for r in recs] == ['\'=HYPERLINK("http://x")', "'@SUM(A1)", "Q3"]
+        for r, it in zip(recs, ref):
+            assert int(r["n"]) == it["n"] and int(r["missing"]) == it["missing"]
+            assert float(r["median"]) == it["median"] and float(r["SD"]) == pytest.approx(
+                it["sd"], rel=1e-9)                  # CSV text round trip of a float
+            assert int(r["Agree (count)"]) == it["counts"]["Agree"]
+
+
+def test_chart_has_title_and_end_totals(tmp_path):
+    f = tmp_path / "s.csv"
+    f.write_text("Q1\n" + "Agree\n" * 3 + "Disagree\n" + "Neutral\n")
+    out = tmp_path / "c.svg"
+    assert main(["summarize", str(f), "--chart", str(out)]) == 0
+    svg = out.read_text()
+    assert "s.csv: answers per item" in svg
+    assert ">60%<" in svg and ">20%<" in svg            # 3/5 agree, 1/5 disagree
+
+
+def test_claims_upper_bound_and_neutral_category(tmp_path, capsys):
+    f = tmp_path / "s.csv"
+    f.write_text("Q1\n" + "Agree\n" * 2 + "Neither agree nor disagree\n" * 3
+                 + "Disagree\n" * 45 + "\n")
+    claims = tmp_path / "c.toml"
+    claims.write_text('[[claims]]\nitem = 1\ncategories = ["Agree"]\ncomparison = "<"\n'
+                      'threshold = 30\n[[claims]]\nitem = 1\ncategories = ["Neutral"]\n'
+                      'comparison = "<="\nthreshold = 50\n')
+    assert main(["claims", str(f), str(claims), "--json"]) == 0
+    res = json.loads(capsys.readouterr().out)["claims"]
+    assert res[0]["verdict_code"] == "holds" and "upper bound" in res[0]["reason"]
+    assert "lower" not in res[0]["verdict"]
+    assert (res[1]["k"], res[1]["n"]) == (3, 50)        # "Neutral" = the neutral label
+
+
+def test_verify_table_needs_n_or_a_range(capsys):
+    from analysis.tables import published_dir
+    assert main(["verify-table", str(published_dir() / "table1.csv")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--n" in err and "--n-range" in err
+
+
+def test_python_api_gives_the_cli_numbers_and_keeps_na_as_text(tmp_path, capsys):
+    import pandas as pd
+
+    import analysis
+    f = tmp_path / "s.csv"
+    f.write_text("Q1,Q2\nAgree,N/A\nN/A,Disagree\nAgree,Agree\n,Agree\n")
+    frame = analysis.summarize(analysis.read_survey(f)).to_frame()
+    assert main(["summarize", str(f), "--json"]) == 0
+    cli = json.loads(capsys.readouterr().out)["items"]
+    assert list(frame["excluded"]) == [1, 1] == [it["excluded"] for it in cli]   # "N/A" x 1
+    assert list(frame["n"]) == [it["n"] for it in cli]
+    assert list(frame["median"]) == [it["median"] for it in cli]
+    # a frame read by pandas with its defaults has lost "N/A": said in the notes
+    data = analysis.survey_from_frame(pd.read_csv(f))
+    assert any("keep_default_na=False" in n for n in data.notes)
