@@ -17,7 +17,6 @@ from __future__ import annotations
 import keyword
 import math
 import re
-import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -27,7 +26,8 @@ import pint
 import sympy as sp
 from pint.util import UnitsContainer
 
-from solver.errors import ExpressionError, SceneError
+from solver import files, units
+from solver.errors import ExpressionError, InputError, SceneError
 from solver.expressions import RESERVED_NAMES, parse_expression
 from solver.scene import (
     CONSTRAINT_KINDS,
@@ -118,7 +118,6 @@ _DIMENSION_WORDS = {
 
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 _QUANTITY = re.compile(r"^\s*([+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?)\s*(.*?)\s*$")
-_MAX_UNIT_LENGTH = 100
 _GEOMETRY_TOL = 1e-9  # relative tolerance for "parallel" and "consistent" checks
 
 
@@ -132,45 +131,20 @@ def describe_dimension(dim: UnitsContainer) -> str:
 def parse_quantity(text: Any, where: str) -> pint.Quantity:
     """Parse ``"<number> <unit>"`` (``"50 lbm"``, ``"32.174 ft/s^2"``, ``"0.3"``).
 
-    Only the unit part reaches pint (its unit parser); the number is read
-    here, so no arithmetic from the text is ever evaluated.
+    :func:`solver.units.parse_quantity` (the guarded reader: only the unit
+    reaches pint, after its length, exponents and nesting are checked), with
+    its error as a :class:`~solver.errors.SceneError`.
 
     Raises
     ------
     SceneError
         ``"<where>: ..."`` when the text is not a finite number followed by a
-        known unit.
+        known unit, or is refused by the guards.
     """
-    if isinstance(text, bool):
-        raise SceneError(f"{where}: expected a quantity such as \"4 ft\", got {text!r}")
-    if isinstance(text, (int, float)):
-        number, unit_text = float(text), ""
-    elif isinstance(text, str):
-        match = _QUANTITY.match(text)
-        if match is None:
-            raise SceneError(
-                f"{where}: expected a number followed by a unit, such as \"4 ft\" or "
-                f"\"45 deg\", got {text!r}"
-            )
-        number, unit_text = float(match.group(1)), match.group(2)
-        if unit_text and not (unit_text[0].isalpha() or unit_text[0] in "°%"):
-            raise SceneError(
-                f"{where}: expected a number followed by a unit, such as \"4 ft\" or "
-                f"\"45 deg\", got {text!r}"
-            )
-    else:
-        raise SceneError(
-            f"{where}: expected a quantity such as \"4 ft\", got {type(text).__name__} {text!r}"
-        )
-    if not math.isfinite(number):
-        raise SceneError(f"{where}: the number in {text!r} is not finite")
-    if len(unit_text) > _MAX_UNIT_LENGTH:
-        raise SceneError(f"{where}: unit text longer than {_MAX_UNIT_LENGTH} characters")
     try:
-        unit = ureg.parse_units(unit_text) if unit_text else ureg.dimensionless
-    except Exception as err:  # pint raises several types for bad unit text
-        raise SceneError(f"{where}: unknown unit {unit_text!r} in {text!r} ({err})") from None
-    return Q_(number, unit)
+        return units.parse_quantity(text, where)
+    except InputError as err:
+        raise SceneError(str(err)) from None
 
 
 def load_scene(path: str | Path, overrides: Mapping[str, str] | None = None) -> Scene:
@@ -446,6 +420,7 @@ class _SceneLoader:
             self.table(self.require(data, "coordinate", "coordinate", "the table [coordinate]"), "coordinate")
         )
         self._apply_overrides(overrides, coordinate, state)
+        self._check_angles(coordinate, state, overrides)
         self.state_q = float(state[coordinate].to("rad").magnitude)
         self._setup_symbols(coordinate)
 
@@ -497,17 +472,11 @@ class _SceneLoader:
         )
 
     def _read_toml(self) -> dict[str, Any]:
+        """The parsed file: a regular file of bounded size and nesting (:func:`solver.files.read_toml`)."""
         try:
-            raw = self.path.read_bytes()
-        except OSError as err:
-            raise self.fail("", f"cannot read the scene file ({err.strerror or err})") from None
-        try:
-            # utf-8-sig: a byte-order mark (saved by some Windows editors) is not an error
-            return tomllib.loads(raw.decode("utf-8-sig"))
-        except UnicodeDecodeError as err:
-            raise self.fail("", f"not UTF-8 text (byte {err.start})") from None
-        except tomllib.TOMLDecodeError as err:
-            raise self.fail("", f"TOML syntax error: {err}") from None
+            return files.read_toml(self.path, self.label)
+        except InputError as err:
+            raise SceneError(str(err).replace(f"{self.label}: cannot read the file", f"{self.label}: cannot read the scene file", 1)) from None
 
     # -- parameters and state -----------------------------------------------------------
     def _read_parameters(self, table: dict[str, Any]) -> None:
@@ -566,6 +535,18 @@ class _SceneLoader:
             else:
                 valid = ", ".join([*self.parameters, *state])
                 raise self.fail(key, f"unknown name {name!r} (parameters and state: {valid})")
+
+    def _check_angles(self, coordinate: str, state: dict[str, pint.Quantity], overrides: Mapping[str, str]) -> None:
+        """The coordinate's value and every parameter given with an angle unit must lie within
+        :data:`solver.units.MAX_ANGLE_TURNS` turns (beyond it float64 sines are meaningless)."""
+        angles = {coordinate: (state[coordinate], "coordinate.value")}
+        angles.update({n: (q, f"parameters.{n}") for n, q in self.parameters.items() if units.is_angle_unit(q)})
+        for name, (quantity, key) in angles.items():
+            key = f"--set {name}" if name in overrides else key
+            try:
+                units.check_angle(float(quantity.to("rad").magnitude), f"{self.label}: {key}", f"{quantity.magnitude:g} {quantity.units:~}")
+            except InputError as err:
+                raise SceneError(str(err)) from None
 
     def _setup_symbols(self, coordinate: str) -> None:
         params = {n: sp.Symbol(n, real=True) for n in self.parameters}
@@ -843,22 +824,22 @@ class _SceneLoader:
         return loads
 
     def _read_output_units(self, table: dict[str, Any]) -> dict[str, str]:
-        units: dict[str, str] = {}
+        chosen: dict[str, str] = {}
         for name, value in table.items():
             key = f"output_units.{name}"
             if name not in OUTPUT_UNIT_DIMENSIONS:
                 raise self.fail(key, f"unknown key {name!r} (valid keys: {', '.join(OUTPUT_UNIT_DIMENSIONS)})")
             text = self.text(value, key)
             try:
-                dim = ureg.get_dimensionality(ureg.parse_units(text))
-            except Exception as err:  # pint raises several types for bad unit text
-                raise self.fail(key, f"unknown unit {text!r} ({err})") from None
+                dim = ureg.get_dimensionality(units.parse_unit(text, f"{self.label}: {key}"))
+            except InputError as err:
+                raise SceneError(str(err)) from None
             if dim != OUTPUT_UNIT_DIMENSIONS[name]:
                 raise self.fail(
                     key, f"{text!r} is {describe_dimension(dim)}, but {name} needs {describe_dimension(OUTPUT_UNIT_DIMENSIONS[name])}"
                 )
-            units[name] = text
-        return units
+            chosen[name] = text
+        return chosen
 
     # -- placement ------------------------------------------------------------------------------
     def _check_placement(self, orientation, position, points, elements, constraints) -> None:
