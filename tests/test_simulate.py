@@ -137,7 +137,7 @@ def test_csv_is_written_atomically(tmp_path, monkeypatch):
         raise OSError("disk full")
 
     monkeypatch.setattr("solver.simulate.np.column_stack", boom)
-    with pytest.raises(OSError):
+    with pytest.raises(InputError, match="cannot write there .disk full"):  # one line naming the place
         write_csv(res, target)
     assert sorted(os.listdir(tmp_path)) == ["run.csv"]
     with pytest.raises(InputError, match="does not exist"):
