@@ -307,7 +307,7 @@ def state_text(scene: Scene) -> str:
 # -- running ---------------------------------------------------------------------------------
 
 
-MAX_CPU_SECONDS = 30.0
+MAX_CPU_SECONDS = 20.0
 """CPU time one command may use [s] before it is stopped with one ``error:`` line and
 status 2 (a backstop behind the caps on sizes, exponents, steps and samples: an
 expression that makes the symbolic work explode, for example). The environment

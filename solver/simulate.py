@@ -60,8 +60,8 @@ MAX_PERIODS = 2_000
 """Longest run in linearized periods of oscillation, when the system has one."""
 MAX_SAMPLES = 200_001
 """Most output samples (each holds the state, alpha, every reaction and the energy)."""
-MAX_RHS_EVALUATIONS = 1_000_000
-"""Most right-hand-side evaluations of one run (about 15 s on a laptop); a run that
+MAX_RHS_EVALUATIONS = 500_000
+"""Most right-hand-side evaluations of one run (about 8 s of CPU time); a run that
 needs more is refused, naming the time it had reached."""
 
 
