@@ -229,7 +229,22 @@ def parse_quantity(text: Any, where: str) -> pint.Quantity:
         raise InputError(f"{where}: expected a quantity such as \"4 ft\", got {type(text).__name__} {text!r}")
     check_magnitude(number, where, text)
     unit = parse_unit(unit_text, where) if unit_text else ureg.dimensionless
+    if unit_text and unit.dimensionless and not _plain_dimensionless(unit):
+        raise InputError(
+            f"{where}: {unit_text!r} has no dimension but is not one of the plain units "
+            f"({', '.join(DIMENSIONLESS_UNITS)}); write e.g. \"30 deg\" or a bare number"
+        )
     return Q_(number, unit)
+
+
+DIMENSIONLESS_UNITS = ("radian", "degree", "arcminute", "arcsecond", "turn", "revolution", "gradian", "percent")
+"""The units a dimensionless quantity may carry: one of these, to the power 1
+(``"30 deg**2"`` or ``"2 ft/m"`` would be silently taken as a scaled pure number)."""
+
+
+def _plain_dimensionless(unit: pint.Unit) -> bool:
+    items = list(unit._units.items())  # noqa: SLF001 - no public API
+    return len(items) == 1 and items[0][1] == 1 and ureg.get_name(items[0][0]) in DIMENSIONLESS_UNITS
 
 
 def check_magnitude(number: float, where: str, text: Any = None) -> float:
@@ -322,7 +337,7 @@ def _short(err: Exception, limit: int = 120) -> str:
 
 __all__ = [
     "ureg", "Q_", "check_unit_text", "parse_unit", "parse_quantity", "parse_angle", "parse_time",
-    "check_magnitude", "check_angle", "is_angle_unit",
+    "check_magnitude", "check_angle", "is_angle_unit", "DIMENSIONLESS_UNITS",
     "MAX_QUANTITY_LENGTH", "MAX_UNIT_LENGTH", "MAX_UNIT_EXPONENT", "MAX_UNIT_NESTING",
     "MAX_MAGNITUDE", "MAX_ANGLE_TURNS", "MAX_ANGLE_RAD",
 ]
