@@ -39,7 +39,7 @@ from solver.scene import (
     Point,
     Scene,
 )
-from solver.units import Q_, ureg
+from solver.units import ureg
 
 # -- the format's keys ---------------------------------------------------------------
 
