@@ -31,6 +31,7 @@ from pathlib import Path
 import pytest
 import sympy as sp
 
+from reports.rounding import eq30_tolerances
 from solver import cli_instant
 from solver.__main__ import COMMAND_MODULES, build_parser, main
 from solver.errors import SingularConfigurationError
@@ -48,18 +49,12 @@ def _published() -> dict[str, dict]:
     return {v["id"].removeprefix("eq30-"): v for v in table["value"] if v["id"].startswith("eq30-")}
 
 
-def _tolerance(entry: dict) -> float:
-    """Absolute tolerance for comparing with a printed value.
-
-    Half a unit in the last printed digit (4 significant figures), plus 1e-3
-    relative: the paper solved Eq. (29) with coefficients themselves rounded
-    to 4 significant figures (m_b = 1.554 slug, 0.9659, 0.05080, ...), each
-    off by up to 5e-4 relative, which carries into the solution of the
-    2x2 system at about that size (R_B comes out 0.0052 lbf above 22.53).
-    """
-    printed = entry["printed"]
-    decimals = len(printed.split(".")[1]) if "." in printed else 0
-    return 0.5 * 10.0**-decimals + 1e-3 * abs(entry["value"])
+def _tolerance(name: str) -> float:
+    """Tolerance of a printed Eq. (30) value: the one model the report uses
+    (reports/rounding.py: the paper's 4-significant-figure rounding of Eq. 29 and
+    of its data, propagated to first order, plus half a unit of the printed digit)."""
+    table = tomllib.loads(PUBLISHED.read_text())
+    return eq30_tolerances({v["id"]: v for v in table["value"]})[name]
 
 
 def run_cli(*args: str) -> subprocess.CompletedProcess[str]:
@@ -94,7 +89,7 @@ def test_solve_json_sliding_bar_matches_published_eq30() -> None:
     published = _published()
     for name in ("alpha", "R_A", "R_B"):
         entry = published[name]
-        assert unknowns[name]["value"] == pytest.approx(entry["value"], abs=_tolerance(entry)), name
+        assert unknowns[name]["value"] == pytest.approx(entry["value"], abs=_tolerance(name)), name
     # The paper prints alpha's unit as rad/s (a typo); the answer is in rad/s**2.
     assert unknowns["alpha"]["unit"] == "rad/s**2"
     assert unknowns["R_A"]["unit"] == unknowns["R_B"]["unit"] == "lbf"
@@ -114,7 +109,7 @@ def test_solve_any_point_and_method_matches_published(
     result = json.loads(out)
     assert result["point"] == point and result["method"] == method
     for name, entry in _published().items():
-        assert result["unknowns"][name]["value"] == pytest.approx(entry["value"], abs=_tolerance(entry))
+        assert result["unknowns"][name]["value"] == pytest.approx(entry["value"], abs=_tolerance(name))
 
 
 @pytest.mark.parametrize("theta_dot", [0.0, 1.5])
