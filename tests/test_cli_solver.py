@@ -12,8 +12,8 @@ Reference values
   (l/2)(c, s): R_B = m (l/2)(-s theta_ddot - c theta_dot^2),
   R_A = m g + m (l/2)(c theta_ddot - s theta_dot^2).
 * Example 2: the equation of motion of Eq. (44) with the sign of F_a
-  corrected (see notes: a push +F_a i at P does positive work F_a r_d per
-  unit theta), and omega_n of Eq. (46).
+  corrected (data/scenes/README.md, Example 2: a push +F_a i at P does
+  positive work F_a r_d per unit theta, since x_P = r_d theta by Eq. 31), and omega_n of Eq. (46).
 
 A few runs go through a real subprocess (exit status, stderr, no traceback);
 the rest call ``main()`` in-process to keep the suite fast.
