@@ -79,6 +79,23 @@ def _where(scene: Scene) -> str:
 
 
 def solve_command(args: argparse.Namespace) -> int:
+    """``solve``: alpha, theta_ddot and every reaction at the scene's state.
+
+    Examples
+    --------
+    The paper's Example 1 (``data/scenes/sliding_bar.toml``) gives Eq. (30),
+    alpha = 2.297 rad/s^2, R_A = 27.88 lbf, R_B = 22.53 lbf (the paper's R_B is
+    rounded from its own 4-figure Eq. 29; within the tolerance of
+    :func:`reports.rounding.eq30_tolerances`):
+
+    >>> import contextlib, io, json
+    >>> from solver.__main__ import main
+    >>> with contextlib.redirect_stdout(io.StringIO()) as out:
+    ...     status = main(["solve", "data/scenes/sliding_bar.toml", "--json"])
+    >>> unknowns = json.loads(out.getvalue())["unknowns"]
+    >>> status, [f"{unknowns[n]['value']:.4g} {unknowns[n]['unit']}" for n in ("alpha", "R_A", "R_B")]
+    (0, ['2.297 rad/s**2', '27.88 lbf', '22.54 lbf'])
+    """
     scene = load_scene_from_args(args)
     solution = derivation.solve_instant(scene, args.point, args.method)
     result = solution.to_dict(scene.output_units)
