@@ -36,6 +36,7 @@ from typing import Any, NoReturn
 import pint
 
 from solver.errors import InputError
+from solver.files import MAX_INPUT_BYTES
 from solver.scene import Scene
 
 EXIT_OK = 0
@@ -88,7 +89,9 @@ def fail(message: str, status: int = EXIT_INPUT) -> NoReturn:
 
 
 def add_scene_argument(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("scene", metavar="SCENE", help="scene file (TOML), e.g. data/scenes/sliding_bar.toml")
+    parser.add_argument("scene", metavar="SCENE",
+                        help=f"scene file (TOML, a regular file of at most {MAX_INPUT_BYTES} bytes), "
+                        "e.g. data/scenes/sliding_bar.toml")
 
 
 def add_set_option(parser: argparse.ArgumentParser) -> None:
