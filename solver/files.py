@@ -32,6 +32,8 @@ MAX_INPUT_BYTES = 1_000_000
 """Largest file the solver reads [bytes] (the shipped scenes are about 3 kB)."""
 MAX_TOML_DEPTH = 8
 """Deepest nesting of tables and arrays in a TOML file (a scene needs 4)."""
+MAX_TOML_ITEMS = 1000
+"""Most entries in one TOML table or array (parameters, points, elements, ...)."""
 
 
 def _kind(mode: int) -> str:
@@ -109,14 +111,17 @@ def read_toml(path: str | os.PathLike, where: str, max_bytes: int = MAX_INPUT_BY
     return data
 
 
-def check_depth(data: Any, where: str, max_depth: int = MAX_TOML_DEPTH) -> None:
-    """Refuse tables and arrays nested deeper than ``max_depth`` (iteratively, no recursion)."""
+def check_depth(data: Any, where: str, max_depth: int = MAX_TOML_DEPTH, max_items: int = MAX_TOML_ITEMS) -> None:
+    """Refuse tables and arrays nested deeper than ``max_depth``, or holding more than
+    ``max_items`` entries (iteratively, no recursion)."""
     stack = [(data, 1)]
     while stack:
         value, depth = stack.pop()
         if isinstance(value, (dict, list)):
             if depth > max_depth:
                 raise InputError(f"{where}: tables or arrays nested deeper than {max_depth} levels")
+            if len(value) > max_items:
+                raise InputError(f"{where}: a table or array with {len(value)} entries; the limit is {max_items}")
             items = value.values() if isinstance(value, dict) else value
             stack.extend((item, depth + 1) for item in items)
 
@@ -180,6 +185,6 @@ def write_atomic(path: str | os.PathLike, write: Callable[[IO[str]], None], wher
 
 
 __all__ = [
-    "MAX_INPUT_BYTES", "MAX_TOML_DEPTH", "read_regular_file", "read_toml", "check_depth",
+    "MAX_INPUT_BYTES", "MAX_TOML_DEPTH", "MAX_TOML_ITEMS", "read_regular_file", "read_toml", "check_depth",
     "check_output_path", "write_atomic",
 ]

@@ -118,6 +118,10 @@ _DIMENSION_WORDS = {
 
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 _QUANTITY = re.compile(r"^\s*([+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?)\s*(.*?)\s*$")
+MAX_NAME_LENGTH = 100
+"""Longest scene ``name`` [characters]."""
+MAX_DESCRIPTION_LENGTH = 1000
+"""Longest scene ``description`` [characters]."""
 _GEOMETRY_TOL = 1e-9  # relative tolerance for "parallel" and "consistent" checks
 
 
@@ -402,6 +406,18 @@ class _SceneLoader:
             raise self.fail(key, f"{sp.sstr(expr)} is not a finite real number for the given parameters")
         return value.real
 
+    def bounded_angle(self, expr: sp.Expr, key: str) -> sp.Expr:
+        """An angle expression whose value at the scene's state is within
+        :data:`solver.units.MAX_ANGLE_TURNS` turns (``"1e300*theta"`` has no meaningful sine)."""
+        value = self.si(expr.subs(self.q, self.state_q), key) if expr.free_symbols - {self.q} <= set(self.si_values) \
+            else None
+        if value is not None:
+            try:
+                units.check_angle(value, f"{self.label}: {key}", f"{value:.6g} rad")
+            except InputError as err:
+                raise SceneError(str(err)) from None
+        return expr
+
     def positive(self, expr: sp.Expr, key: str, what: str) -> sp.Expr:
         value = self.si(expr, key)
         if not value > 0:
@@ -414,6 +430,9 @@ class _SceneLoader:
         self.check_keys(data, TOP_KEYS, "", "a scene file")
         name = self.text(data.get("name", self.path.stem), "name")
         description = self.text(data.get("description", ""), "description")
+        for key, text, limit in (("name", name, MAX_NAME_LENGTH), ("description", description, MAX_DESCRIPTION_LENGTH)):
+            if len(text) > limit:
+                raise self.fail(key, f"{len(text)} characters long; the limit is {limit}")
 
         self._read_parameters(self.table(self.require(data, "parameters", "parameters", "the table [parameters]"), "parameters"))
         coordinate, state = self._read_coordinate(
@@ -426,10 +445,10 @@ class _SceneLoader:
 
         body = self.table(self.require(data, "body", "body", "the table [body] with orientation"), "body")
         self.check_keys(body, BODY_KEYS, "body", "[body]")
-        orientation = self.expr(
+        orientation = self.bounded_angle(self.expr(
             self.require(body, "orientation", "body", "the body frame's angle as a function of the coordinate"),
             "body.orientation", self.names.with_q, DIMENSIONLESS,
-        )
+        ), "body.orientation")
         points = self._read_points(self.table(self.require(data, "points", "points", "the table [points]"), "points"))
         elements = self._read_elements(
             self.array_of_tables(self.require(data, "elements", "elements", "at least one [[elements]] entry"), "elements"),
@@ -648,7 +667,8 @@ class _SceneLoader:
         return self.positive(expr, f"{key}.{dim}", f"the {dim}")
 
     def _angle(self, spec: dict[str, Any], key: str) -> sp.Expr:
-        return self.expr(spec.get("angle", 0), f"{key}.angle", self.names.params, DIMENSIONLESS)
+        return self.bounded_angle(self.expr(spec.get("angle", 0), f"{key}.angle", self.names.params, DIMENSIONLESS),
+                                  f"{key}.angle")
 
     def _element_geometry(self, spec, key, kind, name, mass, points) -> Element:
         if kind == "slender_bar":
@@ -725,7 +745,8 @@ class _SceneLoader:
                 origin_key = "through" if kind == "rail" else "at"
                 origin = self.vector(spec.get(origin_key, [0, 0]), f"{key}.{origin_key}", self.names.params, LENGTH)
                 if kind == "rail":
-                    angle = self.expr(spec.get("angle", 0), f"{key}.angle", self.names.params, DIMENSIONLESS)
+                    angle = self.bounded_angle(
+                        self.expr(spec.get("angle", 0), f"{key}.angle", self.names.params, DIMENSIONLESS), f"{key}.angle")
                     reaction_names = [(f"{key}.reaction", spec.get("reaction", f"R_{point}"))]
                 else:
                     angle = sp.Integer(0)
@@ -746,7 +767,8 @@ class _SceneLoader:
                         f"(rolling needs one of: {', '.join(ROUND_KINDS)})",
                     )
                 origin = self.vector(spec.get("through", [0, 0]), f"{key}.through", self.names.params, LENGTH)
-                angle = self.expr(spec.get("angle", 0), f"{key}.angle", self.names.params, DIMENSIONLESS)
+                angle = self.bounded_angle(
+                    self.expr(spec.get("angle", 0), f"{key}.angle", self.names.params, DIMENSIONLESS), f"{key}.angle")
                 contact = self.expr(spec.get("contact_at_zero", 0), f"{key}.contact_at_zero", self.names.params, LENGTH)
                 reaction_names = [
                     (f"{key}.friction", spec.get("friction", "F_f")),
