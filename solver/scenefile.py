@@ -556,7 +556,8 @@ class _SceneLoader:
                 raise self.fail(key, f"unknown name {name!r} (parameters and state: {valid})")
 
     def _check_angles(self, coordinate: str, state: dict[str, pint.Quantity], overrides: Mapping[str, str]) -> None:
-        """The coordinate's value and every parameter given with an angle unit must lie within
+        """Every parameter and state value must lie within :data:`solver.units.MAX_SI_MAGNITUDE`
+        (SI), and the coordinate's value and every parameter given with an angle unit within
         :data:`solver.units.MAX_ANGLE_TURNS` turns (beyond it float64 sines are meaningless)."""
         angles = {coordinate: (state[coordinate], "coordinate.value")}
         angles.update({n: (q, f"parameters.{n}") for n, q in self.parameters.items() if units.is_angle_unit(q)})
@@ -564,6 +565,14 @@ class _SceneLoader:
             key = f"--set {name}" if name in overrides else key
             try:
                 units.check_angle(float(quantity.to("rad").magnitude), f"{self.label}: {key}", f"{quantity.magnitude:g} {quantity.units:~}")
+            except InputError as err:
+                raise SceneError(str(err)) from None
+        for name, quantity in [*self.parameters.items(), *state.items()]:
+            key = f"--set {name}" if name in overrides else (
+                f"parameters.{name}" if name in self.parameters else
+                "coordinate.value" if name == coordinate else "coordinate.rate")
+            try:
+                units.check_si_magnitude(quantity, f"{self.label}: {key}")
             except InputError as err:
                 raise SceneError(str(err)) from None
 

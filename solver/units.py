@@ -266,6 +266,32 @@ def check_magnitude(number: float, where: str, text: Any = None) -> float:
     return number
 
 
+MAX_SI_MAGNITUDE = 1e100
+"""A scene's parameters and state, in SI units, must be 0 or between 1/MAX_SI_MAGNITUDE
+and MAX_SI_MAGNITUDE in size: products of a few of them then stay within float64's
+range (a 1e200 ft bar would overflow its own moment of inertia)."""
+
+
+def check_si_magnitude(quantity: pint.Quantity, where: str) -> pint.Quantity:
+    """``quantity`` if its SI magnitude is 0 or within 1e-100 .. 1e100 in size; else an
+    :class:`InputError` naming ``where`` and the limit.
+
+    Examples
+    --------
+    >>> check_si_magnitude(Q_(1e200, "ft"), "parameters.l_b")
+    Traceback (most recent call last):
+    ...
+    solver.errors.InputError: parameters.l_b: 1e+200 ft is 3.048e+199 in SI units; the limit is 1e-100 to 1e+100 in size (or 0)
+    """
+    value = float(quantity.to_base_units().magnitude)
+    if value != 0 and not (1 / MAX_SI_MAGNITUDE <= abs(value) <= MAX_SI_MAGNITUDE):
+        raise InputError(
+            f"{where}: {quantity.magnitude:g} {quantity.units:~} is {value:.4g} in SI units; the limit is "
+            f"{1 / MAX_SI_MAGNITUDE:g} to {MAX_SI_MAGNITUDE:g} in size (or 0)"
+        )
+    return quantity
+
+
 def check_angle(value_rad: float, where: str, text: Any = None) -> float:
     """``value_rad`` if its size is at most :data:`MAX_ANGLE_TURNS` turns; else an
     :class:`InputError` naming ``where`` and the limit.
@@ -337,7 +363,7 @@ def _short(err: Exception, limit: int = 120) -> str:
 
 __all__ = [
     "ureg", "Q_", "check_unit_text", "parse_unit", "parse_quantity", "parse_angle", "parse_time",
-    "check_magnitude", "check_angle", "is_angle_unit", "DIMENSIONLESS_UNITS",
+    "check_magnitude", "check_angle", "check_si_magnitude", "MAX_SI_MAGNITUDE", "is_angle_unit", "DIMENSIONLESS_UNITS",
     "MAX_QUANTITY_LENGTH", "MAX_UNIT_LENGTH", "MAX_UNIT_EXPONENT", "MAX_UNIT_NESTING",
     "MAX_MAGNITUDE", "MAX_ANGLE_TURNS", "MAX_ANGLE_RAD",
 ]

@@ -391,7 +391,8 @@ HOSTILE_CLI = [
     (("friction", str(SLIDING_BAR), "--range", "10", "5"), "--range 10 5: expected LOW < HIGH"),
     (("friction", str(SLIDING_BAR), "--amplitude", "30"), "--amplitude applies to a scene with a rolling contact"),
     (("simulate", str(DISK_BAR), "--t-end", "1 s", "--rtol", "1e-300"), "argument --rtol:"),
-    (("solve", str(DISK_BAR), "--set", "theta_dot=1e200 rad/s"), "is not a finite number"),
+    (("solve", str(DISK_BAR), "--set", "theta_dot=1e200 rad/s"), "--set theta_dot: 1e+200 rad / s is 1e+200 in SI"),
+    (("solve", str(SLIDING_BAR), "--set", "l_b=1e200 ft"), "--set l_b: 1e+200 ft is 3.048e+199 in SI units"),
 ]
 
 
@@ -457,6 +458,21 @@ def test_cpu_cap_stops_a_runaway_request(solver_cli, tmp_path: Path, monkeypatch
     status, out, err = solver_cli("solve", str(SLIDING_BAR))
     assert (status, out) == (2, "")
     assert err.startswith("error: the request needed more than 0.2 s of CPU time") and err.count("\n") == 1
+
+
+def test_warnings_never_precede_the_error_line(solver_cli, monkeypatch) -> None:
+    import warnings
+
+    import numpy as np
+
+    def overflowing(*args, **kwargs):
+        np.float64(1e200) ** 2  # numpy warns: overflow encountered
+        warnings.warn("a library's note", UserWarning)
+        raise SingularConfigurationError("x.toml: alpha is not a finite number")
+
+    monkeypatch.setattr(cli_instant.derivation, "solve_instant", overflowing)
+    status, out, err = solver_cli("solve", str(SLIDING_BAR))
+    assert (status, out, err) == (2, "", "error: x.toml: alpha is not a finite number\n")
 
 
 def _spin() -> None:
