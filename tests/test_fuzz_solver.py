@@ -19,12 +19,11 @@ lowered to :data:`CLI_CAP` for these tests, so a stall would surface as a
 refusal (and a hang as a failed time check), never as a stuck suite.
 
 Example counts (4 to 20 per test, about 80 runs in all) are chosen for speed:
-the file adds about 10 s to ``make test``. A refused input costs a few ms in
+the file adds about 4 s of CPU time to ``make test``. A refused input costs a few ms in
 process, an answered one 50-100 ms, a new expression a derivation (0.1-0.5 s),
 a period its 30-digit reference quadrature (0.3 s). The hostile pools are small
 and listed, so each run draws a different part of them; hypothesis's database
-replays any failure first. Raise the counts locally (``--hypothesis-profile``)
-for a deeper search.
+replays any failure first. Raise the counts locally for a deeper search.
 """
 from __future__ import annotations
 
