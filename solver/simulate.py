@@ -413,6 +413,9 @@ def simulate(
     bar.close(float(sol.t[-1]))
     event = None
     status = "completed"
+    if sol.status == -1 and len(sol.t) < 2:  # no step taken: nothing to sample
+        raise InputError(f"{system.name}: the integration failed at the start ({sol.message}); "
+                         "loosen --rtol/--atol")
     if sol.status == -1:
         status = "failed"
         reason = f"integration failed at t = {sol.t[-1]:.6g} s: {sol.message}"

@@ -391,6 +391,8 @@ HOSTILE_CLI = [
     (("friction", str(SLIDING_BAR), "--range", "10", "5"), "--range 10 5: expected LOW < HIGH"),
     (("friction", str(SLIDING_BAR), "--amplitude", "30"), "--amplitude applies to a scene with a rolling contact"),
     (("simulate", str(DISK_BAR), "--t-end", "1 s", "--rtol", "1e-300"), "argument --rtol:"),
+    (("simulate", str(DISK_BAR), "--t-end", "1 s", "--atol", "1e-300", "--rtol", "1e-13"),
+     "the integration failed at the start"),
     (("solve", str(DISK_BAR), "--set", "theta_dot=1e200 rad/s"), "--set theta_dot: 1e+200 rad / s is 1e+200 in SI"),
     (("solve", str(SLIDING_BAR), "--set", "l_b=1e200 ft"), "--set l_b: 1e+200 ft is 3.048e+199 in SI units"),
 ]
