@@ -273,6 +273,8 @@ def _exact_solve(A: sp.Matrix, b: sp.Matrix, kept: Mapping, where: str) -> sp.Ma
         atoms |= {a for a in e.atoms(sp.Function) if a.free_symbols}
         atoms |= {a for a in e.atoms(sp.Pow) if a.free_symbols and not a.exp.is_Integer}
     ordered = sorted(atoms, key=lambda a: -sp.count_ops(a))
+    if any(e.has(sp.pi) for e in exprs):  # pi outside the functions: one more generator of the field
+        ordered.append(sp.pi)
     syms = sp.symbols(f"_atom0:{len(ordered)}")
     rep = dict(zip(ordered, syms))
     back = dict(zip(syms, ordered))

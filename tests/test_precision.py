@@ -124,3 +124,19 @@ def test_cli_precision(capsys):
         ref = mpmath.mpf(str(sp.N(paper_eqs_exact(sp.pi / 6, sp.pi / 4)[0], 45)))
         assert abs(mpmath.mpf(alpha["text"]) - ref) <= mpmath.mpf(10) ** -29 * abs(ref)
         assert len(alpha["text"].replace(".", "").lstrip("0")) >= 30
+
+
+def test_exact_with_pi_outside_the_trigonometric_functions():
+    # Regression (fuzzing): the rocking semicircle's system about its contact point C holds pi
+    # itself (the centroid offset 4 r / (3 pi)); the exact solve failed with CoercionFailed.
+    from solver.derivation import derive
+    from solver.scenefile import load_scene
+
+    d = derive(load_scene("data/scenes/rocking_semicircle.toml"), "C")
+    ex = solve_precise(d, "exact", dps=40)
+    mp = solve_precise(d, "mpmath", dps=40)
+    for name in mp.unknowns:
+        # exact and mpmath are independent arithmetics printed to 40 digits: 1e-35 relative
+        with mpmath.workdps(45):
+            a, b = mpmath.mpf(ex.text[name]), mpmath.mpf(mp.text[name])
+            assert abs(a - b) <= mpmath.mpf(10) ** -35 * abs(b)
