@@ -406,6 +406,16 @@ class _SceneLoader:
             raise self.fail(key, f"{sp.sstr(expr)} is not a finite real number for the given parameters")
         return value.real
 
+    def smooth_in_q(self, expr: sp.Expr, key: str) -> sp.Expr:
+        """Refuse abs, sign, min and max of anything holding the coordinate in an expression
+        that is differentiated twice (orientation, position): their derivatives are Dirac
+        deltas and steps, which no solver route can evaluate."""
+        kinks = [f for f in expr.atoms(sp.Abs, sp.sign, sp.Min, sp.Max) if f.has(self.q)]
+        if kinks:
+            raise self.fail(key, f"{sp.sstr(kinks[0])} is not differentiable in {self.coordinate} "
+                                 "(this expression is differentiated twice); write a smooth formula")
+        return expr
+
     def bounded_angle(self, expr: sp.Expr, key: str) -> sp.Expr:
         """An angle expression whose value at the scene's state is within
         :data:`solver.units.MAX_ANGLE_TURNS` turns (``"1e300*theta"`` has no meaningful sine)."""
@@ -445,10 +455,10 @@ class _SceneLoader:
 
         body = self.table(self.require(data, "body", "body", "the table [body] with orientation"), "body")
         self.check_keys(body, BODY_KEYS, "body", "[body]")
-        orientation = self.bounded_angle(self.expr(
+        orientation = self.smooth_in_q(self.bounded_angle(self.expr(
             self.require(body, "orientation", "body", "the body frame's angle as a function of the coordinate"),
             "body.orientation", self.names.with_q, DIMENSIONLESS,
-        ), "body.orientation")
+        ), "body.orientation"), "body.orientation")
         points = self._read_points(self.table(self.require(data, "points", "points", "the table [points]"), "points"))
         elements = self._read_elements(
             self.array_of_tables(self.require(data, "elements", "elements", "at least one [[elements]] entry"), "elements"),
@@ -731,6 +741,8 @@ class _SceneLoader:
         if point not in points or points[point].frame != "body":
             raise self.fail("body.position.point", f"{point!r} is not a body-frame point (points: {', '.join(points)})")
         at = self.vector(self.require(spec, "at", "body.position", "its fixed-frame position [x(theta), y(theta)]"), "body.position.at", self.names.with_q, LENGTH)
+        for i, component in enumerate(at):
+            self.smooth_in_q(component, f"body.position.at[{i}]")
         return point, at
 
     # -- constraints ---------------------------------------------------------------------------

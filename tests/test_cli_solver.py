@@ -416,6 +416,8 @@ HOSTILE_SCENES = [
     ('name = "sliding_bar"', 'name = "sliding_bar"\nx = ' + "[" * 5000 + "]" * 5000, "nested deeper than 8"),
     ('orientation     = "pi - theta"', 'orientation = "1e300*theta"', "body.orientation: the angle '5.23599e+299 rad'"),
     ('angle    = "-beta"', 'angle = "1e300"', "constraints[1].angle: the angle '1e+300 rad' is too large"),
+    ('orientation     = "pi - theta"', 'orientation = "pi - abs(theta)"',
+     "body.orientation: Abs(theta) is not differentiable in theta"),
     ("[parameters]", "[parameters]\n" + "".join(f'p{i} = "1 kg"\n' for i in range(1001)),
      "a table or array with 1005 entries; the limit is 1000"),
 ]
