@@ -13,11 +13,9 @@ Tolerances (documented once, applied everywhere)
   enters pound-mass through pint with the printed g (5 significant figures).
 * Eq. 30 was computed by hand from Eq. 29, whose coefficients the paper rounded
   to 4 significant figures, and each result was rounded before it was used in
-  the next step. The tolerance of an Eq. 30 value adds the first-order effect of
-  that rounding: sum over every printed Eq. 29 coefficient c of
-  |d(result)/dc| * halfunit(c), plus, for an unknown obtained by back
-  substitution (``back_substitution`` in equations.toml), sum over the other
-  unknowns v of |d(result)/dv| * halfunit(v) in that row.
+  the next step. Its tolerance is :func:`reports.rounding.eq30_tolerances`, the
+  one model the tests use too (coefficient rounding and the rounded data behind
+  it, propagated to first order, plus the back-substituted results' rounding).
 * Units: a printed unit is parsed by pint and compared by dimension with the
   computed quantity; values are compared after conversion into the printed
   unit (or, when the printed unit has the wrong dimension, in the dimensionally
@@ -30,15 +28,14 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass, field
-from decimal import Decimal
 from fractions import Fraction
 from pathlib import Path
 
-import numpy as np
 import sympy as sp
 
 from reports.equations import EquationOutcome, check_equation
 from reports.published import EquationSet, ReportInputError, read_toml
+from reports.rounding import eq30_tolerances, half_unit
 from solver.expressions import parse_expression
 from solver.units import Q_, ureg
 
@@ -121,15 +118,6 @@ def not_checkable(id_: str, kind: str, published, reason: str, label: str = "", 
 
 
 # --------------------------------------------------------------------------- numbers
-def half_unit(printed: str) -> float:
-    """Half a unit in the last printed digit of ``printed`` ("12.34" -> 0.005)."""
-    text = printed.strip().lstrip("+-")
-    if not re.fullmatch(r"\d+(\.\d*)?", text):
-        raise ValueError(f"`printed` must be a plain decimal number, got {printed!r}")
-    exponent = Decimal(text).as_tuple().exponent
-    return 0.5 * 10.0**exponent
-
-
 def _digits(printed: str, extra: int = 3) -> int:
     text = printed.strip()
     decimals = len(text.split(".")[1]) if "." in text else 0
@@ -261,31 +249,6 @@ def _system_values(eqset: EquationSet, key: str, scene, deriv) -> tuple[dict, di
     return system, coefficients, state
 
 
-def _rounding_bound(system: dict, A: np.ndarray, b: np.ndarray, hA: np.ndarray, hb: np.ndarray,
-                    h_result: dict[str, float]) -> dict[str, float]:
-    """First-order effect of the printed rounding on each unknown (see module notes)."""
-    unknowns = list(system["unknowns"])
-    x = np.linalg.solve(A, b)
-    inv = np.linalg.inv(A)
-    bound = np.zeros(len(unknowns))
-    for i in range(A.shape[0]):
-        bound += np.abs(inv[:, i]) * hb[i]
-        for j in range(A.shape[1]):
-            bound += np.abs(inv[:, i] * x[j]) * hA[i, j]
-    rows = list(system["rows"])
-    out = {u: float(bound[k]) for k, u in enumerate(unknowns)}
-    for u, row in system.get("back_substitution", {}).items():
-        r = rows.index(row)
-        ku = unknowns.index(u)
-        extra = sum(
-            abs(A[r, kv] / A[r, ku]) * h_result.get(v, 0.0)
-            for kv, v in enumerate(unknowns)
-            if v != u
-        )
-        out[u] += extra
-    return out
-
-
 def example1_value_checks(values_path: Path, eqset: EquationSet, scene, deriv, solution) -> list[Check]:
     """Rows for every printed number of Example 1 (problem data, Eq. 29, Eq. 30).
 
@@ -325,12 +288,8 @@ def example1_value_checks(values_path: Path, eqset: EquationSet, scene, deriv, s
     prefix = system_key or "eq29"
     unknowns = list(system.get("unknowns", []))
     row_names = list(system.get("rows", {}))
-    A = np.zeros((len(row_names), len(unknowns)))
-    b = np.zeros(len(row_names))
-    hA = np.zeros_like(A)
-    hb = np.zeros_like(b)
-    for i, row in enumerate(row_names):
-        for j, column in enumerate(unknowns + ["rhs"]):
+    for row in row_names:
+        for column in unknowns + ["rhs"]:
             key = f"{prefix}-{row}-{column}"
             entry = published.get(key)
             if entry is None:
@@ -356,10 +315,6 @@ def example1_value_checks(values_path: Path, eqset: EquationSet, scene, deriv, s
             exact = bool(entry.get("exact", False))
             printed = entry["printed"]
             h = 0.0 if exact or not printed else half_unit(printed)
-            if column == "rhs":
-                b[i], hb[i] = magnitude, h
-            else:
-                A[i, j], hA[i, j] = magnitude, h
             value = float(entry["value"])
             tol = (h + data_effect) if h else _EXACT_RTOL * max(1.0, abs(value))
             ok = abs(magnitude - value) <= tol
@@ -402,13 +357,9 @@ def example1_value_checks(values_path: Path, eqset: EquationSet, scene, deriv, s
             )
 
     # ---- Eq. 30: the solver's solution vs the printed results
-    h_result = {}
-    for u in unknowns:
-        entry = published.get(f"{system.get('results', 'eq30')}-{u}")
-        if entry:
-            h_result[u] = half_unit(entry["printed"])
-    bound = _rounding_bound(system, A, b, hA, hb, h_result) if unknowns else {}
     results_prefix = system.get("results", "eq30")
+    # one tolerance model for Eq. 30, shared with the tests (reports/rounding.py)
+    tolerance = eq30_tolerances(published, prefix, results_prefix) if unknowns else {}
     for u in unknowns:
         key = f"{results_prefix}-{u}"
         entry = published.get(key)
@@ -430,7 +381,7 @@ def example1_value_checks(values_path: Path, eqset: EquationSet, scene, deriv, s
             compare_unit = computed_q.units
         magnitude = float(computed_q.to(compare_unit).magnitude)
         h = half_unit(entry["printed"])
-        tol = h + bound.get(u, 0.0)
+        tol = tolerance.get(u, h)
         diff = abs(magnitude - value)
         ok = diff <= tol
         within_half = diff <= h
@@ -438,7 +389,8 @@ def example1_value_checks(values_path: Path, eqset: EquationSet, scene, deriv, s
             f"{entry.get('meaning', '')}; solver (generalized Euler about {deriv.point}, confirmed by the "
             f"mass-centre and Lagrange routes in the solver's tests) gives {magnitude:.6g} {_unit_label(compare_unit)}; "
             f"|difference| = {diff:.2g}; tolerance {tol:.2g} = half unit of the last printed digit ({h:.2g})"
-            f" + first-order effect of the paper's 4-significant-figure rounding in Eq. 29 ({bound.get(u, 0.0):.2g})"
+            f" + first-order effect of the paper's 4-significant-figure rounding in Eq. 29, of the rounded data"
+            f" it computed with and of the results it substituted back ({tol - h:.2g})"
         )
         if ok and not within_half:
             detail += "; outside the half-unit band alone, inside once the paper's intermediate rounding is allowed for"

@@ -22,16 +22,21 @@ line ``error: ...`` on stderr and exit status 2, without a traceback:
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import math
 import os
+import signal
 import sys
-from collections.abc import Callable, Iterable, Mapping, Sequence
+import threading
+import warnings
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from typing import Any, NoReturn
 
 import pint
 
 from solver.errors import InputError
+from solver.files import MAX_INPUT_BYTES
 
 EXIT_OK = 0
 EXIT_INTERNAL = 1
@@ -61,9 +66,15 @@ class OneLineArgumentParser(argparse.ArgumentParser):
         fail(f"{self.prog}: {message} (see {self.prog} --help){note}")
 
 
+MAX_MESSAGE_LENGTH = 600
+"""Longest error line printed [characters]; a longer message (one quoting a huge input)
+is cut, ending in "..."."""
+
+
 def one_line(message: str) -> str:
-    """Collapse a message to one line (no embedded newlines)."""
-    return " ".join(str(message).split())
+    """Collapse a message to one line (no embedded newlines), at most :data:`MAX_MESSAGE_LENGTH` long."""
+    text = " ".join(str(message).split())
+    return text if len(text) <= MAX_MESSAGE_LENGTH else text[: MAX_MESSAGE_LENGTH - 3] + "..."
 
 
 def fail(message: str, status: int = EXIT_INPUT) -> NoReturn:
@@ -77,7 +88,9 @@ def fail(message: str, status: int = EXIT_INPUT) -> NoReturn:
 
 
 def add_scene_argument(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("scene", metavar="SCENE", help="scene file (TOML), e.g. data/scenes/sliding_bar.toml")
+    parser.add_argument("scene", metavar="SCENE",
+                        help=f"scene file (TOML, a regular file of at most {MAX_INPUT_BYTES} bytes), "
+                        "e.g. data/scenes/sliding_bar.toml")
 
 
 def add_set_option(parser: argparse.ArgumentParser) -> None:
@@ -88,7 +101,7 @@ def add_set_option(parser: argparse.ArgumentParser) -> None:
         action="append",
         default=[],
         help='override a parameter or the state, with its unit: --set beta="90 deg" '
-        '--set theta_dot="1.5 rad/s" (repeatable)',
+        f'--set theta_dot="1.5 rad/s" (repeatable, at most {MAX_OVERRIDES})',
     )
 
 
@@ -131,6 +144,44 @@ def add_common_arguments(
         add_json_option(parser)
 
 
+def int_in(low: int, high: int) -> Callable[[str], int]:
+    """An argparse ``type=``: an integer in [low, high]. argparse names the flag in the
+    one-line error (``argument --samples: ...``)."""
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text.strip()) if len(text) <= 30 else None
+        except ValueError:
+            value = None
+        if value is None or not low <= value <= high:
+            raise argparse.ArgumentTypeError(f"expected an integer from {low} to {high}, got {text[:40]!r}")
+        return value
+
+    return parse
+
+
+def float_in(low: float, high: float, *, low_open: bool = False) -> Callable[[str], float]:
+    """An argparse ``type=``: a finite number in [low, high] (or (low, high] with ``low_open``)."""
+
+    def parse(text: str) -> float:
+        try:
+            value = float(text) if len(text) <= 40 else math.nan
+        except ValueError:
+            value = math.nan
+        above = value > low if low_open else value >= low
+        if not (math.isfinite(value) and above and value <= high):
+            bracket = "(" if low_open else "["
+            raise argparse.ArgumentTypeError(
+                f"expected a number in {bracket}{low:g}, {high:g}], got {text[:40]!r}")
+        return value
+
+    return parse
+
+
+MAX_OVERRIDES = 50
+"""Most ``--set`` options one command takes."""
+
+
 def parse_overrides(items: Iterable[str]) -> dict[str, str]:
     """``["beta=90 deg", ...]`` -> ``{"beta": "90 deg"}``.
 
@@ -140,6 +191,9 @@ def parse_overrides(items: Iterable[str]) -> dict[str, str]:
         An item without ``=``, an empty name or value, or a name given twice.
     """
     out: dict[str, str] = {}
+    items = list(items)
+    if len(items) > MAX_OVERRIDES:
+        raise UsageError(f"--set: {len(items)} given; the limit is {MAX_OVERRIDES}")
     for item in items:
         name, sep, value = item.partition("=")
         name, value = name.strip(), value.strip()
@@ -283,14 +337,74 @@ def state_text(system, state=None) -> str:
 # -- running ---------------------------------------------------------------------------------
 
 
+MAX_CPU_SECONDS = 20.0
+"""CPU time one command may use [s] before it is stopped with one ``error:`` line and
+status 2 (a backstop behind the caps on sizes, exponents, steps and samples: an
+expression that makes the symbolic work explode, for example). The environment
+variable ``SOLVER_MAX_CPU_SECONDS`` changes it."""
+CPU_ENV = "SOLVER_MAX_CPU_SECONDS"
+
+
+class WorkLimitExceeded(BaseException):
+    """The command used up its CPU time (a BaseException, so that no ``except
+    Exception`` in a library can swallow it)."""
+
+
+def cpu_seconds_allowed() -> float:
+    """:data:`MAX_CPU_SECONDS`, or the value of ``SOLVER_MAX_CPU_SECONDS`` if it is a positive number."""
+    try:
+        value = float(os.environ.get(CPU_ENV, ""))
+    except ValueError:
+        return MAX_CPU_SECONDS
+    return value if math.isfinite(value) and value > 0 else MAX_CPU_SECONDS
+
+
+@contextlib.contextmanager
+def cpu_budget(seconds: float) -> Iterator[None]:
+    """Raise :class:`WorkLimitExceeded` once the process has used ``seconds`` more CPU time
+    (user time, ``ITIMER_VIRTUAL``; again every second if a library swallowed it).
+    Without SIGVTALRM, or off the main thread, it does nothing."""
+    if not hasattr(signal, "SIGVTALRM") or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def _out_of_time(signum: int, frame: Any) -> None:
+        raise WorkLimitExceeded
+
+    previous = signal.signal(signal.SIGVTALRM, _out_of_time)
+    signal.setitimer(signal.ITIMER_VIRTUAL, seconds, 1.0)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_VIRTUAL, 0)
+        signal.signal(signal.SIGVTALRM, previous)
+
+
 def run_handler(handler: Callable[[argparse.Namespace], int | None], args: argparse.Namespace) -> int:
     """Run a command handler; bad input -> one ``error:`` line and status 2.
 
-    An unexpected exception (a bug, not bad input) is reported on one line
-    with status 1; set ``SOLVER_DEBUG=1`` to see its traceback instead.
+    The handler runs within :func:`cpu_budget` (:data:`MAX_CPU_SECONDS`), with
+    Python warnings silenced (numpy's overflow warnings would print lines
+    before the one error line; a non-finite answer is refused by
+    :func:`check_finite` instead). Numeric overflow, recursion too deep and
+    memory exhausted are reported as input too large (status 2). An
+    unexpected exception (a bug, not bad input) is reported on one line with
+    status 1; set ``SOLVER_DEBUG=1`` to see its traceback instead.
     """
+    seconds = cpu_seconds_allowed()
     try:
-        status = handler(args)
+        with warnings.catch_warnings(), cpu_budget(seconds):
+            warnings.simplefilter("ignore")
+            status = handler(args)
+    except WorkLimitExceeded:
+        fail(f"the request needed more than {seconds:g} s of CPU time, the solver's cap on work "
+             f"(set {CPU_ENV} to change it); simpler expressions, a shorter run or fewer values need less",
+             EXIT_INPUT)
+    except OverflowError as err:
+        fail(f"a number grew out of floating-point range ({err}); the scene's values or the options "
+             "are too large", EXIT_INPUT)
+    except (RecursionError, MemoryError) as err:
+        fail(f"the input is too large or too deeply nested to process ({type(err).__name__})", EXIT_INPUT)
     except InputError as err:
         fail(str(err), EXIT_INPUT)
     except ValueError as err:  # bad option strings from the library (listing the valid ones)
@@ -330,7 +444,13 @@ __all__ = [
     "state_text",
     "state_si",
     "run_handler",
+    "cpu_budget",
+    "cpu_seconds_allowed",
+    "int_in",
+    "float_in",
     "fail",
+    "MAX_CPU_SECONDS",
+    "MAX_OVERRIDES",
     "EXIT_OK",
     "EXIT_INPUT",
 ]

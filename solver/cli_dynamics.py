@@ -25,7 +25,9 @@ import sys
 from solver.cli_common import (
     state_si,
     add_common_arguments,
+    float_in,
     format_number,
+    int_in,
     format_table,
     load_scene_from_args,
     print_json,
@@ -38,8 +40,9 @@ __all__ = ["register"]
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add ``period``, ``simulate``, ``friction`` and ``precision`` to the command line."""
-    from solver.fidelity import MODELS
-    from solver.simulate import METHODS
+    from solver.fidelity import MODELS, TOL_MAX, TOL_MIN
+    from solver.precision import MAX_DPS, MIN_DPS
+    from solver.simulate import MAX_PERIODS, MAX_RHS_EVALUATIONS, MAX_SAMPLES, MAX_T_END, METHODS
 
     p = subparsers.add_parser(
         "period",
@@ -52,8 +55,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     add_common_arguments(p)
     p.add_argument("--amplitude", required=True, metavar="ANGLE",
                    help='release angle from the equilibrium, e.g. "30 deg" (bare number: degrees)')
-    p.add_argument("--tol", type=float, default=1e-10, metavar="REL",
-                   help="requested relative accuracy of the period (default 1e-10)")
+    p.add_argument("--tol", type=float_in(TOL_MIN, TOL_MAX), default=1e-10, metavar="REL",
+                   help=f"requested relative accuracy of the period, {TOL_MIN:g} to {TOL_MAX:g} (default 1e-10)")
     p.add_argument("--model", choices=MODELS, default="auto",
                    help="force a model instead of the cheapest that meets --tol (default: auto)")
     p.set_defaults(handler=period_command)
@@ -63,18 +66,25 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="time history by solve_ivp, stopping when a support is lost or rolling would slip",
         description="Integrate the equation of motion from the scene's state. Stops early, and says why, "
         "when a one-sided reaction would turn negative, when |F_f| > mu F_n at a rolling contact, or at a "
-        "singular configuration.",
+        "singular configuration. Caps on the work of one run: --t-end at most "
+        f"{MAX_T_END:g} s and at most {MAX_PERIODS} periods of small oscillation, at most "
+        f"{MAX_RHS_EVALUATIONS} right-hand-side evaluations, at most {MAX_SAMPLES} samples.",
     )
     add_common_arguments(p, method=False)  # --method is the integrator here
-    p.add_argument("--t-end", required=True, metavar="T", help='end time, e.g. "10 s" (bare number: seconds)')
+    p.add_argument("--t-end", required=True, metavar="T",
+                   help=f'end time, e.g. "10 s" (bare number: seconds; at most {MAX_T_END:g} s)')
     p.add_argument("--method", dest="ivp_method", choices=METHODS, default="DOP853",
                    help="solve_ivp method (default DOP853)")
-    p.add_argument("--rtol", type=float, default=1e-9, help="relative tolerance (default 1e-9)")
-    p.add_argument("--atol", type=float, default=1e-12, help="absolute tolerance (default 1e-12)")
-    p.add_argument("--out", metavar="FILE.csv", default=None, help="write the samples to a CSV file (atomically)")
-    p.add_argument("--mu", type=float, default=None,
-                   help="friction coefficient of every rolling contact (default: the scene's, if any)")
-    p.add_argument("--samples", type=int, default=None, help="number of output samples (default: 20 per period)")
+    p.add_argument("--rtol", type=float_in(1e-13, 0.1), default=1e-9,
+                   help="relative tolerance, 1e-13 to 0.1 (default 1e-9)")
+    p.add_argument("--atol", type=float_in(1e-300, 1.0), default=1e-12,
+                   help="absolute tolerance, 1e-300 to 1 (default 1e-12)")
+    p.add_argument("--out", metavar="FILE.csv", default=None,
+                   help="write the samples to a CSV file (atomically; the place is checked before the run)")
+    p.add_argument("--mu", type=float_in(0.0, 1e6), default=None,
+                   help="friction coefficient of every rolling contact, 0 to 1e6 (default: the scene's, if any)")
+    p.add_argument("--samples", type=int_in(2, MAX_SAMPLES), default=None,
+                   help=f"number of output samples, 2 to {MAX_SAMPLES} (default: 20 per period, at least 1001)")
     bar = p.add_mutually_exclusive_group()
     bar.add_argument("--progress", dest="progress", action="store_true", default=None,
                      help="always show a progress bar on stderr")
@@ -91,13 +101,17 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     )
     add_common_arguments(p)
     p.add_argument("--amplitude", action="append", default=[], metavar="ANGLE",
-                   help="amplitude(s) of the free oscillation (repeatable; default: the scene's theta)")
-    p.add_argument("--mass-ratio", action="append", type=float, default=[], metavar="R",
-                   help="m_b/m_d value(s) to tabulate (repeatable; sets m_b = R m_d)")
-    p.add_argument("--ratio-of", default="m_b/m_d", metavar="NUM/DEN",
-                   help="the two mass parameters of the ratio (default m_b/m_d)")
+                   help=f"amplitude(s) of the free oscillation (repeatable, at most {MAX_LIST} times; "
+                   "default: the scene's theta)")
+    p.add_argument("--mass-ratio", action="append", type=float_in(0.0, 1e6, low_open=True), default=[], metavar="R",
+                   help=f"m_b/m_d value(s) to tabulate, in (0, 1e6] (repeatable, at most {MAX_LIST} times; "
+                   "sets m_b = R m_d)")
+    p.add_argument("--ratio-of", default=None, metavar="NUM/DEN",
+                   help="the two mass parameters of the ratio (default m_b/m_d); they must be parameters "
+                   "of the scene")
     p.add_argument("--range", nargs=2, default=None, metavar=("LOW", "HIGH"),
-                   help="release angles searched, without rolling (default 0 deg 180 deg)")
+                   help="release angles searched, without rolling, within -360 deg .. 360 deg "
+                   "(default 0 deg 180 deg)")
     p.add_argument("--reactions", default=None, metavar="NAMES",
                    help="comma-separated reactions that must stay >= 0 (default: all)")
     p.set_defaults(handler=friction_command)
@@ -112,34 +126,30 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     add_common_arguments(p)
     p.add_argument("--precision", dest="precision", choices=("float64", "exact", "mpmath", "all"), default="all",
                    help="arithmetic (default: all three)")
-    p.add_argument("--dps", type=int, default=50, help="decimal digits for mpmath and printing (default 50)")
+    p.add_argument("--dps", type=int_in(MIN_DPS, MAX_DPS), default=50,
+                   help=f"decimal digits for mpmath and printing, {MIN_DPS} to {MAX_DPS} (default 50)")
     p.set_defaults(handler=precision_command)
 
 
 # -- helpers -----------------------------------------------------------------------------------
-def _angle(text: str, where: str) -> float:
-    """An angle in rad from ``"30 deg"`` / ``"0.5 rad"`` / ``"30"`` (degrees)."""
-    from solver.scenefile import parse_quantity
+MAX_LIST = 20
+"""Most values of a repeatable ``friction`` option (--amplitude, --mass-ratio)."""
+RANGE_LIMIT_DEG = 360.0
+"""``friction --range`` searches within -RANGE_LIMIT_DEG .. RANGE_LIMIT_DEG."""
 
-    q = parse_quantity(text, where)
-    if q.dimensionless and str(q.units) in ("", "dimensionless"):
-        return math.radians(float(q.magnitude))
-    try:
-        return float(q.to("rad").magnitude)
-    except Exception:  # noqa: BLE001 - pint's DimensionalityError and friends
-        raise InputError(f"{where}: expected an angle such as \"30 deg\", got {text!r}") from None
+
+def _angle(text: str, where: str) -> float:
+    """An angle in rad from ``"30 deg"`` / ``"0.5 rad"`` / ``"30"`` (degrees), guarded."""
+    from solver.units import parse_angle
+
+    return parse_angle(text, where, bare_unit="deg")
 
 
 def _time(text: str, where: str) -> float:
-    from solver.scenefile import parse_quantity
+    """A time in s from ``"10 s"`` / ``"10"`` (seconds), guarded."""
+    from solver.units import parse_time
 
-    q = parse_quantity(text, where)
-    if str(q.units) in ("", "dimensionless"):
-        return float(q.magnitude)
-    try:
-        return float(q.to("s").magnitude)
-    except Exception:  # noqa: BLE001
-        raise InputError(f"{where}: expected a time such as \"10 s\", got {text!r}") from None
+    return parse_time(text, where)
 
 
 def _system(args):
@@ -227,17 +237,14 @@ def _simulate_multibody(args, system, t_end) -> int:
 
 
 def simulate_command(args: argparse.Namespace) -> int:
-    from pathlib import Path
-
-    from solver.simulate import simulate, write_csv
+    from solver.files import check_output_path
+    from solver.simulate import MAX_T_END, simulate, write_csv
 
     t_end = _time(args.t_end, "--t-end")
+    if not 0 < t_end <= MAX_T_END:
+        raise InputError(f"--t-end must be a positive time of at most {MAX_T_END:g} s, got {args.t_end!r}")
     if args.out is not None:
-        folder = Path(args.out).parent
-        if str(folder) and not folder.is_dir():
-            raise InputError(f"--out {args.out}: folder {folder} does not exist")
-        if Path(args.out).is_dir():
-            raise InputError(f"--out {args.out}: is a folder; give a file name")
+        check_output_path(args.out, "--out")  # before the run, not after it
     loaded = load_scene_from_args(args)
     if len(loaded.free) != 1 or loaded.closure or len(loaded.bodies) != 1 or loaded.free[0].kind != "angle" \
             or loaded.time_dependent:
@@ -287,20 +294,26 @@ def friction_command(args: argparse.Namespace) -> int:
     from solver.friction import friction_map, release_window
     from solver.period import find_equilibrium
 
+    amplitudes = [_angle(a, "--amplitude") for a in args.amplitude]
+    if len(amplitudes) > MAX_LIST or len(args.mass_ratio) > MAX_LIST:
+        raise InputError(f"--amplitude and --mass-ratio may each be given at most {MAX_LIST} times")
+    window = (0.0, math.pi)
+    if args.range is not None:
+        window = (_angle(args.range[0], "--range LOW"), _angle(args.range[1], "--range HIGH"))
+        limit = math.radians(RANGE_LIMIT_DEG)
+        if not (-limit <= window[0] < window[1] <= limit):
+            raise InputError(f"--range {args.range[0]} {args.range[1]}: expected LOW < HIGH within "
+                             f"-{RANGE_LIMIT_DEG:g} deg .. {RANGE_LIMIT_DEG:g} deg")
     scene, _, system = _system(args)
     if system.friction_pairs:
         eq = find_equilibrium(system, near=state_si(scene)[0])
-        if args.amplitude:
-            amps = [_angle(a, "--amplitude") for a in args.amplitude]
-        else:
-            amps = [state_si(scene)[0] - eq.q]
-        num, _, den = args.ratio_of.partition("/")
-        num, den = num.strip(), den.strip()
-        if num in scene.parameters and den in scene.parameters and (
-                scene.parameters[num].dimensionality != scene.parameters[den].dimensionality):
-            raise InputError(f"{_where(scene)}: --ratio-of {args.ratio_of}: {num} and {den} are not quantities "
-                             f"of the same kind ({scene.parameters[num]:~P} and {scene.parameters[den]:~P})")
-        fmap = friction_map(system, amps, args.mass_ratio or None, ratio_of=(num.strip(), den.strip()))
+        amps = amplitudes or [state_si(scene)[0] - eq.q]
+        num, den = _ratio_of(args, scene)
+        for flag, given in (("--range", args.range), ("--reactions", args.reactions)):
+            if given:
+                raise InputError(f"{_where(scene)}: {flag} applies to a scene without a rolling contact; "
+                                 "this one rolls (its friction is tabulated with --amplitude and --mass-ratio)")
+        fmap = friction_map(system, amps, args.mass_ratio or None, ratio_of=(num, den))
         if args.json:
             payload = {"scene": scene.name, "mode": "rolling"}
             payload.update(fmap.to_dict())
@@ -317,9 +330,12 @@ def friction_command(args: argparse.Namespace) -> int:
                 for r, row in zip(fmap.mass_ratios, fmap.mu_min)]
         print(format_table(header, rows, align="r" * len(header)))
         return 0
-    lo, hi = (0.0, math.pi)
-    if args.range is not None:
-        lo, hi = (_angle(args.range[0], "--range LOW"), _angle(args.range[1], "--range HIGH"))
+    for flag, given in (("--amplitude", args.amplitude), ("--mass-ratio", args.mass_ratio),
+                        ("--ratio-of", args.ratio_of)):
+        if given:
+            raise InputError(f"{_where(scene)}: {flag} applies to a scene with a rolling contact; this one has "
+                             "none (its release angles are searched with --range and --reactions)")
+    lo, hi = window
     names = None
     if args.reactions:
         names = [n.strip() for n in args.reactions.split(",") if n.strip()]
@@ -338,6 +354,25 @@ def friction_command(args: argparse.Namespace) -> int:
         print(f"  {math.degrees(iv.low):.10g} deg ({iv.low_reason}) .. {math.degrees(iv.high):.10g} deg "
               f"({iv.high_reason})")
     return 0
+
+
+def _ratio_of(args: argparse.Namespace, scene) -> tuple[str, str]:
+    """The two parameters of ``--ratio-of NUM/DEN``, checked: both named in the scene (when the
+    option is given, or mass ratios are asked for) and of the same kind."""
+    text = args.ratio_of if args.ratio_of is not None else "m_b/m_d"
+    num, sep, den = text.partition("/")
+    num, den = num.strip(), den.strip()
+    if not sep or not num or not den or "/" in den:
+        raise InputError(f"--ratio-of {text!r}: expected two parameter names as NUM/DEN, e.g. m_b/m_d")
+    missing = [n for n in (num, den) if n not in scene.parameters]
+    if missing and (args.ratio_of is not None or args.mass_ratio):
+        raise InputError(f"{_where(scene)}: --ratio-of {text}: {', '.join(missing)} "
+                         f"{'is not a parameter' if len(missing) == 1 else 'are not parameters'} of the scene "
+                         f"(parameters: {', '.join(scene.parameters)})")
+    if not missing and scene.parameters[num].dimensionality != scene.parameters[den].dimensionality:
+        raise InputError(f"{_where(scene)}: --ratio-of {text}: {num} and {den} are not quantities "
+                         f"of the same kind ({scene.parameters[num]:~P} and {scene.parameters[den]:~P})")
+    return num, den
 
 
 # -- precision ---------------------------------------------------------------------------------

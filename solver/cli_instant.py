@@ -89,6 +89,26 @@ def _where(scene) -> str:
 
 
 def solve_command(args: argparse.Namespace) -> int:
+    """``solve``: every coordinate's second derivative and every reaction at the scene's state.
+
+    Examples
+    --------
+    The paper's Example 1 (``data/scenes/sliding_bar.toml``) reproduces Eq. (30)
+    within the tolerance its printed precision implies
+    (:func:`reports.rounding.eq30_tolerances`; the published values are read
+    from ``data/published/example1.toml``):
+
+    >>> import contextlib, io, json, tomllib
+    >>> from reports.rounding import eq30_tolerances
+    >>> from solver.__main__ import main
+    >>> with contextlib.redirect_stdout(io.StringIO()) as out:
+    ...     status = main(["solve", "data/scenes/sliding_bar.toml", "--json"])
+    >>> unknowns = json.loads(out.getvalue())["unknowns"]
+    >>> published = {v["id"]: v for v in tomllib.load(open("data/published/example1.toml", "rb"))["value"]}
+    >>> tol = eq30_tolerances(published)
+    >>> status, [abs(unknowns[n]["value"] - published[f"eq30-{n}"]["value"]) <= tol[n] for n in ("alpha", "R_A", "R_B")]
+    (0, [True, True, True])
+    """
     system = load_scene_from_args(args)
     solution = derivation.solve_instant(system, args.point, args.method)
     result = solution.to_dict(system.output_units)

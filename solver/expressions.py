@@ -41,6 +41,10 @@ MAX_DIGITS = 300
 ``9**9**9`` from computing a huge integer). Every constant part of an
 expression (a literal, or a sub-expression free of names) must also lie
 within 10**-MAX_DIGITS .. 10**MAX_DIGITS in size (or be 0) and be real."""
+MAX_EXPONENT = 12
+"""Largest size of a constant exponent on a base that holds names (``theta**12``,
+``(l_b/2)**3``); its denominator, for a fraction, is at most this too. Larger
+powers of the coordinate (``theta**(10**300)``) would stall the derivation."""
 MAX_ARGUMENT = 1e15
 """Largest size of a constant function argument (``exp(1e6)``, ``cos(1e200)``):
 beyond it float64 has lost the value (or the result overflows), and sympy's
@@ -221,6 +225,18 @@ def _huge_power(base: sp.Expr, exponent: sp.Expr) -> bool:
     return abs(e * math.log10(b)) > MAX_DIGITS
 
 
+def _too_large_exponent(base: sp.Expr, exponent: sp.Expr) -> bool:
+    """True when a base that holds names (the coordinate, parameters) is raised to a
+    constant exponent larger than :data:`MAX_EXPONENT` in size, or to a fraction whose
+    denominator is larger (``theta**(10**300)``, ``theta**(1/10**6)``)."""
+    if base.is_number or not exponent.is_number:
+        return False
+    if exponent.is_Rational:
+        return abs(exponent) > MAX_EXPONENT or exponent.q > MAX_EXPONENT
+    size = _size(exponent)
+    return size is None or size > MAX_EXPONENT
+
+
 class _Builder:
     """Walks a parsed tree and builds the sympy expression, node by node."""
 
@@ -300,6 +316,10 @@ class _Builder:
         right = self.build(node.right, depth + 1)
         if isinstance(node.op, ast.Pow) and (_too_large_power(left, right) or _huge_power(left, right)):
             raise self._fail(f"number too large (more than {MAX_DIGITS} digits)", node)
+        if isinstance(node.op, ast.Pow) and _too_large_exponent(left, right):
+            raise self._fail(
+                f"the exponent of {self._segment(node.left)!r} must be at most {MAX_EXPONENT} in size "
+                f"(and a fraction's denominator at most {MAX_EXPONENT})", node)
         if isinstance(node.op, ast.Div) and right == 0:
             raise self._fail("division by zero", node)
         return self._checked(op(left, right), node)
@@ -355,4 +375,5 @@ class _Builder:
         return value
 
 
-__all__ = ["parse_expression", "FUNCTIONS", "CONSTANTS", "RESERVED_NAMES", "MAX_LENGTH", "MAX_ARGUMENT"]
+__all__ = ["parse_expression", "FUNCTIONS", "CONSTANTS", "RESERVED_NAMES", "MAX_LENGTH", "MAX_DEPTH", "MAX_DIGITS",
+           "MAX_EXPONENT", "MAX_ARGUMENT"]

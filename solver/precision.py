@@ -29,9 +29,15 @@ import sympy as sp
 
 from .errors import InputError, SingularConfigurationError
 
-__all__ = ["PRECISIONS", "exact_quantity", "exact_values", "PreciseSolution", "solve_precise"]
+__all__ = ["PRECISIONS", "MIN_DPS", "MAX_DPS", "exact_quantity", "exact_values", "PreciseSolution", "solve_precise"]
 
 PRECISIONS = ("float64", "exact", "mpmath")
+MIN_DPS = 5
+"""Fewest decimal digits for mpmath and printing."""
+MAX_DPS = 4000
+"""Most decimal digits: the exact and mpmath answers are printed through Python
+integers, whose conversion to text stops at 4300 digits; 4000 leaves room for the
+guard digits and takes about 10 s."""
 
 
 def _exact_unit_factor(unit_name: str) -> sp.Expr:
@@ -133,8 +139,8 @@ class PreciseSolution:
 def _validate_solve_precise(precision: str, dps: int) -> None:
     if precision not in PRECISIONS:
         raise ValueError(f"`precision` must be one of {PRECISIONS}, got {precision!r}")
-    if not (isinstance(dps, int) and 5 <= dps <= 10000):
-        raise InputError(f"--dps must be an integer in [5, 10000], got {dps!r}")
+    if not (isinstance(dps, int) and MIN_DPS <= dps <= MAX_DPS):
+        raise InputError(f"--dps must be an integer from {MIN_DPS} to {MAX_DPS}, got {dps!r}")
 
 
 def solve_precise(derivation: Any, precision: str = "float64", dps: int = 50,
@@ -271,6 +277,8 @@ def _exact_solve(A: sp.Matrix, b: sp.Matrix, kept: Mapping, where: str) -> sp.Ma
         atoms |= {a for a in e.atoms(sp.Function) if a.free_symbols}
         atoms |= {a for a in e.atoms(sp.Pow) if a.free_symbols and not a.exp.is_Integer}
     ordered = sorted(atoms, key=lambda a: -sp.count_ops(a))
+    if any(e.has(sp.pi) for e in exprs):  # pi outside the functions: one more generator of the field
+        ordered.append(sp.pi)
     syms = sp.symbols(f"_atom0:{len(ordered)}")
     rep = dict(zip(ordered, syms))
     back = dict(zip(syms, ordered))

@@ -17,7 +17,6 @@ from __future__ import annotations
 import keyword
 import math
 import re
-import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -27,7 +26,8 @@ import pint
 import sympy as sp
 from pint.util import UnitsContainer
 
-from solver.errors import ExpressionError, SceneError
+from solver import files, units
+from solver.errors import ExpressionError, InputError, SceneError
 from solver.expressions import RESERVED_NAMES, parse_expression
 from solver.scene import (
     CONSTRAINT_KINDS,
@@ -39,7 +39,7 @@ from solver.scene import (
     Point,
     Scene,
 )
-from solver.units import Q_, ureg
+from solver.units import ureg
 
 # -- the format's keys ---------------------------------------------------------------
 
@@ -120,7 +120,10 @@ _DIMENSION_WORDS = {
 
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 _QUANTITY = re.compile(r"^\s*([+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?)\s*(.*?)\s*$")
-_MAX_UNIT_LENGTH = 100
+MAX_NAME_LENGTH = 100
+"""Longest scene ``name`` [characters]."""
+MAX_DESCRIPTION_LENGTH = 1000
+"""Longest scene ``description`` [characters]."""
 _GEOMETRY_TOL = 1e-9  # relative tolerance for "parallel" and "consistent" checks
 
 
@@ -134,45 +137,20 @@ def describe_dimension(dim: UnitsContainer) -> str:
 def parse_quantity(text: Any, where: str) -> pint.Quantity:
     """Parse ``"<number> <unit>"`` (``"50 lbm"``, ``"32.174 ft/s^2"``, ``"0.3"``).
 
-    Only the unit part reaches pint (its unit parser); the number is read
-    here, so no arithmetic from the text is ever evaluated.
+    :func:`solver.units.parse_quantity` (the guarded reader: only the unit
+    reaches pint, after its length, exponents and nesting are checked), with
+    its error as a :class:`~solver.errors.SceneError`.
 
     Raises
     ------
     SceneError
         ``"<where>: ..."`` when the text is not a finite number followed by a
-        known unit.
+        known unit, or is refused by the guards.
     """
-    if isinstance(text, bool):
-        raise SceneError(f"{where}: expected a quantity such as \"4 ft\", got {text!r}")
-    if isinstance(text, (int, float)):
-        number, unit_text = float(text), ""
-    elif isinstance(text, str):
-        match = _QUANTITY.match(text)
-        if match is None:
-            raise SceneError(
-                f"{where}: expected a number followed by a unit, such as \"4 ft\" or "
-                f"\"45 deg\", got {text!r}"
-            )
-        number, unit_text = float(match.group(1)), match.group(2)
-        if unit_text and not (unit_text[0].isalpha() or unit_text[0] in "°%"):
-            raise SceneError(
-                f"{where}: expected a number followed by a unit, such as \"4 ft\" or "
-                f"\"45 deg\", got {text!r}"
-            )
-    else:
-        raise SceneError(
-            f"{where}: expected a quantity such as \"4 ft\", got {type(text).__name__} {text!r}"
-        )
-    if not math.isfinite(number):
-        raise SceneError(f"{where}: the number in {text!r} is not finite")
-    if len(unit_text) > _MAX_UNIT_LENGTH:
-        raise SceneError(f"{where}: unit text longer than {_MAX_UNIT_LENGTH} characters")
     try:
-        unit = ureg.parse_units(unit_text) if unit_text else ureg.dimensionless
-    except Exception as err:  # pint raises several types for bad unit text
-        raise SceneError(f"{where}: unknown unit {unit_text!r} in {text!r} ({err})") from None
-    return Q_(number, unit)
+        return units.parse_quantity(text, where)
+    except InputError as err:
+        raise SceneError(str(err)) from None
 
 
 def load_scene(path: str | Path, overrides: Mapping[str, str] | None = None) -> Scene:
@@ -430,6 +408,28 @@ class _SceneLoader:
             raise self.fail(key, f"{sp.sstr(expr)} is not a finite real number for the given parameters")
         return value.real
 
+    def smooth_in_q(self, expr: sp.Expr, key: str) -> sp.Expr:
+        """Refuse abs, sign, min and max of anything holding the coordinate in an expression
+        that is differentiated twice (orientation, position): their derivatives are Dirac
+        deltas and steps, which no solver route can evaluate."""
+        kinks = [f for f in expr.atoms(sp.Abs, sp.sign, sp.Min, sp.Max) if f.has(self.q)]
+        if kinks:
+            raise self.fail(key, f"{sp.sstr(kinks[0])} is not differentiable in {self.coordinate} "
+                                 "(this expression is differentiated twice); write a smooth formula")
+        return expr
+
+    def bounded_angle(self, expr: sp.Expr, key: str) -> sp.Expr:
+        """An angle expression whose value at the scene's state is within
+        :data:`solver.units.MAX_ANGLE_TURNS` turns (``"1e300*theta"`` has no meaningful sine)."""
+        value = self.si(expr.subs(self.q, self.state_q), key) if expr.free_symbols - {self.q} <= set(self.si_values) \
+            else None
+        if value is not None:
+            try:
+                units.check_angle(value, f"{self.label}: {key}", f"{value:.6g} rad")
+            except InputError as err:
+                raise SceneError(str(err)) from None
+        return expr
+
     def positive(self, expr: sp.Expr, key: str, what: str) -> sp.Expr:
         value = self.si(expr, key)
         if not value > 0:
@@ -442,21 +442,25 @@ class _SceneLoader:
         self.check_keys(data, TOP_KEYS, "", "a scene file")
         name = self.text(data.get("name", self.path.stem), "name")
         description = self.text(data.get("description", ""), "description")
+        for key, text, limit in (("name", name, MAX_NAME_LENGTH), ("description", description, MAX_DESCRIPTION_LENGTH)):
+            if len(text) > limit:
+                raise self.fail(key, f"{len(text)} characters long; the limit is {limit}")
 
         self._read_parameters(self.table(self.require(data, "parameters", "parameters", "the table [parameters]"), "parameters"))
         coordinate, state = self._read_coordinate(
             self.table(self.require(data, "coordinate", "coordinate", "the table [coordinate]"), "coordinate")
         )
         self._apply_overrides(overrides, coordinate, state)
+        self._check_angles(coordinate, state, overrides)
         self.state_q = float(state[coordinate].to("rad").magnitude)
         self._setup_symbols(coordinate)
 
         body = self.table(self.require(data, "body", "body", "the table [body] with orientation"), "body")
         self.check_keys(body, BODY_KEYS, "body", "[body]")
-        orientation = self.expr(
+        orientation = self.smooth_in_q(self.bounded_angle(self.expr(
             self.require(body, "orientation", "body", "the body frame's angle as a function of the coordinate"),
             "body.orientation", self.names.with_q, DIMENSIONLESS,
-        )
+        ), "body.orientation"), "body.orientation")
         points = self._read_points(self.table(self.require(data, "points", "points", "the table [points]"), "points"))
         elements = self._read_elements(
             self.array_of_tables(self.require(data, "elements", "elements", "at least one [[elements]] entry"), "elements"),
@@ -499,17 +503,11 @@ class _SceneLoader:
         )
 
     def _read_toml(self) -> dict[str, Any]:
+        """The parsed file: a regular file of bounded size and nesting (:func:`solver.files.read_toml`)."""
         try:
-            raw = self.path.read_bytes()
-        except OSError as err:
-            raise self.fail("", f"cannot read the scene file ({err.strerror or err})") from None
-        try:
-            # utf-8-sig: a byte-order mark (saved by some Windows editors) is not an error
-            return tomllib.loads(raw.decode("utf-8-sig"))
-        except UnicodeDecodeError as err:
-            raise self.fail("", f"not UTF-8 text (byte {err.start})") from None
-        except tomllib.TOMLDecodeError as err:
-            raise self.fail("", f"TOML syntax error: {err}") from None
+            return files.read_toml(self.path, self.label)
+        except InputError as err:
+            raise SceneError(str(err).replace(f"{self.label}: cannot read the file", f"{self.label}: cannot read the scene file", 1)) from None
 
     # -- parameters and state -----------------------------------------------------------
     def _read_parameters(self, table: dict[str, Any]) -> None:
@@ -568,6 +566,27 @@ class _SceneLoader:
             else:
                 valid = ", ".join([*self.parameters, *state])
                 raise self.fail(key, f"unknown name {name!r} (parameters and state: {valid})")
+
+    def _check_angles(self, coordinate: str, state: dict[str, pint.Quantity], overrides: Mapping[str, str]) -> None:
+        """Every parameter and state value must lie within :data:`solver.units.MAX_SI_MAGNITUDE`
+        (SI), and the coordinate's value and every parameter given with an angle unit within
+        :data:`solver.units.MAX_ANGLE_TURNS` turns (beyond it float64 sines are meaningless)."""
+        angles = {coordinate: (state[coordinate], "coordinate.value")}
+        angles.update({n: (q, f"parameters.{n}") for n, q in self.parameters.items() if units.is_angle_unit(q)})
+        for name, (quantity, key) in angles.items():
+            key = f"--set {name}" if name in overrides else key
+            try:
+                units.check_angle(float(quantity.to("rad").magnitude), f"{self.label}: {key}", f"{quantity.magnitude:g} {quantity.units:~}")
+            except InputError as err:
+                raise SceneError(str(err)) from None
+        for name, quantity in [*self.parameters.items(), *state.items()]:
+            key = f"--set {name}" if name in overrides else (
+                f"parameters.{name}" if name in self.parameters else
+                "coordinate.value" if name == coordinate else "coordinate.rate")
+            try:
+                units.check_si_magnitude(quantity, f"{self.label}: {key}")
+            except InputError as err:
+                raise SceneError(str(err)) from None
 
     def _setup_symbols(self, coordinate: str) -> None:
         params = {n: sp.Symbol(n, real=True) for n in self.parameters}
@@ -669,7 +688,8 @@ class _SceneLoader:
         return self.positive(expr, f"{key}.{dim}", f"the {dim}")
 
     def _angle(self, spec: dict[str, Any], key: str) -> sp.Expr:
-        return self.expr(spec.get("angle", 0), f"{key}.angle", self.names.params, DIMENSIONLESS)
+        return self.bounded_angle(self.expr(spec.get("angle", 0), f"{key}.angle", self.names.params, DIMENSIONLESS),
+                                  f"{key}.angle")
 
     def _element_geometry(self, spec, key, kind, name, mass, points) -> Element:
         if kind == "slender_bar":
@@ -723,6 +743,8 @@ class _SceneLoader:
         if point not in points or points[point].frame != "body":
             raise self.fail("body.position.point", f"{point!r} is not a body-frame point (points: {', '.join(points)})")
         at = self.vector(self.require(spec, "at", "body.position", "its fixed-frame position [x(theta), y(theta)]"), "body.position.at", self.names.with_q, LENGTH)
+        for i, component in enumerate(at):
+            self.smooth_in_q(component, f"body.position.at[{i}]")
         return point, at
 
     # -- constraints ---------------------------------------------------------------------------
@@ -746,7 +768,8 @@ class _SceneLoader:
                 origin_key = "through" if kind == "rail" else "at"
                 origin = self.vector(spec.get(origin_key, [0, 0]), f"{key}.{origin_key}", self.names.params, LENGTH)
                 if kind == "rail":
-                    angle = self.expr(spec.get("angle", 0), f"{key}.angle", self.names.params, DIMENSIONLESS)
+                    angle = self.bounded_angle(
+                        self.expr(spec.get("angle", 0), f"{key}.angle", self.names.params, DIMENSIONLESS), f"{key}.angle")
                     reaction_names = [(f"{key}.reaction", spec.get("reaction", f"R_{point}"))]
                 else:
                     angle = sp.Integer(0)
@@ -767,7 +790,8 @@ class _SceneLoader:
                         f"(rolling needs one of: {', '.join(ROUND_KINDS)})",
                     )
                 origin = self.vector(spec.get("through", [0, 0]), f"{key}.through", self.names.params, LENGTH)
-                angle = self.expr(spec.get("angle", 0), f"{key}.angle", self.names.params, DIMENSIONLESS)
+                angle = self.bounded_angle(
+                    self.expr(spec.get("angle", 0), f"{key}.angle", self.names.params, DIMENSIONLESS), f"{key}.angle")
                 contact = self.expr(spec.get("contact_at_zero", 0), f"{key}.contact_at_zero", self.names.params, LENGTH)
                 reaction_names = [
                     (f"{key}.friction", spec.get("friction", "F_f")),
@@ -845,22 +869,22 @@ class _SceneLoader:
         return loads
 
     def _read_output_units(self, table: dict[str, Any]) -> dict[str, str]:
-        units: dict[str, str] = {}
+        chosen: dict[str, str] = {}
         for name, value in table.items():
             key = f"output_units.{name}"
             if name not in OUTPUT_UNIT_DIMENSIONS:
                 raise self.fail(key, f"unknown key {name!r} (valid keys: {', '.join(OUTPUT_UNIT_DIMENSIONS)})")
             text = self.text(value, key)
             try:
-                dim = ureg.get_dimensionality(ureg.parse_units(text))
-            except Exception as err:  # pint raises several types for bad unit text
-                raise self.fail(key, f"unknown unit {text!r} ({err})") from None
+                dim = ureg.get_dimensionality(units.parse_unit(text, f"{self.label}: {key}"))
+            except InputError as err:
+                raise SceneError(str(err)) from None
             if dim != OUTPUT_UNIT_DIMENSIONS[name]:
                 raise self.fail(
                     key, f"{text!r} is {describe_dimension(dim)}, but {name} needs {describe_dimension(OUTPUT_UNIT_DIMENSIONS[name])}"
                 )
-            units[name] = text
-        return units
+            chosen[name] = text
+        return chosen
 
     # -- placement ------------------------------------------------------------------------------
     def _check_placement(self, orientation, position, points, elements, constraints) -> None:

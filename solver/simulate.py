@@ -26,7 +26,6 @@ import csv
 import math
 import os
 import sys
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable
@@ -36,6 +35,7 @@ import sympy as sp
 from scipy.integrate import solve_ivp
 
 from .errors import InputError
+from .files import write_atomic
 from .period import Equilibrium, OneDofSystem, find_equilibrium
 
 __all__ = [
@@ -45,9 +45,32 @@ __all__ = [
     "simulate",
     "period_by_integration",
     "write_csv",
+    "MAX_T_END",
+    "MAX_PERIODS",
+    "MAX_SAMPLES",
+    "MAX_RHS_EVALUATIONS",
 ]
 
 METHODS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
+
+# Caps on the work one run may ask for (stated in ``simulate --help`` and the README).
+MAX_T_END = 1e6
+"""Longest run [s] (about 11.6 days of motion)."""
+MAX_PERIODS = 2_000
+"""Longest run in linearized periods of oscillation, when the system has one."""
+MAX_SAMPLES = 200_001
+"""Most output samples (each holds the state, alpha, every reaction and the energy)."""
+MAX_RHS_EVALUATIONS = 500_000
+"""Most right-hand-side evaluations of one run (about 8 s of CPU time); a run that
+needs more is refused, naming the time it had reached."""
+
+
+class _TooManySteps(Exception):
+    """Raised inside the integrator when a run exceeds :data:`MAX_RHS_EVALUATIONS`."""
+
+    def __init__(self, t: float):
+        super().__init__(t)
+        self.t = t
 
 
 @dataclass(frozen=True)
@@ -193,27 +216,16 @@ def write_csv(result: SimulationResult, path: str | os.PathLike) -> Path:
     ``SimulationResult.reaction_units``], energy [J]
     (:meth:`SimulationResult.columns` lists them).
     """
-    path = Path(path)
-    folder = path.parent if str(path.parent) else Path(".")
-    if not folder.is_dir():
-        raise InputError(f"{path}: folder {folder} does not exist")
     cols = result.columns()
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=folder)
-    try:
-        with os.fdopen(fd, "w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow(list(cols))
-            data = np.column_stack([v for v, _ in cols.values()])
-            for row in data:
-                w.writerow([repr(float(x)) for x in row])
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
-    return path
+
+    def write(fh) -> None:
+        w = csv.writer(fh)
+        w.writerow(list(cols))
+        data = np.column_stack([v for v, _ in cols.values()])
+        for row in data:
+            w.writerow([repr(float(x)) for x in row])
+
+    return write_atomic(path, write, "--out")
 
 
 # --------------------------------------------------------------------------- helpers
@@ -258,16 +270,16 @@ def _validate_simulate(system, t_end, method, rtol, atol, mu, samples) -> None:
         raise TypeError(f"`system` must be a OneDofSystem, got {type(system).__name__}")
     if method not in METHODS:
         raise ValueError(f"`method` must be one of {METHODS}, got {method!r}")
-    if not (isinstance(t_end, (int, float)) and math.isfinite(t_end) and t_end > 0):
-        raise InputError(f"--t-end must be a positive, finite time, got {t_end!r}")
+    if not (isinstance(t_end, (int, float)) and math.isfinite(t_end) and 0 < t_end <= MAX_T_END):
+        raise InputError(f"--t-end must be a positive time of at most {MAX_T_END:g} s, got {t_end!r} s")
     if not (0 < rtol < 1 and math.isfinite(rtol)):
         raise InputError(f"--rtol must lie in (0, 1), got {rtol!r}")
     if not (0 < atol and math.isfinite(atol)):
         raise InputError(f"--atol must be positive, got {atol!r}")
     if mu is not None and not (math.isfinite(mu) and mu >= 0):
         raise InputError(f"--mu must be a non-negative number, got {mu!r}")
-    if samples is not None and (int(samples) != samples or samples < 2):
-        raise InputError(f"samples must be an integer >= 2, got {samples!r}")
+    if samples is not None and (int(samples) != samples or not 2 <= samples <= MAX_SAMPLES):
+        raise InputError(f"--samples must be an integer from 2 to {MAX_SAMPLES}, got {samples!r}")
 
 
 def simulate(
@@ -324,8 +336,13 @@ def simulate(
         y0 = (0.0, 0.0)
     q0, qd0 = float(y0[0]), float(y0[1])
     rhs_qdd = system.qdd_scalar_fn()
+    _check_periods(system, q0, float(t_end))
+    calls = [0]
 
     def rhs(t, y):
+        calls[0] += 1
+        if calls[0] > MAX_RHS_EVALUATIONS:
+            raise _TooManySteps(float(t))
         return (y[1], rhs_qdd(y[0], y[1], t))
 
     # event functions -------------------------------------------------------
@@ -386,9 +403,19 @@ def simulate(
     except (ZeroDivisionError, ValueError, OverflowError) as exc:
         bar.close(0.0)
         raise InputError(f"{system.name}: integration failed: {exc}") from None
+    except _TooManySteps as exc:
+        bar.close(0.0)
+        raise InputError(
+            f"{system.name}: --t-end {float(t_end):g} s: the run needed more than {MAX_RHS_EVALUATIONS} "
+            f"right-hand-side evaluations (the cap on work) and had reached t = {exc.t:.6g} s; "
+            "shorten --t-end or loosen --rtol/--atol"
+        ) from None
     bar.close(float(sol.t[-1]))
     event = None
     status = "completed"
+    if sol.status == -1 and len(sol.t) < 2:  # no step taken: nothing to sample
+        raise InputError(f"{system.name}: the integration failed at the start ({sol.message}); "
+                         "loosen --rtol/--atol")
     if sol.status == -1:
         status = "failed"
         reason = f"integration failed at t = {sol.t[-1]:.6g} s: {sol.message}"
@@ -412,6 +439,19 @@ def simulate(
             samples = 1001
     t = np.linspace(0.0, t_final, int(samples))
     return _finish(system, sol, t, method, rtol, atol, int(sol.nfev), event, reason, status)
+
+
+def _check_periods(system: OneDofSystem, q0: float, t_end: float) -> None:
+    """Refuse, before integrating, a run longer than :data:`MAX_PERIODS` linearized periods."""
+    try:
+        period = find_equilibrium(system, near=q0).period
+    except InputError:  # no stable equilibrium: only the evaluation cap applies
+        return
+    if math.isfinite(period) and period > 0 and t_end > MAX_PERIODS * period:
+        raise InputError(
+            f"{system.name}: --t-end {t_end:g} s spans {t_end / period:.3g} periods of small oscillation "
+            f"({period:.4g} s each); the cap on work is {MAX_PERIODS} periods"
+        )
 
 
 def _reason(system: OneDofSystem, ev: StopEvent, mu: float | None, at_start: bool = False) -> str:

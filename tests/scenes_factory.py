@@ -1,7 +1,7 @@
 """Scene objects built directly in Python (independent of the TOML loader).
 
-Example 1 and Example 2 follow /work/notes/example_scenes.md (geometry checked
-against paper Eqs. 17-22 and 31-36); ``composite_scene`` builds random
+Example 1 and Example 2 follow the walk-throughs in data/scenes/README.md
+(geometry checked against paper Eqs. 17-22 and 31-36); ``composite_scene`` builds random
 composite bodies for the hypothesis properties.
 """
 from __future__ import annotations

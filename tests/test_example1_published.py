@@ -3,19 +3,15 @@
 Reference values: data/published/example1.toml (Eq. 29 coefficients, Eq. 30
 results, as printed). Nothing published is typed into this file.
 
-Tolerances come from the paper's rounding, not from taste:
-* each printed number carries +/- half a unit in its last printed digit;
-* the paper computed Eq. 29 with m_b in slug rounded to 4 s.f. (id
-  data-m_b-slug), which moves every m_b-proportional coefficient by up to
-  half a unit of that figure, relative;
-* Eq. 30 is the solution of the *printed* (rounded) Eq. 29, so its error is
-  the 2x2 (and row-3) solve's sensitivity to those coefficient errors,
-  propagated to first order as a worst case, plus half a unit in the last
-  digit of the printed answer.
+Tolerances come from the paper's rounding, not from taste: one model,
+:func:`reports.rounding.eq30_tolerances`, which the report uses too (each
+printed number +/- half a unit in its last digit; the Eq. 29 coefficients'
+rounding and that of the data the paper computed them from, m_b in slug and g,
+propagated through the solve to first order as a worst case; the rounding of
+the results the paper substituted back; half a unit of the printed answer).
 """
 from __future__ import annotations
 
-import math
 import tomllib
 from pathlib import Path
 
@@ -25,36 +21,11 @@ import pytest
 from solver.derivation import METHODS, derive, solve_instant
 from solver.units import Q_
 
+from reports.rounding import eq29_rounding, eq30_tolerances
 from scenes_factory import example1
 
 ROOT = Path(__file__).resolve().parents[1]
 PUBLISHED = {v["id"]: v for v in tomllib.loads((ROOT / "data/published/example1.toml").read_text())["value"]}
-
-
-def half_unit(entry: dict) -> float:
-    """Half a unit in the last printed significant figure (0 if exact)."""
-    if entry.get("exact"):
-        return 0.0
-    v = abs(entry["value"])
-    return 0.5 * 10 ** (math.floor(math.log10(v)) - entry["sig_figs"] + 1)
-
-
-# The paper's intermediate m_b in slug (data-m_b-slug) is 50/32.174 rounded to 4 s.f.:
-MB = PUBLISHED["data-m_b-slug"]
-REL_MB = half_unit(MB) / MB["value"]
-ALPHA_COEFS = ("eq29-r1-alpha", "eq29-r2-alpha", "eq29-r3-alpha")
-# ... and the right-hand sides are weights m_b g with g = 32.174 ft/s^2 (5 s.f.
-# of standard gravity), so "50" lbf is exact only to that relative precision.
-G = PUBLISHED["data-g"]
-REL_G = half_unit(G) / G["value"]
-RHS = ("eq29-r1-rhs", "eq29-r2-rhs", "eq29-r3-rhs")
-
-
-def coefficient_uncertainty(cid: str) -> float:
-    entry = PUBLISHED[cid]
-    extra = abs(entry["value"]) * REL_MB if cid in ALPHA_COEFS else 0.0
-    extra += abs(entry["value"]) * REL_G if cid in RHS else 0.0
-    return half_unit(entry) + extra
 
 
 def printed_solution(c: dict) -> np.ndarray:
@@ -65,24 +36,7 @@ def printed_solution(c: dict) -> np.ndarray:
     return np.array([alpha, R_B, R_A])
 
 
-def eq30_tolerances() -> dict[str, float]:
-    """First-order worst case of printed_solution under the coefficients' rounding,
-    plus half a unit of the printed Eq. 30 value."""
-    coefs = {k: v["value"] for k, v in PUBLISHED.items() if k.startswith("eq29-")}
-    spread = np.zeros(3)
-    for cid in coefs:
-        du = coefficient_uncertainty(cid)
-        if du == 0.0:
-            continue
-        h = du * 1e-3
-        up = dict(coefs, **{cid: coefs[cid] + h})
-        dn = dict(coefs, **{cid: coefs[cid] - h})
-        spread += np.abs((printed_solution(up) - printed_solution(dn)) / (2 * h)) * du
-    names = ("alpha", "R_B", "R_A")
-    return {n: spread[i] + half_unit(PUBLISHED[f"eq30-{n}"]) for i, n in enumerate(names)}
-
-
-TOL = eq30_tolerances()
+TOL = eq30_tolerances(PUBLISHED)  # the one tolerance model, shared with the report
 UNIT = {"alpha": "rad/s**2", "R_A": "lbf", "R_B": "lbf"}  # alpha's printed "rad/s" is a typo for rad/s^2
 
 
@@ -158,5 +112,5 @@ def test_eq29_coefficients_recomputed():
                 assert abs(value) < 1e-9, (cid, value)  # printed rows omit zero coefficients
                 continue
             # printed to 4 s.f. from the rounded slug mass: half a unit + the m_b rounding
-            assert abs(value - PUBLISHED[cid]["value"]) <= coefficient_uncertainty(cid) + 1e-12, (
+            assert abs(value - PUBLISHED[cid]["value"]) <= eq29_rounding(PUBLISHED, cid) + 1e-12, (
                 cid, value, PUBLISHED[cid]["value"])

@@ -1,7 +1,8 @@
 """The verification report: end-to-end build, the findings, and that the checks can fail.
 
-Reference facts come from the paper (data/published/) and from hand derivations
-recorded in /work/notes/example_scenes.md:
+Reference facts come from the paper (data/published/) and from the hand
+derivations below (the Example 2 walk-through in data/scenes/README.md gives the
+same sign argument):
 
 * Eqs. 43 and 44 print the applied force F_a with the wrong sign. Eliminating
   F_f = (...) - F_a (Eq. 39) from Eq. 42 gives -F_a r_d inside the bracket of

@@ -2,7 +2,7 @@
 
 Independent references:
 * Example 2 with a horizontal force F_a at P: theta_ddot from Eq. 44 with the
-  sign of F_a corrected (right side +F_a r_d, see notes/example_scenes), F_f and
+  sign of F_a corrected (right side +F_a r_d, data/scenes/README.md, Example 2), F_f and
   F_n from Eqs. 39 and 40, alpha = -theta_ddot (Eq. 33), all typed here;
 * the potential of a constant F_a is -F_a r_d theta (x_P = r_d theta, Eq. 31),
   so E - F_a r_d theta is conserved;
@@ -104,14 +104,27 @@ def test_disk_leaves_the_floor():
 
 def test_slip_event_mid_swing():
     s = ex2()
-    # start at the bottom with the rate of a 170 deg swing; its mu_min is ~0.0726 (see test_friction),
-    # reached near theta = 92 deg, so mu = 0.07 slips mid-swing
+    # start at the bottom with the rate of a 170 deg swing
     M0 = (1.5 * EX2["m_d"] + EX2["m_b"]) * EX2["r_d"] ** 2 + EX2["m_b"] * EX2["l_b"] ** 2 / 3 \
         - EX2["m_b"] * EX2["r_d"] * EX2["l_b"]
     dV = 0.5 * EX2["m_b"] * EX2["g"] * EX2["l_b"] * (1 - math.cos(math.radians(170)))
     w = math.sqrt(2 * dV / M0)
+    # the least mu of that swing, from Eqs. 39-40 with the rate from energy on a fine grid (here,
+    # not from the solver): above 0.07, so mu = 0.07 must slip, at the first angle where
+    # |F_f|/F_n reaches 0.07
+    grid = np.linspace(0.0, math.radians(170), 200_001)
+    V = lambda q: -0.5 * EX2["m_b"] * EX2["g"] * EX2["l_b"] * np.cos(q)  # noqa: E731
+    md, rd, mb, lb = EX2["m_d"], EX2["r_d"], EX2["m_b"], EX2["l_b"]
+    M = (1.5 * md + mb) * rd**2 + mb * lb**2 / 3 - mb * rd * lb * np.cos(grid)
+    rate = np.sqrt(np.maximum(2 * (V(math.radians(170)) - V(grid)) / M, 0.0))
+    _, F_f, F_n = paper_ex2(grid, rate)
+    ratio = np.abs(F_f) / F_n
+    assert ratio.max() > 0.071  # comfortably above mu
+    first = grid[np.argmax(ratio >= 0.07)]
     res = simulate(s, 10.0, y0=(0.0, w), rtol=1e-11, atol=1e-13, mu=0.07)
     assert res.status == "slip" and res.event.time > 0.1
+    # the grid step is 8.5e-4 deg: the event is within one step of the first crossing
+    assert math.degrees(res.event.theta) == pytest.approx(math.degrees(first), abs=1e-3)
     _, F_f, F_n = paper_ex2(res.event.theta, res.event.theta_dot)
     assert abs(F_f) / F_n == pytest.approx(0.07, rel=1e-7)
     # before the event the ratio stayed below mu
@@ -137,7 +150,7 @@ def test_csv_is_written_atomically(tmp_path, monkeypatch):
         raise OSError("disk full")
 
     monkeypatch.setattr("solver.simulate.np.column_stack", boom)
-    with pytest.raises(OSError):
+    with pytest.raises(InputError, match="cannot write there .disk full"):  # one line naming the place
         write_csv(res, target)
     assert sorted(os.listdir(tmp_path)) == ["run.csv"]
     with pytest.raises(InputError, match="does not exist"):

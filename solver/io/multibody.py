@@ -174,6 +174,9 @@ class _MultibodyReader:
         L.dims[t] = TIME
         L.si_values = {params[n]: float(q.to_base_units().magnitude) for n, q in L.parameters.items()}
         L.coordinate = "coordinates"
+        # the one-body loader's angle bounds evaluate at its coordinate's state: here element and
+        # line angles hold parameters only, so no coordinate takes part
+        L.q, L.state_q = sp.Symbol("_no_coordinate"), 0.0
         L.overridden = {n for n in self.overrides if n in L.parameters}
         # coordinate kinds from their value/guess/motion
         self.kinds = {}

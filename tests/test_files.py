@@ -1,0 +1,89 @@
+"""Tests for solver/files.py: regular files only, bounded sizes and nesting, outputs
+checked before the work and written atomically."""
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import pytest
+
+from solver.errors import InputError
+from solver.files import (
+    MAX_TOML_DEPTH,
+    check_output_path,
+    read_regular_file,
+    read_toml,
+    write_atomic,
+)
+
+
+def test_fifo_and_devices_are_refused_without_blocking(tmp_path: Path) -> None:
+    fifo = tmp_path / "scene.toml"
+    os.mkfifo(fifo)  # opening it for reading would block until a writer comes
+    with pytest.raises(InputError, match=r"FIFO \(named pipe\), not a regular file"):
+        read_regular_file(fifo, "scene")
+    with pytest.raises(InputError, match="character device"):
+        read_regular_file("/dev/zero", "scene")
+    with pytest.raises(InputError, match="a folder"):
+        read_regular_file(tmp_path, "scene")
+
+
+def test_size_cap(tmp_path: Path) -> None:
+    big = tmp_path / "big.toml"
+    big.write_bytes(b"#" * 101)
+    assert read_regular_file(big, "x", max_bytes=101) == b"#" * 101  # the cap itself is allowed
+    with pytest.raises(InputError, match="101 bytes long; the limit is 100"):
+        read_regular_file(big, "x", max_bytes=100)
+
+
+@pytest.mark.parametrize("depth", [MAX_TOML_DEPTH, MAX_TOML_DEPTH + 1, 50_000])
+def test_toml_nesting_is_bounded(tmp_path: Path, depth: int) -> None:
+    # key = [[...]] adds the array levels below the top table (level 1)
+    path = tmp_path / "deep.toml"
+    levels = depth - 1
+    path.write_text("x = " + "[" * levels + "]" * levels + "\n")
+    if depth <= MAX_TOML_DEPTH:
+        assert "x" in read_toml(path, "deep")
+    else:
+        with pytest.raises(InputError, match=f"^deep: tables or arrays nested deeper than {MAX_TOML_DEPTH}"):
+            read_toml(path, "deep")
+
+
+def test_toml_values_python_cannot_hold(tmp_path: Path) -> None:
+    path = tmp_path / "long.toml"
+    path.write_text("m = " + "9" * 5000 + "\n")  # beyond Python's 4300-digit int conversion limit
+    with pytest.raises(InputError, match="^long: a value TOML cannot hold"):
+        read_toml(path, "long")
+
+
+def test_output_path_is_checked_before_work(tmp_path: Path) -> None:
+    with pytest.raises(InputError, match="it is a folder"):
+        check_output_path(tmp_path, "--out")
+    with pytest.raises(InputError, match="does not exist"):
+        check_output_path(tmp_path / "missing" / "x.csv", "--out")
+    with pytest.raises(InputError, match="character device"):
+        check_output_path("/dev/null", "--out")
+    assert check_output_path(tmp_path / "ok.csv", "--out") == tmp_path / "ok.csv"
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="root may write into read-only folders")
+def test_unwritable_folder_is_refused(tmp_path: Path) -> None:
+    locked = tmp_path / "locked"
+    locked.mkdir(mode=0o500)
+    with pytest.raises(InputError, match="is not writable"):
+        check_output_path(locked / "x.csv", "--out")
+
+
+def test_atomic_write_leaves_nothing_on_failure(tmp_path: Path) -> None:
+    target = tmp_path / "out.csv"
+    write_atomic(target, lambda fh: fh.write("a,b\n"), "--out")
+    assert target.read_text() == "a,b\n"
+
+    def broken(fh):
+        fh.write("half")
+        raise OSError(28, "No space left on device")
+
+    with pytest.raises(InputError, match="cannot write there .No space left on device"):
+        write_atomic(target, broken, "--out")
+    assert target.read_text() == "a,b\n"  # the old file is intact
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out.csv"]  # no temporary file left

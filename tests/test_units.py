@@ -1,0 +1,114 @@
+"""Tests for solver/units.py: the guarded way from user text to pint.
+
+Reference values: unit factors are the SI definitions (1 ft = 0.3048 m exactly,
+1 lb = 0.45359237 kg exactly, 1 deg = pi/180 rad), typed here from those
+definitions, never taken from pint or the solver.
+"""
+from __future__ import annotations
+
+import math
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from solver.errors import InputError
+from solver.units import (
+    MAX_ANGLE_RAD,
+    MAX_UNIT_EXPONENT,
+    MAX_UNIT_LENGTH,
+    check_unit_text,
+    parse_angle,
+    parse_quantity,
+    parse_time,
+    parse_unit,
+    ureg,
+)
+
+
+@pytest.mark.parametrize(
+    ("text", "si", "unit"),
+    [
+        ("50 lbm", 50 * 0.45359237, "kg"),
+        ("4 ft", 4 * 0.3048, "m"),
+        ("32.174 ft/s^2", 32.174 * 0.3048, "m/s**2"),
+        ("32.174 ft/s²", 32.174 * 0.3048, "m/s**2"),
+        ("2 (m/s)**2", 2.0, "m**2/s**2"),
+        ("3 m ** -2", 3.0, "1/m**2"),
+        ("1.5 kg*m**(2)", 1.5, "kg*m**2"),
+        ("0.3", 0.3, ""),
+    ],
+)
+def test_good_quantities_keep_their_value(text: str, si: float, unit: str) -> None:
+    q = parse_quantity(text, "here")
+    # unit factors are exact decimals; pint's float chain is within a few ulp
+    assert q.to_base_units().magnitude == pytest.approx(si, rel=1e-15)
+    assert q.dimensionality == (ureg.get_dimensionality(unit) if unit else ureg.dimensionless.dimensionality)
+
+
+@pytest.mark.parametrize(
+    ("text", "words"),
+    [
+        ("50 lbm**9**9**9", "a power of a power"),
+        ("1 kg**9**9**9", "a power of a power"),
+        ("30 deg**9**9**9", "a power of a power"),
+        ("50 kg**1e9", "must be a plain number"),
+        ("1 m**13", "must be a plain number"),
+        ("1 kg**(9**9)", "must be a plain number"),
+        ("1 m**x", "must be a plain number"),
+        ("1 (m**4)**4", f"exponent larger than {MAX_UNIT_EXPONENT}"),
+        ("1 ((((m))))", "nested deeper"),
+        ("1 m*(s", "unbalanced"),
+        ("1 m" + "*m" * 60, f"the limit is {MAX_UNIT_LENGTH}"),
+        ("1 mé", "not allowed"),
+        ("1e400 kg", "not finite"),
+        ("1e301 kg", "out of range"),
+        ("1e-400 kg", "rounds to 0"),
+        ("1 parsec**12/yoctometer**12", "out of range"),
+        ("1 kg; import os", "not allowed"),
+        ("nan kg", "expected a number"),
+        ("1 m*" + "9" * 20, "too long"),
+    ],
+)
+def test_hostile_units_are_refused_before_pint(text: str, words: str) -> None:
+    with pytest.raises(InputError, match=r"^here: ") as info:
+        parse_quantity(text, "here")
+    assert words in str(info.value)
+    assert "\n" not in str(info.value)
+
+
+@settings(max_examples=60)
+@given(st.text(alphabet="m s k g * / ^ ( ) 0 1 9 . e -", max_size=40))
+def test_any_unit_text_is_decided_quickly(text: str) -> None:
+    # Property: every text over the unit alphabet is either a unit or one InputError
+    # (never another exception, never pint computing a huge exponent).
+    try:
+        unit = parse_unit(text, "here")
+    except InputError as err:
+        assert str(err).startswith("here: ")
+    else:
+        assert all(abs(p) <= MAX_UNIT_EXPONENT for _, p in unit._units.items())
+
+
+def test_check_unit_text_spells_superscripts() -> None:
+    assert check_unit_text("kg*m²/s³", "x") == "kg*m**2/s**3"
+
+
+def test_angles() -> None:
+    assert parse_angle("180 deg", "--amplitude") == pytest.approx(math.pi, rel=1e-15)
+    assert parse_angle("30", "--amplitude") == pytest.approx(math.pi / 6, rel=1e-15)  # bare: degrees
+    assert parse_angle("0.5 rad", "--amplitude") == 0.5
+    with pytest.raises(InputError, match=r"^--amplitude: the angle '1e300 deg' is too large"):
+        parse_angle("1e300 deg", "--amplitude")
+    with pytest.raises(InputError, match="expected an angle"):
+        parse_angle("3 m", "--amplitude")
+    assert parse_angle(f"{MAX_ANGLE_RAD} rad", "x") == MAX_ANGLE_RAD  # the limit itself is accepted
+
+
+def test_times() -> None:
+    assert parse_time("2 min", "--t-end") == 120.0
+    assert parse_time("10", "--t-end") == 10.0
+    with pytest.raises(InputError, match=r"^--t-end: expected a time"):
+        parse_time("10 m", "--t-end")
+    with pytest.raises(InputError, match=r"^--t-end: expected a time"):
+        parse_time("10 deg", "--t-end")
