@@ -105,11 +105,14 @@ def _unit(q) -> str:
 
 
 # --------------------------------------------------------------------------- independent routes
-def slider_crank_ref(p: dict, t: float):
-    """(state, unknowns) of the slider-crank at time t: closed-form kinematics, Newton-Euler about G."""
+def slider_crank_ref(p: dict, t: float, left: bool = False):
+    """(state, unknowns) of the slider-crank at time t: closed-form kinematics, Newton-Euler about G.
+    ``left``: the other assembly, with the piston to the left of the crank pin (cos phi < 0)."""
     r, l, w, g = p["r"], p["l"], p["omega"], p["g"]
     th = w * t  # the motor's angle; constant speed, so theta'' = 0
-    phi = math.asin(-r * math.sin(th) / l)  # piston on the x axis, the branch with cos(phi) > 0
+    phi = math.asin(-r * math.sin(th) / l)  # piston on the x axis: sin(phi) = -r sin(theta) / l
+    if left:
+        phi = math.pi - phi
     phid = -r * w * math.cos(th) / (l * math.cos(phi))
     phidd = (r * w**2 * math.sin(th) + l * math.sin(phi) * phid**2) / (l * math.cos(phi))
     rA = r * e(th)
@@ -280,7 +283,7 @@ def reference(scene: str, overrides: dict | None = None):
     s = load_system(SCENES / f"{scene}.toml", overrides)
     c = {co.name: co for co in s.coordinates}
     if scene == "slider_crank":
-        return slider_crank_ref(p, s.time)
+        return slider_crank_ref(p, s.time, left=math.cos(c["phi"].value) < 0)  # the guess picks the assembly
     if scene == "four_bar":
         return four_bar_ref(p, c["theta2"].value, c["theta2"].rate, c["theta3"].value)
     if scene == "double_pendulum":
@@ -323,6 +326,7 @@ CASES = [
     ("slider_crank", "generalized_euler", "rod:G", {"omega": "60 rad/s"}),
     ("slider_crank", "generalized_euler", "B", {"r": "0.06 m", "omega": "-80 rad/s"}),
     ("slider_crank", "mass_center", "crank:A", {}),
+    ("slider_crank", "generalized_euler", "piston:G", {"phi": "170 deg"}),  # the other assembly
     ("four_bar", "generalized_euler", None, {}),
     ("four_bar", "generalized_euler", "coupler:B", {"theta2": "75 deg", "theta2_dot": "-3 rad/s"}),
     ("four_bar", "generalized_euler", "G", {"theta2": "200 deg", "theta2_dot": "5 rad/s"}),
@@ -465,3 +469,21 @@ def test_double_pendulum_normal_mode_frequencies(solver_cli):
     found = list(numbers(json.loads(out)))
     for w in expected:
         assert any(abs(v - w) <= 1e-10 * w for v in found), f"omega = {w} rad/s not in {out}"
+
+
+def test_crank_angle_as_a_prescribed_coordinate(solver_cli, tmp_path):
+    """The slider-crank written with theta = { motion = "omega*t" } as the crank's orientation and a
+    motor without its own angle (it drives what the coordinate prescribes): the same answers."""
+    text = (SCENES / "slider_crank.toml").read_text()
+    edits = [('phi = { guess = "-10 deg" }', 'phi = { guess = "-10 deg" }\ntheta = { motion = "omega*t" }'),
+             ('name = "crank"\nreference_point = "O"', 'name = "crank"\norientation = "theta"\nreference_point = "O"'),
+             ('angle = "omega*t"\n', '')]
+    for old, new in edits:
+        assert text.count(old) == 1
+        text = text.replace(old, new)
+    path = tmp_path / "prescribed.toml"
+    path.write_text(text)
+    code, out, err = solver_cli("solve", str(path), "--json", "--point", "rod:B")
+    assert code == 0, err
+    state, ref = slider_crank_ref(params("slider_crank"), 0.004)
+    assert_matches(from_json(json.loads(out)), ref, "prescribed theta")
