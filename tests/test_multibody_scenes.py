@@ -329,8 +329,7 @@ CASES = [
     ("slider_crank", "generalized_euler", "piston:G", {"phi": "170 deg"}),  # the other assembly
     ("four_bar", "generalized_euler", None, {}),
     ("four_bar", "generalized_euler", "coupler:B", {"theta2": "75 deg", "theta2_dot": "-3 rad/s"}),
-    ("four_bar", "generalized_euler", "G", {"theta2": "200 deg", "theta2_dot": "5 rad/s"}),
-    ("four_bar", "mass_center", "rocker:B", {"theta2": "75 deg"}),
+    ("four_bar", "mass_center", None, {"theta2": "200 deg", "theta2_dot": "5 rad/s"}),
     ("double_pendulum", "generalized_euler", None, {}),
     ("double_pendulum", "generalized_euler", "lower:B", {"theta1": "-50 deg", "theta2_dot": "1.5 rad/s"}),
     ("double_pendulum", "mass_center", "upper:A", {"theta2": "120 deg", "theta1_dot": "-2 rad/s"}),
@@ -339,14 +338,12 @@ CASES = [
     ("cart_pendulum", "generalized_euler", "pendulum:E", {"theta": "-35 deg", "theta_dot": "2 rad/s"}),
     ("cart_pendulum", "mass_center", "G", {"x_dot": "-1 m/s", "theta_dot": "-1 rad/s"}),
     ("cart_pendulum", "lagrange", "cart:G", {"theta": "100 deg", "theta_dot": "3 rad/s", "M": "0.7 kg"}),
-    ("drum_and_block", "generalized_euler", None, {}),
     ("drum_and_block", "generalized_euler", "G", {"phi_dot": "3 rad/s", "m": "5 kg"}),
     ("drum_and_block", "mass_center", None, {"phi": "40 deg"}),
     ("drum_and_block", "lagrange", "block:G", {"k_d": "0.3 m", "phi_dot": "-2 rad/s"}),
-    ("parallel_link_plate", "generalized_euler", None, {}),
+    ("parallel_link_plate", "mass_center", None, {}),
     ("parallel_link_plate", "generalized_euler", "plate:G", {"theta": "-20 deg", "theta_dot": "1 rad/s"}),
     ("parallel_link_plate", "generalized_euler", "B", {"theta": "70 deg", "h": "0.5 m"}),
-    ("parallel_link_plate", "mass_center", "link1:A", {"theta": "-20 deg"}),
 ]
 
 
@@ -410,14 +407,16 @@ def _states(scene: str):
 
 
 
-@pytest.mark.parametrize("method", ["lagrange", "generalized_euler"])
-@pytest.mark.parametrize("scene", ["slider_crank", "four_bar", "parallel_link_plate", "double_pendulum",
-                                   "cart_pendulum", "drum_and_block"])
+# The Lagrange route of the three other scenes runs on the command line above.
+API_CASES = [(scene, "generalized_euler") for scene in ("slider_crank", "four_bar", "parallel_link_plate",
+                                                        "double_pendulum", "cart_pendulum", "drum_and_block")]
+API_CASES += [(scene, "lagrange") for scene in ("slider_crank", "four_bar", "parallel_link_plate")]
+
+
+@pytest.mark.parametrize("scene, method", API_CASES)
 def test_python_api_over_several_states(scene, method):
     """Each route's numeric model, solved for several states at once, against the references."""
     s = _system(scene)
-    if method == "lagrange" and scene in ("double_pendulum", "cart_pendulum", "drum_and_block"):
-        pytest.skip("the Lagrange route of this scene runs on the command line above")
     cases = _states(scene)
     model = formulate(s, method, None).numeric()
     q = [np.array([st.q[i] for st, _ in cases]) for i in range(len(s.free))]
@@ -435,8 +434,7 @@ def test_python_api_over_several_states(scene, method):
                 assert abs(val - v) <= 1e-12 * max(1.0, abs(v)), f"{name}: {val} vs {v}"
 
 
-@pytest.mark.parametrize("scene, point", [("four_bar", "coupler:G"), ("slider_crank", "rod:B"),
-                                          ("parallel_link_plate", "plate:B")])
+@pytest.mark.parametrize("scene, point", [("four_bar", "coupler:G")])
 def test_solve_instant_through_the_api(scene, point):
     """solve_instant (the public entry point) at the scene's own state, another point."""
     sol = solve_instant(_system(scene), point, "generalized_euler")
