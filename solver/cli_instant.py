@@ -411,6 +411,11 @@ def _modes_command(args, system) -> int:
     formulate(system, args.method, args.point)  # checks the point
     result = modes(system, args.method)
     payload = result.to_dict()
+    if len(result.modes) == 1:  # one freedom: also the keys of the one-coordinate answer
+        (name, value), = result.equilibrium.items()
+        mode = payload["modes"][0]
+        payload = {"omega_n": mode["omega_n"], "frequency": mode["frequency"], "period": mode["period"],
+                   **payload, "equilibrium": {"value": value, "unit": result.units[name]}}
     if args.json:
         print_json({"scene": system.name, "method": args.method, **payload})
         return 0

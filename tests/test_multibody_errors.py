@@ -80,8 +80,6 @@ def test_rail_with_given_piston_orientation_is_under_constrained_with_the_count(
     assert "8 removed" in line and "= 1" in line and "describe 0" in line
 
 
-@pytest.mark.xfail(strict=True, reason="a rail instead of the cylinder's slider is refused as 'cannot place body "
-                   "piston' without saying under-constrained or the freedom count (1 freedom left, 0 described)")
 def test_rail_instead_of_slider_is_under_constrained_with_the_count(solver_cli, tmp_path):
     path = variant(tmp_path, [(CYLINDER_SLIDER, 'kind = "rail"'), (CYLINDER_REACTIONS, 'reaction = "N_cyl"')])
     line = one_line_error(solver_cli, path)
@@ -102,15 +100,11 @@ def test_dead_centre_from_exact_guesses_is_singular(solver_cli, tmp_path):
     assert "singular configuration" in line and "condition number" in line and "'push'" in line
 
 
-@pytest.mark.xfail(strict=True, reason="from guesses near dead centre, the closure Newton stops at theta ~ 1.4e-6 rad "
-                   "(residual ~theta^2 under its 1e-13 test); the condition number there is 1.08e7 < 1e12, so solve "
-                   "answers exit 0 with F_push = -2.6e13 N instead of SingularConfigurationError")
 def test_dead_centre_is_singular(solver_cli, tmp_path):
     line = one_line_error(solver_cli, dead_centre(tmp_path))
     assert "singular configuration" in line and "condition number" in line and "'push'" in line
 
 
-@pytest.mark.xfail(strict=True, reason="same as test_dead_centre_is_singular, through the Python API")
 def test_dead_centre_is_singular_through_the_api(tmp_path):
     system = load_system(dead_centre(tmp_path))
     with pytest.raises(SingularConfigurationError, match="condition number"):
@@ -148,8 +142,6 @@ def test_the_same_refusal_through_the_api(tmp_path):
 
 
 # --------------------------------------------------------------------------- options
-@pytest.mark.xfail(strict=True, reason="--set phi_dot (the rate of a dependent coordinate, which the solver computes) "
-                   "is silently ignored: exit 0 with phi_dot = -23.136 rad/s; in the file the same `rate` is refused")
 def test_setting_the_rate_of_a_dependent_coordinate_is_refused(solver_cli):
     code, out, err = solver_cli("solve", str(SLIDER_CRANK), "--set", "phi_dot=5 rad/s", "--json")
     assert code == 2 and out == "" and len(err.strip().splitlines()) == 1, (code, out[:200], err)
@@ -162,8 +154,6 @@ def test_unknown_body_in_point_names_the_flag(solver_cli):
     assert "--point nobody:A" in err and "'nobody'" in err
 
 
-@pytest.mark.xfail(strict=True, reason="--point rod:Q (unknown point of a known body) says \"point 'Q' is not a point "
-                   "of the body 'rod'\" without naming the flag --point (the unknown-body case does)")
 def test_unknown_point_of_a_body_names_the_flag(solver_cli):
     code, out, err = solver_cli("solve", str(SLIDER_CRANK), "--point", "rod:Q")
     assert code == 2 and out == "" and len(err.strip().splitlines()) == 1
@@ -177,8 +167,6 @@ def prescribed_crank(tmp_path: Path) -> Path:
                               ('angle = "omega*t"\n', '')], name="prescribed.toml")
 
 
-@pytest.mark.xfail(strict=True, reason="--set theta / --set theta_dot on a prescribed coordinate (motion = omega*t) are "
-                   "silently ignored: exit 0, the same answers as without them")
 @pytest.mark.parametrize("override", ["theta=10 deg", "theta_dot=1 rad/s"])
 def test_setting_a_prescribed_coordinate_is_refused(solver_cli, tmp_path, override):
     code, out, err = solver_cli("solve", str(prescribed_crank(tmp_path)), "--set", override, "--json")

@@ -39,6 +39,12 @@ COND_MAX = 1e7  # random chains worse conditioned than this are skipped (the tol
 N_STATES = 4  # states per system, solved at once by the vectorised model
 
 _pos = st.floats(0.1, 1.0)
+
+
+def _clean(strategy):
+    """Values as a scene would write them: the quantity guard refuses sizes below 1e-300, so a
+    drawn 1e-301 becomes 0 (the same number to any tolerance used here)."""
+    return strategy.map(lambda v: 0.0 if abs(v) < 1e-12 else v)
 _mass = st.floats(0.2, 5.0)
 
 
@@ -47,7 +53,7 @@ def chains(draw, max_links: int = 4):
     """(TOML text, number of free coordinates, random states) of a random open chain."""
     n = draw(st.integers(2, max_links))
     base = draw(st.sampled_from(["pin", "slider", "rail"]))
-    params = {"g": "9.81 m/s^2", "a0": f"{draw(st.floats(-60, 60)):.17g} deg"}
+    params = {"g": "9.81 m/s^2", "a0": f"{draw(_clean(st.floats(-60, 60, allow_subnormal=False))):.17g} deg"}
     coords, bodies, joints, loads = [], [], [], []
     for i in range(1, n + 1):
         params[f"L{i}"] = f"{draw(_pos):.17g} m"
@@ -83,10 +89,10 @@ def chains(draw, max_links: int = 4):
         bodies.append("\n".join(lines))
     loads.append('kind = "gravity"\ng = "g"')
     if draw(st.booleans()):
-        params["Fx"], params["Fy"] = (f"{draw(st.floats(0.0, 20.0)):.17g} N" for _ in range(2))
+        params["Fx"], params["Fy"] = (f"{draw(_clean(st.floats(0.0, 20.0, allow_subnormal=False))):.17g} N" for _ in range(2))
         loads.append(f'kind = "force"\npoint = "b{draw(st.integers(1, n))}:X"\ncomponents = ["Fx", "-Fy"]')
     if draw(st.booleans()):
-        params["Cm"] = f"{draw(st.floats(0.0, 5.0)):.17g} N*m"
+        params["Cm"] = f"{draw(_clean(st.floats(0.0, 5.0, allow_subnormal=False))):.17g} N*m"
         loads.append(f'kind = "couple"\nbody = "b{draw(st.integers(1, n))}"\nmoment = "-Cm"')
     if draw(st.booleans()):
         params["k_s"], params["l0"] = f"{draw(st.floats(1.0, 100.0)):.17g} N/m", f"{draw(_pos):.17g} m"
@@ -100,11 +106,11 @@ def chains(draw, max_links: int = 4):
     text += [f"[[bodies]]\n{b}" for b in bodies]
     text += [f"[[joints]]\n{j}" for j in joints]
     text += [f"[[loads]]\n{ld}" for ld in loads]
-    angle = st.floats(-math.pi, math.pi)
+    angle = _clean(st.floats(-math.pi, math.pi, allow_subnormal=False))
     states = []
     for _ in range(N_STATES):
-        q = [draw(st.floats(-0.5, 0.5)) if k == "length" else draw(angle) for _, k in coords]
-        qd = [draw(st.floats(-3.0, 3.0)) for _ in coords]
+        q = [draw(_clean(st.floats(-0.5, 0.5))) if k == "length" else draw(angle) for _, k in coords]
+        qd = [draw(_clean(st.floats(-3.0, 3.0))) for _ in coords]
         states.append((q, qd))
     return "\n".join(text) + "\n", len(coords), states
 

@@ -474,9 +474,6 @@ def test_parallel_link_plate_frequency(solver_cli, method, overrides):
     assert abs(payload["equilibrium"]["value"]) <= 1e-12
 
 
-@pytest.mark.xfail(strict=True, reason="`frequency` on the cart-pendulum (x free, theta) ends in exit 1 'internal "
-                   "error (AttributeError: 'NoneType' object has no attribute '_diff_wrt')'; the scene's comment "
-                   "advertises its frequency")
 def test_cart_pendulum_frequency(solver_cli):
     """The pendulum's mode with the cart free: (M + m) x'' + m d th'' = 0, m d x'' + I_O th'' + m g d th = 0
     give omega^2 = (M + m) m g d / ((M + m) I_O - m^2 d^2), d = L/2, I_O = m L^2/3. It must appear
@@ -554,8 +551,6 @@ def test_four_bar_reference_frequency_is_consistent():
     assert ref["theta2_ddot"][0] == pytest.approx(-w**2 * eps, rel=1e-4)
 
 
-@pytest.mark.xfail(strict=True, reason="`frequency` on the four-bar (one freedom, two dependent coordinates) ends "
-                   "in exit 1 'internal error (AttributeError: 'NoneType' object has no attribute '_diff_wrt')'")
 def test_four_bar_frequency(solver_cli):
     """omega_n about the stable equilibrium (theta2 = 258.05 deg on the scene's assembly) to 1e-10
     relative: the reference has V'' in closed form and the equilibrium to round-off."""
@@ -567,8 +562,6 @@ def test_four_bar_frequency(solver_cli):
     assert abs(math.remainder(payload["equilibrium"]["value"] - th_e, 2 * math.pi)) <= 1e-9
 
 
-@pytest.mark.xfail(strict=True, reason="`frequency` handles one degree of freedom only: the double pendulum "
-                   "(2 dof) ends in exit 1 'internal error (AttributeError ...)' instead of its two frequencies")
 def test_double_pendulum_normal_mode_frequencies(solver_cli):
     """Equal masses and lengths: omega^2 = (2 -/+ sqrt 2) g / l. Both numbers must appear in the
     JSON answer (whatever its layout) to 1e-10 relative (an eigenvalue problem of a 2x2 system

@@ -70,8 +70,10 @@ class ModesResult:
     units: dict[str, str]
 
     def to_dict(self) -> dict:
+        coords = {k: {"value": v, "unit": self.units[k]} for k, v in self.equilibrium.items()}
         return {
-            "equilibrium": {k: {"value": v, "unit": self.units[k]} for k, v in self.equilibrium.items()},
+            "equilibrium": coords,
+            "equilibrium_coordinates": coords,
             "modes": [
                 {"omega_n": {"value": m.omega, "unit": "rad/s"},
                  "frequency": {"value": m.frequency, "unit": "Hz"},
