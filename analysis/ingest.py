@@ -67,6 +67,13 @@ __all__ = ["SHAPES", "UNKNOWN_POLICIES", "SurveyData", "UnknownAnswer", "Dropped
 SHAPES = ("auto", "wide", "long", "google", "qualtrics", "xlsx")
 #: Valid ``unknown`` values: raise on an unknown answer, or count it as missing.
 UNKNOWN_POLICIES = ("error", "missing")
+#: Most item columns one survey may have (a cap on the work a file can ask for:
+#: summarising takes about a millisecond per item).
+MAX_ITEMS = 1000
+#: Most columns a survey file may have (reading costs about half a millisecond per column).
+MAX_COLUMNS = 5000
+#: Largest uncompressed size of an .xlsx workbook's parts (a guard against zip bombs).
+MAX_XLSX_BYTES = 1 << 30
 
 #: Cell codes in :attr:`SurveyData.answers` besides label positions 0..k-1.
 BLANK = -1
@@ -315,6 +322,7 @@ def _read_csv_raw(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]:
                                source)
     head_text = body[:262144].decode(encoding, errors="replace")
     sep, peek = _sniff_delimiter(head_text)
+    _check_width(source, max((len(r) for r in peek), default=0), at_least=True)  # before pandas
     single = len(peek[0]) <= 1 if peek else True
     if single:
         # one column: an empty line is a blank answer (as Excel writes a blank cell);
@@ -342,6 +350,7 @@ def _read_csv_raw(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]:
                                source, row) from None
     if any(issubclass(w.category, pd.errors.ParserWarning) for w in caught):
         _check_extra_fields(body, encoding, sep, df.shape[1], source, skip)
+    _check_width(source, df.shape[1])
     row_map = None
     if not single and _BLANK_LINE.search(b"\n" + body):
         row_map = _record_rows(body, encoding, sep, skip, len(df))
@@ -430,21 +439,72 @@ def _record_rows(body: bytes, encoding: str, sep: str, skip: int, nrows: int):
     return np.asarray(rows, dtype=np.int64)
 
 
-def _read_xlsx_raw(path: Path) -> tuple[_Raw, list[list[str]]]:
+def _check_width(source: str, width: int, at_least: bool = False) -> None:
+    if width > MAX_COLUMNS:
+        more = " or more" if at_least else ""
+        raise SurveyInputError(f"{width} columns{more}; at most {MAX_COLUMNS} are read",
+                               source, 1)
+
+
+def _xlsx_error(e: Exception, source: str, row: "int | None" = None) -> SurveyInputError:
+    """One line for a workbook openpyxl cannot read (entities named as refused)."""
+    chain, err = [], e
+    while err is not None and len(chain) < 10:
+        chain.append(err)
+        err = err.__cause__ or err.__context__
+    if any(type(x).__module__.startswith("defusedxml") for x in chain):
+        what = ("its XML declares entities (external entities and entity expansion are "
+                "refused)")
+    elif any(type(x).__name__ in ("ParseError", "ExpatError") for x in chain):
+        what = "malformed XML"
+    else:
+        what = type(e).__name__
+    return SurveyInputError(f"not a readable .xlsx workbook: {what}", source, row)
+
+
+def _xlsx_rows(content: bytes, source: str) -> list[list[str]]:
+    """Cell texts of the first sheet, row by row, every cell read.
+
+    The sheet's ``<dimension>`` record is not trusted (a writer may understate it and
+    openpyxl would then drop rows and columns silently). The XML is parsed through
+    defusedxml (openpyxl uses it when installed): external entities and entity
+    expansion are refused, as is malformed XML, with one line naming the file.
+    """
+    import zipfile
+
     import openpyxl
-    source = str(path)
-    # from the bytes: openpyxl refuses a workbook whose name does not end in .xlsx
-    content = io.BytesIO(read_bytes(path))
     try:
-        wb = openpyxl.load_workbook(content, read_only=True, data_only=True)
-    except Exception as e:  # zipfile.BadZipFile, KeyError, InvalidFileException ...
+        size = sum(i.file_size for i in zipfile.ZipFile(io.BytesIO(content)).infolist())
+    except Exception as e:  # noqa: BLE001 - zipfile raises several kinds on a broken container
         raise SurveyInputError(f"not a readable .xlsx workbook ({type(e).__name__})",
                                source) from None
+    if size > MAX_XLSX_BYTES:
+        raise SurveyInputError(f"workbook unpacks to {size} bytes; at most {MAX_XLSX_BYTES} "
+                               f"are read", source)
+    try:
+        wb = openpyxl.load_workbook(io.BytesIO(content), read_only=True, data_only=True)
+    except Exception as e:  # noqa: BLE001 - BadZipFile, KeyError, InvalidFileException, XML errors ...
+        raise _xlsx_error(e, source) from None
+    rows = []
     try:
         ws = wb.worksheets[0]
-        rows = [[_cell_text(v) for v in r] for r in ws.iter_rows(values_only=True)]
+        ws.reset_dimensions()             # read the real extent, not the <dimension> record
+        for r in ws.iter_rows(values_only=True):
+            _check_width(source, len(r))
+            rows.append([_cell_text(v) for v in r])
+    except SurveyInputError:
+        raise
+    except Exception as e:  # noqa: BLE001 - ParseError, EntitiesForbidden, ValueError ... in the sheet
+        raise _xlsx_error(e, source, len(rows) + 1) from None
     finally:
         wb.close()
+    return rows
+
+
+def _read_xlsx_raw(path: Path) -> tuple[_Raw, list[list[str]]]:
+    source = str(path)
+    # from the bytes: openpyxl refuses a workbook whose name does not end in .xlsx
+    rows = _xlsx_rows(read_bytes(path), source)
     first = 0
     while first < len(rows) and not any(c.strip() for c in rows[first]):
         first += 1
@@ -648,6 +708,7 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
     scale_obj, item_cols = _choose_items(raw.source, raw.header, cols, exclude, scale, items)
     answers, unknowns = _match(raw.source, scale_obj, item_cols, rows, unknown)
     names = [c.name for _, c in item_cols]
+    item_idx = {i for i, _ in item_cols}          # built once: the column scan stays linear
     groups = {raw.columns[j].name: np.array(raw.columns[j].cats, dtype=object)[
         raw.columns[j].codes[keep]] for j in group_idx}
     data = SurveyData(source=raw.source, shape=shape, scale=scale_obj, items=names,
@@ -656,7 +717,7 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
                       unknown_answers=unknowns, dropped=dropped,
                       reverse=_resolve_reverse(raw.source, names, reverse),
                       other_columns=[c.name for j, c in enumerate(raw.columns)
-                                     if j not in {i for i, _ in item_cols}],
+                                     if j not in item_idx],
                       comments=list(raw.comments))
     return _declare(data, respondents)
 
@@ -766,14 +827,16 @@ def _choose_items(source: str, names: list[str], cols, exclude, scale, items,
     """
     what = "item" if long else "column"
     if items:
-        chosen = []
+        chosen, taken = [], set()
         for pat in items:
             hits = [(j, c) for j, c in cols if name_matches(pat, c.name)]
             if not hits:
                 raise SurveyInputError(f"no {what} matches item {pat!r}; {what}s are {names!r}",
                                        source, None if long else 1)
-            chosen.extend(h for h in hits if h[0] not in {j for j, _ in chosen})
+            chosen.extend(h for h in hits if h[0] not in taken)
+            taken.update(j for j, _ in hits)
         chosen.sort(key=lambda t: t[0])
+        _check_item_count(source, chosen)
         if scale is None:
             scale_obj = _detect_scale(source, chosen, require_all=True, long=long)
         else:
@@ -794,6 +857,7 @@ def _choose_items(source: str, names: list[str], cols, exclude, scale, items,
             f"no item columns: no {what}'s answers are labels of scale {scale_obj.name!r} "
             f"({scale_obj.describe_valid()}); name the items with --items or the scale "
             f"with --scale", source)
+    _check_item_count(source, chosen)
     # a column that holds another scale's labels is a mixed-scale survey
     chosen_idx = {j for j, _ in chosen}
     for j, c in candidates:
@@ -808,6 +872,12 @@ def _choose_items(source: str, names: list[str], cols, exclude, scale, items,
                     f"scale at a time with --items and --scale", source,
                     None if long else 1, None if long else c.name)
     return scale_obj, chosen
+
+
+def _check_item_count(source: str, chosen: list) -> None:
+    if len(chosen) > MAX_ITEMS:
+        raise SurveyInputError(f"{len(chosen)} item columns; at most {MAX_ITEMS} are analysed "
+                               f"at once (choose some with --items)", source)
 
 
 def _get_scale(scale, source) -> Scale:
