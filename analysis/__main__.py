@@ -20,18 +20,62 @@ Commands
 ``rebuild-table1 OUT.csv``
     Write the respondent-level dataset rebuilt from the paper's Table 1.
 
-Bad input prints one line ``error: <file>: row R, column 'C': <what>`` on stderr
-and exits with status 2; nothing is written in part.
+Bad input prints one line ``error: <file>: row R, column 'C': <what>`` (or naming the
+flag, ``--confidence``) on stderr and exits with status 2; nothing is written in part,
+and an output path is checked before the work starts. An unexpected error (a bug)
+prints one ``internal error`` line and exits with status 1 (``ANALYSIS_DEBUG=1`` shows
+the traceback).
+
+Caps (each refused with exit 2): at most 5000 columns and 1000 item columns per survey
+file, a 1 GiB unpacked .xlsx, 100 labels per scale, 1 MiB and a parser-safe nesting depth
+per TOML file, 1000 claims per file, ``--n`` and ``--n-range`` up to 1,000,000,
+``--respondents`` up to 10,000,000.
 """
 from __future__ import annotations
 
 import argparse
 import json
+import math
+import os
 import sys
 
+from ._io import check_output
 from .errors import SurveyInputError
 
 DEFAULT_N_RANGE = (1, 1000)
+#: Most respondents ``--respondents`` may declare (absent ones are padded as missing).
+MAX_RESPONDENTS = 10_000_000
+#: Set to 1 to see the traceback of an internal error.
+DEBUG_ENV = "ANALYSIS_DEBUG"
+_CAPS = ("caps: at most 5000 columns and 1000 item columns per survey file, a 1 GiB "
+         "unpacked .xlsx, 100 labels per scale, 1 MiB per TOML file, 1000 claims per file, "
+         "--n and --n-range up to 1000000, --respondents up to 10000000")
+
+
+def _int_in(lo: int, hi: int):
+    """argparse type: a whole number in lo..hi (argparse names the flag in the message)."""
+    def convert(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"must be a whole number from {lo} to {hi}, "
+                                             f"got {text[:40]!r}") from None
+        if not lo <= value <= hi:
+            raise argparse.ArgumentTypeError(f"must be from {lo} to {hi}, got {text[:40]}")
+        return value
+    convert.__name__ = "integer"
+    return convert
+
+
+def _confidence(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not 0 < value < 1:               # also refuses nan and inf
+        raise argparse.ArgumentTypeError(f"must be a number strictly between 0 and 1 "
+                                         f"(e.g. 0.95), got {text[:40]!r}")
+    return value
 
 
 class _Parser(argparse.ArgumentParser):
@@ -51,27 +95,32 @@ def _reading_options(p: argparse.ArgumentParser) -> None:
                    help="count answers that match no label as missing (each one is reported)")
     p.add_argument("--encoding", default="utf-8", help="text encoding of a CSV file")
     p.add_argument("--reverse", nargs="+", metavar="ITEM", help="reverse-keyed items")
-    p.add_argument("--respondents", type=int, metavar="N",
-                   help="declared respondents (absent ones are missing on every item)")
+    p.add_argument("--respondents", type=_int_in(1, MAX_RESPONDENTS), metavar="N",
+                   help=f"declared respondents, 1..{MAX_RESPONDENTS} (absent ones are "
+                        f"missing on every item)")
     p.add_argument("--ci", choices=("wilson", "beta"), default="wilson",
                    help="interval method: Wilson (default) or Clopper-Pearson ('beta')")
-    p.add_argument("--confidence", type=float, default=0.95, help="confidence level")
+    p.add_argument("--confidence", type=_confidence, default=0.95,
+                   help="confidence level, strictly between 0 and 1 (default 0.95)")
 
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser (exposed for documentation and tests)."""
+    from .tables import MAX_N
     parser = _Parser(prog="python -m analysis",
-                     description="Likert survey analytics and published-table verification.")
+                     description="Likert survey analytics and published-table verification.",
+                     epilog=_CAPS)
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
-    s = sub.add_parser("summarize", help="per-item counts, percentages and intervals")
+    s = sub.add_parser("summarize", epilog=_CAPS, help="per-item counts, percentages and intervals")
     _reading_options(s)
     s.add_argument("--group", help="grouping column (group comparisons)")
-    s.add_argument("--min-group", type=int, default=5,
+    s.add_argument("--min-group", type=_int_in(1, MAX_RESPONDENTS), default=5,
                    help="suppress groups smaller than this (default 5)")
     s.add_argument("--reliability", nargs="*", metavar="ITEM",
                    help="Cronbach's alpha for these items (none given: all items)")
-    s.add_argument("--decimals", type=int, default=1, help="printed decimals (text output)")
+    s.add_argument("--decimals", type=_int_in(0, 6), default=1,
+                   help="printed decimals, 0..6 (text output; default 1)")
     s.add_argument("--percent-method", choices=("round", "largest_remainder"), default="round",
                    help="printed percentages: round each (default) or make rows sum to 100")
     s.add_argument("--chart", metavar="OUT.svg", help="also write the diverging bar chart (SVG)")
@@ -79,33 +128,36 @@ def build_parser() -> argparse.ArgumentParser:
                    help="item order in the chart (default: as asked)")
     s.add_argument("--json", action="store_true", help="print JSON")
 
-    c = sub.add_parser("claims", help="evaluate claims (TOML) against a survey")
+    c = sub.add_parser("claims", epilog=_CAPS, help="evaluate claims (TOML) against a survey")
     _reading_options(c)
     c.add_argument("claims", help="claims .toml file")
     c.add_argument("--json", action="store_true", help="print JSON")
 
-    v = sub.add_parser("verify-table", help="check a published percentage table")
+    v = sub.add_parser("verify-table", epilog=_CAPS, help="check a published percentage table")
     v.add_argument("table", help="CSV with an 'item' column and one column per label")
     g = v.add_mutually_exclusive_group()
-    g.add_argument("--n", type=int, help="number of respondents")
-    g.add_argument("--n-range", type=int, nargs=2, metavar=("LO", "HI"),
-                   help=f"search N in LO..HI (default {DEFAULT_N_RANGE[0]}..{DEFAULT_N_RANGE[1]})")
+    g.add_argument("--n", type=_int_in(1, MAX_N), help=f"number of respondents, 1..{MAX_N}")
+    g.add_argument("--n-range", type=_int_in(1, MAX_N), nargs=2, metavar=("LO", "HI"),
+                   help=f"search N in LO..HI, within 1..{MAX_N} "
+                        f"(default {DEFAULT_N_RANGE[0]}..{DEFAULT_N_RANGE[1]})")
     v.add_argument("--rule", choices=("half_away", "half_even", "truncate", "ceil"),
                    default="half_away", help="rounding rule of the table (default half_away)")
-    v.add_argument("--decimals", type=int, help="printed decimals (default: from each cell)")
+    v.add_argument("--decimals", type=_int_in(0, 6),
+                   help="printed decimals, 0..6 (default: from each cell)")
     v.add_argument("--full", action="store_true",
                    help="with --json: add nearest values, reconstructed counts and reasons")
     v.add_argument("--json", action="store_true", help="print JSON")
 
-    r = sub.add_parser("report", help="self-contained HTML report of a survey")
+    r = sub.add_parser("report", epilog=_CAPS, help="self-contained HTML report of a survey")
     _reading_options(r)
     r.add_argument("-o", "--output", required=True, help="HTML file to write")
     r.add_argument("--claims", help="claims .toml file to evaluate in the report")
     r.add_argument("--group", help="grouping column (group comparisons)")
-    r.add_argument("--min-group", type=int, default=5, help="suppress groups smaller than this")
+    r.add_argument("--min-group", type=_int_in(1, MAX_RESPONDENTS), default=5,
+                   help="suppress groups smaller than this (default 5)")
     r.add_argument("--title", default=None, help="report title")
 
-    b = sub.add_parser("rebuild-table1", help="write the dataset rebuilt from the paper's Table 1")
+    b = sub.add_parser("rebuild-table1", epilog=_CAPS, help="write the dataset rebuilt from the paper's Table 1")
     b.add_argument("output", help="CSV file to write")
     return parser
 
@@ -127,6 +179,8 @@ def _notes(data) -> None:
 
 def _cmd_summarize(args) -> int:
     from .likert import summarize
+    if args.chart:
+        check_output(args.chart, "--chart")
     data = _read(args)
     _notes(data)
     summary = summarize(data, args.confidence, args.ci)
@@ -170,6 +224,9 @@ def _cmd_claims(args) -> int:
 def _cmd_verify(args) -> int:
     from .tables import read_table_csv, verify_table
     table = read_table_csv(args.table)
+    if args.n_range and args.n_range[0] > args.n_range[1]:
+        raise SurveyInputError(f"--n-range: LO must not exceed HI, got {args.n_range[0]} "
+                               f"{args.n_range[1]}")
     if args.n is not None:
         check = verify_table(table, n=args.n, rule=args.rule, decimals=args.decimals)
     else:
@@ -185,6 +242,7 @@ def _cmd_verify(args) -> int:
 
 def _cmd_report(args) -> int:
     from .report import build_report
+    check_output(args.output, "-o/--output")
     data = _read(args)
     _notes(data)
     res = build_report(data, args.output, claims=args.claims, group=args.group,
@@ -196,6 +254,7 @@ def _cmd_report(args) -> int:
 
 def _cmd_rebuild(args) -> int:
     from .respondents import rebuild_table1_dataset
+    check_output(args.output, "OUT")
     res = rebuild_table1_dataset(args.output)
     print(f"wrote {res.path}: {res.respondents} respondents x {len(res.items)} items "
           f"(rebuilt from published marginals)")
@@ -207,21 +266,54 @@ _COMMANDS = {"summarize": _cmd_summarize, "claims": _cmd_claims, "verify-table":
 
 
 def main(argv: "list[str] | None" = None) -> int:
-    """Run the command line; returns the exit status (2 for bad input)."""
-    args = build_parser().parse_args(argv)
+    """Run the command line; returns the exit status.
+
+    0 done; 2 bad input (one ``error:`` line naming the file and place, or the flag);
+    1 an internal error (one line; ``ANALYSIS_DEBUG=1`` re-raises it for the traceback);
+    130 interrupted.
+    """
+    try:
+        args = build_parser().parse_args(argv)
+    except SystemExit as e:            # a bad flag (one line already written) or --help
+        return e.code if isinstance(e.code, int) else 2
     try:
         return _COMMANDS[args.command](args)
     except SurveyInputError as e:
-        sys.stderr.write(f"error: {e.line()}\n")
-        return 2
+        return _fail(e.line(), 2)
     except ValueError as e:            # bad option values (messages list the valid ones)
-        msg = str(e).splitlines()[0] if str(e) else type(e).__name__
-        sys.stderr.write(f"error: {msg}\n")
-        return 2
+        return _fail(_flag_names(str(e).splitlines()[0] if str(e) else type(e).__name__), 2)
     except BrokenPipeError:            # output piped into e.g. `head`
-        import os
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
+    except KeyboardInterrupt:
+        return _fail("interrupted", 130)
+    except MemoryError:
+        return _fail("out of memory: the input asks for more work than this machine holds", 1)
+    except Exception as e:  # noqa: BLE001 - last resort: never a bare traceback for users
+        if os.environ.get(DEBUG_ENV):
+            raise
+        text = str(e).splitlines()[0][:200] if str(e) else ""
+        return _fail(f"internal error ({type(e).__name__}: {text}); please report it "
+                     f"(set {DEBUG_ENV}=1 for the traceback)", 1)
+
+
+#: Library argument names -> the flags that set them, for messages raised below the CLI.
+_FLAGS = {"`scale`": "--scale", "`confidence_level`": "--confidence", "`decimals`": "--decimals",
+          "`respondents`": "--respondents", "`min_size`": "--min-group", "`method`": "--ci",
+          "`shape`": "--shape", "`rule`": "--rule", "`order`": "--order",
+          "`percent_method`": "--percent-method", "`n`": "--n", "`n_range`": "--n-range",
+          "`unknown`": "--unknown-as-missing", "`min_group`": "--min-group"}
+
+
+def _flag_names(message: str) -> str:
+    for name, flag in _FLAGS.items():
+        message = message.replace(name, flag)
+    return message
+
+
+def _fail(message: str, status: int) -> int:
+    sys.stderr.write(f"error: {message}\n")
+    return status
 
 
 if __name__ == "__main__":

@@ -2,6 +2,7 @@
 
 - :func:`read_bytes` -- a file's bytes, with one-line errors for missing/unreadable files.
 - :func:`read_toml` -- a TOML file, with one-line errors naming the file.
+- :func:`check_output` -- refuse an output path that cannot take a file (before the work).
 - :func:`atomic_write` -- write to a temporary file in the same folder, then rename.
 """
 from __future__ import annotations
@@ -25,15 +26,58 @@ def read_bytes(path: "str | Path") -> bytes:
         raise SurveyInputError(f"cannot read: {e.strerror}", str(p)) from None
 
 
+#: Largest TOML file read (claims and scale files are a few kilobytes).
+MAX_TOML_BYTES = 1 << 20
+
+
 def read_toml(path: "str | Path") -> dict:
-    """A TOML file as a dict; SurveyInputError (naming the file) on any problem."""
+    """A TOML file as a dict; SurveyInputError (naming the file) on any problem.
+
+    Files above :data:`MAX_TOML_BYTES`, nesting too deep for the parser, and
+    integers too long to convert are refused like syntax errors.
+    """
     raw = read_bytes(path)
+    if len(raw) > MAX_TOML_BYTES:
+        raise SurveyInputError(f"{len(raw)} bytes; a TOML file may have at most "
+                               f"{MAX_TOML_BYTES}", str(path))
     try:
         return tomllib.loads(raw.decode("utf-8-sig"))      # Notepad may write a BOM
     except UnicodeDecodeError as e:
         raise SurveyInputError(f"not valid UTF-8 (byte offset {e.start})", str(path)) from None
     except tomllib.TOMLDecodeError as e:
         raise SurveyInputError(f"invalid TOML: {e}", str(path)) from None
+    except RecursionError:
+        raise SurveyInputError("invalid TOML: arrays or tables nested too deeply",
+                               str(path)) from None
+    except ValueError as e:              # e.g. an integer past Python's digit limit
+        raise SurveyInputError(f"invalid TOML: {str(e).split(';')[0]}", str(path)) from None
+
+
+def check_output(path: "str | Path", flag: str = "") -> Path:
+    """Refuse an output path that cannot take a file, before any work is done.
+
+    Parameters
+    ----------
+    path : str or Path
+    flag : str
+        The command-line name of the option (``-o/--output``), for the message.
+
+    Raises
+    ------
+    SurveyInputError
+        ``path`` is an existing folder (or other non-regular file), or its folder
+        does not exist.
+    """
+    p = Path(path)
+    what = f"{flag}: " if flag else ""
+    if p.is_dir():
+        raise SurveyInputError(f"{what}is a folder; give a file name to write", str(p))
+    if p.exists() and not p.is_file():
+        raise SurveyInputError(f"{what}is not a regular file", str(p))
+    folder = p.parent if str(p.parent) else Path(".")
+    if not folder.is_dir():
+        raise SurveyInputError(f"{what}output folder does not exist", str(p))
+    return p
 
 
 def atomic_write(path: "str | Path", data: "str | bytes", encoding: str = "utf-8") -> Path:
@@ -42,12 +86,10 @@ def atomic_write(path: "str | Path", data: "str | bytes", encoding: str = "utf-8
     Raises
     ------
     SurveyInputError
-        The folder does not exist or cannot be written.
+        The path is a folder, the folder does not exist or cannot be written.
     """
-    p = Path(path)
+    p = check_output(path)
     folder = p.parent if str(p.parent) else Path(".")
-    if not folder.is_dir():
-        raise SurveyInputError("output folder does not exist", str(p))
     raw = data.encode(encoding) if isinstance(data, str) else data
     try:
         fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=".tmp", dir=folder)
@@ -60,10 +102,13 @@ def atomic_write(path: "str | Path", data: "str | bytes", encoding: str = "utf-8
         os.umask(mask)
         os.chmod(tmp, 0o666 & ~mask)      # mkstemp creates 0600; give the usual mode
         os.replace(tmp, p)
-    except BaseException:
+    except BaseException as e:
         try:
             os.unlink(tmp)
         except OSError:
             pass
+        if isinstance(e, OSError):
+            raise SurveyInputError(f"cannot write: {e.strerror or type(e).__name__}",
+                                   str(p)) from None
         raise
     return p

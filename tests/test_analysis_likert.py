@@ -57,7 +57,9 @@ def test_table1_recomputed_from_shipped_dataset(rebuilt):
 def test_summarize_json_shape(rebuilt, capsys):
     assert main(["summarize", str(rebuilt), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    assert set(out) == {"respondents", "items"}
+    assert set(out) == {"respondents", "items", "not_items", "dropped", "unknown_answers"}
+    # the rebuilt file's id column is left out of the table, and said so
+    assert out["not_items"] == ["respondent"] and out["dropped"] == out["unknown_answers"] == []
     for item in out["items"]:
         assert {"item", "n", "missing", "counts", "percent", "agree"} <= set(item)
         assert set(item["agree"]) == {"share", "ci"} and len(item["agree"]["ci"]) == 2
