@@ -2,6 +2,7 @@
 
 - :func:`read_bytes` -- a file's bytes, with one-line errors for missing/unreadable files.
 - :func:`read_toml` -- a TOML file, with one-line errors naming the file.
+- :func:`spreadsheet_safe` -- neutralise a CSV cell that a spreadsheet would run as a formula.
 - :func:`check_output` -- refuse an output path that cannot take a file (before the work).
 - :func:`atomic_write` -- write to a temporary file in the same folder, then rename.
 """
@@ -51,6 +52,16 @@ def read_toml(path: "str | Path") -> dict:
                                str(path)) from None
     except ValueError as e:              # e.g. an integer past Python's digit limit
         raise SurveyInputError(f"invalid TOML: {str(e).split(';')[0]}", str(path)) from None
+
+
+_FORMULA_START = ("=", "+", "-", "@", "\t", "\r")
+
+
+def spreadsheet_safe(cell) -> str:
+    """A CSV cell a spreadsheet will not run as a formula: text starting with
+    ``=``, ``+``, ``-``, ``@``, tab or CR gets a leading apostrophe (OWASP's advice)."""
+    text = str(cell)
+    return "'" + text if text.startswith(_FORMULA_START) else text
 
 
 def check_output(path: "str | Path", flag: str = "") -> Path:
