@@ -9,6 +9,7 @@
 from __future__ import annotations
 
 import os
+import stat
 import tempfile
 import tomllib
 from pathlib import Path
@@ -16,13 +17,39 @@ from pathlib import Path
 from .errors import SurveyInputError
 
 
+#: Largest input file read (a survey export, table or TOML file).
+MAX_INPUT_BYTES = 1 << 30
+
+
+def is_regular_file(path: "str | Path") -> bool:
+    """True for an existing regular file (not a folder, FIFO or device such as /dev/zero)."""
+    try:
+        return stat.S_ISREG(os.stat(path).st_mode)
+    except (OSError, ValueError):
+        return False
+
+
 def read_bytes(path: "str | Path") -> bytes:
-    """The bytes of ``path``; SurveyInputError (naming the file) if it cannot be read."""
+    """The bytes of ``path``; SurveyInputError (naming the file) for a missing or unreadable
+    file, one that is not a regular file (a FIFO would block, /dev/zero never end), or one
+    larger than :data:`MAX_INPUT_BYTES`."""
     p = Path(path)
     try:
-        return p.read_bytes()
+        st = os.stat(p)
     except FileNotFoundError:
         raise SurveyInputError("no such file", str(p)) from None
+    except (OSError, ValueError) as e:
+        raise SurveyInputError(f"cannot read: {getattr(e, 'strerror', None) or e}",
+                               str(p)) from None
+    if stat.S_ISDIR(st.st_mode):
+        raise SurveyInputError("is a folder, not a file", str(p))
+    if not stat.S_ISREG(st.st_mode):
+        raise SurveyInputError("not a regular file (a pipe or device is not read)", str(p))
+    if st.st_size > MAX_INPUT_BYTES:
+        raise SurveyInputError(f"{st.st_size} bytes; at most {MAX_INPUT_BYTES} are read",
+                               str(p))
+    try:
+        return p.read_bytes()
     except OSError as e:
         raise SurveyInputError(f"cannot read: {e.strerror}", str(p)) from None
 

@@ -56,7 +56,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ._io import read_bytes
+from ._io import is_regular_file, read_bytes
 from .errors import SurveyInputError
 from .scales import BUILTIN_SCALES, Scale, get_scale, normalize_answer
 
@@ -581,6 +581,8 @@ def _detect_shape(raw: _Raw, peek: list[list[str]]) -> str:
 
 def _is_zip(path: Path) -> bool:
     """True for a zip container (an .xlsx workbook saved under another name)."""
+    if not is_regular_file(path):
+        return False             # read_bytes names the problem (and a FIFO would block here)
     try:
         with open(path, "rb") as fh:
             return fh.read(4) == b"PK\x03\x04"
