@@ -26,10 +26,11 @@ and an output path is checked before the work starts. An unexpected error (a bug
 prints one ``internal error`` line and exits with status 1 (``ANALYSIS_DEBUG=1`` shows
 the traceback).
 
-Caps (each refused with exit 2): at most 5000 columns and 1000 item columns per survey
-file, a 1 GiB unpacked .xlsx, 100 labels per scale, 1 MiB and a parser-safe nesting depth
-per TOML file, 1000 claims per file, ``--n`` and ``--n-range`` up to 1,000,000,
-``--respondents`` up to 10,000,000.
+Caps (each refused with exit 2): inputs are regular files of at most 1 GiB; at most 5000
+columns and 1000 item columns per survey file, a 1 GiB unpacked .xlsx, 100 labels per
+scale, 1 MiB and a parser-safe nesting depth per TOML file, 1000 claims per file, 300
+cells per published table, ``--n`` and ``--n-range`` up to 1,000,000, ``--respondents``
+and ``--min-group`` up to 10,000,000.
 """
 from __future__ import annotations
 
@@ -47,9 +48,11 @@ DEFAULT_N_RANGE = (1, 1000)
 MAX_RESPONDENTS = 10_000_000
 #: Set to 1 to see the traceback of an internal error.
 DEBUG_ENV = "ANALYSIS_DEBUG"
-_CAPS = ("caps: at most 5000 columns and 1000 item columns per survey file, a 1 GiB "
-         "unpacked .xlsx, 100 labels per scale, 1 MiB per TOML file, 1000 claims per file, "
-         "--n and --n-range up to 1000000, --respondents up to 10000000")
+_CAPS = ("caps: inputs are regular files of at most 1 GiB; at most 5000 columns and 1000 "
+         "item columns per survey file, a 1 GiB unpacked .xlsx, 100 labels per scale, 1 MiB "
+         "per TOML file, 1000 claims per file, 300 cells per published table; --n and "
+         "--n-range 1..1000000, --respondents and --min-group 1..10000000, --confidence "
+         "strictly between 0 and 1, --decimals 0..6")
 
 
 def _int_in(lo: int, hi: int):
