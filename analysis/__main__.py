@@ -29,7 +29,8 @@ the traceback).
 Caps (each refused with exit 2): inputs are regular files of at most 1 GiB; at most 5000
 columns and 1000 item columns per survey file, a 1 GiB unpacked .xlsx, 100 labels per
 scale, 1 MiB and a parser-safe nesting depth per TOML file, 1000 claims per file, 300
-cells per published table, ``--n`` and ``--n-range`` up to 1,000,000, ``--respondents``
+cells per published table, 100 items per chart (``--chart``, ``report``), 10,000
+group x item pairs (``--group``), ``--n`` and ``--n-range`` up to 1,000,000, ``--respondents``
 and ``--min-group`` up to 10,000,000.
 """
 from __future__ import annotations
@@ -50,7 +51,8 @@ MAX_RESPONDENTS = 10_000_000
 DEBUG_ENV = "ANALYSIS_DEBUG"
 _CAPS = ("caps: inputs are regular files of at most 1 GiB; at most 5000 columns and 1000 "
          "item columns per survey file, a 1 GiB unpacked .xlsx, 100 labels per scale, 1 MiB "
-         "per TOML file, 1000 claims per file, 300 cells per published table; --n and "
+         "per TOML file, 1000 claims per file, 300 cells per published table, 100 items per "
+         "chart (--chart, report), 10000 group x item pairs (--group); --n and "
          "--n-range 1..1000000, --respondents and --min-group 1..10000000, --confidence "
          "strictly between 0 and 1, --decimals 0..6")
 
@@ -180,11 +182,21 @@ def _notes(data) -> None:
         sys.stderr.write(f"note: {data.source}: row {d.row}: {d.reason} dropped\n")
 
 
+def _check_chart_size(data, what: str) -> None:
+    """Refuse a chart past its cap before the summaries are computed."""
+    from .chart import MAX_CHART_ITEMS
+    if len(data.items) > MAX_CHART_ITEMS:
+        raise SurveyInputError(f"{what}: {len(data.items)} items; a chart draws at most "
+                               f"{MAX_CHART_ITEMS} (choose some with --items)", data.source)
+
+
 def _cmd_summarize(args) -> int:
     from .likert import summarize
     if args.chart:
         check_output(args.chart, "--chart")
     data = _read(args)
+    if args.chart:
+        _check_chart_size(data, "--chart")
     _notes(data)
     summary = summarize(data, args.confidence, args.ci)
     extra = {}
@@ -247,6 +259,7 @@ def _cmd_report(args) -> int:
     from .report import build_report
     check_output(args.output, "-o/--output")
     data = _read(args)
+    _check_chart_size(data, "report")
     _notes(data)
     res = build_report(data, args.output, claims=args.claims, group=args.group,
                        min_group=args.min_group, title=args.title,

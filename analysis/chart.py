@@ -25,12 +25,16 @@ from matplotlib.colors import to_hex
 from matplotlib.figure import Figure
 from matplotlib.patches import Patch
 
+from .errors import SurveyInputError
 from .likert import SurveySummary
 
-__all__ = ["ORDERS", "diverging_bar", "figure_svg"]
+__all__ = ["ORDERS", "MAX_CHART_ITEMS", "diverging_bar", "figure_svg"]
 
 #: Valid ``order`` values.
 ORDERS = ("questionnaire", "agree")
+#: Most items one chart draws (drawing takes about 25 ms per item; the figure grows
+#: half an inch per item).
+MAX_CHART_ITEMS = 100
 
 _NEG = ("#b2182b", "#d6604d", "#f4a582")      # strongest first
 _POS = ("#2166ac", "#4393c3", "#92c5de")
@@ -64,6 +68,9 @@ def _validate_chart(summary, order):
         raise TypeError(f"`summary` must be a SurveySummary, got {type(summary).__name__}")
     if order not in ORDERS:
         raise ValueError(f"`order` must be one of {list(ORDERS)}, got {order!r}")
+    if len(summary.items) > MAX_CHART_ITEMS:
+        raise SurveyInputError(f"{len(summary.items)} items; a chart draws at most "
+                               f"{MAX_CHART_ITEMS} (choose some with --items)", summary.source)
 
 
 def diverging_bar(summary: SurveySummary, order: str = "questionnaire",
@@ -96,18 +103,20 @@ def diverging_bar(summary: SurveySummary, order: str = "questionnaire",
     fig = Figure(figsize=(8.5, 1.0 + 0.55 * len(items)), layout="constrained")
     ax = fig.add_subplot()
     y = np.arange(len(items))[::-1]
-    for yi, it in zip(y, items):
-        pct = {lab: (100.0 * it.counts[lab] / it.n if it.n else 0.0) for lab in scale.labels}
-        left = -(sum(pct[lab] for lab in negative) + sum(pct[lab] for lab in neutral) / 2)
-        for lab in drawn:
-            w = pct[lab]
-            if w > 0:
-                ax.barh(yi, w, left=left, color=colors[lab], edgecolor="white", linewidth=0.5,
-                        height=0.7)
-                if w >= 8:
-                    ax.text(left + w / 2, yi, f"{w:.0f}", ha="center", va="center", fontsize=7,
-                            color="white" if lab not in neutral else "black")
-            left += w
+    pct = np.array([[100.0 * it.counts[lab] / it.n if it.n else 0.0 for lab in drawn]
+                    for it in items]).reshape(len(items), len(drawn))
+    away = np.array([lab in negative for lab in drawn]) + 0.5 * np.array(
+        [lab in neutral for lab in drawn])
+    left = -(pct @ away)                  # negative answers, and half the neutral, left of 0
+    for j, lab in enumerate(drawn):       # one call per label: the work grows with the items
+        w = pct[:, j]
+        shown = w > 0
+        ax.barh(y[shown], w[shown], left=left[shown], color=colors[lab], edgecolor="white",
+                linewidth=0.5, height=0.7)
+        for yi, lo, wi in zip(y[w >= 8], left[w >= 8], w[w >= 8]):
+            ax.text(lo + wi / 2, yi, f"{wi:.0f}", ha="center", va="center", fontsize=7,
+                    color="white" if lab not in neutral else "black")
+        left = left + w
     names = ["\n".join(textwrap.wrap(_plain(it.item), wrap) or [""]) + f"\n(n = {it.n})"
              for it in items]
     ax.set_yticks(y, names, fontsize=8)
