@@ -27,10 +27,12 @@ prints one ``internal error`` line and exits with status 1 (``ANALYSIS_DEBUG=1``
 the traceback).
 
 Caps (each refused with exit 2): inputs are regular files of at most 1 GiB; at most 5000
-columns and 1000 item columns per survey file, a 1 GiB unpacked .xlsx, 100 labels per
+columns, 1000 item columns and 20 million cells per survey file, a 1 GiB unpacked .xlsx of
+at most 1,048,576 rows, 100 labels per
 scale, 1 MiB and a parser-safe nesting depth per TOML file, 1000 claims per file, 300
 cells per published table, 100 items per chart (``--chart``, ``report``), 10,000
-group x item pairs (``--group``), ``--n`` and ``--n-range`` up to 1,000,000, ``--respondents``
+group x item pairs (``--group``), 200 names per ``--items``, ``--reverse`` or
+``--reliability``, ``--n`` and ``--n-range`` up to 1,000,000, ``--respondents``
 and ``--min-group`` up to 10,000,000.
 """
 from __future__ import annotations
@@ -47,12 +49,16 @@ from .errors import SurveyInputError
 DEFAULT_N_RANGE = (1, 1000)
 #: Most respondents ``--respondents`` may declare (absent ones are padded as missing).
 MAX_RESPONDENTS = 10_000_000
+#: Most names or patterns --items, --reverse and --reliability take.
+MAX_NAMES = 200
 #: Set to 1 to see the traceback of an internal error.
 DEBUG_ENV = "ANALYSIS_DEBUG"
-_CAPS = ("caps: inputs are regular files of at most 1 GiB; at most 5000 columns and 1000 "
-         "item columns per survey file, a 1 GiB unpacked .xlsx, 100 labels per scale, 1 MiB "
+_CAPS = ("caps: inputs are regular files of at most 1 GiB; at most 5000 columns, 1000 "
+         "item columns and 20 million cells per survey file, a 1 GiB unpacked .xlsx of at "
+         "most 1048576 rows, 100 labels per scale, 1 MiB "
          "per TOML file, 1000 claims per file, 300 cells per published table, 100 items per "
-         "chart (--chart, report), 10000 group x item pairs (--group); --n and "
+         "chart (--chart, report), 10000 group x item pairs (--group), 200 names per --items, "
+         "--reverse or --reliability; --n and "
          "--n-range 1..1000000, --respondents and --min-group 1..10000000, --confidence "
          "strictly between 0 and 1, --decimals 0..6")
 
@@ -182,6 +188,15 @@ def _notes(data) -> None:
         sys.stderr.write(f"note: {data.source}: row {d.row}: {d.reason} dropped\n")
 
 
+def _check_lists(args) -> None:
+    """Cap the names given to --items, --reverse and --reliability (each is matched
+    against every column)."""
+    for flag in ("--items", "--reverse", "--reliability"):
+        names = getattr(args, flag[2:], None)
+        if names and len(names) > MAX_NAMES:
+            raise SurveyInputError(f"{flag}: {len(names)} names; at most {MAX_NAMES}")
+
+
 def _check_chart_size(data, what: str) -> None:
     """Refuse a chart past its cap before the summaries are computed."""
     from .chart import MAX_CHART_ITEMS
@@ -293,6 +308,7 @@ def main(argv: "list[str] | None" = None) -> int:
     except SystemExit as e:            # a bad flag (one line already written) or --help
         return e.code if isinstance(e.code, int) else 2
     try:
+        _check_lists(args)
         return _COMMANDS[args.command](args)
     except SurveyInputError as e:
         return _fail(e.line(), 2)

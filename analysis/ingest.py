@@ -74,6 +74,11 @@ MAX_ITEMS = 1000
 MAX_COLUMNS = 5000
 #: Largest uncompressed size of an .xlsx workbook's parts (a guard against zip bombs).
 MAX_XLSX_BYTES = 1 << 30
+#: Most cells (records x columns) one survey file may have: 20 million, four times the
+#: one million respondents by five items the benchmark reads.
+MAX_CELLS = 20_000_000
+#: Rows of a worksheet (Excel's own limit; a row number past it is hostile).
+XLSX_MAX_ROWS = 1_048_576
 
 #: Cell codes in :attr:`SurveyData.answers` besides label positions 0..k-1.
 BLANK = -1
@@ -323,6 +328,10 @@ def _read_csv_raw(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]:
     head_text = body[:262144].decode(encoding, errors="replace")
     sep, peek = _sniff_delimiter(head_text)
     _check_width(source, max((len(r) for r in peek), default=0), at_least=True)  # before pandas
+    lines = body.count(b"\n")                  # lines bound the records from above
+    if peek and lines * len(peek[0]) > MAX_CELLS:
+        raise SurveyInputError(f"about {lines} records x {len(peek[0])} columns; at most "
+                               f"{MAX_CELLS} cells are read", source)
     single = len(peek[0]) <= 1 if peek else True
     if single:
         # one column: an empty line is a blank answer (as Excel writes a blank cell);
@@ -485,12 +494,19 @@ def _xlsx_rows(content: bytes, source: str) -> list[list[str]]:
         wb = openpyxl.load_workbook(io.BytesIO(content), read_only=True, data_only=True)
     except Exception as e:  # noqa: BLE001 - BadZipFile, KeyError, InvalidFileException, XML errors ...
         raise _xlsx_error(e, source) from None
-    rows = []
+    rows, width = [], 0
     try:
         ws = wb.worksheets[0]
         ws.reset_dimensions()             # read the real extent, not the <dimension> record
         for r in ws.iter_rows(values_only=True):
             _check_width(source, len(r))
+            width = max(width, len(r))
+            if len(rows) >= XLSX_MAX_ROWS:
+                raise SurveyInputError(f"more than {XLSX_MAX_ROWS} rows, Excel's limit",
+                                       source, len(rows) + 1)
+            if (len(rows) + 1) * max(width, 1) > MAX_CELLS:   # rows are padded to the width
+                raise SurveyInputError(f"more than {MAX_CELLS} cells (rows x columns) in the "
+                                       f"first sheet", source, len(rows) + 1)
             rows.append([_cell_text(v) for v in r])
     except SurveyInputError:
         raise
