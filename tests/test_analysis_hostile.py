@@ -164,3 +164,69 @@ def test_internal_error_is_one_line(tmp_path, analysis_cli, monkeypatch):
     monkeypatch.setitem(cli._COMMANDS, "summarize", boom)
     code, _, err = analysis_cli("summarize", "x.csv")
     assert code == 1 and err.count("\n") == 1 and "internal error (ZeroDivisionError" in err
+
+
+def test_pipes_devices_and_folders_are_not_read(tmp_path, analysis_cli):
+    """Regression (solver side of issue 10, same in analysis): a FIFO blocked forever and
+    /dev/zero never ended."""
+    import os
+    fifo = tmp_path / "fifo.csv"
+    os.mkfifo(fifo)
+    for path in (fifo, "/dev/zero", tmp_path):
+        code, _, err = analysis_cli("summarize", str(path))
+        _one_error_line(code, err, str(path))
+    code, _, err = analysis_cli("verify-table", "/dev/zero", "--n", "3")
+    _one_error_line(code, err, "/dev/zero", "regular file")
+
+
+def test_workbook_row_and_cell_caps(tmp_path, analysis_cli, monkeypatch):
+    """A row number far down the sheet (openpyxl yields every empty row before it) and a
+    sheet whose rows x columns pass the cell cap are refused while reading. The caps are
+    lowered here so that the test reads a few rows, not a million."""
+    import analysis.ingest as ingest
+    monkeypatch.setattr(ingest, "XLSX_MAX_ROWS", 50)
+    far = xf.rewrite_sheet(xf.workbook(ROWS), lambda x: x.replace(
+        b"</sheetData>", b'<row r="999999999"><c r="A999999999" t="inlineStr"><is><t>Neutral'
+        b"</t></is></c></row></sheetData>"))
+    f = tmp_path / "far.xlsx"
+    f.write_bytes(far)
+    code, _, err = analysis_cli("summarize", str(f))
+    _one_error_line(code, err, str(f), "row 51", "more than 50 rows")
+    monkeypatch.setattr(ingest, "MAX_CELLS", 9)        # 5 respondents x 2 items + header = 12
+    g = tmp_path / "ok.xlsx"
+    g.write_bytes(xf.workbook(ROWS))
+    code, _, err = analysis_cli("summarize", str(g))
+    _one_error_line(code, err, "more than 9 cells")
+    c = tmp_path / "s.csv"
+    c.write_text("q1,q2\n" + "Neutral,Neutral\n" * 5)
+    code, _, err = analysis_cli("summarize", str(c))
+    _one_error_line(code, err, "at most 9 cells")
+
+
+def test_work_caps_for_groups_charts_and_names(tmp_path, analysis_cli, monkeypatch):
+    """Group comparisons, charts and name lists are capped before their work is done."""
+    f = tmp_path / "g.csv"
+    f.write_text("g,q1,q2\n" + "".join(f"g{i},Neutral,Definitely Agree\n" for i in range(30)))
+    import analysis.groups as groups
+    monkeypatch.setattr(groups, "MAX_GROUP_CELLS", 40)   # 30 groups x 2 items = 60
+    code, _, err = analysis_cli("summarize", str(f), "--group", "g", "--min-group", "1")
+    _one_error_line(code, err, "30 groups x 2 items", "--min-group")
+    code, out, err = analysis_cli("summarize", str(f), "--group", "g", "--min-group", "2",
+                                  "--json")       # every group suppressed: nothing to compare
+    assert code == 0 and all(g["suppressed"] for g in json.loads(out)["groups"]["groups"])
+    import analysis.chart as chart
+    monkeypatch.setattr(chart, "MAX_CHART_ITEMS", 1)
+    code, _, err = analysis_cli("summarize", str(f), "--chart", str(tmp_path / "c.svg"))
+    _one_error_line(code, err, "--chart", "at most 1")
+    assert not (tmp_path / "c.svg").exists()
+    code, _, err = analysis_cli("summarize", str(f), "--items", *[f"q{i}" for i in range(201)])
+    _one_error_line(code, err, "--items", "at most 200")
+
+
+def test_long_file_with_too_many_items(tmp_path, analysis_cli, monkeypatch):
+    import analysis.ingest as ingest
+    monkeypatch.setattr(ingest, "MAX_COLUMNS", 3)
+    f = tmp_path / "long.csv"
+    f.write_text("respondent,item,answer\n" + "".join(f"r1,i{k},Neutral\n" for k in range(4)))
+    code, _, err = analysis_cli("summarize", str(f))
+    _one_error_line(code, err, "4 distinct items", "at most 3")
