@@ -518,7 +518,7 @@ def _run(options: list[int]) -> tuple[int, int]:
     """
     lo, hi = options[0], options[-1]
     if hi - lo + 1 != len(options):
-        raise ValueError(f"counts {options!r} are not consecutive")
+        raise RuntimeError(f"counts {options!r} are not consecutive")   # a bug, not input
     return lo, hi
 
 

@@ -30,7 +30,6 @@ import string
 import tomllib
 from datetime import timedelta
 
-import pytest
 from hypothesis import HealthCheck, example, given, settings
 from openpyxl.cell.cell import ILLEGAL_CHARACTERS_RE as ILLEGAL
 from hypothesis import strategies as st
