@@ -38,6 +38,12 @@ answer is recorded in :attr:`SurveyData.unknown_answers` and counted as missing.
 Row numbers count records as a spreadsheet shows them: the (first) header row is
 row 1, comment lines count too.
 
+Workbooks are parsed through defusedxml (external entities and entity expansion are
+refused) and every cell of the first sheet is read, whatever its ``<dimension>`` record
+says. Caps, each refused with one line: :data:`MAX_COLUMNS` columns (or distinct items
+of a long file), :data:`MAX_ITEMS` item columns, :data:`MAX_CELLS` cells,
+:data:`MAX_XLSX_BYTES` unpacked and :data:`XLSX_MAX_ROWS` rows per workbook.
+
 Public API: :func:`read_survey` (a file) and :func:`survey_from_frame` (a
 pandas DataFrame of text), both returning :class:`SurveyData`.
 """

@@ -14,9 +14,10 @@ with openpyxl, then with a lying ``<dimension>`` record, truncated XML or entiti
 claims and scale TOML files (typo keys, wrong types, 0 and negative items, nan, huge
 numbers, deep nesting), and command-line flag values.
 
-Budget: every test uses ``FUZZ`` settings. ``max_examples`` is chosen so that each test
-takes well under a second on one core (a CLI run is 5-20 ms here), so the module adds a
-few seconds to ``make test``; ``derandomize=True`` makes ``make test`` reproducible (the
+Budget: every test uses ``_settings(n)``. ``max_examples`` (20-40, about 190 runs in
+all, plus the explicit ``@example`` cases of issue 10) is chosen so that each test takes
+well under a second of CPU (a CLI run is 5-20 ms), so the module adds about five seconds
+to ``make test``; ``derandomize=True`` makes ``make test`` reproducible (the
 same examples every run: a failure is a bug, never flakiness). The deadline is a hang
 guard, not a timing assertion: 5 s per example is hundreds of times the normal run.
 """
@@ -144,7 +145,7 @@ def _assert_tally(data: dict, names, matrix, expected):
         assert (it["missing"], it["excluded"]) == (missing, excluded), (name, it)
 
 
-@_settings(40)
+@_settings(30)
 @given(tallied_surveys(), st.sampled_from([",", ";", "\t"]), st.booleans(), st.booleans(),
        st.booleans())
 def test_csv_survey_counts_every_answer(analysis_cli, tmp_path_factory, survey, sep, bom, crlf,
@@ -174,7 +175,7 @@ HOSTILE_PIECES = [b",", b";", b"\t", b'"', b"\n", b"\r\n", b"\r", b"\x00", b"\xf
                   b"answer", b'{"ImportId":"x"}', b"Status", b"Survey Preview"]
 
 
-@_settings(60)
+@_settings(40)
 @given(st.lists(st.sampled_from(HOSTILE_PIECES) | st.binary(max_size=6), max_size=40),
        st.sampled_from([[], ["--scale", "paper"], ["--unknown-as-missing"],
                         ["--encoding", "cp1252"], ["--shape", "long"]]))
@@ -191,7 +192,7 @@ def test_csv_hostile_bytes(analysis_cli, tmp_path_factory, pieces, extra):
 XLSX_SAFE = st.text(string.ascii_letters + string.digits + " ,;'\"<>&%", min_size=1, max_size=8)
 
 
-@_settings(25)
+@_settings(20)
 @given(tallied_surveys(), st.sampled_from(["none", "dimension", "truncated", "xxe", "bomb"]),
        st.sampled_from(["A1:A1", "A1:B2", "B2:C3", "A1:XFD1048576"]), st.floats(0.05, 0.95))
 def test_xlsx_survey(analysis_cli, tmp_path_factory, survey, damage, ref, keep):
@@ -284,7 +285,7 @@ def _expected_claim(spec: dict):
 _CLAIM = '[[claims]]\ncategories = ["Definitely Agree"]\nthreshold = 50\n'
 
 
-@_settings(40)
+@_settings(30)
 @given(claims_files())
 # the cases of issue 10, always run besides the generated ones
 @example(_CLAIM + "item = 0\n")
@@ -321,7 +322,7 @@ SCALE_VALUES = st.sampled_from(
      "[" + "9" * 5000 + ", 1]", "[" * 200 + "]" * 200, '["N/A"]', '["Low", "low"]'])
 
 
-@_settings(25)
+@_settings(20)
 @given(st.dictionaries(st.sampled_from(SCALE_KEYS), SCALE_VALUES, max_size=5))
 @example({"labels": '["Low", "Mid", "High"]', "codes": "[1, nan, 3]"})     # issue 10
 @example({"labels": '["Low", "High"]', "codes": "[1, inf]"})
@@ -352,7 +353,7 @@ FLAGS = ["--confidence", "--decimals", "--respondents", "--min-group", "--encodi
          "--reliability", "--scale"]
 
 
-@_settings(40)
+@_settings(30)
 @given(st.lists(st.tuples(st.sampled_from(FLAGS), FLAG_VALUES), max_size=3))
 @example([("--confidence", "nan")])
 @example([("--encoding", "idna")])
@@ -369,7 +370,7 @@ def test_summarize_flag_values(analysis_cli, tmp_path_factory, flags):
             assert {k: v for k, v in it["counts"].items() if v} == TALLY[it["item"]]
 
 
-@_settings(30)
+@_settings(20)
 @given(st.sampled_from(["--n", "--n-range", "--decimals", "--rule"]),
        st.lists(FLAG_VALUES, min_size=1, max_size=2))
 @example("--n", ["1000001"])
