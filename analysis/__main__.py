@@ -78,6 +78,24 @@ def _int_in(lo: int, hi: int):
     return convert
 
 
+def _encoding(text: str) -> str:
+    """argparse type: a text encoding the CSV reader can use (ASCII-compatible, or UTF-16/32)."""
+    import codecs
+    try:
+        name = codecs.lookup(text).name
+    except (LookupError, ValueError):
+        raise argparse.ArgumentTypeError(f"unknown encoding {text[:40]!r}") from None
+    try:
+        plain = "q1,Q 2;\t\r\n".encode(name) == b"q1,Q 2;\t\r\n"
+        bytes(range(256)).decode(name, errors="replace")
+    except (UnicodeError, LookupError, ValueError, TypeError):
+        plain = False
+    if not (plain or name.startswith(("utf-8", "utf-16", "utf-32"))):
+        raise argparse.ArgumentTypeError(f"{text[:40]!r} is not a text encoding for CSV files "
+                                         f"(e.g. utf-8, cp1252, latin-1, utf-16)")
+    return text
+
+
 def _confidence(text: str) -> float:
     try:
         value = float(text)
@@ -104,7 +122,8 @@ def _reading_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--shape", choices=SHAPES, default="auto", help="input shape (default: detect)")
     p.add_argument("--unknown-as-missing", action="store_true",
                    help="count answers that match no label as missing (each one is reported)")
-    p.add_argument("--encoding", default="utf-8", help="text encoding of a CSV file")
+    p.add_argument("--encoding", type=_encoding, default="utf-8",
+                   help="text encoding of a CSV file (default utf-8)")
     p.add_argument("--reverse", nargs="+", metavar="ITEM", help="reverse-keyed items")
     p.add_argument("--respondents", type=_int_in(1, MAX_RESPONDENTS), metavar="N",
                    help=f"declared respondents, 1..{MAX_RESPONDENTS} (absent ones are "

@@ -218,6 +218,8 @@ def read_table_csv(path: "str | Path", item_column: str = "item",
     if len(raw) > MAX_TABLE_BYTES:
         raise SurveyInputError(f"{len(raw)} bytes; a table file may have at most "
                                f"{MAX_TABLE_BYTES}", src)
+    if raw[:4] == b"PK\x03\x04":
+        raise SurveyInputError("a workbook (.xlsx), not a CSV table; save the table as CSV", src)
     if raw[:2] in (b"\xff\xfe", b"\xfe\xff"):     # UTF-16 with BOM (Excel "Unicode text")
         encoding = "utf-16"
     try:

@@ -79,6 +79,7 @@ def test_output_path_that_is_a_folder(tmp_path, analysis_cli, argv, flag):
     (["--decimals", "-1"], "--decimals"), (["--decimals", "99"], "--decimals"),
     (["--respondents", "0"], "--respondents"), (["--min-group", "0"], "--min-group"),
     (["--respondents", "10" * 3000], "--respondents"),
+    (["--encoding", "idna"], "--encoding"), (["--encoding", "nosuch"], "--encoding"),
 ])
 def test_flags_named_by_their_command_line_name(tmp_path, analysis_cli, argv, flag):
     """Regression: messages named `confidence_level`, `decimals`, `respondents`, `min_size`."""
