@@ -211,9 +211,13 @@ def load_claims(path: "str | Path") -> list[Claim]:
         unit = e.get("unit", "%")
         if unit not in ("%", "fraction"):
             raise bad("unit", f"must be one of ['%', 'fraction'], got {_short(unit)}")
-        frac = thr / 100 if unit == "%" else float(thr)
+        try:
+            frac = float(thr) / 100 if unit == "%" else float(thr)
+        except OverflowError:            # an integer past the float range
+            frac = float("inf")
         if not 0 <= frac <= 1:
-            raise bad("threshold", f"must lie in 0..100 % (0..1 as a fraction), got {thr!r}")
+            raise bad("threshold", f"must lie in 0..100 % (0..1 as a fraction), "
+                                   f"got {_short(thr)}")
         out.append(Claim(id=str(e.get("id", f"claim{i + 1}")), item=item,
                          categories=tuple(cats), comparison=comp, threshold=float(frac),
                          statement=str(e.get("statement", "")), printed=str(e.get("printed", ""))))
@@ -244,12 +248,16 @@ def evaluate_claim(claim: Claim, summary: SurveySummary, confidence_level: float
             f"{[i.item for i in summary.items]} (or positions 1..{len(summary.items)})",
             source) from None
     keys = {normalize_answer(lab): lab for lab in it.labels}
-    k = 0
+    k, seen = 0, set()
     for cat in claim.categories:
         lab = keys.get(normalize_answer(cat))
         if lab is None:
             raise SurveyInputError(f"claim {claim.id!r}: category {cat!r} is not a label; "
                                    f"labels are {it.labels}", source)
+        if lab in seen:                  # counting it twice would inflate the share
+            raise SurveyInputError(f"claim {claim.id!r}: category {cat!r} is listed twice "
+                                   f"(as {lab!r})", source)
+        seen.add(lab)
         k += it.counts[lab]
     p = proportion(k, it.n, confidence_level, method)
     if p.share is None:

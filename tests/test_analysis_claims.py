@@ -155,3 +155,12 @@ def test_claims_file_named_and_bom_accepted(tmp_path, capsys):
     assert main(["claims", str(f), str(bad)]) == 2
     err = capsys.readouterr().err
     assert err.startswith(f"error: {bad}: ") and "'Agree'" in err and err.count("\n") == 1
+
+
+def test_category_listed_twice_is_refused(tmp_path, rebuilt, capsys):
+    """Regression: ["Neutral", "neutral"] counted the same answers twice (share doubled)."""
+    f = tmp_path / "c.toml"
+    f.write_text('[[claims]]\nitem = 1\ncategories = ["Neutral", " neutral"]\nthreshold = 5\n')
+    assert main(["claims", str(rebuilt), str(f)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and str(f) in err and "listed twice" in err

@@ -247,7 +247,9 @@ TOML_VALUES = st.sampled_from(
 NEAR = {"item": st.sampled_from(["0", "-1", "3", "-2", "1", '"q3"', '"Q1 "']),
         "threshold": st.sampled_from(["nan", "inf", "-1", "101", "100", "0", "1.5"]),
         "unit": st.sampled_from(['"fraction"', '"%"', '"percent"']),
-        "comparison": st.sampled_from(['"<"', '">="', '"=="', "1"])}
+        "comparison": st.sampled_from(['"<"', '">="', '"=="', "1"]),
+        "categories": st.sampled_from(['["Neutral", "neutral"]', '["Neutral", "Partially Agree"]',
+                                       '["N/A"]', '["Neutral", 1]'])}
 CLAIM_KEYS = ["item", "threshold", "id", "item", "categories", "comparison", "threshold", "unit", "statement",
               "printed", "comparision", "treshold", "items", "decimals"]
 
@@ -293,6 +295,7 @@ _CLAIM = '[[claims]]\ncategories = ["Definitely Agree"]\nthreshold = 50\n'
 @example(_CLAIM + "item = 1\ncomparision = '<'\n")
 @example('[[claims]]\nitem = 1\ncategories = ["Neutral"]\nthreshold = nan\n')
 @example("claims = [1, 2]\n")
+@example('[[claims]]\nitem = 2\ncategories = ["Neutral", " NEUTRAL"]\nthreshold = 50\n')
 @example("claims = " + "[" * 50_000 + "]" * 50_000 + "\n")
 def test_claims_files(analysis_cli, tmp_path_factory, text):
     base = tmp_path_factory.getbasetemp()
