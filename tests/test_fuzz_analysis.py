@@ -55,11 +55,14 @@ def _settings(n: int):
                                            HealthCheck.too_slow])
 
 
-def _check_outcome(code: int, out: str, err: str) -> dict | None:
-    """Exit 2 with one error line, or exit 0 with JSON whose items account for everyone."""
+def _check_outcome(code: int, out: str, err: str, where: tuple = ()) -> dict | None:
+    """Exit 2 with one error line (naming one of ``where`` or a flag, when given), or exit 0
+    with JSON whose items account for everyone."""
     assert "Traceback" not in err, err
     if code == 2:
         assert err.count("\n") == 1 and err.startswith("error: "), err
+        if where:
+            assert any(str(w) in err for w in where) or "argument --" in err, err
         return None
     assert code == 0, (code, err)
     data = json.loads(out)
@@ -183,7 +186,7 @@ def test_csv_hostile_bytes(analysis_cli, tmp_path_factory, pieces, extra):
     f = tmp_path_factory.getbasetemp() / "fuzz_bytes.csv"
     f.write_bytes(b"".join(pieces))
     code, out, err = analysis_cli("summarize", str(f), "--json", *extra)
-    _check_outcome(code, out, err)
+    _check_outcome(code, out, err, where=(f,))
 
 
 # ---------------------------------------------------------------------------
@@ -214,7 +217,7 @@ def test_xlsx_survey(analysis_cli, tmp_path_factory, survey, damage, ref, keep):
     f.write_bytes(data_bytes)
     code, out, err = analysis_cli("summarize", str(f), "--scale", "paper", "--json",
                                   "--unknown-as-missing", "--items", *names)
-    data = _check_outcome(code, out, err)
+    data = _check_outcome(code, out, err, where=(f,))
     if damage in ("none", "dimension"):
         # rows below the data whose cells are all blank are no respondents in a workbook
         # (a sheet shows empty rows without end); blank rows between answers are
@@ -337,7 +340,7 @@ def test_scale_files(analysis_cli, tmp_path_factory, body):
     f = base / "fuzz_scale.toml"
     f.write_text("".join(f"{k} = {v}\n" for k, v in body.items()))
     code, out, err = analysis_cli("summarize", str(survey), "--scale", str(f), "--json")
-    data = _check_outcome(code, out, err)
+    data = _check_outcome(code, out, err, where=(f, survey))
     if data is not None:
         assert data["respondents"] == 5
         # nan or infinite codes are never accepted
@@ -367,7 +370,7 @@ def test_summarize_flag_values(analysis_cli, tmp_path_factory, flags):
     survey.write_text(SURVEY)
     argv = [a for pair in flags for a in pair]
     code, out, err = analysis_cli("summarize", str(survey), "--json", *argv)
-    data = _check_outcome(code, out, err)
+    data = _check_outcome(code, out, err, where=(survey, "--"))
     if data is not None and len(data["items"]) == 2 and "--respondents" not in argv:
         for it in data["items"]:                        # flags never change what is counted
             assert {k: v for k, v in it["counts"].items() if v} == TALLY[it["item"]]
