@@ -27,7 +27,7 @@ prints one ``internal error`` line and exits with status 1 (``ANALYSIS_DEBUG=1``
 the traceback).
 
 Caps (each refused with exit 2): inputs are regular files of at most 1 GiB; at most 5000
-columns, 1000 item columns and 20 million cells per survey file, a 1 GiB unpacked .xlsx of
+columns, 1000 item columns and 10 million cells per survey file, a 1 GiB unpacked .xlsx of
 at most 1,048,576 rows, 100 labels per
 scale, 1 MiB and a parser-safe nesting depth per TOML file, 1000 claims per file, 300
 cells per published table, 100 items per chart (``--chart``, ``report``), 10,000
@@ -54,7 +54,7 @@ MAX_NAMES = 200
 #: Set to 1 to see the traceback of an internal error.
 DEBUG_ENV = "ANALYSIS_DEBUG"
 _CAPS = ("caps: inputs are regular files of at most 1 GiB; at most 5000 columns, 1000 "
-         "item columns and 20 million cells per survey file, a 1 GiB unpacked .xlsx of at "
+         "item columns and 10 million cells per survey file, a 1 GiB unpacked .xlsx of at "
          "most 1048576 rows, 100 labels per scale, 1 MiB "
          "per TOML file, 1000 claims per file, 300 cells per published table, 100 items per "
          "chart (--chart, report), 10000 group x item pairs (--group), 200 names per --items, "

@@ -64,7 +64,7 @@ import pandas as pd
 
 from ._io import is_regular_file, read_bytes
 from .errors import SurveyInputError
-from .scales import BUILTIN_SCALES, Scale, get_scale, normalize_answer
+from .scales import BUILTIN_SCALES, Scale, code_key, get_scale, normalize_answer
 
 __all__ = ["SHAPES", "UNKNOWN_POLICIES", "SurveyData", "UnknownAnswer", "DroppedRow",
            "read_survey", "survey_from_frame", "BLANK", "NOT_APPLICABLE", "UNKNOWN"]
@@ -80,9 +80,9 @@ MAX_ITEMS = 1000
 MAX_COLUMNS = 5000
 #: Largest uncompressed size of an .xlsx workbook's parts (a guard against zip bombs).
 MAX_XLSX_BYTES = 1 << 30
-#: Most cells (records x columns) one survey file may have: 20 million, four times the
+#: Most cells (records x columns) one survey file may have: 10 million, twice the
 #: one million respondents by five items the benchmark reads.
-MAX_CELLS = 20_000_000
+MAX_CELLS = 10_000_000
 #: Rows of a worksheet (Excel's own limit; a row number past it is hostile).
 XLSX_MAX_ROWS = 1_048_576
 
@@ -814,20 +814,24 @@ def _column_stats(col: _Column, scale: Scale) -> tuple[int, int, int, int]:
     Not-applicable texts ("N/A", ...) are counted apart: they fit every scale and are
     common in free-text columns, so they are no evidence that a column is an item.
     """
-    counts = col.counts()
+    keys = col.__dict__.get("_keys")
+    if keys is None:                  # each distinct text normalised once, not once per scale
+        keys = [(normalize_answer(t), code_key(t), int(c))
+                for t, c in zip(col.cats, col.counts()) if c]
+        keys = [k for k in keys if k[0] != ""]
+        col.__dict__["_keys"] = keys
+    answers, code_of = scale.answer_keys(), scale.code_keys()
     nonblank = labels = codes = na = 0
-    for text, cnt in zip(col.cats, counts):
-        if cnt == 0 or normalize_answer(text) == "":
-            continue
+    for key, ck, cnt in keys:
         nonblank += cnt
-        m = scale.match(text, accept_codes=False)
+        m = answers.get(key)
         if m == Scale.NOT_APPLICABLE:
             na += cnt
         elif m is not None:
             labels += cnt
-        elif scale.matches_code(text):
+        elif ck is not None and ck in code_of:
             codes += cnt
-    return int(nonblank), int(labels), int(codes), int(na)
+    return nonblank, labels, codes, na
 
 
 def _label_item(stats) -> bool:

@@ -72,6 +72,12 @@ def _code_key(text: str) -> str | None:
     return repr(value)
 
 
+#: Public name of the canonical form of a numeric answer (``" 5.0 "`` -> ``"5"``).
+def code_key(text) -> "str | None":
+    """Canonical form of a numeric answer, or None (see :meth:`Scale.code_keys`)."""
+    return _code_key(text)
+
+
 @dataclass(frozen=True)
 class Scale:
     """An ordered response scale.
@@ -152,6 +158,17 @@ class Scale:
             if ck is not None:
                 return self.__dict__["_code_cache"].get(ck)
         return None
+
+    def answer_keys(self) -> dict:
+        """``normalize_answer(text) -> label index`` (or :data:`NOT_APPLICABLE`) for every
+        label, alias and not-applicable text: :meth:`match` without codes, for callers
+        that normalise each distinct answer once."""
+        return self._lookup()
+
+    def code_keys(self) -> dict:
+        """``code_key(code) -> label index`` for the numeric codes."""
+        self._lookup()
+        return self.__dict__["_code_cache"]
 
     def matches_label(self, answer: str) -> bool:
         """True when ``answer`` is one of the label texts (or an alias / N/A text)."""
