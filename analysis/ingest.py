@@ -421,13 +421,19 @@ def _check_extra_fields(body: bytes, encoding: str, sep: str, width: int, source
     """
     text = body.decode(encoding, errors="replace")
     line = skip
-    for rec in csv.reader(io.StringIO(text, newline=""), delimiter=sep):
-        line += 1
-        extra = [c for c in rec[width:] if c.strip()]
-        if extra:
-            raise SurveyInputError(
-                f"{len(rec)} fields, but the header has {width}: value {extra[0]!r} has no "
-                f"column", source, line)
+    limit = csv.field_size_limit(len(text) + 1)   # pandas read fields of any size: so do we
+    try:
+        for rec in csv.reader(io.StringIO(text, newline=""), delimiter=sep):
+            line += 1
+            extra = [c for c in rec[width:] if c.strip()]
+            if extra:
+                raise SurveyInputError(
+                    f"{len(rec)} fields, but the header has {width}: value {extra[0]!r} has "
+                    f"no column", source, line)
+    except csv.Error as e:
+        raise SurveyInputError(f"not a well-formed CSV ({e})", source, line + 1) from None
+    finally:
+        csv.field_size_limit(limit)
 
 
 def _record_rows(body: bytes, encoding: str, sep: str, skip: int, nrows: int):
@@ -441,14 +447,20 @@ def _record_rows(body: bytes, encoding: str, sep: str, skip: int, nrows: int):
     reader = csv.reader(io.StringIO(text, newline=""), delimiter=sep)
     line = skip
     header_seen = False
-    for rec in reader:
-        line += 1
-        if len(rec) <= 1 and not "".join(rec).strip():
-            continue                  # pandas skips it; the spreadsheet row still counts
-        if not header_seen:
-            header_seen = True
-            continue
-        rows.append(line)
+    limit = csv.field_size_limit(len(text) + 1)   # pandas read fields of any size: so do we
+    try:
+        for rec in reader:
+            line += 1
+            if len(rec) <= 1 and not "".join(rec).strip():
+                continue              # pandas skips it; the spreadsheet row still counts
+            if not header_seen:
+                header_seen = True
+                continue
+            rows.append(line)
+    except csv.Error:
+        return None
+    finally:
+        csv.field_size_limit(limit)
     if len(rows) != nrows:            # could not align with pandas: keep consecutive rows
         return None
     return np.asarray(rows, dtype=np.int64)
@@ -972,8 +984,10 @@ def _map_column(source, scale, name, cats, codes, rows, unknown):
         where = np.flatnonzero(bad)
         if unknown == "error":
             i = int(where[0])
+            text = cats[codes[i]]
+            shown = repr(text) if len(text) <= 60 else repr(text[:57]) + "..."
             raise SurveyInputError(
-                f"answer {cats[codes[i]]!r} is not on scale {scale.name!r}; valid labels: "
+                f"answer {shown} is not on scale {scale.name!r}; valid labels: "
                 f"{scale.describe_valid()} (or use --unknown-as-missing)",
                 source, int(rows[i]), name)
         unknowns = [UnknownAnswer(int(rows[i]), name, cats[codes[i]]) for i in where]

@@ -182,6 +182,8 @@ HOSTILE_PIECES = [b",", b";", b"\t", b'"', b"\n", b"\r\n", b"\r", b"\x00", b"\xf
 @given(st.lists(st.sampled_from(HOSTILE_PIECES) | st.binary(max_size=6), max_size=40),
        st.sampled_from([[], ["--scale", "paper"], ["--unknown-as-missing"],
                         ["--encoding", "cp1252"], ["--shape", "long"]]))
+@example([b"q1,q2\n\nNeutral,\"", b"x" * 140_000, b"\"\n"], [])   # past csv's field limit
+@example([b"q1,q2\nNeutral,Neutral,\"", b"x" * 140_000, b"\"\n"], [])
 def test_csv_hostile_bytes(analysis_cli, tmp_path_factory, pieces, extra):
     f = tmp_path_factory.getbasetemp() / "fuzz_bytes.csv"
     f.write_bytes(b"".join(pieces))
