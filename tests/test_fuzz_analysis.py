@@ -138,6 +138,18 @@ def _render_csv(names, matrix, sep: str, bom: bool, crlf: bool) -> bytes:
     return (b"\xef\xbb\xbf" if bom else b"") + buf.getvalue().encode("utf-8")
 
 
+def _code_map(folder) -> str:
+    """A --codes map saying what the paper scale's numeric codes mean, for every column.
+
+    Numeric answers are refused unless a code map (or survey definition) says which end
+    of the numbering means agreement (issue 9); with this map the test's tally of codes holds.
+    """
+    f = folder / "fuzz_codes.toml"
+    f.write_text('columns = ["*"]\n[codes]\n' + "".join(
+        f'"{CODE[i]}" = "{LABELS[i]}"\n' for i in CODE), encoding="utf-8")
+    return str(f)
+
+
 def _assert_tally(data: dict, names, matrix, expected):
     assert data["respondents"] == len(matrix)         # no row lost, none invented
     got = {it["item"]: it for it in data["items"]}
@@ -150,9 +162,9 @@ def _assert_tally(data: dict, names, matrix, expected):
 
 @_settings(30)
 @given(tallied_surveys(), st.sampled_from([",", ";", "\t"]), st.booleans(), st.booleans(),
-       st.booleans())
+       st.booleans(), st.booleans())
 def test_csv_survey_counts_every_answer(analysis_cli, tmp_path_factory, survey, sep, bom, crlf,
-                                        unknown_as_missing):
+                                        unknown_as_missing, code_map):
     names, matrix = survey
     f = tmp_path_factory.getbasetemp() / "fuzz_survey.csv"
     f.write_bytes(_render_csv(names, matrix, sep, bom, crlf))
@@ -160,9 +172,19 @@ def test_csv_survey_counts_every_answer(analysis_cli, tmp_path_factory, survey, 
     # names are matched as fnmatch patterns too: this alphabet has no pattern characters
     if unknown_as_missing:
         argv.append("--unknown-as-missing")
+    if code_map:
+        argv += ["--codes", _code_map(tmp_path_factory.getbasetemp())]
     code, out, err = analysis_cli(*argv)
-    expected = _tally(names, matrix, unknown_as_missing)
     data = _check_outcome(code, out, err)
+    kinds = {k for row in matrix for k, _, _ in row}
+    if "code" in kinds and not code_map:
+        # a numeric answer without a code map is refused (or an unknown answer first)
+        assert code == 2, out
+        assert "--codes" in err or ("junk" in kinds and "not on scale" in err), err
+        if "junk" not in kinds:
+            assert "numeric answer" in err, err
+        return
+    expected = _tally(names, matrix, unknown_as_missing)
     if isinstance(expected, tuple):                    # an unknown answer: named, exit 2
         _, row, name = expected
         assert code == 2, out
@@ -218,7 +240,8 @@ def test_xlsx_survey(analysis_cli, tmp_path_factory, survey, damage, ref, keep):
     f = tmp_path_factory.getbasetemp() / "fuzz.xlsx"
     f.write_bytes(data_bytes)
     code, out, err = analysis_cli("summarize", str(f), "--scale", "paper", "--json",
-                                  "--unknown-as-missing", "--items", *names)
+                                  "--unknown-as-missing", "--items", *names,
+                                  "--codes", _code_map(tmp_path_factory.getbasetemp()))
     data = _check_outcome(code, out, err, where=(f,))
     if damage in ("none", "dimension"):
         # rows below the data whose cells are all blank are no respondents in a workbook
