@@ -60,6 +60,7 @@ def test_xlsx_bad_xml_one_line(tmp_path, analysis_cli, kind, needle):
 
 @pytest.mark.parametrize("argv, flag", [
     (["summarize", "{f}", "--chart", "{d}"], "--chart"),
+    (["summarize", "{f}", "--table", "{d}"], "--table"),
     (["report", "{f}", "-o", "{d}"], "-o/--output"),
     (["rebuild-table1", "{d}"], "OUT"),
 ])
@@ -222,6 +223,21 @@ def test_work_caps_for_groups_charts_and_names(tmp_path, analysis_cli, monkeypat
     assert not (tmp_path / "c.svg").exists()
     code, _, err = analysis_cli("summarize", str(f), "--items", *[f"q{i}" for i in range(201)])
     _one_error_line(code, err, "--items", "at most 200")
+
+
+def test_group_chart_capped_in_bars(tmp_path, analysis_cli, monkeypatch):
+    """The faceted group chart (items x groups bars) has its own cap; nothing half-written."""
+    f = tmp_path / "g.csv"
+    f.write_text("g,q1,q2\n" + "".join(f"{g},Neutral,Definitely Agree\n" for g in "ab" * 5))
+    import analysis.chart as chart
+    monkeypatch.setattr(chart, "MAX_CHART_BARS", 3)        # 2 items x 2 groups = 4 bars
+    out = tmp_path / "c.svg"
+    code, _, err = analysis_cli("summarize", str(f), "--group", "g", "--chart", str(out))
+    _one_error_line(code, err, str(f), "2 items x 2 groups", "--min-group")
+    assert not out.exists()
+    monkeypatch.setattr(chart, "MAX_CHART_BARS", 4)        # at the cap: drawn
+    code, _, err = analysis_cli("summarize", str(f), "--group", "g", "--chart", str(out))
+    assert code == 0 and out.read_text().startswith("<svg"), err
 
 
 def test_long_file_with_too_many_items(tmp_path, analysis_cli, monkeypatch):
