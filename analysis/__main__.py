@@ -5,7 +5,9 @@ Commands
 ``summarize FILE [--scale NAME|FILE] [--items ...] [--group COLUMN] [--chart OUT.svg] [--json]``
     Table 1 for a survey export; ``--json`` prints
     ``{"respondents": int, "items": [{"item", "n", "missing", "excluded", "counts",
-    "percent", "agree": {"share", "ci"}}]}`` (shares 0-1, percents 0-100). With
+    "percent", "agree": {"share", "ci"}}], "not_items": [str], "dropped": [{"row",
+    "reason"}], "unknown_answers": [{"row", "column", "value"}]}`` (shares 0-1, percents
+    0-100): every column, row and answer left out is listed. With
     ``--group`` the JSON gains ``"groups"``; with ``--reliability`` it gains ``"reliability"``.
 ``claims FILE CLAIMS [--json]``
     Evaluate a claims TOML file against a survey export.
@@ -20,18 +22,92 @@ Commands
 ``rebuild-table1 OUT.csv``
     Write the respondent-level dataset rebuilt from the paper's Table 1.
 
-Bad input prints one line ``error: <file>: row R, column 'C': <what>`` on stderr
-and exits with status 2; nothing is written in part.
+Bad input prints one line ``error: <file>: row R, column 'C': <what>`` (or naming the
+flag, ``--confidence``) on stderr and exits with status 2; nothing is written in part,
+and an output path is checked before the work starts. An unexpected error (a bug)
+prints one ``internal error`` line and exits with status 1 (``ANALYSIS_DEBUG=1`` shows
+the traceback).
+
+Caps (each refused with exit 2): inputs are regular files of at most 1 GiB; at most 5000
+columns, 1000 item columns and 10 million cells per survey file, a 1 GiB unpacked .xlsx of
+at most 1,048,576 rows, 100 labels per
+scale, 1 MiB and a parser-safe nesting depth per TOML file, 1000 claims per file, 300
+cells per published table, 100 items per chart (``--chart``, ``report``; a group chart
+at most 200 bars), 10,000
+group x item pairs (``--group``), 200 names per ``--items``, ``--reverse``, ``--group-order`` or
+``--reliability``, ``--n`` and ``--n-range`` up to 1,000,000, ``--respondents``
+and ``--min-group`` up to 10,000,000.
 """
 from __future__ import annotations
 
 import argparse
 import json
+import math
+import os
 import sys
 
+from ._io import check_output
 from .errors import SurveyInputError
 
 DEFAULT_N_RANGE = (1, 1000)
+#: Most respondents ``--respondents`` may declare (absent ones are padded as missing).
+MAX_RESPONDENTS = 10_000_000
+#: Most names or patterns --items, --reverse and --reliability take.
+MAX_NAMES = 200
+#: Set to 1 to see the traceback of an internal error.
+DEBUG_ENV = "ANALYSIS_DEBUG"
+_CAPS = ("caps: inputs are regular files of at most 1 GiB; at most 5000 columns, 1000 "
+         "item columns and 10 million cells per survey file, a 1 GiB unpacked .xlsx of at "
+         "most 1048576 rows, 100 labels per scale, 1 MiB "
+         "per TOML file, 1000 claims per file, 300 cells per published table, 100 items per "
+         "chart (--chart, report; 200 bars per group chart), 10000 group x item pairs (--group), "
+         "200 names per --items, --reverse, --reliability or --group-order; --n and "
+         "--n-range 1..1000000, --respondents and --min-group 1..10000000, --confidence "
+         "strictly between 0 and 1, --decimals 0..6")
+
+
+def _int_in(lo: int, hi: int):
+    """argparse type: a whole number in lo..hi (argparse names the flag in the message)."""
+    def convert(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"must be a whole number from {lo} to {hi}, "
+                                             f"got {text[:40]!r}") from None
+        if not lo <= value <= hi:
+            raise argparse.ArgumentTypeError(f"must be from {lo} to {hi}, got {text[:40]}")
+        return value
+    convert.__name__ = "integer"
+    return convert
+
+
+def _encoding(text: str) -> str:
+    """argparse type: a text encoding the CSV reader can use (ASCII-compatible, or UTF-16/32)."""
+    import codecs
+    try:
+        name = codecs.lookup(text).name
+    except (LookupError, ValueError):
+        raise argparse.ArgumentTypeError(f"unknown encoding {text[:40]!r}") from None
+    try:
+        plain = "q1,Q 2;\t\r\n".encode(name) == b"q1,Q 2;\t\r\n"
+        bytes(range(256)).decode(name, errors="replace")
+    except (UnicodeError, LookupError, ValueError, TypeError):
+        plain = False
+    if not (plain or name.startswith(("utf-8", "utf-16", "utf-32"))):
+        raise argparse.ArgumentTypeError(f"{text[:40]!r} is not a text encoding for CSV files "
+                                         f"(e.g. utf-8, cp1252, latin-1, utf-16)")
+    return text
+
+
+def _confidence(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not 0 < value < 1:               # also refuses nan and inf
+        raise argparse.ArgumentTypeError(f"must be a number strictly between 0 and 1 "
+                                         f"(e.g. 0.95), got {text[:40]!r}")
+    return value
 
 
 class _Parser(argparse.ArgumentParser):
@@ -51,27 +127,31 @@ def _reading_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--shape", choices=SHAPES, default="auto", help="input shape (default: detect)")
     p.add_argument("--unknown-as-missing", action="store_true",
                    help="count answers that match no label as missing (each one is reported)")
-    p.add_argument("--encoding", default=None,
+    p.add_argument("--encoding", type=_encoding, default=None,
                    help="text encoding of a CSV file (default: UTF-8, else Windows-1252 "
                         "with a note)")
     p.add_argument("--codes", metavar="FILE",
                    help="what numeric answer codes mean: Qualtrics .qsf, LimeSurvey .lss or "
                         "a .toml code map")
     p.add_argument("--reverse", nargs="+", metavar="ITEM", help="reverse-keyed items")
-    p.add_argument("--respondents", type=int, metavar="N",
-                   help="declared respondents (absent ones are missing on every item)")
+    p.add_argument("--respondents", type=_int_in(1, MAX_RESPONDENTS), metavar="N",
+                   help=f"declared respondents, 1..{MAX_RESPONDENTS} (absent ones are "
+                        f"missing on every item)")
     p.add_argument("--ci", choices=("wilson", "beta"), default="wilson",
                    help="interval method: Wilson (default) or Clopper-Pearson ('beta')")
-    p.add_argument("--confidence", type=float, default=0.95, help="confidence level")
+    p.add_argument("--confidence", type=_confidence, default=0.95,
+                   help="confidence level, strictly between 0 and 1 (default 0.95)")
 
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser (exposed for documentation and tests)."""
+    from .tables import MAX_N
     parser = _Parser(prog="python -m analysis",
-                     description="Likert survey analytics and published-table verification.")
+                     description="Likert survey analytics and published-table verification.",
+                     epilog=_CAPS)
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
-    s = sub.add_parser("summarize", help="per-item counts, percentages and intervals")
+    s = sub.add_parser("summarize", epilog=_CAPS, help="per-item counts, percentages and intervals")
     _reading_options(s)
     s.add_argument("--group", help="grouping column (group comparisons)")
     s.add_argument("--by", nargs="+", metavar="COLUMN",
@@ -82,11 +162,12 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--table", metavar="OUT.csv",
                    help="also write the summary table (.csv or .xlsx by suffix; with --group "
                         "one row per item and group)")
-    s.add_argument("--min-group", type=int, default=5,
+    s.add_argument("--min-group", type=_int_in(1, MAX_RESPONDENTS), default=5,
                    help="suppress groups smaller than this (default 5)")
     s.add_argument("--reliability", nargs="*", metavar="ITEM",
                    help="Cronbach's alpha for these items (none given: all items)")
-    s.add_argument("--decimals", type=int, default=1, help="printed decimals (text output)")
+    s.add_argument("--decimals", type=_int_in(0, 6), default=1,
+                   help="printed decimals, 0..6 (text output; default 1)")
     s.add_argument("--percent-method", choices=("round", "largest_remainder"), default="round",
                    help="printed percentages: round each (default) or make rows sum to 100")
     s.add_argument("--chart", metavar="OUT.svg",
@@ -95,35 +176,38 @@ def build_parser() -> argparse.ArgumentParser:
                    help="item order in the chart (default: as asked)")
     s.add_argument("--json", action="store_true", help="print JSON")
 
-    c = sub.add_parser("claims", help="evaluate claims (TOML) against a survey")
+    c = sub.add_parser("claims", epilog=_CAPS, help="evaluate claims (TOML) against a survey")
     _reading_options(c)
     c.add_argument("claims", nargs="?", help="claims .toml file")
     c.add_argument("--json", action="store_true", help="print JSON")
 
-    v = sub.add_parser("verify-table", help="check a published percentage table")
+    v = sub.add_parser("verify-table", epilog=_CAPS, help="check a published percentage table")
     v.add_argument("table", help="CSV with an 'item' column and one column per label")
     g = v.add_mutually_exclusive_group()
-    g.add_argument("--n", type=int, help="number of respondents")
-    g.add_argument("--n-range", type=int, nargs=2, metavar=("LO", "HI"),
-                   help=f"search N in LO..HI (default {DEFAULT_N_RANGE[0]}..{DEFAULT_N_RANGE[1]})")
+    g.add_argument("--n", type=_int_in(1, MAX_N), help=f"number of respondents, 1..{MAX_N}")
+    g.add_argument("--n-range", type=_int_in(1, MAX_N), nargs=2, metavar=("LO", "HI"),
+                   help=f"search N in LO..HI, within 1..{MAX_N} "
+                        f"(default {DEFAULT_N_RANGE[0]}..{DEFAULT_N_RANGE[1]})")
     v.add_argument("--rule", choices=("half_away", "half_even", "truncate", "ceil"),
                    default="half_away", help="rounding rule of the table (default half_away)")
-    v.add_argument("--decimals", type=int, help="printed decimals (default: from each cell)")
+    v.add_argument("--decimals", type=_int_in(0, 6),
+                   help="printed decimals, 0..6 (default: from each cell)")
     v.add_argument("--full", action="store_true",
                    help="with --json: add nearest values, reconstructed counts and reasons")
     v.add_argument("--json", action="store_true", help="print JSON")
 
-    r = sub.add_parser("report", help="self-contained HTML report of a survey")
+    r = sub.add_parser("report", epilog=_CAPS, help="self-contained HTML report of a survey")
     _reading_options(r)
     r.add_argument("-o", "--output", required=True, help="HTML file to write")
     r.add_argument("--claims", help="claims .toml file to evaluate in the report")
     r.add_argument("--group", help="grouping column (group comparisons)")
-    r.add_argument("--min-group", type=int, default=5, help="suppress groups smaller than this")
+    r.add_argument("--min-group", type=_int_in(1, MAX_RESPONDENTS), default=5,
+                   help="suppress groups smaller than this (default 5)")
     r.add_argument("--group-order", nargs="+", metavar="VALUE",
                    help="order of the groups, e.g. terms (default: as they first appear)")
     r.add_argument("--title", default=None, help="report title")
 
-    b = sub.add_parser("rebuild-table1", help="write the dataset rebuilt from the paper's Table 1")
+    b = sub.add_parser("rebuild-table1", epilog=_CAPS, help="write the dataset rebuilt from the paper's Table 1")
     b.add_argument("output", help="CSV file to write")
     return parser
 
@@ -149,7 +233,7 @@ def _positionals_from_lists(args, argv) -> "str | None":
         return None
     opts = [a for a in argv if a in ("--items", "--reverse", "--reliability", "--group-order",
                                      "--by")]
-    values = getattr(args, opts[-1].lstrip("-"), None) if opts else None
+    values = getattr(args, opts[-1].lstrip("-").replace("-", "_"), None) if opts else None
     if not values or len(values) < len(wanted):
         return f"{args.command}: the following arguments are required: {', '.join(wanted)}"
     taken = values[len(values) - len(wanted):]
@@ -188,17 +272,51 @@ def _cmd_summarize_by(args) -> int:
         if value is not None:
             return _usage_error(f"summarize: {flag} is not available with --by (the "
                                 "out-of-core count); use --group on a file that fits memory")
+    _check_table_output(args.table)
     from .institution import summarize_by
     res = summarize_by(args.file, args.by, scale=args.scale, items=args.items,
                        min_group=args.min_group)
     if args.table:
         import pandas as pd
-        from .export import table_format, write_table
-        table_format(args.table)
+        from .export import write_table
         write_table(pd.DataFrame(res.rows()), args.table)
     print(json.dumps(res.to_dict(), indent=2, ensure_ascii=False) if args.json
           else res.format_text())
     return 0
+
+
+def _check_lists(args) -> None:
+    """Cap the names given to --items, --reverse, --reliability and --group-order (each
+    is matched against every column or group)."""
+    for flag in ("--items", "--reverse", "--reliability", "--group-order"):
+        names = getattr(args, flag[2:].replace("-", "_"), None)
+        if names and len(names) > MAX_NAMES:
+            raise SurveyInputError(f"{flag}: {len(names)} names; at most {MAX_NAMES}")
+
+
+def _check_table_output(path) -> None:
+    """Refuse a --table path (suffix, folder) before the work starts."""
+    if path:
+        from .export import table_format
+        check_output(path, "--table")
+        table_format(path)
+
+
+def _check_chart_output(path) -> "str | None":
+    """The --chart format, after refusing its path (suffix, folder) before the work."""
+    if not path:
+        return None
+    from .chart import chart_format
+    check_output(path, "--chart")
+    return chart_format(path)
+
+
+def _check_chart_size(data, what: str) -> None:
+    """Refuse a chart past its cap before the summaries are computed."""
+    from .chart import MAX_CHART_ITEMS
+    if len(data.items) > MAX_CHART_ITEMS:
+        raise SurveyInputError(f"{what}: {len(data.items)} items; a chart draws at most "
+                               f"{MAX_CHART_ITEMS} (choose some with --items)", data.source)
 
 
 def _cmd_summarize(args) -> int:
@@ -208,7 +326,11 @@ def _cmd_summarize(args) -> int:
                                 "COLUMN [COLUMN ...] (e.g. --by course term)")
         return _cmd_summarize_by(args)
     from .likert import summarize
+    fmt = _check_chart_output(args.chart)
+    _check_table_output(args.table)
     data = _read(args)
+    if args.chart:
+        _check_chart_size(data, "--chart")
     _notes(data)
     summary = summarize(data, args.confidence, args.ci)
     extra = {}
@@ -222,8 +344,7 @@ def _cmd_summarize(args) -> int:
                                                   confidence_level=args.confidence)
     if args.chart:
         from ._io import atomic_write
-        from .chart import chart_format, diverging_bar, figure_bytes
-        fmt = chart_format(args.chart)
+        from .chart import diverging_bar, figure_bytes
         if "groups" in extra:
             from .chart import faceted_bar
             fig = faceted_bar(extra["groups"])
@@ -231,8 +352,7 @@ def _cmd_summarize(args) -> int:
             fig = diverging_bar(summary, order=args.order)
         atomic_write(args.chart, figure_bytes(fig, fmt))
     if args.table:
-        from .export import summary_frame, table_format, write_table
-        table_format(args.table)
+        from .export import summary_frame, write_table
         frame = (extra["groups"].distribution_frame() if "groups" in extra
                  else summary_frame(summary))
         write_table(frame, args.table)
@@ -268,6 +388,9 @@ def _cmd_verify(args) -> int:
                             f"--n-range LO HI to search N (e.g. --n-range {DEFAULT_N_RANGE[0]} "
                             f"{DEFAULT_N_RANGE[1]}); N is never chosen silently")
     table = read_table_csv(args.table)
+    if args.n_range and args.n_range[0] > args.n_range[1]:
+        raise SurveyInputError(f"--n-range: LO must not exceed HI, got {args.n_range[0]} "
+                               f"{args.n_range[1]}")
     if args.n is not None:
         check = verify_table(table, n=args.n, rule=args.rule, decimals=args.decimals)
     else:
@@ -283,7 +406,9 @@ def _cmd_verify(args) -> int:
 
 def _cmd_report(args) -> int:
     from .report import build_report
+    check_output(args.output, "-o/--output")
     data = _read(args)
+    _check_chart_size(data, "report")
     _notes(data)
     res = build_report(data, args.output, claims=args.claims, group=args.group,
                        min_group=args.min_group, group_order=args.group_order, title=args.title,
@@ -294,6 +419,7 @@ def _cmd_report(args) -> int:
 
 def _cmd_rebuild(args) -> int:
     from .respondents import rebuild_table1_dataset
+    check_output(args.output, "OUT")
     res = rebuild_table1_dataset(args.output)
     print(f"wrote {res.path}: {res.respondents} respondents x {len(res.items)} items "
           f"(rebuilt from published marginals)")
@@ -305,24 +431,58 @@ _COMMANDS = {"summarize": _cmd_summarize, "claims": _cmd_claims, "verify-table":
 
 
 def main(argv: "list[str] | None" = None) -> int:
-    """Run the command line; returns the exit status (2 for bad input)."""
-    args = build_parser().parse_args(argv)
+    """Run the command line; returns the exit status.
+
+    0 done; 2 bad input (one ``error:`` line naming the file and place, or the flag);
+    1 an internal error (one line; ``ANALYSIS_DEBUG=1`` re-raises it for the traceback);
+    130 interrupted.
+    """
+    try:
+        args = build_parser().parse_args(argv)
+    except SystemExit as e:            # a bad flag (one line already written) or --help
+        return e.code if isinstance(e.code, int) else 2
     try:
         missing = _positionals_from_lists(args, sys.argv[1:] if argv is None else argv)
         if missing:
             return _usage_error(missing)
+        _check_lists(args)
         return _COMMANDS[args.command](args)
     except SurveyInputError as e:
-        sys.stderr.write(f"error: {e.line()}\n")
-        return 2
+        return _fail(e.line(), 2)
     except ValueError as e:            # bad option values (messages list the valid ones)
-        msg = str(e).splitlines()[0] if str(e) else type(e).__name__
-        sys.stderr.write(f"error: {msg}\n")
-        return 2
+        return _fail(_flag_names(str(e).splitlines()[0] if str(e) else type(e).__name__), 2)
     except BrokenPipeError:            # output piped into e.g. `head`
-        import os
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
+    except KeyboardInterrupt:
+        return _fail("interrupted", 130)
+    except MemoryError:
+        return _fail("out of memory: the input asks for more work than this machine holds", 1)
+    except Exception as e:  # noqa: BLE001 - last resort: never a bare traceback for users
+        if os.environ.get(DEBUG_ENV):
+            raise
+        text = str(e).splitlines()[0][:200] if str(e) else ""
+        return _fail(f"internal error ({type(e).__name__}: {text}); please report it "
+                     f"(set {DEBUG_ENV}=1 for the traceback)", 1)
+
+
+#: Library argument names -> the flags that set them, for messages raised below the CLI.
+_FLAGS = {"`scale`": "--scale", "`confidence_level`": "--confidence", "`decimals`": "--decimals",
+          "`respondents`": "--respondents", "`min_size`": "--min-group", "`method`": "--ci",
+          "`shape`": "--shape", "`rule`": "--rule", "`order`": "--order",
+          "`percent_method`": "--percent-method", "`n`": "--n", "`n_range`": "--n-range",
+          "`unknown`": "--unknown-as-missing", "`min_group`": "--min-group"}
+
+
+def _flag_names(message: str) -> str:
+    for name, flag in _FLAGS.items():
+        message = message.replace(name, flag)
+    return message
+
+
+def _fail(message: str, status: int) -> int:
+    sys.stderr.write(f"error: {message}\n")
+    return status
 
 
 if __name__ == "__main__":

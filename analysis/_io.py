@@ -2,38 +2,120 @@
 
 - :func:`read_bytes` -- a file's bytes, with one-line errors for missing/unreadable files.
 - :func:`read_toml` -- a TOML file, with one-line errors naming the file.
+- :func:`spreadsheet_safe` -- neutralise a CSV cell that a spreadsheet would run as a formula.
+- :func:`check_output` -- refuse an output path that cannot take a file (before the work).
 - :func:`atomic_write` -- write to a temporary file in the same folder, then rename.
 """
 from __future__ import annotations
 
 import os
+import stat
 import tempfile
 from pathlib import Path
 
 from .errors import SurveyInputError
 
 
+#: Largest input file read (a survey export, table or TOML file).
+MAX_INPUT_BYTES = 1 << 30
+
+
+def is_regular_file(path: "str | Path") -> bool:
+    """True for an existing regular file (not a folder, FIFO or device such as /dev/zero)."""
+    try:
+        return stat.S_ISREG(os.stat(path).st_mode)
+    except (OSError, ValueError):
+        return False
+
+
 def read_bytes(path: "str | Path") -> bytes:
-    """The bytes of ``path``; SurveyInputError (naming the file) if it cannot be read."""
+    """The bytes of ``path``; SurveyInputError (naming the file) for a missing or unreadable
+    file, one that is not a regular file (a FIFO would block, /dev/zero never end), or one
+    larger than :data:`MAX_INPUT_BYTES`."""
     p = Path(path)
     try:
-        return p.read_bytes()
+        st = os.stat(p)
     except FileNotFoundError:
         raise SurveyInputError("no such file", str(p)) from None
+    except (OSError, ValueError) as e:
+        raise SurveyInputError(f"cannot read: {getattr(e, 'strerror', None) or e}",
+                               str(p)) from None
+    if stat.S_ISDIR(st.st_mode):
+        raise SurveyInputError("is a folder, not a file", str(p))
+    if not stat.S_ISREG(st.st_mode):
+        raise SurveyInputError("not a regular file (a pipe or device is not read)", str(p))
+    if st.st_size > MAX_INPUT_BYTES:
+        raise SurveyInputError(f"{st.st_size} bytes; at most {MAX_INPUT_BYTES} are read",
+                               str(p))
+    try:
+        return p.read_bytes()
     except OSError as e:
         raise SurveyInputError(f"cannot read: {e.strerror}", str(p)) from None
 
 
+#: Largest TOML file read (claims and scale files are a few kilobytes).
+MAX_TOML_BYTES = 1 << 20
+
+
 def read_toml(path: "str | Path") -> dict:
-    """A TOML file as a dict; SurveyInputError (naming the file) on any problem."""
+    """A TOML file as a dict; SurveyInputError (naming the file) on any problem.
+
+    Files above :data:`MAX_TOML_BYTES`, nesting too deep for the parser, and
+    integers too long to convert are refused like syntax errors.
+    """
     import tomllib                  # here: its import compiles regular expressions
     raw = read_bytes(path)
+    if len(raw) > MAX_TOML_BYTES:
+        raise SurveyInputError(f"{len(raw)} bytes; a TOML file may have at most "
+                               f"{MAX_TOML_BYTES}", str(path))
     try:
         return tomllib.loads(raw.decode("utf-8-sig"))      # Notepad may write a BOM
     except UnicodeDecodeError as e:
         raise SurveyInputError(f"not valid UTF-8 (byte offset {e.start})", str(path)) from None
     except tomllib.TOMLDecodeError as e:
         raise SurveyInputError(f"invalid TOML: {e}", str(path)) from None
+    except RecursionError:
+        raise SurveyInputError("invalid TOML: arrays or tables nested too deeply",
+                               str(path)) from None
+    except ValueError as e:              # e.g. an integer past Python's digit limit
+        raise SurveyInputError(f"invalid TOML: {str(e).split(';')[0]}", str(path)) from None
+
+
+_FORMULA_START = ("=", "+", "-", "@", "\t", "\r")
+
+
+def spreadsheet_safe(cell) -> str:
+    """A CSV cell a spreadsheet will not run as a formula: text starting with
+    ``=``, ``+``, ``-``, ``@``, tab or CR gets a leading apostrophe (OWASP's advice)."""
+    text = str(cell)
+    return "'" + text if text.startswith(_FORMULA_START) else text
+
+
+def check_output(path: "str | Path", flag: str = "") -> Path:
+    """Refuse an output path that cannot take a file, before any work is done.
+
+    Parameters
+    ----------
+    path : str or Path
+    flag : str
+        The command-line name of the option (``-o/--output``), for the message.
+
+    Raises
+    ------
+    SurveyInputError
+        ``path`` is an existing folder (or other non-regular file), or its folder
+        does not exist.
+    """
+    p = Path(path)
+    what = f"{flag}: " if flag else ""
+    if p.is_dir():
+        raise SurveyInputError(f"{what}is a folder; give a file name to write", str(p))
+    if p.exists() and not p.is_file():
+        raise SurveyInputError(f"{what}is not a regular file", str(p))
+    folder = p.parent if str(p.parent) else Path(".")
+    if not folder.is_dir():
+        raise SurveyInputError(f"{what}output folder does not exist", str(p))
+    return p
 
 
 def atomic_write(path: "str | Path", data: "str | bytes", encoding: str = "utf-8") -> Path:
@@ -42,12 +124,10 @@ def atomic_write(path: "str | Path", data: "str | bytes", encoding: str = "utf-8
     Raises
     ------
     SurveyInputError
-        The folder does not exist or cannot be written.
+        The path is a folder, the folder does not exist or cannot be written.
     """
-    p = Path(path)
+    p = check_output(path)
     folder = p.parent if str(p.parent) else Path(".")
-    if not folder.is_dir():
-        raise SurveyInputError("output folder does not exist", str(p))
     raw = data.encode(encoding) if isinstance(data, str) else data
     try:
         fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=".tmp", dir=folder)
@@ -60,10 +140,13 @@ def atomic_write(path: "str | Path", data: "str | bytes", encoding: str = "utf-8
         os.umask(mask)
         os.chmod(tmp, 0o666 & ~mask)      # mkstemp creates 0600; give the usual mode
         os.replace(tmp, p)
-    except BaseException:
+    except BaseException as e:
         try:
             os.unlink(tmp)
         except OSError:
             pass
+        if isinstance(e, OSError):
+            raise SurveyInputError(f"cannot write: {e.strerror or type(e).__name__}",
+                                   str(p)) from None
         raise
     return p

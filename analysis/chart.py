@@ -27,16 +27,23 @@ from matplotlib.colors import to_hex
 from matplotlib.figure import Figure
 from matplotlib.patches import Patch
 
+from .errors import SurveyInputError
 from .likert import SurveySummary
 
-__all__ = ["ORDERS", "CHART_FORMATS", "diverging_bar", "faceted_bar", "figure_svg",
-           "figure_bytes", "chart_format"]
+__all__ = ["ORDERS", "CHART_FORMATS", "MAX_CHART_ITEMS", "MAX_CHART_BARS", "diverging_bar",
+           "faceted_bar", "figure_svg", "figure_bytes", "chart_format"]
 
 #: Chart file formats, chosen by the output file's suffix.
 CHART_FORMATS = ("svg", "png", "pdf")
 
 #: Valid ``order`` values.
 ORDERS = ("questionnaire", "agree")
+#: Most items one chart draws (drawing takes about 25 ms per item; the figure grows
+#: half an inch per item).
+MAX_CHART_ITEMS = 100
+#: Most bars (items x groups shown) one faceted group chart draws: its panels cost more
+#: than plain bars, and the figure grows about 0.4 inch per bar.
+MAX_CHART_BARS = 200
 
 _NEG = ("#b2182b", "#d6604d", "#f4a582")      # strongest first
 _POS = ("#2166ac", "#4393c3", "#92c5de")
@@ -70,6 +77,9 @@ def _validate_chart(summary, order):
         raise TypeError(f"`summary` must be a SurveySummary, got {type(summary).__name__}")
     if order not in ORDERS:
         raise ValueError(f"`order` must be one of {list(ORDERS)}, got {order!r}")
+    if len(summary.items) > MAX_CHART_ITEMS:
+        raise SurveyInputError(f"{len(summary.items)} items; a chart draws at most "
+                               f"{MAX_CHART_ITEMS} (choose some with --items)", summary.source)
 
 
 def _draw_bars(ax, bars, scale, wrap: int) -> None:
@@ -77,31 +87,35 @@ def _draw_bars(ax, bars, scale, wrap: int) -> None:
 
     The disagreeing total is printed beyond the left end of each bar, the agreeing total
     beyond the right end (percent of valid answers, neutral not included in either).
+    One ``barh`` call per label, so the work grows with the bars only once.
     """
     code = dict(zip(scale.labels, scale.codes))
     drawn = sorted(scale.labels, key=lambda lab: code[lab])     # left to right
     colors = _colors(scale)
     neutral, negative, positive = set(scale.neutral), set(scale.negative), set(scale.positive)
     y = np.arange(len(bars))[::-1]
-    for yi, (_, counts, n) in zip(y, bars):
-        pct = {lab: (100.0 * counts[lab] / n if n else 0.0) for lab in scale.labels}
-        left = -(sum(pct[lab] for lab in negative) + sum(pct[lab] for lab in neutral) / 2)
-        start = left
-        for lab in drawn:
-            w = pct[lab]
-            if w > 0:
-                ax.barh(yi, w, left=left, color=colors[lab], edgecolor="white", linewidth=0.5,
-                        height=0.7)
-                if w >= 8:
-                    ax.text(left + w / 2, yi, f"{w:.0f}", ha="center", va="center", fontsize=7,
-                            color="white" if lab not in neutral else "black")
-            left += w
+    pct = np.array([[100.0 * counts[lab] / n if n else 0.0 for lab in drawn]
+                    for _, counts, n in bars]).reshape(len(bars), len(drawn))
+    away = np.array([lab in negative for lab in drawn]) + 0.5 * np.array(
+        [lab in neutral for lab in drawn])
+    start = -(pct @ away)                 # negative answers, and half the neutral, left of 0
+    left = start
+    for j, lab in enumerate(drawn):
+        w = pct[:, j]
+        shown = w > 0
+        ax.barh(y[shown], w[shown], left=left[shown], color=colors[lab], edgecolor="white",
+                linewidth=0.5, height=0.7)
+        for yi, lo, wi in zip(y[w >= 8], left[w >= 8], w[w >= 8]):
+            ax.text(lo + wi / 2, yi, f"{wi:.0f}", ha="center", va="center", fontsize=7,
+                    color="white" if lab not in neutral else "black")
+        left = left + w
+    dis = pct @ np.array([lab in negative for lab in drawn], dtype=float)
+    agr = pct @ np.array([lab in positive for lab in drawn], dtype=float)
+    for yi, (_, _, n), lo, hi, d, a in zip(y, bars, start, left, dis, agr):
         if n:
-            dis = sum(pct[lab] for lab in negative)
-            agr = sum(pct[lab] for lab in positive)
-            ax.text(start - 1.5, yi, f"{dis:.0f}%", ha="right", va="center", fontsize=7,
+            ax.text(lo - 1.5, yi, f"{d:.0f}%", ha="right", va="center", fontsize=7,
                     color=_NEG[0], fontweight="bold")
-            ax.text(left + 1.5, yi, f"{agr:.0f}%", ha="left", va="center", fontsize=7,
+            ax.text(hi + 1.5, yi, f"{a:.0f}%", ha="left", va="center", fontsize=7,
                     color=_POS[0], fontweight="bold")
     names = ["\n".join(textwrap.wrap(_plain(name), wrap) or [""]) + f"\n(n = {n})"
              for name, _, n in bars]
@@ -182,6 +196,11 @@ def faceted_bar(comparison, title: str | None = None, wrap: int = 60) -> Figure:
     first = comparison.summaries[shown[0]]
     scale = first.scale
     nitems = len(first.items)
+    if nitems > MAX_CHART_ITEMS or nitems * len(shown) > MAX_CHART_BARS:
+        raise SurveyInputError(
+            f"{nitems} items x {len(shown)} groups; a group chart draws at most "
+            f"{MAX_CHART_ITEMS} items and {MAX_CHART_BARS} bars (choose some with --items or "
+            f"raise --min-group)", first.source)
     fig = Figure(figsize=(8.5, 1.4 + nitems * (0.5 + 0.42 * len(shown))), layout="constrained")
     axes = fig.subplots(nitems, 1, squeeze=False)[:, 0]
     for j, ax in enumerate(axes):

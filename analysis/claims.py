@@ -11,6 +11,12 @@ A claims file holds ``[[claims]]`` tables::
     unit = "%"                      # "%" (0-100) or "fraction" (0-1)
     statement = "..."               # optional, shown in reports
     printed = "over 90%"            # optional, the wording as printed
+    table_item = "#2"               # optional, the item's row label in the printed table
+    decimals = 0                    # optional, decimals of the threshold as printed
+
+Any other key (a typo such as ``comparision``) is refused, naming it and listing
+the allowed keys, rather than silently replaced by a default. Positions start at
+1: ``item = 0`` or a negative position is refused.
 
 Verdicts (:data:`VERDICTS`)
 ---------------------------
@@ -42,6 +48,17 @@ __all__ = ["COMPARISONS", "VERDICTS", "Claim", "ClaimResult", "ClaimsReport", "l
            "evaluate_claim", "evaluate_claims"]
 
 COMPARISONS = (">", ">=", "<", "<=")
+#: Keys a ``[[claims]]`` table may hold.
+CLAIM_KEYS = frozenset({"id", "item", "categories", "comparison", "threshold", "unit",
+                        "statement", "printed", "table_item", "decimals"})
+#: Most claims one file may hold.
+MAX_CLAIMS = 1000
+
+
+def _short(value) -> str:
+    """``repr`` of a value from the file, cut to one short line."""
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
 #: verdict code -> wording
 VERDICTS = {
     "holds": "holds (the whole interval clears the threshold)",
@@ -155,33 +172,53 @@ def load_claims(path: "str | Path") -> list[Claim]:
     p = Path(path)
     src = str(p)
     data = read_toml(p)
+    unknown = sorted(set(data) - {"claims"})
+    if unknown:
+        raise SurveyInputError(f"unknown key {unknown[0]!r}; the file holds [[claims]] tables "
+                               f"only", src)
     entries = data.get("claims")
     if not isinstance(entries, list) or not entries:
         raise SurveyInputError("key 'claims': needs at least one [[claims]] table", src)
+    if len(entries) > MAX_CLAIMS:
+        raise SurveyInputError(f"key 'claims': {len(entries)} claims; at most {MAX_CLAIMS}", src)
     out = []
     for i, e in enumerate(entries):
         where = f"claims[{i}]"
+        if not isinstance(e, dict):
+            raise SurveyInputError(f"key '{where}': must be a [[claims]] table, got "
+                                   f"{_short(e)}", src)
+        extra = sorted(set(e) - CLAIM_KEYS)
+        if extra:
+            raise SurveyInputError(f"key '{where}.{extra[0]}': unknown key; allowed: "
+                                   f"{sorted(CLAIM_KEYS)}", src)
 
         def bad(key, what):
             return SurveyInputError(f"key '{where}.{key}': {what}", src)
         item = e.get("item")
         if isinstance(item, bool) or not isinstance(item, (int, str)) or item == "":
-            raise bad("item", f"must be a column header or a 1-based position, got {item!r}")
+            raise bad("item", f"must be a column header or a 1-based position, "
+                              f"got {_short(item)}")
+        if isinstance(item, int) and item < 1:
+            raise bad("item", f"positions start at 1 (the first item), got {item}")
         cats = e.get("categories")
         if not isinstance(cats, list) or not cats or not all(isinstance(c, str) for c in cats):
             raise bad("categories", "must be a non-empty list of answer labels")
         comp = e.get("comparison", ">")
         if comp not in COMPARISONS:
-            raise bad("comparison", f"must be one of {list(COMPARISONS)}, got {comp!r}")
+            raise bad("comparison", f"must be one of {list(COMPARISONS)}, got {_short(comp)}")
         thr = e.get("threshold")
         if isinstance(thr, bool) or not isinstance(thr, (int, float)):
-            raise bad("threshold", f"must be a number, got {thr!r}")
+            raise bad("threshold", f"must be a number, got {_short(thr)}")
         unit = e.get("unit", "%")
         if unit not in ("%", "fraction"):
-            raise bad("unit", f"must be one of ['%', 'fraction'], got {unit!r}")
-        frac = thr / 100 if unit == "%" else float(thr)
+            raise bad("unit", f"must be one of ['%', 'fraction'], got {_short(unit)}")
+        try:
+            frac = float(thr) / 100 if unit == "%" else float(thr)
+        except OverflowError:            # an integer past the float range
+            frac = float("inf")
         if not 0 <= frac <= 1:
-            raise bad("threshold", f"must lie in 0..100 % (0..1 as a fraction), got {thr!r}")
+            raise bad("threshold", f"must lie in 0..100 % (0..1 as a fraction), "
+                                   f"got {_short(thr)}")
         out.append(Claim(id=str(e.get("id", f"claim{i + 1}")), item=item,
                          categories=tuple(cats), comparison=comp, threshold=float(frac),
                          statement=str(e.get("statement", "")), printed=str(e.get("printed", ""))))
@@ -212,7 +249,7 @@ def evaluate_claim(claim: Claim, summary: SurveySummary, confidence_level: float
             f"{[i.item for i in summary.items]} (or positions 1..{len(summary.items)})",
             source) from None
     keys = {normalize_answer(lab): lab for lab in it.labels}
-    k = 0
+    k, seen = 0, set()
     for cat in claim.categories:
         lab = keys.get(normalize_answer(cat))
         if lab is None and summary.scale is not None:     # an alias ("Neutral") as answers
@@ -221,6 +258,10 @@ def evaluate_claim(claim: Claim, summary: SurveySummary, confidence_level: float
         if lab is None:
             raise SurveyInputError(f"claim {claim.id!r}: category {cat!r} is not a label; "
                                    f"labels are {it.labels}", source)
+        if lab in seen:                  # counting it twice would inflate the share
+            raise SurveyInputError(f"claim {claim.id!r}: category {cat!r} is listed twice "
+                                   f"(as {lab!r})", source)
+        seen.add(lab)
         k += it.counts[lab]
     p = proportion(k, it.n, confidence_level, method)
     if p.share is None:

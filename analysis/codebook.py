@@ -162,6 +162,9 @@ def _from_qsf(raw: bytes, source: str) -> Codebook:
         doc = json.loads(raw.decode("utf-8-sig"))
     except (UnicodeDecodeError, json.JSONDecodeError) as e:
         raise SurveyInputError(f"not a Qualtrics .qsf file (JSON: {e})", source) from None
+    except RecursionError:
+        raise SurveyInputError("not a Qualtrics .qsf file (JSON nested too deeply)",
+                               source) from None
     elements = doc.get("SurveyElements") if isinstance(doc, dict) else None
     if not isinstance(elements, list):
         raise SurveyInputError("not a Qualtrics .qsf file (no SurveyElements)", source)

@@ -15,20 +15,18 @@ from __future__ import annotations
 import io
 from pathlib import Path
 
-from ._io import atomic_write
+from ._io import atomic_write, spreadsheet_safe
 
 __all__ = ["TABLE_FORMATS", "summary_frame", "write_table", "neutralise"]
 
 #: Table file formats, chosen by the output file's suffix.
 TABLE_FORMATS = ("csv", "xlsx")
-_FORMULA_START = ("=", "+", "-", "@", "\t", "\r")
 
 
 def neutralise(value):
-    """A cell value safe for a spreadsheet: formula-like text gets a leading apostrophe."""
-    if isinstance(value, str) and value.startswith(_FORMULA_START):
-        return "'" + value
-    return value
+    """A cell value safe for a spreadsheet: formula-like text gets a leading apostrophe
+    (:func:`analysis._io.spreadsheet_safe`); other values are kept as they are."""
+    return spreadsheet_safe(value) if isinstance(value, str) else value
 
 
 def summary_frame(summary):

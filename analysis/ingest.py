@@ -38,6 +38,12 @@ answer is recorded in :attr:`SurveyData.unknown_answers` and counted as missing.
 Row numbers count records as a spreadsheet shows them: the (first) header row is
 row 1, comment lines count too.
 
+Workbooks are parsed through defusedxml (external entities and entity expansion are
+refused) and every cell of the first sheet is read, whatever its ``<dimension>`` record
+says. Caps, each refused with one line: :data:`MAX_COLUMNS` columns (or distinct items
+of a long file), :data:`MAX_ITEMS` item columns, :data:`MAX_CELLS` cells,
+:data:`MAX_XLSX_BYTES` unpacked and :data:`XLSX_MAX_ROWS` rows per workbook.
+
 Public API: :func:`read_survey` (a file) and :func:`survey_from_frame` (a
 pandas DataFrame of text), both returning :class:`SurveyData`.
 """
@@ -57,10 +63,10 @@ import pandas as pd
 
 from . import platforms
 from .platforms import CODES_HINT
-from ._io import read_bytes
+from ._io import is_regular_file, read_bytes
 from .errors import SurveyInputError
 from .scales import (BLANK, BUILTIN_SCALES, DEFAULT_NOT_APPLICABLE, NOT_APPLICABLE, UNKNOWN,
-                     Scale, get_scale, normalize_answer)
+                     Scale, code_key, get_scale, normalize_answer)
 
 __all__ = ["SHAPES", "UNKNOWN_POLICIES", "SurveyData", "UnknownAnswer", "DroppedRow",
            "read_survey", "survey_from_frame", "BLANK", "NOT_APPLICABLE", "UNKNOWN"]
@@ -69,6 +75,18 @@ __all__ = ["SHAPES", "UNKNOWN_POLICIES", "SurveyData", "UnknownAnswer", "Dropped
 SHAPES = platforms.SHAPES
 #: Valid ``unknown`` values: raise on an unknown answer, or count it as missing.
 UNKNOWN_POLICIES = ("error", "missing")
+#: Most item columns one survey may have (a cap on the work a file can ask for:
+#: summarising takes about a millisecond per item).
+MAX_ITEMS = 1000
+#: Most columns a survey file may have (reading costs about half a millisecond per column).
+MAX_COLUMNS = 5000
+#: Largest uncompressed size of an .xlsx workbook's parts (a guard against zip bombs).
+MAX_XLSX_BYTES = 1 << 30
+#: Most cells (records x columns) one survey file may have: 10 million, twice the
+#: one million respondents by five items the benchmark reads.
+MAX_CELLS = 10_000_000
+#: Rows of a worksheet (Excel's own limit; a row number past it is hostile).
+XLSX_MAX_ROWS = 1_048_576
 
 #: Cell codes in :attr:`SurveyData.answers` besides label positions 0..k-1 (defined in
 #: :mod:`analysis.scales`): BLANK (-1), NOT_APPLICABLE (-2), UNKNOWN (-3, an unknown
@@ -350,6 +368,11 @@ def _read_csv_encoded(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]
                                source)
     head_text = body[:262144].decode(encoding, errors="replace")
     sep, peek = _sniff_delimiter(head_text)
+    _check_width(source, max((len(r) for r in peek), default=0), at_least=True)  # before pandas
+    lines = body.count(b"\n")                  # lines bound the records from above
+    if peek and lines * len(peek[0]) > MAX_CELLS:
+        raise SurveyInputError(f"about {lines} records x {len(peek[0])} columns; at most "
+                               f"{MAX_CELLS} cells are read", source)
     single = len(peek[0]) <= 1 if peek else True
     if single:
         # one column: an empty line is a blank answer (as Excel writes a blank cell);
@@ -377,6 +400,7 @@ def _read_csv_encoded(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]
                                source, row) from None
     if any(issubclass(w.category, pd.errors.ParserWarning) for w in caught):
         _check_extra_fields(body, encoding, sep, df.shape[1], source, skip)
+    _check_width(source, df.shape[1])
     row_map = None
     if not single and _may_have_blank_lines(body, len(df)) and _BLANK_LINE.search(b"\n" + body):
         row_map = _record_rows(body, encoding, sep, skip, len(df))
@@ -443,13 +467,19 @@ def _check_extra_fields(body: bytes, encoding: str, sep: str, width: int, source
     """
     text = body.decode(encoding, errors="replace")
     line = skip
-    for rec in csv.reader(io.StringIO(text, newline=""), delimiter=sep):
-        line += 1
-        extra = [c for c in rec[width:] if c.strip()]
-        if extra:
-            raise SurveyInputError(
-                f"{len(rec)} fields, but the header has {width}: value {extra[0]!r} has no "
-                f"column", source, line)
+    limit = csv.field_size_limit(len(text) + 1)   # pandas read fields of any size: so do we
+    try:
+        for rec in csv.reader(io.StringIO(text, newline=""), delimiter=sep):
+            line += 1
+            extra = [c for c in rec[width:] if c.strip()]
+            if extra:
+                raise SurveyInputError(
+                    f"{len(rec)} fields, but the header has {width}: value {extra[0]!r} has "
+                    f"no column", source, line)
+    except csv.Error as e:
+        raise SurveyInputError(f"not a well-formed CSV ({e})", source, line + 1) from None
+    finally:
+        csv.field_size_limit(limit)
 
 
 def _record_rows(body: bytes, encoding: str, sep: str, skip: int, nrows: int):
@@ -463,34 +493,98 @@ def _record_rows(body: bytes, encoding: str, sep: str, skip: int, nrows: int):
     reader = csv.reader(io.StringIO(text, newline=""), delimiter=sep)
     line = skip
     header_seen = False
-    for rec in reader:
-        line += 1
-        if len(rec) <= 1 and not "".join(rec).strip():
-            continue                  # pandas skips it; the spreadsheet row still counts
-        if not header_seen:
-            header_seen = True
-            continue
-        rows.append(line)
+    limit = csv.field_size_limit(len(text) + 1)   # pandas read fields of any size: so do we
+    try:
+        for rec in reader:
+            line += 1
+            if len(rec) <= 1 and not "".join(rec).strip():
+                continue              # pandas skips it; the spreadsheet row still counts
+            if not header_seen:
+                header_seen = True
+                continue
+            rows.append(line)
+    except csv.Error:
+        return None
+    finally:
+        csv.field_size_limit(limit)
     if len(rows) != nrows:            # could not align with pandas: keep consecutive rows
         return None
     return np.asarray(rows, dtype=np.int64)
 
 
-def _read_xlsx_raw(path: Path) -> tuple[_Raw, list[list[str]]]:
+def _check_width(source: str, width: int, at_least: bool = False) -> None:
+    if width > MAX_COLUMNS:
+        more = " or more" if at_least else ""
+        raise SurveyInputError(f"{width} columns{more}; at most {MAX_COLUMNS} are read",
+                               source, 1)
+
+
+def _xlsx_error(e: Exception, source: str, row: "int | None" = None) -> SurveyInputError:
+    """One line for a workbook openpyxl cannot read (entities named as refused)."""
+    chain, err = [], e
+    while err is not None and len(chain) < 10:
+        chain.append(err)
+        err = err.__cause__ or err.__context__
+    if any(type(x).__module__.startswith("defusedxml") for x in chain):
+        what = ("its XML declares entities (external entities and entity expansion are "
+                "refused)")
+    elif any(type(x).__name__ in ("ParseError", "ExpatError") for x in chain):
+        what = "malformed XML"
+    else:
+        what = type(e).__name__
+    return SurveyInputError(f"not a readable .xlsx workbook: {what}", source, row)
+
+
+def _xlsx_rows(content: bytes, source: str) -> list[list[str]]:
+    """Cell texts of the first sheet, row by row, every cell read.
+
+    The sheet's ``<dimension>`` record is not trusted (a writer may understate it and
+    openpyxl would then drop rows and columns silently). The XML is parsed through
+    defusedxml (openpyxl uses it when installed): external entities and entity
+    expansion are refused, as is malformed XML, with one line naming the file.
+    """
+    import zipfile
+
     import openpyxl
-    source = str(path)
-    # from the bytes: openpyxl refuses a workbook whose name does not end in .xlsx
-    content = io.BytesIO(read_bytes(path))
     try:
-        wb = openpyxl.load_workbook(content, read_only=True, data_only=True)
-    except Exception as e:  # zipfile.BadZipFile, KeyError, InvalidFileException ...
+        size = sum(i.file_size for i in zipfile.ZipFile(io.BytesIO(content)).infolist())
+    except Exception as e:  # noqa: BLE001 - zipfile raises several kinds on a broken container
         raise SurveyInputError(f"not a readable .xlsx workbook ({type(e).__name__})",
                                source) from None
+    if size > MAX_XLSX_BYTES:
+        raise SurveyInputError(f"workbook unpacks to {size} bytes; at most {MAX_XLSX_BYTES} "
+                               f"are read", source)
+    try:
+        wb = openpyxl.load_workbook(io.BytesIO(content), read_only=True, data_only=True)
+    except Exception as e:  # noqa: BLE001 - BadZipFile, KeyError, InvalidFileException, XML errors ...
+        raise _xlsx_error(e, source) from None
+    rows, width = [], 0
     try:
         ws = wb.worksheets[0]
-        rows = [[_cell_text(v) for v in r] for r in ws.iter_rows(values_only=True)]
+        ws.reset_dimensions()             # read the real extent, not the <dimension> record
+        for r in ws.iter_rows(values_only=True):
+            _check_width(source, len(r))
+            width = max(width, len(r))
+            if len(rows) >= XLSX_MAX_ROWS:
+                raise SurveyInputError(f"more than {XLSX_MAX_ROWS} rows, Excel's limit",
+                                       source, len(rows) + 1)
+            if (len(rows) + 1) * max(width, 1) > MAX_CELLS:   # rows are padded to the width
+                raise SurveyInputError(f"more than {MAX_CELLS} cells (rows x columns) in the "
+                                       f"first sheet", source, len(rows) + 1)
+            rows.append([_cell_text(v) for v in r])
+    except SurveyInputError:
+        raise
+    except Exception as e:  # noqa: BLE001 - ParseError, EntitiesForbidden, ValueError ... in the sheet
+        raise _xlsx_error(e, source, len(rows) + 1) from None
     finally:
         wb.close()
+    return rows
+
+
+def _read_xlsx_raw(path: Path) -> tuple[_Raw, list[list[str]]]:
+    source = str(path)
+    # from the bytes: openpyxl refuses a workbook whose name does not end in .xlsx
+    rows = _xlsx_rows(read_bytes(path), source)
     first = 0
     while first < len(rows) and not any(c.strip() for c in rows[first]):
         first += 1
@@ -559,6 +653,8 @@ def _detect_shape(raw: _Raw, peek: list[list[str]]) -> str:
 
 def _is_zip(path: Path) -> bool:
     """True for a zip container (an .xlsx workbook saved under another name)."""
+    if not is_regular_file(path):
+        return False             # read_bytes names the problem (and a FIFO would block here)
     try:
         with open(path, "rb") as fh:
             return fh.read(4) == b"PK\x03\x04"
@@ -706,6 +802,7 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
     if scale is None:
         _note_no_neutral(scale_obj, notes)
     chosen = [j for j, _ in item_cols]
+    item_idx = set(chosen)                        # built once: the column scan stays linear
     item_names = [names[j] for j in chosen]
     by_index = dict(cols)                   # answer text after any code map
     groups = {raw.columns[j].name: np.array(by_index[j].cats, dtype=object)[by_index[j].codes]
@@ -716,7 +813,7 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
                       unknown_answers=unknowns, dropped=dropped,
                       reverse=_resolve_reverse(raw.source, item_names, reverse),
                       other_columns=[names[j] for j in range(len(raw.columns))
-                                     if j not in set(chosen)],
+                                     if j not in item_idx],
                       comments=list(raw.comments), stems=[stems[j] for j in chosen],
                       fields=[raw.columns[j].name for j in chosen], notes=notes)
     pid = _id_column(raw.header)
@@ -932,20 +1029,24 @@ def _column_stats(col: _Column, scale: Scale) -> tuple[int, int, int, int]:
     Not-applicable texts ("N/A", ...) are counted apart: they fit every scale and are
     common in free-text columns, so they are no evidence that a column is an item.
     """
-    counts = col.counts()
+    keys = col.__dict__.get("_keys")
+    if keys is None:                  # each distinct text normalised once, not once per scale
+        keys = [(normalize_answer(t), code_key(t), int(c))
+                for t, c in zip(col.cats, col.counts()) if c]
+        keys = [k for k in keys if k[0] != ""]
+        col.__dict__["_keys"] = keys
+    answers, code_of = scale.answer_keys(), scale.code_keys()
     nonblank = labels = codes = na = 0
-    for text, cnt in zip(col.cats, counts):
-        if cnt == 0 or normalize_answer(text) == "":
-            continue
+    for key, ck, cnt in keys:
         nonblank += cnt
-        m = scale.match(text, accept_codes=False)
+        m = answers.get(key)
         if m == Scale.NOT_APPLICABLE:
             na += cnt
         elif m is not None:
             labels += cnt
-        elif scale.matches_code(text):
+        elif ck is not None and ck in code_of:
             codes += cnt
-    return int(nonblank), int(labels), int(codes), int(na)
+    return nonblank, labels, codes, na
 
 
 def _label_item(stats) -> bool:
@@ -998,15 +1099,17 @@ def _choose_items(source: str, names: list[str], cols, exclude, scale, items,
     """
     what = "item" if long else "column"
     if items:
-        chosen = []
+        chosen, taken = [], set()
         for pat in items:
             hits = [(j, c) for j, c in cols if name_matches(pat, c.name)
                     or (c.field and name_matches(pat, c.field))]
             if not hits:
                 raise SurveyInputError(f"no {what} matches item {pat!r}; {what}s are {names!r}",
                                        source, None if long else 1)
-            chosen.extend(h for h in hits if h[0] not in {j for j, _ in chosen})
+            chosen.extend(h for h in hits if h[0] not in taken)
+            taken.update(j for j, _ in hits)
         chosen.sort(key=lambda t: t[0])
+        _check_item_count(source, chosen)
         if scale is None:
             for _, c in chosen:
                 if _numeric_only(c):
@@ -1038,6 +1141,7 @@ def _choose_items(source: str, names: list[str], cols, exclude, scale, items,
             f"no item columns: no {what}'s answers are labels of scale {scale_obj.name!r} "
             f"({scale_obj.describe_valid()}); name the items with --items or the scale "
             f"with --scale", source)
+    _check_item_count(source, chosen)
     # a column that holds another scale's labels is a mixed-scale survey
     chosen_idx = {j for j, _ in chosen}
     for j, c in candidates:
@@ -1081,6 +1185,12 @@ def _drop_narrow_coded(source, chosen, scale, notes, long):
 def _code_text(text: str) -> str:
     from .codebook import Codebook
     return Codebook.key(text)
+
+
+def _check_item_count(source: str, chosen: list) -> None:
+    if len(chosen) > MAX_ITEMS:
+        raise SurveyInputError(f"{len(chosen)} item columns; at most {MAX_ITEMS} are analysed "
+                               f"at once (choose some with --items)", source)
 
 
 def _get_scale(scale, source) -> Scale:
@@ -1155,8 +1265,10 @@ def _map_column(source, scale, name, cats, codes, rows, unknown):
                         f"agreement is not known; {CODES_HINT}", source, int(rows[i]), name)
         if unknown == "error":
             i = int(where[0])
+            text = cats[codes[i]]
+            shown = repr(text) if len(text) <= 60 else repr(text[:57]) + "..."
             raise SurveyInputError(
-                f"answer {cats[codes[i]]!r} is not on scale {scale.name!r}; valid labels: "
+                f"answer {shown} is not on scale {scale.name!r}; valid labels: "
                 f"{scale.describe_valid()} (or use --unknown-as-missing)",
                 source, int(rows[i]), name)
         unknowns = [UnknownAnswer(int(rows[i]), name, cats[codes[i]]) for i in where]
@@ -1237,6 +1349,9 @@ def _build_long(raw: _Raw, scale, items, unknown, group, reverse, respondents):
         raise SurveyInputError("blank item name", source, int(rows[i]), ic.name)
     resp_code, resp_ids = pd.factorize(pd.Series(rkeys[rc.codes]), sort=False)
     item_code, item_names = pd.factorize(pd.Series(ikeys[ic.codes]), sort=False)
+    if len(item_names) > MAX_COLUMNS:         # as many as a wide file's columns, at most
+        raise SurveyInputError(f"{len(item_names)} distinct items; at most {MAX_COLUMNS} are "
+                               f"read", source, None, ic.name)
     perm = _questionnaire_order(resp_code, item_code, len(item_names))
     inv = np.empty(len(perm), dtype=np.int64)
     inv[perm] = np.arange(len(perm))
@@ -1244,8 +1359,10 @@ def _build_long(raw: _Raw, scale, items, unknown, group, reverse, respondents):
     item_names = [str(item_names[k]) for k in perm]
     nresp, nitem = len(resp_ids), len(item_names)
     # choose items among the item names, by pattern or by detection
-    per_item = [(k, _Column(item_names[k], ac.cats, ac.codes[item_code == k]))
-                for k in range(nitem)]
+    # each item's answers, split once (a scan per item was quadratic in the items)
+    by_item = np.argsort(item_code, kind="stable")
+    parts = np.split(ac.codes[by_item], np.cumsum(np.bincount(item_code, minlength=nitem))[:-1])
+    per_item = [(k, _Column(item_names[k], ac.cats, parts[k])) for k in range(nitem)]
     scale_obj, chosen = _choose_items(source, item_names, per_item, set(), scale, items,
                                       long=True)
     wanted = [k for k, _ in chosen]

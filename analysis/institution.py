@@ -28,6 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from . import platforms
+from ._io import is_regular_file
 from .errors import SurveyInputError
 from .scales import BUILTIN_SCALES, Scale, get_scale, normalize_answer
 
@@ -158,8 +159,11 @@ def _source_sql(path: Path) -> str:
 
 def _validate_by(path, by, min_group):
     p = Path(path)
-    if not p.is_file():
+    if not p.exists():
         raise SurveyInputError("no such file", str(p))
+    if not is_regular_file(p):            # a FIFO would block DuckDB, /dev/zero never end
+        raise SurveyInputError("not a regular file (a folder, pipe or device is not read)",
+                               str(p))
     if not by or len(by) > _MAX_GROUP_COLUMNS:
         raise ValueError(f"--by needs 1..{_MAX_GROUP_COLUMNS} grouping columns, got {by!r}")
     if not isinstance(min_group, int) or min_group < 1:

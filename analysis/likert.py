@@ -305,6 +305,8 @@ class SurveySummary:
     def item(self, name: "str | int") -> ItemSummary:
         """An item by header (any case) or 1-based position."""
         if isinstance(name, int) and not isinstance(name, bool):
+            if not 1 <= name <= len(self.items):      # 0 and -1 must not index from the end
+                raise IndexError(f"item position {name} out of range 1..{len(self.items)}")
             return self.items[name - 1]
         key = str(name).strip().casefold()
         for it in self.items:
@@ -318,8 +320,17 @@ class SurveySummary:
         return summary_frame(self)
 
     def to_dict(self) -> dict:
-        """The ``summarize --json`` shape: ``{"respondents": int, "items": [...]}``."""
-        return {"respondents": self.respondents, "items": [i.to_dict() for i in self.items]}
+        """The ``summarize --json`` shape.
+
+        ``{"respondents": int, "items": [...], "not_items": [str], "dropped": [{"row",
+        "reason"}], "unknown_answers": [{"row", "column", "value"}]}``: every column
+        left out of the table and every row or answer not counted is listed, as the
+        text output lists them.
+        """
+        return {"respondents": self.respondents, "items": [i.to_dict() for i in self.items],
+                "not_items": list(self.other_columns),
+                "dropped": [vars(d) for d in self.dropped],
+                "unknown_answers": [vars(u) for u in self.unknown_answers]}
 
     def to_full_dict(self) -> dict:
         return {"respondents": self.respondents, "source": self.source, "shape": self.shape,

@@ -22,7 +22,7 @@ import io
 from dataclasses import dataclass
 from pathlib import Path
 
-from ._io import atomic_write
+from ._io import atomic_write, spreadsheet_safe
 from .errors import SurveyInputError
 from .tables import TableCheck, load_survey_facts, table1_check
 
@@ -120,11 +120,12 @@ def rebuild_table1_dataset(out_path: "str | Path") -> RebuiltDataset:
         "# Columns: " + ", ".join(f"{n} = {facts.item_ids[j] if j < len(facts.item_ids) else n}"
                                   for j, n in enumerate(names)) + ".",
     ]
+    lines = [" ".join(line.split()) for line in lines]     # a label's newline stays in its comment
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
-    w.writerow(["respondent"] + names)
+    w.writerow([spreadsheet_safe(x) for x in ["respondent"] + names])
     for r, row in enumerate(rows, start=1):
-        w.writerow([r] + row)
+        w.writerow([r] + [spreadsheet_safe(x) for x in row])     # labels come from a file
     path = atomic_write(out_path, "\n".join(lines) + "\n" + buf.getvalue())
     return RebuiltDataset(path=Path(path), respondents=len(rows), items=names,
                           counts=dict(zip(names, counts)), check=check)

@@ -33,6 +33,7 @@ numbering means agreement.
 """
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -49,6 +50,9 @@ __all__ = ["Scale", "BUILTIN_SCALES", "get_scale", "load_scale", "normalize_answ
 BLANK = -1
 NOT_APPLICABLE = -2
 UNKNOWN = -3
+
+#: Most labels a scale may have (answers are stored as small integers).
+MAX_LABELS = 100
 
 #: Answers treated as "not applicable" unless a scale names its own.
 DEFAULT_NOT_APPLICABLE = ("Not applicable", "N/A", "Does not apply")
@@ -78,6 +82,12 @@ def _code_key(text: str) -> str | None:
     if value.is_integer():
         return str(int(value))
     return repr(value)
+
+
+#: Public name of the canonical form of a numeric answer (``" 5.0 "`` -> ``"5"``).
+def code_key(text) -> "str | None":
+    """Canonical form of a numeric answer, or None (see :meth:`Scale.code_keys`)."""
+    return _code_key(text)
 
 
 @dataclass(frozen=True)
@@ -168,6 +178,17 @@ class Scale:
                 return self.__dict__["_code_cache"].get(ck)
         return None
 
+    def answer_keys(self) -> dict:
+        """``normalize_answer(text) -> label index`` (or :data:`NOT_APPLICABLE`) for every
+        label, alias and not-applicable text: :meth:`match` without codes, for callers
+        that normalise each distinct answer once."""
+        return self._lookup()
+
+    def code_keys(self) -> dict:
+        """``code_key(code) -> label index`` for the numeric codes."""
+        self._lookup()
+        return self.__dict__["_code_cache"]
+
     def matches_label(self, answer: str) -> bool:
         """True when ``answer`` is one of the label texts (or an alias / N/A text)."""
         key = normalize_answer(answer)
@@ -217,14 +238,26 @@ class Scale:
         return f"Scale({self.name!r}, labels={list(self.labels)!r})"
 
 
+def _finite(x) -> bool:
+    """A finite number that fits a float (``10**400`` does not)."""
+    try:
+        return math.isfinite(x)
+    except (OverflowError, TypeError):
+        return False
+
+
 def _validate_scale(s: Scale) -> None:
     where = f"scale {s.name!r}"
     if not isinstance(s.name, str) or not s.name.strip():
         raise ValueError("scale `name` must be a non-empty string")
     if len(s.labels) < 2:
         raise ValueError(f"{where}: needs at least two labels, got {list(s.labels)!r}")
+    if len(s.labels) > MAX_LABELS:
+        raise ValueError(f"{where}: {len(s.labels)} labels; at most {MAX_LABELS}")
     if len(s.codes) != len(s.labels):
         raise ValueError(f"{where}: {len(s.codes)} codes for {len(s.labels)} labels")
+    if not all(_finite(c) for c in s.codes):     # nan would match nothing and count nothing
+        raise ValueError(f"{where}: codes must be finite numbers, got {list(s.codes)!r}")
     keys = [normalize_answer(x) for x in s.labels]
     if len(set(keys)) != len(keys) or "" in keys:
         raise ValueError(f"{where}: labels must be distinct and non-blank (ignoring case), "
@@ -342,6 +375,10 @@ def load_scale(path: "str | Path") -> Scale:
     if (not isinstance(codes, list) or len(codes) != k
             or not all(isinstance(c, (int, float)) and not isinstance(c, bool) for c in codes)):
         raise SurveyInputError(f"key 'codes': must be a list of {k} numbers", str(p))
+    bad = [i for i, c in enumerate(codes) if not _finite(c)]
+    if bad:
+        raise SurveyInputError(f"key 'codes': must be finite numbers; code {bad[0] + 1} "
+                               f"is not", str(p))
     mid = (min(codes) + max(codes)) / 2 if codes else 0
     default_pos = [lab for lab, c in zip(labels, codes) if c > mid]
     default_neg = [lab for lab, c in zip(labels, codes) if c < mid]

@@ -66,6 +66,11 @@ __all__ = ["ROUNDING_RULES", "PublishedTable", "CellCheck", "RowCheck", "TableCh
 
 #: Largest N searched for a single table (guards against accidental huge ranges).
 MAX_N = 1_000_000
+#: Most printed cells (rows x labels) one table may have: checking a range of N
+#: costs about 30 ms per cell at the full 1..MAX_N range.
+MAX_TABLE_CELLS = 300
+#: Largest table file read.
+MAX_TABLE_BYTES = 1 << 20
 
 
 def published_dir() -> Path:
@@ -94,11 +99,19 @@ def attainable_counts(printed: Fraction, decimals: int, n: int,
         Ascending; empty when the printed value is not attainable.
     """
     p = Fraction(printed)
-    unit = Fraction(1, 10 ** decimals)
-    lo = math.floor((p - unit) * n / 100)
-    hi = math.ceil((p + unit) * n / 100)
-    return [k for k in range(max(lo, 0), min(hi, n) + 1)
-            if round_fraction(Fraction(100 * k, n), decimals, rule) == p]
+
+    def first(above: bool) -> int:
+        """Smallest k in 0..n+1 printing above p (above) or at least p (not above)."""
+        lo, hi = 0, n + 1                 # rounding is non-decreasing in k: bisect
+        while lo < hi:
+            mid = (lo + hi) // 2
+            r = round_fraction(Fraction(100 * mid, n), decimals, rule)
+            if r > p or (r == p and not above):
+                hi = mid
+            else:
+                lo = mid + 1
+        return lo
+    return list(range(first(False), first(True)))
 
 
 def nearest_attainable(printed: Fraction, decimals: int, n: int,
@@ -188,7 +201,9 @@ def read_table_csv(path: "str | Path", item_column: str = "item",
     """Read a published table from CSV: an ``item`` column and one column per label.
 
     Comma, semicolon or tab delimited (detected); a cell may end in ``%`` and may use a
-    decimal comma (``27,3``). Rows are numbered as a spreadsheet shows them.
+    decimal comma (``27,3``). Rows are numbered as a spreadsheet shows them. UTF-8 (with
+    or without a byte-order mark) and UTF-16 with a byte-order mark are read. At most
+    :data:`MAX_TABLE_CELLS` cells and :data:`MAX_TABLE_BYTES` bytes.
 
     Raises
     ------
@@ -200,6 +215,13 @@ def read_table_csv(path: "str | Path", item_column: str = "item",
     p = Path(path)
     src = str(p)
     raw = read_bytes(p)
+    if len(raw) > MAX_TABLE_BYTES:
+        raise SurveyInputError(f"{len(raw)} bytes; a table file may have at most "
+                               f"{MAX_TABLE_BYTES}", src)
+    if raw[:4] == b"PK\x03\x04":
+        raise SurveyInputError("a workbook (.xlsx), not a CSV table; save the table as CSV", src)
+    if raw[:2] in (b"\xff\xfe", b"\xfe\xff"):     # UTF-16 with BOM (Excel "Unicode text")
+        encoding = "utf-16"
     try:
         text = raw.decode(encoding)
     except UnicodeDecodeError as e:
@@ -232,6 +254,9 @@ def read_table_csv(path: "str | Path", item_column: str = "item",
                                    f" ({lab!r}); labels are {list(labels)!r}", src, head_row)
     if len(numbered) < 2:
         raise SurveyInputError("no table rows below the header", src)
+    if (len(numbered) - 1) * len(labels) > MAX_TABLE_CELLS:
+        raise SurveyInputError(f"{len(numbered) - 1} rows x {len(labels)} labels; a table may "
+                               f"have at most {MAX_TABLE_CELLS} cells", src)
     items, cells, rows = [], [], []
     for r, row in numbered[1:]:
         if len(row) != len(header):
@@ -440,6 +465,9 @@ def _validate_verify(table, n, n_range, rule, decimals):
     if not isinstance(table, PublishedTable):
         raise TypeError(f"`table` must be a PublishedTable, got {type(table).__name__}")
     _validate_rule(rule)
+    if len(table.items) * len(table.labels) > MAX_TABLE_CELLS:
+        raise SurveyInputError(f"{len(table.items) * len(table.labels)} cells; a table may have "
+                               f"at most {MAX_TABLE_CELLS}", table.source)
     if (n is None) == (n_range is None):
         raise ValueError("give exactly one of `n` and `n_range`")
     if n is not None and (not isinstance(n, int) or isinstance(n, bool) or n < 1 or n > MAX_N):
@@ -469,7 +497,8 @@ def _check_cell(item, label, value, dec, text, n, rule) -> CellCheck:
     near_k, near_v = nearest_attainable(value, dec, n, rule)
     shown = text.strip().rstrip("%").strip()
     if counts:
-        ks = ", ".join(map(str, counts))
+        ks = (", ".join(map(str, counts)) if len(counts) <= 4
+              else f"each of {counts[0]}..{counts[-1]}")
         reason = f"attainable: {ks} of {n} print as {shown}"
         near_k, near_v = list(counts), [value] * len(counts)
     else:
@@ -483,46 +512,72 @@ def _check_cell(item, label, value, dec, text, n, rule) -> CellCheck:
                      reason=reason)
 
 
-def _reachable(options: list[list[int]], n: int) -> int:
-    """Bit set of sums reachable by choosing one option per cell (capped at n)."""
-    mask = (1 << (n + 1)) - 1
-    reach = 1
-    for opts in options:
-        nxt = 0
-        for k in opts:
-            nxt |= reach << k
-        reach = nxt & mask
-    return reach
+def _run(options: list[int]) -> tuple[int, int]:
+    """``(lo, hi)`` of a set of counts that is a run of consecutive integers.
+
+    Every candidate set here is one: the counts that print as one value (rounding
+    is monotone in k), and the one or two counts nearest a printed value.
+    """
+    lo, hi = options[0], options[-1]
+    if hi - lo + 1 != len(options):
+        raise RuntimeError(f"counts {options!r} are not consecutive")   # a bug, not input
+    return lo, hi
 
 
-def _count_solutions(options: list[list[int]], n: int, cap: int = 2) -> int:
-    ways = {0: 1}
-    for opts in options:
-        nxt: dict[int, int] = {}
-        for s, w in ways.items():
-            for k in opts:
-                if s + k <= n:
-                    nxt[s + k] = min(cap, nxt.get(s + k, 0) + w)
-        ways = nxt
-    return ways.get(n, 0)
+def _sum_reachable(runs: list[tuple[int, int]], n: int) -> bool:
+    """Some choice of one count per run adds up to ``n``: every sum between the
+    sums of the smallest and of the largest counts is reachable."""
+    return sum(lo for lo, _ in runs) <= n <= sum(hi for _, hi in runs)
+
+
+def _unique_sum(runs: list[tuple[int, int]], n: int) -> bool:
+    """Exactly one choice of one count per run adds up to ``n`` (given one exists).
+
+    With two runs of more than one count and ``n`` strictly between the extreme sums,
+    a solution has a count above its minimum and another below its maximum: moving
+    one respondent between them gives a second solution. Otherwise the choice is forced.
+    """
+    if not _sum_reachable(runs, n):
+        return False
+    variable = sum(1 for lo, hi in runs if hi > lo)
+    return (variable <= 1 or n == sum(lo for lo, _ in runs)
+            or n == sum(hi for _, hi in runs))
 
 
 def _reconstruct(options: list[list[int]], targets: list[Fraction], n: int) -> list[int] | None:
-    """Choice of one option per cell summing to n, closest to the printed values."""
-    best: dict[int, tuple[Fraction, tuple[int, ...]]] = {0: (Fraction(0), ())}
-    for opts, p in zip(options, targets):
-        nxt: dict[int, tuple[Fraction, tuple[int, ...]]] = {}
-        for s, (cost, chosen) in best.items():
-            for k in opts:
-                t = s + k
-                if t > n:
-                    continue
-                c = cost + abs(Fraction(100 * k, n) - p)
-                if t not in nxt or c < nxt[t][0]:
-                    nxt[t] = (c, chosen + (k,))
-        best = nxt
-    hit = best.get(n)
-    return list(hit[1]) if hit else None
+    """Choice of one option per cell summing to n, closest to the printed values.
+
+    Minimises ``sum |100 k_i / n - p_i|`` over runs of consecutive counts. The cost
+    of each cell is convex in its count, so starting every cell at its smallest count
+    and adding respondents one at a time where the cost falls most (or rises least)
+    is optimal; the steps come in three kinds (towards the target by a whole count,
+    the one step across it, away from it), taken in bulk, so the work does not grow
+    with N. Equal steps go to the earlier cell.
+    """
+    runs = [_run(o) for o in options]
+    if not _sum_reachable(runs, n):
+        return None
+    counts = [lo for lo, _ in runs]
+    left = n - sum(counts)
+    goal = [p * n / 100 for p in targets]             # exact count each printed value implies
+    below = [max(0, min(hi, math.floor(t)) - lo) for (lo, hi), t in zip(runs, goal)]
+    for i in range(len(counts)):                      # whole steps towards the target
+        step = min(left, below[i])
+        counts[i] += step
+        left -= step
+    across = sorted((2 * counts[i] + 1 - 2 * goal[i], i) for i in range(len(counts))
+                    if counts[i] < runs[i][1] and counts[i] < goal[i] < counts[i] + 1
+                    and below[i] == counts[i] - runs[i][0])
+    for _, i in across:                               # the step across the target
+        if left == 0:
+            break
+        counts[i] += 1
+        left -= 1
+    for i in range(len(counts)):                      # away from the target
+        step = min(left, runs[i][1] - counts[i])
+        counts[i] += step
+        left -= step
+    return counts
 
 
 def _explain_adjustment(counts: list[int], printed: list[Fraction], cells: list[CellCheck],
@@ -558,10 +613,10 @@ def _check_rows(table: PublishedTable, n: int, rule: str, decimals) -> list[RowC
             dec = dec if decimals is None else decimals
             values.append(value)
             cells.append(_check_cell(item, label, value, dec, table.cells[i][j], n, rule))
-        strict = [c.counts for c in cells]
-        all_ok = all(strict)
-        sum_ok = all_ok and bool((_reachable(strict, n) >> n) & 1)
-        unique = sum_ok and _count_solutions(strict, n) == 1
+        all_ok = all(c.counts for c in cells)
+        strict = [_run(c.counts) for c in cells] if all_ok else []
+        sum_ok = all_ok and _sum_reachable(strict, n)
+        unique = sum_ok and _unique_sum(strict, n)
         loose = [c.counts if c.attainable else c.nearest_counts for c in cells]
         rec = _reconstruct(loose, values, n)
         printed_sum = float(sum(values))

@@ -27,3 +27,16 @@ def solver_cli(capsys):
         return exc.value.code, out.out, out.err
 
     return run
+
+
+@pytest.fixture
+def analysis_cli(capsys):
+    """Run ``python -m analysis ARGV...`` in process: returns (exit code, stdout, stderr)."""
+    from analysis.__main__ import main
+
+    def run(*argv: str) -> tuple[int, str, str]:
+        code = main(list(argv))
+        out = capsys.readouterr()
+        return code, out.out, out.err
+
+    return run

@@ -10,6 +10,7 @@ Reference values
 """
 import json
 import math
+import re
 import tomllib
 
 import pytest
@@ -17,6 +18,7 @@ from scipy import stats
 
 from analysis.__main__ import main
 from analysis.claims import VERDICTS, evaluate_claims, load_claims
+from analysis.errors import SurveyInputError
 from analysis.ingest import read_survey
 from analysis.likert import proportion, summarize
 from analysis.respondents import rebuild_table1_dataset
@@ -91,6 +93,14 @@ def test_cli_claims_json(rebuilt, capsys):
      "claims[0].threshold"),
     ('claims = 3', "claims"),
     ('[[claims]\n', "invalid TOML"),
+    ('claims = [1, 2]', "claims[0]"),
+    ('[[claims]]\nitem = 0\ncategories = ["Neutral"]\nthreshold = 10\n', "claims[0].item"),
+    ('[[claims]]\nitem = -1\ncategories = ["Neutral"]\nthreshold = 10\n', "claims[0].item"),
+    ('[[claims]]\nitem = 2\ncategories = ["Neutral"]\nthreshold = 10\ncomparision = "<"\n',
+     "claims[0].comparision"),
+    ('claim = []\n', "unknown key 'claim'"),
+    ('[[claims]]\nitem = 2\ncategories = ["Neutral"]\nthreshold = nan\n', "claims[0].threshold"),
+    ("claims = " + "[" * 50_000 + "]" * 50_000 + "\n", "nested too deeply"),
 ])
 def test_bad_claims_files(tmp_path, rebuilt, capsys, body, key):
     f = tmp_path / "c.toml"
@@ -98,8 +108,27 @@ def test_bad_claims_files(tmp_path, rebuilt, capsys, body, key):
     assert main(["claims", str(rebuilt), str(f)]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and str(f) in err and key in err
-    with pytest.raises(Exception):
+    with pytest.raises(SurveyInputError, match=re.escape(key)):
         load_claims(f)
+
+
+def test_typo_key_lists_allowed_keys(tmp_path, rebuilt, capsys):
+    """Regression: ``comparision = "<"`` was ignored and the default ``>`` used."""
+    f = tmp_path / "c.toml"
+    f.write_text('[[claims]]\nitem = 2\ncategories = ["Neutral"]\nthreshold = 10\n'
+                 'comparision = "<"\n')
+    assert main(["claims", str(rebuilt), str(f)]) == 2
+    err = capsys.readouterr().err
+    assert "unknown key" in err and "'comparison'" in err and "'threshold'" in err
+
+
+def test_item_positions_are_one_based(rebuilt):
+    """Regression: item = 0 scored the last item and -1 the one before (list indexing)."""
+    s = summarize(read_survey(rebuilt))
+    assert s.item(1).item == "item1" and s.item(len(s.items)).item == s.items[-1].item
+    for bad in (0, -1, len(s.items) + 1):
+        with pytest.raises(IndexError, match="out of range"):
+            s.item(bad)
 
 
 def test_claim_on_missing_item(tmp_path, rebuilt, capsys):
@@ -126,3 +155,12 @@ def test_claims_file_named_and_bom_accepted(tmp_path, capsys):
     assert main(["claims", str(f), str(bad)]) == 2
     err = capsys.readouterr().err
     assert err.startswith(f"error: {bad}: ") and "'Agree'" in err and err.count("\n") == 1
+
+
+def test_category_listed_twice_is_refused(tmp_path, rebuilt, capsys):
+    """Regression: ["Neutral", "neutral"] counted the same answers twice (share doubled)."""
+    f = tmp_path / "c.toml"
+    f.write_text('[[claims]]\nitem = 1\ncategories = ["Neutral", " neutral"]\nthreshold = 5\n')
+    assert main(["claims", str(rebuilt), str(f)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and str(f) in err and "listed twice" in err

@@ -119,6 +119,11 @@ def test_unpaired_without_ids_and_order_as_given(tmp_path, capsys):
     out = json.loads(capsys.readouterr().out)
     assert list(out["groups"]["items"][0]["per_group"]) == order
     assert png.read_bytes().startswith(b"\x89PNG")
+    # the file name after --group-order is the positional, not one more group name
+    assert main(["summarize", "--group", "Term", "--group-order", *order[::-1], str(f),
+                 "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert list(out["groups"]["items"][0]["per_group"]) == order[::-1]
 
 
 def test_tables_csv_xlsx_neutralise_formulas_and_match_json(tmp_path, capsys):

@@ -4,9 +4,19 @@ Reference values
 ----------------
 - Table 1 cells, N = 22 respondents, printed precision: read from data/published/ (as printed).
 - Counts behind each row at N = 22 (hand check: k/22 * 100 rounded to one decimal,
-  e.g. 13/22 = 59.09..., 14/22 = 63.63..., 12/22 = 54.54...):
+  e.g. 13/22 = 59.09..., 14/22 = 63.63..., 12/22 = 54.54...)::
+
+      #1  11  6  3  2  0        #4  12  7  2  1  0
+      #2  13  7  0  1  1        #5   5  6  6  5  0
+      #3  14  5  2  0  1
+
+  Each row adds up to 22; every count prints as the published cell, except the
+  Definitely Agree cells of #2, #3 and #4, which print 0.1 higher than any count gives
+  (59.1, 63.6, 54.5 printed as 59.2, 63.7, 54.6). ``test_expected_counts_hand_check``
+  holds these facts with decimal arithmetic, apart from the product.
 """
 import csv
+import itertools
 import json
 from decimal import ROUND_HALF_UP, Decimal
 from fractions import Fraction
@@ -17,7 +27,7 @@ from hypothesis import strategies as st
 
 from analysis.__main__ import main
 from analysis.errors import SurveyInputError
-from analysis.tables import (ROUNDING_RULES, PublishedTable, attainable_counts, load_table1,
+from analysis.tables import (MAX_TABLE_CELLS, ROUNDING_RULES, PublishedTable, attainable_counts, load_table1,
                              published_dir, read_table_csv, round_fraction, table1_check,
                              verify_table)
 
@@ -45,6 +55,25 @@ def _brute_attainable(printed: str, n: int) -> list[int]:
     q = Decimal(1).scaleb(p.as_tuple().exponent)
     return [k for k in range(n + 1)
             if (Decimal(100 * k) / Decimal(n)).quantize(q, rounding=ROUND_HALF_UP) == p]
+
+
+def test_expected_counts_hand_check():
+    """The hand-checked counts of the docstring reproduce the published rows: each row adds
+    up to N, and k/N rounded half-up to one decimal is the printed cell, except the three
+    cells printed one unit (0.1) higher."""
+    _, facts = load_table1()
+    rows = {r["item"]: r for r in _published_rows()}
+    labels = [c for c in _published_rows()[0] if c != "item"]
+    off = {}
+    for item, counts in EXPECTED_COUNTS.items():
+        assert sum(counts) == facts.respondents == 22
+        for label, k in zip(labels, counts):
+            ours = (Decimal(100 * k) / Decimal(22)).quantize(Decimal("0.1"), ROUND_HALF_UP)
+            printed = Decimal(rows[item][label])
+            if ours != printed:
+                assert printed - ours == Decimal("0.1"), (item, label)
+                off[(item, label)] = str(ours)
+    assert off == EXPECTED_UNATTAINABLE
 
 
 def test_table1_as_published():
@@ -220,3 +249,73 @@ def test_n_search_matches_per_n_check_and_scales(rule):
                    for r in verify_table(table, n=n, rule=rule).rows)
     mid = max(n for n in big.feasible_n if n <= 3000)    # spot check past the exact range
     assert consistent(mid) and (mid - 1 in big.feasible_n) == consistent(mid - 1)
+
+
+def _brute_row(printed: list[str], n: int):
+    """Independent route for one row: every tuple of counts adding up to n, each cell
+    judged by Decimal half-up rounding. Returns (solutions, nearest-cost function)."""
+    cand = [_brute_attainable(p, n) for p in printed]
+    sols = [ks for ks in itertools.product(*[range(n + 1)] * len(printed))
+            if sum(ks) == n and all(k in c for k, c in zip(ks, cand))]
+    return sols, cand
+
+
+@settings(max_examples=60)
+@given(st.lists(st.integers(0, 1000), min_size=2, max_size=4), st.integers(1, 12))
+def test_row_check_matches_enumeration(tenths, n):
+    """sum_ok, uniqueness and the reconstruction agree with enumerating every choice of
+    counts (small N, any printed values, including rows that do not add up to 100)."""
+    printed = [f"{Decimal(t) / 10:.1f}" for t in tenths]
+    table = PublishedTable(("q",), tuple(f"L{j}" for j in range(len(printed))),
+                           (tuple(printed),))
+    nonzero = sum(1 for p in printed if Decimal(p) > 0)
+    if n < nonzero:
+        with pytest.raises(SurveyInputError, match="smaller than the counts need"):
+            verify_table(table, n=n)
+        return
+    row = verify_table(table, n=n).rows[0]
+    sols, cand = _brute_row(printed, n)
+    assert [c.counts for c in row.cells] == cand
+    assert row.sum_ok == bool(sols) and row.unique == (len(sols) == 1)
+    # reconstruction: counts adding up to n, each attainable (or nearest when not),
+    # with the least total distance to the printed values; checked by enumeration
+    loose = [c.counts or c.nearest_counts for c in row.cells]
+    options = [ks for ks in itertools.product(*loose) if sum(ks) == n]
+    if not options:
+        assert row.reconstructed is None
+        return
+
+    def cost(ks):
+        return sum(abs(Fraction(100 * k, n) - Fraction(p)) for k, p in zip(ks, printed))
+    assert tuple(row.reconstructed) in options
+    assert cost(row.reconstructed) == min(cost(ks) for ks in options)
+
+
+def test_documented_maximum_n_answers():
+    """Regression: ``--n 1000000`` (the documented maximum) ran for about 5 minutes.
+
+    At N = 10**6 a one-decimal percentage p is exactly p * 10**4 respondents, and every
+    Table 1 row adds up to 100.0, so the reconstruction must be exactly that."""
+    table, _ = load_table1()
+    check = verify_table(table, n=1_000_000)
+    assert check.all_attainable
+    for i, row in enumerate(check.rows):
+        assert row.reconstructed == [int(Decimal(x) * 10_000) for x in table.cells[i]]
+        assert not row.unique          # 100 counts print as each cell: many choices
+
+
+def test_utf16_table_and_size_caps(tmp_path, capsys):
+    """A UTF-16 table (as Excel saves "Unicode text") is read like the UTF-8 one; a table
+    past MAX_TABLE_CELLS is refused with one line."""
+    src = (published_dir() / "table1.csv").read_text(encoding="utf-8")
+    f16 = tmp_path / "t16.csv"
+    f16.write_bytes(src.replace("\n", "\r\n").encode("utf-16"))
+    assert main(["verify-table", str(f16), "--n", "22", "--json"]) == 0
+    out16 = json.loads(capsys.readouterr().out)
+    assert main(["verify-table", str(published_dir() / "table1.csv"), "--n", "22", "--json"]) == 0
+    assert out16 == json.loads(capsys.readouterr().out)
+    big = tmp_path / "big.csv"
+    big.write_text("item,A,B\n" + "".join(f"q{i},50,50\n" for i in range(MAX_TABLE_CELLS)))
+    assert main(["verify-table", str(big), "--n", "2"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"at most {MAX_TABLE_CELLS} cells" in err

@@ -1,0 +1,249 @@
+"""Malformed and hostile input to ``python -m analysis``: the cases of issue 10, one by one.
+
+Every case ends in one of two ways: exit 2 with exactly one ``error:`` line naming the file
+and place (or the flag by its command-line name), or exit 0 with every respondent counted.
+Reference counts are the rows the test itself wrote (5 respondents), never the product.
+"""
+import csv
+import io
+import json
+
+import pytest
+
+from analysis.ingest import MAX_COLUMNS, MAX_ITEMS
+import xlsx_factory as xf
+
+ROWS = [["q1", "q2"]] + [["Definitely Agree", "Neutral"]] * 3 + [["Neutral", ""]] * 2
+# written above: q1 = 3 Definitely Agree + 2 Neutral; q2 = 3 Neutral + 2 blank
+EXPECTED = {"q1": ({"Definitely Agree": 3, "Neutral": 2}, 0), "q2": ({"Neutral": 3}, 2)}
+
+
+def _one_error_line(code, err, *needles):
+    assert code == 2, err
+    assert err.count("\n") == 1 and err.startswith("error: ") and "Traceback" not in err, err
+    for n in needles:
+        assert n in err, (n, err)
+
+
+def _holds_every_row(out: str):
+    data = json.loads(out)
+    assert data["respondents"] == 5
+    for item in data["items"]:
+        counts, missing = EXPECTED[item["item"]]
+        assert {k: v for k, v in item["counts"].items() if v} == counts
+        assert item["missing"] == missing and item["n"] + item["missing"] + item["excluded"] == 5
+    assert {i["item"] for i in data["items"]} == set(EXPECTED)
+
+
+@pytest.mark.parametrize("ref", ["A1:B3", "A1:A6", "A1:A1", "Z99:ZZ100"])
+def test_xlsx_dimension_record_is_not_trusted(tmp_path, analysis_cli, ref):
+    """Regression: a <dimension> understating the data reported 2 respondents of 5, and one
+    hiding a column dropped or refused it."""
+    f = tmp_path / "d.xlsx"
+    f.write_bytes(xf.with_dimension(xf.workbook(ROWS), ref))
+    code, out, err = analysis_cli("summarize", str(f), "--json")
+    assert code == 0, err
+    _holds_every_row(out)
+
+
+@pytest.mark.parametrize("kind, needle", [("truncated", "malformed XML"),
+                                          ("xxe", "entities"), ("bomb", "entities")])
+def test_xlsx_bad_xml_one_line(tmp_path, analysis_cli, kind, needle):
+    """Regression: malformed XML and entities raised a traceback from iter_rows."""
+    good = xf.workbook(ROWS)
+    f = tmp_path / "x.xlsx"
+    f.write_bytes(xf.truncated(good) if kind == "truncated" else xf.with_entity(good, kind))
+    code, out, err = analysis_cli("summarize", str(f))
+    _one_error_line(code, err, str(f), needle)
+    assert "root:" not in out + err                     # nothing of /etc/passwd
+
+
+@pytest.mark.parametrize("argv, flag", [
+    (["summarize", "{f}", "--chart", "{d}"], "--chart"),
+    (["summarize", "{f}", "--table", "{d}"], "--table"),
+    (["report", "{f}", "-o", "{d}"], "-o/--output"),
+    (["rebuild-table1", "{d}"], "OUT"),
+])
+def test_output_path_that_is_a_folder(tmp_path, analysis_cli, argv, flag):
+    """Regression: an existing folder as output raised IsADirectoryError after the work."""
+    f = tmp_path / "s.xlsx"
+    f.write_bytes(xf.workbook(ROWS))
+    d = tmp_path / "out"
+    d.mkdir()
+    code, out, err = analysis_cli(*[a.format(f=f, d=d) for a in argv])
+    _one_error_line(code, err, str(d), flag, "folder")
+    assert list(d.iterdir()) == [] and sorted(p.name for p in tmp_path.iterdir()) == ["out", "s.xlsx"]
+
+
+@pytest.mark.parametrize("argv, flag", [
+    (["--confidence", "1.5"], "--confidence"), (["--confidence", "nan"], "--confidence"),
+    (["--decimals", "-1"], "--decimals"), (["--decimals", "99"], "--decimals"),
+    (["--respondents", "0"], "--respondents"), (["--min-group", "0"], "--min-group"),
+    (["--respondents", "10" * 3000], "--respondents"),
+    (["--encoding", "idna"], "--encoding"), (["--encoding", "nosuch"], "--encoding"),
+])
+def test_flags_named_by_their_command_line_name(tmp_path, analysis_cli, argv, flag):
+    """Regression: messages named `confidence_level`, `decimals`, `respondents`, `min_size`."""
+    f = tmp_path / "s.xlsx"
+    f.write_bytes(xf.workbook(ROWS))
+    code, _, err = analysis_cli("summarize", str(f), *argv)
+    _one_error_line(code, err, flag)
+    assert "`" not in err and "_level" not in err and "min_size" not in err
+
+
+def test_scale_with_nan_code_refused(tmp_path, analysis_cli):
+    """Regression: codes = [1, nan, 3] was accepted and every agreement share became 0%."""
+    scale = tmp_path / "s.toml"
+    scale.write_text('labels = ["Low", "Mid", "High"]\ncodes = [1, nan, 3]\n')
+    f = tmp_path / "s.csv"
+    f.write_text("q1\nLow\nHigh\n")
+    code, _, err = analysis_cli("summarize", str(f), "--scale", str(scale))
+    _one_error_line(code, err, str(scale), "codes", "finite")
+
+
+def test_deep_scale_toml_one_line(tmp_path, analysis_cli):
+    scale = tmp_path / "s.toml"
+    scale.write_text("labels = " + "[" * 50_000 + "]" * 50_000 + "\n")
+    f = tmp_path / "s.csv"
+    f.write_text("q1\nLow\n")
+    code, _, err = analysis_cli("summarize", str(f), "--scale", str(scale))
+    _one_error_line(code, err, str(scale), "nested too deeply")
+
+
+def test_wide_survey_refused_by_cap_before_reading(tmp_path, analysis_cli):
+    """Regression: 100,000 columns never finished (quadratic scan); now the column cap
+    refuses it from the header, and a file just under the caps is read in full."""
+    f = tmp_path / "wide.csv"
+    n = 100_000
+    f.write_text(",".join(f"q{j}" for j in range(n)) + "\n" + ",".join(["Neutral"] * n) + "\n")
+    code, _, err = analysis_cli("summarize", str(f))
+    _one_error_line(code, err, str(f), f"at most {MAX_COLUMNS}")
+    many = tmp_path / "many.csv"
+    k = MAX_ITEMS + 1
+    many.write_text(",".join(f"q{j}" for j in range(k)) + "\n" + ",".join(["Neutral"] * k) + "\n")
+    code, _, err = analysis_cli("summarize", str(many))
+    _one_error_line(code, err, f"{k} item columns", f"at most {MAX_ITEMS}")
+
+
+def test_invalid_code_column_listed_in_json(tmp_path, analysis_cli):
+    """Regression: a column of codes off the scale was "not items" in the text only."""
+    f = tmp_path / "s.csv"
+    f.write_text("q1,q2,codes\nNeutral,Neutral,7\nNeutral,Neutral,9\n")
+    code, out, err = analysis_cli("summarize", str(f), "--json")
+    assert code == 0, err
+    assert json.loads(out)["not_items"] == ["codes"]
+    code, text, _ = analysis_cli("summarize", str(f))
+    assert "not items (left out of the table): codes" in text
+
+
+def test_rebuilt_csv_neutralises_formulas(tmp_path, analysis_cli, monkeypatch):
+    """Labels are data: a label such as ``=HYPERLINK(...)`` is written with a leading
+    apostrophe, and a newline in it cannot leave its comment line."""
+    import analysis.respondents as resp
+    from analysis.tables import PublishedTable, verify_table
+    table = PublishedTable(("#1", "#2"), ("=HYPERLINK(\"x\")", "+1", "-\nDisagree"),
+                           (("50.0", "25.0", "25.0"), ("50.0", "50.0", "0.0")), "t.csv")
+    monkeypatch.setattr(resp, "table1_check", lambda: verify_table(table, n=4))
+    out = tmp_path / "r.csv"
+    code, _, err = analysis_cli("rebuild-table1", str(out))
+    assert code == 0, err
+    text = out.read_text()
+    head = text.index("respondent,")
+    assert all(ln.startswith("#") for ln in text[:head].splitlines())
+    rows = list(csv.reader(io.StringIO(text[head:])))
+    assert rows[0] == ["respondent", "item1", "item2"] and len(rows) == 1 + 4
+    cells = [c for r in rows[1:] for c in r[1:]]
+    assert set(cells) == {"'=HYPERLINK(\"x\")", "'+1", "'-\nDisagree"}
+    assert not any(c[:1] in ("=", "+", "-", "@", "\t", "\r") for r in rows for c in r)
+
+
+def test_internal_error_is_one_line(tmp_path, analysis_cli, monkeypatch):
+    """A bug (not bad input) gives one ``internal error`` line and exit 1, no traceback."""
+    import analysis.__main__ as cli
+
+    def boom(args):
+        raise ZeroDivisionError("division by zero")
+    monkeypatch.setitem(cli._COMMANDS, "summarize", boom)
+    code, _, err = analysis_cli("summarize", "x.csv")
+    assert code == 1 and err.count("\n") == 1 and "internal error (ZeroDivisionError" in err
+
+
+def test_pipes_devices_and_folders_are_not_read(tmp_path, analysis_cli):
+    """Regression (solver side of issue 10, same in analysis): a FIFO blocked forever and
+    /dev/zero never ended."""
+    import os
+    fifo = tmp_path / "fifo.csv"
+    os.mkfifo(fifo)
+    for path in (fifo, "/dev/zero", tmp_path):
+        code, _, err = analysis_cli("summarize", str(path))
+        _one_error_line(code, err, str(path))
+    code, _, err = analysis_cli("verify-table", "/dev/zero", "--n", "3")
+    _one_error_line(code, err, "/dev/zero", "regular file")
+
+
+def test_workbook_row_and_cell_caps(tmp_path, analysis_cli, monkeypatch):
+    """A row number far down the sheet (openpyxl yields every empty row before it) and a
+    sheet whose rows x columns pass the cell cap are refused while reading. The caps are
+    lowered here so that the test reads a few rows, not a million."""
+    import analysis.ingest as ingest
+    monkeypatch.setattr(ingest, "XLSX_MAX_ROWS", 50)
+    far = xf.rewrite_sheet(xf.workbook(ROWS), lambda x: x.replace(
+        b"</sheetData>", b'<row r="999999999"><c r="A999999999" t="inlineStr"><is><t>Neutral'
+        b"</t></is></c></row></sheetData>"))
+    f = tmp_path / "far.xlsx"
+    f.write_bytes(far)
+    code, _, err = analysis_cli("summarize", str(f))
+    _one_error_line(code, err, str(f), "row 51", "more than 50 rows")
+    monkeypatch.setattr(ingest, "MAX_CELLS", 9)        # 5 respondents x 2 items + header = 12
+    g = tmp_path / "ok.xlsx"
+    g.write_bytes(xf.workbook(ROWS))
+    code, _, err = analysis_cli("summarize", str(g))
+    _one_error_line(code, err, "more than 9 cells")
+    c = tmp_path / "s.csv"
+    c.write_text("q1,q2\n" + "Neutral,Neutral\n" * 5)
+    code, _, err = analysis_cli("summarize", str(c))
+    _one_error_line(code, err, "at most 9 cells")
+
+
+def test_work_caps_for_groups_charts_and_names(tmp_path, analysis_cli, monkeypatch):
+    """Group comparisons, charts and name lists are capped before their work is done."""
+    f = tmp_path / "g.csv"
+    f.write_text("g,q1,q2\n" + "".join(f"g{i},Neutral,Definitely Agree\n" for i in range(30)))
+    import analysis.groups as groups
+    monkeypatch.setattr(groups, "MAX_GROUP_CELLS", 40)   # 30 groups x 2 items = 60
+    code, _, err = analysis_cli("summarize", str(f), "--group", "g", "--min-group", "1")
+    _one_error_line(code, err, "30 groups x 2 items", "--min-group")
+    code, out, err = analysis_cli("summarize", str(f), "--group", "g", "--min-group", "2",
+                                  "--json")       # every group suppressed: nothing to compare
+    assert code == 0 and all(g["suppressed"] for g in json.loads(out)["groups"]["groups"])
+    import analysis.chart as chart
+    monkeypatch.setattr(chart, "MAX_CHART_ITEMS", 1)
+    code, _, err = analysis_cli("summarize", str(f), "--chart", str(tmp_path / "c.svg"))
+    _one_error_line(code, err, "--chart", "at most 1")
+    assert not (tmp_path / "c.svg").exists()
+    code, _, err = analysis_cli("summarize", str(f), "--items", *[f"q{i}" for i in range(201)])
+    _one_error_line(code, err, "--items", "at most 200")
+
+
+def test_group_chart_capped_in_bars(tmp_path, analysis_cli, monkeypatch):
+    """The faceted group chart (items x groups bars) has its own cap; nothing half-written."""
+    f = tmp_path / "g.csv"
+    f.write_text("g,q1,q2\n" + "".join(f"{g},Neutral,Definitely Agree\n" for g in "ab" * 5))
+    import analysis.chart as chart
+    monkeypatch.setattr(chart, "MAX_CHART_BARS", 3)        # 2 items x 2 groups = 4 bars
+    out = tmp_path / "c.svg"
+    code, _, err = analysis_cli("summarize", str(f), "--group", "g", "--chart", str(out))
+    _one_error_line(code, err, str(f), "2 items x 2 groups", "--min-group")
+    assert not out.exists()
+    monkeypatch.setattr(chart, "MAX_CHART_BARS", 4)        # at the cap: drawn
+    code, _, err = analysis_cli("summarize", str(f), "--group", "g", "--chart", str(out))
+    assert code == 0 and out.read_text().startswith("<svg"), err
+
+
+def test_long_file_with_too_many_items(tmp_path, analysis_cli, monkeypatch):
+    import analysis.ingest as ingest
+    monkeypatch.setattr(ingest, "MAX_COLUMNS", 3)
+    f = tmp_path / "long.csv"
+    f.write_text("respondent,item,answer\n" + "".join(f"r1,i{k},Neutral\n" for k in range(4)))
+    code, _, err = analysis_cli("summarize", str(f))
+    _one_error_line(code, err, "4 distinct items", "at most 3")
