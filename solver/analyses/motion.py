@@ -267,25 +267,17 @@ def _energy_drift(system, columns, ts):
 
 
 def write_motion_csv(result: MotionResult, path) -> None:
-    """Write t and every column (SI) to ``path`` atomically."""
+    """Write t and every column (SI) to ``path`` atomically (:func:`solver.files.write_atomic`)."""
     import csv
-    import io
-    import os
-    import tempfile
 
-    buf = io.StringIO()
-    w = csv.writer(buf)
+    from ..files import write_atomic
+
     names = list(result.columns)
-    w.writerow(["t [s]"] + [f"{n} [{result.columns[n][1]}]" for n in names])
-    for i, t in enumerate(result.t):
-        w.writerow([repr(float(t))] + [repr(float(result.columns[n][0][i])) for n in names])
-    directory = os.path.dirname(os.path.abspath(path)) or "."
-    fd, tmp = tempfile.mkstemp(dir=directory, prefix=".tmp-", suffix=".csv")
-    try:
-        with os.fdopen(fd, "w", newline="") as fh:
-            fh.write(buf.getvalue())
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+
+    def write(fh):
+        w = csv.writer(fh)
+        w.writerow(["t [s]"] + [f"{n} [{result.columns[n][1]}]" for n in names])
+        for i, t in enumerate(result.t):
+            w.writerow([repr(float(t))] + [repr(float(result.columns[n][0][i])) for n in names])
+
+    write_atomic(path, write, "--out")

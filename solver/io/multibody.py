@@ -339,15 +339,8 @@ class _MultibodyReader:
         return name
 
     def point_ref(self, value, key) -> tuple[str, str, sp.Matrix]:
-        """'body:point' (or a ground point 'ground:O') -> (body, point, body-frame coords)."""
-        text = self.L.text(value, key)
-        if ":" not in text:
-            raise self.fail(key, f"expected BODY:POINT such as \"crank:A\" or \"ground:O\", got {text!r}")
-        body, point = text.split(":", 1)
-        body = self.body_name(body, key)
-        holder = self.ground if body == GROUND else self.bodies[body]
-        if point not in holder.points and not (point == "G" and body != GROUND):
-            raise self.fail(key, f"{point!r} is not a point of {body!r} (points: {', '.join(holder.points) or 'none'})")
+        """'body:point' (or a ground point 'ground:O') of a joint -> (body, point, body-frame coords)."""
+        body, point, holder = self._split_point(value, key)
         if body != GROUND and point in holder.points and holder.points[point].is_instant:
             raise self.fail(key, f"{point!r} is an instant point; joints need points fixed in the body")
         coords = holder.body_coords(point)
@@ -591,12 +584,18 @@ class _MultibodyReader:
         return TorsionalDamper(name, b1, b2, c)
 
     def _load_point(self, value, key):
+        """'body:point' of a load (instant points allowed) -> (body, point, None)."""
+        body, point, _ = self._split_point(value, key)
+        return body, point, None
+
+    def _split_point(self, value, key):
+        """'BODY:POINT' -> (body, point, the body or ground holding it), both checked."""
         text = self.L.text(value, key)
         if ":" not in text:
-            raise self.fail(key, f"expected BODY:POINT, got {text!r}")
+            raise self.fail(key, f"expected BODY:POINT such as \"crank:A\" or \"ground:O\", got {text!r}")
         body, point = text.split(":", 1)
         body = self.body_name(body, key)
         holder = self.ground if body == GROUND else self.bodies[body]
         if point not in holder.points and not (point == "G" and body != GROUND):
-            raise self.fail(key, f"{point!r} is not a point of {body!r}")
-        return body, point, None
+            raise self.fail(key, f"{point!r} is not a point of {body!r} (points: {', '.join(holder.points) or 'none'})")
+        return body, point, holder

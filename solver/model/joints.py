@@ -171,6 +171,16 @@ class Joint:
         """The angle of ``body`` implied by this joint, given the other body's pose, or None."""
         return None
 
+    def _relative_orientation(self, body: str, pose: Pose, rel: sp.Expr | None) -> sp.Expr | None:
+        """The angle of ``body`` when the second body's angle is the first's plus ``rel``."""
+        if rel is None:
+            return None
+        if body == self.second:
+            return pose(self.first)[1] + rel
+        if body == self.first:
+            return pose(self.second)[1] - rel
+        return None
+
     def place(self, body: str, pose: Pose, t: sp.Symbol) -> sp.Matrix | None:
         """The origin of ``body`` fully fixed by this joint alone (given its angle), or None."""
         return None
@@ -279,11 +289,7 @@ class Slider(Rail):
         return super()._unit_loads(pose, t) + [(None, None, 1)]
 
     def orientation_of(self, body, pose, t):
-        if body == self.second:
-            return pose(self.first)[1] + self.relative_angle
-        if body == self.first:
-            return pose(self.second)[1] - self.relative_angle
-        return None
+        return self._relative_orientation(body, pose, self.relative_angle)
 
 
 # --------------------------------------------------------------------------- rolling on a line
@@ -572,13 +578,7 @@ class Motor(Joint):
         return [(None, None, 1)]
 
     def orientation_of(self, body, pose, t):
-        if self.angle is None:
-            return None
-        if body == self.second:
-            return pose(self.first)[1] + self.angle
-        if body == self.first:
-            return pose(self.second)[1] - self.angle
-        return None
+        return self._relative_orientation(body, pose, self.angle)
 
 
 @dataclass(eq=False, repr=False)
