@@ -347,11 +347,7 @@ class _MultibodyReader:
         return body, point, coords
 
     def element_ref(self, value, key):
-        text = self.L.text(value, key)
-        if ":" not in text:
-            raise self.fail(key, f"expected BODY:ELEMENT such as \"wheel:disk\", got {text!r}")
-        body, ename = text.split(":", 1)
-        body = self.body_name(body, key)
+        body, ename = self._split_ref(value, key, "BODY:ELEMENT such as \"wheel:disk\"")
         if body == GROUND:
             raise self.fail(key, "the ground has no elements")
         try:
@@ -588,13 +584,17 @@ class _MultibodyReader:
         body, point, _ = self._split_point(value, key)
         return body, point, None
 
-    def _split_point(self, value, key):
-        """'BODY:POINT' -> (body, point, the body or ground holding it), both checked."""
+    def _split_ref(self, value, key, what):
+        """'BODY:NAME' -> (a known body or 'ground', NAME)."""
         text = self.L.text(value, key)
         if ":" not in text:
-            raise self.fail(key, f"expected BODY:POINT such as \"crank:A\" or \"ground:O\", got {text!r}")
-        body, point = text.split(":", 1)
-        body = self.body_name(body, key)
+            raise self.fail(key, f"expected {what}, got {text!r}")
+        body, name = text.split(":", 1)
+        return self.body_name(body, key), name
+
+    def _split_point(self, value, key):
+        """'BODY:POINT' -> (body, point, the body or ground holding it), both checked."""
+        body, point = self._split_ref(value, key, "BODY:POINT such as \"crank:A\" or \"ground:O\"")
         holder = self.ground if body == GROUND else self.bodies[body]
         if point not in holder.points and not (point == "G" and body != GROUND):
             raise self.fail(key, f"{point!r} is not a point of {body!r} (points: {', '.join(holder.points) or 'none'})")

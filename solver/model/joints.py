@@ -60,6 +60,12 @@ def _left_normal(angle: sp.Expr) -> sp.Matrix:
     return sp.Matrix([-sp.sin(angle), sp.cos(angle)])
 
 
+def _line(pose: Pose, body: str, angle: sp.Expr) -> tuple[sp.Matrix, sp.Matrix]:
+    """(direction d, left normal n) in the fixed frame of a line at ``angle`` in ``body``'s frame."""
+    R = rotation(pose(body)[1])
+    return R * _unit(angle), R * _left_normal(angle)
+
+
 def _at(pose: Pose, body: str, coords: sp.Matrix) -> sp.Matrix:
     origin, phi = pose(body)
     return origin + rotation(phi) * sp.Matrix(coords)
@@ -242,12 +248,7 @@ class Rail(Joint):
     angle: sp.Expr = sp.Integer(0)
 
     def _normal(self, pose):
-        _, phi1 = pose(self.first)
-        return rotation(phi1) * _left_normal(self.angle)
-
-    def _direction(self, pose):
-        _, phi1 = pose(self.first)
-        return rotation(phi1) * _unit(self.angle)
+        return _line(pose, self.first, self.angle)[1]
 
     def rows(self, pose, t):
         p = _at(pose, self.second, self.point)
@@ -320,9 +321,7 @@ class Rolling(Joint):
     semicircle_axis: sp.Expr | None = None
 
     def _frame(self, pose):
-        _, phi1 = pose(self.first)
-        R = rotation(phi1)
-        return R * _unit(self.angle), R * _left_normal(self.angle)
+        return _line(pose, self.first, self.angle)
 
     def rows(self, pose, t):
         d, n = self._frame(pose)
@@ -599,8 +598,7 @@ class Actuator(Joint):
     prescribed: sp.Expr | None = None
 
     def _direction(self, pose):
-        _, phi1 = pose(self.first)
-        return rotation(phi1) * _unit(self.angle)
+        return _line(pose, self.first, self.angle)[0]
 
     def rows(self, pose, t):
         p = _at(pose, self.second, self.point)
