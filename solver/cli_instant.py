@@ -260,20 +260,22 @@ def _eom_multi(args, system) -> int:
     from solver.formulations import formulate
 
     f = formulate(system, args.method, args.point)
-    if system.closure:
-        raise InputError(
-            f"{system.label}: eom: this scene has closure constraints "
-            f"({', '.join(sorted({r.joint.name for r in system.closure}))}); their reduced equations of motion "
-            "are not printed: use `solve` or `simulate`"
-        )
-    if not system.free:
-        raise InputError(f"{system.label}: eom: every coordinate is prescribed: there is no equation of motion "
-                         "(use `solve` for the driving forces and reactions)")
-    eqs = equations_of_motion(f)
-    shown = [_tidy_multi(e, system) for e in eqs]
+    independent = [c for c in system.free if not c.dependent]
+    if not independent:
+        raise InputError(f"{system.label}: eom: every motion is prescribed (no degree of freedom): there is no "
+                         "equation of motion (use `solve` or `simulate` for the driving forces and reactions)")
+    if system.closure:  # in the independent coordinates, the closure reactions projected out
+        from solver.analyses.eom import reduced_equations_of_motion
+
+        eqs, coords = reduced_equations_of_motion(f)
+        shown = [e if sp.count_ops(e) > DISPLAY_MAX_OPS else _tidy_multi(e, system) for e in eqs]
+    else:
+        eqs, coords = equations_of_motion(f), list(system.free)
+        shown = [_tidy_multi(e, system) for e in eqs]
     if args.json:
         print_json({"scene": system.name, "point": ",".join(f"{b}:{p}" for b, p in f.points.items()),
-                    "method": f.method, "coordinates": [c.name for c in system.free],
+                    "method": f.method, "coordinates": [c.name for c in coords],
+                    "dependent": [c.name for c in system.dependent],
                     "eom": [str(e) for e in shown],
                     "kinetic_energy": str(system.kinetic_energy()),
                     "potential_energy": str(system.potential_energy()),
@@ -286,14 +288,17 @@ def _eom_multi(args, system) -> int:
             names[c.qd] = rf"\dot{{{base}}}"
             names[c.qdd] = rf"\ddot{{{base}}}"
         print(f"% {system.name}: equations of motion ({f.method}); reactions eliminated")
-        for c, e in zip(system.free, shown):
+        for c, e in zip(coords, shown):
             print(f"% for {c.name}")
             print(f"{sp.latex(e, symbol_names=names)} = 0")
         return 0
     print(f"scene   {system.name}  ({_where(system)})")
-    print(f"method  {f.method}   {len(system.free)} degrees of freedom: {', '.join(c.name for c in system.free)}")
+    print(f"method  {f.method}   {len(coords)} degree(s) of freedom: {', '.join(c.name for c in coords)}")
+    if system.dependent:
+        print(f"dependent coordinates {', '.join(c.name for c in system.dependent)} follow from the closure "
+              "equations (their values and rates appear as symbols)")
     print()
-    for c, e in zip(system.free, shown):
+    for c, e in zip(coords, shown):
         print(f"equation for {c.name} (reactions eliminated):")
         print(f"  {sp.sstr(e)} = 0")
         print()

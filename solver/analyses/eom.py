@@ -10,15 +10,15 @@ This is exact for any point P: with v_G = v_P + omega x r_G/P the combination
 equals the one about G (the generalized Euler equation differs from Euler's
 about G by r_G/P x N, Eq. 3). Ideal joints do no work on motions the
 coordinates allow, so the reactions of every joint that the placement
-satisfies drop out. A closure joint's reactions would remain; systems with
-closure equations are integrated and solved through the instantaneous system
-instead.
+satisfies drop out. A closure joint's reactions are removed by projecting on
+the velocity transformation of the independent coordinates
+(:func:`reduced_equations_of_motion`).
 """
 from __future__ import annotations
 
 import sympy as sp
 
-__all__ = ["equations_of_motion"]
+__all__ = ["equations_of_motion", "reduced_equations_of_motion"]
 
 
 def _reference_velocity(formulation, body: str) -> sp.Matrix:
@@ -34,8 +34,8 @@ def equations_of_motion(formulation) -> list[sp.Expr]:
     """One expression (== 0) per free coordinate, reactions of placed joints eliminated,
     in the form  M q'' + (terms in q', q, t) - Q  (so the q'' coefficients are the mass matrix).
 
-    Closure reactions remain when the system has closure equations (their
-    reduced form is not built; ``eom`` says so).
+    Closure reactions remain when the system has closure equations; see
+    :func:`reduced_equations_of_motion`.
     """
     s = formulation.system
 
@@ -60,3 +60,52 @@ def equations_of_motion(formulation) -> list[sp.Expr]:
 
 def _is_closure(system, reaction) -> bool:
     return any(row.reaction.name == reaction.name for row in system.closure)
+
+
+def reduced_equations_of_motion(formulation) -> tuple[list[sp.Expr], list]:
+    """Equations of motion in the independent coordinates u of a system with closure equations.
+
+    With the closure equations Phi(q, t) = 0 split into their dependent
+    coordinates v and the independent u, q' = B u' + b where
+    B = [I; -Phi_v^-1 Phi_u]. Projecting the equations of
+    :func:`equations_of_motion` on B removes the closure reactions (their
+    generalized forces are Phi_q^T lambda, and B^T Phi_q^T = 0); the dependent
+    accelerations then follow from the acceleration form of the closure,
+    v'' = -Phi_v^-1 (Phi_u u'' + (d^2 Phi/dt^2 at q'' = 0)).
+
+    Returns
+    -------
+    (list of sympy.Expr, list of Coordinate)
+        One expression (== 0) per independent coordinate, in u'', the
+        coordinates (dependent ones included, known at a state from the
+        closure) and their rates; and the independent coordinates.
+    """
+    s = formulation.system
+
+    def build():
+        eqs = equations_of_motion(formulation)
+        free = s.free
+        ind = [i for i, c in enumerate(free) if not c.dependent]
+        dep = [i for i, c in enumerate(free) if c.dependent]
+        Phi = sp.Matrix([r.expr for r in s.closure])
+        q = sp.Matrix(s.q)
+        J = Phi.jacobian(q)
+        Ju, Jv = J[:, ind], J[:, dep]
+        Jv_inv = Jv.inv(method="LU")
+        B = sp.zeros(len(free), len(ind))
+        for k, i in enumerate(ind):
+            B[i, k] = 1
+        Bv = -Jv_inv * Ju
+        for k, i in enumerate(dep):
+            B[i, :] = Bv[k, :]
+        zero_l = {r.reaction.symbol: 0 for r in s.closure}
+        projected = [sp.Add(*[B[i, k] * eqs[i] for i in range(len(free))]).xreplace(zero_l) for k in range(len(ind))]
+        acc = sp.Matrix([s.D(s.D(r.expr)) for r in s.closure])
+        qdd = [c.qdd for c in free]
+        rest = acc.xreplace({x: 0 for x in qdd})
+        udd = sp.Matrix([free[i].qdd for i in ind])
+        vdd = -Jv_inv * (Ju * udd + rest)
+        subs = {free[i].qdd: vdd[k] for k, i in enumerate(dep)}
+        return [e.xreplace(subs) for e in projected], [free[i] for i in ind]
+
+    return s._memo(("reduced_eom", formulation.method, tuple(sorted(formulation.points.items()))), build)
