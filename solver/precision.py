@@ -183,7 +183,8 @@ def solve_precise(derivation: Any, precision: str = "float64", dps: int = 50,
     subs = dict(params)
     subs.update({d.q: q_ex, d.qd: qd_ex, d.t: sp.Integer(0)})
     args = (d.q, d.qd, d.t, *params.keys())
-    alpha_expr = d.alpha  # linear in qdd: alpha = dphi * qdd + ddphi * qd^2
+    # linear in qdd: alpha = dphi * qdd + ddphi * qd^2; the body's alpha only for a one-body scene
+    alpha_expr = d.alpha if len(d.system.bodies) == 1 else None
 
     # float64 ---------------------------------------------------------------
     fA = sp.lambdify(args, [list(A.row(i)) for i in range(A.rows)] + [list(b)], modules="numpy")
@@ -202,8 +203,9 @@ def solve_precise(derivation: Any, precision: str = "float64", dps: int = 50,
         )
     xf = np.linalg.solve(Af, bf)
     fl = {n: float(x) for n, x in zip(names, xf)}
-    falpha = sp.lambdify((d.q, d.qd, d.qdd), alpha_expr, "math")
-    fl["alpha"] = float(falpha(qf, qdf, fl[names[0]]))
+    if alpha_expr is not None:
+        falpha = sp.lambdify((d.q, d.qd, d.qdd), alpha_expr, "math")
+        fl["alpha"] = float(falpha(qf, qdf, fl[names[0]]))
 
     if precision == "float64":
         text = {n: repr(v) for n, v in fl.items()}
@@ -217,7 +219,8 @@ def solve_precise(derivation: Any, precision: str = "float64", dps: int = 50,
         where = f"{scene.source or scene.name}: singular configuration at {d.q} = {q_ex}"
         x = _exact_solve(A.xreplace(rational), b.xreplace(rational), kept, where)
         sym = {n: x[i] for i, n in enumerate(names)}
-        sym["alpha"] = alpha_expr.xreplace(rational).xreplace({d.qdd: sym[names[0]]})
+        if alpha_expr is not None:
+            sym["alpha"] = alpha_expr.xreplace(rational).xreplace({d.qdd: sym[names[0]]})
         vals = {n: _exact_value(v, kept) for n, v in sym.items()}
         text = {n: str(_evalf(v, kept, dps)) for n, v in sym.items()}
         err = {n: _relerr(fl[n], _evalf(v, kept, dps + 5)) for n, v in sym.items()}
@@ -241,8 +244,9 @@ def solve_precise(derivation: Any, precision: str = "float64", dps: int = 50,
                 f"{scene.source or scene.name}: singular configuration at {d.q} = {math.degrees(qf):.6g} deg"
             ) from None
         vals = {n: xm[i] for i, n in enumerate(names)}
-        malpha = sp.lambdify((d.q, d.qd, d.qdd), alpha_expr, "mpmath")
-        vals["alpha"] = malpha(mq, mqd, vals[names[0]])
+        if alpha_expr is not None:
+            malpha = sp.lambdify((d.q, d.qd, d.qdd), alpha_expr, "mpmath")
+            vals["alpha"] = malpha(mq, mqd, vals[names[0]])
         text = {n: mpmath.nstr(v, dps) for n, v in vals.items()}
         err = {n: _relerr(fl[n], v) for n, v in vals.items()}
     return PreciseSolution("mpmath", dps, vals, text, cond, err, units)

@@ -180,6 +180,7 @@ class _MultibodyReader:
         L.overridden = {n for n in self.overrides if n in L.parameters}
         # coordinate kinds from their value/guess/motion
         self.kinds = {}
+        self.given_values = {}
         for cname, spec in self.raw_coords.items():
             if "motion" in spec:
                 expr = self._motion_expr(spec["motion"], f"coordinates.{cname}.motion")
@@ -188,6 +189,7 @@ class _MultibodyReader:
                 key = "value" if "value" in spec else "guess"
                 text = self.overrides.get(cname, spec[key])
                 q = self._quantity(text, f"coordinates.{cname}.{key}" if cname not in self.overrides else f"--set {cname}")
+                self.given_values[cname] = q
                 if q.dimensionality == DIMENSIONLESS:
                     kind = "angle"
                     v = float(q.to("rad").magnitude)
@@ -250,7 +252,8 @@ class _MultibodyReader:
                 raise self.fail(f"coordinates.{cname}.rate", "a dependent coordinate's rate is solved, not given")
             if not math.isfinite(data) or abs(data) > 1e6:
                 raise self.fail(f"coordinates.{cname}", f"value {data:g} out of range (|value| <= 1e6 SI)")
-            out.append(Coordinate(cname, kind, data, rate, dependent=dependent))
+            given = None if dependent else (self.given_values[cname], q)
+            out.append(Coordinate(cname, kind, data, rate, dependent=dependent, given=given))
         self.coordinates = out
 
     # -- ground and bodies ---------------------------------------------------------------------------
