@@ -374,6 +374,16 @@ class _MultibodyReader:
         self.reaction_names[rname] = key
         return Reaction(rname, joint, unit, one_sided)
 
+    def _point_on_line(self, spec, key, what):
+        """A point of one body held on a line of another (``point``, ``on``, ``through``, ``angle``):
+        (body, its point's body-frame coords, the line's body, through, angle)."""
+        L = self.L
+        body, _, coords = self.point_ref(L.require(spec, "point", key, what), f"{key}.point")
+        on = self.body_name(spec.get("on", GROUND), f"{key}.on")
+        self._distinct(on, body, key)
+        through, angle = self.line(spec, key, on)
+        return body, coords, on, through, angle
+
     def line(self, spec, key, on):
         L = self.L
         through = L.vector(spec.get("through", [0, 0]), f"{key}.through", L.names.params, LENGTH)
@@ -415,10 +425,7 @@ class _MultibodyReader:
 
     def _joint_rail(self, spec, key, name, cls=Rail):
         L = self.L
-        body, point, coords = self.point_ref(L.require(spec, "point", key, "the point held on the line, BODY:POINT"), f"{key}.point")
-        on = self.body_name(spec.get("on", GROUND), f"{key}.on")
-        self._distinct(on, body, key)
-        through, angle = self.line(spec, key, on)
+        body, coords, on, through, angle = self._point_on_line(spec, key, "the point held on the line, BODY:POINT")
         one_sided = L.boolean(spec.get("one_sided", False), f"{key}.one_sided")
         r = self.reaction(spec.get("reaction", f"N_{name}"), f"{key}.reaction", name, "N", one_sided)
         return cls(name, on, body, (r,), point=coords, through=through, angle=angle)
@@ -428,10 +435,7 @@ class _MultibodyReader:
 
     def _joint_slider(self, spec, key, name):
         L = self.L
-        body, point, coords = self.point_ref(L.require(spec, "point", key, "the point of the sliding body on the line"), f"{key}.point")
-        on = self.body_name(spec.get("on", GROUND), f"{key}.on")
-        self._distinct(on, body, key)
-        through, angle = self.line(spec, key, on)
+        body, coords, on, through, angle = self._point_on_line(spec, key, "the point of the sliding body on the line")
         rel = L.expr(spec.get("relative_angle", 0), f"{key}.relative_angle", L.names.params, DIMENSIONLESS)
         n, m = self._names(spec, key, "reactions", [f"N_{name}", f"M_{name}"])
         reactions = (self.reaction(n, f"{key}.reactions[0]", name), self.reaction(m, f"{key}.reactions[1]", name, "N*m"))
@@ -529,10 +533,7 @@ class _MultibodyReader:
 
     def _joint_actuator(self, spec, key, name):
         L = self.L
-        body, _, coords = self.point_ref(L.require(spec, "point", key, "the driven point, BODY:POINT"), f"{key}.point")
-        on = self.body_name(spec.get("on", GROUND), f"{key}.on")
-        self._distinct(on, body, key)
-        through, angle = self.line(spec, key, on)
+        body, coords, on, through, angle = self._point_on_line(spec, key, "the driven point, BODY:POINT")
         position = None
         if "position" in spec:
             position = L.expr(spec["position"], f"{key}.position", self.with_t, LENGTH)
