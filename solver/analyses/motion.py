@@ -87,166 +87,368 @@ def _conservative(system) -> bool:
 
 def simulate_system(system, t_end: float, method: str = "DOP853", rtol: float = 1e-9, atol: float = 1e-12,
                     mu: float | None = None, samples: int | None = None, route: str = "generalized_euler") -> MotionResult:
-    """Integrate ``system`` from its state over [t0, t0 + t_end].
+    """Integrate ``system`` from its state over [t0, t0 + t_end], switching contact regimes.
+
+    A run is a chain of *segments*, each in one regime of the contacts
+    (:mod:`solver.analyses.regimes`). A segment ends at an event: a sticking
+    contact reaching mu_s N (it slips), a sliding one coming to rest (it
+    sticks or reverses), a normal force reaching zero (the contact opens), or
+    a gap closing (an impact: the run stops, impacts are not modelled). The
+    regime that holds after the event is found at the event's state, and the
+    run goes on. When the scene's coordinates cannot describe the new regime
+    the run stops there with status ``slip`` or ``lost_contact``.
 
     Raises
     ------
     InputError
         Bad times, tolerances or sample counts (naming the flag).
     """
-    from ..formulations import formulate
-
     if not (math.isfinite(t_end) and t_end > 0):
         raise InputError(f"--t-end must be a positive, finite time, got {t_end!r}")
     if samples is not None and not (2 <= samples <= MAX_SAMPLES):
         raise InputError(f"--samples must lie in 2..{MAX_SAMPLES}, got {samples!r}")
-    model = formulate(system, route).numeric()
-    free = system.free
-    ind = [i for i, c in enumerate(free) if not c.dependent]
+    if mu is not None:
+        system = _with_mu(system, mu)
     t0 = system.time
     start = assemble(system)
-    last_q = list(start.q)
-    names = model.names
-    reactions = system.reactions
-    one_sided = [r.name for r in reactions if r.one_sided]
-    pairs = [j.friction_pair for j in system.joints if j.friction_pair is not None]
-    subs = system.si_values()
-    limits = [(text, sp.lambdify((*system.q, system.t, *subs), g, "math")) for text, g in system.limits()]
-    pvals = list(subs.values())
-    counter = [0]
+    run = _Run(system, route, method, rtol, atol)
+    segments, status, reason = run.go(start, t0, t0 + t_end)
+    n = int(samples) if samples is not None else 1001
+    t_final = segments[-1].t1
+    ts = np.linspace(t0, t_final, n) if t_final > t0 else np.array([t0])
+    res = _sample(system, segments, ts, status, reason, run.nfev)
+    res.events = run.switches
+    return res
 
-    def full_state(t, y):
-        q = list(last_q)
-        qd = [0.0] * len(free)
-        for k, i in enumerate(ind):
-            q[i] = y[k]
-            qd[i] = y[len(ind) + k]
-        st = assemble(system, q, qd, t)
-        last_q[:] = st.q
-        return st
 
-    def solve_at(t, y):
-        counter[0] += 1
-        if counter[0] > MAX_EVALUATIONS:
-            raise _Stop("work_limit", f"more than {MAX_EVALUATIONS} evaluations", t)
-        st = full_state(t, y)
+def _with_mu(system, mu):
+    """``--mu``: every friction coefficient of the contacts replaced by ``mu``."""
+    from dataclasses import replace
+
+    from ..model.contacts import Friction
+
+    if not (math.isfinite(mu) and mu >= 0):
+        raise InputError(f"--mu must be a finite number >= 0, got {mu!r}")
+    value = sp.Float(mu)
+    system.joints = [replace(j, friction=Friction(value, value)) if j in system.contacts or
+                     getattr(j, "friction_pair", None) else j for j in system.joints]
+    system.reset()
+    return system
+
+
+@dataclass
+class _Segment:
+    system: object
+    model: object
+    ind: list
+    dense: object
+    t0: float
+    t1: float
+    start: object
+    work0: np.ndarray
+    kin: list = field(default_factory=list)
+    last_q: list = field(default_factory=list)
+
+
+class _Run:
+    """The chain of segments of one run (see :func:`simulate_system`)."""
+
+    def __init__(self, base, route, method, rtol, atol):
+        self.base, self.route, self.method, self.rtol, self.atol = base, route, method, rtol, atol
+        self.nfev = 0
+        self.switches: list[dict] = []
+        self.contacts = [j.name for j in base.contacts]
+
+    def go(self, start, t0, t1):
+        from ..errors import SceneError
+        from .regimes import NoConsistentRegime, find_regime
+
+        regimes, system = {}, self.base
+        if self.contacts:
+            try:
+                found = find_regime(self.base, start.q, start.qd, start.t)
+            except NoConsistentRegime as err:
+                raise InputError(f"{self.base.label}: at the start already: {str(err).split(': ', 1)[-1]}") from None
+            regimes, system = found.regimes, found.system
+        segments = []
+        work = np.zeros(len(self.contacts))
+        state = start
+        for _ in range(MAX_SWITCHES + 1):
+            seg, stop = self._segment(system, regimes, state, work, t1)
+            segments.append(seg)
+            if stop is None:
+                return segments, "completed", f"reached t = {t1:g} s"
+            kind, what, te = stop
+            if kind not in ("slip", "lost_contact", "stick"):
+                return segments, kind, f"at t = {te:.6g} s: {_describe(kind, what)}"
+            if what not in regimes:  # a cord going slack: no regime describes it
+                return segments, kind, f"at t = {te:.6g} s: {_describe(kind, what)}"
+            state, work = _state_at(seg, te), _work_at(seg, te)
+            old = regimes[what]
+            try:
+                found = find_regime(self.base, state.q, state.qd, te, exclude={what: old} if kind != "stick" else None)
+            except SceneError as err:
+                cause = _describe(kind, what)
+                return segments, kind, f"at t = {te:.6g} s: {cause}; the motion after it: {str(err).split(': ', 1)[-1]}"
+            self.switches.append({"t": te, "joint": what, "from": old.label, "to": found.regimes[what].label,
+                                  "cause": _describe(kind, what)})
+            for name in self.contacts:
+                if name != what and found.regimes[name] != regimes[name]:
+                    self.switches.append({"t": te, "joint": name, "from": regimes[name].label,
+                                          "to": found.regimes[name].label, "cause": f"with {what}"})
+            regimes = found.regimes
+            system = self.base.with_regimes(regimes, state.q, state.qd, te) if found.system is not self.base \
+                else self.base
+        return segments, "work_limit", f"more than {MAX_SWITCHES} regime switches (chattering)"
+
+    def _segment(self, system, regimes, state, work, t1):
+        from ..formulations import formulate
+
+        model = formulate(system, self.route).numeric()
+        free = system.free
+        ind = [i for i, c in enumerate(free) if not c.dependent]
+        t0 = state.t
+        kin = _contact_functions(system, regimes or {})
+        last_q = list(state.q)
+        seg = _Segment(system, model, ind, None, t0, t0, state, np.array(work, float), kin, last_q)
+        if not ind:  # inverse dynamics: nothing to integrate
+            seg.t1 = t1
+            return seg, None
+        names = model.names
+        counter = [0]
+
+        def full_state(t, y):
+            q = list(last_q)
+            qd = [0.0] * len(free)
+            for k, i in enumerate(ind):
+                q[i] = y[k]
+                qd[i] = y[len(ind) + k]
+            st = assemble(system, q, qd, t)
+            last_q[:] = st.q
+            return st
+
+        def solve_at(t, y):
+            counter[0] += 1
+            if self.nfev + counter[0] > MAX_EVALUATIONS:
+                raise _Stop("work_limit", f"more than {MAX_EVALUATIONS} evaluations", t)
+            st = full_state(t, y)
+            try:
+                res = model.solve(st.q, st.qd, t)
+            except SingularConfigurationError as err:
+                raise _Stop("singular", str(err), t) from None
+            return st, res
+
+        def rhs(t, y):
+            st, res = solve_at(t, y)
+            qdd = [float(res[names[i]]) for i in ind]
+            power = [c.power(st, res, t) for c in kin]
+            return np.concatenate([y[len(ind):2 * len(ind)], qdd, power])
+
+        events, info = _events(system, regimes or {}, kin, solve_at, full_state)
+        y0 = np.array([state.q[i] for i in ind] + [state.qd[i] for i in ind] + list(work), dtype=float)
+        for ev, (kind, what) in zip(events, info):
+            if ev(t0, y0) < 0 and not regimes:
+                raise InputError(f"{system.label}: at the start already: {_describe(kind, what)}")
         try:
-            res = model.solve(st.q, st.qd, t)
-        except SingularConfigurationError as err:
-            raise _Stop("singular", str(err), t) from None
-        return st, res
+            with np.errstate(all="ignore"):
+                sol = solve_ivp(rhs, (t0, t1), y0, method=self.method, rtol=self.rtol, atol=self.atol,
+                                dense_output=True, events=events or None)
+        except _Stop as stop:
+            self.nfev += counter[0]
+            seg.t1 = stop.t if stop.t is not None and stop.t > t0 else t0
+            return seg, (stop.kind, stop.detail, seg.t1)
+        self.nfev += int(sol.nfev)
+        seg.dense, seg.t1 = sol.sol, float(sol.t[-1])
+        if sol.status == -1:
+            return seg, ("failed", f"integration failed: {sol.message}", seg.t1)
+        if sol.status == 1:
+            hits = [(te[0], k) for k, te in enumerate(sol.t_events) if len(te)]
+            te, k = min(hits)
+            seg.t1 = float(te)
+            kind, what = info[k]
+            return seg, (kind, what, float(te))
+        return seg, None
 
-    def rhs(t, y):
-        _, res = solve_at(t, y)
-        return np.concatenate([y[len(ind):], [float(res[names[i]]) for i in ind]])
+
+MAX_SWITCHES = 100
+"""Most regime switches in one run (more: status ``work_limit``, a chattering contact)."""
+
+
+@dataclass
+class _ContactFunctions:
+    """One contact in a segment: its kinematics and, while it slides, its friction -s mu_k N."""
+
+    name: str
+    normal: str
+    friction: str | None
+    slide: int
+    mu_k: float
+    fn: object
+
+    def friction_force(self, res) -> float:
+        if self.slide == 0:
+            return float(res[self.friction]) if self.friction in res else 0.0
+        return -self.slide * self.mu_k * float(res[self.normal])
+
+    def slip_speed(self, st, t) -> float:
+        return self.fn(st.q, st.qd, [0.0] * len(st.q), t)[3]
+
+    def power(self, st, res, t) -> float:
+        """F dPhi_t/dt: the friction's power (0 while sticking or separated)."""
+        if self.slide == 0:
+            return 0.0
+        return self.friction_force(res) * self.slip_speed(st, t)
+
+
+def _contact_functions(system, regimes):
+    """A :class:`_ContactFunctions` per contact of ``system`` in ``regimes``."""
+    from .regimes import _kin
+
+    pv = system.si_values()
+    out = []
+    for j in system.contacts:
+        r = regimes.get(j.name, j.current_regime)
+        slide = 0 if r is None else r.friction_direction()
+        mu_k = 0.0 if j.friction is None else float(sp.sympify(j.friction.kinetic).xreplace(pv))
+        F = j.pair[0]
+        out.append(_ContactFunctions(j.name, j.pair[1].name, None if F is None else F.name, slide, mu_k,
+                                     lambda q, qd, qdd, t, name=j.name: _kin(system, name, q, qd, qdd, t)))
+    return out
+
+
+def _events(system, regimes, kin, solve_at, full_state):
+    """Terminal events of a segment, with (kind, what) for each."""
+    from ..model.contacts import SEPARATED
 
     events, info = [], []
-    for name in one_sided:
-        def ev(t, y, name=name):
-            return float(solve_at(t, y)[1][name])
-        events.append(ev)
-        info.append(("lost_contact", name))
-    for friction, normal, mu_expr in pairs:
-        m = mu if mu is not None else (None if mu_expr is None else float(sp.sympify(mu_expr).xreplace(subs)))
-        if m is None:
+    by_name = {c.name: c for c in kin}
+    contact_normals = set()
+    for j in system.contacts:
+        r = regimes.get(j.name, j.current_regime)
+        c = by_name[j.name]
+        if r is SEPARATED:
+            events.append(lambda t, y, c=c: c.fn(full_state(t, y).q, full_state(t, y).qd, [0.0] * len(y), t)[0])
+            info.append(("impact", j.name))
             continue
-        def ev(t, y, f=friction, n=normal, m=m):
-            res = solve_at(t, y)[1]
-            return m * float(res[n]) - abs(float(res[f]))
-        events.append(ev)
-        info.append(("slip", friction))
-    for text, fn in limits:
-        def ev(t, y, fn=fn):
-            st = full_state(t, y)
-            return float(fn(*st.q, t, *pvals))
-        events.append(ev)
+        contact_normals.add(j.pair[1].name)
+        if j.pair[1].one_sided:
+            events.append(lambda t, y, n=j.pair[1].name: float(solve_at(t, y)[1][n]))
+            info.append(("lost_contact", j.name))
+        if r is not None and r.keeps_tangential and j.friction is not None:
+            mu_s = float(sp.sympify(j.friction.static).xreplace(system.si_values()))
+            def ev(t, y, f=j.pair[0].name, n=j.pair[1].name, m=mu_s):
+                res = solve_at(t, y)[1]
+                return m * float(res[n]) - abs(float(res[f]))
+            events.append(ev)
+            info.append(("slip", j.name))
+        elif c.slide:
+            events.append(lambda t, y, c=c: c.slide * c.slip_speed(full_state(t, y), t))
+            info.append(("stick", j.name))
+    for r in system.reactions:
+        if r.one_sided and r.name not in contact_normals:
+            events.append(lambda t, y, n=r.name: float(solve_at(t, y)[1][n]))
+            info.append(("lost_contact", r.name))
+    pvals = list(system.si_values().values())
+    for text, g in system.limits():
+        fn = sp.lambdify((*system.q, system.t, *system.si_values()), g, "math")
+        events.append(lambda t, y, fn=fn: float(fn(*full_state(t, y).q, t, *pvals)))
         info.append(("model_limit", text))
     for ev in events:
         ev.terminal = True
         ev.direction = -1
-
-    n = int(samples) if samples is not None else 1001
-    status, reason = "completed", f"reached t = {t0 + t_end:g} s"
-    if not ind:  # inverse dynamics: nothing to integrate
-        ts = np.linspace(t0, t0 + t_end, n)
-        return _sample(system, model, ts, None, ind, status, "every motion is prescribed: inverse dynamics", 0,
-                       start)
-    y0 = np.array([start.q[i] for i in ind] + [start.qd[i] for i in ind])
-    for ev, (kind, what) in zip(events, info):
-        if ev(t0, y0) < 0:
-            raise InputError(f"{system.label}: at the start already: {_describe(kind, what)}")
-    try:
-        with np.errstate(all="ignore"):
-            sol = solve_ivp(rhs, (t0, t0 + t_end), y0, method=method, rtol=rtol, atol=atol, dense_output=True,
-                            events=events or None)
-    except _Stop as stop:
-        return _partial(system, model, t0, stop, ind, start)
-    t_final = float(sol.t[-1])
-    if sol.status == -1:
-        status, reason = "failed", f"integration failed at t = {t_final:.6g} s: {sol.message}"
-    elif sol.status == 1:
-        for k, te in enumerate(sol.t_events):
-            if len(te):
-                kind, what = info[k]
-                status, reason = kind, f"at t = {te[0]:.6g} s: {_describe(kind, what)}"
-                t_final = float(te[0])
-                break
-    ts = np.linspace(t0, t_final, n)
-    return _sample(system, model, ts, sol.sol, ind, status, reason, int(sol.nfev), start)
+    return events, info
 
 
 def _describe(kind, what) -> str:
     return {
-        "lost_contact": f"the one-sided reaction {what} would change sign (contact lost / cord slack)",
-        "slip": f"rolling would need more friction than mu times the normal force (friction {what})",
+        "lost_contact": f"the one-sided reaction of {what} would change sign (contact lost / cord slack)",
+        "slip": f"sticking at {what} would need more friction than mu_s times the normal force",
+        "stick": f"the sliding at {what} comes to rest",
+        "impact": f"the gap at {what} closes (an impact: impacts are not modelled)",
         "model_limit": f"the model stops holding: {what}",
     }.get(kind, what)
 
 
-def _partial(system, model, t0, stop, ind, start):
-    t_end = stop.t if stop.t is not None and stop.t > t0 else t0
-    ts = np.array([t0])
-    res = _sample(system, model, ts, None, ind, stop.kind, f"at t = {t_end:.6g} s: {stop.detail}", 0, start)
-    return res
+def _state_at(seg, t):
+    """The complete state of a segment at time t."""
+    q, qd = list(seg.last_q), list(seg.start.qd)
+    if seg.dense is not None:
+        y = seg.dense(t)
+        n = len(seg.ind)
+        for k, i in enumerate(seg.ind):
+            q[i], qd[i] = y[k], y[n + k]
+    st = assemble(seg.system, q, qd, float(t))
+    seg.last_q = list(st.q)
+    return st
 
 
-def _sample(system, model, ts, dense, ind, status, reason, nfev, start):
-    free = system.free
+def _work_at(seg, t):
+    if seg.dense is None:
+        return np.array(seg.work0)
+    return np.asarray(seg.dense(t)[2 * len(seg.ind):], float)
+
+
+def _sample(base, segments, ts, status, reason, nfev):
+    """Columns at the times ``ts``: coordinates, rates, accelerations, every reaction
+    (a sliding contact's friction -s mu_k N, a separated contact's forces 0), each
+    friction contact's sliding speed and the work its friction has done."""
+    free = base.free
     cols: dict[str, list] = {}
-    last = list(start.q)
     kept_t = []
+    k = 0
     for t in ts:
-        q = list(last)
-        qd = list(start.qd)
-        if dense is not None:
-            y = dense(t)
-            for k, i in enumerate(ind):
-                q[i] = y[k]
-                qd[i] = y[len(ind) + k]
+        while k < len(segments) - 1 and t > segments[k].t1:
+            k += 1
+        seg = segments[k]
         try:
-            st = assemble(system, q, qd, float(t))
-            res = model.solve(st.q, st.qd, float(t))
+            st = _state_at(seg, t)
+            res = seg.model.solve(st.q, st.qd, float(t))
         except (InputError, SingularConfigurationError) as err:
             if not kept_t:
                 raise
             status, reason = "singular", f"at t = {t:.6g} s: {err}"
             break
-        last = list(st.q)
         kept_t.append(float(t))
         for c, v, r in zip(free, st.q, st.qd):
             cols.setdefault(c.name, []).append(v)
             cols.setdefault(f"{c.name}_dot", []).append(r)
-        for name in model.names:
-            cols.setdefault(name, []).append(float(res[name]))
+        for c in free:
+            cols.setdefault(str(c.qdd), []).append(float(res[str(c.qdd)]))
+        kin = {c.name: c for c in seg.kin}
+        for r in base.reactions + [j.pair[0] for j in base.contacts if j.pair[0] is not None]:
+            if r.name in cols and len(cols[r.name]) == len(kept_t):
+                continue
+            contact = next((c for c in seg.kin if r.name in (c.friction, c.normal)), None)
+            if contact is not None and r.name == contact.friction:
+                value = contact.friction_force(res)
+            else:
+                value = float(res[r.name]) if r.name in res else 0.0
+            cols.setdefault(r.name, []).append(value)
+        work = _work_at(seg, t)
+        for i, j in enumerate(base.contacts):
+            if j.friction is None:
+                continue
+            cols.setdefault(f"v_slip_{j.name}", []).append(kin[j.name].slip_speed(st, t))
+            cols.setdefault(f"friction_work_{j.name}", []).append(float(work[i]))
     units = {}
     for c in free:
         units[c.name] = c.unit
         units[f"{c.name}_dot"] = f"{c.unit}/s"
         units[str(c.qdd)] = f"{c.unit}/s**2"
-    for r in system.reactions:
+    for r in base.reactions:
         units[r.name] = r.unit
+    for j in base.contacts:
+        if j.pair[0] is not None:
+            units[j.pair[0].name] = "N"
+        units[f"v_slip_{j.name}"] = "m/s"
+        units[f"friction_work_{j.name}"] = "J"
     columns = {k: (np.array(v), units.get(k, "")) for k, v in cols.items()}
-    drift = _energy_drift(system, columns, np.array(kept_t)) if _conservative(system) and free else None
+    slid = any(np.any(np.abs(columns[f"friction_work_{j.name}"][0]) > 0)
+               for j in base.contacts if f"friction_work_{j.name}" in columns)
+    drift = (_energy_drift(base, columns, np.array(kept_t))
+             if _conservative(base) and free and not slid and len(segments) == 1 else None)
+    if not segments[0].ind and len(segments) == 1 and status == "completed":
+        reason = "every motion is prescribed: inverse dynamics"
     return MotionResult(np.array(kept_t), columns, status, reason, nfev, drift)
 
 

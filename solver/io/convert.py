@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import sympy as sp
 
+from ..model.contacts import Friction
 from ..model.bodies import GROUND, Point, RigidBody
 from ..model.elements import ELEMENT_CLASSES
 from ..model.joints import Pin, Rail, Reaction, Rolling
@@ -62,7 +63,7 @@ def _build(scene) -> System:
                 element=e.name, center=sp.Matrix(e.center), radius=e.dims["radius"],
                 through=sp.Matrix(c.origin), angle=sp.sympify(c.angle),
                 s_ref=sp.sympify(c.contact_at_zero), phi_ref=sp.sympify(scene.orientation).subs(q, 0),
-                mu=c.friction_coefficient,
+                friction=None if c.friction_coefficient is None else Friction(c.friction_coefficient, c.friction_coefficient),
                 semicircle_axis=e.angle if e.kind == "semicircular_disk" else None,
             ))
     loads = []

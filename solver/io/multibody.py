@@ -16,6 +16,7 @@ import sympy as sp
 from ..errors import ExpressionError, SceneError
 from ..expressions import RESERVED_NAMES
 from ..model.bodies import GROUND, Ground, Point, RigidBody
+from ..model.contacts import Friction
 from ..model.elements import ELEMENT_CLASSES
 from ..model.joints import (Actuator, Cord, GearMesh, Motor, Pin, PinInSlot, Rail, Reaction, Rolling,
                             RollingOnCircle, Slider)
@@ -41,13 +42,14 @@ ELEMENT_KINDS_V2["centroidal_inertia"] = ("center", "inertia", "radius")
 
 JOINT_KEYS: dict[str, tuple[str, ...]] = {
     "pin": ("connects", "reactions"),
-    "rail": ("point", "on", "through", "angle", "reaction", "one_sided"),
+    "rail": ("point", "on", "through", "angle", "reaction", "one_sided", "friction", "friction_coefficient",
+             "static_friction", "kinetic_friction"),
     "pin_in_slot": ("point", "on", "through", "angle", "reaction", "one_sided"),
     "slider": ("point", "on", "through", "angle", "relative_angle", "reactions"),
     "rolling": ("element", "on", "through", "angle", "contact_at_zero", "friction", "normal",
-                "friction_coefficient"),
+                "friction_coefficient", "static_friction", "kinetic_friction"),
     "rolling_on_circle": ("element", "on", "center", "radius", "side", "position_angle", "friction", "normal",
-                          "friction_coefficient"),
+                          "friction_coefficient", "static_friction", "kinetic_friction"),
     "gear": ("elements", "internal", "reaction"),
     "cord": ("drum", "point", "direction", "winds", "length", "tension"),
     "motor": ("bodies", "angle", "torque"),
@@ -428,7 +430,15 @@ class _MultibodyReader:
         body, coords, on, through, angle = self._point_on_line(spec, key, "the point held on the line, BODY:POINT")
         one_sided = L.boolean(spec.get("one_sided", False), f"{key}.one_sided")
         r = self.reaction(spec.get("reaction", f"N_{name}"), f"{key}.reaction", name, "N", one_sided)
-        return cls(name, on, body, (r,), point=coords, through=through, angle=angle)
+        friction = self._friction(spec, key)
+        if friction is None:
+            return cls(name, on, body, (r,), point=coords, through=through, angle=angle)
+        if not one_sided:
+            raise self.fail(f"{key}.one_sided", "a rail with friction is a contact that can separate: give "
+                            "one_sided = true (friction on a two-sided guide is not modelled)")
+        f = self.reaction(spec.get("friction", f"F_{name}"), f"{key}.friction", name)
+        return cls(name, on, body, (r,), point=coords, through=through, angle=angle, friction=friction,
+                   pair=(f, r))
 
     def _joint_pin_in_slot(self, spec, key, name):
         return self._joint_rail(spec, key, name, PinInSlot)
@@ -441,14 +451,32 @@ class _MultibodyReader:
         reactions = (self.reaction(n, f"{key}.reactions[0]", name), self.reaction(m, f"{key}.reactions[1]", name, "N*m"))
         return Slider(name, on, body, reactions, point=coords, through=through, angle=angle, relative_angle=rel)
 
-    def _mu(self, spec, key):
+    def _friction(self, spec, key) -> Friction | None:
+        """Coulomb coefficients: ``friction_coefficient`` (static = kinetic), or
+        ``static_friction`` and ``kinetic_friction`` (kinetic <= static)."""
         L = self.L
-        if "friction_coefficient" not in spec:
+        given = [k for k in ("friction_coefficient", "static_friction", "kinetic_friction") if k in spec]
+        if not given:
             return None
-        mu = L.expr(spec["friction_coefficient"], f"{key}.friction_coefficient", L.names.params, DIMENSIONLESS)
-        if L.si(mu, f"{key}.friction_coefficient") < 0:
-            raise self.fail(f"{key}.friction_coefficient", "must not be negative")
-        return mu
+        if "friction_coefficient" in given and len(given) > 1:
+            raise self.fail(f"{key}.friction_coefficient", "give either friction_coefficient or "
+                            "static_friction and kinetic_friction, not both")
+        if given == ["static_friction"] or given == ["kinetic_friction"]:
+            raise self.fail(f"{key}.{given[0]}", "give both static_friction and kinetic_friction")
+        values = {}
+        for k in given:
+            mu = L.expr(spec[k], f"{key}.{k}", L.names.params, DIMENSIONLESS)
+            v = L.si(mu, f"{key}.{k}")
+            if not (v >= 0 and math.isfinite(v)):
+                raise self.fail(f"{key}.{k}", "must be a finite number >= 0")
+            values[k] = (mu, v)
+        if "friction_coefficient" in values:
+            mu = values["friction_coefficient"][0]
+            return Friction(mu, mu)
+        (ms, vs), (mk, vk) = values["static_friction"], values["kinetic_friction"]
+        if vk > vs:
+            raise self.fail(f"{key}.kinetic_friction", f"must not exceed static_friction ({vk:g} > {vs:g})")
+        return Friction(ms, mk)
 
     def _joint_rolling(self, spec, key, name):
         L = self.L
@@ -460,7 +488,7 @@ class _MultibodyReader:
         f = self.reaction(spec.get("friction", f"F_{name}"), f"{key}.friction", name)
         n = self.reaction(spec.get("normal", f"N_{name}"), f"{key}.normal", name, "N", True)
         return Rolling(name, on, body, (f, n), element=e.name, center=sp.Matrix(e.center), radius=e.radius,
-                       through=through, angle=angle, s_ref=s_ref, phi_ref=sp.Integer(0), mu=self._mu(spec, key),
+                       through=through, angle=angle, s_ref=s_ref, phi_ref=sp.Integer(0), friction=self._friction(spec, key),
                        semicircle_axis=e.angle if e.kind == "semicircular_disk" else None)
 
     def _joint_rolling_on_circle(self, spec, key, name):
@@ -482,7 +510,7 @@ class _MultibodyReader:
         n = self.reaction(spec.get("normal", f"N_{name}"), f"{key}.normal", name, "N", True)
         return RollingOnCircle(name, on, body, (f, n), element=e.name, center=sp.Matrix(e.center), radius=e.radius,
                                circle_center=center, circle_radius=radius, inside=side == "inside",
-                               position_angle=pa, mu=self._mu(spec, key))
+                               position_angle=pa, friction=self._friction(spec, key))
 
     def _joint_gear(self, spec, key, name):
         L = self.L

@@ -27,10 +27,12 @@ from typing import Callable, ClassVar
 
 import sympy as sp
 
+from .contacts import SEPARATED, STICK, Friction, Regime, Separated
+
 __all__ = [
     "Reaction", "JointLoad", "Joint", "Pin", "Rail", "PinInSlot", "Slider", "Rolling",
     "RollingOnCircle", "GearMesh", "Cord", "Motor", "Actuator", "JOINT_CLASSES",
-    "rotation", "cross_k", "k_cross",
+    "rotation", "cross_k", "k_cross", "Contact",
 ]
 
 Pose = Callable[[str], tuple[sp.Matrix, sp.Expr]]
@@ -210,6 +212,89 @@ class Joint:
         return f"{type(self).__name__}({self.name!r}, {self.first} -> {self.second}, [{names}])"
 
 
+
+# --------------------------------------------------------------------------- contacts
+class Contact:
+    """What every contact joint shares (mixed into :class:`Rail`, :class:`Rolling`
+    and :class:`RollingOnCircle`): its rows and loads in each regime of
+    :mod:`solver.model.contacts`.
+
+    A contact class provides ``contact_rows(pose) -> (Phi_t, Phi_n)`` (Phi_t
+    without the stick phase), ``contact_frame(pose) -> (d, n, at)`` and
+    ``as_written`` (the regime the scene states: pure rolling for rolling
+    contacts; frictionless sliding, ``None``, for a rail). Its fields
+    ``friction`` (:class:`~solver.model.contacts.Friction` or None),
+    ``regime``, ``pair`` (the friction and normal reactions, F possibly None)
+    and ``phase`` (the stick row's constant) are declared by each class.
+    """
+
+    @property
+    def current_regime(self) -> Regime | None:
+        return self.regime if self.regime is not None else self.as_written
+
+    @property
+    def friction_reaction(self) -> Reaction | None:
+        return self.pair[0]
+
+    @property
+    def normal_reaction(self) -> Reaction:
+        return self.pair[1]
+
+    @property
+    def needs_regime(self) -> bool:
+        """True when the sliding direction, hence the friction force, depends on the motion."""
+        return self.regime is None and self.as_written is None and self.friction is not None
+
+    def in_regime(self, regime: Regime) -> "Joint":
+        """A copy of this contact in ``regime`` (its reactions and rows follow the regime).
+
+        A stick regime binds its phase (the constant of the tangential row)
+        to the state the copy is made at: where the contact sticks again.
+        """
+        from dataclasses import replace
+
+        F, N = self.pair
+        if regime.keeps_tangential:
+            if F is None:
+                raise ValueError(f"contact {self.name!r} has no friction reaction to stick with")
+            reactions = (F, N)
+        elif regime.keeps_normal:
+            reactions = (N,)
+        else:
+            reactions = ()
+        bind = regime.keeps_tangential
+        return replace(self, regime=regime, reactions=reactions, phase=sp.Integer(0) if bind else self.phase,
+                       phase_from_state=bind or getattr(self, "phase_from_state", False))
+
+    def _regime_rows(self, pose) -> list[sp.Expr]:
+        Pt, Pn = self.contact_rows(pose)
+        r = self.current_regime
+        if r is None:
+            return [Pn]
+        if not r.keeps_normal:
+            return []
+        return [Pt - self.phase, Pn] if r.keeps_tangential else [Pn]
+
+    def _regime_loads(self, pose):
+        d, n, at = self.contact_frame(pose)
+        r = self.current_regime
+        if r is None:
+            return [(n, at, 0)]
+        if not r.keeps_normal:
+            return []
+        if r.keeps_tangential:
+            return [(d, at, 0), (n, at, 0)]
+        mu_k = 0 if self.friction is None else self.friction.kinetic
+        return [(n - r.friction_direction() * mu_k * d, at, 0)]
+
+    @property
+    def friction_pair(self):
+        """(friction reaction, normal reaction, mu_s or None) while sticking, else None."""
+        r = self.current_regime
+        if r is None or not r.keeps_tangential:
+            return None
+        return (self.pair[0].name, self.pair[1].name, None if self.friction is None else self.friction.static)
+
 # --------------------------------------------------------------------------- pin
 @dataclass(eq=False, repr=False)
 class Pin(Joint):
@@ -234,29 +319,52 @@ class Pin(Joint):
 
 # --------------------------------------------------------------------------- rail
 @dataclass(eq=False, repr=False)
-class Rail(Joint):
+class Rail(Contact, Joint):
     """Point ``point`` of the second body moves on the straight line of the
     first body through ``through`` with direction ``angle`` (first body's
-    frame). Frictionless: one reaction along the line's left normal
-    n = (-sin a, cos a), positive pushing the second body along n."""
+    frame). As written, frictionless: one reaction along the line's left
+    normal n = (-sin a, cos a), positive pushing the second body along n.
+
+    With ``friction`` (a one-sided contact, e.g. a ladder's foot or a crate's
+    corner) it is a :class:`Contact`: sticking adds the friction reaction
+    along d = (cos a, sin a) and the row d.(p - o) = phase; sliding puts
+    -s mu_k N along d; separating removes the row.
+    """
 
     kind: ClassVar[str] = "rail"
     placement_priority: ClassVar[int] = 4
     reaction_units: ClassVar[tuple[str, ...]] = ("N",)
+    as_written: ClassVar[Regime | None] = None
     point: sp.Matrix = field(default_factory=lambda: sp.zeros(2, 1))
     through: sp.Matrix = field(default_factory=lambda: sp.zeros(2, 1))
     angle: sp.Expr = sp.Integer(0)
+    friction: Friction | None = None
+    regime: Regime | None = None
+    pair: tuple = ()
+    phase: sp.Expr = sp.Integer(0)
+    phase_from_state: bool = False
+
+    def __post_init__(self):
+        if not self.pair and self.reactions:
+            self.pair = (None, self.reactions[0])
 
     def _normal(self, pose):
         return _line(pose, self.first, self.angle)[1]
 
+    def contact_rows(self, pose):
+        d, n = _line(pose, self.first, self.angle)
+        rel = _at(pose, self.second, self.point) - _at(pose, self.first, self.through)
+        return (d.T * rel)[0], (n.T * rel)[0]
+
+    def contact_frame(self, pose):
+        d, n = _line(pose, self.first, self.angle)
+        return d, n, _at(pose, self.second, self.point)
+
     def rows(self, pose, t):
-        p = _at(pose, self.second, self.point)
-        o = _at(pose, self.first, self.through)
-        return [(self._normal(pose).T * (p - o))[0]]
+        return self._regime_rows(pose)
 
     def _unit_loads(self, pose, t):
-        return [(self._normal(pose), _at(pose, self.second, self.point), 0)]
+        return self._regime_loads(pose)
 
 
 @dataclass(eq=False, repr=False)
@@ -284,10 +392,11 @@ class Slider(Rail):
     def rows(self, pose, t):
         _, phi1 = pose(self.first)
         _, phi2 = pose(self.second)
-        return super().rows(pose, t) + [phi2 - phi1 - self.relative_angle]
+        return [self.contact_rows(pose)[1], phi2 - phi1 - self.relative_angle]
 
     def _unit_loads(self, pose, t):
-        return super()._unit_loads(pose, t) + [(None, None, 1)]
+        d, n, at = self.contact_frame(pose)
+        return [(n, at, 0), (None, None, 1)]
 
     def orientation_of(self, body, pose, t):
         return self._relative_orientation(body, pose, self.relative_angle)
@@ -295,7 +404,7 @@ class Slider(Rail):
 
 # --------------------------------------------------------------------------- rolling on a line
 @dataclass(eq=False, repr=False)
-class Rolling(Joint):
+class Rolling(Contact, Joint):
     """Round element of the second body (rim centre ``center``, radius
     ``radius``, body frame) rolls without slipping on the straight line of the
     first body through ``through`` with direction ``angle``, on the side of the
@@ -305,6 +414,7 @@ class Rolling(Joint):
     Equations: n.(c - o) - r = 0 (contact) and
     d.(c - o) + r (phi_2 - phi_1 - phi_ref) - s_ref = 0 (no slip, integrated:
     the contact point advances by -r dphi along d; Eq. 31 for Example 2).
+    As a :class:`Contact` it may also slip or separate.
     """
 
     kind: ClassVar[str] = "rolling"
@@ -317,35 +427,43 @@ class Rolling(Joint):
     angle: sp.Expr = sp.Integer(0)
     s_ref: sp.Expr = sp.Integer(0)
     phi_ref: sp.Expr = sp.Integer(0)
-    mu: sp.Expr | None = None
+    friction: Friction | None = None
     semicircle_axis: sp.Expr | None = None
+    regime: Regime | None = None
+    pair: tuple = ()
+    phase: sp.Expr = sp.Integer(0)
+    phase_from_state: bool = False
+    as_written: ClassVar[Regime | None] = STICK
+
+    def __post_init__(self):
+        if not self.pair and len(self.reactions) == 2:
+            self.pair = tuple(self.reactions)
 
     def _frame(self, pose):
         return _line(pose, self.first, self.angle)
 
-    def rows(self, pose, t):
+    def contact_rows(self, pose):
         d, n = self._frame(pose)
         c = _at(pose, self.second, self.center)
         o = _at(pose, self.first, self.through)
         _, phi1 = pose(self.first)
         _, phi2 = pose(self.second)
-        return [
-            (d.T * (c - o))[0] + self.radius * (phi2 - phi1 - self.phi_ref) - self.s_ref,
-            (n.T * (c - o))[0] - self.radius,
-        ]
+        return ((d.T * (c - o))[0] + self.radius * (phi2 - phi1 - self.phi_ref) - self.s_ref,
+                (n.T * (c - o))[0] - self.radius)
+
+    def rows(self, pose, t):
+        return self._regime_rows(pose)
 
     def contact_point(self, pose) -> sp.Matrix:
         d, n = self._frame(pose)
         return _at(pose, self.second, self.center) - self.radius * n
 
-    def _unit_loads(self, pose, t):
+    def contact_frame(self, pose):
         d, n = self._frame(pose)
-        at = self.contact_point(pose)
-        return [(d, at, 0), (n, at, 0)]
+        return d, n, self.contact_point(pose)
 
-    @property
-    def friction_pair(self):
-        return (self.reactions[0].name, self.reactions[1].name, self.mu)
+    def _unit_loads(self, pose, t):
+        return self._regime_loads(pose)
 
     def limits(self, pose):
         if self.semicircle_axis is None:
@@ -360,7 +478,7 @@ class Rolling(Joint):
 
 # --------------------------------------------------------------------------- rolling on a circle
 @dataclass(eq=False, repr=False)
-class RollingOnCircle(Joint):
+class RollingOnCircle(Contact, Joint):
     """Round element of the second body rolls without slipping on a circle of
     the first body (centre ``circle_center``, radius ``circle_radius``, first
     body's frame), outside or inside it. Reactions: friction along the
@@ -380,6 +498,7 @@ class RollingOnCircle(Joint):
     kind: ClassVar[str] = "rolling_on_circle"
     orientation_row: ClassVar[int | None] = 0
     place_rows: ClassVar[tuple[int, ...]] = (1,)
+    as_written: ClassVar[Regime | None] = STICK
     reaction_units: ClassVar[tuple[str, ...]] = ("N", "N")
     element: str = ""
     center: sp.Matrix = field(default_factory=lambda: sp.zeros(2, 1))
@@ -390,7 +509,13 @@ class RollingOnCircle(Joint):
     position_angle: sp.Expr | None = None
     phase: sp.Expr = sp.Integer(0)
     phase_from_state: bool = True
-    mu: sp.Expr | None = None
+    friction: Friction | None = None
+    regime: Regime | None = None
+    pair: tuple = ()
+
+    def __post_init__(self):
+        if not self.pair and len(self.reactions) == 2:
+            self.pair = tuple(self.reactions)
 
     @property
     def _Rc(self):
@@ -404,28 +529,31 @@ class RollingOnCircle(Joint):
         e = rel / dist
         return c, O, rel, dist, e
 
-    def rows(self, pose, t):
+    def contact_rows(self, pose):
         c, O, rel, dist, e = self._geometry(pose)
         _, phi1 = pose(self.first)
         _, phi2 = pose(self.second)
         psi = sp.atan2(rel[1], rel[0]) - phi1
         normal = self._Rc - dist if self.inside else dist - self._Rc
         sign = 1 if self.inside else -1
-        slip = self._Rc * psi + sign * self.radius * (phi2 - phi1) - self.phase
-        return [slip, normal]
+        return self._Rc * psi + sign * self.radius * (phi2 - phi1), normal
+
+    def rows(self, pose, t):
+        return self._regime_rows(pose)
 
     def contact_point(self, pose):
         c, O, rel, dist, e = self._geometry(pose)
         return c + self.radius * e if self.inside else c - self.radius * e
 
-    def _unit_loads(self, pose, t):
+    def contact_frame(self, pose):
         c, O, rel, dist, e = self._geometry(pose)
-        et = sp.Matrix([-e[1], e[0]])
-        at = self.contact_point(pose)
-        return [(et, at, 0), (-e if self.inside else e, at, 0)]
+        return sp.Matrix([-e[1], e[0]]), (-e if self.inside else e), self.contact_point(pose)
+
+    def _unit_loads(self, pose, t):
+        return self._regime_loads(pose)
 
     def orientation_of(self, body, pose, t):
-        if body != self.second or self.position_angle is None:
+        if body != self.second or self.position_angle is None or self.current_regime != STICK:
             return None
         _, phi1 = pose(self.first)
         sign = 1 if self.inside else -1
@@ -433,17 +561,13 @@ class RollingOnCircle(Joint):
         return phi1 + (self.phase - self._Rc * self.position_angle) / (sign * self.radius)
 
     def place(self, body, pose, t):
-        if body != self.second or self.position_angle is None:
+        if body != self.second or self.position_angle is None or self.current_regime != STICK:
             return None
         origin1, phi1 = pose(self.first)
         _, phi2 = pose(self.second)
         O = origin1 + rotation(phi1) * self.circle_center
         c = O + self._Rc * _unit(phi1 + self.position_angle)
         return c - rotation(phi2) * self.center
-
-    @property
-    def friction_pair(self):
-        return (self.reactions[0].name, self.reactions[1].name, self.mu)
 
 
 # --------------------------------------------------------------------------- gears

@@ -35,10 +35,10 @@ import sympy as sp
 
 from ..errors import SceneError
 from .bodies import GROUND, Ground, RigidBody
-from .joints import Joint, Motor, Actuator, k_cross, rotation
+from .joints import Actuator, Contact, Joint, Motor, k_cross, rotation
 from .loads import Load
 
-__all__ = ["Coordinate", "System", "ClosureRow"]
+__all__ = ["Coordinate", "System", "ClosureRow", "RedundantConstraints"]
 
 _IDENTICAL_TOL = 1e-9
 
@@ -88,6 +88,10 @@ class Coordinate:
     @property
     def prescribed(self) -> bool:
         return self.motion is not None
+
+
+class RedundantConstraints(SceneError):
+    """Closure equations that are dependent at the state (statically indeterminate reactions)."""
 
 
 class _Unplaceable(SceneError):
@@ -659,6 +663,79 @@ class System:
     def limits(self) -> list[tuple[str, sp.Expr]]:
         pose = self._pose_fn(self.poses)
         return [lim for j in self.joints for lim in j.limits(pose)]
+
+    # -- contact regimes --------------------------------------------------------------------------
+    @property
+    def contacts(self) -> list[Joint]:
+        """The contacts that can change regime: friction, or a one-sided normal force."""
+        return [j for j in self.joints if isinstance(j, Contact)
+                and (j.friction is not None or j.normal_reaction.one_sided)]
+
+    def with_regimes(self, regimes: dict, q=None, qd=None, t=None, redundant_ok: bool = False) -> "System":
+        """A copy of this system with contacts in the given regimes, at a state.
+
+        Parameters
+        ----------
+        regimes : dict[str, Regime]
+            Joint name -> regime (see :mod:`solver.model.contacts`); other
+            joints are kept as they are.
+        q, qd : sequences of float, optional
+            Values and rates of the free coordinates (the scene's by default).
+            Stick rows that the scene did not state are bound to this state.
+        t : float, optional
+        redundant_ok : bool
+            Return the copy even when its closure equations are dependent
+            (for a check of statically indeterminate forces); its coordinates
+            are then all independent and it does not validate.
+
+        The dependent coordinates are re-chosen: as many as the copy has
+        closure equations, those whose columns of the closure Jacobian are
+        independent (coordinates the scene marks dependent first).
+
+        Raises
+        ------
+        RedundantConstraints
+            The closure equations are dependent at the state (a body held by
+            more contacts than it has freedoms: the contact forces are
+            statically indeterminate).
+        """
+        from dataclasses import replace as _replace
+
+        free = self.free
+        q = [c.value for c in free] if q is None else list(q)
+        qd = [c.rate for c in free] if qd is None else list(qd)
+        values = dict(zip((c.name for c in free), zip(q, qd)))
+        coords = [c if c.prescribed else _replace(c, value=float(values[c.name][0]), rate=float(values[c.name][1]),
+                                                  dependent=False, given=None)
+                  for c in self.coordinates]
+        joints = [j.in_regime(regimes[j.name]) if j.name in regimes else j for j in self.joints]
+        new = System(self.name, self.parameters, coords, self.bodies.values(), joints, self.loads, self.ground,
+                     time=self.time if t is None else float(t), source=self.source,
+                     output_units=self.output_units, description=self.description)
+        rows = new.closure
+        if rows:
+            J = sp.Matrix([r.expr for r in rows]).jacobian(sp.Matrix(new.q))
+            vals = {**new._state_values(), new.t: new.time}
+            Jn = np.array([[new._num(x, vals) for x in row] for row in J.tolist()], dtype=float)
+            marked = {c.name for c in self.free if c.dependent}
+            order = sorted(range(len(free)), key=lambda i: (free[i].name not in marked, -i))
+            chosen: list[int] = []
+            for i in order:
+                trial = chosen + [i]
+                if np.linalg.matrix_rank(Jn[:, trial], tol=1e-9 * max(1.0, np.abs(Jn).max())) == len(trial):
+                    chosen = trial
+                if len(chosen) == len(rows):
+                    break
+            if len(chosen) < len(rows):
+                if redundant_ok:
+                    return new
+                names = ", ".join(dict.fromkeys(repr(r.joint.name) for r in rows))
+                raise RedundantConstraints(f"{self.label}: the contacts {names} hold more than the "
+                                           f"coordinates can move: their forces are statically indeterminate")
+            dep = {free[i].name for i in chosen}
+            new.coordinates = [_replace(c, dependent=c.name in dep) for c in coords]
+            new.reset()
+        return new
 
     def __repr__(self) -> str:
         return (f"System({self.name!r}, bodies=[{', '.join(self.bodies)}], "

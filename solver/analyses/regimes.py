@@ -1,0 +1,357 @@
+"""Which contact regime holds at a state: stick, slip or separation (Coulomb).
+
+For every contact that can change (:attr:`System.contacts`: friction, or a
+one-sided normal force) the candidates at a state follow from its kinematics:
+
+* a gap that is open or opening: separated;
+* touching and sliding (dPhi_t/dt != 0): slip in the direction of the sliding
+  velocity, or separation;
+* touching at rest: stick, slip either way (impending motion), or separation.
+
+Each combination is solved as its own system (:meth:`System.with_regimes`)
+and kept when it is *consistent*: normal forces press (N >= 0); sticking
+friction stays in the cone (|F| <= mu_s N); an impending slip accelerates the
+way it slides (s d2Phi_t/dt2 >= 0); a separating contact does not penetrate
+(d2Phi_n/dt2 >= 0). Among consistent combinations, Coulomb's rule prefers
+sticking to slipping and contact to separation; when several remain that no
+rule orders, or none is consistent (Painlevé's paradox), the solver says so
+instead of choosing. A redundant stick (a body held by more contacts than it
+has freedoms, as a ladder resting against a wall) is checked by a linear
+programme: does any distribution of the indeterminate forces keep every
+contact inside its cone?
+"""
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import sympy as sp
+
+from ..errors import InputError, SceneError
+from ..model.contacts import SEPARATED, STICK, Regime, Slip
+from ..model.system import RedundantConstraints
+
+__all__ = ["RegimeResult", "ContactCheck", "find_regime", "contact_kinematics", "MAX_CONTACTS",
+           "NoConsistentRegime", "AmbiguousRegime", "regime_system", "solve_in_regime"]
+
+MAX_CONTACTS = 4
+"""Most contacts that can change regime in one scene (at most 4**4 = 256 combinations are tried)."""
+
+TOL = 1e-9
+"""Relative tolerance of the sign tests (forces against the largest force; rates and
+accelerations against the largest of the state's): round-off of the solve is ~1e-13,
+so 1e-9 separates a zero from a sign without accepting real violations."""
+
+
+class NoConsistentRegime(SceneError):
+    """No combination of contact regimes satisfies Coulomb's and Signorini's conditions."""
+
+
+class AmbiguousRegime(SceneError):
+    """Several combinations are consistent and no rule orders them (Painlevé's paradox)."""
+
+
+@dataclass
+class ContactCheck:
+    """One contact's regime at a state, and why it holds."""
+
+    joint: str
+    regime: Regime
+    reason: str
+    normal: float = 0.0
+    friction: float = 0.0
+    needed_mu: float | None = None
+
+    def to_dict(self) -> dict:
+        out = {"joint": self.joint, "regime": self.regime.label, "reason": self.reason,
+               "normal_force": self.normal, "friction_force": self.friction}
+        if self.needed_mu is not None:
+            out["least_mu"] = self.needed_mu
+        return out
+
+
+@dataclass
+class RegimeResult:
+    """The regime that holds at a state.
+
+    Attributes
+    ----------
+    regimes : dict[str, Regime]
+    system : System
+        The system in that regime (the scene's own when nothing changed).
+    values : dict[str, float]
+        Every unknown of that system (SI), plus each sliding contact's friction.
+    checks : list of ContactCheck
+    indeterminate : bool
+        True when sticking contacts hold a body redundantly: the motion is
+        determined, the split of their forces is not (``values`` then holds
+        one admissible split).
+    rejected : list of str
+        The other combinations tried and why each fails.
+    """
+
+    regimes: dict
+    system: object
+    values: dict
+    checks: list = field(default_factory=list)
+    indeterminate: bool = False
+    rejected: list = field(default_factory=list)
+
+
+def regime_system(system, regimes: dict, q=None, qd=None, t=None):
+    """``system`` itself when ``regimes`` is what the scene states and its
+    coordinates describe it, else its copy in them at the state."""
+    if all(_same(j, regimes.get(j.name)) for j in system.contacts):
+        try:
+            system.validate()
+            return system
+        except SceneError:
+            pass
+    return system.with_regimes(regimes, q, qd, t)
+
+
+def _same(joint, regime) -> bool:
+    return regime is None or regime == joint.current_regime
+
+
+def contact_kinematics(system):
+    """Per contact (joint name): functions of (q, qd, qdd, t) giving
+    (Phi_n, dPhi_n, d2Phi_n, dPhi_t, d2Phi_t) in ``system``'s coordinates
+    (cached on the system)."""
+    def build():
+        pose = system._pose_fn(system.poses)
+        values = system.si_values()
+        params = sorted(values, key=str)
+        pv = [values[p] for p in params]
+        args = (*system.q, *system.qd, *system.qdd, system.t, *params)
+        out = {}
+        for j in system.contacts:
+            Pt, Pn = (system.prescribe(sp.sympify(x)) for x in j.contact_rows(pose))
+            dPn, dPt = system.D(Pn), system.D(Pt)
+            f = sp.lambdify(args, [Pn, dPn, system.D(dPn), dPt, system.D(dPt)], "math", cse=True)
+            out[j.name] = (f, pv)
+        return out
+    return system._memo("contact_kinematics", build)
+
+
+def _kin(system, name, q, qd, qdd, t):
+    f, pv = contact_kinematics(system)[name]
+    return [float(v) for v in f(*q, *qd, *qdd, t, *pv)]
+
+
+def _candidates(system, q, qd, t) -> dict[str, list[Regime]]:
+    """The regimes each contact may be in, from its kinematics at the state."""
+    zero_acc = [0.0] * len(q)
+    scale_v = 1.0 + max((abs(v) for v in qd), default=0.0)
+    scale_q = 1.0 + max((abs(v) for v in q), default=0.0)
+    out = {}
+    for j in system.contacts:
+        gap, vgap, _, vt, _ = _kin(system, j.name, q, qd, zero_acc, t)
+        one_sided = j.normal_reaction.one_sided
+        if one_sided and (gap > TOL * 1e3 * scale_q or vgap > TOL * scale_v):
+            out[j.name] = [SEPARATED]
+            continue
+        if one_sided and vgap < -TOL * scale_v * 1e3 and abs(gap) <= TOL * 1e3 * scale_q:
+            raise InputError(f"{system.label}: contact {j.name!r} is closing at {vgap:.6g} (an impact): "
+                             "impacts are not modelled")
+        if j.friction is None:
+            tangential = [j.current_regime]
+        elif abs(vt) > TOL * scale_v:
+            tangential = [Slip(1 if vt > 0 else -1)]
+        else:
+            tangential = [STICK, Slip(1), Slip(-1)]
+        out[j.name] = tangential + ([SEPARATED] if one_sided else [])
+    return out
+
+
+def _rank(regime) -> int:
+    if regime is SEPARATED or (regime is not None and not regime.keeps_normal):
+        return 2
+    if regime is None or regime.keeps_tangential:
+        return 0
+    return 1
+
+
+def find_regime(system, q=None, qd=None, t=None, point=None, method="generalized_euler",
+                exclude: dict | None = None) -> RegimeResult:
+    """The contact regime that holds at the state (the scene's by default).
+
+    ``exclude`` (joint -> regime) rules a regime out for a contact: the one it
+    leaves at an event of a simulation, whose condition holds there only
+    with equality.
+
+    Raises
+    ------
+    NoConsistentRegime, AmbiguousRegime
+        With every combination tried and why it fails.
+    InputError
+        An impact at the state, or too many contacts (:data:`MAX_CONTACTS`).
+    """
+    from .instant import assemble
+
+    if len(system.contacts) > MAX_CONTACTS:
+        raise InputError(f"{system.label}: {len(system.contacts)} contacts can change regime; at most "
+                         f"{MAX_CONTACTS} are searched")
+    if q is None:
+        st = assemble(system)
+        q, qd, t = st.q, st.qd, st.t
+    t = system.time if t is None else float(t)
+    cands = _candidates(system, q, qd, t)
+    for name, regime in (exclude or {}).items():
+        cands[name] = [r for r in cands[name] if r != regime] or cands[name]
+    names = list(cands)
+    combos = sorted(itertools.product(*(cands[n] for n in names)),
+                    key=lambda c: (sum(_rank(r) for r in c), [_rank(r) for r in c]))
+    consistent, rejected = [], []
+    for combo in combos:
+        regimes = dict(zip(names, combo))
+        if any(_dominates(c.regimes, regimes) for c in consistent):
+            continue  # a preferred combination already holds
+        label = ", ".join(f"{n}: {r.label}" for n, r in regimes.items())
+        try:
+            res = solve_in_regime(system, regimes, q, qd, t, point, method)
+        except RedundantConstraints:
+            res = _redundant_stick(system, regimes, q, qd, t)
+        except SceneError as err:
+            rejected.append(f"{label}: the scene cannot describe it ({_short(err)})")
+            continue
+        if isinstance(res, str):
+            rejected.append(f"{label}: {res}")
+            continue
+        consistent.append(res)
+    if not consistent:
+        raise NoConsistentRegime(f"{system.label}: no contact regime is consistent at the state "
+                                 f"(Painlevé's paradox, or a motion the scene cannot describe): "
+                                 + "; ".join(rejected))
+    if len(consistent) > 1:
+        labels = [", ".join(f"{n}: {r.label}" for n, r in c.regimes.items()) for c in consistent]
+        raise AmbiguousRegime(f"{system.label}: several contact regimes are consistent at the state and "
+                              f"Coulomb's law does not choose between them (Painlevé's paradox): "
+                              + " | ".join(labels))
+    out = consistent[0]
+    out.rejected = rejected
+    return out
+
+
+def _dominates(a: dict, b: dict) -> bool:
+    """True when ``a`` is preferred to ``b`` for every contact (sticking, then contact)."""
+    return all(_rank(a[n]) <= _rank(b[n]) for n in a) and any(_rank(a[n]) < _rank(b[n]) for n in a)
+
+
+def _short(err) -> str:
+    text = str(err)
+    return text.split(": ", 1)[-1][:200]
+
+
+def solve_in_regime(system, regimes, q, qd, t, point=None, method="generalized_euler"):
+    """Solve ``system`` with its contacts in ``regimes`` at the state and check
+    every contact's condition: a :class:`RegimeResult`, or a string saying which
+    condition fails."""
+    from ..errors import SingularConfigurationError
+    from ..formulations import formulate
+
+    variant = regime_system(system, regimes, q, qd, t)
+    try:
+        res = formulate(variant, method, point).numeric().solve(q, qd, t)
+    except SingularConfigurationError as err:
+        return f"its equations are singular ({_short(err)})"
+    values = {k: float(v) for k, v in res.items()}
+    qdd = [values[str(c.qdd)] for c in variant.free]
+    checks, failure = _check(variant, regimes, q, qd, qdd, t, values)
+    if failure:
+        return failure
+    return RegimeResult(dict(regimes), variant, values, checks)
+
+
+def _check(variant, regimes, q, qd, qdd, t, values):
+    forces = [abs(v) for k, v in values.items() if k in {r.name for r in variant.reactions}]
+    fscale = max(forces, default=0.0) + 1e-300
+    ascale = 1.0 + max((abs(a) for a in qdd), default=0.0)
+    pv = variant.si_values()
+    checks = []
+    for j in variant.contacts:
+        r = regimes.get(j.name, j.current_regime)
+        _, _, an, vt, at = _kin(variant, j.name, q, qd, qdd, t)
+        F, N = j.pair
+        if r is SEPARATED:
+            if an < -TOL * ascale:
+                return [], f"{j.name} separated would penetrate (gap acceleration {an:.6g})"
+            checks.append(ContactCheck(j.name, r, f"the gap opens (gap acceleration {an:.6g} >= 0)"))
+            continue
+        n = values[N.name]
+        if N.one_sided and n < -TOL * fscale:
+            return [], f"{j.name} would pull ({N.name} = {n:.6g} N < 0)"
+        if r is not None and r.keeps_tangential:
+            f = values[F.name]
+            mu_s = math.inf if j.friction is None else float(sp.sympify(j.friction.static).xreplace(pv))
+            need = abs(f) / n if n > 0 else (0.0 if f == 0 else math.inf)
+            if abs(f) > mu_s * n + TOL * fscale:
+                return [], (f"{j.name} sticking needs |{F.name}| = {abs(f):.6g} N > mu_s {N.name} = "
+                            f"{mu_s * n:.6g} N (least mu {need:.6g})")
+            why = (f"sticks: |{F.name}| = {abs(f):.6g} N <= mu_s {N.name} = {mu_s * n:.6g} N"
+                   if math.isfinite(mu_s) else "rolls without slip (no friction limit given)")
+            checks.append(ContactCheck(j.name, r, why, n, f, need))
+            continue
+        s = 0 if r is None else r.friction_direction()
+        mu_k = 0.0 if j.friction is None else float(sp.sympify(j.friction.kinetic).xreplace(pv))
+        f = -s * mu_k * n
+        if F is not None:
+            values[F.name] = f
+        if s and s * at < -TOL * ascale and abs(vt) <= TOL * (1.0 + max((abs(v) for v in qd), default=0.0)):
+            return [], f"{j.name} slipping {'+' if s > 0 else '-'} would accelerate the other way"
+        why = ("slides without friction" if j.friction is None else
+               f"slides ({'+' if s > 0 else '-'} along its line): friction = -s mu_k N = {f:.6g} N")
+        checks.append(ContactCheck(j.name, r if r is not None else STICK, why, n, f))
+    return checks, None
+
+
+def _redundant_stick(system, regimes, q, qd, t):
+    """A redundant stick: is there a split of the indeterminate forces inside every cone?
+    A linear programme maximising the smallest margin (scipy.optimize.linprog, HiGHS)."""
+    from scipy.optimize import linprog
+
+    from ..formulations import Formulation, resolve_points
+
+    variant = system.with_regimes(regimes, q, qd, t, redundant_ok=True)
+    f = Formulation(variant, "generalized_euler", resolve_points(variant, None))
+    A, b = f.numeric().matrices(q, qd, t)
+    A, b = np.asarray(A, float), np.asarray(b, float)
+    names = list(f.numeric().names)
+    n = len(names)
+    pv = variant.si_values()
+    scale = float(np.abs(b).max()) + 1.0
+    # variables: unknowns then the margin m; maximise m
+    A_ub, b_ub = [], []
+    for j in variant.contacts:
+        r = regimes.get(j.name, j.current_regime)
+        if r is SEPARATED:
+            continue
+        F, N = j.pair
+        iN = names.index(N.name)
+        row = np.zeros(n + 1)
+        row[iN], row[-1] = -1.0, scale * 1e-3  # N >= m
+        A_ub.append(row), b_ub.append(0.0)
+        if r is not None and r.keeps_tangential and j.friction is not None:
+            mu = float(sp.sympify(j.friction.static).xreplace(pv))
+            iF = names.index(F.name)
+            for sgn in (1, -1):  # +-F <= mu N - m
+                row = np.zeros(n + 1)
+                row[iF], row[iN], row[-1] = sgn, -mu, scale * 1e-3
+                A_ub.append(row), b_ub.append(0.0)
+    c = np.zeros(n + 1)
+    c[-1] = -1.0
+    bounds = [(None, None)] * n + [(None, 1.0)]
+    lp = linprog(c, A_ub=np.array(A_ub) if A_ub else None, b_ub=np.array(b_ub) if b_ub else None,
+                 A_eq=np.hstack([A, np.zeros((A.shape[0], 1))]), b_eq=b, bounds=bounds, method="highs")
+    if lp.status != 0:
+        return "no set of forces satisfies the equations (inconsistent)"
+    if lp.x[-1] < -TOL:
+        return "no split of the indeterminate contact forces stays inside every friction cone"
+    values = dict(zip(names, map(float, lp.x[:n])))
+    checks = [ContactCheck(j.name, regimes.get(j.name, j.current_regime),
+                           "sticks (statically indeterminate: an admissible split of the forces exists)",
+                           values[j.pair[1].name], values[j.pair[0].name] if j.pair[0] else 0.0)
+              for j in variant.contacts if regimes.get(j.name) is not SEPARATED]
+    return RegimeResult(dict(regimes), variant, values, checks, indeterminate=True)
