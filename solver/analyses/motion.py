@@ -109,8 +109,10 @@ def simulate_system(system, t_end: float, method: str = "DOP853", rtol: float = 
         raise InputError(f"--samples must lie in 2..{MAX_SAMPLES}, got {samples!r}")
     if mu is not None:
         system = _with_mu(system, mu)
+    from .regimes import start_state
+
     t0 = system.time
-    start = assemble(system)
+    start = start_state(system)
     run = _Run(system, route, method, rtol, atol)
     segments, status, reason = run.go(start, t0, t0 + t_end)
     n = int(samples) if samples is not None else 1001
@@ -190,8 +192,10 @@ class _Run:
             except SceneError as err:
                 cause = _describe(kind, what)
                 return segments, kind, f"at t = {te:.6g} s: {cause}; the motion after it: {str(err).split(': ', 1)[-1]}"
+            at = {c.name: v for c, v in zip(self.base.free, state.q)}
+            at.update({f"{c.name}_dot": v for c, v in zip(self.base.free, state.qd)})
             self.switches.append({"t": te, "joint": what, "from": old.label, "to": found.regimes[what].label,
-                                  "cause": _describe(kind, what)})
+                                  "cause": _describe(kind, what), "state": at})
             for name in self.contacts:
                 if name != what and found.regimes[name] != regimes[name]:
                     self.switches.append({"t": te, "joint": name, "from": regimes[name].label,
@@ -308,8 +312,8 @@ def _contact_functions(system, regimes):
     out = []
     for j in system.contacts:
         r = regimes.get(j.name, j.current_regime)
-        slide = 0 if r is None else r.friction_direction()
-        mu_k = 0.0 if j.friction is None else float(sp.sympify(j.friction.kinetic).xreplace(pv))
+        slide = r.friction_direction()
+        mu_k = 0.0 if j.friction is None or not slide else float(sp.sympify(r.coefficient(j.friction)).xreplace(pv))
         F = j.pair[0]
         out.append(_ContactFunctions(j.name, j.pair[1].name, None if F is None else F.name, slide, mu_k,
                                      lambda q, qd, qdd, t, name=j.name: _kin(system, name, q, qd, qdd, t)))
@@ -327,14 +331,17 @@ def _events(system, regimes, kin, solve_at, full_state):
         r = regimes.get(j.name, j.current_regime)
         c = by_name[j.name]
         if r is SEPARATED:
-            events.append(lambda t, y, c=c: c.fn(full_state(t, y).q, full_state(t, y).qd, [0.0] * len(y), t)[0])
+            def gap(t, y, c=c):
+                st = full_state(t, y)
+                return c.fn(st.q, st.qd, [0.0] * len(st.q), t)[0]
+            events.append(gap)
             info.append(("impact", j.name))
             continue
         contact_normals.add(j.pair[1].name)
         if j.pair[1].one_sided:
             events.append(lambda t, y, n=j.pair[1].name: float(solve_at(t, y)[1][n]))
             info.append(("lost_contact", j.name))
-        if r is not None and r.keeps_tangential and j.friction is not None:
+        if r.keeps_tangential and j.friction is not None:
             mu_s = float(sp.sympify(j.friction.static).xreplace(system.si_values()))
             def ev(t, y, f=j.pair[0].name, n=j.pair[1].name, m=mu_s):
                 res = solve_at(t, y)[1]

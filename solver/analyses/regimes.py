@@ -34,7 +34,7 @@ from ..model.contacts import SEPARATED, STICK, Regime, Slip
 from ..model.system import RedundantConstraints
 
 __all__ = ["RegimeResult", "ContactCheck", "find_regime", "contact_kinematics", "MAX_CONTACTS",
-           "NoConsistentRegime", "AmbiguousRegime", "regime_system", "solve_in_regime"]
+           "NoConsistentRegime", "AmbiguousRegime", "regime_system", "solve_in_regime", "start_state"]
 
 MAX_CONTACTS = 4
 """Most contacts that can change regime in one scene (at most 4**4 = 256 combinations are tried)."""
@@ -161,17 +161,16 @@ def _candidates(system, q, qd, t) -> dict[str, list[Regime]]:
         elif abs(vt) > TOL * scale_v:
             tangential = [Slip(1 if vt > 0 else -1)]
         else:
-            tangential = [STICK, Slip(1), Slip(-1)]
+            tangential = [STICK, Slip(1, impending=True), Slip(-1, impending=True)]
         out[j.name] = tangential + ([SEPARATED] if one_sided else [])
     return out
 
 
 def _rank(regime) -> int:
-    if regime is SEPARATED or (regime is not None and not regime.keeps_normal):
+    """Coulomb's preference: sticking (or frictionless sliding) 0, slipping 1, separation 2."""
+    if not regime.keeps_normal:
         return 2
-    if regime is None or regime.keeps_tangential:
-        return 0
-    return 1
+    return 0 if regime.keeps_tangential or regime.friction_direction() == 0 else 1
 
 
 def find_regime(system, q=None, qd=None, t=None, point=None, method="generalized_euler",
@@ -189,13 +188,11 @@ def find_regime(system, q=None, qd=None, t=None, point=None, method="generalized
     InputError
         An impact at the state, or too many contacts (:data:`MAX_CONTACTS`).
     """
-    from .instant import assemble
-
     if len(system.contacts) > MAX_CONTACTS:
         raise InputError(f"{system.label}: {len(system.contacts)} contacts can change regime; at most "
                          f"{MAX_CONTACTS} are searched")
     if q is None:
-        st = assemble(system)
+        st = start_state(system)
         q, qd, t = st.q, st.qd, st.t
     t = system.time if t is None else float(t)
     cands = _candidates(system, q, qd, t)
@@ -220,6 +217,10 @@ def find_regime(system, q=None, qd=None, t=None, point=None, method="generalized
         if isinstance(res, str):
             rejected.append(f"{label}: {res}")
             continue
+        res = _now_sliding(system, res, q, qd, t, point, method)
+        if isinstance(res, str):
+            rejected.append(f"{label}: {res}")
+            continue
         consistent.append(res)
     if not consistent:
         raise NoConsistentRegime(f"{system.label}: no contact regime is consistent at the state "
@@ -235,6 +236,54 @@ def find_regime(system, q=None, qd=None, t=None, point=None, method="generalized
     return out
 
 
+def _now_sliding(system, res, q, qd, t, point, method):
+    """An impending slip that holds starts: the same regime with kinetic friction."""
+    if not any(getattr(r, "impending", False) for r in res.regimes.values()):
+        return res
+    kinetic = {n: (r.sliding() if getattr(r, "impending", False) else r) for n, r in res.regimes.items()}
+    out = solve_in_regime(system, kinetic, q, qd, t, point, method, strict_direction=False)
+    if isinstance(out, str):
+        return f"it starts to slip, but then {out}"
+    out.checks = [ContactCheck(c.joint, kinetic[c.joint], (c.reason + "; it starts to slip (mu_s N overcome), "
+                  "then slides with mu_k N") if getattr(res.regimes[c.joint], "impending", False) else c.reason,
+                               c.normal, c.friction, c.needed_mu)
+                  for c in out.checks]
+    return out
+
+
+def start_state(system):
+    """The scene's state, completed (:func:`~solver.analyses.instant.assemble`).
+
+    When the closure equations cannot all hold, some one-sided contacts are
+    open at the state: the subsets of them are tried, fewest first, and the
+    first whose remaining closure assembles, with those gaps open and the
+    coordinates the scene gives (not guesses) unchanged, is taken.
+    """
+    from itertools import combinations
+
+    from .instant import assemble
+
+    try:
+        return assemble(system)
+    except (InputError, SceneError) as first:
+        error = first
+    sided = [j for j in system.contacts if j.normal_reaction.one_sided]
+    given = {c.name for c in system.free if not c.dependent}
+    for k in range(1, len(sided) + 1):
+        for subset in combinations(sided, k):
+            try:
+                variant = system.with_regimes({j.name: SEPARATED for j in subset})
+                if any(c.dependent and c.name in given for c in variant.free):
+                    continue  # it would move a coordinate the scene gives
+                st = assemble(variant)
+            except (InputError, SceneError):
+                continue
+            gaps = [_kin(variant, j.name, st.q, st.qd, [0.0] * len(st.q), st.t)[0] for j in subset]
+            if all(g >= 0 for g in gaps):
+                return st
+    raise error
+
+
 def _dominates(a: dict, b: dict) -> bool:
     """True when ``a`` is preferred to ``b`` for every contact (sticking, then contact)."""
     return all(_rank(a[n]) <= _rank(b[n]) for n in a) and any(_rank(a[n]) < _rank(b[n]) for n in a)
@@ -245,10 +294,13 @@ def _short(err) -> str:
     return text.split(": ", 1)[-1][:200]
 
 
-def solve_in_regime(system, regimes, q, qd, t, point=None, method="generalized_euler"):
+def solve_in_regime(system, regimes, q, qd, t, point=None, method="generalized_euler",
+                    strict_direction: bool = True):
     """Solve ``system`` with its contacts in ``regimes`` at the state and check
     every contact's condition: a :class:`RegimeResult`, or a string saying which
-    condition fails."""
+    condition fails. ``strict_direction=False`` skips the direction test of a
+    slip starting from rest (for the kinetic solve after the impending one:
+    with mu_k < mu_s it accelerates the assumed way by construction)."""
     from ..errors import SingularConfigurationError
     from ..formulations import formulate
 
@@ -259,31 +311,35 @@ def solve_in_regime(system, regimes, q, qd, t, point=None, method="generalized_e
         return f"its equations are singular ({_short(err)})"
     values = {k: float(v) for k, v in res.items()}
     qdd = [values[str(c.qdd)] for c in variant.free]
-    checks, failure = _check(variant, regimes, q, qd, qdd, t, values)
+    checks, failure = _check(variant, regimes, q, qd, qdd, t, values, strict_direction)
     if failure:
         return failure
     return RegimeResult(dict(regimes), variant, values, checks)
 
 
-def _check(variant, regimes, q, qd, qdd, t, values):
+def _check(variant, regimes, q, qd, qdd, t, values, strict_direction=True):
     forces = [abs(v) for k, v in values.items() if k in {r.name for r in variant.reactions}]
     fscale = max(forces, default=0.0) + 1e-300
     ascale = 1.0 + max((abs(a) for a in qdd), default=0.0)
+    vscale = 1.0 + max((abs(v) for v in qd), default=0.0)
+    qscale = 1.0 + max((abs(v) for v in q), default=0.0)
     pv = variant.si_values()
     checks = []
     for j in variant.contacts:
         r = regimes.get(j.name, j.current_regime)
-        _, _, an, vt, at = _kin(variant, j.name, q, qd, qdd, t)
+        gap, vgap, an, vt, at = _kin(variant, j.name, q, qd, qdd, t)
         F, N = j.pair
         if r is SEPARATED:
-            if an < -TOL * ascale:
+            closed = gap <= TOL * 1e3 * qscale and vgap <= TOL * vscale
+            if closed and an < -TOL * ascale:
                 return [], f"{j.name} separated would penetrate (gap acceleration {an:.6g})"
-            checks.append(ContactCheck(j.name, r, f"the gap opens (gap acceleration {an:.6g} >= 0)"))
+            checks.append(ContactCheck(j.name, r, f"the gap opens (gap acceleration {an:.6g} >= 0)" if closed
+                                       else f"apart (gap {gap:.6g} m, opening at {vgap:.6g} m/s)"))
             continue
         n = values[N.name]
         if N.one_sided and n < -TOL * fscale:
             return [], f"{j.name} would pull ({N.name} = {n:.6g} N < 0)"
-        if r is not None and r.keeps_tangential:
+        if r.keeps_tangential:
             f = values[F.name]
             mu_s = math.inf if j.friction is None else float(sp.sympify(j.friction.static).xreplace(pv))
             need = abs(f) / n if n > 0 else (0.0 if f == 0 else math.inf)
@@ -294,16 +350,16 @@ def _check(variant, regimes, q, qd, qdd, t, values):
                    if math.isfinite(mu_s) else "rolls without slip (no friction limit given)")
             checks.append(ContactCheck(j.name, r, why, n, f, need))
             continue
-        s = 0 if r is None else r.friction_direction()
-        mu_k = 0.0 if j.friction is None else float(sp.sympify(j.friction.kinetic).xreplace(pv))
+        s = r.friction_direction()
+        mu_k = 0.0 if j.friction is None or not s else float(sp.sympify(r.coefficient(j.friction)).xreplace(pv))
         f = -s * mu_k * n
         if F is not None:
             values[F.name] = f
-        if s and s * at < -TOL * ascale and abs(vt) <= TOL * (1.0 + max((abs(v) for v in qd), default=0.0)):
+        if strict_direction and s and s * at < -TOL * ascale and abs(vt) <= TOL * vscale:
             return [], f"{j.name} slipping {'+' if s > 0 else '-'} would accelerate the other way"
         why = ("slides without friction" if j.friction is None else
                f"slides ({'+' if s > 0 else '-'} along its line): friction = -s mu_k N = {f:.6g} N")
-        checks.append(ContactCheck(j.name, r if r is not None else STICK, why, n, f))
+        checks.append(ContactCheck(j.name, r, why, n, f))
     return checks, None
 
 
@@ -333,7 +389,7 @@ def _redundant_stick(system, regimes, q, qd, t):
         row = np.zeros(n + 1)
         row[iN], row[-1] = -1.0, scale * 1e-3  # N >= m
         A_ub.append(row), b_ub.append(0.0)
-        if r is not None and r.keeps_tangential and j.friction is not None:
+        if r.keeps_tangential and j.friction is not None:
             mu = float(sp.sympify(j.friction.static).xreplace(pv))
             iF = names.index(F.name)
             for sgn in (1, -1):  # +-F <= mu N - m

@@ -14,6 +14,7 @@ regime                    rows (reactions)           friction
 ========================  =========================  ===============================
 :class:`Stick`            Phi_t, Phi_n  (F, N)        unknown, needs |F| <= mu_s N
 :class:`Slip` (s = +-1)   Phi_n         (N)           -s mu_k N along d (a known load)
+:class:`Sliding`          Phi_n         (N)           none (a frictionless rail)
 :class:`Separated`        none                        none
 ========================  =========================  ===============================
 
@@ -29,7 +30,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-__all__ = ["Friction", "Regime", "Stick", "Slip", "Separated", "STICK", "SEPARATED"]
+__all__ = ["Friction", "Regime", "Stick", "Slip", "Sliding", "Separated", "STICK", "SLIDING", "SEPARATED"]
 
 
 @dataclass(frozen=True)
@@ -56,10 +57,10 @@ class Regime:
         return 0
 
     def __eq__(self, other) -> bool:
-        return type(self) is type(other) and self.friction_direction() == other.friction_direction()
+        return type(self) is type(other) and self.label == other.label
 
     def __hash__(self) -> int:
-        return hash((type(self).__name__, self.friction_direction()))
+        return hash((type(self).__name__, self.label))
 
     def __repr__(self) -> str:
         return self.label
@@ -73,16 +74,36 @@ class Stick(Regime):
 
 
 class Slip(Regime):
-    """The contact slides with sliding velocity of sign ``direction`` (+1 along d, -1 against it)."""
+    """The contact slides with sliding velocity of sign ``direction`` (+1 along d, -1 against it).
 
-    def __init__(self, direction: int):
+    ``impending`` marks a slip about to start from rest: its friction is
+    mu_s N, the largest sticking could give, so the slip is consistent only
+    when sticking cannot hold (Coulomb's static law); once sliding, mu_k N.
+    """
+
+    def __init__(self, direction: int, impending: bool = False):
         if direction not in (1, -1):
             raise ValueError(f"a slip direction is +1 or -1, got {direction!r}")
         self.direction = direction
-        self.label = f"slip {'+' if direction > 0 else '-'}"
+        self.impending = impending
+        self.label = f"slip {'+' if direction > 0 else '-'}" + (" (impending)" if impending else "")
+
+    def coefficient(self, friction: Friction) -> sp.Expr:
+        """mu_s while impending, mu_k while sliding."""
+        return friction.static if self.impending else friction.kinetic
+
+    def sliding(self) -> "Slip":
+        """The same direction, sliding (kinetic friction)."""
+        return Slip(self.direction)
 
     def friction_direction(self) -> int:
         return self.direction
+
+
+class Sliding(Regime):
+    """A frictionless contact sliding either way (a rail as written): the normal row only."""
+
+    label = "slides"
 
 
 class Separated(Regime):
@@ -93,4 +114,5 @@ class Separated(Regime):
 
 
 STICK = Stick()
+SLIDING = Sliding()
 SEPARATED = Separated()

@@ -27,7 +27,7 @@ from typing import Callable, ClassVar
 
 import sympy as sp
 
-from .contacts import SEPARATED, STICK, Friction, Regime, Separated
+from .contacts import SLIDING, STICK, Friction, Regime
 
 __all__ = [
     "Reaction", "JointLoad", "Joint", "Pin", "Rail", "PinInSlot", "Slider", "Rolling",
@@ -222,14 +222,14 @@ class Contact:
     A contact class provides ``contact_rows(pose) -> (Phi_t, Phi_n)`` (Phi_t
     without the stick phase), ``contact_frame(pose) -> (d, n, at)`` and
     ``as_written`` (the regime the scene states: pure rolling for rolling
-    contacts; frictionless sliding, ``None``, for a rail). Its fields
+    contacts; sliding, :data:`~solver.model.contacts.SLIDING`, for a rail). Its fields
     ``friction`` (:class:`~solver.model.contacts.Friction` or None),
     ``regime``, ``pair`` (the friction and normal reactions, F possibly None)
     and ``phase`` (the stick row's constant) are declared by each class.
     """
 
     @property
-    def current_regime(self) -> Regime | None:
+    def current_regime(self) -> Regime:
         return self.regime if self.regime is not None else self.as_written
 
     @property
@@ -243,7 +243,7 @@ class Contact:
     @property
     def needs_regime(self) -> bool:
         """True when the sliding direction, hence the friction force, depends on the motion."""
-        return self.regime is None and self.as_written is None and self.friction is not None
+        return self.current_regime == SLIDING and self.friction is not None
 
     def in_regime(self, regime: Regime) -> "Joint":
         """A copy of this contact in ``regime`` (its reactions and rows follow the regime).
@@ -269,8 +269,6 @@ class Contact:
     def _regime_rows(self, pose) -> list[sp.Expr]:
         Pt, Pn = self.contact_rows(pose)
         r = self.current_regime
-        if r is None:
-            return [Pn]
         if not r.keeps_normal:
             return []
         return [Pt - self.phase, Pn] if r.keeps_tangential else [Pn]
@@ -278,20 +276,17 @@ class Contact:
     def _regime_loads(self, pose):
         d, n, at = self.contact_frame(pose)
         r = self.current_regime
-        if r is None:
-            return [(n, at, 0)]
         if not r.keeps_normal:
             return []
         if r.keeps_tangential:
             return [(d, at, 0), (n, at, 0)]
-        mu_k = 0 if self.friction is None else self.friction.kinetic
-        return [(n - r.friction_direction() * mu_k * d, at, 0)]
+        mu = 0 if self.friction is None or not r.friction_direction() else r.coefficient(self.friction)
+        return [(n - r.friction_direction() * mu * d, at, 0)]
 
     @property
     def friction_pair(self):
         """(friction reaction, normal reaction, mu_s or None) while sticking, else None."""
-        r = self.current_regime
-        if r is None or not r.keeps_tangential:
+        if not self.current_regime.keeps_tangential:
             return None
         return (self.pair[0].name, self.pair[1].name, None if self.friction is None else self.friction.static)
 
@@ -334,7 +329,7 @@ class Rail(Contact, Joint):
     kind: ClassVar[str] = "rail"
     placement_priority: ClassVar[int] = 4
     reaction_units: ClassVar[tuple[str, ...]] = ("N",)
-    as_written: ClassVar[Regime | None] = None
+    as_written: ClassVar[Regime] = SLIDING
     point: sp.Matrix = field(default_factory=lambda: sp.zeros(2, 1))
     through: sp.Matrix = field(default_factory=lambda: sp.zeros(2, 1))
     angle: sp.Expr = sp.Integer(0)
@@ -433,7 +428,7 @@ class Rolling(Contact, Joint):
     pair: tuple = ()
     phase: sp.Expr = sp.Integer(0)
     phase_from_state: bool = False
-    as_written: ClassVar[Regime | None] = STICK
+    as_written: ClassVar[Regime] = STICK
 
     def __post_init__(self):
         if not self.pair and len(self.reactions) == 2:
@@ -498,7 +493,7 @@ class RollingOnCircle(Contact, Joint):
     kind: ClassVar[str] = "rolling_on_circle"
     orientation_row: ClassVar[int | None] = 0
     place_rows: ClassVar[tuple[int, ...]] = (1,)
-    as_written: ClassVar[Regime | None] = STICK
+    as_written: ClassVar[Regime] = STICK
     reaction_units: ClassVar[tuple[str, ...]] = ("N", "N")
     element: str = ""
     center: sp.Matrix = field(default_factory=lambda: sp.zeros(2, 1))
