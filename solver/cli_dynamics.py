@@ -222,6 +222,11 @@ def _simulate_multibody(args, system, t_end) -> int:
         return 0
     print(f"scene   {system.name}  ({_where(system)})")
     print(f"status  {res.status}: {res.reason}   ({res.nfev} rhs evaluations, {len(res.t)} samples)")
+    if res.events:
+        print()
+        print("regime switches:")
+        for ev in res.events:
+            print(f"  t = {format_number(ev['t'], 10)} s  {ev['joint']}: {ev['from']} -> {ev['to']}  ({ev['cause']})")
     rows = [("t", format_number(float(res.t[-1]), 10), "s")]
     for name, (values, unit) in res.columns.items():
         shown = to_output_units({"value": float(values[-1]), "unit": unit}, system.output_units)
@@ -247,7 +252,7 @@ def simulate_command(args: argparse.Namespace) -> int:
         check_output_path(args.out, "--out")  # before the run, not after it
     loaded = load_scene_from_args(args)
     if len(loaded.free) != 1 or loaded.closure or len(loaded.bodies) != 1 or loaded.free[0].kind != "angle" \
-            or loaded.time_dependent:
+            or loaded.time_dependent or any(j.friction is not None for j in loaded.contacts):
         return _simulate_multibody(args, loaded, t_end)
     scene, _, system = _system(args)
     res = simulate(system, t_end, y0=state_si(scene), method=args.ivp_method, rtol=args.rtol, atol=args.atol,

@@ -114,16 +114,20 @@ def solve_command(args: argparse.Namespace) -> int:
     result = solution.to_dict(system.output_units)
     unknowns = result["unknowns"]
     check_finite({name: entry["value"] for name, entry in unknowns.items()}, _where(system))
-    check_finite({"condition number": result["condition_number"]}, _where(system))
+    if "indeterminate" not in result:
+        check_finite({"condition number": result["condition_number"]}, _where(system))
     if args.json:
         payload = {
             "scene": system.name,
             "point": solution.point,
             "method": solution.method,
             "unknowns": unknowns,
-            "condition_number": float(result["condition_number"]),
+            "condition_number": result["condition_number"],
         }
-        if system.dependent or system.time_dependent:  # the solved state is part of the answer
+        for key in ("regime", "indeterminate", "warning"):
+            if key in result:
+                payload[key] = result[key]
+        if system.dependent or system.time_dependent or "regime" in result:  # the solved state is part of the answer
             payload["state"] = _state_payload(system, solution.state)
         print_json(payload)
         return 0
@@ -137,7 +141,17 @@ def solve_command(args: argparse.Namespace) -> int:
     print()
     print(format_table(("name", "value", "unit"), rows, align="lrl"))
     print()
-    print(f"condition number of the system (rows and columns equilibrated, so unit-free): {format_number(result['condition_number'], 3)}")
+    if "regime" in result:
+        print("contacts:")
+        for joint, check in result["regime"].items():
+            print(f"  {joint}: {check['regime']}: {check['reason']}")
+        print()
+    if "indeterminate" in result:
+        print(f"statically indeterminate: {result['indeterminate']}")
+    else:
+        print(f"condition number of the system (rows and columns equilibrated, so unit-free): {format_number(result['condition_number'], 3)}")
+    if "warning" in result:
+        print(f"warning: {result['warning']}")
     if "alpha" in unknowns:
         print("alpha is the k-component of the angular acceleration (counter-clockwise positive).")
     return 0

@@ -362,8 +362,9 @@ class InstantSolution:
             target = units.get(_DIMENSION_OF_UNIT.get(si, ""), si)
             out[name] = {"value": float(qty.to(target).magnitude), "unit": target}
         head = {"scene": self.scene} if self.scene is not None else {}
+        cond = float(self.condition_number)
         return {**head, "point": self.point, "method": self.method, "unknowns": out,
-                "condition_number": float(self.condition_number), **self.extra}
+                "condition_number": cond if math.isfinite(cond) else None, **self.extra}
 
     def __repr__(self) -> str:
         vals = ", ".join(f"{k}={v:.6g~P}" for k, v in self.unknowns.items())
@@ -391,10 +392,24 @@ def solve_instant(system, point: str | None = None, method: str = "generalized_e
     """
     from ..formulations import formulate, resolve_points
 
-    f = formulate(system, method, point)
-    state = assemble(system) if state is None else state
+    regime, extra = None, {}
+    if system.contacts:  # contacts that can stick, slip or separate: the regime that holds first
+        from .regimes import regime_at_state
+
+        regime, warning, state = regime_at_state(system, state, point, method)
+        if warning:
+            extra["warning"] = warning
+    if regime is not None:
+        res = regime.values
+        extra["regime"] = {c.joint: c.to_dict() for c in regime.checks}
+        if regime.indeterminate:
+            extra["indeterminate"] = ("the sticking contacts hold the bodies redundantly: the accelerations are "
+                                      "determined, the split of their forces is not (one admissible split shown)")
+    else:
+        f = formulate(system, method, point)
+        state = assemble(system) if state is None else state
+        res = f.numeric().solve(state.q, state.qd, state.t)
     _check_limits(system, state)
-    res = f.numeric().solve(state.q, state.qd, state.t)
     unknowns: dict[str, pint.Quantity] = {}
     if len(system.bodies) == 1:
         body = next(iter(system.bodies))
@@ -402,12 +417,14 @@ def solve_instant(system, point: str | None = None, method: str = "generalized_e
     for c in system.free:
         unit = "rad/s**2" if c.kind == "angle" else "m/s**2"
         unknowns[str(c.qdd)] = Q_(float(res[str(c.qdd)]), unit)
-    for r in system.reactions:
-        unknowns[r.name] = Q_(float(res[r.name]), r.unit)
+    for r in system.reactions + [j.pair[0] for j in system.contacts if j.pair[0] not in system.reactions]:
+        if r is not None:  # a separated contact's forces are zero; a sliding one's friction is -s mu_k N
+            unknowns[r.name] = Q_(float(res.get(r.name, 0.0)), r.unit)
     points = resolve_points(system, point)
     shown = point if point is not None else ",".join(f"{b}:{p}" for b, p in points.items()) \
         if len(points) > 1 else next(iter(points.values()))
-    return InstantSolution(unknowns, float(res["condition_number"]), shown, method, state, system.name)
+    cond = float(res["condition_number"]) if "condition_number" in res else math.inf
+    return InstantSolution(unknowns, cond, shown, method, state, system.name, extra)
 
 
 def _alpha_value(system, body, state, res) -> float:

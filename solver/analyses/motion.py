@@ -75,7 +75,9 @@ class MotionResult:
         last = {k: {"value": float(v[-1]), "unit": u} for k, (v, u) in self.columns.items()}
         return {"status": self.status, "reason": self.reason, "t_final": {"value": float(self.t[-1]), "unit": "s"},
                 "samples": int(len(self.t)), "nfev": self.nfev, "final": last,
-                "energy_drift": self.energy_drift}
+                "energy_drift": self.energy_drift,
+                "events": [{**e, "t": float(e["t"]), "state": {k: float(v) for k, v in e.get("state", {}).items()}}
+                           for e in self.events]}
 
 
 def _conservative(system) -> bool:
@@ -165,7 +167,7 @@ class _Run:
         from ..errors import SceneError
         from .regimes import NoConsistentRegime, find_regime
 
-        regimes, system = {}, self.base
+        regimes, system, found = {}, self.base, None
         if self.contacts:
             try:
                 found = find_regime(self.base, start.q, start.qd, start.t)
@@ -176,6 +178,13 @@ class _Run:
         work = np.zeros(len(self.contacts))
         state = start
         for _ in range(MAX_SWITCHES + 1):
+            if self.contacts and found.indeterminate:
+                segments.append(_rest_segment(found, state, work, t1))
+                if self.base.time_dependent:
+                    return segments, "failed", ("the contacts hold the bodies at rest redundantly (statically "
+                                                "indeterminate) under loads that change with time: not followed")
+                return segments, "completed", (f"reached t = {t1:g} s at rest: the sticking contacts hold "
+                                               "(statically indeterminate; one admissible split of their forces shown)")
             seg, stop = self._segment(system, regimes, state, work, t1)
             segments.append(seg)
             if stop is None:
@@ -201,6 +210,8 @@ class _Run:
                     self.switches.append({"t": te, "joint": name, "from": regimes[name].label,
                                           "to": found.regimes[name].label, "cause": f"with {what}"})
             regimes = found.regimes
+            if found.indeterminate:
+                continue
             system = self.base.with_regimes(regimes, state.q, state.qd, te) if found.system is not self.base \
                 else self.base
         return segments, "work_limit", f"more than {MAX_SWITCHES} regime switches (chattering)"
@@ -295,6 +306,8 @@ class _ContactFunctions:
         return -self.slide * self.mu_k * float(res[self.normal])
 
     def slip_speed(self, st, t) -> float:
+        if self.fn is None:  # a segment at rest
+            return 0.0
         return self.fn(st.q, st.qd, [0.0] * len(st.q), t)[3]
 
     def power(self, st, res, t) -> float:
@@ -376,8 +389,32 @@ def _describe(kind, what) -> str:
     }.get(kind, what)
 
 
+class _Fixed:
+    """The 'model' of a segment at rest: the same values at every time."""
+
+    def __init__(self, values):
+        self.values = values
+
+    def solve(self, q, qd, t):
+        return self.values
+
+
+def _rest_segment(found, state, work, t1):
+    """A segment in which redundantly sticking contacts hold everything at rest."""
+    from .regimes import regime_system  # noqa: F401 - the variant is found.system
+
+    seg = _Segment(found.system, _Fixed(dict(found.values)), [], None, state.t, t1, state, np.array(work, float),
+                   [], list(state.q))
+    seg.kin = [_ContactFunctions(j.name, j.pair[1].name, None if j.pair[0] is None else j.pair[0].name, 0, 0.0,
+                                 None) for j in found.system.contacts]
+    seg.rest = True
+    return seg
+
+
 def _state_at(seg, t):
     """The complete state of a segment at time t."""
+    if getattr(seg, "rest", False):
+        return type(seg.start)(tuple(seg.start.q), tuple(seg.start.qd), float(t))
     q, qd = list(seg.last_q), list(seg.start.qd)
     if seg.dense is not None:
         y = seg.dense(t)
@@ -454,7 +491,7 @@ def _sample(base, segments, ts, status, reason, nfev):
                for j in base.contacts if f"friction_work_{j.name}" in columns)
     drift = (_energy_drift(base, columns, np.array(kept_t))
              if _conservative(base) and free and not slid and len(segments) == 1 else None)
-    if not segments[0].ind and len(segments) == 1 and status == "completed":
+    if not segments[0].ind and len(segments) == 1 and status == "completed" and not getattr(segments[0], "rest", False):
         reason = "every motion is prescribed: inverse dynamics"
     return MotionResult(np.array(kept_t), columns, status, reason, nfev, drift)
 

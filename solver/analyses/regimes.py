@@ -34,7 +34,8 @@ from ..model.contacts import SEPARATED, STICK, Regime, Slip
 from ..model.system import RedundantConstraints
 
 __all__ = ["RegimeResult", "ContactCheck", "find_regime", "contact_kinematics", "MAX_CONTACTS",
-           "NoConsistentRegime", "AmbiguousRegime", "regime_system", "solve_in_regime", "start_state"]
+           "NoConsistentRegime", "AmbiguousRegime", "regime_system", "solve_in_regime", "start_state",
+           "regime_at_state"]
 
 MAX_CONTACTS = 4
 """Most contacts that can change regime in one scene (at most 4**4 = 256 combinations are tried)."""
@@ -234,6 +235,24 @@ def find_regime(system, q=None, qd=None, t=None, point=None, method="generalized
     out = consistent[0]
     out.rejected = rejected
     return out
+
+
+def regime_at_state(system, state=None, point=None, method="generalized_euler"):
+    """The regime for an instantaneous solve: (RegimeResult or None, warning or None, state).
+
+    When no regime is consistent but the scene as written can be solved (a
+    normal force that would pull, where the scene's coordinates cannot
+    describe the separation), that solve stands, with a warning saying so.
+    """
+    state = start_state(system) if state is None else state
+    try:
+        return find_regime(system, state.q, state.qd, state.t, point, method), None, state
+    except NoConsistentRegime as err:
+        try:
+            system.validate()
+        except SceneError:
+            raise err from None
+        return None, "the scene as written is solved, but " + str(err).split(": ", 1)[-1], state
 
 
 def _now_sliding(system, res, q, qd, t, point, method):
