@@ -114,6 +114,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    "(default 0 deg 180 deg)")
     p.add_argument("--reactions", default=None, metavar="NAMES",
                    help="comma-separated reactions that must stay >= 0 (default: all)")
+    p.add_argument("--critical", default=None, metavar="NAME",
+                   help="a coordinate or parameter: the values in --between at which a motion from rest starts "
+                   "(a slip against mu_s N, a contact opening, tipping), for scenes with friction contacts")
+    p.add_argument("--between", nargs=2, default=None, metavar=("LOW", "HIGH"),
+                   help='range searched by --critical, with units, e.g. "20 deg" "89 deg" or "0 N" "400 N"')
+    p.add_argument("--over", default=None, metavar="T",
+                   help="least friction coefficient of each contact to keep sticking (or rolling) over a "
+                   f"motion of T seconds from the scene's state (at most {MAX_OVER_T:g} s)")
     p.set_defaults(handler=friction_command)
 
     p = subparsers.add_parser(
@@ -133,6 +141,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 # -- helpers -----------------------------------------------------------------------------------
 MAX_LIST = 20
+MAX_OVER_T = 1000.0
+"""``friction --over`` simulates at most this long [s]."""
 """Most values of a repeatable ``friction`` option (--amplitude, --mass-ratio)."""
 RANGE_LIMIT_DEG = 360.0
 """``friction --range`` searches within -RANGE_LIMIT_DEG .. RANGE_LIMIT_DEG."""
@@ -299,6 +309,12 @@ def friction_command(args: argparse.Namespace) -> int:
     from solver.friction import friction_map, release_window
     from solver.period import find_equilibrium
 
+    loaded = load_scene_from_args(args)
+    if _contact_mode(args, loaded):
+        from solver.cli_contacts import contact_friction
+
+        return contact_friction(args, loaded)
+
     amplitudes = [_angle(a, "--amplitude") for a in args.amplitude]
     if len(amplitudes) > MAX_LIST or len(args.mass_ratio) > MAX_LIST:
         raise InputError(f"--amplitude and --mass-ratio may each be given at most {MAX_LIST} times")
@@ -359,6 +375,26 @@ def friction_command(args: argparse.Namespace) -> int:
         print(f"  {math.degrees(iv.low):.10g} deg ({iv.low_reason}) .. {math.degrees(iv.high):.10g} deg "
               f"({iv.high_reason})")
     return 0
+
+
+def _contact_mode(args, system) -> bool:
+    """True when ``friction`` answers for the scene's contacts (regimes) rather than
+    the one-angle rolling table or release window of Examples 1 and 2."""
+    if args.critical is not None or args.between is not None or args.over is not None:
+        return True
+    one_angle = (len(system.free) == 1 and not system.closure and not system.time_dependent
+                 and system.free[0].kind == "angle")
+    if not one_angle or any(j.friction is not None and j.kind == "rail" for j in system.contacts):
+        return True
+    if any(j.friction_pair for j in system.joints):
+        from solver.period import find_equilibrium
+
+        try:
+            _, _, one = _system(args)
+            find_equilibrium(one, near=system.free[0].value)
+        except InputError:
+            return True  # no stable equilibrium (a disk rolling down an incline): the contact answers
+    return False
 
 
 def _ratio_of(args: argparse.Namespace, scene) -> tuple[str, str]:

@@ -35,7 +35,7 @@ from ..model.system import RedundantConstraints
 
 __all__ = ["RegimeResult", "ContactCheck", "find_regime", "contact_kinematics", "MAX_CONTACTS",
            "NoConsistentRegime", "AmbiguousRegime", "regime_system", "solve_in_regime", "start_state",
-           "regime_at_state"]
+           "regime_at_state", "least_friction", "holding"]
 
 MAX_CONTACTS = 4
 """Most contacts that can change regime in one scene (at most 4**4 = 256 combinations are tried)."""
@@ -430,3 +430,57 @@ def _redundant_stick(system, regimes, q, qd, t):
                            values[j.pair[1].name], values[j.pair[0].name] if j.pair[0] else 0.0)
               for j in variant.contacts if regimes.get(j.name) is not SEPARATED]
     return RegimeResult(dict(regimes), variant, values, checks, indeterminate=True)
+
+
+def least_friction(system, state) -> dict:
+    """Per friction contact: the least mu that keeps it sticking (rolling) at ``state``.
+
+    Every touching contact with friction is assumed to stick; the least
+    coefficient is then |F| / N. A contact already sliding, open, or held
+    redundantly (statically indeterminate forces) gets a note instead.
+    """
+    from ..formulations import formulate
+
+    q, qd, t = state.q, state.qd, state.t
+    out, regimes = {}, {}
+    scale_v = 1.0 + max((abs(v) for v in qd), default=0.0)
+    for j in system.contacts:
+        if j.friction is None:
+            continue
+        gap, vgap, _, vt, _ = _kin(system, j.name, q, qd, [0.0] * len(q), t)
+        if j.normal_reaction.one_sided and gap > TOL * 1e3 * (1.0 + max(map(abs, q), default=0.0)):
+            out[j.name] = {"value": None, "note": "apart at the state"}
+        elif abs(vt) > TOL * scale_v:
+            out[j.name] = {"value": None, "note": f"sliding at the state (at {vt:.6g})"}
+        else:
+            regimes[j.name] = STICK
+    if not regimes:
+        return out
+    try:
+        variant = regime_system(system, regimes, q, qd, t)
+        res = formulate(variant).numeric().solve(q, qd, t)
+    except RedundantConstraints:
+        for name in regimes:
+            out[name] = {"value": None, "note": "statically indeterminate (held redundantly): see --critical"}
+        return out
+    for j in variant.contacts:
+        if j.name in regimes:
+            F, N = j.pair
+            f, n = float(res[F.name]), float(res[N.name])
+            mu = float(sp.sympify(j.friction.static).xreplace(variant.si_values()))
+            out[j.name] = {"value": abs(f) / n if n > 0 else math.inf,
+                           "note": f"|{F.name}|/{N.name} with {F.name} = {f:.6g} N, {N.name} = {n:.6g} N "
+                                   f"(the scene's mu_s = {mu:g})" if n > 0 else f"{N.name} = {n:.6g} N pulls"}
+    return out
+
+
+def holding(system):
+    """A copy of ``system`` in which every contact with friction sticks (rolls) without limit."""
+    from dataclasses import replace
+
+    sticking = {j.name: STICK for j in system.contacts if j.friction is not None}
+    new = system.with_regimes(sticking) if sticking else system
+    if sticking:
+        new.joints = [replace(j, friction=None) if j.name in sticking else j for j in new.joints]
+        new.reset()
+    return new
