@@ -300,10 +300,11 @@ class _ContactFunctions:
     mu_k: float
     fn: object
 
-    def friction_force(self, res) -> float:
+    def friction_force(self, res):
+        """The friction force (scalar or array, like the solve's ``res``)."""
         if self.slide == 0:
-            return float(res[self.friction]) if self.friction in res else 0.0
-        return -self.slide * self.mu_k * float(res[self.normal])
+            return res[self.friction] if self.friction in res else 0.0
+        return -self.slide * self.mu_k * res[self.normal]
 
     def slip_speed(self, st, t) -> float:
         if self.fn is None:  # a segment at rest
@@ -314,7 +315,7 @@ class _ContactFunctions:
         """F dPhi_t/dt: the friction's power (0 while sticking or separated)."""
         if self.slide == 0:
             return 0.0
-        return self.friction_force(res) * self.slip_speed(st, t)
+        return float(self.friction_force(res)) * self.slip_speed(st, t)
 
 
 def _contact_functions(system, regimes):
@@ -426,6 +427,38 @@ def _state_at(seg, t):
     return st
 
 
+@dataclass
+class _State:
+    q: tuple
+    qd: tuple
+
+
+def _states_at(seg, tk):
+    """(q, qd): one array per free coordinate at the times ``tk`` of a segment."""
+    nfree = len(seg.system.free)
+    if seg.dense is not None and not seg.system.dependent:
+        Y = np.asarray(seg.dense(tk), float).reshape(-1, len(tk))
+        q = [np.full(len(tk), v, float) for v in seg.start.q]
+        qd = [np.full(len(tk), v, float) for v in seg.start.qd]
+        for k, i in enumerate(seg.ind):
+            q[i], qd[i] = Y[k], Y[len(seg.ind) + k]
+        return q, qd
+    states = [_state_at(seg, t) for t in tk]
+    return ([np.array([s.q[i] for s in states]) for i in range(nfree)],
+            [np.array([s.qd[i] for s in states]) for i in range(nfree)])
+
+
+def _first_good(seg, tk) -> int:
+    """How many of the samples ``tk`` solve before the first singular one."""
+    for m, t in enumerate(tk):
+        try:
+            st = _state_at(seg, t)
+            seg.model.solve(st.q, st.qd, float(t))
+        except (InputError, SingularConfigurationError):
+            return m
+    return len(tk)
+
+
 def _work_at(seg, t):
     if seg.dense is None:
         return np.array(seg.work0)
@@ -435,30 +468,37 @@ def _work_at(seg, t):
 def _sample(base, segments, ts, status, reason, nfev):
     """Columns at the times ``ts``: coordinates, rates, accelerations, every reaction
     (a sliding contact's friction -s mu_k N, a separated contact's forces 0), each
-    friction contact's sliding speed and the work its friction has done."""
+    friction contact's sliding speed and the work its friction has done. Each
+    segment's samples are solved together (vectorised)."""
     free = base.free
     cols: dict[str, list] = {}
-    kept_t = []
-    k = 0
-    for t in ts:
-        while k < len(segments) - 1 and t > segments[k].t1:
-            k += 1
-        seg = segments[k]
+    kept_t: list[float] = []
+    bounds = [seg.t1 for seg in segments[:-1]]
+    owner = np.searchsorted(bounds, ts, side="left") if bounds else np.zeros(len(ts), int)
+    for k, seg in enumerate(segments):
+        tk = ts[owner == k]
+        if not len(tk):
+            continue
         try:
-            st = _state_at(seg, t)
-            res = seg.model.solve(st.q, st.qd, float(t))
+            q, qd = _states_at(seg, tk)
+            res = seg.model.solve(q, qd, tk)
         except (InputError, SingularConfigurationError) as err:
-            if not kept_t:
+            good = _first_good(seg, tk)
+            if not kept_t and not good:
                 raise
-            status, reason = "singular", f"at t = {t:.6g} s: {err}"
-            break
-        kept_t.append(float(t))
-        for c, v, r in zip(free, st.q, st.qd):
-            cols.setdefault(c.name, []).append(v)
-            cols.setdefault(f"{c.name}_dot", []).append(r)
+            status, reason = "singular", f"at t = {tk[good]:.6g} s: {err}"
+            tk = tk[:good]
+            if not len(tk):
+                break
+            q, qd = _states_at(seg, tk)
+            res = seg.model.solve(q, qd, tk)
+        n = len(tk)
+        kept_t.extend(float(t) for t in tk)
+        for c, v, r in zip(free, q, qd):
+            cols.setdefault(c.name, []).extend(np.broadcast_to(v, (n,)))
+            cols.setdefault(f"{c.name}_dot", []).extend(np.broadcast_to(r, (n,)))
         for c in free:
-            cols.setdefault(str(c.qdd), []).append(float(res[str(c.qdd)]))
-        kin = {c.name: c for c in seg.kin}
+            cols.setdefault(str(c.qdd), []).extend(np.broadcast_to(res[str(c.qdd)], (n,)))
         for r in base.reactions + [j.pair[0] for j in base.contacts if j.pair[0] is not None]:
             if r.name in cols and len(cols[r.name]) == len(kept_t):
                 continue
@@ -466,14 +506,19 @@ def _sample(base, segments, ts, status, reason, nfev):
             if contact is not None and r.name == contact.friction:
                 value = contact.friction_force(res)
             else:
-                value = float(res[r.name]) if r.name in res else 0.0
-            cols.setdefault(r.name, []).append(value)
-        work = _work_at(seg, t)
+                value = res[r.name] if r.name in res else 0.0
+            cols.setdefault(r.name, []).extend(np.broadcast_to(value, (n,)))
+        work = np.array([_work_at(seg, t) for t in tk]).reshape(n, -1)
+        kin = {c.name: c for c in seg.kin}
         for i, j in enumerate(base.contacts):
             if j.friction is None:
                 continue
-            cols.setdefault(f"v_slip_{j.name}", []).append(kin[j.name].slip_speed(st, t))
-            cols.setdefault(f"friction_work_{j.name}", []).append(float(work[i]))
+            speed = [kin[j.name].slip_speed(_State(tuple(float(x[m]) for x in q), tuple(float(x[m]) for x in qd)),
+                                            float(tk[m])) for m in range(n)] if kin[j.name].fn else [0.0] * n
+            cols.setdefault(f"v_slip_{j.name}", []).extend(speed)
+            cols.setdefault(f"friction_work_{j.name}", []).extend(work[:, i])
+        if status == "singular":
+            break
     units = {}
     for c in free:
         units[c.name] = c.unit

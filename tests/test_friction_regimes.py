@@ -1,0 +1,272 @@
+"""Friction and contact regimes (stick, slip, separation) against closed forms and
+independent integrations built here.
+
+Every answer is read through the command line (``solver_cli``, in process) from
+the shipped scenes, with ``--set`` to move parameters. References:
+
+* the ladder's critical angle, tan(theta) = (1 - mu_A mu_B) / (2 mu_A);
+* the crate's thresholds: sliding at P = mu_s m g, tipping at P = m g w / (2 h);
+* a disk with backspin: rolling starts at t* = (v0 + r w0) / (3 mu g) with
+  speed (2 v0 - r w0) / 3; the friction's work is -m (v0 + r w0)^2 / 6;
+* the least mu on an incline: tan(beta) / 3 for a disk, tan(beta) / 2 for a ring;
+* a frictionless ladder leaves the wall at sin(theta) = (2/3) sin(theta0).
+
+Tolerances: the closed forms hold to 1e-10 relative. The onsets are roots
+found by brentq to ~1e-15 of smooth margins; the switch times are event
+roots of DOP853 dense output run at rtol 1e-11, atol 1e-13, so their error
+is ~1e-12; 1e-10 leaves two orders of margin while any wrong term (a factor,
+a sign, mu_k for mu_s) is off by percents.
+"""
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+G = 9.80665
+REL = 1e-10
+
+
+def _json(solver_cli, *argv):
+    code, out, err = solver_cli(*argv)
+    assert code == 0, err
+    return json.loads(out)
+
+
+@pytest.mark.parametrize("mu_a, mu_b", [(0.3, 0.2), (0.5, 0.0), (0.25, 0.6)])
+def test_ladder_critical_angle(solver_cli, mu_a, mu_b):
+    out = _json(solver_cli, "friction", "data/scenes/ladder_friction.toml", "--set", f"mu_A={mu_a}",
+                "--set", f"mu_B={mu_b}", "--critical", "theta", "--between", "5", "89.5", "--json")
+    onsets = out["critical"]["onsets"]
+    # one onset in range: both ends slip together below it
+    assert len(onsets) == 1 and not onsets[0]["starts"], onsets
+    assert set(onsets[0]["regimes"].values()) == {"slip + (impending)"}
+    expected = math.degrees(math.atan((1 - mu_a * mu_b) / (2 * mu_a)))
+    assert onsets[0]["value"] == pytest.approx(expected, rel=REL)
+
+
+def test_ladder_sticks_above_and_slips_below_the_critical_angle(solver_cli):
+    crit = math.degrees(math.atan((1 - 0.3 * 0.2) / (2 * 0.3)))
+    above = _json(solver_cli, "solve", "data/scenes/ladder_friction.toml", "--set", f"theta={crit + 0.5} deg", "--json")
+    below = _json(solver_cli, "solve", "data/scenes/ladder_friction.toml", "--set", f"theta={crit - 0.5} deg", "--json")
+    assert {v["regime"] for v in above["regime"].values()} == {"stick"} and "indeterminate" in above
+    assert above["unknowns"]["theta_ddot"]["value"] == 0.0
+    assert {v["regime"] for v in below["regime"].values()} == {"slip +"}
+    # sliding: each friction force is mu_k N against the sliding (mu_k = mu_s here)
+    u = below["unknowns"]
+    assert abs(u["F_A"]["value"]) == pytest.approx(0.3 * u["N_A"]["value"], rel=1e-12)
+    assert abs(u["F_B"]["value"]) == pytest.approx(0.2 * u["N_B"]["value"], rel=1e-12)
+    assert u["theta_ddot"]["value"] < 0  # the ladder falls
+
+
+@pytest.mark.parametrize("h, kind", [(0.9, "tip"), (1.1, "tip"), (0.5, "slide"), (0.3, "slide")])
+def test_crate_thresholds(solver_cli, h, kind):
+    m, w, mu_s = 40.0, 0.8, 0.5
+    out = _json(solver_cli, "friction", "data/scenes/crate_tipping.toml", "--set", f"h={h} m",
+                "--critical", "P", "--between", "1 N", "600 N", "--json")
+    first = out["critical"]["onsets"][0]
+    assert first["starts"]
+    slide, tip = mu_s * m * G, m * G * w / (2 * h)
+    if kind == "tip":
+        assert tip < slide and first["regimes"] == {"back": "separated", "front": "stick"}
+        assert first["value"] == pytest.approx(tip, rel=REL)
+    else:
+        assert slide < tip and set(first["regimes"].values()) == {"slip + (impending)"}
+        assert first["value"] == pytest.approx(slide, rel=REL)
+
+
+def test_disk_with_backspin_slips_then_rolls(solver_cli, tmp_path):
+    m, r, mu, v0, w0 = 2.0, 0.1, 0.2, 3.0, 20.0
+    csv = tmp_path / "run.csv"
+    out = _json(solver_cli, "simulate", "data/scenes/disk_backspin.toml", "--t-end", "2", "--rtol", "1e-11",
+                "--atol", "1e-13", "--samples", "401", "--out", str(csv), "--json")
+    (event,) = out["events"]
+    assert (event["from"], event["to"]) == ("slip +", "stick")
+    t_star = (v0 + r * w0) / (3 * mu * G)
+    assert event["t"] == pytest.approx(t_star, rel=REL)
+    v_star = (2 * v0 - r * w0) / 3
+    assert event["state"]["x_dot"] == pytest.approx(v_star, rel=REL)
+    data = np.genfromtxt(csv, delimiter=",", names=True)
+    t, x, xd, phid = data["t_s"], data["x_m"], data["x_dot_ms"], data["phi_dot_rads"]
+    # independent integration of each regime: sliding, a = -mu g, alpha = -2 mu g / r; then rolling at v*
+    slip = t <= t_star
+    np.testing.assert_allclose(xd[slip], v0 - mu * G * t[slip], rtol=0, atol=1e-10)
+    np.testing.assert_allclose(phid[slip], w0 - 2 * mu * G / r * t[slip], rtol=0, atol=1e-9)
+    x_star = v0 * t_star - mu * G * t_star ** 2 / 2
+    np.testing.assert_allclose(x[~slip], x_star + v_star * (t[~slip] - t_star), rtol=0, atol=1e-9)
+    np.testing.assert_allclose(phid[~slip], -v_star / r, rtol=0, atol=1e-8)
+    # energy: it falls only while sliding, by exactly the friction's work
+    E = 0.5 * m * xd ** 2 + 0.5 * (0.5 * m * r ** 2) * phid ** 2
+    work = data["friction_work_floor_J"]
+    np.testing.assert_allclose(E - E[0], work, rtol=0, atol=1e-9 * E[0])
+    assert np.ptp(E[~slip]) < 1e-9 * E[0]
+    assert work[-1] == pytest.approx(-m * (v0 + r * w0) ** 2 / 6, rel=REL)
+
+
+@pytest.mark.parametrize("beta", [15.0, 30.0, 50.0])
+def test_least_mu_on_an_incline(solver_cli, beta):
+    t = math.tan(math.radians(beta))
+    for body, expected in (("disk", t / 3), ("ring", t / 2)):
+        out = _json(solver_cli, "friction", f"data/scenes/incline_{body}.toml", "--set", f"beta={beta} deg", "--json")
+        assert out["at_state"]["least_mu"]["incline"]["value"] == pytest.approx(expected, rel=REL)
+    # over a motion the ratio is constant
+    out = _json(solver_cli, "friction", "data/scenes/incline_disk.toml", "--set", f"beta={beta} deg",
+                "--set", "mu=10", "--over", "0.5", "--json")
+    assert out["over_motion"]["least_mu"]["incline"]["value"] == pytest.approx(t / 3, rel=REL)
+
+
+def test_the_ring_slides_where_the_disk_rolls(solver_cli):
+    disk = _json(solver_cli, "solve", "data/scenes/incline_disk.toml", "--json")
+    ring = _json(solver_cli, "solve", "data/scenes/incline_ring.toml", "--json")
+    assert disk["regime"]["incline"]["regime"] == "stick"
+    assert ring["regime"]["incline"]["regime"] == "slip +"
+    b = math.radians(30)
+    # rolling disk: a = (2/3) g sin(beta); sliding ring: a = g (sin b - mu cos b), r alpha = -mu g cos b ... m r^2 alpha = F r
+    assert disk["unknowns"]["s_ddot"]["value"] == pytest.approx(2 / 3 * G * math.sin(b), rel=1e-12)
+    assert ring["unknowns"]["s_ddot"]["value"] == pytest.approx(G * (math.sin(b) - 0.25 * math.cos(b)), rel=1e-12)
+    assert ring["unknowns"]["psi_ddot"]["value"] == pytest.approx(-0.25 * G * math.cos(b) / 0.2, rel=1e-12)
+
+
+def _bar_on_floor(t, y, L, g=G):
+    """Frictionless floor, free top: a bar of length L with its foot A on the floor.
+    y = (theta, x_A, theta', x_A'); G at A + (L/2)(-cos, sin) (the foot is to the right).
+    Lagrange: T = m/2 (xG'^2 + yG'^2) + m L^2 theta'^2 / 24, V = m g (L/2) sin(theta)."""
+    th, x, thd, xd = y
+    s, c = math.sin(th), math.cos(th)
+    # xG = x - L/2 cos, yG = L/2 sin: xG' = x' + L/2 s thd, yG' = L/2 c thd
+    # x: m xG'' = 0; theta: (L/2) s x'' + (L^2/4 + L^2/12) theta'' = -g (L/2) c (the theta'^2 terms cancel)
+    M = np.array([[1.0, L / 2 * s], [L / 2 * s, L ** 2 / 4 + L ** 2 / 12]])
+    xdd_thdd = np.linalg.solve(M, np.array([-L / 2 * c * thd ** 2, -g * L / 2 * c]))
+    return [thd, xd, xdd_thdd[1], xdd_thdd[0]]
+
+
+@pytest.mark.parametrize("theta0", [50.0, 70.0, 85.0])
+def test_frictionless_ladder_leaves_the_wall(solver_cli, theta0):
+    L = 4.0
+    out = _json(solver_cli, "simulate", "data/scenes/ladder_leaves_wall.toml", "--set", f"theta={theta0} deg",
+                "--set", f"x={L * math.cos(math.radians(theta0))} m", "--t-end", "3", "--rtol", "1e-11",
+                "--atol", "1e-13", "--samples", "3", "--json")
+    leave = out["events"][0]
+    assert (leave["joint"], leave["to"]) == ("wall", "separated")
+    assert math.sin(leave["state"]["theta"]) == pytest.approx(2 / 3 * math.sin(math.radians(theta0)), rel=REL)
+    if out["t_final"]["value"] <= leave["t"] + 1e-3:
+        return  # the top reached the floor first (an impact): nothing after the switch to compare
+    # after the switch: the bar on a frictionless floor, integrated here from the switch state
+    s = leave["state"]
+    y0 = [s["theta"], s["x"], s["theta_dot"], s["x_dot"]]
+    t1 = out["t_final"]["value"]
+    ref = solve_ivp(_bar_on_floor, (leave["t"], t1), y0, args=(L,), rtol=1e-12, atol=1e-13, method="DOP853")
+    final = out["final"]
+    # the two integrations carry ~1e-11 each over a fraction of a second
+    assert final["theta"]["value"] == pytest.approx(ref.y[0, -1], abs=1e-8)
+    assert final["x"]["value"] == pytest.approx(ref.y[1, -1], abs=1e-8)
+    # no friction: the energy is conserved through the switch
+    m = 10.0
+
+    def energy(th, x, thd, xd):
+        xg, yg = xd + L / 2 * math.sin(th) * thd, L / 2 * math.cos(th) * thd
+        return 0.5 * m * (xg ** 2 + yg ** 2) + m * L ** 2 / 24 * thd ** 2 + m * G * L / 2 * math.sin(th)
+
+    e0 = energy(math.radians(theta0), L * math.cos(math.radians(theta0)), 0, 0)
+    e1 = energy(final["theta"]["value"], final["x"]["value"], final["theta_dot"]["value"], final["x_dot"]["value"])
+    assert e1 == pytest.approx(e0, rel=1e-9)
+
+
+def test_painleve_rod_is_reported_not_chosen():
+    """A rod sliding on a very rough floor (Painlevé's example): with
+    1 + 3 cos^2(theta) - 3 mu sin(theta) cos(theta) < 0 the Coulomb problem has
+    no solution or several, for one sliding direction; the solver says so."""
+    from solver.analyses.regimes import AmbiguousRegime, NoConsistentRegime, find_regime
+    from solver.io.scenes import load_system
+
+    text = """
+name = "painleve"
+[parameters]
+m = "1 kg"
+L = "1 m"
+mu = "MU"
+g = "9.80665 m/s^2"
+[coordinates]
+x = { value = "0 m", rate = "VX" }
+y = { value = "0 m", rate = "0 m/s" }
+theta = { value = "30 deg", rate = "0 rad/s" }
+[[bodies]]
+name = "rod"
+orientation = "theta"
+position = { point = "A", at = ["x", "y"] }
+points = { A = ["0", "0"], B = ["L", "0"] }
+elements = [{ kind = "slender_bar", mass = "m", from = "A", to = "B" }]
+[[joints]]
+kind = "rail"
+name = "floor"
+point = "rod:A"
+reaction = "N"
+friction = "F"
+one_sided = true
+friction_coefficient = "mu"
+[[loads]]
+kind = "gravity"
+g = "g"
+"""
+    import tempfile
+    from pathlib import Path
+
+    def regime(mu, vx):
+        with tempfile.TemporaryDirectory() as d:
+            p = Path(d) / "rod.toml"
+            p.write_text(text.replace("MU", str(mu)).replace("VX", vx))
+            return find_regime(load_system(p))
+
+    th = math.radians(30)
+    assert 1 + 3 * math.cos(th) ** 2 - 3 * 0.3 * math.sin(th) * math.cos(th) > 0
+    calm = regime(0.3, "1 m/s")
+    assert calm.regimes["floor"].label == "slip +"
+    assert 1 + 3 * math.cos(th) ** 2 - 3 * 4.0 * math.sin(th) * math.cos(th) < 0
+    outcomes = []
+    for vx in ("1 m/s", "-1 m/s"):
+        try:
+            outcomes.append(regime(4.0, vx).regimes["floor"].label)
+        except (NoConsistentRegime, AmbiguousRegime) as err:
+            outcomes.append(type(err).__name__)
+    assert {"NoConsistentRegime", "AmbiguousRegime"} & set(outcomes), outcomes
+
+
+@pytest.mark.parametrize("argv, needle", [
+    (["friction", "data/scenes/ladder_friction.toml", "--critical", "nope", "--between", "1", "2"], "--critical nope"),
+    (["friction", "data/scenes/crate_tipping.toml", "--critical", "P", "--between", "1 m", "2 m"], "--between LOW"),
+    (["friction", "data/scenes/crate_tipping.toml", "--critical", "P"], "--critical and --between"),
+    (["friction", "data/scenes/crate_tipping.toml", "--over", "-1 s"], "--over"),
+])
+def test_bad_friction_flags_get_one_line(solver_cli, argv, needle):
+    code, out, err = solver_cli(*argv)
+    assert code == 2 and needle in err and err.count("\n") == 1, err
+
+
+@pytest.mark.parametrize("joint, message", [
+    ('kind = "rail"\nname = "floor"\npoint = "rod:A"\nfriction_coefficient = "0.3"', "one_sided"),
+    ('kind = "rail"\nname = "floor"\npoint = "rod:A"\none_sided = true\nstatic_friction = "0.2"\n'
+     'kinetic_friction = "0.3"', "kinetic_friction"),
+    ('kind = "rail"\nname = "floor"\npoint = "rod:A"\none_sided = true\nstatic_friction = "0.2"', "static_friction"),
+])
+def test_bad_friction_keys_name_the_key(solver_cli, tmp_path, joint, message):
+    scene = tmp_path / "rod.toml"
+    scene.write_text(f"""
+name = "rod"
+[parameters]
+m = "1 kg"
+[coordinates]
+x = {{ value = "0 m", rate = "0 m/s" }}
+[[bodies]]
+name = "rod"
+orientation = "0"
+position = {{ point = "A", at = ["x", "0"] }}
+points = {{ A = ["0", "0"] }}
+elements = [{{ kind = "point_mass", mass = "m", at = "A" }}]
+[[joints]]
+{joint}
+""")
+    code, out, err = solver_cli("solve", str(scene))
+    assert code == 2 and "joints[0]" in err and message in err and err.count("\n") == 1, err
