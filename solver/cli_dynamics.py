@@ -63,9 +63,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
     p = subparsers.add_parser(
         "simulate",
-        help="time history by solve_ivp, stopping when a support is lost or rolling would slip",
-        description="Integrate the equation of motion from the scene's state. Stops early, and says why, "
-        "when a one-sided reaction would turn negative, when |F_f| > mu F_n at a rolling contact, or at a "
+        help="time history by solve_ivp; contacts stick, slip and separate as the motion requires",
+        description="Integrate the equations of motion from the scene's state. Contacts switch regime "
+        "(a sticking contact reaching mu_s N slips, a sliding one coming to rest sticks, a contact whose "
+        "normal force reaches zero opens) and every switch is reported; the run stops, and says why, at an "
+        "impact, when a regime needs a motion the scene's coordinates cannot describe, or at a "
         "singular configuration. Caps on the work of one run: --t-end at most "
         f"{MAX_T_END:g} s and at most {MAX_PERIODS} periods of small oscillation, at most "
         f"{MAX_RHS_EVALUATIONS} right-hand-side evaluations, at most {MAX_SAMPLES} samples.",
@@ -94,10 +96,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
     p = subparsers.add_parser(
         "friction",
-        help="least friction coefficient for rolling (Ex. 2) or release angles keeping supports pressed (Ex. 1)",
-        description="With a rolling contact: the least mu that keeps rolling without slip over a free "
-        "oscillation (max |F_f|/F_n over the swing, Eqs. 39-40), per amplitude and mass ratio. Without: the "
-        "release angles (from rest) at which every reaction is >= 0.",
+        help="least friction coefficients, release angles, and where motion from rest starts",
+        description="One-angle scenes as in the paper: with a rolling contact, the least mu that keeps rolling "
+        "without slip over a free oscillation (max |F_f|/F_n over the swing, Eqs. 39-40), per amplitude and "
+        "mass ratio; without, the release angles (from rest) at which every reaction is >= 0. Scenes with "
+        "contacts that can stick, slip or separate: the regime and the least mu of each contact at the state, "
+        "over a motion (--over), and the values of a coordinate or parameter at which a motion from rest "
+        "starts (--critical NAME --between LOW HIGH).",
     )
     add_common_arguments(p)
     p.add_argument("--amplitude", action="append", default=[], metavar="ANGLE",

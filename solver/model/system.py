@@ -405,6 +405,13 @@ class System:
             or under-constrained, or a body cannot be placed.
         """
         def check():
+            sliding = [j.name for j in self.joints if getattr(j, "needs_regime", False)]
+            if sliding:
+                raise self.fail(
+                    f"the friction force of {', '.join(map(repr, sliding))} depends on whether and which way "
+                    f"the contact slides: `solve`, `simulate` and `friction` find the regime; this command "
+                    f"needs joints whose equations do not change"
+                )
             n_bodies = len(self.bodies)
             removed = len(self.reactions)
             left = 3 * n_bodies - removed
@@ -412,6 +419,12 @@ class System:
             joints = ", ".join(f"{j.name} ({j.kind}, {j.freedoms_removed})" for j in self.joints) or "none"
             if len(self.closure) > len(self.dependent):
                 names = ", ".join(dict.fromkeys(repr(r.joint.name) for r in self.closure))
+                if all(isinstance(r.joint, Contact) for r in self.closure):
+                    raise self.fail(
+                        f"the contact(s) {names} can slip or separate (the scene gives coordinates for that): "
+                        f"`solve`, `simulate` and `friction` find which regime holds; this command needs "
+                        f"joints whose equations do not change"
+                    )
                 raise self.fail(
                     f"joint(s) {names} are not satisfied by the bodies' given orientations and positions for "
                     f"every value of the coordinates ({len(self.closure)} closure equation(s), "
