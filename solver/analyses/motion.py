@@ -140,6 +140,21 @@ def _with_mu(system, mu):
     return system
 
 
+def _segment_system(base, regimes, state):
+    """The system of a segment: the scene's own when its contacts are as written
+    and it validates, else its copy in ``regimes`` made at the segment's first
+    state (a stick row's phase is bound there)."""
+    from ..errors import SceneError
+
+    if all(regimes.get(j.name, j.current_regime) == j.current_regime for j in base.contacts):
+        try:
+            base.validate()
+            return base
+        except SceneError:
+            pass
+    return base.with_regimes(regimes, state.q, state.qd, state.t)
+
+
 @dataclass
 class _Segment:
     system: object
@@ -173,7 +188,8 @@ class _Run:
                 found = find_regime(self.base, start.q, start.qd, start.t)
             except NoConsistentRegime as err:
                 raise InputError(f"{self.base.label}: at the start already: {str(err).split(': ', 1)[-1]}") from None
-            regimes, system = found.regimes, found.system
+            regimes = found.regimes
+            system = self.base if found.indeterminate else _segment_system(self.base, regimes, start)
         segments = []
         work = np.zeros(len(self.contacts))
         state = start
@@ -212,8 +228,7 @@ class _Run:
             regimes = found.regimes
             if found.indeterminate:
                 continue
-            system = self.base.with_regimes(regimes, state.q, state.qd, te) if found.system is not self.base \
-                else self.base
+            system = _segment_system(self.base, regimes, state)
         return segments, "work_limit", f"more than {MAX_SWITCHES} regime switches (chattering)"
 
     def _segment(self, system, regimes, state, work, t1):
@@ -402,8 +417,6 @@ class _Fixed:
 
 def _rest_segment(found, state, work, t1):
     """A segment in which redundantly sticking contacts hold everything at rest."""
-    from .regimes import regime_system  # noqa: F401 - the variant is found.system
-
     seg = _Segment(found.system, _Fixed(dict(found.values)), [], None, state.t, t1, state, np.array(work, float),
                    [], list(state.q))
     seg.kin = [_ContactFunctions(j.name, j.pair[1].name, None if j.pair[0] is None else j.pair[0].name, 0, 0.0,

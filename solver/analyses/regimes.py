@@ -110,7 +110,19 @@ def regime_system(system, regimes: dict, q=None, qd=None, t=None):
             return system
         except SceneError:
             pass
-    return system.with_regimes(regimes, q, qd, t)
+    key = ("regime", tuple(sorted((n, r.label) for n, r in regimes.items())))
+
+    def build():
+        try:
+            return system.with_regimes(regimes, q, qd, t)
+        except SceneError as err:  # remembered too: the same combination fails the same way
+            return err
+    # Cached on the system for instantaneous analyses, which use the copy's acceleration-level
+    # equations only (a stick row's phase, bound at the first state, does not enter them).
+    variant = system._memo(key, build)
+    if isinstance(variant, SceneError):
+        raise variant
+    return variant
 
 
 def _same(joint, regime) -> bool:
@@ -211,7 +223,7 @@ def find_regime(system, q=None, qd=None, t=None, point=None, method="generalized
         try:
             res = solve_in_regime(system, regimes, q, qd, t, point, method)
         except RedundantConstraints:
-            res = _redundant_stick(system, regimes, q, qd, t)
+            res = _redundant_stick(system, regimes, q, qd, t, point, method)
         except SceneError as err:
             rejected.append(f"{label}: the scene cannot describe it ({_short(err)})")
             continue
@@ -313,13 +325,120 @@ def _short(err) -> str:
     return text.split(": ", 1)[-1][:200]
 
 
+class NotDescribable(SceneError):
+    """A regime that needs motions the scene's coordinates do not describe (or forbids ones they do)."""
+
+
+class _Augmented:
+    """The equations of every contact at once, from which each regime is a selection.
+
+    One formulation of the system with every contact that can stick sticking
+    (all friction and normal reactions unknown, all their rows kept) gives
+    A x = b. A regime keeps the columns of its reactions and the rows of its
+    equations; a sliding contact's friction -s mu N along d adds -s mu times
+    the friction's column (the generalized force of a unit force along d at
+    the contact) to the normal force's column. Rows a placement satisfies
+    identically are not in A: a regime that drops such a row's reaction
+    leaves more equations than unknowns, which is how a regime the scene's
+    coordinates cannot describe shows. Cached on the system by (point, method).
+    """
+
+    def __init__(self, system, point, method):
+        from ..formulations import Formulation, resolve_points
+        from .instant import NumericModel
+
+        sticking = {j.name: (STICK if j.friction is not None else j.current_regime) for j in system.contacts}
+        variant = system.with_regimes(sticking, redundant_ok=True)
+        self.variant = variant
+        self.model = NumericModel(Formulation(variant, method, resolve_points(variant, point)))
+        self.names = list(self.model.names)
+        self.qdd = [str(c.qdd) for c in variant.free]
+        body_rows = 3 * len(variant.bodies)
+        self.body_rows = list(range(body_rows))
+        self.row_of = {(r.joint.name, r.reaction.name): body_rows + k for k, r in enumerate(variant.closure)}
+        self.contacts = {j.name: j for j in variant.contacts}
+
+    def select(self, regimes):
+        """(rows, columns, [(normal column, friction column, factor)]) of ``regimes``."""
+        cols, rows, mods = list(self.qdd), list(self.body_rows), []
+        pv = self.variant.si_values()
+        for j in self.variant.joints:
+            r = regimes.get(j.name) if j.name in self.contacts else None
+            if r is None:
+                kept = list(j.reactions)
+            elif r.keeps_tangential:
+                kept = list(j.pair)
+            elif r.keeps_normal:
+                kept = [j.pair[1]]
+                if r.friction_direction() and j.friction is not None:
+                    mu = float(sp.sympify(r.coefficient(j.friction)).xreplace(pv))
+                    mods.append((j.pair[1].name, j.pair[0].name, -r.friction_direction() * mu))
+            else:
+                kept = []
+            for reaction in kept:
+                cols.append(reaction.name)
+                if (j.name, reaction.name) in self.row_of:
+                    rows.append(self.row_of[(j.name, reaction.name)])
+        return rows, cols, mods
+
+    def system_of(self, regimes, q, qd, t):
+        """(A, b, column names) of ``regimes`` at the state (A square)."""
+        rows, cols, mods = self.select(regimes)
+        if len(rows) != len(cols):
+            raise NotDescribable(f"{self.variant.label}: it leaves {len(rows)} equations for {len(cols)} unknowns: "
+                                 "the scene's coordinates do not describe its motion")
+        A, b = self.model.matrices(q, qd, t)
+        A, b = np.array(A, float), np.array(b, float)
+        index = {n: i for i, n in enumerate(self.names)}
+        for n, f, factor in mods:
+            A[:, index[n]] += factor * A[:, index[f]]
+        return A[np.ix_(rows, [index[c] for c in cols])], b[rows], cols
+
+
+def _augmented(system, point, method):
+    return system._memo(("augmented", point, method), lambda: _Augmented(system, point, method))
+
+
 def solve_in_regime(system, regimes, q, qd, t, point=None, method="generalized_euler",
                     strict_direction: bool = True):
     """Solve ``system`` with its contacts in ``regimes`` at the state and check
     every contact's condition: a :class:`RegimeResult`, or a string saying which
     condition fails. ``strict_direction=False`` skips the direction test of a
     slip starting from rest (for the kinetic solve after the impending one:
-    with mu_k < mu_s it accelerates the assumed way by construction)."""
+    with mu_k < mu_s it accelerates the assumed way by construction).
+
+    Raises
+    ------
+    NotDescribable
+        The scene's coordinates do not describe the regime.
+    RedundantConstraints
+        Its equations are singular because contacts hold redundantly (a stick
+        at rest): see :func:`_redundant_stick`.
+    """
+    from .instant import CONDITION_LIMIT, condition_numbers
+
+    if method == "lagrange" or regime_system(system, regimes, q, qd, t) is system:
+        # the scene as written (its own solve, unchanged), or Lagrange's equations, which are in
+        # body coordinates: solve the regime's own system
+        return _solve_variant(system, regimes, q, qd, t, point, method, strict_direction)
+    aug = _augmented(system, point, method)
+    A, b, cols = aug.system_of(regimes, q, qd, t)
+    cond = float(condition_numbers(A))
+    if not cond <= CONDITION_LIMIT:
+        if all(r.keeps_tangential or r == SEPARATED or not r.friction_direction() for r in regimes.values()):
+            raise RedundantConstraints(f"{system.label}: singular with every contact holding")
+        return f"its equations are singular (condition number {cond:.3g})"
+    x = np.linalg.solve(A, b)
+    values = dict(zip(cols, map(float, x)))
+    values["condition_number"] = cond
+    qdd = [values[c] for c in aug.qdd]
+    checks, failure = _check(aug.variant, regimes, q, qd, qdd, t, values, strict_direction)
+    if failure:
+        return failure
+    return RegimeResult(dict(regimes), system, values, checks)
+
+
+def _solve_variant(system, regimes, q, qd, t, point, method, strict_direction):
     from ..errors import SingularConfigurationError
     from ..formulations import formulate
 
@@ -333,7 +452,7 @@ def solve_in_regime(system, regimes, q, qd, t, point=None, method="generalized_e
     checks, failure = _check(variant, regimes, q, qd, qdd, t, values, strict_direction)
     if failure:
         return failure
-    return RegimeResult(dict(regimes), variant, values, checks)
+    return RegimeResult(dict(regimes), system, values, checks)
 
 
 def _check(variant, regimes, q, qd, qdd, t, values, strict_direction=True):
@@ -382,26 +501,20 @@ def _check(variant, regimes, q, qd, qdd, t, values, strict_direction=True):
     return checks, None
 
 
-def _redundant_stick(system, regimes, q, qd, t):
+def _redundant_stick(system, regimes, q, qd, t, point=None, method="generalized_euler"):
     """A redundant stick: is there a split of the indeterminate forces inside every cone?
     A linear programme maximising the smallest margin (scipy.optimize.linprog, HiGHS)."""
     from scipy.optimize import linprog
 
-    from ..formulations import Formulation, resolve_points
-
-    variant = system.with_regimes(regimes, q, qd, t, redundant_ok=True)
-    f = Formulation(variant, "generalized_euler", resolve_points(variant, None))
-    A, b = f.numeric().matrices(q, qd, t)
-    A, b = np.asarray(A, float), np.asarray(b, float)
-    names = list(f.numeric().names)
+    aug = _augmented(system, point, "generalized_euler" if method == "lagrange" else method)
+    A, b, names = aug.system_of(regimes, q, qd, t)
     n = len(names)
-    pv = variant.si_values()
+    pv = aug.variant.si_values()
     scale = float(np.abs(b).max()) + 1.0
-    # variables: unknowns then the margin m; maximise m
-    A_ub, b_ub = [], []
-    for j in variant.contacts:
+    A_ub, b_ub = [], []  # variables: the unknowns, then the margin m (maximised)
+    for j in aug.variant.contacts:
         r = regimes.get(j.name, j.current_regime)
-        if r is SEPARATED:
+        if not r.keeps_normal:
             continue
         F, N = j.pair
         iN = names.index(N.name)
@@ -428,8 +541,8 @@ def _redundant_stick(system, regimes, q, qd, t):
     checks = [ContactCheck(j.name, regimes.get(j.name, j.current_regime),
                            "sticks (statically indeterminate: an admissible split of the forces exists)",
                            values[j.pair[1].name], values[j.pair[0].name] if j.pair[0] else 0.0)
-              for j in variant.contacts if regimes.get(j.name) is not SEPARATED]
-    return RegimeResult(dict(regimes), variant, values, checks, indeterminate=True)
+              for j in aug.variant.contacts if regimes.get(j.name) is not SEPARATED]
+    return RegimeResult(dict(regimes), system, values, checks, indeterminate=True)
 
 
 def least_friction(system, state) -> dict:

@@ -193,6 +193,10 @@ class Joint:
         """The origin of ``body`` fully fixed by this joint alone (given its angle), or None."""
         return None
 
+    def row_rank(self, k: int) -> int:
+        """Preference of row ``k`` for placing a body among this joint's rows (lower first)."""
+        return 0
+
     # -- model limits and contact data ----------------------------------------------
     def limits(self, pose: Pose) -> list[tuple[str, sp.Expr]]:
         """Conditions g >= 0 under which the joint's model holds, with a description."""
@@ -265,6 +269,11 @@ class Contact:
         bind = regime.keeps_tangential
         return replace(self, regime=regime, reactions=reactions, phase=sp.Integer(0) if bind else self.phase,
                        phase_from_state=bind or getattr(self, "phase_from_state", False))
+
+    def row_rank(self, k: int) -> int:
+        """A sticking contact places a body by its normal row first: its tangential row,
+        the one that slipping releases, then stays a closure equation."""
+        return 1 if self.current_regime.keeps_tangential and k == 0 else 0
 
     def _regime_rows(self, pose) -> list[sp.Expr]:
         Pt, Pn = self.contact_rows(pose)

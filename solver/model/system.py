@@ -365,7 +365,7 @@ class System:
                 if any(sp.diff(c, s) != 0 for c in (a, b) for s in (X, Y)):
                     continue  # not linear in the translation
                 candidates.append((j.placement_priority, j, k, a, b, row))
-        candidates.sort(key=lambda c: c[0])
+        candidates.sort(key=lambda c: (c[0], c[1].row_rank(c[2])))
         chosen = []
         for cand in candidates:
             trial_rows = chosen + [cand]
