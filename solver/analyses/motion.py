@@ -134,10 +134,9 @@ def _with_mu(system, mu):
     if not (math.isfinite(mu) and mu >= 0):
         raise InputError(f"--mu must be a finite number >= 0, got {mu!r}")
     value = sp.Float(mu)
-    system.joints = [replace(j, friction=Friction(value, value)) if j in system.contacts or
-                     getattr(j, "friction_pair", None) else j for j in system.joints]
-    system.reset()
-    return system
+    contacts = {j.name for j in system.contacts}
+    return system.copy(joints=[replace(j, friction=Friction(value, value)) if j.name in contacts else j
+                               for j in system.joints])
 
 
 def _segment_system(base, regimes, state):

@@ -677,6 +677,13 @@ class System:
         pose = self._pose_fn(self.poses)
         return [lim for j in self.joints for lim in j.limits(pose)]
 
+    def copy(self, coordinates=None, joints=None, time=None) -> "System":
+        """A new system with the same bodies, loads and parameters (derived results not shared)."""
+        return System(self.name, self.parameters, self.coordinates if coordinates is None else coordinates,
+                      self.bodies.values(), self.joints if joints is None else joints, self.loads, self.ground,
+                      time=self.time if time is None else time, source=self.source,
+                      output_units=self.output_units, description=self.description)
+
     # -- contact regimes --------------------------------------------------------------------------
     @property
     def contacts(self) -> list[Joint]:
@@ -722,9 +729,7 @@ class System:
                                                   dependent=False, given=None)
                   for c in self.coordinates]
         joints = [j.in_regime(regimes[j.name]) if j.name in regimes else j for j in self.joints]
-        new = System(self.name, self.parameters, coords, self.bodies.values(), joints, self.loads, self.ground,
-                     time=self.time if t is None else float(t), source=self.source,
-                     output_units=self.output_units, description=self.description)
+        new = self.copy(coordinates=coords, joints=joints, time=self.time if t is None else float(t))
         rows = new.closure
         if rows:
             J = sp.Matrix([r.expr for r in rows]).jacobian(sp.Matrix(new.q))
