@@ -419,9 +419,10 @@ class System:
             joints = ", ".join(f"{j.name} ({j.kind}, {j.freedoms_removed})" for j in self.joints) or "none"
             if len(self.closure) > len(self.dependent):
                 names = ", ".join(dict.fromkeys(repr(r.joint.name) for r in self.closure))
-                if all(isinstance(r.joint, Contact) for r in self.closure):
+                if all(isinstance(r.joint, Contact) and r.joint.friction is not None and r.index == 0
+                       and r.joint.current_regime.keeps_tangential for r in self.closure):  # rows slipping releases
                     raise self.fail(
-                        f"the contact(s) {names} can slip or separate (the scene gives coordinates for that): "
+                        f"the contact(s) {names} can slip (the scene gives coordinates for that): "
                         f"`solve`, `simulate` and `friction` find which regime holds; this command needs "
                         f"joints whose equations do not change"
                     )
