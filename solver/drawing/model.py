@@ -158,6 +158,11 @@ def _evaluate(system, exprs: list, state, accelerations: dict | None = None) -> 
     return [float(v) for v in out]
 
 
+def _memo(system, key, build):
+    """Cached on the system (cleared with its other derived results by System.reset)."""
+    return system._memo(("drawing", key), lambda: build(system))  # noqa: SLF001 - the system's own cache
+
+
 # --------------------------------------------------------------------------- the bodies
 @dataclass
 class BodyShape:
@@ -249,8 +254,8 @@ def scene_items(system, state, poses=None, shapes=None) -> list[DrawnItem]:
     cords as lines), and every free coordinate: an arc for an angle, a
     dimension line for a length.
     """
-    shapes = shapes or body_shapes(system)
-    poses = poses or PoseFunction(system)(state.q, state.t)
+    shapes = shapes or _memo(system, "shapes", body_shapes)
+    poses = poses or _memo(system, "poses", PoseFunction)(state.q, state.t)
     items: list[DrawnItem] = []
     for name, shape in shapes.items():
         for e, centre, angle, dims in shape.elements:
@@ -402,8 +407,8 @@ def free_body_items(system, state, solution, points: dict[str, str]) -> list[Dra
     force_unit = system.output_units.get("force", "N")
     moment_unit = system.output_units.get("moment", "N*m")
     reactions = {name: float(q.to_base_units().magnitude) for name, q in solution.unknowns.items()}
-    shapes = body_shapes(system)
-    poses = PoseFunction(system)(state.q, state.t)
+    shapes = _memo(system, "shapes", body_shapes)
+    poses = _memo(system, "poses", PoseFunction)(state.q, state.t)
 
     # every symbolic vector needed, evaluated in one call
     exprs: list = []
