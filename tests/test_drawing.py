@@ -192,3 +192,35 @@ def test_draw_command_refuses_an_unknown_suffix(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and err.startswith("error: -o ") and ".svg" in err
     assert not out.exists() and list(tmp_path.iterdir()) == []
+
+
+def test_simulate_animates_the_trajectory(tmp_path, capsys):
+    """simulate --animate: one GIF frame per sample (under the cap), from the multibody path."""
+    from PIL import Image
+
+    out = tmp_path / "crank.gif"
+    status = main(["simulate", str(ROOT / "data" / "scenes" / "slider_crank.toml"), "--t-end", "0.01 s",
+                   "--samples", "4", "--animate", str(out), "--json"])
+    assert status == 0
+    with Image.open(out) as gif:
+        assert gif.format == "GIF" and gif.n_frames == 4
+
+
+def test_animation_frames_are_capped_and_spread():
+    from solver.drawing import MAX_FRAMES, frame_indices
+
+    assert frame_indices(3) == [0, 1, 2]
+    many = frame_indices(10 * MAX_FRAMES + 7)
+    assert len(many) == MAX_FRAMES and many[0] == 0 and many[-1] == 10 * MAX_FRAMES + 6
+    steps = np.diff(many)
+    assert steps.max() - steps.min() <= 1  # evenly spread
+
+
+@pytest.mark.skipif(__import__("shutil").which("ffmpeg") is not None, reason="ffmpeg is installed here")
+def test_mp4_without_ffmpeg_is_one_line_before_the_run(tmp_path, capsys):
+    out = tmp_path / "run.mp4"
+    with pytest.raises(SystemExit) as stop:
+        main(["simulate", str(ROOT / "data" / "scenes" / "disk_bar.toml"), "--t-end", "1 s", "--animate", str(out)])
+    assert stop.value.code == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--animate" in err and "ffmpeg" in err and not out.exists()

@@ -13,13 +13,15 @@ import io
 import shutil
 from pathlib import Path
 
-__all__ = ["draw_system", "save_figure", "animate", "FORMATS", "ANIMATION_FORMATS", "MAX_FRAMES", "check_format"]
+__all__ = ["draw_system", "save_figure", "animate", "frame_indices", "check_animation_path", "FORMATS", "ANIMATION_FORMATS", "MAX_FRAMES", "check_format"]
 
 FORMATS = (".svg", ".png", ".pdf")
 """File formats of ``draw``, chosen by the output file's suffix."""
 ANIMATION_FORMATS = (".gif", ".mp4")
-MAX_FRAMES = 600
-"""Most frames an animation has: a longer run is sampled evenly down to this many."""
+MAX_FRAMES = 250
+"""Most frames an animation has (10 s at :data:`FRAME_RATE`): a longer run is sampled evenly
+down to this many. Each frame costs some 30 ms of CPU, so this keeps an animation well inside
+the command's CPU budget."""
 FRAME_RATE = 25
 """Frames per second of an animation."""
 DPI = 100
@@ -128,6 +130,19 @@ def save_figure(figure, path, flag: str = "-o") -> Path:
     return write_atomic(path, lambda fh: fh.write(data), flag, binary=True)
 
 
+def check_animation_path(path, flag: str = "--animate") -> str:
+    """Refuse, before any work, an animation file that cannot be written: a suffix other than
+    .gif or .mp4, .mp4 without ffmpeg, or a place that cannot be written. Returns the suffix."""
+    from ..errors import InputError
+    from ..files import check_output_path
+
+    suffix = check_format(path, ANIMATION_FORMATS, flag)
+    if suffix == ".mp4" and shutil.which("ffmpeg") is None:
+        raise InputError(f"{flag} {path}: writing .mp4 needs ffmpeg, which is not installed; use a .gif")
+    check_output_path(path, flag)
+    return suffix
+
+
 def animate(system, times, states, path, flag: str = "--animate") -> Path:
     """Write an animation of the scene drawing along a trajectory.
 
@@ -146,21 +161,17 @@ def animate(system, times, states, path, flag: str = "--animate") -> Path:
     At most :data:`MAX_FRAMES` frames: a longer trajectory is sampled evenly.
     Frames play at :data:`FRAME_RATE` per second whatever the run's time scale.
     """
-    from ..errors import InputError
-    from ..files import check_output_path, write_atomic
+    from ..files import write_atomic
     from . import render
-    from .model import PoseFunction, body_shapes, scene_items
+    from .model import PoseFunction, _memo, body_shapes, scene_items
 
-    suffix = check_format(path, ANIMATION_FORMATS, flag)
-    if suffix == ".mp4" and shutil.which("ffmpeg") is None:
-        raise InputError(f"{flag} {path}: writing .mp4 needs ffmpeg, which is not installed; use a .gif")
-    check_output_path(path, flag)
+    suffix = check_animation_path(path, flag)
     n = len(states)
     if n == 0 or len(times) != n:
         raise ValueError(f"`times` and `states` must be non-empty and of one length, got {len(times)} and {n}")
-    keep = sorted({round(k * (n - 1) / max(min(n, MAX_FRAMES) - 1, 1)) for k in range(min(n, MAX_FRAMES))})
-    shapes = body_shapes(system)
-    poses = PoseFunction(system)
+    keep = frame_indices(n)
+    shapes = _memo(system, "shapes", body_shapes)
+    poses = _memo(system, "poses", PoseFunction)
     frames = [scene_items(system, states[k], poses(states[k].q, states[k].t), shapes) for k in keep]
     bodies = list(system.bodies)
     # one frame box for the whole run, so that the picture does not jump
@@ -171,24 +182,72 @@ def animate(system, times, states, path, flag: str = "--animate") -> Path:
     high = np.max([b[1] for b in boxes], axis=0)
     span = float(np.max(high - low)) or 1.0
     from matplotlib import rc_context
-    from matplotlib.animation import FFMpegWriter, FuncAnimation, PillowWriter
+    from matplotlib.animation import FFMpegWriter, FuncAnimation
+
+    from matplotlib.figure import Figure
+
+    from ..model.bodies import GROUND
 
     with rc_context(render.RC):
-        figure, (ax,) = render.new_figure(1, size=4.0)
+        figure = Figure(figsize=(4.0, 4.0))
+        ax = figure.add_axes((0.0, 0.0, 1.0, 0.93))
+        # the ground (its guides, supports and points) is drawn once; the bodies every frame
+        render.render_scene(ax, [i for i in frames[0] if i.body == GROUND], bodies, limits=(low, high, span))
+        render._setup(ax, low, high, span, "")
+        title = figure.suptitle("", fontsize=9)
+        previous: list = []
 
         def draw(k):
-            ax.clear()
-            render.render_scene(ax, frames[k], bodies, limits=(low, high, span))
-            render._setup(ax, low, high, span, f"{system.name}   t = {times[keep[k]]:.3f} s")
+            for artist in previous:
+                artist.remove()
+            before = set(ax.get_children())
+            render.render_scene(ax, [i for i in frames[k] if i.body != GROUND], bodies, limits=(low, high, span))
+            previous[:] = [a for a in ax.get_children() if a not in before]
+            title.set_text(f"{system.name}   t = {times[keep[k]]:.3f} s")
             return []
 
-        movie = FuncAnimation(figure, draw, frames=len(frames), blit=False)
-        writer = PillowWriter(fps=FRAME_RATE) if suffix == ".gif" else FFMpegWriter(fps=FRAME_RATE)
-        target = Path(path)
-        import tempfile
+        if suffix == ".gif":
+            data = _gif_bytes(figure, draw, len(frames))
+        else:
+            movie = FuncAnimation(figure, draw, frames=len(frames), init_func=lambda: [], blit=False)
+            import tempfile
 
-        with tempfile.TemporaryDirectory(dir=target.parent) as tmp:
-            scratch = Path(tmp) / f"frames{suffix}"
-            movie.save(str(scratch), writer=writer, dpi=DPI)
-            data = scratch.read_bytes()
+            with tempfile.TemporaryDirectory(dir=Path(path).parent) as tmp:
+                scratch = Path(tmp) / "frames.mp4"
+                movie.save(str(scratch), writer=FFMpegWriter(fps=FRAME_RATE), dpi=DPI)
+                data = scratch.read_bytes()
     return write_atomic(path, lambda fh: fh.write(data), flag, binary=True)
+
+
+def frame_indices(n: int, limit: int = MAX_FRAMES) -> list[int]:
+    """Indices of the samples shown: all of them, or ``limit`` evenly spread from the first to the last."""
+    m = min(n, limit)
+    return sorted({round(k * (n - 1) / max(m - 1, 1)) for k in range(m)})
+
+
+def _gif_bytes(figure, draw, n: int) -> bytes:
+    """A looping GIF of ``n`` frames (``draw(k)`` updates the figure), with one palette.
+
+    The palette is taken from the first frame (the drawing's colours do not
+    change), so each frame is mapped to it without dithering: far cheaper than
+    a palette per frame.
+    """
+    import numpy as np
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from PIL import Image
+
+    canvas = FigureCanvasAgg(figure)
+    figure.set_dpi(DPI)
+    images = []
+    palette = None
+    for k in range(n):
+        draw(k)
+        canvas.draw()
+        frame = Image.fromarray(np.asarray(canvas.buffer_rgba())[..., :3])
+        if palette is None:
+            palette = frame.quantize(colors=64, method=Image.Quantize.MEDIANCUT)
+        images.append(frame.quantize(palette=palette, dither=Image.Dither.NONE))
+    buf = io.BytesIO()
+    images[0].save(buf, format="GIF", save_all=True, append_images=images[1:], duration=round(1000 / FRAME_RATE),
+                   loop=0)
+    return buf.getvalue()
