@@ -285,6 +285,8 @@ def build(root: Path = ROOT, out: Path | None = None, pdf: str = "auto", log=pri
         freq = natural_frequency(scenes[ex2_key])
         omega_n = float(freq.omega_n.to("rad/s").magnitude)
         figs["example2"] = figures.example2_free_motion(scenes[ex2_key], derivations[ex2_key], amplitude, omega_n)
+        for name, scene_file, body, number in figures.PAPER_SCENE_FIGURES:  # the paper's Figures 1-3
+            figs[name] = figures.scene_figure(root / "data" / "scenes" / scene_file, name, number, body)
         if survey is not None:
             figs["likert"] = figures.likert_chart(survey.summary)
         bench = _benchmarks(root / "reports" / "build" / "bench")

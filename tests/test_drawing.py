@@ -224,3 +224,52 @@ def test_mp4_without_ffmpeg_is_one_line_before_the_run(tmp_path, capsys):
     assert stop.value.code == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "--animate" in err and "ffmpeg" in err and not out.exists()
+
+
+@pytest.mark.parametrize("name", ["slider_crank", "sliding_bar", "disk_bar", "four_bar", "drum_and_block"])
+def test_free_body_diagram_has_no_moment_about_P(name):
+    """Eq. 10 read off the drawing: the drawn forces and couples, with the dashed -m a_P at G
+    and -I_P alpha, have zero moment about P, for every body (each arrow's size is in
+    shape["size"], SI). An arrow drawn the wrong way, at the wrong point or with the wrong
+    size breaks the balance."""
+    system = load_system(ROOT / "data" / "scenes" / f"{name}.toml")
+    fbd = draw_system(system, fbd=True)
+    scene = draw_system(system)
+    where = {(i.body, i.name): np.array(i.anchor) for i in scene.of_kind("point")}
+    for body in system.bodies:
+        P = where[(body, fbd.point[body])]
+        moment, scale = 0.0, 0.0
+        for i in fbd.on(body):
+            if i.kind in ("force", "inertial") and i.direction is not None:
+                r = np.array(i.anchor) - P
+                f = i.shape["size"] * np.array(i.direction)
+                moment += r[0] * f[1] - r[1] * f[0]
+                scale += abs(r[0] * f[1]) + abs(r[1] * f[0])
+            elif i.kind in ("couple", "inertial_couple"):
+                moment += i.turn * i.shape["size"]
+                scale += i.shape["size"]
+        # round-off of sums of ~10 products of float64 values: 1e-9 of the largest term
+        assert abs(moment) <= 1e-9 * max(scale, 1e-12), f"{name}: moment about {body}:{fbd.point[body]} = {moment}"
+
+
+def test_paper_figures_1_to_3_are_drawn_from_the_scenes(tmp_path_factory):
+    """paper.html embeds Figures 1-3 as inline SVG, with the rod's pin forces as the solver
+    gives them; paper.tex includes their PDF twins, which the build writes."""
+    import re
+
+    from reports.make_report import build_cached
+
+    out = Path(build_cached(tmp_path_factory.getbasetemp() / "report_build", ROOT)["out"])
+    html = (out / "paper.html").read_text(encoding="utf-8")
+    tex = (out / "paper.tex").read_text(encoding="utf-8")
+    system = load_system(ROOT / "data" / "scenes" / "slider_crank.toml")
+    solution = solve_instant(system)
+    for n, stem in ((1, "figure1_slider_crank"), (2, "figure2_sliding_bar"), (3, "figure3_disk_bar")):
+        figure = re.search(rf'<figure id="figure{n}">(.*?)</figure>', html, re.S)
+        assert figure and "<svg" in figure.group(1), f"Figure {n} missing from paper.html"
+        assert f"figures/{stem}.pdf" in tex and (out / "figures" / f"{stem}.pdf").stat().st_size > 1000
+    rod = re.search(r'<figure id="figure1">(.*?)</figure>', html, re.S).group(1)
+    for name in ("A_x", "A_y"):  # on the rod (the joints' second body), as solved, 4 significant figures
+        assert f"{name} = {solution.unknowns[name].magnitude:.4g} N" in rod
+    for name in ("B_x", "B_y"):  # the rod is the first body of pin B: the force on it is -B
+        assert f"-{name} = {-solution.unknowns[name].magnitude:.4g} N" in rod

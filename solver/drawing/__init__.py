@@ -45,7 +45,7 @@ def check_format(path, allowed, flag: str) -> str:
     return suffix
 
 
-def draw_system(system, state=None, ax=None, fbd: bool = False, point: str | None = None):
+def draw_system(system, state=None, ax=None, fbd: bool = False, point: str | None = None, bodies=None):
     """Draw a scene at its state (or ``state``), or its free-body diagrams.
 
     Parameters
@@ -62,6 +62,8 @@ def draw_system(system, state=None, ax=None, fbd: bool = False, point: str | Non
     point : str, optional
         ``BODY:POINT`` or a point name: the point P whose inertial force
         -m a_P the diagrams show (default: each body's reference point).
+    bodies : sequence of str, optional
+        For ``fbd``: the bodies whose diagrams are drawn (default: all).
 
     Returns
     -------
@@ -81,6 +83,10 @@ def draw_system(system, state=None, ax=None, fbd: bool = False, point: str | Non
     points = resolve_points(system, point)  # a bad --point is refused before any work
     state = assemble(system) if state is None else state
     scene = scene_items(system, state)
+    panels = list(system.bodies) if bodies is None else list(bodies)
+    unknown = [b for b in panels if b not in system.bodies]
+    if unknown:
+        raise ValueError(f"`bodies` must name bodies of the scene ({', '.join(system.bodies)}), got {unknown}")
     bodies = list(system.bodies)
     figure = None
     from matplotlib import rc_context
@@ -95,15 +101,16 @@ def draw_system(system, state=None, ax=None, fbd: bool = False, point: str | Non
         forces = free_body_items(system, state, solution, points)
         axes = ax
         if axes is None:
-            figure, axes = render.new_figure(len(bodies), size=4.6)
+            figure, axes = render.new_figure(len(panels), size=4.6)
         elif not isinstance(axes, (list, tuple)):
             axes = [axes]
-        if len(axes) != len(bodies):
-            raise ValueError(f"`ax` must hold one Axes per body ({len(bodies)}), got {len(axes)}")
-        for a, body in zip(axes, bodies):
+        if len(axes) != len(panels):
+            raise ValueError(f"`ax` must hold one Axes per body drawn ({len(panels)}), got {len(axes)}")
+        for a, body in zip(axes, panels):
             render.render_fbd(a, scene, [f for f in forces if f.body == body], body, bodies,
                               title=f"{body}: free-body diagram (P = {points[body]})")
-    return Drawing(system.name, forces, fbd=True, panels=bodies, point=points, figure=figure)
+    forces = [f for f in forces if f.body in panels]
+    return Drawing(system.name, forces, fbd=True, panels=panels, point=points, figure=figure)
 
 
 def figure_bytes(figure, suffix: str, dpi: int = DPI) -> bytes:
