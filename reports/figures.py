@@ -253,7 +253,7 @@ def scene_figure(path, name: str, number: int, body: str | None = None, point: s
     state = assemble(system)
     body = body or next(iter(system.bodies))
     with rc_context(RC):
-        fig = Figure(figsize=(9.0, 4.4), layout="constrained")
+        fig = Figure(figsize=(9.0, 3.8), layout="constrained")
         ax_scene, ax_fbd = fig.subplots(1, 2)
         draw_system(system, state, ax=ax_scene)
         fbd = draw_system(system, state, ax=[ax_fbd], fbd=True, point=point, bodies=[body])

@@ -366,7 +366,7 @@ def _angle_mark(system, c, value, shapes, poses, span):
         start = end - int(rate) * value
         return DrawnItem("coordinate", c.name, tuple(centre.tolist()), turn=1 if end >= start else -1, body=name,
                          name=c.name, value=math.degrees(value), unit="deg",
-                         shape={"type": "arc", "centre": centre.tolist(), "radius": 0.12 * span,
+                         shape={"type": "arc", "centre": centre.tolist(), "radius": 0.16 * span,
                                 "start": start, "end": end})
     return None
 

@@ -144,20 +144,22 @@ def _arc(ax, centre, radius, start, end, colour, label, dashed=False, arrow=True
         ax.add_patch(FancyArrowPatch((xs[-3], ys[-3]), (xs[-1], ys[-1]), arrowstyle="-|>", mutation_scale=10,
                                      color=colour, linewidth=1.2, zorder=4))
     mid = 0.5 * (start + end)
-    ax.annotate(label, (centre[0] + 1.15 * radius * math.cos(mid), centre[1] + 1.15 * radius * math.sin(mid)),
+    out = 1.2 if abs(end - start) > 0.6 else 1.6  # a short arc: its label further out, clear of the lines
+    ax.annotate(label, (centre[0] + out * radius * math.cos(mid), centre[1] + out * radius * math.sin(mid)),
                 fontsize=7, color=colour, ha="center", va="center", zorder=6)
 
 
 def _points(ax, items, bodies, span):
-    seen = set()
+    """Every named point as a dot with its name; points of one name at one place (a pin's two
+    halves) are labelled once."""
+    seen: list = []
     for i in items:
         if i.kind != "point":
             continue
-        key = (i.label, round(i.anchor[0] / span, 4), round(i.anchor[1] / span, 4))
         ax.plot(*i.anchor, "o", color="black", markersize=2.5, zorder=5)
-        if key in seen:
+        if any(name == i.label and math.dist(at, i.anchor) < 1e-3 * span for name, at in seen):
             continue
-        seen.add(key)
+        seen.append((i.label, i.anchor))
         ax.annotate(i.label, i.anchor, xytext=(4, 4), textcoords="offset points", fontsize=8, zorder=6)
 
 
@@ -182,7 +184,7 @@ def render_scene(ax, items: list[DrawnItem], bodies: list[str], title: str = "",
         elif i.kind == "coordinate":
             s = i.shape
             if s["type"] == "arc":
-                _arc(ax, s["centre"], s["radius"], s["start"], s["end"], "0.15", i.label)
+                _arc(ax, s["centre"], s["radius"], s["start"], s["end"], "0.15", i.label, arrow=abs(s["end"] - s["start"]) > 0.05)
                 ref = s["start"]
                 c = np.array(s["centre"])
                 ax.plot([c[0], c[0] + 1.6 * s["radius"] * math.cos(ref)], [c[1], c[1] + 1.6 * s["radius"] * math.sin(ref)],
@@ -209,7 +211,7 @@ def _crowd(tips, at, span) -> int:
     return sum(1 for t in tips[:-1] if abs(t[0] - at[0]) + abs(t[1] - at[1]) < 0.08 * span)
 
 
-def _force_arrow(ax, item: DrawnItem, length, colour, dashed, tips):
+def _force_arrow(ax, item: DrawnItem, length, colour, dashed, tips, centre=None):
     direction = item.direction
     zero = direction is None
     if zero:
@@ -222,14 +224,20 @@ def _force_arrow(ax, item: DrawnItem, length, colour, dashed, tips):
         ax.annotate(item.label, (x, y), xytext=(5, -10 - 9 * _crowd(tips, (x, y), span)), textcoords="offset points",
                     fontsize=7, color=colour)
         return
-    tip = (x + length * direction[0], y + length * direction[1])
-    ax.add_patch(FancyArrowPatch((x, y), tip, arrowstyle="-|>", mutation_scale=11, color=colour,
+    tail, tip = (x, y), (x + length * direction[0], y + length * direction[1])
+    if centre is not None and (centre[0] - x) * direction[0] + (centre[1] - y) * direction[1] > \
+            0.5 * math.dist(centre, (x, y)) + 1e-9 * length:
+        # a force pushing towards the body's mass centre (within 60 deg): drawn ending at its point, from outside
+        tail, tip = (x - length * direction[0], y - length * direction[1]), (x, y)
+    ax.add_patch(FancyArrowPatch(tail, tip, arrowstyle="-|>", mutation_scale=11, color=colour,
                                  linewidth=0.8 if zero else 1.6, linestyle="--" if dashed else "-",
                                  alpha=0.45 if zero else 1.0, zorder=7))
-    tips.append(tip)
-    ax.annotate(item.label, tip, xytext=(3 * np.sign(direction[0] or 1), 3 - 9 * _crowd(tips, tip, span)),
-                textcoords="offset points",
-                fontsize=7, color=colour, ha="left" if direction[0] >= 0 else "right", zorder=8)
+    outward = 1 if tip != (x, y) else -1  # the label goes at the free end of the arrow
+    label_at = tip if outward == 1 else tail
+    tips.append(label_at)
+    right = outward * direction[0] >= 0
+    ax.annotate(item.label, label_at, xytext=(3 if right else -3, 3 - 9 * _crowd(tips, label_at, span)),
+                textcoords="offset points", fontsize=7, color=colour, ha="left" if right else "right", zorder=8)
 
 
 def render_fbd(ax, scene_items: list[DrawnItem], forces: list[DrawnItem], body: str, bodies: list[str],
@@ -240,12 +248,13 @@ def render_fbd(ax, scene_items: list[DrawnItem], forces: list[DrawnItem], body: 
     span = max(span, 1e-9)
     render_scene(ax, own, bodies, faint=True, limits=(low, high, span))
     length = 0.45 * span
+    centre = next((i.anchor for i in own if i.kind == "point" and i.name == "G"), None)
     tips: list = []
     couples = 0
     for item in forces:
         if item.kind in ("force", "inertial"):
             colour = INERTIAL_COLOUR if item.kind == "inertial" else FORCE_COLOUR
-            _force_arrow(ax, item, length, colour, dashed=item.kind == "inertial", tips=tips)
+            _force_arrow(ax, item, length, colour, dashed=item.kind == "inertial", tips=tips, centre=centre)
         elif item.turn == 0:  # a zero couple: its label only
             colour = INERTIAL_COLOUR if item.kind == "inertial_couple" else FORCE_COLOUR
             tips.append(item.anchor)
@@ -259,8 +268,8 @@ def render_fbd(ax, scene_items: list[DrawnItem], forces: list[DrawnItem], body: 
             _arc(ax, item.anchor, r, a0, a0 + 1.5 * math.pi * item.turn, colour, item.label,
                  dashed=item.kind == "inertial_couple")
     pts = [i.anchor for i in forces] + [low.tolist(), high.tolist()]
-    pts += [(i.anchor[0] + length * i.direction[0], i.anchor[1] + length * i.direction[1])
-            for i in forces if i.direction is not None]
+    pts += [(i.anchor[0] + s * length * i.direction[0], i.anchor[1] + s * length * i.direction[1])
+            for i in forces if i.direction is not None for s in (-1, 1)]
     pts = np.array(pts)
     _setup(ax, pts.min(axis=0), pts.max(axis=0), max(span, float(np.max(pts.max(axis=0) - pts.min(axis=0)))) * 0.5,
            title)
