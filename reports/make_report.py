@@ -32,7 +32,7 @@ from jinja2 import Environment, FileSystemLoader, StrictUndefined, select_autoes
 from markupsafe import Markup
 
 from reports import checks as checks_mod
-from reports import figures, paper, provenance
+from reports import figures, mathfont, paper, provenance
 from reports.mathml import equation_mathml, to_latex, to_mathml
 from reports.published import ReportInputError, load_equations
 from solver.errors import InputError
@@ -59,6 +59,7 @@ def html_environment(templates: Path = TEMPLATES) -> Environment:
     )
     env.filters["num"] = format_number
     env.filters["verdict_class"] = lambda v: {"agrees": "ok", "disagrees": "bad"}.get(v, "na")
+    env.globals["math_font_css"] = mathfont.font_face_css()  # the embedded maths font (_style.html.j2)
     return env
 
 
