@@ -402,107 +402,126 @@ def free_body_items(system, state, solution, points: dict[str, str]) -> list[Dra
     points : dict
         Body -> the point P of its moment equation (solver.formulations.resolve_points).
     """
-    from ..units import Q_
+    fb = _FreeBodies(system, state, solution)
+    joint_loads = [(jl, fb.pair(jl.force), fb.pair(jl.at), fb.slot(jl.couple)) for jl in system.joint_loads()]
+    applied = [(load, a, fb.pair(None if a.force is None else system.prescribe(sp.Matrix(a.force))), fb.pair(a.at),
+                fb.slot(system.prescribe(sp.sympify(a.couple))))
+               for load in system.loads for a in load.applied(system)]
+    inertial = {body: (fb.pair(system.point_acceleration(body, p)), fb.slot(system.alpha(body)),
+                       fb.pair(system.point_position(body, p))) for body, p in points.items()}
+    fb.evaluate()
+    items = _reaction_items(fb, joint_loads) + _load_items(fb, applied) + _inertial_items(fb, inertial, points)
+    return _mark_zeros(items)
 
-    force_unit = system.output_units.get("force", "N")
-    moment_unit = system.output_units.get("moment", "N*m")
-    reactions = {name: float(q.to_base_units().magnitude) for name, q in solution.unknowns.items()}
-    shapes = _memo(system, "shapes", body_shapes)
-    poses = _memo(system, "poses", PoseFunction)(state.q, state.t)
 
-    # every symbolic vector needed, evaluated in one call
-    exprs: list = []
+class _FreeBodies:
+    """What the free-body diagrams share: units, solved values, placement, and every symbolic
+    quantity they need, collected by :meth:`slot` and evaluated in one compiled call."""
 
-    def slot(expr) -> int:
-        exprs.append(expr)
-        return len(exprs) - 1
+    def __init__(self, system, state, solution):
+        self.system, self.state = system, state
+        self.force_unit = system.output_units.get("force", "N")
+        self.moment_unit = system.output_units.get("moment", "N*m")
+        self.solved = {name: float(q.to_base_units().magnitude) for name, q in solution.unknowns.items()}
+        self.shapes = _memo(system, "shapes", body_shapes)
+        self.poses = _memo(system, "poses", PoseFunction)(state.q, state.t)
+        self.si = {k: sp.Float(v) for k, v in system.si_values().items()}
+        self.exprs: list = []
+        self.vals: list[float] = []
 
-    joint_loads = []
-    for jl in system.joint_loads():
-        f = None if jl.force is None else (slot(jl.force[0]), slot(jl.force[1]))
-        at = None if jl.at is None else (slot(jl.at[0]), slot(jl.at[1]))
-        joint_loads.append((jl, f, at, slot(jl.couple)))
-    applied = []
-    for load in system.loads:
-        for a in load.applied(system):
-            f = None if a.force is None else tuple(slot(system.prescribe(sp.Matrix(a.force))[i]) for i in (0, 1))
-            at = None if a.at is None else (slot(a.at[0]), slot(a.at[1]))
-            applied.append((load, a, f, at, slot(system.prescribe(sp.sympify(a.couple)))))
-    inertial = {}
-    for body, p in points.items():
-        acc = system.point_acceleration(body, p)
-        position = system.point_position(body, p)
-        inertial[body] = (slot(acc[0]), slot(acc[1]), slot(system.alpha(body)), slot(position[0]), slot(position[1]))
-    vals = _evaluate(system, exprs, state, {k: v for k, v in reactions.items() if k.endswith("_ddot")})
+    def slot(self, expr) -> int:
+        self.exprs.append(expr)
+        return len(self.exprs) - 1
 
-    def v2(pair):
-        return np.array([vals[pair[0]], vals[pair[1]]])
+    def pair(self, vector):
+        return None if vector is None else (self.slot(vector[0]), self.slot(vector[1]))
 
-    def fmt(x, unit_si, unit):
-        return float(Q_(x, unit_si).to(unit).magnitude)
+    def evaluate(self) -> None:
+        accelerations = {k: v for k, v in self.solved.items() if k.endswith("_ddot")}
+        self.vals = _evaluate(self.system, self.exprs, self.state, accelerations)
 
-    items: list[DrawnItem] = []
+    def vec(self, pair) -> np.ndarray:
+        return np.array([self.vals[pair[0]], self.vals[pair[1]]])
+
+    def force(self, newtons: float) -> float:
+        from ..units import Q_
+
+        return float(Q_(newtons, "N").to(self.force_unit).magnitude)
+
+    def moment(self, newton_metres: float) -> float:
+        from ..units import Q_
+
+        return float(Q_(newton_metres, "N*m").to(self.moment_unit).magnitude)
+
+    def where(self, body: str, point: str) -> np.ndarray:
+        """A body point's position (or the body frame's origin when the body has no such point)."""
+        shape = self.shapes[body]
+        return shape.position(point, self.poses[body]) if point in shape.points else self.poses[body][0]
+
+    def mass_centre(self, body: str) -> np.ndarray:
+        return _mass_centre(self.system, self.shapes, self.poses, body)
+
+
+def _reaction_items(fb: _FreeBodies, joint_loads) -> list[DrawnItem]:
+    """Each reaction on each body it acts on, as solved; on a joint's first body it is the opposite."""
+    items = []
     for jl, f, at, c in joint_loads:
         body, r = jl.body, jl.reaction
-        if body == GROUND:
+        if body == GROUND:  # the ground has no diagram
             continue
-        value = reactions[r.name]
-        joint = next(j for j in system.joints if j.name == r.joint)
-        on_first = body == joint.first and body != joint.second
-        sign_name = "-" if on_first else ""
+        value = fb.solved[r.name]
+        joint = next(j for j in fb.system.joints if j.name == r.joint)
+        sign = -1 if (body == joint.first and body != joint.second) else 1
+        name = f"{'-' if sign < 0 else ''}{r.name}"
         if f is not None:
-            unit_vec = v2(f)
-            vec = value * unit_vec
-            shown = fmt(value, "N", force_unit) * (-1 if on_first else 1)
-            items.append(_force("force", f"{sign_name}{r.name}", v2(at), vec, unit_vec,
-                                body, r.name, shown, force_unit))
-        else:
-            m = value * vals[c]
-            shown = fmt(value, "N*m", moment_unit) * (-1 if on_first else 1)
-            items.append(_couple("couple", f"{sign_name}{r.name}",
-                                 shapes[body].position(system.bodies[body].default_point, poses[body])
-                                 if system.bodies[body].default_point in shapes[body].points else poses[body][0],
-                                 m, body, r.name, shown, moment_unit))
-    gravity: dict = {}
+            unit_vec = fb.vec(f)
+            items.append(_force("force", name, fb.vec(at), value * unit_vec, unit_vec, body, r.name,
+                                sign * fb.force(value), fb.force_unit))
+        else:  # a couple (slider, motor), drawn at the body's reference point
+            items.append(_couple("couple", name, fb.where(body, fb.system.bodies[body].default_point),
+                                 value * fb.vals[c], body, r.name, sign * fb.moment(value), fb.moment_unit))
+    return items
+
+
+def _load_items(fb: _FreeBodies, applied) -> list[DrawnItem]:
+    """Applied forces and couples (springs, dampers too); each body's weight as one force at G."""
+    items, weights = [], {}
     for load, a, f, at, c in applied:
-        if a.body not in system.bodies:
+        if a.body not in fb.system.bodies:  # the ground's share of a spring or damper
             continue
-        if load.kind == "gravity":  # the body's weight: the resultant of its elements' weights, at G
-            gravity.setdefault((a.body, load.name), np.zeros(2))
-            gravity[(a.body, load.name)] += v2(f)
+        if load.kind == "gravity":  # the resultant of the elements' weights acts at G
+            weights[(a.body, load.name)] = weights.get((a.body, load.name), np.zeros(2)) + fb.vec(f)
             continue
         if f is not None:
-            vec = v2(f)
-            size = fmt(float(np.hypot(*vec)), "N", force_unit)
-            items.append(_force("force", a.name, v2(at), vec, None, a.body,
-                                load.name, size, force_unit))
+            vec = fb.vec(f)
+            items.append(_force("force", a.name, fb.vec(at), vec, None, a.body, load.name,
+                                fb.force(float(np.hypot(*vec))), fb.force_unit))
         if a.force is None or sp.sympify(a.couple) != 0:
-            m = vals[c]
-            shown = fmt(m, "N*m", moment_unit)
-            where = shapes[a.body].position("G", poses[a.body]) if "G" in shapes[a.body].points else poses[a.body][0]
-            items.append(_couple("couple", a.name, where, m, a.body, load.name,
-                                 shown, moment_unit))
-    for (body, name), vec in gravity.items():
-        size = fmt(float(np.hypot(*vec)), "N", force_unit)
-        G = _mass_centre(system, shapes, poses, body)
-        items.append(_force("force", f"{name}: m g", G, vec, None, body, name, size,
-                            force_unit))
-    si = {k: sp.Float(v) for k, v in system.si_values().items()}
-    for body, (ax, ay, al, px, py) in inertial.items():
+            m = fb.vals[c]
+            items.append(_couple("couple", a.name, fb.where(a.body, "G"), m, a.body, load.name, fb.moment(m),
+                                 fb.moment_unit))
+    for (body, name), vec in weights.items():
+        items.append(_force("force", f"{name}: m g", fb.mass_centre(body), vec, None, body, name,
+                            fb.force(float(np.hypot(*vec))), fb.force_unit))
+    return items
+
+
+def _inertial_items(fb: _FreeBodies, inertial, points) -> list[DrawnItem]:
+    """Eq. (10): the inertial force -m a_P at G and the couple -I_P alpha, for each body's P."""
+    items = []
+    for body, (acc, alpha, at) in inertial.items():
         p = points[body]
-        m = _constant(system.bodies[body].total_mass, si)
-        vec = -m * np.array([vals[ax], vals[ay]])
-        size = fmt(float(np.hypot(*vec)), "N", force_unit)
-        G = _mass_centre(system, shapes, poses, body)
+        m = _constant(fb.system.bodies[body].total_mass, fb.si)
+        vec = -m * fb.vec(acc)
+        G = fb.mass_centre(body)
         items.append(_force("inertial", f"-m a_{p}", G, vec, None, body, f"-m a_{p}",
-                            size, force_unit))
-        # Eq. (12): I_P = I_G + m |r_G/P|^2 (P where the point is at this instant)
-        I_P = _constant(system.bodies[body].centroidal_inertia(), si) + m * float(np.sum((G - [vals[px], vals[py]]) ** 2))
-        moment = -I_P * vals[al]
-        shown = fmt(moment, "N*m", moment_unit)
-        items.append(_couple("inertial_couple", f"-I_{p} alpha", G, moment, body,
-                             f"-I_{p} alpha", shown, moment_unit))
-    return _mark_zeros(items)
+                            fb.force(float(np.hypot(*vec))), fb.force_unit))
+        # Eq. (12): I_P = I_G + m |r_G/P|^2, P where the point is at this instant
+        I_P = _constant(fb.system.bodies[body].centroidal_inertia(), fb.si) + m * float(np.sum((G - fb.vec(at)) ** 2))
+        moment = -I_P * fb.vals[alpha]
+        items.append(_couple("inertial_couple", f"-I_{p} alpha", G, moment, body, f"-I_{p} alpha",
+                             fb.moment(moment), fb.moment_unit))
+    return items
 
 
 def _mass_centre(system, shapes, poses, body) -> np.ndarray:
