@@ -110,7 +110,7 @@ def draw_system(system, state=None, ax=None, fbd: bool = False, point: str | Non
             render.render_fbd(a, scene, [f for f in forces if f.body == body], body, bodies,
                               title=f"{body}: free-body diagram (P = {points[body]})")
     forces = [f for f in forces if f.body in panels]
-    return Drawing(system.name, forces, fbd=True, panels=panels, point=points, figure=figure)
+    return Drawing(system.name, forces, fbd=True, panels=panels, point=points, figure=figure, solution=solution)
 
 
 def figure_bytes(figure, suffix: str, dpi: int = DPI) -> bytes:

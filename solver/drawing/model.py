@@ -92,6 +92,8 @@ class Drawing:
     point : dict
         Body -> the point P of its moment equation (``fbd``).
     figure : matplotlib.figure.Figure or None
+    solution : solver.analyses.instant.InstantSolution or None
+        The solve whose reactions the diagrams show (``fbd``).
     """
 
     scene: str
@@ -100,6 +102,7 @@ class Drawing:
     panels: list[str] = field(default_factory=list)
     point: dict = field(default_factory=dict)
     figure: object = None
+    solution: object = None
 
     def of_kind(self, *kinds: str) -> list[DrawnItem]:
         return [i for i in self.items if i.kind in kinds]
