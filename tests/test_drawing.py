@@ -267,3 +267,15 @@ def test_paper_figures_1_to_3_are_drawn_from_the_scenes(tmp_path_factory):
         assert f"{name} = {solution.unknowns[name].magnitude:.4g} N" in rod
     for name in ("B_x", "B_y"):  # the rod is the first body of pin B: the force on it is -B
         assert f"-{name} = {-solution.unknowns[name].magnitude:.4g} N" in rod
+
+
+def test_the_command_line_starts_without_matplotlib():
+    """matplotlib is imported only when something is drawn: no module that registering the
+    commands imports (cli_draw, cli_dynamics, the drawing package itself) imports it at the top."""
+    import ast
+
+    for module in ("solver/cli_draw.py", "solver/cli_dynamics.py", "solver/drawing/__init__.py", "solver/__main__.py"):
+        tree = ast.parse((ROOT / module).read_text(encoding="utf-8"))
+        top = [n for n in tree.body if isinstance(n, (ast.Import, ast.ImportFrom))]
+        names = [a.name for n in top for a in n.names] + [n.module or "" for n in top if isinstance(n, ast.ImportFrom)]
+        assert not any(n.split(".")[0] in ("matplotlib", "PIL") or n.endswith("render") for n in names), module
