@@ -40,7 +40,8 @@ class DrawnItem:
     Attributes
     ----------
     kind : str
-        ``element``, ``point``, ``guide``, ``support``, ``coordinate``,
+        ``element``, ``link`` (the light frame of a body of point masses),
+        ``point``, ``guide``, ``support``, ``coordinate``,
         ``force``, ``couple``, ``inertial`` (dashed force) or
         ``inertial_couple`` (dashed couple).
     label : str
@@ -227,6 +228,21 @@ def _element_item(body: str, element, centre, angle, dims, pose) -> DrawnItem:
     return DrawnItem("element", element.name, tuple(c.tolist()), body=body, name=element.name, shape=shape)
 
 
+_EXTENDED = ("slender_bar", "uniform_disk", "thin_ring", "rectangular_plate", "semicircular_disk")
+
+
+def _light_link(body: str, shape: BodyShape, pose) -> DrawnItem | None:
+    """A body of point masses only (a bob on a light rod): a thin line through its named points."""
+    if any(e.kind in _EXTENDED or "radius" in dims for e, _, _, dims in shape.elements):
+        return None
+    names = [p for p in shape.points if p != "G"]
+    if len(names) < 2:
+        return None
+    path = [shape.position(p, pose).tolist() for p in names]
+    return DrawnItem("link", f"{body} (light link)", tuple(path[0]), body=body, name=body,
+                     shape={"type": "polyline", "points": path})
+
+
 def _scale(system, shapes, poses) -> tuple[np.ndarray, np.ndarray]:
     """Bounding box (low, high) of every point and element of the scene [m]."""
     pts = [np.asarray(_ground_point(system, n)) for n in system.ground.points]
@@ -263,6 +279,9 @@ def scene_items(system, state, poses=None, shapes=None) -> list[DrawnItem]:
     for name, shape in shapes.items():
         for e, centre, angle, dims in shape.elements:
             items.append(_element_item(name, e, centre, angle, dims, poses[name]))
+        link = _light_link(name, shape, poses[name])
+        if link is not None:
+            items.append(link)
     for name, shape in shapes.items():
         for p in list(shape.points) + list(shape.instant):
             pos = shape.position(p, poses[name])

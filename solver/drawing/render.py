@@ -46,6 +46,8 @@ def new_figure(panels: int = 1, size: float = 4.2) -> tuple[Figure, list]:
 def _span(items: list[DrawnItem]) -> tuple[np.ndarray, np.ndarray, float]:
     pts = []
     for i in items:
+        if i.kind == "link":
+            pts += list(i.shape["points"])
         if i.kind in ("element", "point", "support"):
             pts.append(i.anchor)
             r = i.shape.get("radius", 0.0) or 0.0
@@ -150,17 +152,20 @@ def _arc(ax, centre, radius, start, end, colour, label, dashed=False, arrow=True
 
 
 def _points(ax, items, bodies, span):
-    """Every named point as a dot with its name; points of one name at one place (a pin's two
-    halves) are labelled once."""
-    seen: list = []
+    """Every named point as a dot; the names of the points at one place (a pin's two halves, a
+    bob's G) written once, together."""
+    places: list = []  # [anchor, [names]]
     for i in items:
         if i.kind != "point":
             continue
         ax.plot(*i.anchor, "o", color="black", markersize=2.5, zorder=5)
-        if any(name == i.label and math.dist(at, i.anchor) < 1e-3 * span for name, at in seen):
-            continue
-        seen.append((i.label, i.anchor))
-        ax.annotate(i.label, i.anchor, xytext=(4, 4), textcoords="offset points", fontsize=8, zorder=6)
+        here = next((p for p in places if math.dist(p[0], i.anchor) < 1e-3 * span), None)
+        if here is None:
+            places.append([i.anchor, [i.label]])
+        elif i.label not in here[1]:
+            here[1].append(i.label)
+    for anchor, names in places:
+        ax.annotate(", ".join(names), anchor, xytext=(4, 4), textcoords="offset points", fontsize=8, zorder=6)
 
 
 def render_scene(ax, items: list[DrawnItem], bodies: list[str], title: str = "", faint: bool = False,
@@ -170,6 +175,9 @@ def render_scene(ax, items: list[DrawnItem], bodies: list[str], title: str = "",
     for i in items:
         if i.kind == "element":
             _element(ax, i, _colour(i.body, bodies), faint)
+        elif i.kind == "link":
+            xs, ys = zip(*i.shape["points"])
+            ax.plot(xs, ys, color=_colour(i.body, bodies), linewidth=1.2, alpha=0.35 if faint else 1.0, zorder=1)
         elif i.kind == "guide":
             s = i.shape
             if s["type"] == "line":
@@ -243,7 +251,7 @@ def _force_arrow(ax, item: DrawnItem, length, colour, dashed, tips, centre=None)
 def render_fbd(ax, scene_items: list[DrawnItem], forces: list[DrawnItem], body: str, bodies: list[str],
                title: str = "") -> None:
     """One free-body diagram: the body (faint), its points, its forces and couples."""
-    own = [i for i in scene_items if i.body == body and i.kind in ("element", "point")]
+    own = [i for i in scene_items if i.body == body and i.kind in ("element", "link", "point")]
     low, high, span = _span(own)
     span = max(span, 1e-9)
     render_scene(ax, own, bodies, faint=True, limits=(low, high, span))
