@@ -73,7 +73,7 @@ def _setup(ax, low, high, span, title):
     for side in ax.spines.values():
         side.set_visible(False)
     if title:
-        ax.set_title(title, fontsize=9)
+        ax.set_title(title.replace("$", r"\$"), fontsize=9)  # a scene name is text, never mathtext
 
 
 def _colour(body, bodies):
