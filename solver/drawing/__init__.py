@@ -202,6 +202,7 @@ def animate(system, times, states, path, flag: str = "--animate") -> Path:
         render.render_scene(ax, [i for i in frames[0] if i.body == GROUND], bodies, limits=(low, high, span))
         render._setup(ax, low, high, span, "")
         title = figure.suptitle("", fontsize=9)
+        name = system.name.replace("$", r"\$")  # a scene name is text, never mathtext
         previous: list = []
 
         def draw(k):
@@ -210,7 +211,7 @@ def animate(system, times, states, path, flag: str = "--animate") -> Path:
             before = set(ax.get_children())
             render.render_scene(ax, [i for i in frames[k] if i.body != GROUND], bodies, limits=(low, high, span))
             previous[:] = [a for a in ax.get_children() if a not in before]
-            title.set_text(f"{system.name}   t = {times[keep[k]]:.3f} s")
+            title.set_text(f"{name}   t = {times[keep[k]]:.3f} s")
             return []
 
         if suffix == ".gif":
