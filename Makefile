@@ -45,7 +45,7 @@ REPORT_OUTPUTS := $(BUILD)/report.html $(BUILD)/verification.json $(BUILD)/paper
 REPORT_STAMP := $(BUILD)/.report.stamp
 REPORT_INPUTS := $(shell find data -type f 2>/dev/null) \
 	$(shell find solver analysis reports -name '*.py' -not -path '*/build/*' 2>/dev/null) \
-	$(wildcard analysis/templates/* reports/templates/*) \
+	$(wildcard analysis/templates/* reports/templates/* reports/fonts/*) \
 	$(filter-out $(BUILD)/bench/report.json,$(wildcard $(BUILD)/bench/*.json))
 
 $(REPORT_STAMP): $(STAMP) $(REPORT_INPUTS)

@@ -26,7 +26,7 @@ from scipy.integrate import solve_ivp  # noqa: E402
 from solver.units import Q_  # noqa: E402
 
 __all__ = ["FigureResult", "svg_text", "example1_release_sweep", "example2_free_motion", "likert_chart",
-           "benchmark_figure", "RC"]
+           "benchmark_figure", "scene_figure", "PAPER_SCENE_FIGURES", "RC"]
 
 RC = {
     "svg.hashsalt": "alt-euler-report",
@@ -214,6 +214,64 @@ def example2_free_motion(scene, deriv, amplitude: float, omega_n: float, periods
         f"{periods:.0f} linear periods the two curves differ by up to {facts['max_difference_deg']:.2f} deg."
     )
     return _result("example2_motion", fig, caption, facts)
+
+
+# --------------------------------------------------------------------------- Figures 1-3 from the scenes
+PAPER_SCENE_FIGURES = (
+    # (result name, scene file, body whose free-body diagram is shown (None: the only one), paper's number)
+    ("figure1_slider_crank", "slider_crank.toml", "rod", 1),
+    ("figure2_sliding_bar", "sliding_bar.toml", None, 2),
+    ("figure3_disk_bar", "disk_bar.toml", None, 3),
+)
+"""The paper's Figures 1-3, each redrawn from its scene with a free-body diagram."""
+
+
+def scene_figure(path, name: str, number: int, body: str | None = None, point: str | None = None) -> FigureResult:
+    """A paper figure drawn from a scene file: the configuration, and one body's free-body diagram.
+
+    Parameters
+    ----------
+    path : path-like
+        The scene file (data/scenes/...).
+    name : str
+        File stem of the figure.
+    number : int
+        The paper's figure number (for the caption).
+    body : str, optional
+        The body of the free-body diagram (default: the scene's first body).
+    point : str, optional
+        The point P of the inertial force -m a_P (default: the body's reference point).
+    """
+    from pathlib import Path
+
+    from solver.analyses.instant import assemble
+    from solver.cli_common import state_text
+    from solver.drawing import draw_system
+    from solver.io.scenes import load_system
+
+    system = load_system(path)
+    state = assemble(system)
+    body = body or next(iter(system.bodies))
+    with rc_context(RC):
+        fig = Figure(figsize=(9.0, 3.8), layout="constrained")
+        ax_scene, ax_fbd = fig.subplots(1, 2)
+        draw_system(system, state, ax=ax_scene)
+        fbd = draw_system(system, state, ax=[ax_fbd], fbd=True, point=point, bodies=[body])
+    items = fbd.on(body)
+    P = fbd.point[body]
+    real = [i.label for i in items if i.kind in ("force", "couple")]
+    elements = [e.name for e in system.bodies[body].elements]
+    composite = (f"a composite of {len(elements)} elements ({', '.join(elements)})" if len(elements) > 1
+                 else f"its element {elements[0]}")
+    caption = (
+        f"Figure {number}, redrawn from data/scenes/{Path(path).name}: {system.description}, at "
+        f"{state_text(system, state)}. Left, the configuration with its named points, guides and coordinates. "
+        f"Right, the free-body diagram of {'the body' if len(system.bodies) == 1 else body}, {composite}, with the forces at this state: {'; '.join(real)}. "
+        f"Dashed: the inertial force -m a_{P} drawn at the mass centre G and the couple -I_{P} alpha; with them "
+        f"the forces have no moment about {P} (Eq. 10)."
+    )
+    facts = {"scene": system.name, "body": body, "point": P, "labels": [i.label for i in items]}
+    return _result(name, fig, caption, facts)
 
 
 # --------------------------------------------------------------------------- survey

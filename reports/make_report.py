@@ -32,7 +32,7 @@ from jinja2 import Environment, FileSystemLoader, StrictUndefined, select_autoes
 from markupsafe import Markup
 
 from reports import checks as checks_mod
-from reports import figures, paper, provenance
+from reports import figures, mathfont, paper, provenance
 from reports.mathml import equation_mathml, to_latex, to_mathml
 from reports.published import ReportInputError, load_equations
 from solver.errors import InputError
@@ -59,6 +59,7 @@ def html_environment(templates: Path = TEMPLATES) -> Environment:
     )
     env.filters["num"] = format_number
     env.filters["verdict_class"] = lambda v: {"agrees": "ok", "disagrees": "bad"}.get(v, "na")
+    env.globals["math_font_css"] = mathfont.font_face_css()  # the embedded maths font (_style.html.j2)
     return env
 
 
@@ -285,6 +286,8 @@ def build(root: Path = ROOT, out: Path | None = None, pdf: str = "auto", log=pri
         freq = natural_frequency(scenes[ex2_key])
         omega_n = float(freq.omega_n.to("rad/s").magnitude)
         figs["example2"] = figures.example2_free_motion(scenes[ex2_key], derivations[ex2_key], amplitude, omega_n)
+        for name, scene_file, body, number in figures.PAPER_SCENE_FIGURES:  # the paper's Figures 1-3
+            figs[name] = figures.scene_figure(root / "data" / "scenes" / scene_file, name, number, body)
         if survey is not None:
             figs["likert"] = figures.likert_chart(survey.summary)
         bench = _benchmarks(root / "reports" / "build" / "bench")

@@ -87,6 +87,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    help="friction coefficient of every rolling contact, 0 to 1e6 (default: the scene's, if any)")
     p.add_argument("--samples", type=int_in(2, MAX_SAMPLES), default=None,
                    help=f"number of output samples, 2 to {MAX_SAMPLES} (default: 20 per period, at least 1001)")
+    p.add_argument("--animate", metavar="FILE.gif", default=None,
+                   help="also write an animation of the scene drawing: .gif, or .mp4 where ffmpeg is installed; "
+                   "at most 250 frames (a longer run is sampled evenly), 25 frames per second")
     bar = p.add_mutually_exclusive_group()
     bar.add_argument("--progress", dest="progress", action="store_true", default=None,
                      help="always show a progress bar on stderr")
@@ -229,6 +232,9 @@ def _simulate_multibody(args, system, t_end) -> int:
                           samples=args.samples)
     if args.out is not None:
         write_motion_csv(res, args.out)
+    if args.animate is not None:
+        _animate(args, system, res.t, [res.columns[c.name][0] for c in system.free],
+                 [res.columns[f"{c.name}_dot"][0] for c in system.free])
     if args.json:
         payload = {"scene": system.name, **to_output_units(res.to_dict(), system.output_units)}
         if args.out is not None:
@@ -265,6 +271,10 @@ def simulate_command(args: argparse.Namespace) -> int:
         raise InputError(f"--t-end must be a positive time of at most {MAX_T_END:g} s, got {args.t_end!r}")
     if args.out is not None:
         check_output_path(args.out, "--out")  # before the run, not after it
+    if args.animate is not None:
+        from solver.drawing import check_animation_path
+
+        check_animation_path(args.animate, "--animate")  # suffix, ffmpeg for .mp4, the place
     loaded = load_scene_from_args(args)
     if len(loaded.free) != 1 or loaded.closure or len(loaded.bodies) != 1 or loaded.free[0].kind != "angle" \
             or loaded.time_dependent or any(j.friction is not None for j in loaded.contacts):
@@ -274,6 +284,8 @@ def simulate_command(args: argparse.Namespace) -> int:
                    mu=args.mu, samples=args.samples, progress=args.progress)
     if args.out is not None:
         write_csv(res, args.out)
+    if args.animate is not None:
+        _animate(args, scene, res.t, [res.theta], [res.theta_dot])
     if args.json:
         payload = {"scene": scene.name}
         payload.update(to_output_units(res.to_dict(), scene.output_units))  # "columns" (the CSV) stay SI
@@ -307,6 +319,18 @@ def simulate_command(args: argparse.Namespace) -> int:
         units = ", ".join(f"{n} [{u}]" for n, u in res.to_dict()["columns"].items())
         print(f"wrote {args.out} (SI columns: {units})")
     return 0
+
+
+def _animate(args, system, times, q_columns, qd_columns) -> None:
+    """``--animate``: the scene drawing along the sampled trajectory (solver.drawing.animate)."""
+    from solver.analyses.instant import State
+    from solver.drawing import animate
+
+    states = [State(tuple(float(c[k]) for c in q_columns), tuple(float(c[k]) for c in qd_columns), float(times[k]))
+              for k in range(len(times))]
+    animate(system, times, states, args.animate)
+    if not args.json:
+        print(f"animation written to {args.animate}")
 
 
 # -- friction ----------------------------------------------------------------------------------

@@ -155,9 +155,10 @@ def check_output_path(path: str | os.PathLike, where: str) -> Path:
     return path
 
 
-def write_atomic(path: str | os.PathLike, write: Callable[[IO[str]], None], where: str) -> Path:
-    """Write a text file atomically: ``write(fh)`` fills a temporary file in the same
-    folder, which then replaces ``path``. On any failure nothing is left behind.
+def write_atomic(path: str | os.PathLike, write: Callable[[IO], None], where: str, *, binary: bool = False) -> Path:
+    """Write a text file (or, with ``binary``, a bytes file) atomically: ``write(fh)`` fills a
+    temporary file in the same folder, which then replaces ``path``. On any failure nothing
+    is left behind.
 
     Raises
     ------
@@ -170,7 +171,7 @@ def write_atomic(path: str | os.PathLike, write: Callable[[IO[str]], None], wher
     except OSError as err:
         raise InputError(f"{where} {path}: cannot write there ({err.strerror or err})") from None
     try:
-        with os.fdopen(fd, "w", newline="", encoding="utf-8") as fh:
+        with (os.fdopen(fd, "wb") if binary else os.fdopen(fd, "w", newline="", encoding="utf-8")) as fh:
             write(fh)
         os.replace(tmp, path)
     except BaseException as err:

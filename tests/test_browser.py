@@ -199,3 +199,150 @@ def test_page_renders_in_chromium(built, page, tmp_path):
     assert probe["texLeftovers"] == 0, f"{page}: raw TeX left in the text"
     assert probe["scripts"] == 0 and probe["external"] == [], f"{page}: scripts or network resources: {probe}"
     assert len(base64.b64decode(shot)) > 20_000, f"{page}: screenshot suspiciously small (blank page?)"
+
+
+# --------------------------------------------------------------------------- the maths font
+# A machine without a maths font: fontconfig limited to the system's fonts with every maths
+# font rejected, for the browser started by the test (CI's fresh machines have none either).
+NO_MATHS_FONTS = """<?xml version="1.0"?>
+<!DOCTYPE fontconfig SYSTEM "fonts.dtd">
+<fontconfig>
+  <dir>/usr/share/fonts</dir>
+  <cachedir>{cache}</cachedir>
+  <selectfont><rejectfont><glob>*Math*</glob><glob>*math*</glob></rejectfont></selectfont>
+</fontconfig>
+"""
+
+# Marks the dotted rates (theta_dot, theta_ddot) and the sums with limits, for the test to find.
+MARK = r"""
+(async () => {
+  await document.fonts.ready;
+  const accents = Array.from(document.querySelectorAll('mover')).filter(m => m.children.length === 2 &&
+      m.children[1].localName === 'mo' && ['\u02d9', '\u00a8'].includes(m.children[1].textContent));
+  accents.forEach((m, i) => m.setAttribute('data-accent', i));
+  const sums = Array.from(document.querySelectorAll('munderover, munder')).filter(m => m.children[0].textContent === '\u2211');
+  sums.forEach((m, i) => m.setAttribute('data-sum', i));
+  return JSON.stringify({accents: accents.map(m => [m.children[1].textContent, getComputedStyle(m.children[1]).fontSize]),
+                         sums: sums.length});
+})()
+"""
+
+
+def _place(selector: str, hide: int | None = None) -> str:
+    """JS: scroll the element into view, hide child ``hide`` (or show all), return its and its children's boxes."""
+    return f"""(() => {{
+      const m = document.querySelector('{selector}');
+      m.scrollIntoView({{block: 'center'}});
+      Array.from(m.children).forEach((c, i) => c.style.visibility = (i === {-1 if hide is None else hide}) ? 'hidden' : 'visible');
+      const box = e => {{ const r = e.getBoundingClientRect(); return [r.left + scrollX, r.top + scrollY, r.width, r.height]; }};
+      return JSON.stringify({{box: box(m), children: Array.from(m.children).map(box)}});
+    }})()"""
+
+
+class Page:
+    """One page loaded in the test's Chromium, with pixel access to parts of it."""
+
+    def __init__(self, tools: DevTools, path: Path):
+        self.tools = tools
+        target = tools.send("Target.createTarget", {"url": "about:blank"})["targetId"]
+        self.session = tools.send("Target.attachToTarget", {"targetId": target, "flatten": True})["sessionId"]
+        for domain in ("Runtime", "Page", "DOM", "CSS"):
+            tools.send(f"{domain}.enable", session=self.session)
+        tools.send("Page.navigate", {"url": path.as_uri()}, session=self.session)
+        tools.wait_for("Page.loadEventFired")
+
+    def js(self, expression: str):
+        reply = self.tools.send("Runtime.evaluate", {"expression": expression, "returnByValue": True,
+                                                      "awaitPromise": True}, session=self.session)
+        return json.loads(reply["result"]["value"])
+
+    def pixels(self, clip) -> "np.ndarray":
+        import io
+
+        import numpy as np
+        from PIL import Image
+
+        x, y, w, h = clip
+        data = self.tools.send("Page.captureScreenshot", {"format": "png", "clip": {
+            "x": x, "y": y, "width": w, "height": h, "scale": 1}}, session=self.session)["data"]
+        return np.asarray(Image.open(io.BytesIO(base64.b64decode(data))).convert("L")).astype(int)
+
+    def ink_of_children(self, selector: str, count: int) -> tuple[list, list]:
+        """For each child of the element: the pixels that change when it alone is hidden (its ink).
+
+        Returns (ink masks in the clip's pixels, the children's layout boxes relative to the clip).
+        """
+        import numpy as np
+
+        shown = self.js(_place(selector))
+        pad = 4  # px around the element: room for ink that overflows its layout box
+        x, y, w, h = shown["box"]
+        clip = (x - pad, y - pad, w + 2 * pad, h + 2 * pad)
+        whole = self.pixels(clip)
+        inks = []
+        for k in range(count):
+            self.js(_place(selector, hide=k))
+            # a change of more than 60 of 255 grey levels: the anti-aliased edge of real ink, not rounding noise
+            inks.append(np.abs(whole - self.pixels(clip)) > 60)
+        self.js(_place(selector))
+        boxes = [(bx - clip[0], by - clip[1], bw, bh) for bx, by, bw, bh in shown["children"]]
+        return inks, boxes, whole
+
+    def font_of(self, selector: str) -> list[dict]:
+        root = self.tools.send("DOM.getDocument", {"depth": 0}, session=self.session)["root"]["nodeId"]
+        node = self.tools.send("DOM.querySelector", {"nodeId": root, "selector": selector},
+                               session=self.session)["nodeId"]
+        return self.tools.send("CSS.getPlatformFontsForNode", {"nodeId": node}, session=self.session)["fonts"]
+
+
+
+
+@pytest.mark.parametrize("page", ["paper.html", "report.html"])
+def test_accents_and_sum_limits_are_visible_without_a_system_maths_font(built, page, tmp_path, monkeypatch):
+    """The dots of theta_dot and theta_ddot, and the limits of a sum, measured on the screen.
+
+    Each accent's ink is found by hiding it and comparing pixels: it must exist, be dark
+    (at least mid-grey where it is darkest), lie above the letter's ink and over it, and be
+    drawn with the embedded maths font, whatever fonts the machine has. A sum's limits must
+    not touch the sigma.
+    """
+    import numpy as np
+
+    from reports.mathfont import FAMILY
+
+    conf = tmp_path / "fonts.conf"
+    conf.write_text(NO_MATHS_FONTS.format(cache=tmp_path / "fc-cache"), encoding="utf-8")
+    monkeypatch.setenv("FONTCONFIG_FILE", str(conf))
+    tools = DevTools(tmp_path / "profile")
+    try:
+        view = Page(tools, built / page)
+        marked = view.js(MARK)
+        kinds = [kind for kind, _ in marked["accents"]]
+        assert {"\u02d9", "\u00a8"} <= set(kinds), f"{page}: expected dotted and double-dotted rates, found {kinds}"
+        fonts = view.font_of('[data-accent="0"] > mo')
+        assert [f["familyName"] for f in fonts] == [FAMILY] and fonts[0]["isCustomFont"], \
+            f"{page}: the accent is drawn with {fonts}, not the embedded maths font"
+        # the first accent of each kind at each size: in the text, in fractions and in scripts
+        chosen = sorted({tuple(a): i for i, a in reversed(list(enumerate(marked["accents"])))}.values())
+        for i in chosen:
+            (base_ink, accent_ink), (base_box, _), whole = view.ink_of_children(f'[data-accent="{i}"]', 2)
+            what = f"{page}: accent {i} ({kinds[i]!r})"
+            assert accent_ink.sum() >= 2, f"{what}: no visible ink ({accent_ink.sum()} pixels)"
+            assert whole[accent_ink].min() <= 128, f"{what}: too faint (darkest grey level {whole[accent_ink].min()})"
+            ay, ax = np.nonzero(accent_ink)
+            by, bx = np.nonzero(base_ink)
+            assert by.size, f"{what}: the letter has no ink"
+            assert ay.max() < by.min(), f"{what}: the dots are not above the letter (rows {ay.max()} >= {by.min()})"
+            # 1 px: anti-aliasing of the dots' edges
+            assert bx.min() - 1 <= ax.min() and ax.max() <= bx.max() + 1, f"{what}: the dots are not over the letter"
+        for i in range(marked["sums"]):
+            inks, _, _ = view.ink_of_children(f'[data-sum="{i}"]', 3)
+            op_rows = np.nonzero(inks[0].any(axis=1))[0]
+            under_rows = np.nonzero(inks[1].any(axis=1))[0]
+            assert op_rows.size and under_rows.size and op_rows.max() < under_rows.min(), \
+                f"{page}: sum {i}: the lower limit touches the sigma"
+            if len(inks) > 2 and inks[2].any():
+                over_rows = np.nonzero(inks[2].any(axis=1))[0]
+                assert over_rows.max() < op_rows.min(), f"{page}: sum {i}: the upper limit touches the sigma"
+    finally:
+        tools.close()

@@ -1,0 +1,583 @@
+"""What a drawing of a scene shows, as data: bodies, points, guides, coordinates, forces.
+
+The drawing is computed here without matplotlib, as a list of
+:class:`DrawnItem` (a label, an anchor point, a direction), so that tests
+check it against the scene without reading images; :mod:`solver.drawing.render`
+only turns the items into lines and text.
+
+Positions are fixed-frame SI values [m] at a complete state (the dependent
+coordinates solved by :func:`solver.analyses.instant.assemble`). The free-body
+diagram of a body holds every force acting on it at the state: the joint
+reactions with their solved values (:func:`solver.analyses.instant.solve_instant`),
+the weight at the body's mass centre G, the applied forces, couples, springs
+and dampers, and the inertial force -m a_P drawn at G with the couple
+-I_P alpha: the moment equation about P (paper Eq. 10) says that these, with
+the real forces, have zero moment about P.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import sympy as sp
+
+from ..model.bodies import GROUND
+
+__all__ = ["DrawnItem", "Drawing", "BodyShape", "scene_items", "free_body_items", "PoseFunction",
+           "body_shapes", "ZERO_FORCE"]
+
+ZERO_FORCE = 1e-9
+"""A force or couple whose size is below this fraction of the largest on the
+same diagram is drawn as zero (no direction): the solve's round-off (about
+1e-12 relative) is far below it, and no drawn length could show it."""
+
+
+@dataclass(frozen=True)
+class DrawnItem:
+    """One labelled thing on a drawing.
+
+    Attributes
+    ----------
+    kind : str
+        ``element``, ``link`` (the light frame of a body of point masses),
+        ``point``, ``guide``, ``support``, ``coordinate``,
+        ``force``, ``couple``, ``inertial`` (dashed force) or
+        ``inertial_couple`` (dashed couple).
+    label : str
+        The text written next to it.
+    anchor : tuple of float
+        Fixed-frame position [m]: a point's place, a force's point of
+        application, a coordinate's arc centre.
+    direction : tuple of float or None
+        Unit vector of a force as it acts at the state; None for a zero
+        force and for items without a direction.
+    turn : int
+        +1 counter-clockwise, -1 clockwise, 0 none (couples, angle arcs).
+    body : str or None
+        The body it belongs to (``ground`` for the ground).
+    name : str or None
+        The scene's name: point, reaction, load or coordinate name.
+    value : float or None
+        Size in ``unit`` (signed for reactions and couples, as solved).
+    unit : str
+    shape : dict
+        Geometry for the renderer (segment ends, radius, arc angles ...).
+    """
+
+    kind: str
+    label: str
+    anchor: tuple[float, float]
+    direction: tuple[float, float] | None = None
+    turn: int = 0
+    body: str | None = None
+    name: str | None = None
+    value: float | None = None
+    unit: str = ""
+    shape: dict = field(default_factory=dict)
+
+
+@dataclass
+class Drawing:
+    """A scene drawing (``fbd=False``) or its free-body diagrams (``fbd=True``).
+
+    Attributes
+    ----------
+    scene : str
+    items : list of DrawnItem
+        The scene (bodies, points, guides, coordinates), or, for ``fbd``,
+        every diagram's items (each with its ``body``).
+    fbd : bool
+    panels : list of str
+        The bodies, one diagram each (``fbd``); empty for the scene drawing.
+    point : dict
+        Body -> the point P of its moment equation (``fbd``).
+    figure : matplotlib.figure.Figure or None
+    solution : solver.analyses.instant.InstantSolution or None
+        The solve whose reactions the diagrams show (``fbd``).
+    """
+
+    scene: str
+    items: list[DrawnItem]
+    fbd: bool = False
+    panels: list[str] = field(default_factory=list)
+    point: dict = field(default_factory=dict)
+    figure: object = None
+    solution: object = None
+
+    def of_kind(self, *kinds: str) -> list[DrawnItem]:
+        return [i for i in self.items if i.kind in kinds]
+
+    def on(self, body: str) -> list[DrawnItem]:
+        """The items of one free-body diagram (or of one body in the scene)."""
+        return [i for i in self.items if i.body == body]
+
+
+# --------------------------------------------------------------------------- numbers
+def _constant(expr, si) -> float:
+    """A parameter-only expression (body-frame coordinates, dimensions) as a float."""
+    value = sp.sympify(expr).xreplace(si)
+    return float(value.evalf())
+
+
+def _vec(m, si) -> np.ndarray:
+    return np.array([_constant(m[0], si), _constant(m[1], si)])
+
+
+def _rot(phi: float) -> np.ndarray:
+    c, s = math.cos(phi), math.sin(phi)
+    return np.array([[c, -s], [s, c]])
+
+
+class PoseFunction:
+    """Every body's placement (origin x, y and angle) as one compiled numpy function of (q, t)."""
+
+    def __init__(self, system):
+        values = system.si_values()
+        self.params = sorted(values, key=str)
+        self.param_values = [values[p] for p in self.params]
+        self.bodies = list(system.bodies)
+        exprs = []
+        for name in self.bodies:
+            origin, phi = system.poses[name]
+            exprs += [origin[0], origin[1], phi]
+        self._f = sp.lambdify((*system.q, system.t, *self.params), exprs, modules="numpy", cse=True)
+
+    def __call__(self, q, t) -> dict[str, tuple[np.ndarray, float]]:
+        out = self._f(*q, t, *self.param_values)
+        return {name: (np.array([float(out[3 * i]), float(out[3 * i + 1])]), float(out[3 * i + 2]))
+                for i, name in enumerate(self.bodies)}
+
+
+def _evaluate(system, exprs: list, state, accelerations: dict | None = None) -> list[float]:
+    """Expressions in (q, q_dot, q_ddot, t, parameters) at a state, as floats (one compiled call)."""
+    values = system.si_values()
+    params = sorted(values, key=str)
+    qdd = [sp.Symbol(str(c.qdd), real=True) for c in system.free]
+    args = (*system.q, *system.qd, *qdd, system.t, *params)
+    f = sp.lambdify(args, [sp.sympify(e) for e in exprs], modules="numpy", cse=True)
+    acc = [float((accelerations or {}).get(str(c.qdd), 0.0)) for c in system.free]
+    with np.errstate(all="ignore"):
+        out = f(*state.q, *state.qd, *acc, state.t, *[values[p] for p in params])
+    return [float(v) for v in out]
+
+
+def _memo(system, key, build):
+    """Cached on the system (cleared with its other derived results by System.reset)."""
+    return system._memo(("drawing", key), lambda: build(system))  # noqa: SLF001 - the system's own cache
+
+
+# --------------------------------------------------------------------------- the bodies
+@dataclass
+class BodyShape:
+    """The body-frame geometry of one body (constant), placed by its pose."""
+
+    name: str
+    points: dict  # name -> body-frame np.ndarray (and "G")
+    instant: dict  # name -> (reference point, fixed-frame offset np.ndarray)
+    elements: list  # (element, centre np.ndarray, angle float, dims {key: float})
+
+    def position(self, point: str, pose) -> np.ndarray:
+        origin, phi = pose
+        if point in self.instant:
+            ref, offset = self.instant[point]
+            return self.position(ref, pose) + offset
+        return origin + _rot(phi) @ self.points[point]
+
+
+def body_shapes(system) -> dict[str, BodyShape]:
+    """Body-frame points, instant points and elements of every body, evaluated once."""
+    si = {k: sp.Float(v) for k, v in system.si_values().items()}
+    out = {}
+    for name, body in system.bodies.items():
+        points, instant = {}, {}
+        for pname, p in body.points.items():
+            if p.is_instant:
+                instant[pname] = (p.relative_to, _vec(p.coords, si))
+            else:
+                points[pname] = _vec(p.coords, si)
+        if "G" not in points and "G" not in instant:
+            points["G"] = _vec(body.mass_center(), si)
+        elements = [(e, _vec(e.center, si), _constant(e.angle, si), {k: _constant(v, si) for k, v in e.dims.items()})
+                    for e in body.elements]
+        out[name] = BodyShape(name, points, instant, elements)
+    return out
+
+
+def _element_item(body: str, element, centre, angle, dims, pose) -> DrawnItem:
+    origin, phi = pose
+    c = origin + _rot(phi) @ centre
+    a = phi + angle
+    axis = np.array([math.cos(a), math.sin(a)])
+    kind = element.kind
+    if kind == "slender_bar":
+        half = dims["length"] / 2 * axis
+        shape = {"type": "bar", "ends": ((c - half).tolist(), (c + half).tolist())}
+    elif kind in ("uniform_disk", "thin_ring"):
+        shape = {"type": "disk" if kind == "uniform_disk" else "ring", "centre": c.tolist(), "radius": dims["radius"]}
+    elif kind == "rectangular_plate":
+        shape = {"type": "plate", "centre": c.tolist(), "width": dims["width"], "height": dims["height"],
+                 "angle": a}
+    elif kind == "semicircular_disk":
+        shape = {"type": "half_disk", "centre": c.tolist(), "radius": dims["radius"], "angle": a}
+    elif kind == "point_mass":
+        shape = {"type": "dot", "centre": c.tolist()}
+    else:  # gyration / centroidal inertia: a rim when it has a radius, else a small marker circle
+        shape = {"type": "rim" if "radius" in dims else "marker", "centre": c.tolist(),
+                 "radius": dims.get("radius", 0.0)}
+    return DrawnItem("element", element.name, tuple(c.tolist()), body=body, name=element.name, shape=shape)
+
+
+_EXTENDED = ("slender_bar", "uniform_disk", "thin_ring", "rectangular_plate", "semicircular_disk")
+
+
+def _light_link(body: str, shape: BodyShape, pose) -> DrawnItem | None:
+    """A body of point masses only (a bob on a light rod): a thin line through its named points."""
+    if any(e.kind in _EXTENDED or "radius" in dims for e, _, _, dims in shape.elements):
+        return None
+    names = [p for p in shape.points if p != "G"]
+    if len(names) < 2:
+        return None
+    path = [shape.position(p, pose).tolist() for p in names]
+    return DrawnItem("link", f"{body} (light link)", tuple(path[0]), body=body, name=body,
+                     shape={"type": "polyline", "points": path})
+
+
+def _scale(system, shapes, poses) -> tuple[np.ndarray, np.ndarray]:
+    """Bounding box (low, high) of every point and element of the scene [m]."""
+    pts = [np.asarray(_ground_point(system, n)) for n in system.ground.points]
+    for name, shape in shapes.items():
+        for p in list(shape.points) + list(shape.instant):
+            pts.append(shape.position(p, poses[name]))
+        for e, centre, angle, dims in shape.elements:
+            c = poses[name][0] + _rot(poses[name][1]) @ centre
+            r = max([dims.get("radius", 0.0), dims.get("length", 0.0) / 2,
+                     math.hypot(dims.get("width", 0.0), dims.get("height", 0.0)) / 2])
+            pts += [c - r, c + r]
+    pts = np.array(pts) if pts else np.zeros((1, 2))
+    return pts.min(axis=0), pts.max(axis=0)
+
+
+def _ground_point(system, name) -> list[float]:
+    si = {k: sp.Float(v) for k, v in system.si_values().items()}
+    return _vec(system.ground.points[name].coords, si).tolist()
+
+
+# --------------------------------------------------------------------------- the scene
+def scene_items(system, state, poses=None, shapes=None) -> list[DrawnItem]:
+    """Everything the scene drawing shows at ``state`` (a complete State).
+
+    Bodies by their elements, every named point of every body (and G) and of
+    the ground, the guides of the joints (rails, sliders and rolling lines as
+    hatched lines, circles of rolling on a circle, fixed pins as supports,
+    cords as lines), and every free coordinate: an arc for an angle, a
+    dimension line for a length.
+    """
+    shapes = shapes or _memo(system, "shapes", body_shapes)
+    poses = poses or _memo(system, "poses", PoseFunction)(state.q, state.t)
+    items: list[DrawnItem] = []
+    for name, shape in shapes.items():
+        for e, centre, angle, dims in shape.elements:
+            items.append(_element_item(name, e, centre, angle, dims, poses[name]))
+        link = _light_link(name, shape, poses[name])
+        if link is not None:
+            items.append(link)
+    for name, shape in shapes.items():
+        for p in list(shape.points) + list(shape.instant):
+            pos = shape.position(p, poses[name])
+            items.append(DrawnItem("point", p, tuple(pos.tolist()), body=name, name=p))
+    for p in system.ground.points:
+        items.append(DrawnItem("point", p, tuple(_ground_point(system, p)), body=GROUND, name=p))
+    low, high = _scale(system, shapes, poses)
+    items += _guides(system, shapes, poses, low, high)
+    items += _coordinates(system, state, shapes, poses, float(np.max(high - low)) or 1.0)
+    return items
+
+
+def _pose_of(poses, body):
+    return (np.zeros(2), 0.0) if body == GROUND else poses[body]
+
+
+def _at(system, poses, body, coords) -> np.ndarray:
+    si = {k: sp.Float(v) for k, v in system.si_values().items()}
+    origin, phi = _pose_of(poses, body)
+    return origin + _rot(phi) @ _vec(coords, si)
+
+
+def _guides(system, shapes, poses, low, high) -> list[DrawnItem]:
+    from ..model import joints as J
+
+    si = {k: sp.Float(v) for k, v in system.si_values().items()}
+    span = float(np.max(high - low)) or 1.0
+    items = []
+    for j in system.joints:
+        first_phi = _pose_of(poses, j.first)[1]
+        if isinstance(j, (J.Rail, J.Rolling, J.Actuator)):  # Rail covers PinInSlot and Slider
+            o = _at(system, poses, j.first, j.through)
+            a = first_phi + _constant(j.angle, si)
+            d = np.array([math.cos(a), math.sin(a)])
+            n = np.array([-d[1], d[0]])
+            # the line across the whole scene: from the projections of the box's corners
+            corners = [np.array([x, y]) for x in (low[0], high[0]) for y in (low[1], high[1])]
+            s = [float(d @ (c - o)) for c in corners]
+            ends = (o + (min(s) - 0.15 * span) * d, o + (max(s) + 0.15 * span) * d)
+            kind = "rolling line" if isinstance(j, J.Rolling) else ("actuator" if isinstance(j, J.Actuator) else j.kind)
+            items.append(DrawnItem("guide", f"{j.name} ({kind})", tuple(o.tolist()), tuple(d.tolist()),
+                                   body=j.first, name=j.name,
+                                   shape={"type": "line", "ends": (ends[0].tolist(), ends[1].tolist()),
+                                          "hatch": (-n).tolist(), "dashed": isinstance(j, J.Actuator)}))
+        elif isinstance(j, J.RollingOnCircle):
+            O = _at(system, poses, j.first, j.circle_center)
+            R = _constant(j.circle_radius, si)
+            items.append(DrawnItem("guide", f"{j.name} (rolling on a circle)", tuple(O.tolist()), body=j.first,
+                                   name=j.name, shape={"type": "circle", "centre": O.tolist(), "radius": R,
+                                                       "hatch_inside": not j.inside}))
+        elif isinstance(j, J.Pin) and GROUND in j.bodies:
+            at = _at(system, poses, GROUND, j.at_first if j.first == GROUND else j.at_second)
+            items.append(DrawnItem("support", f"{j.name} (pin)", tuple(at.tolist()), body=GROUND, name=j.name,
+                                   shape={"type": "pin_support", "size": 0.06 * span}))
+        elif isinstance(j, J.Cord):
+            tangent = j.tangent_point(lambda b: _sym_pose(system, poses, b))
+            start = np.array([float(v) for v in tangent.xreplace(si)])
+            end = _at(system, poses, j.second, j.point)
+            items.append(DrawnItem("guide", f"{j.name} (cord)", tuple(start.tolist()), body=j.first, name=j.name,
+                                   shape={"type": "cord", "ends": (start.tolist(), end.tolist())}))
+    return items
+
+
+def _sym_pose(system, poses, body):
+    origin, phi = _pose_of(poses, body)
+    return sp.Matrix([origin[0], origin[1]]), sp.Float(phi)
+
+
+def _coordinates(system, state, shapes, poses, span) -> list[DrawnItem]:
+    """An arc for each free angle coordinate, a dimension line for each length coordinate."""
+    items = []
+    for c, value in zip(system.free, state.q):
+        item = (_angle_mark(system, c, value, shapes, poses, span) if c.kind == "angle"
+                else _length_mark(system, c, value, shapes, poses))
+        if item is None:  # no body turns (or moves) with it alone: its value is written instead
+            body = next(iter(shapes))
+            where = shapes[body].position("G", poses[body]) if "G" in shapes[body].points else poses[body][0]
+            shown = f"{math.degrees(value):.4g} deg" if c.kind == "angle" else f"{value:.4g} m"
+            item = DrawnItem("coordinate", f"{c.name} = {shown}", tuple(where.tolist()), name=c.name,
+                             value=math.degrees(value) if c.kind == "angle" else value,
+                             unit="deg" if c.kind == "angle" else "m", shape={"type": "text"})
+        items.append(item)
+    return items
+
+
+def _angle_mark(system, c, value, shapes, poses, span):
+    for name, body in system.bodies.items():
+        rate = sp.diff(system.angle(name), c.q)
+        if rate not in (1, -1):
+            continue
+        shape = shapes[name]
+        # measured from the body's first bar (its axis) when it has one, else from its reference point
+        bar = next(((e, ctr, ang, dims) for e, ctr, ang, dims in shape.elements if e.kind == "slender_bar"), None)
+        origin, phi = poses[name]
+        if bar is not None:
+            e, ctr, ang, dims = bar
+            centre = origin + _rot(phi) @ (ctr - dims["length"] / 2 * np.array([math.cos(ang), math.sin(ang)]))
+            axis = ang
+        else:
+            centre = shape.position(body.default_point, poses[name]) if body.default_point in shape.points \
+                else origin
+            axis = 0.0
+        end = phi + axis
+        start = end - int(rate) * value
+        return DrawnItem("coordinate", c.name, tuple(centre.tolist()), turn=1 if end >= start else -1, body=name,
+                         name=c.name, value=math.degrees(value), unit="deg",
+                         shape={"type": "arc", "centre": centre.tolist(), "radius": 0.16 * span,
+                                "start": start, "end": end})
+    return None
+
+
+def _length_mark(system, c, value, shapes, poses):
+    for name, body in system.bodies.items():
+        if sp.diff(system.angle(name), c.q) != 0:
+            continue
+        u = sp.diff(system.origin(name), c.q)
+        if any(s in u.free_symbols for s in (*system.q, system.t)) or u == sp.zeros(2, 1):
+            continue
+        si = {k: sp.Float(v) for k, v in system.si_values().items()}
+        u = _vec(u, si)
+        point = body.default_point if body.default_point in shapes[name].points else "G"
+        tip = shapes[name].position(point, poses[name])
+        base = tip - value * u
+        return DrawnItem("coordinate", c.name, tuple(base.tolist()), direction=None, body=name, name=c.name,
+                         value=value, unit="m", shape={"type": "dimension", "ends": (base.tolist(), tip.tolist())})
+    return None
+
+
+# --------------------------------------------------------------------------- free-body diagrams
+def free_body_items(system, state, solution, points: dict[str, str]) -> list[DrawnItem]:
+    """Every force and couple on every body at the state, and the inertial terms about ``points``.
+
+    Parameters
+    ----------
+    system : solver.model.system.System
+    state : solver.analyses.instant.State
+        Complete state (the solution's).
+    solution : solver.analyses.instant.InstantSolution
+        Solved accelerations and reactions at ``state``.
+    points : dict
+        Body -> the point P of its moment equation (solver.formulations.resolve_points).
+    """
+    fb = _FreeBodies(system, state, solution)
+    joint_loads = [(jl, fb.pair(jl.force), fb.pair(jl.at), fb.slot(jl.couple)) for jl in system.joint_loads()]
+    applied = [(load, a, fb.pair(None if a.force is None else system.prescribe(sp.Matrix(a.force))), fb.pair(a.at),
+                fb.slot(system.prescribe(sp.sympify(a.couple))))
+               for load in system.loads for a in load.applied(system)]
+    inertial = {body: (fb.pair(system.point_acceleration(body, p)), fb.slot(system.alpha(body)),
+                       fb.pair(system.point_position(body, p))) for body, p in points.items()}
+    fb.evaluate()
+    items = _reaction_items(fb, joint_loads) + _load_items(fb, applied) + _inertial_items(fb, inertial, points)
+    return _mark_zeros(items)
+
+
+class _FreeBodies:
+    """What the free-body diagrams share: units, solved values, placement, and every symbolic
+    quantity they need, collected by :meth:`slot` and evaluated in one compiled call."""
+
+    def __init__(self, system, state, solution):
+        self.system, self.state = system, state
+        self.force_unit = system.output_units.get("force", "N")
+        self.moment_unit = system.output_units.get("moment", "N*m")
+        self.solved = {name: float(q.to_base_units().magnitude) for name, q in solution.unknowns.items()}
+        self.shapes = _memo(system, "shapes", body_shapes)
+        self.poses = _memo(system, "poses", PoseFunction)(state.q, state.t)
+        self.si = {k: sp.Float(v) for k, v in system.si_values().items()}
+        self.exprs: list = []
+        self.vals: list[float] = []
+
+    def slot(self, expr) -> int:
+        self.exprs.append(expr)
+        return len(self.exprs) - 1
+
+    def pair(self, vector):
+        return None if vector is None else (self.slot(vector[0]), self.slot(vector[1]))
+
+    def evaluate(self) -> None:
+        accelerations = {k: v for k, v in self.solved.items() if k.endswith("_ddot")}
+        self.vals = _evaluate(self.system, self.exprs, self.state, accelerations)
+
+    def vec(self, pair) -> np.ndarray:
+        return np.array([self.vals[pair[0]], self.vals[pair[1]]])
+
+    def force(self, newtons: float) -> float:
+        from ..units import Q_
+
+        return float(Q_(newtons, "N").to(self.force_unit).magnitude)
+
+    def moment(self, newton_metres: float) -> float:
+        from ..units import Q_
+
+        return float(Q_(newton_metres, "N*m").to(self.moment_unit).magnitude)
+
+    def where(self, body: str, point: str) -> np.ndarray:
+        """A body point's position (or the body frame's origin when the body has no such point)."""
+        shape = self.shapes[body]
+        return shape.position(point, self.poses[body]) if point in shape.points else self.poses[body][0]
+
+    def mass_centre(self, body: str) -> np.ndarray:
+        return _mass_centre(self.system, self.shapes, self.poses, body)
+
+
+def _reaction_items(fb: _FreeBodies, joint_loads) -> list[DrawnItem]:
+    """Each reaction on each body it acts on, as solved; on a joint's first body it is the opposite."""
+    items = []
+    for jl, f, at, c in joint_loads:
+        body, r = jl.body, jl.reaction
+        if body == GROUND:  # the ground has no diagram
+            continue
+        value = fb.solved[r.name]
+        joint = next(j for j in fb.system.joints if j.name == r.joint)
+        sign = -1 if (body == joint.first and body != joint.second) else 1
+        name = f"{'-' if sign < 0 else ''}{r.name}"
+        if f is not None:
+            unit_vec = fb.vec(f)
+            items.append(_force("force", name, fb.vec(at), value * unit_vec, unit_vec, body, r.name,
+                                sign * fb.force(value), fb.force_unit))
+        else:  # a couple (slider, motor), drawn at the body's reference point
+            items.append(_couple("couple", name, fb.where(body, fb.system.bodies[body].default_point),
+                                 value * fb.vals[c], body, r.name, sign * fb.moment(value), fb.moment_unit))
+    return items
+
+
+def _load_items(fb: _FreeBodies, applied) -> list[DrawnItem]:
+    """Applied forces and couples (springs, dampers too); each body's weight as one force at G."""
+    items, weights = [], {}
+    for load, a, f, at, c in applied:
+        if a.body not in fb.system.bodies:  # the ground's share of a spring or damper
+            continue
+        if load.kind == "gravity":  # the resultant of the elements' weights acts at G
+            weights[(a.body, load.name)] = weights.get((a.body, load.name), np.zeros(2)) + fb.vec(f)
+            continue
+        if f is not None:
+            vec = fb.vec(f)
+            items.append(_force("force", a.name, fb.vec(at), vec, None, a.body, load.name,
+                                fb.force(float(np.hypot(*vec))), fb.force_unit))
+        if a.force is None or sp.sympify(a.couple) != 0:
+            m = fb.vals[c]
+            items.append(_couple("couple", a.name, fb.where(a.body, "G"), m, a.body, load.name, fb.moment(m),
+                                 fb.moment_unit))
+    for (body, name), vec in weights.items():
+        items.append(_force("force", f"{name}: m g", fb.mass_centre(body), vec, None, body, name,
+                            fb.force(float(np.hypot(*vec))), fb.force_unit))
+    return items
+
+
+def _inertial_items(fb: _FreeBodies, inertial, points) -> list[DrawnItem]:
+    """Eq. (10): the inertial force -m a_P at G and the couple -I_P alpha, for each body's P."""
+    items = []
+    for body, (acc, alpha, at) in inertial.items():
+        p = points[body]
+        m = _constant(fb.system.bodies[body].total_mass, fb.si)
+        vec = -m * fb.vec(acc)
+        G = fb.mass_centre(body)
+        items.append(_force("inertial", f"-m a_{p}", G, vec, None, body, f"-m a_{p}",
+                            fb.force(float(np.hypot(*vec))), fb.force_unit))
+        # Eq. (12): I_P = I_G + m |r_G/P|^2, P where the point is at this instant
+        I_P = _constant(fb.system.bodies[body].centroidal_inertia(), fb.si) + m * float(np.sum((G - fb.vec(at)) ** 2))
+        moment = -I_P * fb.vals[alpha]
+        items.append(_couple("inertial_couple", f"-I_{p} alpha", G, moment, body, f"-I_{p} alpha",
+                             fb.moment(moment), fb.moment_unit))
+    return items
+
+
+def _mass_centre(system, shapes, poses, body) -> np.ndarray:
+    si = {k: sp.Float(v) for k, v in system.si_values().items()}
+    origin, phi = poses[body]
+    return origin + _rot(phi) @ _vec(system.bodies[body].mass_center(), si)
+
+
+def _force(kind, label, at, vec, positive, body, name, value, unit) -> DrawnItem:
+    size = float(np.hypot(*vec))
+    direction = tuple((vec / size).tolist()) if size > 0 else None
+    shape = {"size": size}
+    if positive is not None:  # a reaction: its positive sense, drawn when it is zero
+        shape["positive"] = tuple((positive / (float(np.hypot(*positive)) or 1.0)).tolist())
+    return DrawnItem(kind, label, tuple(float(x) for x in at), direction, body=body, name=name, value=value,
+                     unit=unit, shape=shape)
+
+
+def _couple(kind, label, at, moment, body, name, value, unit) -> DrawnItem:
+    turn = 1 if moment > 0 else (-1 if moment < 0 else 0)
+    return DrawnItem(kind, label, tuple(float(x) for x in at), turn=turn, body=body, name=name, value=value,
+                     unit=unit, shape={"size": abs(float(moment))})
+
+
+def _mark_zeros(items: list[DrawnItem]) -> list[DrawnItem]:
+    """Forces (couples) below ZERO_FORCE of the largest force (couple) on the same body lose their direction."""
+    out = []
+    for item in items:
+        group = ("couple", "inertial_couple") if item.kind in ("couple", "inertial_couple") else ("force", "inertial")
+        same = [i.shape["size"] for i in items if i.body == item.body and i.kind in group]
+        biggest = max(same) if same else 0.0
+        zero = item.shape.get("size", 0.0) <= ZERO_FORCE * biggest
+        value = 0.0 if zero else item.value
+        label = f"{item.label} = {value:.4g} {item.unit}"
+        out.append(DrawnItem(item.kind, label, item.anchor, None if zero else item.direction, 0 if zero else item.turn,
+                             item.body, item.name, value, item.unit, {**item.shape, "zero": zero}))
+    return out

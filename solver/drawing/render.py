@@ -1,0 +1,283 @@
+"""Matplotlib rendering of a :class:`~solver.drawing.model.Drawing` (Agg, no pyplot).
+
+Bodies: bars as thick segments, disks as filled circles, rings as hollow
+circles, plates as rectangles, semicircular disks as half discs, point masses
+as dots, elements given by an inertia as a small circle (or their rim).
+Guides are lines or circles hatched on the side of the ground. Forces are
+arrows of one length starting at their point of application (the label gives
+the size), couples curved arrows; the inertial terms are dashed.
+"""
+from __future__ import annotations
+
+import math
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import numpy as np  # noqa: E402
+from matplotlib.collections import LineCollection  # noqa: E402
+from matplotlib.figure import Figure  # noqa: E402
+from matplotlib.patches import Circle, FancyArrowPatch, Polygon, Rectangle, Wedge  # noqa: E402
+
+from .model import DrawnItem  # noqa: E402
+
+__all__ = ["new_figure", "render_scene", "render_fbd", "RC"]
+
+RC = {"svg.hashsalt": "alt-euler-drawing", "svg.fonttype": "none", "font.size": 8}
+"""Deterministic SVG (fixed ids, text kept as text)."""
+
+BODY_COLOURS = ["#1f5fa8", "#b5521b", "#2e7d32", "#7b1fa2", "#00838f", "#8d6e00"]
+FORCE_COLOUR = "#c62828"
+INERTIAL_COLOUR = "#6a1b9a"
+
+
+def new_figure(panels: int = 1, size: float = 4.2) -> tuple[Figure, list]:
+    """A figure with ``panels`` square axes side by side (at most 3 a row)."""
+    cols = min(panels, 3)
+    rows = math.ceil(panels / cols)
+    fig = Figure(figsize=(size * cols, size * rows), layout="constrained")
+    axes = fig.subplots(rows, cols, squeeze=False).ravel().tolist()
+    for ax in axes[panels:]:
+        ax.set_visible(False)
+    return fig, axes[:panels]
+
+
+def _span(items: list[DrawnItem]) -> tuple[np.ndarray, np.ndarray, float]:
+    pts = []
+    for i in items:
+        if i.kind == "link":
+            pts += list(i.shape["points"])
+        if i.kind in ("element", "point", "support"):
+            pts.append(i.anchor)
+            r = i.shape.get("radius", 0.0) or 0.0
+            for end in i.shape.get("ends", ()):
+                pts.append(end)
+            if r:
+                pts += [(i.anchor[0] - r, i.anchor[1] - r), (i.anchor[0] + r, i.anchor[1] + r)]
+            w = max(i.shape.get("width", 0.0), i.shape.get("height", 0.0))
+            if w:
+                pts += [(i.anchor[0] - w, i.anchor[1] - w), (i.anchor[0] + w, i.anchor[1] + w)]
+    pts = np.array(pts) if pts else np.zeros((1, 2))
+    low, high = pts.min(axis=0), pts.max(axis=0)
+    return low, high, float(np.max(high - low)) or 1.0
+
+
+def _setup(ax, low, high, span, title):
+    pad = 0.35 * span
+    ax.set_xlim(low[0] - pad, high[0] + pad)
+    ax.set_ylim(low[1] - pad, high[1] + pad)
+    ax.set_aspect("equal", adjustable="box")
+    ax.set_xticks([])
+    ax.set_yticks([])
+    for side in ax.spines.values():
+        side.set_visible(False)
+    if title:
+        ax.set_title(title.replace("$", r"\$"), fontsize=9)  # a scene name is text, never mathtext
+
+
+def _colour(body, bodies):
+    return BODY_COLOURS[bodies.index(body) % len(BODY_COLOURS)] if body in bodies else "0.3"
+
+
+def _element(ax, item: DrawnItem, colour, faint=False):
+    s = item.shape
+    alpha = 0.35 if faint else 1.0
+    t = s["type"]
+    if t == "bar":
+        (x0, y0), (x1, y1) = s["ends"]
+        ax.plot([x0, x1], [y0, y1], color=colour, linewidth=5, solid_capstyle="round", alpha=alpha, zorder=2)
+    elif t in ("disk", "ring", "rim"):
+        ax.add_patch(Circle(s["centre"], s["radius"], facecolor=colour if t == "disk" else "none",
+                            edgecolor=colour, linewidth=2.5, alpha=(0.3 if t == "disk" else 1.0) * alpha, zorder=1))
+    elif t == "plate":
+        w, h, a = s["width"], s["height"], s["angle"]
+        c = np.array(s["centre"])
+        corner = c - 0.5 * (w * np.array([math.cos(a), math.sin(a)]) + h * np.array([-math.sin(a), math.cos(a)]))
+        ax.add_patch(Rectangle(corner.tolist(), w, h, angle=math.degrees(a), facecolor=colour, edgecolor=colour,
+                               alpha=0.35 * alpha, linewidth=2, zorder=1))
+    elif t == "half_disk":
+        a = math.degrees(s["angle"])
+        ax.add_patch(Wedge(s["centre"], s["radius"], a - 90, a + 90, facecolor=colour, edgecolor=colour,
+                           alpha=0.35 * alpha, linewidth=2, zorder=1))
+    elif t == "dot":
+        ax.plot(*s["centre"], "o", color=colour, markersize=9, alpha=alpha, zorder=3)
+    else:  # marker: a body given by its inertia only
+        ax.plot(*s["centre"], "o", markerfacecolor="none", markeredgecolor=colour, markersize=12, alpha=alpha, zorder=3)
+
+
+def _hatch_line(ax, ends, hatch, span, dashed=False):
+    (x0, y0), (x1, y1) = ends
+    ax.plot([x0, x1], [y0, y1], color="0.2", linewidth=1.2, linestyle="--" if dashed else "-", zorder=0)
+    if dashed:
+        return
+    a, b = np.array(ends[0]), np.array(ends[1])
+    h = np.array(hatch) * 0.035 * span
+    along = (b - a) / (np.linalg.norm(b - a) or 1.0)
+    starts = a + np.linspace(0, 1, 28)[:, None] * (b - a)
+    ends = starts + h - 0.6 * np.linalg.norm(h) * along
+    ax.add_collection(LineCollection(np.stack([starts, ends], axis=1), colors="0.45", linewidths=0.7, zorder=0))
+
+
+def _hatch_circle(ax, centre, radius, inside, span):
+    ax.add_patch(Circle(centre, radius, facecolor="none", edgecolor="0.2", linewidth=1.2, zorder=0))
+    d = 0.035 * span * (-1 if inside else 1)
+    a = np.linspace(0, 2 * math.pi, 40, endpoint=False)
+    u = np.stack([np.cos(a), np.sin(a)], axis=1)
+    starts = np.array(centre) + radius * u
+    ends = starts + d * u + 0.02 * span * np.stack([-u[:, 1], u[:, 0]], axis=1)
+    ax.add_collection(LineCollection(np.stack([starts, ends], axis=1), colors="0.45", linewidths=0.7, zorder=0))
+
+
+def _support(ax, item, span):
+    x, y = item.anchor
+    s = item.shape.get("size", 0.05 * span)
+    ax.add_patch(Polygon([(x, y), (x - 0.6 * s, y - s), (x + 0.6 * s, y - s)], closed=True, facecolor="0.85",
+                         edgecolor="0.2", linewidth=1, zorder=0))
+    _hatch_line(ax, ((x - 0.9 * s, y - s), (x + 0.9 * s, y - s)), (0, -0.4), s * 3)
+
+
+def _arc(ax, centre, radius, start, end, colour, label, dashed=False, arrow=True):
+    ts = np.linspace(start, end, 40)
+    xs = centre[0] + radius * np.cos(ts)
+    ys = centre[1] + radius * np.sin(ts)
+    ax.plot(xs[:-1], ys[:-1], color=colour, linewidth=1.2, linestyle="--" if dashed else "-", zorder=4)
+    if arrow:
+        ax.add_patch(FancyArrowPatch((xs[-3], ys[-3]), (xs[-1], ys[-1]), arrowstyle="-|>", mutation_scale=10,
+                                     color=colour, linewidth=1.2, zorder=4))
+    mid = 0.5 * (start + end)
+    out = 1.2 if abs(end - start) > 0.6 else 1.6  # a short arc: its label further out, clear of the lines
+    ax.annotate(label, (centre[0] + out * radius * math.cos(mid), centre[1] + out * radius * math.sin(mid)),
+                fontsize=7, color=colour, ha="center", va="center", zorder=6)
+
+
+def _points(ax, items, bodies, span):
+    """Every named point as a dot; the names of the points at one place (a pin's two halves, a
+    bob's G) written once, together."""
+    places: list = []  # [anchor, [names]]
+    for i in items:
+        if i.kind != "point":
+            continue
+        ax.plot(*i.anchor, "o", color="black", markersize=2.5, zorder=5)
+        here = next((p for p in places if math.dist(p[0], i.anchor) < 1e-3 * span), None)
+        if here is None:
+            places.append([i.anchor, [i.label]])
+        elif i.label not in here[1]:
+            here[1].append(i.label)
+    for anchor, names in places:
+        ax.annotate(", ".join(names), anchor, xytext=(4, 4), textcoords="offset points", fontsize=8, zorder=6)
+
+
+def render_scene(ax, items: list[DrawnItem], bodies: list[str], title: str = "", faint: bool = False,
+                 limits=None) -> None:
+    """Draw the scene's items (bodies, points, guides, coordinates) on ``ax``."""
+    low, high, span = limits or _span(items)
+    for i in items:
+        if i.kind == "element":
+            _element(ax, i, _colour(i.body, bodies), faint)
+        elif i.kind == "link":
+            xs, ys = zip(*i.shape["points"])
+            ax.plot(xs, ys, color=_colour(i.body, bodies), linewidth=1.2, alpha=0.35 if faint else 1.0, zorder=1)
+        elif i.kind == "guide":
+            s = i.shape
+            if s["type"] == "line":
+                _hatch_line(ax, s["ends"], s["hatch"], span, s.get("dashed", False))
+            elif s["type"] == "circle":
+                _hatch_circle(ax, s["centre"], s["radius"], s["hatch_inside"], span)
+            elif s["type"] == "cord":
+                (x0, y0), (x1, y1) = s["ends"]
+                ax.plot([x0, x1], [y0, y1], color="0.3", linewidth=1, zorder=1)
+        elif i.kind == "support":
+            _support(ax, i, span)
+        elif i.kind == "coordinate":
+            s = i.shape
+            if s["type"] == "arc":
+                _arc(ax, s["centre"], s["radius"], s["start"], s["end"], "0.15", i.label, arrow=abs(s["end"] - s["start"]) > 0.05)
+                ref = s["start"]
+                c = np.array(s["centre"])
+                ax.plot([c[0], c[0] + 1.6 * s["radius"] * math.cos(ref)], [c[1], c[1] + 1.6 * s["radius"] * math.sin(ref)],
+                        color="0.4", linewidth=0.7, linestyle=":", zorder=3)
+            elif s["type"] == "dimension":
+                a, b = np.array(s["ends"][0]), np.array(s["ends"][1])
+                off = np.array([0.0, -0.12 * span])
+                ax.add_patch(FancyArrowPatch((a + off).tolist(), (b + off).tolist(), arrowstyle="<|-|>",
+                                             mutation_scale=8, color="0.15", linewidth=0.9, zorder=4))
+                for p in (a, b):
+                    ax.plot([p[0], p[0] + off[0] * 1.2], [p[1], p[1] + off[1] * 1.2], color="0.4", linewidth=0.6)
+                m = 0.5 * (a + b) + off
+                ax.annotate(i.label, m.tolist(), xytext=(0, -9), textcoords="offset points", ha="center",
+                            fontsize=7, zorder=6)
+            else:
+                ax.annotate(i.label, i.anchor, xytext=(6, -10), textcoords="offset points", fontsize=7)
+    _points(ax, items, bodies, span)
+    if limits is None:
+        _setup(ax, low, high, span, title)
+
+
+def _crowd(tips, at, span) -> int:
+    """How many labels were already placed near ``at`` (to stack the next one below them)."""
+    return sum(1 for t in tips[:-1] if abs(t[0] - at[0]) + abs(t[1] - at[1]) < 0.08 * span)
+
+
+def _force_arrow(ax, item: DrawnItem, length, colour, dashed, tips, centre=None):
+    direction = item.direction
+    zero = direction is None
+    if zero:
+        direction = item.shape.get("positive")
+    x, y = item.anchor
+    span = length / 0.45
+    if direction is None:  # a zero applied force: only its label
+        tips.append((x, y))
+        ax.plot(x, y, "x", color=colour, markersize=5, zorder=6)
+        ax.annotate(item.label, (x, y), xytext=(5, -10 - 9 * _crowd(tips, (x, y), span)), textcoords="offset points",
+                    fontsize=7, color=colour)
+        return
+    tail, tip = (x, y), (x + length * direction[0], y + length * direction[1])
+    if centre is not None and (centre[0] - x) * direction[0] + (centre[1] - y) * direction[1] > \
+            0.5 * math.dist(centre, (x, y)) + 1e-9 * length:
+        # a force pushing towards the body's mass centre (within 60 deg): drawn ending at its point, from outside
+        tail, tip = (x - length * direction[0], y - length * direction[1]), (x, y)
+    ax.add_patch(FancyArrowPatch(tail, tip, arrowstyle="-|>", mutation_scale=11, color=colour,
+                                 linewidth=0.8 if zero else 1.6, linestyle="--" if dashed else "-",
+                                 alpha=0.45 if zero else 1.0, zorder=7))
+    outward = 1 if tip != (x, y) else -1  # the label goes at the free end of the arrow
+    label_at = tip if outward == 1 else tail
+    tips.append(label_at)
+    right = outward * direction[0] >= 0
+    ax.annotate(item.label, label_at, xytext=(3 if right else -3, 3 - 9 * _crowd(tips, label_at, span)),
+                textcoords="offset points", fontsize=7, color=colour, ha="left" if right else "right", zorder=8)
+
+
+def render_fbd(ax, scene_items: list[DrawnItem], forces: list[DrawnItem], body: str, bodies: list[str],
+               title: str = "") -> None:
+    """One free-body diagram: the body (faint), its points, its forces and couples."""
+    own = [i for i in scene_items if i.body == body and i.kind in ("element", "link", "point")]
+    low, high, span = _span(own)
+    span = max(span, 1e-9)
+    render_scene(ax, own, bodies, faint=True, limits=(low, high, span))
+    length = 0.45 * span
+    centre = next((i.anchor for i in own if i.kind == "point" and i.name == "G"), None)
+    tips: list = []
+    couples = 0
+    for item in forces:
+        if item.kind in ("force", "inertial"):
+            colour = INERTIAL_COLOUR if item.kind == "inertial" else FORCE_COLOUR
+            _force_arrow(ax, item, length, colour, dashed=item.kind == "inertial", tips=tips, centre=centre)
+        elif item.turn == 0:  # a zero couple: its label only
+            colour = INERTIAL_COLOUR if item.kind == "inertial_couple" else FORCE_COLOUR
+            tips.append(item.anchor)
+            ax.annotate(item.label, item.anchor, xytext=(6, -12 - 9 * _crowd(tips, item.anchor, span)),
+                        textcoords="offset points", fontsize=7, color=colour, zorder=8)
+        else:
+            colour = INERTIAL_COLOUR if item.kind == "inertial_couple" else FORCE_COLOUR
+            r = (0.1 + 0.04 * (couples % 3)) * span
+            a0 = math.radians(30 + 100 * couples)
+            couples += 1
+            _arc(ax, item.anchor, r, a0, a0 + 1.5 * math.pi * item.turn, colour, item.label,
+                 dashed=item.kind == "inertial_couple")
+    pts = [i.anchor for i in forces] + [low.tolist(), high.tolist()]
+    pts += [(i.anchor[0] + s * length * i.direction[0], i.anchor[1] + s * length * i.direction[1])
+            for i in forces if i.direction is not None for s in (-1, 1)]
+    pts = np.array(pts)
+    _setup(ax, pts.min(axis=0), pts.max(axis=0), max(span, float(np.max(pts.max(axis=0) - pts.min(axis=0)))) * 0.5,
+           title)

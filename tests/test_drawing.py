@@ -1,0 +1,281 @@
+"""Drawings checked against the scenes, as data (solver.drawing.model), not as images.
+
+Every shipped scene is drawn (configuration and free-body diagrams). The test
+then asks the scene, by its own route, what must be there: every named point
+of every body and of the ground, every coordinate, every guide, and on every
+free-body diagram every reaction (on both bodies it joins), every load and the
+inertial force. Each reaction arrow must point along the direction that the
+joint's geometry gives (worked out here from the joint's data, per kind),
+times the sign of the solved value, reversed on the joint's first body.
+"""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from solver.__main__ import main
+from solver.analyses.instant import assemble, solve_instant
+from solver.drawing import draw_system
+from solver.io.scenes import load_system
+from solver.model.bodies import GROUND
+
+ROOT = Path(__file__).resolve().parents[1]
+SCENES = sorted((ROOT / "data" / "scenes").glob("*.toml"))
+
+# Directions are unit vectors computed in float64 by two routes (sympy xreplace here,
+# compiled numpy in the product) from the same few trigonometric evaluations: they agree
+# to ~1e-15; 1e-9 leaves room for the dependent coordinates' Newton solve (1e-13 residual).
+DIRECTION_TOL = 1e-9
+# Positions [m] likewise; the scenes are 0.01 m to 2 m across.
+POSITION_TOL = 1e-9
+
+
+def _value(expr, system, state) -> float:
+    """An expression of the state evaluated by sympy substitution (the test's own route)."""
+    vals = dict(system.si_values())
+    vals.update(dict(zip(system.q, state.q)))
+    vals.update(dict(zip(system.qd, state.qd)))
+    vals[system.t] = state.t
+    return float(sp.sympify(expr).xreplace({k: sp.Float(v) for k, v in vals.items()}).evalf())
+
+
+def _unit(angle: float) -> np.ndarray:
+    return np.array([math.cos(angle), math.sin(angle)])
+
+
+def _reaction_direction(joint, k: int, system, state):
+    """The positive sense of reaction k of ``joint`` on its second body, from the joint's data.
+
+    Returns a unit vector for a force, or +1 for a counter-clockwise couple.
+    """
+    phi1 = _value(system.angle(joint.first), system, state)
+    if joint.kind == "pin":
+        return np.eye(2)[k]  # fixed-frame x and y components
+    if joint.kind in ("rail", "pin_in_slot", "slider"):
+        if k == 1:
+            return 1  # the slider's couple
+        a = phi1 + _value(joint.angle, system, state)
+        return np.array([-math.sin(a), math.cos(a)])  # the line's left normal
+    if joint.kind == "rolling":
+        a = phi1 + _value(joint.angle, system, state)
+        return _unit(a) if k == 0 else np.array([-math.sin(a), math.cos(a)])  # friction along, normal across
+    if joint.kind == "motor":
+        return 1
+    if joint.kind == "cord":
+        return -np.array([_value(c, system, state) for c in joint.direction])  # pulls the second body to the drum
+    raise AssertionError(f"no independent direction for a {joint.kind} joint: add one to this test")
+
+
+@pytest.mark.parametrize("path", SCENES, ids=[p.stem for p in SCENES])
+def test_drawing_matches_the_scene(path):
+    system = load_system(path)
+    state = assemble(system)
+    scene = draw_system(system, state)
+    fbd = draw_system(system, state, fbd=True)
+
+    # every named point of every body (and G) and of the ground, at its place
+    points = {(i.body, i.name): np.array(i.anchor) for i in scene.of_kind("point")}
+    for name, body in system.bodies.items():
+        for p in body.point_names():
+            assert (name, p) in points, f"{path.name}: point {name}:{p} not labelled"
+            where = np.array([_value(x, system, state) for x in system.point_position(name, p)])
+            np.testing.assert_allclose(points[(name, p)], where, atol=POSITION_TOL)
+    for p in system.ground.points:
+        assert (GROUND, p) in points, f"{path.name}: ground point {p} not labelled"
+    labels = {i.label for i in scene.items}
+    assert {(i.body, i.name) for i in scene.of_kind("point")} <= {(i.body, i.name) for i in scene.items if i.label == i.name}
+    # every free coordinate marked, every line guide drawn
+    marked = {i.name for i in scene.of_kind("coordinate")}
+    assert marked == {c.name for c in system.free}, f"{path.name}: coordinates marked {marked}"
+    for i in scene.of_kind("coordinate"):
+        assert i.name in i.label
+    guides = {i.name for i in scene.of_kind("guide", "support")}
+    for j in system.joints:
+        if j.kind in ("rail", "slider", "pin_in_slot", "rolling", "rolling_on_circle", "cord") or \
+                (j.kind == "pin" and GROUND in j.bodies):
+            assert j.name in guides, f"{path.name}: joint {j.name} ({j.kind}) not drawn"
+    # every element drawn
+    elements = {(i.body, i.name) for i in scene.of_kind("element")}
+    assert elements == {(b, e.name) for b, body in system.bodies.items() for e in body.elements}
+    assert labels  # the drawing has text
+
+    # free-body diagrams: every reaction on both bodies, along the joint's direction x sign of the solved value
+    solution = fbd.solution  # the solve the diagrams show: its signs decide the arrows
+    assert solution.state == state and fbd.panels == list(system.bodies)
+    for joint in system.joints:
+        for k, reaction in enumerate(joint.reactions):
+            value = float(solution.unknowns[reaction.name].to_base_units().magnitude)
+            positive = _reaction_direction(joint, k, system, state)
+            for body, side in ((joint.second, 1), (joint.first, -1)):
+                if body == GROUND:
+                    continue
+                drawn = [i for i in fbd.on(body) if i.name == reaction.name]
+                assert len(drawn) == 1, f"{path.name}: reaction {reaction.name} on {body}: {drawn}"
+                item = drawn[0]
+                assert reaction.name in item.label and item.unit in item.label
+                if item.direction is None and item.turn == 0:  # drawn as zero: it must be negligible
+                    assert item.value == 0.0
+                    # ZERO_FORCE: below 1e-9 of the largest force on the body (round-off of the solve)
+                    assert abs(value) < 1e-6 * max(1.0, max(abs(float(q.to_base_units().magnitude))
+                                                            for q in solution.unknowns.values()))
+                    continue
+                if isinstance(positive, int):
+                    assert item.turn == positive * side * np.sign(value), f"{reaction.name} on {body}"
+                else:
+                    np.testing.assert_allclose(item.direction, positive * side * np.sign(value), atol=DIRECTION_TOL,
+                                               err_msg=f"{path.name}: {reaction.name} on {body}")
+    # every load on every body it acts on; weights at G pointing along gravity
+    for load in system.loads:
+        if load.kind == "gravity":
+            g_dir = np.array([_value(c, system, state) for c in load.direction])
+            for body in system.bodies:
+                (item,) = [i for i in fbd.on(body) if i.name == load.name]
+                np.testing.assert_allclose(item.direction, g_dir / np.linalg.norm(g_dir), atol=DIRECTION_TOL)
+                where = [_value(x, system, state) for x in system.point_position(body, "G")]
+                np.testing.assert_allclose(item.anchor, where, atol=POSITION_TOL)
+        elif load.kind == "force":
+            (item,) = [i for i in fbd.on(load.body) if i.name == load.name]
+            f = np.array([_value(c, system, state) for c in load.components])
+            if np.linalg.norm(f) == 0:
+                assert item.direction is None and item.value == 0.0
+            else:
+                np.testing.assert_allclose(item.direction, f / np.linalg.norm(f), atol=DIRECTION_TOL)
+        else:
+            bodies = [b for b in (getattr(load, "body", None), getattr(load, "first", None),
+                                  getattr(load, "second", None), *(getattr(load, "a", ("",))[:1]),
+                                  *(getattr(load, "b", ("",))[:1])) if b in system.bodies]
+            for body in bodies:
+                assert any(i.name == load.name for i in fbd.on(body)), f"{load.name} on {body}"
+    # the inertial force of Eq. 10, dashed, on every body
+    for body in system.bodies:
+        inertial = [i for i in fbd.on(body) if i.kind == "inertial"]
+        assert len(inertial) == 1 and inertial[0].label.startswith(f"-m a_{fbd.point[body]}")
+        _assert_no_moment_about_P(fbd, points[(body, fbd.point[body])], body, path.name)
+
+
+def _assert_no_moment_about_P(fbd, P, body, where):
+    """Eq. 10 read off the drawing: the drawn forces and couples, with the dashed -m a_P at G
+    and -I_P alpha, have zero moment about P (each arrow's size is in shape["size"], SI). An
+    arrow drawn the wrong way, at the wrong point or with the wrong size breaks the balance."""
+    moment, scale = 0.0, 0.0
+    for i in fbd.on(body):
+        if i.kind in ("force", "inertial") and i.direction is not None:
+            r = np.array(i.anchor) - P
+            f = i.shape["size"] * np.array(i.direction)
+            moment += r[0] * f[1] - r[1] * f[0]
+            scale += abs(r[0] * f[1]) + abs(r[1] * f[0])
+        elif i.kind in ("couple", "inertial_couple"):
+            moment += i.turn * i.shape["size"]
+            scale += i.shape["size"]
+    # round-off of sums of ~10 products of float64 values: 1e-9 of the largest term
+    assert abs(moment) <= 1e-9 * max(scale, 1e-12), f"{where}: moment about {body}:{fbd.point[body]} = {moment}"
+
+
+def test_inertial_force_follows_the_kinematics_of_the_paper():
+    """Example 2 about P: x_P = r_d theta (Eq. 31), so a_P = r_d theta_ddot i and the dashed
+    arrow is -(m_d + m_b) r_d theta_ddot i. Example 1 about A: A runs on the horizontal rail,
+    so -m a_A is horizontal."""
+    system = load_system(ROOT / "data" / "scenes" / "disk_bar.toml")
+    drawing = draw_system(system, fbd=True)
+    (item,) = drawing.of_kind("inertial")
+    theta_ddot = float(solve_instant(system).unknowns["theta_ddot"].magnitude)
+    p = {k: float(v.to_base_units().magnitude) for k, v in system.parameters.items()}
+    expected = -(p["m_d"] + p["m_b"]) * p["r_d"] * theta_ddot
+    # the label's 4 significant figures are not used: value is the float itself (1e-12: round-off)
+    assert item.value == pytest.approx(abs(expected), rel=1e-12)
+    np.testing.assert_allclose(item.direction, [np.sign(expected), 0.0], atol=DIRECTION_TOL)
+
+    system = load_system(ROOT / "data" / "scenes" / "sliding_bar.toml")
+    (item,) = draw_system(system, fbd=True, point="A").of_kind("inertial")
+    assert abs(item.direction[1]) < DIRECTION_TOL and item.unit == "lbf"
+
+
+@pytest.mark.parametrize("suffix,magic", [(".svg", b"<?xml"), (".png", b"\x89PNG"), (".pdf", b"%PDF")])
+def test_draw_command_writes_the_format_of_the_suffix(tmp_path, suffix, magic, capsys):
+    out = tmp_path / f"crank{suffix}"
+    fbd = ["--fbd"] if suffix == ".svg" else []  # one diagram of each kind is enough to check the format
+    status = main(["draw", str(ROOT / "data" / "scenes" / "sliding_bar.toml"), *fbd, "-o", str(out)])
+    assert status == 0
+    assert out.read_bytes().startswith(magic)
+    assert [p.name for p in tmp_path.iterdir()] == [out.name]  # nothing left behind
+
+
+def test_draw_command_refuses_an_unknown_suffix(tmp_path, capsys):
+    out = tmp_path / "crank.jpg"
+    with pytest.raises(SystemExit) as stop:
+        main(["draw", str(ROOT / "data" / "scenes" / "sliding_bar.toml"), "-o", str(out)])
+    assert stop.value.code == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("error: -o ") and ".svg" in err
+    assert not out.exists() and list(tmp_path.iterdir()) == []
+
+
+def test_simulate_animates_the_trajectory(tmp_path, capsys):
+    """simulate --animate: one GIF frame per sample (under the cap), from the multibody path."""
+    from PIL import Image
+
+    out = tmp_path / "crank.gif"
+    status = main(["simulate", str(ROOT / "data" / "scenes" / "slider_crank.toml"), "--t-end", "0.01 s",
+                   "--samples", "4", "--animate", str(out), "--json"])
+    assert status == 0
+    with Image.open(out) as gif:
+        assert gif.format == "GIF" and gif.n_frames == 4
+
+
+def test_animation_frames_are_capped_and_spread():
+    from solver.drawing import MAX_FRAMES, frame_indices
+
+    assert frame_indices(3) == [0, 1, 2]
+    many = frame_indices(10 * MAX_FRAMES + 7)
+    assert len(many) == MAX_FRAMES and many[0] == 0 and many[-1] == 10 * MAX_FRAMES + 6
+    steps = np.diff(many)
+    assert steps.max() - steps.min() <= 1  # evenly spread
+
+
+@pytest.mark.skipif(__import__("shutil").which("ffmpeg") is not None, reason="ffmpeg is installed here")
+def test_mp4_without_ffmpeg_is_one_line_before_the_run(tmp_path, capsys):
+    out = tmp_path / "run.mp4"
+    with pytest.raises(SystemExit) as stop:
+        main(["simulate", str(ROOT / "data" / "scenes" / "disk_bar.toml"), "--t-end", "1 s", "--animate", str(out)])
+    assert stop.value.code == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--animate" in err and "ffmpeg" in err and not out.exists()
+
+
+def test_paper_figures_1_to_3_are_drawn_from_the_scenes(tmp_path_factory):
+    """paper.html embeds Figures 1-3 as inline SVG, with the rod's pin forces as the solver
+    gives them; paper.tex includes their PDF twins, which the build writes."""
+    import re
+
+    from reports.make_report import build_cached
+
+    out = Path(build_cached(tmp_path_factory.getbasetemp() / "report_build", ROOT)["out"])
+    html = (out / "paper.html").read_text(encoding="utf-8")
+    tex = (out / "paper.tex").read_text(encoding="utf-8")
+    system = load_system(ROOT / "data" / "scenes" / "slider_crank.toml")
+    solution = solve_instant(system)
+    for n, stem in ((1, "figure1_slider_crank"), (2, "figure2_sliding_bar"), (3, "figure3_disk_bar")):
+        figure = re.search(rf'<figure id="figure{n}">(.*?)</figure>', html, re.S)
+        assert figure and "<svg" in figure.group(1), f"Figure {n} missing from paper.html"
+        assert f"figures/{stem}.pdf" in tex and (out / "figures" / f"{stem}.pdf").stat().st_size > 1000
+    rod = re.search(r'<figure id="figure1">(.*?)</figure>', html, re.S).group(1)
+    for name in ("A_x", "A_y"):  # on the rod (the joints' second body), as solved, 4 significant figures
+        assert f"{name} = {solution.unknowns[name].magnitude:.4g} N" in rod
+    for name in ("B_x", "B_y"):  # the rod is the first body of pin B: the force on it is -B
+        assert f"-{name} = {-solution.unknowns[name].magnitude:.4g} N" in rod
+
+
+def test_the_command_line_starts_without_matplotlib():
+    """matplotlib is imported only when something is drawn: no module that registering the
+    commands imports (cli_draw, cli_dynamics, the drawing package itself) imports it at the top."""
+    import ast
+
+    for module in ("solver/cli_draw.py", "solver/cli_dynamics.py", "solver/drawing/__init__.py", "solver/__main__.py"):
+        tree = ast.parse((ROOT / module).read_text(encoding="utf-8"))
+        top = [n for n in tree.body if isinstance(n, (ast.Import, ast.ImportFrom))]
+        names = [a.name for n in top for a in n.names] + [n.module or "" for n in top if isinstance(n, ast.ImportFrom)]
+        assert not any(n.split(".")[0] in ("matplotlib", "PIL") or n.endswith("render") for n in names), module
