@@ -18,7 +18,8 @@ import pytest
 import sympy as sp
 
 from solver.__main__ import main
-from solver.analyses.instant import assemble, solve_instant
+from solver.analyses.instant import solve_instant
+from solver.analyses.regimes import start_state
 from solver.drawing import draw_system
 from solver.io.scenes import load_system
 from solver.model.bodies import GROUND
@@ -73,7 +74,7 @@ def _reaction_direction(joint, k: int, system, state):
 @pytest.mark.parametrize("path", SCENES, ids=[p.stem for p in SCENES])
 def test_drawing_matches_the_scene(path):
     system = load_system(path)
-    state = assemble(system)
+    state = start_state(system)
     scene = draw_system(system, state)
     fbd = draw_system(system, state, fbd=True)
 

@@ -35,7 +35,7 @@ from ..model.system import RedundantConstraints
 
 __all__ = ["RegimeResult", "ContactCheck", "find_regime", "contact_kinematics", "MAX_CONTACTS",
            "NoConsistentRegime", "AmbiguousRegime", "regime_system", "solve_in_regime", "start_state",
-           "regime_at_state", "least_friction", "holding"]
+           "regime_at_state", "least_friction", "holding", "with_every_contact_force"]
 
 MAX_CONTACTS = 4
 """Most contacts that can change regime in one scene (at most 4**4 = 256 combinations are tried)."""
@@ -597,3 +597,12 @@ def holding(system):
         new.joints = [replace(j, friction=None) if j.name in sticking else j for j in new.joints]
         new.reset()
     return new
+
+
+def with_every_contact_force(system):
+    """``system`` with every contact's friction and normal force as reactions (sticking form),
+    for showing forces: a sliding contact's friction (-s mu_k N) and a separated contact's
+    zero forces are then drawn along their own directions. The system itself without contacts."""
+    if not system.contacts:
+        return system
+    return _augmented(system, None, "generalized_euler").variant

@@ -53,7 +53,8 @@ def draw_system(system, state=None, ax=None, fbd: bool = False, point: str | Non
     system : solver.model.system.System
     state : solver.analyses.instant.State, optional
         A complete state; default: the scene's, with the dependent
-        coordinates solved (:func:`solver.analyses.instant.assemble`).
+        coordinates solved (:func:`solver.analyses.regimes.start_state`: with the contacts open at the
+        state left open).
     ax : matplotlib Axes or sequence of Axes, optional
         Where to draw: one Axes for the scene; for ``fbd`` one per body (in
         the order of ``system.bodies``). Default: a new figure.
@@ -75,13 +76,14 @@ def draw_system(system, state=None, ax=None, fbd: bool = False, point: str | Non
     InputError
         A bad ``point``; SingularConfigurationError when the state cannot be solved.
     """
-    from ..analyses.instant import assemble, solve_instant
+    from ..analyses.instant import solve_instant
+    from ..analyses.regimes import start_state
     from ..formulations import resolve_points
     from . import render
     from .model import Drawing, free_body_items, scene_items
 
     points = resolve_points(system, point)  # a bad --point is refused before any work
-    state = assemble(system) if state is None else state
+    state = start_state(system) if state is None else state
     scene = scene_items(system, state)
     panels = list(system.bodies) if bodies is None else list(bodies)
     unknown = [b for b in panels if b not in system.bodies]
@@ -98,7 +100,9 @@ def draw_system(system, state=None, ax=None, fbd: bool = False, point: str | Non
             render.render_scene(ax, scene, bodies, title=system.name)
             return Drawing(system.name, scene, figure=figure)
         solution = solve_instant(system, point, state=state)
-        forces = free_body_items(system, state, solution, points)
+        from ..analyses.regimes import with_every_contact_force  # contacts: the regime's forces, each drawn alone
+
+        forces = free_body_items(with_every_contact_force(system), state, solution, points)
         axes = ax
         if axes is None:
             figure, axes = render.new_figure(len(panels), size=4.6)
