@@ -31,6 +31,10 @@ __all__ = ["CONDITION_LIMIT", "NumericModel", "InstantSolution", "State", "assem
 CONDITION_LIMIT = 1e12
 """Above this condition number the answer is meaningless: SingularConfigurationError."""
 _NEWTON_STEPS = 60
+STRUCTURED_MIN_STATES = 4096
+"""Batches of at least this many states are solved by the structured solve
+(:mod:`solver.analyses.structured`); smaller ones, and single states, by the dense
+path, whose set-up is cheaper."""
 
 
 def _equilibrate(A: np.ndarray):
@@ -100,6 +104,7 @@ class NumericModel:
         if stray:
             raise InputError(f"{self.label}: undefined name(s) {', '.join(sorted(map(str, stray)))} in the scene's expressions")
         self._f = sp.lambdify((*self.args, *params), entries, modules="numpy", cse=True)
+        self._structured = None
 
     def matrices(self, q, qd, t=0.0):
         """(A, b) at the states: q and qd are sequences (one array per free coordinate)."""
@@ -126,16 +131,57 @@ class NumericModel:
             When any state's system is singular or its condition number exceeds
             :data:`CONDITION_LIMIT`.
         """
-        A, b = self.matrices(q, qd, t)
-        if A.shape[-1] != A.shape[-2]:
-            raise InputError(f"{self.label}: the equations are not square ({A.shape[-2]} equations, "
-                             f"{A.shape[-1]} unknowns)")
-        x, cond = self._solve_with_estimate(A, b)
-        if np.any(~(cond <= CONDITION_LIMIT)):
-            self.singular(q, qd, t, A, cond)
+        if self.shape[0] != self.shape[1]:
+            raise InputError(f"{self.label}: the equations are not square ({self.shape[0]} equations, "
+                             f"{self.shape[1]} unknowns)")
+        arrays = np.broadcast_arrays(*[np.asarray(v, dtype=float) for v in (*q, *qd, t)])
+        shape = arrays[0].shape
+        if arrays[0].size >= STRUCTURED_MIN_STATES and self.structured().usable:
+            x, cond = self._solve_structured(arrays)
+            x, cond = x.reshape(shape + (self.n,)), cond.reshape(shape)
+        else:
+            A, b = self.matrices(q, qd, t)
+            x, cond = self._solve_with_estimate(A, b)
+            if np.any(~(cond <= CONDITION_LIMIT)):
+                self.singular(q, qd, t, A, cond)
         out = {name: x[..., i] for i, name in enumerate(self.names)}
         out["condition_number"] = cond
         return out
+
+    def structured(self):
+        """The :class:`~solver.analyses.structured.StructuredSolver` of this model (built once).
+
+        Its matrix is built from the equations directly, A_ij = d e_i / d x_j
+        (exact, the equations being affine in the unknowns), with the
+        parameters' values substituted, so that constant entries are known."""
+        if self._structured is None:
+            from .structured import StructuredSolver
+
+            f = self.formulation
+            values = {p: sp.Float(v) for p, v in self.system.si_values().items()}
+            zero = {u: sp.Integer(0) for u in f.unknowns}
+            exprs = [e.expr.xreplace(values) for e in f.equations]
+            A = sp.Matrix([[e.diff(u) for u in f.unknowns] for e in exprs])
+            b = sp.Matrix([-e.xreplace(zero) for e in exprs])
+            self._structured = StructuredSolver(A, b, self.args)
+        return self._structured
+
+    def _solve_structured(self, arrays):
+        """x (N, n) and the condition estimate (N,) of flat states by the structured
+        solve; the states it does not certify go through the dense path (and its
+        singularity decision)."""
+        flat = [a.ravel() for a in arrays]
+        x, cond, ok = self.structured().solve(flat)
+        if not np.all(ok):
+            redo = np.flatnonzero(~ok)
+            k = len(self.system.q)
+            sub_q, sub_qd, sub_t = [a[redo] for a in flat[:k]], [a[redo] for a in flat[k:2 * k]], flat[-1][redo]
+            A, b = self.matrices(sub_q, sub_qd, sub_t)
+            xs, cs = self._solve_with_estimate(A, b)
+            if np.any(~(cs <= CONDITION_LIMIT)):
+                self.singular(sub_q, sub_qd, sub_t, A, cs)
+            x[redo], cond[redo] = xs, cs
+        return x, cond
 
     def _solve_with_estimate(self, A, b):
         """x and a cheap estimate of the equilibrated 1-norm condition number, from one LU.
