@@ -172,6 +172,7 @@ class NumericModel:
         singularity decision)."""
         flat = [a.ravel() for a in arrays]
         x, cond, ok = self.structured().solve(flat)
+        ok &= cond <= CONDITION_LIMIT  # the decision that a state is singular is the dense path's
         if not np.all(ok):
             redo = np.flatnonzero(~ok)
             k = len(self.system.q)
