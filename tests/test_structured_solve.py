@@ -63,12 +63,12 @@ def reference(system, q, qd, t):
     values = system.si_values()
     params = sorted(values, key=str)
     args = (*system.q, *system.qd, system.t, *params)
-    fA = sp.lambdify(args, A, modules="numpy", cse=False)
-    fb = sp.lambdify(args, b, modules="numpy", cse=False)
+    f = sp.lambdify(args, [*A, *b], modules="numpy", cse=False)
     n = A.shape[0]
-    pv = [values[p] for p in params]
-    An = np.stack([np.broadcast_to(np.asarray(fA(*s, *pv), float), (n, n)) for s in zip(*q, *qd, t)])
-    bn = np.stack([np.broadcast_to(np.asarray(fb(*s, *pv), float), (n, 1)) for s in zip(*q, *qd, t)])
+    with np.errstate(all="ignore"):
+        vals = f(*q, *qd, t, *[values[p] for p in params])
+    vals = np.stack([np.broadcast_to(np.asarray(v, float), t.shape) for v in vals], axis=-1)
+    An, bn = vals[:, : n * n].reshape(-1, n, n), vals[:, n * n:, None]
     return np.linalg.solve(An, bn)[..., 0], np.linalg.cond(An, 1)
 
 
