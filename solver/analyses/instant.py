@@ -138,12 +138,13 @@ class NumericModel:
         shape = arrays[0].shape
         if arrays[0].size >= STRUCTURED_MIN_STATES and self.structured().usable:
             x, cond = self._solve_structured(arrays)
-            x, cond = x.reshape(shape + (self.n,)), cond.reshape(shape)
-        else:
-            A, b = self.matrices(q, qd, t)
-            x, cond = self._solve_with_estimate(A, b)
-            if np.any(~(cond <= CONDITION_LIMIT)):
-                self.singular(q, qd, t, A, cond)
+            out = {name: x[i].reshape(shape) for i, name in enumerate(self.names)}
+            out["condition_number"] = cond.reshape(shape)
+            return out
+        A, b = self.matrices(q, qd, t)
+        x, cond = self._solve_with_estimate(A, b)
+        if np.any(~(cond <= CONDITION_LIMIT)):
+            self.singular(q, qd, t, A, cond)
         out = {name: x[..., i] for i, name in enumerate(self.names)}
         out["condition_number"] = cond
         return out
@@ -163,11 +164,21 @@ class NumericModel:
             exprs = [e.expr.xreplace(values) for e in f.equations]
             A = sp.Matrix([[e.diff(u) for u in f.unknowns] for e in exprs])
             b = sp.Matrix([-e.xreplace(zero) for e in exprs])
-            self._structured = StructuredSolver(A, b, self.args)
+            self._structured = StructuredSolver(A, b, self.args, self._sample_states())
         return self._structured
 
+    def _sample_states(self, k: int = 64):
+        """``args`` at k states spread around the scene's: angles anywhere, lengths
+        within half their value (at least 0.1 m), rates up to 3 per second, t over 1 s."""
+        rng = np.random.default_rng(20261123)
+        sysm = self.system
+        q = [rng.uniform(-np.pi, np.pi, k) if c.kind == "angle"
+             else c.value + rng.uniform(-1, 1, k) * max(0.5 * abs(c.value), 0.1) for c in sysm.free]
+        qd = [rng.uniform(-3, 3, k) for _ in sysm.free]
+        return [*q, *qd, sysm.time + rng.uniform(0, 1, k)]
+
     def _solve_structured(self, arrays):
-        """x (N, n) and the condition estimate (N,) of flat states by the structured
+        """x (n, N) and the condition estimate (N,) of flat states by the structured
         solve; the states it does not certify go through the dense path (and its
         singularity decision)."""
         flat = [a.ravel() for a in arrays]
@@ -181,7 +192,7 @@ class NumericModel:
             xs, cs = self._solve_with_estimate(A, b)
             if np.any(~(cs <= CONDITION_LIMIT)):
                 self.singular(sub_q, sub_qd, sub_t, A, cs)
-            x[redo], cond[redo] = xs, cs
+            x[:, redo], cond[redo] = xs.T, cs
         return x, cond
 
     def _solve_with_estimate(self, A, b):

@@ -17,11 +17,15 @@ condition estimate of :meth:`NumericModel._solve_with_estimate` (Hager's first
 step on the row- and column-equilibrated A), so the estimate is the same
 quantity as on the plain path.
 
-Every state is checked a posteriori: a state passes only when its solution has
-a componentwise relative backward error below :data:`BACKWARD_TOL` and its
-condition estimate is finite. The caller solves the others by the plain dense
-path, where the singularity decision lives. A static pivot order can therefore
-cost speed but never accuracy, and a singular state is never returned as NaN.
+Every state is checked: the constant pivots are used only where each is, at
+that state, at least as large as every other entry of its column still to be
+eliminated (|multiplier| <= 1). Where that holds, the whole elimination is
+Gaussian elimination with partial pivoting of A with its columns reordered,
+with LAPACK's backward stability. The caller solves the other states (and any
+non-finite result or estimate, or an estimate above the singularity limit) by
+the plain dense path, where the singularity decision lives. A static pivot
+order can therefore cost speed but never accuracy, and a singular state is
+never returned as NaN.
 """
 from __future__ import annotations
 
@@ -30,13 +34,7 @@ import re
 import numpy as np
 import sympy as sp
 
-__all__ = ["StructuredSolver", "BACKWARD_TOL", "CHUNK"]
-
-BACKWARD_TOL = 1e-12
-"""Largest accepted componentwise backward error max_i |A x - b|_i / (|A| |x| + |b|)_i.
-Gaussian elimination with partial pivoting achieves ~n eps (~3e-15 for n = 12)
-unless it meets element growth; 1e-12 leaves a margin of ~300 for benign growth
-and still certifies that x solves a system within 1e-12 of the given one."""
+__all__ = ["StructuredSolver", "CHUNK"]
 
 CHUNK = 4096
 """States per chunk: the live arrays of a chunk (32 kB each) stay in the cache."""
@@ -190,6 +188,10 @@ class StructuredSolver:
         entries are functions of ``args`` only.
     args : sequence of sympy.Symbol
         The state variables (coordinates, rates, t), in call order.
+    samples : sequence of arrays
+        Values of ``args`` at a few typical states. A constant is chosen as a
+        pivot only if no other entry of its column exceeds it there; the
+        condition is checked again at every solved state.
 
     Attributes
     ----------
@@ -202,7 +204,7 @@ class StructuredSolver:
         Size of the block left to partial pivoting.
     """
 
-    def __init__(self, A: sp.Matrix, b: sp.Matrix, args):
+    def __init__(self, A: sp.Matrix, b: sp.Matrix, args, samples):
         n = self.n = A.shape[0]
         exprs: list = []
         index: dict = {}
@@ -219,6 +221,13 @@ class StructuredSolver:
         B0 = [value(b[i]) for i in range(n)]
         self.usable = {j for _, j in E0} == set(range(n)) and {i for i, _ in E0} == set(range(n))
         self._eval = sp.lambdify(tuple(args), exprs, modules="numpy", cse=True) if exprs else None
+        with np.errstate(all="ignore"):
+            e = self._eval(*samples) if self._eval is not None else []
+        k = len(samples[0]) if samples else 1
+        sampled = {name: np.broadcast_to(np.asarray(v, dtype=float), (k,)) for name, v in
+                   zip((f"e[{i}]" for i in range(len(exprs))), e)}
+        self._samples = {ij: (v if isinstance(v, float) else np.nan_to_num(sampled[v], nan=np.inf))
+                         for ij, v in E0.items()}
         self._chunk = self._generate(E0, B0) if self.usable else None
 
     # -- planning ------------------------------------------------------------------------
@@ -248,15 +257,10 @@ class StructuredSolver:
         # ||y||_1 for both z at once: (2, m) arrays
         est = c.total([c.absolute(c.mul(col[j], c.let(f"{X[j].lstrip('-')}[1:]"))) for j in range(n)])
         cond = c.let(f"{_fmt(norm_A)} * _max({est}[0], {est}[1]) * {1.0 / n!r}")
-        # Backward error of x, normwise on the equilibrated system: |A x - b|_i <=
-        # tol (row_i sum_j col_j |x_j| + |b_i|), a bound above (|A| |x| + |b|)_i.
-        size = c.total([c.absolute(c.mul(col[j], x[j])) for j in range(n)])
-        tests = []
-        for i in range(n):
-            res = c.sub(c.total([c.mul(v, x[j]) for (ii, j), v in E0.items() if ii == i]), B0[i])
-            bound = c.add(c.mul(row[i], size), c.absolute(B0[i]))
-            tests.append(c.let(f"_abs({_fmt(res).lstrip('-')}) <= {_fmt(c.mul(bound, BACKWARD_TOL))}"))
-        ok = c.let(f"_isfinite({cond}) & " + " & ".join(tests))
+        # x finite (b may hold an infinity), and every multiplier of a constant pivot <= 1
+        finite = c.total(x)
+        ok = c.let(f"_isfinite({cond}) & _isfinite({_fmt(finite)})"
+                   + (f" & ({self._growth} <= 1.0)" if self._growth is not None else ""))
         keep = [v.lstrip("-") for v in (*x, cond, ok)]
         body = "\n    ".join(_free_temporaries(c.lines, keep))
         src = f"def _chunk(e, m):\n    {body}\n    return ({', '.join(x)},), {cond}, {ok}\n"
@@ -272,6 +276,8 @@ class StructuredSolver:
         n = self.n
         rows_left, cols_left = set(range(n)), set(range(n))
         pivots = []
+        growth = None  # the largest |multiplier| of a constant pivot, per state
+        S = dict(self._samples)  # each entry's values at the sample states, to choose the pivots
         while True:
             rcount = {i: 0 for i in rows_left}
             ccount = {j: 0 for j in cols_left}
@@ -281,18 +287,24 @@ class StructuredSolver:
             best = None
             for (i, j), v in E.items():
                 if isinstance(v, float) and v != 0.0:
-                    colmax = max(abs(w) for (_, jj), w in E.items() if jj == j and isinstance(w, float))
-                    if abs(v) < 0.1 * colmax:
-                        continue  # a small constant among larger ones: not a safe pivot
+                    others = [np.max(np.abs(S[ii, jj])) for (ii, jj) in E if jj == j and ii != i]
+                    if others and not max(others) <= abs(v):
+                        continue  # smaller than another entry of its column at a sample state
                     key = ((rcount[i] - 1) * (ccount[j] - 1), -abs(v), i, j)
                     if best is None or key < best[0]:
                         best = (key, i, j, v)
             if best is None:
                 break
             _, r, piv_c, p = best
+            for i in [i for (i, j) in E if j == piv_c and i != r]:  # the sample values follow
+                for j in [j for (ii, j) in E if ii == r and j != piv_c]:
+                    S[i, j] = S.get((i, j), 0.0) - S[i, piv_c] / p * S[r, j]
             prow = {j: v for (i, j), v in E.items() if i == r and j != piv_c}
             for i in [i for (i, j) in E if j == piv_c and i != r]:
                 f = c.mul(E.pop((i, piv_c)), 1.0 / p)
+                if not isinstance(f, float):  # the partial-pivoting condition, checked per state
+                    af = c.absolute(f)
+                    growth = af if growth is None else c.let(f"_max({growth}, {af})")
                 for j, a_rj in prow.items():
                     new = c.sub(E.get((i, j), 0.0), c.mul(f, a_rj))
                     if isinstance(new, float) and new == 0.0:
@@ -317,16 +329,16 @@ class StructuredSolver:
             for j, a_rj in prow.items():
                 acc = c.sub(acc, c.mul(a_rj, X[j]))
             X[piv_c] = c.mul(acc, 1.0 / p)
-        self.pivots, self.pivoted_block = len(pivots), len(rl)
+        self.pivots, self.pivoted_block, self._growth = len(pivots), len(rl), growth
         return [X[j] for j in range(n)]
 
     # -- solving -------------------------------------------------------------------------
     def solve(self, arrays) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(x (N, n), condition estimate (N,), ok (N,)) for flat state arrays of length N.
+        """(x (n, N), condition estimate (N,), ok (N,)) for flat state arrays of length N.
 
         ``ok`` is False where the caller must solve by the dense path instead:
-        a non-finite result or estimate, or a backward error above
-        :data:`BACKWARD_TOL`.
+        a non-finite result or estimate, or a constant pivot smaller than
+        another entry of its column at that state.
         """
         N = arrays[0].shape[0]
         x = np.empty((self.n, N))
@@ -339,7 +351,7 @@ class StructuredSolver:
                 xs, cond[lo:hi], ok[lo:hi] = self._chunk(e, hi - lo)
                 for j, v in enumerate(xs):
                     x[j, lo:hi] = v
-        return x.T, cond, ok
+        return x, cond, ok
 
 
 def _free_temporaries(lines: list[str], keep) -> list[str]:
