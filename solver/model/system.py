@@ -240,10 +240,17 @@ class System:
     # -- time derivative ---------------------------------------------------------------------
     def D(self, expr):
         """d/dt of an expression (or Matrix) in (q, q_dot, t) with prescribed motion substituted."""
-        out = sp.diff(expr, self.t)
-        for c in self.free:
-            out = out + sp.diff(expr, c.q) * c.qd + sp.diff(expr, c.qd) * c.qdd
-        return out
+        if isinstance(expr, sp.MatrixBase):
+            return expr.applyfunc(self.D)
+        expr = sp.sympify(expr)
+        present = expr.free_symbols
+        terms = [expr.diff(self.t)] if self.t in present else []
+        for c in self.free:  # only the symbols present: the rest differentiate to 0
+            if c.q in present:
+                terms.append(expr.diff(c.q) * c.qd)
+            if c.qd in present:
+                terms.append(expr.diff(c.qd) * c.qdd)
+        return sp.Add(*terms)
 
     # -- placement -----------------------------------------------------------------------------
     def _pose_fn(self, poses):
@@ -273,7 +280,8 @@ class System:
 
     def _num(self, expr, values) -> float:
         try:
-            return float(sp.sympify(expr).xreplace({k: sp.Float(v) for k, v in values.items()}).evalf())
+            expr = sp.sympify(expr)
+            return float(expr.xreplace({k: sp.Float(values[k]) for k in expr.free_symbols if k in values}).evalf())
         except (TypeError, ValueError):
             return float("nan")
 
