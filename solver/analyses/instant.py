@@ -26,7 +26,7 @@ from ..errors import InputError, SingularConfigurationError
 from ..units import Q_
 
 __all__ = ["CONDITION_LIMIT", "NumericModel", "InstantSolution", "State", "assemble", "solve_instant",
-           "condition_numbers"]
+           "condition_numbers", "solve_with_estimate"]
 
 CONDITION_LIMIT = 1e12
 """Above this condition number the answer is meaningless: SingularConfigurationError."""
@@ -70,6 +70,43 @@ def condition_numbers(A: np.ndarray) -> np.ndarray:
             continue
         out[idx] = np.linalg.norm(As[idx], 1) * np.linalg.norm(inv, 1)
     return np.where(np.isfinite(out), out, np.inf)
+
+
+def solve_with_estimate(A: np.ndarray, b: np.ndarray):
+    """x and a cheap estimate of the equilibrated 1-norm condition number, from one LU
+    (stacks of systems: A (..., n, n), b (..., n)); the one condition number of the
+    solver's singularity decision (> :data:`CONDITION_LIMIT`: singular).
+
+    The equilibrated system As (Dc^-1 x) = Dr b is solved together with two
+    fixed +/-1 right-hand sides z; ||As||_1 max ||As^-1 z||_1 / ||z||_1 is a
+    lower bound of cond_1(As) that is rarely off by more than a small factor
+    (Hager's first step), at the cost of two extra columns.
+    """
+    n = A.shape[-1]
+    As, row, col = _equilibrate(A)
+    finite = np.array(np.all(np.isfinite(As), axis=(-2, -1)) & np.all(np.isfinite(b), axis=-1), dtype=bool)
+    z = np.ones((n, 2))
+    z[1::2, 0] = -1.0
+    z[: n // 2, 1] = -1.0
+    rhs = np.concatenate([(b / row)[..., None], np.broadcast_to(z, As.shape[:-2] + (n, 2))], axis=-1)
+    As = np.where(finite[..., None, None], As, np.eye(n))
+    try:
+        with np.errstate(all="ignore"):
+            sol = np.linalg.solve(As, rhs)
+    except np.linalg.LinAlgError:  # an exactly singular member: find which, one by one
+        sol = np.full(rhs.shape, np.nan)
+        for idx in np.ndindex(*As.shape[:-2]):
+            try:
+                sol[idx] = np.linalg.solve(As[idx], rhs[idx])
+            except np.linalg.LinAlgError:
+                finite[idx] = False
+    with np.errstate(all="ignore"):
+        norm_A = np.max(np.sum(np.abs(As), axis=-2), axis=-1)
+        est = np.max(np.sum(np.abs(sol[..., 1:]), axis=-2), axis=-1) / n
+        cond = norm_A * est
+        x = sol[..., 0] / col
+    cond = np.where(finite & np.isfinite(cond) & np.all(np.isfinite(x), axis=-1), cond, np.inf)
+    return x, cond
 
 
 class NumericModel:
@@ -196,38 +233,7 @@ class NumericModel:
         return x, cond
 
     def _solve_with_estimate(self, A, b):
-        """x and a cheap estimate of the equilibrated 1-norm condition number, from one LU.
-
-        The equilibrated system As (Dc^-1 x) = Dr b is solved together with two
-        fixed +/-1 right-hand sides z; ||As||_1 max ||As^-1 z||_1 / ||z||_1 is a
-        lower bound of cond_1(As) that is rarely off by more than a small factor
-        (Hager's first step), at the cost of two extra columns.
-        """
-        n = A.shape[-1]
-        As, row, col = _equilibrate(A)
-        finite = np.array(np.all(np.isfinite(As), axis=(-2, -1)) & np.all(np.isfinite(b), axis=-1), dtype=bool)
-        z = np.ones((n, 2))
-        z[1::2, 0] = -1.0
-        z[: n // 2, 1] = -1.0
-        rhs = np.concatenate([(b / row)[..., None], np.broadcast_to(z, As.shape[:-2] + (n, 2))], axis=-1)
-        As = np.where(finite[..., None, None], As, np.eye(n))
-        try:
-            with np.errstate(all="ignore"):
-                sol = np.linalg.solve(As, rhs)
-        except np.linalg.LinAlgError:  # an exactly singular member: find which, one by one
-            sol = np.full(rhs.shape, np.nan)
-            for idx in np.ndindex(*As.shape[:-2]):
-                try:
-                    sol[idx] = np.linalg.solve(As[idx], rhs[idx])
-                except np.linalg.LinAlgError:
-                    finite[idx] = False
-        with np.errstate(all="ignore"):
-            norm_A = np.max(np.sum(np.abs(As), axis=-2), axis=-1)
-            est = np.max(np.sum(np.abs(sol[..., 1:]), axis=-2), axis=-1) / n
-            cond = norm_A * est
-            x = sol[..., 0] / col
-        cond = np.where(finite & np.isfinite(cond) & np.all(np.isfinite(x), axis=-1), cond, np.inf)
-        return x, cond
+        return solve_with_estimate(A, b)
 
     def singular(self, q, qd, t, A, cond):
         """Raise SingularConfigurationError for the worst state, naming what the null vector involves."""
