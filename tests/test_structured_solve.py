@@ -6,7 +6,7 @@ Reference: for each state, numpy.linalg.solve of the formulation's sympy A and b
 subexpressions, parameters as arguments): an independent evaluation of the same
 equations, solved by LAPACK with partial pivoting. The structured path builds
 its matrix differently (derivatives of the equations, parameters folded in),
-eliminates on constant pivots and writes its arithmetic out entry by entry.
+eliminates in a planned pivot order and writes its arithmetic out entry by entry.
 
 Systems: a chain of four pinned bars (12 x 12, the benchmark's system) and the
 shipped slider-crank (a motor-driven crank, a composite rod, a dependent rod
@@ -101,7 +101,7 @@ def test_structured_solve_agrees_with_the_plain_solve(name, spread, request):
     x = np.stack([res[u] for u in model.names], axis=-1)
     ref, cond = reference(system, q, qd, t)
     # Both solves are Gaussian elimination with partial pivoting (the structured
-    # one uses a constant pivot only where it is the largest entry of its column,
+    # one uses a planned pivot only where it is the largest entry of its column,
     # else the state goes to LAPACK), so both are backward stable to ~n eps; each
     # differs from the exact solution by ~cond_1(A) * n * eps ~ cond * 3e-15
     # relative to the size of x. 1e-12 * cond leaves a factor ~300 for the

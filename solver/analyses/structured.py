@@ -4,28 +4,29 @@ Used by :meth:`solver.analyses.instant.NumericModel.solve` for large batches of
 states. The matrix of a multibody formulation is sparse, and many of its
 entries do not depend on the state (the +/-1 of a reaction in Newton's
 equations, a body's inertia about a fixed point). :class:`StructuredSolver`
-plans, once, a Gaussian elimination that pivots only on such constant entries
-(Markowitz order: fewest updates first), so the elimination needs no pivot
-search and its code is written out entry by entry, skipping the structural
-zeros and folding the constants. What the constant pivots cannot eliminate (for
-a chain of pinned bars: the mass matrix left after the reactions) is solved
-by Gaussian elimination with partial pivoting, vectorised over the states.
-States are processed in chunks that stay in the processor's cache.
+plans, once, the order of a Gaussian elimination: at each step a pivot that is
+the largest entry of its column at 64 sample states, fewest updates first
+(Markowitz), constants before state-dependent entries. The elimination then
+needs no pivot search, and its code is written out entry by entry, skipping
+the structural zeros and folding the constants. Whatever no entry dominates
+at every sample is solved by Gaussian elimination with partial pivoting,
+vectorised over the states. States are processed in chunks that stay in the
+processor's cache.
 
 The same elimination solves, besides b, the two +/-1 right-hand sides of the
-condition estimate of :meth:`NumericModel._solve_with_estimate` (Hager's first
-step on the row- and column-equilibrated A), so the estimate is the same
-quantity as on the plain path.
+condition estimate of :func:`solver.analyses.instant.solve_with_estimate`
+(Hager's first step on the row- and column-equilibrated A), so the estimate is
+the same quantity as on the plain path.
 
-Every state is checked: the constant pivots are used only where each is, at
-that state, at least as large as every other entry of its column still to be
-eliminated (|multiplier| <= 1). Where that holds, the whole elimination is
-Gaussian elimination with partial pivoting of A with its columns reordered,
-with LAPACK's backward stability. The caller solves the other states (and any
-non-finite result or estimate, or an estimate above the singularity limit) by
-the plain dense path, where the singularity decision lives. A static pivot
-order can therefore cost speed but never accuracy, and a singular state is
-never returned as NaN.
+Every state is checked: a planned pivot is accepted only where it is, at that
+state, at least as large as every other entry of its column still to be
+eliminated (every |multiplier| <= 1). Where that holds, the whole elimination
+is Gaussian elimination with partial pivoting of A with its rows and columns
+reordered, with LAPACK's backward stability. The caller solves the other
+states (and any non-finite result or estimate, or an estimate above the
+singularity limit) by the plain dense path, where the singularity decision
+lives. The planned order can therefore cost speed but never accuracy, and a
+singular state is never returned as NaN.
 """
 from __future__ import annotations
 
@@ -189,7 +190,7 @@ class StructuredSolver:
     args : sequence of sympy.Symbol
         The state variables (coordinates, rates, t), in call order.
     samples : sequence of arrays
-        Values of ``args`` at a few typical states. A constant is chosen as a
+        Values of ``args`` at a few typical states. An entry is planned as a
         pivot only if no other entry of its column exceeds it there; the
         condition is checked again at every solved state.
 
@@ -199,7 +200,7 @@ class StructuredSolver:
         False when A has an empty row or column (singular for every state);
         the caller then uses the dense path only.
     pivots : int
-        Unknowns eliminated on constant pivots.
+        Unknowns eliminated on planned pivots.
     pivoted_block : int
         Size of the block left to partial pivoting.
     """
@@ -226,7 +227,7 @@ class StructuredSolver:
         k = len(samples[0]) if samples else 1
         sampled = {name: np.broadcast_to(np.asarray(v, dtype=float), (k,)) for name, v in
                    zip((f"e[{i}]" for i in range(len(exprs))), e)}
-        self._samples = {ij: (v if isinstance(v, float) else np.nan_to_num(sampled[v], nan=np.inf))
+        self._samples = {ij: (np.full(k, v) if isinstance(v, float) else np.nan_to_num(sampled[v], nan=np.inf))
                          for ij, v in E0.items()}
         self._chunk = self._generate(E0, B0) if self.usable else None
 
@@ -257,7 +258,7 @@ class StructuredSolver:
         # ||y||_1 for both z at once: (2, m) arrays
         est = c.total([c.absolute(c.mul(col[j], c.let(f"{X[j].lstrip('-')}[1:]"))) for j in range(n)])
         cond = c.let(f"{_fmt(norm_A)} * _max({est}[0], {est}[1]) * {1.0 / n!r}")
-        # x finite (b may hold an infinity), and every multiplier of a constant pivot <= 1
+        # x finite (b may hold an infinity), and every multiplier of a planned pivot <= 1
         finite = c.total(x)
         ok = c.let(f"_isfinite({cond}) & _isfinite({_fmt(finite)})"
                    + (f" & ({self._growth} <= 1.0)" if self._growth is not None else ""))
@@ -271,12 +272,12 @@ class StructuredSolver:
         return namespace["_chunk"]
 
     def _eliminate(self, c: _Code, E: dict, R: list) -> list:
-        """Emit the elimination of A X = R: constant pivots in Markowitz order, then
+        """Emit the elimination of A X = R: planned pivots in Markowitz order, then
         partial pivoting on the block they leave. Returns X's rows (each (3, m))."""
         n = self.n
         rows_left, cols_left = set(range(n)), set(range(n))
         pivots = []
-        growth = None  # the largest |multiplier| of a constant pivot, per state
+        growth = None  # the largest |multiplier| of a static pivot, per state
         S = dict(self._samples)  # each entry's values at the sample states, to choose the pivots
         while True:
             rcount = {i: 0 for i in rows_left}
@@ -286,22 +287,26 @@ class StructuredSolver:
                 ccount[j] += 1
             best = None
             for (i, j), v in E.items():
-                if isinstance(v, float) and v != 0.0:
-                    others = [np.max(np.abs(S[ii, jj])) for (ii, jj) in E if jj == j and ii != i]
-                    if others and not max(others) <= abs(v):
-                        continue  # smaller than another entry of its column at a sample state
-                    key = ((rcount[i] - 1) * (ccount[j] - 1), -abs(v), i, j)
-                    if best is None or key < best[0]:
-                        best = (key, i, j, v)
+                if isinstance(v, float) and v == 0.0:
+                    continue
+                size = np.abs(S[i, j])  # a pivot must be the largest of its column at every sample
+                others = [np.abs(S[ii, jj]) for (ii, jj) in E if jj == j and ii != i]
+                if not np.all(size > 0) or (others and not np.all(np.max(others, axis=0) <= size)):
+                    continue
+                # fewest updates first (Markowitz), then constants (no division), then larger
+                key = ((rcount[i] - 1) * (ccount[j] - 1), not isinstance(v, float), -float(np.min(size)), i, j)
+                if best is None or key < best[0]:
+                    best = (key, i, j, v)
             if best is None:
                 break
             _, r, piv_c, p = best
             for i in [i for (i, j) in E if j == piv_c and i != r]:  # the sample values follow
                 for j in [j for (ii, j) in E if ii == r and j != piv_c]:
-                    S[i, j] = S.get((i, j), 0.0) - S[i, piv_c] / p * S[r, j]
+                    S[i, j] = S.get((i, j), np.zeros(len(S[r, j]))) - S[i, piv_c] / S[r, piv_c] * S[r, j]
             prow = {j: v for (i, j), v in E.items() if i == r and j != piv_c}
+            p = 1.0 / p if isinstance(p, float) else c.reciprocal(p)  # from here on, 1 / pivot
             for i in [i for (i, j) in E if j == piv_c and i != r]:
-                f = c.mul(E.pop((i, piv_c)), 1.0 / p)
+                f = c.mul(E.pop((i, piv_c)), p)
                 if not isinstance(f, float):  # the partial-pivoting condition, checked per state
                     af = c.absolute(f)
                     growth = af if growth is None else c.let(f"_max({growth}, {af})")
@@ -328,7 +333,7 @@ class StructuredSolver:
             acc = R[r]
             for j, a_rj in prow.items():
                 acc = c.sub(acc, c.mul(a_rj, X[j]))
-            X[piv_c] = c.mul(acc, 1.0 / p)
+            X[piv_c] = c.mul(acc, p)
         self.pivots, self.pivoted_block, self._growth = len(pivots), len(rl), growth
         return [X[j] for j in range(n)]
 
@@ -337,7 +342,7 @@ class StructuredSolver:
         """(x (n, N), condition estimate (N,), ok (N,)) for flat state arrays of length N.
 
         ``ok`` is False where the caller must solve by the dense path instead:
-        a non-finite result or estimate, or a constant pivot smaller than
+        a non-finite result or estimate, or a planned pivot smaller than
         another entry of its column at that state.
         """
         N = arrays[0].shape[0]
