@@ -210,9 +210,11 @@ class StructuredSolver:
         exprs: list = []
         index: dict = {}
 
-        def value(e):  # a float, or the lambdified output that holds e
+        def value(e):  # a float, or the lambdified output that holds e (or -e)
             if e.is_number:
                 return float(e)
+            if e.could_extract_minus_sign():  # a negation costs an operation; the code carries signs
+                return _neg(value(-e))
             if e not in index:
                 index[e] = f"e[{len(exprs)}]"
                 exprs.append(e)
@@ -227,7 +229,8 @@ class StructuredSolver:
         k = len(samples[0]) if samples else 1
         sampled = {name: np.broadcast_to(np.asarray(v, dtype=float), (k,)) for name, v in
                    zip((f"e[{i}]" for i in range(len(exprs))), e)}
-        self._samples = {ij: (np.full(k, v) if isinstance(v, float) else np.nan_to_num(sampled[v], nan=np.inf))
+        self._samples = {ij: (np.full(k, v) if isinstance(v, float) else
+                              np.nan_to_num(-sampled[v[1:]] if v.startswith("-") else sampled[v], nan=np.inf))
                          for ij, v in E0.items()}
         self._chunk = self._generate(E0, B0) if self.usable else None
 
