@@ -30,6 +30,7 @@ singular state is never returned as NaN.
 """
 from __future__ import annotations
 
+import math
 import re
 
 import numpy as np
@@ -39,6 +40,10 @@ __all__ = ["StructuredSolver", "CHUNK"]
 
 CHUNK = 4096
 """States per chunk: the live arrays of a chunk (32 kB each) stay in the cache."""
+
+
+class _NotFinite(Exception):
+    """A constant entry of A or b is not a finite real number."""
 
 
 def _fmt(v) -> str:
@@ -212,7 +217,10 @@ class StructuredSolver:
 
         def value(e):  # a float, or the lambdified output that holds e (or -e)
             if e.is_number:
-                return float(e)
+                v = complex(e)
+                if v.imag != 0 or not math.isfinite(v.real):
+                    raise _NotFinite
+                return v.real
             if e.could_extract_minus_sign():  # a negation costs an operation; the code carries signs
                 return _neg(value(-e))
             if e not in index:
@@ -220,8 +228,12 @@ class StructuredSolver:
                 exprs.append(e)
             return index[e]
 
-        E0 = {ij: value(A[ij]) for ij in np.ndindex(n, n) if A[ij] != 0}
-        B0 = [value(b[i]) for i in range(n)]
+        try:
+            E0 = {ij: value(A[ij]) for ij in np.ndindex(n, n) if A[ij] != 0}
+            B0 = [value(b[i]) for i in range(n)]
+        except _NotFinite:  # a constant entry is infinite or undefined: the dense path reports it
+            self.usable = False
+            return
         self.usable = {j for _, j in E0} == set(range(n)) and {i for i, _ in E0} == set(range(n))
         self._eval = sp.lambdify(tuple(args), exprs, modules="numpy", cse=True) if exprs else None
         with np.errstate(all="ignore"):
