@@ -382,17 +382,17 @@ class OneDofSystem:
         return g
 
     def _solve_fn(self) -> Callable:
-        """Vectorised unknowns by solving A x = b; singular states (cond > 1e12) give nan."""
+        """Vectorised unknowns by solving A x = b; singular states give nan (the solver's
+        one singularity decision: the condition estimate of ``solve_with_estimate``
+        above CONDITION_LIMIT; no SVD)."""
+        from .analyses.instant import CONDITION_LIMIT, solve_with_estimate
+
         Ab = self.linear_system_fn()
 
         def g(q, qd, t):
             A, b = Ab(q, qd, t)
-            with np.errstate(all="ignore"):
-                cond = np.linalg.cond(np.where(np.isfinite(A), A, 0.0))
-            bad = ~np.isfinite(cond) | (cond > 1e12) | ~np.all(np.isfinite(A), axis=(-2, -1))
-            eye = np.broadcast_to(np.eye(A.shape[-1]), A.shape)
-            A = np.where(bad[..., None, None], eye, A)
-            x = np.linalg.solve(A, np.where(bad[..., None], 0.0, b)[..., None])[..., 0]
+            x, cond = solve_with_estimate(A, b)
+            bad = ~(cond <= CONDITION_LIMIT)
             return np.where(bad[..., None], np.nan, x)
 
         return g

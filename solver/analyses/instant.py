@@ -26,11 +26,15 @@ from ..errors import InputError, SingularConfigurationError
 from ..units import Q_
 
 __all__ = ["CONDITION_LIMIT", "NumericModel", "InstantSolution", "State", "assemble", "solve_instant",
-           "condition_numbers"]
+           "condition_numbers", "solve_with_estimate"]
 
 CONDITION_LIMIT = 1e12
 """Above this condition number the answer is meaningless: SingularConfigurationError."""
 _NEWTON_STEPS = 60
+STRUCTURED_MIN_STATES = 4096
+"""Batches of at least this many states are solved by the structured solve
+(:mod:`solver.analyses.structured`); smaller ones, and single states, by the dense
+path, whose set-up is cheaper."""
 
 
 def _equilibrate(A: np.ndarray):
@@ -68,6 +72,43 @@ def condition_numbers(A: np.ndarray) -> np.ndarray:
     return np.where(np.isfinite(out), out, np.inf)
 
 
+def solve_with_estimate(A: np.ndarray, b: np.ndarray):
+    """x and a cheap estimate of the equilibrated 1-norm condition number, from one LU
+    (stacks of systems: A (..., n, n), b (..., n)); the one condition number of the
+    solver's singularity decision (> :data:`CONDITION_LIMIT`: singular).
+
+    The equilibrated system As (Dc^-1 x) = Dr b is solved together with two
+    fixed +/-1 right-hand sides z; ||As||_1 max ||As^-1 z||_1 / ||z||_1 is a
+    lower bound of cond_1(As) that is rarely off by more than a small factor
+    (Hager's first step), at the cost of two extra columns.
+    """
+    n = A.shape[-1]
+    As, row, col = _equilibrate(A)
+    finite = np.array(np.all(np.isfinite(As), axis=(-2, -1)) & np.all(np.isfinite(b), axis=-1), dtype=bool)
+    z = np.ones((n, 2))
+    z[1::2, 0] = -1.0
+    z[: n // 2, 1] = -1.0
+    rhs = np.concatenate([(b / row)[..., None], np.broadcast_to(z, As.shape[:-2] + (n, 2))], axis=-1)
+    As = np.where(finite[..., None, None], As, np.eye(n))
+    try:
+        with np.errstate(all="ignore"):
+            sol = np.linalg.solve(As, rhs)
+    except np.linalg.LinAlgError:  # an exactly singular member: find which, one by one
+        sol = np.full(rhs.shape, np.nan)
+        for idx in np.ndindex(*As.shape[:-2]):
+            try:
+                sol[idx] = np.linalg.solve(As[idx], rhs[idx])
+            except np.linalg.LinAlgError:
+                finite[idx] = False
+    with np.errstate(all="ignore"):
+        norm_A = np.max(np.sum(np.abs(As), axis=-2), axis=-1)
+        est = np.max(np.sum(np.abs(sol[..., 1:]), axis=-2), axis=-1) / n
+        cond = norm_A * est
+        x = sol[..., 0] / col
+    cond = np.where(finite & np.isfinite(cond) & np.all(np.isfinite(x), axis=-1), cond, np.inf)
+    return x, cond
+
+
 class NumericModel:
     """Numeric, numpy-vectorised form of a formulation.
 
@@ -100,6 +141,7 @@ class NumericModel:
         if stray:
             raise InputError(f"{self.label}: undefined name(s) {', '.join(sorted(map(str, stray)))} in the scene's expressions")
         self._f = sp.lambdify((*self.args, *params), entries, modules="numpy", cse=True)
+        self._structured = None
 
     def matrices(self, q, qd, t=0.0):
         """(A, b) at the states: q and qd are sequences (one array per free coordinate)."""
@@ -126,10 +168,17 @@ class NumericModel:
             When any state's system is singular or its condition number exceeds
             :data:`CONDITION_LIMIT`.
         """
+        if self.shape[0] != self.shape[1]:
+            raise InputError(f"{self.label}: the equations are not square ({self.shape[0]} equations, "
+                             f"{self.shape[1]} unknowns)")
+        arrays = np.broadcast_arrays(*[np.asarray(v, dtype=float) for v in (*q, *qd, t)])
+        shape = arrays[0].shape
+        if arrays[0].size >= STRUCTURED_MIN_STATES and self.structured().usable:
+            x, cond = self._solve_structured(arrays)
+            out = {name: x[i].reshape(shape) for i, name in enumerate(self.names)}
+            out["condition_number"] = cond.reshape(shape)
+            return out
         A, b = self.matrices(q, qd, t)
-        if A.shape[-1] != A.shape[-2]:
-            raise InputError(f"{self.label}: the equations are not square ({A.shape[-2]} equations, "
-                             f"{A.shape[-1]} unknowns)")
         x, cond = self._solve_with_estimate(A, b)
         if np.any(~(cond <= CONDITION_LIMIT)):
             self.singular(q, qd, t, A, cond)
@@ -137,39 +186,54 @@ class NumericModel:
         out["condition_number"] = cond
         return out
 
-    def _solve_with_estimate(self, A, b):
-        """x and a cheap estimate of the equilibrated 1-norm condition number, from one LU.
+    def structured(self):
+        """The :class:`~solver.analyses.structured.StructuredSolver` of this model (built once).
 
-        The equilibrated system As (Dc^-1 x) = Dr b is solved together with two
-        fixed +/-1 right-hand sides z; ||As||_1 max ||As^-1 z||_1 / ||z||_1 is a
-        lower bound of cond_1(As) that is rarely off by more than a small factor
-        (Hager's first step), at the cost of two extra columns.
-        """
-        n = A.shape[-1]
-        As, row, col = _equilibrate(A)
-        finite = np.array(np.all(np.isfinite(As), axis=(-2, -1)) & np.all(np.isfinite(b), axis=-1), dtype=bool)
-        z = np.ones((n, 2))
-        z[1::2, 0] = -1.0
-        z[: n // 2, 1] = -1.0
-        rhs = np.concatenate([(b / row)[..., None], np.broadcast_to(z, As.shape[:-2] + (n, 2))], axis=-1)
-        As = np.where(finite[..., None, None], As, np.eye(n))
-        try:
-            with np.errstate(all="ignore"):
-                sol = np.linalg.solve(As, rhs)
-        except np.linalg.LinAlgError:  # an exactly singular member: find which, one by one
-            sol = np.full(rhs.shape, np.nan)
-            for idx in np.ndindex(*As.shape[:-2]):
-                try:
-                    sol[idx] = np.linalg.solve(As[idx], rhs[idx])
-                except np.linalg.LinAlgError:
-                    finite[idx] = False
-        with np.errstate(all="ignore"):
-            norm_A = np.max(np.sum(np.abs(As), axis=-2), axis=-1)
-            est = np.max(np.sum(np.abs(sol[..., 1:]), axis=-2), axis=-1) / n
-            cond = norm_A * est
-            x = sol[..., 0] / col
-        cond = np.where(finite & np.isfinite(cond) & np.all(np.isfinite(x), axis=-1), cond, np.inf)
+        Its matrix is built from the equations directly, A_ij = d e_i / d x_j
+        (exact, the equations being affine in the unknowns), with the
+        parameters' values substituted, so that constant entries are known."""
+        if self._structured is None:
+            from .structured import StructuredSolver
+
+            f = self.formulation
+            values = {p: sp.Float(v) for p, v in self.system.si_values().items()}
+            zero = {u: sp.Integer(0) for u in f.unknowns}
+            exprs = [e.expr.xreplace(values) for e in f.equations]
+            A = sp.Matrix([[e.diff(u) for u in f.unknowns] for e in exprs])
+            b = sp.Matrix([-e.xreplace(zero) for e in exprs])
+            self._structured = StructuredSolver(A, b, self.args, self._sample_states())
+        return self._structured
+
+    def _sample_states(self, k: int = 64):
+        """``args`` at k states spread around the scene's: angles anywhere, lengths
+        within half their value (at least 0.1 m), rates up to 3 per second, t over 1 s."""
+        rng = np.random.default_rng(20261123)
+        sysm = self.system
+        q = [rng.uniform(-np.pi, np.pi, k) if c.kind == "angle"
+             else c.value + rng.uniform(-1, 1, k) * max(0.5 * abs(c.value), 0.1) for c in sysm.free]
+        qd = [rng.uniform(-3, 3, k) for _ in sysm.free]
+        return [*q, *qd, sysm.time + rng.uniform(0, 1, k)]
+
+    def _solve_structured(self, arrays):
+        """x (n, N) and the condition estimate (N,) of flat states by the structured
+        solve; the states it does not certify go through the dense path (and its
+        singularity decision)."""
+        flat = [a.ravel() for a in arrays]
+        x, cond, ok = self.structured().solve(flat)
+        ok &= cond <= CONDITION_LIMIT  # the decision that a state is singular is the dense path's
+        if not np.all(ok):
+            redo = np.flatnonzero(~ok)
+            k = len(self.system.q)
+            sub_q, sub_qd, sub_t = [a[redo] for a in flat[:k]], [a[redo] for a in flat[k:2 * k]], flat[-1][redo]
+            A, b = self.matrices(sub_q, sub_qd, sub_t)
+            xs, cs = self._solve_with_estimate(A, b)
+            if np.any(~(cs <= CONDITION_LIMIT)):
+                self.singular(sub_q, sub_qd, sub_t, A, cs)
+            x[:, redo], cond[redo] = xs.T, cs
         return x, cond
+
+    def _solve_with_estimate(self, A, b):
+        return solve_with_estimate(A, b)
 
     def singular(self, q, qd, t, A, cond):
         """Raise SingularConfigurationError for the worst state, naming what the null vector involves."""

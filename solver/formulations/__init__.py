@@ -95,9 +95,8 @@ class Formulation:
             zero = {u: sp.Integer(0) for u in self.unknowns}
             rows_A, rows_b = [], []
             for e in self.equations:
-                e0 = e.expr.xreplace(zero)
-                rows_b.append(-e0)
-                rows_A.append([e.expr.xreplace({**zero, u: sp.Integer(1)}) - e0 for u in self.unknowns])
+                rows_b.append(-e.expr.xreplace(zero))
+                rows_A.append(_coefficients(e.expr, self.unknowns, zero))
             self._system_matrices = (sp.Matrix(rows_A), sp.Matrix(rows_b))
         return self._system_matrices
 
@@ -111,6 +110,31 @@ class Formulation:
 
     def __repr__(self) -> str:
         return f"Formulation({self.system.name!r}, method={self.method!r}, points={self.points})"
+
+
+def _coefficients(expr, unknowns, zero) -> list:
+    """The coefficient of each unknown in ``expr``, which is affine in them.
+
+    Term by term: a term that is a product with the unknown as a plain factor
+    (and no other unknown) contributes the product of its other factors; any
+    other term t contributes t(u = 1, others = 0) - t(all = 0), exact for an
+    affine term and cheaper than substituting into the whole expression."""
+    coef: dict = {u: [] for u in unknowns}
+    for term in sp.Add.make_args(expr):
+        present = [u for u in unknowns if term.has(u)]
+        if not present:
+            continue
+        if len(present) == 1 and term.is_Mul and present[0] in term.args:
+            u = present[0]
+            factors = list(term.args)
+            factors.remove(u)
+            if not any(f.has(u) for f in factors):
+                coef[u].append(sp.Mul(*factors))
+                continue
+        t0 = term.xreplace(zero)
+        for u in present:
+            coef[u].append(term.xreplace({**zero, u: sp.Integer(1)}) - t0)
+    return [sp.Add(*coef[u]) for u in unknowns]
 
 
 def formulate(system, method: str = "generalized_euler", point: str | None = None) -> Formulation:

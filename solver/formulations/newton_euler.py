@@ -22,7 +22,6 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from ..model.joints import cross_k, k_cross
 
 __all__ = ["NamedEquation", "generalized_euler_equations", "mass_center_equations", "closure_equations"]
 
@@ -53,13 +52,15 @@ def _label(system, body: str, text: str) -> str:
 
 
 def _loads_on(system, body: str):
-    """(forces [(F, at)], couples [C]) on ``body``: applied loads and reactions (symbols)."""
+    """(forces [((Fx, Fy), (x, y))], couples [C]) on ``body``: applied loads and
+    reactions (symbols). Vectors as component pairs: 2-vector Matrix arithmetic
+    is slow in sympy."""
     forces, couples = [], []
     for a in system.applied_loads:
         if a.body != body:
             continue
         if a.force is not None:
-            forces.append((sp.Matrix(a.force), a.at))
+            forces.append(((a.force[0], a.force[1]), (a.at[0], a.at[1])))
         if a.couple != 0:
             couples.append(a.couple)
     for jl in system.joint_loads():
@@ -67,19 +68,19 @@ def _loads_on(system, body: str):
             continue
         sym = jl.reaction.symbol
         if jl.force is not None:
-            forces.append((sym * jl.force, jl.at))
+            forces.append(((sym * jl.force[0], sym * jl.force[1]), (jl.at[0], jl.at[1])))
         if jl.couple != 0:
             couples.append(sym * jl.couple)
     return forces, couples
 
 
-def _resultant(forces) -> sp.Matrix:
-    return sum((f for f, _ in forces), sp.zeros(2, 1))
+def _resultant(forces) -> tuple:
+    return sp.Add(*[f[0] for f, _ in forces]), sp.Add(*[f[1] for f, _ in forces])
 
 
 def _moment_about(forces, couples, r_P) -> sp.Expr:
     """M_P: k-component of sum (r_i - r_P) x F_i, plus the couples."""
-    return sp.Add(*[cross_k(at - r_P, f) for f, at in forces], *couples)
+    return sp.Add(*[(at[0] - r_P[0]) * f[1] - (at[1] - r_P[1]) * f[0] for f, at in forces], *couples)
 
 
 def generalized_euler_equations(system, points: dict[str, str]) -> list[NamedEquation]:
@@ -104,15 +105,19 @@ def generalized_euler_equations(system, points: dict[str, str]) -> list[NamedEqu
         a_P = system.point_acceleration(name, P)
         w, al = system.omega(name), system.alpha(name)
         centers = [system.body_point(name, e.mass_center) for e in body.elements]
-        S = sum((e.mass * (c - r_P) for e, c in zip(body.elements, centers)), sp.zeros(2, 1))
+        S = [sp.Add(*[e.mass * (c[k] - r_P[k]) for e, c in zip(body.elements, centers)]) for k in (0, 1)]
         if system.is_body_point(name, P):
             I_P = body.inertia_about(body.body_coords(P))
         else:  # an instant point: the distances from the elements change with the configuration
-            I_P = sp.Add(*[e.I_G + e.mass * ((c - r_P).T * (c - r_P))[0] for e, c in zip(body.elements, centers)])
+            I_P = sp.Add(*[e.I_G + e.mass * ((c[0] - r_P[0]) ** 2 + (c[1] - r_P[1]) ** 2)
+                           for e, c in zip(body.elements, centers)])
         forces, couples = _loads_on(system, name)
         m = body.total_mass
-        newton = _resultant(forces) - (m * a_P + k_cross(al, S) - w**2 * S)
-        euler = _moment_about(forces, couples, r_P) - cross_k(S, a_P) - I_P * al
+        F = _resultant(forces)
+        w2 = w**2
+        newton = (F[0] - (m * a_P[0] - al * S[1] - w2 * S[0]),   # alpha k x S = (-alpha S_y, alpha S_x)
+                  F[1] - (m * a_P[1] + al * S[0] - w2 * S[1]))
+        euler = _moment_about(forces, couples, r_P) - (S[0] * a_P[1] - S[1] * a_P[0]) - I_P * al
         nref = "Eq. (14)" if composite else "Eq. (1)"
         eref = "Eq. (11)" if composite else "Eq. (10)"
         out += [
@@ -139,7 +144,8 @@ def mass_center_equations(system) -> list[NamedEquation]:
         al = system.alpha(name)
         forces, couples = _loads_on(system, name)
         m = body.total_mass
-        newton = _resultant(forces) - m * a_G
+        F = _resultant(forces)
+        newton = (F[0] - m * a_G[0], F[1] - m * a_G[1])
         euler = _moment_about(forces, couples, r_G) - body.centroidal_inertia() * al
         out += [
             NamedEquation(_label(system, name, "Newton x"), newton[0], "Eq. (1)", name),

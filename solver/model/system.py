@@ -244,10 +244,17 @@ class System:
     # -- time derivative ---------------------------------------------------------------------
     def D(self, expr):
         """d/dt of an expression (or Matrix) in (q, q_dot, t) with prescribed motion substituted."""
-        out = sp.diff(expr, self.t)
-        for c in self.free:
-            out = out + sp.diff(expr, c.q) * c.qd + sp.diff(expr, c.qd) * c.qdd
-        return out
+        if isinstance(expr, sp.MatrixBase):
+            return expr.applyfunc(self.D)
+        expr = sp.sympify(expr)
+        present = expr.free_symbols
+        terms = [expr.diff(self.t)] if self.t in present else []
+        for c in self.free:  # only the symbols present: the rest differentiate to 0
+            if c.q in present:
+                terms.append(expr.diff(c.q) * c.qd)
+            if c.qd in present:
+                terms.append(expr.diff(c.qd) * c.qdd)
+        return sp.Add(*terms)
 
     # -- placement -----------------------------------------------------------------------------
     def _pose_fn(self, poses):
@@ -277,7 +284,8 @@ class System:
 
     def _num(self, expr, values) -> float:
         try:
-            return float(sp.sympify(expr).xreplace({k: sp.Float(v) for k, v in values.items()}).evalf())
+            expr = sp.sympify(expr)
+            return float(expr.xreplace({k: sp.Float(values[k]) for k in expr.free_symbols if k in values}).evalf())
         except (TypeError, ValueError):
             return float("nan")
 
@@ -482,7 +490,11 @@ class System:
         """Fixed-frame position of the body point with body-frame ``coords``."""
         if body == GROUND:
             return sp.Matrix(coords)
-        return self.origin(body) + rotation(self.angle(body)) * sp.Matrix(coords)
+        o, phi = self.origin(body), self.angle(body)
+        c, s = sp.cos(phi), sp.sin(phi)
+        x, y = coords[0], coords[1]
+        # o + R(phi) (x, y), by components (2-vector Matrix arithmetic is slow in sympy)
+        return sp.Matrix([o[0] + c * x - s * y, o[1] + s * x + c * y])
 
     def _origin_velocity(self, body):
         return self._memo(("v0", body), lambda: self.D(self.origin(body)))
@@ -520,8 +532,9 @@ class System:
         def build():
             if body == GROUND:
                 return sp.zeros(2, 1)
-            rel = self.point_position(body, point) - self.origin(body)
-            return self._origin_velocity(body) + k_cross(self.omega(body), rel)
+            r, o = self.point_position(body, point), self.origin(body)
+            v0, w = self._origin_velocity(body), self.omega(body)
+            return sp.Matrix([v0[0] - w * (r[1] - o[1]), v0[1] + w * (r[0] - o[0])])
         return self._memo(("vel", body, point), build)
 
     def point_acceleration(self, body: str, point: str) -> sp.Matrix:
@@ -531,16 +544,15 @@ class System:
         def build():
             if body == GROUND:
                 return sp.zeros(2, 1)
-            rel = self.point_position(body, point) - self.origin(body)
-            w = self.omega(body)
-            return self._origin_acceleration(body) + k_cross(self.alpha(body), rel) - w**2 * rel
+            return self.material_acceleration(body, self.point_position(body, point))
         return self._memo(("acc", body, point), build)
 
     def material_acceleration(self, body: str, r: sp.Matrix) -> sp.Matrix:
         """Acceleration of the body's material point at fixed-frame position r (Eq. 15)."""
-        rel = sp.Matrix(r) - self.origin(body)
-        w = self.omega(body)
-        return self._origin_acceleration(body) + k_cross(self.alpha(body), rel) - w**2 * rel
+        o = self.origin(body)
+        rx, ry = r[0] - o[0], r[1] - o[1]
+        a0, al, w2 = self._origin_acceleration(body), self.alpha(body), self.omega(body) ** 2
+        return sp.Matrix([a0[0] - al * ry - w2 * rx, a0[1] + al * rx - w2 * ry])
 
     def is_body_point(self, body: str, point: str) -> bool:
         return self._resolve(body, point)[0] == "body"
