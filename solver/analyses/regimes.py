@@ -415,7 +415,7 @@ def solve_in_regime(system, regimes, q, qd, t, point=None, method="generalized_e
         Its equations are singular because contacts hold redundantly (a stick
         at rest): see :func:`_redundant_stick`.
     """
-    from .instant import CONDITION_LIMIT, condition_numbers
+    from .instant import CONDITION_LIMIT, solve_with_estimate
 
     if method == "lagrange" or regime_system(system, regimes, q, qd, t) is system:
         # the scene as written (its own solve, unchanged), or Lagrange's equations, which are in
@@ -423,12 +423,12 @@ def solve_in_regime(system, regimes, q, qd, t, point=None, method="generalized_e
         return _solve_variant(system, regimes, q, qd, t, point, method, strict_direction)
     aug = _augmented(system, point, method)
     A, b, cols = aug.system_of(regimes, q, qd, t)
-    cond = float(condition_numbers(A))
+    x, cond = solve_with_estimate(A, b)  # the solver's one singularity decision
+    cond = float(cond)
     if not cond <= CONDITION_LIMIT:
         if all(r.keeps_tangential or r == SEPARATED or not r.friction_direction() for r in regimes.values()):
             raise RedundantConstraints(f"{system.label}: singular with every contact holding")
         return f"its equations are singular (condition number {cond:.3g})"
-    x = np.linalg.solve(A, b)
     values = dict(zip(cols, map(float, x)))
     values["condition_number"] = cond
     qdd = [values[c] for c in aug.qdd]

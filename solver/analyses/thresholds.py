@@ -22,7 +22,7 @@ import sympy as sp
 
 from ..errors import InputError, SceneError
 from ..model.contacts import SEPARATED, STICK, Slip
-from .instant import CONDITION_LIMIT
+from .instant import CONDITION_LIMIT, solve_with_estimate
 
 __all__ = ["Onset", "onsets", "MAX_SCAN"]
 
@@ -164,13 +164,8 @@ def _margin_function(system, regimes, name, q, t):
         vals = [np.broadcast_to(np.asarray(e, float), v.shape) for e in fAb(v)]
         Am = np.stack(vals[: m * m], axis=-1).reshape(v.shape + (m, m))
         bm = np.stack(vals[m * m:], axis=-1)
-        with np.errstate(all="ignore"):
-            try:
-                x = np.linalg.solve(Am, bm[..., None])[..., 0]
-            except np.linalg.LinAlgError:
-                return np.full(v.shape, np.nan)
-            # past the instantaneous solve's singularity limit the regime does not determine the motion
-            x[np.linalg.cond(Am, 1) > CONDITION_LIMIT] = np.nan
+        x, cond = solve_with_estimate(Am, bm)  # the solver's one singularity decision:
+        x[~(cond <= CONDITION_LIMIT)] = np.nan  # past it the regime does not determine the motion
         qdd = [x[..., names.index(str(s))] for s in qdd_syms]
         kin = [np.broadcast_to(np.asarray(e, float), v.shape) for e in fkin(v, *qdd)]
         nreact = len(names) - len(qdd_syms)
