@@ -359,9 +359,8 @@ class _Augmented:
         self.contacts = {j.name: j for j in variant.contacts}
 
     def select(self, regimes):
-        """(rows, columns, [(normal column, friction column, factor)]) of ``regimes``."""
+        """(rows, columns, [(normal column, friction column, factor expression)]) of ``regimes``."""
         cols, rows, mods = list(self.qdd), list(self.body_rows), []
-        pv = self.variant.si_values()
         for j in self.variant.joints:
             r = regimes.get(j.name) if j.name in self.contacts else None
             if r is None:
@@ -371,8 +370,8 @@ class _Augmented:
             elif r.keeps_normal:
                 kept = [j.pair[1]]
                 if r.friction_direction() and j.friction is not None:
-                    mu = float(sp.sympify(r.coefficient(j.friction)).xreplace(pv))
-                    mods.append((j.pair[1].name, j.pair[0].name, -r.friction_direction() * mu))
+                    mods.append((j.pair[1].name, j.pair[0].name,
+                                 -r.friction_direction() * sp.sympify(r.coefficient(j.friction))))
             else:
                 kept = []
             for reaction in kept:
@@ -388,11 +387,18 @@ class _Augmented:
             raise NotDescribable(f"{self.variant.label}: it leaves {len(rows)} equations for {len(cols)} unknowns: "
                                  "the scene's coordinates do not describe its motion")
         A, b = self.model.matrices(q, qd, t)
-        A, b = np.array(A, float), np.array(b, float)
+        pv = self.variant.si_values()
+        return (*self.pick(np.array(A, float), np.array(b, float), rows, cols,
+                           [(n, f, float(e.xreplace(pv))) for n, f, e in mods]), cols)
+
+    def pick(self, A, b, rows, cols, mods):
+        """The regime's square system from the full one (stacks allowed): a slide's
+        friction column folded into its normal column, then its rows and columns."""
         index = {n: i for i, n in enumerate(self.names)}
         for n, f, factor in mods:
-            A[:, index[n]] += factor * A[:, index[f]]
-        return A[np.ix_(rows, [index[c] for c in cols])], b[rows], cols
+            A[..., :, index[n]] += factor * A[..., :, index[f]]
+        c = [index[name] for name in cols]
+        return A[..., rows, :][..., :, c], b[..., rows]
 
 
 def _augmented(system, point, method):

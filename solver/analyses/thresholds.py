@@ -115,25 +115,27 @@ def _motion_regimes(system):
 
 
 def _margin_function(system, regimes, name, q, t):
-    """The smallest (scaled) consistency condition of ``regimes`` at rest, as a vectorised function of ``name``."""
-    from ..formulations import Formulation, resolve_points
+    """The smallest (scaled) consistency condition of ``regimes`` at rest, as a vectorised function of
+    ``name``, from the system with every contact formulated once (:class:`solver.analyses.regimes._Augmented`)."""
+    from .regimes import NotDescribable, _augmented
 
-    variant = system.with_regimes(regimes, q, [0.0] * len(q), t)
-    variant.validate()
-    if not variant.independent:
-        raise SceneError(f"{variant.label}: no freedom is left: not a motion")
-    f = Formulation(variant, "generalized_euler", resolve_points(variant, None))
-    A, b = f.linear_system()
+    aug = _augmented(system, None, "generalized_euler")
+    rows, names, mods = aug.select(regimes)
+    if len(rows) != len(names):
+        raise NotDescribable(f"{system.label}: the scene's coordinates do not describe this motion")
+    if len(aug.qdd) <= len(rows) - len(aug.body_rows):
+        raise SceneError(f"{system.label}: no freedom is left: not a motion")
+    variant = aug.variant
+    A, b = aug.model.formulation.linear_system()
     values = variant.si_values()
-    params = sorted(values, key=str)
-    zero = {s: 0 for s in variant.qd}
-    state = {c.q: v for c, v in zip(variant.free, q)}
     x_sym = sp.Symbol(name, real=True)
-    subs = {**{p: values[p] for p in params if str(p) != name}, **{k: v for k, v in state.items() if str(k) != name},
-            **zero, variant.t: t}
+    state = {c.q: v for c, v in zip(variant.free, q)}
+    subs = {**{p: v for p, v in values.items() if str(p) != name}, **{k: v for k, v in state.items() if str(k) != name},
+            **{s: 0 for s in variant.qd}, variant.t: t}
+    m, k_all = A.shape
     fAb = sp.lambdify(x_sym, [sp.sympify(e).xreplace(subs) for e in list(A) + list(b)], "numpy")
+    fmods = sp.lambdify(x_sym, [e.xreplace(subs) for _, _, e in mods] or [0], "numpy")
     pose = variant._pose_fn(variant.poses)
-    names = [str(u) for u in f.unknowns]
     qdd_syms = list(variant.qdd)
     conds = []  # (kind, index or expression)
     for j in variant.contacts:
@@ -148,7 +150,6 @@ def _margin_function(system, regimes, name, q, t):
             conds.append(("cone", (names.index(F.name), names.index(N.name), sp.sympify(j.friction.static).xreplace(subs))))
         elif r.friction_direction():
             conds.append(("slide", (r.friction_direction(), variant.D(variant.D(Pt)).xreplace(subs))))
-    m = A.shape[0]
     kin_exprs = []
     for kind, data in conds:
         if kind == "gap":
@@ -159,11 +160,19 @@ def _margin_function(system, regimes, name, q, t):
             kin_exprs.append(data[2])
     fkin = sp.lambdify((x_sym, *qdd_syms), kin_exprs, "numpy")
 
+    def square(v):
+        vals = [np.broadcast_to(np.asarray(e, float), v.shape) for e in fAb(v)]
+        Af = np.stack(vals[: m * k_all], axis=-1).reshape(v.shape + (m, k_all))
+        bf = np.stack(vals[m * k_all:], axis=-1)
+        factors = [np.broadcast_to(np.asarray(e, float), v.shape) for e in fmods(v)]
+        for (n, f, _), factor in zip(mods, factors):  # a slide's friction column folded in, per value
+            i, jf = aug.names.index(n), aug.names.index(f)
+            Af[..., :, i] += factor[..., None] * Af[..., :, jf]
+        return aug.pick(Af, bf, rows, names, [])
+
     def margin(v):
         v = np.asarray(v, float)
-        vals = [np.broadcast_to(np.asarray(e, float), v.shape) for e in fAb(v)]
-        Am = np.stack(vals[: m * m], axis=-1).reshape(v.shape + (m, m))
-        bm = np.stack(vals[m * m:], axis=-1)
+        Am, bm = square(v)
         x, cond = solve_with_estimate(Am, bm)  # the solver's one singularity decision:
         x[~(cond <= CONDITION_LIMIT)] = np.nan  # past it the regime does not determine the motion
         qdd = [x[..., names.index(str(s))] for s in qdd_syms]
