@@ -112,6 +112,12 @@ def test_least_mu_on_an_incline(solver_cli, beta):
     for body, expected in (("disk", t / 3), ("ring", t / 2)):
         out = _json(solver_cli, "friction", f"data/scenes/incline_{body}.toml", "--set", f"beta={beta} deg", "--json")
         assert out["at_state"]["least_mu"]["incline"]["value"] == pytest.approx(expected, rel=REL)
+    # the same from the other side: sweeping mu itself, slipping from rest is possible below tan(beta)/3
+    out = _json(solver_cli, "friction", "data/scenes/incline_disk.toml", "--set", f"beta={beta} deg",
+                "--critical", "mu", "--between", "0.001", "2", "--json")
+    (onset,) = out["critical"]["onsets"]
+    assert onset["regimes"] == {"incline": "slip + (impending)"} and not onset["starts"]
+    assert onset["value"] == pytest.approx(t / 3, rel=REL)
     # over a motion the ratio is constant
     out = _json(solver_cli, "friction", "data/scenes/incline_disk.toml", "--set", f"beta={beta} deg",
                 "--set", "mu=10", "--over", "0.5", "--json")
