@@ -45,6 +45,11 @@ TOL = 1e-9
 accelerations against the largest of the state's): round-off of the solve is ~1e-13,
 so 1e-9 separates a zero from a sign without accepting real violations."""
 
+GAP_TOL = 1e-6
+"""A gap (or a closing speed) below this, relative to the largest coordinate (rate), counts
+as closed: an assembled state satisfies its closure to ~1e-13 and an event root lands
+within ~1e-12 of its switch, while a gap that has really opened is far larger."""
+
 
 class NoConsistentRegime(SceneError):
     """No combination of contact regimes satisfies Coulomb's and Signorini's conditions."""
@@ -163,10 +168,10 @@ def _candidates(system, q, qd, t) -> dict[str, list[Regime]]:
     for j in system.contacts:
         gap, vgap, _, vt, _ = _kin(system, j.name, q, qd, zero_acc, t)
         one_sided = j.normal_reaction.one_sided
-        if one_sided and (gap > TOL * 1e3 * scale_q or vgap > TOL * scale_v):
+        if one_sided and (gap > GAP_TOL * scale_q or vgap > TOL * scale_v):
             out[j.name] = [SEPARATED]
             continue
-        if one_sided and vgap < -TOL * scale_v * 1e3 and abs(gap) <= TOL * 1e3 * scale_q:
+        if one_sided and vgap < -GAP_TOL * scale_v and abs(gap) <= GAP_TOL * scale_q:
             raise InputError(f"{system.label}: contact {j.name!r} is closing at {vgap:.6g} (an impact): "
                              "impacts are not modelled")
         if j.friction is None:
@@ -474,7 +479,7 @@ def _check(variant, regimes, q, qd, qdd, t, values, strict_direction=True):
         gap, vgap, an, vt, at = _kin(variant, j.name, q, qd, qdd, t)
         F, N = j.pair
         if r is SEPARATED:
-            closed = gap <= TOL * 1e3 * qscale and vgap <= TOL * vscale
+            closed = gap <= GAP_TOL * qscale and vgap <= TOL * vscale
             if closed and an < -TOL * ascale:
                 return [], f"{j.name} separated would penetrate (gap acceleration {an:.6g})"
             checks.append(ContactCheck(j.name, r, f"the gap opens (gap acceleration {an:.6g} >= 0)" if closed
@@ -567,7 +572,7 @@ def least_friction(system, state) -> dict:
         if j.friction is None:
             continue
         gap, vgap, _, vt, _ = _kin(system, j.name, q, qd, [0.0] * len(q), t)
-        if j.normal_reaction.one_sided and gap > TOL * 1e3 * (1.0 + max(map(abs, q), default=0.0)):
+        if j.normal_reaction.one_sided and gap > GAP_TOL * (1.0 + max(map(abs, q), default=0.0)):
             out[j.name] = {"value": None, "note": "apart at the state"}
         elif abs(vt) > TOL * scale_v:
             out[j.name] = {"value": None, "note": f"sliding at the state (at {vt:.6g})"}

@@ -117,7 +117,7 @@ def _motion_regimes(system):
 def _margin_function(system, regimes, name, q, t):
     """The smallest (scaled) consistency condition of ``regimes`` at rest, as a vectorised function of
     ``name``, from the system with every contact formulated once (:class:`solver.analyses.regimes._Augmented`)."""
-    from .regimes import NotDescribable, _augmented
+    from .regimes import GAP_TOL, NotDescribable, _augmented
 
     aug = _augmented(system, None, "generalized_euler")
     rows, names, mods = aug.select(regimes)
@@ -186,7 +186,7 @@ def _margin_function(system, regimes, name, q, t):
             if kind == "gap":
                 gap, acc = kin[k], kin[k + 1]
                 k += 2
-                value = np.where(gap > 1e-9, np.inf, acc / ascale)
+                value = np.where(gap > GAP_TOL, np.inf, acc / ascale)  # an open gap sets no condition
             elif kind == "normal":
                 value = x[..., data] / fscale
             elif kind == "cone":
