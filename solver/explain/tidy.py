@@ -1,0 +1,120 @@
+"""Display forms built from structure: trigonometric tidying without ``simplify``.
+
+A displayed coefficient is a rational function of the parameters and of
+sin/cos of the angles. :func:`reduce_trig` writes its numerator and its
+denominator as polynomials in S = sin(a), C = cos(a) for every angle a and
+reduces each modulo S**2 + C**2 - 1 (so ``2*sin**4 + 4*sin**2*cos**2 + sin**2 +
+2*cos**4 + cos**2`` becomes 3); :func:`tidy` keeps, per part, whichever of the
+reduced and the original form is shorter. Both are polynomial arithmetic:
+their cost grows with the size of the expression, not unpredictably as
+``simplify``'s does.
+"""
+from __future__ import annotations
+
+import sympy as sp
+
+__all__ = ["reduce_trig", "tidy", "tidy_linear", "is_identically_zero", "MAX_TIDY_OPS"]
+
+MAX_TIDY_OPS = 400
+"""Expressions with more operations than this are shown as built (tidying would cost more than it saves)."""
+
+
+def _angles_ok(expr: sp.Expr) -> bool:
+    return all(f.args[0].is_Symbol for f in expr.atoms(sp.sin, sp.cos))
+
+
+def _reduce_poly(poly: sp.Expr) -> sp.Expr:
+    """A polynomial in sin/cos of plain symbols, reduced modulo sin**2 + cos**2 - 1 per angle."""
+    functions = poly.atoms(sp.sin, sp.cos)
+    if not functions:
+        return poly
+    angles = sorted({f.args[0] for f in functions}, key=lambda a: a.name)
+    sines = {a: sp.Dummy(f"S_{a.name}") for a in angles}
+    cosines = {a: sp.Dummy(f"C_{a.name}") for a in angles}
+    to_poly = {}
+    for a in angles:
+        to_poly[sp.sin(a)] = sines[a]
+        to_poly[sp.cos(a)] = cosines[a]
+    p = sp.expand(poly.xreplace(to_poly))
+    for a in angles:
+        p = sp.expand(sp.rem(p, sines[a] ** 2 + cosines[a] ** 2 - 1, sines[a]))
+    back = {sines[a]: sp.sin(a) for a in angles} | {cosines[a]: sp.cos(a) for a in angles}
+    return p.xreplace(back)
+
+
+def reduce_trig(expr: sp.Expr) -> sp.Expr | None:
+    """Normal form of a rational expression in sin/cos of plain symbols, or None.
+
+    tan and cot become sin/cos, sums of angles are expanded, numerator and
+    denominator are reduced modulo sin**2 + cos**2 - 1 (sin**2 replaced by
+    1 - cos**2: the remainder by a Groebner basis, so an expression that is
+    identically zero reduces to 0). None when a trigonometric argument is not a
+    plain symbol after expansion (e.g. ``sin(t**2)``).
+    """
+    e = sp.sympify(expr)
+    e = e.replace(sp.tan, lambda a: sp.sin(a) / sp.cos(a)).replace(sp.cot, lambda a: sp.cos(a) / sp.sin(a))
+    e = sp.expand_trig(e)
+    if not _angles_ok(e):
+        return None
+    num, den = sp.fraction(sp.cancel(sp.together(e)))
+    return sp.cancel(_reduce_poly(num) / _reduce_poly(den))
+
+
+def is_identically_zero(expr: sp.Expr) -> bool | None:
+    """True/False when :func:`reduce_trig` decides it, None when it cannot."""
+    reduced = reduce_trig(expr)
+    if reduced is None:
+        return None
+    return reduced == 0
+
+
+def _shorter(*candidates: sp.Expr) -> sp.Expr:
+    return min(candidates, key=sp.count_ops)
+
+
+def _tidy_polynomial(p: sp.Expr) -> sp.Expr:
+    reduced = _reduce_poly(sp.expand(p))
+    return _shorter(sp.factor_terms(reduced), sp.factor_terms(p))
+
+
+def tidy(expr: sp.Expr) -> sp.Expr:
+    """A short display form: numerator and denominator reduced modulo sin**2 + cos**2 = 1
+    each, common factors cancelled, and the shorter of that and the input kept.
+
+    Expressions larger than :data:`MAX_TIDY_OPS` or with trigonometric arguments
+    other than plain symbols are returned with only common factors pulled out.
+    """
+    e = sp.sympify(expr)
+    if e.is_number or sp.count_ops(e) > MAX_TIDY_OPS:
+        return e
+    e = e.replace(sp.tan, lambda a: sp.sin(a) / sp.cos(a)).replace(sp.cot, lambda a: sp.cos(a) / sp.sin(a))
+    if not _angles_ok(e):
+        return sp.factor_terms(expr)
+    num, den = sp.fraction(sp.cancel(sp.together(e)))
+    num, den = _tidy_polynomial(num), _tidy_polynomial(den)
+    if den.is_number and den != 0:
+        out = sp.factor_terms(sp.expand(num / den)) if num.is_Add else num / den
+    else:
+        out = num / den
+    return _shorter(out, sp.factor_terms(sp.sympify(expr)))
+
+
+def tidy_linear(expr: sp.Expr, variables) -> sp.Expr:
+    """Display form of an expression affine in ``variables`` (accelerations,
+    reactions, squared rates): each coefficient tidied on its own, the rest last.
+
+    Parameters
+    ----------
+    expr : sympy.Expr
+    variables : sequence of sympy.Expr
+        Symbols or monomials (``theta_dot**2``) in display order.
+    """
+    e = sp.expand(sp.sympify(expr))
+    parts = []
+    rest = e
+    for v in variables:
+        coef = rest.coeff(v) if v.is_Symbol or v.is_Pow else sp.Integer(0)
+        if coef != 0 and not coef.has(*[u for u in variables if u.is_Symbol]):
+            parts.append(tidy(coef) * v)
+            rest = sp.expand(rest - coef * v)
+    return sp.Add(*parts, tidy(rest))
