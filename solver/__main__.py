@@ -17,7 +17,7 @@ from solver.cli_common import MAX_CPU_SECONDS, OneLineArgumentParser, run_handle
 from solver.files import MAX_INPUT_BYTES
 from solver.units import MAX_UNIT_EXPONENT
 
-COMMAND_MODULES = ["solver.cli_instant", "solver.cli_dynamics"]
+COMMAND_MODULES = ["solver.cli_instant", "solver.cli_dynamics", "solver.cli_explain"]
 
 DESCRIPTION = (
     "Planar rigid-body solver built on the generalized Euler equation (moments about any "

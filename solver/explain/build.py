@@ -377,7 +377,7 @@ def _body_section(system, body: str, P: str) -> Section:
 
 
 def _system_data_section(system, state) -> Section:
-    rows = tuple((name, f"{q:~P}" if hasattr(q, "units") else str(q)) for name, q in system.parameters.items())
+    rows = tuple((name, f"{q:~}" if hasattr(q, "units") else str(q)) for name, q in system.parameters.items())
     coords = []
     for c, v, r in zip(system.free, state.q, state.qd):
         if c.kind == "angle":
@@ -406,7 +406,7 @@ def _single_reaction_substitution(system, f, body: str):
             e = sp.expand(eqs[axis])
             others = [x for x in reactions if x != r and not _zero(e.coeff(x))]
             if not others and not _zero(e.coeff(r)) and axis not in used:
-                subs[r] = sp.solve(e, r)[0]
+                subs[r] = -e.xreplace({r: 0}) / e.coeff(r)  # linear in r
                 used.append(axis)
                 break
         else:
