@@ -355,22 +355,19 @@ def solve_instant(scene, point: str | None = None, method: str = "generalized_eu
 
 
 def _tidy(expr: sp.Expr) -> sp.Expr:
-    """Display clean-up of a derived expression: ``simplify`` when the
-    expression is small, else a bounded ``cancel`` (never in solve paths)."""
-    try:
-        if sp.count_ops(expr) <= 600:
-            return sp.simplify(expr)
-        return sp.cancel(sp.together(expr))
-    except (sp.PolynomialError, ValueError):  # pragma: no cover - defensive
-        return expr
+    """Display form of a derived coefficient, from its structure (never in solve paths):
+    numerator and denominator reduced modulo sin**2 + cos**2 = 1 (:func:`solver.display.tidy`),
+    not a generic ``simplify``."""
+    from .display import tidy
+
+    return tidy(expr)
 
 
 def _tidy_by_rate(expr: sp.Expr, qd: sp.Symbol) -> sp.Expr:
-    """Display clean-up term by term in powers of theta_dot (trigsimp each
-    coefficient; cheaper and more readable than simplifying the whole)."""
+    """Display form term by term in powers of theta_dot, each coefficient tidied on its own."""
     try:
         parts = sp.collect(sp.expand(expr), qd, evaluate=False)
-        return sp.Add(*[sp.factor_terms(sp.trigsimp(v)) * k for k, v in parts.items()])
+        return sp.Add(*[_tidy(v) * k for k, v in parts.items()])
     except (sp.PolynomialError, ValueError):  # pragma: no cover - defensive
         return _tidy(expr)
 

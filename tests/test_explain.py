@@ -21,7 +21,7 @@ import sympy as sp
 
 from reports.published import load_equations
 from solver.explain import explain, render
-from solver.explain.tidy import reduce_trig
+from solver.display import reduce_trig
 from solver.expressions import parse_expression
 from solver.io.scenes import load_system
 

@@ -4,7 +4,7 @@
   system at its state (:mod:`.build`);
 * :func:`render` writes it as text, Markdown, HTML or LaTeX (:mod:`.render`);
 * :func:`rank_points` is the point advisor (:mod:`.advisor`);
-* :mod:`.tidy` holds the display forms built from structure.
+* :mod:`solver.display` holds the display forms built from structure.
 """
 from .advisor import Candidate, rank_points
 from .build import explain

@@ -25,7 +25,7 @@ import sympy as sp
 
 from ..model.joints import cross_k, k_cross
 from .content import Equation, Explanation, Section, Step, Table, Term
-from .tidy import is_identically_zero, tidy, tidy_linear
+from ..display import is_identically_zero, tidy, tidy_linear
 
 __all__ = ["explain", "latex_names"]
 

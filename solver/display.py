@@ -11,6 +11,8 @@ their cost grows with the size of the expression, not unpredictably as
 """
 from __future__ import annotations
 
+from functools import lru_cache
+
 import sympy as sp
 
 __all__ = ["reduce_trig", "tidy", "tidy_linear", "is_identically_zero", "MAX_TIDY_OPS"]
@@ -20,7 +22,9 @@ MAX_TIDY_OPS = 400
 
 
 def _angles_ok(expr: sp.Expr) -> bool:
-    return all(f.args[0].is_Symbol for f in expr.atoms(sp.sin, sp.cos))
+    """Whether every sin/cos argument is free of sin/cos itself (then the arguments are
+    independent generators: sin(a)**2 + cos(a)**2 = 1 per argument a, after expand_trig)."""
+    return all(not f.args[0].has(sp.sin, sp.cos, sp.tan) for f in expr.atoms(sp.sin, sp.cos))
 
 
 def _reduce_poly(poly: sp.Expr) -> sp.Expr:
@@ -28,9 +32,9 @@ def _reduce_poly(poly: sp.Expr) -> sp.Expr:
     functions = poly.atoms(sp.sin, sp.cos)
     if not functions:
         return poly
-    angles = sorted({f.args[0] for f in functions}, key=lambda a: a.name)
-    sines = {a: sp.Dummy(f"S_{a.name}") for a in angles}
-    cosines = {a: sp.Dummy(f"C_{a.name}") for a in angles}
+    angles = sorted({f.args[0] for f in functions}, key=sp.default_sort_key)
+    sines = {a: sp.Dummy("S") for a in angles}
+    cosines = {a: sp.Dummy("C") for a in angles}
     to_poly = {}
     for a in angles:
         to_poly[sp.sin(a)] = sines[a]
@@ -60,8 +64,33 @@ def reduce_trig(expr: sp.Expr) -> sp.Expr | None:
     return sp.cancel(_reduce_poly(num) / _reduce_poly(den))
 
 
+_PROBES = 2
+"""Random points at which an expression is evaluated before the exact test."""
+
+
+def _numerically_nonzero(expr: sp.Expr) -> bool:
+    """True when ``expr`` is clearly nonzero at a random point (a cheap first test:
+    a nonzero value far above round-off proves it nonzero; zero is then decided exactly)."""
+    symbols = sorted(expr.free_symbols, key=lambda s: s.name)
+    for k in range(_PROBES):
+        point = {s: sp.Float(0.3 + 0.137 * ((i + 3 * k) % 7) + 0.01 * i) for i, s in enumerate(symbols)}
+        try:
+            value = complex(expr.xreplace(point).evalf(20))
+        except (TypeError, ValueError, ZeroDivisionError):
+            continue
+        scale = max(1.0, *(abs(complex(t.xreplace(point).evalf(20))) for t in sp.Add.make_args(expr)))
+        if abs(value) > 1e-12 * scale:  # 20-digit evaluation: round-off is ~1e-18 of the scale
+            return True
+    return False
+
+
+@lru_cache(maxsize=4096)
 def is_identically_zero(expr: sp.Expr) -> bool | None:
     """True/False when :func:`reduce_trig` decides it, None when it cannot."""
+    if expr == 0:
+        return True
+    if _numerically_nonzero(expr):
+        return False
     reduced = reduce_trig(expr)
     if reduced is None:
         return None
@@ -72,11 +101,20 @@ def _shorter(*candidates: sp.Expr) -> sp.Expr:
     return min(candidates, key=sp.count_ops)
 
 
+def _has_square(p: sp.Expr) -> bool:
+    """Whether some sin(a)**n with n >= 2 appears (only then can the reduction change anything)."""
+    return any(isinstance(x.base, sp.sin) and x.exp.is_Integer and x.exp >= 2 for x in p.atoms(sp.Pow))
+
+
 def _tidy_polynomial(p: sp.Expr) -> sp.Expr:
-    reduced = _reduce_poly(sp.expand(p))
+    p = sp.expand(p)
+    if not _has_square(p):
+        return sp.factor_terms(p)
+    reduced = _reduce_poly(p)
     return _shorter(sp.factor_terms(reduced), sp.factor_terms(p))
 
 
+@lru_cache(maxsize=4096)
 def tidy(expr: sp.Expr) -> sp.Expr:
     """A short display form: numerator and denominator reduced modulo sin**2 + cos**2 = 1
     each, common factors cancelled, and the shorter of that and the input kept.
