@@ -27,23 +27,24 @@ def _angles_ok(expr: sp.Expr) -> bool:
     return all(not f.args[0].has(sp.sin, sp.cos, sp.tan) for f in expr.atoms(sp.sin, sp.cos))
 
 
+def _is_sine_square(x) -> bool:
+    return x.is_Pow and isinstance(x.base, sp.sin) and x.exp.is_Integer and x.exp >= 2
+
+
+def _lower_sine(x):
+    a = x.base.args[0]
+    return sp.sin(a) ** (int(x.exp) % 2) * (1 - sp.cos(a) ** 2) ** (int(x.exp) // 2)
+
+
 def _reduce_poly(poly: sp.Expr) -> sp.Expr:
-    """A polynomial in sin/cos of plain symbols, reduced modulo sin**2 + cos**2 - 1 per angle."""
-    functions = poly.atoms(sp.sin, sp.cos)
-    if not functions:
-        return poly
-    angles = sorted({f.args[0] for f in functions}, key=sp.default_sort_key)
-    sines = {a: sp.Dummy("S") for a in angles}
-    cosines = {a: sp.Dummy("C") for a in angles}
-    to_poly = {}
-    for a in angles:
-        to_poly[sp.sin(a)] = sines[a]
-        to_poly[sp.cos(a)] = cosines[a]
-    p = sp.expand(poly.xreplace(to_poly))
-    for a in angles:
-        p = sp.expand(sp.rem(p, sines[a] ** 2 + cosines[a] ** 2 - 1, sines[a]))
-    back = {sines[a]: sp.sin(a) for a in angles} | {cosines[a]: sp.cos(a) for a in angles}
-    return p.xreplace(back)
+    """A polynomial in sin/cos, reduced modulo sin(a)**2 + cos(a)**2 - 1 for every argument a:
+    each sin(a)**n, n >= 2, becomes sin(a)**(n mod 2) (1 - cos(a)**2)**(n // 2), then expanded.
+    This is the remainder of the division by the Groebner basis {sin**2 + cos**2 - 1} with
+    sin ahead of cos, a canonical form: an identically zero polynomial reduces to 0."""
+    p = sp.expand(poly)
+    if not any(_is_sine_square(x) for x in p.atoms(sp.Pow)):
+        return p
+    return sp.expand(p.replace(_is_sine_square, _lower_sine))
 
 
 def reduce_trig(expr: sp.Expr) -> sp.Expr | None:
