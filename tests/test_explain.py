@@ -190,3 +190,52 @@ def test_cli_formats_and_bad_input(tmp_path):
     r = run("data/scenes/disk_bar.toml", "-o", str(tmp_path / "missing" / "x.txt"))
     assert r.returncode == 2 and "-o" in r.stderr
     assert not (tmp_path / "missing").exists()
+
+
+# The point advisor: the expected choice per body, and the textbook reason it holds.
+ADVISOR = {
+    # Example 1: A's acceleration is along its rail (known from the joint), R_A passes through A, and
+    # with Newton x (which has no R_A) it gives alpha and R_B: the paper's choice. B also removes one
+    # reaction but needs all three equations; the intersection of the reactions' lines leaves only
+    # theta_ddot but its acceleration must be derived first.
+    "sliding_bar": {"body": {"A"}},
+    # Example 2: the paper takes P (a_P = r_d theta_ddot from rolling, F_n through P); the contact point C
+    # removes both floor reactions and gives theta_ddot in one step. Either is the textbook answer.
+    "disk_bar": {"body": {"C", "P"}},
+    # fixed pivots remove their pin reactions and have no inertial term; the rod and the piston are taken
+    # about the pin that joins them to the previous body.
+    "slider_crank": {"crank": {"O"}, "rod": {"A"}, "piston": {"B"}},
+    "four_bar": {"crank": {"O2"}, "coupler": {"A", "B"}, "rocker": {"O4"}},
+    # the upper link is massless with its bob at A: about A only the pivot force's moment remains (a
+    # two-force member); the lower link about the pin A removes the pin forces.
+    "double_pendulum": {"upper": {"A"}, "lower": {"A"}},
+    "cart_pendulum": {"cart": {"C"}, "pendulum": {"C"}},
+    "drum_and_block": {"drum": {"O"}, "block": {"P"}},
+    "parallel_link_plate": {"link1": {"O"}, "link2": {"O"}, "plate": {"A", "B"}},
+}
+
+
+@pytest.mark.parametrize("scene", sorted(ADVISOR))
+def test_advisor_picks_the_textbook_point(scene):
+    from solver.analyses.instant import assemble
+    from solver.explain import rank_points
+
+    system = load_system(ROOT / "data" / "scenes" / f"{scene}.toml")
+    state = assemble(system)
+    for body, expected in ADVISOR[scene].items():
+        ranked = rank_points(system, body, state)
+        assert ranked[0].name in expected, (body, [(c.name, c.unknowns) for c in ranked])
+        assert ranked[0].known  # never a point whose acceleration must be derived first
+
+
+def test_advisor_reasons_for_example_1():
+    from solver.analyses.instant import assemble
+    from solver.explain import rank_points
+
+    system = load_system(ROOT / "data" / "scenes" / "sliding_bar.toml")
+    ranked = {c.name: c for c in rank_points(system, "body", assemble(system))}
+    assert ranked["A"].unknowns == ["theta_ddot", "R_B"] and ranked["A"].group == 2
+    assert ranked["B"].unknowns == ["theta_ddot", "R_A"] and ranked["B"].group == 3
+    assert len(ranked["G"].unknowns) == 3
+    instant = [c for c in ranked.values() if c.name.startswith("I(")]
+    assert len(instant) == 1 and instant[0].unknowns == ["theta_ddot"] and not instant[0].known

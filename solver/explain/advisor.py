@@ -68,11 +68,12 @@ class Candidate:
     unknowns: list = field(default_factory=list)
     group: int | None = None
     known: bool = False
+    fixed: bool = False
     cost: str = ""
 
     @property
     def key(self):
-        return (0 if self.known else 1, len(self.unknowns), self.group or 99)
+        return (0 if self.known else 1, len(self.unknowns), self.group or 99, 0 if self.fixed else 1)
 
     def reason(self) -> str:
         n = len(self.unknowns)
@@ -175,10 +176,22 @@ def rank_points(system, body: str, state, f=None) -> list[Candidate]:
         c.unknowns = [n for n, p in zip(names, present) if p]
         c.group = _group(row, rows, scale)
         c.known = c.name in known_names
-        c.cost = ("a_{0} is known from the joints (no extra kinematics)".format(c.name) if c.known else
-                  f"a_{c.name} must be derived first (Eq. 15 from a point whose acceleration is known)")
+        c.fixed = c.name in points.named and c.name in b.point_names() and _fixed(system, body, c.name)
+        if c.fixed:
+            c.cost = f"a_{c.name} = 0 (a fixed point): no inertial term, no extra kinematics"
+        elif c.known:
+            c.cost = f"a_{c.name} is known from the joints (no extra kinematics)"
+        else:
+            c.cost = f"a_{c.name} must be derived first (Eq. 15 from a point whose acceleration is known)"
     order = {c.name: i for i, c in enumerate(cands)}
     return sorted(cands, key=lambda c: (*c.key, order[c.name]))
+
+
+def _fixed(system, body, name) -> bool:
+    from .build import _zero
+
+    a = system.point_acceleration(body, name)
+    return _zero(a[0]) and _zero(a[1])
 
 
 def _group(row, rows, scale):

@@ -76,7 +76,9 @@ class _Points:
         for e in b.elements:
             key = f"G_{e.name}"
             if len(b.elements) > 1 and key not in self.named:
-                self.named[key] = system.body_point(body, e.mass_center)
+                r = system.body_point(body, e.mass_center)
+                if not any(_zero(r[0] - q[0]) and _zero(r[1] - q[1]) for q in self.named.values()):
+                    self.named[key] = r
         self.extra = 0
 
     def name_of(self, at) -> str:

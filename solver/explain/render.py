@@ -104,8 +104,11 @@ class _Text(_Renderer):
         sides.append(("= ", eq.rhs))
         for mark, terms in sides:
             for i, t in enumerate(terms):
+                text = _sstr(t.expr)
                 sign = mark if i == 0 else "+ "
-                lines.append(f"    {sign:>2}{_sstr(t.expr)}" + (f"    [{t.note}]" if t.note else ""))
+                if i and text.startswith("-") and not isinstance(t.expr, sp.MatrixBase):
+                    sign, text = "- ", text[1:]
+                lines.append(f"    {sign:>2}{text}" + (f"    [{t.note}]" if t.note else ""))
         return "\n".join(lines)
 
     def table(self, table: Table) -> str:
