@@ -80,7 +80,7 @@ def _suggestion_text(system) -> str:
         best = ranked[0]
         out.append(f"body {body}: take P = {best.name}: {best.reason()}.")
         rows = [(c.name, c.origin, str(len(c.unknowns)), ", ".join(c.unknowns),
-                 str(c.group) if c.group else "-", "known" if c.known else "derive") for c in ranked]
+                 str(c.group) if c.group else "-", "0 (fixed)" if c.fixed else "known" if c.known else "derive") for c in ranked]
         out.append(format_table(("point", "what", "unknowns", "which", "solvable group", "a_P"), rows))
         out.append("")
     return "\n".join(out)

@@ -219,6 +219,6 @@ def advice_step(system, state) -> Step:
                         f"but a_{c.name} must be derived first.")
         for c in ranked:
             rows.append((body, c.name, c.origin, str(len(c.unknowns)), ", ".join(c.unknowns),
-                         str(c.group) if c.group else "-", "known" if c.known else "derive"))
+                         str(c.group) if c.group else "-", "0 (fixed)" if c.fixed else "known" if c.known else "derive"))
     return Step("advice", "Which point P?", text,
                 table=Table(("body", "point", "what", "unknowns", "which", "solvable group", "a_P"), tuple(rows)))

@@ -218,7 +218,8 @@ def _newton_step(system, body: str, P: str, forces: list[_Force]) -> Step:
         lhs = tuple(Term(tidy(f.force[i]), f.name) for f in forces if f.force is not None and not _zero(f.force[i]))
         if composite:
             rhs = tuple(Term(tidy_linear(m * a[i], system.qdd + [c.qd**2 for c in system.coordinates]),
-                             f"m_{e.name} a_{e.name},{axis}") for e, m, _, a in parts)
+                             f"m_{e.name} a_{e.name},{axis}") for e, m, _, a in parts if not _zero(a[i]))
+            rhs = rhs or (Term(sp.Integer(0)),)
         else:
             e, m, _, a = parts[0]
             rhs = (Term(tidy_linear(m * a[i], system.qdd + [c.qd**2 for c in system.coordinates]), f"m a_G,{axis}"),)
@@ -261,7 +262,7 @@ def _euler_step(system, body: str, P: str, forces: list[_Force]) -> tuple[Step, 
         lhs.append(Term(tidy_linear(inertial, rates), f"inertial term -r_G/{P} x m a_{P}"))
     inertia = _inertia_equation(system, body, P)
     I_P = tidy(inertia.left)
-    euler = Equation(tuple(lhs) or (Term(sp.Integer(0)),), (Term(tidy_linear(I_P * al, rates), f"I_{P} alpha"),),
+    euler = Equation(tuple(lhs) or (Term(sp.Integer(0)),), (Term(I_P * al, f"I_{P} alpha"),),
                      f"generalized Euler equation about {P}",
                      "Eq. (11)" if len(system.bodies[body].elements) > 1 else "Eq. (10)", tag="euler")
     text = [f"M_{P} - r_G/{P} x m a_{P} = I_{P} alpha: the moments of the actual forces about {P}, then the "
