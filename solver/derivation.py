@@ -281,6 +281,9 @@ class Derivation:
         """
         def build():
             A, b = self.linear_system()
+            structured = self._solution_by_structure(A, b)
+            if structured is not None:
+                return structured
             det = A.det(method="berkowitz")
             x = []
             for i in range(A.shape[1]):
@@ -291,6 +294,54 @@ class Derivation:
         sol = self._memo("solution", build)
         n = len(self.system.free)
         return {k: v for i, (k, v) in enumerate(sol.items()) if i >= n}
+
+    def _solution_by_structure(self, A, b):
+        """The solution from the structure of a one-freedom system: qdd = -f / M from the equation
+        of motion M qdd + f = 0, then each reaction from a row that holds it alone among the
+        reactions not yet found, with a pivot free of the state (a parameter or a number, never
+        zero at a regular configuration). None when the rows do not allow that (then Cramer).
+
+        Each reaction r = c0 + c1 qdd becomes (c0 M - c1 f) / M: the only denominator is the
+        generalized mass M > 0, like det(A) of Cramer's rule but far cheaper to form and display.
+        """
+        if self.q is None or self.system.closure or A.shape[0] != A.shape[1]:
+            return None
+        state = {self.q, self.qd, self.t}
+        n = A.shape[1]
+        found: dict[int, sp.Expr] = {}  # column -> expression in qdd and earlier reactions
+        used: set[int] = set()
+        while len(found) < n - 1:
+            progress = False
+            for i in range(A.shape[0]):
+                if i in used:
+                    continue
+                open_cols = [j for j in range(1, n) if j not in found and A[i, j] != 0]
+                if len(open_cols) != 1:
+                    continue
+                j = open_cols[0]
+                pivot = A[i, j]
+                if pivot.free_symbols & state:
+                    continue
+                rest = b[i] - A[i, 0] * self.qdd - sp.Add(*[A[i, k] * found[k] for k in found])
+                found[j] = sp.expand(rest / pivot)
+                used.add(i)
+                progress = True
+            if not progress:
+                return None
+        raw = self._raw_eom()
+        M = raw.coeff(self.qdd)
+        f = sp.expand(raw - M * self.qdd)
+        out = {str(self.qdd): -f / M}
+        for j in range(1, n):
+            c1 = found[j].coeff(self.qdd)
+            c0 = sp.expand(found[j] - c1 * self.qdd)
+            out[str(self.unknowns[j])] = sp.expand(c0 * M - c1 * f) / M
+        return out
+
+    def _raw_eom(self) -> sp.Expr:
+        from .analyses.eom import equations_of_motion
+
+        return sp.expand(equations_of_motion(self.formulation)[0])
 
     @property
     def qdd_solution(self) -> sp.Expr:

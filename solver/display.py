@@ -17,6 +17,9 @@ import sympy as sp
 
 __all__ = ["reduce_trig", "tidy", "tidy_linear", "is_identically_zero", "MAX_TIDY_OPS"]
 
+MAX_CANCEL_OPS = 60
+"""Above this size a single fraction of polynomials is not passed through ``cancel`` (the common
+factors it would remove cost more to find than they save on display)."""
 MAX_TIDY_OPS = 400
 """Expressions with more operations than this are shown as built (tidying would cost more than it saves)."""
 
@@ -98,6 +101,11 @@ def is_identically_zero(expr: sp.Expr) -> bool | None:
     return reduced == 0
 
 
+def _denominator_free(p: sp.Expr) -> bool:
+    """No negative powers: a polynomial in its symbols and its sin/cos terms."""
+    return not any(x.exp.is_negative for x in p.atoms(sp.Pow))
+
+
 def _shorter(*candidates: sp.Expr) -> sp.Expr:
     return min(candidates, key=sp.count_ops)
 
@@ -108,34 +116,38 @@ def _has_square(p: sp.Expr) -> bool:
 
 
 def _tidy_polynomial(p: sp.Expr) -> sp.Expr:
+    """Expanded, reduced modulo sin**2 + cos**2 = 1 when that leaves fewer terms, common factors out."""
     p = sp.expand(p)
-    if not _has_square(p):
-        return sp.factor_terms(p)
-    reduced = _reduce_poly(p)
-    return _shorter(sp.factor_terms(reduced), sp.factor_terms(p))
+    if _has_square(p):
+        reduced = _reduce_poly(p)
+        if len(sp.Add.make_args(reduced)) < len(sp.Add.make_args(p)):
+            p = reduced
+    return sp.factor_terms(p)
 
 
 @lru_cache(maxsize=4096)
 def tidy(expr: sp.Expr) -> sp.Expr:
-    """A short display form: numerator and denominator reduced modulo sin**2 + cos**2 = 1
-    each, common factors cancelled, and the shorter of that and the input kept.
+    """A short display form built from the structure of ``expr``: one fraction whose numerator and
+    denominator are each reduced modulo sin**2 + cos**2 = 1 (when that shortens them) with their
+    common factors pulled out; ``cancel`` only on small expressions.
 
-    Expressions larger than :data:`MAX_TIDY_OPS` or with trigonometric arguments
-    other than plain symbols are returned with only common factors pulled out.
+    Expressions larger than :data:`MAX_TIDY_OPS` are returned as they are; expressions with
+    nested trigonometric arguments with only common factors pulled out.
     """
     e = sp.sympify(expr)
     if e.is_number or sp.count_ops(e) > MAX_TIDY_OPS:
         return e
-    e = e.replace(sp.tan, lambda a: sp.sin(a) / sp.cos(a)).replace(sp.cot, lambda a: sp.cos(a) / sp.sin(a))
+    if e.has(sp.tan, sp.cot):
+        e = e.replace(sp.tan, lambda a: sp.sin(a) / sp.cos(a)).replace(sp.cot, lambda a: sp.cos(a) / sp.sin(a))
     if not _angles_ok(e):
-        return sp.factor_terms(expr)
-    num, den = sp.fraction(sp.cancel(sp.together(e)))
+        return sp.factor_terms(e)
+    num, den = sp.fraction(sp.together(e))
+    if not (_denominator_free(num) and _denominator_free(den)) or sp.count_ops(e) <= MAX_CANCEL_OPS:
+        num, den = sp.fraction(sp.cancel(sp.together(e)))  # common factors out (cheap when small)
     num, den = _tidy_polynomial(num), _tidy_polynomial(den)
-    if den.is_number and den != 0:
-        out = sp.factor_terms(sp.expand(num / den)) if num.is_Add else num / den
-    else:
-        out = num / den
-    return _shorter(out, sp.factor_terms(sp.sympify(expr)))
+    if den.is_number and den != 0 and num.is_Add:
+        return sp.factor_terms(sp.expand(num / den))
+    return num / den
 
 
 def tidy_linear(expr: sp.Expr, variables) -> sp.Expr:

@@ -11,7 +11,8 @@ For each of the two paper scenes (Example 1, sliding bar; Example 2, disk-bar):
   It gives the equation of motion only, not the reactions nor a worked solution.
 
 Each run is cold for this project (new System; the display caches cleared);
-sympy's own cache serves both sides alike. Median of repeated runs. Target
+sympy's own cache serves both sides alike. Median of repeated runs, in CPU time of
+this process (the machine is shared: wall time would measure the neighbours). Target
 (issue 11/12): ours at most half of KanesMethod (ratio <= 0.5).
 
 Writes reports/build/bench/explain.json.
@@ -94,9 +95,9 @@ def median_time(fn, *args) -> float:
     fn(*args)  # warm-up: imports
     times = []
     for _ in range(RUNS):
-        t0 = time.perf_counter()
+        t0 = time.process_time()
         fn(*args)
-        times.append(time.perf_counter() - t0)
+        times.append(time.process_time() - t0)
     return statistics.median(times)
 
 
