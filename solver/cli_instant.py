@@ -200,7 +200,7 @@ def eom_command(args: argparse.Namespace) -> int:
     mass = _display_form(d.mass, _tidy_display)
     # Display form only: cancel common factors (removes removable 0/0 points
     # such as a sin(theta) in both numerator and denominator).
-    reactions = {name: _display_form(expr, _tidy_display) for name, expr in d.reactions.items()}
+    reactions = _reactions_display(d)
     at_state = _reactions_at_state(system, d)
     q = system.free[0].name
     if args.json:
@@ -342,15 +342,34 @@ def _tidy_display(expr: sp.Expr) -> sp.Expr:
     return tidy(expr)
 
 
+def _reactions_display(d) -> dict:
+    """Display forms of the reactions: numerator over the generalized mass from the structured
+    solve (each part tidied on its own), else the tidied closed form."""
+    from solver.display import tidy_fraction
+
+    parts = d.reaction_fractions
+    if parts is None:
+        return {name: _display_form(expr, _tidy_display) for name, expr in d.reactions.items()}
+    return {name: tidy_fraction(num, den) for name, (num, den) in parts.items()}
+
+
 def _reactions_at_state(system, d) -> dict:
     """Each reaction's value at the scene's state, in the scene's output units."""
-    from solver.analyses.instant import solve_instant as solve
+    from solver.units import Q_
 
-    solution = solve(system, d.point, d.method)
-    out = {}
-    for name in d.reactions:
-        out[name] = to_output_units(quantity_entry(solution.unknowns[name]), system.output_units)
-    return out
+    if d.reaction_fractions is not None:  # evaluate the closed forms at the state: no lambdify needed
+        c = system.free[0]
+        values = {k: sp.Float(v) for k, v in system.si_values().items()}
+        values.update({c.q: sp.Float(c.value), c.qd: sp.Float(c.rate), system.t: sp.Float(system.time)})
+        quantities = {name: Q_(float(expr.xreplace(values)), d.reaction_units[name])
+                      for name, expr in d.reactions.items()}
+        check_finite({n: q.magnitude for n, q in quantities.items()}, f"{system.label}: eom")
+    else:
+        from solver.analyses.instant import solve_instant as solve
+
+        solution = solve(system, d.point, d.method)
+        quantities = {name: solution.unknowns[name] for name in d.reactions}
+    return {name: to_output_units(quantity_entry(q), system.output_units) for name, q in quantities.items()}
 
 
 def _display_form(expr: sp.Expr, tidy_with=sp.cancel) -> sp.Expr:

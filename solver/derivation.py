@@ -332,11 +332,21 @@ class Derivation:
         M = raw.coeff(self.qdd)
         f = sp.expand(raw - M * self.qdd)
         out = {str(self.qdd): -f / M}
+        parts = {}
         for j in range(1, n):
             c1 = found[j].coeff(self.qdd)
             c0 = sp.expand(found[j] - c1 * self.qdd)
-            out[str(self.unknowns[j])] = sp.expand(c0 * M - c1 * f) / M
+            num = sp.expand(c0 * M - c1 * f)
+            out[str(self.unknowns[j])] = num / M
+            parts[str(self.unknowns[j])] = (num, M)
+        self._cache["reaction_parts"] = parts
         return out
+
+    @property
+    def reaction_fractions(self) -> dict[str, tuple[sp.Expr, sp.Expr]] | None:
+        """(numerator, denominator) of each reaction when the structured solve applied, else None."""
+        self.reactions
+        return self._cache.get("reaction_parts")
 
     def _raw_eom(self) -> sp.Expr:
         from .analyses.eom import equations_of_motion

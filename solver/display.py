@@ -15,7 +15,7 @@ from functools import lru_cache
 
 import sympy as sp
 
-__all__ = ["reduce_trig", "tidy", "tidy_linear", "is_identically_zero", "MAX_TIDY_OPS"]
+__all__ = ["reduce_trig", "tidy", "tidy_fraction", "tidy_linear", "is_identically_zero", "MAX_TIDY_OPS"]
 
 MAX_CANCEL_OPS = 60
 """Above this size a single fraction of polynomials is not passed through ``cancel`` (the common
@@ -148,6 +148,12 @@ def tidy(expr: sp.Expr) -> sp.Expr:
     if den.is_number and den != 0 and num.is_Add:
         return sp.factor_terms(sp.expand(num / den))
     return num / den
+
+
+def tidy_fraction(num: sp.Expr, den: sp.Expr) -> sp.Expr:
+    """Display form of num/den when both are known polynomials in sin/cos (no ``together``,
+    no ``cancel``): each part reduced and factored on its own."""
+    return _tidy_polynomial(num) / _tidy_polynomial(den)
 
 
 def tidy_linear(expr: sp.Expr, variables) -> sp.Expr:
