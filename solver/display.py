@@ -122,7 +122,30 @@ def _tidy_polynomial(p: sp.Expr) -> sp.Expr:
         reduced = _reduce_poly(p)
         if len(sp.Add.make_args(reduced)) < len(sp.Add.make_args(p)):
             p = reduced
-    return sp.factor_terms(p)
+    return _common_factor(p)
+
+
+def _common_factor(p: sp.Expr) -> sp.Expr:
+    """``p`` with the monomial common to all its terms (symbols, sin/cos powers, the rational
+    content) written in front: what ``factor_terms`` does for a sum of monomials, in one pass."""
+    terms = sp.Add.make_args(p)
+    if len(terms) < 2:
+        return p
+    content, prim = p.primitive()
+    terms = sp.Add.make_args(prim)
+    powers = [t.as_powers_dict() for t in terms]
+    common = {}
+    for base, exp in powers[0].items():
+        if base.is_number or not (exp.is_Integer and exp > 0):
+            continue
+        low = min(d.get(base, sp.Integer(0)) for d in powers)
+        if low.is_Integer and low > 0:
+            common[base] = low
+    if not common:
+        return content * prim if content != 1 else p
+    monomial = sp.Mul(*[b**e for b, e in common.items()])
+    rest = sp.Add(*[t / monomial for t in terms])
+    return content * monomial * rest
 
 
 @lru_cache(maxsize=4096)
