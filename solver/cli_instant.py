@@ -197,7 +197,9 @@ def eom_command(args: argparse.Namespace) -> int:
         return _eom_multi(args, system)
     d = derivation.derive(system, args.point, args.method)
     eom = d.eom
-    mass = _display_form(d.mass, _tidy_display)
+    # The qdd coefficient of the equation of motion is the generalized mass M (T = 1/2 M qd^2):
+    # the equations are projected on the partial velocities, so it is already tidied there.
+    mass = eom.coeff(d.qdd)
     # Display form only: cancel common factors (removes removable 0/0 points
     # such as a sin(theta) in both numerator and denominator).
     reactions = _reactions_display(d)

@@ -44,3 +44,23 @@ def test_zero_is_decided_exactly():
     assert is_identically_zero(s**2 + c**2 - 1)
     assert not is_identically_zero(s**2 - c**2)
     assert reduce_trig(sp.sin(sp.cos(phi))) is None
+
+
+def test_eom_mass_is_the_generalized_mass_of_the_kinetic_energy(capsys):
+    """`eom` prints M as the theta_ddot coefficient of the projected equation of motion: it must be
+    2 T / theta_dot^2 (exact identity after reduction modulo sin^2 + cos^2 = 1)."""
+    import json
+
+    from solver.__main__ import main
+    from solver.expressions import parse_expression
+    from solver.io.scenes import load_system
+
+    for scene in ("sliding_bar", "disk_bar", "wheel_on_incline"):
+        path = f"data/scenes/{scene}.toml"
+        assert main(["eom", path, "--json"]) == 0
+        payload = json.loads(capsys.readouterr().out)
+        system = load_system(path)
+        c = system.free[0]
+        names = {**system.symbols, c.name: c.q, f"{c.name}_dot": c.qd, "t": system.t}
+        shown = parse_expression(payload["mass"], names, where=scene)
+        assert is_identically_zero(sp.expand(shown - sp.diff(system.kinetic_energy(), c.qd, 2)))
