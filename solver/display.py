@@ -101,6 +101,10 @@ def is_identically_zero(expr: sp.Expr) -> bool | None:
     return reduced == 0
 
 
+def _has_denominator(e: sp.Expr) -> bool:
+    return any(x.exp.is_negative for x in e.atoms(sp.Pow))
+
+
 def _denominator_free(p: sp.Expr) -> bool:
     """No negative powers: a polynomial in its symbols and its sin/cos terms."""
     return not any(x.exp.is_negative for x in p.atoms(sp.Pow))
@@ -164,8 +168,8 @@ def tidy(expr: sp.Expr) -> sp.Expr:
         e = e.replace(sp.tan, lambda a: sp.sin(a) / sp.cos(a)).replace(sp.cot, lambda a: sp.cos(a) / sp.sin(a))
     if not _angles_ok(e):
         return sp.factor_terms(e)
-    num, den = sp.fraction(sp.together(e))
-    if not (_denominator_free(num) and _denominator_free(den)) or sp.count_ops(e) <= MAX_CANCEL_OPS:
+    num, den = sp.fraction(sp.together(e)) if _has_denominator(e) else (e, sp.Integer(1))
+    if den != 1 and (not (_denominator_free(num) and _denominator_free(den)) or sp.count_ops(e) <= MAX_CANCEL_OPS):
         num, den = sp.fraction(sp.cancel(sp.together(e)))  # common factors out (cheap when small)
     num, den = _tidy_polynomial(num), _tidy_polynomial(den)
     if den.is_number and den != 0 and num.is_Add:

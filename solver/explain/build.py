@@ -347,7 +347,7 @@ def explain(system, point: str | None = None, *, advice: bool = True) -> Explana
     if motion is not None:
         final.steps.append(motion)
     solution = solve_instant(system, point, "generalized_euler", state)
-    check = solve_instant(system, None, "mass_center", state)
+    check = _mass_center_check(system, state)
     final.steps.append(_solution_step(system, solution))
     final.steps.append(_check_step(system, solution, check))
     expl.sections.append(final)
@@ -468,7 +468,7 @@ def _out(system, name: str, qty):
     from ..cli_common import quantity_entry, to_output_units
 
     entry = to_output_units(quantity_entry(qty), system.output_units)
-    return entry["value"], entry["unit"]
+    return entry["value"], entry["unit"].replace(" / ", "/").replace(" ** ", "**").replace(" * ", "*")
 
 
 def _solution_step(system, solution) -> Step:
@@ -481,12 +481,38 @@ def _solution_step(system, solution) -> Step:
     return Step("solution", "Solution", text, table=Table(("unknown", "value", "unit"), tuple(rows)))
 
 
+def _mass_center_check(system, state) -> dict:
+    """The unknowns by the mass-centre form (Eqs. 1-2), evaluated directly at the state (an
+    evaluation path of its own: substitution and numpy's solve, no lambdify)."""
+    import numpy as np
+
+    from ..formulations import formulate
+    from ..units import Q_
+
+    f = formulate(system, "mass_center", None)
+    A, b = f.linear_system()
+    subs = _state_subs(system, state)
+    An = np.array([[float(x.xreplace(subs)) for x in A.row(i)] for i in range(A.shape[0])])
+    bn = np.array([float(x.xreplace(subs)) for x in b])
+    x = dict(zip((str(u) for u in f.unknowns), np.linalg.solve(An, bn)))
+    out = {}
+    if len(system.bodies) == 1:
+        body = next(iter(system.bodies))
+        al = sp.sympify(system.alpha(body)).xreplace({c.qdd: sp.Float(x[str(c.qdd)]) for c in system.free})
+        out["alpha"] = Q_(float(al.xreplace(subs)), "rad/s**2")
+    for c in system.free:
+        out[str(c.qdd)] = Q_(x[str(c.qdd)], "rad/s**2" if c.kind == "angle" else "m/s**2")
+    for r in system.reactions:
+        out[r.name] = Q_(x[r.name], r.unit)
+    return out
+
+
 def _check_step(system, solution, check) -> Step:
     rows = []
     worst = 0.0
     for name, qty in solution.unknowns.items():
         v1, unit = _out(system, name, qty)
-        v2, _ = _out(system, name, check.unknowns[name])
+        v2, _ = _out(system, name, check[name])
         scale = max(abs(v1), abs(v2), 1e-300)
         diff = abs(v1 - v2) / scale if (v1 or v2) else 0.0
         worst = max(worst, diff)
