@@ -101,6 +101,40 @@ def is_identically_zero(expr: sp.Expr) -> bool | None:
     return reduced == 0
 
 
+def _monomial_powers(d: sp.Expr) -> dict | None:
+    """{base: exponent} of a product of powers (a monomial denominator), else None."""
+    out = {}
+    for f in sp.Mul.make_args(d):
+        base, exp = f.as_base_exp()
+        if base.is_Add or not exp.is_Integer or exp < 0:
+            return None
+        if base.is_number:
+            base, exp = f, sp.Integer(1)
+        out[base] = out.get(base, 0) + exp
+    return out
+
+
+def _over_common_denominator(e: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
+    """(numerator, denominator) of ``e``: when every term's denominator is a monomial, over their
+    least common multiple (one pass, no recursion); otherwise sympy's ``together``."""
+    e = sp.expand(e)
+    parts = [sp.fraction(t) for t in sp.Add.make_args(e)]
+    powers = [_monomial_powers(d) for _, d in parts]
+    if any(p is None for p in powers):
+        return sp.fraction(sp.together(e))
+    lcm: dict = {}
+    for p in powers:
+        for base, exp in p.items():
+            if base.is_number:
+                continue
+            lcm[base] = max(lcm.get(base, 0), exp)
+    numbers = [sp.Mul(*[b for b in p if b.is_number]) for p in powers]
+    scale = sp.ilcm(*[sp.fraction(x)[0] if x != 0 else 1 for x in numbers]) if numbers else 1
+    den = sp.Integer(scale) * sp.Mul(*[b**x for b, x in lcm.items()])
+    num = sp.Add(*[n * (den / d) for n, d in parts])
+    return sp.expand(num), den
+
+
 def _has_denominator(e: sp.Expr) -> bool:
     return any(x.exp.is_negative for x in e.atoms(sp.Pow))
 
@@ -168,7 +202,7 @@ def tidy(expr: sp.Expr) -> sp.Expr:
         e = e.replace(sp.tan, lambda a: sp.sin(a) / sp.cos(a)).replace(sp.cot, lambda a: sp.cos(a) / sp.sin(a))
     if not _angles_ok(e):
         return sp.factor_terms(e)
-    num, den = sp.fraction(sp.together(e)) if _has_denominator(e) else (e, sp.Integer(1))
+    num, den = _over_common_denominator(e) if _has_denominator(e) else (e, sp.Integer(1))
     if den != 1 and (not (_denominator_free(num) and _denominator_free(den)) or sp.count_ops(e) <= MAX_CANCEL_OPS):
         num, den = sp.fraction(sp.cancel(sp.together(e)))  # common factors out (cheap when small)
     num, den = _tidy_polynomial(num), _tidy_polynomial(den)
