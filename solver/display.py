@@ -15,13 +15,13 @@ from functools import lru_cache
 
 import sympy as sp
 
-__all__ = ["reduce_trig", "tidy", "tidy_fraction", "tidy_linear", "is_identically_zero", "MAX_TIDY_OPS"]
+__all__ = ["reduce_trig", "tidy", "tidy_fraction", "tidy_linear", "is_identically_zero", "MAX_TIDY_NODES"]
 
-MAX_CANCEL_OPS = 60
+MAX_CANCEL_NODES = 120
 """Above this size a single fraction of polynomials is not passed through ``cancel`` (the common
 factors it would remove cost more to find than they save on display)."""
-MAX_TIDY_OPS = 400
-"""Expressions with more operations than this are shown as built (tidying would cost more than it saves)."""
+MAX_TIDY_NODES = 1000
+"""Expressions with more nodes than this are shown as built (tidying would cost more than it saves)."""
 
 
 def _angles_ok(expr: sp.Expr) -> bool:
@@ -135,6 +135,15 @@ def _over_common_denominator(e: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
     return sp.expand(num), den
 
 
+def _size(e: sp.Expr) -> int:
+    """Number of nodes of the expression tree (a cheap stand-in for ``count_ops``)."""
+    return sum(1 for _ in sp.preorder_traversal(e))
+
+
+def _monomial_denominators(e: sp.Expr) -> bool:
+    return all(_monomial_powers(sp.fraction(t)[1]) is not None for t in sp.Add.make_args(e))
+
+
 def _has_denominator(e: sp.Expr) -> bool:
     return any(x.exp.is_negative for x in e.atoms(sp.Pow))
 
@@ -192,19 +201,21 @@ def tidy(expr: sp.Expr) -> sp.Expr:
     denominator are each reduced modulo sin**2 + cos**2 = 1 (when that shortens them) with their
     common factors pulled out; ``cancel`` only on small expressions.
 
-    Expressions larger than :data:`MAX_TIDY_OPS` are returned as they are; expressions with
+    Expressions larger than :data:`MAX_TIDY_NODES` are returned as they are; expressions with
     nested trigonometric arguments with only common factors pulled out.
     """
     e = sp.sympify(expr)
-    if e.is_number or sp.count_ops(e) > MAX_TIDY_OPS:
+    if e.is_number or _size(e) > MAX_TIDY_NODES:
         return e
     if e.has(sp.tan, sp.cot):
         e = e.replace(sp.tan, lambda a: sp.sin(a) / sp.cos(a)).replace(sp.cot, lambda a: sp.cos(a) / sp.sin(a))
     if not _angles_ok(e):
         return sp.factor_terms(e)
+    monomial = _monomial_denominators(e)
     num, den = _over_common_denominator(e) if _has_denominator(e) else (e, sp.Integer(1))
-    if den != 1 and (not (_denominator_free(num) and _denominator_free(den)) or sp.count_ops(e) <= MAX_CANCEL_OPS):
+    if not monomial and (not (_denominator_free(num) and _denominator_free(den)) or _size(e) <= MAX_CANCEL_NODES):
         num, den = sp.fraction(sp.cancel(sp.together(e)))  # common factors out (cheap when small)
+    # (over monomial denominators the common monomial of the numerator cancels by itself below)
     num, den = _tidy_polynomial(num), _tidy_polynomial(den)
     if den.is_number and den != 0 and num.is_Add:
         return sp.factor_terms(sp.expand(num / den))
@@ -214,6 +225,9 @@ def tidy(expr: sp.Expr) -> sp.Expr:
 def tidy_fraction(num: sp.Expr, den: sp.Expr) -> sp.Expr:
     """Display form of num/den when both are known polynomials in sin/cos (no ``together``,
     no ``cancel``): each part reduced and factored on its own."""
+    if _has_denominator(num) and _monomial_denominators(num):
+        num, extra = _over_common_denominator(num)
+        den = den * extra
     return _tidy_polynomial(num) / _tidy_polynomial(den)
 
 
