@@ -135,6 +135,19 @@ def _over_common_denominator(e: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
     return sp.expand(num), den
 
 
+def _is_trig_denominator(x) -> bool:
+    return x.is_Pow and x.exp.is_negative and x.base.is_Add and x.base.has(sp.sin, sp.cos)
+
+
+def _reduce_denominators(e: sp.Expr) -> sp.Expr:
+    """Every denominator that is a polynomial in sin/cos reduced modulo sin**2 + cos**2 = 1
+    (``(sin(g)**2 + cos(g)**2)**2`` becomes 1): the cheap structural step that removes a
+    printed denominator equal to a constant."""
+    if not any(_is_trig_denominator(x) for x in e.atoms(sp.Pow)):
+        return e
+    return e.replace(_is_trig_denominator, lambda x: _reduce_poly(x.base) ** x.exp)
+
+
 def _size(e: sp.Expr) -> int:
     """Number of nodes of the expression tree (a cheap stand-in for ``count_ops``)."""
     return sum(1 for _ in sp.preorder_traversal(e))
@@ -207,6 +220,7 @@ def tidy(expr: sp.Expr) -> sp.Expr:
     e = sp.sympify(expr)
     if e.is_number or _size(e) > MAX_TIDY_NODES:
         return e
+    e = _reduce_denominators(e)
     if e.has(sp.tan, sp.cot):
         e = e.replace(sp.tan, lambda a: sp.sin(a) / sp.cos(a)).replace(sp.cot, lambda a: sp.cos(a) / sp.sin(a))
     if not _angles_ok(e):
@@ -225,6 +239,9 @@ def tidy(expr: sp.Expr) -> sp.Expr:
 def tidy_fraction(num: sp.Expr, den: sp.Expr) -> sp.Expr:
     """Display form of num/den when both are known polynomials in sin/cos (no ``together``,
     no ``cancel``): each part reduced and factored on its own."""
+    num, den = _reduce_denominators(sp.expand(num)), _reduce_denominators(sp.expand(den))
+    if _has_denominator(den):
+        num, den = sp.fraction(sp.together(num / den))
     if _has_denominator(num) and _monomial_denominators(num):
         num, extra = _over_common_denominator(num)
         den = den * extra
