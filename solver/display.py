@@ -11,7 +11,7 @@ their cost grows with the size of the expression, not unpredictably as
 """
 from __future__ import annotations
 
-from functools import lru_cache
+from functools import lru_cache, reduce
 
 import sympy as sp
 
@@ -129,7 +129,7 @@ def _over_common_denominator(e: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
                 continue
             lcm[base] = max(lcm.get(base, 0), exp)
     numbers = [sp.Mul(*[b for b in p if b.is_number]) for p in powers]
-    scale = sp.ilcm(*[sp.fraction(x)[0] if x != 0 else 1 for x in numbers]) if numbers else 1
+    scale = reduce(sp.ilcm, [int(sp.fraction(x)[0]) if x.is_Rational and x != 0 else 1 for x in numbers], 1)
     den = sp.Integer(scale) * sp.Mul(*[b**x for b, x in lcm.items()])
     num = sp.Add(*[n * (den / d) for n, d in parts])
     return sp.expand(num), den

@@ -202,19 +202,27 @@ def test_solution_reproduces_eq30(paper):
     assert rows["R_B"][2] == "lbf" and rows["R_A"][2] == "lbf"
 
 
-def test_cli_formats_and_bad_input(tmp_path):
-    def run(*args):
-        return subprocess.run([sys.executable, "-m", "solver", "explain", *args], cwd=ROOT,
-                              capture_output=True, text=True, timeout=120)
+def test_cli_formats_and_bad_input(tmp_path, capsys):
+    """The real entry point once (a subprocess); the refusals in-process: one line, status 2,
+    nothing written."""
+    from solver.__main__ import main
 
     out = tmp_path / "x.md"
-    r = run("data/scenes/disk_bar.toml", "-o", str(out))
+    r = subprocess.run([sys.executable, "-m", "solver", "explain", "data/scenes/disk_bar.toml", "-o", str(out)],
+                       cwd=ROOT, capture_output=True, text=True, timeout=120)
     assert r.returncode == 0, r.stderr
     assert out.read_text(encoding="utf-8").startswith("# Worked solution")
-    r = run("data/scenes/disk_bar.toml", "--point", "Z")
-    assert r.returncode == 2 and r.stderr.count("\n") == 1 and "'Z'" in r.stderr
-    r = run("data/scenes/disk_bar.toml", "-o", str(tmp_path / "missing" / "x.txt"))
-    assert r.returncode == 2 and "-o" in r.stderr
+
+    def refused(*args):
+        with pytest.raises(SystemExit) as stop:
+            main(["explain", *args])
+        err = capsys.readouterr().err
+        assert stop.value.code == 2 and err.count("\n") == 1 and err.startswith("error: ")
+        return err
+
+    assert "'Z'" in refused(str(ROOT / "data/scenes/disk_bar.toml"), "--point", "Z")
+    assert "-o" in refused(str(ROOT / "data/scenes/disk_bar.toml"), "-o", str(tmp_path / "missing" / "x.txt"))
+    assert "--format" in refused(str(ROOT / "data/scenes/disk_bar.toml"), "--format", "pdf")
     assert not (tmp_path / "missing").exists()
 
 
