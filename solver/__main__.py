@@ -29,6 +29,7 @@ EPILOG = (
     "  python -m solver solve data/scenes/sliding_bar.toml --set beta=\"60 deg\" --json\n"
     "  python -m solver eom data/scenes/disk_bar.toml --latex\n"
     "  python -m solver frequency data/scenes/disk_bar.toml\n"
+    "  python -m solver explain data/scenes/disk_bar.toml --point C -o worked.html\n"
     "bad input: one line 'error: ...' on stderr, exit status 2.\n"
     f"limits: every command stops after {MAX_CPU_SECONDS:g} s of CPU time (SOLVER_MAX_CPU_SECONDS); scenes\n"
     f"are regular files of at most {MAX_INPUT_BYTES} bytes; unit exponents at most {MAX_UNIT_EXPONENT}; the\n"
