@@ -116,6 +116,16 @@ def test_eqs_43_44_agree_but_for_the_sign_of_F_a(paper, eq_id):
     assert not _zero(residual)
 
 
+def test_eq46_natural_frequency(paper):
+    """Eq. 46 (F_a = 0, about theta = 0): the displayed omega_n squared equals the printed one squared."""
+    eqset, systems, expl = paper
+    tr = next(e for e in eqset.equations if e.id == "eq46")
+    system = systems["disk_bar"]
+    shown = expl["disk_bar"].sections[-1].step("motion").equation("omega_n").right
+    printed = parse_expression(tr.rhs, dict(system.symbols), where=tr.id)
+    assert _zero(shown**2 - printed**2)
+
+
 def test_eq18_holds_for_the_displayed_accelerations(paper):
     eqset, systems, expl = paper
     for eq_id in ("eq18-a_x", "eq18-a_y"):

@@ -458,10 +458,43 @@ def _motion_step(system, f, expl) -> Step | None:
             lhs.append(Term(tidy(rest), "configuration terms"))
         eqs.append(Equation(tuple(lhs), (Term(tidy(q), "Q"),), f"equation of motion in {c.name}",
                             "reactions eliminated", tag=f"eom:{c.name}"))
+    small = _small_oscillations(system, eqs[-1]) if len(system.free) == 1 else None
+    if small is not None:
+        eqs.append(small)
+        text.append(f"Small oscillations about {system.free[0].name} = 0 (an equilibrium with the scene's "
+                    "parameters, those that are zero set to zero): the equation of motion linearised, "
+                    "M(0) q'' + K q = 0, oscillates at omega_n = sqrt(K / M(0)).")
     text.append("Equation(s) of motion: the reactions eliminated (projection on the partial velocities of "
                 "each body's P), written as M q'' + (rate terms) + (configuration terms) = Q, with Q the "
                 "generalized force of the non-conservative loads.")
     return Step("motion", "Equation of motion", text, eqs)
+
+
+def _small_oscillations(system, eom: Equation) -> Equation | None:
+    """omega_n of the equation of motion linearised about q = 0 when that is an equilibrium
+    (Eq. 45-46 for Example 2); None otherwise (no equilibrium there, or not stable)."""
+    c = system.free[0]
+    zero = {sp.Symbol(n, real=True): 0 for n, q in system.parameters.items() if q.magnitude == 0}
+    e = sp.expand(eom.residual.xreplace(zero))
+    if e.has(system.t):
+        return None
+    at = {c.q: 0, c.qd: 0}
+    rest = e.xreplace({c.qdd: 0})
+    if not _zero(rest.xreplace(at)):
+        return None
+    mass = tidy(e.coeff(c.qdd).xreplace(at))
+    stiffness = tidy(sp.diff(rest, c.q).xreplace(at))
+    values = {k: sp.Float(v) for k, v in system.si_values().items()}
+    ratio = stiffness / mass
+    try:
+        positive = float(ratio.xreplace(values)) > 0
+    except TypeError:
+        return None
+    if not positive:
+        return None
+    omega = sp.sqrt(ratio)
+    return Equation((Term(omega),), (Term(omega),), f"natural frequency of small oscillations about {c.name} = 0",
+                    "linearised equation of motion", tag="omega_n", name="omega_n")
 
 
 def _out(system, name: str, qty):
