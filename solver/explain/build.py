@@ -346,7 +346,7 @@ def explain(system, point: str | None = None, *, advice: bool = True) -> Explana
     motion = _motion_step(system, f, expl)
     if motion is not None:
         final.steps.append(motion)
-    solution = solve_instant(system, point, "generalized_euler", state)
+    solution = _solve_at_state(system, f, point, state) or solve_instant(system, point, "generalized_euler", state)
     check = _mass_center_check(system, state)
     final.steps.append(_solution_step(system, solution))
     final.steps.append(_check_step(system, solution, check))
@@ -514,6 +514,47 @@ def _solution_step(system, solution) -> Step:
     return Step("solution", "Solution", text, table=Table(("unknown", "value", "unit"), tuple(rows)))
 
 
+def _numeric_system(system, f, state):
+    """(A, b) of a formulation evaluated at the state by substitution (one state: cheaper than lambdify)."""
+    import numpy as np
+
+    A, b = f.linear_system()
+    subs = _state_subs(system, state)
+    An = np.array([[float(x.xreplace(subs)) for x in A.row(i)] for i in range(A.shape[0])])
+    bn = np.array([float(x.xreplace(subs)) for x in b])
+    return An, bn
+
+
+def _solve_at_state(system, f, point, state):
+    """The InstantSolution at the state from the substituted system, or None when its condition
+    number is not comfortably regular (then :func:`solve_instant` decides and names the singularity)."""
+    import numpy as np
+
+    from ..analyses.instant import CONDITION_LIMIT, InstantSolution, condition_numbers
+    from ..units import Q_
+
+    if system.limits():  # a joint with a model limit: solve_instant checks it
+        return None
+    An, bn = _numeric_system(system, f, state)
+    if An.shape[0] != An.shape[1]:
+        return None
+    cond = float(condition_numbers(An[None])[0])
+    if not np.isfinite(cond) or cond > CONDITION_LIMIT:
+        return None
+    x = dict(zip((str(u) for u in f.unknowns), np.linalg.solve(An, bn)))
+    unknowns = {}
+    if len(system.bodies) == 1:
+        body = next(iter(system.bodies))
+        al = sp.sympify(system.alpha(body)).xreplace({c.qdd: sp.Float(x[str(c.qdd)]) for c in system.free})
+        unknowns["alpha"] = Q_(float(al.xreplace(_state_subs(system, state))), "rad/s**2")
+    for c in system.free:
+        unknowns[str(c.qdd)] = Q_(x[str(c.qdd)], "rad/s**2" if c.kind == "angle" else "m/s**2")
+    for r in system.reactions:
+        unknowns[r.name] = Q_(x[r.name], r.unit)
+    shown = point if point is not None else ",".join(f"{b}:{p}" for b, p in f.points.items())
+    return InstantSolution(unknowns, cond, shown, "generalized_euler", state, system.name)
+
+
 def _mass_center_check(system, state) -> dict:
     """The unknowns by the mass-centre form (Eqs. 1-2), evaluated directly at the state (an
     evaluation path of its own: substitution and numpy's solve, no lambdify)."""
@@ -523,10 +564,8 @@ def _mass_center_check(system, state) -> dict:
     from ..units import Q_
 
     f = formulate(system, "mass_center", None)
-    A, b = f.linear_system()
     subs = _state_subs(system, state)
-    An = np.array([[float(x.xreplace(subs)) for x in A.row(i)] for i in range(A.shape[0])])
-    bn = np.array([float(x.xreplace(subs)) for x in b])
+    An, bn = _numeric_system(system, f, state)
     x = dict(zip((str(u) for u in f.unknowns), np.linalg.solve(An, bn)))
     out = {}
     if len(system.bodies) == 1:
