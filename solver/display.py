@@ -204,8 +204,10 @@ def _common_factor(p: sp.Expr) -> sp.Expr:
     if not common:
         return content * prim if content != 1 else p
     monomial = sp.Mul(*[b**e for b, e in common.items()])
-    rest = sp.Add(*[t / monomial for t in terms])
-    return content * monomial * rest
+    rest = [t / monomial for t in terms]
+    if all(t.could_extract_minus_sign() for t in rest):  # -(a + b) rather than (-a - b)
+        content, rest = -content, [-t for t in rest]
+    return content * monomial * sp.Add(*rest)
 
 
 @lru_cache(maxsize=4096)

@@ -262,7 +262,7 @@ def _euler_step(system, body: str, P: str, forces: list[_Force]) -> tuple[Step, 
         lhs.append(Term(tidy_linear(inertial, rates), f"inertial term -r_G/{P} x m a_{P}"))
     inertia = _inertia_equation(system, body, P)
     I_P = tidy(inertia.left)
-    euler = Equation(tuple(lhs) or (Term(sp.Integer(0)),), (Term(I_P * al, f"I_{P} alpha"),),
+    euler = Equation(tuple(lhs) or (Term(sp.Integer(0)),), (Term(sp.Mul(I_P, al, evaluate=False), f"I_{P} alpha"),),
                      f"generalized Euler equation about {P}",
                      "Eq. (11)" if len(system.bodies[body].elements) > 1 else "Eq. (10)", tag="euler")
     text = [f"M_{P} - r_G/{P} x m a_{P} = I_{P} alpha: the moments of the actual forces about {P}, then the "

@@ -147,11 +147,13 @@ class _LatexMath:
     def join(self, terms, notes=True) -> str:
         out = ""
         for i, t in enumerate(terms):
-            s = self.expr(t.expr)
+            expr = t.expr
+            negative = i > 0 and not isinstance(expr, sp.MatrixBase) and sp.sympify(expr).could_extract_minus_sign()
+            s = self.expr(-expr if negative else expr)
             if notes and t.note and len(terms) > 1:
                 s = rf"\underbrace{{{s}}}_{{\text{{{latex_escape(t.note)}}}}}"
-            out += ("" if i == 0 else " + ") + s
-        return out.replace("+ -", "- ")
+            out += ("" if i == 0 else (" - " if negative else " + ")) + s
+        return out
 
     def equation(self, eq: Equation) -> str:
         lhs = _name_latex(eq.name) if eq.name else self.join(eq.lhs)
