@@ -166,10 +166,6 @@ def _denominator_free(p: sp.Expr) -> bool:
     return not any(x.exp.is_negative for x in p.atoms(sp.Pow))
 
 
-def _shorter(*candidates: sp.Expr) -> sp.Expr:
-    return min(candidates, key=sp.count_ops)
-
-
 def _has_square(p: sp.Expr) -> bool:
     """Whether some sin(a)**n with n >= 2 appears (only then can the reduction change anything)."""
     return any(isinstance(x.base, sp.sin) and x.exp.is_Integer and x.exp >= 2 for x in p.atoms(sp.Pow))

@@ -36,7 +36,7 @@ from sympy.physics import mechanics as me  # noqa: E402
 from solver.__main__ import main  # noqa: E402
 from solver.display import is_identically_zero, tidy  # noqa: E402
 
-RUNS = 5
+RUNS = 9
 SCENES = {"sliding_bar": ROOT / "data/scenes/sliding_bar.toml", "disk_bar": ROOT / "data/scenes/disk_bar.toml"}
 
 
