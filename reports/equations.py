@@ -213,31 +213,11 @@ def is_zero(expr: sp.Expr, scale_terms=(), seed: int = 0) -> tuple[bool, float]:
 
 
 def _trig_reduce(expr: sp.Expr) -> sp.Expr | None:
-    """Normal form of a rational expression in sin/cos of plain symbols.
+    """Normal form of a rational expression in sin/cos modulo sin**2 + cos**2 = 1, or None
+    (:func:`solver.display.reduce_trig`: one implementation for the solver's display and the report)."""
+    from solver.display import reduce_trig
 
-    tan and cot become sin/cos, sums of angles are expanded, the numerator is
-    written as a polynomial in S_a = sin(a), C_a = cos(a) for every angle a and
-    reduced modulo S_a**2 + C_a**2 - 1 (a Groebner basis, so zero is decided
-    exactly). Returns None when the expression has other trigonometric arguments.
-    """
-    e = expr.replace(sp.tan, lambda a: sp.sin(a) / sp.cos(a)).replace(sp.cot, lambda a: sp.cos(a) / sp.sin(a))
-    e = sp.expand_trig(e)
-    num, den = sp.fraction(sp.cancel(sp.together(e)))
-    functions = num.atoms(sp.sin, sp.cos) | den.atoms(sp.sin, sp.cos)
-    if any(not f.args[0].is_Symbol for f in functions):
-        return None
-    angles = sorted({f.args[0] for f in functions}, key=lambda a: a.name)
-    sines = {a: sp.Dummy(f"S_{a.name}") for a in angles}
-    cosines = {a: sp.Dummy(f"C_{a.name}") for a in angles}
-    to_poly = {}
-    for a in angles:
-        to_poly[sp.sin(a)] = sines[a]
-        to_poly[sp.cos(a)] = cosines[a]
-    poly = sp.expand(num.subs(to_poly))
-    for a in angles:
-        poly = sp.expand(sp.rem(poly, sines[a] ** 2 + cosines[a] ** 2 - 1, sines[a]))
-    back = {sines[a]: sp.sin(a) for a in angles} | {cosines[a]: sp.cos(a) for a in angles}
-    return poly.subs(back) / den
+    return reduce_trig(expr)
 
 
 def _simplify(expr: sp.Expr) -> sp.Expr:

@@ -344,6 +344,14 @@ def build(root: Path = ROOT, out: Path | None = None, pdf: str = "auto", log=pri
                 "friction": friction,
             },
         }
+        from solver.io.scenes import load_system
+
+        ex1_system, ex2_system = load_system(eqset.scenes[ex1_key]), load_system(eqset.scenes[ex2_key])
+        examples["ex1"]["explained"] = paper.explained(ex1_system, derivations[ex1_key].point, at_rest=True)
+        examples["ex2"]["explained"] = paper.explained(ex2_system, derivations[ex2_key].point, at_rest=False)
+        best = examples["ex2"]["explained"]["advisor_best"]
+        if best != derivations[ex2_key].point:  # the one-step alternative the advisor finds (about C)
+            examples["ex2"]["alternative"] = paper.explained(ex2_system, best, at_rest=False)
         ex1_solution = examples["ex1"]["solution"]
         out_units = scenes[ex1_key].output_units
         ex1_results = []
@@ -398,6 +406,7 @@ def build(root: Path = ROOT, out: Path | None = None, pdf: str = "auto", log=pri
             "provenance": prov,
             "method": paper.method_equations(),
             "examples": examples,
+            "prose": paper.PROSE,
             "survey": survey,
             "benchmarks": bench,
             "tolerance_notes": checks_mod.__doc__.split("Tolerances (documented once, applied everywhere)")[1]

@@ -82,7 +82,9 @@ def method_equations() -> dict[str, Shown]:
                  "Composite body of n elements", "Eq. (11)")
     eq1 = shown(sp.Symbol("F_x"), sp.Sum(mk[k] * sp.Indexed(sp.IndexedBase("a_x"), k), (k, 1, n)),
                 "Newton's law for the composite body, x component", "Eq. (14)")
-    return {"eq10": eq10, "eq11": eq11, "eq14": eq1, "inertial_term": inline(inertial)}
+    eq1y = shown(sp.Symbol("F_y"), sp.Sum(mk[k] * sp.Indexed(sp.IndexedBase("a_y"), k), (k, 1, n)),
+                 "Newton's law for the composite body, y component", "Eq. (14)")
+    return {"eq10": eq10, "eq11": eq11, "eq14": eq1, "eq14y": eq1y, "inertial_term": inline(inertial)}
 
 
 def linearisation(deriv, about: dict, assume: dict | None = None):
@@ -178,3 +180,101 @@ def parameter_rows(scene) -> list[dict]:
     for name, q in scene.state.items():
         rows.append({"name": inline(sp.Symbol(name, real=True)), "value": f"{q:~P}"})
     return rows
+
+
+# -- worked steps from solver.explain (one source for paper.html and paper.tex) ------------------------
+
+PROSE = {
+    "alpha": "alpha is the k-component of the body's angular acceleration; each example gives it in terms "
+             "of its own coordinate in its kinematics",
+    "separate": "The moment equation is written as the paper writes it: the moments of the actual forces "
+                "about P, then the inertial term -r_G/P x m a_P as a term of its own, equal to I_P alpha with "
+                "I_P built element by element by the parallel-axis theorem (Eq. 12).",
+}
+"""Sentences shared word for word by paper.html and paper.tex."""
+
+
+def _term_parts(terms):
+    """(mathml, latex) of a sum of terms kept apart (each term's note under it)."""
+    from html import escape
+
+    from reports.mathml import _mathml_body
+
+    ml, lx = [], []
+    for i, t in enumerate(terms):
+        expr = sp.sympify(t.expr)
+        negative = i > 0 and expr.could_extract_minus_sign()
+        body = -expr if negative else expr
+        op = "\u2212" if negative else "+"
+        m = _mathml_body(body)
+        x = to_latex(body)
+        if t.note and len(terms) > 1:
+            m = f"<munder><mrow>{m}</mrow><mtext mathsize=\"small\">{escape(t.note)}</mtext></munder>"
+            x = rf"\underbrace{{{x}}}_{{\text{{{_latex_text(t.note)}}}}}"
+        ml.append(("" if i == 0 else f"<mo>{op}</mo>") + m)
+        lx.append(("" if i == 0 else (" - " if negative else " + ")) + x)
+    return "".join(ml), "".join(lx)
+
+
+def _latex_text(text: str) -> str:
+    special = {"\\": r"\textbackslash{}", "&": r"\&", "%": r"\%", "$": r"\$", "#": r"\#", "_": r"\_",
+               "{": r"\{", "}": r"\}", "~": r"\textasciitilde{}", "^": r"\textasciicircum{}"}
+    return "".join(special.get(ch, ch) for ch in str(text))
+
+
+def terms_shown(eq) -> Shown:
+    """An :class:`solver.explain.content.Equation` with its terms kept apart, for both outputs."""
+    from markupsafe import Markup
+
+    from reports.mathml import _wrap
+
+    if eq.name:
+        head_m = _mathml_body(sp.Symbol(eq.name.replace("/", "")))
+        head_x = to_latex(sp.Symbol(eq.name.replace("/", "")))
+    else:
+        head_m, head_x = _term_parts(eq.lhs)
+    rhs_m, rhs_x = _term_parts(eq.rhs)
+    mathml = _wrap(f"<mrow>{head_m}<mo>=</mo>{rhs_m}</mrow>", "block")
+    return Shown(mathml=Markup(mathml), latex=f"{head_x} = {rhs_x}",
+                 text=f"{eq.name or sp.sstr(eq.left)} = {sp.sstr(eq.right)}", label=eq.label, ref=eq.ref)
+
+
+def _mathml_body(expr):
+    from reports.mathml import _mathml_body as body
+
+    return body(expr)
+
+
+def explained(system, point: str, at_rest: bool) -> dict:
+    """Newton by component, I_P per element and the generalized Euler equation about ``point`` with the
+    inertial term apart, the unknowns that drop out, and why this point (the advisor's reason)."""
+    from solver.analyses.instant import assemble
+    from solver.explain import explain, rank_points
+
+    expl = explain(system, point, advice=False)
+    body = next(iter(system.bodies))
+    section = expl.section(body)
+    rest = {c.qd: 0 for c in system.coordinates} if at_rest else {}
+
+    def at(eq):
+        from solver.display import tidy_linear
+        from solver.explain.content import Equation, Term
+
+        keys = list(system.qdd) + [r.symbol for r in system.reactions]
+        side = lambda terms: tuple(Term(tidy_linear(sp.sympify(t.expr).xreplace(rest), keys), t.note)
+                                   for t in terms)
+        return terms_shown(Equation(side(eq.lhs), side(eq.rhs), eq.label, eq.ref, eq.tag, eq.name))
+
+    newton = [at(e) for e in section.step("newton").equations]
+    euler_step = section.step("euler")
+    ranked = {c.name: c for c in rank_points(system, body, assemble(system))}
+    best = min(ranked.values(), key=lambda c: c.key)
+    return {
+        "newton": newton,
+        "inertia": terms_shown(euler_step.equation("inertia")),
+        "euler": at(euler_step.equation("euler")),
+        "dropped": section.step("dropped").text,
+        "why": f"Why {point}: {ranked[point].reason()}." if point in ranked else "",
+        "advisor_best": best.name,
+        "advisor_why": f"The point advisor's first choice is {best.name}: {best.reason()}.",
+    }

@@ -17,7 +17,7 @@ from solver.cli_common import MAX_CPU_SECONDS, OneLineArgumentParser, run_handle
 from solver.files import MAX_INPUT_BYTES
 from solver.units import MAX_UNIT_EXPONENT
 
-COMMAND_MODULES = ["solver.cli_instant", "solver.cli_dynamics", "solver.cli_draw"]
+COMMAND_MODULES = ["solver.cli_instant", "solver.cli_dynamics", "solver.cli_draw", "solver.cli_explain"]
 
 DESCRIPTION = (
     "Planar rigid-body solver built on the generalized Euler equation (moments about any "
@@ -30,6 +30,7 @@ EPILOG = (
     "  python -m solver eom data/scenes/disk_bar.toml --latex\n"
     "  python -m solver frequency data/scenes/disk_bar.toml\n"
     "  python -m solver draw data/scenes/slider_crank.toml --fbd -o fbd.svg\n"
+    "  python -m solver explain data/scenes/disk_bar.toml --point C -o worked.html\n"
     "bad input: one line 'error: ...' on stderr, exit status 2.\n"
     f"limits: every command stops after {MAX_CPU_SECONDS:g} s of CPU time (SOLVER_MAX_CPU_SECONDS); scenes\n"
     f"are regular files of at most {MAX_INPUT_BYTES} bytes; unit exponents at most {MAX_UNIT_EXPONENT}; the\n"

@@ -211,11 +211,13 @@ def eom_command(args: argparse.Namespace) -> int:
         return _eom_multi(args, system)
     d = derivation.derive(system, args.point, args.method)
     eom = d.eom
-    mass = _display_form(d.mass, _collect_trig)
+    # The qdd coefficient of the equation of motion is the generalized mass M (T = 1/2 M qd^2):
+    # the equations are projected on the partial velocities, so it is already tidied there.
+    mass = eom.coeff(d.qdd)
     # Display form only: cancel common factors (removes removable 0/0 points
     # such as a sin(theta) in both numerator and denominator).
-    reactions = {name: _display_form(expr) for name, expr in d.reactions.items()}
-    units = {name: _output_unit(system, unit) for name, unit in d.reaction_units.items()}
+    reactions = _reactions_display(d)
+    at_state = _reactions_at_state(system, d)
     q = system.free[0].name
     if args.json:
         print_json(
@@ -231,6 +233,7 @@ def eom_command(args: argparse.Namespace) -> int:
                 "generalized_force": str(d.generalized_force),
                 "reactions": {name: str(expr) for name, expr in reactions.items()},
                 "reaction_units": dict(d.reaction_units),
+                "reactions_at_state": at_state,
             }
         )
         return 0
@@ -257,9 +260,11 @@ def eom_command(args: argparse.Namespace) -> int:
     print(f"generalized mass M({q}) (kinetic energy T = 1/2 M {q}_dot**2):")
     print(f"  M = {sp.sstr(mass)}")
     print()
-    print("reactions as functions of the state (parameters in SI):")
+    print("reactions as functions of the state (SI parameters give SI values), and their values at the state:")
     for name, expr in reactions.items():
-        print(f"  {name} = {sp.sstr(expr)}    [{d.reaction_units.get(name, '')}, SI]")
+        entry = at_state[name]
+        print(f"  {name} = {sp.sstr(expr)}")
+        print(f"      = {format_number(entry['value'])} {entry['unit']} at the state")
     return 0
 
 
@@ -325,7 +330,7 @@ def _tidy_multi(expr, system):
     parts = []
     for c in system.free:
         coef = expr.xreplace({x.qdd: (1 if x is c else 0) for x in system.free}) - expr.xreplace({x.qdd: 0 for x in system.free})
-        parts.append(_display_form(coef, _collect_trig) * c.qdd)
+        parts.append(_display_form(coef, _tidy_display) * c.qdd)
     rest = expr.xreplace({x.qdd: 0 for x in system.free})
     return sp.Add(*parts) + _tidy_by_rate(rest, system.free[0].qd)
 
@@ -343,6 +348,44 @@ class _OutOfTime(Exception):
 def _collect_trig(expr: sp.Expr) -> sp.Expr:
     """Expand, then let sin**2 + cos**2 = 1 combine (e.g. a generalized mass)."""
     return sp.trigsimp(sp.expand(expr))
+
+
+def _tidy_display(expr: sp.Expr) -> sp.Expr:
+    """The structural display form (:func:`solver.display.tidy`): numerator and denominator
+    reduced modulo sin**2 + cos**2 = 1, no generic simplify."""
+    from solver.display import tidy
+
+    return tidy(expr)
+
+
+def _reactions_display(d) -> dict:
+    """Display forms of the reactions: numerator over the generalized mass from the structured
+    solve (each part tidied on its own), else the tidied closed form."""
+    from solver.display import tidy_fraction
+
+    parts = d.reaction_fractions
+    if parts is None:
+        return {name: _display_form(expr, _tidy_display) for name, expr in d.reactions.items()}
+    return {name: tidy_fraction(num, den) for name, (num, den) in parts.items()}
+
+
+def _reactions_at_state(system, d) -> dict:
+    """Each reaction's value at the scene's state, in the scene's output units."""
+    from solver.units import Q_
+
+    if d.reaction_fractions is not None:  # evaluate the closed forms at the state: no lambdify needed
+        c = system.free[0]
+        values = {k: sp.Float(v) for k, v in system.si_values().items()}
+        values.update({c.q: sp.Float(c.value), c.qd: sp.Float(c.rate), system.t: sp.Float(system.time)})
+        quantities = {name: Q_(float(expr.xreplace(values)), d.reaction_units[name])
+                      for name, expr in d.reactions.items()}
+        check_finite({n: q.magnitude for n, q in quantities.items()}, f"{system.label}: eom")
+    else:
+        from solver.analyses.instant import solve_instant as solve
+
+        solution = solve(system, d.point, d.method)
+        quantities = {name: solution.unknowns[name] for name in d.reactions}
+    return {name: to_output_units(quantity_entry(q), system.output_units) for name, q in quantities.items()}
 
 
 def _display_form(expr: sp.Expr, tidy_with=sp.cancel) -> sp.Expr:

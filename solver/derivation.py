@@ -281,6 +281,9 @@ class Derivation:
         """
         def build():
             A, b = self.linear_system()
+            structured = self._solution_by_structure(A, b)
+            if structured is not None:
+                return structured
             det = A.det(method="berkowitz")
             x = []
             for i in range(A.shape[1]):
@@ -291,6 +294,64 @@ class Derivation:
         sol = self._memo("solution", build)
         n = len(self.system.free)
         return {k: v for i, (k, v) in enumerate(sol.items()) if i >= n}
+
+    def _solution_by_structure(self, A, b):
+        """The solution from the structure of a one-freedom system: qdd = -f / M from the equation
+        of motion M qdd + f = 0, then each reaction from a row that holds it alone among the
+        reactions not yet found, with a pivot free of the state (a parameter or a number, never
+        zero at a regular configuration). None when the rows do not allow that (then Cramer).
+
+        Each reaction r = c0 + c1 qdd becomes (c0 M - c1 f) / M: the only denominator is the
+        generalized mass M > 0, like det(A) of Cramer's rule but far cheaper to form and display.
+        """
+        if self.q is None or self.system.closure or A.shape[0] != A.shape[1]:
+            return None
+        state = {self.q, self.qd, self.t}
+        n = A.shape[1]
+        found: dict[int, sp.Expr] = {}  # column -> expression in qdd and earlier reactions
+        used: set[int] = set()
+        while len(found) < n - 1:
+            progress = False
+            for i in range(A.shape[0]):
+                if i in used:
+                    continue
+                open_cols = [j for j in range(1, n) if j not in found and A[i, j] != 0]
+                if len(open_cols) != 1:
+                    continue
+                j = open_cols[0]
+                pivot = A[i, j]
+                if pivot.free_symbols & state:
+                    continue
+                rest = b[i] - A[i, 0] * self.qdd - sp.Add(*[A[i, k] * found[k] for k in found])
+                found[j] = sp.expand(rest / pivot)
+                used.add(i)
+                progress = True
+            if not progress:
+                return None
+        raw = self._raw_eom()
+        M = raw.coeff(self.qdd)
+        f = sp.expand(raw - M * self.qdd)
+        out = {str(self.qdd): -f / M}
+        parts = {}
+        for j in range(1, n):
+            c1 = found[j].coeff(self.qdd)
+            c0 = sp.expand(found[j] - c1 * self.qdd)
+            num = sp.expand(c0 * M - c1 * f)
+            out[str(self.unknowns[j])] = num / M
+            parts[str(self.unknowns[j])] = (num, M)
+        self._cache["reaction_parts"] = parts
+        return out
+
+    @property
+    def reaction_fractions(self) -> dict[str, tuple[sp.Expr, sp.Expr]] | None:
+        """(numerator, denominator) of each reaction when the structured solve applied, else None."""
+        self.reactions
+        return self._cache.get("reaction_parts")
+
+    def _raw_eom(self) -> sp.Expr:
+        from .analyses.eom import equations_of_motion
+
+        return sp.expand(equations_of_motion(self.formulation)[0])
 
     @property
     def qdd_solution(self) -> sp.Expr:
@@ -355,22 +416,19 @@ def solve_instant(scene, point: str | None = None, method: str = "generalized_eu
 
 
 def _tidy(expr: sp.Expr) -> sp.Expr:
-    """Display clean-up of a derived expression: ``simplify`` when the
-    expression is small, else a bounded ``cancel`` (never in solve paths)."""
-    try:
-        if sp.count_ops(expr) <= 600:
-            return sp.simplify(expr)
-        return sp.cancel(sp.together(expr))
-    except (sp.PolynomialError, ValueError):  # pragma: no cover - defensive
-        return expr
+    """Display form of a derived coefficient, from its structure (never in solve paths):
+    numerator and denominator reduced modulo sin**2 + cos**2 = 1 (:func:`solver.display.tidy`),
+    not a generic ``simplify``."""
+    from .display import tidy
+
+    return tidy(expr)
 
 
 def _tidy_by_rate(expr: sp.Expr, qd: sp.Symbol) -> sp.Expr:
-    """Display clean-up term by term in powers of theta_dot (trigsimp each
-    coefficient; cheaper and more readable than simplifying the whole)."""
+    """Display form term by term in powers of theta_dot, each coefficient tidied on its own."""
     try:
         parts = sp.collect(sp.expand(expr), qd, evaluate=False)
-        return sp.Add(*[sp.factor_terms(sp.trigsimp(v)) * k for k, v in parts.items()])
+        return sp.Add(*[_tidy(v) * k for k, v in parts.items()])
     except (sp.PolynomialError, ValueError):  # pragma: no cover - defensive
         return _tidy(expr)
 

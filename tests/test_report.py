@@ -271,3 +271,19 @@ def test_command_line_has_no_traceback_on_bad_root(tmp_path):
                           cwd=ROOT, capture_output=True, text=True, timeout=120, check=False)
     assert done.returncode == 2
     assert "Traceback" not in done.stderr and len(done.stderr.strip().splitlines()) == 1
+
+
+def test_paper_shows_the_inertial_term_apart_in_both_outputs(built):
+    """issue 11: every moment equation keeps the moments of the forces, the inertial term and I_P alpha
+    apart; both Newton components; the one-step alternative about C; paper.tex says what paper.html says."""
+    out = Path(built["out"])
+    html_text = (out / "paper.html").read_text(encoding="utf-8")
+    tex = (out / "paper.tex").read_text(encoding="utf-8")
+    for text in (html_text, tex):
+        assert text.count("inertial term -r") >= 3  # Example 1 about A, Example 2 about P and about C
+        assert "I_G of disk" in text or r"I\_G of disk" in text
+        assert "one-step alternative about C" in text
+        assert "y component" in text and "x component" in text
+        assert "Why A:" in text and "Why P:" in text
+    assert "is the angular acceleration, the" not in html_text  # the old wording tied to Example 1
+    assert r"\toprule point & $x$ & $y$" in tex  # the kinematics table

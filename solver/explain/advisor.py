@@ -1,0 +1,224 @@
+"""The point advisor: which point P makes a body's moment equation simplest.
+
+About any point X of a body's plane, rigidly attached to it (the body
+extended), the generalized Euler equation is the one about the body's
+reference point P0 plus r_P0/X x (Newton's equation), so its coefficients at
+the state follow from the three rows already formulated::
+
+    E_X = E_P0 + (r_P0 - r_X) x N          (Eq. 3 applied to Eq. 10)
+
+For every candidate (named points, G, the element centres, the points where
+joints act, and the intersections of two reactions' lines of action) the
+advisor counts the unknowns that E_X contains at the state, finds the
+smallest group of the body's equations (E_X alone, with Newton x or y, or all
+three) that can be solved by itself ("decouples"), and states the kinematic
+cost: whether a_X is known straight from a joint or the placement, or must be
+derived first by Eq. 6/15 from such a point.
+
+Ranking: among the points whose acceleration is known, fewest unknowns, then
+the smallest solvable group, then the scene's order. A derived point with
+fewer unknowns is reported alongside (the instant centre of two reactions'
+lines, for example), with its cost.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import sympy as sp
+
+from .content import Step, Table
+
+__all__ = ["Candidate", "rank_points", "advice_step", "MAX_CANDIDATES"]
+
+MAX_CANDIDATES = 60
+"""Most candidate points examined per body (pairs of reaction lines grow quadratically)."""
+_REL_ZERO = 1e-9
+"""A coefficient counts as zero below this fraction of the largest coefficient of the body's rows
+(round-off of the float evaluation is ~1e-15 relative; real coefficients are far above 1e-9)."""
+
+
+@dataclass
+class Candidate:
+    """A candidate point P for a body's moment equation.
+
+    Attributes
+    ----------
+    body, name : str
+    position : tuple of float
+        Fixed-frame position at the state [m].
+    origin : str
+        "named point", "mass centre", "element centre", "joint", "intersection of ...".
+    unknowns : list of str
+        The unknowns its moment equation contains at the state.
+    group : int or None
+        Size of the smallest group of the body's equations, including this moment
+        equation, that can be solved on its own (1: the moment equation alone); None if none.
+    known : bool
+        Whether a_P is known straight from a joint or the placement.
+    cost : str
+        The kinematic cost in words.
+    """
+
+    body: str
+    name: str
+    position: tuple
+    origin: str
+    unknowns: list = field(default_factory=list)
+    group: int | None = None
+    known: bool = False
+    fixed: bool = False
+    cost: str = ""
+
+    @property
+    def key(self):
+        return (0 if self.known else 1, len(self.unknowns), self.group or 99, 0 if self.fixed else 1)
+
+    def reason(self) -> str:
+        n = len(self.unknowns)
+        parts = [f"the moment equation about {self.name} holds {n} unknown(s) ({', '.join(self.unknowns)})"]
+        if self.group == 1:
+            parts.append("it gives them on its own")
+        elif self.group:
+            parts.append(f"with {self.group - 1} Newton component(s) it forms a group of {self.group} "
+                         "equations solvable on its own")
+        else:
+            parts.append("it must be solved together with the other bodies' equations")
+        parts.append(self.cost)
+        return "; ".join(parts)
+
+
+def _numeric(expr, subs) -> float:
+    return float(sp.sympify(expr).xreplace(subs))
+
+
+def _rows(system, f, body, subs):
+    A, _ = f.linear_system()
+    idx = {"x": None, "y": None, "E": None}
+    for i, e in enumerate(f.equations):
+        if e.body != body:
+            continue
+        tail = e.name.split(": ")[-1]
+        if tail == "Newton x":
+            idx["x"] = i
+        elif tail == "Newton y":
+            idx["y"] = i
+        elif tail.startswith("Euler"):
+            idx["E"] = i
+    return {k: np.array([_numeric(a, subs) for a in A.row(i)]) for k, i in idx.items()}
+
+
+def _known_points(system, body, forces_at):
+    """Names of points whose acceleration comes straight from a joint or the placement."""
+    known = {name for name in forces_at}
+    b = system.bodies[body]
+    for name in b.point_names():
+        if name in b.points and not b.points[name].is_instant and all(
+                c == 0 for c in b.points[name].coords):
+            known.add(name)  # the body frame's origin: the placement gives its motion
+    if b.position is not None:
+        known.add(b.position[0])
+    return known
+
+
+def rank_points(system, body: str, state, f=None) -> list[Candidate]:
+    """The candidate points of ``body`` at ``state``, best first (see the module docstring)."""
+    from ..formulations import formulate
+    from .build import _Points, _forces_on, _state_subs
+
+    f = f or formulate(system, "generalized_euler", None)
+    subs = _state_subs(system, state)
+    rows = _rows(system, f, body, subs)
+    names = [str(u) for u in f.unknowns]
+    scale = max(float(np.max(np.abs(r))) for r in rows.values()) or 1.0
+    P0 = f.points[body]
+    r0 = np.array([_numeric(x, subs) for x in system.point_position(body, P0)])
+
+    points = _Points(system, body)
+    forces = _forces_on(system, body, points)
+    reaction_at = {fc.point for fc in forces if fc.reaction is not None and fc.force is not None}
+    known_names = _known_points(system, body, reaction_at)
+    cands: list[Candidate] = []
+
+    def add(name, pos, origin):
+        for c in cands:
+            if np.allclose(c.position, pos, atol=1e-9 * (1 + np.max(np.abs(pos)))):
+                return
+        cands.append(Candidate(body, name, tuple(float(x) for x in pos), origin))
+
+    b = system.bodies[body]
+    for name, r in points.named.items():
+        origin = ("mass centre" if name == "G" else "element centre" if name.startswith("G_")
+                  else "joint" if name in reaction_at and name.startswith("X") else "named point")
+        add(name, np.array([_numeric(x, subs) for x in r]), origin)
+    lines = []
+    for fc in forces:
+        if fc.reaction is not None and fc.force is not None:
+            at = np.array([_numeric(x, subs) for x in fc.at])
+            d = np.array([_numeric(x, subs) for x in fc.force.xreplace({fc.unknown: 1})])
+            if np.linalg.norm(d) > 0:
+                lines.append((fc.name, at, d / np.linalg.norm(d)))
+    for i in range(len(lines)):
+        for j in range(i + 1, len(lines)):
+            if len(cands) >= MAX_CANDIDATES:
+                break
+            (n1, p1, d1), (n2, p2, d2) = lines[i], lines[j]
+            M = np.column_stack([d1, -d2])
+            if abs(np.linalg.det(M)) < 1e-9:
+                continue
+            s, _ = np.linalg.solve(M, p2 - p1)
+            add(f"I({n1},{n2})", p1 + s * d1, f"intersection of the lines of action of {n1} and {n2}")
+    for c in cands:
+        a = r0 - np.array(c.position)
+        row = rows["E"] + a[0] * rows["y"] - a[1] * rows["x"]
+        present = np.abs(row) > _REL_ZERO * scale
+        c.unknowns = [n for n, p in zip(names, present) if p]
+        c.group = _group(row, rows, scale)
+        c.known = c.name in known_names
+        c.fixed = c.name in points.named and c.name in b.point_names() and _fixed(system, body, c.name)
+        if c.fixed:
+            c.cost = f"a_{c.name} = 0 (a fixed point): no inertial term, no extra kinematics"
+        elif c.known:
+            c.cost = f"a_{c.name} is known from the joints (no extra kinematics)"
+        else:
+            c.cost = f"a_{c.name} must be derived first (Eq. 15 from a point whose acceleration is known)"
+    order = {c.name: i for i, c in enumerate(cands)}
+    return sorted(cands, key=lambda c: (*c.key, order[c.name]))
+
+
+def _fixed(system, body, name) -> bool:
+    from .build import _zero
+
+    a = system.point_acceleration(body, name)
+    return _zero(a[0]) and _zero(a[1])
+
+
+def _group(row, rows, scale):
+    """Smallest solvable group containing the moment row: unknowns <= equations."""
+    options = [(row,), (row, rows["x"]), (row, rows["y"]), (row, rows["x"], rows["y"])]
+    for group in options:
+        present = np.any(np.abs(np.vstack(group)) > _REL_ZERO * scale, axis=0)
+        if 0 < int(present.sum()) <= len(group) and np.linalg.matrix_rank(np.vstack(group)[:, present]) == int(present.sum()):
+            return len(group)
+    return None
+
+
+def advice_step(system, state) -> Step:
+    """The ranking as a step of the worked solution (all bodies)."""
+    rows, text = [], []
+    for body in system.bodies:
+        ranked = rank_points(system, body, state)
+        best = ranked[0]
+        label = f" of {body}" if len(system.bodies) > 1 else ""
+        text.append(f"Best point{label}: {best.name} — {best.reason()}.")
+        fewer = [c for c in ranked if not c.known and len(c.unknowns) < len(best.unknowns)]
+        if fewer:
+            c = min(fewer, key=lambda c: c.key[1:])
+            text.append(f"{c.name} ({c.origin}) would leave only {len(c.unknowns)} unknown(s), "
+                        f"but a_{c.name} must be derived first.")
+        for c in ranked:
+            rows.append((body, c.name, c.origin, str(len(c.unknowns)), ", ".join(c.unknowns),
+                         str(c.group) if c.group else "-", "0 (fixed)" if c.fixed else "known" if c.known else "derive"))
+    return Step("advice", "Which point P?", text,
+                table=Table(("body", "point", "what", "unknowns", "which", "solvable group", "a_P"), tuple(rows)))
