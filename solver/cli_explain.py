@@ -61,7 +61,12 @@ def explain_command(args: argparse.Namespace) -> int:
     if args.suggest_point:
         text = _suggestion_text(system)
     else:
-        text = render(explain(system, args.point), fmt)
+        explanation = explain(system, args.point)
+        if fmt == "html":  # the free-body diagrams drawn (the other formats list the forces)
+            from solver.explain.figures import attach_figures
+
+            attach_figures(explanation, system, args.point)
+        text = render(explanation, fmt)
     if args.output is None:
         print(text, end="" if text.endswith("\n") else "\n")
     else:

@@ -102,6 +102,9 @@ class Step:
         None until the drawing module provides a file or inline SVG for it.
     figure_request : dict or None
         What the drawing should show (``{"scene": ..., "body": ..., "fbd": True}``).
+    figure_svg : str or None
+        That drawing as inline SVG (:func:`solver.explain.figures.attach_figures`), shown by the
+        HTML rendering.
     """
 
     kind: str
@@ -111,6 +114,7 @@ class Step:
     table: Table | None = None
     figure: str | None = None
     figure_request: dict | None = None
+    figure_svg: str | None = None
 
     def equation(self, tag: str) -> Equation:
         for e in self.equations:

@@ -50,6 +50,8 @@ class _Renderer:
         out += [self.paragraph(t) for t in step.text]
         if step.figure is not None:
             out.append(self.figure(step.figure))
+        if step.figure_svg is not None:
+            out.append(self.drawing(step.figure_svg))
         for eq in step.equations:
             out.append(self.equation(eq))
         if step.table is not None:
@@ -61,6 +63,10 @@ class _Renderer:
 
     def figure(self, figure: str) -> str:
         return self.paragraph(f"[figure: {figure}]")
+
+    def drawing(self, svg: str) -> str:
+        """A drawn free-body diagram: only HTML shows it (the forces are listed in every format)."""
+        return ""
 
 
 # -- text ------------------------------------------------------------------------------------------
@@ -253,6 +259,9 @@ class _Html(_Renderer):
 
     def figure(self, figure):
         return f"<figure data-figure=\"{_h(figure)}\"></figure>"
+
+    def drawing(self, svg):
+        return f"<figure class=\"fbd\">{svg}</figure>"  # the project's own SVG (labels escaped by matplotlib)
 
 
 def _h(text) -> str:
