@@ -283,3 +283,19 @@ def test_advisor_reasons_for_example_1():
     assert len(ranked["G"].unknowns) == 3
     instant = [c for c in ranked.values() if c.name.startswith("I(")]
     assert len(instant) == 1 and instant[0].unknowns == ["theta_ddot"] and not instant[0].known
+
+
+def test_html_worked_solution_draws_each_free_body_diagram(solver_cli, tmp_path):
+    """The HTML worked solution shows one drawn free-body diagram per body, labelled with
+    that body's reactions as the scene names them (the text formats list them instead)."""
+    import re
+
+    out = tmp_path / "crank.html"
+    code, _, err = solver_cli("explain", "data/scenes/slider_crank.toml", "-o", str(out))
+    assert code == 0, err
+    html_text = out.read_text()
+    figures = re.findall(r'<figure class="fbd">(.*?)</figure>', html_text, flags=re.S)
+    assert len(figures) == 3 and all(f.startswith("<svg") for f in figures)
+    # the rod's diagram carries the pin forces at both of its ends (named A_x, A_y, B_x, B_y in the scene)
+    rod = next(f for f in figures if "rod: free-body diagram" in f)
+    assert all(name in rod for name in ("A_x", "A_y", "B_x", "B_y")), rod[:200]
