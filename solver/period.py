@@ -31,6 +31,17 @@ Near the turning points V(q0) - V(q) is a difference of nearly equal numbers;
 when the estimated round-off of that difference threatens the requested
 tolerance the sum is evaluated in mpmath at higher precision.
 
+When M and V are affine in cos q and sin q with the same phase (M = A + B cos x,
+V = -C cos x + const in x = q - q_c, q_c the minimum of V: the pendulum, the
+disk-bar of Example 2, the rocking semicircle), :func:`elliptic_period` gives
+the period in closed form. With k = sin(a/2) and sin(x/2) = k sin(phi),
+
+    T = 4 sqrt((A + B) / C) [R_F(0, 1 - k^2, 1 - m) - (m/3) R_J(0, 1 - k^2, 1 - m, 1)],
+    m = 2 B k^2 / (A + B),
+
+Carlson's complete elliptic integrals of the first and third kinds
+(scipy.special.elliprf, elliprj; B = 0 leaves 4 sqrt(A/C) K(k) of the pendulum).
+
 The linearized period about the stable equilibrium q_e is
 T_0 = 2 pi sqrt(M(q_e) / V''(q_e)) (paper Eq. 46 for Example 2).
 """
@@ -57,15 +68,16 @@ __all__ = [
     "turning_points",
     "linear_period",
     "exact_period",
+    "EllipticForm",
+    "elliptic_form",
+    "elliptic_period",
+    "PERIOD_METHODS",
     "TOL_MIN",
     "TOL_MAX",
     "check_limits",
 ]
 
-# Tolerances outside this range are refused: below TOL_MIN float64 cannot hold
-# the answer, above TOL_MAX the word "period" has lost its meaning.
-TOL_MIN = 1e-15
-TOL_MAX = 0.1
+from .limits import TOL_MAX, TOL_MIN  # noqa: E402 - the accepted range of tolerances
 _EPS = np.finfo(float).eps
 _MAX_NODES = 2**17
 _MP_DPS = 34
@@ -190,13 +202,15 @@ class OneDofSystem:
 
     # -- construction ---------------------------------------------------------
     @classmethod
-    def from_derivation(cls, derivation: Any) -> "OneDofSystem":
+    def from_derivation(cls, derivation: Any, reactions: bool = True) -> "OneDofSystem":
         """Build the model from a :class:`solver.derivation.Derivation`.
 
         Uses ``mass``, ``potential_energy``, ``generalized_force``, ``alpha``,
         ``reactions``, ``reaction_units`` and the scene's constraints (rolling
         normal forces are always one-sided; ``Constraint.one_sided`` marks the
-        others). Parameter values are the scene's SI values.
+        others). Parameter values are the scene's SI values. ``reactions=False``
+        skips the reactions and the linear system (the period does not need
+        them; deriving them is most of a one-off derivation's cost).
         """
         system = derivation.system
         si = system.si_values()
@@ -213,8 +227,9 @@ class OneDofSystem:
                 friction, normal, mu = j.friction_pair
                 mu = None if mu is None else float(sp.sympify(mu).xreplace(subs))
                 pairs.append(FrictionPair(j.name, friction, normal, mu))
-        reactions = dict(derivation.reactions)
-        A, b = derivation.linear_system()
+        want = reactions
+        reactions = dict(derivation.reactions) if want else {}
+        A, b = derivation.linear_system() if want else (None, None)
         units = dict(getattr(derivation, "reaction_units", {}) or {})
         return cls(
             q=derivation.q,
@@ -224,7 +239,7 @@ class OneDofSystem:
             mass=derivation.mass,
             potential=derivation.potential_energy,
             generalized_force=derivation.generalized_force,
-            alpha=derivation.alpha if len(derivation.system.bodies) == 1 else None,
+            alpha=derivation.alpha if want and len(derivation.system.bodies) == 1 else None,
             reactions=reactions,
             reaction_units={k: units.get(k, "N") for k in reactions},
             one_sided=tuple(one_sided),
@@ -743,7 +758,7 @@ class PeriodResult:
     turning_points : tuple[float, float]
         (q1, q0) sorted. [rad]
     model : str
-        ``"quadrature"``, ``"linear"`` or ``"integration"``.
+        ``"linear"``, ``"elliptic"`` (closed form), ``"quadrature"`` or ``"integration"``.
     error_estimate : float
         Estimated relative error of ``period``.
     nodes : int
@@ -779,10 +794,153 @@ class PeriodResult:
         }
 
 
-def _validate_exact_period(system: OneDofSystem, amplitude: float, tol: float, precision: str) -> None:
+# --------------------------------------------------------------------------- closed form
+# Carlson's R_F and R_J are accurate to a few ulps (scipy.special, Carlson 1995); the
+# arguments cos^2(a/2) and M(a)/M(0) carry one rounding each. 16 eps bounds the sum.
+_ELLIPTIC_ERROR = 16 * _EPS
+# A sin x term in M (in the coordinate x = q - q_c) smaller than this, relative to M's
+# coefficients, is round-off of the phase: M is taken as A + B cos x.
+_PHASE_TOL = 1e-13
+
+
+@dataclass(frozen=True)
+class EllipticForm:
+    """M = A + B cos(q - center), V_eff = -C cos(q - center) + const (C > 0).
+
+    Attributes
+    ----------
+    center : float
+        The minimum of V_eff (the stable equilibrium). [rad]
+    A, B : float
+        Generalized mass M = A + B cos(q - center). [kg m^2]
+    C : float
+        Depth of the potential, V_eff = -C cos(q - center) + const. [J]
+    """
+
+    center: float
+    A: float
+    B: float
+    C: float
+
+
+def _affine_in_cos_sin(expr: sp.Expr, q: sp.Symbol) -> tuple[sp.Expr, sp.Expr, sp.Expr] | None:
+    """(c0, c1, c2) with expr = c0 + c1 cos q + c2 sin q identically, or None.
+
+    ``expr`` may hold q only in sin(q) and cos(q), polynomially; sin^2 = 1 - cos^2
+    is applied exactly (polynomial remainder), so cos^2 + sin^2 terms are recognised.
+    """
+    S, C = sp.Dummy("S"), sp.Dummy("C")
+    e = sp.sympify(expr).xreplace({sp.sin(q): S, sp.cos(q): C})
+    if e.has(q):
+        return None
+    try:
+        _, rem = sp.div(sp.Poly(e, S, C), sp.Poly(S**2 + C**2 - 1, S, C))
+    except (sp.PolynomialError, sp.GeneratorsError, sp.CoercionFailed):
+        return None
+    terms = rem.as_dict()
+    if any(m not in ((0, 0), (0, 1), (1, 0)) and sp.expand(c) != 0 for m, c in terms.items()):
+        return None
+    return (sp.sympify(terms.get((0, 0), 0)), sp.sympify(terms.get((0, 1), 0)), sp.sympify(terms.get((1, 0), 0)))
+
+
+def elliptic_form(system: OneDofSystem, equilibrium: Equilibrium) -> EllipticForm | None:
+    """The closed-form structure of ``system`` about ``equilibrium``, or None when it has none.
+
+    The symbolic test (M and V_eff affine in cos q and sin q) is done once per
+    system; the numbers once per set of parameter values.
+    """
+    def symbolic():
+        try:
+            V = system.effective_potential()
+        except InputError:
+            return None  # rate- or time-dependent loads: no potential
+        M = _affine_in_cos_sin(system.mass, system.q)
+        W = _affine_in_cos_sin(V, system.q)
+        return None if M is None or W is None else (M, W[1:])
+
+    def numeric():
+        shape = system._memo(("elliptic-symbolic", system._active_force()[1]), symbolic)
+        if shape is None:
+            return None
+        subs = dict(zip(system.params, system.values))
+        (a0, a1, a2), (b1, b2) = [[float(sp.sympify(c).xreplace(subs)) for c in part] for part in shape]
+        C = math.hypot(b1, b2)  # V = b1 cos q + b2 sin q = -C cos(q - phi)
+        if not (C > 0 and all(math.isfinite(v) for v in (a0, a1, a2, C))):
+            return None
+        phi = math.atan2(-b2, -b1)
+        turns = round((equilibrium.q - phi) / (2 * math.pi))
+        center = phi + 2 * math.pi * turns
+        if abs(center - equilibrium.q) > 1e-6 * (1 + abs(center)):
+            return None  # not the minimum of this V (cannot happen for a cosine; kept as a guard)
+        B = a1 * math.cos(phi) + a2 * math.sin(phi)
+        B_sin = a2 * math.cos(phi) - a1 * math.sin(phi)
+        if abs(B_sin) > _PHASE_TOL * (abs(a0) + abs(a1) + abs(a2)):
+            return None  # M out of phase with V: no closed form of this kind
+        if not a0 + B > 0:
+            return None
+        return EllipticForm(center, a0, B, C)
+
+    return system._memo(("elliptic", system.values, equilibrium.q), numeric)
+
+
+def elliptic_period(form: EllipticForm, amplitude: float) -> float:
+    """Period [s] of the swing released from rest at ``form.center + amplitude`` (|amplitude| < pi).
+
+    Notes
+    -----
+    With x = q - center, T = 4 int_0^a sqrt(M(x) / (2 C (cos x - cos a))) dx. The
+    substitution sin(x/2) = k sin(phi), k = sin(a/2), gives
+    T = 4 sqrt((A+B)/C) int_0^(pi/2) sqrt((1 - m s^2) / (1 - k^2 s^2)) dphi (s = sin phi,
+    m = 2 B k^2 / (A + B)), and with t = 1/s^2 - 1 that integral is
+    R_F(0, 1-k^2, 1-m) - (m/3) R_J(0, 1-k^2, 1-m, 1) (module docstring).
+    ``1 - k^2 = cos^2(a/2)`` and ``1 - m = M(a)/M(0)`` are formed without cancellation.
+
+    Examples
+    --------
+    The pendulum (B = 0) at 90 deg: T / T0 = 2 K(1/2) / pi = 1.18034...
+
+    >>> T0 = 2 * math.pi
+    >>> round(elliptic_period(EllipticForm(0.0, 1.0, 0.0, 1.0), math.pi / 2) / T0, 10)
+    1.1803405990
+    """
+    from scipy.special import elliprf, elliprj
+
+    half = 0.5 * abs(amplitude)
+    k2, y = math.sin(half) ** 2, math.cos(half) ** 2
+    M0 = form.A + form.B
+    m = 2.0 * form.B * k2 / M0
+    z = (form.A + form.B * math.cos(amplitude)) / M0
+    integral = float(elliprf(0.0, y, z))
+    if m != 0.0:
+        integral -= m / 3.0 * float(elliprj(0.0, y, z, 1.0))
+    return 4.0 * math.sqrt(M0 / form.C) * integral
+
+
+
+PERIOD_METHODS = ("auto", "elliptic", "quadrature")
+"""``exact_period(method=...)``: the closed form where the structure admits it, else the quadrature."""
+
+
+def _elliptic_result(system: OneDofSystem, form: EllipticForm, amplitude: float, T0: float) -> PeriodResult:
+    """The closed-form PeriodResult; the separatrix (|amplitude| >= pi) and model limits refused."""
+    if not abs(amplitude) < math.pi:
+        raise _separatrix_error(system, amplitude, form.center + math.copysign(math.pi, amplitude),
+                                "is reached at or before the release point")
+    turns = (form.center - abs(amplitude), form.center + abs(amplitude))
+    if system.limits:
+        for turn in turns:
+            check_limits(system, turn, "a turning point of the swing")
+    T = elliptic_period(form, amplitude)
+    return PeriodResult(T, T0, T / T0, amplitude, form.center, turns, "elliptic", _ELLIPTIC_ERROR, 0, "float64")
+
+
+def _validate_exact_period(system: OneDofSystem, amplitude: float, tol: float, precision: str,
+                           method: str = "auto") -> None:
     valid = ("auto", "float64", "mpmath")
     if precision not in valid:
         raise ValueError(f"`precision` must be one of {valid}, got {precision!r}")
+    if method not in PERIOD_METHODS:
+        raise ValueError(f"`method` must be one of {PERIOD_METHODS}, got {method!r}")
     if not isinstance(system, OneDofSystem):
         raise TypeError(f"`system` must be a OneDofSystem, got {type(system).__name__}")
     if not math.isfinite(amplitude):
@@ -849,6 +1007,7 @@ def exact_period(
     tol: float = 1e-10,
     equilibrium: Equilibrium | None = None,
     precision: str = "auto",
+    method: str = "auto",
 ) -> PeriodResult:
     """Period of free oscillation released from rest at q_e + amplitude, to relative ``tol``.
 
@@ -862,15 +1021,19 @@ def exact_period(
     equilibrium : Equilibrium, optional
         Found with :func:`find_equilibrium` when not given.
     precision : {"auto", "float64", "mpmath"}
-        Arithmetic of the potential differences; ``"auto"`` switches to mpmath
-        when the estimated round-off exceeds tol / 4.
+        Arithmetic of the quadrature's potential differences; ``"auto"`` switches
+        to mpmath when the estimated round-off exceeds tol / 4.
+    method : {"auto", "elliptic", "quadrature"}
+        ``"auto"``: the closed form (:func:`elliptic_period`) when M and V_eff
+        admit it and its error bound meets ``tol``, else the quadrature.
 
     Returns
     -------
     PeriodResult
-        ``model="quadrature"``; ``error_estimate`` is the difference between
-        the last two node counts plus the round-off estimate (an upper bound:
-        the convergence is geometric).
+        ``model="elliptic"`` (error estimate: the round-off bound of the
+        elliptic integrals) or ``model="quadrature"`` (error estimate: the
+        difference between the last two node counts plus the round-off
+        estimate, an upper bound since the convergence is geometric).
 
     Raises
     ------
@@ -885,9 +1048,16 @@ def exact_period(
     T = 2 int sqrt(M / (2 (V(q0) - V))) dq with q = q_m + h sin u (module
     docstring); T0 from paper Eq. 46 generalised: 2 pi sqrt(M(q_e)/V''(q_e)).
     """
-    _validate_exact_period(system, amplitude, tol, precision)
+    _validate_exact_period(system, amplitude, tol, precision, method)
     eq = equilibrium if equilibrium is not None else find_equilibrium(system)
     T0 = eq.period
+    if method != "quadrature":
+        form = elliptic_form(system, eq)
+        if form is None and method == "elliptic":
+            raise InputError(f"{system.name}: the period has no closed form here (M and the potential are not "
+                             f"both affine in cos and sin of {system.q} with one phase); use the quadrature")
+        if form is not None and (method == "elliptic" or _ELLIPTIC_ERROR <= tol):
+            return _elliptic_result(system, form, amplitude, T0)
     if amplitude == 0.0:
         return PeriodResult(T0, T0, 1.0, 0.0, eq.q, (eq.q, eq.q), "quadrature", 0.0, 0, "float64")
     q1, q0 = turning_points(system, eq, amplitude)
