@@ -25,10 +25,13 @@ $(STAMP): requirements.lock pyproject.toml
 .PHONY: venv
 venv: $(STAMP)
 
-## test: run the test suite (creates .venv when missing)
+## test: run the test suite on two workers (creates .venv when missing)
+# pytest-xdist: two processes; --dist loadgroup keeps the tests that share the report build
+# (xdist_group "report_build") on one worker. `pytest FILE` alone runs serially.
+TEST_WORKERS ?= 2
 .PHONY: test
 test: $(STAMP)
-	$(PY) -m pytest
+	$(PY) -m pytest -n $(TEST_WORKERS) --dist loadgroup
 
 ## bench: time the solver, the survey analytics and the report build (results in reports/build/bench/)
 .PHONY: bench

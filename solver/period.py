@@ -47,6 +47,7 @@ T_0 = 2 pi sqrt(M(q_e) / V''(q_e)) (paper Eq. 46 for Example 2).
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field, replace
 from typing import Any, Callable
@@ -346,18 +347,41 @@ class OneDofSystem:
         return lambda q: np.asarray(f(q, *vals), dtype=float) + 0.0 * np.asarray(q, dtype=float)
 
     def potential_fn(self, derivative: int = 0, precision: str = "float64") -> Callable[[Any], Any]:
-        """V_eff^(derivative)(q) as a function; ``precision="mpmath"`` for an mpmath version."""
+        """V_eff^(derivative)(q) as a function.
+
+        ``precision``: ``"float64"`` (vectorised), ``"longdouble"`` (vectorised in
+        numpy's extended precision, 64-bit mantissa on x86: the quadrature's
+        potential differences), ``"scalar"`` (a Python float in, a float out, through
+        the ``math`` module: about 20 times cheaper per call, for root finding) or
+        ``"mpmath"``.
+        """
         def expr():
             return sp.diff(self.effective_potential(), self.q, derivative)
 
-        zeros = self._active_force()[1]  # V_eff depends on which loads are switched off
+        key = (f"V{derivative}", self._zero_parameters())  # V_eff depends on which loads are switched off
         if precision == "mpmath":
-            f = self._fn((f"V{derivative}", zeros), (self.q,), expr, "mpmath")
+            f = self._fn(key, (self.q,), expr, "mpmath")
             mvals = [mpmath.mpf(v) for v in self.values]
             return lambda q: f(q, *mvals)
-        f = self._fn((f"V{derivative}", zeros), (self.q,), expr, "numpy")
         vals = self.values
+        if precision == "scalar":
+            try:
+                f = self._fn(key, (self.q,), expr, "math")
+                float(f(0.1, *vals))
+                return lambda q: float(f(q, *vals))
+            except (NameError, TypeError, AttributeError, KeyError, ZeroDivisionError, ValueError, OverflowError):
+                precision = "float64"
+        f = self._fn(key, (self.q,), expr, "numpy")
+        if precision == "longdouble":
+            return lambda q: np.asarray(f(q, *vals), dtype=np.longdouble) + 0.0 * np.asarray(q, dtype=np.longdouble)
+        if precision == "scalar":
+            return lambda q: float(f(q, *vals))
         return lambda q: np.asarray(f(q, *vals), dtype=float) + 0.0 * np.asarray(q, dtype=float)
+
+    def _zero_parameters(self) -> tuple[str, ...]:
+        """Names of the parameters whose value is 0 (memoised per set of values: the same
+        as :meth:`_active_force` reports, without its symbolic substitution)."""
+        return self._memo(("zeros", self.values), lambda: self._active_force()[1])
 
     def qdd_fn(self) -> Callable:
         """Vectorised theta_ddot(q, qd, t)."""
@@ -706,11 +730,18 @@ def turning_points(system: OneDofSystem, equilibrium: Equilibrium, amplitude: fl
         qm = float(side[bad[0]])
         raise _separatrix_error(system, amplitude, qm, "lies between the equilibrium and the release point")
     V0 = float(V(q0))
-    # other side: walk away from q_e until V >= V0, refusing a maximum on the way
+    # other side: walk away from q_e until V >= V0, refusing a maximum on the way (the scan
+    # of the usual reach, 4 pi, is kept per parameter values: amplitude sweeps reuse it)
     reach = max(4.0 * abs(amplitude), 4.0 * math.pi)
-    other = qe - s * np.linspace(0.0, reach, 8193)[1:]
-    Vo = V(other)
-    so = -s * dV(other)
+
+    def scan():
+        other = qe - s * np.linspace(0.0, reach, 8193)[1:]
+        return other, V(other), -s * dV(other)
+
+    if reach == 4.0 * math.pi:
+        other, Vo, so = system._memo(("far-side scan", system.values, qe, s), scan)
+    else:
+        other, Vo, so = scan()
     above = np.nonzero(Vo >= V0)[0]
     if not above.size:
         raise InputError(
@@ -724,7 +755,8 @@ def turning_points(system: OneDofSystem, equilibrium: Equilibrium, amplitude: fl
         raise _separatrix_error(system, amplitude, qm, "on the far side is lower than the release point")
     lo = qe if j == 0 else float(other[j - 1])
     hi = float(other[j])
-    f = lambda x: float(V(x)) - V0  # noqa: E731
+    Vs = system.potential_fn(0, precision="scalar")
+    f = lambda x: Vs(x) - V0  # noqa: E731
     if f(hi) == 0.0:
         q1 = hi
     else:
@@ -880,7 +912,17 @@ def elliptic_form(system: OneDofSystem, equilibrium: Equilibrium) -> EllipticFor
             return None
         return EllipticForm(center, a0, B, C)
 
-    return system._memo(("elliptic", system.values, equilibrium.q), numeric)
+    key = ("elliptic", system.values, equilibrium.q)
+    cache = system._cache
+    return cache[key] if key in cache else system._memo(key, numeric)
+
+
+@functools.lru_cache(maxsize=1)
+def _carlson():
+    """scipy.special's R_F and R_J (imported on first use: scipy.special costs start-up)."""
+    from scipy.special import elliprf, elliprj
+
+    return elliprf, elliprj
 
 
 def elliptic_period(form: EllipticForm, amplitude: float) -> float:
@@ -903,8 +945,7 @@ def elliptic_period(form: EllipticForm, amplitude: float) -> float:
     >>> round(elliptic_period(EllipticForm(0.0, 1.0, 0.0, 1.0), math.pi / 2) / T0, 10)
     1.1803405990
     """
-    from scipy.special import elliprf, elliprj
-
+    elliprf, elliprj = _carlson()
     half = 0.5 * abs(amplitude)
     k2, y = math.sin(half) ** 2, math.cos(half) ** 2
     M0 = form.A + form.B
@@ -949,29 +990,64 @@ def _validate_exact_period(system: OneDofSystem, amplitude: float, tol: float, p
         raise InputError(f"tolerance must lie in [{TOL_MIN:g}, {TOL_MAX:g}], got {tol!r}")
 
 
-def _float_sum(M, V, V0, q0, q1, n):
-    """Midpoint rule in u with n nodes; returns (T, round-off estimate, ok)."""
-    qm, h = 0.5 * (q0 + q1), 0.5 * (q0 - q1)
+_LD = np.longdouble
+_EPS_LD = float(np.finfo(_LD).eps)  # 1.1e-19 with x86's 80-bit extended precision
+
+
+@functools.lru_cache(maxsize=32)
+def _midpoint_sines(n: int) -> np.ndarray:
+    """sin(u_k) at the n midpoint nodes u_k of (-pi/2, pi/2) (the same for every call)."""
     u = -0.5 * math.pi + math.pi * (np.arange(n) + 0.5) / n
-    w = 0.25 * math.pi - 0.5 * u
-    d0 = 2.0 * h * np.sin(w) ** 2  # q0 - q, free of cancellation
-    d1 = 2.0 * h * np.cos(w) ** 2  # q - q1
-    q = qm + h * np.sin(u)
-    Vq = V(q)
+    out = np.sin(u)
+    out.flags.writeable = False
+    return out
+
+
+def _float_sum(M, V, V0, q0, q1, n):
+    """Midpoint rule in u with n nodes; returns (T, round-off estimate, ok).
+
+    The nodes q = q_m + h sin(u) are float64; the integrand
+    sqrt(M(q) (q0 - q)(q - q1) / (2 (V0 - V(q)))) is evaluated at exactly those q, with
+    the differences q0 - q, q - q1 and V0 - V(q) in numpy's long double (``V`` a
+    long-double potential, ``V0``, ``q0``, ``q1`` long doubles): the difference of
+    nearly equal potentials near the turning points and at small amplitudes keeps about
+    11 more bits than in float64 (on x86; where long double is float64 the estimate says
+    so). M and the sum are float64.
+    """
+    qm, h = float((q0 + q1) / 2), float((q0 - q1) / 2)
+    q = qm + h * _midpoint_sines(n)
+    ql = q.astype(_LD)
+    d0 = q0 - ql
+    d1 = ql - q1
+    Vq = V(ql)
     dV = V0 - Vq
     with np.errstate(all="ignore"):
-        g = dV / (d0 * d1)
+        g = np.asarray(dV / (d0 * d1), dtype=float)
         Mq = M(q)
         ok = bool(np.all(np.isfinite(g)) and np.all(g > 0) and np.all(Mq > 0))
         if not ok:
             return math.nan, math.inf, False
         hq = np.sqrt(Mq / (2.0 * g))
+        # round-off in V0 - V(q) relative to the difference, weighted as in the sum
+        rel = 2.0 * _EPS_LD * (np.abs(np.asarray(V0, dtype=float)) + np.abs(np.asarray(Vq, dtype=float))) \
+            / np.abs(np.asarray(dV, dtype=float))
     T = 2.0 * math.pi / n * float(np.sum(hq))
-    # round-off in V0 - V(q) (and in q itself) relative to the difference, weighted as in the sum
-    scale = np.abs(V0) + np.abs(Vq) + np.abs(q) * np.abs(dV / np.maximum(d0, d1))
-    rel = 0.5 * 4.0 * _EPS * scale / np.abs(dV)
-    err = float(np.sum(hq * rel) / np.sum(hq))
+    err = float(np.sum(hq * rel) / np.sum(hq)) + 2.0 * _EPS  # plus float64's M and sum
     return T, err, True
+
+
+def _polish_turning_point(system: OneDofSystem, V, V0, q1: float):
+    """q1 as a long double, sharpened by Newton steps on V(q) = V0 in long double (the
+    float64 root leaves V(q1) - V0 at float64 round-off, which the node nearest q1 feels)."""
+    dV = system.potential_fn(1, precision="longdouble")
+    x = _LD(q1)
+    for _ in range(2):
+        with np.errstate(all="ignore"):
+            step = (V(x) - V0) / dV(x)
+        if not (np.isfinite(step) and abs(float(step)) <= 1e-8 * (1.0 + abs(q1))):
+            break
+        x = x - step
+    return x
 
 
 def _mp_sum(system, q0, q1, n, dps=_MP_DPS):
@@ -1062,8 +1138,13 @@ def exact_period(
         return PeriodResult(T0, T0, 1.0, 0.0, eq.q, (eq.q, eq.q), "quadrature", 0.0, 0, "float64")
     q1, q0 = turning_points(system, eq, amplitude)
     M = system.mass_fn()
-    V = system.potential_fn(0)
-    V0 = float(V(q0))
+    V = system.potential_fn(0, precision="longdouble")
+    # the release point is q0 exactly; the far turning point is sharpened in long double
+    turn = 1 if abs(q0 - (eq.q + amplitude)) <= abs(q1 - (eq.q + amplitude)) else 0
+    ends = [_LD(q1), _LD(q0)]
+    V0 = V(ends[turn])
+    ends[1 - turn] = _polish_turning_point(system, V, V0, (q1, q0)[1 - turn])
+    lo_ld, hi_ld = ends
     use_mp = precision == "mpmath"
     # V0 - V(q) shrinks like amplitude**2: add digits for small amplitudes
     mp_dps = _MP_DPS + max(0, int(math.ceil(-2.0 * math.log10(abs(amplitude)))))
@@ -1080,7 +1161,7 @@ def exact_period(
                     f"{math.degrees(amplitude):.6g} deg even in {mp_dps}-digit arithmetic"
                 )
         else:
-            T, err_round, ok = _float_sum(M, V, V0, q0, q1, n)
+            T, err_round, ok = _float_sum(M, V, V0, hi_ld, lo_ld, n)
             if (not ok or err_round > tol / 4) and precision == "auto":
                 use_mp = True
                 prev = None
