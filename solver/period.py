@@ -858,11 +858,12 @@ class EllipticForm:
 def _affine_in_cos_sin(expr: sp.Expr, q: sp.Symbol) -> tuple[sp.Expr, sp.Expr, sp.Expr] | None:
     """(c0, c1, c2) with expr = c0 + c1 cos q + c2 sin q identically, or None.
 
-    ``expr`` may hold q only in sin(q) and cos(q), polynomially; sin^2 = 1 - cos^2
+    ``expr`` may hold q only in sin and cos of q plus a constant (expanded to sin q and
+    cos q), polynomially; sin^2 = 1 - cos^2
     is applied exactly (polynomial remainder), so cos^2 + sin^2 terms are recognised.
     """
     S, C = sp.Dummy("S"), sp.Dummy("C")
-    e = sp.sympify(expr).xreplace({sp.sin(q): S, sp.cos(q): C})
+    e = sp.expand_trig(sp.sympify(expr)).xreplace({sp.sin(q): S, sp.cos(q): C})  # cos(q - c) -> cos q, sin q
     if e.has(q):
         return None
     try:
@@ -942,7 +943,7 @@ def elliptic_period(form: EllipticForm, amplitude: float) -> float:
     The pendulum (B = 0) at 90 deg: T / T0 = 2 K(1/2) / pi = 1.18034...
 
     >>> T0 = 2 * math.pi
-    >>> round(elliptic_period(EllipticForm(0.0, 1.0, 0.0, 1.0), math.pi / 2) / T0, 10)
+    >>> print(f"{elliptic_period(EllipticForm(0.0, 1.0, 0.0, 1.0), math.pi / 2) / T0:.10f}")
     1.1803405990
     """
     elliprf, elliprj = _carlson()
