@@ -168,10 +168,10 @@ def _mpmath_period(A, B, C, a, dps=40):
     with mpmath.workdps(dps):
         a = mpmath.mpf(a)
 
-        def f(u):
-            q = a * mpmath.sin(u)
-            return mpmath.sqrt((A - B * mpmath.cos(q)) / (2 * C * (mpmath.cos(q) - mpmath.cos(a)))) * a * mpmath.cos(u)
-        return float(2 * mpmath.quad(f, [-mpmath.pi / 2, 0, mpmath.pi / 2]))
+        def f(q):  # the raw singular integrand: tanh-sinh handles the end singularities
+            dv = C * (mpmath.cos(q) - mpmath.cos(a))
+            return mpmath.sqrt((A - B * mpmath.cos(q)) / (2 * dv)) if dv > 0 else mpmath.mpf(0)
+        return float(2 * mpmath.quad(f, [-a, 0, a]))
 
 
 def period() -> dict:
