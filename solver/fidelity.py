@@ -50,6 +50,8 @@ from .limits import PERIOD_MODELS as MODELS  # noqa: E402 - one place, read by -
 MARGIN = 2.0
 _SERIES_LIMIT = 1e-2
 _AMPLITUDE_LIMIT = 0.35
+_C2_FLOOR = 1e-9
+"""|c2| at or below this is taken as a vanishing leading term: the series is not trusted."""
 
 
 @dataclass(frozen=True)
@@ -145,13 +147,15 @@ def period_to_tolerance(
     _validate_period_to_tolerance(system, amplitude, tol, model)
     eq = equilibrium if equilibrium is not None else find_equilibrium(system)
     T0 = eq.period
-    if model == "linear" or (model == "auto" and abs(amplitude) <= _AMPLITUDE_LIMIT):
-        # (beyond _AMPLITUDE_LIMIT the series is never trusted: auto skips computing c2)
+    if model == "linear" or (model == "auto" and abs(amplitude) <= _AMPLITUDE_LIMIT
+                             and MARGIN * _C2_FLOOR * amplitude**2 <= tol):
+        # auto skips computing c2 where no c2 could pass: beyond _AMPLITUDE_LIMIT the series is
+        # never trusted, and MARGIN |c2| a^2 <= tol would need |c2| <= _C2_FLOOR, which is refused
         if amplitude == 0.0:
             return PeriodResult(T0, T0, 1.0, 0.0, eq.q, (eq.q, eq.q), "linear", 0.0, 0, "float64")
         coeff = system._memo(("c2", system.values, eq.q), lambda: amplitude_coefficient(system, eq))
         lead = abs(coeff.c2) * amplitude**2
-        regime = lead <= _SERIES_LIMIT and abs(amplitude) <= _AMPLITUDE_LIMIT and abs(coeff.c2) > 1e-9
+        regime = lead <= _SERIES_LIMIT and abs(amplitude) <= _AMPLITUDE_LIMIT and abs(coeff.c2) > _C2_FLOOR
         if model == "linear" or (regime and MARGIN * lead <= tol):
             q1, q0 = turning_points(system, eq, amplitude)  # refuses the separatrix here too
             est = MARGIN * lead if regime else max(MARGIN * lead, 1.0)
