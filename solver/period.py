@@ -698,6 +698,10 @@ def _separatrix_error(system: OneDofSystem, amplitude: float, q_max: float, wher
     )
 
 
+_UNIT_STEPS = np.linspace(0.0, 1.0, 2049)[1:]  # the release side's scan, in units of the amplitude
+_UNIT_STEPS.flags.writeable = False
+
+
 def turning_points(system: OneDofSystem, equilibrium: Equilibrium, amplitude: float) -> tuple[float, float]:
     """Both turning points (q1, q0) of a release from rest at q0 = q_e + amplitude.
 
@@ -715,21 +719,22 @@ def turning_points(system: OneDofSystem, equilibrium: Equilibrium, amplitude: fl
     s = 1.0 if amplitude > 0 else -1.0
     V = system.potential_fn(0)
     dV = system.potential_fn(1)
+    Vs, dVs = system.potential_fn(0, precision="scalar"), system.potential_fn(1, precision="scalar")  # points
+    V0, Ve = Vs(q0), Vs(qe)
     # A tiny amplitude raises V by less than float64 resolves: place the far turning
     # point in higher precision (no maximum can lie that close to a minimum).
-    rise, level = float(V(q0)) - float(V(qe)), max(abs(float(V(q0))), abs(float(V(qe))))
+    rise, level = V0 - Ve, max(abs(V0), abs(Ve))
     if not rise > _RESOLVED * _EPS * level:
         q1 = _small_amplitude_turning_point(system, equilibrium, amplitude)
         return (min(q0, q1), max(q0, q1))
     # same side: V must rise monotonically from q_e to q0
-    side = qe + np.linspace(0.0, amplitude, 2049)[1:]
+    side = qe + amplitude * _UNIT_STEPS
     slope = s * dV(side)
     scale = float(np.max(np.abs(slope))) if slope.size else 0.0
     bad = np.nonzero(slope <= 1e-12 * scale)[0]
     if bad.size:
         qm = float(side[bad[0]])
         raise _separatrix_error(system, amplitude, qm, "lies between the equilibrium and the release point")
-    V0 = float(V(q0))
     # other side: walk away from q_e until V >= V0, refusing a maximum on the way (the scan
     # of the usual reach, 4 pi, is kept per parameter values: amplitude sweeps reuse it)
     reach = max(4.0 * abs(amplitude), 4.0 * math.pi)
@@ -755,18 +760,18 @@ def turning_points(system: OneDofSystem, equilibrium: Equilibrium, amplitude: fl
         raise _separatrix_error(system, amplitude, qm, "on the far side is lower than the release point")
     lo = qe if j == 0 else float(other[j - 1])
     hi = float(other[j])
-    Vs = system.potential_fn(0, precision="scalar")
     f = lambda x: Vs(x) - V0  # noqa: E731
     if f(hi) == 0.0:
         q1 = hi
     else:
         q1 = brentq(f, lo, hi, xtol=1e-300, rtol=4 * _EPS, maxiter=500, disp=False)
     # a turning point at a (numerically) flat potential is the separatrix itself
-    if abs(float(dV(q1))) <= 1e-9 * scale or abs(float(dV(q0))) <= 1e-9 * scale:
-        raise _separatrix_error(system, amplitude, q1 if abs(float(dV(q1))) <= 1e-9 * scale else q0,
+    if abs(dVs(q1)) <= 1e-9 * scale or abs(dVs(q0)) <= 1e-9 * scale:
+        raise _separatrix_error(system, amplitude, q1 if abs(dVs(q1)) <= 1e-9 * scale else q0,
                                 "is reached exactly")
-    for turn in (q0, q1):
-        check_limits(system, turn, "a turning point of the swing")
+    if system.limits:
+        for turn in (q0, q1):
+            check_limits(system, turn, "a turning point of the swing")
     return (min(q0, q1), max(q0, q1))
 
 
@@ -1018,22 +1023,19 @@ def _float_sum(M, V, V0, q0, q1, n):
     qm, h = float((q0 + q1) / 2), float((q0 - q1) / 2)
     q = qm + h * _midpoint_sines(n)
     ql = q.astype(_LD)
-    d0 = q0 - ql
-    d1 = ql - q1
-    Vq = V(ql)
-    dV = V0 - Vq
     with np.errstate(all="ignore"):
-        g = np.asarray(dV / (d0 * d1), dtype=float)
+        Vq = V(ql)
+        dV = V0 - Vq
+        g = (dV / ((q0 - ql) * (ql - q1))).astype(float)
         Mq = M(q)
-        ok = bool(np.all(np.isfinite(g)) and np.all(g > 0) and np.all(Mq > 0))
-        if not ok:
+        if not (np.isfinite(g).all() and (g > 0).all() and (Mq > 0).all()):
             return math.nan, math.inf, False
         hq = np.sqrt(Mq / (2.0 * g))
         # round-off in V0 - V(q) relative to the difference, weighted as in the sum
-        rel = 2.0 * _EPS_LD * (np.abs(np.asarray(V0, dtype=float)) + np.abs(np.asarray(Vq, dtype=float))) \
-            / np.abs(np.asarray(dV, dtype=float))
-    T = 2.0 * math.pi / n * float(np.sum(hq))
-    err = float(np.sum(hq * rel) / np.sum(hq)) + 2.0 * _EPS  # plus float64's M and sum
+        rel = (2.0 * _EPS_LD) * ((abs(V0) + np.abs(Vq)) / np.abs(dV)).astype(float)
+    total = hq.sum()
+    T = 2.0 * math.pi / n * float(total)
+    err = float((hq * rel).sum() / total) + 2.0 * _EPS  # plus float64's M and sum
     return T, err, True
 
 
