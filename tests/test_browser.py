@@ -26,12 +26,7 @@ import pytest
 from reports.make_report import ROOT, build_cached
 
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
-pytestmark = [
-    pytest.mark.skipif(CHROMIUM is None, reason="chromium is not installed (.ci/run installs Debian's chromium)"),
-    # one worker builds the report for this file and tests/test_report.py (`make test` runs
-    # pytest-xdist with --dist loadgroup): built once, not once per worker
-    pytest.mark.xdist_group("report_build"),
-]
+pytestmark = pytest.mark.skipif(CHROMIUM is None, reason="chromium is not installed (.ci/run installs Debian's chromium)")
 
 FLAGS = [
     "--headless",

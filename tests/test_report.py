@@ -36,10 +36,6 @@ from reports.published import ReportInputError, load_equations
 from solver.derivation import derive, solve_instant
 from solver.scenefile import load_scene
 
-# one worker builds the report for this file and tests/test_browser.py (`make test` runs
-# pytest-xdist with --dist loadgroup): built once, not once per worker
-pytestmark = pytest.mark.xdist_group("report_build")
-
 PUBLISHED = ROOT / "data" / "published"
 # The printed equations that are wrong, and by how much (hand derivation, see module docstring).
 EXPECTED_RESIDUAL = {"eq43": "2*F_a*r_d", "eq44": "2*F_a*r_d"}
