@@ -26,13 +26,13 @@ $(STAMP): requirements.lock pyproject.toml
 venv: $(STAMP)
 
 ## test: run the test suite on two workers (creates .venv when missing)
-# pytest-xdist: two processes (`pytest FILE` alone runs serially). Each worker that runs a
-# report test builds the report once (tests/test_report.py and tests/test_browser.py may
-# land on different workers: xdist 3.8's loadgroup does not group under pytest 9).
+# pytest-xdist: two processes (`pytest FILE` alone runs serially); --dist loadfile keeps each
+# file on one worker, so module fixtures (the report build, derivations) run once per file
+# rather than once per worker.
 TEST_WORKERS ?= 2
 .PHONY: test
 test: $(STAMP)
-	$(PY) -m pytest -n $(TEST_WORKERS)
+	$(PY) -m pytest -n $(TEST_WORKERS) --dist loadfile
 
 ## bench: time the solver, the survey analytics and the report build (results in reports/build/bench/)
 .PHONY: bench

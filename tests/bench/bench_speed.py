@@ -24,7 +24,7 @@ the tool a user would otherwise pick, measured in the same run.
 3. ``make report``: a cold build (fresh output folder) at most 1.5x the CPU time of
    importing the build's third-party dependencies (listed by the build itself); a
    second ``make report`` does nothing, in under 0.1 s.
-4. ``make test``: the whole suite on 2 workers (``pytest -n 2``, as ``make test``) in
+4. ``make test``: the whole suite on 2 workers (``pytest -n 2 --dist loadfile``, as ``make test``) in
    under 60 s of wall time (also reported: its CPU time). ``BENCH_SKIP_TESTS=1`` skips it.
 
 Writes reports/build/bench/speed.json: ``targets`` (one row per target: measured,
@@ -257,7 +257,7 @@ def report() -> dict:
 
 # ----------------------------------------------------------------------------- 4. make test
 def tests() -> dict:
-    cpu, wall, status = run_cpu([PY, "-m", "pytest", "-n", "2", "-q", "-p", "no:cacheprovider"])
+    cpu, wall, status = run_cpu([PY, "-m", "pytest", "-n", "2", "--dist", "loadfile", "-q", "-p", "no:cacheprovider"])
     return {"wall_s": round(wall, 1), "cpu_s": round(cpu, 1), "passed": status == 0}
 
 
