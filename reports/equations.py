@@ -221,15 +221,46 @@ def _trig_reduce(expr: sp.Expr) -> sp.Expr | None:
 
 
 def _simplify(expr: sp.Expr) -> sp.Expr:
-    """Reduce a residual: exact trigonometric normal form first, ``simplify`` for display."""
+    """Reduce a residual: exact trigonometric normal form first (factored), sympy's generic
+    ``simplify`` only when there is no such form or it came out larger than the residual
+    itself (``simplify`` took seconds per disagreeing equation, most of a report build's
+    checking time)."""
     reduced = _trig_reduce(expr)
     if reduced is not None and reduced == 0:
         return sp.Integer(0)
+    if reduced is not None:
+        reduced = sp.factor(reduced)
+        if sp.count_ops(reduced) <= sp.count_ops(expr):
+            return reduced
     full = sp.simplify(expr)
     if reduced is None:
         return full
-    reduced = sp.factor(reduced)
     return full if sp.count_ops(full) <= sp.count_ops(reduced) else reduced
+
+
+def _varies(expr: sp.Expr, seed: int = 0) -> bool:
+    """True when ``expr`` takes clearly different values at two random points (so it is not a
+    constant and sympy's slow ``simplify`` need not be asked); False when it may be constant
+    or could not be evaluated."""
+    symbols = sorted(expr.free_symbols, key=lambda s: s.name)
+    if not symbols:
+        return False
+    fn = sp.lambdify(symbols, expr, modules="mpmath")
+    values = []
+    with mpmath.workdps(_DIGITS):
+        for attempt in range(4):
+            point = _random_point(symbols, seed + attempt)
+            try:
+                value = fn(*[mpmath.mpf(point[s].p) / point[s].q for s in symbols])
+            except (ZeroDivisionError, ValueError, TypeError):
+                continue
+            if not mpmath.isfinite(value):
+                continue
+            values.append(value)
+            # 1e-20 relative at 30 digits: far above the round-off, far below any real variation
+            if len(values) == 2:
+                return abs(values[0] - values[1]) > float(_ZERO_REL) * (abs(values[0]) + abs(values[1]))
+    return False
 
 
 def _diagnose(residual: sp.Expr, lhs: sp.Expr, rhs: sp.Expr, solution: dict) -> str:
@@ -245,6 +276,8 @@ def _diagnose(residual: sp.Expr, lhs: sp.Expr, rhs: sp.Expr, solution: dict) -> 
             value = (sign * term).subs(solution) if solution else sign * term
             if value == 0:
                 continue
+            if _varies(residual / value):
+                continue  # not a constant multiple of this term: no need to ask simplify
             ratio = sp.simplify(residual / value)
             if ratio.is_number and ratio != 0:
                 factor = sp.nsimplify(1 - ratio)

@@ -15,7 +15,7 @@ from collections.abc import Sequence
 
 from solver.cli_common import MAX_CPU_SECONDS, OneLineArgumentParser, run_handler
 from solver.files import MAX_INPUT_BYTES
-from solver.units import MAX_UNIT_EXPONENT
+from solver.limits import MAX_UNIT_EXPONENT
 
 COMMAND_MODULES = ["solver.cli_instant", "solver.cli_dynamics", "solver.cli_draw", "solver.cli_explain"]
 

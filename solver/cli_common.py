@@ -31,9 +31,10 @@ import sys
 import threading
 import warnings
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
-from typing import Any, NoReturn
+from typing import TYPE_CHECKING, Any, NoReturn
 
-import pint
+if TYPE_CHECKING:  # annotations only: pint loads in ~0.3 s, which --help does not need
+    import pint
 
 from solver.errors import InputError
 from solver.files import MAX_INPUT_BYTES
@@ -116,7 +117,7 @@ def add_point_option(parser: argparse.ArgumentParser) -> None:
 
 
 def add_method_option(parser: argparse.ArgumentParser) -> None:
-    from solver.derivation import METHODS
+    from solver.limits import FORMULATION_METHODS as METHODS
 
     parser.add_argument(
         "--method",

@@ -40,9 +40,10 @@ __all__ = ["register"]
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add ``period``, ``simulate``, ``friction`` and ``precision`` to the command line."""
-    from solver.fidelity import MODELS, TOL_MAX, TOL_MIN
-    from solver.precision import MAX_DPS, MIN_DPS
-    from solver.simulate import MAX_PERIODS, MAX_RHS_EVALUATIONS, MAX_SAMPLES, MAX_T_END, METHODS
+    from solver.limits import IVP_METHODS as METHODS
+    from solver.limits import MAX_DPS, MAX_PERIODS, MAX_RHS_EVALUATIONS, MAX_SAMPLES, MAX_T_END, MIN_DPS
+    from solver.limits import PERIOD_MODELS as MODELS
+    from solver.limits import TOL_MAX, TOL_MIN
 
     p = subparsers.add_parser(
         "period",
@@ -170,7 +171,7 @@ def _time(text: str, where: str) -> float:
     return parse_time(text, where)
 
 
-def _system(args):
+def _system(args, reactions: bool = True):
     from solver.derivation import derive
     from solver.period import OneDofSystem
 
@@ -183,7 +184,7 @@ def _system(args):
             "use `frequency` for its natural modes or `simulate` for its motion"
         )
     d = derive(scene, getattr(args, "point", None), getattr(args, "method", "generalized_euler"))
-    return scene, d, OneDofSystem.from_derivation(d)
+    return scene, d, OneDofSystem.from_derivation(d, reactions=reactions)
 
 
 def _where(scene) -> str:
@@ -196,7 +197,7 @@ def period_command(args: argparse.Namespace) -> int:
     from solver.period import find_equilibrium
 
     amplitude = _angle(args.amplitude, "--amplitude")
-    scene, _, system = _system(args)
+    scene, _, system = _system(args, reactions=False)  # the period needs only M and V
     eq = find_equilibrium(system, near=state_si(scene)[0])
     res = period_to_tolerance(system, amplitude, tol=args.tol, model=args.model, equilibrium=eq)
     shown = to_output_units(res.to_dict(), scene.output_units)
@@ -218,8 +219,9 @@ def period_command(args: argparse.Namespace) -> int:
     print()
     print(format_table(("name", "value", "unit"), rows, align="lrl"))
     print()
-    print(f"model: {res.model}, estimated relative error {res.error_estimate:.2g} (requested {args.tol:g}"
-          + (f", {res.nodes} nodes, {res.precision}" if res.model == "quadrature" else "") + ")")
+    how = {"elliptic": " (closed form: complete elliptic integrals of the first and third kinds)",
+           "quadrature": f" ({res.nodes} nodes, {res.precision})"}.get(res.model, "")
+    print(f"model: {res.model}{how}, estimated relative error {res.error_estimate:.2g} (requested {args.tol:g})")
     return 0
 
 

@@ -19,9 +19,7 @@ import math
 import signal
 import threading
 
-import sympy as sp
-
-from solver import derivation
+from solver.lazy import lazy_module
 from solver.cli_common import (
     add_common_arguments,
     check_finite,
@@ -34,6 +32,10 @@ from solver.cli_common import (
     to_output_units,
 )
 from solver.errors import InputError
+
+# loaded on first use: `--help` and the argument errors need neither (about 1 s of start-up)
+sp = lazy_module("sympy")
+derivation = lazy_module("solver.derivation")
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -388,7 +390,7 @@ def _reactions_at_state(system, d) -> dict:
     return {name: to_output_units(quantity_entry(q), system.output_units) for name, q in quantities.items()}
 
 
-def _display_form(expr: sp.Expr, tidy_with=sp.cancel) -> sp.Expr:
+def _display_form(expr: sp.Expr, tidy_with=None) -> sp.Expr:
     """A readable equivalent of ``expr`` for printing (never used to compute).
 
     ``tidy_with`` (default ``sympy.cancel``, which removes common factors and
@@ -398,6 +400,7 @@ def _display_form(expr: sp.Expr, tidy_with=sp.cancel) -> sp.Expr:
     of CPU time (on the main thread of a POSIX system); otherwise the
     derived form is printed unchanged.
     """
+    tidy_with = sp.cancel if tidy_with is None else tidy_with
     ops = sp.count_ops(expr)
     if ops > DISPLAY_MAX_OPS:
         return expr

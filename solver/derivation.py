@@ -465,7 +465,7 @@ def natural_frequency(scene, method: str = "generalized_euler") -> FrequencyResu
 
     system = as_system(scene)
     d = derive(system, None, method)
-    one = OneDofSystem.from_derivation(d)
+    one = OneDofSystem.from_derivation(d, reactions=False)  # M and V only: no reactions needed
     eq = find_equilibrium(one, near=system.free[0].value)
     w = eq.omega
     return FrequencyResult(

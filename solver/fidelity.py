@@ -9,6 +9,10 @@ Models, cheapest first:
     (:func:`amplitude_coefficient`). It is accepted when
     ``MARGIN * |c2| a^2 <= tol`` and the series is clearly in its
     asymptotic regime (|c2| a^2 <= 1e-2, a <= 0.35 rad).
+``"elliptic"``
+    The closed form in complete elliptic integrals (:func:`solver.period.elliptic_period`),
+    where M and V are affine in cos and sin of the coordinate with one phase
+    (the pendulum, Example 2's disk-bar); exact to round-off (about 4e-15).
 ``"quadrature"``
     The energy integral (:func:`solver.period.exact_period`), to ``tol``.
 ``"integration"``
@@ -40,12 +44,14 @@ from .period import (TOL_MAX, TOL_MIN, Equilibrium, OneDofSystem, PeriodResult, 
 
 __all__ = ["MODELS", "MARGIN", "SeriesCoefficients", "amplitude_coefficient", "period_to_tolerance"]
 
-MODELS = ("auto", "linear", "quadrature", "integration")
+from .limits import PERIOD_MODELS as MODELS  # noqa: E402 - one place, read by --help too
 # Safety factor on the leading series term: the next terms (a^3, a^4) are
 # below |c2| a^2 in the accepted regime, so twice the leading term bounds them.
 MARGIN = 2.0
 _SERIES_LIMIT = 1e-2
 _AMPLITUDE_LIMIT = 0.35
+_C2_FLOOR = 1e-9
+"""|c2| at or below this is taken as a vanishing leading term: the series is not trusted."""
 
 
 @dataclass(frozen=True)
@@ -121,7 +127,7 @@ def period_to_tolerance(
         Release from rest at q_e + amplitude. [rad]
     tol : float
         Requested relative accuracy.
-    model : {"auto", "linear", "quadrature", "integration"}
+    model : {"auto", "linear", "elliptic", "quadrature", "integration"}
         ``"auto"`` picks; the others force a model (``"linear"`` then reports
         its error estimate, which may exceed tol).
 
@@ -141,19 +147,23 @@ def period_to_tolerance(
     _validate_period_to_tolerance(system, amplitude, tol, model)
     eq = equilibrium if equilibrium is not None else find_equilibrium(system)
     T0 = eq.period
-    if model in ("auto", "linear"):
+    if model == "linear" or (model == "auto" and abs(amplitude) <= _AMPLITUDE_LIMIT
+                             and MARGIN * _C2_FLOOR * amplitude**2 <= tol):
+        # auto skips computing c2 where no c2 could pass: beyond _AMPLITUDE_LIMIT the series is
+        # never trusted, and MARGIN |c2| a^2 <= tol would need |c2| <= _C2_FLOOR, which is refused
         if amplitude == 0.0:
             return PeriodResult(T0, T0, 1.0, 0.0, eq.q, (eq.q, eq.q), "linear", 0.0, 0, "float64")
-        coeff = amplitude_coefficient(system, eq)
+        coeff = system._memo(("c2", system.values, eq.q), lambda: amplitude_coefficient(system, eq))
         lead = abs(coeff.c2) * amplitude**2
-        regime = lead <= _SERIES_LIMIT and abs(amplitude) <= _AMPLITUDE_LIMIT and abs(coeff.c2) > 1e-9
+        regime = lead <= _SERIES_LIMIT and abs(amplitude) <= _AMPLITUDE_LIMIT and abs(coeff.c2) > _C2_FLOOR
         if model == "linear" or (regime and MARGIN * lead <= tol):
             q1, q0 = turning_points(system, eq, amplitude)  # refuses the separatrix here too
             est = MARGIN * lead if regime else max(MARGIN * lead, 1.0)
             return PeriodResult(T0, T0, 1.0, amplitude, eq.q, (q1, q0), "linear", est, 0, "float64")
-    if model in ("auto", "quadrature"):
+    if model in ("auto", "elliptic", "quadrature"):
         try:
-            return exact_period(system, amplitude, tol=tol, equilibrium=eq)
+            return exact_period(system, amplitude, tol=tol, equilibrium=eq,
+                                method="auto" if model == "auto" else model)
         except QuadratureError:
             if model == "quadrature":
                 raise

@@ -11,7 +11,9 @@ through this module:
 * :func:`check_output_path`: a destination checked before any work is done
   (its folder exists and is writable; it is not a folder or a device);
 * :func:`write_atomic`: write to a temporary file in the same folder and
-  rename it over the destination, so nothing is ever half-written.
+  rename it over the destination, so nothing is ever half-written;
+* :func:`user_cache_dir`: the per-user folder for caches that only speed
+  things up (pint's parsed unit definitions), or None when there is no safe one.
 
 Every problem is an :class:`~solver.errors.InputError` of one line that
 starts with ``where`` (the file, or the flag that named it).
@@ -185,7 +187,35 @@ def write_atomic(path: str | os.PathLike, write: Callable[[IO], None], where: st
     return path
 
 
+CACHE_ENV = "ALT_EULER_NO_CACHE"
+"""Set this environment variable (to anything but empty) to use no on-disk cache."""
+
+
+def user_cache_dir(name: str) -> Path | None:
+    """``$XDG_CACHE_HOME/alt-euler/NAME`` (default ``~/.cache``), created private, or None.
+
+    A cache only saves time, so every problem gives None (the caller works
+    without): the folder cannot be created, is not a folder, belongs to another
+    user, is writable by group or others (someone else could plant data in it),
+    or :data:`CACHE_ENV` is set.
+    """
+    if os.environ.get(CACHE_ENV):
+        return None
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    folder = Path(base) / "alt-euler" / name
+    try:
+        folder.mkdir(mode=0o700, parents=True, exist_ok=True)
+        info = folder.lstat()
+    except (OSError, RuntimeError):
+        return None
+    if (not stat.S_ISDIR(info.st_mode) or info.st_uid != os.getuid() or info.st_mode & 0o022
+            or not os.access(folder, os.W_OK | os.X_OK)):
+        return None
+    return folder
+
+
 __all__ = [
+    "user_cache_dir",
     "MAX_INPUT_BYTES", "MAX_TOML_DEPTH", "MAX_TOML_ITEMS", "read_regular_file", "read_toml", "check_depth",
     "check_output_path", "write_atomic",
 ]

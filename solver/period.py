@@ -31,11 +31,23 @@ Near the turning points V(q0) - V(q) is a difference of nearly equal numbers;
 when the estimated round-off of that difference threatens the requested
 tolerance the sum is evaluated in mpmath at higher precision.
 
+When M and V are affine in cos q and sin q with the same phase (M = A + B cos x,
+V = -C cos x + const in x = q - q_c, q_c the minimum of V: the pendulum, the
+disk-bar of Example 2, the rocking semicircle), :func:`elliptic_period` gives
+the period in closed form. With k = sin(a/2) and sin(x/2) = k sin(phi),
+
+    T = 4 sqrt((A + B) / C) [R_F(0, 1 - k^2, 1 - m) - (m/3) R_J(0, 1 - k^2, 1 - m, 1)],
+    m = 2 B k^2 / (A + B),
+
+Carlson's complete elliptic integrals of the first and third kinds
+(scipy.special.elliprf, elliprj; B = 0 leaves 4 sqrt(A/C) K(k) of the pendulum).
+
 The linearized period about the stable equilibrium q_e is
 T_0 = 2 pi sqrt(M(q_e) / V''(q_e)) (paper Eq. 46 for Example 2).
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field, replace
 from typing import Any, Callable
@@ -57,15 +69,16 @@ __all__ = [
     "turning_points",
     "linear_period",
     "exact_period",
+    "EllipticForm",
+    "elliptic_form",
+    "elliptic_period",
+    "PERIOD_METHODS",
     "TOL_MIN",
     "TOL_MAX",
     "check_limits",
 ]
 
-# Tolerances outside this range are refused: below TOL_MIN float64 cannot hold
-# the answer, above TOL_MAX the word "period" has lost its meaning.
-TOL_MIN = 1e-15
-TOL_MAX = 0.1
+from .limits import TOL_MAX, TOL_MIN  # noqa: E402 - the accepted range of tolerances
 _EPS = np.finfo(float).eps
 _MAX_NODES = 2**17
 _MP_DPS = 34
@@ -190,13 +203,15 @@ class OneDofSystem:
 
     # -- construction ---------------------------------------------------------
     @classmethod
-    def from_derivation(cls, derivation: Any) -> "OneDofSystem":
+    def from_derivation(cls, derivation: Any, reactions: bool = True) -> "OneDofSystem":
         """Build the model from a :class:`solver.derivation.Derivation`.
 
         Uses ``mass``, ``potential_energy``, ``generalized_force``, ``alpha``,
         ``reactions``, ``reaction_units`` and the scene's constraints (rolling
         normal forces are always one-sided; ``Constraint.one_sided`` marks the
-        others). Parameter values are the scene's SI values.
+        others). Parameter values are the scene's SI values. ``reactions=False``
+        skips the reactions and the linear system (the period does not need
+        them; deriving them is most of a one-off derivation's cost).
         """
         system = derivation.system
         si = system.si_values()
@@ -213,8 +228,9 @@ class OneDofSystem:
                 friction, normal, mu = j.friction_pair
                 mu = None if mu is None else float(sp.sympify(mu).xreplace(subs))
                 pairs.append(FrictionPair(j.name, friction, normal, mu))
-        reactions = dict(derivation.reactions)
-        A, b = derivation.linear_system()
+        want = reactions
+        reactions = dict(derivation.reactions) if want else {}
+        A, b = derivation.linear_system() if want else (None, None)
         units = dict(getattr(derivation, "reaction_units", {}) or {})
         return cls(
             q=derivation.q,
@@ -224,7 +240,7 @@ class OneDofSystem:
             mass=derivation.mass,
             potential=derivation.potential_energy,
             generalized_force=derivation.generalized_force,
-            alpha=derivation.alpha if len(derivation.system.bodies) == 1 else None,
+            alpha=derivation.alpha if want and len(derivation.system.bodies) == 1 else None,
             reactions=reactions,
             reaction_units={k: units.get(k, "N") for k in reactions},
             one_sided=tuple(one_sided),
@@ -331,18 +347,41 @@ class OneDofSystem:
         return lambda q: np.asarray(f(q, *vals), dtype=float) + 0.0 * np.asarray(q, dtype=float)
 
     def potential_fn(self, derivative: int = 0, precision: str = "float64") -> Callable[[Any], Any]:
-        """V_eff^(derivative)(q) as a function; ``precision="mpmath"`` for an mpmath version."""
+        """V_eff^(derivative)(q) as a function.
+
+        ``precision``: ``"float64"`` (vectorised), ``"longdouble"`` (vectorised in
+        numpy's extended precision, 64-bit mantissa on x86: the quadrature's
+        potential differences), ``"scalar"`` (a Python float in, a float out, through
+        the ``math`` module: about 20 times cheaper per call, for root finding) or
+        ``"mpmath"``.
+        """
         def expr():
             return sp.diff(self.effective_potential(), self.q, derivative)
 
-        zeros = self._active_force()[1]  # V_eff depends on which loads are switched off
+        key = (f"V{derivative}", self._zero_parameters())  # V_eff depends on which loads are switched off
         if precision == "mpmath":
-            f = self._fn((f"V{derivative}", zeros), (self.q,), expr, "mpmath")
+            f = self._fn(key, (self.q,), expr, "mpmath")
             mvals = [mpmath.mpf(v) for v in self.values]
             return lambda q: f(q, *mvals)
-        f = self._fn((f"V{derivative}", zeros), (self.q,), expr, "numpy")
         vals = self.values
+        if precision == "scalar":
+            try:
+                f = self._fn(key, (self.q,), expr, "math")
+                float(f(0.1, *vals))
+                return lambda q: float(f(q, *vals))
+            except (NameError, TypeError, AttributeError, KeyError, ZeroDivisionError, ValueError, OverflowError):
+                precision = "float64"
+        f = self._fn(key, (self.q,), expr, "numpy")
+        if precision == "longdouble":
+            return lambda q: np.asarray(f(q, *vals), dtype=np.longdouble) + 0.0 * np.asarray(q, dtype=np.longdouble)
+        if precision == "scalar":
+            return lambda q: float(f(q, *vals))
         return lambda q: np.asarray(f(q, *vals), dtype=float) + 0.0 * np.asarray(q, dtype=float)
+
+    def _zero_parameters(self) -> tuple[str, ...]:
+        """Names of the parameters whose value is 0 (memoised per set of values: the same
+        as :meth:`_active_force` reports, without its symbolic substitution)."""
+        return self._memo(("zeros", self.values), lambda: self._active_force()[1])
 
     def qdd_fn(self) -> Callable:
         """Vectorised theta_ddot(q, qd, t)."""
@@ -659,6 +698,10 @@ def _separatrix_error(system: OneDofSystem, amplitude: float, q_max: float, wher
     )
 
 
+_UNIT_STEPS = np.linspace(0.0, 1.0, 2049)[1:]  # the release side's scan, in units of the amplitude
+_UNIT_STEPS.flags.writeable = False
+
+
 def turning_points(system: OneDofSystem, equilibrium: Equilibrium, amplitude: float) -> tuple[float, float]:
     """Both turning points (q1, q0) of a release from rest at q0 = q_e + amplitude.
 
@@ -676,26 +719,34 @@ def turning_points(system: OneDofSystem, equilibrium: Equilibrium, amplitude: fl
     s = 1.0 if amplitude > 0 else -1.0
     V = system.potential_fn(0)
     dV = system.potential_fn(1)
+    Vs, dVs = system.potential_fn(0, precision="scalar"), system.potential_fn(1, precision="scalar")  # points
+    V0, Ve = Vs(q0), Vs(qe)
     # A tiny amplitude raises V by less than float64 resolves: place the far turning
     # point in higher precision (no maximum can lie that close to a minimum).
-    rise, level = float(V(q0)) - float(V(qe)), max(abs(float(V(q0))), abs(float(V(qe))))
+    rise, level = V0 - Ve, max(abs(V0), abs(Ve))
     if not rise > _RESOLVED * _EPS * level:
         q1 = _small_amplitude_turning_point(system, equilibrium, amplitude)
         return (min(q0, q1), max(q0, q1))
     # same side: V must rise monotonically from q_e to q0
-    side = qe + np.linspace(0.0, amplitude, 2049)[1:]
+    side = qe + amplitude * _UNIT_STEPS
     slope = s * dV(side)
     scale = float(np.max(np.abs(slope))) if slope.size else 0.0
     bad = np.nonzero(slope <= 1e-12 * scale)[0]
     if bad.size:
         qm = float(side[bad[0]])
         raise _separatrix_error(system, amplitude, qm, "lies between the equilibrium and the release point")
-    V0 = float(V(q0))
-    # other side: walk away from q_e until V >= V0, refusing a maximum on the way
+    # other side: walk away from q_e until V >= V0, refusing a maximum on the way (the scan
+    # of the usual reach, 4 pi, is kept per parameter values: amplitude sweeps reuse it)
     reach = max(4.0 * abs(amplitude), 4.0 * math.pi)
-    other = qe - s * np.linspace(0.0, reach, 8193)[1:]
-    Vo = V(other)
-    so = -s * dV(other)
+
+    def scan():
+        other = qe - s * np.linspace(0.0, reach, 8193)[1:]
+        return other, V(other), -s * dV(other)
+
+    if reach == 4.0 * math.pi:
+        other, Vo, so = system._memo(("far-side scan", system.values, qe, s), scan)
+    else:
+        other, Vo, so = scan()
     above = np.nonzero(Vo >= V0)[0]
     if not above.size:
         raise InputError(
@@ -709,17 +760,18 @@ def turning_points(system: OneDofSystem, equilibrium: Equilibrium, amplitude: fl
         raise _separatrix_error(system, amplitude, qm, "on the far side is lower than the release point")
     lo = qe if j == 0 else float(other[j - 1])
     hi = float(other[j])
-    f = lambda x: float(V(x)) - V0  # noqa: E731
+    f = lambda x: Vs(x) - V0  # noqa: E731
     if f(hi) == 0.0:
         q1 = hi
     else:
         q1 = brentq(f, lo, hi, xtol=1e-300, rtol=4 * _EPS, maxiter=500, disp=False)
     # a turning point at a (numerically) flat potential is the separatrix itself
-    if abs(float(dV(q1))) <= 1e-9 * scale or abs(float(dV(q0))) <= 1e-9 * scale:
-        raise _separatrix_error(system, amplitude, q1 if abs(float(dV(q1))) <= 1e-9 * scale else q0,
+    if abs(dVs(q1)) <= 1e-9 * scale or abs(dVs(q0)) <= 1e-9 * scale:
+        raise _separatrix_error(system, amplitude, q1 if abs(dVs(q1)) <= 1e-9 * scale else q0,
                                 "is reached exactly")
-    for turn in (q0, q1):
-        check_limits(system, turn, "a turning point of the swing")
+    if system.limits:
+        for turn in (q0, q1):
+            check_limits(system, turn, "a turning point of the swing")
     return (min(q0, q1), max(q0, q1))
 
 
@@ -743,7 +795,7 @@ class PeriodResult:
     turning_points : tuple[float, float]
         (q1, q0) sorted. [rad]
     model : str
-        ``"quadrature"``, ``"linear"`` or ``"integration"``.
+        ``"linear"``, ``"elliptic"`` (closed form), ``"quadrature"`` or ``"integration"``.
     error_estimate : float
         Estimated relative error of ``period``.
     nodes : int
@@ -779,10 +831,163 @@ class PeriodResult:
         }
 
 
-def _validate_exact_period(system: OneDofSystem, amplitude: float, tol: float, precision: str) -> None:
+# --------------------------------------------------------------------------- closed form
+# Carlson's R_F and R_J are accurate to a few ulps (scipy.special, Carlson 1995); the
+# arguments cos^2(a/2) and M(a)/M(0) carry one rounding each. 16 eps bounds the sum.
+_ELLIPTIC_ERROR = 16 * _EPS
+# A sin x term in M (in the coordinate x = q - q_c) smaller than this, relative to M's
+# coefficients, is round-off of the phase: M is taken as A + B cos x.
+_PHASE_TOL = 1e-13
+
+
+@dataclass(frozen=True)
+class EllipticForm:
+    """M = A + B cos(q - center), V_eff = -C cos(q - center) + const (C > 0).
+
+    Attributes
+    ----------
+    center : float
+        The minimum of V_eff (the stable equilibrium). [rad]
+    A, B : float
+        Generalized mass M = A + B cos(q - center). [kg m^2]
+    C : float
+        Depth of the potential, V_eff = -C cos(q - center) + const. [J]
+    """
+
+    center: float
+    A: float
+    B: float
+    C: float
+
+
+def _affine_in_cos_sin(expr: sp.Expr, q: sp.Symbol) -> tuple[sp.Expr, sp.Expr, sp.Expr] | None:
+    """(c0, c1, c2) with expr = c0 + c1 cos q + c2 sin q identically, or None.
+
+    ``expr`` may hold q only in sin and cos of q plus a constant (expanded to sin q and
+    cos q), polynomially; sin^2 = 1 - cos^2
+    is applied exactly (polynomial remainder), so cos^2 + sin^2 terms are recognised.
+    """
+    S, C = sp.Dummy("S"), sp.Dummy("C")
+    e = sp.expand_trig(sp.sympify(expr)).xreplace({sp.sin(q): S, sp.cos(q): C})  # cos(q - c) -> cos q, sin q
+    if e.has(q):
+        return None
+    try:
+        _, rem = sp.div(sp.Poly(e, S, C), sp.Poly(S**2 + C**2 - 1, S, C))
+    except (sp.PolynomialError, sp.GeneratorsError, sp.CoercionFailed):
+        return None
+    terms = rem.as_dict()
+    if any(m not in ((0, 0), (0, 1), (1, 0)) and sp.expand(c) != 0 for m, c in terms.items()):
+        return None
+    return (sp.sympify(terms.get((0, 0), 0)), sp.sympify(terms.get((0, 1), 0)), sp.sympify(terms.get((1, 0), 0)))
+
+
+def elliptic_form(system: OneDofSystem, equilibrium: Equilibrium) -> EllipticForm | None:
+    """The closed-form structure of ``system`` about ``equilibrium``, or None when it has none.
+
+    The symbolic test (M and V_eff affine in cos q and sin q) is done once per
+    system; the numbers once per set of parameter values.
+    """
+    def symbolic():
+        try:
+            V = system.effective_potential()
+        except InputError:
+            return None  # rate- or time-dependent loads: no potential
+        M = _affine_in_cos_sin(system.mass, system.q)
+        W = _affine_in_cos_sin(V, system.q)
+        return None if M is None or W is None else (M, W[1:])
+
+    def numeric():
+        shape = system._memo(("elliptic-symbolic", system._active_force()[1]), symbolic)
+        if shape is None:
+            return None
+        subs = dict(zip(system.params, system.values))
+        (a0, a1, a2), (b1, b2) = [[float(sp.sympify(c).xreplace(subs)) for c in part] for part in shape]
+        C = math.hypot(b1, b2)  # V = b1 cos q + b2 sin q = -C cos(q - phi)
+        if not (C > 0 and all(math.isfinite(v) for v in (a0, a1, a2, C))):
+            return None
+        phi = math.atan2(-b2, -b1)
+        turns = round((equilibrium.q - phi) / (2 * math.pi))
+        center = phi + 2 * math.pi * turns
+        if abs(center - equilibrium.q) > 1e-6 * (1 + abs(center)):
+            return None  # not the minimum of this V (cannot happen for a cosine; kept as a guard)
+        B = a1 * math.cos(phi) + a2 * math.sin(phi)
+        B_sin = a2 * math.cos(phi) - a1 * math.sin(phi)
+        if abs(B_sin) > _PHASE_TOL * (abs(a0) + abs(a1) + abs(a2)):
+            return None  # M out of phase with V: no closed form of this kind
+        if not a0 + B > 0:
+            return None
+        return EllipticForm(center, a0, B, C)
+
+    key = ("elliptic", system.values, equilibrium.q)
+    cache = system._cache
+    return cache[key] if key in cache else system._memo(key, numeric)
+
+
+@functools.lru_cache(maxsize=1)
+def _carlson():
+    """scipy.special's R_F and R_J (imported on first use: scipy.special costs start-up)."""
+    from scipy.special import elliprf, elliprj
+
+    return elliprf, elliprj
+
+
+def elliptic_period(form: EllipticForm, amplitude: float) -> float:
+    """Period [s] of the swing released from rest at ``form.center + amplitude`` (|amplitude| < pi).
+
+    Notes
+    -----
+    With x = q - center, T = 4 int_0^a sqrt(M(x) / (2 C (cos x - cos a))) dx. The
+    substitution sin(x/2) = k sin(phi), k = sin(a/2), gives
+    T = 4 sqrt((A+B)/C) int_0^(pi/2) sqrt((1 - m s^2) / (1 - k^2 s^2)) dphi (s = sin phi,
+    m = 2 B k^2 / (A + B)), and with t = 1/s^2 - 1 that integral is
+    R_F(0, 1-k^2, 1-m) - (m/3) R_J(0, 1-k^2, 1-m, 1) (module docstring).
+    ``1 - k^2 = cos^2(a/2)`` and ``1 - m = M(a)/M(0)`` are formed without cancellation.
+
+    Examples
+    --------
+    The pendulum (B = 0) at 90 deg: T / T0 = 2 K(1/2) / pi = 1.18034...
+
+    >>> T0 = 2 * math.pi
+    >>> print(f"{elliptic_period(EllipticForm(0.0, 1.0, 0.0, 1.0), math.pi / 2) / T0:.10f}")
+    1.1803405990
+    """
+    elliprf, elliprj = _carlson()
+    half = 0.5 * abs(amplitude)
+    k2, y = math.sin(half) ** 2, math.cos(half) ** 2
+    M0 = form.A + form.B
+    m = 2.0 * form.B * k2 / M0
+    z = (form.A + form.B * math.cos(amplitude)) / M0
+    integral = float(elliprf(0.0, y, z))
+    if m != 0.0:
+        integral -= m / 3.0 * float(elliprj(0.0, y, z, 1.0))
+    return 4.0 * math.sqrt(M0 / form.C) * integral
+
+
+
+PERIOD_METHODS = ("auto", "elliptic", "quadrature")
+"""``exact_period(method=...)``: the closed form where the structure admits it, else the quadrature."""
+
+
+def _elliptic_result(system: OneDofSystem, form: EllipticForm, amplitude: float, T0: float) -> PeriodResult:
+    """The closed-form PeriodResult; the separatrix (|amplitude| >= pi) and model limits refused."""
+    if not abs(amplitude) < math.pi:
+        raise _separatrix_error(system, amplitude, form.center + math.copysign(math.pi, amplitude),
+                                "is reached at or before the release point")
+    turns = (form.center - abs(amplitude), form.center + abs(amplitude))
+    if system.limits:
+        for turn in turns:
+            check_limits(system, turn, "a turning point of the swing")
+    T = elliptic_period(form, amplitude)
+    return PeriodResult(T, T0, T / T0, amplitude, form.center, turns, "elliptic", _ELLIPTIC_ERROR, 0, "float64")
+
+
+def _validate_exact_period(system: OneDofSystem, amplitude: float, tol: float, precision: str,
+                           method: str = "auto") -> None:
     valid = ("auto", "float64", "mpmath")
     if precision not in valid:
         raise ValueError(f"`precision` must be one of {valid}, got {precision!r}")
+    if method not in PERIOD_METHODS:
+        raise ValueError(f"`method` must be one of {PERIOD_METHODS}, got {method!r}")
     if not isinstance(system, OneDofSystem):
         raise TypeError(f"`system` must be a OneDofSystem, got {type(system).__name__}")
     if not math.isfinite(amplitude):
@@ -791,29 +996,61 @@ def _validate_exact_period(system: OneDofSystem, amplitude: float, tol: float, p
         raise InputError(f"tolerance must lie in [{TOL_MIN:g}, {TOL_MAX:g}], got {tol!r}")
 
 
-def _float_sum(M, V, V0, q0, q1, n):
-    """Midpoint rule in u with n nodes; returns (T, round-off estimate, ok)."""
-    qm, h = 0.5 * (q0 + q1), 0.5 * (q0 - q1)
+_LD = np.longdouble
+_EPS_LD = float(np.finfo(_LD).eps)  # 1.1e-19 with x86's 80-bit extended precision
+
+
+@functools.lru_cache(maxsize=32)
+def _midpoint_sines(n: int) -> np.ndarray:
+    """sin(u_k) at the n midpoint nodes u_k of (-pi/2, pi/2) (the same for every call)."""
     u = -0.5 * math.pi + math.pi * (np.arange(n) + 0.5) / n
-    w = 0.25 * math.pi - 0.5 * u
-    d0 = 2.0 * h * np.sin(w) ** 2  # q0 - q, free of cancellation
-    d1 = 2.0 * h * np.cos(w) ** 2  # q - q1
-    q = qm + h * np.sin(u)
-    Vq = V(q)
-    dV = V0 - Vq
+    out = np.sin(u)
+    out.flags.writeable = False
+    return out
+
+
+def _float_sum(M, V, V0, q0, q1, n):
+    """Midpoint rule in u with n nodes; returns (T, round-off estimate, ok).
+
+    The nodes q = q_m + h sin(u) are float64; the integrand
+    sqrt(M(q) (q0 - q)(q - q1) / (2 (V0 - V(q)))) is evaluated at exactly those q, with
+    the differences q0 - q, q - q1 and V0 - V(q) in numpy's long double (``V`` a
+    long-double potential, ``V0``, ``q0``, ``q1`` long doubles): the difference of
+    nearly equal potentials near the turning points and at small amplitudes keeps about
+    11 more bits than in float64 (on x86; where long double is float64 the estimate says
+    so). M and the sum are float64.
+    """
+    qm, h = float((q0 + q1) / 2), float((q0 - q1) / 2)
+    q = qm + h * _midpoint_sines(n)
+    ql = q.astype(_LD)
     with np.errstate(all="ignore"):
-        g = dV / (d0 * d1)
+        Vq = V(ql)
+        dV = V0 - Vq
+        g = (dV / ((q0 - ql) * (ql - q1))).astype(float)
         Mq = M(q)
-        ok = bool(np.all(np.isfinite(g)) and np.all(g > 0) and np.all(Mq > 0))
-        if not ok:
+        if not (np.isfinite(g).all() and (g > 0).all() and (Mq > 0).all()):
             return math.nan, math.inf, False
         hq = np.sqrt(Mq / (2.0 * g))
-    T = 2.0 * math.pi / n * float(np.sum(hq))
-    # round-off in V0 - V(q) (and in q itself) relative to the difference, weighted as in the sum
-    scale = np.abs(V0) + np.abs(Vq) + np.abs(q) * np.abs(dV / np.maximum(d0, d1))
-    rel = 0.5 * 4.0 * _EPS * scale / np.abs(dV)
-    err = float(np.sum(hq * rel) / np.sum(hq))
+        # round-off in V0 - V(q) relative to the difference, weighted as in the sum
+        rel = (2.0 * _EPS_LD) * ((abs(V0) + np.abs(Vq)) / np.abs(dV)).astype(float)
+    total = hq.sum()
+    T = 2.0 * math.pi / n * float(total)
+    err = float((hq * rel).sum() / total) + 2.0 * _EPS  # plus float64's M and sum
     return T, err, True
+
+
+def _polish_turning_point(system: OneDofSystem, V, V0, q1: float):
+    """q1 as a long double, sharpened by Newton steps on V(q) = V0 in long double (the
+    float64 root leaves V(q1) - V0 at float64 round-off, which the node nearest q1 feels)."""
+    dV = system.potential_fn(1, precision="longdouble")
+    x = _LD(q1)
+    for _ in range(2):
+        with np.errstate(all="ignore"):
+            step = (V(x) - V0) / dV(x)
+        if not (np.isfinite(step) and abs(float(step)) <= 1e-8 * (1.0 + abs(q1))):
+            break
+        x = x - step
+    return x
 
 
 def _mp_sum(system, q0, q1, n, dps=_MP_DPS):
@@ -849,6 +1086,7 @@ def exact_period(
     tol: float = 1e-10,
     equilibrium: Equilibrium | None = None,
     precision: str = "auto",
+    method: str = "auto",
 ) -> PeriodResult:
     """Period of free oscillation released from rest at q_e + amplitude, to relative ``tol``.
 
@@ -862,15 +1100,19 @@ def exact_period(
     equilibrium : Equilibrium, optional
         Found with :func:`find_equilibrium` when not given.
     precision : {"auto", "float64", "mpmath"}
-        Arithmetic of the potential differences; ``"auto"`` switches to mpmath
-        when the estimated round-off exceeds tol / 4.
+        Arithmetic of the quadrature's potential differences; ``"auto"`` switches
+        to mpmath when the estimated round-off exceeds tol / 4.
+    method : {"auto", "elliptic", "quadrature"}
+        ``"auto"``: the closed form (:func:`elliptic_period`) when M and V_eff
+        admit it and its error bound meets ``tol``, else the quadrature.
 
     Returns
     -------
     PeriodResult
-        ``model="quadrature"``; ``error_estimate`` is the difference between
-        the last two node counts plus the round-off estimate (an upper bound:
-        the convergence is geometric).
+        ``model="elliptic"`` (error estimate: the round-off bound of the
+        elliptic integrals) or ``model="quadrature"`` (error estimate: the
+        difference between the last two node counts plus the round-off
+        estimate, an upper bound since the convergence is geometric).
 
     Raises
     ------
@@ -885,15 +1127,27 @@ def exact_period(
     T = 2 int sqrt(M / (2 (V(q0) - V))) dq with q = q_m + h sin u (module
     docstring); T0 from paper Eq. 46 generalised: 2 pi sqrt(M(q_e)/V''(q_e)).
     """
-    _validate_exact_period(system, amplitude, tol, precision)
+    _validate_exact_period(system, amplitude, tol, precision, method)
     eq = equilibrium if equilibrium is not None else find_equilibrium(system)
     T0 = eq.period
+    if method != "quadrature":
+        form = elliptic_form(system, eq)
+        if form is None and method == "elliptic":
+            raise InputError(f"{system.name}: the period has no closed form here (M and the potential are not "
+                             f"both affine in cos and sin of {system.q} with one phase); use the quadrature")
+        if form is not None and (method == "elliptic" or _ELLIPTIC_ERROR <= tol):
+            return _elliptic_result(system, form, amplitude, T0)
     if amplitude == 0.0:
         return PeriodResult(T0, T0, 1.0, 0.0, eq.q, (eq.q, eq.q), "quadrature", 0.0, 0, "float64")
     q1, q0 = turning_points(system, eq, amplitude)
     M = system.mass_fn()
-    V = system.potential_fn(0)
-    V0 = float(V(q0))
+    V = system.potential_fn(0, precision="longdouble")
+    # the release point is q0 exactly; the far turning point is sharpened in long double
+    turn = 1 if abs(q0 - (eq.q + amplitude)) <= abs(q1 - (eq.q + amplitude)) else 0
+    ends = [_LD(q1), _LD(q0)]
+    V0 = V(ends[turn])
+    ends[1 - turn] = _polish_turning_point(system, V, V0, (q1, q0)[1 - turn])
+    lo_ld, hi_ld = ends
     use_mp = precision == "mpmath"
     # V0 - V(q) shrinks like amplitude**2: add digits for small amplitudes
     mp_dps = _MP_DPS + max(0, int(math.ceil(-2.0 * math.log10(abs(amplitude)))))
@@ -910,7 +1164,7 @@ def exact_period(
                     f"{math.degrees(amplitude):.6g} deg even in {mp_dps}-digit arithmetic"
                 )
         else:
-            T, err_round, ok = _float_sum(M, V, V0, q0, q1, n)
+            T, err_round, ok = _float_sum(M, V, V0, hi_ld, lo_ld, n)
             if (not ok or err_round > tol / 4) and precision == "auto":
                 use_mp = True
                 prev = None

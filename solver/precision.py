@@ -31,13 +31,7 @@ from .errors import InputError, SingularConfigurationError
 
 __all__ = ["PRECISIONS", "MIN_DPS", "MAX_DPS", "exact_quantity", "exact_values", "PreciseSolution", "solve_precise"]
 
-PRECISIONS = ("float64", "exact", "mpmath")
-MIN_DPS = 5
-"""Fewest decimal digits for mpmath and printing."""
-MAX_DPS = 4000
-"""Most decimal digits: the exact and mpmath answers are printed through Python
-integers, whose conversion to text stops at 4300 digits; 4000 leaves room for the
-guard digits and takes about 10 s."""
+from .limits import MAX_DPS, MIN_DPS, PRECISIONS  # noqa: E402,F401 - one place for the caps
 
 
 def _exact_unit_factor(unit_name: str) -> sp.Expr:

@@ -147,7 +147,7 @@ def test_large_amplitudes(deg):
     a = math.radians(deg)
     res = period_to_tolerance(system(DISK), a, tol=1e-11)
     ref = period_by_integration(system(DISK), a, "DOP853", rtol=1e-13).period
-    assert res.model == "quadrature"
+    assert res.model == "elliptic"  # M = A - B cos(theta), V = -C cos(theta): the closed form
     # DOP853 at rtol 1e-13 over half a period: ~1e-11
     assert res.period == pytest.approx(ref, rel=5e-11)
 
@@ -228,7 +228,7 @@ def test_semicircle_beyond_its_rim_is_outside_the_model(solver_cli):
     code, _, err = solver_cli("solve", ROCKER, "--set", "theta=100 deg")
     assert code == 2 and err.count("\n") == 1 and "rim" in err
     s = system(ROCKER)
-    assert period_to_tolerance(s, math.radians(89), tol=1e-8).model == "quadrature"
+    assert period_to_tolerance(s, math.radians(89), tol=1e-8).model == "elliptic"  # affine in cos(theta)
     with pytest.raises(InputError, match="rim"):
         period_to_tolerance(s, math.radians(91), tol=1e-8)
     # thrown from the bottom fast enough to reach 90 deg: the run stops there

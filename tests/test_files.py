@@ -87,3 +87,24 @@ def test_atomic_write_leaves_nothing_on_failure(tmp_path: Path) -> None:
         write_atomic(target, broken, "--out")
     assert target.read_text() == "a,b\n"  # the old file is intact
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out.csv"]  # no temporary file left
+
+
+def test_user_cache_dir_is_private_or_absent(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    from solver.files import CACHE_ENV, user_cache_dir
+
+    monkeypatch.delenv(CACHE_ENV, raising=False)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    folder = user_cache_dir("pint")
+    assert folder == tmp_path / "cache" / "alt-euler" / "pint"
+    assert folder.is_dir() and folder.stat().st_mode & 0o077 == 0  # created private
+    # a folder others may write into is not used (someone could plant data in it)
+    folder.chmod(0o777)
+    assert user_cache_dir("pint") is None
+    # a place that cannot be a folder: no cache, no error
+    (tmp_path / "file").write_text("x")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "file"))
+    assert user_cache_dir("pint") is None
+    # switched off
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache2"))
+    monkeypatch.setenv(CACHE_ENV, "1")
+    assert user_cache_dir("pint") is None and not (tmp_path / "cache2").exists()

@@ -56,7 +56,10 @@ def assert_same(x, ref):
     np.testing.assert_allclose(x, ref, rtol=RTOL, atol=RTOL * scale)
 
 
-@settings(max_examples=20)
+# 12 random bodies x 5 points = 60 route comparisons per run (about 0.8 s per body, six
+# derivations each); the default profile draws new bodies every run, so coverage grows
+# across runs while `make test` stays within its 60 s budget.
+@settings(max_examples=12)
 @given(random_scene())
 def test_independent_of_point_and_equal_to_mass_center_form(scene):
     """Eq. (11) about every named point (incl. an instant point and G) gives the
@@ -68,7 +71,9 @@ def test_independent_of_point_and_equal_to_mass_center_form(scene):
         assert_same(x, ref)
 
 
-@settings(max_examples=8)
+# 4 random bodies per run: sympy.physics.mechanics takes about 3 s a body; the cheap
+# properties above cover the geometry, this one the independence of the route.
+@settings(max_examples=4)
 @given(random_scene())
 def test_mechanics_route_agrees(scene):
     """sympy.physics.mechanics (Kane + auxiliary speeds) against Eq. (11) about a random P."""
@@ -78,7 +83,9 @@ def test_mechanics_route_agrees(scene):
     assert_same(x, ref)
 
 
-@settings(max_examples=25)
+# 10 random bodies per run (about 1 s each: the generalized mass and its derivative are
+# symbolic); each run draws new ones, pivots, rolling and rails alike.
+@settings(max_examples=10)
 @given(random_scene())
 def test_energy_rate_equals_power_of_applied_loads(scene):
     """d(T + V)/dt = sum F . v_point + C omega (reactions of ideal constraints do no work)."""

@@ -218,7 +218,8 @@ def _one_dof_equilibrium(system, method, near):
     from ..derivation import derive
     from ..period import OneDofSystem, find_equilibrium
 
-    return find_equilibrium(OneDofSystem.from_derivation(derive(system, None, method)), near=near).q
+    return find_equilibrium(OneDofSystem.from_derivation(derive(system, None, method), reactions=False),
+                            near=near).q
 
 
 def _scan_one_angle(g, u0, system):

@@ -20,7 +20,7 @@ from .newton_euler import NamedEquation, generalized_euler_equations, mass_cente
 
 __all__ = ["METHODS", "Formulation", "formulate", "NamedEquation", "resolve_points"]
 
-METHODS = ("generalized_euler", "mass_center", "lagrange")
+from ..limits import FORMULATION_METHODS as METHODS  # noqa: E402 - one place, read by --help too
 
 
 def resolve_points(system, point: str | None) -> dict[str, str]:
