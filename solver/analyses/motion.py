@@ -178,57 +178,68 @@ class _Run:
         self.contacts = [j.name for j in base.contacts]
 
     def go(self, start, t0, t1):
-        from ..errors import SceneError
-        from .regimes import NoConsistentRegime, find_regime
-
-        regimes, system, found = {}, self.base, None
-        if self.contacts:
-            try:
-                found = find_regime(self.base, start.q, start.qd, start.t)
-            except NoConsistentRegime as err:
-                raise InputError(f"{self.base.label}: at the start already: {str(err).split(': ', 1)[-1]}") from None
-            regimes = found.regimes
-            system = self.base if found.indeterminate else _segment_system(self.base, regimes, start)
-        segments = []
-        work = np.zeros(len(self.contacts))
-        state = start
+        """(segments, status, reason) of the run from ``start`` to ``t1``."""
+        found = self._first_regime(start)
+        regimes = found.regimes if found is not None else {}
+        segments, work, state = [], np.zeros(len(self.contacts)), start
         for _ in range(MAX_SWITCHES + 1):
-            if self.contacts and found.indeterminate:
-                segments.append(_rest_segment(found, state, work, t1))
-                if self.base.time_dependent:
-                    return segments, "failed", ("the contacts hold the bodies at rest redundantly (statically "
-                                                "indeterminate) under loads that change with time: not followed")
-                return segments, "completed", (f"reached t = {t1:g} s at rest: the sticking contacts hold "
-                                               "(statically indeterminate; one admissible split of their forces shown)")
+            if found is not None and found.indeterminate:
+                return self._at_rest(segments, found, state, work, t1)
+            system = _segment_system(self.base, regimes, state) if found is not None else self.base
             seg, stop = self._segment(system, regimes, state, work, t1)
             segments.append(seg)
             if stop is None:
                 return segments, "completed", f"reached t = {t1:g} s"
             kind, what, te = stop
-            if kind not in ("slip", "lost_contact", "stick"):
-                return segments, kind, f"at t = {te:.6g} s: {_describe(kind, what)}"
-            if what not in regimes:  # a cord going slack: no regime describes it
+            if kind not in ("slip", "lost_contact", "stick") or what not in regimes:  # (a cord going slack)
                 return segments, kind, f"at t = {te:.6g} s: {_describe(kind, what)}"
             state, work = _state_at(seg, te), _work_at(seg, te)
-            old = regimes[what]
-            try:
-                found = find_regime(self.base, state.q, state.qd, te, exclude={what: old} if kind != "stick" else None)
-            except SceneError as err:
-                cause = _describe(kind, what)
-                return segments, kind, f"at t = {te:.6g} s: {cause}; the motion after it: {str(err).split(': ', 1)[-1]}"
-            at = {c.name: v for c, v in zip(self.base.free, state.q)}
-            at.update({f"{c.name}_dot": v for c, v in zip(self.base.free, state.qd)})
-            self.switches.append({"t": te, "joint": what, "from": old.label, "to": found.regimes[what].label,
-                                  "cause": _describe(kind, what), "state": at})
-            for name in self.contacts:
-                if name != what and found.regimes[name] != regimes[name]:
-                    self.switches.append({"t": te, "joint": name, "from": regimes[name].label,
-                                          "to": found.regimes[name].label, "cause": f"with {what}"})
+            found, why = self._switch(regimes, kind, what, state)
+            if found is None:
+                return segments, kind, why
             regimes = found.regimes
-            if found.indeterminate:
-                continue
-            system = _segment_system(self.base, regimes, state)
         return segments, "work_limit", f"more than {MAX_SWITCHES} regime switches (chattering)"
+
+    def _first_regime(self, start):
+        """The regime at the start (None without contacts)."""
+        from .regimes import NoConsistentRegime, find_regime
+
+        if not self.contacts:
+            return None
+        try:
+            return find_regime(self.base, start.q, start.qd, start.t)
+        except NoConsistentRegime as err:
+            raise InputError(f"{self.base.label}: at the start already: {str(err).split(': ', 1)[-1]}") from None
+
+    def _switch(self, regimes, kind, what, state):
+        """The regime after an event at ``state`` (and the switches recorded), or (None, why the run stops)."""
+        from ..errors import SceneError
+        from .regimes import find_regime
+
+        te, old = state.t, regimes[what]
+        try:  # the regime left holds at the event only with equality: ruled out (a stop may reverse)
+            found = find_regime(self.base, state.q, state.qd, te, exclude={what: old} if kind != "stick" else None)
+        except SceneError as err:
+            return None, (f"at t = {te:.6g} s: {_describe(kind, what)}; the motion after it: "
+                          f"{str(err).split(': ', 1)[-1]}")
+        at = {c.name: v for c, v in zip(self.base.free, state.q)}
+        at.update({f"{c.name}_dot": v for c, v in zip(self.base.free, state.qd)})
+        self.switches.append({"t": te, "joint": what, "from": old.label, "to": found.regimes[what].label,
+                              "cause": _describe(kind, what), "state": at})
+        for name in self.contacts:
+            if name != what and found.regimes[name] != regimes[name]:
+                self.switches.append({"t": te, "joint": name, "from": regimes[name].label,
+                                      "to": found.regimes[name].label, "cause": f"with {what}"})
+        return found, None
+
+    def _at_rest(self, segments, found, state, work, t1):
+        """Sticking contacts hold everything redundantly: the state stays (loads constant in time)."""
+        segments.append(_rest_segment(found, state, work, t1))
+        if self.base.time_dependent:
+            return segments, "failed", ("the contacts hold the bodies at rest redundantly (statically "
+                                        "indeterminate) under loads that change with time: not followed")
+        return segments, "completed", (f"reached t = {t1:g} s at rest: the sticking contacts hold "
+                                       "(statically indeterminate; one admissible split of their forces shown)")
 
     def _segment(self, system, regimes, state, work, t1):
         from ..formulations import formulate
