@@ -160,3 +160,34 @@ def random_scene(draw, constraint=None):
         orientation=orientation, points=points, elements=tuple(elements), constraints=constraints,
         loads=tuple(loads), default_point="A",
     )
+
+
+def chain_toml(rates=(0.0, 0.0, 0.0, 0.0)) -> str:
+    """A multibody scene (TOML text): a chain of pinned uniform bars hanging from the ground,
+    one angle coordinate each (10, 20, 30, ... deg) with the given rates [rad/s]."""
+    coords = "".join(f'q{i} = {{ value = "{10 * i} deg", rate = "{w} rad/s" }}\n'
+                     for i, w in enumerate(rates, start=1))
+    bodies = "".join(f"""
+[[bodies]]
+name = "b{i}"
+orientation = "q{i}"
+points = {{ O = ["0", "0"], E = ["l", "0"] }}
+elements = [{{ kind = "slender_bar", mass = "m", from = "O", to = "E" }}]
+[[joints]]
+kind = "pin"
+connects = ["{'ground:O' if i == 1 else f'b{i - 1}:E'}", "b{i}:O"]
+""" for i in range(1, len(rates) + 1))
+    return f"""
+name = "chain{len(rates)}"
+[parameters]
+m = "1 kg"
+l = "0.5 m"
+g = "9.80665 m/s^2"
+[coordinates]
+{coords}[ground.points]
+O = ["0", "0"]
+{bodies}
+[[loads]]
+kind = "gravity"
+g = "g"
+"""

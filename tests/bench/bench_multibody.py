@@ -28,36 +28,13 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
+sys.path.insert(0, str(ROOT / "tests"))
+
+from scenes_factory import chain_toml  # noqa: E402
 from solver.formulations import formulate  # noqa: E402
 from solver.io.scenes import load_system  # noqa: E402
 
-CHAIN = """
-name = "chain4"
-[parameters]
-m = "1 kg"
-l = "0.5 m"
-g = "9.80665 m/s^2"
-[coordinates]
-q1 = { value = "10 deg", rate = "0.1 rad/s" }
-q2 = { value = "20 deg", rate = "0.2 rad/s" }
-q3 = { value = "30 deg", rate = "0.3 rad/s" }
-q4 = { value = "40 deg", rate = "0.4 rad/s" }
-[ground.points]
-O = ["0", "0"]
-""" + "".join(f"""
-[[bodies]]
-name = "b{i}"
-orientation = "q{i}"
-points = {{ O = ["0", "0"], E = ["l", "0"] }}
-elements = [{{ kind = "slender_bar", mass = "m", from = "O", to = "E" }}]
-[[joints]]
-kind = "pin"
-connects = ["{'ground:O' if i == 1 else f'b{i - 1}:E'}", "b{i}:O"]
-""" for i in range(1, 5)) + """
-[[loads]]
-kind = "gravity"
-g = "g"
-"""
+CHAIN = chain_toml((0.1, 0.2, 0.3, 0.4))
 
 
 def ours(path: Path) -> float:
