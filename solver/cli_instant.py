@@ -184,10 +184,10 @@ def kinematics_command(args: argparse.Namespace) -> int:
     if args.json:
         print_json({"scene": system.name, **result})
         return 0
-    from solver.analyses.instant import assemble
+    from solver.analyses.regimes import start_state
 
     print(f"scene   {system.name}  ({_where(system)})")
-    print(f"state   {state_text(system, assemble(system))}")
+    print(f"state   {state_text(system, start_state(system))}")
     print()
     rows = []
     for body, b in result["bodies"].items():

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import sympy as sp
 
-from .instant import assemble, solve_instant
+from .instant import solve_instant
+from .regimes import start_state
 
 __all__ = ["kinematics_at"]
 
@@ -19,7 +20,7 @@ def kinematics_at(system, point=None, method: str = "generalized_euler") -> dict
         {"BODY:POINT": {"position", "velocity", "acceleration"}}}``; vectors
         as ``{"value": [x, y], "unit": ...}`` in SI.
     """
-    state = assemble(system)
+    state = start_state(system)  # contacts open at the state stay open
     sol = solve_instant(system, point, method, state)
     values = dict(system.si_values())
     values.update(zip(system.q, state.q))
