@@ -331,3 +331,63 @@ def test_spinning_disk_in_a_bowl_loses_exactly_the_friction_work(solver_cli, tmp
     # while rolling (no slip speed) the energy is constant
     rolling = np.abs(d["v_slip_bowl_ms"]) < 1e-9
     assert rolling.sum() > 10
+
+
+BLOCK = """
+name = "block"
+[parameters]
+m = "2 kg"
+beta = "20 deg"
+mu_s = "MU_S"
+mu_k = "0.2"
+g = "9.80665 m/s^2"
+[coordinates]
+s = { value = "0 m", rate = "-3 m/s" }      # thrown up the incline (s counts down the slope)
+[[bodies]]
+name = "block"
+orientation = "0"
+position = { point = "C", at = ["s*cos(beta)", "-s*sin(beta)"] }
+points = { C = ["0", "0"] }
+elements = [{ kind = "point_mass", mass = "m", at = "C" }]
+[[joints]]
+kind = "slider"
+name = "incline"
+point = "block:C"
+angle = "-beta"
+reactions = ["N", "M"]
+friction = "F"
+one_sided = true
+static_friction = "mu_s"
+kinetic_friction = "mu_k"
+[[loads]]
+kind = "gravity"
+g = "g"
+"""
+
+
+@pytest.mark.parametrize("mu_s", [0.5, 0.3])
+def test_block_thrown_up_an_incline_stops_then_sticks_or_slides_back(solver_cli, tmp_path, mu_s):
+    """A block on a slider with Coulomb friction, thrown up a 20 deg slope at 3 m/s: it decelerates at
+    g (sin b + mu_k cos b), stops at t1 = v0 / that, then stays if mu_s >= tan b (0.5 > 0.364) or
+    slides back down at g (sin b - mu_k cos b) (0.3 < 0.364)."""
+    scene = tmp_path / "block.toml"
+    scene.write_text(BLOCK.replace("MU_S", str(mu_s)))
+    out = _json(solver_cli, "simulate", str(scene), "--t-end", "1.5", "--rtol", "1e-11", "--atol", "1e-13",
+                "--samples", "3", "--json")
+    b, v0 = math.radians(20), 3.0
+    up = G * (math.sin(b) + 0.2 * math.cos(b))
+    t1 = v0 / up
+    event = out["events"][0]
+    assert event["t"] == pytest.approx(t1, rel=REL) and event["from"] == "slip -"
+    s1 = -v0 * t1 + up * t1 ** 2 / 2
+    final = out["final"]
+    if mu_s > math.tan(b):
+        assert event["to"] == "stick" and len(out["events"]) == 1
+        assert final["s"]["value"] == pytest.approx(s1, rel=REL)
+        assert final["F"]["value"] == pytest.approx(-2.0 * G * math.sin(b), rel=1e-12)  # static: holds the weight
+    else:
+        assert event["to"] == "slip +" and len(out["events"]) == 1
+        down = G * (math.sin(b) - 0.2 * math.cos(b))
+        dt = 1.5 - t1
+        assert final["s"]["value"] == pytest.approx(s1 + down * dt ** 2 / 2, rel=REL)
+        assert final["s_dot"]["value"] == pytest.approx(down * dt, rel=REL)

@@ -371,9 +371,9 @@ class _Augmented:
             if r is None:
                 kept = list(j.reactions)
             elif r.keeps_tangential:
-                kept = list(j.pair)
+                kept = [*j.pair, *j.extra_reactions]
             elif r.keeps_normal:
-                kept = [j.pair[1]]
+                kept = [j.pair[1], *j.extra_reactions]
                 if r.friction_direction() and j.friction is not None:
                     mods.append((j.pair[1].name, j.pair[0].name,
                                  -r.friction_direction() * sp.sympify(r.coefficient(j.friction))))

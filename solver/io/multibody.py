@@ -45,7 +45,8 @@ JOINT_KEYS: dict[str, tuple[str, ...]] = {
     "rail": ("point", "on", "through", "angle", "reaction", "one_sided", "friction", "friction_coefficient",
              "static_friction", "kinetic_friction"),
     "pin_in_slot": ("point", "on", "through", "angle", "reaction", "one_sided"),
-    "slider": ("point", "on", "through", "angle", "relative_angle", "reactions"),
+    "slider": ("point", "on", "through", "angle", "relative_angle", "reactions", "one_sided", "friction",
+               "friction_coefficient", "static_friction", "kinetic_friction"),
     "rolling": ("element", "on", "through", "angle", "contact_at_zero", "friction", "normal",
                 "friction_coefficient", "static_friction", "kinetic_friction"),
     "rolling_on_circle": ("element", "on", "center", "radius", "side", "position_angle", "friction", "normal",
@@ -448,8 +449,18 @@ class _MultibodyReader:
         body, coords, on, through, angle = self._point_on_line(spec, key, "the point of the sliding body on the line")
         rel = L.expr(spec.get("relative_angle", 0), f"{key}.relative_angle", L.names.params, DIMENSIONLESS)
         n, m = self._names(spec, key, "reactions", [f"N_{name}", f"M_{name}"])
-        reactions = (self.reaction(n, f"{key}.reactions[0]", name), self.reaction(m, f"{key}.reactions[1]", name, "N*m"))
-        return Slider(name, on, body, reactions, point=coords, through=through, angle=angle, relative_angle=rel)
+        one_sided = L.boolean(spec.get("one_sided", False), f"{key}.one_sided")
+        reactions = (self.reaction(n, f"{key}.reactions[0]", name, "N", one_sided),
+                     self.reaction(m, f"{key}.reactions[1]", name, "N*m"))
+        friction = self._friction(spec, key)
+        if friction is None:
+            return Slider(name, on, body, reactions, point=coords, through=through, angle=angle, relative_angle=rel)
+        if not one_sided:
+            raise self.fail(f"{key}.one_sided", "a slider with friction is a block resting on a surface: give "
+                            "one_sided = true (friction on a two-sided guide is not modelled)")
+        f = self.reaction(spec.get("friction", f"F_{name}"), f"{key}.friction", name)
+        return Slider(name, on, body, reactions, point=coords, through=through, angle=angle, relative_angle=rel,
+                      friction=friction, pair=(f, reactions[0]))
 
     def _friction(self, spec, key) -> Friction | None:
         """Coulomb coefficients: ``friction_coefficient`` (static = kinetic), or

@@ -245,6 +245,11 @@ class Contact:
         return self.pair[1]
 
     @property
+    def extra_reactions(self) -> tuple:
+        """Reactions beyond F and N that hold while the contact touches (a slider's couple)."""
+        return ()
+
+    @property
     def needs_regime(self) -> bool:
         """True when the sliding direction, hence the friction force, depends on the motion."""
         return self.current_regime == SLIDING and self.friction is not None
@@ -261,9 +266,9 @@ class Contact:
         if regime.keeps_tangential:
             if F is None:
                 raise ValueError(f"contact {self.name!r} has no friction reaction to stick with")
-            reactions = (F, N)
+            reactions = (F, N, *self.extra_reactions)
         elif regime.keeps_normal:
-            reactions = (N,)
+            reactions = (N, *self.extra_reactions)
         else:
             reactions = ()
         bind = regime.keeps_tangential
@@ -385,24 +390,51 @@ class Slider(Rail):
     """A slider (prismatic joint): the second body translates along the first
     body's line without turning relative to it. Reactions: the normal force
     (along the left normal, at ``point``) and the couple that keeps the
-    relative angle at ``relative_angle``. Removes 2 freedoms."""
+    relative angle at ``relative_angle``. Removes 2 freedoms.
+
+    With ``friction`` (a block resting on a surface, one-sided) it is a
+    :class:`Contact` like a rail: sticking adds the friction force and the
+    row d.(p - o) = phase, sliding puts -s mu_k N along d, and separating
+    (the block lifts off) removes every row, the couple's too."""
 
     kind: ClassVar[str] = "slider"
     placement_priority: ClassVar[int] = 5
-    orientation_row: ClassVar[int | None] = 1
     reaction_units: ClassVar[tuple[str, ...]] = ("N", "N*m")
     relative_angle: sp.Expr = sp.Integer(0)
+    couple: Reaction | None = None
+
+    def __post_init__(self):
+        super().__post_init__()
+        if self.couple is None and len(self.reactions) >= 2:
+            self.couple = self.reactions[-1]
+
+    @property
+    def extra_reactions(self) -> tuple:
+        return () if self.couple is None else (self.couple,)
+
+    @property
+    def orientation_row(self) -> int | None:
+        """The relative-angle row: last while the slider touches."""
+        regime = self.current_regime
+        if not regime.keeps_normal:
+            return None
+        return 2 if regime.keeps_tangential else 1
 
     def rows(self, pose, t):
+        if not self.current_regime.keeps_normal:
+            return []
         _, phi1 = pose(self.first)
         _, phi2 = pose(self.second)
-        return [self.contact_rows(pose)[1], phi2 - phi1 - self.relative_angle]
+        return self._regime_rows(pose) + [phi2 - phi1 - self.relative_angle]
 
     def _unit_loads(self, pose, t):
-        d, n, at = self.contact_frame(pose)
-        return [(n, at, 0), (None, None, 1)]
+        if not self.current_regime.keeps_normal:
+            return []
+        return self._regime_loads(pose) + [(None, None, 1)]
 
     def orientation_of(self, body, pose, t):
+        if not self.current_regime.keeps_normal:
+            return None
         return self._relative_orientation(body, pose, self.relative_angle)
 
 
