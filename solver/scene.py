@@ -129,6 +129,7 @@ class Constraint:
     contact_at_zero: sp.Expr = sp.Integer(0)
     one_sided: bool = False
     friction_coefficient: sp.Expr | None = None
+    friction_reaction: str | None = None  # a rail's friction force (with friction_coefficient)
 
 
 @dataclass(frozen=True)

@@ -66,7 +66,7 @@ ROUND_KINDS = ("uniform_disk", "thin_ring", "semicircular_disk")
 
 CONSTRAINT_COMMON = ("kind", "name", "one_sided")
 CONSTRAINT_KEYS: dict[str, tuple[str, ...]] = {
-    "rail": ("point", "through", "angle", "reaction"),
+    "rail": ("point", "through", "angle", "reaction", "friction", "friction_coefficient"),
     "rolling": (
         "element", "through", "angle", "contact_at_zero", "friction", "normal",
         "friction_coefficient",
@@ -779,6 +779,8 @@ class _SceneLoader:
                     ]
                 constraint_name = spec.get("name", f"{kind}_{point}")
                 extra: dict[str, Any] = {"point": point}
+                if kind == "rail":
+                    extra.update(self._rail_friction(spec, key, point, one_sided, reactions))
             else:  # rolling
                 element = self.text(self.require(spec, "element", key, "the round element that rolls"), f"{key}.element")
                 if element not in by_name:
@@ -821,6 +823,24 @@ class _SceneLoader:
                 )
             )
         return constraints
+
+    def _rail_friction(self, spec, key, point, one_sided, seen) -> dict[str, Any]:
+        """A rail's Coulomb friction (``friction_coefficient``, its force named by ``friction``):
+        a one-sided contact that can stick, slide or separate (see the multibody format)."""
+        if "friction_coefficient" not in spec:
+            if "friction" in spec:
+                raise self.fail(f"{key}.friction", "names the rail's friction force: give friction_coefficient too")
+            return {}
+        if not one_sided:
+            raise self.fail(f"{key}.one_sided", "a rail with friction is a contact that can separate: give "
+                            "one_sided = true (friction on a two-sided guide is not modelled)")
+        mu = self.expr(spec["friction_coefficient"], f"{key}.friction_coefficient", self.names.params, DIMENSIONLESS)
+        if not self.si(mu, f"{key}.friction_coefficient") >= 0:
+            raise self.fail(f"{key}.friction_coefficient", f"must not be negative, got {sp.sstr(mu)}")
+        name = self.identifier(spec.get("friction", f"F_{point}"), f"{key}.friction", "reaction name")
+        self._check_reaction_name(name, f"{key}.friction", seen)
+        seen[name] = f"{key}.friction"
+        return {"friction_coefficient": mu, "friction_reaction": name}
 
     def _check_reaction_name(self, name: str, key: str, seen: Mapping[str, str]) -> None:
         taken = {"alpha", "t", self.coordinate, self.coordinate + "_dot", self.coordinate + "_ddot"}

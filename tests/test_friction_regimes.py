@@ -391,3 +391,55 @@ def test_block_thrown_up_an_incline_stops_then_sticks_or_slides_back(solver_cli,
         dt = 1.5 - t1
         assert final["s"]["value"] == pytest.approx(s1 + down * dt ** 2 / 2, rel=REL)
         assert final["s_dot"]["value"] == pytest.approx(down * dt, rel=REL)
+
+
+def test_one_body_format_ladder_with_friction(solver_cli, tmp_path):
+    """The one-body format takes friction on its rails too: the same critical angle."""
+    scene = tmp_path / "ladder.toml"
+    scene.write_text("""
+name = "old_ladder"
+[parameters]
+m = "12 kg"
+L = "5 m"
+mu_A = "0.4"
+mu_B = "0.1"
+g = "9.80665 m/s^2"
+[coordinate]
+name = "theta"
+value = "60 deg"
+rate = "0 rad/s"
+[body]
+orientation = "pi - theta"
+[points]
+A = ["0", "0"]
+B = ["L", "0"]
+[[elements]]
+name = "bar"
+kind = "slender_bar"
+mass = "m"
+from = "A"
+to = "B"
+[[constraints]]
+kind = "rail"
+point = "A"
+reaction = "N_A"
+friction = "F_A"
+friction_coefficient = "mu_A"
+one_sided = true
+[[constraints]]
+kind = "rail"
+point = "B"
+angle = "-pi/2"
+reaction = "N_B"
+friction = "F_B"
+friction_coefficient = "mu_B"
+one_sided = true
+[[loads]]
+kind = "gravity"
+g = "g"
+""")
+    out = _json(solver_cli, "friction", str(scene), "--critical", "theta", "--between", "5", "89.5", "--json")
+    (onset,) = out["critical"]["onsets"]
+    assert onset["value"] == pytest.approx(math.degrees(math.atan((1 - 0.4 * 0.1) / (2 * 0.4))), rel=REL)
+    code, _, err = solver_cli("solve", str(scene), "--set", "mu_A=-1")  # a negative coefficient: refused
+    assert code == 2 and "mu_A" in err

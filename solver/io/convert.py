@@ -50,8 +50,11 @@ def _build(scene) -> System:
     for c in scene.constraints:
         reactions = tuple(Reaction(r, c.name, "N", c.one_sided) for r in c.reactions)
         if c.kind == "rail":
+            mu = c.friction_coefficient
+            friction = {} if mu is None else {"friction": Friction(mu, mu),
+                                              "pair": (Reaction(c.friction_reaction, c.name), reactions[0])}
             joints.append(Rail(c.name, GROUND, BODY, reactions, point=points[c.point].coords,
-                               through=sp.Matrix(c.origin), angle=sp.sympify(c.angle)))
+                               through=sp.Matrix(c.origin), angle=sp.sympify(c.angle), **friction))
         elif c.kind == "pivot":
             joints.append(Pin(c.name, GROUND, BODY, reactions, at_first=sp.Matrix(c.origin),
                               at_second=points[c.point].coords))
