@@ -698,14 +698,90 @@ def _separatrix_error(system: OneDofSystem, amplitude: float, q_max: float, wher
     )
 
 
-_UNIT_STEPS = np.linspace(0.0, 1.0, 2049)[1:]  # the release side's scan, in units of the amplitude
-_UNIT_STEPS.flags.writeable = False
+_WELL_NODES = 8192  # grid points per side of the equilibrium (spacing 4 pi / 8192 = 1.5e-3 rad)
+
+
+@dataclass(frozen=True)
+class _Compiled:
+    """The compiled potential and mass of one set of parameter values, for the period
+    (memoised on the system: fetching and wrapping them per call cost more than a small
+    quadrature). The vectorised ones keep the precision of their argument (float64 or
+    long double)."""
+
+    V: Callable
+    dV: Callable
+    Vs: Callable  # scalar (math module)
+    dVs: Callable
+    M: Callable  # float64; sin^2 + cos^2 reduced first (fewer array operations per node)
+
+
+def _bound(system: OneDofSystem, key, expr: Callable[[], sp.Expr]) -> Callable:
+    """The vectorised lambdified ``expr`` (memoised per ``key``) with the parameter values
+    bound; a result free of q is broadcast over q."""
+    f = system._fn(key, (system.q,), expr, "numpy")
+    vals = system.values
+    with np.errstate(all="ignore"):
+        vector = np.shape(f(np.array([0.3, 0.7]), *vals)) == (2,)
+    if vector:
+        return lambda q: f(q, *vals)
+    return lambda q: f(q, *vals) + 0.0 * q
+
+
+def _compiled(system: OneDofSystem) -> _Compiled:
+    def build():
+        from .display import reduce_trig
+
+        zeros = system._zero_parameters()
+        V = [_bound(system, (f"V{d}", zeros), lambda d=d: sp.diff(system.effective_potential(), system.q, d))
+             for d in (0, 1)]
+        M = _bound(system, "M reduced", lambda: reduce_trig(sp.sympify(system.mass)) or system.mass)
+        return _Compiled(V[0], V[1], system.potential_fn(0, precision="scalar"),
+                         system.potential_fn(1, precision="scalar"), M)
+
+    return system._memo(("period functions", system.values), build)
+
+
+@dataclass(frozen=True)
+class _WellSide:
+    """One side of the potential well, scanned once: q_e + s d on a uniform grid of d."""
+
+    q: np.ndarray  # the grid, moving away from q_e
+    V: np.ndarray  # V_eff there
+    rising: int  # leading grid points where V rises strictly (the next one is at or past a maximum)
+
+
+@dataclass(frozen=True)
+class _Well:
+    """The potential well about q_e out to ``reach`` on both sides (memoised per parameter
+    values: an amplitude sweep scans it once)."""
+
+    step: float
+    scale: float  # the largest |V'| on the grid (the flatness tests are relative to it)
+    sides: dict  # +1 / -1 -> _WellSide
+
+
+def _well(system: OneDofSystem, qe: float, reach: float) -> _Well:
+    def build():
+        fns = _compiled(system)
+        d = np.linspace(0.0, reach, _WELL_NODES + 1)[1:]
+        grids = {s: qe + s * d for s in (1.0, -1.0)}
+        slopes = {s: s * fns.dV(q) for s, q in grids.items()}
+        scale = max(float(np.max(np.abs(v))) for v in slopes.values())
+        sides = {}
+        for s, q in grids.items():
+            flat = np.nonzero(slopes[s] <= 1e-12 * scale)[0]
+            sides[s] = _WellSide(q, fns.V(q), int(flat[0]) if flat.size else q.size)
+        return _Well(reach / _WELL_NODES, scale, sides)
+
+    return system._memo(("well", system.values, qe, reach), build)
 
 
 def turning_points(system: OneDofSystem, equilibrium: Equilibrium, amplitude: float) -> tuple[float, float]:
     """Both turning points (q1, q0) of a release from rest at q0 = q_e + amplitude.
 
-    Returns the pair sorted (low, high).
+    Returns the pair sorted (low, high). The well about q_e is scanned once per
+    parameter values (:func:`_well`); each release then costs a bisection in the
+    scan and one root search.
 
     Raises
     ------
@@ -717,58 +793,43 @@ def turning_points(system: OneDofSystem, equilibrium: Equilibrium, amplitude: fl
     qe = equilibrium.q
     q0 = qe + amplitude
     s = 1.0 if amplitude > 0 else -1.0
-    V = system.potential_fn(0)
-    dV = system.potential_fn(1)
-    Vs, dVs = system.potential_fn(0, precision="scalar"), system.potential_fn(1, precision="scalar")  # points
-    V0, Ve = Vs(q0), Vs(qe)
+    fns = _compiled(system)
+    V0, Ve = fns.Vs(q0), fns.Vs(qe)
     # A tiny amplitude raises V by less than float64 resolves: place the far turning
     # point in higher precision (no maximum can lie that close to a minimum).
     rise, level = V0 - Ve, max(abs(V0), abs(Ve))
     if not rise > _RESOLVED * _EPS * level:
         q1 = _small_amplitude_turning_point(system, equilibrium, amplitude)
         return (min(q0, q1), max(q0, q1))
+    well = _well(system, qe, max(4.0 * abs(amplitude), 4.0 * math.pi))
+    near, far = well.sides[s], well.sides[-s]
     # same side: V must rise monotonically from q_e to q0
-    side = qe + amplitude * _UNIT_STEPS
-    slope = s * dV(side)
-    scale = float(np.max(np.abs(slope))) if slope.size else 0.0
-    bad = np.nonzero(slope <= 1e-12 * scale)[0]
-    if bad.size:
-        qm = float(side[bad[0]])
-        raise _separatrix_error(system, amplitude, qm, "lies between the equilibrium and the release point")
-    # other side: walk away from q_e until V >= V0, refusing a maximum on the way (the scan
-    # of the usual reach, 4 pi, is kept per parameter values: amplitude sweeps reuse it)
-    reach = max(4.0 * abs(amplitude), 4.0 * math.pi)
-
-    def scan():
-        other = qe - s * np.linspace(0.0, reach, 8193)[1:]
-        return other, V(other), -s * dV(other)
-
-    if reach == 4.0 * math.pi:
-        other, Vo, so = system._memo(("far-side scan", system.values, qe, s), scan)
-    else:
-        other, Vo, so = scan()
-    above = np.nonzero(Vo >= V0)[0]
-    if not above.size:
-        raise InputError(
-            f"{system.name}: released at {system.q} = {math.degrees(q0):.6g} deg the body does not come back "
-            f"within {math.degrees(reach):.6g} deg of the equilibrium (not an oscillation)"
-        )
-    j = int(above[0])
-    falling = np.nonzero(so[: j + 1] < -1e-12 * scale)[0]
-    if falling.size:
-        qm = float(other[falling[0]])
-        raise _separatrix_error(system, amplitude, qm, "on the far side is lower than the release point")
-    lo = qe if j == 0 else float(other[j - 1])
-    hi = float(other[j])
-    f = lambda x: Vs(x) - V0  # noqa: E731
-    if f(hi) == 0.0:
+    inside = min(int(abs(amplitude) / well.step), near.q.size)  # grid points strictly short of q0 (or at it)
+    if inside > near.rising:
+        raise _separatrix_error(system, amplitude, float(near.q[near.rising]),
+                                "lies between the equilibrium and the release point")
+    if not s * fns.dVs(q0) > 1e-12 * well.scale:
+        raise _separatrix_error(system, amplitude, q0, "lies between the equilibrium and the release point")
+    # other side: V rises until it reaches V0, with no maximum on the way
+    j = int(np.searchsorted(far.V[: far.rising], V0, side="left"))
+    if j == far.rising:
+        if far.rising == far.q.size:
+            raise InputError(
+                f"{system.name}: released at {system.q} = {math.degrees(q0):.6g} deg the body does not come back "
+                f"within {math.degrees(well.step * _WELL_NODES):.6g} deg of the equilibrium (not an oscillation)"
+            )
+        raise _separatrix_error(system, amplitude, float(far.q[far.rising]),
+                                "on the far side is lower than the release point")
+    lo = qe if j == 0 else float(far.q[j - 1])
+    hi = float(far.q[j])
+    if fns.Vs(hi) == V0:
         q1 = hi
     else:
-        q1 = brentq(f, lo, hi, xtol=1e-300, rtol=4 * _EPS, maxiter=500, disp=False)
+        q1 = brentq(lambda x: fns.Vs(x) - V0, lo, hi, xtol=1e-300, rtol=4 * _EPS, maxiter=500, disp=False)
     # a turning point at a (numerically) flat potential is the separatrix itself
-    if abs(dVs(q1)) <= 1e-9 * scale or abs(dVs(q0)) <= 1e-9 * scale:
-        raise _separatrix_error(system, amplitude, q1 if abs(dVs(q1)) <= 1e-9 * scale else q0,
-                                "is reached exactly")
+    flat = 1e-9 * well.scale
+    if abs(fns.dVs(q1)) <= flat or abs(fns.dVs(q0)) <= flat:
+        raise _separatrix_error(system, amplitude, q1 if abs(fns.dVs(q1)) <= flat else q0, "is reached exactly")
     if system.limits:
         for turn in (q0, q1):
             check_limits(system, turn, "a turning point of the swing")
@@ -1027,22 +1088,21 @@ def _float_sum(M, V, V0, q0, q1, n):
         Vq = V(ql)
         dV = V0 - Vq
         g = (dV / ((q0 - ql) * (ql - q1))).astype(float)
-        Mq = M(q)
-        if not (np.isfinite(g).all() and (g > 0).all() and (Mq > 0).all()):
+        hq = np.sqrt(M(q) / (2.0 * g))
+        total = float(hq.sum())
+        if not (math.isfinite(total) and (hq > 0).all()):  # M > 0 and g > 0 at every node
             return math.nan, math.inf, False
-        hq = np.sqrt(Mq / (2.0 * g))
         # round-off in V0 - V(q) relative to the difference, weighted as in the sum
-        rel = (2.0 * _EPS_LD) * ((abs(V0) + np.abs(Vq)) / np.abs(dV)).astype(float)
-    total = hq.sum()
-    T = 2.0 * math.pi / n * float(total)
-    err = float((hq * rel).sum() / total) + 2.0 * _EPS  # plus float64's M and sum
+        rel = ((abs(V0) + np.abs(Vq)) / np.abs(dV)).astype(float)
+    T = 2.0 * math.pi / n * total
+    err = 2.0 * _EPS_LD * float(hq @ rel) / total + 2.0 * _EPS  # plus float64's M and sum
     return T, err, True
 
 
 def _polish_turning_point(system: OneDofSystem, V, V0, q1: float):
     """q1 as a long double, sharpened by Newton steps on V(q) = V0 in long double (the
     float64 root leaves V(q1) - V0 at float64 round-off, which the node nearest q1 feels)."""
-    dV = system.potential_fn(1, precision="longdouble")
+    dV = _compiled(system).dV
     x = _LD(q1)
     for _ in range(2):
         with np.errstate(all="ignore"):
@@ -1139,50 +1199,66 @@ def exact_period(
             return _elliptic_result(system, form, amplitude, T0)
     if amplitude == 0.0:
         return PeriodResult(T0, T0, 1.0, 0.0, eq.q, (eq.q, eq.q), "quadrature", 0.0, 0, "float64")
+    return _quadrature_period(system, eq, amplitude, tol, precision)
+
+
+# The arithmetics the quadrature tries in turn, cheapest first (``precision`` argument).
+_LEVELS = {"auto": ("longdouble", "mpmath"), "float64": ("longdouble",), "mpmath": ("mpmath",)}
+
+
+def _level_sum(system: OneDofSystem, level: str, q1: float, q0: float, turn: int, amplitude: float) -> Callable:
+    """n -> (T, round-off estimate, ok): the midpoint sum in one arithmetic.
+
+    ``turn`` indexes the release point in (q1, q0) (exact); the other turning point,
+    found by a float64 root search, is first sharpened in long double
+    (:func:`_polish_turning_point`), or found again at the working precision in mpmath.
+    """
+    fns = _compiled(system)
+    ends = (q1, q0)
+    if level == "mpmath":
+        # V0 - V(q) shrinks like amplitude**2: add digits for small amplitudes
+        dps = _MP_DPS + max(0, int(math.ceil(-2.0 * math.log10(abs(amplitude)))))
+
+        def mp_total(n):
+            T, ok = _mp_sum(system, q0, q1, n, dps=dps)
+            return T, 10.0 ** (-_MP_DPS + 8), ok
+        return mp_total
+    ld = [_LD(q1), _LD(q0)]
+    V0 = fns.V(ld[turn])
+    ld[1 - turn] = _polish_turning_point(system, fns.V, V0, ends[1 - turn])
+    return lambda n: _float_sum(fns.M, fns.V, V0, ld[1], ld[0], n)
+
+
+def _quadrature_period(system: OneDofSystem, eq: Equilibrium, amplitude: float, tol: float,
+                       precision: str) -> PeriodResult:
+    """The midpoint sum (module docstring) doubled from 8 nodes until two sums agree to
+    tol / 2, in the cheapest arithmetic whose round-off estimate stays within tol / 4."""
     q1, q0 = turning_points(system, eq, amplitude)
-    M = system.mass_fn()
-    V = system.potential_fn(0, precision="longdouble")
-    # the release point is q0 exactly; the far turning point is sharpened in long double
     turn = 1 if abs(q0 - (eq.q + amplitude)) <= abs(q1 - (eq.q + amplitude)) else 0
-    ends = [_LD(q1), _LD(q0)]
-    V0 = V(ends[turn])
-    ends[1 - turn] = _polish_turning_point(system, V, V0, (q1, q0)[1 - turn])
-    lo_ld, hi_ld = ends
-    use_mp = precision == "mpmath"
-    # V0 - V(q) shrinks like amplitude**2: add digits for small amplitudes
-    mp_dps = _MP_DPS + max(0, int(math.ceil(-2.0 * math.log10(abs(amplitude)))))
-    n = 8
-    prev = None
-    err_round = 0.0
-    while n <= _MAX_NODES:
-        if use_mp:
-            T, ok = _mp_sum(system, q0, q1, n, dps=mp_dps)
-            err_round = 10.0 ** (-_MP_DPS + 8)
-            if not ok:
-                raise QuadratureError(
-                    f"{system.name}: the potential difference is not resolved at amplitude "
-                    f"{math.degrees(amplitude):.6g} deg even in {mp_dps}-digit arithmetic"
-                )
+    levels = _LEVELS[precision]
+    for level in levels:
+        total = _level_sum(system, level, q1, q0, turn, amplitude)
+        n, prev = 8, None
+        while n <= _MAX_NODES:
+            T, err_round, ok = total(n)
+            if not ok or (err_round > tol / 4 and level != levels[-1]):
+                break  # the next arithmetic (the last one reports its estimate as it is)
+            if prev is not None and abs(T - prev) <= tol / 2 * abs(T):
+                est = max(abs(T - prev) / abs(T) + err_round, 2 * _EPS)
+                return PeriodResult(T, eq.period, T / eq.period, amplitude, eq.q, (q1, q0), "quadrature",
+                                    est, n, "mpmath" if level == "mpmath" else "float64")
+            prev, n = T, 2 * n
         else:
-            T, err_round, ok = _float_sum(M, V, V0, hi_ld, lo_ld, n)
-            if (not ok or err_round > tol / 4) and precision == "auto":
-                use_mp = True
-                prev = None
-                continue
-            if not ok:
-                raise InputError(
-                    f"{system.name}: the potential difference is not resolved in float64 at amplitude "
-                    f"{math.degrees(amplitude):.6g} deg; use precision='mpmath'"
-                )
-        if prev is not None:
-            diff = abs(T - prev) / abs(T)
-            if diff <= tol / 2:
-                est = max(diff + err_round, 2 * _EPS)
-                return PeriodResult(T, T0, T / T0, amplitude, eq.q, (q1, q0), "quadrature",
-                                    est, n, "mpmath" if use_mp else "float64")
-        prev = T
-        n *= 2
-    raise QuadratureError(
-        f"{system.name}: the period quadrature did not reach tolerance {tol:g} with {_MAX_NODES} nodes "
-        f"at amplitude {math.degrees(amplitude):.6g} deg (too close to the separatrix)"
+            raise QuadratureError(
+                f"{system.name}: the period quadrature did not reach tolerance {tol:g} with {_MAX_NODES} nodes "
+                f"at amplitude {math.degrees(amplitude):.6g} deg (too close to the separatrix)"
+            )
+        if level == "mpmath":
+            raise QuadratureError(
+                f"{system.name}: the potential difference is not resolved at amplitude "
+                f"{math.degrees(amplitude):.6g} deg even in mpmath arithmetic"
+            )
+    raise InputError(
+        f"{system.name}: the potential difference is not resolved in float64 at amplitude "
+        f"{math.degrees(amplitude):.6g} deg; use precision='mpmath'"
     )
