@@ -192,9 +192,16 @@ def _fbd_step(system, body: str, forces: list[_Force]) -> Step:
             rows.append((f.name, f.kind, "-", f"couple {sp.sstr(tidy(f.couple))}", what))
     step = Step("fbd", f"Free-body diagram of {body}",
                 [f"The forces and couples on {body}, fixed-frame components (x right, y up)."],
-                table=Table(("force", "kind", "at", "components", ""), tuple(rows)))
+                _force_vectors(forces), table=Table(("force", "kind", "at", "components", ""), tuple(rows)))
     step.figure_request = {"scene": system.source or system.name, "body": body, "fbd": True}
     return step
+
+
+def _force_vectors(forces: list[_Force]) -> list[Equation]:
+    """Each force as a vector in the fixed frame (the paper's Eqs. 22 and 36), tag ``force:NAME``."""
+    return [Equation((Term(f.force),), (Term(_vec(f.force)),), f"force {f.name} at {f.point} (vector)",
+                     tag=f"force:{f.name}", name=f.name.replace("gravity:", "W_"), vector=True)
+            for f in forces if f.force is not None]
 
 
 def _element_accelerations(system, body: str, P: str):
@@ -346,6 +353,9 @@ def explain(system, point: str | None = None, *, advice: bool = True) -> Explana
     motion = _motion_step(system, f, expl)
     if motion is not None:
         final.steps.append(motion)
+    numbers = _numbers_step(system, expl, state)
+    if numbers is not None:
+        final.steps.append(numbers)
     solution = _solve_at_state(system, f, point, state) or solve_instant(system, point, "generalized_euler", state)
     check = _mass_center_check(system, state)
     final.steps.append(_solution_step(system, solution))
@@ -460,14 +470,45 @@ def _motion_step(system, f, expl) -> Step | None:
                             "reactions eliminated", tag=f"eom:{c.name}"))
     small = _small_oscillations(system, eqs[-1]) if len(system.free) == 1 else None
     if small is not None:
-        eqs.append(small)
+        eqs.extend(_small_motion_rules(system, eqs[-1]))  # Eq. 45
+        eqs.append(_linearised(system, small))           # Eq. 46, first part
+        eqs.append(small)                                 # Eq. 46, omega_n
         text.append(f"Small oscillations about {system.free[0].name} = 0 (an equilibrium with the scene's "
-                    "parameters, those that are zero set to zero): the equation of motion linearised, "
-                    "M(0) q'' + K q = 0, oscillates at omega_n = sqrt(K / M(0)).")
+                    "parameters, those that are zero set to zero): with the small-motion rules below (each "
+                    "exact to first order), the equation of motion linearised, M(0) q'' + K q = 0, "
+                    "oscillates at omega_n = sqrt(K / M(0)).")
     text.append("Equation(s) of motion: the reactions eliminated (projection on the partial velocities of "
                 "each body's P), written as M q'' + (rate terms) + (configuration terms) = Q, with Q the "
                 "generalized force of the non-conservative loads.")
     return Step("motion", "Equation of motion", text, eqs)
+
+
+def _small_motion_rules(system, eom: Equation) -> list[Equation]:
+    """The rules that linearise the equation of motion about q = 0 (the paper's Eq. 45): each
+    function of q by its first-order value (sin q ~ q, cos q ~ 1), then each rate term's
+    state-dependent factor ~ 0 (of second order or higher). Tags ``approx:1``, ``approx:2`` ..."""
+    c = system.free[0]
+    zero = {sp.Symbol(n, real=True): 0 for n, q in system.parameters.items() if q.magnitude == 0}
+    e = sp.expand(eom.residual.xreplace(zero))
+    rules = []
+    functions = sorted((f for f in e.atoms(sp.Function) if f.has(c.q) and not f.has(c.qd, c.qdd)),
+                       key=lambda f: (type(f).__name__ != "sin", type(f).__name__ != "cos", sp.sstr(f)))
+    for f in functions:
+        rules.append((f, f.xreplace({c.q: 0}) + sp.diff(f, c.q).xreplace({c.q: 0}) * c.q))
+    for term in sp.Add.make_args(e):
+        if term.has(c.qd):
+            factor = term.as_independent(c.q, c.qd, as_Add=False)[1]
+            if all(sp.simplify(factor - r[0]) != 0 for r in rules):
+                rules.append((factor, sp.Integer(0)))
+    return [Equation((Term(lhs),), (Term(rhs),), "small motion: exact to first order about the equilibrium",
+                     tag=f"approx:{k}", approximate=True) for k, (lhs, rhs) in enumerate(rules, start=1)]
+
+
+def _linearised(system, omega_n: Equation) -> Equation:
+    """q'' + omega_n^2 q = 0: the linearised equation of motion divided by M(0)."""
+    c = system.free[0]
+    return Equation((Term(c.qdd), Term(omega_n.right**2 * c.q)), (Term(sp.Integer(0)),),
+                    "linearised equation of motion (divided by M(0))", tag="linearised")
 
 
 def _small_oscillations(system, eom: Equation) -> Equation | None:
@@ -495,6 +536,65 @@ def _small_oscillations(system, eom: Equation) -> Equation | None:
     omega = sp.sqrt(ratio)
     return Equation((Term(omega),), (Term(omega),), f"natural frequency of small oscillations about {c.name} = 0",
                     "linearised equation of motion", tag="omega_n", name="omega_n")
+
+
+NUMBER_DIGITS = 4
+"""Significant figures of the equations with the data entered (as the paper's Eq. 29)."""
+
+
+def _numbers_step(system, expl, state) -> Step | None:
+    """Each body's equations with the data and the state entered, in the scene's output units
+    (the paper's Eq. 29): numeric linear equations in the unknowns, those with the fewest unknowns
+    first (they can be solved first), the moment equation before Newton's within a body. A one-body,
+    one-coordinate system is written in alpha when alpha = +-q''. None when there is no body step."""
+    unknowns = [(c.qdd, str(c.qdd), "rad/s**2" if c.kind == "angle" else "m/s**2") for c in system.free]
+    unknowns += [(r.symbol, r.name, r.unit) for r in system.reactions]
+    rename = {}
+    if len(system.bodies) == 1 and len(system.free) == 1:
+        c = system.free[0]
+        k = sp.diff(system.alpha(next(iter(system.bodies))), c.qdd)
+        if k in (1, -1) and _zero(system.alpha(next(iter(system.bodies))) - k * c.qdd):
+            rename[c.qdd] = (sp.Symbol("alpha", real=True), k)  # q'' = alpha / k
+    per = {u: _per_si(system, unit)[0] for u, name, unit in unknowns}  # output units per SI unit
+    subs = _state_subs(system, state)
+    rows = []
+    for section in expl.sections:
+        if section.body is None:
+            continue
+        for step_kind, tag, unit in (("euler", "euler", "N*m"), ("newton", "newton_x", "N"), ("newton", "newton_y", "N")):
+            try:
+                eq = section.step(step_kind).equation(tag)
+            except KeyError:
+                continue
+            row = sp.expand(sp.sympify(eq.residual).xreplace(subs))
+            scale, row_unit = _per_si(system, unit)
+            terms = []
+            for u, name, _ in unknowns:
+                coef = float(row.coeff(u)) * scale / per[u]
+                if abs(coef) > 1e-12 * (1.0 + abs(scale)):
+                    shown, k = rename.get(u, (u, 1))
+                    value = sp.Float(coef / k, NUMBER_DIGITS)
+                    terms.append(Term(sp.sign(value) * shown if abs(value) == 1 else value * shown, str(shown)))
+            rhs = -float(row.xreplace({u: 0 for u, _, _ in unknowns})) * scale
+            rows.append((len(terms), Equation(tuple(terms) or (Term(sp.Integer(0)),),
+                                              (Term(sp.Float(rhs, NUMBER_DIGITS), "known"),),
+                                              f"{section.body}: {eq.label} [{row_unit}]", tag=f"numbers:{section.body}:{tag}")))
+    if not rows:
+        return None
+    rows.sort(key=lambda r: r[0])  # stable: fewest unknowns first
+    text = [f"The equations above with the data and the state entered, in the scene's output units, "
+            f"{NUMBER_DIGITS} significant figures; those with the fewest unknowns first."]
+    if system.closure:
+        text.append("The closure rows of the joints (acceleration level) complete the system; they are not shown.")
+    return Step("numbers", "The equations with the data entered", text, [e for _, e in rows])
+
+
+def _per_si(system, unit: str) -> tuple[float, str]:
+    """(value of one SI ``unit`` in the scene's output unit, that unit)."""
+    from ..cli_common import to_output_units
+
+    entry = to_output_units({"value": 1.0, "unit": unit}, system.output_units)
+    return float(entry["value"]), entry["unit"]
 
 
 def _out(system, name: str, qty):
