@@ -118,14 +118,39 @@ def _forces_on(system, body: str, points: _Points) -> list[_Force]:
             continue
         point = points.name_of(a.at) if a.force is not None else ""
         out.append(_Force(a.name, a.kind, a.force, a.at, a.couple, point=point))
+    slipping = _slipping_contacts(system)
     for jl in system.joint_loads():
         if jl.body != body:
             continue
         sym = jl.reaction.symbol
         force = None if jl.force is None else sym * jl.force
         point = points.name_of(jl.at) if jl.force is not None else ""
+        contact = slipping.get(jl.reaction.name)
+        if contact is not None and force is not None:  # N n, and the friction -s mu_k N d apart
+            joint, d, n = contact
+            out.append(_Force(jl.reaction.name, f"normal reaction of contact {joint.name}",
+                              sym * n * sp.expand(jl.force.dot(n)), jl.at, 0, reaction=jl.reaction, point=point))
+            name = joint.friction_reaction.name if joint.friction_reaction is not None else f"friction_{joint.name}"
+            out.append(_Force(name, f"friction of contact {joint.name}, slipping: -s mu_k {jl.reaction.name}",
+                              sym * d * sp.expand(jl.force.dot(d)), jl.at, 0, point=point))
+            continue
         out.append(_Force(jl.reaction.name, f"reaction of joint {jl.reaction.joint}", force, jl.at,
                           sym * jl.couple, reaction=jl.reaction, point=point))
+    return out
+
+
+def _slipping_contacts(system) -> dict:
+    """Normal reaction name -> (contact, d, n) for each contact sliding with friction (its
+    normal reaction's load is N (n - s mu_k d): the friction is known once N is)."""
+    out = {}
+    contacts = [j for j in getattr(system, "contacts", ()) if j.friction is not None
+                and j.current_regime.keeps_normal and not j.current_regime.keeps_tangential
+                and j.current_regime.friction_direction()]
+    if contacts:
+        pose = system._pose_fn(system.poses)
+        for j in contacts:
+            d, n, _ = j.contact_frame(pose)
+            out[j.normal_reaction.name] = (j, sp.Matrix(d), sp.Matrix(n))
     return out
 
 
@@ -298,7 +323,7 @@ def _dropped_step(system, body: str, P: str, forces, dropped, newton: Step, eule
         for tag in ("newton_x", "newton_y"):
             cells.append("yes" if u in _unknowns_in(newton.equation(tag).residual, [u]) else "no")
         cells.append("yes" if u in in_euler else "no")
-        if f in dropped:
+        if f in dropped and u not in in_euler:
             why = (f"its line of action passes through {P}" if f.force is not None and _zero(f.couple)
                    else f"its moment about {P} is zero")
         elif u not in in_euler:
@@ -338,30 +363,91 @@ def explain(system, point: str | None = None, *, advice: bool = True) -> Explana
     from ..analyses.instant import assemble, solve_instant
     from ..formulations import formulate
 
-    f = formulate(system, "generalized_euler", point)
-    state = assemble(system)
+    scene, regime, warning = system, None, None
+    if system.contacts:  # the contact regime that holds at the state decides the equations
+        system, regime, warning, state = _in_regime(system, point)
+    if regime is not None and regime.indeterminate:  # every contact row kept: it does not validate
+        from ..formulations import Formulation, resolve_points
+
+        f = Formulation(system, "generalized_euler", resolve_points(system, point))
+    else:
+        f = formulate(system, "generalized_euler", point)
+    if not scene.contacts:
+        state = assemble(system)
     expl = Explanation(f"Worked solution: {system.name}", system.name, dict(f.points),
                        symbol_latex=latex_names(system))
     expl.sections.append(_system_data_section(system, state))
+    if scene.contacts:
+        expl.sections[-1].steps.append(_regime_step(scene, regime, warning))
     for body, P in f.points.items():
         expl.sections.append(_body_section(system, body, P))
     final = Section("Solution", None)
-    if advice:
+    if advice and not (regime is not None and regime.indeterminate):  # the advisor needs a system that validates
         from .advisor import advice_step
 
         final.steps.append(advice_step(system, state))
     motion = _motion_step(system, f, expl)
+    if motion is None and system.free:
+        motion = _constrained_motion_step(system, f, expl)
     if motion is not None:
         final.steps.append(motion)
     numbers = _numbers_step(system, expl, state)
     if numbers is not None:
         final.steps.append(numbers)
-    solution = _solve_at_state(system, f, point, state) or solve_instant(system, point, "generalized_euler", state)
-    check = _mass_center_check(system, state)
+    if scene.contacts:  # the product's own regime solve, and the same by the mass-centre form
+        solution = solve_instant(scene, point, "generalized_euler", state)
+        check = solve_instant(scene, None, "mass_center", state).unknowns
+    else:
+        solution = _solve_at_state(system, f, point, state) or solve_instant(system, point, "generalized_euler", state)
+        check = _mass_center_check(system, state)
     final.steps.append(_solution_step(system, solution))
     final.steps.append(_check_step(system, solution, check))
+    if regime is not None and regime.indeterminate:
+        final.steps[-1].text.append("The contact forces are statically indeterminate: each route picks one "
+                                    "admissible split of them, so they may differ; the accelerations are "
+                                    "determined and must agree.")
     expl.sections.append(final)
     return expl
+
+
+def _in_regime(system, point):
+    """(the system in the regime that holds at the state, RegimeResult or None, warning, state)."""
+    from ..analyses.regimes import regime_at_state, regime_system
+    from ..model.system import RedundantConstraints
+
+    res, warning, state = regime_at_state(system, None, point)
+    if res is None:
+        return system, None, warning, state
+    try:
+        variant = regime_system(system, res.regimes, state.q, state.qd, state.t)
+    except RedundantConstraints:  # held redundantly: every contact row kept, the forces' split open
+        variant = system.with_regimes(res.regimes, state.q, state.qd, state.t, redundant_ok=True)
+    return variant, res, warning, state
+
+
+def _regime_step(scene, regime, warning) -> Step:
+    """Which contact regime holds at the state, and why (solver.analyses.regimes.find_regime)."""
+    text = ["Each contact sticks (rolls), slips or separates; the regime that holds is the one whose "
+            "conditions all hold: normal forces press (N >= 0), sticking friction stays in the cone "
+            "(|F| <= mu_s N), a slip accelerates the way it slides, an opened gap does not close; Coulomb's "
+            "rule prefers sticking to slipping and contact to separation."]
+    rows = []
+    if regime is None:
+        text.append(warning or "The scene as written is solved.")
+    else:
+        for c in regime.checks:
+            rows.append((c.joint, c.regime.label, c.reason))
+        if any(c.regime.friction_direction() and c.regime.keeps_normal for c in regime.checks):
+            text.append("In the slipping regime the friction is not an unknown: it is the known force "
+                        "-s mu_k N along the contact line (s the sign of the sliding velocity), so only N is; "
+                        "the free-body diagram shows N and the friction apart.")
+        if regime.indeterminate:
+            text.append("The sticking contacts hold the body redundantly: the accelerations are determined, the "
+                        "split of their forces is not (the solution shows one admissible split).")
+        for reason in regime.rejected[:6]:
+            text.append(f"Rejected: {reason}.")
+    return Step("regime", "Contact regime at the state", text,
+                table=Table(("contact", "regime", "why"), tuple(rows)) if rows else None)
 
 
 def _body_section(system, body: str, P: str) -> Section:
@@ -428,8 +514,9 @@ def _single_reaction_substitution(system, f, body: str):
 
 
 def _motion_step(system, f, expl) -> Step | None:
-    """The equation of motion from its structure: M q'' + (rate terms) + (rest) = Q."""
-    if system.closure or not system.independent:
+    """The equation of motion from its structure: M q'' + (rate terms) + (rest) = Q (None for a
+    system with closure rows or a slipping contact: :func:`_constrained_motion_step`)."""
+    if system.closure or not system.independent or _slipping_contacts(system):
         return None
     from ..analyses.eom import equations_of_motion
 
@@ -480,6 +567,145 @@ def _motion_step(system, f, expl) -> Step | None:
     text.append("Equation(s) of motion: the reactions eliminated (projection on the partial velocities of "
                 "each body's P), written as M q'' + (rate terms) + (configuration terms) = Q, with Q the "
                 "generalized force of the non-conservative loads.")
+    return Step("motion", "Equation of motion", text, eqs)
+
+
+def _projected(system, f) -> list[sp.Expr]:
+    """Kane's projection of each body's equations on the partial velocities of its P, one per
+    free coordinate (as :func:`solver.analyses.eom.equations_of_motion`), keeping every reaction
+    whose coefficient is not identically zero: the closure multipliers, and a slipping contact's
+    normal force (its friction -s mu_k N does work)."""
+    per_body = {}
+    for e in f.equations:
+        if e.body is not None:
+            per_body.setdefault(e.body, []).append(e.expr)
+    out = []
+    for c in system.free:
+        terms = []
+        for body, (nx, ny, eu) in per_body.items():
+            v, w = system.point_velocity(body, f.points[body]), system.omega(body)
+            terms += [sp.diff(v[0], c.qd) * nx, sp.diff(v[1], c.qd) * ny, sp.diff(w, c.qd) * eu]
+        e = sp.expand(-sp.Add(*terms))
+        for r in system.reactions:
+            coef = e.coeff(r.symbol)
+            if coef != 0 and _zero(coef):  # a workless reaction: it drops out
+                e = sp.expand(e - coef * r.symbol)
+        out.append(e)
+    return out
+
+
+def _reaction_from_body_equations(expl, r, known: dict, unknown: set):
+    """(value, where) of reaction ``r`` from a displayed body equation holding it and no other
+    unknown reaction (those in ``known`` substituted), or None."""
+    for section in expl.sections:
+        if section.body is None:
+            continue
+        for kind, tag in (("newton", "newton_x"), ("newton", "newton_y"), ("euler", "euler")):
+            try:
+                e = sp.expand(sp.sympify(section.step(kind).equation(tag).residual).xreplace(known))
+            except KeyError:
+                continue
+            coef = e.coeff(r)
+            if _zero(coef) or any(not _zero(e.coeff(x)) for x in unknown - {r}):
+                continue
+            label = {"newton_x": "Newton x", "newton_y": "Newton y", "euler": "the moment equation"}[tag]
+            return -e.xreplace({r: 0}) / coef, f"{label} of {section.body}"
+    return None
+
+
+def _normal_force_from_newton(expl, contact, r, known: dict, unknown: set):
+    """(N, where) from Newton's equation of the contact's body along the contact normal n (the
+    friction, along d, has no component there), or None when that holds other unknown reactions."""
+    joint, _, n = contact
+    try:
+        newton = expl.section(joint.second).step("newton")
+    except KeyError:
+        return None
+    e = sp.expand((n[0] * newton.equation("newton_x").residual
+                   + n[1] * newton.equation("newton_y").residual).xreplace(known))
+    coef = e.coeff(r)
+    if _zero(coef) or any(not _zero(e.coeff(x)) for x in unknown - {r}):
+        return None
+    return -e.xreplace({r: 0}) / coef, f"Newton along the normal of contact {joint.name} ({joint.second})"
+
+
+def _structured_eom(system, c, e, q, keep) -> Equation:
+    """M q'' + (rate terms) + (configuration terms) - (reaction terms in ``keep``) = Q for one coordinate."""
+    rates = [a * b for i, a in enumerate(system.qd) for b in system.qd[i:]]
+    e = sp.expand(e + q)
+    lhs = []
+    for x in system.qdd:
+        coef = e.coeff(x)
+        if coef != 0:
+            lhs.append(Term(tidy(coef) * x, f"M {x}"))
+    for lam in keep:
+        coef = e.coeff(lam)
+        if coef != 0:
+            lhs.append(Term(tidy(coef) * lam, f"reaction term {lam}"))
+    rest = sp.expand(e - sp.Add(*[t.expr for t in lhs]))
+    for x in rates:
+        coef = rest.coeff(x)
+        if coef != 0 and not coef.has(*system.qd):
+            lhs.append(Term(tidy(coef) * x, f"rate terms {x}"))
+            rest = sp.expand(rest - coef * x)
+    if rest != 0:
+        lhs.append(Term(tidy(rest), "configuration terms"))
+    return Equation(tuple(lhs) or (Term(sp.Integer(0)),), (Term(tidy(q), "Q"),),
+                    f"equation of motion in {c.name}", "projected on the partial velocities", tag=f"eom:{c.name}")
+
+
+def _constrained_motion_step(system, f, expl) -> Step:
+    """The equations of motion of a system with closure rows or a slipping contact.
+
+    Constrained form: one projected equation per free coordinate (dependent ones included),
+    M q'' + ... - C^T lambda = Q, with the closure multipliers lambda (the joints' reactions)
+    kept, then each closure row at the acceleration level, C q'' = gamma. A slipping contact's
+    normal force N, which does work through its friction, is taken from the body equation that
+    holds it alone and substituted.
+    """
+    closure = [r.reaction.symbol for r in system.closure]
+    projected = _projected(system, f)
+    working = [r.symbol for r in system.reactions if r.symbol not in closure
+               and any(not _zero(e.coeff(r.symbol)) for e in projected)]
+    eqs, text, known = [], [], {}
+    slipping = _slipping_contacts(system)
+    for r in working:
+        unknown = set(working) | set(closure)
+        found = (_normal_force_from_newton(expl, slipping[str(r)], r, known, unknown) if str(r) in slipping
+                 else None) or _reaction_from_body_equations(expl, r, known, unknown)
+        if found is None:
+            continue
+        value, where = found
+        known[r] = sp.expand(value)
+        eqs.append(Equation((Term(r),), (Term(tidy(known[r])),), f"{r} from {where}",
+                            tag=f"from_newton:{r}", name=str(r)))
+        text.append(f"{r} does work through the slipping friction -s mu_k {r}, so it stays in the projected "
+                    f"equations; {where} holds it alone and gives it.")
+    keep = closure + [r for r in working if r not in known]
+    Q = system.generalized_forces()
+    for c, e, q in zip(system.free, projected, Q):
+        eqs.append(_structured_eom(system, c, sp.expand(e.xreplace(known)), q, keep))
+    for row in system.closure:
+        acc = sp.expand(system.D(system.D(row.expr)))
+        terms = [Term(tidy(acc.coeff(x)) * x, f"C {x}") for x in system.qdd if acc.coeff(x) != 0]
+        rest = sp.expand(acc - sp.Add(*[acc.coeff(x) * x for x in system.qdd]))
+        if rest != 0:
+            terms.append(Term(tidy(rest), "-gamma (rate terms)"))
+        eqs.append(Equation(tuple(terms) or (Term(sp.Integer(0)),), (Term(sp.Integer(0)),),
+                            f"closure of joint {row.joint.name} at the acceleration level (multiplier "
+                            f"{row.reaction.name})", "d^2 Phi/dt^2 = 0", tag=f"closure:{row.reaction.name}"))
+    if closure:
+        text.append(
+            "Constrained form M q'' + (rate terms) + (configuration terms) - C^T lambda = Q, C q'' = gamma: one "
+            "equation per coordinate (the dependent ones too) with the closure multipliers lambda ("
+            + ", ".join(map(str, closure)) + ", the joints' reactions) kept, then each closure row "
+            "differentiated twice. Chosen over the equation in the independent coordinates alone because that "
+            "needs the inverse of the closure Jacobian (expressions that grow fast and fail at a dead centre), "
+            "and a driven mechanism has no independent coordinate at all; here every term stays small, each "
+            "row is named by its joint, and lambda keep their meaning as reactions.")
+    else:
+        text.append("Equation(s) of motion: the workless reactions eliminated (projection on the partial velocities "
+                    "of each body's P), written as M q'' + (rate terms) + (configuration terms) = Q.")
     return Step("motion", "Equation of motion", text, eqs)
 
 
