@@ -497,3 +497,16 @@ def test_loop_closure_equation_of_motion(every_scene, scene):
     numeric = formulate(system, "mass_center").numeric().solve(state.q, state.qd, state.t)
     for name, value in shown.items():
         assert value == pytest.approx(float(numeric[name]), rel=1e-8, abs=1e-9), name
+
+
+def test_suggest_point_in_the_contact_regime(capsys):
+    """The advisor ranks points in the regime that holds at the state; for contacts that hold a
+    body redundantly it says that no point separates their (indeterminate) forces."""
+    from solver.__main__ import main
+
+    assert main(["explain", str(ROOT / "data/scenes/incline_ring.toml"), "--suggest-point"]) == 0
+    out = capsys.readouterr().out
+    assert "incline: slip +" in out and "take P =" in out
+    assert main(["explain", str(ROOT / "data/scenes/crate_tipping.toml"), "--suggest-point"]) == 0
+    out = capsys.readouterr().out
+    assert "statically indeterminate" in out and "take P =" not in out

@@ -27,7 +27,7 @@ from ..model.joints import cross_k, k_cross
 from .content import Equation, Explanation, Section, Step, Table, Term
 from ..display import is_identically_zero, tidy, tidy_linear
 
-__all__ = ["explain", "latex_names"]
+__all__ = ["explain", "latex_names", "system_in_regime"]
 
 
 def latex_names(system) -> dict:
@@ -365,7 +365,7 @@ def explain(system, point: str | None = None, *, advice: bool = True) -> Explana
 
     scene, regime, warning = system, None, None
     if system.contacts:  # the contact regime that holds at the state decides the equations
-        system, regime, warning, state = _in_regime(system, point)
+        system, regime, warning, state = system_in_regime(system, point)
     if regime is not None and regime.indeterminate:  # every contact row kept: it does not validate
         from ..formulations import Formulation, resolve_points
 
@@ -410,7 +410,7 @@ def explain(system, point: str | None = None, *, advice: bool = True) -> Explana
     return expl
 
 
-def _in_regime(system, point):
+def system_in_regime(system, point):
     """(the system in the regime that holds at the state, RegimeResult or None, warning, state)."""
     from ..analyses.regimes import regime_at_state, regime_system
     from ..model.system import RedundantConstraints
