@@ -406,12 +406,15 @@ SCENES = sorted(p.stem for p in (ROOT / "data" / "scenes").glob("*.toml"))
 
 
 @pytest.fixture(scope="module")
-def every_scene():
-    """Each shipped scene and its explanation (once per module: formulating is the cost)."""
-    out = {}
+def every_scene(paper):
+    """Each shipped scene and its explanation (once per module: formulating is the cost; the
+    paper's two scenes come from the ``paper`` fixture)."""
+    _, systems, expl = paper
+    out = {name: (systems[name], expl[name]) for name in systems}
     for name in SCENES:
-        system = load_system(ROOT / "data" / "scenes" / f"{name}.toml")
-        out[name] = (system, explain(system, advice=False))
+        if name not in out:
+            system = load_system(ROOT / "data" / "scenes" / f"{name}.toml")
+            out[name] = (system, explain(system, advice=False))
     return out
 
 

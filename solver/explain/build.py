@@ -724,7 +724,7 @@ def _small_motion_rules(system, eom: Equation) -> list[Equation]:
     for term in sp.Add.make_args(e):
         if term.has(c.qd):
             factor = term.as_independent(c.q, c.qd, as_Add=False)[1]
-            if all(sp.simplify(factor - r[0]) != 0 for r in rules):
+            if all(factor != r[0] for r in rules):
                 rules.append((factor, sp.Integer(0)))
     return [Equation((Term(lhs),), (Term(rhs),), "small motion: exact to first order about the equilibrium",
                      tag=f"approx:{k}", approximate=True) for k, (lhs, rhs) in enumerate(rules, start=1)]
