@@ -800,7 +800,8 @@ def _numbers_step(system, expl, state) -> Step | None:
                 if abs(coef) > 1e-12 * (1.0 + abs(scale)):
                     shown, k = rename.get(u, (u, 1))
                     value = sp.Float(coef / k, NUMBER_DIGITS)
-                    terms.append(Term(sp.sign(value) * shown if abs(value) == 1 else value * shown, str(shown)))
+                    unit = abs(float(f"{coef / k:.{NUMBER_DIGITS}g}")) == 1.0  # written as R_A, not 1.000 R_A
+                    terms.append(Term(sp.sign(value) * shown if unit else value * shown, str(shown)))
             rhs = -float(row.xreplace({u: 0 for u, _, _ in unknowns})) * scale
             rows.append((len(terms), Equation(tuple(terms) or (Term(sp.Integer(0)),),
                                               (Term(sp.Float(rhs, NUMBER_DIGITS), "known"),),
