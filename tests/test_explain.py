@@ -178,6 +178,21 @@ def test_printed_identities_hold_for_the_displayed_quantities(paper):
         assert _zero(printed), f"{eq_id}: printed lhs - rhs with the displayed values = {printed}"
 
 
+def test_eq16_is_a_displayed_step(paper):
+    """Eq. 16 is shown as its own step: a_G = a_A/2 + a_B/2, each side equal to the printed side
+    (the printed symbols read from the displayed accelerations)."""
+    eqset, systems, expl = paper
+    system, section = systems["sliding_bar"], expl["sliding_bar"].section("body")
+    step = section.step("kinematics").equation("midpoint:G")
+    names = dict(system.symbols)
+    for i, eq_id in enumerate(("eq16-x", "eq16-y")):
+        tr = next(e for e in eqset.equations if e.id == eq_id)
+        local = {**names, **{s: sp.Symbol(s, real=True) for s in tr.symbols}}
+        values = {local[s]: _displayed(m, section, local, tr) for s, m in tr.symbols.items()}
+        for shown, printed in ((step.left[i], tr.lhs), (step.right[i], tr.rhs)):
+            assert _zero(shown - parse_expression(printed, local, where=tr.id).xreplace(values)), eq_id
+
+
 def test_eq45_small_motion_rules_are_displayed(paper):
     """Eq. 45: each printed rule is one of the displayed small-motion rules, in the paper's order,
     shown as an approximation (not an equality)."""

@@ -201,10 +201,32 @@ def _kinematics_step(system, body: str, P: str, used: list[str], points: _Points
                             (Term(_vec(a_P), f"a_{P}"), Term(_vec(ar), f"alpha x r_{X}/{P}"),
                              Term(_vec(cr), f"-omega^2 r_{X}/{P}")),
                             f"acceleration of {X}", "Eq. (15)", tag=f"accel:{X}", name=f"a_{X}", vector=True))
+    eqs += _midpoints(system, body, points, eqs)
     text = [f"P = {P}. Its velocity and acceleration follow from the joints (the placement of {body}); "
             f"every other point's follow by the rigid-body relation from {P}: v = v_{P} + omega x r, "
             f"a = a_{P} + alpha x r - omega^2 r (Eqs. 6, 15)."]
     return Step("kinematics", f"Kinematics of {body} from {P}", text, eqs)
+
+
+def _midpoints(system, body: str, points: _Points, eqs: list[Equation]) -> list[Equation]:
+    """a_C = (a_X + a_Y)/2 for a slender bar whose centre C and ends X, Y are named points whose
+    accelerations are shown (r_C = (r_X + r_Y)/2 differentiated twice: the paper's Eq. 16)."""
+    shown = {e.tag.split(":", 1)[1]: e.left for e in eqs if e.tag.startswith("accel:")}
+    out = []
+    for e in system.bodies[body].elements:
+        if e.kind != "slender_bar":
+            continue
+        half = e.dims["length"] / 2 * sp.Matrix([sp.cos(e.angle), sp.sin(e.angle)])
+        names = [next((n for n, r in points.named.items() if n in shown and _zero(r[0] - at[0]) and _zero(r[1] - at[1])),
+                      None) for at in (system.body_point(body, c) for c in (e.mass_center, e.mass_center - half,
+                                                                           e.mass_center + half))]
+        if None in names:
+            continue
+        C, X, Y = names
+        out.append(Equation((Term(shown[C]),), (Term(_vec(shown[X] / 2), f"a_{X}/2"), Term(_vec(shown[Y] / 2), f"a_{Y}/2")),
+                            f"{C} is the midpoint of the bar {X}{Y}: r_{C} = (r_{X} + r_{Y})/2, differentiated twice",
+                            "Eq. (16)", tag=f"midpoint:{C}", name=f"a_{C}", vector=True))
+    return out
 
 
 def _fbd_step(system, body: str, forces: list[_Force]) -> Step:
