@@ -7,8 +7,9 @@ compared with its printed equation symbolically: the printed symbols (alpha,
 a_A, I_P ...) take the values the explanation itself displays, both sides are
 reduced modulo sin^2 + cos^2 = 1 (exact polynomial arithmetic, no tolerance),
 and the displayed equation must be the printed one times a factor free of the
-state and of the unknowns (Eq. 28 is Eq. 27 divided by l_b, so a factor in the
-parameters is allowed). Eqs. 43-44 print F_a with the wrong sign (the report
+state and of the unknowns (a factor in the parameters is allowed: Eq. 27 is
+compared with the displayed moment equation as it stands, Eq. 28 with the displayed
+collected form, where the factor must be 1). Eqs. 43-44 print F_a with the wrong sign (the report
 proves it): they must agree at F_a = 0 and differ by exactly 2 F_a r_d otherwise.
 """
 from __future__ import annotations
@@ -34,7 +35,7 @@ STEP_OF = {
     "eq20-a_A": ("kinematics", "accel:A"), "eq20-a_B": ("kinematics", "accel:B"),
     "eq20-a_x": ("kinematics", "accel:G"), "eq20-a_y": ("kinematics", "accel:G"),
     "eq21": ("euler", "inertia"), "eq24": ("newton", "newton_x"), "eq25": ("newton", "newton_y"),
-    "eq27": ("euler", "euler"), "eq28": ("euler", "euler"),
+    "eq27": ("euler", "euler"), "eq28": ("euler", "collected"),
     "eq31": ("kinematics", "accel:P"), "eq35": ("euler", "inertia"),
     "eq38-x": ("kinematics", "accel:Q"), "eq38-y": ("kinematics", "accel:Q"),
     "eq39": ("newton", "newton_x"), "eq40": ("newton", "newton_y"), "eq42": ("euler", "euler"),
@@ -127,7 +128,8 @@ def _residual(tr, systems, expl):
     printed, assume = _printed(tr, system, section)
     kind, tag = STEP_OF[tr.id]
     step = section.step(kind) if kind != "motion" else expl[tr.scene].sections[-1].step("motion")
-    shown = step.equation(tag).residual.xreplace(assume)
+    alpha = section.step("kinematics").equation("alpha").right  # a collected step writes q'' as alpha
+    shown = step.equation(tag).residual.xreplace({sp.Symbol("alpha", real=True): alpha}).xreplace(assume)
     if tr.kind == "identity":
         return printed, sp.Integer(1)
     qdd = system.free[0].qdd
@@ -143,6 +145,15 @@ def test_each_displayed_step_equals_the_printed_equation(paper, eq_id):
     tr = next(e for e in eqset.equations if e.id == eq_id)
     residual, _ = _residual(tr, systems, expl)
     assert _zero(residual), f"{eq_id}: displayed step - printed = {residual}"
+
+
+def test_eq28_is_the_collected_moment_equation_as_printed(paper):
+    """Eq. 28 is shown as its own step: Eq. 27 divided by l_b and collected, the same equation as
+    printed up to a pure number (the factor is 1: signed as the paper signs it)."""
+    eqset, systems, expl = paper
+    tr = next(e for e in eqset.equations if e.id == "eq28")
+    residual, factor = _residual(tr, systems, expl)
+    assert _zero(residual) and factor == 1
 
 
 @pytest.mark.parametrize("eq_id", ["eq43", "eq44"])

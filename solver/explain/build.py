@@ -324,7 +324,59 @@ def _euler_step(system, body: str, P: str, forces: list[_Force]) -> tuple[Step, 
     if _zero(inertial):
         text.append(f"The inertial term vanishes here: r_G/{P} x a_{P} = 0 ({P} is the mass centre, or a_{P} "
                     f"is parallel to r_G/{P} or zero).")
-    return Step("euler", f"Generalized Euler equation of {body} about {P}", text, [inertia, euler]), dropped
+    collected = _collected_equation(system, body, P, euler)
+    if collected is not None:
+        text.append(collected.label[0].upper() + collected.label[1:] + ": each unknown with its coefficient, "
+                    "the known terms on the right (as the paper's Eq. 28 writes Eq. 27).")
+    return (Step("euler", f"Generalized Euler equation of {body} about {P}", text,
+                 [inertia, euler] + ([collected] if collected is not None else [])), dropped)
+
+
+ALPHA = sp.Symbol("alpha", real=True)
+"""The body's angular acceleration, written for q'' in a one-body, one-coordinate system."""
+
+
+def _alpha_form(system) -> dict:
+    """{q'': (alpha, k)} when the only body's alpha = k q'' (k = +-1): the unknown written as alpha."""
+    if len(system.bodies) != 1 or len(system.free) != 1:
+        return {}
+    c = system.free[0]
+    al = system.alpha(next(iter(system.bodies)))
+    k = sp.diff(al, c.qdd)
+    return {c.qdd: (ALPHA, k)} if k in (1, -1) and _zero(al - k * c.qdd) else {}
+
+
+def _collected_equation(system, body: str, P: str, euler: Equation) -> Equation | None:
+    """The moment equation divided by the parameters common to all its terms and collected by
+    unknown, known terms on the right, signed so that the first reaction's coefficient reads
+    positive (Eq. 27 -> Eq. 28).
+    None when there is nothing to collect."""
+    unknowns = list(system.qdd) + [r.symbol for r in system.reactions]
+    e = sp.expand(euler.residual)
+    terms = [t for t in sp.Add.make_args(e) if t != 0]
+    coefs = {u: e.coeff(u) for u in unknowns}
+    coefs = {u: c for u, c in coefs.items() if c != 0 and not _zero(c)}
+    if not terms or not coefs:
+        return None
+    common, divided = sp.Integer(1), []
+    for p in system.symbols.values():
+        k = sp.sympify(min(sp.sympify(t.as_powers_dict().get(p, 0)) for t in terms))
+        if k.is_Integer and k > 0:
+            common *= p**k
+            divided.append(sp.sstr(p**k))
+    rest = sp.expand(e - sp.Add(*[c * u for u, c in coefs.items()]))
+    rhs = tidy(sp.expand(-rest / common))
+    reactions = [c for u, c in coefs.items() if u not in system.qdd]
+    lead = reactions[0] if reactions else -rhs  # the first reaction's coefficient reads positive (Eq. 28)
+    sign = -1 if sp.sympify(lead).could_extract_minus_sign() else 1
+    rename = _alpha_form(system)
+    lhs = []
+    for u, c in coefs.items():
+        shown, k = rename.get(u, (u, 1))
+        lhs.append(Term(tidy(sp.expand(sign * c / common / k)) * shown, str(shown)))
+    how = f"divided by {' '.join(divided)} and collected" if divided else "collected"
+    return Equation(tuple(lhs), (Term(sign * rhs, "known"),), f"the moment equation about {P} {how}",
+                    tag="collected")
 
 
 def _unknowns_in(expr, unknowns) -> list:
@@ -797,12 +849,7 @@ def _numbers_step(system, expl, state) -> Step | None:
     one-coordinate system is written in alpha when alpha = +-q''. None when there is no body step."""
     unknowns = [(c.qdd, str(c.qdd), "rad/s**2" if c.kind == "angle" else "m/s**2") for c in system.free]
     unknowns += [(r.symbol, r.name, r.unit) for r in system.reactions]
-    rename = {}
-    if len(system.bodies) == 1 and len(system.free) == 1:
-        c = system.free[0]
-        k = sp.diff(system.alpha(next(iter(system.bodies))), c.qdd)
-        if k in (1, -1) and _zero(system.alpha(next(iter(system.bodies))) - k * c.qdd):
-            rename[c.qdd] = (sp.Symbol("alpha", real=True), k)  # q'' = alpha / k
+    rename = _alpha_form(system)  # q'' = alpha / k
     per = {u: _per_si(system, unit)[0] for u, name, unit in unknowns}  # output units per SI unit
     subs = _state_subs(system, state)
     rows = []
@@ -814,7 +861,14 @@ def _numbers_step(system, expl, state) -> Step | None:
                 eq = section.step(step_kind).equation(tag)
             except KeyError:
                 continue
-            row = sp.expand(sp.sympify(eq.residual).xreplace(subs))
+            residual = sp.sympify(eq.residual)
+            if tag == "euler":  # the collected form when there is one (Eq. 28), alpha as the body's
+                collected = next((x for x in section.step(step_kind).equations if x.tag == "collected"), None)
+                if collected is not None:
+                    eq = collected
+                    residual = sp.sympify(collected.residual).xreplace({ALPHA: system.alpha(section.body)})
+                    unit = _collected_unit(system, collected)
+            row = sp.expand(residual.xreplace(subs))
             scale, row_unit = _per_si(system, unit)
             terms = []
             for u, name, _ in unknowns:
@@ -836,6 +890,18 @@ def _numbers_step(system, expl, state) -> Step | None:
     if system.closure:
         text.append("The closure rows of the joints (acceleration level) complete the system; they are not shown.")
     return Step("numbers", "The equations with the data entered", text, [e for _, e in rows])
+
+
+def _collected_unit(system, collected: Equation) -> str:
+    """The unit of the collected moment equation: N*m, or N when it was divided by one length
+    parameter (Eq. 28 is Eq. 27 divided by l_b)."""
+    divided = collected.label.split("divided by ", 1)
+    if len(divided) == 2:
+        names = divided[1].split(" and collected")[0].split()
+        if len(names) == 1 and names[0] in system.parameters:
+            if system.parameters[names[0]].dimensionality == {"[length]": 1}:
+                return "N"
+    return "N*m"
 
 
 def _per_si(system, unit: str) -> tuple[float, str]:
