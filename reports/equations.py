@@ -13,7 +13,10 @@ its two sides is tested for zero:
   of motion times a constant factor; the difference is the residual shown;
 * ``frequency``: against sqrt(stiffness / mass) of the derived equation of
   motion linearised about the printed state (Eq. 45), after checking that the
-  linearisation has the printed form (no rate or forcing term).
+  linearisation has the printed form (no rate or forcing term);
+* ``approximation``: a small-motion rule (Eq. 45, ``sin theta ~ theta``): lhs - rhs
+  must vanish to first order about the printed state (its value and its first
+  derivatives in the coordinate and the rate are zero there).
 
 Zero is decided twice: numerically at random points to 30 digits (a nonzero
 residual cannot pass) and symbolically with sympy's ``simplify`` (which shows
@@ -130,17 +133,25 @@ def _meaning_value(meaning, scene, deriv, tr: Transcription, lin) -> sp.Expr:
         return deriv.alpha
     if quantity == "omega":
         return deriv.omega
-    if quantity in ("acceleration", "inertia_about") and meaning.point not in scene.points and meaning.point != "G":
+    if meaning.point is not None and meaning.point not in scene.points and meaning.point != "G":
         raise ReportInputError(
             f"{where}.point: {meaning.point!r} is not a point of scene {tr.scene!r}; "
             f"valid: {', '.join(scene.points)}"
         )
-    if quantity == "acceleration":
+    if quantity == "relative_position" and meaning.relative_to not in scene.points and meaning.relative_to != "G":
+        raise ReportInputError(
+            f"{where}.relative_to: {meaning.relative_to!r} is not a point of scene {tr.scene!r}; "
+            f"valid: {', '.join(scene.points)}"
+        )
+    if meaning.along is not None:
         base = dict(scene.symbols)
         u = sp.Matrix([parse_expression(x, base, where=f"{where}.along") for x in meaning.along])
         if sp.simplify(u.dot(u) - 1) != 0:
             raise ReportInputError(f"{where}.along: must be a unit vector, got {list(meaning.along)}")
-        return (deriv.acceleration(meaning.point).T * u)[0]
+        vector = _vector_quantity(meaning, deriv, where)
+        return (vector.T * u)[0]
+    if quantity == "element_inertia":
+        return _element_inertia(deriv, meaning, where)
     if quantity == "reaction":
         if meaning.name not in deriv.reactions:
             raise ReportInputError(
@@ -156,6 +167,72 @@ def _meaning_value(meaning, scene, deriv, tr: Transcription, lin) -> sp.Expr:
         mass, stiffness = lin[0], lin[1]
         return sp.sqrt(stiffness / mass)
     raise ReportInputError(f"{where}.quantity: unsupported quantity {quantity!r}")  # pragma: no cover
+
+
+def _vector_quantity(meaning, deriv, where: str) -> sp.Matrix:
+    """The fixed-frame vector a printed component reads (position, velocity, acceleration, force)."""
+    quantity = meaning.quantity
+    if quantity == "acceleration":
+        return deriv.acceleration(meaning.point)
+    if quantity == "velocity":
+        return deriv.velocity(meaning.point)
+    if quantity == "position":
+        return deriv.position(meaning.point)
+    if quantity == "relative_position":
+        return deriv.position(meaning.point) - deriv.position(meaning.relative_to)
+    forces = _forces(deriv)
+    if quantity == "resultant":
+        return sum(forces.values(), sp.zeros(2, 1))
+    if quantity == "force":
+        if meaning.name not in forces:
+            raise ReportInputError(f"{where}.name: {meaning.name!r} is not a force on the body; "
+                                   f"valid: {', '.join(forces)}")
+        return forces[meaning.name]
+    raise ReportInputError(f"{where}.quantity: unsupported quantity {quantity!r}")  # pragma: no cover
+
+
+def _forces(deriv) -> dict[str, sp.Matrix]:
+    """Every force on the (single) body by name: applied loads, and reactions with their
+    magnitudes replaced by the derivation's solution (as printed reaction symbols are)."""
+    system = deriv.system
+    body = deriv._only_body()
+    solution = {sp.Symbol(name, real=True): value for name, value in deriv.reactions.items()}
+    out = {}
+    for a in system.applied_loads:
+        if a.body == body and a.force is not None:
+            out[a.name] = sp.Matrix(a.force)
+    for jl in system.joint_loads():
+        if jl.body == body and jl.force is not None:
+            out[jl.reaction.name] = (jl.reaction.symbol * sp.Matrix(jl.force)).xreplace(solution)
+    return out
+
+
+def _element_inertia(deriv, meaning, where: str) -> sp.Expr:
+    """One element's moment of inertia about a named point: I_G,k + m_k d_k^2 (a term of Eq. 12)."""
+    system, b = deriv.system, deriv._only_body()
+    body = system.bodies[b]
+    try:
+        e = body.element(meaning.element)
+    except KeyError:
+        raise ReportInputError(f"{where}.element: {meaning.element!r} is not an element of the body; valid: "
+                               f"{', '.join(x.name for x in body.elements)}") from None
+    if system.is_body_point(b, meaning.point):
+        at = body.body_coords(meaning.point)
+    else:
+        rel = system.point_position(b, meaning.point) - system.origin(b)
+        phi = system.angle(b)
+        at = sp.Matrix([[sp.cos(phi), sp.sin(phi)], [-sp.sin(phi), sp.cos(phi)]]) * rel
+    d = e.mass_center - at
+    return e.I_G + e.mass * (d[0] ** 2 + d[1] ** 2)
+
+
+def _first_order(expr: sp.Expr, deriv, about: dict) -> sp.Expr:
+    """The constant and linear part of ``expr`` about the state ``about`` (q, qd; 0 unless given):
+    zero when ``expr`` is of second order there (kind ``approximation``, Eq. 45)."""
+    q, qd = deriv.q, deriv.qd
+    at = {q: about.get(q, sp.Integer(0)), qd: about.get(qd, sp.Integer(0))}
+    return (expr.subs(at) + sp.diff(expr, q).subs(at) * (q - at[q])
+            + sp.diff(expr, qd).subs(at) * (qd - at[qd]))
 
 
 def _random_point(symbols, seed: int) -> dict:
@@ -350,6 +427,9 @@ def check_equation(tr: Transcription, scene, deriv) -> EquationOutcome:
             else:
                 diff = printed - factor * eom
                 derived_l, derived_r = sp.expand(factor * eom), sp.Integer(0)
+    elif tr.kind == "approximation":
+        diff = _first_order(printed, deriv, about)
+        derived_l, derived_r = mapped_l, mapped_r
     elif tr.kind == "frequency":
         mass, stiffness, damping, offset = lin
         if offset != 0:
@@ -387,6 +467,8 @@ def check_equation(tr: Transcription, scene, deriv) -> EquationOutcome:
             "relation": f"printed lhs - rhs with the solver's solution (theta_ddot and reactions) substituted {how}.",
             "eom": f"printed equation = {sp.sstr(factor)} x derived equation of motion; the difference {how}.",
             "frequency": f"printed omega_n = sqrt(stiffness/mass) of the linearised derived equation of motion; the difference {how}.",
+            "approximation": f"printed lhs - rhs vanishes to first order about the printed state: its constant and "
+                             f"linear part {how}.",
         }[tr.kind]
         verdict = "agrees"
     else:

@@ -25,7 +25,7 @@ __all__ = [
     "QUANTITIES",
 ]
 
-EQUATION_KINDS = ("identity", "relation", "eom", "frequency")
+EQUATION_KINDS = ("identity", "relation", "eom", "frequency", "approximation")
 """How a printed equation is compared (see data/published/equations.toml)."""
 
 QUANTITIES = {
@@ -35,6 +35,12 @@ QUANTITIES = {
     "reaction": ("name",),
     "inertia_about": ("point",),
     "natural_frequency": (),
+    "position": ("point", "along"),
+    "relative_position": ("point", "relative_to", "along"),
+    "velocity": ("point", "along"),
+    "force": ("name", "along"),
+    "resultant": ("along",),
+    "element_inertia": ("element", "point"),
 }
 """Derived quantities a printed symbol may stand for, with their required keys."""
 
@@ -55,6 +61,8 @@ class SymbolMeaning:
     point: str | None = None
     name: str | None = None
     along: tuple[str, str] | None = None
+    relative_to: str | None = None
+    element: str | None = None
 
 
 @dataclass(frozen=True)
@@ -176,6 +184,8 @@ def _meaning(symbol: str, spec: object, where: str) -> SymbolMeaning:
         point=_str(spec, "point", where) if "point" in required else None,
         name=_str(spec, "name", where) if "name" in required else None,
         along=along,
+        relative_to=_str(spec, "relative_to", where) if "relative_to" in required else None,
+        element=_str(spec, "element", where) if "element" in required else None,
     )
 
 
@@ -233,8 +243,8 @@ def load_equations(path: Path) -> EquationSet:
         for source in eq.derived_from:
             if source not in ids:
                 raise ReportInputError(f"{eq.where}.derived_from: unknown equation id {source!r}")
-        if eq.kind == "frequency" and not eq.about:
-            raise ReportInputError(f"{eq.where}: kind 'frequency' needs an 'about' table")
+        if eq.kind in ("frequency", "approximation") and not eq.about:
+            raise ReportInputError(f"{eq.where}: kind {eq.kind!r} needs an 'about' table")
     ranges = data.get("ranges", {})
     if not isinstance(ranges, dict):
         raise ReportInputError(f"{path}: 'ranges' must be a table")

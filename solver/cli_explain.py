@@ -78,8 +78,21 @@ def _suggestion_text(system) -> str:
     from solver.analyses.instant import assemble
     from solver.explain.advisor import rank_points
 
-    state = assemble(system)
     out = [f"scene   {system.name}  ({system.source or system.name})", ""]
+    if system.contacts:  # the points are ranked in the contact regime that holds at the state
+        from solver.explain.build import system_in_regime
+
+        system, regime, _, state = system_in_regime(system, None)
+        if regime is not None:
+            out.append("contact regime at the state: "
+                       + ", ".join(f"{c.joint}: {c.regime.label}" for c in regime.checks))
+            if regime.indeterminate:
+                out.append("the sticking contacts hold the bodies redundantly (their forces are statically "
+                           "indeterminate): no choice of P separates them, so no point is ranked")
+                return "\n".join(out)
+            out.append("")
+    else:
+        state = assemble(system)
     for body in system.bodies:
         ranked = rank_points(system, body, state)
         best = ranked[0]

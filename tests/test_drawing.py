@@ -156,6 +156,32 @@ def test_drawing_matches_the_scene(path):
         inertial = [i for i in fbd.on(body) if i.kind == "inertial"]
         assert len(inertial) == 1 and inertial[0].label.startswith(f"-m a_{fbd.point[body]}")
         _assert_no_moment_about_P(fbd, points[(body, fbd.point[body])], body, path.name)
+    _assert_labels_apart(fbd.figure, path.name)
+
+
+# Two labels' boxes may share at most 1 display pixel (at the figure's 100 dpi, 0.72 pt) each way:
+# the renderer measures text from font metrics and rounds to whole pixels, so boxes that touch can
+# report a 1-pixel intersection; anything visible as overlapping text is several pixels (the labels
+# are 7-8 pt, about 10 pixels high). Without the label placer 14 of the 17 shipped scenes fail this.
+LABEL_OVERLAP_TOL = 1.0
+
+
+def _assert_labels_apart(figure, where):
+    from solver.drawing.render import label_boxes
+
+    figure.canvas.draw()  # the final layout, as saved
+    for ax in figure.axes:
+        if not ax.get_visible():
+            continue
+        boxes = label_boxes(ax)
+        texts = [t.get_text() for t in ax.texts if t.get_visible() and t.get_text()]
+        for i, a in enumerate(boxes):
+            for j in range(i):
+                b = boxes[j]
+                wide = min(a.x1, b.x1) - max(a.x0, b.x0)
+                high = min(a.y1, b.y1) - max(a.y0, b.y0)
+                assert wide <= LABEL_OVERLAP_TOL or high <= LABEL_OVERLAP_TOL, \
+                    f"{where}: labels {texts[i]!r} and {texts[j]!r} overlap ({wide:.1f} x {high:.1f} px)"
 
 
 def _assert_no_moment_about_P(fbd, P, body, where):

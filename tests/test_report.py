@@ -150,6 +150,9 @@ def test_every_disagreement_is_explained_first_in_the_html(built, verification):
         ("eq39", "rhs", "(m_d + m_b)", "(m_d + 2*m_b)"),  # a changed mass term
         ("eq46", "rhs", "3/2*m_d", "1/2*m_d"),            # a wrong frequency
         ("eq20-a_B", "rhs", "sin(beta)", "tan(beta)"),    # a wrong kinematic relation
+        ("eq36-F_f", "rhs", "F_f", "-F_f"),               # a force along the wrong direction
+        ("eq41", "lhs", "r_CPx*F_fy - r_CPy*F_fx", "r_CPy*F_fx - r_CPx*F_fy"),  # a cross product reversed
+        ("eq45-cos", "rhs", "1", "1 + theta"),            # a small-motion rule wrong to first order
     ],
 )
 def test_mutated_transcription_disagrees(equations, eq_id, side, old, new):

@@ -98,6 +98,7 @@ def draw_system(system, state=None, ax=None, fbd: bool = False, point: str | Non
             if ax is None:
                 figure, (ax,) = render.new_figure(1, size=5.0)
             render.render_scene(ax, scene, bodies, title=system.name)
+            render.place_labels(ax.figure, [ax])
             return Drawing(system.name, scene, figure=figure)
         solution = solve_instant(system, point, state=state)
         from ..analyses.regimes import with_every_contact_force  # contacts: the regime's forces, each drawn alone
@@ -113,6 +114,7 @@ def draw_system(system, state=None, ax=None, fbd: bool = False, point: str | Non
         for a, body in zip(axes, panels):
             render.render_fbd(a, scene, [f for f in forces if f.body == body], body, bodies,
                               title=f"{body}: free-body diagram (P = {points[body]})")
+        render.place_labels(axes[0].figure, axes)  # labels off each other and off the bodies
     forces = [f for f in forces if f.body in panels]
     return Drawing(system.name, forces, fbd=True, panels=panels, point=points, figure=figure, solution=solution)
 

@@ -22,7 +22,7 @@ from matplotlib.patches import Circle, FancyArrowPatch, Polygon, Rectangle, Wedg
 
 from .model import DrawnItem  # noqa: E402
 
-__all__ = ["new_figure", "render_scene", "render_fbd", "RC"]
+__all__ = ["new_figure", "render_scene", "render_fbd", "place_labels", "label_boxes", "RC"]
 
 RC = {"svg.hashsalt": "alt-euler-drawing", "svg.fonttype": "none", "font.size": 8}
 """Deterministic SVG (fixed ids, text kept as text)."""
@@ -148,7 +148,8 @@ def _arc(ax, centre, radius, start, end, colour, label, dashed=False, arrow=True
     mid = 0.5 * (start + end)
     out = 1.2 if abs(end - start) > 0.6 else 1.6  # a short arc: its label further out, clear of the lines
     ax.annotate(label, (centre[0] + out * radius * math.cos(mid), centre[1] + out * radius * math.sin(mid)),
-                fontsize=7, color=colour, ha="center", va="center", zorder=6)
+                xytext=(0, 0), textcoords="offset points", fontsize=7, color=colour, ha="center", va="center",
+                zorder=6)
 
 
 def _points(ax, items, bodies, span):
@@ -281,3 +282,89 @@ def render_fbd(ax, scene_items: list[DrawnItem], forces: list[DrawnItem], body: 
     pts = np.array(pts)
     _setup(ax, pts.min(axis=0), pts.max(axis=0), max(span, float(np.max(pts.max(axis=0) - pts.min(axis=0)))) * 0.5,
            title)
+
+
+# -- label placement -------------------------------------------------------------------------------
+
+LABEL_PAD = 1.5
+"""Clearance kept between two labels [display pixels at the figure's dpi]."""
+
+_STEPS = (0.0, 5.0, 9.0, 13.0, 18.0, 24.0, 31.0, 40.0)
+"""Distances [points] a label may move from where it was put, tried nearest first."""
+
+
+def _renderer(fig):
+    canvas = fig.canvas
+    if not hasattr(canvas, "get_renderer"):
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+        canvas = FigureCanvasAgg(fig)
+    return canvas.get_renderer()
+
+
+def label_boxes(ax, renderer=None) -> list:
+    """The display-space bounding boxes (matplotlib Bbox) of the visible labels drawn on ``ax``."""
+    renderer = renderer or _renderer(ax.figure)
+    return [t.get_window_extent(renderer) for t in ax.texts if t.get_visible() and t.get_text()]
+
+
+def _obstacles(ax) -> np.ndarray:
+    """Display points along what is drawn (bodies, links, arrows): labels avoid covering them."""
+    pts = []
+    for line in ax.lines:
+        xy = line.get_transform().transform(np.column_stack(line.get_data()).astype(float))
+        pts.append(xy)
+        for a, b in zip(xy[:-1], xy[1:]):
+            pts.append(a + np.linspace(0, 1, 12)[:, None] * (b - a))
+    for patch in ax.patches:
+        if isinstance(patch, FancyArrowPatch) and getattr(patch, "_posA_posB", None):
+            a, b = (ax.transData.transform(np.array(p, float)) for p in patch._posA_posB)
+            pts.append(a + np.linspace(0, 1, 16)[:, None] * (b - a))
+        else:
+            verts = patch.get_verts()
+            if len(verts):
+                pts.append(verts)
+    return np.vstack(pts) if pts else np.zeros((0, 2))
+
+
+def _overlap(a, b, pad: float) -> bool:
+    return (a.x0 < b.x1 + pad and b.x0 < a.x1 + pad and a.y0 < b.y1 + pad and b.y0 < a.y1 + pad)
+
+
+def place_labels(fig, axes) -> None:
+    """Move the labels of ``axes`` off each other, and off the drawn shapes where possible.
+
+    Greedy, in drawing order: each label keeps its place when that is clear, else takes the
+    nearest offset (8 directions, :data:`_STEPS` points away) that overlaps no label placed
+    before it (with :data:`LABEL_PAD` clearance), covering as few drawn points as possible.
+    Text extents come from the renderer after the layout is fixed (labels are taken out of the
+    constrained layout so that moving them cannot move the axes).
+    """
+    texts = {id(ax): [t for t in ax.texts if t.get_visible() and t.get_text() and hasattr(t, "xyann")]
+             for ax in axes}
+    for group in texts.values():
+        for t in group:
+            t.set_in_layout(False)
+    renderer = _renderer(fig)
+    fig.draw_without_rendering()  # the layout, now final
+    directions = [(math.cos(a), math.sin(a)) for a in np.linspace(0, 2 * math.pi, 8, endpoint=False)]
+    for ax in axes:
+        obstacles = _obstacles(ax)
+        placed = []
+        for t in texts[id(ax)]:
+            base = np.array(t.xyann, float)
+            best, best_key = None, None
+            for k, step in enumerate(_STEPS):
+                for d in (directions if step else [(0.0, 0.0)]):
+                    t.xyann = (base[0] + step * d[0], base[1] + step * d[1])
+                    box = t.get_window_extent(renderer)
+                    clash = sum(_overlap(box, p, LABEL_PAD) for p in placed)
+                    covered = int(np.count_nonzero((obstacles[:, 0] > box.x0) & (obstacles[:, 0] < box.x1)
+                                                   & (obstacles[:, 1] > box.y0) & (obstacles[:, 1] < box.y1)))
+                    key = (clash, covered > 0, k, covered)
+                    if best_key is None or key < best_key:
+                        best, best_key = t.xyann, key
+                if best_key is not None and best_key[0] == 0 and not best_key[1]:
+                    break  # clear of labels and shapes: the nearest such place
+            t.xyann = best
+            placed.append(t.get_window_extent(renderer))

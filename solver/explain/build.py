@@ -27,7 +27,7 @@ from ..model.joints import cross_k, k_cross
 from .content import Equation, Explanation, Section, Step, Table, Term
 from ..display import is_identically_zero, tidy, tidy_linear
 
-__all__ = ["explain", "latex_names"]
+__all__ = ["explain", "latex_names", "system_in_regime"]
 
 
 def latex_names(system) -> dict:
@@ -118,14 +118,39 @@ def _forces_on(system, body: str, points: _Points) -> list[_Force]:
             continue
         point = points.name_of(a.at) if a.force is not None else ""
         out.append(_Force(a.name, a.kind, a.force, a.at, a.couple, point=point))
+    slipping = _slipping_contacts(system)
     for jl in system.joint_loads():
         if jl.body != body:
             continue
         sym = jl.reaction.symbol
         force = None if jl.force is None else sym * jl.force
         point = points.name_of(jl.at) if jl.force is not None else ""
+        contact = slipping.get(jl.reaction.name)
+        if contact is not None and force is not None:  # N n, and the friction -s mu_k N d apart
+            joint, d, n = contact
+            out.append(_Force(jl.reaction.name, f"normal reaction of contact {joint.name}",
+                              sym * n * sp.expand(jl.force.dot(n)), jl.at, 0, reaction=jl.reaction, point=point))
+            name = joint.friction_reaction.name if joint.friction_reaction is not None else f"friction_{joint.name}"
+            out.append(_Force(name, f"friction of contact {joint.name}, slipping: -s mu_k {jl.reaction.name}",
+                              sym * d * sp.expand(jl.force.dot(d)), jl.at, 0, point=point))
+            continue
         out.append(_Force(jl.reaction.name, f"reaction of joint {jl.reaction.joint}", force, jl.at,
                           sym * jl.couple, reaction=jl.reaction, point=point))
+    return out
+
+
+def _slipping_contacts(system) -> dict:
+    """Normal reaction name -> (contact, d, n) for each contact sliding with friction (its
+    normal reaction's load is N (n - s mu_k d): the friction is known once N is)."""
+    out = {}
+    contacts = [j for j in getattr(system, "contacts", ()) if j.friction is not None
+                and j.current_regime.keeps_normal and not j.current_regime.keeps_tangential
+                and j.current_regime.friction_direction()]
+    if contacts:
+        pose = system._pose_fn(system.poses)
+        for j in contacts:
+            d, n, _ = j.contact_frame(pose)
+            out[j.normal_reaction.name] = (j, sp.Matrix(d), sp.Matrix(n))
     return out
 
 
@@ -176,10 +201,32 @@ def _kinematics_step(system, body: str, P: str, used: list[str], points: _Points
                             (Term(_vec(a_P), f"a_{P}"), Term(_vec(ar), f"alpha x r_{X}/{P}"),
                              Term(_vec(cr), f"-omega^2 r_{X}/{P}")),
                             f"acceleration of {X}", "Eq. (15)", tag=f"accel:{X}", name=f"a_{X}", vector=True))
+    eqs += _midpoints(system, body, points, eqs)
     text = [f"P = {P}. Its velocity and acceleration follow from the joints (the placement of {body}); "
             f"every other point's follow by the rigid-body relation from {P}: v = v_{P} + omega x r, "
             f"a = a_{P} + alpha x r - omega^2 r (Eqs. 6, 15)."]
     return Step("kinematics", f"Kinematics of {body} from {P}", text, eqs)
+
+
+def _midpoints(system, body: str, points: _Points, eqs: list[Equation]) -> list[Equation]:
+    """a_C = (a_X + a_Y)/2 for a slender bar whose centre C and ends X, Y are named points whose
+    accelerations are shown (r_C = (r_X + r_Y)/2 differentiated twice: the paper's Eq. 16)."""
+    shown = {e.tag.split(":", 1)[1]: e.left for e in eqs if e.tag.startswith("accel:")}
+    out = []
+    for e in system.bodies[body].elements:
+        if e.kind != "slender_bar":
+            continue
+        half = e.dims["length"] / 2 * sp.Matrix([sp.cos(e.angle), sp.sin(e.angle)])
+        names = [next((n for n, r in points.named.items() if n in shown and _zero(r[0] - at[0]) and _zero(r[1] - at[1])),
+                      None) for at in (system.body_point(body, c) for c in (e.mass_center, e.mass_center - half,
+                                                                           e.mass_center + half))]
+        if None in names:
+            continue
+        C, X, Y = names
+        out.append(Equation((Term(shown[C]),), (Term(_vec(shown[X] / 2), f"a_{X}/2"), Term(_vec(shown[Y] / 2), f"a_{Y}/2")),
+                            f"{C} is the midpoint of the bar {X}{Y}: r_{C} = (r_{X} + r_{Y})/2, differentiated twice",
+                            "Eq. (16)", tag=f"midpoint:{C}", name=f"a_{C}", vector=True))
+    return out
 
 
 def _fbd_step(system, body: str, forces: list[_Force]) -> Step:
@@ -192,9 +239,16 @@ def _fbd_step(system, body: str, forces: list[_Force]) -> Step:
             rows.append((f.name, f.kind, "-", f"couple {sp.sstr(tidy(f.couple))}", what))
     step = Step("fbd", f"Free-body diagram of {body}",
                 [f"The forces and couples on {body}, fixed-frame components (x right, y up)."],
-                table=Table(("force", "kind", "at", "components", ""), tuple(rows)))
+                _force_vectors(forces), table=Table(("force", "kind", "at", "components", ""), tuple(rows)))
     step.figure_request = {"scene": system.source or system.name, "body": body, "fbd": True}
     return step
+
+
+def _force_vectors(forces: list[_Force]) -> list[Equation]:
+    """Each force as a vector in the fixed frame (the paper's Eqs. 22 and 36), tag ``force:NAME``."""
+    return [Equation((Term(f.force),), (Term(_vec(f.force)),), f"force {f.name} at {f.point} (vector)",
+                     tag=f"force:{f.name}", name=f.name.replace("gravity:", "W_"), vector=True)
+            for f in forces if f.force is not None]
 
 
 def _element_accelerations(system, body: str, P: str):
@@ -270,7 +324,59 @@ def _euler_step(system, body: str, P: str, forces: list[_Force]) -> tuple[Step, 
     if _zero(inertial):
         text.append(f"The inertial term vanishes here: r_G/{P} x a_{P} = 0 ({P} is the mass centre, or a_{P} "
                     f"is parallel to r_G/{P} or zero).")
-    return Step("euler", f"Generalized Euler equation of {body} about {P}", text, [inertia, euler]), dropped
+    collected = _collected_equation(system, body, P, euler)
+    if collected is not None:
+        text.append(collected.label[0].upper() + collected.label[1:] + ": each unknown with its coefficient, "
+                    "the known terms on the right (as the paper's Eq. 28 writes Eq. 27).")
+    return (Step("euler", f"Generalized Euler equation of {body} about {P}", text,
+                 [inertia, euler] + ([collected] if collected is not None else [])), dropped)
+
+
+ALPHA = sp.Symbol("alpha", real=True)
+"""The body's angular acceleration, written for q'' in a one-body, one-coordinate system."""
+
+
+def _alpha_form(system) -> dict:
+    """{q'': (alpha, k)} when the only body's alpha = k q'' (k = +-1): the unknown written as alpha."""
+    if len(system.bodies) != 1 or len(system.free) != 1:
+        return {}
+    c = system.free[0]
+    al = system.alpha(next(iter(system.bodies)))
+    k = sp.diff(al, c.qdd)
+    return {c.qdd: (ALPHA, k)} if k in (1, -1) and _zero(al - k * c.qdd) else {}
+
+
+def _collected_equation(system, body: str, P: str, euler: Equation) -> Equation | None:
+    """The moment equation divided by the parameters common to all its terms and collected by
+    unknown, known terms on the right, signed so that the first reaction's coefficient reads
+    positive (Eq. 27 -> Eq. 28).
+    None when there is nothing to collect."""
+    unknowns = list(system.qdd) + [r.symbol for r in system.reactions]
+    e = sp.expand(euler.residual)
+    terms = [t for t in sp.Add.make_args(e) if t != 0]
+    coefs = {u: e.coeff(u) for u in unknowns}
+    coefs = {u: c for u, c in coefs.items() if c != 0 and not _zero(c)}
+    if not terms or not coefs:
+        return None
+    common, divided = sp.Integer(1), []
+    for p in system.symbols.values():
+        k = sp.sympify(min(sp.sympify(t.as_powers_dict().get(p, 0)) for t in terms))
+        if k.is_Integer and k > 0:
+            common *= p**k
+            divided.append(sp.sstr(p**k))
+    rest = sp.expand(e - sp.Add(*[c * u for u, c in coefs.items()]))
+    rhs = tidy(sp.expand(-rest / common))
+    reactions = [c for u, c in coefs.items() if u not in system.qdd]
+    lead = reactions[0] if reactions else -rhs  # the first reaction's coefficient reads positive (Eq. 28)
+    sign = -1 if sp.sympify(lead).could_extract_minus_sign() else 1
+    rename = _alpha_form(system)
+    lhs = []
+    for u, c in coefs.items():
+        shown, k = rename.get(u, (u, 1))
+        lhs.append(Term(tidy(sp.expand(sign * c / common / k)) * shown, str(shown)))
+    how = f"divided by {' '.join(divided)} and collected" if divided else "collected"
+    return Equation(tuple(lhs), (Term(sign * rhs, "known"),), f"the moment equation about {P} {how}",
+                    tag="collected")
 
 
 def _unknowns_in(expr, unknowns) -> list:
@@ -291,7 +397,7 @@ def _dropped_step(system, body: str, P: str, forces, dropped, newton: Step, eule
         for tag in ("newton_x", "newton_y"):
             cells.append("yes" if u in _unknowns_in(newton.equation(tag).residual, [u]) else "no")
         cells.append("yes" if u in in_euler else "no")
-        if f in dropped:
+        if f in dropped and u not in in_euler:
             why = (f"its line of action passes through {P}" if f.force is not None and _zero(f.couple)
                    else f"its moment about {P} is zero")
         elif u not in in_euler:
@@ -331,27 +437,91 @@ def explain(system, point: str | None = None, *, advice: bool = True) -> Explana
     from ..analyses.instant import assemble, solve_instant
     from ..formulations import formulate
 
-    f = formulate(system, "generalized_euler", point)
-    state = assemble(system)
+    scene, regime, warning = system, None, None
+    if system.contacts:  # the contact regime that holds at the state decides the equations
+        system, regime, warning, state = system_in_regime(system, point)
+    if regime is not None and regime.indeterminate:  # every contact row kept: it does not validate
+        from ..formulations import Formulation, resolve_points
+
+        f = Formulation(system, "generalized_euler", resolve_points(system, point))
+    else:
+        f = formulate(system, "generalized_euler", point)
+    if not scene.contacts:
+        state = assemble(system)
     expl = Explanation(f"Worked solution: {system.name}", system.name, dict(f.points),
                        symbol_latex=latex_names(system))
     expl.sections.append(_system_data_section(system, state))
+    if scene.contacts:
+        expl.sections[-1].steps.append(_regime_step(scene, regime, warning))
     for body, P in f.points.items():
         expl.sections.append(_body_section(system, body, P))
     final = Section("Solution", None)
-    if advice:
+    if advice and not (regime is not None and regime.indeterminate):  # the advisor needs a system that validates
         from .advisor import advice_step
 
         final.steps.append(advice_step(system, state))
     motion = _motion_step(system, f, expl)
+    if motion is None and system.free:
+        motion = _constrained_motion_step(system, f, expl)
     if motion is not None:
         final.steps.append(motion)
-    solution = _solve_at_state(system, f, point, state) or solve_instant(system, point, "generalized_euler", state)
-    check = _mass_center_check(system, state)
+    numbers = _numbers_step(system, expl, state)
+    if numbers is not None:
+        final.steps.append(numbers)
+    if scene.contacts:  # the product's own regime solve, and the same by the mass-centre form
+        solution = solve_instant(scene, point, "generalized_euler", state)
+        check = solve_instant(scene, None, "mass_center", state).unknowns
+    else:
+        solution = _solve_at_state(system, f, point, state) or solve_instant(system, point, "generalized_euler", state)
+        check = _mass_center_check(system, state)
     final.steps.append(_solution_step(system, solution))
     final.steps.append(_check_step(system, solution, check))
+    if regime is not None and regime.indeterminate:
+        final.steps[-1].text.append("The contact forces are statically indeterminate: each route picks one "
+                                    "admissible split of them, so they may differ; the accelerations are "
+                                    "determined and must agree.")
     expl.sections.append(final)
     return expl
+
+
+def system_in_regime(system, point):
+    """(the system in the regime that holds at the state, RegimeResult or None, warning, state)."""
+    from ..analyses.regimes import regime_at_state, regime_system
+    from ..model.system import RedundantConstraints
+
+    res, warning, state = regime_at_state(system, None, point)
+    if res is None:
+        return system, None, warning, state
+    try:
+        variant = regime_system(system, res.regimes, state.q, state.qd, state.t)
+    except RedundantConstraints:  # held redundantly: every contact row kept, the forces' split open
+        variant = system.with_regimes(res.regimes, state.q, state.qd, state.t, redundant_ok=True)
+    return variant, res, warning, state
+
+
+def _regime_step(scene, regime, warning) -> Step:
+    """Which contact regime holds at the state, and why (solver.analyses.regimes.find_regime)."""
+    text = ["Each contact sticks (rolls), slips or separates; the regime that holds is the one whose "
+            "conditions all hold: normal forces press (N >= 0), sticking friction stays in the cone "
+            "(|F| <= mu_s N), a slip accelerates the way it slides, an opened gap does not close; Coulomb's "
+            "rule prefers sticking to slipping and contact to separation."]
+    rows = []
+    if regime is None:
+        text.append(warning or "The scene as written is solved.")
+    else:
+        for c in regime.checks:
+            rows.append((c.joint, c.regime.label, c.reason))
+        if any(c.regime.friction_direction() and c.regime.keeps_normal for c in regime.checks):
+            text.append("In the slipping regime the friction is not an unknown: it is the known force "
+                        "-s mu_k N along the contact line (s the sign of the sliding velocity), so only N is; "
+                        "the free-body diagram shows N and the friction apart.")
+        if regime.indeterminate:
+            text.append("The sticking contacts hold the body redundantly: the accelerations are determined, the "
+                        "split of their forces is not (the solution shows one admissible split).")
+        for reason in regime.rejected[:6]:
+            text.append(f"Rejected: {reason}.")
+    return Step("regime", "Contact regime at the state", text,
+                table=Table(("contact", "regime", "why"), tuple(rows)) if rows else None)
 
 
 def _body_section(system, body: str, P: str) -> Section:
@@ -418,8 +588,9 @@ def _single_reaction_substitution(system, f, body: str):
 
 
 def _motion_step(system, f, expl) -> Step | None:
-    """The equation of motion from its structure: M q'' + (rate terms) + (rest) = Q."""
-    if system.closure or not system.independent:
+    """The equation of motion from its structure: M q'' + (rate terms) + (rest) = Q (None for a
+    system with closure rows or a slipping contact: :func:`_constrained_motion_step`)."""
+    if system.closure or not system.independent or _slipping_contacts(system):
         return None
     from ..analyses.eom import equations_of_motion
 
@@ -460,14 +631,184 @@ def _motion_step(system, f, expl) -> Step | None:
                             "reactions eliminated", tag=f"eom:{c.name}"))
     small = _small_oscillations(system, eqs[-1]) if len(system.free) == 1 else None
     if small is not None:
-        eqs.append(small)
+        eqs.extend(_small_motion_rules(system, eqs[-1]))  # Eq. 45
+        eqs.append(_linearised(system, small))           # Eq. 46, first part
+        eqs.append(small)                                 # Eq. 46, omega_n
         text.append(f"Small oscillations about {system.free[0].name} = 0 (an equilibrium with the scene's "
-                    "parameters, those that are zero set to zero): the equation of motion linearised, "
-                    "M(0) q'' + K q = 0, oscillates at omega_n = sqrt(K / M(0)).")
+                    "parameters, those that are zero set to zero): with the small-motion rules below (each "
+                    "exact to first order), the equation of motion linearised, M(0) q'' + K q = 0, "
+                    "oscillates at omega_n = sqrt(K / M(0)).")
     text.append("Equation(s) of motion: the reactions eliminated (projection on the partial velocities of "
                 "each body's P), written as M q'' + (rate terms) + (configuration terms) = Q, with Q the "
                 "generalized force of the non-conservative loads.")
     return Step("motion", "Equation of motion", text, eqs)
+
+
+def _projected(system, f) -> list[sp.Expr]:
+    """Kane's projection of each body's equations on the partial velocities of its P, one per
+    free coordinate (as :func:`solver.analyses.eom.equations_of_motion`), keeping every reaction
+    whose coefficient is not identically zero: the closure multipliers, and a slipping contact's
+    normal force (its friction -s mu_k N does work)."""
+    per_body = {}
+    for e in f.equations:
+        if e.body is not None:
+            per_body.setdefault(e.body, []).append(e.expr)
+    out = []
+    for c in system.free:
+        terms = []
+        for body, (nx, ny, eu) in per_body.items():
+            v, w = system.point_velocity(body, f.points[body]), system.omega(body)
+            terms += [sp.diff(v[0], c.qd) * nx, sp.diff(v[1], c.qd) * ny, sp.diff(w, c.qd) * eu]
+        e = sp.expand(-sp.Add(*terms))
+        for r in system.reactions:
+            coef = e.coeff(r.symbol)
+            if coef != 0 and _zero(coef):  # a workless reaction: it drops out
+                e = sp.expand(e - coef * r.symbol)
+        out.append(e)
+    return out
+
+
+def _reaction_from_body_equations(expl, r, known: dict, unknown: set):
+    """(value, where) of reaction ``r`` from a displayed body equation holding it and no other
+    unknown reaction (those in ``known`` substituted), or None."""
+    for section in expl.sections:
+        if section.body is None:
+            continue
+        for kind, tag in (("newton", "newton_x"), ("newton", "newton_y"), ("euler", "euler")):
+            try:
+                e = sp.expand(sp.sympify(section.step(kind).equation(tag).residual).xreplace(known))
+            except KeyError:
+                continue
+            coef = e.coeff(r)
+            if _zero(coef) or any(not _zero(e.coeff(x)) for x in unknown - {r}):
+                continue
+            label = {"newton_x": "Newton x", "newton_y": "Newton y", "euler": "the moment equation"}[tag]
+            return -e.xreplace({r: 0}) / coef, f"{label} of {section.body}"
+    return None
+
+
+def _normal_force_from_newton(expl, contact, r, known: dict, unknown: set):
+    """(N, where) from Newton's equation of the contact's body along the contact normal n (the
+    friction, along d, has no component there), or None when that holds other unknown reactions."""
+    joint, _, n = contact
+    try:
+        newton = expl.section(joint.second).step("newton")
+    except KeyError:
+        return None
+    e = sp.expand((n[0] * newton.equation("newton_x").residual
+                   + n[1] * newton.equation("newton_y").residual).xreplace(known))
+    coef = e.coeff(r)
+    if _zero(coef) or any(not _zero(e.coeff(x)) for x in unknown - {r}):
+        return None
+    return -e.xreplace({r: 0}) / coef, f"Newton along the normal of contact {joint.name} ({joint.second})"
+
+
+def _structured_eom(system, c, e, q, keep) -> Equation:
+    """M q'' + (rate terms) + (configuration terms) - (reaction terms in ``keep``) = Q for one coordinate."""
+    rates = [a * b for i, a in enumerate(system.qd) for b in system.qd[i:]]
+    e = sp.expand(e + q)
+    lhs = []
+    for x in system.qdd:
+        coef = e.coeff(x)
+        if coef != 0:
+            lhs.append(Term(tidy(coef) * x, f"M {x}"))
+    for lam in keep:
+        coef = e.coeff(lam)
+        if coef != 0:
+            lhs.append(Term(tidy(coef) * lam, f"reaction term {lam}"))
+    rest = sp.expand(e - sp.Add(*[t.expr for t in lhs]))
+    for x in rates:
+        coef = rest.coeff(x)
+        if coef != 0 and not coef.has(*system.qd):
+            lhs.append(Term(tidy(coef) * x, f"rate terms {x}"))
+            rest = sp.expand(rest - coef * x)
+    if rest != 0:
+        lhs.append(Term(tidy(rest), "configuration terms"))
+    return Equation(tuple(lhs) or (Term(sp.Integer(0)),), (Term(tidy(q), "Q"),),
+                    f"equation of motion in {c.name}", "projected on the partial velocities", tag=f"eom:{c.name}")
+
+
+def _constrained_motion_step(system, f, expl) -> Step:
+    """The equations of motion of a system with closure rows or a slipping contact.
+
+    Constrained form: one projected equation per free coordinate (dependent ones included),
+    M q'' + ... - C^T lambda = Q, with the closure multipliers lambda (the joints' reactions)
+    kept, then each closure row at the acceleration level, C q'' = gamma. A slipping contact's
+    normal force N, which does work through its friction, is taken from the body equation that
+    holds it alone and substituted.
+    """
+    closure = [r.reaction.symbol for r in system.closure]
+    projected = _projected(system, f)
+    working = [r.symbol for r in system.reactions if r.symbol not in closure
+               and any(not _zero(e.coeff(r.symbol)) for e in projected)]
+    eqs, text, known = [], [], {}
+    slipping = _slipping_contacts(system)
+    for r in working:
+        unknown = set(working) | set(closure)
+        found = (_normal_force_from_newton(expl, slipping[str(r)], r, known, unknown) if str(r) in slipping
+                 else None) or _reaction_from_body_equations(expl, r, known, unknown)
+        if found is None:
+            continue
+        value, where = found
+        known[r] = sp.expand(value)
+        eqs.append(Equation((Term(r),), (Term(tidy(known[r])),), f"{r} from {where}",
+                            tag=f"from_newton:{r}", name=str(r)))
+        text.append(f"{r} does work through the slipping friction -s mu_k {r}, so it stays in the projected "
+                    f"equations; {where} holds it alone and gives it.")
+    keep = closure + [r for r in working if r not in known]
+    Q = system.generalized_forces()
+    for c, e, q in zip(system.free, projected, Q):
+        eqs.append(_structured_eom(system, c, sp.expand(e.xreplace(known)), q, keep))
+    for row in system.closure:
+        acc = sp.expand(system.D(system.D(row.expr)))
+        terms = [Term(tidy(acc.coeff(x)) * x, f"C {x}") for x in system.qdd if acc.coeff(x) != 0]
+        rest = sp.expand(acc - sp.Add(*[acc.coeff(x) * x for x in system.qdd]))
+        if rest != 0:
+            terms.append(Term(tidy(rest), "-gamma (rate terms)"))
+        eqs.append(Equation(tuple(terms) or (Term(sp.Integer(0)),), (Term(sp.Integer(0)),),
+                            f"closure of joint {row.joint.name} at the acceleration level (multiplier "
+                            f"{row.reaction.name})", "d^2 Phi/dt^2 = 0", tag=f"closure:{row.reaction.name}"))
+    if closure:
+        text.append(
+            "Constrained form M q'' + (rate terms) + (configuration terms) - C^T lambda = Q, C q'' = gamma: one "
+            "equation per coordinate (the dependent ones too) with the closure multipliers lambda ("
+            + ", ".join(map(str, closure)) + ", the joints' reactions) kept, then each closure row "
+            "differentiated twice. Chosen over the equation in the independent coordinates alone because that "
+            "needs the inverse of the closure Jacobian (expressions that grow fast and fail at a dead centre), "
+            "and a driven mechanism has no independent coordinate at all; here every term stays small, each "
+            "row is named by its joint, and lambda keep their meaning as reactions.")
+    else:
+        text.append("Equation(s) of motion: the workless reactions eliminated (projection on the partial velocities "
+                    "of each body's P), written as M q'' + (rate terms) + (configuration terms) = Q.")
+    return Step("motion", "Equation of motion", text, eqs)
+
+
+def _small_motion_rules(system, eom: Equation) -> list[Equation]:
+    """The rules that linearise the equation of motion about q = 0 (the paper's Eq. 45): each
+    function of q by its first-order value (sin q ~ q, cos q ~ 1), then each rate term's
+    state-dependent factor ~ 0 (of second order or higher). Tags ``approx:1``, ``approx:2`` ..."""
+    c = system.free[0]
+    zero = {sp.Symbol(n, real=True): 0 for n, q in system.parameters.items() if q.magnitude == 0}
+    e = sp.expand(eom.residual.xreplace(zero))
+    rules = []
+    functions = sorted((f for f in e.atoms(sp.Function) if f.has(c.q) and not f.has(c.qd, c.qdd)),
+                       key=lambda f: (type(f).__name__ != "sin", type(f).__name__ != "cos", sp.sstr(f)))
+    for f in functions:
+        rules.append((f, f.xreplace({c.q: 0}) + sp.diff(f, c.q).xreplace({c.q: 0}) * c.q))
+    for term in sp.Add.make_args(e):
+        if term.has(c.qd):
+            factor = term.as_independent(c.q, c.qd, as_Add=False)[1]
+            if all(factor != r[0] for r in rules):
+                rules.append((factor, sp.Integer(0)))
+    return [Equation((Term(lhs),), (Term(rhs),), "small motion: exact to first order about the equilibrium",
+                     tag=f"approx:{k}", approximate=True) for k, (lhs, rhs) in enumerate(rules, start=1)]
+
+
+def _linearised(system, omega_n: Equation) -> Equation:
+    """q'' + omega_n^2 q = 0: the linearised equation of motion divided by M(0)."""
+    c = system.free[0]
+    return Equation((Term(c.qdd), Term(omega_n.right**2 * c.q)), (Term(sp.Integer(0)),),
+                    "linearised equation of motion (divided by M(0))", tag="linearised")
 
 
 def _small_oscillations(system, eom: Equation) -> Equation | None:
@@ -495,6 +836,80 @@ def _small_oscillations(system, eom: Equation) -> Equation | None:
     omega = sp.sqrt(ratio)
     return Equation((Term(omega),), (Term(omega),), f"natural frequency of small oscillations about {c.name} = 0",
                     "linearised equation of motion", tag="omega_n", name="omega_n")
+
+
+NUMBER_DIGITS = 4
+"""Significant figures of the equations with the data entered (as the paper's Eq. 29)."""
+
+
+def _numbers_step(system, expl, state) -> Step | None:
+    """Each body's equations with the data and the state entered, in the scene's output units
+    (the paper's Eq. 29): numeric linear equations in the unknowns, those with the fewest unknowns
+    first (they can be solved first), the moment equation before Newton's within a body. A one-body,
+    one-coordinate system is written in alpha when alpha = +-q''. None when there is no body step."""
+    unknowns = [(c.qdd, str(c.qdd), "rad/s**2" if c.kind == "angle" else "m/s**2") for c in system.free]
+    unknowns += [(r.symbol, r.name, r.unit) for r in system.reactions]
+    rename = _alpha_form(system)  # q'' = alpha / k
+    per = {u: _per_si(system, unit)[0] for u, name, unit in unknowns}  # output units per SI unit
+    subs = _state_subs(system, state)
+    rows = []
+    for section in expl.sections:
+        if section.body is None:
+            continue
+        for step_kind, tag, unit in (("euler", "euler", "N*m"), ("newton", "newton_x", "N"), ("newton", "newton_y", "N")):
+            try:
+                eq = section.step(step_kind).equation(tag)
+            except KeyError:
+                continue
+            residual = sp.sympify(eq.residual)
+            if tag == "euler":  # the collected form when there is one (Eq. 28), alpha as the body's
+                collected = next((x for x in section.step(step_kind).equations if x.tag == "collected"), None)
+                if collected is not None:
+                    eq = collected
+                    residual = sp.sympify(collected.residual).xreplace({ALPHA: system.alpha(section.body)})
+                    unit = _collected_unit(system, collected)
+            row = sp.expand(residual.xreplace(subs))
+            scale, row_unit = _per_si(system, unit)
+            terms = []
+            for u, name, _ in unknowns:
+                coef = float(row.coeff(u)) * scale / per[u]
+                if abs(coef) > 1e-12 * (1.0 + abs(scale)):
+                    shown, k = rename.get(u, (u, 1))
+                    value = sp.Float(coef / k, NUMBER_DIGITS)
+                    unit = abs(float(f"{coef / k:.{NUMBER_DIGITS}g}")) == 1.0  # written as R_A, not 1.000 R_A
+                    terms.append(Term(sp.sign(value) * shown if unit else value * shown, str(shown)))
+            rhs = -float(row.xreplace({u: 0 for u, _, _ in unknowns})) * scale
+            rows.append((len(terms), Equation(tuple(terms) or (Term(sp.Integer(0)),),
+                                              (Term(sp.Float(rhs, NUMBER_DIGITS), "known"),),
+                                              f"{section.body}: {eq.label} [{row_unit}]", tag=f"numbers:{section.body}:{tag}")))
+    if not rows:
+        return None
+    rows.sort(key=lambda r: r[0])  # stable: fewest unknowns first
+    text = [f"The equations above with the data and the state entered, in the scene's output units, "
+            f"{NUMBER_DIGITS} significant figures; those with the fewest unknowns first."]
+    if system.closure:
+        text.append("The closure rows of the joints (acceleration level) complete the system; they are not shown.")
+    return Step("numbers", "The equations with the data entered", text, [e for _, e in rows])
+
+
+def _collected_unit(system, collected: Equation) -> str:
+    """The unit of the collected moment equation: N*m, or N when it was divided by one length
+    parameter (Eq. 28 is Eq. 27 divided by l_b)."""
+    divided = collected.label.split("divided by ", 1)
+    if len(divided) == 2:
+        names = divided[1].split(" and collected")[0].split()
+        if len(names) == 1 and names[0] in system.parameters:
+            if system.parameters[names[0]].dimensionality == {"[length]": 1}:
+                return "N"
+    return "N*m"
+
+
+def _per_si(system, unit: str) -> tuple[float, str]:
+    """(value of one SI ``unit`` in the scene's output unit, that unit)."""
+    from ..cli_common import to_output_units
+
+    entry = to_output_units({"value": 1.0, "unit": unit}, system.output_units)
+    return float(entry["value"]), entry["unit"]
 
 
 def _out(system, name: str, qty):

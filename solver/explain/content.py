@@ -47,6 +47,8 @@ class Equation:
         ``lhs`` holds its value.
     vector : bool
         Both sides are 2-component vectors (sympy Matrix) in the fixed frame.
+    approximate : bool
+        ``lhs ~ rhs`` (a small-motion rule, the paper's Eq. 45), shown with an approximately-equal sign.
     """
 
     lhs: tuple[Term, ...]
@@ -56,6 +58,12 @@ class Equation:
     tag: str = ""
     name: str = ""
     vector: bool = False
+    approximate: bool = False
+
+    @property
+    def sign(self) -> str:
+        """The relation as text: ``=``, or ``~`` for an approximation."""
+        return "~" if self.approximate else "="
 
     @property
     def left(self):

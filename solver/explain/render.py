@@ -104,10 +104,10 @@ class _Text(_Renderer):
         lhs = eq.name or _join_text(eq.lhs)
         noted = [t for t in (*eq.rhs, *([] if eq.name else eq.lhs)) if t.note]
         if len(noted) < 2:
-            return f"{head}\n    {lhs} = {_join_text(eq.rhs)}"
+            return f"{head}\n    {lhs} {eq.sign} {_join_text(eq.rhs)}"
         lines = [head]
         sides = [("", eq.lhs)] if not eq.name else [("", (Term(sp.Symbol(eq.name)),))]
-        sides.append(("= ", eq.rhs))
+        sides.append((f"{eq.sign} ", eq.rhs))
         for mark, terms in sides:
             for i, t in enumerate(terms):
                 text = _sstr(t.expr)
@@ -163,7 +163,8 @@ class _LatexMath:
 
     def equation(self, eq: Equation) -> str:
         lhs = _name_latex(eq.name) if eq.name else self.join(eq.lhs)
-        return f"{lhs} = {self.join(eq.rhs)}"
+        relation = r"\approx" if eq.approximate else "="
+        return f"{lhs} {relation} {self.join(eq.rhs)}"
 
 
 class _Markdown(_Renderer):
@@ -250,7 +251,7 @@ class _Html(_Renderer):
     def equation(self, eq):
         head = _h(eq.label) + (f" ({_h(eq.ref)})" if eq.ref else "")
         lhs = _h(eq.name) if eq.name else _terms_html(eq.lhs)
-        return f"<div>{head}:</div><div class=\"eq\">{lhs} = {_terms_html(eq.rhs)}</div>"
+        return f"<div>{head}:</div><div class=\"eq\">{lhs} {'&asymp;' if eq.approximate else '='} {_terms_html(eq.rhs)}</div>"
 
     def table(self, table):
         head = "".join(f"<th>{_h(c)}</th>" for c in table.header)
