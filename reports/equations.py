@@ -16,9 +16,13 @@ its two sides is tested for zero:
   linearisation has the printed form (no rate or forcing term).
 
 Zero is decided twice: numerically at random points to 30 digits (a nonzero
-residual cannot pass) and symbolically with sympy's ``simplify`` (which shows
-the residual in closed form). A nonzero residual is diagnosed when it is a
-multiple of one printed term ("the term F_a r_d has the wrong sign").
+residual cannot pass) and symbolically by an exact normal form: numerator and
+denominator as polynomials in sin and cos of each angle, reduced modulo
+sin**2 + cos**2 - 1 (:func:`solver.display.reduce_trig`, the remainder by a
+Groebner basis, so an identically zero residual reduces to 0 and a nonzero one
+is shown in closed form). sympy's generic ``simplify`` is asked only where that
+form does not apply. A nonzero residual is diagnosed when it is a multiple of
+one printed term ("the term F_a r_d has the wrong sign").
 """
 from __future__ import annotations
 
@@ -111,15 +115,24 @@ def _state_subs(table: dict[str, str], scene, deriv, tr: Transcription, key: str
     return subs
 
 
+def _reduced(expr: sp.Expr) -> sp.Expr:
+    """Display form from structure (:func:`solver.display.tidy`), exactly 0 when the expression is
+    identically zero modulo sin**2 + cos**2 = 1 (:func:`solver.display.is_identically_zero`)."""
+    from solver.display import is_identically_zero, tidy
+
+    expr = sp.expand(expr)
+    return sp.Integer(0) if is_identically_zero(expr) else tidy(expr)
+
+
 def _linearisation(deriv, assume: dict, about: dict):
     """(M0, K, C, E0) of the derived eom (conditions applied) about ``about``."""
     eom = deriv.eom.subs(assume)
     q, qd, qdd = deriv.q, deriv.qd, deriv.qdd
     at = {q: about.get(q, sp.Integer(0)), qd: about.get(qd, sp.Integer(0))}
-    mass = sp.simplify(sp.diff(eom, qdd).subs(at))
-    stiffness = sp.simplify(sp.diff(eom, q).subs(qdd, 0).subs(at))
-    damping = sp.simplify(sp.diff(eom, qd).subs(qdd, 0).subs(at))
-    offset = sp.simplify(eom.subs(qdd, 0).subs(at))
+    mass = _reduced(sp.diff(eom, qdd).subs(at))
+    stiffness = _reduced(sp.diff(eom, q).subs(qdd, 0).subs(at))
+    damping = _reduced(sp.diff(eom, qd).subs(qdd, 0).subs(at))
+    offset = _reduced(eom.subs(qdd, 0).subs(at))
     return mass, stiffness, damping, offset
 
 
@@ -138,7 +151,7 @@ def _meaning_value(meaning, scene, deriv, tr: Transcription, lin) -> sp.Expr:
     if quantity == "acceleration":
         base = dict(scene.symbols)
         u = sp.Matrix([parse_expression(x, base, where=f"{where}.along") for x in meaning.along])
-        if sp.simplify(u.dot(u) - 1) != 0:
+        if _exact_zero(u.dot(u) - 1) is not True:
             raise ReportInputError(f"{where}.along: must be a unit vector, got {list(meaning.along)}")
         return (deriv.acceleration(meaning.point).T * u)[0]
     if quantity == "reaction":
@@ -187,9 +200,9 @@ def is_zero(expr: sp.Expr, scale_terms=(), seed: int = 0) -> tuple[bool, float]:
     for term in scale_terms:
         symbols |= term.free_symbols
     ordered = sorted(symbols, key=lambda s: s.name)
-    # mpmath at _DIGITS digits: lambdify only translates the (already parsed) sympy tree.
-    value_fn = sp.lambdify(ordered, expr, modules="mpmath")
-    scale_fn = sp.lambdify(ordered, scale_terms or [sp.Integer(1)], modules="mpmath")
+    # mpmath at _DIGITS digits: lambdify only translates the (already parsed) sympy tree; one function
+    # returns the residual and the scale terms (one translation instead of two).
+    fn = sp.lambdify(ordered, [expr, *(scale_terms or [sp.Integer(1)])], modules="mpmath")
     worst = 0.0
     tried = attempt = 0
     with mpmath.workdps(_DIGITS):
@@ -198,8 +211,9 @@ def is_zero(expr: sp.Expr, scale_terms=(), seed: int = 0) -> tuple[bool, float]:
             attempt += 1
             args = [mpmath.mpf(point[s].p) / point[s].q for s in ordered]
             try:
-                value = abs(value_fn(*args))
-                scale = sum(abs(x) for x in scale_fn(*args))
+                values = fn(*args)
+                value = abs(values[0])
+                scale = sum(abs(x) for x in values[1:])
             except (ZeroDivisionError, ValueError, TypeError):
                 continue
             if not (mpmath.isfinite(value) and mpmath.isfinite(scale)):
@@ -212,6 +226,15 @@ def is_zero(expr: sp.Expr, scale_terms=(), seed: int = 0) -> tuple[bool, float]:
     return worst <= float(_ZERO_REL), worst
 
 
+def _exact_zero(expr: sp.Expr) -> bool | None:
+    """Whether ``expr`` is identically zero, decided exactly: the numerator of its normal form
+    modulo sin**2 + cos**2 = 1 (:func:`solver.display.is_identically_zero`); None when the form
+    does not apply (a trigonometric argument that is not a plain symbol)."""
+    from solver.display import is_identically_zero
+
+    return is_identically_zero(sp.expand(expr))
+
+
 def _trig_reduce(expr: sp.Expr) -> sp.Expr | None:
     """Normal form of a rational expression in sin/cos modulo sin**2 + cos**2 = 1, or None
     (:func:`solver.display.reduce_trig`: one implementation for the solver's display and the report)."""
@@ -220,11 +243,22 @@ def _trig_reduce(expr: sp.Expr) -> sp.Expr | None:
     return reduce_trig(expr)
 
 
+def _normal_form(expr: sp.Expr) -> sp.Expr:
+    """The rational normal form modulo sin**2 + cos**2 = 1 (a constant ratio comes out as a
+    number); sympy's ``simplify`` only where that form does not apply."""
+    reduced = _trig_reduce(expr)
+    return sp.simplify(expr) if reduced is None else reduced
+
+
 def _simplify(expr: sp.Expr) -> sp.Expr:
     """Reduce a residual: exact trigonometric normal form first (factored), sympy's generic
     ``simplify`` only when there is no such form or it came out larger than the residual
     itself (``simplify`` took seconds per disagreeing equation, most of a report build's
     checking time)."""
+    from solver.display import numerator_reduces_to_zero
+
+    if numerator_reduces_to_zero(expr):  # the exact zero test alone (no cancel): most residuals
+        return sp.Integer(0)
     reduced = _trig_reduce(expr)
     if reduced is not None and reduced == 0:
         return sp.Integer(0)
@@ -340,7 +374,7 @@ def check_equation(tr: Transcription, scene, deriv) -> EquationOutcome:
         if tr.kind == "eom":
             if printed.has(*[sp.Symbol(r, real=True) for r in deriv.reactions]):
                 raise ReportInputError(f"{tr.where}: kind 'eom' must not contain reactions")
-            factor = sp.simplify(sp.diff(printed, qdd) / sp.diff(eom, qdd))
+            factor = _normal_form(sp.diff(printed, qdd) / sp.diff(eom, qdd))
             if factor.free_symbols & {q, qd, qdd, deriv.t}:
                 notes.append(
                     "the printed and derived equations of motion are not proportional "
@@ -357,7 +391,7 @@ def check_equation(tr: Transcription, scene, deriv) -> EquationOutcome:
         if damping != 0:
             notes.append(f"the linearised equation keeps a rate term {sp.sstr(damping)} theta_dot")
         diff = printed
-        derived_l, derived_r = lhs, sp.sqrt(sp.simplify(stiffness / mass))
+        derived_l, derived_r = lhs, sp.sqrt(_normal_form(stiffness / mass))
     else:  # pragma: no cover - validated on load
         raise ReportInputError(f"{tr.where}.kind: unknown kind {tr.kind!r}")
 
@@ -371,8 +405,7 @@ def check_equation(tr: Transcription, scene, deriv) -> EquationOutcome:
     symbolic_zero = residual == 0
     if tr.kind == "frequency" and not symbolic_zero:
         # Square roots resist simplify; compare squares of the (positive) sides instead.
-        squares = sp.simplify(mapped_l**2 - mapped_r**2)
-        if squares == 0:
+        if _exact_zero(mapped_l**2 - mapped_r**2):
             symbolic_zero = True
             residual = sp.Integer(0)
     agrees = numeric_zero and not notes

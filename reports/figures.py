@@ -80,7 +80,12 @@ def _pdf_bytes(fig: Figure) -> bytes:
 
 
 def _result(name: str, fig: Figure, caption: str, facts: dict) -> FigureResult:
-    return FigureResult(name=name, caption=caption, svg=svg_text(fig), pdf=_pdf_bytes(fig), facts=facts)
+    """Both renderings of ``fig``. The layout engine (constrained layout, a solver over every text's
+    extent) runs for the SVG; the PDF reuses the positions it found rather than solving again."""
+    svg = svg_text(fig)
+    if fig.get_layout_engine() is not None:
+        fig.set_layout_engine("none")
+    return FigureResult(name=name, caption=caption, svg=svg, pdf=_pdf_bytes(fig), facts=facts)
 
 
 # --------------------------------------------------------------------------- Example 1
