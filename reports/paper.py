@@ -254,7 +254,7 @@ def explained(system, point: str, at_rest: bool) -> dict:
     from solver.analyses.instant import assemble
     from solver.explain import explain, rank_points
 
-    expl = explain(system, point, advice=False)
+    expl = explain(system, point, advice=False, solution=False)  # the per-body steps are what the paper shows
     body = next(iter(system.bodies))
     section = expl.section(body)
     rest = {c.qd: 0 for c in system.coordinates} if at_rest else {}

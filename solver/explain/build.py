@@ -308,7 +308,7 @@ def _dropped_step(system, body: str, P: str, forces, dropped, newton: Step, eule
                 table=Table(("reaction", "Newton x", "Newton y", f"Euler about {P}", "why not in Euler"), tuple(rows)))
 
 
-def explain(system, point: str | None = None, *, advice: bool = True) -> Explanation:
+def explain(system, point: str | None = None, *, advice: bool = True, solution: bool = True) -> Explanation:
     """The worked solution of ``system`` at its state about ``point`` (``--point``).
 
     Parameters
@@ -318,6 +318,9 @@ def explain(system, point: str | None = None, *, advice: bool = True) -> Explana
         ``BODY:POINT``, a point name, or None (each body's reference point).
     advice : bool
         Include the point advisor's ranking.
+    solution : bool
+        Include the whole-system section (equation of motion, solution at the state, check by
+        the mass-centre form); False: the data and the per-body steps only.
 
     Returns
     -------
@@ -338,6 +341,8 @@ def explain(system, point: str | None = None, *, advice: bool = True) -> Explana
     expl.sections.append(_system_data_section(system, state))
     for body, P in f.points.items():
         expl.sections.append(_body_section(system, body, P))
+    if not solution:
+        return expl
     final = Section("Solution", None)
     if advice:
         from .advisor import advice_step
