@@ -126,13 +126,13 @@ def _reduced(expr: sp.Expr) -> sp.Expr:
 
 def _linearisation(deriv, assume: dict, about: dict):
     """(M0, K, C, E0) of the derived eom (conditions applied) about ``about``."""
-    eom = deriv.eom.subs(assume)
+    eom = deriv.eom.xreplace(assume)
     q, qd, qdd = deriv.q, deriv.qd, deriv.qdd
     at = {q: about.get(q, sp.Integer(0)), qd: about.get(qd, sp.Integer(0))}
-    mass = _reduced(sp.diff(eom, qdd).subs(at))
-    stiffness = _reduced(sp.diff(eom, q).subs(qdd, 0).subs(at))
-    damping = _reduced(sp.diff(eom, qd).subs(qdd, 0).subs(at))
-    offset = _reduced(eom.subs(qdd, 0).subs(at))
+    mass = _reduced(sp.diff(eom, qdd).xreplace(at))
+    stiffness = _reduced(sp.diff(eom, q).xreplace({qdd: 0}).xreplace(at))
+    damping = _reduced(sp.diff(eom, qd).xreplace({qdd: 0}).xreplace(at))
+    offset = _reduced(eom.xreplace({qdd: 0}).xreplace(at))
     return mass, stiffness, damping, offset
 
 
@@ -178,6 +178,63 @@ def _random_point(symbols, seed: int) -> dict:
     return {s: sp.Rational(rng.randint(23, 181), 97) for s in sorted(symbols, key=lambda s: s.name)}
 
 
+_MP_FUNCTIONS = {sp.sin: mpmath.sin, sp.cos: mpmath.cos, sp.tan: mpmath.tan, sp.cot: mpmath.cot,
+                 sp.exp: mpmath.exp, sp.log: mpmath.log, sp.Abs: abs}
+
+
+class _NotEvaluable(Exception):
+    """A node :func:`_mp_value` does not evaluate (then :func:`_evaluator` uses lambdify)."""
+
+
+def _mp_value(expr: sp.Expr, point: dict, memo: dict):
+    """``expr`` at ``point`` (Symbol -> mpf) in mpmath at the working precision, by walking the
+    tree (shared subtrees once): no code is generated and compiled, as lambdify does."""
+    value = memo.get(expr)
+    if value is not None:
+        return value
+    if expr.is_Symbol:
+        value = point[expr]
+    elif expr.is_Rational:
+        value = mpmath.mpf(expr.p) / expr.q
+    elif expr.is_Add:
+        value = mpmath.fsum(_mp_value(a, point, memo) for a in expr.args)
+    elif expr.is_Mul:
+        value = mpmath.fprod(_mp_value(a, point, memo) for a in expr.args)
+    elif expr.is_Pow:
+        base, exp = _mp_value(expr.base, point, memo), expr.exp
+        if exp.is_Integer:
+            value = base ** int(exp)
+        elif exp == sp.S.Half:
+            value = mpmath.sqrt(base)
+        else:
+            value = mpmath.power(base, _mp_value(exp, point, memo))
+    elif type(expr) in _MP_FUNCTIONS and len(expr.args) == 1:
+        value = _MP_FUNCTIONS[type(expr)](_mp_value(expr.args[0], point, memo))
+    elif expr.is_number and not expr.free_symbols:
+        value = mpmath.mpmathify(str(sp.N(expr, mpmath.mp.dps + 10)))
+    else:
+        raise _NotEvaluable(type(expr).__name__)
+    memo[expr] = value
+    return value
+
+
+def _evaluator(ordered: list, exprs: list):
+    """f(*args) -> [mpmath values of exprs] at args (mpf, in the order of ``ordered``): the tree
+    walked directly, or through lambdify once a node turns out not to be one :func:`_mp_value`
+    knows."""
+    fallback: list = []
+
+    def evaluate(*args):
+        if not fallback:
+            point, memo = dict(zip(ordered, args)), {}
+            try:
+                return [_mp_value(e, point, memo) for e in exprs]
+            except _NotEvaluable:
+                fallback.append(sp.lambdify(ordered, exprs, modules="mpmath"))
+        return fallback[0](*args)
+    return evaluate
+
+
 def is_zero(expr: sp.Expr, scale_terms=(), seed: int = 0) -> tuple[bool, float]:
     """Numeric zero test of ``expr`` at random points.
 
@@ -200,9 +257,9 @@ def is_zero(expr: sp.Expr, scale_terms=(), seed: int = 0) -> tuple[bool, float]:
     for term in scale_terms:
         symbols |= term.free_symbols
     ordered = sorted(symbols, key=lambda s: s.name)
-    # mpmath at _DIGITS digits: lambdify only translates the (already parsed) sympy tree; one function
-    # returns the residual and the scale terms (one translation instead of two).
-    fn = sp.lambdify(ordered, [expr, *(scale_terms or [sp.Integer(1)])], modules="mpmath")
+    # mpmath at _DIGITS digits, the (already parsed) sympy tree evaluated directly: one walk gives the
+    # residual and the scale terms.
+    fn = _evaluator(ordered, [expr, *(scale_terms or [sp.Integer(1)])])
     worst = 0.0
     tried = attempt = 0
     with mpmath.workdps(_DIGITS):
@@ -279,13 +336,13 @@ def _varies(expr: sp.Expr, seed: int = 0) -> bool:
     symbols = sorted(expr.free_symbols, key=lambda s: s.name)
     if not symbols:
         return False
-    fn = sp.lambdify(symbols, expr, modules="mpmath")
+    fn = _evaluator(symbols, [expr])
     values = []
     with mpmath.workdps(_DIGITS):
         for attempt in range(4):
             point = _random_point(symbols, seed + attempt)
             try:
-                value = fn(*[mpmath.mpf(point[s].p) / point[s].q for s in symbols])
+                value = fn(*[mpmath.mpf(point[s].p) / point[s].q for s in symbols])[0]
             except (ZeroDivisionError, ValueError, TypeError):
                 continue
             if not mpmath.isfinite(value):
@@ -307,7 +364,7 @@ def _diagnose(residual: sp.Expr, lhs: sp.Expr, rhs: sp.Expr, solution: dict) -> 
         return ""
     for side, sign, expr in (("left-hand side", 1, lhs), ("right-hand side", -1, rhs)):
         for term in sp.Add.make_args(sp.expand(expr)):
-            value = (sign * term).subs(solution) if solution else sign * term
+            value = (sign * term).xreplace(solution) if solution else sign * term
             if value == 0:
                 continue
             if _varies(residual / value):
@@ -355,9 +412,9 @@ def check_equation(tr: Transcription, scene, deriv) -> EquationOutcome:
     seed = zlib.crc32(tr.id.encode())
 
     q, qd, qdd = deriv.q, deriv.qd, deriv.qdd
-    mapped_l = lhs.subs(meanings).subs(assume)
-    mapped_r = rhs.subs(meanings).subs(assume)
-    eom = deriv.eom.subs(assume)
+    mapped_l = lhs.xreplace(meanings).xreplace(assume)
+    mapped_r = rhs.xreplace(meanings).xreplace(assume)
+    eom = deriv.eom.xreplace(assume)
     printed = mapped_l - mapped_r
     notes: list[str] = []
     factor = None
@@ -368,9 +425,9 @@ def check_equation(tr: Transcription, scene, deriv) -> EquationOutcome:
         diff = printed
         derived_l, derived_r = mapped_l, mapped_r
     elif tr.kind in ("relation", "eom"):
-        qdd_solution = -eom.subs(qdd, 0) / sp.diff(eom, qdd)
+        qdd_solution = -eom.xreplace({qdd: 0}) / sp.diff(eom, qdd)
         solution = {qdd: qdd_solution}
-        diff = printed.subs(solution)
+        diff = printed.xreplace(solution)
         if tr.kind == "eom":
             if printed.has(*[sp.Symbol(r, real=True) for r in deriv.reactions]):
                 raise ReportInputError(f"{tr.where}: kind 'eom' must not contain reactions")
@@ -396,7 +453,7 @@ def check_equation(tr: Transcription, scene, deriv) -> EquationOutcome:
         raise ReportInputError(f"{tr.where}.kind: unknown kind {tr.kind!r}")
 
     scale_terms = [
-        term.subs(meanings).subs(assume).subs(solution)
+        term.xreplace(meanings).xreplace(assume).xreplace(solution)
         for side in (lhs, rhs)
         for term in sp.Add.make_args(side)
     ]
