@@ -118,6 +118,20 @@ def example_steps(scene, deriv, at_rest: bool) -> dict:
         About the paper's reference point.
     at_rest : bool
         Show the equations at theta_dot = 0 (Example 1 is released from rest).
+
+    Returns
+    -------
+    dict
+        ``accelerations`` (x, y of every named point), ``omega``, ``alpha``, ``inertia``,
+        ``eom``, ``qdd_solution``, ``alpha_solution`` and ``reactions`` (from the Newton rows,
+        theta_ddot kept).
+
+    Notes
+    -----
+    Every form is built from the structure of the derivation: the equation of motion as
+    M qdd + f = Q, theta_ddot = -f / M, the reactions by eliminating the linear Newton rows,
+    each coefficient tidied by :mod:`solver.display` (reduction modulo sin**2 + cos**2 = 1,
+    common factors out), never by a generic ``simplify``.
     """
     qd, qdd = deriv.qd, deriv.qdd
     rest = {qd: 0} if at_rest else {}
