@@ -19,9 +19,13 @@ its two sides is tested for zero:
   derivatives in the coordinate and the rate are zero there).
 
 Zero is decided twice: numerically at random points to 30 digits (a nonzero
-residual cannot pass) and symbolically with sympy's ``simplify`` (which shows
-the residual in closed form). A nonzero residual is diagnosed when it is a
-multiple of one printed term ("the term F_a r_d has the wrong sign").
+residual cannot pass) and symbolically by an exact normal form: numerator and
+denominator as polynomials in sin and cos of each angle, reduced modulo
+sin**2 + cos**2 - 1 (:func:`solver.display.reduce_trig`, the remainder by a
+Groebner basis, so an identically zero residual reduces to 0 and a nonzero one
+is shown in closed form). sympy's generic ``simplify`` is asked only where that
+form does not apply. A nonzero residual is diagnosed when it is a multiple of
+one printed term ("the term F_a r_d has the wrong sign").
 """
 from __future__ import annotations
 
@@ -114,15 +118,24 @@ def _state_subs(table: dict[str, str], scene, deriv, tr: Transcription, key: str
     return subs
 
 
+def _reduced(expr: sp.Expr) -> sp.Expr:
+    """Display form from structure (:func:`solver.display.tidy`), exactly 0 when the expression is
+    identically zero modulo sin**2 + cos**2 = 1 (:func:`solver.display.is_identically_zero`)."""
+    from solver.display import is_identically_zero, tidy
+
+    expr = sp.expand(expr)
+    return sp.Integer(0) if is_identically_zero(expr) else tidy(expr)
+
+
 def _linearisation(deriv, assume: dict, about: dict):
     """(M0, K, C, E0) of the derived eom (conditions applied) about ``about``."""
-    eom = deriv.eom.subs(assume)
+    eom = deriv.eom.xreplace(assume)
     q, qd, qdd = deriv.q, deriv.qd, deriv.qdd
     at = {q: about.get(q, sp.Integer(0)), qd: about.get(qd, sp.Integer(0))}
-    mass = sp.simplify(sp.diff(eom, qdd).subs(at))
-    stiffness = sp.simplify(sp.diff(eom, q).subs(qdd, 0).subs(at))
-    damping = sp.simplify(sp.diff(eom, qd).subs(qdd, 0).subs(at))
-    offset = sp.simplify(eom.subs(qdd, 0).subs(at))
+    mass = _reduced(sp.diff(eom, qdd).xreplace(at))
+    stiffness = _reduced(sp.diff(eom, q).xreplace({qdd: 0}).xreplace(at))
+    damping = _reduced(sp.diff(eom, qd).xreplace({qdd: 0}).xreplace(at))
+    offset = _reduced(eom.xreplace({qdd: 0}).xreplace(at))
     return mass, stiffness, damping, offset
 
 
@@ -146,7 +159,7 @@ def _meaning_value(meaning, scene, deriv, tr: Transcription, lin) -> sp.Expr:
     if meaning.along is not None:
         base = dict(scene.symbols)
         u = sp.Matrix([parse_expression(x, base, where=f"{where}.along") for x in meaning.along])
-        if sp.simplify(u.dot(u) - 1) != 0:
+        if _exact_zero(u.dot(u) - 1) is not True:
             raise ReportInputError(f"{where}.along: must be a unit vector, got {list(meaning.along)}")
         vector = _vector_quantity(meaning, deriv, where)
         return (vector.T * u)[0]
@@ -242,6 +255,63 @@ def _random_point(symbols, seed: int) -> dict:
     return {s: sp.Rational(rng.randint(23, 181), 97) for s in sorted(symbols, key=lambda s: s.name)}
 
 
+_MP_FUNCTIONS = {sp.sin: mpmath.sin, sp.cos: mpmath.cos, sp.tan: mpmath.tan, sp.cot: mpmath.cot,
+                 sp.exp: mpmath.exp, sp.log: mpmath.log, sp.Abs: abs}
+
+
+class _NotEvaluable(Exception):
+    """A node :func:`_mp_value` does not evaluate (then :func:`_evaluator` uses lambdify)."""
+
+
+def _mp_value(expr: sp.Expr, point: dict, memo: dict):
+    """``expr`` at ``point`` (Symbol -> mpf) in mpmath at the working precision, by walking the
+    tree (shared subtrees once): no code is generated and compiled, as lambdify does."""
+    value = memo.get(expr)
+    if value is not None:
+        return value
+    if expr.is_Symbol:
+        value = point[expr]
+    elif expr.is_Rational:
+        value = mpmath.mpf(expr.p) / expr.q
+    elif expr.is_Add:
+        value = mpmath.fsum(_mp_value(a, point, memo) for a in expr.args)
+    elif expr.is_Mul:
+        value = mpmath.fprod(_mp_value(a, point, memo) for a in expr.args)
+    elif expr.is_Pow:
+        base, exp = _mp_value(expr.base, point, memo), expr.exp
+        if exp.is_Integer:
+            value = base ** int(exp)
+        elif exp == sp.S.Half:
+            value = mpmath.sqrt(base)
+        else:
+            value = mpmath.power(base, _mp_value(exp, point, memo))
+    elif type(expr) in _MP_FUNCTIONS and len(expr.args) == 1:
+        value = _MP_FUNCTIONS[type(expr)](_mp_value(expr.args[0], point, memo))
+    elif expr.is_number and not expr.free_symbols:
+        value = mpmath.mpmathify(str(sp.N(expr, mpmath.mp.dps + 10)))
+    else:
+        raise _NotEvaluable(type(expr).__name__)
+    memo[expr] = value
+    return value
+
+
+def _evaluator(ordered: list, exprs: list):
+    """f(*args) -> [mpmath values of exprs] at args (mpf, in the order of ``ordered``): the tree
+    walked directly, or through lambdify once a node turns out not to be one :func:`_mp_value`
+    knows."""
+    fallback: list = []
+
+    def evaluate(*args):
+        if not fallback:
+            point, memo = dict(zip(ordered, args)), {}
+            try:
+                return [_mp_value(e, point, memo) for e in exprs]
+            except _NotEvaluable:
+                fallback.append(sp.lambdify(ordered, exprs, modules="mpmath"))
+        return fallback[0](*args)
+    return evaluate
+
+
 def is_zero(expr: sp.Expr, scale_terms=(), seed: int = 0) -> tuple[bool, float]:
     """Numeric zero test of ``expr`` at random points.
 
@@ -264,9 +334,9 @@ def is_zero(expr: sp.Expr, scale_terms=(), seed: int = 0) -> tuple[bool, float]:
     for term in scale_terms:
         symbols |= term.free_symbols
     ordered = sorted(symbols, key=lambda s: s.name)
-    # mpmath at _DIGITS digits: lambdify only translates the (already parsed) sympy tree.
-    value_fn = sp.lambdify(ordered, expr, modules="mpmath")
-    scale_fn = sp.lambdify(ordered, scale_terms or [sp.Integer(1)], modules="mpmath")
+    # mpmath at _DIGITS digits, the (already parsed) sympy tree evaluated directly: one walk gives the
+    # residual and the scale terms.
+    fn = _evaluator(ordered, [expr, *(scale_terms or [sp.Integer(1)])])
     worst = 0.0
     tried = attempt = 0
     with mpmath.workdps(_DIGITS):
@@ -275,8 +345,9 @@ def is_zero(expr: sp.Expr, scale_terms=(), seed: int = 0) -> tuple[bool, float]:
             attempt += 1
             args = [mpmath.mpf(point[s].p) / point[s].q for s in ordered]
             try:
-                value = abs(value_fn(*args))
-                scale = sum(abs(x) for x in scale_fn(*args))
+                values = fn(*args)
+                value = abs(values[0])
+                scale = sum(abs(x) for x in values[1:])
             except (ZeroDivisionError, ValueError, TypeError):
                 continue
             if not (mpmath.isfinite(value) and mpmath.isfinite(scale)):
@@ -289,6 +360,15 @@ def is_zero(expr: sp.Expr, scale_terms=(), seed: int = 0) -> tuple[bool, float]:
     return worst <= float(_ZERO_REL), worst
 
 
+def _exact_zero(expr: sp.Expr) -> bool | None:
+    """Whether ``expr`` is identically zero, decided exactly: the numerator of its normal form
+    modulo sin**2 + cos**2 = 1 (:func:`solver.display.is_identically_zero`); None when the form
+    does not apply (a trigonometric argument that is not a plain symbol)."""
+    from solver.display import is_identically_zero
+
+    return is_identically_zero(sp.expand(expr))
+
+
 def _trig_reduce(expr: sp.Expr) -> sp.Expr | None:
     """Normal form of a rational expression in sin/cos modulo sin**2 + cos**2 = 1, or None
     (:func:`solver.display.reduce_trig`: one implementation for the solver's display and the report)."""
@@ -297,11 +377,22 @@ def _trig_reduce(expr: sp.Expr) -> sp.Expr | None:
     return reduce_trig(expr)
 
 
+def _normal_form(expr: sp.Expr) -> sp.Expr:
+    """The rational normal form modulo sin**2 + cos**2 = 1 (a constant ratio comes out as a
+    number); sympy's ``simplify`` only where that form does not apply."""
+    reduced = _trig_reduce(expr)
+    return sp.simplify(expr) if reduced is None else reduced
+
+
 def _simplify(expr: sp.Expr) -> sp.Expr:
     """Reduce a residual: exact trigonometric normal form first (factored), sympy's generic
     ``simplify`` only when there is no such form or it came out larger than the residual
     itself (``simplify`` took seconds per disagreeing equation, most of a report build's
     checking time)."""
+    from solver.display import numerator_reduces_to_zero
+
+    if numerator_reduces_to_zero(expr):  # the exact zero test alone (no cancel): most residuals
+        return sp.Integer(0)
     reduced = _trig_reduce(expr)
     if reduced is not None and reduced == 0:
         return sp.Integer(0)
@@ -322,13 +413,13 @@ def _varies(expr: sp.Expr, seed: int = 0) -> bool:
     symbols = sorted(expr.free_symbols, key=lambda s: s.name)
     if not symbols:
         return False
-    fn = sp.lambdify(symbols, expr, modules="mpmath")
+    fn = _evaluator(symbols, [expr])
     values = []
     with mpmath.workdps(_DIGITS):
         for attempt in range(4):
             point = _random_point(symbols, seed + attempt)
             try:
-                value = fn(*[mpmath.mpf(point[s].p) / point[s].q for s in symbols])
+                value = fn(*[mpmath.mpf(point[s].p) / point[s].q for s in symbols])[0]
             except (ZeroDivisionError, ValueError, TypeError):
                 continue
             if not mpmath.isfinite(value):
@@ -350,7 +441,7 @@ def _diagnose(residual: sp.Expr, lhs: sp.Expr, rhs: sp.Expr, solution: dict) -> 
         return ""
     for side, sign, expr in (("left-hand side", 1, lhs), ("right-hand side", -1, rhs)):
         for term in sp.Add.make_args(sp.expand(expr)):
-            value = (sign * term).subs(solution) if solution else sign * term
+            value = (sign * term).xreplace(solution) if solution else sign * term
             if value == 0:
                 continue
             if _varies(residual / value):
@@ -398,9 +489,9 @@ def check_equation(tr: Transcription, scene, deriv) -> EquationOutcome:
     seed = zlib.crc32(tr.id.encode())
 
     q, qd, qdd = deriv.q, deriv.qd, deriv.qdd
-    mapped_l = lhs.subs(meanings).subs(assume)
-    mapped_r = rhs.subs(meanings).subs(assume)
-    eom = deriv.eom.subs(assume)
+    mapped_l = lhs.xreplace(meanings).xreplace(assume)
+    mapped_r = rhs.xreplace(meanings).xreplace(assume)
+    eom = deriv.eom.xreplace(assume)
     printed = mapped_l - mapped_r
     notes: list[str] = []
     factor = None
@@ -411,13 +502,13 @@ def check_equation(tr: Transcription, scene, deriv) -> EquationOutcome:
         diff = printed
         derived_l, derived_r = mapped_l, mapped_r
     elif tr.kind in ("relation", "eom"):
-        qdd_solution = -eom.subs(qdd, 0) / sp.diff(eom, qdd)
+        qdd_solution = -eom.xreplace({qdd: 0}) / sp.diff(eom, qdd)
         solution = {qdd: qdd_solution}
-        diff = printed.subs(solution)
+        diff = printed.xreplace(solution)
         if tr.kind == "eom":
             if printed.has(*[sp.Symbol(r, real=True) for r in deriv.reactions]):
                 raise ReportInputError(f"{tr.where}: kind 'eom' must not contain reactions")
-            factor = sp.simplify(sp.diff(printed, qdd) / sp.diff(eom, qdd))
+            factor = _normal_form(sp.diff(printed, qdd) / sp.diff(eom, qdd))
             if factor.free_symbols & {q, qd, qdd, deriv.t}:
                 notes.append(
                     "the printed and derived equations of motion are not proportional "
@@ -437,12 +528,12 @@ def check_equation(tr: Transcription, scene, deriv) -> EquationOutcome:
         if damping != 0:
             notes.append(f"the linearised equation keeps a rate term {sp.sstr(damping)} theta_dot")
         diff = printed
-        derived_l, derived_r = lhs, sp.sqrt(sp.simplify(stiffness / mass))
+        derived_l, derived_r = lhs, sp.sqrt(_normal_form(stiffness / mass))
     else:  # pragma: no cover - validated on load
         raise ReportInputError(f"{tr.where}.kind: unknown kind {tr.kind!r}")
 
     scale_terms = [
-        term.subs(meanings).subs(assume).subs(solution)
+        term.xreplace(meanings).xreplace(assume).xreplace(solution)
         for side in (lhs, rhs)
         for term in sp.Add.make_args(side)
     ]
@@ -451,8 +542,7 @@ def check_equation(tr: Transcription, scene, deriv) -> EquationOutcome:
     symbolic_zero = residual == 0
     if tr.kind == "frequency" and not symbolic_zero:
         # Square roots resist simplify; compare squares of the (positive) sides instead.
-        squares = sp.simplify(mapped_l**2 - mapped_r**2)
-        if squares == 0:
+        if _exact_zero(mapped_l**2 - mapped_r**2):
             symbolic_zero = True
             residual = sp.Integer(0)
     agrees = numeric_zero and not notes

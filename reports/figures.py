@@ -80,7 +80,12 @@ def _pdf_bytes(fig: Figure) -> bytes:
 
 
 def _result(name: str, fig: Figure, caption: str, facts: dict) -> FigureResult:
-    return FigureResult(name=name, caption=caption, svg=svg_text(fig), pdf=_pdf_bytes(fig), facts=facts)
+    """Both renderings of ``fig``. The layout engine (constrained layout, a solver over every text's
+    extent) runs for the SVG; the PDF reuses the positions it found rather than solving again."""
+    svg = svg_text(fig)
+    if fig.get_layout_engine() is not None:
+        fig.set_layout_engine("none")
+    return FigureResult(name=name, caption=caption, svg=svg, pdf=_pdf_bytes(fig), facts=facts)
 
 
 # --------------------------------------------------------------------------- Example 1
@@ -144,7 +149,8 @@ def _validate_n(n: int) -> None:
 
 
 # --------------------------------------------------------------------------- Example 2
-def example2_free_motion(scene, deriv, amplitude: float, omega_n: float, periods: float = 3.0) -> FigureResult:
+def example2_free_motion(scene, deriv, amplitude: float, omega_n: float, periods: float = 3.0,
+                         one_dof=None) -> FigureResult:
     """Free oscillation from rest at ``amplitude``: the nonlinear equation of motion vs Eq. 46.
 
     Parameters
@@ -158,14 +164,19 @@ def example2_free_motion(scene, deriv, amplitude: float, omega_n: float, periods
         Linear natural frequency [rad/s] (solver.natural_frequency, Eq. 46).
     periods : float
         Length of the run in linear periods.
+    one_dof : solver.period.OneDofSystem, optional
+        The derivation's one-degree-of-freedom model when the caller has it (default: built here).
+        Its compiled theta_ddot(theta, theta_dot, t) is the right-hand side (as ``simulate`` uses).
     """
     if not (amplitude > 0 and omega_n > 0):
         raise ValueError(f"`amplitude` and `omega_n` must be positive, got {amplitude!r}, {omega_n!r}")
-    model = deriv.numeric()
+    from solver.period import OneDofSystem
+
+    qdd = (one_dof or OneDofSystem.from_derivation(deriv, reactions=False)).qdd_scalar_fn()
     t_end = periods * 2 * math.pi / omega_n
 
     def rhs(t, y):
-        return [y[1], float(model.qdd(y[0], y[1], t))]
+        return [y[1], qdd(y[0], y[1], t)]
 
     def back_at_start(t, y):  # theta_dot falls through zero: the turning point at +amplitude again
         return y[1]
@@ -226,7 +237,8 @@ PAPER_SCENE_FIGURES = (
 """The paper's Figures 1-3, each redrawn from its scene with a free-body diagram."""
 
 
-def scene_figure(path, name: str, number: int, body: str | None = None, point: str | None = None) -> FigureResult:
+def scene_figure(path, name: str, number: int, body: str | None = None, point: str | None = None,
+                 system=None) -> FigureResult:
     """A paper figure drawn from a scene file: the configuration, and one body's free-body diagram.
 
     Parameters
@@ -241,6 +253,9 @@ def scene_figure(path, name: str, number: int, body: str | None = None, point: s
         The body of the free-body diagram (default: the scene's first body).
     point : str, optional
         The point P of the inertial force -m a_P (default: the body's reference point).
+    system : solver.model.system.System, optional
+        The scene's System when the caller has it already (its cached derivation is reused);
+        default: loaded from ``path``.
     """
     from pathlib import Path
 
@@ -249,7 +264,7 @@ def scene_figure(path, name: str, number: int, body: str | None = None, point: s
     from solver.drawing import draw_system
     from solver.io.scenes import load_system
 
-    system = load_system(path)
+    system = load_system(path) if system is None else system
     state = assemble(system)
     body = body or next(iter(system.bodies))
     with rc_context(RC):

@@ -241,7 +241,8 @@ def build(root: Path = ROOT, out: Path | None = None, pdf: str = "auto", log=pri
     started = time.perf_counter()
     timings = {}
 
-    from solver.derivation import derive, natural_frequency, solve_instant
+    from solver.derivation import as_system, derive, natural_frequency, solve_instant
+    from solver.io.scenes import load_system
     from solver.scenefile import load_scene
 
     staging = Path(tempfile.mkdtemp(prefix=".report-", dir=str(out.parent)))
@@ -250,6 +251,16 @@ def build(root: Path = ROOT, out: Path | None = None, pdf: str = "auto", log=pri
         eqset = load_equations(root / "data" / "published" / "equations.toml")
         scenes = {key: load_scene(path) for key, path in eqset.scenes.items()}
         derivations = {key: derive(scene) for key, scene in scenes.items()}
+        # One System per scene file for the whole build: the checks, the worked steps and the drawings
+        # share its cached derivations and numeric models instead of deriving them again.
+        systems = {Path(path).resolve(): as_system(scenes[key]) for key, path in eqset.scenes.items()}
+
+        def system_of(path):
+            path = Path(path).resolve()
+            if path not in systems:
+                systems[path] = load_system(path)
+            return systems[path]
+
         timings["load"] = time.perf_counter() - started
 
         # ---------------- checks
@@ -285,9 +296,15 @@ def build(root: Path = ROOT, out: Path | None = None, pdf: str = "auto", log=pri
         amplitude = _eval_text(eq45.get("amplitude_max", "0"), f"{eqset.path}: ranges.eq45.amplitude_max")
         freq = natural_frequency(scenes[ex2_key])
         omega_n = float(freq.omega_n.to("rad/s").magnitude)
-        figs["example2"] = figures.example2_free_motion(scenes[ex2_key], derivations[ex2_key], amplitude, omega_n)
+        from solver.period import OneDofSystem
+
+        # one one-degree-of-freedom model of Example 2 for its figure, its period and its friction
+        ex2_one_dof = OneDofSystem.from_derivation(derivations[ex2_key])
+        figs["example2"] = figures.example2_free_motion(scenes[ex2_key], derivations[ex2_key], amplitude, omega_n,
+                                                        one_dof=ex2_one_dof)
         for name, scene_file, body, number in figures.PAPER_SCENE_FIGURES:  # the paper's Figures 1-3
-            figs[name] = figures.scene_figure(root / "data" / "scenes" / scene_file, name, number, body)
+            path = root / "data" / "scenes" / scene_file
+            figs[name] = figures.scene_figure(path, name, number, body, system=system_of(path))
         if survey is not None:
             figs["likert"] = figures.likert_chart(survey.summary)
         bench = _benchmarks(root / "reports" / "build" / "bench")
@@ -300,25 +317,15 @@ def build(root: Path = ROOT, out: Path | None = None, pdf: str = "auto", log=pri
 
         # ---------------- paper content
         t0 = time.perf_counter()
-        period_cross = None
-        try:
-            from solver.period import OneDofSystem, exact_period
+        from solver.friction import least_friction
+        from solver.period import exact_period
 
-            result = exact_period(OneDofSystem.from_derivation(derivations[ex2_key]), amplitude)
-            period_cross = {"period": result.period, "linear": result.period_linear, "ratio": result.ratio,
-                            "model": result.model}
-        except ImportError:
-            period_cross = None
-        friction = None
-        try:
-            from solver.friction import least_friction
-            from solver.period import OneDofSystem
-
-            least = least_friction(OneDofSystem.from_derivation(derivations[ex2_key]), amplitude)
-            friction = {"mu_min": least.mu_min, "theta_deg": math.degrees(least.theta_at_max),
-                        "lifts_off": least.lifts_off}
-        except ImportError:
-            friction = None
+        result = exact_period(ex2_one_dof, amplitude)
+        period_cross = {"period": result.period, "linear": result.period_linear, "ratio": result.ratio,
+                        "model": result.model}
+        least = least_friction(ex2_one_dof, amplitude)
+        friction = {"mu_min": least.mu_min, "theta_deg": math.degrees(least.theta_at_max),
+                    "lifts_off": least.lifts_off}
         lin_mass, lin_stiff, lin_w2 = paper.linearisation(
             derivations[ex2_key],
             about={},
@@ -344,9 +351,7 @@ def build(root: Path = ROOT, out: Path | None = None, pdf: str = "auto", log=pri
                 "friction": friction,
             },
         }
-        from solver.io.scenes import load_system
-
-        ex1_system, ex2_system = load_system(eqset.scenes[ex1_key]), load_system(eqset.scenes[ex2_key])
+        ex1_system, ex2_system = system_of(eqset.scenes[ex1_key]), system_of(eqset.scenes[ex2_key])
         examples["ex1"]["explained"] = paper.explained(ex1_system, derivations[ex1_key].point, at_rest=True)
         examples["ex2"]["explained"] = paper.explained(ex2_system, derivations[ex2_key].point, at_rest=False)
         best = examples["ex2"]["explained"]["advisor_best"]

@@ -48,19 +48,28 @@ def quantity_text(q, digits: int = 4) -> str:
     return f"{q.magnitude:.{digits}g} {q.units:~P}".strip()
 
 
-def _tidy(expr: sp.Expr) -> sp.Expr:
-    return sp.trigsimp(sp.simplify(expr))
+def _upright(expr: sp.Expr) -> sp.Expr:
+    """A fraction shown with its denominator's sign pulled out (``a/(-b)`` as ``-a/b``)."""
+    num, den = sp.fraction(expr)
+    if den != 1 and den.could_extract_minus_sign():
+        return sp.Mul(-num, sp.Pow(sp.expand(-den), -1))
+    return expr
+
+
+def _shown_tidy(expr: sp.Expr) -> sp.Expr:
+    """Display form from structure (:func:`solver.display.tidy`: sin**2 + cos**2 = 1 reductions,
+    common factors out), never a generic ``simplify``."""
+    from solver.display import tidy
+
+    return _upright(tidy(sp.expand(expr)))
 
 
 def _grouped(expr: sp.Expr, keys) -> sp.Expr:
-    """Display form: collected by ``keys`` (unknowns, rates), each coefficient factored."""
-    terms = sp.collect(sp.expand(sp.expand_trig(expr)), list(keys), evaluate=False)
+    """Display form: collected by ``keys`` (unknowns, rates), each coefficient tidied on its own
+    (:func:`solver.display.tidy_linear`)."""
+    from solver.display import tidy_linear
 
-    def best(coefficient):
-        options = [sp.factor(sp.trigsimp(coefficient)), sp.simplify(coefficient)]
-        return min(options, key=sp.count_ops)
-
-    return sp.Add(*[best(coefficient) * key for key, coefficient in terms.items()])
+    return tidy_linear(expr, list(keys))
 
 
 def method_equations() -> dict[str, Shown]:
@@ -89,12 +98,14 @@ def method_equations() -> dict[str, Shown]:
 
 def linearisation(deriv, about: dict, assume: dict | None = None):
     """(mass M0, stiffness K, omega_n^2 = K/M0) of the derived eom about a state."""
+    from solver.display import tidy
+
     eom = deriv.eom.subs(assume or {})
     q, qd, qdd = deriv.q, deriv.qd, deriv.qdd
     at = {q: about.get(q, 0), qd: about.get(qd, 0)}
-    mass = sp.simplify(sp.diff(eom, qdd).subs(at))
-    stiffness = sp.simplify(sp.diff(eom, q).subs(qdd, 0).subs(at))
-    return mass, stiffness, sp.simplify(stiffness / mass)
+    mass = tidy(sp.diff(eom, qdd).subs(at))
+    stiffness = tidy(sp.diff(eom, q).subs(qdd, 0).subs(at))
+    return mass, stiffness, _upright(tidy(stiffness / mass))
 
 
 def example_steps(scene, deriv, at_rest: bool) -> dict:
@@ -107,50 +118,56 @@ def example_steps(scene, deriv, at_rest: bool) -> dict:
         About the paper's reference point.
     at_rest : bool
         Show the equations at theta_dot = 0 (Example 1 is released from rest).
+
+    Returns
+    -------
+    dict
+        ``accelerations`` (x, y of every named point), ``omega``, ``alpha``, ``inertia``,
+        ``eom``, ``qdd_solution``, ``alpha_solution`` and ``reactions`` (from the Newton rows,
+        theta_ddot kept).
+
+    Notes
+    -----
+    Every form is built from the structure of the derivation: the equation of motion as
+    M qdd + f = Q, theta_ddot = -f / M, the reactions by eliminating the linear Newton rows,
+    each coefficient tidied by :mod:`solver.display` (reduction modulo sin**2 + cos**2 = 1,
+    common factors out), never by a generic ``simplify``.
     """
     qd, qdd = deriv.qd, deriv.qdd
     rest = {qd: 0} if at_rest else {}
     steps = {}
-    # kinematics of the reference point and of every named point
+    # kinematics of every named point (the rigid-body relation, tidied from its structure)
     points = {}
     for name in scene.points:
-        acc = deriv.acceleration(name).subs(rest)
-        points[name] = {
-            "x": inline(_tidy(acc[0])),
-            "y": inline(_tidy(acc[1])),
-        }
+        acc = deriv.acceleration(name).xreplace(rest)
+        points[name] = {"x": inline(_shown_tidy(acc[0])), "y": inline(_shown_tidy(acc[1]))}
     steps["accelerations"] = points
     steps["omega"] = inline(deriv.omega)
     steps["alpha"] = inline(deriv.alpha)
-    steps["inertia"] = inline(_tidy(deriv.inertia_about(deriv.point)))
-    # the equations written by the solver (Newton components, Euler about P)
+    inertia = sp.expand(deriv.inertia_about(deriv.point))
+    steps["inertia"] = inline(inertia if not inertia.has(sp.sin, sp.cos) else _shown_tidy(inertia))
+    # equation of motion M qdd + f = Q, from the derivation's (already structured) form
+    Q = deriv.generalized_force.xreplace(rest)
+    eom = sp.expand(deriv.eom.xreplace(rest))
+    steps["eom"] = shown(_grouped(eom + Q, [qdd, qd**2]), _shown_tidy(Q), "Equation of motion", "")
+    # closed-form theta_ddot = -f / M and alpha (affine in theta_ddot: a1 qdd + a0 = (a0 M - a1 f) / M)
+    mass = eom.coeff(qdd)
+    rest_terms = sp.expand(eom - mass * qdd)
+    steps["qdd_solution"] = shown(qdd, _shown_tidy(-rest_terms / mass), "Angular acceleration", "")
+    alpha = sp.expand(deriv.alpha)
+    a1 = alpha.coeff(qdd)
+    a0 = sp.expand(alpha - a1 * qdd)
+    steps["alpha_solution"] = shown(sp.Symbol("alpha"), _shown_tidy((a0 * mass - a1 * rest_terms) / mass),
+                                    "alpha", "")
+    # reactions from the Newton components, theta_ddot left symbolic (cf. Eqs. 24-25, 39-40): a linear
+    # system in the reactions, solved by elimination
     symbols = [sp.Symbol(r, real=True) for r in scene.reaction_names()]
-    keys = [*symbols, qdd, qd**2]
-    equations = []
-    for eq in deriv.equations:
-        equations.append(shown(_grouped(eq.expr.subs(rest), keys), sp.Integer(0), eq.name, eq.ref))
-    steps["equations"] = equations
-    # equation of motion: M qdd + ... = Q
-    Q = deriv.generalized_force
-    lhs = _grouped(deriv.eom.subs(rest) + Q.subs(rest), [qdd, qd**2])
-    steps["eom"] = shown(lhs, _tidy(Q.subs(rest)), "Equation of motion", "")
-    steps["mass"] = inline(_tidy(deriv.mass))
-    # closed-form theta_ddot and alpha (at rest for Example 1)
-    eom = deriv.eom.subs(rest)
-    qdd_sol = _tidy(-eom.subs(qdd, 0) / sp.diff(eom, qdd))
-    steps["qdd_solution"] = shown(qdd, qdd_sol, "Angular acceleration", "")
-    steps["alpha_solution"] = shown(sp.Symbol("alpha"), _tidy(deriv.alpha.subs(qdd, qdd_sol)), "alpha", "")
-    # reactions from the Newton components, theta_ddot left symbolic (cf. Eqs. 24-25, 39-40)
+    newton = [sp.expand(e.expr.xreplace(rest)) for e in deriv.equations if "Newton" in e.name]
     reactions = []
-    newton = [e for e in deriv.equations if "Newton" in e.name]
-    try:
-        solved = sp.solve([e.expr.subs(rest) for e in newton], symbols, dict=True)
-    except NotImplementedError:  # pragma: no cover - linear systems always solve
-        solved = []
-    if solved:
-        for s in symbols:
-            if s in solved[0]:
-                reactions.append(shown(s, _grouped(solved[0][s], [qdd, qd**2]), f"Reaction {s}", ""))
+    A, b = sp.linear_eq_to_matrix(newton, symbols)
+    if A.shape[0] == A.shape[1] and A.det() != 0:
+        for s, value in zip(symbols, A.LUsolve(b)):
+            reactions.append(shown(s, _grouped(value, [qdd, qd**2]), f"Reaction {s}", ""))
     steps["reactions"] = reactions
     return steps
 
@@ -251,7 +268,7 @@ def explained(system, point: str, at_rest: bool) -> dict:
     from solver.analyses.instant import assemble
     from solver.explain import explain, rank_points
 
-    expl = explain(system, point, advice=False)
+    expl = explain(system, point, advice=False, solution=False)  # the per-body steps are what the paper shows
     body = next(iter(system.bodies))
     section = expl.section(body)
     rest = {c.qd: 0 for c in system.coordinates} if at_rest else {}

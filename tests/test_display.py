@@ -6,7 +6,7 @@ import random
 
 import sympy as sp
 
-from solver.display import is_identically_zero, reduce_trig, tidy
+from solver.display import is_identically_zero, numerator_reduces_to_zero, reduce_trig, tidy
 
 phi, beta, g, m, t, W = sp.symbols("phi beta g m t Omega", real=True)
 s, c = sp.sin(phi), sp.cos(phi)
@@ -44,6 +44,23 @@ def test_zero_is_decided_exactly():
     assert is_identically_zero(s**2 + c**2 - 1)
     assert not is_identically_zero(s**2 - c**2)
     assert reduce_trig(sp.sin(sp.cos(phi))) is None
+
+
+def test_numerator_reduction_decides_zero_through_denominators():
+    """The exact test without cancel: zero only where sin^2 + cos^2 = 1 makes it so, also across
+    denominators and tangents; a residual of (sin^2 + cos^2 - 1) times anything nonzero is not zero."""
+    assert numerator_reduces_to_zero((1 - c**2) / s - s)
+    assert numerator_reduces_to_zero(sp.tan(phi) * c - s)
+    assert numerator_reduces_to_zero(sp.sin(2 * phi) / c - 2 * s)
+    assert not numerator_reduces_to_zero((1 - c**2) / s - c)
+    assert numerator_reduces_to_zero(sp.sin(sp.cos(phi))) is None
+    rng = random.Random(11)
+    pieces = [s, c, s**2, c * sp.sin(beta), sp.cos(beta) ** 2, g, m]
+    for _ in range(10):
+        num = sum(rng.randint(1, 3) * rng.choice(pieces) * rng.choice(pieces) for _ in range(3))
+        den = 2 + s**2 + rng.randint(0, 2) * sp.cos(beta) ** 2
+        assert numerator_reduces_to_zero(num / den - num * (s**2 + c**2) / den)
+        assert not numerator_reduces_to_zero(num / den - (num + g) * (s**2 + c**2) / den)
 
 
 def test_eom_mass_is_the_generalized_mass_of_the_kinetic_energy(capsys):

@@ -414,7 +414,7 @@ def _dropped_step(system, body: str, P: str, forces, dropped, newton: Step, eule
                 table=Table(("reaction", "Newton x", "Newton y", f"Euler about {P}", "why not in Euler"), tuple(rows)))
 
 
-def explain(system, point: str | None = None, *, advice: bool = True) -> Explanation:
+def explain(system, point: str | None = None, *, advice: bool = True, solution: bool = True) -> Explanation:
     """The worked solution of ``system`` at its state about ``point`` (``--point``).
 
     Parameters
@@ -424,6 +424,9 @@ def explain(system, point: str | None = None, *, advice: bool = True) -> Explana
         ``BODY:POINT``, a point name, or None (each body's reference point).
     advice : bool
         Include the point advisor's ranking.
+    solution : bool
+        Include the whole-system section (equation of motion, solution at the state, check by
+        the mass-centre form); False: the data and the per-body steps only.
 
     Returns
     -------
@@ -455,6 +458,8 @@ def explain(system, point: str | None = None, *, advice: bool = True) -> Explana
         expl.sections[-1].steps.append(_regime_step(scene, regime, warning))
     for body, P in f.points.items():
         expl.sections.append(_body_section(system, body, P))
+    if not solution:
+        return expl
     final = Section("Solution", None)
     if advice and not (regime is not None and regime.indeterminate):  # the advisor needs a system that validates
         from .advisor import advice_step
