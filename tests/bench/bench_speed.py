@@ -271,7 +271,8 @@ def report() -> dict:
     run_cpu(["make", "report"])  # bring reports/build up to date
     noop = [run_cpu(["make", "report"]) for _ in range(REPEATS)]
     dry = subprocess.run(["make", "-n", "report"], cwd=ROOT, capture_output=True, text=True, check=False)
-    return {"deps": importable, "deps_modules": len(deps), "deps_import_cpu_s": round(imports, 3), "cold_build_cpu_s": round(cold_cpu, 3),
+    return {"deps": importable, "deps_modules": len(deps), "deps_import_cpu_s": round(imports, 3),
+            "cold_build_cpu_s": round(cold_cpu, 3),
             "cold_build_wall_s": round(statistics.median(w for _, w in cold), 3),
             "cold_ratio": round(cold_cpu / imports, 2),
             "noop_wall_s": round(statistics.median(w for _, w, _ in noop), 4),
