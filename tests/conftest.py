@@ -14,6 +14,26 @@ settings.register_profile(
 )
 settings.load_profile("ci" if os.environ.get("CI") else "default")
 
+# The files whose tests read the report build (``reports.make_report.build_cached``: one build per
+# process, about 15 s of CPU). Under ``--dist loadfile`` (make test) they go to one worker as one
+# unit, so the session builds the report once instead of once per worker.
+REPORT_BUILD_FILES = frozenset({"tests/test_report.py", "tests/test_browser.py", "tests/test_drawing.py"})
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_xdist_make_scheduler(config, log):
+    """``--dist loadfile`` with the report-build files grouped as one unit (pytest-xdist hook)."""
+    if config.getvalue("dist") != "loadfile":
+        return None
+    from xdist.scheduler import LoadFileScheduling
+
+    class ReportGroupedLoadFile(LoadFileScheduling):
+        def _split_scope(self, nodeid: str) -> str:
+            scope = super()._split_scope(nodeid)
+            return "report-build" if scope in REPORT_BUILD_FILES else scope
+
+    return ReportGroupedLoadFile(config, log)
+
 
 @pytest.fixture
 def solver_cli(capsys):
