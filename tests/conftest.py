@@ -14,6 +14,46 @@ settings.register_profile(
 )
 settings.load_profile("ci" if os.environ.get("CI") else "default")
 
+# The files whose tests read the report build (``reports.make_report.build_cached``: one build per
+# process, about 15 s of CPU). Under ``--dist loadfile`` (make test) they go to one worker as one
+# unit, so the session builds the report once instead of once per worker.
+REPORT_BUILD_FILES = frozenset({"tests/test_report.py", "tests/test_browser.py", "tests/test_drawing.py"})
+# The costliest units first (CPU seconds measured with --durations on 2 workers, November 2026:
+# report build group ~40, routes ~27, multibody scenes ~16, extremes ~14, multibody properties ~12,
+# explain, friction regimes ~10, ...), the rest after them in xdist's order (most tests first).
+# Longest-first keeps the two workers finishing together: xdist alone orders by number of tests,
+# which sent the 2-test, 12 s multibody-properties file last. Only the order changes, never what runs.
+HEAVY_FIRST = ("report-build", "tests/test_routes.py", "tests/test_multibody_scenes.py", "tests/test_extremes.py",
+               "tests/test_multibody_properties.py", "tests/test_explain.py", "tests/test_friction_regimes.py",
+               "tests/test_period.py", "tests/test_multibody_joints.py", "tests/test_analysis_report.py",
+               "tests/test_analysis_tables.py", "tests/test_fuzz_solver.py", "tests/test_cli_solver.py")
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_xdist_make_scheduler(config, log):
+    """``--dist loadfile`` with the report-build files as one unit and the costliest units first
+    (pytest-xdist hook; other --dist modes are left to xdist)."""
+    if config.getvalue("dist") != "loadfile":
+        return None
+    from xdist.scheduler import LoadFileScheduling
+
+    class ReportGroupedLoadFile(LoadFileScheduling):
+        ordered = False
+
+        def _split_scope(self, nodeid: str) -> str:
+            scope = super()._split_scope(nodeid)
+            return "report-build" if scope in REPORT_BUILD_FILES else scope
+
+        def _assign_work_unit(self, node) -> None:
+            if not self.ordered:  # the first call: the work queue is complete
+                for scope in reversed(HEAVY_FIRST):
+                    if scope in self.workqueue:
+                        self.workqueue.move_to_end(scope, last=False)
+                self.ordered = True
+            super()._assign_work_unit(node)
+
+    return ReportGroupedLoadFile(config, log)
+
 
 @pytest.fixture
 def solver_cli(capsys):

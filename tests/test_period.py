@@ -65,6 +65,8 @@ def test_pendulum_period_matches_elliptic_integral(deg):
     np.testing.assert_allclose(res.period_linear, 2 * math.pi * math.sqrt(1.5 / 9.81), rtol=1e-14)
 
 
+# 30 pendulums spread over 6 decades of length, 3 of gravity and 0.1-178 deg either side
+# (~35 ms each: the product's exact period against the elliptic-integral reference).
 @settings(max_examples=30)
 @given(length=st.floats(1e-3, 1e3), gravity=st.floats(0.1, 100.0), deg=st.floats(0.1, 178.0),
        sign=st.sampled_from([1.0, -1.0]))

@@ -77,6 +77,7 @@ def test_hostile_units_are_refused_before_pint(text: str, words: str) -> None:
     assert "\n" not in str(info.value)
 
 
+# 60 texts over the 17-symbol unit alphabet (~1 ms each): cheap, so many shapes per run.
 @settings(max_examples=60)
 @given(st.text(alphabet="m s k g * / ^ ( ) 0 1 9 . e -", max_size=40))
 def test_any_unit_text_is_decided_quickly(text: str) -> None:
