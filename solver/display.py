@@ -14,6 +14,7 @@ from __future__ import annotations
 from functools import lru_cache, reduce
 
 import sympy as sp
+from sympy.core.mul import _keep_coeff
 
 __all__ = ["reduce_trig", "tidy", "tidy_fraction", "tidy_linear", "is_identically_zero", "MAX_TIDY_NODES"]
 
@@ -234,12 +235,57 @@ def tidy(expr: sp.Expr) -> sp.Expr:
     return num / den
 
 
+def _gathered_sum(e: sp.Expr) -> sp.Expr | None:
+    """``sympy.gcd_terms(e)`` for a sum of monomials with monomial denominators, in one pass:
+    the positive rational content times the monomial common to the terms (negative exponents: the
+    least common denominator) times the primitive sum left. None when a term is not such a
+    monomial (a sum in a denominator, a fractional power), where ``gcd_terms`` itself is needed.
+
+    The same expression as ``gcd_terms`` (the terms keep their signs; the content is positive),
+    built without its ``Factors`` machinery, the cost of ``together`` on a reaction's fraction.
+    """
+    terms = sp.Add.make_args(e)
+    if len(terms) < 2:
+        return None
+    coeffs, powers = [], []
+    for t in terms:
+        c, rest = t.as_coeff_Mul()
+        if not c.is_Rational:
+            return None
+        d = rest.as_powers_dict()
+        for base, exp in d.items():
+            if base.is_Add or base.is_Mul or base.is_number or not exp.is_Integer:
+                return None
+        coeffs.append(c)
+        powers.append(d)
+    common = {}
+    for base in set().union(*powers):
+        low = min(d.get(base, sp.S.Zero) for d in powers)
+        if low != 0:
+            common[base] = low
+    content = reduce(lambda a, b: a.gcd(b), coeffs)
+    rest = sp.Add(*[(c / content) * sp.Mul(*[b**(d.get(b, 0) - low) for b, low in common.items()],
+                                           *[b**x for b, x in d.items() if b not in common])
+                    for c, d in zip(coeffs, powers)])
+    return _keep_coeff(content, sp.Mul(*[b**x for b, x in common.items()], rest))
+
+
+def _fraction_of_ratio(num: sp.Expr, den: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
+    """``sympy.fraction(sympy.together(num / den))``, by :func:`_gathered_sum` on each side when
+    both are sums of monomials over monomial denominators (the reactions of the structured solve);
+    otherwise by ``together`` itself."""
+    top, bottom = _gathered_sum(num), _gathered_sum(den)
+    if top is None or bottom is None:
+        return sp.fraction(sp.together(num / den))
+    return sp.fraction(top / bottom)
+
+
 def tidy_fraction(num: sp.Expr, den: sp.Expr) -> sp.Expr:
     """Display form of num/den when both are known polynomials in sin/cos (no ``together``,
     no ``cancel``): each part reduced and factored on its own."""
     num, den = _reduce_denominators(sp.expand(num)), _reduce_denominators(sp.expand(den))
     if _has_denominator(den):
-        num, den = sp.fraction(sp.together(num / den))
+        num, den = _fraction_of_ratio(num, den)
     if _has_denominator(num) and _monomial_denominators(num):
         num, extra = _over_common_denominator(num)
         den = den * extra
