@@ -11,6 +11,7 @@ their cost grows with the size of the expression, not unpredictably as
 """
 from __future__ import annotations
 
+import cmath
 from functools import lru_cache, reduce
 
 import sympy as sp
@@ -73,18 +74,66 @@ _PROBES = 2
 """Random points at which an expression is evaluated before the exact test."""
 
 
+class _NotFloat(Exception):
+    """An expression node that :func:`_complex_value` does not evaluate."""
+
+
+_FUNCTIONS = {sp.sin: cmath.sin, sp.cos: cmath.cos, sp.tan: cmath.tan, sp.exp: cmath.exp, sp.log: cmath.log,
+              sp.sinh: cmath.sinh, sp.cosh: cmath.cosh, sp.tanh: cmath.tanh}
+
+
+def _complex_value(e: sp.Expr, point: dict) -> complex:
+    """``e`` at ``point`` (symbol -> float) in double-precision complex arithmetic, walking the tree
+    once (no sympy Float arithmetic). Raises _NotFloat at a node it does not know."""
+    if e.is_Symbol:
+        return point[e]
+    if e.is_Number:
+        return complex(e)
+    if e.is_Add:
+        return sum((_complex_value(a, point) for a in e.args), 0j)
+    if e.is_Mul:
+        out = 1 + 0j
+        for a in e.args:
+            out *= _complex_value(a, point)
+        return out
+    if e.is_Pow:
+        base, exp = _complex_value(e.base, point), e.exp
+        return base ** (int(exp) if exp.is_Integer else _complex_value(exp, point))
+    f = _FUNCTIONS.get(type(e))
+    if f is not None:
+        return f(_complex_value(e.args[0], point))
+    if e.is_number:
+        return complex(e)
+    raise _NotFloat
+
+
+def _term_values(expr: sp.Expr, point: dict) -> list[complex]:
+    """The value of each term of ``expr`` at ``point``: in double precision when every node is
+    known to :func:`_complex_value`, else by sympy's evalf."""
+    terms = sp.Add.make_args(expr)
+    try:
+        return [_complex_value(t, point) for t in terms]
+    except _NotFloat:
+        floats = {s: sp.Float(v) for s, v in point.items()}
+        return [complex(t.xreplace(floats).evalf(20)) for t in terms]
+
+
 def _numerically_nonzero(expr: sp.Expr) -> bool:
     """True when ``expr`` is clearly nonzero at a random point (a cheap first test:
     a nonzero value far above round-off proves it nonzero; zero is then decided exactly)."""
     symbols = sorted(expr.free_symbols, key=lambda s: s.name)
     for k in range(_PROBES):
-        point = {s: sp.Float(0.3 + 0.137 * ((i + 3 * k) % 7) + 0.01 * i) for i, s in enumerate(symbols)}
+        point = {s: 0.3 + 0.137 * ((i + 3 * k) % 7) + 0.01 * i for i, s in enumerate(symbols)}
         try:
-            value = complex(expr.xreplace(point).evalf(20))
-        except (TypeError, ValueError, ZeroDivisionError):
+            values = _term_values(expr, point)
+        except (TypeError, ValueError, ZeroDivisionError, OverflowError):
             continue
-        scale = max(1.0, *(abs(complex(t.xreplace(point).evalf(20))) for t in sp.Add.make_args(expr)))
-        if abs(value) > 1e-12 * scale:  # 20-digit evaluation: round-off is ~1e-18 of the scale
+        value = sum(values, 0j)
+        scale = max(1.0, *(abs(v) for v in values))
+        # Double precision: the round-off of a sum of n terms of products is ~n 1e-16 of the scale,
+        # so 1e-12 of it is far above round-off for any expression we tidy (at most
+        # MAX_TIDY_NODES nodes) and a smaller value is left to the exact test.
+        if not cmath.isnan(value) and abs(value) > 1e-12 * scale:
             return True
     return False
 
