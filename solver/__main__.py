@@ -9,6 +9,7 @@ lists the commands; ``python -m solver COMMAND --help`` their options.
 from __future__ import annotations
 
 import argparse
+import functools
 import importlib
 import sys
 from collections.abc import Sequence
@@ -76,10 +77,16 @@ class _Formatter(argparse.RawDescriptionHelpFormatter):
     """Keeps the examples in the epilog as written."""
 
 
+@functools.cache
+def _parser() -> OneLineArgumentParser:
+    """The parser of this process: the same for every call of :func:`main` (like the imports of the
+    command modules, it is start-up work, built once; parsing does not change it)."""
+    return build_parser()
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Parse ``argv`` and run the command; returns the exit status."""
-    parser = build_parser()
-    args = parser.parse_args(argv)
+    args = _parser().parse_args(argv)
     return run_handler(args.handler, args)
 
 

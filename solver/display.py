@@ -11,9 +11,12 @@ their cost grows with the size of the expression, not unpredictably as
 """
 from __future__ import annotations
 
+import cmath
 from functools import lru_cache, reduce
 
 import sympy as sp
+from sympy.core.exprtools import gcd_terms
+from sympy.core.mul import _keep_coeff
 
 __all__ = ["reduce_trig", "numerator_reduces_to_zero", "tidy", "tidy_fraction", "tidy_linear", "is_identically_zero",
            "MAX_TIDY_NODES"]
@@ -65,7 +68,7 @@ def reduce_trig(expr: sp.Expr) -> sp.Expr | None:
     e = sp.expand_trig(e)
     if not _angles_ok(e):
         return None
-    num, den = sp.fraction(sp.cancel(sp.together(e)))
+    num, den = sp.fraction(sp.cancel(_together(e)))
     return sp.cancel(_reduce_poly(num) / _reduce_poly(den))
 
 
@@ -96,18 +99,66 @@ _PROBES = 2
 """Random points at which an expression is evaluated before the exact test."""
 
 
+class _NotFloat(Exception):
+    """An expression node that :func:`_complex_value` does not evaluate."""
+
+
+_FUNCTIONS = {sp.sin: cmath.sin, sp.cos: cmath.cos, sp.tan: cmath.tan, sp.exp: cmath.exp, sp.log: cmath.log,
+              sp.sinh: cmath.sinh, sp.cosh: cmath.cosh, sp.tanh: cmath.tanh}
+
+
+def _complex_value(e: sp.Expr, point: dict) -> complex:
+    """``e`` at ``point`` (symbol -> float) in double-precision complex arithmetic, walking the tree
+    once (no sympy Float arithmetic). Raises _NotFloat at a node it does not know."""
+    if e.is_Symbol:
+        return point[e]
+    if e.is_Number:
+        return complex(e)
+    if e.is_Add:
+        return sum((_complex_value(a, point) for a in e.args), 0j)
+    if e.is_Mul:
+        out = 1 + 0j
+        for a in e.args:
+            out *= _complex_value(a, point)
+        return out
+    if e.is_Pow:
+        base, exp = _complex_value(e.base, point), e.exp
+        return base ** (int(exp) if exp.is_Integer else _complex_value(exp, point))
+    f = _FUNCTIONS.get(type(e))
+    if f is not None:
+        return f(_complex_value(e.args[0], point))
+    if e.is_number:
+        return complex(e)
+    raise _NotFloat
+
+
+def _term_values(expr: sp.Expr, point: dict) -> list[complex]:
+    """The value of each term of ``expr`` at ``point``: in double precision when every node is
+    known to :func:`_complex_value`, else by sympy's evalf."""
+    terms = sp.Add.make_args(expr)
+    try:
+        return [_complex_value(t, point) for t in terms]
+    except _NotFloat:
+        floats = {s: sp.Float(v) for s, v in point.items()}
+        return [complex(t.xreplace(floats).evalf(20)) for t in terms]
+
+
 def _numerically_nonzero(expr: sp.Expr) -> bool:
     """True when ``expr`` is clearly nonzero at a random point (a cheap first test:
     a nonzero value far above round-off proves it nonzero; zero is then decided exactly)."""
     symbols = sorted(expr.free_symbols, key=lambda s: s.name)
     for k in range(_PROBES):
-        point = {s: sp.Float(0.3 + 0.137 * ((i + 3 * k) % 7) + 0.01 * i) for i, s in enumerate(symbols)}
+        point = {s: 0.3 + 0.137 * ((i + 3 * k) % 7) + 0.01 * i for i, s in enumerate(symbols)}
         try:
-            value = complex(expr.xreplace(point).evalf(20))
-        except (TypeError, ValueError, ZeroDivisionError):
+            values = _term_values(expr, point)
+        except (TypeError, ValueError, ZeroDivisionError, OverflowError):
             continue
-        scale = max(1.0, *(abs(complex(t.xreplace(point).evalf(20))) for t in sp.Add.make_args(expr)))
-        if abs(value) > 1e-12 * scale:  # 20-digit evaluation: round-off is ~1e-18 of the scale
+        value = sum(values, 0j)
+        scale = max(1.0, *(abs(v) for v in values))
+        # Double precision: the round-off of a sum of n terms of products is ~n 1e-16 of the scale,
+        # so 1e-12 of it is far above round-off for any expression we tidy (at most
+        # MAX_TIDY_NODES nodes) and a smaller value is left to the exact test.
+        if not cmath.isnan(value) and abs(value) > 1e-12 * scale:
             return True
     return False
 
@@ -120,6 +171,73 @@ def is_identically_zero(expr: sp.Expr) -> bool | None:
     if _numerically_nonzero(expr):
         return False
     return numerator_reduces_to_zero(expr)
+
+
+def _plain_polynomial(p: sp.Expr) -> bool:
+    """A sum of monomials: products of non-sum factors with positive integer exponents."""
+    for t in sp.Add.make_args(p):
+        for base, exp in t.as_powers_dict().items():
+            if base.is_Add or base.is_Mul or not (exp.is_Integer and exp > 0):
+                return False
+    return True
+
+
+def _gathered_sum(terms) -> sp.Expr | None:
+    """``sympy.gcd_terms(terms)`` for a sum of monomials with monomial denominators, in one pass:
+    the positive rational content times the monomial common to the terms (negative exponents: the
+    least common denominator) times the primitive sum left. None when a term is not such a
+    monomial (a fractional power, for one), where ``gcd_terms`` itself is needed. A power of a sum
+    counts as one factor, its rational content moved into the coefficient, as in ``gcd_terms``.
+
+    The same expression as ``gcd_terms`` (the terms keep their signs; the content is positive),
+    built without its ``Factors`` machinery (most of the cost of ``together``).
+    """
+    if len(terms) < 2:
+        return None
+    coeffs, powers = [], []
+    for t in terms:
+        c, rest = t.as_coeff_Mul()
+        if not c.is_Rational:
+            return None
+        d = {}
+        for base, exp in rest.as_powers_dict().items():
+            if base.is_Mul or base.is_number or not exp.is_Integer:
+                return None
+            if base.is_Add:  # a denominator: its rational content joins the coefficient (as gcd_terms)
+                if exp > 0 or not _plain_polynomial(base):
+                    return None  # (sums as factors, nested fractions: gcd_terms' own forms)
+                content, base = base.primitive()
+                c = c * content**exp
+            d[base] = d.get(base, 0) + exp
+        coeffs.append(c)
+        powers.append(d)
+    common = {}
+    for base in set().union(*powers):
+        low = min(d.get(base, sp.S.Zero) for d in powers)
+        if low != 0:
+            common[base] = low
+    content = reduce(lambda a, b: a.gcd(b), coeffs)
+    rest = sp.Add(*[(c / content) * sp.Mul(*[b**(d.get(b, 0) - low) for b, low in common.items()],
+                                           *[b**x for b, x in d.items() if b not in common])
+                    for c, d in zip(coeffs, powers)])
+    if rest.is_Add:  # a number distributed over a sum factor can leave content (as in gcd_terms)
+        more, rest = rest.primitive()
+        content = content * more
+    return _keep_coeff(content, sp.Mul(*[b**x for b, x in common.items()], rest))
+
+
+def _together(e: sp.Expr) -> sp.Expr:
+    """``sympy.together(e)``, the same expression: its recursion, with :func:`_gathered_sum` in
+    place of ``gcd_terms`` for the sums it can gather (all of them in the display forms here)."""
+    if e.is_Atom or e.is_Function:
+        return e
+    if e.is_Add:
+        terms = [_together(t) for t in e.args]
+        gathered = _gathered_sum(terms)
+        return gathered if gathered is not None else gcd_terms(terms, fraction=True)
+    if e.is_Pow:
+        return e.func(_together(e.base), e.exp)
+    return e.func(*[_together(a) for a in e.args])
 
 
 def _monomial_powers(d: sp.Expr) -> dict | None:
@@ -142,7 +260,7 @@ def _over_common_denominator(e: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
     parts = [sp.fraction(t) for t in sp.Add.make_args(e)]
     powers = [_monomial_powers(d) for _, d in parts]
     if any(p is None for p in powers):
-        return sp.fraction(sp.together(e))
+        return sp.fraction(_together(e))
     lcm: dict = {}
     for p in powers:
         for base, exp in p.items():
@@ -245,9 +363,13 @@ def tidy(expr: sp.Expr) -> sp.Expr:
     if not _angles_ok(e):
         return sp.factor_terms(e)
     monomial = _monomial_denominators(e)
-    num, den = _over_common_denominator(e) if _has_denominator(e) else (e, sp.Integer(1))
-    if not monomial and (not (_denominator_free(num) and _denominator_free(den)) or _size(e) <= MAX_CANCEL_NODES):
-        num, den = sp.fraction(sp.cancel(sp.together(e)))  # common factors out (cheap when small)
+    small = _size(e) <= MAX_CANCEL_NODES
+    if not monomial and small:
+        num, den = sp.fraction(sp.cancel(_together(e)))  # common factors out (cheap when small)
+    else:
+        num, den = _over_common_denominator(e) if _has_denominator(e) else (e, sp.Integer(1))
+        if not monomial and not (_denominator_free(num) and _denominator_free(den)):
+            num, den = sp.fraction(sp.cancel(_together(e)))
     # (over monomial denominators the common monomial of the numerator cancels by itself below)
     num, den = _tidy_polynomial(num), _tidy_polynomial(den)
     if den.is_number and den != 0 and num.is_Add:
@@ -255,12 +377,22 @@ def tidy(expr: sp.Expr) -> sp.Expr:
     return num / den
 
 
+def _fraction_of_ratio(num: sp.Expr, den: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
+    """``sympy.fraction(sympy.together(num / den))``, by :func:`_gathered_sum` on each side when
+    both are sums of monomials over monomial denominators (the reactions of the structured solve);
+    otherwise by ``together`` itself."""
+    top, bottom = _gathered_sum(sp.Add.make_args(num)), _gathered_sum(sp.Add.make_args(den))
+    if top is None or bottom is None:
+        return sp.fraction(_together(num / den))
+    return sp.fraction(top / bottom)
+
+
 def tidy_fraction(num: sp.Expr, den: sp.Expr) -> sp.Expr:
     """Display form of num/den when both are known polynomials in sin/cos (no ``together``,
     no ``cancel``): each part reduced and factored on its own."""
     num, den = _reduce_denominators(sp.expand(num)), _reduce_denominators(sp.expand(den))
     if _has_denominator(den):
-        num, den = sp.fraction(sp.together(num / den))
+        num, den = _fraction_of_ratio(num, den)
     if _has_denominator(num) and _monomial_denominators(num):
         num, extra = _over_common_denominator(num)
         den = den * extra

@@ -81,3 +81,20 @@ def test_eom_mass_is_the_generalized_mass_of_the_kinetic_energy(capsys):
         names = {**system.symbols, c.name: c.q, f"{c.name}_dot": c.qd, "t": system.t}
         shown = parse_expression(payload["mass"], names, where=scene)
         assert is_identically_zero(sp.expand(shown - sp.diff(system.kinetic_energy(), c.qd, 2)))
+
+
+def test_the_fast_together_is_sympys_together():
+    """display._together replaces sympy.together (and tidy_fraction's gathering replaces gcd_terms)
+    for speed: it must build the very same expression, so the printed forms do not change. Random
+    sums of fractions with symbol, sin/cos and sum denominators, compared structurally."""
+    from solver.display import _together
+
+    a, b = sp.symbols("a b", real=True)
+    rng = random.Random(5)
+    pieces = [s, c, 1 / sp.sin(beta), a, 1 / b, sp.Rational(1, 3), -sp.Rational(5, 6), 1 / (a + b),
+              1 / (2 * a + 2 * b) ** 2, 1 / (3 * a - 6 * c), sp.Rational(2, 3) / (a**2 + b), (a - b) ** 2, sp.sqrt(a)]
+    for _ in range(150):
+        e = sum(rng.randint(-4, 4) * rng.choice(pieces) * rng.choice(pieces) * rng.choice(pieces)
+                for _ in range(rng.randint(1, 4)))
+        for expr in (e, sp.expand(e)):
+            assert sp.srepr(_together(expr)) == sp.srepr(sp.together(expr))

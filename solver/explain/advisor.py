@@ -89,8 +89,27 @@ class Candidate:
         return "; ".join(parts)
 
 
-def _numeric(expr, subs) -> float:
-    return float(sp.sympify(expr).xreplace(subs))
+class _State(dict):
+    """The state as symbol -> sympy Float (for ``xreplace``), with ``floats``: the same as Python floats."""
+
+    def __init__(self, subs):
+        super().__init__(subs)
+        self.floats = {k: float(v) for k, v in subs.items()}
+
+
+def _numeric(expr, subs: _State) -> float:
+    """``expr`` at the state ``subs``, in double precision: the advisor only compares these values
+    against tolerances far above round-off (:data:`_REL_ZERO`)."""
+    from ..display import _complex_value, _NotFloat
+
+    expr = sp.sympify(expr)
+    try:
+        value = _complex_value(expr, subs.floats)
+    except (_NotFloat, KeyError, ZeroDivisionError, OverflowError):
+        value = None
+    if value is None or value.imag != 0:
+        return float(expr.xreplace(subs))
+    return value.real
 
 
 def _rows(system, f, body, subs):
@@ -128,7 +147,7 @@ def rank_points(system, body: str, state, f=None) -> list[Candidate]:
     from .build import _Points, _forces_on, _state_subs
 
     f = f or formulate(system, "generalized_euler", None)
-    subs = _state_subs(system, state)
+    subs = _State(_state_subs(system, state))
     rows = _rows(system, f, body, subs)
     names = [str(u) for u in f.unknowns]
     scale = max(float(np.max(np.abs(r))) for r in rows.values()) or 1.0

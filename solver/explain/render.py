@@ -34,6 +34,7 @@ def render(expl: Explanation, fmt: str = "text") -> str:
 class _Renderer:
     def __init__(self, expl: Explanation):
         self.expl = expl
+        self.printed: dict = {}  # expression -> its text, for this rendering (a point's v_P shows often)
 
     def document(self) -> str:
         out = [self.title(self.expl.title)]
@@ -72,16 +73,23 @@ class _Renderer:
 # -- text ------------------------------------------------------------------------------------------
 
 
-def _sstr(expr) -> str:
+def _sstr(expr, printed: dict | None = None) -> str:
+    """``sympy.sstr`` of an expression, or ``(x, y)`` of a 2-vector; ``printed`` memoizes the texts
+    of one rendering (the same expression prints the same)."""
     if isinstance(expr, sp.MatrixBase):
-        return f"({sp.sstr(expr[0])}, {sp.sstr(expr[1])})"
-    return sp.sstr(expr)
+        return f"({_sstr(expr[0], printed)}, {_sstr(expr[1], printed)})"
+    if printed is None:
+        return sp.sstr(expr)
+    text = printed.get(expr)
+    if text is None:
+        text = printed[expr] = sp.sstr(expr)
+    return text
 
 
-def _join_text(terms) -> str:
+def _join_text(terms, printed: dict | None = None) -> str:
     out = ""
     for i, t in enumerate(terms):
-        s = _sstr(t.expr)
+        s = _sstr(t.expr, printed)
         if i and s.startswith("-") and not isinstance(t.expr, sp.MatrixBase):
             out += " - " + s[1:]
         else:
@@ -101,16 +109,16 @@ class _Text(_Renderer):
 
     def equation(self, eq: Equation) -> str:
         head = f"  {eq.label}" + (f" ({eq.ref})" if eq.ref else "") + ":"
-        lhs = eq.name or _join_text(eq.lhs)
         noted = [t for t in (*eq.rhs, *([] if eq.name else eq.lhs)) if t.note]
         if len(noted) < 2:
-            return f"{head}\n    {lhs} {eq.sign} {_join_text(eq.rhs)}"
+            lhs = eq.name or _join_text(eq.lhs, self.printed)
+            return f"{head}\n    {lhs} {eq.sign} {_join_text(eq.rhs, self.printed)}"
         lines = [head]
         sides = [("", eq.lhs)] if not eq.name else [("", (Term(sp.Symbol(eq.name)),))]
         sides.append((f"{eq.sign} ", eq.rhs))
         for mark, terms in sides:
             for i, t in enumerate(terms):
-                text = _sstr(t.expr)
+                text = _sstr(t.expr, self.printed)
                 sign = mark if i == 0 else "+ "
                 if i and text.startswith("-") and not isinstance(t.expr, sp.MatrixBase):
                     sign, text = "- ", text[1:]
@@ -144,11 +152,15 @@ def _name_latex(name: str) -> str:
 class _LatexMath:
     def __init__(self, names):
         self.names = names
+        self.printed: dict = {}  # expression -> its LaTeX, for this rendering
 
     def expr(self, e) -> str:
         if isinstance(e, sp.MatrixBase):
             return r"\begin{pmatrix}" + r" \\ ".join(self.expr(x) for x in e) + r"\end{pmatrix}"
-        return sp.latex(e, symbol_names=self.names)
+        text = self.printed.get(e)
+        if text is None:
+            text = self.printed[e] = sp.latex(e, symbol_names=self.names)
+        return text
 
     def join(self, terms, notes=True) -> str:
         out = ""
@@ -250,8 +262,9 @@ class _Html(_Renderer):
 
     def equation(self, eq):
         head = _h(eq.label) + (f" ({_h(eq.ref)})" if eq.ref else "")
-        lhs = _h(eq.name) if eq.name else _terms_html(eq.lhs)
-        return f"<div>{head}:</div><div class=\"eq\">{lhs} {'&asymp;' if eq.approximate else '='} {_terms_html(eq.rhs)}</div>"
+        lhs = _h(eq.name) if eq.name else _terms_html(eq.lhs, self.printed)
+        sign = "&asymp;" if eq.approximate else "="
+        return f"<div>{head}:</div><div class=\"eq\">{lhs} {sign} {_terms_html(eq.rhs, self.printed)}</div>"
 
     def table(self, table):
         head = "".join(f"<th>{_h(c)}</th>" for c in table.header)
@@ -269,10 +282,10 @@ def _h(text) -> str:
     return html.escape(str(text), quote=True)
 
 
-def _terms_html(terms) -> str:
+def _terms_html(terms, printed: dict | None = None) -> str:
     parts = []
     for t in terms:
-        s = _h(_sstr(t.expr))
+        s = _h(_sstr(t.expr, printed))
         if t.note and len(terms) > 1:
             s += f" <span class=\"note\">[{_h(t.note)}]</span>"
         parts.append(s)
