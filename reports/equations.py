@@ -38,6 +38,7 @@ import sympy as sp
 
 from reports.published import ReportInputError, Transcription
 from solver.expressions import parse_expression
+from solver.tree_value import NotEvaluable, mpmath_arithmetic, tree_value
 
 __all__ = ["EquationOutcome", "check_equation", "is_zero"]
 
@@ -255,58 +256,19 @@ def _random_point(symbols, seed: int) -> dict:
     return {s: sp.Rational(rng.randint(23, 181), 97) for s in sorted(symbols, key=lambda s: s.name)}
 
 
-_MP_FUNCTIONS = {sp.sin: mpmath.sin, sp.cos: mpmath.cos, sp.tan: mpmath.tan, sp.cot: mpmath.cot,
-                 sp.exp: mpmath.exp, sp.log: mpmath.log, sp.Abs: abs}
-
-
-class _NotEvaluable(Exception):
-    """A node :func:`_mp_value` does not evaluate (then :func:`_evaluator` uses lambdify)."""
-
-
-def _mp_value(expr: sp.Expr, point: dict, memo: dict):
-    """``expr`` at ``point`` (Symbol -> mpf) in mpmath at the working precision, by walking the
-    tree (shared subtrees once): no code is generated and compiled, as lambdify does."""
-    value = memo.get(expr)
-    if value is not None:
-        return value
-    if expr.is_Symbol:
-        value = point[expr]
-    elif expr.is_Rational:
-        value = mpmath.mpf(expr.p) / expr.q
-    elif expr.is_Add:
-        value = mpmath.fsum(_mp_value(a, point, memo) for a in expr.args)
-    elif expr.is_Mul:
-        value = mpmath.fprod(_mp_value(a, point, memo) for a in expr.args)
-    elif expr.is_Pow:
-        base, exp = _mp_value(expr.base, point, memo), expr.exp
-        if exp.is_Integer:
-            value = base ** int(exp)
-        elif exp == sp.S.Half:
-            value = mpmath.sqrt(base)
-        else:
-            value = mpmath.power(base, _mp_value(exp, point, memo))
-    elif type(expr) in _MP_FUNCTIONS and len(expr.args) == 1:
-        value = _MP_FUNCTIONS[type(expr)](_mp_value(expr.args[0], point, memo))
-    elif expr.is_number and not expr.free_symbols:
-        value = mpmath.mpmathify(str(sp.N(expr, mpmath.mp.dps + 10)))
-    else:
-        raise _NotEvaluable(type(expr).__name__)
-    memo[expr] = value
-    return value
-
-
 def _evaluator(ordered: list, exprs: list):
     """f(*args) -> [mpmath values of exprs] at args (mpf, in the order of ``ordered``): the tree
-    walked directly, or through lambdify once a node turns out not to be one :func:`_mp_value`
-    knows."""
+    walked directly (:func:`solver.tree_value.tree_value` in mpmath), or through lambdify once a
+    node turns out not to be one the walk knows."""
     fallback: list = []
+    arithmetic = mpmath_arithmetic()
 
     def evaluate(*args):
         if not fallback:
             point, memo = dict(zip(ordered, args)), {}
             try:
-                return [_mp_value(e, point, memo) for e in exprs]
-            except _NotEvaluable:
+                return [tree_value(e, point, arithmetic, memo) for e in exprs]
+            except NotEvaluable:
                 fallback.append(sp.lambdify(ordered, exprs, modules="mpmath"))
         return fallback[0](*args)
     return evaluate

@@ -18,6 +18,8 @@ import sympy as sp
 from sympy.core.exprtools import gcd_terms
 from sympy.core.mul import _keep_coeff
 
+from .tree_value import DOUBLE, NotEvaluable, tree_value
+
 __all__ = ["reduce_trig", "numerator_reduces_to_zero", "tidy", "tidy_fraction", "tidy_linear", "is_identically_zero",
            "MAX_TIDY_NODES"]
 
@@ -99,46 +101,14 @@ _PROBES = 2
 """Random points at which an expression is evaluated before the exact test."""
 
 
-class _NotFloat(Exception):
-    """An expression node that :func:`_complex_value` does not evaluate."""
-
-
-_FUNCTIONS = {sp.sin: cmath.sin, sp.cos: cmath.cos, sp.tan: cmath.tan, sp.exp: cmath.exp, sp.log: cmath.log,
-              sp.sinh: cmath.sinh, sp.cosh: cmath.cosh, sp.tanh: cmath.tanh}
-
-
-def _complex_value(e: sp.Expr, point: dict) -> complex:
-    """``e`` at ``point`` (symbol -> float) in double-precision complex arithmetic, walking the tree
-    once (no sympy Float arithmetic). Raises _NotFloat at a node it does not know."""
-    if e.is_Symbol:
-        return point[e]
-    if e.is_Number:
-        return complex(e)
-    if e.is_Add:
-        return sum((_complex_value(a, point) for a in e.args), 0j)
-    if e.is_Mul:
-        out = 1 + 0j
-        for a in e.args:
-            out *= _complex_value(a, point)
-        return out
-    if e.is_Pow:
-        base, exp = _complex_value(e.base, point), e.exp
-        return base ** (int(exp) if exp.is_Integer else _complex_value(exp, point))
-    f = _FUNCTIONS.get(type(e))
-    if f is not None:
-        return f(_complex_value(e.args[0], point))
-    if e.is_number:
-        return complex(e)
-    raise _NotFloat
-
-
 def _term_values(expr: sp.Expr, point: dict) -> list[complex]:
     """The value of each term of ``expr`` at ``point``: in double precision when every node is
-    known to :func:`_complex_value`, else by sympy's evalf."""
+    known to :func:`solver.tree_value.tree_value`, else by sympy's evalf."""
     terms = sp.Add.make_args(expr)
+    memo: dict = {}
     try:
-        return [_complex_value(t, point) for t in terms]
-    except _NotFloat:
+        return [tree_value(t, point, DOUBLE, memo) for t in terms]
+    except NotEvaluable:
         floats = {s: sp.Float(v) for s, v in point.items()}
         return [complex(t.xreplace(floats).evalf(20)) for t in terms]
 

@@ -168,21 +168,25 @@ def test_mutated_transcription_disagrees(equations, eq_id, side, old, new):
 
 
 def test_the_tree_walk_evaluates_as_sympy_does():
-    """The numeric zero test's evaluator (reports.equations._mp_value) against sympy's own evalf at
-    40 digits: equal to 1e-25 relative (the walk runs at 30 digits)."""
+    """The one tree walk (solver.tree_value) behind the report's numeric zero test (mpmath) and the
+    display's quick nonzero test (double precision), against sympy's own evalf at 40 digits: equal
+    to 1e-25 relative in mpmath at 30 digits, and to 1e-13 in double precision (about 20 roundings
+    of 1.1e-16 each, well inside)."""
     import mpmath
 
-    from reports.equations import _mp_value
+    from solver.tree_value import DOUBLE, mpmath_arithmetic, tree_value
 
     a, b, c = sp.symbols("a b c", real=True)
     expr = (sp.sin(a) ** 2 * sp.tan(b) - sp.sqrt(c) / (3 * sp.cos(a - b)) + sp.pi * a ** sp.Rational(3, 2)
             + sp.exp(-c) * sp.Abs(a - 2 * b) - sp.log(c) / 7)
     point = {a: sp.Rational(5, 7), b: sp.Rational(11, 13), c: sp.Rational(17, 19)}
     with mpmath.workdps(30):
-        walked = _mp_value(expr, {k: mpmath.mpf(v.p) / v.q for k, v in point.items()}, {})
+        walked = tree_value(expr, {k: mpmath.mpf(v.p) / v.q for k, v in point.items()}, mpmath_arithmetic())
+    double = tree_value(expr, {k: float(v) for k, v in point.items()}, DOUBLE)
     with mpmath.workdps(40):
         exact = mpmath.mpf(str(expr.xreplace(point).evalf(40)))
         assert abs((walked - exact) / exact) < mpmath.mpf("1e-25")
+        assert abs((double - exact) / exact) < 1e-13 and double.imag == 0
     assert is_zero(sp.sin(a) ** 2 + sp.cos(a) ** 2 - 1, [sp.Integer(1)])[0]
     assert not is_zero(sp.sin(a) ** 2 + sp.cos(a) ** 2 - 1 + sp.Rational(1, 10**15), [sp.Integer(1)])[0]
 

@@ -100,12 +100,12 @@ class _State(dict):
 def _numeric(expr, subs: _State) -> float:
     """``expr`` at the state ``subs``, in double precision: the advisor only compares these values
     against tolerances far above round-off (:data:`_REL_ZERO`)."""
-    from ..display import _complex_value, _NotFloat
+    from ..tree_value import NotEvaluable, tree_value
 
     expr = sp.sympify(expr)
     try:
-        value = _complex_value(expr, subs.floats)
-    except (_NotFloat, KeyError, ZeroDivisionError, OverflowError):
+        value = tree_value(expr, subs.floats)
+    except (NotEvaluable, KeyError, ZeroDivisionError, OverflowError):
         value = None
     if value is None or value.imag != 0:
         return float(expr.xreplace(subs))

@@ -1,0 +1,134 @@
+"""The value of a sympy expression at a point, by walking its tree once.
+
+Two callers need numbers from expressions many times over, where generating
+and compiling code (``lambdify``) or sympy's own Float arithmetic costs more
+than the evaluation: the display's quick nonzero test (:mod:`solver.display`,
+the point advisor), in double-precision complex arithmetic, and the report's
+numeric equation checks (:mod:`reports.equations`), in mpmath at the working
+precision. One walk serves both; an :class:`Arithmetic` says how numbers of
+each kind are made, added, multiplied and raised, and which functions it
+knows. Shared subtrees are evaluated once (``memo``).
+
+A node the walk does not know raises :class:`NotEvaluable`; the caller then
+falls back to sympy (``evalf``, or ``lambdify``).
+"""
+from __future__ import annotations
+
+import cmath
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+
+import sympy as sp
+
+__all__ = ["Arithmetic", "DOUBLE", "mpmath_arithmetic", "NotEvaluable", "tree_value"]
+
+
+class NotEvaluable(Exception):
+    """An expression node that :func:`tree_value` does not evaluate."""
+
+
+@dataclass(frozen=True)
+class Arithmetic:
+    """How one kind of number is made and combined.
+
+    Attributes
+    ----------
+    number : callable
+        A sympy number (no free symbols) to a value.
+    total, product : callable
+        Sum and product of an iterable of values.
+    sqrt, power : callable
+        Square root; a value to a non-integer power.
+    functions : dict
+        sympy function class -> one-argument function on values.
+    """
+
+    number: Callable
+    total: Callable[[Iterable], object]
+    product: Callable[[Iterable], object]
+    sqrt: Callable
+    power: Callable
+    functions: dict
+
+
+def _complex_product(values) -> complex:
+    out = 1 + 0j
+    for v in values:
+        out *= v
+    return out
+
+
+DOUBLE = Arithmetic(
+    number=complex,
+    total=lambda values: sum(values, 0j),
+    product=_complex_product,
+    sqrt=cmath.sqrt,
+    power=lambda base, exp: base ** exp,
+    functions={sp.sin: cmath.sin, sp.cos: cmath.cos, sp.tan: cmath.tan, sp.exp: cmath.exp, sp.log: cmath.log,
+               sp.sinh: cmath.sinh, sp.cosh: cmath.cosh, sp.tanh: cmath.tanh, sp.Abs: abs},
+)
+"""Double-precision complex arithmetic (``cmath``)."""
+
+
+def mpmath_arithmetic() -> Arithmetic:
+    """mpmath at its working precision (``mpmath.workdps``): rationals exact to that precision,
+    other numbers through ``sympy.N`` with ten guard digits, sums by ``fsum``."""
+    import mpmath
+
+    def number(e):
+        if e.is_Rational:
+            return mpmath.mpf(e.p) / e.q
+        return mpmath.mpmathify(str(sp.N(e, mpmath.mp.dps + 10)))
+
+    return Arithmetic(number=number, total=mpmath.fsum, product=mpmath.fprod, sqrt=mpmath.sqrt,
+                      power=mpmath.power,
+                      functions={sp.sin: mpmath.sin, sp.cos: mpmath.cos, sp.tan: mpmath.tan, sp.cot: mpmath.cot,
+                                 sp.exp: mpmath.exp, sp.log: mpmath.log, sp.Abs: abs})
+
+
+def tree_value(expr: sp.Expr, point: dict, arithmetic: Arithmetic = DOUBLE, memo: dict | None = None):
+    """``expr`` at ``point`` (Symbol -> value of the arithmetic's kind).
+
+    Raises
+    ------
+    NotEvaluable
+        At a node that is not a symbol, number, sum, product, power or one of the
+        arithmetic's functions of one argument.
+    KeyError
+        A free symbol missing from ``point``.
+
+    Examples
+    --------
+    >>> x = sp.Symbol("x")
+    >>> tree_value(sp.sin(x)**2 + sp.cos(x)**2 + sp.Rational(1, 2), {x: 0.3})
+    (1.5+0j)
+    """
+    memo = {} if memo is None else memo
+    value = memo.get(expr)
+    if value is not None:
+        return value
+    if expr.is_Symbol:
+        value = point[expr]
+    elif expr.is_Number:
+        value = arithmetic.number(expr)
+    elif expr.is_Add:
+        value = arithmetic.total(tree_value(a, point, arithmetic, memo) for a in expr.args)
+    elif expr.is_Mul:
+        value = arithmetic.product(tree_value(a, point, arithmetic, memo) for a in expr.args)
+    elif expr.is_Pow:
+        base, exp = tree_value(expr.base, point, arithmetic, memo), expr.exp
+        if exp.is_Integer:
+            value = base ** int(exp)
+        elif exp == sp.S.Half:
+            value = arithmetic.sqrt(base)
+        else:
+            value = arithmetic.power(base, tree_value(exp, point, arithmetic, memo))
+    elif type(expr) in arithmetic.functions and len(expr.args) == 1:
+        value = arithmetic.functions[type(expr)](tree_value(expr.args[0], point, arithmetic, memo))
+    elif expr.is_number and not expr.free_symbols:
+        value = arithmetic.number(expr)
+    else:
+        raise NotEvaluable(type(expr).__name__)
+    memo[expr] = value
+    return value
+
