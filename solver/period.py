@@ -467,8 +467,16 @@ class OneDofSystem:
         ``math``-lambdified A and b and Gaussian elimination with partial
         pivoting in pure Python: about 20x cheaper per call than numpy for a
         3x3 system, which matters inside event functions. The last state is
-        remembered, so several events at the same (t, y) cost one solve.
+        remembered, so several events at the same (t, y) cost one solve: the
+        solver is memoised per set of parameter values, so the reaction events
+        (:meth:`reaction_scalar_fns`) and the singularity event
+        (:meth:`singularity_fn`) share it (they used to solve the same state twice
+        per integration step).
         """
+        return self._memo(("scalar_solver", self.values), self._new_scalar_solver)
+
+    def _new_scalar_solver(self) -> Callable[[float, float, float], tuple[list[float], float]]:
+        """A fresh :meth:`_scalar_solver` (with its own last-state memory)."""
 
         def build():
             A, b = self.system_matrix, self.system_rhs
