@@ -70,7 +70,9 @@ def lagrange_equations(system) -> list[NamedEquation]:
     to_dyn[tt] = t
     # potential energy of the conservative loads, rebuilt in body coordinates
     V = _potential(system, pose)
-    L = me.Lagrangian(N, *parts) - V.xreplace({tt: t})
+    # expanded: the vector algebra leaves products of sums (v . v of every element) that
+    # LagrangesMethod would differentiate three times over; a flat sum halves its cost
+    L = sp.expand(me.Lagrangian(N, *parts) - V.xreplace({tt: t}))
     forcelist = _forces(system, N, frames, origins, to_dyn)
     rows = []
     for j in system.joints:
