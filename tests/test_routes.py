@@ -40,31 +40,35 @@ COND_MAX = 1e6
 RTOL = 1e-8
 
 
+def values(exprs, vals) -> np.ndarray:
+    """Double-precision values of sympy expressions at ``vals`` (Symbol -> number).
+
+    One walk of their trees (:func:`solver.tree_value.tree_value`, checked against
+    sympy's evalf at 40 digits in test_report.py; shared subexpressions once), about
+    8 times cheaper than substituting sympy Floats and calling evalf, which remains
+    the fallback for a node the walk does not know. Both are double-precision
+    evaluations of the same expressions: the premises of the tolerances are unchanged.
+    """
+    exprs = [sp.sympify(e) for e in exprs]
+    try:
+        point, memo = {k: complex(v) for k, v in vals.items()}, {}
+        out = np.array([tree_value(e, point, memo=memo) for e in exprs], dtype=complex)
+    except NotEvaluable:
+        floats = {k: sp.Float(float(v)) for k, v in vals.items()}
+        return np.array([e.xreplace(floats).evalf() for e in exprs], dtype=float)
+    # real data, real functions: an imaginary part would be a sqrt or power of a negative number
+    assert not out.imag.any()
+    return out.real
+
+
 def evaluate(d, scene, t=0.0):
     """(unknowns, condition number) of derivation ``d`` at the scene's state, by
-    putting numbers into its symbolic linear system.
-
-    The entries are evaluated in double precision by one walk of their trees
-    (:func:`solver.tree_value.tree_value`, checked against sympy's evalf at 40 digits
-    in test_report.py; shared subexpressions once), about 8 times cheaper than
-    substituting sympy Floats and calling evalf, which remains the fallback for a
-    node the walk does not know. Both are double-precision evaluations of the same
-    expressions: the premise of RTOL is unchanged.
-    """
+    putting numbers into its symbolic linear system (:func:`values`)."""
     A, b = d.linear_system()
     q, qd = scene.state_si()
     vals = {d.q: q, d.qd: qd, d.t: t, **scene.si_values()}
-    try:
-        point, memo = {k: complex(v) for k, v in vals.items()}, {}
-        An = np.array([[tree_value(e, point, memo=memo) for e in A.row(i)] for i in range(A.rows)])
-        bn = np.array([tree_value(e, point, memo=memo) for e in b])
-        # real data, real functions: any imaginary part would be a sqrt or power of a negative number
-        assert not An.imag.any() and not bn.imag.any()
-        An, bn = An.real, bn.real
-    except NotEvaluable:
-        vals = {k: sp.Float(v) for k, v in vals.items()}
-        An = np.array(A.xreplace(vals).evalf(), dtype=float)
-        bn = np.array(b.xreplace(vals).evalf(), dtype=float).ravel()
+    An = values(list(A), vals).reshape(A.shape)
+    bn = values(list(b), vals)
     return np.linalg.solve(An, bn), np.linalg.cond(An)
 
 
@@ -78,7 +82,7 @@ def assert_energy_rate_equals_power(d, scene, x):
     (reactions of ideal constraints do no work)."""
     q, qd = scene.state_si()
     params = {k: sp.Float(v) for k, v in scene.si_values().items()}
-    vals = {d.q: sp.Float(q), d.qd: sp.Float(qd), d.t: sp.Float(0.0), d.qdd: sp.Float(x[0]), **params}
+    vals = {d.q: q, d.qd: qd, d.t: 0.0, d.qdd: x[0], **params}
     # T(q, qd) and V(q) do not depend on t (fixed supports): dE/dt = (T_q + V_q) qd + T_qd qdd.
     # (The same identity as (1/2 M' qd^2 + V') qd + M qd qdd with T = 1/2 M qd^2, without
     # expanding the generalized mass M = T_qd_qd, which cost 2/3 of this check; M itself is
@@ -95,9 +99,9 @@ def assert_energy_rate_equals_power(d, scene, x):
         elif load.kind == "couple":
             power_terms.append(load.magnitude * d.omega)
     power = sp.Add(*power_terms)
-    lhs, rhs = float(dE.xreplace(vals)), float(power.xreplace(vals))
+    lhs, rhs, kinetic_rate = values([dE, power, T_qd * d.qdd], vals)  # T_qd qdd = M qd qdd
     # scale: the largest single contribution (kinetic-energy rate terms and power terms)
-    scale = max(1.0, abs(float((T_qd * d.qdd).xreplace(vals))), abs(rhs))  # T_qd qdd = M qd qdd
+    scale = max(1.0, abs(kinetic_rate), abs(rhs))
     assert abs(lhs - rhs) <= 1e-8 * scale
 
 
