@@ -105,7 +105,7 @@ def assert_energy_rate_equals_power(d, scene, x):
     assert abs(lhs - rhs) <= 1e-8 * scale
 
 
-# 12 random bodies x 5 points = 60 route comparisons per run (about 0.8 s per body, six
+# 12 random bodies x 5 points = 60 route comparisons per run (about 0.4 s per body, six
 # derivations each), and the work-energy balance of each body on its derivation about the
 # instant point I (about 0.05 s more: two derivatives of T; it used to draw 10 bodies of its
 # own and derive them again). The default profile draws new bodies every run, pivots, rolling
