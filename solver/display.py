@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import cmath
 from functools import lru_cache, reduce
+from math import gcd as igcd
 
 import sympy as sp
 from sympy.core.exprtools import gcd_terms
@@ -210,6 +211,65 @@ def _together(e: sp.Expr) -> sp.Expr:
     return e.func(*[_together(a) for a in e.args])
 
 
+def _generator_power(x) -> tuple | None:
+    """(generator, integer exponent) of a symbol or function call to a nonzero integer power."""
+    base, exp = (x.base, x.exp) if x.is_Pow else (x, sp.Integer(1))
+    if not exp.is_Integer or not (base.is_Symbol or base.is_Function):
+        return None
+    return base, int(exp)
+
+
+def _positive_integer_sum(x) -> bool:
+    """A sum whose every term is a positive integer times generators to positive integer powers."""
+    for term in x.args:
+        coef, rest = term.as_coeff_Mul()
+        if not (coef.is_Integer and coef > 0):
+            return False
+        for f in sp.Mul.make_args(rest):
+            gp = _generator_power(f) if f != 1 else (None, 1)
+            if gp is None or gp[1] < 1:
+                return False
+    return True
+
+
+def _single_term_fraction(e: sp.Expr) -> tuple[sp.Expr, sp.Expr] | None:
+    """``sympy.fraction(sympy.cancel(e))`` for one term over sums: ``e`` a rational times
+    generators (symbols, function calls) to integer powers times sums to negative integer powers,
+    each sum with positive integer coefficients, and no generator of the numerator in every term of
+    the expanded denominator. There the polynomial gcd is the integer content alone and the denominator's
+    leading coefficient is positive, so cancel's answer is (p/g * numerator monomial,
+    expanded denominator / g), g the gcd of p and the denominator's content. None otherwise."""
+    if not e.is_Mul:
+        return None
+    coef, rest = e.as_coeff_Mul()
+    if not coef.is_Rational:
+        return None
+    top, bottom, sums, top_gens = [], [], [], set()
+    for f in sp.Mul.make_args(rest):
+        if f.is_Pow and f.base.is_Add:
+            if not (f.exp.is_Integer and f.exp < 0 and _positive_integer_sum(f.base)):
+                return None
+            sums.append(f.base ** -f.exp)
+            continue
+        gp = _generator_power(f)
+        if gp is None:
+            return None
+        if gp[1] > 0:
+            top.append(f)
+            top_gens.add(gp[0])
+        else:
+            bottom.append(gp[0] ** -gp[1])
+    if not sums:
+        return None
+    den = sp.expand(sp.Mul(sp.Integer(coef.q), *bottom, *sums))
+    terms = sp.Add.make_args(den)
+    powers = [t.as_powers_dict() for t in terms]
+    if any(all(d.get(g, 0) for d in powers) for g in top_gens):  # a monomial factor in common
+        return None
+    g = reduce(igcd, [int(t.as_coeff_Mul()[0]) for t in terms], abs(coef.p))
+    return sp.Mul(sp.Integer(coef.p // g), *top), sp.Add(*[t / g for t in terms])
+
+
 def _monomial_powers(d: sp.Expr) -> dict | None:
     """{base: exponent} of a product of powers (a monomial denominator), else None."""
     out = {}
@@ -334,12 +394,12 @@ def tidy(expr: sp.Expr) -> sp.Expr:
         return sp.factor_terms(e)
     monomial = _monomial_denominators(e)
     small = _size(e) <= MAX_CANCEL_NODES
-    if not monomial and small:
-        num, den = sp.fraction(sp.cancel(_together(e)))  # common factors out (cheap when small)
+    if not monomial and small:  # common factors out (cheap when small)
+        num, den = _single_term_fraction(e) or sp.fraction(sp.cancel(_together(e)))
     else:
         num, den = _over_common_denominator(e) if _has_denominator(e) else (e, sp.Integer(1))
         if not monomial and not (_denominator_free(num) and _denominator_free(den)):
-            num, den = sp.fraction(sp.cancel(_together(e)))
+            num, den = _single_term_fraction(e) or sp.fraction(sp.cancel(_together(e)))
     # (over monomial denominators the common monomial of the numerator cancels by itself below)
     num, den = _tidy_polynomial(num), _tidy_polynomial(den)
     if den.is_number and den != 0 and num.is_Add:

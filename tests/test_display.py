@@ -98,3 +98,31 @@ def test_the_fast_together_is_sympys_together():
                 for _ in range(rng.randint(1, 4)))
         for expr in (e, sp.expand(e)):
             assert sp.srepr(_together(expr)) == sp.srepr(sp.together(expr))
+
+
+def test_the_single_term_fraction_is_sympys_cancel():
+    """display._single_term_fraction replaces fraction(cancel(...)) for one term over sums (the
+    disk-bar's l_b m_b cos(theta)/(2 (m_b + m_d))) for speed: it must give the very same numerator
+    and denominator. Random terms over products of sums, with generators shared between numerator
+    and denominator (m_b above), integer contents in common, and powers of sums; compared
+    structurally, and the fast path must actually be taken on most of them."""
+    from solver.display import _single_term_fraction, _together
+
+    a, b, x = sp.symbols("a b x", real=True)
+    gens = [a, b, x, c, s, beta]
+    rng = random.Random(11)
+    taken = 0
+    for _ in range(300):
+        num = sp.Rational(rng.choice([-12, -3, -1, 1, 2, 4, 6]), rng.randint(1, 6))
+        for _ in range(rng.randint(0, 3)):
+            num *= rng.choice(gens) ** rng.choice([1, 1, 2, -1])
+        den = 1
+        for _ in range(rng.randint(1, 2)):
+            den *= sum(rng.randint(1, 6) * rng.choice(gens) ** rng.randint(1, 2)
+                       for _ in range(rng.randint(2, 3))) ** rng.choice([1, 1, 2])
+        e = num / (den * rng.choice([1, 1, -1, 2, a + 1]))
+        fast = _single_term_fraction(e)
+        if fast is not None:
+            taken += 1
+            assert sp.srepr(fast) == sp.srepr(sp.fraction(sp.cancel(_together(e)))), e
+    assert taken > 150

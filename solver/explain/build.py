@@ -251,16 +251,17 @@ def _force_vectors(forces: list[_Force]) -> list[Equation]:
             for f in forces if f.force is not None]
 
 
+def _element_offsets(system, body: str, P: str):
+    """(element, m_k, r_k/P) per element."""
+    r_P = system.point_position(body, P)
+    return [(e, e.mass, system.body_point(body, e.mass_center) - r_P) for e in system.bodies[body].elements]
+
+
 def _element_accelerations(system, body: str, P: str):
     """(element, m_k, r_k/P, a_k) per element, a_k by Eq. 15 from P."""
-    r_P = system.point_position(body, P)
     a_P = system.point_acceleration(body, P)
     w, al = system.omega(body), system.alpha(body)
-    out = []
-    for e in system.bodies[body].elements:
-        r = system.body_point(body, e.mass_center) - r_P
-        out.append((e, e.mass, r, a_P + k_cross(al, r) - w**2 * r))
-    return out
+    return [(e, m, r, a_P + k_cross(al, r) - w**2 * r) for e, m, r in _element_offsets(system, body, P)]
 
 
 def _newton_step(system, body: str, P: str, forces: list[_Force]) -> Step:
@@ -310,7 +311,7 @@ def _euler_step(system, body: str, P: str, forces: list[_Force]) -> tuple[Step, 
             dropped.append(f)
             continue
         lhs.append(Term(tidy(m), f"moment of {f.name} about {P}"))
-    S = sum(((m_k * r) for _, m_k, r, _ in _element_accelerations(system, body, P)), sp.zeros(2, 1))
+    S = sum(((m_k * r) for _, m_k, r in _element_offsets(system, body, P)), sp.zeros(2, 1))
     inertial = -cross_k(S, a_P)
     if not _zero(inertial):
         lhs.append(Term(tidy_linear(inertial, rates), f"inertial term -r_G/{P} x m a_{P}"))
