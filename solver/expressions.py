@@ -359,9 +359,13 @@ class _Builder:
         return self._checked(func(*args), node)
 
     def _checked(self, value: sp.Expr, node: ast.AST) -> sp.Expr:
-        """A constant sub-expression must be a real number of bounded size (or undefined,
-        which :func:`parse_expression` reports); names pass unchecked."""
-        if not value.is_number or value.has(sp.zoo, sp.nan, sp.oo, -sp.oo):
+        """A constant sub-expression must be a real number of bounded size; an undefined one
+        (zoo, nan, oo) is refused at once; names pass unchecked."""
+        if value.has(sp.zoo, sp.nan, sp.oo, -sp.oo):
+            # refused where it happens: an enclosing node could hide it (1/(0**-1) is 0 to sympy)
+            raise self._fail("the expression is undefined (division by zero or a function outside its domain)",
+                             node)
+        if not value.is_number:
             # constant factors combine as they are built: L*1e299*1e299 holds 10**598
             for r in value.atoms(sp.Rational):
                 if max(len(str(abs(r.p))), len(str(r.q))) > MAX_DIGITS + 1:

@@ -189,9 +189,10 @@ def _extend(children):
         lambda t: (f"{t[0]}({t[1][0]})", 5, getattr(sp, t[0])(t[1][2]),
                    t[1][3] or (t[1][2].is_number and abs(complex(sp.N(t[1][2], 20))) > MAX_ARGUMENT))
     )
-    # a constant outside the documented limits anywhere in the tree must be refused too
+    # a constant outside the documented limits anywhere in the tree must be refused too, and so
+    # must an undefined node even where its parent hides it (1/(0**-1) is 0 to sympy)
     return st.one_of(binary, negation, power, call).map(
-        lambda t: (*t[:3], t[3] or not _constant_within_limits(t[2]))
+        lambda t: (*t[:3], t[3] or not _constant_within_limits(t[2]) or t[2].has(sp.zoo, sp.nan, sp.oo, -sp.oo))
     )
 
 
@@ -222,3 +223,11 @@ def test_random_trees_parse_to_their_value(tree: Tree) -> None:
         return
     parsed = parse(text)
     assert parsed == expected or sp.expand(parsed - expected) == 0, text
+
+
+@pytest.mark.parametrize("text", ["1/(0**-1)", "x/(0^-1)", "-(0**-1)**-1", "2 + (0**-2)**-1"])
+def test_an_undefined_node_is_refused_even_where_its_parent_hides_it(text):
+    # Regression (found by the random-tree property): sympy turns 1/zoo into 0, so 1/(0**-1)
+    # parsed to 0 instead of being refused as a division by zero.
+    with pytest.raises(ExpressionError, match="undefined"):
+        parse(text)
