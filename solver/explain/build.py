@@ -619,22 +619,7 @@ def _motion_step(system, f, expl) -> Step | None:
                         f"{', '.join(map(str, subs))}; {', '.join(used)} give(s) it without other reactions.")
     Q = system.generalized_forces()
     for c, e, q in zip(system.free, equations_of_motion(f), Q):
-        e = sp.expand(e + q)  # M q'' + ... (the generalized force moved to the right)
-        lhs = []
-        for x in qdd:
-            coef = e.coeff(x)
-            if coef != 0:
-                lhs.append(Term(tidy(coef) * x, f"M {x}"))
-        rest = sp.expand(e - sp.Add(*[t.expr for t in lhs]))
-        for x in rates:
-            coef = rest.coeff(x)
-            if coef != 0 and not coef.has(*system.qd):
-                lhs.append(Term(tidy(coef) * x, f"rate terms {x}"))
-                rest = sp.expand(rest - coef * x)
-        if rest != 0:
-            lhs.append(Term(tidy(rest), "configuration terms"))
-        eqs.append(Equation(tuple(lhs), (Term(tidy(q), "Q"),), f"equation of motion in {c.name}",
-                            "reactions eliminated", tag=f"eom:{c.name}"))
+        eqs.append(_structured_eom(system, c, e, q, (), "reactions eliminated"))
     small = _small_oscillations(system, eqs[-1]) if len(system.free) == 1 else None
     if small is not None:
         eqs.extend(_small_motion_rules(system, eqs[-1]))  # Eq. 45
@@ -709,8 +694,9 @@ def _normal_force_from_newton(expl, contact, r, known: dict, unknown: set):
     return -e.xreplace({r: 0}) / coef, f"Newton along the normal of contact {joint.name} ({joint.second})"
 
 
-def _structured_eom(system, c, e, q, keep) -> Equation:
-    """M q'' + (rate terms) + (configuration terms) - (reaction terms in ``keep``) = Q for one coordinate."""
+def _structured_eom(system, c, e, q, keep, ref: str = "projected on the partial velocities") -> Equation:
+    """M q'' + (rate terms) + (configuration terms) - (reaction terms in ``keep``) = Q for one coordinate
+    (``e + q``: the equation with the generalized force ``q`` moved to the right)."""
     rates = [a * b for i, a in enumerate(system.qd) for b in system.qd[i:]]
     e = sp.expand(e + q)
     lhs = []
@@ -731,7 +717,7 @@ def _structured_eom(system, c, e, q, keep) -> Equation:
     if rest != 0:
         lhs.append(Term(tidy(rest), "configuration terms"))
     return Equation(tuple(lhs) or (Term(sp.Integer(0)),), (Term(tidy(q), "Q"),),
-                    f"equation of motion in {c.name}", "projected on the partial velocities", tag=f"eom:{c.name}")
+                    f"equation of motion in {c.name}", ref, tag=f"eom:{c.name}")
 
 
 def _constrained_motion_step(system, f, expl) -> Step:
