@@ -709,30 +709,158 @@ def _separatrix_error(system: OneDofSystem, amplitude: float, q_max: float, wher
 _WELL_NODES = 8192  # grid points per side of the equilibrium (spacing 4 pi / 8192 = 1.5e-3 rad)
 
 
+# --------------------------------------------------------------------------- potential differences
+# V(q_ref) - V(q) near a turning point q_ref is a difference of nearly equal numbers: in
+# float64 it loses about log10(|V| / (V(q_ref) - V(q))) digits (at 1 deg, 2 log10(1/q0) = 7
+# digits from the amplitude alone). Written as products (cos b - cos a = -2 sin((a+b)/2)
+# sin((b-a)/2), term by term) with q_ref - q formed exactly, it keeps its relative accuracy.
+_REF = sp.Dummy("q_ref", real=True)
+_STEP = sp.Dummy("q_ref_minus_q", real=True)  # q_ref - q, given exactly by the caller
+_DIFF_OPS = 400  # larger potentials are differenced directly (the round-off estimate says so)
+
+
+def _difference(expr: sp.Expr, q: sp.Symbol) -> tuple[sp.Expr, sp.Expr | None]:
+    """(D, B): D = expr(q_ref) - expr(q) without cancellation, and B >= |D| the size its
+    round-off scales with (about eps B), or None when that is |D| itself.
+
+    D is in q, q_ref (``_REF``) and q_ref - q (``_STEP``, which the caller forms exactly:
+    only sums of function values such as (q + q_ref) / 2 take q and q_ref themselves).
+
+    B differs from |D| where D adds differences of both signs (a sum, or the product rule):
+    there the round-off is eps times the sum of their magnitudes. Functions without a product
+    formula here are differenced directly, with B = |f(q_ref)| + |f(q)|.
+    """
+    if sp.count_ops(expr) > _DIFF_OPS:
+        return _plain_difference(expr, q)
+    return _diff(sp.sympify(expr), q, {})
+
+
+def _plain_difference(e: sp.Expr, q: sp.Symbol) -> tuple[sp.Expr, sp.Expr]:
+    e0 = e.xreplace({q: _REF})
+    return e0 - e, sp.Abs(e0) + sp.Abs(e)
+
+
+def _size(D: sp.Expr, B: sp.Expr | None) -> sp.Expr:
+    return sp.Abs(D) if B is None else B
+
+
+def _diff(e: sp.Expr, q: sp.Symbol, memo: dict) -> tuple[sp.Expr, sp.Expr | None]:
+    """One node of :func:`_difference` (memoised per sub-expression)."""
+    if e in memo:
+        return memo[e]
+    if not e.has(q):
+        out = (sp.Integer(0), None)
+    elif e == q:
+        out = (_STEP, None)
+    elif isinstance(e, sp.Add):
+        parts = [_diff(t, q, memo) for t in e.args if t.has(q)]
+        D = sp.Add(*[d for d, _ in parts])
+        out = (D, parts[0][1] if len(parts) == 1 else sp.Add(*[_size(d, b) for d, b in parts]))
+    elif isinstance(e, sp.Mul):
+        c, f = e.as_independent(q, as_Add=False)
+        factors = sp.Mul.make_args(f)
+        D, B = _diff(factors[0], q, memo)
+        head = factors[0]
+        for g in factors[1:]:  # product rule: D(h g) = D(h) g(q_ref) + h D(g)
+            Dg, Bg = _diff(g, q, memo)
+            g0 = g.xreplace({q: _REF})
+            D, B = D * g0 + head * Dg, _size(D, B) * sp.Abs(g0) + sp.Abs(head) * _size(Dg, Bg)
+            head = head * g
+        out = (c * D, None if B is None else sp.Abs(c) * B)
+    elif isinstance(e, sp.Pow) and not e.exp.has(q):
+        out = _diff_power(e.base, e.exp, q, memo)
+    elif isinstance(e, (sp.sin, sp.cos, sp.exp, sp.log)):
+        out = _diff_function(e, q, memo)
+    else:
+        out = _plain_difference(e, q)
+    memo[e] = out
+    return out
+
+
+def _scaled(D: sp.Expr, inner: tuple[sp.Expr, sp.Expr | None]) -> sp.Expr | None:
+    """B of a function of an argument whose difference is ``inner``: relative round-off carried over."""
+    Da, Ba = inner
+    return None if Ba is None else sp.Abs(D) * Ba / sp.Abs(Da)
+
+
+def _diff_power(b: sp.Expr, n: sp.Expr, q: sp.Symbol, memo: dict) -> tuple[sp.Expr, sp.Expr | None]:
+    """b(q_ref)^n - b(q)^n: a geometric sum for small integer n, else b^n expm1(n log1p(Db / b))."""
+    from sympy.codegen.cfunctions import expm1, log1p
+
+    inner = _diff(b, q, memo)
+    Db = inner[0]
+    b0 = b.xreplace({q: _REF})
+    if n.is_Integer and 0 < n <= 8:
+        D = Db * sp.Add(*[b0**i * b ** (n - 1 - i) for i in range(int(n))])
+    elif n.is_Integer and -8 <= n < 0:
+        D = -Db * sp.Add(*[b0**i * b ** (-n - 1 - i) for i in range(int(-n))]) / (b0 ** (-n) * b ** (-n))
+    else:
+        D = b**n * expm1(n * log1p(Db / b))
+    return D, _scaled(D, inner)
+
+
+def _diff_function(e: sp.Expr, q: sp.Symbol, memo: dict) -> tuple[sp.Expr, sp.Expr | None]:
+    """sin, cos, exp, log of an argument a: products of the half-difference (Da / 2)."""
+    from sympy.codegen.cfunctions import expm1, log1p
+
+    a = e.args[0]
+    inner = _diff(a, q, memo)
+    Da = inner[0]
+    mid = (a + a.xreplace({q: _REF})) / 2  # the two values summed: exact where they nearly cancel
+    if isinstance(e, sp.cos):
+        D = -2 * sp.sin(mid) * sp.sin(Da / 2)
+    elif isinstance(e, sp.sin):
+        D = 2 * sp.cos(mid) * sp.sin(Da / 2)
+    elif isinstance(e, sp.exp):
+        D = e * expm1(Da)
+    else:
+        D = log1p(Da / a)
+    return D, _scaled(D, inner)
+
+
 @dataclass(frozen=True)
 class _Compiled:
     """The compiled potential and mass of one set of parameter values, for the period
     (memoised on the system: fetching and wrapping them per call cost more than a small
-    quadrature). The vectorised ones keep the precision of their argument (float64 or
-    long double)."""
+    quadrature)."""
 
-    V: Callable
+    V: Callable  # vectorised
     dV: Callable
     Vs: Callable  # scalar (math module)
     dVs: Callable
-    M: Callable  # float64; sin^2 + cos^2 reduced first (fewer array operations per node)
+    M: Callable  # vectorised; sin^2 + cos^2 reduced first (fewer array operations per node)
+    diff: Callable  # (q, q_ref, q_ref - q) arrays -> V(q_ref) - V(q), or (that, its size B) when ``sized``
+    diffs: Callable  # (q, q_ref) Python floats -> V(q_ref) - V(q) (the difference alone)
+    sized: bool  # False: the difference's round-off is eps |D| (no sum of both signs)
 
 
-def _bound(system: OneDofSystem, key, expr: Callable[[], sp.Expr]) -> Callable:
-    """The vectorised lambdified ``expr`` (memoised per ``key``) with the parameter values
-    bound; a result free of q is broadcast over q."""
-    f = system._fn(key, (system.q,), expr, "numpy")
+def _bound(system: OneDofSystem, key, expr: Callable[[], sp.Expr], args: tuple = ()) -> Callable:
+    """The vectorised lambdified ``expr`` of (q, *args) (memoised per ``key``) with the
+    parameter values bound; a result free of q is broadcast over q."""
+    f = system._fn(key, (system.q, *args), expr, "numpy")
     vals = system.values
     with np.errstate(all="ignore"):
-        vector = np.shape(f(np.array([0.3, 0.7]), *vals)) == (2,)
-    if vector:
-        return lambda q: f(q, *vals)
-    return lambda q: f(q, *vals) + 0.0 * q
+        probe = f(np.array([0.3, 0.7]), *[np.array([0.4, 0.9])] * len(args), *vals)
+    several = isinstance(probe, (tuple, list))
+    if all(np.shape(x) == (2,) for x in (probe if several else (probe,))):
+        return lambda q, *rest: f(q, *rest, *vals)
+    if several:
+        return lambda q, *rest: tuple(x + 0.0 * q for x in f(q, *rest, *vals))
+    return lambda q, *rest: f(q, *rest, *vals) + 0.0 * q
+
+
+def _potential_difference(system: OneDofSystem) -> tuple[sp.Expr, sp.Expr | None]:
+    """:func:`_difference` of V_eff with its terms grouped by their q-dependent factor
+    (so that c1 cos q + c2 cos q is one difference, not a sum of two); memoised per
+    switched-off loads."""
+    def build():
+        groups: dict = {}
+        for term in sp.Add.make_args(sp.sympify(system.effective_potential())):
+            c, f = term.as_independent(system.q, as_Add=False)
+            groups[f] = groups.get(f, 0) + c
+        return _difference(sp.Add(*[c * f for f, c in groups.items()]), system.q)
+
+    return system._memo(("V difference", system._zero_parameters()), build)
 
 
 def _compiled(system: OneDofSystem) -> _Compiled:
@@ -743,8 +871,13 @@ def _compiled(system: OneDofSystem) -> _Compiled:
         V = [_bound(system, (f"V{d}", zeros), lambda d=d: sp.diff(system.effective_potential(), system.q, d))
              for d in (0, 1)]
         M = _bound(system, "M reduced", lambda: reduce_trig(sp.sympify(system.mass)) or system.mass)
+        D, B = _potential_difference(system)
+        diff = _bound(system, ("V difference", zeros), lambda: D if B is None else (D, B), (_REF, _STEP))
+        diffs = system._fn(("V difference scalar", zeros), (system.q, _REF, _STEP), lambda: D, "math")
+        vals = system.values
         return _Compiled(V[0], V[1], system.potential_fn(0, precision="scalar"),
-                         system.potential_fn(1, precision="scalar"), M)
+                         system.potential_fn(1, precision="scalar"), M, diff,
+                         lambda q, ref: float(diffs(q, ref, ref - q, *vals)), B is not None)
 
     return system._memo(("period functions", system.values), build)
 
@@ -784,6 +917,29 @@ def _well(system: OneDofSystem, qe: float, reach: float) -> _Well:
     return system._memo(("well", system.values, qe, reach), build)
 
 
+def _far_turning_point(fns: _Compiled, q0: float, bracket: tuple[float, float],
+                       values: tuple[float, float]) -> float:
+    """The root of V(x) = V(q0) in ``bracket`` (V there: ``values``, on either side of V(q0)).
+
+    Newton steps on V(q0) - V(x) written without cancellation (``fns.diffs``: at small
+    amplitudes the plain difference would place the root to a few digits only), from the
+    linear interpolation of the scan; brentq on the same difference if a step leaves the
+    bracket. The last step is below 1e-10 of the bracket, so the root is to the last bit.
+    """
+    (lo, hi), (V_lo, V_hi) = bracket, values
+    V0 = fns.Vs(q0)
+    x = hi if V_hi == V0 else lo + (hi - lo) * (V0 - V_lo) / (V_hi - V_lo)
+    f = lambda x: fns.diffs(x, q0)  # noqa: E731 - V(q0) - V(x)
+    for _ in range(8):
+        step = f(x) / fns.dVs(x)
+        if not (math.isfinite(step) and min(lo, hi) <= x + step <= max(lo, hi)):
+            break
+        x += step
+        if abs(step) <= 1e-10 * abs(hi - lo):  # quadratic convergence: the next step is below an ulp
+            return x + f(x) / fns.dVs(x)
+    return brentq(f, min(lo, hi), max(lo, hi), xtol=1e-300, rtol=4 * _EPS, maxiter=500, disp=False)
+
+
 def turning_points(system: OneDofSystem, equilibrium: Equilibrium, amplitude: float) -> tuple[float, float]:
     """Both turning points (q1, q0) of a release from rest at q0 = q_e + amplitude.
 
@@ -816,7 +972,8 @@ def turning_points(system: OneDofSystem, equilibrium: Equilibrium, amplitude: fl
     if inside > near.rising:
         raise _separatrix_error(system, amplitude, float(near.q[near.rising]),
                                 "lies between the equilibrium and the release point")
-    if not s * fns.dVs(q0) > 1e-12 * well.scale:
+    slope0 = fns.dVs(q0)
+    if not s * slope0 > 1e-12 * well.scale:
         raise _separatrix_error(system, amplitude, q0, "lies between the equilibrium and the release point")
     # other side: V rises until it reaches V0, with no maximum on the way
     j = int(np.searchsorted(far.V[: far.rising], V0, side="left"))
@@ -830,14 +987,11 @@ def turning_points(system: OneDofSystem, equilibrium: Equilibrium, amplitude: fl
                                 "on the far side is lower than the release point")
     lo = qe if j == 0 else float(far.q[j - 1])
     hi = float(far.q[j])
-    if fns.Vs(hi) == V0:
-        q1 = hi
-    else:
-        q1 = brentq(lambda x: fns.Vs(x) - V0, lo, hi, xtol=1e-300, rtol=4 * _EPS, maxiter=500, disp=False)
+    q1 = _far_turning_point(fns, q0, (lo, hi), (Ve if j == 0 else float(far.V[j - 1]), float(far.V[j])))
     # a turning point at a (numerically) flat potential is the separatrix itself
-    flat = 1e-9 * well.scale
-    if abs(fns.dVs(q1)) <= flat or abs(fns.dVs(q0)) <= flat:
-        raise _separatrix_error(system, amplitude, q1 if abs(fns.dVs(q1)) <= flat else q0, "is reached exactly")
+    flat, slope1 = 1e-9 * well.scale, abs(fns.dVs(q1))
+    if slope1 <= flat or abs(slope0) <= flat:
+        raise _separatrix_error(system, amplitude, q1 if slope1 <= flat else q0, "is reached exactly")
     if system.limits:
         for turn in (q0, q1):
             check_limits(system, turn, "a turning point of the swing")
@@ -1065,64 +1219,66 @@ def _validate_exact_period(system: OneDofSystem, amplitude: float, tol: float, p
         raise InputError(f"tolerance must lie in [{TOL_MIN:g}, {TOL_MAX:g}], got {tol!r}")
 
 
-_LD = np.longdouble
-_EPS_LD = float(np.finfo(_LD).eps)  # 1.1e-19 with x86's 80-bit extended precision
+@dataclass(frozen=True)
+class _Nodes:
+    """The 3n midpoint nodes u_k of (-pi/2, pi/2) in increasing order, as the numbers the
+    sum needs (the same for every call); every third one from the second on is a node of
+    the n-node rule. The nodes below the middle are measured from q1, the others from q0."""
+
+    sin: np.ndarray  # sin u
+    step: np.ndarray  # (end - q) / h: -(1 + sin u) below the middle, 1 - sin u above
+    cos2: np.ndarray  # cos^2 u = (q0 - q)(q - q1) / h^2
+    lower: np.ndarray  # below the middle
 
 
 @functools.lru_cache(maxsize=32)
-def _midpoint_sines(n: int) -> np.ndarray:
-    """sin(u_k) at the n midpoint nodes u_k of (-pi/2, pi/2) (the same for every call)."""
-    u = -0.5 * math.pi + math.pi * (np.arange(n) + 0.5) / n
-    out = np.sin(u)
-    out.flags.writeable = False
+def _nodes(n: int) -> _Nodes:
+    u = -0.5 * math.pi + math.pi * (np.arange(3 * n) + 0.5) / (3 * n)
+    w = 0.25 * math.pi - 0.5 * u
+    below, above = 2.0 * np.cos(w) ** 2, 2.0 * np.sin(w) ** 2  # 1 + sin u, 1 - sin u without cancellation
+    lower = np.arange(3 * n) < 3 * n // 2
+    out = _Nodes(np.sin(u), np.where(lower, -below, above), below * above, lower)
+    for a in (out.sin, out.step, out.cos2, out.lower):
+        a.flags.writeable = False
     return out
 
 
-def _float_sum(M, V, V0, q0, q1, n):
-    """Midpoint rule in u with n nodes; returns (T, round-off estimate, ok).
+_SQRT2_PI = math.sqrt(2.0) * math.pi  # 2 pi / sqrt(2): T = 2 pi mean sqrt(M / (2 g))
 
-    The nodes q = q_m + h sin(u) are float64; the integrand
-    sqrt(M(q) (q0 - q)(q - q1) / (2 (V0 - V(q)))) is evaluated at exactly those q, with
-    the differences q0 - q, q - q1 and V0 - V(q) in numpy's long double (``V`` a
-    long-double potential, ``V0``, ``q0``, ``q1`` long doubles): the difference of
-    nearly equal potentials near the turning points and at small amplitudes keeps about
-    11 more bits than in float64 (on x86; where long double is float64 the estimate says
-    so). M and the sum are float64.
+
+def _float_sums(fns: _Compiled, ends: tuple[float, float], n: int):
+    """The midpoint rule in u with 3n and with n nodes: (T, T_n, round-off estimate, ok).
+
+    Each node q = q_m + h sin(u) lies at the exact distance h (1 + sin u) from q1 or
+    h (1 - sin u) from q0, whichever is nearer; its integrand
+    sqrt(M (q0 - q)(q - q1) / (2 D)) = sqrt(M h^2 cos^2 u / (2 D)) takes
+    D = V(end) - V(q) (= V(q0) - V(q), both ends being roots) from that distance without
+    cancellation (:func:`_difference`). The float64 numbers q, q1, q0 enter only sums of
+    function values, so D keeps its relative accuracy, a few ulps (times B / |D| where it
+    adds differences of both signs), however close the node to an end and however small
+    the amplitude. The turning points need only be the nearest floats to the roots.
     """
-    qm, h = float((q0 + q1) / 2), float((q0 - q1) / 2)
-    q = qm + h * _midpoint_sines(n)
-    ql = q.astype(_LD)
+    q1, q0 = ends
+    nodes = _nodes(n)
+    h = 0.5 * (q0 - q1)
+    q = 0.5 * (q0 + q1) + h * nodes.sin
     with np.errstate(all="ignore"):
-        Vq = V(ql)
-        dV = V0 - Vq
-        g = (dV / ((q0 - ql) * (ql - q1))).astype(float)
-        hq = np.sqrt(M(q) / (2.0 * g))
-        total = float(hq.sum())
-        if not (math.isfinite(total) and (hq > 0).all()):  # M > 0 and g > 0 at every node
-            return math.nan, math.inf, False
-        # round-off in V0 - V(q) relative to the difference, weighted as in the sum
-        rel = ((abs(V0) + np.abs(Vq)) / np.abs(dV)).astype(float)
-    T = 2.0 * math.pi / n * total
-    err = 2.0 * _EPS_LD * float(hq @ rel) / total + 2.0 * _EPS  # plus float64's M and sum
-    return T, err, True
-
-
-def _polish_turning_point(system: OneDofSystem, V, V0, q1: float):
-    """q1 as a long double, sharpened by Newton steps on V(q) = V0 in long double (the
-    float64 root leaves V(q1) - V0 at float64 round-off, which the node nearest q1 feels)."""
-    dV = _compiled(system).dV
-    x = _LD(q1)
-    for _ in range(2):
-        with np.errstate(all="ignore"):
-            step = (V(x) - V0) / dV(x)
-        if not (np.isfinite(step) and abs(float(step)) <= 1e-8 * (1.0 + abs(q1))):
-            break
-        x = x - step
-    return x
+        out = fns.diff(q, np.where(nodes.lower, q1, q0), h * nodes.step)
+        D, B = out if fns.sized else (out, None)
+        f = np.sqrt(fns.M(q) * (h * h) * nodes.cos2 / D)  # times 1 / sqrt(2) below
+        total = float(f.sum())
+        if not math.isfinite(total):  # M > 0 and D > 0 at every node, else nan
+            return math.nan, math.nan, math.inf, False
+        # D to 2 ulps relative (scaled by B / |D|), half of it in f; M and the sum 2 ulps
+        err = 2.0 * _EPS * (1.0 if B is None else float(f @ (B / np.abs(D))) / total) + 2.0 * _EPS
+    T = _SQRT2_PI / nodes.sin.size * total
+    T_n = _SQRT2_PI / n * float(f[1::3].sum())
+    return T, T_n, err, True
 
 
 def _mp_sum(system, q0, q1, n, dps=_MP_DPS):
-    """The same midpoint sum with V0 - V(q) and the nodes in mpmath at ``dps`` digits."""
+    """The same midpoint sums (3n and n nodes) with V0 - V(q) and the nodes in mpmath at
+    ``dps`` digits: (T, T_n, ok)."""
     Vmp = system.potential_fn(0, precision="mpmath")
     M = system.mass_fn()
     with mpmath.workdps(dps):
@@ -1134,18 +1290,20 @@ def _mp_sum(system, q0, q1, n, dps=_MP_DPS):
         except (ValueError, ZeroDivisionError):
             pass
         qm, h = (mq0 + mq1) / 2, (mq0 - mq1) / 2
-        total = mpmath.mpf(0)
-        for k in range(n):
-            u = -mpmath.pi / 2 + mpmath.pi * (k + mpmath.mpf(1) / 2) / n
+        total, coarse = mpmath.mpf(0), mpmath.mpf(0)
+        for k in range(3 * n):
+            u = -mpmath.pi / 2 + mpmath.pi * (k + mpmath.mpf(1) / 2) / (3 * n)
             w = mpmath.pi / 4 - u / 2
             d0 = 2 * h * mpmath.sin(w) ** 2
             d1 = 2 * h * mpmath.cos(w) ** 2
             q = qm + h * mpmath.sin(u)
             g = (V0 - Vmp(q)) / (d0 * d1)
             if not g > 0:
-                return math.nan, False
-            total += mpmath.sqrt(mpmath.mpf(float(M(float(q)))) / (2 * g))
-        return float(2 * mpmath.pi / n * total), True
+                return math.nan, math.nan, False
+            term = mpmath.sqrt(mpmath.mpf(float(M(float(q)))) / (2 * g))
+            total += term
+            coarse += term if k % 3 == 1 else 0
+        return float(2 * mpmath.pi / (3 * n) * total), float(2 * mpmath.pi / n * coarse), True
 
 
 def exact_period(
@@ -1211,51 +1369,55 @@ def exact_period(
 
 
 # The arithmetics the quadrature tries in turn, cheapest first (``precision`` argument).
-_LEVELS = {"auto": ("longdouble", "mpmath"), "float64": ("longdouble",), "mpmath": ("mpmath",)}
+_LEVELS = {"auto": ("float64", "mpmath"), "float64": ("float64",), "mpmath": ("mpmath",)}
 
 
-def _level_sum(system: OneDofSystem, level: str, q1: float, q0: float, turn: int, amplitude: float) -> Callable:
-    """n -> (T, round-off estimate, ok): the midpoint sum in one arithmetic.
-
-    ``turn`` indexes the release point in (q1, q0) (exact); the other turning point,
-    found by a float64 root search, is first sharpened in long double
-    (:func:`_polish_turning_point`), or found again at the working precision in mpmath.
-    """
-    fns = _compiled(system)
-    ends = (q1, q0)
+def _level_sum(system: OneDofSystem, level: str, ends: tuple[float, float], turn: int,
+               amplitude: float) -> Callable:
+    """n -> (T with 3n nodes, T_n with n, round-off estimate, ok): the midpoint sums in one
+    arithmetic. ``turn`` indexes the release point in ``ends`` = (q1, q0) (exact); the
+    other turning point is a float64 root, whose residual V(release) - V(root) the float64
+    sum carries (:func:`_float_sums`); mpmath finds it again at its working precision."""
+    q1, q0 = ends
     if level == "mpmath":
         # V0 - V(q) shrinks like amplitude**2: add digits for small amplitudes
         dps = _MP_DPS + max(0, int(math.ceil(-2.0 * math.log10(abs(amplitude)))))
 
-        def mp_total(n):
-            T, ok = _mp_sum(system, q0, q1, n, dps=dps)
-            return T, 10.0 ** (-_MP_DPS + 8), ok
-        return mp_total
-    ld = [_LD(q1), _LD(q0)]
-    V0 = fns.V(ld[turn])
-    ld[1 - turn] = _polish_turning_point(system, fns.V, V0, ends[1 - turn])
-    return lambda n: _float_sum(fns.M, fns.V, V0, ld[1], ld[0], n)
+        def mp_sums(n):
+            T, T_n, ok = _mp_sum(system, q0, q1, n, dps=dps)
+            return T, T_n, 10.0 ** (-_MP_DPS + 8), ok
+        return mp_sums
+    fns = _compiled(system)
+    return lambda n: _float_sums(fns, ends, n)
+
+
+def _next_nodes(n: int, change: float, tol: float) -> int:
+    """The next n (a power of 2 times 8) for the n-node sum to reach tol / 4 when the error of
+    the last one, ``change`` (relative), falls geometrically with n: between 2 n and 16 n."""
+    want = n * math.log(tol / 4) / math.log(change) if 0.0 < change < 1.0 else 16 * n
+    return n * 2 ** min(4, max(1, math.ceil(math.log2(max(want, 1.0) / n))))
 
 
 def _quadrature_period(system: OneDofSystem, eq: Equilibrium, amplitude: float, tol: float,
                        precision: str) -> PeriodResult:
-    """The midpoint sum (module docstring) doubled from 8 nodes until two sums agree to
-    tol / 2, in the cheapest arithmetic whose round-off estimate stays within tol / 4."""
+    """The midpoint sums with 3n and n nodes (module docstring), n from 8 up, until the two
+    agree to tol / 2, in the cheapest arithmetic whose round-off estimate stays within tol / 4."""
     q1, q0 = turning_points(system, eq, amplitude)
     turn = 1 if abs(q0 - (eq.q + amplitude)) <= abs(q1 - (eq.q + amplitude)) else 0
     levels = _LEVELS[precision]
     for level in levels:
-        total = _level_sum(system, level, q1, q0, turn, amplitude)
-        n, prev = 8, None
-        while n <= _MAX_NODES:
-            T, err_round, ok = total(n)
-            if not ok or (err_round > tol / 4 and level != levels[-1]):
+        sums = _level_sum(system, level, (q1, q0), turn, amplitude)
+        n = 8
+        while 3 * n <= _MAX_NODES:
+            T, T_n, err_round, ok = sums(n)
+            if not ok or (not err_round <= tol / 4 and level != levels[-1]):
                 break  # the next arithmetic (the last one reports its estimate as it is)
-            if prev is not None and abs(T - prev) <= tol / 2 * abs(T):
-                est = max(abs(T - prev) / abs(T) + err_round, 2 * _EPS)
+            change = abs(T - T_n) / abs(T)
+            if change <= tol / 2:
+                est = max(change + err_round, 2 * _EPS)
                 return PeriodResult(T, eq.period, T / eq.period, amplitude, eq.q, (q1, q0), "quadrature",
-                                    est, n, "mpmath" if level == "mpmath" else "float64")
-            prev, n = T, 2 * n
+                                    est, 3 * n, "mpmath" if level == "mpmath" else "float64")
+            n = _next_nodes(n, change, tol)
         else:
             raise QuadratureError(
                 f"{system.name}: the period quadrature did not reach tolerance {tol:g} with {_MAX_NODES} nodes "
