@@ -79,7 +79,7 @@ __all__ = [
 ]
 
 from .limits import TOL_MAX, TOL_MIN  # noqa: E402 - the accepted range of tolerances
-_EPS = np.finfo(float).eps
+_EPS = float(np.finfo(float).eps)
 _MAX_NODES = 2**17
 _MP_DPS = 34
 
@@ -715,7 +715,7 @@ _WELL_NODES = 8192  # grid points per side of the equilibrium (spacing 4 pi / 81
 # digits from the amplitude alone). Written as products (cos b - cos a = -2 sin((a+b)/2)
 # sin((b-a)/2), term by term) with q_ref - q formed exactly, it keeps its relative accuracy.
 _REF = sp.Dummy("q_ref", real=True)
-_STEP = sp.Dummy("q_ref_minus_q", real=True)  # q_ref - q, given exactly by the caller
+_HALF = sp.Dummy("half_step", real=True)  # (q_ref - q) / 2, given exactly by the caller
 _DIFF_OPS = 400  # larger potentials are differenced directly (the round-off estimate says so)
 
 
@@ -723,8 +723,8 @@ def _difference(expr: sp.Expr, q: sp.Symbol) -> tuple[sp.Expr, sp.Expr | None]:
     """(D, B): D = expr(q_ref) - expr(q) without cancellation, and B >= |D| the size its
     round-off scales with (about eps B), or None when that is |D| itself.
 
-    D is in q, q_ref (``_REF``) and q_ref - q (``_STEP``, which the caller forms exactly:
-    only sums of function values such as (q + q_ref) / 2 take q and q_ref themselves).
+    D is in q, q_ref (``_REF``) and (q_ref - q) / 2 (``_HALF``, which the caller forms
+    exactly: q and q_ref themselves enter only function values, not their differences).
 
     B differs from |D| where D adds differences of both signs (a sum, or the product rule):
     there the round-off is eps times the sum of their magnitudes. Functions without a product
@@ -751,7 +751,7 @@ def _diff(e: sp.Expr, q: sp.Symbol, memo: dict) -> tuple[sp.Expr, sp.Expr | None
     if not e.has(q):
         out = (sp.Integer(0), None)
     elif e == q:
-        out = (_STEP, None)
+        out = (2 * _HALF, None)
     elif isinstance(e, sp.Add):
         parts = [_diff(t, q, memo) for t in e.args if t.has(q)]
         D = sp.Add(*[d for d, _ in parts])
@@ -806,7 +806,7 @@ def _diff_function(e: sp.Expr, q: sp.Symbol, memo: dict) -> tuple[sp.Expr, sp.Ex
     a = e.args[0]
     inner = _diff(a, q, memo)
     Da = inner[0]
-    mid = (a + a.xreplace({q: _REF})) / 2  # the two values summed: exact where they nearly cancel
+    mid = a.xreplace({q: _REF}) - Da / 2  # (a(q) + a(q_ref)) / 2
     if isinstance(e, sp.cos):
         D = -2 * sp.sin(mid) * sp.sin(Da / 2)
     elif isinstance(e, sp.sin):
@@ -828,18 +828,44 @@ class _Compiled:
     dV: Callable
     Vs: Callable  # scalar (math module)
     dVs: Callable
+    d2Vs: Callable
     M: Callable  # vectorised; sin^2 + cos^2 reduced first (fewer array operations per node)
-    diff: Callable  # (q, q_ref, q_ref - q) arrays -> V(q_ref) - V(q), or (that, its size B) when ``sized``
+    diff: Callable  # (q, q_ref, (q_ref - q) / 2) arrays -> V(q_ref) - V(q), or (that, its size B) when ``sized``
     diffs: Callable  # (q, q_ref) Python floats -> V(q_ref) - V(q) (the difference alone)
     sized: bool  # False: the difference's round-off is eps |D| (no sum of both signs)
 
 
-def _bound(system: OneDofSystem, key, expr: Callable[[], sp.Expr], args: tuple = ()) -> Callable:
-    """The vectorised lambdified ``expr`` of (q, *args) (memoised per ``key``) with the
-    parameter values bound; a result free of q is broadcast over q."""
-    f = system._fn(key, (system.q, *args), expr, "numpy")
-    vals = system.values
+def _fold(expr: sp.Expr, variables: tuple, coefficients: dict) -> sp.Expr:
+    """``expr`` with each largest part of a sum or product free of ``variables`` that holds
+    parameters made a symbol (``coefficients``: that part -> its symbol): a number per
+    parameter values instead of array operations per call (A + B cos q rather than four
+    terms added to an array)."""
+    if not expr.args or expr.is_number:
+        return expr
+    if not expr.has(*variables):
+        return coefficients.setdefault(expr, sp.Dummy(f"c{len(coefficients)}"))
+    if isinstance(expr, (sp.Add, sp.Mul)):
+        free, dep = expr.as_independent(*variables, as_Add=isinstance(expr, sp.Add))
+        return expr.func(_fold(free, variables, coefficients),
+                         *[_fold(a, variables, coefficients) for a in expr.func.make_args(dep)])
+    return expr.func(*[_fold(a, variables, coefficients) for a in expr.args])
+
+
+def _bound(system: OneDofSystem, key, expr: Callable[[], Any], args: tuple = ()) -> Callable:
+    """The vectorised lambdified ``expr`` of (q, *args) (one expression or a tuple), its
+    q-free parts folded (:func:`_fold`, memoised per ``key``) and evaluated for the
+    parameter values; a result free of q is broadcast over q."""
+    def build():
+        coefficients: dict = {}
+        body, variables = expr(), (system.q, *args)
+        body = tuple(_fold(sp.sympify(e), variables, coefficients) for e in body) if isinstance(body, tuple) \
+            else _fold(sp.sympify(body), variables, coefficients)
+        return (_lambdify((system.q, *args, *coefficients.values()), body, "numpy"),
+                _lambdify(system.params, list(coefficients), "numpy"))
+
+    f, c = system._memo((key, "folded"), build)
     with np.errstate(all="ignore"):
+        vals = tuple(float(v) for v in c(*system.values))
         probe = f(np.array([0.3, 0.7]), *[np.array([0.4, 0.9])] * len(args), *vals)
     several = isinstance(probe, (tuple, list))
     if all(np.shape(x) == (2,) for x in (probe if several else (probe,))):
@@ -872,12 +898,11 @@ def _compiled(system: OneDofSystem) -> _Compiled:
              for d in (0, 1)]
         M = _bound(system, "M reduced", lambda: reduce_trig(sp.sympify(system.mass)) or system.mass)
         D, B = _potential_difference(system)
-        diff = _bound(system, ("V difference", zeros), lambda: D if B is None else (D, B), (_REF, _STEP))
-        diffs = system._fn(("V difference scalar", zeros), (system.q, _REF, _STEP), lambda: D, "math")
+        diff = _bound(system, ("V difference", zeros), lambda: D if B is None else (D, B), (_REF, _HALF))
+        diffs = system._fn(("V difference scalar", zeros), (system.q, _REF, _HALF), lambda: D, "math")
         vals = system.values
-        return _Compiled(V[0], V[1], system.potential_fn(0, precision="scalar"),
-                         system.potential_fn(1, precision="scalar"), M, diff,
-                         lambda q, ref: float(diffs(q, ref, ref - q, *vals)), B is not None)
+        return _Compiled(V[0], V[1], *[system.potential_fn(d, precision="scalar") for d in (0, 1, 2)], M, diff,
+                         lambda q, ref: float(diffs(q, ref, 0.5 * (ref - q), *vals)), B is not None)
 
     return system._memo(("period functions", system.values), build)
 
@@ -1226,7 +1251,7 @@ class _Nodes:
     the n-node rule. The nodes below the middle are measured from q1, the others from q0."""
 
     sin: np.ndarray  # sin u
-    step: np.ndarray  # (end - q) / h: -(1 + sin u) below the middle, 1 - sin u above
+    half: np.ndarray  # (end - q) / (2 h): -(1 + sin u) / 2 below the middle, (1 - sin u) / 2 above
     cos2: np.ndarray  # cos^2 u = (q0 - q)(q - q1) / h^2
     lower: np.ndarray  # below the middle
 
@@ -1237,8 +1262,8 @@ def _nodes(n: int) -> _Nodes:
     w = 0.25 * math.pi - 0.5 * u
     below, above = 2.0 * np.cos(w) ** 2, 2.0 * np.sin(w) ** 2  # 1 + sin u, 1 - sin u without cancellation
     lower = np.arange(3 * n) < 3 * n // 2
-    out = _Nodes(np.sin(u), np.where(lower, -below, above), below * above, lower)
-    for a in (out.sin, out.step, out.cos2, out.lower):
+    out = _Nodes(np.sin(u), 0.5 * np.where(lower, -below, above), below * above, lower)
+    for a in (out.sin, out.half, out.cos2, out.lower):
         a.flags.writeable = False
     return out
 
@@ -1246,7 +1271,7 @@ def _nodes(n: int) -> _Nodes:
 _SQRT2_PI = math.sqrt(2.0) * math.pi  # 2 pi / sqrt(2): T = 2 pi mean sqrt(M / (2 g))
 
 
-def _float_sums(fns: _Compiled, ends: tuple[float, float], n: int):
+def _float_sums(fns: _Compiled, ends: tuple[float, float], n: int, err_ends: float):
     """The midpoint rule in u with 3n and with n nodes: (T, T_n, round-off estimate, ok).
 
     Each node q = q_m + h sin(u) lies at the exact distance h (1 + sin u) from q1 or
@@ -1257,22 +1282,24 @@ def _float_sums(fns: _Compiled, ends: tuple[float, float], n: int):
     function values, so D keeps its relative accuracy, a few ulps (times B / |D| where it
     adds differences of both signs), however close the node to an end and however small
     the amplitude. The turning points need only be the nearest floats to the roots.
+    ``err_ends``: the relative round-off that the rounded arguments of V bring (see
+    :func:`_level_sum`), added to the estimate.
     """
     q1, q0 = ends
     nodes = _nodes(n)
     h = 0.5 * (q0 - q1)
     q = 0.5 * (q0 + q1) + h * nodes.sin
     with np.errstate(all="ignore"):
-        out = fns.diff(q, np.where(nodes.lower, q1, q0), h * nodes.step)
+        out = fns.diff(q, np.where(nodes.lower, q1, q0), h * nodes.half)
         D, B = out if fns.sized else (out, None)
-        f = np.sqrt(fns.M(q) * (h * h) * nodes.cos2 / D)  # times 1 / sqrt(2) below
+        f = np.sqrt(fns.M(q) * nodes.cos2 / D)  # times h / sqrt(2) below
         total = float(f.sum())
         if not math.isfinite(total):  # M > 0 and D > 0 at every node, else nan
             return math.nan, math.nan, math.inf, False
         # D to 2 ulps relative (scaled by B / |D|), half of it in f; M and the sum 2 ulps
-        err = 2.0 * _EPS * (1.0 if B is None else float(f @ (B / np.abs(D))) / total) + 2.0 * _EPS
-    T = _SQRT2_PI / nodes.sin.size * total
-    T_n = _SQRT2_PI / n * float(f[1::3].sum())
+        err = 2.0 * _EPS * (1.0 if B is None else float(f @ (B / np.abs(D))) / total) + 2.0 * _EPS + err_ends
+    T = _SQRT2_PI * h / nodes.sin.size * total
+    T_n = _SQRT2_PI * h / n * float(f[1::3].sum())
     return T, T_n, err, True
 
 
@@ -1388,7 +1415,11 @@ def _level_sum(system: OneDofSystem, level: str, ends: tuple[float, float], turn
             return T, T_n, 10.0 ** (-_MP_DPS + 8), ok
         return mp_sums
     fns = _compiled(system)
-    return lambda n: _float_sums(fns, ends, n)
+    # V's argument at a node is q (or q - c) rounded: an error eps |q| that moves D by
+    # eps |q| V'', relative eps |q| |V'' / V'| where V' is smallest, at the ends (large
+    # near the separatrix, or for a small swing about q_e != 0); half of it in f.
+    err_ends = 0.5 * _EPS * max(abs(q * fns.d2Vs(q) / fns.dVs(q)) for q in ends)
+    return lambda n: _float_sums(fns, ends, n, err_ends)
 
 
 def _next_nodes(n: int, change: float, tol: float) -> int:
