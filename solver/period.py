@@ -828,10 +828,10 @@ class _Compiled:
     dV: Callable
     Vs: Callable  # scalar (math module)
     dVs: Callable
-    d2Vs: Callable
+    slopes: Callable  # q -> (V'(q), V''(q)) on Python floats
     M: Callable  # vectorised; sin^2 + cos^2 reduced first (fewer array operations per node)
     diff: Callable  # (q, q_ref, (q_ref - q) / 2) arrays -> V(q_ref) - V(q), or (that, its size B) when ``sized``
-    diffs: Callable  # (q, q_ref) Python floats -> V(q_ref) - V(q) (the difference alone)
+    newton: Callable  # (q, q_ref) Python floats -> (V(q_ref) - V(q), V'(q))
     sized: bool  # False: the difference's round-off is eps |D| (no sum of both signs)
 
 
@@ -860,19 +860,19 @@ def _bound(system: OneDofSystem, key, expr: Callable[[], Any], args: tuple = ())
         body, variables = expr(), (system.q, *args)
         body = tuple(_fold(sp.sympify(e), variables, coefficients) for e in body) if isinstance(body, tuple) \
             else _fold(sp.sympify(body), variables, coefficients)
-        return (_lambdify((system.q, *args, *coefficients.values()), body, "numpy"),
+        return (_lambdify((*coefficients.values(), system.q, *args), body, "numpy"),
                 _lambdify(system.params, list(coefficients), "numpy"))
 
     f, c = system._memo((key, "folded"), build)
     with np.errstate(all="ignore"):
         vals = tuple(float(v) for v in c(*system.values))
-        probe = f(np.array([0.3, 0.7]), *[np.array([0.4, 0.9])] * len(args), *vals)
+        probe = f(*vals, np.array([0.3, 0.7]), *[np.array([0.4, 0.9])] * len(args))
     several = isinstance(probe, (tuple, list))
     if all(np.shape(x) == (2,) for x in (probe if several else (probe,))):
-        return lambda q, *rest: f(q, *rest, *vals)
+        return functools.partial(f, *vals)
     if several:
-        return lambda q, *rest: tuple(x + 0.0 * q for x in f(q, *rest, *vals))
-    return lambda q, *rest: f(q, *rest, *vals) + 0.0 * q
+        return lambda q, *rest: tuple(x + 0.0 * q for x in f(*vals, q, *rest))
+    return lambda q, *rest: f(*vals, q, *rest) + 0.0 * q
 
 
 def _potential_difference(system: OneDofSystem) -> tuple[sp.Expr, sp.Expr | None]:
@@ -889,20 +889,32 @@ def _potential_difference(system: OneDofSystem) -> tuple[sp.Expr, sp.Expr | None
     return system._memo(("V difference", system._zero_parameters()), build)
 
 
+def _scalar(system: OneDofSystem, key, args: tuple, expr: Callable[[], Any]) -> Callable:
+    """``expr`` lambdified for Python floats (the ``math`` module, about 20 times cheaper per
+    call than numpy on one number), or numpy where ``math`` lacks a function."""
+    try:
+        f = system._fn(key, args, expr, "math")
+        f(*[0.1 * (k + 1) for k in range(len(args))], *system.values)
+        return f
+    except (NameError, TypeError, AttributeError, KeyError, ZeroDivisionError, ValueError, OverflowError):
+        return system._fn(key, args, expr, "numpy")
+
+
 def _compiled(system: OneDofSystem) -> _Compiled:
     def build():
         from .display import reduce_trig
 
-        zeros = system._zero_parameters()
-        V = [_bound(system, (f"V{d}", zeros), lambda d=d: sp.diff(system.effective_potential(), system.q, d))
-             for d in (0, 1)]
+        zeros, vals = system._zero_parameters(), system.values
+        dV = lambda d: sp.diff(system.effective_potential(), system.q, d)  # noqa: E731
+        V = [_bound(system, (f"V{d}", zeros), lambda d=d: dV(d)) for d in (0, 1)]
         M = _bound(system, "M reduced", lambda: reduce_trig(sp.sympify(system.mass)) or system.mass)
         D, B = _potential_difference(system)
         diff = _bound(system, ("V difference", zeros), lambda: D if B is None else (D, B), (_REF, _HALF))
-        diffs = system._fn(("V difference scalar", zeros), (system.q, _REF, _HALF), lambda: D, "math")
-        vals = system.values
-        return _Compiled(V[0], V[1], *[system.potential_fn(d, precision="scalar") for d in (0, 1, 2)], M, diff,
-                         lambda q, ref: float(diffs(q, ref, 0.5 * (ref - q), *vals)), B is not None)
+        newton = _scalar(system, ("Newton", zeros), (system.q, _REF, _HALF), lambda: [D, dV(1)])
+        slopes = _scalar(system, ("slopes", zeros), (system.q,), lambda: [dV(1), dV(2)])
+        return _Compiled(V[0], V[1], *[system.potential_fn(d, precision="scalar") for d in (0, 1)],
+                         lambda q: slopes(q, *vals), M, diff,
+                         lambda q, ref: newton(q, ref, 0.5 * (ref - q), *vals), B is not None)
 
     return system._memo(("period functions", system.values), build)
 
@@ -942,27 +954,30 @@ def _well(system: OneDofSystem, qe: float, reach: float) -> _Well:
     return system._memo(("well", system.values, qe, reach), build)
 
 
-def _far_turning_point(fns: _Compiled, q0: float, bracket: tuple[float, float],
+def _far_turning_point(fns: _Compiled, q0: float, V0: float, bracket: tuple[float, float],
                        values: tuple[float, float]) -> float:
-    """The root of V(x) = V(q0) in ``bracket`` (V there: ``values``, on either side of V(q0)).
+    """The root of V(x) = V0 = V(q0) in ``bracket`` (V there: ``values``, either side of V0).
 
-    Newton steps on V(q0) - V(x) written without cancellation (``fns.diffs``: at small
+    Newton steps on V(q0) - V(x) written without cancellation (``fns.newton``: at small
     amplitudes the plain difference would place the root to a few digits only), from the
-    linear interpolation of the scan; brentq on the same difference if a step leaves the
-    bracket. The last step is below 1e-10 of the bracket, so the root is to the last bit.
+    linear interpolation of the scan, until the next step (step^2 / last step, in the
+    quadratic convergence) would be below an ulp; brentq on the same difference if a step
+    leaves the bracket.
     """
     (lo, hi), (V_lo, V_hi) = bracket, values
-    V0 = fns.Vs(q0)
     x = hi if V_hi == V0 else lo + (hi - lo) * (V0 - V_lo) / (V_hi - V_lo)
-    f = lambda x: fns.diffs(x, q0)  # noqa: E731 - V(q0) - V(x)
+    last = 0.0  # the previous step (none yet)
     for _ in range(8):
-        step = f(x) / fns.dVs(x)
+        D, slope = fns.newton(x, q0)
+        step = D / slope if slope else math.nan
         if not (math.isfinite(step) and min(lo, hi) <= x + step <= max(lo, hi)):
             break
         x += step
-        if abs(step) <= 1e-10 * abs(hi - lo):  # quadratic convergence: the next step is below an ulp
-            return x + f(x) / fns.dVs(x)
-    return brentq(f, min(lo, hi), max(lo, hi), xtol=1e-300, rtol=4 * _EPS, maxiter=500, disp=False)
+        if abs(step) ** 3 <= 0.1 * _EPS * abs(x) * last * last:
+            return x
+        last = abs(step)
+    return brentq(lambda x: fns.newton(x, q0)[0], min(lo, hi), max(lo, hi), xtol=1e-300, rtol=4 * _EPS,
+                  maxiter=500, disp=False)
 
 
 def turning_points(system: OneDofSystem, equilibrium: Equilibrium, amplitude: float) -> tuple[float, float]:
@@ -1012,7 +1027,7 @@ def turning_points(system: OneDofSystem, equilibrium: Equilibrium, amplitude: fl
                                 "on the far side is lower than the release point")
     lo = qe if j == 0 else float(far.q[j - 1])
     hi = float(far.q[j])
-    q1 = _far_turning_point(fns, q0, (lo, hi), (Ve if j == 0 else float(far.V[j - 1]), float(far.V[j])))
+    q1 = _far_turning_point(fns, q0, V0, (lo, hi), (Ve if j == 0 else float(far.V[j - 1]), float(far.V[j])))
     # a turning point at a (numerically) flat potential is the separatrix itself
     flat, slope1 = 1e-9 * well.scale, abs(fns.dVs(q1))
     if slope1 <= flat or abs(slope0) <= flat:
@@ -1254,6 +1269,7 @@ class _Nodes:
     half: np.ndarray  # (end - q) / (2 h): -(1 + sin u) / 2 below the middle, (1 - sin u) / 2 above
     cos2: np.ndarray  # cos^2 u = (q0 - q)(q - q1) / h^2
     lower: np.ndarray  # below the middle
+    weights: np.ndarray  # (2, 3n): the means over the 3n nodes and over the n-node rule's
 
 
 @functools.lru_cache(maxsize=32)
@@ -1262,8 +1278,10 @@ def _nodes(n: int) -> _Nodes:
     w = 0.25 * math.pi - 0.5 * u
     below, above = 2.0 * np.cos(w) ** 2, 2.0 * np.sin(w) ** 2  # 1 + sin u, 1 - sin u without cancellation
     lower = np.arange(3 * n) < 3 * n // 2
-    out = _Nodes(np.sin(u), 0.5 * np.where(lower, -below, above), below * above, lower)
-    for a in (out.sin, out.half, out.cos2, out.lower):
+    weights = np.zeros((2, 3 * n))
+    weights[0], weights[1, 1::3] = 1.0 / (3 * n), 1.0 / n
+    out = _Nodes(np.sin(u), 0.5 * np.where(lower, -below, above), below * above, lower, weights)
+    for a in (out.sin, out.half, out.cos2, out.lower, out.weights):
         a.flags.writeable = False
     return out
 
@@ -1293,14 +1311,12 @@ def _float_sums(fns: _Compiled, ends: tuple[float, float], n: int, err_ends: flo
         out = fns.diff(q, np.where(nodes.lower, q1, q0), h * nodes.half)
         D, B = out if fns.sized else (out, None)
         f = np.sqrt(fns.M(q) * nodes.cos2 / D)  # times h / sqrt(2) below
-        total = float(f.sum())
-        if not math.isfinite(total):  # M > 0 and D > 0 at every node, else nan
+        mean, mean_n = (float(x) for x in nodes.weights @ f)
+        if not math.isfinite(mean):  # M > 0 and D > 0 at every node, else nan
             return math.nan, math.nan, math.inf, False
         # D to 2 ulps relative (scaled by B / |D|), half of it in f; M and the sum 2 ulps
-        err = 2.0 * _EPS * (1.0 if B is None else float(f @ (B / np.abs(D))) / total) + 2.0 * _EPS + err_ends
-    T = _SQRT2_PI * h / nodes.sin.size * total
-    T_n = _SQRT2_PI * h / n * float(f[1::3].sum())
-    return T, T_n, err, True
+        err = 2.0 * _EPS * (1.0 if B is None else float(nodes.weights[0] @ (f * B / np.abs(D))) / mean)
+    return _SQRT2_PI * h * mean, _SQRT2_PI * h * mean_n, err + 2.0 * _EPS + err_ends, True
 
 
 def _mp_sum(system, q0, q1, n, dps=_MP_DPS):
@@ -1418,8 +1434,15 @@ def _level_sum(system: OneDofSystem, level: str, ends: tuple[float, float], turn
     # V's argument at a node is q (or q - c) rounded: an error eps |q| that moves D by
     # eps |q| V'', relative eps |q| |V'' / V'| where V' is smallest, at the ends (large
     # near the separatrix, or for a small swing about q_e != 0); half of it in f.
-    err_ends = 0.5 * _EPS * max(abs(q * fns.d2Vs(q) / fns.dVs(q)) for q in ends)
+    err_ends = 0.5 * _EPS * max(abs(q * d2V / dV) for q in ends for dV, d2V in (fns.slopes(q),))
     return lambda n: _float_sums(fns, ends, n, err_ends)
+
+
+def _first_nodes(amplitude: float) -> int:
+    """The first n, chosen a priori: 8 up to 1 rad, doubled per doubling of the amplitude
+    beyond (the integrand's nearest complex singularity nears the interval as the swing
+    nears the separatrix; for the disk-bar at 1e-12 this is one sum up to 170 deg)."""
+    return 8 * 2 ** max(0, math.ceil(math.log2(abs(amplitude))))
 
 
 def _next_nodes(n: int, change: float, tol: float) -> int:
@@ -1438,7 +1461,7 @@ def _quadrature_period(system: OneDofSystem, eq: Equilibrium, amplitude: float, 
     levels = _LEVELS[precision]
     for level in levels:
         sums = _level_sum(system, level, (q1, q0), turn, amplitude)
-        n = 8
+        n = _first_nodes(amplitude)
         while 3 * n <= _MAX_NODES:
             T, T_n, err_round, ok = sums(n)
             if not ok or (not err_round <= tol / 4 and level != levels[-1]):
