@@ -26,10 +26,14 @@ q = q_m + h sin(u) (q_m the midpoint, h the half-width): then
     g(q) = (V(q0) - V(q)) / ((q0 - q)(q - q1)) > 0 ,
 
 a smooth integrand whose even, periodic extension in u makes the midpoint
-rule (Gauss-Chebyshev quadrature of the first kind) converge geometrically.
-Near the turning points V(q0) - V(q) is a difference of nearly equal numbers;
-when the estimated round-off of that difference threatens the requested
-tolerance the sum is evaluated in mpmath at higher precision.
+rule (Gauss-Chebyshev quadrature of the first kind) converge geometrically;
+the rule with 3n nodes contains the one with n, so one evaluation gives the
+sum and its error estimate. Near the turning points V(q0) - V(q) is a
+difference of nearly equal numbers: it is written once per scene without
+cancellation (products of half-differences, :func:`_difference`) and each node
+is measured from its nearer turning point, so the float64 sum keeps its
+accuracy at every amplitude; when the round-off estimate still threatens the
+requested tolerance the sum is evaluated in mpmath at higher precision.
 
 When M and V are affine in cos q and sin q with the same phase (M = A + B cos x,
 V = -C cos x + const in x = q - q_c, q_c the minimum of V: the pendulum, the
@@ -349,11 +353,9 @@ class OneDofSystem:
     def potential_fn(self, derivative: int = 0, precision: str = "float64") -> Callable[[Any], Any]:
         """V_eff^(derivative)(q) as a function.
 
-        ``precision``: ``"float64"`` (vectorised), ``"longdouble"`` (vectorised in
-        numpy's extended precision, 64-bit mantissa on x86: the quadrature's
-        potential differences), ``"scalar"`` (a Python float in, a float out, through
-        the ``math`` module: about 20 times cheaper per call, for root finding) or
-        ``"mpmath"``.
+        ``precision``: ``"float64"`` (vectorised), ``"scalar"`` (a Python float in,
+        a float out, through the ``math`` module: about 20 times cheaper per call,
+        for root finding) or ``"mpmath"``.
         """
         def expr():
             return sp.diff(self.effective_potential(), self.q, derivative)
@@ -365,17 +367,9 @@ class OneDofSystem:
             return lambda q: f(q, *mvals)
         vals = self.values
         if precision == "scalar":
-            try:
-                f = self._fn(key, (self.q,), expr, "math")
-                float(f(0.1, *vals))
-                return lambda q: float(f(q, *vals))
-            except (NameError, TypeError, AttributeError, KeyError, ZeroDivisionError, ValueError, OverflowError):
-                precision = "float64"
-        f = self._fn(key, (self.q,), expr, "numpy")
-        if precision == "longdouble":
-            return lambda q: np.asarray(f(q, *vals), dtype=np.longdouble) + 0.0 * np.asarray(q, dtype=np.longdouble)
-        if precision == "scalar":
+            f = _scalar(self, key, (self.q,), expr)
             return lambda q: float(f(q, *vals))
+        f = self._fn(key, (self.q,), expr, "numpy")
         return lambda q: np.asarray(f(q, *vals), dtype=float) + 0.0 * np.asarray(q, dtype=float)
 
     def _zero_parameters(self) -> tuple[str, ...]:
@@ -833,6 +827,7 @@ class _Compiled:
     diff: Callable  # (q, q_ref, (q_ref - q) / 2) arrays -> V(q_ref) - V(q), or (that, its size B) when ``sized``
     newton: Callable  # (q, q_ref) Python floats -> (V(q_ref) - V(q), V'(q))
     sized: bool  # False: the difference's round-off is eps |D| (no sum of both signs)
+    wells: dict = field(default_factory=dict)  # (q_e, reach) -> _Well
 
 
 def _fold(expr: sp.Expr, variables: tuple, coefficients: dict) -> sp.Expr:
@@ -951,7 +946,10 @@ def _well(system: OneDofSystem, qe: float, reach: float) -> _Well:
             sides[s] = _WellSide(q, fns.V(q), int(flat[0]) if flat.size else q.size)
         return _Well(reach / _WELL_NODES, scale, sides)
 
-    return system._memo(("well", system.values, qe, reach), build)
+    wells = _compiled(system).wells  # per parameter values, as the functions
+    if (qe, reach) not in wells:
+        wells[qe, reach] = build()
+    return wells[qe, reach]
 
 
 def _far_turning_point(fns: _Compiled, q0: float, V0: float, bracket: tuple[float, float],
@@ -966,18 +964,19 @@ def _far_turning_point(fns: _Compiled, q0: float, V0: float, bracket: tuple[floa
     """
     (lo, hi), (V_lo, V_hi) = bracket, values
     x = hi if V_hi == V0 else lo + (hi - lo) * (V0 - V_lo) / (V_hi - V_lo)
+    left, right = (lo, hi) if lo < hi else (hi, lo)
     last = 0.0  # the previous step (none yet)
     for _ in range(8):
         D, slope = fns.newton(x, q0)
         step = D / slope if slope else math.nan
-        if not (math.isfinite(step) and min(lo, hi) <= x + step <= max(lo, hi)):
+        if not (math.isfinite(step) and left <= x + step <= right):
             break
         x += step
         if abs(step) ** 3 <= 0.1 * _EPS * abs(x) * last * last:
             return x
         last = abs(step)
-    return brentq(lambda x: fns.newton(x, q0)[0], min(lo, hi), max(lo, hi), xtol=1e-300, rtol=4 * _EPS,
-                  maxiter=500, disp=False)
+    return brentq(lambda x: fns.newton(x, q0)[0], left, right, xtol=1e-300, rtol=4 * _EPS, maxiter=500,
+                  disp=False)
 
 
 def turning_points(system: OneDofSystem, equilibrium: Equilibrium, amplitude: float) -> tuple[float, float]:
@@ -1380,8 +1379,9 @@ def exact_period(
     PeriodResult
         ``model="elliptic"`` (error estimate: the round-off bound of the
         elliptic integrals) or ``model="quadrature"`` (error estimate: the
-        difference between the last two node counts plus the round-off
-        estimate, an upper bound since the convergence is geometric).
+        difference between the sums with n and 3n nodes plus the round-off
+        estimate, an upper bound since the convergence is geometric; ``nodes``
+        is 3n).
 
     Raises
     ------
@@ -1434,7 +1434,8 @@ def _level_sum(system: OneDofSystem, level: str, ends: tuple[float, float], turn
     # V's argument at a node is q (or q - c) rounded: an error eps |q| that moves D by
     # eps |q| V'', relative eps |q| |V'' / V'| where V' is smallest, at the ends (large
     # near the separatrix, or for a small swing about q_e != 0); half of it in f.
-    err_ends = 0.5 * _EPS * max(abs(q * d2V / dV) for q in ends for dV, d2V in (fns.slopes(q),))
+    (dV1, d2V1), (dV0, d2V0) = fns.slopes(q1), fns.slopes(q0)
+    err_ends = 0.5 * _EPS * max(abs(q1 * d2V1 / dV1), abs(q0 * d2V0 / dV0))
     return lambda n: _float_sums(fns, ends, n, err_ends)
 
 
@@ -1469,7 +1470,8 @@ def _quadrature_period(system: OneDofSystem, eq: Equilibrium, amplitude: float, 
             change = abs(T - T_n) / abs(T)
             if change <= tol / 2:
                 est = max(change + err_round, 2 * _EPS)
-                return PeriodResult(T, eq.period, T / eq.period, amplitude, eq.q, (q1, q0), "quadrature",
+                T0 = eq.period
+                return PeriodResult(T, T0, T / T0, amplitude, eq.q, (q1, q0), "quadrature",
                                     est, 3 * n, "mpmath" if level == "mpmath" else "float64")
             n = _next_nodes(n, change, tol)
         else:

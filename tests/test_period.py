@@ -16,6 +16,7 @@ import json
 import math
 from functools import lru_cache
 
+import mpmath
 import numpy as np
 import pytest
 import sympy as sp
@@ -240,7 +241,7 @@ def test_flat_minimum_is_no_restoring_moment_not_an_internal_error():
 # ------------------------------------------------------------------ closed form (elliptic integrals)
 def test_closed_form_agrees_with_the_quadrature_at_every_amplitude():
     # Example 2 (M = A - B cos, V = -C cos) admits the closed form in R_F and R_J. Against
-    # the solver's own quadrature route (midpoint rule in u, long-double differences) at
+    # the solver's own quadrature route (midpoint rule in u, cancellation-free differences) at
     # every degree 1..179: 1e-13 relative, the issue's proof of the closed form (both are
     # good to ~1e-15; the quadrature's tolerance 1e-14 keeps its own error below that).
     s = ex2_system()
@@ -268,7 +269,7 @@ def test_closed_form_against_mpmath(deg):
 @pytest.mark.parametrize("deg", [1.0, 5.0, 170.0, 179.0])
 def test_quadrature_meets_1e12_in_float64_at_the_extremes(deg):
     # Regression: the float64 round-off estimate switched to mpmath at small and large
-    # amplitudes (25-60 ms a call); with long-double differences the float64 sum meets
+    # amplitudes (25-60 ms a call); with cancellation-free differences the float64 sum meets
     # 1e-12 (against the mpmath reference above, 1e-12 relative as requested).
     a = math.radians(deg)
     res = exact_period(ex2_system(), a, tol=1e-12, method="quadrature")
@@ -313,3 +314,38 @@ def test_cli_period_names_the_closed_form(solver_cli):
     code, out, _ = solver_cli("period", SCENE, "--amplitude", "30 deg", "--tol", "1e-12", "--model", "quadrature",
                               "--json")
     assert code == 0 and json.loads(out)["model"] == "quadrature"
+
+
+def _mpmath_period(mass, potential, q_e, amplitude):
+    """The raw singular energy integral by mpmath's tanh-sinh at 30 digits, the far turning
+    point by mpmath's root finder (nothing from solver.period)."""
+    with mpmath.workdps(30):
+        M, V = (sp.lambdify(q, e, "mpmath") for e in (mass, potential))
+        q0 = mpmath.mpf(q_e) + mpmath.mpf(amplitude)
+        q1 = mpmath.findroot(lambda x: V(x) - V(q0), 2 * mpmath.mpf(q_e) - q0)
+        lo, hi = sorted((q0, q1))
+
+        def f(x):
+            dV = V(q0) - V(x)
+            return mpmath.sqrt(M(x) / (2 * dV)) if dV > 0 else mpmath.mpf(0)
+
+        return float(2 * mpmath.quad(f, [lo, (lo + hi) / 2, hi]))
+
+
+# Potentials without a closed form, where the float64 potential difference is hardest: a
+# tilted cosine (equilibrium at pi/6, V' of its two terms nearly cancel for small swings:
+# the difference sums terms of both signs) and a spring plus gravity, at 1 and 60 deg.
+@pytest.mark.parametrize("deg", [1.0, -1.0, 60.0])
+@pytest.mark.parametrize("name", ["tilted", "spring"])
+def test_quadrature_in_float64_against_mpmath_without_closed_form(name, deg):
+    mass, potential = {"tilted": (2 + sp.cos(q) / 2, -sp.cos(q) - q / 2),
+                       "spring": (sp.Integer(2), 1 - sp.cos(q) + q**2 / 4)}[name]
+    s = OneDofSystem(q, qd, qdd, t, mass=mass, potential=potential, name=name)
+    eq = find_equilibrium(s)
+    a = math.radians(deg)
+    res = exact_period(s, a, tol=1e-12, equilibrium=eq, method="quadrature")
+    assert res.model == "quadrature" and res.precision == "float64"
+    ref = _mpmath_period(mass, potential, eq.q, a)
+    # 1e-12 requested; the 30-digit reference is good to ~1e-25; the estimate bounds the error
+    assert abs(res.period - ref) <= 1e-12 * ref
+    assert abs(res.period - ref) <= res.error_estimate * ref * 1.01 + 1e-15 * ref
