@@ -51,6 +51,7 @@ T_0 = 2 pi sqrt(M(q_e) / V''(q_e)) (paper Eq. 46 for Example 2).
 """
 from __future__ import annotations
 
+import bisect
 import functools
 import math
 from dataclasses import dataclass, field, replace
@@ -921,6 +922,8 @@ class _WellSide:
     q: np.ndarray  # the grid, moving away from q_e
     V: np.ndarray  # V_eff there
     rising: int  # leading grid points where V rises strictly (the next one is at or past a maximum)
+    climb_q: list  # q[:rising] and V[:rising] as Python floats (bisect in V, then index in q:
+    climb_V: list  # cheaper per release than numpy's searchsorted and scalar indexing)
 
 
 @dataclass(frozen=True)
@@ -931,11 +934,11 @@ class _Well:
     step: float
     scale: float  # the largest |V'| on the grid (the flatness tests are relative to it)
     sides: dict  # +1 / -1 -> _WellSide
+    Ve: float  # V_eff(q_e)
 
 
-def _well(system: OneDofSystem, qe: float, reach: float) -> _Well:
+def _well(fns: _Compiled, qe: float, reach: float) -> _Well:
     def build():
-        fns = _compiled(system)
         d = np.linspace(0.0, reach, _WELL_NODES + 1)[1:]
         grids = {s: qe + s * d for s in (1.0, -1.0)}
         slopes = {s: s * fns.dV(q) for s, q in grids.items()}
@@ -943,18 +946,19 @@ def _well(system: OneDofSystem, qe: float, reach: float) -> _Well:
         sides = {}
         for s, q in grids.items():
             flat = np.nonzero(slopes[s] <= 1e-12 * scale)[0]
-            sides[s] = _WellSide(q, fns.V(q), int(flat[0]) if flat.size else q.size)
-        return _Well(reach / _WELL_NODES, scale, sides)
+            rising, V = int(flat[0]) if flat.size else q.size, fns.V(q)
+            sides[s] = _WellSide(q, V, rising, q[:rising].tolist(), V[:rising].tolist())
+        return _Well(reach / _WELL_NODES, scale, sides, fns.Vs(qe))
 
-    wells = _compiled(system).wells  # per parameter values, as the functions
-    if (qe, reach) not in wells:
-        wells[qe, reach] = build()
-    return wells[qe, reach]
+    if (qe, reach) not in fns.wells:  # per parameter values, as the functions
+        fns.wells[qe, reach] = build()
+    return fns.wells[qe, reach]
 
 
 def _far_turning_point(fns: _Compiled, q0: float, V0: float, bracket: tuple[float, float],
-                       values: tuple[float, float]) -> float:
-    """The root of V(x) = V0 = V(q0) in ``bracket`` (V there: ``values``, either side of V0).
+                       values: tuple[float, float]) -> tuple[float, float]:
+    """The root x of V(x) = V0 = V(q0) in ``bracket`` (V there: ``values``, either side of
+    V0), and V'(x).
 
     Newton steps on V(q0) - V(x) written without cancellation (``fns.newton``: at small
     amplitudes the plain difference would place the root to a few digits only), from the
@@ -973,10 +977,10 @@ def _far_turning_point(fns: _Compiled, q0: float, V0: float, bracket: tuple[floa
             break
         x += step
         if abs(step) ** 3 <= 0.1 * _EPS * abs(x) * last * last:
-            return x
+            return x, slope
         last = abs(step)
-    return brentq(lambda x: fns.newton(x, q0)[0], left, right, xtol=1e-300, rtol=4 * _EPS, maxiter=500,
-                  disp=False)
+    x = brentq(lambda x: fns.newton(x, q0)[0], left, right, xtol=1e-300, rtol=4 * _EPS, maxiter=500, disp=False)
+    return x, fns.dVs(x)
 
 
 def turning_points(system: OneDofSystem, equilibrium: Equilibrium, amplitude: float) -> tuple[float, float]:
@@ -997,25 +1001,23 @@ def turning_points(system: OneDofSystem, equilibrium: Equilibrium, amplitude: fl
     q0 = qe + amplitude
     s = 1.0 if amplitude > 0 else -1.0
     fns = _compiled(system)
-    V0, Ve = fns.Vs(q0), fns.Vs(qe)
+    well = _well(fns, qe, 4.0 * max(abs(amplitude), math.pi))
+    V0, Ve = fns.Vs(q0), well.Ve
     # A tiny amplitude raises V by less than float64 resolves: place the far turning
     # point in higher precision (no maximum can lie that close to a minimum).
-    rise, level = V0 - Ve, max(abs(V0), abs(Ve))
-    if not rise > _RESOLVED * _EPS * level:
+    if not V0 - Ve > _RESOLVED * _EPS * max(abs(V0), abs(Ve)):
         q1 = _small_amplitude_turning_point(system, equilibrium, amplitude)
         return (min(q0, q1), max(q0, q1))
-    well = _well(system, qe, max(4.0 * abs(amplitude), 4.0 * math.pi))
     near, far = well.sides[s], well.sides[-s]
     # same side: V must rise monotonically from q_e to q0
-    inside = min(int(abs(amplitude) / well.step), near.q.size)  # grid points strictly short of q0 (or at it)
-    if inside > near.rising:
+    if min(int(abs(amplitude) / well.step), near.q.size) > near.rising:  # grid points short of q0 (or at it)
         raise _separatrix_error(system, amplitude, float(near.q[near.rising]),
                                 "lies between the equilibrium and the release point")
     slope0 = fns.dVs(q0)
     if not s * slope0 > 1e-12 * well.scale:
         raise _separatrix_error(system, amplitude, q0, "lies between the equilibrium and the release point")
     # other side: V rises until it reaches V0, with no maximum on the way
-    j = int(np.searchsorted(far.V[: far.rising], V0, side="left"))
+    j = bisect.bisect_left(far.climb_V, V0)
     if j == far.rising:
         if far.rising == far.q.size:
             raise InputError(
@@ -1024,17 +1026,16 @@ def turning_points(system: OneDofSystem, equilibrium: Equilibrium, amplitude: fl
             )
         raise _separatrix_error(system, amplitude, float(far.q[far.rising]),
                                 "on the far side is lower than the release point")
-    lo = qe if j == 0 else float(far.q[j - 1])
-    hi = float(far.q[j])
-    q1 = _far_turning_point(fns, q0, V0, (lo, hi), (Ve if j == 0 else float(far.V[j - 1]), float(far.V[j])))
+    below = (qe, Ve) if j == 0 else (far.climb_q[j - 1], far.climb_V[j - 1])
+    q1, slope1 = _far_turning_point(fns, q0, V0, (below[0], far.climb_q[j]), (below[1], far.climb_V[j]))
     # a turning point at a (numerically) flat potential is the separatrix itself
-    flat, slope1 = 1e-9 * well.scale, abs(fns.dVs(q1))
-    if slope1 <= flat or abs(slope0) <= flat:
-        raise _separatrix_error(system, amplitude, q1 if slope1 <= flat else q0, "is reached exactly")
+    flat = 1e-9 * well.scale
+    if abs(slope1) <= flat or abs(slope0) <= flat:
+        raise _separatrix_error(system, amplitude, q1 if abs(slope1) <= flat else q0, "is reached exactly")
     if system.limits:
         for turn in (q0, q1):
             check_limits(system, turn, "a turning point of the swing")
-    return (min(q0, q1), max(q0, q1))
+    return (q1, q0) if q1 < q0 else (q0, q1)
 
 
 # --------------------------------------------------------------------------- period
