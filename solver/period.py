@@ -709,8 +709,11 @@ _WELL_NODES = 8192  # grid points per side of the equilibrium (spacing 4 pi / 81
 # float64 it loses about log10(|V| / (V(q_ref) - V(q))) digits (at 1 deg, 2 log10(1/q0) = 7
 # digits from the amplitude alone). Written as products (cos b - cos a = -2 sin((a+b)/2)
 # sin((b-a)/2), term by term) with q_ref - q formed exactly, it keeps its relative accuracy.
-_REF = sp.Dummy("q_ref", real=True)
-_HALF = sp.Dummy("half_step", real=True)  # (q_ref - q) / 2, given exactly by the caller
+# (Symbols, not Dummies: lambdify would rename Dummies and re-evaluate sin(a - b) into
+# -sin(b - a), one more array operation; no scene parameter name starts with "__")
+_REF = sp.Symbol("__q_ref", real=True)
+_HALF = sp.Symbol("__half_step", real=True)  # (q_ref - q) / 2, given exactly by the caller
+_COS2 = sp.Symbol("__cos2", real=True)  # cos^2 u of a quadrature node (_float_sums)
 _DIFF_OPS = 400  # larger potentials are differenced directly (the round-off estimate says so)
 
 
@@ -824,9 +827,9 @@ class _Compiled:
     Vs: Callable  # scalar (math module)
     dVs: Callable
     slopes: Callable  # q -> (V'(q), V''(q)) on Python floats
-    M: Callable  # vectorised; sin^2 + cos^2 reduced first (fewer array operations per node)
-    diff: Callable  # (q, q_ref, (q_ref - q) / 2) arrays -> V(q_ref) - V(q), or (that, its size B) when ``sized``
-    newton: Callable  # (q, q_ref) Python floats -> (V(q_ref) - V(q), V'(q))
+    integrand: Callable  # (q, q_ref, (q_ref - q) / 2, cos^2 u) arrays -> sqrt(M cos^2 u / D), see _float_sums;
+    # with ``sized`` also B / |D|
+    newton: Callable  # (q, q_ref) Python floats -> (V(q_ref) - V(q), V'(q), V''(q))
     sized: bool  # False: the difference's round-off is eps |D| (no sum of both signs)
     wells: dict = field(default_factory=dict)  # (q_e, reach) -> _Well
 
@@ -839,7 +842,7 @@ def _fold(expr: sp.Expr, variables: tuple, coefficients: dict) -> sp.Expr:
     if not expr.args or expr.is_number:
         return expr
     if not expr.has(*variables):
-        return coefficients.setdefault(expr, sp.Dummy(f"c{len(coefficients)}"))
+        return coefficients.setdefault(expr, sp.Symbol(f"__c{len(coefficients)}"))  # not Dummy: see _REF
     if isinstance(expr, (sp.Add, sp.Mul)):
         free, dep = expr.as_independent(*variables, as_Add=isinstance(expr, sp.Add))
         return expr.func(_fold(free, variables, coefficients),
@@ -903,16 +906,20 @@ def _compiled(system: OneDofSystem) -> _Compiled:
         zeros, vals = system._zero_parameters(), system.values
         dV = lambda d: sp.diff(system.effective_potential(), system.q, d)  # noqa: E731
         V = [_bound(system, (f"V{d}", zeros), lambda d=d: dV(d)) for d in (0, 1)]
-        M = _bound(system, "M reduced", lambda: reduce_trig(sp.sympify(system.mass)) or system.mass)
         D, B = _potential_difference(system)
-        diff = _bound(system, ("V difference", zeros), lambda: D if B is None else (D, B), (_REF, _HALF))
-        newton = _scalar(system, ("Newton", zeros), (system.q, _REF, _HALF), lambda: [D, dV(1)])
+        # sin^2 + cos^2 in M reduced first (fewer array operations per node)
+        f = sp.sqrt((reduce_trig(sp.sympify(system.mass)) or system.mass) * _COS2 / D)
+        integrand = _bound(system, ("integrand", zeros), lambda: f if B is None else (f, B / sp.Abs(D)),
+                           (_REF, _HALF, _COS2))
+        newton = _scalar(system, ("Newton", zeros), (system.q, _REF, _HALF), lambda: [D, dV(1), dV(2)])
         slopes = _scalar(system, ("slopes", zeros), (system.q,), lambda: [dV(1), dV(2)])
         return _Compiled(V[0], V[1], *[system.potential_fn(d, precision="scalar") for d in (0, 1)],
-                         lambda q: slopes(q, *vals), M, diff,
+                         lambda q: slopes(q, *vals), integrand,
                          lambda q, ref: newton(q, ref, 0.5 * (ref - q), *vals), B is not None)
 
-    return system._memo(("period functions", system.values), build)
+    key = ("period functions", system.values)
+    fns = system._cache.get(key)  # (looked up first: this runs twice per period)
+    return fns if fns is not None else system._memo(key, build)
 
 
 @dataclass(frozen=True)
@@ -950,15 +957,16 @@ def _well(fns: _Compiled, qe: float, reach: float) -> _Well:
             sides[s] = _WellSide(q, V, rising, q[:rising].tolist(), V[:rising].tolist())
         return _Well(reach / _WELL_NODES, scale, sides, fns.Vs(qe))
 
-    if (qe, reach) not in fns.wells:  # per parameter values, as the functions
-        fns.wells[qe, reach] = build()
-    return fns.wells[qe, reach]
+    well = fns.wells.get((qe, reach))  # per parameter values, as the functions
+    if well is None:
+        well = fns.wells[qe, reach] = build()
+    return well
 
 
 def _far_turning_point(fns: _Compiled, q0: float, V0: float, bracket: tuple[float, float],
-                       values: tuple[float, float]) -> tuple[float, float]:
+                       values: tuple[float, float]) -> tuple[float, float, float]:
     """The root x of V(x) = V0 = V(q0) in ``bracket`` (V there: ``values``, either side of
-    V0), and V'(x).
+    V0), V'(x) and V''(x).
 
     Newton steps on V(q0) - V(x) written without cancellation (``fns.newton``: at small
     amplitudes the plain difference would place the root to a few digits only), from the
@@ -971,16 +979,16 @@ def _far_turning_point(fns: _Compiled, q0: float, V0: float, bracket: tuple[floa
     left, right = (lo, hi) if lo < hi else (hi, lo)
     last = 0.0  # the previous step (none yet)
     for _ in range(8):
-        D, slope = fns.newton(x, q0)
+        D, slope, curvature = fns.newton(x, q0)
         step = D / slope if slope else math.nan
         if not (math.isfinite(step) and left <= x + step <= right):
             break
         x += step
         if abs(step) ** 3 <= 0.1 * _EPS * abs(x) * last * last:
-            return x, slope
+            return x, slope, curvature
         last = abs(step)
     x = brentq(lambda x: fns.newton(x, q0)[0], left, right, xtol=1e-300, rtol=4 * _EPS, maxiter=500, disp=False)
-    return x, fns.dVs(x)
+    return (x, *fns.slopes(x))
 
 
 def turning_points(system: OneDofSystem, equilibrium: Equilibrium, amplitude: float) -> tuple[float, float]:
@@ -997,6 +1005,12 @@ def turning_points(system: OneDofSystem, equilibrium: Equilibrium, amplitude: fl
         V_eff lies between q_e and q0, or the other side's barrier is lower
         than V_eff(q0)).
     """
+    return _swing(system, equilibrium, amplitude)[0]
+
+
+def _swing(system: OneDofSystem, equilibrium: Equilibrium, amplitude: float) -> tuple[tuple[float, float], float]:
+    """:func:`turning_points`, and max |q V''(q) / V'(q)| over the two (the relative change of
+    V' there per relative change of q: the quadrature's round-off estimate uses it)."""
     qe = equilibrium.q
     q0 = qe + amplitude
     s = 1.0 if amplitude > 0 else -1.0
@@ -1007,13 +1021,13 @@ def turning_points(system: OneDofSystem, equilibrium: Equilibrium, amplitude: fl
     # point in higher precision (no maximum can lie that close to a minimum).
     if not V0 - Ve > _RESOLVED * _EPS * max(abs(V0), abs(Ve)):
         q1 = _small_amplitude_turning_point(system, equilibrium, amplitude)
-        return (min(q0, q1), max(q0, q1))
+        return (min(q0, q1), max(q0, q1)), max(abs(x * c / v) for x in (q0, q1) for v, c in (fns.slopes(x),))
     near, far = well.sides[s], well.sides[-s]
     # same side: V must rise monotonically from q_e to q0
     if min(int(abs(amplitude) / well.step), near.q.size) > near.rising:  # grid points short of q0 (or at it)
         raise _separatrix_error(system, amplitude, float(near.q[near.rising]),
                                 "lies between the equilibrium and the release point")
-    slope0 = fns.dVs(q0)
+    slope0, curvature0 = fns.slopes(q0)
     if not s * slope0 > 1e-12 * well.scale:
         raise _separatrix_error(system, amplitude, q0, "lies between the equilibrium and the release point")
     # other side: V rises until it reaches V0, with no maximum on the way
@@ -1027,7 +1041,7 @@ def turning_points(system: OneDofSystem, equilibrium: Equilibrium, amplitude: fl
         raise _separatrix_error(system, amplitude, float(far.q[far.rising]),
                                 "on the far side is lower than the release point")
     below = (qe, Ve) if j == 0 else (far.climb_q[j - 1], far.climb_V[j - 1])
-    q1, slope1 = _far_turning_point(fns, q0, V0, (below[0], far.climb_q[j]), (below[1], far.climb_V[j]))
+    q1, slope1, curvature1 = _far_turning_point(fns, q0, V0, (below[0], far.climb_q[j]), (below[1], far.climb_V[j]))
     # a turning point at a (numerically) flat potential is the separatrix itself
     flat = 1e-9 * well.scale
     if abs(slope1) <= flat or abs(slope0) <= flat:
@@ -1035,7 +1049,8 @@ def turning_points(system: OneDofSystem, equilibrium: Equilibrium, amplitude: fl
     if system.limits:
         for turn in (q0, q1):
             check_limits(system, turn, "a turning point of the swing")
-    return (q1, q0) if q1 < q0 else (q0, q1)
+    sensitivity = max(abs(q0 * curvature0 / slope0), abs(q1 * curvature1 / slope1))
+    return ((q1, q0) if q1 < q0 else (q0, q1)), sensitivity
 
 
 # --------------------------------------------------------------------------- period
@@ -1308,14 +1323,13 @@ def _float_sums(fns: _Compiled, ends: tuple[float, float], n: int, err_ends: flo
     h = 0.5 * (q0 - q1)
     q = 0.5 * (q0 + q1) + h * nodes.sin
     with np.errstate(all="ignore"):
-        out = fns.diff(q, np.where(nodes.lower, q1, q0), h * nodes.half)
-        D, B = out if fns.sized else (out, None)
-        f = np.sqrt(fns.M(q) * nodes.cos2 / D)  # times h / sqrt(2) below
-        mean, mean_n = (float(x) for x in nodes.weights @ f)
+        out = fns.integrand(q, np.where(nodes.lower, q1, q0), h * nodes.half, nodes.cos2)  # times h / sqrt(2)
+        f, cond = out if fns.sized else (out, None)
+        mean, mean_n = (nodes.weights @ f).tolist()
         if not math.isfinite(mean):  # M > 0 and D > 0 at every node, else nan
             return math.nan, math.nan, math.inf, False
-        # D to 2 ulps relative (scaled by B / |D|), half of it in f; M and the sum 2 ulps
-        err = 2.0 * _EPS * (1.0 if B is None else float(nodes.weights[0] @ (f * B / np.abs(D))) / mean)
+        # D to 2 ulps relative (times B / |D|), half of it in f; M and the sum 2 ulps
+        err = 2.0 * _EPS * (1.0 if cond is None else float(nodes.weights[0] @ (f * cond)) / mean)
     return _SQRT2_PI * h * mean, _SQRT2_PI * h * mean_n, err + 2.0 * _EPS + err_ends, True
 
 
@@ -1399,16 +1413,15 @@ def exact_period(
     """
     _validate_exact_period(system, amplitude, tol, precision, method)
     eq = equilibrium if equilibrium is not None else find_equilibrium(system)
-    T0 = eq.period
     if method != "quadrature":
         form = elliptic_form(system, eq)
         if form is None and method == "elliptic":
             raise InputError(f"{system.name}: the period has no closed form here (M and the potential are not "
                              f"both affine in cos and sin of {system.q} with one phase); use the quadrature")
         if form is not None and (method == "elliptic" or _ELLIPTIC_ERROR <= tol):
-            return _elliptic_result(system, form, amplitude, T0)
+            return _elliptic_result(system, form, amplitude, eq.period)
     if amplitude == 0.0:
-        return PeriodResult(T0, T0, 1.0, 0.0, eq.q, (eq.q, eq.q), "quadrature", 0.0, 0, "float64")
+        return PeriodResult(eq.period, eq.period, 1.0, 0.0, eq.q, (eq.q, eq.q), "quadrature", 0.0, 0, "float64")
     return _quadrature_period(system, eq, amplitude, tol, precision)
 
 
@@ -1416,12 +1429,11 @@ def exact_period(
 _LEVELS = {"auto": ("float64", "mpmath"), "float64": ("float64",), "mpmath": ("mpmath",)}
 
 
-def _level_sum(system: OneDofSystem, level: str, ends: tuple[float, float], turn: int,
-               amplitude: float) -> Callable:
+def _level_sum(system: OneDofSystem, level: str, ends: tuple[float, float], amplitude: float,
+               sensitivity: float) -> Callable:
     """n -> (T with 3n nodes, T_n with n, round-off estimate, ok): the midpoint sums in one
-    arithmetic. ``turn`` indexes the release point in ``ends`` = (q1, q0) (exact); the
-    other turning point is a float64 root, whose residual V(release) - V(root) the float64
-    sum carries (:func:`_float_sums`); mpmath finds it again at its working precision."""
+    arithmetic between ``ends`` = (q1, q0), float64 roots (:func:`_float_sums`; mpmath finds
+    the far one again at its working precision). ``sensitivity``: see :func:`_swing`."""
     q1, q0 = ends
     if level == "mpmath":
         # V0 - V(q) shrinks like amplitude**2: add digits for small amplitudes
@@ -1435,8 +1447,7 @@ def _level_sum(system: OneDofSystem, level: str, ends: tuple[float, float], turn
     # V's argument at a node is q (or q - c) rounded: an error eps |q| that moves D by
     # eps |q| V'', relative eps |q| |V'' / V'| where V' is smallest, at the ends (large
     # near the separatrix, or for a small swing about q_e != 0); half of it in f.
-    (dV1, d2V1), (dV0, d2V0) = fns.slopes(q1), fns.slopes(q0)
-    err_ends = 0.5 * _EPS * max(abs(q1 * d2V1 / dV1), abs(q0 * d2V0 / dV0))
+    err_ends = 0.5 * _EPS * sensitivity
     return lambda n: _float_sums(fns, ends, n, err_ends)
 
 
@@ -1444,7 +1455,7 @@ def _first_nodes(amplitude: float) -> int:
     """The first n, chosen a priori: 8 up to 1 rad, doubled per doubling of the amplitude
     beyond (the integrand's nearest complex singularity nears the interval as the swing
     nears the separatrix; for the disk-bar at 1e-12 this is one sum up to 170 deg)."""
-    return 8 * 2 ** max(0, math.ceil(math.log2(abs(amplitude))))
+    return 8 if abs(amplitude) <= 1.0 else 8 * 2 ** math.ceil(math.log2(abs(amplitude)))
 
 
 def _next_nodes(n: int, change: float, tol: float) -> int:
@@ -1458,11 +1469,10 @@ def _quadrature_period(system: OneDofSystem, eq: Equilibrium, amplitude: float, 
                        precision: str) -> PeriodResult:
     """The midpoint sums with 3n and n nodes (module docstring), n from 8 up, until the two
     agree to tol / 2, in the cheapest arithmetic whose round-off estimate stays within tol / 4."""
-    q1, q0 = turning_points(system, eq, amplitude)
-    turn = 1 if abs(q0 - (eq.q + amplitude)) <= abs(q1 - (eq.q + amplitude)) else 0
+    (q1, q0), sensitivity = _swing(system, eq, amplitude)
     levels = _LEVELS[precision]
     for level in levels:
-        sums = _level_sum(system, level, (q1, q0), turn, amplitude)
+        sums = _level_sum(system, level, (q1, q0), amplitude, sensitivity)
         n = _first_nodes(amplitude)
         while 3 * n <= _MAX_NODES:
             T, T_n, err_round, ok = sums(n)
