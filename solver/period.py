@@ -824,9 +824,7 @@ class _Compiled:
 
     V: Callable  # vectorised
     dV: Callable
-    Vs: Callable  # scalar (math module)
-    dVs: Callable
-    slopes: Callable  # q -> (V'(q), V''(q)) on Python floats
+    local: Callable  # q -> (V(q), V'(q), V''(q)) on Python floats
     integrand: Callable  # (q, q_ref, (q_ref - q) / 2, cos^2 u) arrays -> sqrt(M cos^2 u / D), see _float_sums;
     # with ``sized`` also B / |D|
     newton: Callable  # (q, q_ref) Python floats -> (V(q_ref) - V(q), V'(q), V''(q))
@@ -912,9 +910,8 @@ def _compiled(system: OneDofSystem) -> _Compiled:
         integrand = _bound(system, ("integrand", zeros), lambda: f if B is None else (f, B / sp.Abs(D)),
                            (_REF, _HALF, _COS2))
         newton = _scalar(system, ("Newton", zeros), (system.q, _REF, _HALF), lambda: [D, dV(1), dV(2)])
-        slopes = _scalar(system, ("slopes", zeros), (system.q,), lambda: [dV(1), dV(2)])
-        return _Compiled(V[0], V[1], *[system.potential_fn(d, precision="scalar") for d in (0, 1)],
-                         lambda q: slopes(q, *vals), integrand,
+        local = _scalar(system, ("V, V', V''", zeros), (system.q,), lambda: [dV(0), dV(1), dV(2)])
+        return _Compiled(V[0], V[1], lambda q: local(q, *vals), integrand,
                          lambda q, ref: newton(q, ref, 0.5 * (ref - q), *vals), B is not None)
 
     key = ("period functions", system.values)
@@ -955,7 +952,7 @@ def _well(fns: _Compiled, qe: float, reach: float) -> _Well:
             flat = np.nonzero(slopes[s] <= 1e-12 * scale)[0]
             rising, V = int(flat[0]) if flat.size else q.size, fns.V(q)
             sides[s] = _WellSide(q, V, rising, q[:rising].tolist(), V[:rising].tolist())
-        return _Well(reach / _WELL_NODES, scale, sides, fns.Vs(qe))
+        return _Well(reach / _WELL_NODES, scale, sides, fns.local(qe)[0])
 
     well = fns.wells.get((qe, reach))  # per parameter values, as the functions
     if well is None:
@@ -988,7 +985,7 @@ def _far_turning_point(fns: _Compiled, q0: float, V0: float, bracket: tuple[floa
             return x, slope, curvature
         last = abs(step)
     x = brentq(lambda x: fns.newton(x, q0)[0], left, right, xtol=1e-300, rtol=4 * _EPS, maxiter=500, disp=False)
-    return (x, *fns.slopes(x))
+    return (x, *fns.local(x)[1:])
 
 
 def turning_points(system: OneDofSystem, equilibrium: Equilibrium, amplitude: float) -> tuple[float, float]:
@@ -1016,18 +1013,17 @@ def _swing(system: OneDofSystem, equilibrium: Equilibrium, amplitude: float) -> 
     s = 1.0 if amplitude > 0 else -1.0
     fns = _compiled(system)
     well = _well(fns, qe, 4.0 * max(abs(amplitude), math.pi))
-    V0, Ve = fns.Vs(q0), well.Ve
+    (V0, slope0, curvature0), Ve = fns.local(q0), well.Ve
     # A tiny amplitude raises V by less than float64 resolves: place the far turning
     # point in higher precision (no maximum can lie that close to a minimum).
     if not V0 - Ve > _RESOLVED * _EPS * max(abs(V0), abs(Ve)):
         q1 = _small_amplitude_turning_point(system, equilibrium, amplitude)
-        return (min(q0, q1), max(q0, q1)), max(abs(x * c / v) for x in (q0, q1) for v, c in (fns.slopes(x),))
+        return (min(q0, q1), max(q0, q1)), max(abs(x * c / v) for x in (q0, q1) for _, v, c in (fns.local(x),))
     near, far = well.sides[s], well.sides[-s]
     # same side: V must rise monotonically from q_e to q0
     if min(int(abs(amplitude) / well.step), near.q.size) > near.rising:  # grid points short of q0 (or at it)
         raise _separatrix_error(system, amplitude, float(near.q[near.rising]),
                                 "lies between the equilibrium and the release point")
-    slope0, curvature0 = fns.slopes(q0)
     if not s * slope0 > 1e-12 * well.scale:
         raise _separatrix_error(system, amplitude, q0, "lies between the equilibrium and the release point")
     # other side: V rises until it reaches V0, with no maximum on the way
