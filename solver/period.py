@@ -711,7 +711,6 @@ _WELL_NODES = 8192  # grid points per side of the equilibrium (spacing 4 pi / 81
 # sin((b-a)/2), term by term) with q_ref - q formed exactly, it keeps its relative accuracy.
 # (Symbols, not Dummies: lambdify would rename Dummies and re-evaluate sin(a - b) into
 # -sin(b - a), one more array operation; no scene parameter name starts with "__")
-_REF = sp.Symbol("__q_ref", real=True)
 _HALF = sp.Symbol("__half_step", real=True)  # (q_ref - q) / 2, given exactly by the caller
 _COS2 = sp.Symbol("__cos2", real=True)  # cos^2 u of a quadrature node (_float_sums)
 _DIFF_OPS = 400  # larger potentials are differenced directly (the round-off estimate says so)
@@ -721,8 +720,9 @@ def _difference(expr: sp.Expr, q: sp.Symbol) -> tuple[sp.Expr, sp.Expr | None]:
     """(D, B): D = expr(q_ref) - expr(q) without cancellation, and B >= |D| the size its
     round-off scales with (about eps B), or None when that is |D| itself.
 
-    D is in q, q_ref (``_REF``) and (q_ref - q) / 2 (``_HALF``, which the caller forms
-    exactly: q and q_ref themselves enter only function values, not their differences).
+    D is in q and H = (q_ref - q) / 2 (``_HALF``, which the caller forms exactly); q_ref
+    itself enters only function values, as q + 2 H (rounded like q itself: harmless there,
+    unlike in a difference).
 
     B differs from |D| where D adds differences of both signs (a sum, or the product rule):
     there the round-off is eps times the sum of their magnitudes. Functions without a product
@@ -733,8 +733,13 @@ def _difference(expr: sp.Expr, q: sp.Symbol) -> tuple[sp.Expr, sp.Expr | None]:
     return _diff(sp.sympify(expr), q, {})
 
 
+def _at_ref(e: sp.Expr, q: sp.Symbol) -> sp.Expr:
+    """e(q_ref), q_ref = q + 2 H."""
+    return e.xreplace({q: q + 2 * _HALF})
+
+
 def _plain_difference(e: sp.Expr, q: sp.Symbol) -> tuple[sp.Expr, sp.Expr]:
-    e0 = e.xreplace({q: _REF})
+    e0 = _at_ref(e, q)
     return e0 - e, sp.Abs(e0) + sp.Abs(e)
 
 
@@ -761,7 +766,7 @@ def _diff(e: sp.Expr, q: sp.Symbol, memo: dict) -> tuple[sp.Expr, sp.Expr | None
         head = factors[0]
         for g in factors[1:]:  # product rule: D(h g) = D(h) g(q_ref) + h D(g)
             Dg, Bg = _diff(g, q, memo)
-            g0 = g.xreplace({q: _REF})
+            g0 = _at_ref(g, q)
             D, B = D * g0 + head * Dg, _size(D, B) * sp.Abs(g0) + sp.Abs(head) * _size(Dg, Bg)
             head = head * g
         out = (c * D, None if B is None else sp.Abs(c) * B)
@@ -787,7 +792,7 @@ def _diff_power(b: sp.Expr, n: sp.Expr, q: sp.Symbol, memo: dict) -> tuple[sp.Ex
 
     inner = _diff(b, q, memo)
     Db = inner[0]
-    b0 = b.xreplace({q: _REF})
+    b0 = _at_ref(b, q)
     if n.is_Integer and 0 < n <= 8:
         D = Db * sp.Add(*[b0**i * b ** (n - 1 - i) for i in range(int(n))])
     elif n.is_Integer and -8 <= n < 0:
@@ -804,7 +809,7 @@ def _diff_function(e: sp.Expr, q: sp.Symbol, memo: dict) -> tuple[sp.Expr, sp.Ex
     a = e.args[0]
     inner = _diff(a, q, memo)
     Da = inner[0]
-    mid = a.xreplace({q: _REF}) - Da / 2  # (a(q) + a(q_ref)) / 2
+    mid = _at_ref(a, q) - Da / 2  # (a(q) + a(q_ref)) / 2: q + H for a = q
     if isinstance(e, sp.cos):
         D = -2 * sp.sin(mid) * sp.sin(Da / 2)
     elif isinstance(e, sp.sin):
@@ -825,7 +830,7 @@ class _Compiled:
     V: Callable  # vectorised
     dV: Callable
     local: Callable  # q -> (V(q), V'(q), V''(q)) on Python floats
-    integrand: Callable  # (q, q_ref, (q_ref - q) / 2, cos^2 u) arrays -> sqrt(M cos^2 u / D), see _float_sums;
+    integrand: Callable  # (q, (q_ref - q) / 2, cos^2 u) arrays -> sqrt(M cos^2 u / D), see _float_sums;
     # with ``sized`` also B / |D|
     newton: Callable  # (q, q_ref) Python floats -> (V(q_ref) - V(q), V'(q), V''(q))
     sized: bool  # False: the difference's round-off is eps |D| (no sum of both signs)
@@ -840,7 +845,7 @@ def _fold(expr: sp.Expr, variables: tuple, coefficients: dict) -> sp.Expr:
     if not expr.args or expr.is_number:
         return expr
     if not expr.has(*variables):
-        return coefficients.setdefault(expr, sp.Symbol(f"__c{len(coefficients)}"))  # not Dummy: see _REF
+        return coefficients.setdefault(expr, sp.Symbol(f"__c{len(coefficients)}"))  # not Dummy: see _HALF
     if isinstance(expr, (sp.Add, sp.Mul)):
         free, dep = expr.as_independent(*variables, as_Add=isinstance(expr, sp.Add))
         return expr.func(_fold(free, variables, coefficients),
@@ -908,11 +913,11 @@ def _compiled(system: OneDofSystem) -> _Compiled:
         # sin^2 + cos^2 in M reduced first (fewer array operations per node)
         f = sp.sqrt((reduce_trig(sp.sympify(system.mass)) or system.mass) * _COS2 / D)
         integrand = _bound(system, ("integrand", zeros), lambda: f if B is None else (f, B / sp.Abs(D)),
-                           (_REF, _HALF, _COS2))
-        newton = _scalar(system, ("Newton", zeros), (system.q, _REF, _HALF), lambda: [D, dV(1), dV(2)])
+                           (_HALF, _COS2))
+        newton = _scalar(system, ("Newton", zeros), (system.q, _HALF), lambda: [D, dV(1), dV(2)])
         local = _scalar(system, ("V, V', V''", zeros), (system.q,), lambda: [dV(0), dV(1), dV(2)])
         return _Compiled(V[0], V[1], lambda q: local(q, *vals), integrand,
-                         lambda q, ref: newton(q, ref, 0.5 * (ref - q), *vals), B is not None)
+                         lambda q, ref: newton(q, 0.5 * (ref - q), *vals), B is not None)
 
     key = ("period functions", system.values)
     fns = system._cache.get(key)  # (looked up first: this runs twice per period)
@@ -1279,7 +1284,6 @@ class _Nodes:
     sin: np.ndarray  # sin u
     half: np.ndarray  # (end - q) / (2 h): -(1 + sin u) / 2 below the middle, (1 - sin u) / 2 above
     cos2: np.ndarray  # cos^2 u = (q0 - q)(q - q1) / h^2
-    lower: np.ndarray  # below the middle
     weights: np.ndarray  # (2, 3n): the means over the 3n nodes and over the n-node rule's
 
 
@@ -1291,8 +1295,8 @@ def _nodes(n: int) -> _Nodes:
     lower = np.arange(3 * n) < 3 * n // 2
     weights = np.zeros((2, 3 * n))
     weights[0], weights[1, 1::3] = 1.0 / (3 * n), 1.0 / n
-    out = _Nodes(np.sin(u), 0.5 * np.where(lower, -below, above), below * above, lower, weights)
-    for a in (out.sin, out.half, out.cos2, out.lower, out.weights):
+    out = _Nodes(np.sin(u), 0.5 * np.where(lower, -below, above), below * above, weights)
+    for a in (out.sin, out.half, out.cos2, out.weights):
         a.flags.writeable = False
     return out
 
@@ -1319,7 +1323,7 @@ def _float_sums(fns: _Compiled, ends: tuple[float, float], n: int, err_ends: flo
     h = 0.5 * (q0 - q1)
     q = 0.5 * (q0 + q1) + h * nodes.sin
     with np.errstate(all="ignore"):
-        out = fns.integrand(q, np.where(nodes.lower, q1, q0), h * nodes.half, nodes.cos2)  # times h / sqrt(2)
+        out = fns.integrand(q, h * nodes.half, nodes.cos2)  # times h / sqrt(2)
         f, cond = out if fns.sized else (out, None)
         mean, mean_n = (nodes.weights @ f).tolist()
         if not math.isfinite(mean):  # M > 0 and D > 0 at every node, else nan
@@ -1331,7 +1335,8 @@ def _float_sums(fns: _Compiled, ends: tuple[float, float], n: int, err_ends: flo
 
 def _mp_sum(system, q0, q1, n, dps=_MP_DPS):
     """The same midpoint sums (3n and n nodes) with V0 - V(q) and the nodes in mpmath at
-    ``dps`` digits: (T, T_n, ok)."""
+    ``dps`` digits: (T, T_n, ok). ``q0`` is the release point (exact), ``q1`` the other
+    turning point, found again at that precision (either order)."""
     Vmp = system.potential_fn(0, precision="mpmath")
     M = system.mass_fn()
     with mpmath.workdps(dps):
@@ -1435,8 +1440,10 @@ def _level_sum(system: OneDofSystem, level: str, ends: tuple[float, float], ampl
         # V0 - V(q) shrinks like amplitude**2: add digits for small amplitudes
         dps = _MP_DPS + max(0, int(math.ceil(-2.0 * math.log10(abs(amplitude)))))
 
+        release, root = (q0, q1) if amplitude > 0 else (q1, q0)  # the root is found again
+
         def mp_sums(n):
-            T, T_n, ok = _mp_sum(system, q0, q1, n, dps=dps)
+            T, T_n, ok = _mp_sum(system, release, root, n, dps=dps)
             return T, T_n, 10.0 ** (-_MP_DPS + 8), ok
         return mp_sums
     fns = _compiled(system)
