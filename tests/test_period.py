@@ -349,3 +349,15 @@ def test_quadrature_in_float64_against_mpmath_without_closed_form(name, deg):
     # 1e-12 requested; the 30-digit reference is good to ~1e-25; the estimate bounds the error
     assert abs(res.period - ref) <= 1e-12 * ref
     assert abs(res.period - ref) <= res.error_estimate * ref * 1.01 + 1e-15 * ref
+
+
+def test_mpmath_quadrature_keeps_the_release_point_exact():
+    # Regression: the mpmath sum took the higher turning point as exact; released at -179 deg
+    # that is the float64 root, and its rounding (an ulp) moved the period by 4e-15 near the
+    # separatrix. Against the 30-digit reference (good to ~4e-16 here, see the closed form
+    # test), 1e-15 requested.
+    a = math.radians(-179.0)
+    res = exact_period(ex2_system(), a, tol=1e-15, method="quadrature", precision="mpmath")
+    assert res.precision == "mpmath"
+    ref = ex2_reference_period(abs(a))
+    assert abs(res.period - ref) <= 1e-15 * ref
