@@ -772,7 +772,7 @@ def _diff(e: sp.Expr, q: sp.Symbol, memo: dict) -> tuple[sp.Expr, sp.Expr | None
         out = (c * D, None if B is None else sp.Abs(c) * B)
     elif isinstance(e, sp.Pow) and not e.exp.has(q):
         out = _diff_power(e.base, e.exp, q, memo)
-    elif isinstance(e, (sp.sin, sp.cos, sp.exp, sp.log)):
+    elif isinstance(e, (sp.sin, sp.cos, sp.sinh, sp.cosh, sp.tan, sp.atan, sp.exp, sp.log)):
         out = _diff_function(e, q, memo)
     else:
         out = _plain_difference(e, q)
@@ -803,7 +803,8 @@ def _diff_power(b: sp.Expr, n: sp.Expr, q: sp.Symbol, memo: dict) -> tuple[sp.Ex
 
 
 def _diff_function(e: sp.Expr, q: sp.Symbol, memo: dict) -> tuple[sp.Expr, sp.Expr | None]:
-    """sin, cos, exp, log of an argument a: products of the half-difference (Da / 2)."""
+    """sin, cos, sinh, cosh, tan, atan, exp, log of an argument a: products of the
+    half-difference (Da / 2) or quotients of the difference."""
     from sympy.codegen.cfunctions import expm1, log1p
 
     a = e.args[0]
@@ -814,6 +815,14 @@ def _diff_function(e: sp.Expr, q: sp.Symbol, memo: dict) -> tuple[sp.Expr, sp.Ex
         D = -2 * sp.sin(mid) * sp.sin(Da / 2)
     elif isinstance(e, sp.sin):
         D = 2 * sp.cos(mid) * sp.sin(Da / 2)
+    elif isinstance(e, sp.cosh):
+        D = 2 * sp.sinh(mid) * sp.sinh(Da / 2)
+    elif isinstance(e, sp.sinh):
+        D = 2 * sp.cosh(mid) * sp.sinh(Da / 2)
+    elif isinstance(e, sp.tan):
+        D = sp.sin(Da) / (sp.cos(a) * sp.cos(_at_ref(a, q)))
+    elif isinstance(e, sp.atan):
+        D = sp.atan2(Da, 1 + a * _at_ref(a, q))  # the angle of (1 + i a0) / (1 + i a), no wrap
     elif isinstance(e, sp.exp):
         D = e * expm1(Da)
     else:

@@ -364,7 +364,8 @@ def test_mpmath_quadrature_keeps_the_release_point_exact():
 
 
 @pytest.mark.parametrize("expr", [-3 * sp.cos(q), sp.sin(q) * sp.cos(q), sp.exp(q) / q, sp.sqrt(2 + sp.sin(q)),
-                                  q**3 - sp.cos(q - sp.Rational(1, 3)), sp.log(2 + q) * q**-2])
+                                  q**3 - sp.cos(q - sp.Rational(1, 3)), sp.log(2 + q) * q**-2,
+                                  sp.cosh(q) * sp.atan(q), sp.tan(q) + sp.sinh(q)])
 def test_potential_difference_keeps_its_relative_accuracy(expr):
     # V(q_ref) - V(q) for q_ref - q = 2e-7 (a node next to a turning point): the plain float64
     # difference keeps ~9 digits; the rewritten one agrees with 40-digit mpmath to a few ulps
