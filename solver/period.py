@@ -129,8 +129,8 @@ def _lambdify(args, expr, modules):
 
 def check_limits(system: "OneDofSystem", q: float, what: str) -> None:
     """InputError when a model limit g(q) >= 0 of ``system`` fails at ``q`` [rad]."""
-    for text, g in system.limits:
-        value = float(sp.sympify(g).subs(dict(zip(system.params, system.values))).subs(system.q, q))
+    for i, (text, g) in enumerate(system.limits):  # compiled once per system (each period checks both ends)
+        value = float(_scalar(system, ("limit", i), (system.q,), lambda g=g: sp.sympify(g))(q, *system.values))
         if value < -1e-12:
             raise InputError(
                 f"{system.name}: {system.q} = {math.degrees(q):.6g} deg ({what}) is outside the model: "
