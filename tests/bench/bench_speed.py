@@ -213,6 +213,7 @@ def period() -> dict:
             t_quad = min(t_subst, t_weight)
             row = {"deg": deg, "model": auto.model, "auto_us": t_auto * 1e6, "quadrature_us": t_quadrature * 1e6,
                    "quad_us": t_quad * 1e6, "quad_substitution_us": t_subst * 1e6, "quad_weight_us": t_weight * 1e6,
+                   "quadrature_nodes": quadrature.nodes, "quadrature_precision": quadrature.precision,
                    "quadrature_vs_auto": abs(quadrature.period - auto.period) / auto.period,
                    "quad_vs_auto": abs(subst(a) - auto.period) / auto.period}
             rows.append(row)
