@@ -1479,8 +1479,9 @@ def _next_nodes(n: int, change: float, tol: float) -> int:
 
 def _quadrature_period(system: OneDofSystem, eq: Equilibrium, amplitude: float, tol: float,
                        precision: str) -> PeriodResult:
-    """The midpoint sums with 3n and n nodes (module docstring), n from 8 up, until the two
-    agree to tol / 2, in the cheapest arithmetic whose round-off estimate stays within tol / 4."""
+    """The midpoint sums with 3n and n nodes (module docstring), n from :func:`_first_nodes`
+    up (:func:`_next_nodes`), until the two agree to tol / 2, in the cheapest arithmetic whose
+    round-off estimate stays within tol / 4."""
     (q1, q0), sensitivity = _swing(system, eq, amplitude)
     levels = _LEVELS[precision]
     for level in levels:
