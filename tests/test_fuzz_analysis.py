@@ -18,8 +18,9 @@ Budget: every test uses ``_settings(n)``. ``max_examples`` (20-40, about 190 run
 all, plus the explicit ``@example`` cases of issue 10) is chosen so that each test takes
 well under a second of CPU (a CLI run is 5-20 ms), so the module adds about five seconds
 to ``make test``; ``derandomize=True`` makes ``make test`` reproducible (the
-same examples every run: a failure is a bug, never flakiness). The deadline is a hang
-guard, not a timing assertion: 5 s per example is hundreds of times the normal run.
+same examples every run: a failure is a bug, never flakiness). No wall-clock deadline:
+on a loaded machine (2 cores shared with other runs) a 20 ms example once took over
+5 s of wall time and failed the suite; the hang guard is pytest-timeout's 300 s.
 """
 from __future__ import annotations
 
@@ -29,7 +30,6 @@ import json
 import re
 import string
 import tomllib
-from datetime import timedelta
 
 from hypothesis import HealthCheck, example, given, settings
 from openpyxl.cell.cell import ILLEGAL_CHARACTERS_RE as ILLEGAL
@@ -50,7 +50,7 @@ JUNK = ["=1+1", "@SUM(A1)", "+cmd|' /C calc'!A0", "-2", "Definitely Agreee", "6"
 def _settings(n: int):
     # function_scoped_fixture: the tests use capsys through `analysis_cli`, which reads
     # and clears the captured output on every call, so nothing leaks between examples
-    return settings(max_examples=n, deadline=timedelta(seconds=5), derandomize=True,
+    return settings(max_examples=n, deadline=None, derandomize=True,
                     suppress_health_check=[HealthCheck.function_scoped_fixture,
                                            HealthCheck.too_slow])
 
