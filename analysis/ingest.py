@@ -374,12 +374,10 @@ def _read_csv_encoded(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]
         raise SurveyInputError(f"about {lines} records x {len(peek[0])} columns; at most "
                                f"{MAX_CELLS} cells are read", source)
     single = len(peek[0]) <= 1 if peek else True
+    trailing = 0
     if single:
-        # one column: an empty line is a blank answer (as Excel writes a blank cell);
-        # empty lines before the header and at the end are not records
-        lead = re.match(rb"(?:[ \t]*\r?\n)*", body).end()
-        skip += body[:lead].count(b"\n")
-        body = body[lead:].rstrip(b" \t\r\n") + b"\n"
+        body, lead, trailing = _trim_single_column(body)
+        skip += lead
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", pd.errors.ParserWarning)
@@ -408,8 +406,31 @@ def _read_csv_encoded(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]
     comments = [ln.decode(encoding, errors="replace").lstrip("#").strip()
                 for ln in raw[:pos].splitlines()]
     first = skip + 2 if row_map is None or not len(row_map) else int(row_map[0])
-    return _Raw(source, header, _frame_to_columns(df), first, len(df), comments,
-                row_map), peek
+    out = _Raw(source, header, _frame_to_columns(df), first, len(df), comments, row_map)
+    if trailing:
+        out.notes.append(f"{source}: {trailing} empty line(s) at the end not read as "
+                         f"respondents (in a one-column file an empty line elsewhere is a "
+                         f"blank answer)")
+    return out, peek
+
+
+def _trim_single_column(body: bytes) -> tuple[bytes, int, int]:
+    """A one-column CSV body without its empty lines before the header and at the end.
+
+    In one column an empty line is a blank answer (as Excel writes a blank cell), except
+    before the header and at the end, where it cannot be told from padding. A line holding
+    spaces or a tab is a record (a blank answer), wherever it is. Returns the body, the
+    number of lines removed before the header, and the number of empty lines removed at
+    the end (to be reported).
+    """
+    lead = re.match(rb"(?:[ \t]*\r?\n)*", body).end()
+    head, body = body[:lead].count(b"\n"), body[lead:]
+    end = len(body)
+    while end and body[end - 1:end] in (b"\n", b"\r"):
+        end -= 1
+    tail = body[end:]
+    trailing = max(tail.count(b"\n") + tail.count(b"\r") - tail.count(b"\r\n") - 1, 0)
+    return body[:end] + b"\n", head, trailing
 
 
 def _blank(b: bytes) -> bool:

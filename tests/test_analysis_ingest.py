@@ -287,6 +287,14 @@ def test_csv_layout_quirks(tmp_path, capsys):
     one.write_text("q1\nNeutral\n\nNeutral\n  \nPartially Agree\n\n\n")
     it = summarize(read_survey(one)).items[0]
     assert (it.respondents, it.n, it.missing) == (5, 3, 2)
+    # a last line of spaces is a blank answer too (it was stripped as padding, losing a
+    # respondent); the empty lines after it are padding, and are reported
+    spaced = tmp_path / "spaced.csv"
+    spaced.write_bytes(b"q1\r\nNeutral\r\n \r\n\r\n\r\n")
+    data = read_survey(spaced)
+    it = summarize(data).items[0]
+    assert (it.respondents, it.n, it.missing) == (2, 1, 1)
+    assert any("2 empty line(s) at the end" in note for note in data.notes), data.notes
     wb = openpyxl.Workbook()
     wb.active.append(["q1", "q1", "q2"])
     wb.active.append(["Neutral", "Definitely Agree", "Neutral"])
