@@ -18,15 +18,18 @@ settings.load_profile("ci" if os.environ.get("CI") else "default")
 # process, about 15 s of CPU). Under ``--dist loadfile`` (make test) they go to one worker as one
 # unit, so the session builds the report once instead of once per worker.
 REPORT_BUILD_FILES = frozenset({"tests/test_report.py", "tests/test_browser.py", "tests/test_drawing.py"})
-# The costliest units first (CPU seconds measured with --durations on 2 workers, November 2026:
-# report build group ~40, routes ~27, multibody scenes ~16, extremes ~14, multibody properties ~12,
-# explain, friction regimes ~10, ...), the rest after them in xdist's order (most tests first).
+# The costliest units first (CPU seconds of each file, measured serially with a per-test
+# process-time hook, 23 November 2026: report build group ~22 (browser 8, drawing 8, report 6),
+# explain ~16, routes ~15, extremes ~10, display ~10, multibody scenes ~9, multibody properties ~8,
+# friction regimes ~7, analysis tables and analysis report ~6 each, period ~5, fuzz solver and
+# multibody joints ~4, command line ~3), the rest after them in xdist's order (most tests first).
 # Longest-first keeps the two workers finishing together: xdist alone orders by number of tests,
-# which sent the 2-test, 12 s multibody-properties file last. Only the order changes, never what runs.
-HEAVY_FIRST = ("report-build", "tests/test_routes.py", "tests/test_multibody_scenes.py", "tests/test_extremes.py",
-               "tests/test_multibody_properties.py", "tests/test_explain.py", "tests/test_friction_regimes.py",
-               "tests/test_period.py", "tests/test_multibody_joints.py", "tests/test_analysis_report.py",
-               "tests/test_analysis_tables.py", "tests/test_fuzz_solver.py", "tests/test_cli_solver.py")
+# which sent the 2-test, 8 s multibody-properties file last. Only the order changes, never what runs.
+HEAVY_FIRST = ("report-build", "tests/test_explain.py", "tests/test_routes.py", "tests/test_extremes.py",
+               "tests/test_display.py", "tests/test_multibody_scenes.py", "tests/test_multibody_properties.py",
+               "tests/test_friction_regimes.py", "tests/test_analysis_tables.py", "tests/test_analysis_report.py",
+               "tests/test_period.py", "tests/test_fuzz_solver.py", "tests/test_multibody_joints.py",
+               "tests/test_cli_solver.py")
 
 
 @pytest.hookimpl(optionalhook=True)

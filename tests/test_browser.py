@@ -71,7 +71,7 @@ PROBE = r"""
 class DevTools:
     """A minimal DevTools-protocol client over Chromium's debugging pipe."""
 
-    def __init__(self, user_data_dir: Path):
+    def __init__(self, user_data_dir: Path, env: dict | None = None):
         to_chrome_r, self._to_chrome = os.pipe()
         self._from_chrome, from_chrome_w = os.pipe()
 
@@ -82,7 +82,7 @@ class DevTools:
         self.proc = subprocess.Popen(
             [CHROMIUM, *FLAGS, f"--user-data-dir={user_data_dir}", "about:blank"],
             stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-            preexec_fn=wire, pass_fds=(3, 4), close_fds=True,
+            preexec_fn=wire, pass_fds=(3, 4), close_fds=True, env=env,
         )
         os.close(to_chrome_r)
         os.close(from_chrome_w)
@@ -119,15 +119,19 @@ class DevTools:
                 return reply.get("result", {})
             self.events.append(reply)
 
-    def wait_for(self, method: str) -> dict:
+    def wait_for(self, method: str, session: str | None = None) -> dict:
+        """The first event ``method`` (of target ``session`` when given; one browser may show several pages)."""
+        def wanted(event):
+            return event.get("method") == method and (session is None or event.get("sessionId") == session)
+
         for event in self.events:
-            if event.get("method") == method:
+            if wanted(event):
                 return event
         deadline = time.monotonic() + TIMEOUT_S
         while True:
             event = self._read_message(deadline)
             self.events.append(event)
-            if event.get("method") == method:
+            if wanted(event):
                 return event
 
     def close(self) -> None:
@@ -168,26 +172,37 @@ def built(tmp_path_factory) -> Path:
     return out
 
 
+@pytest.fixture(scope="module")
+def browser(tmp_path_factory):
+    """One Chromium (with the machine's fonts) for the pages of :func:`test_page_renders_in_chromium`:
+    each page opens in a target of its own, so the pages share only the start-up (about 0.7 s of
+    CPU per launch) and the profile folder; each page's errors are the events of its own session."""
+    tools = DevTools(tmp_path_factory.mktemp("chromium") / "profile")
+    yield tools
+    tools.close()
+
+
 @pytest.mark.parametrize("page", ["report.html", "paper.html"])
-def test_page_renders_in_chromium(built, page, tmp_path):
+def test_page_renders_in_chromium(built, page, browser):
     path = built / page
     assert path.is_file(), f"{page} was not built"
-    tools = DevTools(tmp_path / "profile")
+    tools = browser
+    tools.events.clear()  # events of an earlier page (they carry its session) are not this page's
+    target = tools.send("Target.createTarget", {"url": "about:blank"})["targetId"]
     try:
-        target = tools.send("Target.createTarget", {"url": "about:blank"})["targetId"]
         session = tools.send("Target.attachToTarget", {"targetId": target, "flatten": True})["sessionId"]
         for domain in ("Runtime", "Log", "Page", "Network"):
             tools.send(f"{domain}.enable", session=session)
         tools.send("Page.navigate", {"url": path.as_uri()}, session=session)
-        tools.wait_for("Page.loadEventFired")
+        tools.wait_for("Page.loadEventFired", session=session)
         probe = json.loads(
             tools.send("Runtime.evaluate", {"expression": PROBE, "returnByValue": True}, session=session)["result"]["value"]
         )
         shot = tools.send("Page.captureScreenshot", {"format": "png"}, session=session)["data"]
         (built / f"{Path(page).stem}.png").write_bytes(base64.b64decode(shot))
-        errors = _console_errors(tools.events)
+        errors = _console_errors([e for e in tools.events if e.get("sessionId") == session])
     finally:
-        tools.close()
+        tools.send("Target.closeTarget", {"targetId": target})
 
     assert not errors, f"{page}: browser errors: {errors}"
     assert probe["math"] >= 10, f"{page}: expected the equations as MathML, found {probe['math']} <math> elements"
@@ -244,12 +259,12 @@ class Page:
 
     def __init__(self, tools: DevTools, path: Path):
         self.tools = tools
-        target = tools.send("Target.createTarget", {"url": "about:blank"})["targetId"]
-        self.session = tools.send("Target.attachToTarget", {"targetId": target, "flatten": True})["sessionId"]
+        self.target = tools.send("Target.createTarget", {"url": "about:blank"})["targetId"]
+        self.session = tools.send("Target.attachToTarget", {"targetId": self.target, "flatten": True})["sessionId"]
         for domain in ("Runtime", "Page", "DOM", "CSS"):
             tools.send(f"{domain}.enable", session=self.session)
         tools.send("Page.navigate", {"url": path.as_uri()}, session=self.session)
-        tools.wait_for("Page.loadEventFired")
+        tools.wait_for("Page.loadEventFired", session=self.session)
 
     def js(self, expression: str):
         reply = self.tools.send("Runtime.evaluate", {"expression": expression, "returnByValue": True,
@@ -297,8 +312,20 @@ class Page:
 
 
 
+@pytest.fixture(scope="module")
+def browser_without_maths_fonts(tmp_path_factory):
+    """One Chromium whose fontconfig rejects every maths font (:data:`NO_MATHS_FONTS`), for the pages of
+    :func:`test_accents_and_sum_limits_are_visible_without_a_system_maths_font` (a target each)."""
+    folder = tmp_path_factory.mktemp("chromium_no_maths_fonts")
+    conf = folder / "fonts.conf"
+    conf.write_text(NO_MATHS_FONTS.format(cache=folder / "fc-cache"), encoding="utf-8")
+    tools = DevTools(folder / "profile", env={**os.environ, "FONTCONFIG_FILE": str(conf)})
+    yield tools
+    tools.close()
+
+
 @pytest.mark.parametrize("page", ["paper.html", "report.html"])
-def test_accents_and_sum_limits_are_visible_without_a_system_maths_font(built, page, tmp_path, monkeypatch):
+def test_accents_and_sum_limits_are_visible_without_a_system_maths_font(built, page, browser_without_maths_fonts):
     """The dots of theta_dot and theta_ddot, and the limits of a sum, measured on the screen.
 
     Each accent's ink is found by hiding it and comparing pixels: it must exist, be dark
@@ -310,12 +337,9 @@ def test_accents_and_sum_limits_are_visible_without_a_system_maths_font(built, p
 
     from reports.mathfont import FAMILY
 
-    conf = tmp_path / "fonts.conf"
-    conf.write_text(NO_MATHS_FONTS.format(cache=tmp_path / "fc-cache"), encoding="utf-8")
-    monkeypatch.setenv("FONTCONFIG_FILE", str(conf))
-    tools = DevTools(tmp_path / "profile")
+    tools = browser_without_maths_fonts
+    view = Page(tools, built / page)
     try:
-        view = Page(tools, built / page)
         marked = view.js(MARK)
         kinds = [kind for kind, _ in marked["accents"]]
         assert {"\u02d9", "\u00a8"} <= set(kinds), f"{page}: expected dotted and double-dotted rates, found {kinds}"
@@ -345,4 +369,4 @@ def test_accents_and_sum_limits_are_visible_without_a_system_maths_font(built, p
                 over_rows = np.nonzero(inks[2].any(axis=1))[0]
                 assert over_rows.max() < op_rows.min(), f"{page}: sum {i}: the upper limit touches the sigma"
     finally:
-        tools.close()
+        tools.send("Target.closeTarget", {"targetId": view.target})

@@ -12,6 +12,7 @@ agreement checks every joint's sign conventions).
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 from pathlib import Path
 
 import pytest
@@ -28,8 +29,18 @@ RTOL = 1e-10
 # normal force at its centre of percussion; round-off there is ~1e-15.)
 
 
+@lru_cache(maxsize=None)
+def system_of(name):
+    """One system per scene file for this module: its kinematics and each (route, point)'s equations
+    are derived once (cached on the system) and shared by the closed-form tests and the route checks,
+    which loaded the same file afresh for every call. What the routes share is unchanged: the same
+    code computed the same point kinematics for each of them before; each route's own equations
+    (reactions for Newton-Euler, constraint equations for Lagrange) are still derived separately."""
+    return load_system(DATA / name)
+
+
 def values(name, method="generalized_euler", point=None):
-    sol = solve_instant(load_system(DATA / name), point, method)
+    sol = solve_instant(system_of(name), point, method)
     return {k: v.to_base_units().magnitude for k, v in sol.unknowns.items()}
 
 
@@ -96,7 +107,7 @@ def test_collar_on_a_turning_arm_with_spring_and_damper():
                                   "spring_slot.toml"])
 def test_routes_and_points_agree(name):
     ref = values(name)
-    system = load_system(DATA / name)
+    system = system_of(name)
     points = [f"{b}:{p}" for b, body in system.bodies.items() for p in body.point_names()]
     for point in points[:3]:
         other = values(name, point=point)
