@@ -272,6 +272,7 @@ def scene_figure(path, name: str, number: int, body: str | None = None, point: s
         ax_scene, ax_fbd = fig.subplots(1, 2)
         draw_system(system, state, ax=ax_scene)
         fbd = draw_system(system, state, ax=[ax_fbd], fbd=True, point=point, bodies=[body])
+    fig.set_layout_engine("none")  # placing the diagram's labels fixed the layout: saving need not solve it again
     items = fbd.on(body)
     P = fbd.point[body]
     real = [i.label for i in items if i.kind in ("force", "couple")]
