@@ -262,6 +262,7 @@ def scene_figure(path, name: str, number: int, body: str | None = None, point: s
     from solver.analyses.instant import assemble
     from solver.cli_common import state_text
     from solver.drawing import draw_system
+    from solver.drawing.render import place_labels
     from solver.io.scenes import load_system
 
     system = load_system(path) if system is None else system
@@ -270,9 +271,10 @@ def scene_figure(path, name: str, number: int, body: str | None = None, point: s
     with rc_context(RC):
         fig = Figure(figsize=(9.0, 3.8), layout="constrained")
         ax_scene, ax_fbd = fig.subplots(1, 2)
-        draw_system(system, state, ax=ax_scene)
-        fbd = draw_system(system, state, ax=[ax_fbd], fbd=True, point=point, bodies=[body])
-    fig.set_layout_engine("none")  # placing the diagram's labels fixed the layout: saving need not solve it again
+        draw_system(system, state, ax=ax_scene, arrange_labels=False)
+        fbd = draw_system(system, state, ax=[ax_fbd], fbd=True, point=point, bodies=[body], arrange_labels=False)
+        place_labels(fig, [ax_scene, ax_fbd])  # once, in the layout of the whole figure
+    fig.set_layout_engine("none")  # placing the labels fixed the layout: saving need not solve it again
     items = fbd.on(body)
     P = fbd.point[body]
     real = [i.label for i in items if i.kind in ("force", "couple")]
