@@ -23,6 +23,7 @@ from matplotlib import rc_context  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 from scipy.integrate import solve_ivp  # noqa: E402
 
+from solver.drawing.render import fix_layout  # noqa: E402
 from solver.units import Q_  # noqa: E402
 
 __all__ = ["FigureResult", "svg_text", "example1_release_sweep", "example2_free_motion", "likert_chart",
@@ -82,23 +83,9 @@ def _pdf_bytes(fig: Figure) -> bytes:
 def _result(name: str, fig: Figure, caption: str, facts: dict) -> FigureResult:
     """Both renderings of ``fig``, in one layout: the layout engine (constrained layout, a solver
     over every text's extent) runs once, and both files reuse the positions it found."""
-    _keep_layout(fig)
-    return FigureResult(name=name, caption=caption, svg=svg_text(fig), pdf=_pdf_bytes(fig), facts=facts)
-
-
-def _keep_layout(fig: Figure) -> None:
-    """Solve the figure's layout now (unless already done), then keep the axes where it put them:
-    no engine from now on.
-
-    Not ``set_layout_engine("none")``: that leaves a placeholder engine, and with any engine
-    set ``savefig`` first draws the whole figure once without output, then solves the layout
-    again in the real draw: two full draws and two layouts per file."""
-    engine = fig.get_layout_engine()
-    if engine is None:
-        return
     with rc_context(RC):
-        engine.execute(fig)  # a placeholder engine (the layout fixed before) does nothing
-    fig.set_layout_engine(None)  # (None falls back to rcParams' autolayout, off in RC)
+        fix_layout(fig)  # (Figures 1-3: already fixed when their labels were placed)
+    return FigureResult(name=name, caption=caption, svg=svg_text(fig), pdf=_pdf_bytes(fig), facts=facts)
 
 
 # --------------------------------------------------------------------------- Example 1
@@ -287,7 +274,6 @@ def scene_figure(path, name: str, number: int, body: str | None = None, point: s
         draw_system(system, state, ax=ax_scene, arrange_labels=False)
         fbd = draw_system(system, state, ax=[ax_fbd], fbd=True, point=point, bodies=[body], arrange_labels=False)
         place_labels(fig, [ax_scene, ax_fbd])  # once, in the layout of the whole figure
-    _keep_layout(fig)  # placing the labels fixed the layout: saving need not solve it again
     items = fbd.on(body)
     P = fbd.point[body]
     real = [i.label for i in items if i.kind in ("force", "couple")]

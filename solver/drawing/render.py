@@ -16,13 +16,14 @@ import matplotlib
 matplotlib.use("Agg")
 
 import numpy as np  # noqa: E402
+from matplotlib import rc_context  # noqa: E402
 from matplotlib.collections import LineCollection  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 from matplotlib.patches import Circle, FancyArrowPatch, Polygon, Rectangle, Wedge  # noqa: E402
 
 from .model import DrawnItem  # noqa: E402
 
-__all__ = ["new_figure", "render_scene", "render_fbd", "place_labels", "label_boxes", "RC"]
+__all__ = ["new_figure", "render_scene", "render_fbd", "place_labels", "label_boxes", "fix_layout", "RC"]
 
 RC = {"svg.hashsalt": "alt-euler-drawing", "svg.fonttype": "none", "font.size": 8}
 """Deterministic SVG (fixed ids, text kept as text)."""
@@ -364,12 +365,25 @@ def place_labels(fig, axes) -> None:
 
 
 def _final_layout(fig, axes) -> None:
-    """Fix the axes' places as drawing would: the layout engine, then each axes' aspect."""
-    engine = fig.get_layout_engine()
-    if engine is not None:
-        engine.execute(fig)
+    """Fix the axes' places as drawing would: the layout, then each axes' aspect."""
+    fix_layout(fig)
     for ax in axes:
         ax.apply_aspect()
+
+
+def fix_layout(fig) -> None:
+    """Solve the figure's layout now, then keep the axes where it put them: no layout engine from
+    then on, so that saving keeps this layout (the one labels were placed in).
+
+    Not ``set_layout_engine("none")``: that leaves a placeholder engine, and with any engine set
+    ``savefig`` draws the whole figure once without output first, then solves the layout again
+    in the real draw (two draws and two layouts per file)."""
+    engine = fig.get_layout_engine()
+    if engine is None:
+        return
+    engine.execute(fig)  # a placeholder engine (a layout fixed before) does nothing
+    with rc_context({"figure.autolayout": False, "figure.constrained_layout.use": False}):
+        fig.set_layout_engine(None)  # None falls back to these two settings: both off
 
 
 def _overlaps(boxes: np.ndarray, placed: np.ndarray, pad: float) -> np.ndarray:
