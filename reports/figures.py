@@ -23,6 +23,7 @@ from matplotlib import rc_context  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 from scipy.integrate import solve_ivp  # noqa: E402
 
+from solver.drawing.render import fix_layout  # noqa: E402
 from solver.units import Q_  # noqa: E402
 
 __all__ = ["FigureResult", "svg_text", "example1_release_sweep", "example2_free_motion", "likert_chart",
@@ -80,12 +81,11 @@ def _pdf_bytes(fig: Figure) -> bytes:
 
 
 def _result(name: str, fig: Figure, caption: str, facts: dict) -> FigureResult:
-    """Both renderings of ``fig``. The layout engine (constrained layout, a solver over every text's
-    extent) runs for the SVG; the PDF reuses the positions it found rather than solving again."""
-    svg = svg_text(fig)
-    if fig.get_layout_engine() is not None:
-        fig.set_layout_engine("none")
-    return FigureResult(name=name, caption=caption, svg=svg, pdf=_pdf_bytes(fig), facts=facts)
+    """Both renderings of ``fig``, in one layout: the layout engine (constrained layout, a solver
+    over every text's extent) runs once, and both files reuse the positions it found."""
+    with rc_context(RC):
+        fix_layout(fig)  # (Figures 1-3: already fixed when their labels were placed)
+    return FigureResult(name=name, caption=caption, svg=svg_text(fig), pdf=_pdf_bytes(fig), facts=facts)
 
 
 # --------------------------------------------------------------------------- Example 1
@@ -262,6 +262,7 @@ def scene_figure(path, name: str, number: int, body: str | None = None, point: s
     from solver.analyses.instant import assemble
     from solver.cli_common import state_text
     from solver.drawing import draw_system
+    from solver.drawing.render import place_labels
     from solver.io.scenes import load_system
 
     system = load_system(path) if system is None else system
@@ -270,8 +271,9 @@ def scene_figure(path, name: str, number: int, body: str | None = None, point: s
     with rc_context(RC):
         fig = Figure(figsize=(9.0, 3.8), layout="constrained")
         ax_scene, ax_fbd = fig.subplots(1, 2)
-        draw_system(system, state, ax=ax_scene)
-        fbd = draw_system(system, state, ax=[ax_fbd], fbd=True, point=point, bodies=[body])
+        draw_system(system, state, ax=ax_scene, arrange_labels=False)
+        fbd = draw_system(system, state, ax=[ax_fbd], fbd=True, point=point, bodies=[body], arrange_labels=False)
+        place_labels(fig, [ax_scene, ax_fbd])  # once, in the layout of the whole figure
     items = fbd.on(body)
     P = fbd.point[body]
     real = [i.label for i in items if i.kind in ("force", "couple")]

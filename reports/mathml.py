@@ -7,6 +7,7 @@ dotted theta, ``theta_ddot`` with two dots, ``R_B`` with a subscript.
 from __future__ import annotations
 
 import re
+from functools import lru_cache
 
 import sympy as sp
 from markupsafe import Markup
@@ -38,8 +39,18 @@ class _Printer(MathMLPresentationPrinter):
 
 
 def _mathml_body(expr: sp.Basic) -> str:
-    printer = _Printer({"mul_symbol": None})
-    return printer.doprint(expr)
+    """The MathML of one expression, printed once per build however often it is shown (the
+    report prints each transcribed equation in block and inline form, the paper shares some)."""
+    try:
+        return _printed_mathml(expr)
+    except TypeError:  # an unhashable expression (a mutable Matrix): printed each time
+        return _Printer({"mul_symbol": None}).doprint(expr)
+
+
+@lru_cache(maxsize=2048)
+def _printed_mathml(expr: sp.Basic) -> str:
+    # sympy's == is structural (2.0 and 2 differ), so equal expressions print alike
+    return _Printer({"mul_symbol": None}).doprint(expr)
 
 
 def _wrap(body: str, display: str) -> Markup:

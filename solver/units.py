@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import math
 import re
+from pathlib import Path
 from typing import Any
 
 import pint
@@ -34,8 +35,16 @@ from solver.files import user_cache_dir
 def _registry() -> pint.UnitRegistry:
     """The registry, from pint's cache of its parsed definitions when a private per-user
     cache folder exists (:func:`solver.files.user_cache_dir`; it saves about 0.3 s per
-    command), else parsed afresh."""
-    folder = user_cache_dir("pint")
+    command), else parsed afresh.
+
+    One cache folder per pint installation: pint's cached definitions record the folder they
+    were read from and resolve their ``@import`` lines against it, so a cache written by
+    another installation (another virtual environment, or one since deleted) would fail and
+    every run would parse afresh."""
+    import hashlib
+
+    place = hashlib.blake2b(str(Path(pint.__file__).parent).encode(), digest_size=8).hexdigest()
+    folder = user_cache_dir(f"pint-{place}")
     if folder is not None:
         try:
             return pint.UnitRegistry(cache_folder=folder)

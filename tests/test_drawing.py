@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
+from reports.figures import PAPER_SCENE_FIGURES
 from solver.__main__ import main
 from solver.analyses.instant import solve_instant
 from solver.analyses.regimes import start_state
@@ -294,6 +295,21 @@ def test_paper_figures_1_to_3_are_drawn_from_the_scenes(tmp_path_factory):
         assert f"{name} = {solution.unknowns[name].magnitude:.4g} N" in rod
     for name in ("B_x", "B_y"):  # the rod is the first body of pin B: the force on it is -B
         assert f"-{name} = {-solution.unknowns[name].magnitude:.4g} N" in rod
+
+
+@pytest.mark.parametrize("name, scene_file, body, number", PAPER_SCENE_FIGURES)
+def test_paper_figures_keep_their_labels_apart(name, scene_file, body, number, monkeypatch):
+    """Figures 1-3 place both panels' labels once, in the whole figure's layout (the scene is
+    drawn with arrange_labels=False): as saved, no two labels overlap in either panel."""
+    from reports import figures
+
+    drawn = []
+    keep = figures._result
+    monkeypatch.setattr(figures, "_result", lambda n, fig, *rest: drawn.append(fig) or keep(n, fig, *rest))
+    figures.scene_figure(ROOT / "data" / "scenes" / scene_file, name, number, body)
+    (figure,) = drawn
+    assert sum(len(ax.texts) for ax in figure.axes) > 4  # both panels carry labels
+    _assert_labels_apart(figure, name)
 
 
 def test_the_command_line_starts_without_matplotlib():

@@ -45,7 +45,8 @@ def check_format(path, allowed, flag: str) -> str:
     return suffix
 
 
-def draw_system(system, state=None, ax=None, fbd: bool = False, point: str | None = None, bodies=None):
+def draw_system(system, state=None, ax=None, fbd: bool = False, point: str | None = None, bodies=None,
+                arrange_labels: bool = True):
     """Draw a scene at its state (or ``state``), or its free-body diagrams.
 
     Parameters
@@ -65,6 +66,10 @@ def draw_system(system, state=None, ax=None, fbd: bool = False, point: str | Non
         -m a_P the diagrams show (default: each body's reference point).
     bodies : sequence of str, optional
         For ``fbd``: the bodies whose diagrams are drawn (default: all).
+    arrange_labels : bool
+        Move the labels off each other now (:func:`solver.drawing.render.place_labels`). False
+        when the caller draws more on the same figure first and places every panel's labels
+        once, in the figure's final layout.
 
     Returns
     -------
@@ -98,7 +103,8 @@ def draw_system(system, state=None, ax=None, fbd: bool = False, point: str | Non
             if ax is None:
                 figure, (ax,) = render.new_figure(1, size=5.0)
             render.render_scene(ax, scene, bodies, title=system.name)
-            render.place_labels(ax.figure, [ax])
+            if arrange_labels:
+                render.place_labels(ax.figure, [ax])
             return Drawing(system.name, scene, figure=figure)
         solution = solve_instant(system, point, state=state)
         from ..analyses.regimes import with_every_contact_force  # contacts: the regime's forces, each drawn alone
@@ -114,7 +120,8 @@ def draw_system(system, state=None, ax=None, fbd: bool = False, point: str | Non
         for a, body in zip(axes, panels):
             render.render_fbd(a, scene, [f for f in forces if f.body == body], body, bodies,
                               title=f"{body}: free-body diagram (P = {points[body]})")
-        render.place_labels(axes[0].figure, axes)  # labels off each other and off the bodies
+        if arrange_labels:
+            render.place_labels(axes[0].figure, axes)  # labels off each other and off the bodies
     forces = [f for f in forces if f.body in panels]
     return Drawing(system.name, forces, fbd=True, panels=panels, point=points, figure=figure, solution=solution)
 

@@ -16,13 +16,14 @@ import matplotlib
 matplotlib.use("Agg")
 
 import numpy as np  # noqa: E402
+from matplotlib import rc_context  # noqa: E402
 from matplotlib.collections import LineCollection  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 from matplotlib.patches import Circle, FancyArrowPatch, Polygon, Rectangle, Wedge  # noqa: E402
 
 from .model import DrawnItem  # noqa: E402
 
-__all__ = ["new_figure", "render_scene", "render_fbd", "place_labels", "label_boxes", "RC"]
+__all__ = ["new_figure", "render_scene", "render_fbd", "place_labels", "label_boxes", "fix_layout", "RC"]
 
 RC = {"svg.hashsalt": "alt-euler-drawing", "svg.fonttype": "none", "font.size": 8}
 """Deterministic SVG (fixed ids, text kept as text)."""
@@ -327,10 +328,6 @@ def _obstacles(ax) -> np.ndarray:
     return np.vstack(pts) if pts else np.zeros((0, 2))
 
 
-def _overlap(a, b, pad: float) -> bool:
-    return (a.x0 < b.x1 + pad and b.x0 < a.x1 + pad and a.y0 < b.y1 + pad and b.y0 < a.y1 + pad)
-
-
 def place_labels(fig, axes) -> None:
     """Move the labels of ``axes`` off each other, and off the drawn shapes where possible.
 
@@ -338,7 +335,8 @@ def place_labels(fig, axes) -> None:
     nearest offset (8 directions, :data:`_STEPS` points away) that overlaps no label placed
     before it (with :data:`LABEL_PAD` clearance), covering as few drawn points as possible.
     Text extents come from the renderer after the layout is fixed (labels are taken out of the
-    constrained layout so that moving them cannot move the axes).
+    constrained layout so that moving them cannot move the axes). A label's offset is in points,
+    so each candidate box is its measured box moved by the offset (measured once, not per try).
     """
     texts = {id(ax): [t for t in ax.texts if t.get_visible() and t.get_text() and hasattr(t, "xyann")]
              for ax in axes}
@@ -346,25 +344,62 @@ def place_labels(fig, axes) -> None:
         for t in group:
             t.set_in_layout(False)
     renderer = _renderer(fig)
-    fig.draw_without_rendering()  # the layout, now final
+    _final_layout(fig, axes)
     directions = [(math.cos(a), math.sin(a)) for a in np.linspace(0, 2 * math.pi, 8, endpoint=False)]
+    offsets = np.array([(0.0, 0.0)] + [(step * d[0], step * d[1]) for step in _STEPS[1:] for d in directions])
+    rank = np.array([0] + [k for k in range(1, len(_STEPS)) for _ in directions])  # the step of each offset
+    to_pixels = fig.dpi / 72.0
     for ax in axes:
         obstacles = _obstacles(ax)
-        placed = []
+        placed = np.zeros((0, 4))  # x0, y0, x1, y1 of the labels placed so far
         for t in texts[id(ax)]:
             base = np.array(t.xyann, float)
-            best, best_key = None, None
-            for k, step in enumerate(_STEPS):
-                for d in (directions if step else [(0.0, 0.0)]):
-                    t.xyann = (base[0] + step * d[0], base[1] + step * d[1])
-                    box = t.get_window_extent(renderer)
-                    clash = sum(_overlap(box, p, LABEL_PAD) for p in placed)
-                    covered = int(np.count_nonzero((obstacles[:, 0] > box.x0) & (obstacles[:, 0] < box.x1)
-                                                   & (obstacles[:, 1] > box.y0) & (obstacles[:, 1] < box.y1)))
-                    key = (clash, covered > 0, k, covered)
-                    if best_key is None or key < best_key:
-                        best, best_key = t.xyann, key
-                if best_key is not None and best_key[0] == 0 and not best_key[1]:
-                    break  # clear of labels and shapes: the nearest such place
-            t.xyann = best
-            placed.append(t.get_window_extent(renderer))
+            b = t.get_window_extent(renderer)
+            boxes = np.array([b.x0, b.y0, b.x1, b.y1]) + np.tile(offsets * to_pixels, 2)
+            clash = _overlaps(boxes, placed, LABEL_PAD)
+            covered = _covered(boxes, obstacles)
+            best = np.lexsort((covered, rank, covered > 0, clash))[0]  # the first least (clash, covered, step, count)
+            t.xyann = tuple(base + offsets[best])
+            b = t.get_window_extent(renderer)
+            placed = np.vstack([placed, [b.x0, b.y0, b.x1, b.y1]])
+
+
+def _final_layout(fig, axes) -> None:
+    """Fix the axes' places as drawing would: the layout, then each axes' aspect."""
+    fix_layout(fig)
+    for ax in axes:
+        ax.apply_aspect()
+
+
+def fix_layout(fig) -> None:
+    """Solve the figure's layout now, then keep the axes where it put them: no layout engine from
+    then on, so that saving keeps this layout (the one labels were placed in).
+
+    Not ``set_layout_engine("none")``: that leaves a placeholder engine, and with any engine set
+    ``savefig`` draws the whole figure once without output first, then solves the layout again
+    in the real draw (two draws and two layouts per file)."""
+    engine = fig.get_layout_engine()
+    if engine is None:
+        return
+    engine.execute(fig)  # a placeholder engine (a layout fixed before) does nothing
+    with rc_context({"figure.autolayout": False, "figure.constrained_layout.use": False}):
+        fig.set_layout_engine(None)  # None falls back to these two settings: both off
+
+
+def _overlaps(boxes: np.ndarray, placed: np.ndarray, pad: float) -> np.ndarray:
+    """For each box (rows x0, y0, x1, y1), how many of ``placed`` it overlaps with ``pad`` clearance."""
+    if not len(placed):
+        return np.zeros(len(boxes), dtype=int)
+    a, p = boxes[:, None, :], placed[None, :, :]
+    hit = (a[..., 0] < p[..., 2] + pad) & (p[..., 0] < a[..., 2] + pad) & \
+          (a[..., 1] < p[..., 3] + pad) & (p[..., 1] < a[..., 3] + pad)
+    return hit.sum(axis=1)
+
+
+def _covered(boxes: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """For each box, how many of the drawn ``points`` lie strictly inside it."""
+    if not len(points):
+        return np.zeros(len(boxes), dtype=int)
+    x, y = points[None, :, 0], points[None, :, 1]
+    inside = (x > boxes[:, 0:1]) & (x < boxes[:, 2:3]) & (y > boxes[:, 1:2]) & (y < boxes[:, 3:4])
+    return inside.sum(axis=1)
