@@ -176,6 +176,11 @@ def _assert_labels_apart(figure, where):
             continue
         boxes = label_boxes(ax)
         texts = [t.get_text() for t in ax.texts if t.get_visible() and t.get_text()]
+        frame = figure.bbox
+        for text, box in zip(texts, boxes):  # inside the figure: a label past its edge is cut off
+            assert (box.x0 >= frame.x0 - LABEL_OVERLAP_TOL and box.x1 <= frame.x1 + LABEL_OVERLAP_TOL
+                    and box.y0 >= frame.y0 - LABEL_OVERLAP_TOL and box.y1 <= frame.y1 + LABEL_OVERLAP_TOL), \
+                f"{where}: label {text!r} is cut off by the figure's edge ({box.extents} in {frame.extents})"
         for i, a in enumerate(boxes):
             for j in range(i):
                 b = boxes[j]

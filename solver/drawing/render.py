@@ -332,8 +332,9 @@ def place_labels(fig, axes) -> None:
     """Move the labels of ``axes`` off each other, and off the drawn shapes where possible.
 
     Greedy, in drawing order: each label keeps its place when that is clear, else takes the
-    nearest offset (8 directions, :data:`_STEPS` points away) that overlaps no label placed
-    before it (with :data:`LABEL_PAD` clearance), covering as few drawn points as possible.
+    nearest offset (8 directions, :data:`_STEPS` points away) that stays inside the figure and
+    overlaps no label placed before it (with :data:`LABEL_PAD` clearance), covering as few drawn
+    points as possible.
     Text extents come from the renderer after the layout is fixed (labels are taken out of the
     constrained layout so that moving them cannot move the axes). A label's offset is in points,
     so each candidate box is its measured box moved by the offset (measured once, not per try).
@@ -358,7 +359,9 @@ def place_labels(fig, axes) -> None:
             boxes = np.array([b.x0, b.y0, b.x1, b.y1]) + np.tile(offsets * to_pixels, 2)
             clash = _overlaps(boxes, placed, LABEL_PAD)
             covered = _covered(boxes, obstacles)
-            best = np.lexsort((covered, rank, covered > 0, clash))[0]  # the first least (clash, covered, step, count)
+            cut = _cut_off(boxes, fig.bbox.extents)
+            # the first least (cut off, clash, covers any, step, count covered)
+            best = np.lexsort((covered, rank, covered > 0, clash, cut))[0]
             t.xyann = tuple(base + offsets[best])
             b = t.get_window_extent(renderer)
             placed = np.vstack([placed, [b.x0, b.y0, b.x1, b.y1]])
@@ -394,6 +397,12 @@ def _overlaps(boxes: np.ndarray, placed: np.ndarray, pad: float) -> np.ndarray:
     hit = (a[..., 0] < p[..., 2] + pad) & (p[..., 0] < a[..., 2] + pad) & \
           (a[..., 1] < p[..., 3] + pad) & (p[..., 1] < a[..., 3] + pad)
     return hit.sum(axis=1)
+
+
+def _cut_off(boxes: np.ndarray, frame) -> np.ndarray:
+    """For each box, whether any of it lies outside the figure's ``frame`` (x0, y0, x1, y1)."""
+    x0, y0, x1, y1 = frame
+    return (boxes[:, 0] < x0) | (boxes[:, 1] < y0) | (boxes[:, 2] > x1) | (boxes[:, 3] > y1)
 
 
 def _covered(boxes: np.ndarray, points: np.ndarray) -> np.ndarray:
