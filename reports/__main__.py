@@ -1,6 +1,6 @@
 """``python -m reports``: build the verification report and the reproducible paper."""
 import sys
 
-from reports.make_report import main
+from reports.cli import main
 
 sys.exit(main())

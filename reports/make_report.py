@@ -1,6 +1,6 @@
 """Build the verification report and the reproducible paper (``make report``).
 
-``python -m reports [--out DIR] [--pdf auto|never]`` writes into DIR
+``python -m reports [--out DIR] [--pdf auto|never]`` (:mod:`reports.cli`) writes into DIR
 (default ``reports/build``):
 
 * ``report.html``: every published number and equation with its verdict,
@@ -16,13 +16,11 @@ Bad input ends the build with one line naming the file and place, exit status 2.
 """
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import os
 import shutil
 import subprocess
-import sys
 import tempfile
 import time
 from pathlib import Path
@@ -33,6 +31,7 @@ from markupsafe import Markup
 
 from reports import checks as checks_mod
 from reports import figures, mathfont, paper, provenance
+from reports.cli import main, validate_build
 from reports.mathml import equation_mathml, to_latex, to_mathml
 from reports.published import ReportInputError, load_equations
 from solver.errors import InputError
@@ -234,7 +233,7 @@ def build(root: Path = ROOT, out: Path | None = None, pdf: str = "auto", log=pri
     InputError
         Bad input files (one line).
     """
-    _validate_build(root, pdf)
+    validate_build(root, pdf)
     root = Path(root)
     out = Path(out) if out is not None else root / "reports" / "build"
     out.parent.mkdir(parents=True, exist_ok=True)
@@ -485,37 +484,3 @@ def _run_latex(engine: str, folder: Path) -> None:
             raise ReportInputError(f"paper.tex: {name} failed: " + " | ".join(tail))
     for junk in ("paper.aux", "paper.log", "paper.out"):
         (folder / junk).unlink(missing_ok=True)
-
-
-def _validate_build(root, pdf) -> None:
-    if pdf not in ("auto", "never"):
-        raise ValueError(f"`pdf` must be one of ('auto', 'never'), got {pdf!r}")
-    if not (Path(root) / "data").is_dir():
-        raise ReportInputError(f"{root}: not the project root (no data/ folder)")
-
-
-def main(argv: list[str] | None = None) -> int:
-    """Command line: ``python -m reports [--out DIR] [--pdf auto|never]``."""
-    parser = argparse.ArgumentParser(prog="python -m reports", description=__doc__.split("\n\n")[0])
-    parser.add_argument("--out", type=Path, default=None, help="output folder (default reports/build)")
-    parser.add_argument("--root", type=Path, default=ROOT, help="project root (default: this checkout)")
-    parser.add_argument("--pdf", choices=("auto", "never"), default="auto",
-                        help="build paper.pdf when a LaTeX engine exists (auto) or never")
-    args = parser.parse_args(argv)
-    try:
-        result = build(args.root, args.out, pdf=args.pdf)
-    except (InputError, ValueError) as err:
-        print(f"error: {err}", file=sys.stderr)
-        return 2
-    except Exception as err:  # noqa: BLE001 - survey input errors come from another package
-        if type(err).__name__ == "SurveyInputError":
-            print(f"error: {err}", file=sys.stderr)
-            return 2
-        raise
-    c = result["counts"]
-    print(
-        f"report: {len(result['written'])} files in {result['out']} "
-        f"({c['agrees']} agree, {c['disagrees']} disagree, {c['not-checkable']} not checkable; "
-        f"{result['timings']['total']:.1f} s)"
-    )
-    return 0
