@@ -454,15 +454,22 @@ def solve_instant(system, point: str | None = None, method: str = "generalized_e
         A state outside a joint's model (a semicircle past its rim) or an
         inconsistent prescribed motion.
     """
-    from ..formulations import formulate, resolve_points
-
-    regime, extra = None, {}
+    regime, warning = None, None
     if system.contacts:  # contacts that can stick, slip or separate: the regime that holds first
         from .regimes import regime_at_state
 
         regime, warning, state = regime_at_state(system, state, point, method)
-        if warning:
-            extra["warning"] = warning
+    return solution_in_regime(system, regime, warning, state, point, method)
+
+
+def solution_in_regime(system, regime, warning: str | None, state: State | None, point: str | None = None,
+                       method: str = "generalized_euler") -> InstantSolution:
+    """The :class:`InstantSolution` of :func:`solve_instant` once the contact regime is known:
+    ``(regime, warning, state)`` as :func:`solver.analyses.regimes.regime_at_state` returns them
+    (``regime`` None: the system as written)."""
+    from ..formulations import formulate, resolve_points
+
+    extra = {"warning": warning} if warning else {}
     if regime is not None:
         res = regime.values
         extra["regime"] = {c.joint: c.to_dict() for c in regime.checks}

@@ -438,12 +438,13 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
     SceneError
         An unknown point; SingularConfigurationError at a singular state.
     """
-    from ..analyses.instant import assemble, solve_instant
+    from ..analyses.instant import assemble, solution_in_regime, solve_instant
     from ..formulations import formulate
 
     scene, regime, warning = system, None, None
     if system.contacts:  # the contact regime that holds at the state decides the equations
         system, regime, warning, state = system_in_regime(system, point)
+        found = (regime, warning, state)  # as solve_instant would find it (the same search)
     if regime is not None and regime.indeterminate:  # every contact row kept: it does not validate
         from ..formulations import Formulation, resolve_points
 
@@ -475,7 +476,7 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
     if numbers is not None:
         final.steps.append(numbers)
     if scene.contacts:  # the product's own regime solve, and the same by the mass-centre form
-        solution = solve_instant(scene, point, "generalized_euler", state)
+        solution = solution_in_regime(scene, *found, point, "generalized_euler")
         check = solve_instant(scene, None, "mass_center", state).unknowns
     else:
         solution = _solve_at_state(system, f, point, state) or solve_instant(system, point, "generalized_euler", state)
