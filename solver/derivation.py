@@ -32,6 +32,7 @@ from .formulations import METHODS, NamedEquation, formulate
 from .io.convert import system_from_scene
 from .model.system import System
 from .scene import Scene
+from .strprint import lambdify
 from .units import Q_
 
 __all__ = [
@@ -112,7 +113,7 @@ class _OneDofNumeric:
             al = system.alpha(body)
             values = system.si_values()
             params = sorted(values, key=str)
-            self._alpha = sp.lambdify((c.q, c.qd, c.qdd, system.t, *params), al, "numpy")
+            self._alpha = lambdify((c.q, c.qd, c.qdd, system.t, *params), al, "numpy")
             self._pv = [values[p] for p in params]
 
     def matrices(self, q, qd, t=0.0):

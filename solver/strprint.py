@@ -27,10 +27,12 @@ from __future__ import annotations
 import sympy as sp
 from sympy.core.exprtools import decompose_power
 from sympy.core.sorting import default_sort_key
+from sympy.printing.numpy import NumPyPrinter
 from sympy.printing.precedence import PRECEDENCE, precedence
+from sympy.printing.pycode import PythonCodePrinter
 from sympy.printing.str import StrPrinter
 
-__all__ = ["FastStrPrinter", "sstr"]
+__all__ = ["FastStrPrinter", "sstr", "lambdify"]
 
 _EXACT = 2 ** 53
 """Numerators and denominators below this are exact doubles, so p/q is one correctly rounded division."""
@@ -84,7 +86,20 @@ def _ordered_terms(expr, sort_key=default_sort_key) -> list:
     return [term for term, _, _ in sorted(keyed, key=key)]
 
 
-class FastStrPrinter(StrPrinter):
+class _FastOrdering:
+    """A printer's sums ordered as ``as_ordered_terms`` orders them, without its ``evalf`` (see the module)."""
+
+    def _as_ordered_terms(self, expr, order=None):
+        if (order or self.order) is not None or not expr.is_commutative or any(
+                t.is_Order for t in expr.args) or _special_pair(expr):
+            return super()._as_ordered_terms(expr, order=order)
+        return _ordered_terms(expr, self._sort_key)
+
+    def _sort_key(self, item):
+        return default_sort_key(item)
+
+
+class FastStrPrinter(_FastOrdering, StrPrinter):
     """sympy's StrPrinter with default settings, each node printed and ranked once (see the module)."""
 
     def __init__(self):
@@ -179,11 +194,6 @@ class FastStrPrinter(StrPrinter):
             return sign + "*".join(a_str) + "/" + b_str[0]
         return sign + "*".join(a_str) + "/(%s)" % "*".join(b_str)
 
-    def _as_ordered_terms(self, expr, order=None):
-        if (order or self.order) is not None or not expr.is_commutative or any(
-                t.is_Order for t in expr.args) or _special_pair(expr):
-            return super()._as_ordered_terms(expr, order=order)
-        return _ordered_terms(expr, self._sort_key)
 
 
 def _precedence_of(item) -> int:
@@ -229,3 +239,21 @@ def sstr(expr, printer: FastStrPrinter | None = None) -> str:
     True
     """
     return (printer or FastStrPrinter()).doprint(expr)
+
+
+class _FastNumPyPrinter(_FastOrdering, NumPyPrinter):
+    """NumPyPrinter, sums ordered without evalf (the same code)."""
+
+
+class _FastPythonCodePrinter(_FastOrdering, PythonCodePrinter):
+    """PythonCodePrinter, sums ordered without evalf (the same code)."""
+
+
+def lambdify(args, expr, modules: str, cse: bool = False):
+    """``sympy.lambdify(args, expr, modules, cse=cse)`` for the solver's own numeric functions: the
+    same generated code (lambdify's own printer for ``"numpy"`` or ``"math"``, with its settings,
+    sums ordered as in :class:`FastStrPrinter`), and no docstring (lambdify prints the whole
+    expression into it, about half its cost; nobody reads these functions' docstrings)."""
+    printer = {"numpy": _FastNumPyPrinter, "math": _FastPythonCodePrinter}[modules](
+        {"fully_qualified_modules": False, "inline": True, "allow_unknown_functions": True, "user_functions": {}})
+    return sp.lambdify(args, expr, modules=modules, printer=printer, cse=cse, docstring_limit=0)

@@ -83,3 +83,22 @@ def test_display_of_the_paper_scenes():
             d = derivation.derive(system, point)
             for expr in (d.eom, d.eom.coeff(d.qdd), *_reactions_display(d).values()):
                 assert sstr(expr) == sp.sstr(expr)
+
+
+def test_lambdify_generates_sympys_code():
+    # The numeric models' code must be sympy's own (the same operations in the same order give the
+    # same floating-point results); only the docstring is left out.
+    import inspect
+
+    from solver.formulations import formulate
+    from solver.io.scenes import load_system
+    from solver.strprint import lambdify
+
+    for scene in ("sliding_bar", "four_bar"):
+        system = load_system(f"data/scenes/{scene}.toml")
+        A, b = formulate(system, "generalized_euler").linear_system()
+        args = (*system.q, *system.qd, system.t, *sorted(system.si_values(), key=str))
+        for modules in ("numpy", "math"):
+            ours = lambdify(args, list(A) + list(b), modules, cse=True)
+            theirs = sp.lambdify(args, list(A) + list(b), modules=modules, cse=True)
+            assert inspect.getsource(ours) == inspect.getsource(theirs)
