@@ -385,8 +385,27 @@ def tidy(expr: sp.Expr) -> sp.Expr:
     nested trigonometric arguments with only common factors pulled out.
     """
     e = sp.sympify(expr)
-    if e.is_number or _size(e) > MAX_TIDY_NODES:
+    if e.is_number or _plain_monomial(e) or _size(e) > MAX_TIDY_NODES:
         return e
+    return _tidy_general(e)
+
+
+def _plain_factor(f) -> bool:
+    """A symbol, or sin/cos of a symbol, possibly to a positive integer power."""
+    if f.is_Pow:
+        f = f.base if f.exp.is_Integer and f.exp > 0 else None
+    return f is not None and (f.is_Symbol or isinstance(f, (sp.sin, sp.cos)) and f.args[0].is_Symbol)
+
+
+def _plain_monomial(e: sp.Expr) -> bool:
+    """A rational times plain factors (:func:`_plain_factor`), which :func:`tidy` leaves as it is:
+    no denominator but the rational's, nothing to expand, reduce or factor out (the test checks
+    :func:`_tidy_general` against it)."""
+    return all(f.is_Rational or _plain_factor(f) for f in sp.Mul.make_args(e)) and not e.is_Rational
+
+
+def _tidy_general(e: sp.Expr) -> sp.Expr:
+    """:func:`tidy` of an expression that is not a number (nor a plain monomial)."""
     e = _reduce_denominators(e)
     if e.has(sp.tan, sp.cot):
         e = e.replace(sp.tan, lambda a: sp.sin(a) / sp.cos(a)).replace(sp.cot, lambda a: sp.cos(a) / sp.sin(a))

@@ -126,3 +126,20 @@ def test_the_single_term_fraction_is_sympys_cancel():
             taken += 1
             assert sp.srepr(fast) == sp.srepr(sp.fraction(sp.cancel(_together(e)))), e
     assert taken > 150
+
+
+def test_a_plain_monomial_is_left_as_it_is():
+    """tidy returns a rational times symbols and sin/cos of symbols (to positive powers) at once;
+    the general path (solver.display._tidy_general) must agree, tree for tree, on such monomials."""
+    from solver.display import _plain_monomial, _tidy_general
+
+    rng = random.Random(11)
+    factors = [phi, beta, g, m, s, c, sp.sin(beta), sp.cos(beta), s**2, c**3, sp.sin(beta) ** 4, g**2]
+    coefficients = [sp.Integer(1), sp.Integer(-1), sp.Rational(1, 2), sp.Rational(-3, 4), sp.Integer(12)]
+    for _ in range(60):
+        mono = rng.choice(coefficients) * sp.Mul(*rng.sample(factors, rng.randint(1, 4)))
+        assert _plain_monomial(mono)
+        assert sp.srepr(_tidy_general(mono)) == sp.srepr(mono)
+    # not plain: a sum, a denominator, an argument that is not a symbol
+    for other in (phi + g, g / m, sp.sin(2 * phi) * g, sp.Rational(1, 2)):
+        assert not _plain_monomial(other)
