@@ -458,15 +458,16 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
     expl.sections.append(_system_data_section(system, state))
     if scene.contacts:
         expl.sections[-1].steps.append(_regime_step(scene, regime, warning))
+    parts: dict = {}
     for body, P in f.points.items():
-        expl.sections.append(_body_section(system, body, P))
+        expl.sections.append(_body_section(system, body, P, parts))
     if not solution:
         return expl
     final = Section("Solution", None)
     if advice and not (regime is not None and regime.indeterminate):  # the advisor needs a system that validates
         from .advisor import advice_step
 
-        final.steps.append(advice_step(system, state))
+        final.steps.append(advice_step(system, state, parts))
     motion = _motion_step(system, f, expl)
     if motion is None and system.free:
         motion = _constrained_motion_step(system, f, expl)
@@ -531,9 +532,13 @@ def _regime_step(scene, regime, warning) -> Step:
                 table=Table(("contact", "regime", "why"), tuple(rows)) if rows else None)
 
 
-def _body_section(system, body: str, P: str) -> Section:
+def _body_section(system, body: str, P: str, parts: dict | None = None) -> Section:
+    """The steps of one body; ``parts`` (body -> (points, forces)) receives what the point advisor
+    needs again (no later step names new points)."""
     points = _Points(system, body)
     forces = _forces_on(system, body, points)
+    if parts is not None:
+        parts[body] = (points, forces)
     b = system.bodies[body]
     used = [P] + (["G"] if "G" != P else [])
     if len(b.elements) > 1:
