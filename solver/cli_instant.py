@@ -378,7 +378,8 @@ def _reactions_display(d) -> dict:
     parts = d.reaction_fractions
     if parts is None:
         return {name: _display_form(expr, _tidy_display) for name, expr in d.reactions.items()}
-    return {name: tidy_fraction(num, den) for name, (num, den) in parts.items()}
+    memo: dict = {}  # the reactions share their denominator (the generalized mass)
+    return {name: tidy_fraction(num, den, memo) for name, (num, den) in parts.items()}
 
 
 def _reactions_at_state(system, d) -> dict:

@@ -426,26 +426,39 @@ def _tidy_general(e: sp.Expr) -> sp.Expr:
     return num / den
 
 
-def _fraction_of_ratio(num: sp.Expr, den: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
+def _fraction_of_ratio(num: sp.Expr, den: sp.Expr, once=None) -> tuple[sp.Expr, sp.Expr]:
     """``sympy.fraction(sympy.together(num / den))``, by :func:`_gathered_sum` on each side when
     both are sums of monomials over monomial denominators (the reactions of the structured solve);
-    otherwise by ``together`` itself."""
-    top, bottom = _gathered_sum(sp.Add.make_args(num)), _gathered_sum(sp.Add.make_args(den))
+    otherwise by ``together`` itself. ``once(key, build)`` remembers the denominator's side."""
+    once = once or (lambda key, build: build())
+    top = _gathered_sum(sp.Add.make_args(num))
+    bottom = once(("gathered", den), lambda: _gathered_sum(sp.Add.make_args(den)))
     if top is None or bottom is None:
         return sp.fraction(_together(num / den))
     return sp.fraction(top / bottom)
 
 
-def tidy_fraction(num: sp.Expr, den: sp.Expr) -> sp.Expr:
+def tidy_fraction(num: sp.Expr, den: sp.Expr, memo: dict | None = None) -> sp.Expr:
     """Display form of num/den when both are known polynomials in sin/cos (no ``together``,
-    no ``cancel``): each part reduced and factored on its own."""
-    num, den = _reduce_denominators(sp.expand(num)), _reduce_denominators(sp.expand(den))
+    no ``cancel``): each part reduced and factored on its own.
+
+    ``memo``: a dict shared by the fractions of one display (the reactions share their
+    denominator, the generalized mass), where the work on a common denominator is kept."""
+    memo = {} if memo is None else memo
+
+    def once(key, build):
+        if key not in memo:
+            memo[key] = build()
+        return memo[key]
+
+    num = _reduce_denominators(sp.expand(num))
+    den = once(("reduced", den), lambda: _reduce_denominators(sp.expand(den)))
     if _has_denominator(den):
-        num, den = _fraction_of_ratio(num, den)
+        num, den = _fraction_of_ratio(num, den, once)
     if _has_denominator(num) and _monomial_denominators(num):
         num, extra = _over_common_denominator(num)
         den = den * extra
-    return _tidy_polynomial(num) / _tidy_polynomial(den)
+    return _tidy_polynomial(num) / once(("polynomial", den), lambda: _tidy_polynomial(den))
 
 
 def tidy_linear(expr: sp.Expr, variables) -> sp.Expr:
