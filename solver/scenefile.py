@@ -399,15 +399,17 @@ class _SceneLoader:
             raise self.fail(key, f"expected a pair [x, y] of expressions, got {value!r}")
         return sp.Matrix([self.expr(v, f"{key}[{i}]", names, need) for i, v in enumerate(value)])
 
-    def si(self, expr: sp.Expr, key: str) -> float:
-        """Numeric SI value of a parameter expression (for sign and geometry checks): in double
-        precision by one tree walk (:func:`solver.tree_value.tree_value`), by sympy's evalf where
-        the walk cannot go (an unknown function, a missing parameter, a division by zero)."""
+    def si(self, expr: sp.Expr, key: str, extra: dict | None = None) -> float:
+        """Numeric SI value of a parameter expression (for sign and geometry checks; ``extra``:
+        values of further symbols, such as the coordinate): in double precision by one tree walk
+        (:func:`solver.tree_value.tree_value`), by sympy's evalf where the walk cannot go (an
+        unknown function, a missing parameter, a division by zero)."""
+        values = {**self.si_values, **extra} if extra else self.si_values
         try:
-            value = tree_value(expr, self.si_values)
+            value = tree_value(expr, values)
         except (NotEvaluable, KeyError, ZeroDivisionError, OverflowError, TypeError, ValueError):
             try:
-                value = complex(expr.evalf(subs=self.si_values))
+                value = complex(expr.evalf(subs=values))
             except (TypeError, ValueError):
                 raise self.fail(key, f"cannot evaluate {sp.sstr(expr)} with the given parameters") from None
         if not math.isfinite(value.real) or abs(value.imag) > 1e-12 * max(1.0, abs(value.real)):
@@ -427,7 +429,7 @@ class _SceneLoader:
     def bounded_angle(self, expr: sp.Expr, key: str) -> sp.Expr:
         """An angle expression whose value at the scene's state is within
         :data:`solver.units.MAX_ANGLE_TURNS` turns (``"1e300*theta"`` has no meaningful sine)."""
-        value = self.si(expr.subs(self.q, self.state_q), key) if expr.free_symbols - {self.q} <= set(self.si_values) \
+        value = self.si(expr, key, {self.q: self.state_q}) if expr.free_symbols - {self.q} <= set(self.si_values) \
             else None
         if value is not None:
             try:
