@@ -31,10 +31,22 @@ MAX_TIDY_NODES = 1000
 """Expressions with more nodes than this are shown as built (tidying would cost more than it saves)."""
 
 
+def _nodes(e: sp.Basic, kinds) -> set:
+    """``e.atoms(*kinds)``, the nodes of those classes, by one walk with a list for a stack (sympy's
+    nested generators pay the tree's depth at every node)."""
+    out, stack = set(), [e]
+    while stack:
+        x = stack.pop()
+        if isinstance(x, kinds):
+            out.add(x)
+        stack.extend(x.args)
+    return out
+
+
 def _angles_ok(expr: sp.Expr) -> bool:
     """Whether every sin/cos argument is free of sin/cos itself (then the arguments are
     independent generators: sin(a)**2 + cos(a)**2 = 1 per argument a, after expand_trig)."""
-    return all(not f.args[0].has(sp.sin, sp.cos, sp.tan) for f in expr.atoms(sp.sin, sp.cos))
+    return all(not f.args[0].has(sp.sin, sp.cos, sp.tan) for f in _nodes(expr, (sp.sin, sp.cos)))
 
 
 def _is_sine_square(x) -> bool:
@@ -52,7 +64,7 @@ def _reduce_poly(poly: sp.Expr) -> sp.Expr:
     This is the remainder of the division by the Groebner basis {sin**2 + cos**2 - 1} with
     sin ahead of cos, a canonical form: an identically zero polynomial reduces to 0."""
     p = sp.expand(poly)
-    if not any(_is_sine_square(x) for x in p.atoms(sp.Pow)):
+    if not any(_is_sine_square(x) for x in _nodes(p, sp.Pow)):
         return p
     return sp.expand(p.replace(_is_sine_square, _lower_sine))
 
@@ -312,14 +324,19 @@ def _reduce_denominators(e: sp.Expr) -> sp.Expr:
     """Every denominator that is a polynomial in sin/cos reduced modulo sin**2 + cos**2 = 1
     (``(sin(g)**2 + cos(g)**2)**2`` becomes 1): the cheap structural step that removes a
     printed denominator equal to a constant."""
-    if not any(_is_trig_denominator(x) for x in e.atoms(sp.Pow)):
+    if not any(_is_trig_denominator(x) for x in _nodes(e, sp.Pow)):
         return e
     return e.replace(_is_trig_denominator, lambda x: _reduce_poly(x.base) ** x.exp)
 
 
 def _size(e: sp.Expr) -> int:
-    """Number of nodes of the expression tree (a cheap stand-in for ``count_ops``)."""
-    return sum(1 for _ in sp.preorder_traversal(e))
+    """Number of nodes of the expression tree (a cheap stand-in for ``count_ops``; the count of
+    ``sympy.preorder_traversal``, by a walk with a list for a stack)."""
+    n, stack = 0, [e]
+    while stack:
+        n += 1
+        stack.extend(stack.pop().args)
+    return n
 
 
 def _monomial_denominators(e: sp.Expr) -> bool:
@@ -327,17 +344,17 @@ def _monomial_denominators(e: sp.Expr) -> bool:
 
 
 def _has_denominator(e: sp.Expr) -> bool:
-    return any(x.exp.is_negative for x in e.atoms(sp.Pow))
+    return any(x.exp.is_negative for x in _nodes(e, sp.Pow))
 
 
 def _denominator_free(p: sp.Expr) -> bool:
     """No negative powers: a polynomial in its symbols and its sin/cos terms."""
-    return not any(x.exp.is_negative for x in p.atoms(sp.Pow))
+    return not any(x.exp.is_negative for x in _nodes(p, sp.Pow))
 
 
 def _has_square(p: sp.Expr) -> bool:
     """Whether some sin(a)**n with n >= 2 appears (only then can the reduction change anything)."""
-    return any(isinstance(x.base, sp.sin) and x.exp.is_Integer and x.exp >= 2 for x in p.atoms(sp.Pow))
+    return any(isinstance(x.base, sp.sin) and x.exp.is_Integer and x.exp >= 2 for x in _nodes(p, sp.Pow))
 
 
 def _tidy_polynomial(p: sp.Expr) -> sp.Expr:

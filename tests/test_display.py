@@ -143,3 +143,18 @@ def test_a_plain_monomial_is_left_as_it_is():
     # not plain: a sum, a denominator, an argument that is not a symbol
     for other in (phi + g, g / m, sp.sin(2 * phi) * g, sp.Rational(1, 2)):
         assert not _plain_monomial(other)
+
+
+def test_the_tree_walks_are_sympys():
+    """_nodes and _size walk the tree with a list for a stack: the same nodes as sympy's atoms and
+    the same count as preorder_traversal, on expressions with shared and nested subtrees."""
+    from solver.display import _nodes, _size
+
+    rng = random.Random(5)
+    pieces = [s, c, s**2, 1 / c, sp.sin(beta) ** 3, g, m / 2, sp.sqrt(g * m), (g + m) ** -2]
+    for _ in range(40):
+        e = sp.Add(*[rng.choice(pieces) * rng.choice(pieces) for _ in range(rng.randint(1, 5))])
+        e = e / (1 + rng.choice(pieces)) if rng.random() < 0.5 else e
+        assert _nodes(e, sp.Pow) == e.atoms(sp.Pow)
+        assert _nodes(e, (sp.sin, sp.cos)) == e.atoms(sp.sin, sp.cos)
+        assert _size(e) == sum(1 for _ in sp.preorder_traversal(e))
