@@ -158,3 +158,17 @@ def test_the_tree_walks_are_sympys():
         assert _nodes(e, sp.Pow) == e.atoms(sp.Pow)
         assert _nodes(e, (sp.sin, sp.cos)) == e.atoms(sp.sin, sp.cos)
         assert _size(e) == sum(1 for _ in sp.preorder_traversal(e))
+
+
+def test_terms_by_power_of_the_rate_as_collect():
+    """derivation._by_powers groups an expanded polynomial in theta_dot as sympy.collect(...,
+    evaluate=False) does, tree for tree (the eom display tidies each group on its own)."""
+    from solver.derivation import _by_powers
+
+    w = sp.Symbol("theta_dot", real=True)
+    rng = random.Random(3)
+    pieces = [w, w**2, 2 * w, -w / 3, s, g * m, c**2, sp.Rational(3, 2), w**3 * g, sp.sin(beta) / c]
+    for _ in range(60):
+        e = sp.expand(sum(rng.choice(pieces) * rng.choice(pieces) * rng.choice(pieces) for _ in range(rng.randint(1, 6))))
+        ours, theirs = _by_powers(e, w), sp.collect(e, w, evaluate=False)
+        assert {k: sp.srepr(v) for k, v in ours.items()} == {k: sp.srepr(v) for k, v in theirs.items()}
