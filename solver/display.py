@@ -495,5 +495,13 @@ def tidy_linear(expr: sp.Expr, variables) -> sp.Expr:
         coef = rest.coeff(v) if v.is_Symbol or v.is_Pow else sp.Integer(0)
         if coef != 0 and not coef.has(*[u for u in variables if u.is_Symbol]):
             parts.append(tidy(coef) * v)
-            rest = sp.expand(rest - coef * v)
+            rest = _without_factor(rest, v)
     return sp.Add(*parts, tidy(rest))
+
+
+def _without_factor(rest: sp.Expr, v: sp.Expr) -> sp.Expr:
+    """``expand(rest - rest.coeff(v) * v)`` of an expanded commutative sum: the terms that do not
+    hold ``v`` as a factor (those are the ones ``coeff`` collects), without expanding again."""
+    if not rest.is_commutative:
+        return sp.expand(rest - rest.coeff(v) * v)
+    return sp.Add(*[t for t in sp.Add.make_args(rest) if v not in sp.Mul.make_args(t)])

@@ -172,3 +172,17 @@ def test_terms_by_power_of_the_rate_as_collect():
         e = sp.expand(sum(rng.choice(pieces) * rng.choice(pieces) * rng.choice(pieces) for _ in range(rng.randint(1, 6))))
         ours, theirs = _by_powers(e, w), sp.collect(e, w, evaluate=False)
         assert {k: sp.srepr(v) for k, v in ours.items()} == {k: sp.srepr(v) for k, v in theirs.items()}
+
+
+def test_tidy_linear_removes_the_collected_terms_as_expand_does():
+    """display._without_factor(rest, v) is expand(rest - rest.coeff(v)*v) on expanded sums (the
+    route tidy_linear took before), tree for tree."""
+    from solver.display import _without_factor
+
+    qdd, qd, R = sp.symbols("theta_ddot theta_dot R_A", real=True)
+    rng = random.Random(9)
+    pieces = [qdd, qd**2, qd, R, s, c**2, g * m, sp.Rational(-1, 2), sp.sin(beta) / c, qd**3, qdd * qd]
+    for _ in range(80):
+        e = sp.expand(sum(rng.choice(pieces) * rng.choice(pieces) * rng.choice(pieces) for _ in range(rng.randint(1, 6))))
+        for v in (qdd, qd**2, R, qd):
+            assert sp.srepr(_without_factor(e, v)) == sp.srepr(sp.expand(e - e.coeff(v) * v))
