@@ -221,6 +221,7 @@ def eom_command(args: argparse.Namespace) -> int:
     reactions = _reactions_display(d)
     at_state = _reactions_at_state(system, d)
     q = system.free[0].name
+    text = _printer()
     if args.json:
         print_json(
             {
@@ -228,12 +229,12 @@ def eom_command(args: argparse.Namespace) -> int:
                 "point": d.point,
                 "method": d.method,
                 "coordinate": q,
-                "eom": str(eom),
-                "mass": str(mass),
-                "kinetic_energy": str(d.kinetic_energy),
-                "potential_energy": str(d.potential_energy),
-                "generalized_force": str(d.generalized_force),
-                "reactions": {name: str(expr) for name, expr in reactions.items()},
+                "eom": text(eom),
+                "mass": text(mass),
+                "kinetic_energy": text(d.kinetic_energy),
+                "potential_energy": text(d.potential_energy),
+                "generalized_force": text(d.generalized_force),
+                "reactions": {name: text(expr) for name, expr in reactions.items()},
                 "reaction_units": dict(d.reaction_units),
                 "reactions_at_state": at_state,
             }
@@ -257,17 +258,25 @@ def eom_command(args: argparse.Namespace) -> int:
     print(f"point   {d.point}   method  {d.method}")
     print()
     print(f"equation of motion ({q}_ddot is the second derivative of {q}):")
-    print(f"  {sp.sstr(eom)} = 0")
+    print(f"  {text(eom)} = 0")
     print()
     print(f"generalized mass M({q}) (kinetic energy T = 1/2 M {q}_dot**2):")
-    print(f"  M = {sp.sstr(mass)}")
+    print(f"  M = {text(mass)}")
     print()
     print("reactions as functions of the state (SI parameters give SI values), and their values at the state:")
     for name, expr in reactions.items():
         entry = at_state[name]
-        print(f"  {name} = {sp.sstr(expr)}")
+        print(f"  {name} = {text(expr)}")
         print(f"      = {format_number(entry['value'])} {entry['unit']} at the state")
     return 0
+
+
+def _printer():
+    """``str`` of expressions (sympy's text) for one command's output, common subexpressions printed once."""
+    from solver.strprint import FastStrPrinter
+
+    printer = FastStrPrinter()
+    return printer.doprint
 
 
 def _output_unit(system, unit: str) -> str:
@@ -293,14 +302,15 @@ def _eom_multi(args, system) -> int:
     else:
         eqs, coords = equations_of_motion(f), list(system.free)
         shown = [_tidy_multi(e, system) for e in eqs]
+    text = _printer()
     if args.json:
         print_json({"scene": system.name, "point": ",".join(f"{b}:{p}" for b, p in f.points.items()),
                     "method": f.method, "coordinates": [c.name for c in coords],
                     "dependent": [c.name for c in system.dependent],
-                    "eom": [str(e) for e in shown],
-                    "kinetic_energy": str(system.kinetic_energy()),
-                    "potential_energy": str(system.potential_energy()),
-                    "generalized_forces": [str(q) for q in system.generalized_forces()]})
+                    "eom": [text(e) for e in shown],
+                    "kinetic_energy": text(system.kinetic_energy()),
+                    "potential_energy": text(system.potential_energy()),
+                    "generalized_forces": [text(q) for q in system.generalized_forces()]})
         return 0
     if args.latex:
         names = {}
@@ -321,7 +331,7 @@ def _eom_multi(args, system) -> int:
     print()
     for c, e in zip(coords, shown):
         print(f"equation for {c.name} (reactions eliminated):")
-        print(f"  {sp.sstr(e)} = 0")
+        print(f"  {text(e)} = 0")
         print()
     return 0
 
@@ -368,7 +378,8 @@ def _reactions_display(d) -> dict:
     parts = d.reaction_fractions
     if parts is None:
         return {name: _display_form(expr, _tidy_display) for name, expr in d.reactions.items()}
-    return {name: tidy_fraction(num, den) for name, (num, den) in parts.items()}
+    memo: dict = {}  # the reactions share their denominator (the generalized mass)
+    return {name: tidy_fraction(num, den, memo) for name, (num, den) in parts.items()}
 
 
 def _reactions_at_state(system, d) -> dict:

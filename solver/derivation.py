@@ -32,6 +32,7 @@ from .formulations import METHODS, NamedEquation, formulate
 from .io.convert import system_from_scene
 from .model.system import System
 from .scene import Scene
+from .strprint import lambdify
 from .units import Q_
 
 __all__ = [
@@ -112,7 +113,7 @@ class _OneDofNumeric:
             al = system.alpha(body)
             values = system.si_values()
             params = sorted(values, key=str)
-            self._alpha = sp.lambdify((c.q, c.qd, c.qdd, system.t, *params), al, "numpy")
+            self._alpha = lambdify((c.q, c.qd, c.qdd, system.t, *params), al, "numpy")
             self._pv = [values[p] for p in params]
 
     def matrices(self, q, qd, t=0.0):
@@ -427,10 +428,28 @@ def _tidy(expr: sp.Expr) -> sp.Expr:
 def _tidy_by_rate(expr: sp.Expr, qd: sp.Symbol) -> sp.Expr:
     """Display form term by term in powers of theta_dot, each coefficient tidied on its own."""
     try:
-        parts = sp.collect(sp.expand(expr), qd, evaluate=False)
+        parts = _by_powers(sp.expand(expr), qd)
         return sp.Add(*[_tidy(v) * k for k, v in parts.items()])
     except (sp.PolynomialError, ValueError):  # pragma: no cover - defensive
         return _tidy(expr)
+
+
+def _by_powers(expr: sp.Expr, x: sp.Symbol) -> dict:
+    """``sympy.collect(expr, x, evaluate=False)`` of an expanded polynomial in ``x``: {x**k: the sum
+    of its terms divided by x**k}, in one pass over the terms (collect parses every factor of
+    every term generically). Falls back to ``collect`` when ``x`` appears other than as a plain
+    factor to a positive integer power (inside a function, say)."""
+    groups: dict = {}
+    for t in sp.Add.make_args(expr):
+        k = 0
+        for f in sp.Mul.make_args(t):
+            base, exp = f.as_base_exp()
+            if base == x and exp.is_Integer and exp > 0:
+                k = int(exp)
+            elif f.has(x):
+                return sp.collect(expr, x, evaluate=False)
+        groups.setdefault(k, []).append(t / x**k if k else t)
+    return {(x**k if k else sp.S.One): sp.Add(*terms) for k, terms in groups.items()}
 
 
 def natural_frequency(scene, method: str = "generalized_euler") -> FrequencyResult:

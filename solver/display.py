@@ -31,10 +31,22 @@ MAX_TIDY_NODES = 1000
 """Expressions with more nodes than this are shown as built (tidying would cost more than it saves)."""
 
 
+def _nodes(e: sp.Basic, kinds) -> set:
+    """``e.atoms(*kinds)``, the nodes of those classes, by one walk with a list for a stack (sympy's
+    nested generators pay the tree's depth at every node)."""
+    out, stack = set(), [e]
+    while stack:
+        x = stack.pop()
+        if isinstance(x, kinds):
+            out.add(x)
+        stack.extend(x.args)
+    return out
+
+
 def _angles_ok(expr: sp.Expr) -> bool:
     """Whether every sin/cos argument is free of sin/cos itself (then the arguments are
     independent generators: sin(a)**2 + cos(a)**2 = 1 per argument a, after expand_trig)."""
-    return all(not f.args[0].has(sp.sin, sp.cos, sp.tan) for f in expr.atoms(sp.sin, sp.cos))
+    return all(not f.args[0].has(sp.sin, sp.cos, sp.tan) for f in _nodes(expr, (sp.sin, sp.cos)))
 
 
 def _is_sine_square(x) -> bool:
@@ -52,7 +64,7 @@ def _reduce_poly(poly: sp.Expr) -> sp.Expr:
     This is the remainder of the division by the Groebner basis {sin**2 + cos**2 - 1} with
     sin ahead of cos, a canonical form: an identically zero polynomial reduces to 0."""
     p = sp.expand(poly)
-    if not any(_is_sine_square(x) for x in p.atoms(sp.Pow)):
+    if not any(_is_sine_square(x) for x in _nodes(p, sp.Pow)):
         return p
     return sp.expand(p.replace(_is_sine_square, _lower_sine))
 
@@ -312,14 +324,19 @@ def _reduce_denominators(e: sp.Expr) -> sp.Expr:
     """Every denominator that is a polynomial in sin/cos reduced modulo sin**2 + cos**2 = 1
     (``(sin(g)**2 + cos(g)**2)**2`` becomes 1): the cheap structural step that removes a
     printed denominator equal to a constant."""
-    if not any(_is_trig_denominator(x) for x in e.atoms(sp.Pow)):
+    if not any(_is_trig_denominator(x) for x in _nodes(e, sp.Pow)):
         return e
     return e.replace(_is_trig_denominator, lambda x: _reduce_poly(x.base) ** x.exp)
 
 
 def _size(e: sp.Expr) -> int:
-    """Number of nodes of the expression tree (a cheap stand-in for ``count_ops``)."""
-    return sum(1 for _ in sp.preorder_traversal(e))
+    """Number of nodes of the expression tree (a cheap stand-in for ``count_ops``; the count of
+    ``sympy.preorder_traversal``, by a walk with a list for a stack)."""
+    n, stack = 0, [e]
+    while stack:
+        n += 1
+        stack.extend(stack.pop().args)
+    return n
 
 
 def _monomial_denominators(e: sp.Expr) -> bool:
@@ -327,17 +344,17 @@ def _monomial_denominators(e: sp.Expr) -> bool:
 
 
 def _has_denominator(e: sp.Expr) -> bool:
-    return any(x.exp.is_negative for x in e.atoms(sp.Pow))
+    return any(x.exp.is_negative for x in _nodes(e, sp.Pow))
 
 
 def _denominator_free(p: sp.Expr) -> bool:
     """No negative powers: a polynomial in its symbols and its sin/cos terms."""
-    return not any(x.exp.is_negative for x in p.atoms(sp.Pow))
+    return not any(x.exp.is_negative for x in _nodes(p, sp.Pow))
 
 
 def _has_square(p: sp.Expr) -> bool:
     """Whether some sin(a)**n with n >= 2 appears (only then can the reduction change anything)."""
-    return any(isinstance(x.base, sp.sin) and x.exp.is_Integer and x.exp >= 2 for x in p.atoms(sp.Pow))
+    return any(isinstance(x.base, sp.sin) and x.exp.is_Integer and x.exp >= 2 for x in _nodes(p, sp.Pow))
 
 
 def _tidy_polynomial(p: sp.Expr) -> sp.Expr:
@@ -385,8 +402,27 @@ def tidy(expr: sp.Expr) -> sp.Expr:
     nested trigonometric arguments with only common factors pulled out.
     """
     e = sp.sympify(expr)
-    if e.is_number or _size(e) > MAX_TIDY_NODES:
+    if e.is_number or _plain_monomial(e) or _size(e) > MAX_TIDY_NODES:
         return e
+    return _tidy_general(e)
+
+
+def _plain_factor(f) -> bool:
+    """A symbol, or sin/cos of a symbol, possibly to a positive integer power."""
+    if f.is_Pow:
+        f = f.base if f.exp.is_Integer and f.exp > 0 else None
+    return f is not None and (f.is_Symbol or isinstance(f, (sp.sin, sp.cos)) and f.args[0].is_Symbol)
+
+
+def _plain_monomial(e: sp.Expr) -> bool:
+    """A rational times plain factors (:func:`_plain_factor`), which :func:`tidy` leaves as it is:
+    no denominator but the rational's, nothing to expand, reduce or factor out (the test checks
+    :func:`_tidy_general` against it)."""
+    return all(f.is_Rational or _plain_factor(f) for f in sp.Mul.make_args(e)) and not e.is_Rational
+
+
+def _tidy_general(e: sp.Expr) -> sp.Expr:
+    """:func:`tidy` of an expression that is not a number (nor a plain monomial)."""
     e = _reduce_denominators(e)
     if e.has(sp.tan, sp.cot):
         e = e.replace(sp.tan, lambda a: sp.sin(a) / sp.cos(a)).replace(sp.cot, lambda a: sp.cos(a) / sp.sin(a))
@@ -407,26 +443,39 @@ def tidy(expr: sp.Expr) -> sp.Expr:
     return num / den
 
 
-def _fraction_of_ratio(num: sp.Expr, den: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
+def _fraction_of_ratio(num: sp.Expr, den: sp.Expr, once=None) -> tuple[sp.Expr, sp.Expr]:
     """``sympy.fraction(sympy.together(num / den))``, by :func:`_gathered_sum` on each side when
     both are sums of monomials over monomial denominators (the reactions of the structured solve);
-    otherwise by ``together`` itself."""
-    top, bottom = _gathered_sum(sp.Add.make_args(num)), _gathered_sum(sp.Add.make_args(den))
+    otherwise by ``together`` itself. ``once(key, build)`` remembers the denominator's side."""
+    once = once or (lambda key, build: build())
+    top = _gathered_sum(sp.Add.make_args(num))
+    bottom = once(("gathered", den), lambda: _gathered_sum(sp.Add.make_args(den)))
     if top is None or bottom is None:
         return sp.fraction(_together(num / den))
     return sp.fraction(top / bottom)
 
 
-def tidy_fraction(num: sp.Expr, den: sp.Expr) -> sp.Expr:
+def tidy_fraction(num: sp.Expr, den: sp.Expr, memo: dict | None = None) -> sp.Expr:
     """Display form of num/den when both are known polynomials in sin/cos (no ``together``,
-    no ``cancel``): each part reduced and factored on its own."""
-    num, den = _reduce_denominators(sp.expand(num)), _reduce_denominators(sp.expand(den))
+    no ``cancel``): each part reduced and factored on its own.
+
+    ``memo``: a dict shared by the fractions of one display (the reactions share their
+    denominator, the generalized mass), where the work on a common denominator is kept."""
+    memo = {} if memo is None else memo
+
+    def once(key, build):
+        if key not in memo:
+            memo[key] = build()
+        return memo[key]
+
+    num = _reduce_denominators(sp.expand(num))
+    den = once(("reduced", den), lambda: _reduce_denominators(sp.expand(den)))
     if _has_denominator(den):
-        num, den = _fraction_of_ratio(num, den)
+        num, den = _fraction_of_ratio(num, den, once)
     if _has_denominator(num) and _monomial_denominators(num):
         num, extra = _over_common_denominator(num)
         den = den * extra
-    return _tidy_polynomial(num) / _tidy_polynomial(den)
+    return _tidy_polynomial(num) / once(("polynomial", den), lambda: _tidy_polynomial(den))
 
 
 def tidy_linear(expr: sp.Expr, variables) -> sp.Expr:
@@ -446,5 +495,13 @@ def tidy_linear(expr: sp.Expr, variables) -> sp.Expr:
         coef = rest.coeff(v) if v.is_Symbol or v.is_Pow else sp.Integer(0)
         if coef != 0 and not coef.has(*[u for u in variables if u.is_Symbol]):
             parts.append(tidy(coef) * v)
-            rest = sp.expand(rest - coef * v)
+            rest = _without_factor(rest, v)
     return sp.Add(*parts, tidy(rest))
+
+
+def _without_factor(rest: sp.Expr, v: sp.Expr) -> sp.Expr:
+    """``expand(rest - rest.coeff(v) * v)`` of an expanded commutative sum: the terms that do not
+    hold ``v`` as a factor (those are the ones ``coeff`` collects), without expanding again."""
+    if not rest.is_commutative:
+        return sp.expand(rest - rest.coeff(v) * v)
+    return sp.Add(*[t for t in sp.Add.make_args(rest) if v not in sp.Mul.make_args(t)])

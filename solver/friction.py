@@ -34,6 +34,7 @@ import sympy as sp
 from scipy.optimize import brentq, minimize_scalar
 
 from .errors import InputError
+from .strprint import lambdify
 from .period import Equilibrium, OneDofSystem, find_equilibrium, turning_points
 
 __all__ = [
@@ -369,7 +370,7 @@ def _numerators_denominator(system: OneDofSystem, names, theta_dot: float):
     for n in names:
         expr = system.reactions[n].xreplace(subs).subs({system.qd: theta_dot, system.t: 0})
         num, den = sp.fraction(sp.together(expr))
-        parts.append((n, sp.lambdify(system.q, num, "numpy"), sp.lambdify(system.q, den, "numpy")))
+        parts.append((n, lambdify(system.q, num, "numpy"), lambdify(system.q, den, "numpy")))
     return parts
 
 

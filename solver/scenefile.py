@@ -39,6 +39,7 @@ from solver.scene import (
     Point,
     Scene,
 )
+from solver.tree_value import NotEvaluable, tree_value
 from solver.units import ureg
 
 # -- the format's keys ---------------------------------------------------------------
@@ -398,12 +399,19 @@ class _SceneLoader:
             raise self.fail(key, f"expected a pair [x, y] of expressions, got {value!r}")
         return sp.Matrix([self.expr(v, f"{key}[{i}]", names, need) for i, v in enumerate(value)])
 
-    def si(self, expr: sp.Expr, key: str) -> float:
-        """Numeric SI value of a parameter expression (for sign and geometry checks)."""
+    def si(self, expr: sp.Expr, key: str, extra: dict | None = None) -> float:
+        """Numeric SI value of a parameter expression (for sign and geometry checks; ``extra``:
+        values of further symbols, such as the coordinate): in double precision by one tree walk
+        (:func:`solver.tree_value.tree_value`), by sympy's evalf where the walk cannot go (an
+        unknown function, a missing parameter, a division by zero)."""
+        values = {**self.si_values, **extra} if extra else self.si_values
         try:
-            value = complex(expr.evalf(subs=self.si_values))
-        except (TypeError, ValueError):
-            raise self.fail(key, f"cannot evaluate {sp.sstr(expr)} with the given parameters") from None
+            value = tree_value(expr, values)
+        except (NotEvaluable, KeyError, ZeroDivisionError, OverflowError, TypeError, ValueError):
+            try:
+                value = complex(expr.evalf(subs=values))
+            except (TypeError, ValueError):
+                raise self.fail(key, f"cannot evaluate {sp.sstr(expr)} with the given parameters") from None
         if not math.isfinite(value.real) or abs(value.imag) > 1e-12 * max(1.0, abs(value.real)):
             raise self.fail(key, f"{sp.sstr(expr)} is not a finite real number for the given parameters")
         return value.real
@@ -421,7 +429,7 @@ class _SceneLoader:
     def bounded_angle(self, expr: sp.Expr, key: str) -> sp.Expr:
         """An angle expression whose value at the scene's state is within
         :data:`solver.units.MAX_ANGLE_TURNS` turns (``"1e300*theta"`` has no meaningful sine)."""
-        value = self.si(expr.subs(self.q, self.state_q), key) if expr.free_symbols - {self.q} <= set(self.si_values) \
+        value = self.si(expr, key, {self.q: self.state_q}) if expr.free_symbols - {self.q} <= set(self.si_values) \
             else None
         if value is not None:
             try:
@@ -437,8 +445,9 @@ class _SceneLoader:
         return expr
 
     # -- the whole file ----------------------------------------------------------------
-    def load(self, overrides: dict[str, str]) -> Scene:
-        data = self._read_toml()
+    def load(self, overrides: dict[str, str], data: dict[str, Any] | None = None) -> Scene:
+        """The Scene of the file (``data``: its parsed TOML when the caller has read it already)."""
+        data = self._read_toml() if data is None else data
         self.check_keys(data, TOP_KEYS, "", "a scene file")
         name = self.text(data.get("name", self.path.stem), "name")
         description = self.text(data.get("description", ""), "description")

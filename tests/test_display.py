@@ -126,3 +126,63 @@ def test_the_single_term_fraction_is_sympys_cancel():
             taken += 1
             assert sp.srepr(fast) == sp.srepr(sp.fraction(sp.cancel(_together(e)))), e
     assert taken > 150
+
+
+def test_a_plain_monomial_is_left_as_it_is():
+    """tidy returns a rational times symbols and sin/cos of symbols (to positive powers) at once;
+    the general path (solver.display._tidy_general) must agree, tree for tree, on such monomials."""
+    from solver.display import _plain_monomial, _tidy_general
+
+    rng = random.Random(11)
+    factors = [phi, beta, g, m, s, c, sp.sin(beta), sp.cos(beta), s**2, c**3, sp.sin(beta) ** 4, g**2]
+    coefficients = [sp.Integer(1), sp.Integer(-1), sp.Rational(1, 2), sp.Rational(-3, 4), sp.Integer(12)]
+    for _ in range(60):
+        mono = rng.choice(coefficients) * sp.Mul(*rng.sample(factors, rng.randint(1, 4)))
+        assert _plain_monomial(mono)
+        assert sp.srepr(_tidy_general(mono)) == sp.srepr(mono)
+    # not plain: a sum, a denominator, an argument that is not a symbol
+    for other in (phi + g, g / m, sp.sin(2 * phi) * g, sp.Rational(1, 2)):
+        assert not _plain_monomial(other)
+
+
+def test_the_tree_walks_are_sympys():
+    """_nodes and _size walk the tree with a list for a stack: the same nodes as sympy's atoms and
+    the same count as preorder_traversal, on expressions with shared and nested subtrees."""
+    from solver.display import _nodes, _size
+
+    rng = random.Random(5)
+    pieces = [s, c, s**2, 1 / c, sp.sin(beta) ** 3, g, m / 2, sp.sqrt(g * m), (g + m) ** -2]
+    for _ in range(40):
+        e = sp.Add(*[rng.choice(pieces) * rng.choice(pieces) for _ in range(rng.randint(1, 5))])
+        e = e / (1 + rng.choice(pieces)) if rng.random() < 0.5 else e
+        assert _nodes(e, sp.Pow) == e.atoms(sp.Pow)
+        assert _nodes(e, (sp.sin, sp.cos)) == e.atoms(sp.sin, sp.cos)
+        assert _size(e) == sum(1 for _ in sp.preorder_traversal(e))
+
+
+def test_terms_by_power_of_the_rate_as_collect():
+    """derivation._by_powers groups an expanded polynomial in theta_dot as sympy.collect(...,
+    evaluate=False) does, tree for tree (the eom display tidies each group on its own)."""
+    from solver.derivation import _by_powers
+
+    w = sp.Symbol("theta_dot", real=True)
+    rng = random.Random(3)
+    pieces = [w, w**2, 2 * w, -w / 3, s, g * m, c**2, sp.Rational(3, 2), w**3 * g, sp.sin(beta) / c]
+    for _ in range(60):
+        e = sp.expand(sum(rng.choice(pieces) * rng.choice(pieces) * rng.choice(pieces) for _ in range(rng.randint(1, 6))))
+        ours, theirs = _by_powers(e, w), sp.collect(e, w, evaluate=False)
+        assert {k: sp.srepr(v) for k, v in ours.items()} == {k: sp.srepr(v) for k, v in theirs.items()}
+
+
+def test_tidy_linear_removes_the_collected_terms_as_expand_does():
+    """display._without_factor(rest, v) is expand(rest - rest.coeff(v)*v) on expanded sums (the
+    route tidy_linear took before), tree for tree."""
+    from solver.display import _without_factor
+
+    qdd, qd, R = sp.symbols("theta_ddot theta_dot R_A", real=True)
+    rng = random.Random(9)
+    pieces = [qdd, qd**2, qd, R, s, c**2, g * m, sp.Rational(-1, 2), sp.sin(beta) / c, qd**3, qdd * qd]
+    for _ in range(80):
+        e = sp.expand(sum(rng.choice(pieces) * rng.choice(pieces) * rng.choice(pieces) for _ in range(rng.randint(1, 6))))
+        for v in (qdd, qd**2, R, qd):
+            assert sp.srepr(_without_factor(e, v)) == sp.srepr(sp.expand(e - e.coeff(v) * v))

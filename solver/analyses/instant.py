@@ -23,6 +23,7 @@ import pint
 import sympy as sp
 
 from ..errors import InputError, SingularConfigurationError
+from ..strprint import lambdify
 from ..units import Q_
 
 __all__ = ["CONDITION_LIMIT", "NumericModel", "InstantSolution", "State", "assemble", "solve_instant",
@@ -140,7 +141,7 @@ class NumericModel:
         stray = set().union(*[sp.sympify(e).free_symbols for e in entries]) - set(self.args) - set(params)
         if stray:
             raise InputError(f"{self.label}: undefined name(s) {', '.join(sorted(map(str, stray)))} in the scene's expressions")
-        self._f = sp.lambdify((*self.args, *params), entries, modules="numpy", cse=True)
+        self._f = lambdify((*self.args, *params), entries, "numpy", cse=True)
         self._structured = None
 
     def matrices(self, q, qd, t=0.0):
@@ -297,9 +298,9 @@ def _closure_functions(system):
         Phi = sp.Matrix(rows)
         J = Phi.jacobian(sp.Matrix(system.q)) if system.q else sp.zeros(len(rows), 0)
         Pt = sp.diff(Phi, system.t)
-        fPhi = sp.lambdify((*args, *params), list(Phi), "numpy", cse=True)
-        fJ = sp.lambdify((*args, *params), list(J), "numpy", cse=True)
-        fPt = sp.lambdify((*args, *params), list(Pt), "numpy", cse=True)
+        fPhi = lambdify((*args, *params), list(Phi), "numpy", cse=True)
+        fJ = lambdify((*args, *params), list(J), "numpy", cse=True)
+        fPt = lambdify((*args, *params), list(Pt), "numpy", cse=True)
         return fPhi, fJ, fPt, pv, len(rows), dep
     return system._memo("closure_numeric", build)
 
@@ -454,15 +455,22 @@ def solve_instant(system, point: str | None = None, method: str = "generalized_e
         A state outside a joint's model (a semicircle past its rim) or an
         inconsistent prescribed motion.
     """
-    from ..formulations import formulate, resolve_points
-
-    regime, extra = None, {}
+    regime, warning = None, None
     if system.contacts:  # contacts that can stick, slip or separate: the regime that holds first
         from .regimes import regime_at_state
 
         regime, warning, state = regime_at_state(system, state, point, method)
-        if warning:
-            extra["warning"] = warning
+    return solution_in_regime(system, regime, warning, state, point, method)
+
+
+def solution_in_regime(system, regime, warning: str | None, state: State | None, point: str | None = None,
+                       method: str = "generalized_euler") -> InstantSolution:
+    """The :class:`InstantSolution` of :func:`solve_instant` once the contact regime is known:
+    ``(regime, warning, state)`` as :func:`solver.analyses.regimes.regime_at_state` returns them
+    (``regime`` None: the system as written)."""
+    from ..formulations import formulate, resolve_points
+
+    extra = {"warning": warning} if warning else {}
     if regime is not None:
         res = regime.values
         extra["regime"] = {c.joint: c.to_dict() for c in regime.checks}

@@ -32,6 +32,7 @@ import sympy as sp
 from ..errors import InputError, SceneError
 from ..model.contacts import SEPARATED, STICK, Regime, Slip
 from ..model.system import RedundantConstraints
+from ..strprint import lambdify
 
 __all__ = ["RegimeResult", "ContactCheck", "find_regime", "contact_kinematics", "MAX_CONTACTS",
            "NoConsistentRegime", "AmbiguousRegime", "regime_system", "solve_in_regime", "start_state",
@@ -148,7 +149,7 @@ def contact_kinematics(system):
         for j in system.contacts:
             Pt, Pn = (system.prescribe(sp.sympify(x)) for x in j.contact_rows(pose))
             dPn, dPt = system.D(Pn), system.D(Pt)
-            f = sp.lambdify(args, [Pn, dPn, system.D(dPn), dPt, system.D(dPt)], "math", cse=True)
+            f = lambdify(args, [Pn, dPn, system.D(dPn), dPt, system.D(dPt)], "math", cse=True)
             out[j.name] = (f, pv)
         return out
     return system._memo("contact_kinematics", build)

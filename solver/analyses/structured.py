@@ -36,6 +36,8 @@ import re
 import numpy as np
 import sympy as sp
 
+from ..strprint import lambdify
+
 __all__ = ["StructuredSolver", "CHUNK"]
 
 CHUNK = 4096
@@ -235,7 +237,7 @@ class StructuredSolver:
             self.usable = False
             return
         self.usable = {j for _, j in E0} == set(range(n)) and {i for i, _ in E0} == set(range(n))
-        self._eval = sp.lambdify(tuple(args), exprs, modules="numpy", cse=True) if exprs else None
+        self._eval = lambdify(tuple(args), exprs, "numpy", cse=True) if exprs else None
         with np.errstate(all="ignore"):
             e = self._eval(*samples) if self._eval is not None else []
         k = len(samples[0]) if samples else 1

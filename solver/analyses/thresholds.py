@@ -21,6 +21,7 @@ import numpy as np
 import sympy as sp
 
 from ..errors import InputError, SceneError
+from ..strprint import lambdify
 from ..model.contacts import SEPARATED, STICK, Slip
 from .instant import CONDITION_LIMIT, solve_with_estimate
 
@@ -133,8 +134,8 @@ def _margin_function(system, regimes, name, q, t):
     subs = {**{p: v for p, v in values.items() if str(p) != name}, **{k: v for k, v in state.items() if str(k) != name},
             **{s: 0 for s in variant.qd}, variant.t: t}
     m, k_all = A.shape
-    fAb = sp.lambdify(x_sym, [sp.sympify(e).xreplace(subs) for e in list(A) + list(b)], "numpy")
-    fmods = sp.lambdify(x_sym, [e.xreplace(subs) for _, _, e in mods] or [0], "numpy")
+    fAb = lambdify(x_sym, [sp.sympify(e).xreplace(subs) for e in list(A) + list(b)], "numpy")
+    fmods = lambdify(x_sym, [e.xreplace(subs) for _, _, e in mods] or [0], "numpy")
     pose = variant._pose_fn(variant.poses)
     qdd_syms = list(variant.qdd)
     conds = []  # (kind, index or expression)
@@ -158,7 +159,7 @@ def _margin_function(system, regimes, name, q, t):
             kin_exprs.append(data[1])
         elif kind == "cone":
             kin_exprs.append(data[2])
-    fkin = sp.lambdify((x_sym, *qdd_syms), kin_exprs, "numpy")
+    fkin = lambdify((x_sym, *qdd_syms), kin_exprs, "numpy")
 
     def square(v):
         vals = [np.broadcast_to(np.asarray(e, float), v.shape) for e in fAb(v)]

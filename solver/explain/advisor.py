@@ -141,8 +141,9 @@ def _known_points(system, body, forces_at):
     return known
 
 
-def rank_points(system, body: str, state, f=None) -> list[Candidate]:
-    """The candidate points of ``body`` at ``state``, best first (see the module docstring)."""
+def rank_points(system, body: str, state, f=None, parts=None) -> list[Candidate]:
+    """The candidate points of ``body`` at ``state``, best first (see the module docstring);
+    ``parts``: the body's (points, forces) when the worked solution has built them already."""
     from ..formulations import formulate
     from .build import _Points, _forces_on, _state_subs
 
@@ -154,8 +155,10 @@ def rank_points(system, body: str, state, f=None) -> list[Candidate]:
     P0 = f.points[body]
     r0 = np.array([_numeric(x, subs) for x in system.point_position(body, P0)])
 
-    points = _Points(system, body)
-    forces = _forces_on(system, body, points)
+    if parts is None:
+        points = _Points(system, body)
+        parts = points, _forces_on(system, body, points)
+    points, forces = parts
     reaction_at = {fc.point for fc in forces if fc.reaction is not None and fc.force is not None}
     known_names = _known_points(system, body, reaction_at)
     cands: list[Candidate] = []
@@ -223,11 +226,12 @@ def _group(row, rows, scale):
     return None
 
 
-def advice_step(system, state) -> Step:
-    """The ranking as a step of the worked solution (all bodies)."""
+def advice_step(system, state, parts: dict | None = None) -> Step:
+    """The ranking as a step of the worked solution (all bodies); ``parts``: body -> (points,
+    forces) as the body sections built them."""
     rows, text = [], []
     for body in system.bodies:
-        ranked = rank_points(system, body, state)
+        ranked = rank_points(system, body, state, parts=(parts or {}).get(body))
         best = ranked[0]
         label = f" of {body}" if len(system.bodies) > 1 else ""
         text.append(f"Best point{label}: {best.name} — {best.reason()}.")

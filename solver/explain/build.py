@@ -438,12 +438,13 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
     SceneError
         An unknown point; SingularConfigurationError at a singular state.
     """
-    from ..analyses.instant import assemble, solve_instant
+    from ..analyses.instant import assemble, solution_in_regime, solve_instant
     from ..formulations import formulate
 
     scene, regime, warning = system, None, None
     if system.contacts:  # the contact regime that holds at the state decides the equations
         system, regime, warning, state = system_in_regime(system, point)
+        found = (regime, warning, state)  # as solve_instant would find it (the same search)
     if regime is not None and regime.indeterminate:  # every contact row kept: it does not validate
         from ..formulations import Formulation, resolve_points
 
@@ -457,15 +458,16 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
     expl.sections.append(_system_data_section(system, state))
     if scene.contacts:
         expl.sections[-1].steps.append(_regime_step(scene, regime, warning))
+    parts: dict = {}
     for body, P in f.points.items():
-        expl.sections.append(_body_section(system, body, P))
+        expl.sections.append(_body_section(system, body, P, parts))
     if not solution:
         return expl
     final = Section("Solution", None)
     if advice and not (regime is not None and regime.indeterminate):  # the advisor needs a system that validates
         from .advisor import advice_step
 
-        final.steps.append(advice_step(system, state))
+        final.steps.append(advice_step(system, state, parts))
     motion = _motion_step(system, f, expl)
     if motion is None and system.free:
         motion = _constrained_motion_step(system, f, expl)
@@ -475,7 +477,7 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
     if numbers is not None:
         final.steps.append(numbers)
     if scene.contacts:  # the product's own regime solve, and the same by the mass-centre form
-        solution = solve_instant(scene, point, "generalized_euler", state)
+        solution = solution_in_regime(scene, *found, point, "generalized_euler")
         check = solve_instant(scene, None, "mass_center", state).unknowns
     else:
         solution = _solve_at_state(system, f, point, state) or solve_instant(system, point, "generalized_euler", state)
@@ -530,9 +532,13 @@ def _regime_step(scene, regime, warning) -> Step:
                 table=Table(("contact", "regime", "why"), tuple(rows)) if rows else None)
 
 
-def _body_section(system, body: str, P: str) -> Section:
+def _body_section(system, body: str, P: str, parts: dict | None = None) -> Section:
+    """The steps of one body; ``parts`` (body -> (points, forces)) receives what the point advisor
+    needs again (no later step names new points)."""
     points = _Points(system, body)
     forces = _forces_on(system, body, points)
+    if parts is not None:
+        parts[body] = (points, forces)
     b = system.bodies[body]
     used = [P] + (["G"] if "G" != P else [])
     if len(b.elements) > 1:

@@ -11,6 +11,7 @@ import re
 
 import sympy as sp
 
+from ..strprint import FastStrPrinter, sstr
 from .content import Equation, Explanation, Step, Table, Term
 
 __all__ = ["FORMATS", "render"]
@@ -34,7 +35,7 @@ def render(expl: Explanation, fmt: str = "text") -> str:
 class _Renderer:
     def __init__(self, expl: Explanation):
         self.expl = expl
-        self.printed: dict = {}  # expression -> its text, for this rendering (a point's v_P shows often)
+        self.printed = FastStrPrinter()  # each expression's text once per rendering (a point's v_P shows often)
 
     def document(self) -> str:
         out = [self.title(self.expl.title)]
@@ -73,20 +74,15 @@ class _Renderer:
 # -- text ------------------------------------------------------------------------------------------
 
 
-def _sstr(expr, printed: dict | None = None) -> str:
-    """``sympy.sstr`` of an expression, or ``(x, y)`` of a 2-vector; ``printed`` memoizes the texts
-    of one rendering (the same expression prints the same)."""
+def _sstr(expr, printed: FastStrPrinter | None = None) -> str:
+    """``sympy.sstr`` of an expression, or ``(x, y)`` of a 2-vector; ``printed``, the printer of one
+    rendering, remembers the texts (the same expression prints the same)."""
     if isinstance(expr, sp.MatrixBase):
         return f"({_sstr(expr[0], printed)}, {_sstr(expr[1], printed)})"
-    if printed is None:
-        return sp.sstr(expr)
-    text = printed.get(expr)
-    if text is None:
-        text = printed[expr] = sp.sstr(expr)
-    return text
+    return sstr(expr, printed)
 
 
-def _join_text(terms, printed: dict | None = None) -> str:
+def _join_text(terms, printed: FastStrPrinter | None = None) -> str:
     out = ""
     for i, t in enumerate(terms):
         s = _sstr(t.expr, printed)
@@ -282,7 +278,7 @@ def _h(text) -> str:
     return html.escape(str(text), quote=True)
 
 
-def _terms_html(terms, printed: dict | None = None) -> str:
+def _terms_html(terms, printed: FastStrPrinter | None = None) -> str:
     parts = []
     for t in terms:
         s = _h(_sstr(t.expr, printed))

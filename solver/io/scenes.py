@@ -40,4 +40,4 @@ def load_system(path: str | Path, overrides: Mapping[str, str] | None = None) ->
     data = loader._read_toml()
     if is_multibody(data):
         return load_multibody(loader, data, dict(overrides or {}))
-    return system_from_scene(loader.load(dict(overrides or {})))
+    return system_from_scene(loader.load(dict(overrides or {}), data))

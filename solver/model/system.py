@@ -34,6 +34,7 @@ import pint
 import sympy as sp
 
 from ..errors import SceneError
+from ..tree_value import NotEvaluable, tree_value
 from .bodies import GROUND, Ground, RigidBody
 from .joints import Actuator, Contact, Joint, Motor, k_cross, rotation
 from .loads import Load
@@ -282,9 +283,23 @@ class System:
         vals[self.t] = self.time
         return vals
 
-    def _num(self, expr, values) -> float:
+    def _num(self, expr, values, exact: bool = False) -> float:
+        """``expr`` at ``values`` (nan where it is not a finite real number). For the rank and
+        identity decisions, which compare with tolerances far above round-off, in double precision
+        by one tree walk (:func:`solver.tree_value.tree_value`); ``exact``: by sympy's evalf (a
+        value the model keeps, such as a phase)."""
+        expr = sp.sympify(expr)
+        if not exact:
+            try:
+                value = tree_value(expr, values)
+            except (ZeroDivisionError, OverflowError):
+                return float("nan")
+            except (NotEvaluable, KeyError, TypeError, ValueError):
+                pass
+            else:
+                real = value.real if isinstance(value, complex) else float(value)
+                return real if abs(complex(value).imag) <= 1e-12 * max(1.0, abs(real)) else float("nan")
         try:
-            expr = sp.sympify(expr)
             return float(expr.xreplace({k: sp.Float(values[k]) for k in expr.free_symbols if k in values}).evalf())
         except (TypeError, ValueError):
             return float("nan")
@@ -584,6 +599,8 @@ class System:
         for j in self.joints:
             self._bind_prescribed(j)
             self._bind_phase(j, pose, values)
+            if all((j.name, k) in used for k in range(len(j.reactions))):
+                continue  # every row (one per reaction) placed a body: none is left to check
             rows = j.rows(pose, self.t)
             for k, row in enumerate(rows):
                 if (j.name, k) in used:
@@ -601,9 +618,9 @@ class System:
         """A gear mesh's (or a rolling-on-circle contact's) phase: the value that satisfies it at the state."""
         if getattr(j, "phase_from_state", False) and (j.name, 0) not in self.placement_rows:
             j.phase = sp.Integer(0)
-            r0 = self._num(self.prescribe(sp.sympify(j.rows(pose, self.t)[0])), values)
+            r0 = self._num(self.prescribe(sp.sympify(j.rows(pose, self.t)[0])), values, exact=True)
             j.phase = sp.Integer(1)
-            r1 = self._num(self.prescribe(sp.sympify(j.rows(pose, self.t)[0])), values)
+            r1 = self._num(self.prescribe(sp.sympify(j.rows(pose, self.t)[0])), values, exact=True)
             j.phase = sp.Float(-r0 / (r1 - r0))  # the row is affine in the phase: zero at the state
             j.phase_from_state = False
 

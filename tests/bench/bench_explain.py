@@ -15,6 +15,11 @@ sympy's own cache serves both sides alike. Median of repeated runs, in CPU time 
 this process (the machine is shared: wall time would measure the neighbours). Target
 (issue 11/12): ours at most half of KanesMethod (ratio <= 0.5).
 
+Last figures (this file run three times on 2026-11-23, branch eom3, the 2-core machine shared
+with four other jobs at a load of 1.3-1.9): sliding_bar eom 0.5-0.6x, explain 1.6-2.0x;
+disk_bar eom 0.5-0.6x, explain 1.0-2.0x of KanesMethod (KanesMethod itself 38-80 ms: the
+neighbours' load moves every figure).
+
 Writes reports/build/bench/explain.json.
 """
 from __future__ import annotations

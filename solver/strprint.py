@@ -1,0 +1,259 @@
+"""``sympy.sstr``, the same text at a fraction of the cost, for the displays of ``eom`` and ``explain``.
+
+sympy's :class:`~sympy.printing.str.StrPrinter` spends most of its time on
+work it repeats or does generically: the precedence of a node is found again
+by each caller, a subexpression met twice (``sin(beta)``, ``cos(theta)**2``)
+is printed twice, and each sum's terms are ordered by
+:meth:`sympy.core.expr.Expr.as_ordered_terms`, which turns every rational
+coefficient into a complex number through ``evalf``.
+
+:class:`FastStrPrinter` is a StrPrinter that keeps every printing rule and
+changes only how the work is done:
+
+* each distinct subexpression is printed once per printer (the text of a node
+  depends on the node alone; sympy compares nodes structurally, and a Float is
+  never equal to an Integer or Rational, so ``2.0*x`` and ``2*x`` stay apart);
+* the precedence of a node is found once per printer;
+* a sum's terms are ordered by the same key as ``as_ordered_terms`` (lex order
+  of the exponents of the sorted generators, then the coefficient), with a
+  rational coefficient made complex by exact integer division (correctly
+  rounded, as ``evalf`` at 53 bits is) instead of ``evalf``.
+
+The text is sympy's own: ``tests/test_strprint.py`` compares it with
+``sympy.sstr`` on random expressions and on every display of the shipped scenes.
+"""
+from __future__ import annotations
+
+import sympy as sp
+from sympy.core.exprtools import decompose_power
+from sympy.core.sorting import default_sort_key
+from sympy.printing.numpy import NumPyPrinter
+from sympy.printing.precedence import PRECEDENCE, precedence
+from sympy.printing.pycode import PythonCodePrinter
+from sympy.printing.str import StrPrinter
+
+__all__ = ["FastStrPrinter", "sstr", "lambdify"]
+
+_EXACT = 2 ** 53
+"""Numerators and denominators below this are exact doubles, so p/q is one correctly rounded division."""
+
+
+def _complex(number) -> complex:
+    """``complex(number)`` as sympy computes it (``evalf`` at 53 bits), without evalf for a rational."""
+    if number.is_Rational and abs(number.p) < _EXACT and number.q < _EXACT:
+        return complex(number.p / number.q)
+    return complex(number)
+
+
+def _terms_with_keys(expr, sort_key) -> list:
+    """``Expr.as_terms`` of a sum: (term, (coefficient, exponents of the sorted generators, ()))."""
+    gens, terms = set(), []
+    for term in sp.Add.make_args(expr):
+        coeff, rest = term.as_coeff_Mul()
+        coeff = _complex(coeff)
+        powers = {}
+        if rest is not sp.S.One:
+            for factor in sp.Mul.make_args(rest):
+                if factor.is_number:
+                    try:
+                        coeff *= _complex(factor)
+                    except (TypeError, ValueError):
+                        pass
+                    else:
+                        continue
+                base, exp = decompose_power(factor)
+                powers[base] = exp
+                gens.add(base)
+        terms.append((term, (coeff.real, coeff.imag), powers))
+    index = {g: i for i, g in enumerate(sorted(gens, key=sort_key))}
+    out = []
+    for term, coeff, powers in terms:
+        monom = [0] * len(index)
+        for base, exp in powers.items():
+            monom[index[base]] = exp
+        out.append((term, coeff, tuple(monom)))
+    return out
+
+
+def _ordered_terms(expr, sort_key=default_sort_key) -> list:
+    """The terms of a commutative sum in the order of ``expr.as_ordered_terms()`` (lex)."""
+    keyed = _terms_with_keys(expr, sort_key)
+
+    def key(item):
+        _, (re, im), monom = item
+        return tuple(-m for m in monom), (), ((bool(im), im), (re, im))
+
+    return [term for term, _, _ in sorted(keyed, key=key)]
+
+
+class _FastOrdering:
+    """A printer's sums ordered as ``as_ordered_terms`` orders them, without its ``evalf`` (see the module)."""
+
+    def _as_ordered_terms(self, expr, order=None):
+        if (order or self.order) is not None or not expr.is_commutative or any(
+                t.is_Order for t in expr.args) or _special_pair(expr):
+            return super()._as_ordered_terms(expr, order=order)
+        return _ordered_terms(expr, self._sort_key)
+
+    def _sort_key(self, item):
+        return default_sort_key(item)
+
+
+class FastStrPrinter(_FastOrdering, StrPrinter):
+    """sympy's StrPrinter with default settings, each node printed and ranked once (see the module)."""
+
+    def __init__(self):
+        super().__init__()
+        self._texts: dict = {}
+        self._precedences: dict = {}
+        self._sort_keys: dict = {}
+
+    def _sort_key(self, item):
+        key = self._sort_keys.get(item)
+        if key is None:
+            key = self._sort_keys[item] = default_sort_key(item)
+        return key
+
+    def _print(self, expr, **kwargs) -> str:
+        if kwargs or not isinstance(expr, sp.Basic):
+            return super()._print(expr, **kwargs)
+        text = self._texts.get(expr)
+        if text is None:
+            text = self._texts[expr] = super()._print(expr)
+        return text
+
+    def _precedence(self, item) -> int:
+        if not isinstance(item, sp.Basic):
+            return precedence(item)
+        value = self._precedences.get(item)
+        if value is None:
+            value = self._precedences[item] = _precedence_of(item)
+        return value
+
+    def parenthesize(self, item, level, strict=False):
+        prec = self._precedence(item)
+        if prec < level or (not strict and prec <= level):
+            return "(%s)" % self._print(item)
+        return self._print(item)
+
+    def _print_Add(self, expr, order=None):  # StrPrinter._print_Add with the precedences remembered
+        terms = self._as_ordered_terms(expr, order=order)
+        prec = self._precedence(expr)
+        parts = []
+        for term in terms:
+            t = self._print(term)
+            if t.startswith("-") and not term.is_Add:
+                sign, t = "-", t[1:]
+            else:
+                sign = "+"
+            if self._precedence(term) < prec or term.is_Add:
+                parts.extend([sign, "(%s)" % t])
+            else:
+                parts.extend([sign, t])
+        sign = parts.pop(0)
+        return ("" if sign == "+" else sign) + " ".join(parts)
+
+    def _print_Mul(self, expr):
+        """StrPrinter._print_Mul; for an evaluated commutative product its factors are ordered
+        directly: sympy's ``_keep_coeff(-c, rest).as_ordered_factors()`` is the coefficient and
+        the other factors sorted by ``sort_key``."""
+        args = expr.args
+        if not expr.is_commutative or args[0] is sp.S.One or self.order not in (None, "lex") or any(
+                isinstance(a, sp.Number) or a.is_Pow and all(ai.is_Integer for ai in a.args) for a in args[1:]):
+            return super()._print_Mul(expr)
+        prec = self._precedence(expr)
+        c, rest = (args[0], args[1:]) if args[0].is_Number else (sp.S.One, args)
+        sign = ""
+        if c < 0:
+            c, sign = -c, "-"
+        factors = sorted(rest if c is sp.S.One else (c, *rest), key=self._sort_key)
+        a, b, pow_paren = [], [], []  # numerator, denominator, bases of x**-1 with a compound base
+        for item in factors:
+            if item.is_Pow and bool(item.exp.as_coeff_Mul()[0] < 0):
+                if item.exp is not sp.S.NegativeOne:
+                    b.append(_inverted_power(item))
+                else:
+                    if len(item.args[0].args) != 1 and isinstance(item.base, (sp.Mul, sp.Pow)):
+                        pow_paren.append(item)
+                    b.append(item.base)
+            elif item.is_Rational:
+                if item.p != 1:
+                    a.append(sp.Rational(item.p))
+                if item.q != 1:
+                    b.append(sp.Rational(item.q))
+            else:
+                a.append(item)
+        a_str = [self.parenthesize(x, prec, strict=False) for x in a or [sp.S.One]]
+        b_str = [self.parenthesize(x, prec, strict=False) for x in b]
+        for item in pow_paren:
+            if item.base in b:
+                b_str[b.index(item.base)] = "(%s)" % b_str[b.index(item.base)]
+        if not b:
+            return sign + "*".join(a_str)
+        if len(b) == 1:
+            return sign + "*".join(a_str) + "/" + b_str[0]
+        return sign + "*".join(a_str) + "/(%s)" % "*".join(b_str)
+
+
+
+def _precedence_of(item) -> int:
+    """sympy's ``precedence``; for a product with a rational coefficient, its minus sign read from the
+    coefficient (``could_extract_minus_sign`` would first compare the product with its negative,
+    which differs from it whenever the coefficient is a finite nonzero number)."""
+    if type(item) is sp.Mul and item.args[0].is_Rational and not any(
+            hasattr(a, "precedence") and isinstance(a, sp.Function) for a in item.args):
+        return PRECEDENCE["Add"] if item.args[0].p < 0 else PRECEDENCE["Mul"]
+    return precedence(item)
+
+
+def _inverted_power(item):
+    """``apow`` of StrPrinter._print_Mul: b**(-e) of a power b**e whose exponent's coefficient is negative."""
+    base, exp = item.as_base_exp()
+    eargs = list(sp.Mul.make_args(exp))
+    if eargs[0] is sp.S.NegativeOne:
+        eargs = eargs[1:]
+    else:
+        eargs[0] = -eargs[0]
+    return item.func(base, sp.Mul._from_args(eargs), evaluate=False)
+
+
+def _special_pair(expr) -> bool:
+    """A sum of a number and a number times something: ``as_ordered_terms`` may keep it as written."""
+    return len(expr.args) == 2 and any(isinstance(a, (sp.Number, sp.NumberSymbol)) for a in expr.args)
+
+
+def sstr(expr, printer: FastStrPrinter | None = None) -> str:
+    """``sympy.sstr(expr)`` (default settings), by :class:`FastStrPrinter`.
+
+    Parameters
+    ----------
+    expr : sympy.Basic
+    printer : FastStrPrinter, optional
+        Reuse one printer for several expressions of one display (their common
+        subexpressions are then printed once); a new one by default.
+
+    Examples
+    --------
+    >>> th = sp.Symbol("theta")
+    >>> sstr(3 * sp.cos(th)**2 / 2 - sp.sin(th) + 1) == sp.sstr(3 * sp.cos(th)**2 / 2 - sp.sin(th) + 1)
+    True
+    """
+    return (printer or FastStrPrinter()).doprint(expr)
+
+
+class _FastNumPyPrinter(_FastOrdering, NumPyPrinter):
+    """NumPyPrinter, sums ordered without evalf (the same code)."""
+
+
+class _FastPythonCodePrinter(_FastOrdering, PythonCodePrinter):
+    """PythonCodePrinter, sums ordered without evalf (the same code)."""
+
+
+def lambdify(args, expr, modules: str, cse: bool = False):
+    """``sympy.lambdify(args, expr, modules, cse=cse)`` for the solver's own numeric functions: the
+    same generated code (lambdify's own printer for ``"numpy"`` or ``"math"``, with its settings,
+    sums ordered as in :class:`FastStrPrinter`), and no docstring (lambdify prints the whole
+    expression into it, about half its cost; nobody reads these functions' docstrings)."""
+    printer = {"numpy": _FastNumPyPrinter, "math": _FastPythonCodePrinter}[modules](
+        {"fully_qualified_modules": False, "inline": True, "allow_unknown_functions": True, "user_functions": {}})
+    return sp.lambdify(args, expr, modules=modules, printer=printer, cse=cse, docstring_limit=0)

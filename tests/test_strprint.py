@@ -1,0 +1,104 @@
+"""solver.strprint prints exactly what sympy.sstr prints.
+
+The reference is sympy's own printer (an independent implementation of the
+same text); the random expressions mix the node kinds the displays hold (sums,
+products, powers with negative and fractional exponents, sin/cos/sqrt,
+rationals, floats, pi) with symbol names whose sort order is easy to get wrong
+(theta, theta_dot, theta_ddot, l_b, m_b, F_a, beta).
+"""
+from __future__ import annotations
+
+import sympy as sp
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from solver.strprint import FastStrPrinter, sstr
+
+SYMBOLS = [sp.Symbol(n, real=True) for n in ("theta", "theta_dot", "theta_ddot", "l_b", "m_b", "F_a", "beta")] + [
+    sp.Symbol("x"), sp.Symbol("g", positive=True)]
+NUMBERS = [sp.Integer(2), sp.Integer(-3), sp.Rational(1, 2), sp.Rational(-7, 3), sp.Rational(3, 12), sp.Float(0.25),
+           sp.Float(-1.5), sp.pi, sp.Integer(-1), sp.Rational(2**60 + 1, 3)]
+
+leaves = st.sampled_from(SYMBOLS + NUMBERS)
+
+
+def _expanded_product(pair):
+    """An expanded product (the displays' sums of monomials); only of small factors, since
+    expanding powers of large sums grows without bound."""
+    a, b = pair
+    small = sum(1 for _ in sp.preorder_traversal(a)) + sum(1 for _ in sp.preorder_traversal(b)) <= 16
+    return sp.expand(a * b) if small else a * b
+
+
+def _node(children):
+    pair = st.tuples(children, children)
+    return st.one_of(
+        st.lists(children, min_size=2, max_size=5).map(lambda a: sp.Add(*a)),
+        st.lists(children, min_size=2, max_size=4).map(lambda a: sp.Mul(*a)),
+        st.tuples(children, st.sampled_from([2, 3, -1, -2, sp.Rational(1, 2), sp.Rational(-1, 2), sp.Rational(3, 2)]))
+        .map(lambda p: sp.Pow(*p)),
+        children.map(sp.sin), children.map(sp.cos), children.map(sp.sqrt),
+        pair.map(lambda p: p[0] / p[1] if p[1] != 0 else p[0]),
+        pair.map(_expanded_product),
+        children.map(lambda e: -e),
+    )
+
+
+expressions = st.recursive(leaves, _node, max_leaves=25)
+
+
+# Each example prints in well under a millisecond; 300 examples keep the test near a second.
+@settings(max_examples=300, deadline=None)
+@given(expressions)
+def test_same_text_as_sympy(expr):
+    assert sstr(expr) == sp.sstr(expr)
+
+
+# A printer shared by several expressions (as a rendering shares one) must not let one text leak into another.
+@settings(max_examples=100, deadline=None)
+@given(st.lists(expressions, min_size=2, max_size=6))
+def test_shared_printer_same_text(exprs):
+    printer = FastStrPrinter()
+    assert [sstr(e, printer) for e in exprs] == [sp.sstr(e) for e in exprs]
+
+
+def test_float_and_integer_kept_apart():
+    # 2.0*x and 2*x are different nodes (a Float never equals an Integer in sympy), so a shared
+    # printer must print each its own way.
+    x = sp.Symbol("x")
+    printer = FastStrPrinter()
+    assert [sstr(e, printer) for e in (2 * x, sp.Float(2.0) * x, x / 2, sp.Float(0.5) * x)] == [
+        "2*x", "2.0*x", "x/2", "0.5*x"]
+
+
+def test_display_of_the_paper_scenes():
+    # The equation of motion and reactions eom prints, on both paper scenes, about every named point.
+    from solver import derivation
+    from solver.cli_instant import _reactions_display
+    from solver.io.scenes import load_system
+
+    for scene, points in (("sliding_bar", ("A", "B", "G")), ("disk_bar", ("P", "Q", "C"))):
+        system = load_system(f"data/scenes/{scene}.toml")
+        for point in points:
+            d = derivation.derive(system, point)
+            for expr in (d.eom, d.eom.coeff(d.qdd), *_reactions_display(d).values()):
+                assert sstr(expr) == sp.sstr(expr)
+
+
+def test_lambdify_generates_sympys_code():
+    # The numeric models' code must be sympy's own (the same operations in the same order give the
+    # same floating-point results); only the docstring is left out.
+    import inspect
+
+    from solver.formulations import formulate
+    from solver.io.scenes import load_system
+    from solver.strprint import lambdify
+
+    for scene in ("sliding_bar", "four_bar"):
+        system = load_system(f"data/scenes/{scene}.toml")
+        A, b = formulate(system, "generalized_euler").linear_system()
+        args = (*system.q, *system.qd, system.t, *sorted(system.si_values(), key=str))
+        for modules in ("numpy", "math"):
+            ours = lambdify(args, list(A) + list(b), modules, cse=True)
+            theirs = sp.lambdify(args, list(A) + list(b), modules=modules, cse=True)
+            assert inspect.getsource(ours) == inspect.getsource(theirs)
