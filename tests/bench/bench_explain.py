@@ -11,8 +11,8 @@ For each of the two paper scenes (Example 1, sliding bar; Example 2, disk-bar):
   It gives the equation of motion only, not the reactions nor a worked solution.
 
 Each run is cold for this project (new System; the display caches cleared);
-sympy's own cache serves both sides alike. Median of repeated runs, in CPU time of
-this process (the machine is shared: wall time would measure the neighbours). Target
+sympy's own cache serves both sides alike. Median of repeated runs, each with the
+garbage collector off as ``timeit`` does, in CPU time of this process (the machine is shared: wall time would measure the neighbours). Target
 (issue 11/12): ours at most half of KanesMethod (ratio <= 0.5).
 
 Last figures (this file run three times on 2026-11-23, branch eom3, the 2-core machine shared
@@ -25,6 +25,7 @@ Writes reports/build/bench/explain.json.
 from __future__ import annotations
 
 import contextlib
+import gc
 import io
 import json
 import statistics
@@ -97,12 +98,19 @@ def command(*argv: str) -> None:
 
 
 def median_time(fn, *args) -> float:
+    """Median CPU time of ``RUNS`` calls, each with the garbage collector off (as ``timeit``
+    does: a full collection over sympy's cache lands on whichever call triggers it)."""
     fn(*args)  # warm-up: imports
     times = []
     for _ in range(RUNS):
-        t0 = time.process_time()
-        fn(*args)
-        times.append(time.process_time() - t0)
+        gc.collect()
+        gc.disable()
+        try:
+            t0 = time.process_time()
+            fn(*args)
+            times.append(time.process_time() - t0)
+        finally:
+            gc.enable()
     return statistics.median(times)
 
 
