@@ -97,20 +97,26 @@ def median_cpu(argv: list[str], repeats: int = REPEATS) -> float:
     return statistics.median(times)
 
 
-def cpu_per_call(fn, min_time: float = 0.01, max_calls: int = 100_000) -> float:
-    """CPU seconds per call of fn(), over enough calls to spend min_time: the least of 5 rounds.
+def cpu_per_call(*fns, min_time: float = 0.005, max_calls: int = 100_000, rounds: int = 10):
+    """CPU seconds per call of each fn(), over enough calls to spend min_time: the least of ``rounds``.
 
     The least, as ``timeit`` advises: on a shared machine the other rounds measure the
     neighbours too (the same rule for our route and for the hand-written ``quad``). As in
     ``timeit``, the garbage collector is off while the calls are timed, and a first round
-    is discarded (first-call costs are not per-call costs)."""
-    fn()
+    is discarded (first-call costs are not per-call costs). Several functions are timed
+    side by side, round by round in turn, so that a change in the neighbours' load falls on
+    all of them alike; many short rounds (5 ms) give the least a better chance of a quiet
+    moment, since a neighbour's burst can double every figure for seconds on this machine.
+    Returns one figure, or a tuple with one per function."""
+    for fn in fns:
+        fn()
     gc.disable()
     try:
-        rounds = [_round(fn, min_time, max_calls) for _ in range(6)][1:]
+        spent = [[_round(fn, min_time, max_calls) for fn in fns] for _ in range(rounds + 1)][1:]
     finally:
         gc.enable()
-    return min(rounds)
+    least = tuple(min(r[i] for r in spent) for i in range(len(fns)))
+    return least[0] if len(fns) == 1 else least
 
 
 def _round(fn, min_time: float, max_calls: int) -> float:
@@ -207,10 +213,10 @@ def period() -> dict:
             a = math.radians(deg)
             auto = exact_period(system, a, tol=PERIOD_TOL, equilibrium=eq)
             quadrature = exact_period(system, a, tol=PERIOD_TOL, equilibrium=eq, method="quadrature")
-            t_auto = cpu_per_call(lambda: exact_period(system, a, tol=PERIOD_TOL, equilibrium=eq))
-            t_quadrature = cpu_per_call(lambda: exact_period(system, a, tol=PERIOD_TOL, equilibrium=eq,
-                                                             method="quadrature"))
-            t_subst, t_weight = cpu_per_call(lambda: subst(a)), cpu_per_call(lambda: weight(a))
+            t_auto, t_quadrature, t_subst, t_weight = cpu_per_call(
+                lambda: exact_period(system, a, tol=PERIOD_TOL, equilibrium=eq),
+                lambda: exact_period(system, a, tol=PERIOD_TOL, equilibrium=eq, method="quadrature"),
+                lambda: subst(a), lambda: weight(a))
             t_quad = min(t_subst, t_weight)
             row = {"deg": deg, "model": auto.model, "auto_us": t_auto * 1e6, "quadrature_us": t_quadrature * 1e6,
                    "quad_us": t_quad * 1e6, "quad_substitution_us": t_subst * 1e6, "quad_weight_us": t_weight * 1e6,
