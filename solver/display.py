@@ -106,7 +106,7 @@ def numerator_reduces_to_zero(expr: sp.Expr) -> bool | None:
     e = sp.expand_trig(e)
     if not _angles_ok(e):
         return None
-    num, _ = sp.fraction(sp.together(e))
+    num, _ = sp.fraction(_together(e))
     return _reduce_poly(num) == 0
 
 
