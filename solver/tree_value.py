@@ -58,8 +58,17 @@ def _complex_product(values) -> complex:
     return out
 
 
+def _double_number(e) -> complex:
+    """``complex(e)`` of a sympy number, without its ``evalf`` where the double is exact: a rational
+    whose denominator is a power of two and whose numerator has at most 53 bits (integers, halves).
+    Other rationals go through ``complex`` (its rounding is ``evalf``'s, not always the nearest double)."""
+    if e.is_Rational and abs(e.p) <= 2**53 and e.q & (e.q - 1) == 0:
+        return complex(e.p / e.q)
+    return complex(e)
+
+
 DOUBLE = Arithmetic(
-    number=complex,
+    number=_double_number,
     total=lambda values: sum(values, 0j),
     product=_complex_product,
     sqrt=cmath.sqrt,

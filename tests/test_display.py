@@ -186,3 +186,19 @@ def test_tidy_linear_removes_the_collected_terms_as_expand_does():
         e = sp.expand(sum(rng.choice(pieces) * rng.choice(pieces) * rng.choice(pieces) for _ in range(rng.randint(1, 6))))
         for v in (qdd, qd**2, R, qd):
             assert sp.srepr(_without_factor(e, v)) == sp.srepr(sp.expand(e - e.coeff(v) * v))
+
+
+def test_the_walk_reads_numbers_as_complex_does():
+    """The tree walk's numbers (solver.tree_value._double_number, which skips evalf for exact
+    halves and integers) are exactly ``complex(e)``: the display's zero test and the scene checks
+    must see the same doubles as before (equality, no tolerance)."""
+    from solver.tree_value import _double_number
+
+    rng = random.Random(11)
+    numbers = [sp.Integer(0), sp.Integer(-1), sp.S.Half, sp.pi, sp.Float("0.1"), sp.Integer(2**53 + 1)]
+    for _ in range(3000):
+        p = rng.randint(-(2 ** rng.randint(0, 60)), 2 ** rng.randint(0, 60))
+        q = 2 ** rng.randint(0, 1100) if rng.random() < 0.5 else rng.randint(1, 10**rng.randint(1, 30))
+        numbers.append(sp.Rational(p, q))
+    for e in numbers:
+        assert _double_number(e) == complex(e), e
