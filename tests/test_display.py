@@ -202,3 +202,27 @@ def test_the_walk_reads_numbers_as_complex_does():
         numbers.append(sp.Rational(p, q))
     for e in numbers:
         assert _double_number(e) == complex(e), e
+
+
+def test_the_shared_substitution_is_xreplace():
+    """solver.tree_value.substitute (one memo over several expressions) builds the trees that
+    ``xreplace`` builds, Float arithmetic at a state included (equality of trees, no tolerance)."""
+    from solver.tree_value import substitute
+
+    rng = random.Random(5)
+    leaves = [s, c, sp.sin(beta), sp.cos(beta), g, m, t, sp.Rational(1, 3), sp.Integer(2), sp.sqrt(g * m)]
+    exprs = []
+    for _ in range(60):
+        e = rng.choice(leaves)
+        for _ in range(rng.randint(1, 8)):
+            other = rng.choice(leaves + exprs[-3:])
+            e = rng.choice([e + other, e * other, e / (other + 3), e**2 - other])
+        exprs.append(e)
+    rule = {phi: sp.Float(0.7), beta: sp.Float(-0.3), g: sp.Float(9.81), m: sp.Float(2.5), t: sp.Float(0.1)}
+    memo: dict = {}
+    for e in exprs:
+        assert substitute(e, rule, memo) == e.xreplace(rule)
+    partial = {phi: sp.Float(0.7)}  # symbols left: the same symbolic trees
+    memo = {}
+    for e in exprs:
+        assert substitute(e, partial, memo) == e.xreplace(partial)
