@@ -226,3 +226,15 @@ def test_the_shared_substitution_is_xreplace():
     memo = {}
     for e in exprs:
         assert substitute(e, partial, memo) == e.xreplace(partial)
+
+
+def test_the_sine_reduction_is_replaces():
+    """display._reduce_poly replaces the sine squares in one xreplace when none lies inside another;
+    the same tree as sympy's ``replace`` (equality of trees), on random polynomials in sin/cos."""
+    from solver.display import _is_sine_square, _lower_sine, _reduce_poly
+
+    rng = random.Random(3)
+    pieces = [s, c, s**2, s**3 * c, sp.sin(beta) ** 4, sp.cos(beta), g, m * s**2 * sp.sin(beta) ** 2]
+    for _ in range(200):
+        p = sp.Add(*[rng.randint(-3, 3) * sp.Mul(*rng.sample(pieces, rng.randint(1, 3))) for _ in range(5)])
+        assert _reduce_poly(p) == sp.expand(sp.expand(p).replace(_is_sine_square, _lower_sine))
