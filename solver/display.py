@@ -328,9 +328,12 @@ def _reduce_denominators(e: sp.Expr) -> sp.Expr:
     """Every denominator that is a polynomial in sin/cos reduced modulo sin**2 + cos**2 = 1
     (``(sin(g)**2 + cos(g)**2)**2`` becomes 1): the cheap structural step that removes a
     printed denominator equal to a constant."""
-    if not any(_is_trig_denominator(x) for x in _nodes(e, sp.Pow)):
+    found = [x for x in _nodes(e, sp.Pow) if _is_trig_denominator(x)]
+    if not found:
         return e
-    return e.replace(_is_trig_denominator, lambda x: _reduce_poly(x.base) ** x.exp)
+    if any(_is_trig_denominator(y) for x in found for y in _nodes(x.base, sp.Pow)):  # nested: replace's order
+        return e.replace(_is_trig_denominator, lambda x: _reduce_poly(x.base) ** x.exp)
+    return e.xreplace({x: _reduce_poly(x.base) ** x.exp for x in found})  # (as _reduce_poly's squares)
 
 
 def _size(e: sp.Expr) -> int:

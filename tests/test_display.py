@@ -238,3 +238,16 @@ def test_the_sine_reduction_is_replaces():
     for _ in range(200):
         p = sp.Add(*[rng.randint(-3, 3) * sp.Mul(*rng.sample(pieces, rng.randint(1, 3))) for _ in range(5)])
         assert _reduce_poly(p) == sp.expand(sp.expand(p).replace(_is_sine_square, _lower_sine))
+
+
+def test_the_denominator_reduction_is_replaces():
+    """display._reduce_denominators by one xreplace (no denominator inside another) builds the tree
+    sympy's ``replace`` builds (equality of trees), on random sums of fractions in sin/cos."""
+    from solver.display import _is_trig_denominator, _reduce_denominators, _reduce_poly
+
+    rng = random.Random(4)
+    dens = [s**2 + c**2, 2 * s**2 + c**2 + s * c, sp.sin(beta) ** 2 + sp.cos(beta) ** 2 + 1, c**2 + 3]
+    for _ in range(200):
+        e = sp.Add(*[rng.choice([g, m * s, c**3]) * rng.choice(dens) ** -rng.randint(1, 2) for _ in range(3)])
+        expected = e.replace(_is_trig_denominator, lambda x: _reduce_poly(x.base) ** x.exp)
+        assert _reduce_denominators(e) == expected
