@@ -387,10 +387,13 @@ def _reactions_at_state(system, d) -> dict:
     from solver.units import Q_
 
     if d.reaction_fractions is not None:  # evaluate the closed forms at the state: no lambdify needed
+        from solver.tree_value import substitute
+
         c = system.free[0]
         values = {k: sp.Float(v) for k, v in system.si_values().items()}
         values.update({c.q: sp.Float(c.value), c.qd: sp.Float(c.rate), system.t: sp.Float(system.time)})
-        quantities = {name: Q_(float(expr.xreplace(values)), d.reaction_units[name])
+        memo: dict = {}  # the reactions share their denominator and terms
+        quantities = {name: Q_(float(substitute(expr, values, memo)), d.reaction_units[name])
                       for name, expr in d.reactions.items()}
         check_finite({n: q.magnitude for n, q in quantities.items()}, f"{system.label}: eom")
     else:

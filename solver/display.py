@@ -64,9 +64,13 @@ def _reduce_poly(poly: sp.Expr) -> sp.Expr:
     This is the remainder of the division by the Groebner basis {sin**2 + cos**2 - 1} with
     sin ahead of cos, a canonical form: an identically zero polynomial reduces to 0."""
     p = sp.expand(poly)
-    if not any(_is_sine_square(x) for x in _nodes(p, sp.Pow)):
+    squares = [x for x in _nodes(p, sp.Pow) if _is_sine_square(x)]
+    if not squares:
         return p
-    return sp.expand(p.replace(_is_sine_square, _lower_sine))
+    if any(x.base.args[0].has(sp.sin) for x in squares):  # nested: replace's bottom-up order matters
+        return sp.expand(p.replace(_is_sine_square, _lower_sine))
+    # no square inside another: each replaced where it stands, as replace does, in one rebuild
+    return sp.expand(p.xreplace({x: _lower_sine(x) for x in squares}))
 
 
 def reduce_trig(expr: sp.Expr) -> sp.Expr | None:
@@ -324,9 +328,12 @@ def _reduce_denominators(e: sp.Expr) -> sp.Expr:
     """Every denominator that is a polynomial in sin/cos reduced modulo sin**2 + cos**2 = 1
     (``(sin(g)**2 + cos(g)**2)**2`` becomes 1): the cheap structural step that removes a
     printed denominator equal to a constant."""
-    if not any(_is_trig_denominator(x) for x in _nodes(e, sp.Pow)):
+    found = [x for x in _nodes(e, sp.Pow) if _is_trig_denominator(x)]
+    if not found:
         return e
-    return e.replace(_is_trig_denominator, lambda x: _reduce_poly(x.base) ** x.exp)
+    if any(_is_trig_denominator(y) for x in found for y in _nodes(x.base, sp.Pow)):  # nested: replace's order
+        return e.replace(_is_trig_denominator, lambda x: _reduce_poly(x.base) ** x.exp)
+    return e.xreplace({x: _reduce_poly(x.base) ** x.exp for x in found})  # (as _reduce_poly's squares)
 
 
 def _size(e: sp.Expr) -> int:

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-__all__ = ["Arithmetic", "DOUBLE", "mpmath_arithmetic", "NotEvaluable", "tree_value"]
+__all__ = ["Arithmetic", "DOUBLE", "mpmath_arithmetic", "NotEvaluable", "substitute", "tree_value"]
 
 
 class NotEvaluable(Exception):
@@ -58,8 +58,17 @@ def _complex_product(values) -> complex:
     return out
 
 
+def _double_number(e) -> complex:
+    """``complex(e)`` of a sympy number, without its ``evalf`` where the double is exact: a rational
+    whose denominator is a power of two and whose numerator has at most 53 bits (integers, halves).
+    Other rationals go through ``complex`` (its rounding is ``evalf``'s, not always the nearest double)."""
+    if e.is_Rational and abs(e.p) <= 2**53 and e.q & (e.q - 1) == 0:
+        return complex(e.p / e.q)
+    return complex(e)
+
+
 DOUBLE = Arithmetic(
-    number=complex,
+    number=_double_number,
     total=lambda values: sum(values, 0j),
     product=_complex_product,
     sqrt=cmath.sqrt,
@@ -132,3 +141,23 @@ def tree_value(expr: sp.Expr, point: dict, arithmetic: Arithmetic = DOUBLE, memo
     memo[expr] = value
     return value
 
+
+
+def substitute(expr: sp.Basic, rule: dict, memo: dict) -> sp.Basic:
+    """``expr.xreplace(rule)``, with the subtrees that several expressions (or one, in several
+    places) share rebuilt once: ``memo`` (original subtree -> result) is shared by the calls of one
+    evaluation. The same trees as ``xreplace``: each node is rebuilt by ``node.func(*args)`` from the
+    same arguments in the same order, and left as it is when none of them changed (so Float
+    arithmetic at the state gives the same numbers to the last bit)."""
+    if not isinstance(expr, sp.Basic):  # a non-sympy argument (xreplace leaves it too)
+        return expr
+    if expr in rule:
+        return rule[expr]
+    done = memo.get(expr)
+    if done is not None:
+        return done
+    args = expr.args
+    new = tuple(substitute(a, rule, memo) for a in args)
+    out = expr.func(*new) if any(a is not b for a, b in zip(new, args)) else expr
+    memo[expr] = out
+    return out

@@ -186,3 +186,68 @@ def test_tidy_linear_removes_the_collected_terms_as_expand_does():
         e = sp.expand(sum(rng.choice(pieces) * rng.choice(pieces) * rng.choice(pieces) for _ in range(rng.randint(1, 6))))
         for v in (qdd, qd**2, R, qd):
             assert sp.srepr(_without_factor(e, v)) == sp.srepr(sp.expand(e - e.coeff(v) * v))
+
+
+def test_the_walk_reads_numbers_as_complex_does():
+    """The tree walk's numbers (solver.tree_value._double_number, which skips evalf for exact
+    halves and integers) are exactly ``complex(e)``: the display's zero test and the scene checks
+    must see the same doubles as before (equality, no tolerance)."""
+    from solver.tree_value import _double_number
+
+    rng = random.Random(11)
+    numbers = [sp.Integer(0), sp.Integer(-1), sp.S.Half, sp.pi, sp.Float("0.1"), sp.Integer(2**53 + 1)]
+    for _ in range(3000):
+        p = rng.randint(-(2 ** rng.randint(0, 60)), 2 ** rng.randint(0, 60))
+        q = 2 ** rng.randint(0, 1100) if rng.random() < 0.5 else rng.randint(1, 10**rng.randint(1, 30))
+        numbers.append(sp.Rational(p, q))
+    for e in numbers:
+        assert _double_number(e) == complex(e), e
+
+
+def test_the_shared_substitution_is_xreplace():
+    """solver.tree_value.substitute (one memo over several expressions) builds the trees that
+    ``xreplace`` builds, Float arithmetic at a state included (equality of trees, no tolerance)."""
+    from solver.tree_value import substitute
+
+    rng = random.Random(5)
+    leaves = [s, c, sp.sin(beta), sp.cos(beta), g, m, t, sp.Rational(1, 3), sp.Integer(2), sp.sqrt(g * m)]
+    exprs = []
+    for _ in range(60):
+        e = rng.choice(leaves)
+        for _ in range(rng.randint(1, 8)):
+            other = rng.choice(leaves + exprs[-3:])
+            e = rng.choice([e + other, e * other, e / (other + 3), e**2 - other])
+        exprs.append(e)
+    rule = {phi: sp.Float(0.7), beta: sp.Float(-0.3), g: sp.Float(9.81), m: sp.Float(2.5), t: sp.Float(0.1)}
+    memo: dict = {}
+    for e in exprs:
+        assert substitute(e, rule, memo) == e.xreplace(rule)
+    partial = {phi: sp.Float(0.7)}  # symbols left: the same symbolic trees
+    memo = {}
+    for e in exprs:
+        assert substitute(e, partial, memo) == e.xreplace(partial)
+
+
+def test_the_sine_reduction_is_replaces():
+    """display._reduce_poly replaces the sine squares in one xreplace when none lies inside another;
+    the same tree as sympy's ``replace`` (equality of trees), on random polynomials in sin/cos."""
+    from solver.display import _is_sine_square, _lower_sine, _reduce_poly
+
+    rng = random.Random(3)
+    pieces = [s, c, s**2, s**3 * c, sp.sin(beta) ** 4, sp.cos(beta), g, m * s**2 * sp.sin(beta) ** 2]
+    for _ in range(200):
+        p = sp.Add(*[rng.randint(-3, 3) * sp.Mul(*rng.sample(pieces, rng.randint(1, 3))) for _ in range(5)])
+        assert _reduce_poly(p) == sp.expand(sp.expand(p).replace(_is_sine_square, _lower_sine))
+
+
+def test_the_denominator_reduction_is_replaces():
+    """display._reduce_denominators by one xreplace (no denominator inside another) builds the tree
+    sympy's ``replace`` builds (equality of trees), on random sums of fractions in sin/cos."""
+    from solver.display import _is_trig_denominator, _reduce_denominators, _reduce_poly
+
+    rng = random.Random(4)
+    dens = [s**2 + c**2, 2 * s**2 + c**2 + s * c, sp.sin(beta) ** 2 + sp.cos(beta) ** 2 + 1, c**2 + 3]
+    for _ in range(200):
+        e = sp.Add(*[rng.choice([g, m * s, c**3]) * rng.choice(dens) ** -rng.randint(1, 2) for _ in range(3)])
+        expected = e.replace(_is_trig_denominator, lambda x: _reduce_poly(x.base) ** x.exp)
+        assert _reduce_denominators(e) == expected

@@ -931,10 +931,13 @@ def _numeric_system(system, f, state):
     """(A, b) of a formulation evaluated at the state by substitution (one state: cheaper than lambdify)."""
     import numpy as np
 
+    from ..tree_value import substitute
+
     A, b = f.linear_system()
     subs = _state_subs(system, state)
-    An = np.array([[float(x.xreplace(subs)) for x in A.row(i)] for i in range(A.shape[0])])
-    bn = np.array([float(x.xreplace(subs)) for x in b])
+    memo: dict = {}  # the entries share subtrees (the kinematics of each body)
+    An = np.array([[float(substitute(x, subs, memo)) for x in A.row(i)] for i in range(A.shape[0])])
+    bn = np.array([float(substitute(x, subs, memo)) for x in b])
     return An, bn
 
 
