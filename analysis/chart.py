@@ -26,6 +26,7 @@ from matplotlib import rc_context
 from matplotlib.colors import to_hex
 from matplotlib.figure import Figure
 from matplotlib.patches import Patch
+from solver.drawing.layout import fix_layout  # matplotlib only (no sympy): the one layout step
 
 from .errors import SurveyInputError
 from .likert import SurveySummary
@@ -216,23 +217,9 @@ def faceted_bar(comparison, title: str | None = None, wrap: int = 60) -> Figure:
     return fig
 
 
-def _fix_layout(fig: Figure) -> None:
-    """Solve the figure's layout once and keep it: with a layout engine set, ``savefig`` draws the
-    whole figure once without output and then again for real (two draws, two layouts per file).
-
-    The same step as ``solver.drawing.render.fix_layout``, repeated here because analysis must not
-    import the solver (its sympy import costs seconds)."""
-    engine = fig.get_layout_engine()
-    if engine is None:
-        return
-    engine.execute(fig)  # a placeholder engine (a layout fixed before) does nothing
-    with rc_context({"figure.autolayout": False, "figure.constrained_layout.use": False}):
-        fig.set_layout_engine(None)  # None falls back to these two settings: both off
-
-
 def figure_svg(fig: Figure) -> str:
     """SVG text of a figure (text as text, reproducible ids)."""
-    _fix_layout(fig)
+    fix_layout(fig)
     buf = io.StringIO()
     with rc_context({"svg.fonttype": "none", "svg.hashsalt": "analysis"}):
         fig.savefig(buf, format="svg", metadata={"Date": None, "Creator": None})
@@ -266,6 +253,6 @@ def figure_bytes(fig: Figure, fmt: str = "svg") -> bytes:
         raise ValueError(f"`fmt` must be one of {list(CHART_FORMATS)}, got {fmt!r}")
     buf = io.BytesIO()
     meta = {"CreationDate": None} if fmt == "pdf" else {"Software": None}
-    _fix_layout(fig)
+    fix_layout(fig)
     fig.savefig(buf, format=fmt, dpi=150, metadata=meta)
     return buf.getvalue()

@@ -16,11 +16,11 @@ import matplotlib
 matplotlib.use("Agg")
 
 import numpy as np  # noqa: E402
-from matplotlib import rc_context  # noqa: E402
 from matplotlib.collections import LineCollection  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 from matplotlib.patches import Circle, FancyArrowPatch, Polygon, Rectangle, Wedge  # noqa: E402
 
+from .layout import fix_layout  # noqa: E402
 from .model import DrawnItem  # noqa: E402
 
 __all__ = ["new_figure", "render_scene", "render_fbd", "place_labels", "label_boxes", "fix_layout", "RC"]
@@ -372,21 +372,6 @@ def _final_layout(fig, axes) -> None:
     fix_layout(fig)
     for ax in axes:
         ax.apply_aspect()
-
-
-def fix_layout(fig) -> None:
-    """Solve the figure's layout now, then keep the axes where it put them: no layout engine from
-    then on, so that saving keeps this layout (the one labels were placed in).
-
-    Not ``set_layout_engine("none")``: that leaves a placeholder engine, and with any engine set
-    ``savefig`` draws the whole figure once without output first, then solves the layout again
-    in the real draw (two draws and two layouts per file)."""
-    engine = fig.get_layout_engine()
-    if engine is None:
-        return
-    engine.execute(fig)  # a placeholder engine (a layout fixed before) does nothing
-    with rc_context({"figure.autolayout": False, "figure.constrained_layout.use": False}):
-        fig.set_layout_engine(None)  # None falls back to these two settings: both off
 
 
 def _overlaps(boxes: np.ndarray, placed: np.ndarray, pad: float) -> np.ndarray:
