@@ -710,7 +710,7 @@ _WELL_NODES = 8192  # grid points per side of the equilibrium (spacing 4 pi / 81
 # digits from the amplitude alone). Written as products (cos b - cos a = -2 sin((a+b)/2)
 # sin((b-a)/2), term by term) with q_ref - q formed exactly, it keeps its relative accuracy.
 # (Symbols, not Dummies: lambdify would rename Dummies and re-evaluate sin(a - b) into
-# -sin(b - a), one more array operation; no scene parameter name starts with "__")
+# -sin(b - a), one more array operation; the scene loader refuses names starting with "__")
 _HALF = sp.Symbol("__half_step", real=True)  # (q_ref - q) / 2, given exactly by the caller
 _COS2 = sp.Symbol("__cos2", real=True)  # cos^2 u of a quadrature node (_float_sums)
 _DIFF_OPS = 400  # larger potentials are differenced directly (the round-off estimate says so)

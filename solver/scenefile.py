@@ -340,6 +340,8 @@ class _SceneLoader:
             raise self.fail(
                 key, f"{what} {name!r} is not a valid name (letters, digits and _, not starting with a digit)"
             )
+        if name.startswith("__"):  # the solver's internal symbols (solver.period) start so
+            raise self.fail(key, f"{what} {name!r}: names starting with '__' are reserved")
         return name
 
     def boolean(self, value: Any, key: str) -> bool:

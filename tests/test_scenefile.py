@@ -141,6 +141,10 @@ BAD = [
      "points.G[0]", "adds"),
     ("bare number as length", _edit(BAR, 'B = ["l_b", "0"]', 'B = ["4", "0"]'), "points.B[0]", "bare number"),
     ("missing parameter", _edit(BAR, 'l_b  = "4 ft"', ''), "points.B[0]", "unknown name 'l_b'"),
+    # (the period's compiled potential differences use symbols named so: a parameter of that
+    # name would be silently taken for one of them)
+    ("name of an internal symbol", _edit(BAR, 'l_b  = "4 ft"', 'l_b  = "4 ft"\n__c0 = "1 ft"'),
+     "parameters.__c0", "names starting with '__' are reserved"),
     ("missing key", _edit(BAR, 'mass = "m_b"', ''), "elements[0]", "missing key 'mass'"),
     ("negative mass", _edit(BAR, '"50 lbm"', '"-50 lbm"'), "parameters.m_b", "must not be negative"),
     ("massless body", _edit(BAR, '"50 lbm"', '"0 lbm"'), "elements", "the body has no mass"),
