@@ -64,13 +64,21 @@ def _reduce_poly(poly: sp.Expr) -> sp.Expr:
     This is the remainder of the division by the Groebner basis {sin**2 + cos**2 - 1} with
     sin ahead of cos, a canonical form: an identically zero polynomial reduces to 0."""
     p = sp.expand(poly)
-    squares = [x for x in _nodes(p, sp.Pow) if _is_sine_square(x)]
-    if not squares:
-        return p
-    if any(x.base.args[0].has(sp.sin) for x in squares):  # nested: replace's bottom-up order matters
-        return sp.expand(p.replace(_is_sine_square, _lower_sine))
-    # no square inside another: each replaced where it stands, as replace does, in one rebuild
-    return sp.expand(p.xreplace({x: _lower_sine(x) for x in squares}))
+    reduced = _replace_powers(p, _is_sine_square, _lower_sine)
+    return p if reduced is p else sp.expand(reduced)
+
+
+def _replace_powers(e: sp.Expr, match, rewrite) -> sp.Expr:
+    """``e.replace(match, rewrite)`` for a ``match`` that only powers satisfy, in one ``xreplace``
+    of the matching powers when none lies inside another (each is then rewritten where it stands,
+    as ``replace`` does); else by ``replace`` itself, whose bottom-up order then matters. ``e``
+    itself when nothing matches."""
+    found = [x for x in _nodes(e, sp.Pow) if match(x)]
+    if not found:
+        return e
+    if any(match(y) for x in found for a in x.args for y in _nodes(a, sp.Pow)):
+        return e.replace(match, rewrite)
+    return e.xreplace({x: rewrite(x) for x in found})
 
 
 def reduce_trig(expr: sp.Expr) -> sp.Expr | None:
@@ -328,12 +336,7 @@ def _reduce_denominators(e: sp.Expr) -> sp.Expr:
     """Every denominator that is a polynomial in sin/cos reduced modulo sin**2 + cos**2 = 1
     (``(sin(g)**2 + cos(g)**2)**2`` becomes 1): the cheap structural step that removes a
     printed denominator equal to a constant."""
-    found = [x for x in _nodes(e, sp.Pow) if _is_trig_denominator(x)]
-    if not found:
-        return e
-    if any(_is_trig_denominator(y) for x in found for y in _nodes(x.base, sp.Pow)):  # nested: replace's order
-        return e.replace(_is_trig_denominator, lambda x: _reduce_poly(x.base) ** x.exp)
-    return e.xreplace({x: _reduce_poly(x.base) ** x.exp for x in found})  # (as _reduce_poly's squares)
+    return _replace_powers(e, _is_trig_denominator, lambda x: _reduce_poly(x.base) ** x.exp)
 
 
 def _size(e: sp.Expr) -> int:
