@@ -28,11 +28,12 @@ import os
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
+from types import SimpleNamespace
 from typing import Any, Callable
 
 import numpy as np
 import sympy as sp
-from scipy.integrate import solve_ivp
+from scipy.integrate import DOP853, DenseOutput, solve_ivp
 
 from .errors import InputError
 from .files import write_atomic
@@ -331,12 +332,15 @@ def simulate(
     _check_periods(system, q0, float(t_end))
     calls = [0]
 
+    def state_rate(t, y):
+        q, qd = y.tolist()  # Python floats: the math-module rhs runs faster on them than on numpy scalars
+        return (qd, rhs_qdd(q, qd, t))
+
     def rhs(t, y):
         calls[0] += 1
         if calls[0] > MAX_RHS_EVALUATIONS:
             raise _TooManySteps(float(t))
-        q, qd = y.tolist()  # Python floats: the math-module rhs runs faster on them than on numpy scalars
-        return (qd, rhs_qdd(q, qd, t))
+        return state_rate(t, y)
 
     # event functions -------------------------------------------------------
     scalar_R = system.reaction_scalar_fns() if (events and system.reactions) else {}
@@ -392,7 +396,8 @@ def simulate(
     try:
         with np.errstate(all="ignore"):
             # y0 as an array: the event functions read every state with ``tolist`` (Python floats)
-            sol = solve_ivp(bar.wrap(rhs), (0.0, float(t_end)), np.array([q0, qd0]), method=method, rtol=rtol,
+            sol = solve_ivp(bar.wrap(rhs), (0.0, float(t_end)), np.array([q0, qd0]),
+                            method=_lazy_dop853(state_rate) if method == "DOP853" else method, rtol=rtol,
                             atol=atol, dense_output=True, events=ev_funcs or None)
     except (ZeroDivisionError, ValueError, OverflowError) as exc:
         bar.close(0.0)
@@ -433,6 +438,44 @@ def simulate(
             samples = 1001
     t = np.linspace(0.0, t_final, int(samples))
     return _finish(system, sol, t, method, rtol, atol, int(sol.nfev), event, reason, status)
+
+
+class _LazyDenseOutput(DenseOutput):
+    """DOP853's interpolant of one step, built on its first call.
+
+    The 7th-order interpolant costs three more right-hand-side evaluations per step, and
+    ``solve_ivp`` builds it for every step of a run that has events or keeps its dense
+    output. Long runs sample a small share of their steps (2001 samples over the 25,000
+    steps of 1000 periods), so each step keeps only what the interpolant is made from (a
+    copy of the stages, the step's ends and its length) and makes it when asked: the
+    same arithmetic on the same numbers, so the same values to the last bit. ``fun`` is
+    the right-hand side without the run's evaluation count and cap: the count is the
+    integration's, and these evaluations (three per sampled step) come after it."""
+
+    def __init__(self, solver: DOP853, fun: Callable):
+        super().__init__(solver.t_old, solver.t)
+        self._state = SimpleNamespace(
+            K_extended=solver.K_extended.copy(), h_previous=solver.h_previous, t_old=solver.t_old,
+            y_old=solver.y_old, y=solver.y, t=solver.t, f=solver.f, n=solver.n, n_stages=solver.n_stages,
+            A_EXTRA=solver.A_EXTRA, C_EXTRA=solver.C_EXTRA, D=solver.D,
+            fun=lambda t, y: np.asarray(fun(t, y), dtype=float))
+        self._made = None
+
+    def _call_impl(self, t):
+        if self._made is None:
+            self._made = DOP853._dense_output_impl(self._state)
+            self._state = None
+        return self._made._call_impl(t)
+
+
+def _lazy_dop853(fun: Callable) -> type:
+    """scipy's DOP853, taking the same steps, with :class:`_LazyDenseOutput` interpolants."""
+
+    class LazyDOP853(DOP853):
+        def _dense_output_impl(self):
+            return _LazyDenseOutput(self, fun)
+
+    return LazyDOP853
 
 
 def _check_periods(system: OneDofSystem, q0: float, t_end: float) -> None:
@@ -485,8 +528,7 @@ def _finish(system, sol, t, method, rtol, atol, nfev, event, reason, status, y_s
         if sol is not None and len(sol.sol.ts) > 1:
             # samples may alias with the motion (e.g. two per period, both at rest):
             # the integrator's own steps resolve it
-            ts = sol.sol.ts[:: max(1, len(sol.sol.ts) // 200000)]
-            ys = sol.sol(ts)
+            ys = sol.y[:, :: max(1, len(sol.t) // 200000)]  # the states at the steps' ends
             ks = 0.5 * system.mass_fn()(ys[0]) * ys[1] ** 2
             kinetic_max = max(kinetic_max, float(np.nanmax(ks)))
         conserved = None
