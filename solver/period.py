@@ -63,6 +63,7 @@ import sympy as sp
 from scipy.optimize import brentq
 
 from .errors import InputError, NoRestoringError
+from .strprint import lambdify
 
 __all__ = [
     "QuadratureError",
@@ -121,10 +122,6 @@ def _drop_constants(V: sp.Expr, q: sp.Symbol) -> sp.Expr:
     if sp.count_ops(expanded) > 4 * sp.count_ops(V) + 20:
         return V
     return sp.Add(*[term for term in sp.Add.make_args(expanded) if term.has(q)])
-
-
-def _lambdify(args, expr, modules):
-    return sp.lambdify(args, expr, modules=modules, cse=True)
 
 
 def check_limits(system: "OneDofSystem", q: float, what: str) -> None:
@@ -341,7 +338,7 @@ class OneDofSystem:
     # -- compiled functions (args: state..., *params) --------------------------
     def _fn(self, key: str, args: tuple, expr_builder: Callable[[], Any], modules) -> Callable:
         def build():
-            f = _lambdify(tuple(args) + self.params, expr_builder(), modules)
+            f = lambdify(tuple(args) + self.params, expr_builder(), modules, cse=True)
             return f
 
         return self._memo((key, str(modules)), build)
@@ -477,10 +474,10 @@ class OneDofSystem:
             A, b = self.system_matrix, self.system_rhs
             args = (self.q, self.qd, self.t) + self.params
             try:
-                f = _lambdify(args, list(A) + list(b), "math")
+                f = lambdify(args, list(A) + list(b), "math", cse=True)
                 f(0.1, 0.2, 0.0, *self.values)
             except (NameError, TypeError, AttributeError, KeyError, ZeroDivisionError, ValueError, OverflowError):
-                f = _lambdify(args, list(A) + list(b), "numpy")
+                f = lambdify(args, list(A) + list(b), "numpy", cse=True)
             return f, A.shape[0]
 
         f, n = self._memo("Ab_scalar", build)
@@ -871,8 +868,8 @@ def _bound(system: OneDofSystem, key, expr: Callable[[], Any], args: tuple = ())
         body, variables = expr(), (system.q, *args)
         body = tuple(_fold(sp.sympify(e), variables, coefficients) for e in body) if isinstance(body, tuple) \
             else _fold(sp.sympify(body), variables, coefficients)
-        return (_lambdify((*coefficients.values(), system.q, *args), body, "numpy"),
-                _lambdify(system.params, list(coefficients), "numpy"))
+        return (lambdify((*coefficients.values(), system.q, *args), body, "numpy", cse=True),
+                lambdify(system.params, list(coefficients), "numpy", cse=True))
 
     f, c = system._memo((key, "folded"), build)
     with np.errstate(all="ignore"):

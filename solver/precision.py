@@ -28,6 +28,7 @@ import pint
 import sympy as sp
 
 from .errors import InputError, SingularConfigurationError
+from .strprint import lambdify
 
 __all__ = ["PRECISIONS", "MIN_DPS", "MAX_DPS", "exact_quantity", "exact_values", "PreciseSolution", "solve_precise"]
 
@@ -181,7 +182,7 @@ def solve_precise(derivation: Any, precision: str = "float64", dps: int = 50,
     alpha_expr = d.alpha if len(d.system.bodies) == 1 else None
 
     # float64 ---------------------------------------------------------------
-    fA = sp.lambdify(args, [list(A.row(i)) for i in range(A.rows)] + [list(b)], modules="numpy")
+    fA = lambdify(args, [list(A.row(i)) for i in range(A.rows)] + [list(b)], "numpy")
     fvals = [float(sp.N(v, 20)) for v in params.values()]
     qf, qdf = float(sp.N(q_ex, 20)), float(sp.N(qd_ex, 20))
     with np.errstate(all="ignore"):
@@ -198,7 +199,7 @@ def solve_precise(derivation: Any, precision: str = "float64", dps: int = 50,
     xf = np.linalg.solve(Af, bf)
     fl = {n: float(x) for n, x in zip(names, xf)}
     if alpha_expr is not None:
-        falpha = sp.lambdify((d.q, d.qd, d.qdd), alpha_expr, "math")
+        falpha = lambdify((d.q, d.qd, d.qdd), alpha_expr, "math")
         fl["alpha"] = float(falpha(qf, qdf, fl[names[0]]))
 
     if precision == "float64":

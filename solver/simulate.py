@@ -38,6 +38,7 @@ from scipy.integrate import DOP853, DenseOutput, solve_ivp
 from .errors import InputError
 from .files import write_atomic
 from .period import Equilibrium, OneDofSystem, find_equilibrium
+from .strprint import lambdify
 
 __all__ = [
     "METHODS",
@@ -361,7 +362,7 @@ def simulate(
         ev_funcs.append(fn)
         ev_info.append(("slip", pair.normal, pair.constraint))
     for text, g in system.limits:
-        gf = sp.lambdify((system.q,) + system.params, g, "math")
+        gf = lambdify((system.q,) + system.params, g, "math")
         fn = (lambda gf: (lambda t, y: float(gf(y[0], *system.values))))(gf)
         ev_funcs.append(fn)
         ev_info.append(("model_limit", text, ""))

@@ -253,7 +253,9 @@ def lambdify(args, expr, modules: str, cse: bool = False):
     """``sympy.lambdify(args, expr, modules, cse=cse)`` for the solver's own numeric functions: the
     same generated code (lambdify's own printer for ``"numpy"`` or ``"math"``, with its settings,
     sums ordered as in :class:`FastStrPrinter`), and no docstring (lambdify prints the whole
-    expression into it, about half its cost; nobody reads these functions' docstrings)."""
-    printer = {"numpy": _FastNumPyPrinter, "math": _FastPythonCodePrinter}[modules](
+    expression into it, about half its cost; nobody reads these functions' docstrings). Other
+    ``modules`` (``"mpmath"``) keep lambdify's own printer, without the docstring."""
+    fast = {"numpy": _FastNumPyPrinter, "math": _FastPythonCodePrinter}.get(modules)
+    printer = None if fast is None else fast(
         {"fully_qualified_modules": False, "inline": True, "allow_unknown_functions": True, "user_functions": {}})
     return sp.lambdify(args, expr, modules=modules, printer=printer, cse=cse, docstring_limit=0)

@@ -28,6 +28,7 @@ from scipy.integrate import solve_ivp
 
 from ..errors import InputError, SingularConfigurationError
 from .instant import assemble
+from ..strprint import lambdify
 
 __all__ = ["MotionResult", "simulate_system", "MAX_SAMPLES", "MAX_EVALUATIONS"]
 
@@ -396,7 +397,7 @@ def _events(system, regimes, kin, solve_at, full_state):
             info.append(("lost_contact", r.name))
     pvals = list(system.si_values().values())
     for text, g in system.limits():
-        fn = sp.lambdify((*system.q, system.t, *system.si_values()), g, "math")
+        fn = lambdify((*system.q, system.t, *system.si_values()), g, "math")
         events.append(lambda t, y, fn=fn: float(fn(*full_state(t, y).q, t, *pvals)))
         info.append(("model_limit", text))
     for ev in events:
@@ -568,7 +569,7 @@ def _energy_drift(system, columns, ts):
     T = system.kinetic_energy()
     V = system.potential_energy()
     args = (*system.q, *system.qd, system.t, *system.si_values())
-    f = sp.lambdify(args, [T, V], "numpy")
+    f = lambdify(args, [T, V], "numpy")
     vals = [columns[c.name][0] for c in system.free] + [columns[f"{c.name}_dot"][0] for c in system.free]
     pv = list(system.si_values().values())
     with np.errstate(all="ignore"):

@@ -23,6 +23,7 @@ import numpy as np
 import sympy as sp
 
 from ..model.bodies import GROUND
+from ..strprint import lambdify
 
 __all__ = ["DrawnItem", "Drawing", "BodyShape", "scene_items", "free_body_items", "PoseFunction",
            "body_shapes", "ZERO_FORCE"]
@@ -141,7 +142,7 @@ class PoseFunction:
         for name in self.bodies:
             origin, phi = system.poses[name]
             exprs += [origin[0], origin[1], phi]
-        self._f = sp.lambdify((*system.q, system.t, *self.params), exprs, modules="numpy", cse=True)
+        self._f = lambdify((*system.q, system.t, *self.params), exprs, "numpy", cse=True)
 
     def __call__(self, q, t) -> dict[str, tuple[np.ndarray, float]]:
         out = self._f(*q, t, *self.param_values)
@@ -155,7 +156,7 @@ def _evaluate(system, exprs: list, state, accelerations: dict | None = None) -> 
     params = sorted(values, key=str)
     qdd = [sp.Symbol(str(c.qdd), real=True) for c in system.free]
     args = (*system.q, *system.qd, *qdd, system.t, *params)
-    f = sp.lambdify(args, [sp.sympify(e) for e in exprs], modules="numpy", cse=True)
+    f = lambdify(args, [sp.sympify(e) for e in exprs], "numpy", cse=True)
     acc = [float((accelerations or {}).get(str(c.qdd), 0.0)) for c in system.free]
     with np.errstate(all="ignore"):
         out = f(*state.q, *state.qd, *acc, state.t, *[values[p] for p in params])
