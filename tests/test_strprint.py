@@ -30,14 +30,27 @@ def _expanded_product(pair):
     return sp.expand(a * b) if small else a * b
 
 
+def _small_numbers(e) -> bool:
+    """Whether every rational in ``e`` has at most 256 bits above and below the line."""
+    return all(a.p.bit_length() <= 256 and a.q.bit_length() <= 256 for a in e.atoms(sp.Rational))
+
+
+def _power(base, exponent):
+    """base**exponent, or base itself when its numbers are already large: sympy evaluates powers
+    of numbers, and the square root of a rational of n bits factors it (a 5,000-bit one takes a
+    second, a 15,000-bit one half a minute), so five nested cubes of 2**60 + 1 under a square
+    root would hang the test."""
+    return sp.Pow(base, exponent) if _small_numbers(base) else base
+
+
 def _node(children):
     pair = st.tuples(children, children)
     return st.one_of(
         st.lists(children, min_size=2, max_size=5).map(lambda a: sp.Add(*a)),
         st.lists(children, min_size=2, max_size=4).map(lambda a: sp.Mul(*a)),
         st.tuples(children, st.sampled_from([2, 3, -1, -2, sp.Rational(1, 2), sp.Rational(-1, 2), sp.Rational(3, 2)]))
-        .map(lambda p: sp.Pow(*p)),
-        children.map(sp.sin), children.map(sp.cos), children.map(sp.sqrt),
+        .map(lambda p: _power(*p)),
+        children.map(sp.sin), children.map(sp.cos), children.map(lambda e: _power(e, sp.Rational(1, 2))),
         pair.map(lambda p: p[0] / p[1] if p[1] != 0 else p[0]),
         pair.map(_expanded_product),
         children.map(lambda e: -e),
