@@ -31,16 +31,21 @@ def _expanded_product(pair):
 
 
 def _small_numbers(e) -> bool:
-    """Whether every rational in ``e`` has at most 256 bits above and below the line."""
-    return all(a.p.bit_length() <= 256 and a.q.bit_length() <= 256 for a in e.atoms(sp.Rational))
+    """Whether every rational in ``e`` has at most 256 bits above and below the line, and every
+    float lies within 2**-256 .. 2**256 in size (or is 0)."""
+    return (all(a.p.bit_length() <= 256 and a.q.bit_length() <= 256 for a in e.atoms(sp.Rational))
+            and all(a == 0 or 2**-256 < abs(a) < 2**256 for a in e.atoms(sp.Float)))
 
 
-def _power(base, exponent):
-    """base**exponent, or base itself when its numbers are already large: sympy evaluates powers
-    of numbers, and the square root of a rational of n bits factors it (a 5,000-bit one takes a
-    second, a 15,000-bit one half a minute), so five nested cubes of 2**60 + 1 under a square
-    root would hang the test."""
-    return sp.Pow(base, exponent) if _small_numbers(base) else base
+def _guarded(function):
+    """``function`` applied to an expression whose numbers are small, the expression itself
+    otherwise. sympy evaluates functions of numbers as it builds them: the square root of a
+    rational of n bits factors it (5,000 bits take a second, 15,000 half a minute), and the sine
+    of a number of n bits (a float such as 1.5**(3**9)) computes pi to n bits; nested cubes reach
+    such sizes, and a make test run hung on one for ten minutes. Powers, roots, sines and cosines therefore
+    only take arguments whose numbers have at most 256 bits (numbers still grow to about 1,000
+    bits through sums and products)."""
+    return lambda *args: function(*args) if _small_numbers(args[0]) else args[0]
 
 
 def _node(children):
@@ -49,8 +54,8 @@ def _node(children):
         st.lists(children, min_size=2, max_size=5).map(lambda a: sp.Add(*a)),
         st.lists(children, min_size=2, max_size=4).map(lambda a: sp.Mul(*a)),
         st.tuples(children, st.sampled_from([2, 3, -1, -2, sp.Rational(1, 2), sp.Rational(-1, 2), sp.Rational(3, 2)]))
-        .map(lambda p: _power(*p)),
-        children.map(sp.sin), children.map(sp.cos), children.map(lambda e: _power(e, sp.Rational(1, 2))),
+        .map(lambda p: _guarded(sp.Pow)(*p)),
+        children.map(_guarded(sp.sin)), children.map(_guarded(sp.cos)), children.map(_guarded(sp.sqrt)),
         pair.map(lambda p: p[0] / p[1] if p[1] != 0 else p[0]),
         pair.map(_expanded_product),
         children.map(lambda e: -e),
