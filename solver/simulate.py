@@ -113,7 +113,8 @@ class SimulationResult:
     method : str
     rtol, atol : float
     nfev : int
-        Right-hand-side evaluations.
+        Right-hand-side evaluations of the integration (with DOP853, the three more that
+        each sampled step's interpolant takes are not counted).
     sol : callable or None
         Dense output y(t) of the integrator.
     """

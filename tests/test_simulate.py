@@ -217,3 +217,24 @@ def test_energy_column_is_gravity_energy_even_after_the_effective_potential_was_
     s.potential_fn(0)(0.0)
     m, l, g = 2.0, 1.5, 9.81
     assert float(s.energy_fn()(0.0, 0.0)) == pytest.approx(4 * m * g * l, rel=1e-14)  # -mgl + 5 mgl
+
+
+def test_interpolants_made_on_demand_are_scipys():
+    """simulate's DOP853 makes each step's interpolant only when asked (solver.simulate._lazy_dop853):
+    it must take scipy's steps and give scipy's eager dense output exactly (the same arithmetic on the
+    same numbers: compared bit for bit, no tolerance), at sample times inside steps and at their ends."""
+    from scipy.integrate import solve_ivp
+
+    from solver.simulate import _lazy_dop853
+
+    def f(t, y):  # a pendulum with a time-dependent drive: every stage value matters
+        return (y[1], -9.81 * math.sin(y[0]) + 0.3 * math.cos(2.0 * t))
+
+    args = dict(t_span=(0.0, 7.0), y0=np.array([1.2, 0.0]), rtol=1e-9, atol=1e-12, dense_output=True)
+    eager = solve_ivp(f, method="DOP853", **args)
+    lazy = solve_ivp(f, method=_lazy_dop853(f), **args)
+    assert np.array_equal(eager.t, lazy.t) and np.array_equal(eager.y, lazy.y)
+    t = np.concatenate([np.linspace(0.0, 7.0, 1001), eager.t])
+    assert np.array_equal(eager.sol(t), lazy.sol(t))
+    # and the interpolants were made only for the steps asked about, not for every step
+    assert lazy.nfev < eager.nfev
