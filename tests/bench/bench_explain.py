@@ -15,10 +15,10 @@ sympy's own cache serves both sides alike. Median of repeated runs, each with th
 garbage collector off as ``timeit`` does, in CPU time of this process (the machine is shared: wall time would measure the neighbours). Target
 (issue 11/12): ours at most half of KanesMethod (ratio <= 0.5).
 
-Last figures (this file run three times on 2026-11-23, branch eom3, the 2-core machine shared
-with four other jobs at a load of 1.3-1.9): sliding_bar eom 0.5-0.6x, explain 1.6-2.0x;
-disk_bar eom 0.5-0.6x, explain 1.0-2.0x of KanesMethod (KanesMethod itself 38-80 ms: the
-neighbours' load moves every figure).
+Last figures (this file on 2026-11-24, main, the 2-core machine otherwise idle): sliding_bar
+KanesMethod 31 ms, eom 15 ms (0.5x), explain 39 ms (1.2x); disk_bar KanesMethod 38 ms, eom
+16 ms (0.4x), explain 61 ms (1.6x). Earlier runs on the same code under the neighbours' load
+moved every figure by up to a half (KanesMethod 31-80 ms).
 
 Writes reports/build/bench/explain.json.
 """
