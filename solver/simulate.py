@@ -399,7 +399,7 @@ def simulate(
         with np.errstate(all="ignore"):
             # y0 as an array: the event functions read every state with ``tolist`` (Python floats)
             sol = solve_ivp(bar.wrap(rhs), (0.0, float(t_end)), np.array([q0, qd0]),
-                            method=_lazy_dop853(state_rate) if method == "DOP853" else method, rtol=rtol,
+                            method=_lazy_dop853(state_rate, system.name) if method == "DOP853" else method, rtol=rtol,
                             atol=atol, dense_output=True, events=ev_funcs or None)
     except (ZeroDivisionError, ValueError, OverflowError) as exc:
         bar.close(0.0)
@@ -452,30 +452,37 @@ class _LazyDenseOutput(DenseOutput):
     copy of the stages, the step's ends and its length) and makes it when asked: the
     same arithmetic on the same numbers, so the same values to the last bit. ``fun`` is
     the right-hand side without the run's evaluation count and cap: the count is the
-    integration's, and these evaluations (three per sampled step) come after it."""
+    integration's, and these evaluations (three per sampled step) come after it. An
+    evaluation that fails there is reported as the integration's failures are (InputError,
+    "integration failed"), not as a traceback."""
 
-    def __init__(self, solver: DOP853, fun: Callable):
+    def __init__(self, solver: DOP853, fun: Callable, label: str):
         super().__init__(solver.t_old, solver.t)
         self._state = SimpleNamespace(
             K_extended=solver.K_extended.copy(), h_previous=solver.h_previous, t_old=solver.t_old,
             y_old=solver.y_old, y=solver.y, t=solver.t, f=solver.f, n=solver.n, n_stages=solver.n_stages,
             A_EXTRA=solver.A_EXTRA, C_EXTRA=solver.C_EXTRA, D=solver.D,
             fun=lambda t, y: np.asarray(fun(t, y), dtype=float))
+        self._label = label
         self._made = None
 
     def _call_impl(self, t):
         if self._made is None:
-            self._made = DOP853._dense_output_impl(self._state)
+            try:
+                with np.errstate(all="ignore"):
+                    self._made = DOP853._dense_output_impl(self._state)
+            except (ZeroDivisionError, ValueError, OverflowError) as exc:
+                raise InputError(f"{self._label}: integration failed: {exc}") from None
             self._state = None
         return self._made._call_impl(t)
 
 
-def _lazy_dop853(fun: Callable) -> type:
+def _lazy_dop853(fun: Callable, label: str = "simulate") -> type:
     """scipy's DOP853, taking the same steps, with :class:`_LazyDenseOutput` interpolants."""
 
     class LazyDOP853(DOP853):
         def _dense_output_impl(self):
-            return _LazyDenseOutput(self, fun)
+            return _LazyDenseOutput(self, fun, label)
 
     return LazyDOP853
 

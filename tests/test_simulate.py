@@ -238,3 +238,23 @@ def test_interpolants_made_on_demand_are_scipys():
     assert np.array_equal(eager.sol(t), lazy.sol(t))
     # and the interpolants were made only for the steps asked about, not for every step
     assert lazy.nfev < eager.nfev
+
+
+def test_an_interpolant_that_fails_later_is_an_input_error():
+    """A right-hand side that fails at an interpolant's extra stages (made after the run, when a
+    sample is asked for) is reported as a failed integration, one InputError, not a traceback."""
+    from scipy.integrate import solve_ivp
+
+    from solver.simulate import _lazy_dop853
+
+    broken = []
+
+    def f(t, y):
+        if broken:
+            raise ZeroDivisionError("float division by zero")
+        return (y[1], -y[0])
+
+    sol = solve_ivp(f, (0.0, 3.0), np.array([1.0, 0.0]), method=_lazy_dop853(f, "oscillator"), dense_output=True)
+    broken.append(True)
+    with pytest.raises(InputError, match="oscillator: integration failed: float division by zero"):
+        sol.sol(1.5)
