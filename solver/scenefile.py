@@ -399,7 +399,9 @@ class _SceneLoader:
     def vector(self, value: Any, key: str, names: Mapping[str, sp.Symbol], need: UnitsContainer) -> sp.Matrix:
         if not isinstance(value, list) or len(value) != 2:
             raise self.fail(key, f"expected a pair [x, y] of expressions, got {value!r}")
-        return sp.Matrix([self.expr(v, f"{key}[{i}]", names, need) for i, v in enumerate(value)])
+        from .model.joints import vec
+
+        return vec(*(self.expr(v, f"{key}[{i}]", names, need) for i, v in enumerate(value)))
 
     def si(self, expr: sp.Expr, key: str, extra: dict | None = None) -> float:
         """Numeric SI value of a parameter expression (for sign and geometry checks; ``extra``:

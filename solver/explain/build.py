@@ -23,7 +23,7 @@ import math
 
 import sympy as sp
 
-from ..model.joints import cross_k, k_cross
+from ..model.joints import cross_k, k_cross, vec
 from .content import Equation, Explanation, Section, Step, Table, Term
 from ..display import is_identically_zero, tidy, tidy_linear
 
@@ -41,7 +41,7 @@ def latex_names(system) -> dict:
 
 
 def _vec(v) -> sp.Matrix:
-    return sp.Matrix([tidy(v[0]), tidy(v[1])])
+    return vec(tidy(v[0]), tidy(v[1]))
 
 
 def _zero(expr) -> bool:

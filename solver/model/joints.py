@@ -26,16 +26,34 @@ from dataclasses import dataclass, field
 from typing import Callable, ClassVar
 
 import sympy as sp
+from sympy.polys.domains import EXRAW as _EXRAW
+from sympy.polys.matrices import DomainMatrix as _DomainMatrix
 
 from .contacts import SLIDING, STICK, Friction, Regime
 
 __all__ = [
     "Reaction", "JointLoad", "Joint", "Pin", "Rail", "PinInSlot", "Slider", "Rolling",
     "RollingOnCircle", "GearMesh", "Cord", "Motor", "Actuator", "JOINT_CLASSES",
-    "rotation", "cross_k", "k_cross", "Contact",
+    "vec", "rotation", "cross_k", "k_cross", "Contact",
 ]
 
 Pose = Callable[[str], tuple[sp.Matrix, sp.Expr]]
+
+
+def vec(x, y) -> sp.Matrix:
+    """The column ``sp.Matrix([x, y])``, the same matrix (entries, domain and type) built from its
+    sparse representation directly: sympy's generic constructor parses its input first, about 40 us
+    a call, and the model builds tens of 2-vectors per command."""
+    x = x if isinstance(x, sp.Basic) else sp.sympify(x)
+    y = y if isinstance(y, sp.Basic) else sp.sympify(y)
+    if x.is_Rational and y.is_Rational or not (isinstance(x, sp.Expr) and isinstance(y, sp.Expr)):
+        return sp.Matrix([x, y])  # an integer or rational domain, or sympy's deprecation warning
+    rows = {}
+    if x != 0:
+        rows[0] = {0: x}
+    if y != 0:
+        rows[1] = {0: y}
+    return sp.MutableDenseMatrix._fromrep(_DomainMatrix(rows, (2, 1), _EXRAW))
 
 
 def rotation(phi: sp.Expr) -> sp.Matrix:
@@ -54,7 +72,7 @@ def rotate(phi: sp.Expr, v) -> sp.Matrix:
     """R(phi) v for a 2-vector v: the same expressions as ``rotation(phi) * v``, by components
     (2x2 Matrix products cost ~0.1 ms each in sympy)."""
     c, s = sp.cos(phi), sp.sin(phi)
-    return sp.Matrix([_sum_of_products((c, -s), v), _sum_of_products((s, c), v)])
+    return vec(_sum_of_products((c, -s), v), _sum_of_products((s, c), v))
 
 
 def dot(a, b) -> sp.Expr:
@@ -69,15 +87,15 @@ def cross_k(a: sp.Matrix, b: sp.Matrix) -> sp.Expr:
 
 def k_cross(w: sp.Expr, r: sp.Matrix) -> sp.Matrix:
     """(w k) x r for an in-plane vector r."""
-    return sp.Matrix([-w * r[1], w * r[0]])
+    return vec(-w * r[1], w * r[0])
 
 
 def _unit(angle: sp.Expr) -> sp.Matrix:
-    return sp.Matrix([sp.cos(angle), sp.sin(angle)])
+    return vec(sp.cos(angle), sp.sin(angle))
 
 
 def _left_normal(angle: sp.Expr) -> sp.Matrix:
-    return sp.Matrix([-sp.sin(angle), sp.cos(angle)])
+    return vec(-sp.sin(angle), sp.cos(angle))
 
 
 def _line(pose: Pose, body: str, angle: sp.Expr) -> tuple[sp.Matrix, sp.Matrix]:
@@ -89,7 +107,7 @@ def _line(pose: Pose, body: str, angle: sp.Expr) -> tuple[sp.Matrix, sp.Matrix]:
 def _at(pose: Pose, body: str, coords: sp.Matrix) -> sp.Matrix:
     origin, phi = pose(body)
     r = rotate(phi, coords)
-    return sp.Matrix([origin[0] + r[0], origin[1] + r[1]])
+    return vec(origin[0] + r[0], origin[1] + r[1])
 
 
 @dataclass(frozen=True)

@@ -36,7 +36,7 @@ import sympy as sp
 from ..errors import SceneError
 from ..tree_value import NotEvaluable, tree_value
 from .bodies import GROUND, Ground, RigidBody
-from .joints import Actuator, Contact, Joint, Motor, k_cross, rotation
+from .joints import Actuator, Contact, Joint, Motor, k_cross, rotation, vec
 from .loads import Load
 
 __all__ = ["Coordinate", "System", "ClosureRow", "RedundantConstraints"]
@@ -371,7 +371,7 @@ class System:
 
     def _place_linear(self, name, phi, poses, values, X, Y):
         trial = dict(poses)
-        trial[name] = (sp.Matrix([X, Y]), phi)
+        trial[name] = (vec(X, Y), phi)
         pose = self._pose_fn(trial)
         candidates = []
         for j, other in self._joint_touching(name):
@@ -411,7 +411,7 @@ class System:
         det = a1 * b2 - a2 * b1
         x = (-c1 * b2 + c2 * b1) / det
         y = (-a1 * c2 + a2 * c1) / det
-        return sp.Matrix([x, y]), {(j1.name, k1), (j2.name, k2)}
+        return vec(x, y), {(j1.name, k1), (j2.name, k2)}
 
     # -- validation --------------------------------------------------------------------------------
     def validate(self) -> None:
@@ -509,7 +509,7 @@ class System:
         c, s = sp.cos(phi), sp.sin(phi)
         x, y = coords[0], coords[1]
         # o + R(phi) (x, y), by components (2-vector Matrix arithmetic is slow in sympy)
-        return sp.Matrix([o[0] + c * x - s * y, o[1] + s * x + c * y])
+        return vec(o[0] + c * x - s * y, o[1] + s * x + c * y)
 
     def _origin_velocity(self, body):
         return self._memo(("v0", body), lambda: self.D(self.origin(body)))
@@ -549,7 +549,7 @@ class System:
                 return sp.zeros(2, 1)
             r, o = self.point_position(body, point), self.origin(body)
             v0, w = self._origin_velocity(body), self.omega(body)
-            return sp.Matrix([v0[0] - w * (r[1] - o[1]), v0[1] + w * (r[0] - o[0])])
+            return vec(v0[0] - w * (r[1] - o[1]), v0[1] + w * (r[0] - o[0]))
         return self._memo(("vel", body, point), build)
 
     def point_acceleration(self, body: str, point: str) -> sp.Matrix:
@@ -567,7 +567,7 @@ class System:
         o = self.origin(body)
         rx, ry = r[0] - o[0], r[1] - o[1]
         a0, al, w2 = self._origin_acceleration(body), self.alpha(body), self.omega(body) ** 2
-        return sp.Matrix([a0[0] - al * ry - w2 * rx, a0[1] + al * rx - w2 * ry])
+        return vec(a0[0] - al * ry - w2 * rx, a0[1] + al * rx - w2 * ry)
 
     def is_body_point(self, body: str, point: str) -> bool:
         return self._resolve(body, point)[0] == "body"
