@@ -1,4 +1,5 @@
-"""solver.model.joints.rotate and dot build the same expressions as sympy's Matrix products.
+"""solver.model.joints.rotate and dot build the same expressions as sympy's Matrix products, and
+vec the same matrices as sympy's Matrix constructor.
 
 The joints' equations are written with them instead of 2x2 Matrix products (which
 cost ~0.1 ms each); every later display is built from these expressions, so
@@ -11,7 +12,7 @@ import itertools
 
 import sympy as sp
 
-from solver.model.joints import dot, rotate, rotation
+from solver.model.joints import dot, rotate, rotation, vec
 
 x, y, th, beta, l_b = sp.symbols("x y theta beta l_b", real=True)
 # entries of the kinds the scenes hold: zeros and ones (dropped by the sparse product), rationals,
@@ -26,3 +27,15 @@ def test_rotate_and_dot_same_trees_as_matrix_products():
         v, w = sp.Matrix([a, b]), sp.Matrix([b, a])
         assert [sp.srepr(e) for e in rotate(phi, v)] == [sp.srepr(e) for e in rotation(phi) * v]
         assert sp.srepr(dot(w, v)) == sp.srepr((w.T * v)[0])
+
+
+def test_vec_is_the_matrix_sympy_builds():
+    """Same entries (trees), same internal domain (ZZ/QQ for rationals, else EXRAW) and sparse
+    representation, same class: arithmetic and printing of the result cannot tell them apart.
+    Python numbers are included, which the constructor sympifies."""
+    for a, b in itertools.product(ENTRIES + [0, 2, 0.25], repeat=2):
+        ours, theirs = vec(a, b), sp.Matrix([a, b])
+        assert type(ours) is type(theirs)
+        assert [sp.srepr(e) for e in ours] == [sp.srepr(e) for e in theirs]
+        assert ours._rep.domain == theirs._rep.domain
+        assert ours._rep.rep == theirs._rep.rep  # the same sparse dict of the same entries
