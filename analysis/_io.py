@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import os
 import stat
-import tempfile
 from pathlib import Path
 
 from .errors import SurveyInputError
@@ -108,6 +107,8 @@ def check_output(path: "str | Path", flag: str = "") -> Path:
     """
     p = Path(path)
     what = f"{flag}: " if flag else ""
+    if os.fspath(path).endswith(("/", os.sep)):
+        raise SurveyInputError(f"{what}ends with a slash; give a file name to write", os.fspath(path))
     if p.is_dir():
         raise SurveyInputError(f"{what}is a folder; give a file name to write", str(p))
     if p.exists() and not p.is_file():
@@ -119,34 +120,21 @@ def check_output(path: "str | Path", flag: str = "") -> Path:
 
 
 def atomic_write(path: "str | Path", data: "str | bytes", encoding: str = "utf-8") -> Path:
-    """Write ``data`` to ``path`` so that readers see either nothing or the whole file.
+    """Write ``data`` to ``path`` so that readers see either nothing or the whole file, with the
+    mode a plain ``open`` would give (:func:`solver.files.replace_atomically`, the one place where
+    the project's atomic writes are done).
 
     Raises
     ------
     SurveyInputError
         The path is a folder, the folder does not exist or cannot be written.
     """
+    from solver.files import replace_atomically
+
     p = check_output(path)
-    folder = p.parent if str(p.parent) else Path(".")
     raw = data.encode(encoding) if isinstance(data, str) else data
     try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=".tmp", dir=folder)
+        replace_atomically(p, lambda fh: fh.write(raw), binary=True)
     except OSError as e:
-        raise SurveyInputError(f"cannot write: {e.strerror}", str(p)) from None
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(raw)
-        mask = os.umask(0)
-        os.umask(mask)
-        os.chmod(tmp, 0o666 & ~mask)      # mkstemp creates 0600; give the usual mode
-        os.replace(tmp, p)
-    except BaseException as e:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        if isinstance(e, OSError):
-            raise SurveyInputError(f"cannot write: {e.strerror or type(e).__name__}",
-                                   str(p)) from None
-        raise
+        raise SurveyInputError(f"cannot write: {e.strerror or type(e).__name__}", str(p)) from None
     return p

@@ -6,18 +6,14 @@
 from __future__ import annotations
 
 import argparse
-import os
-import tempfile
 from pathlib import Path
 
 from solver.cli_common import (
     add_point_option,
     add_scene_argument,
     add_set_option,
-    format_table,
     load_scene_from_args,
 )
-from solver.errors import InputError
 
 FORMATS = ("text", "markdown", "html", "latex")
 _SUFFIX_FORMAT = {".txt": "text", ".md": "markdown", ".html": "html", ".htm": "html", ".tex": "latex"}
@@ -58,8 +54,10 @@ def explain_command(args: argparse.Namespace) -> int:
     fmt = _format(args)
     _check_output(args.output)
     system = load_scene_from_args(args)
-    if args.suggest_point:
-        text = _suggestion_text(system)
+    if args.suggest_point:  # the advisor alone, in the same formats
+        from solver.explain.advisor import advice_explanation
+
+        text = render(advice_explanation(system), fmt)
     else:
         explanation = explain(system, args.point)
         if fmt == "html":  # the free-body diagrams drawn (the other formats list the forces)
@@ -74,57 +72,15 @@ def explain_command(args: argparse.Namespace) -> int:
     return 0
 
 
-def _suggestion_text(system) -> str:
-    from solver.analyses.instant import assemble
-    from solver.explain.advisor import rank_points
-
-    out = [f"scene   {system.name}  ({system.source or system.name})", ""]
-    if system.contacts:  # the points are ranked in the contact regime that holds at the state
-        from solver.explain.build import system_in_regime
-
-        system, regime, _, state = system_in_regime(system, None)
-        if regime is not None:
-            out.append("contact regime at the state: "
-                       + ", ".join(f"{c.joint}: {c.regime.label}" for c in regime.checks))
-            if regime.indeterminate:
-                out.append("the sticking contacts hold the bodies redundantly (their forces are statically "
-                           "indeterminate): no choice of P separates them, so no point is ranked")
-                return "\n".join(out)
-            out.append("")
-    else:
-        state = assemble(system)
-    for body in system.bodies:
-        ranked = rank_points(system, body, state)
-        best = ranked[0]
-        out.append(f"body {body}: take P = {best.name}: {best.reason()}.")
-        rows = [(c.name, c.origin, str(len(c.unknowns)), ", ".join(c.unknowns),
-                 str(c.group) if c.group else "-", "0 (fixed)" if c.fixed else "known" if c.known else "derive") for c in ranked]
-        out.append(format_table(("point", "what", "unknowns", "which", "solvable group", "a_P"), rows))
-        out.append("")
-    return "\n".join(out)
-
-
 def _check_output(path: str | None) -> None:
-    if path is None:
-        return
-    target = Path(path)
-    parent = target.parent if str(target.parent) else Path(".")
-    if not parent.is_dir():
-        raise InputError(f"-o {path}: the folder {str(parent)!r} does not exist")
-    if target.exists() and not target.is_file():
-        raise InputError(f"-o {path}: exists and is not a regular file")
+    """The -o destination checked before any work (:func:`solver.files.check_output_path`)."""
+    if path is not None:
+        from solver.files import check_output_path
+
+        check_output_path(path, "-o")
 
 
 def _write_atomic(path: str, text: str) -> None:
-    target = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=".explain-", dir=str(target.parent) if str(target.parent) else ".")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text)
-        os.replace(tmp, target)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
+    from solver.files import write_atomic
+
+    write_atomic(path, lambda fh: fh.write(text), "-o")

@@ -137,10 +137,11 @@ def check_output_path(path: str | os.PathLike, where: str) -> Path:
     InputError
         ``"<where> <path>: ..."`` naming what is wrong.
     """
+    text = os.fspath(path)
     path = Path(path)
     label = f"{where} {path}"
-    if str(path) in ("", ".") or path.name in ("", ".", ".."):
-        raise InputError(f"{label}: not a file name")
+    if str(path) in ("", ".") or path.name in ("", ".", "..") or text.endswith(("/", os.sep)):
+        raise InputError(f"{where} {text}: not a file name" + (" (it ends with a slash)" if text.endswith(("/", os.sep)) else ""))
     folder = path.parent
     if not folder.is_dir():
         raise InputError(f"{label}: folder {folder} does not exist")
@@ -159,8 +160,8 @@ def check_output_path(path: str | os.PathLike, where: str) -> Path:
 
 def write_atomic(path: str | os.PathLike, write: Callable[[IO], None], where: str, *, binary: bool = False) -> Path:
     """Write a text file (or, with ``binary``, a bytes file) atomically: ``write(fh)`` fills a
-    temporary file in the same folder, which then replaces ``path``. On any failure nothing
-    is left behind.
+    temporary file in the same folder, which then replaces ``path`` (:func:`replace_atomically`).
+    On any failure nothing is left behind.
 
     Raises
     ------
@@ -169,22 +170,42 @@ def write_atomic(path: str | os.PathLike, write: Callable[[IO], None], where: st
     """
     path = check_output_path(path, where)
     try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+        replace_atomically(path, write, binary=binary)
     except OSError as err:
         raise InputError(f"{where} {path}: cannot write there ({err.strerror or err})") from None
+    return path
+
+
+def replace_atomically(path: Path, write: Callable[[IO], None], *, binary: bool = False) -> None:
+    """The mechanics of every atomic write of the project (the solver's :func:`write_atomic` and the
+    survey analytics' ``analysis._io.atomic_write``): ``write(fh)`` fills a temporary file in
+    ``path``'s folder, which gets the mode a plain ``open`` would give (an existing file's mode is
+    kept; a new file gets 0666 less the umask, not mkstemp's private 0600) and then replaces
+    ``path`` in one rename. On any failure the temporary file is removed and the error (OSError
+    or whatever ``write`` raised) propagates; ``path`` is untouched."""
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     try:
         with (os.fdopen(fd, "wb") if binary else os.fdopen(fd, "w", newline="", encoding="utf-8")) as fh:
             write(fh)
+        os.chmod(tmp, _mode_for(path))
         os.replace(tmp, path)
-    except BaseException as err:
+    except BaseException:
         try:
             os.unlink(tmp)
         except OSError:
             pass
-        if isinstance(err, OSError):
-            raise InputError(f"{where} {path}: cannot write there ({err.strerror or err})") from None
         raise
-    return path
+
+
+def _mode_for(path: Path) -> int:
+    """The permission bits ``open(path, "w")`` would leave: those of the existing regular file,
+    else 0666 less the process's umask."""
+    try:
+        return stat.S_IMODE(os.stat(path).st_mode)
+    except OSError:
+        mask = os.umask(0o022)  # reading the umask means setting it: put it straight back
+        os.umask(mask)
+        return 0o666 & ~mask
 
 
 CACHE_ENV = "ALT_EULER_NO_CACHE"
@@ -217,5 +238,5 @@ def user_cache_dir(name: str) -> Path | None:
 __all__ = [
     "user_cache_dir",
     "MAX_INPUT_BYTES", "MAX_TOML_DEPTH", "MAX_TOML_ITEMS", "read_regular_file", "read_toml", "check_depth",
-    "check_output_path", "write_atomic",
+    "check_output_path", "write_atomic", "replace_atomically",
 ]

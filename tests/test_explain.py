@@ -14,6 +14,7 @@ proves it): they must agree at F_a = 0 and differ by exactly 2 F_a r_d otherwise
 """
 from __future__ import annotations
 
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -535,7 +536,34 @@ def test_suggest_point_in_the_contact_regime(capsys):
 
     assert main(["explain", str(ROOT / "data/scenes/incline_ring.toml"), "--suggest-point"]) == 0
     out = capsys.readouterr().out
-    assert "incline: slip +" in out and "take P =" in out
+    assert re.search(r"incline +slip \+", out) and "Best point: C" in out  # the ring slips down the incline
     assert main(["explain", str(ROOT / "data/scenes/crate_tipping.toml"), "--suggest-point"]) == 0
     out = capsys.readouterr().out
-    assert "statically indeterminate" in out and "take P =" not in out
+    assert "statically indeterminate" in out and "Best point" not in out
+
+
+def test_suggest_point_in_every_format(solver_cli, tmp_path):
+    """--suggest-point honours --format and the -o suffix like the worked solution: the ranking
+    table is a Markdown table, an HTML table, a LaTeX tabular (the paper's Example 2 advice: P or C)."""
+    scene = "data/scenes/disk_bar.toml"
+    code, md, _ = solver_cli("explain", scene, "--suggest-point", "--format", "markdown")
+    assert code == 0 and re.search(r"^\| body \| point \|", md, flags=re.M)
+    code, _, _ = solver_cli("explain", scene, "--suggest-point", "-o", str(tmp_path / "advice.tex"))
+    tex = (tmp_path / "advice.tex").read_text()
+    assert code == 0 and tex.startswith("\\documentclass") and "\\begin{tabular}" in tex
+    code, page, _ = solver_cli("explain", scene, "--suggest-point", "--format", "html")
+    assert code == 0 and "<table><tr><th>body</th><th>point</th>" in page
+    assert re.search(r"Best point: [PC] ", page)
+
+
+def test_html_worked_solution_style_sheet_is_valid(solver_cli):
+    """The style sheet is a sequence of ``selector{declarations}`` rules with balanced braces (a
+    doubled brace, as an f-string's escape left in a plain string, ends the sheet after its first
+    rule in a browser), and it lays equations out as preformatted blocks with bordered tables."""
+    code, page, _ = solver_cli("explain", "data/scenes/sliding_bar.toml", "--format", "html")
+    assert code == 0
+    css = re.search(r"<style>(.*?)</style>", page, flags=re.S).group(1)
+    rules = re.findall(r"\s*([^{}]+)\{([^{}]*)\}", css)
+    assert "".join(f"{sel}{{{body}}}" for sel, body in rules).replace(" ", "") == css.replace(" ", "")
+    declared = {sel.strip(): body for sel, body in rules}
+    assert "white-space:pre-wrap" in declared[".eq"] and "border:" in declared["td,th"]

@@ -3,6 +3,7 @@ checked before the work and written atomically."""
 from __future__ import annotations
 
 import os
+import stat
 from pathlib import Path
 
 import pytest
@@ -108,3 +109,54 @@ def test_user_cache_dir_is_private_or_absent(tmp_path: Path, monkeypatch: pytest
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache2"))
     monkeypatch.setenv(CACHE_ENV, "1")
     assert user_cache_dir("pint") is None and not (tmp_path / "cache2").exists()
+
+
+def test_atomic_write_gives_the_mode_open_would(tmp_path: Path) -> None:
+    """mkstemp creates 0600 files; a written output gets what ``open(path, "w")`` gives instead:
+    a new file 0666 less the umask, a replaced file keeps its own mode (a shared page stays readable)."""
+    old = os.umask(0o027)
+    try:
+        new = write_atomic(tmp_path / "new.html", lambda fh: fh.write("x"), "-o")
+        assert stat.S_IMODE(new.stat().st_mode) == 0o640  # 0666 & ~0027
+        kept = tmp_path / "kept.html"
+        kept.write_text("old")
+        kept.chmod(0o604)
+        write_atomic(kept, lambda fh: fh.write("new"), "-o")
+        assert stat.S_IMODE(kept.stat().st_mode) == 0o604 and kept.read_text() == "new"
+    finally:
+        os.umask(old)
+
+
+def test_output_path_ending_in_a_slash_is_refused(tmp_path: Path) -> None:
+    """``x.svg/`` names a folder that does not exist, not the file x.svg (pathlib drops the slash)."""
+    with pytest.raises(InputError, match=r"^-o .*x\.svg/: not a file name \(it ends with a slash\)$"):
+        check_output_path(f"{tmp_path}/x.svg/", "-o")
+    assert not (tmp_path / "x.svg").exists()
+
+
+def test_explain_output_it_cannot_write_is_one_line(solver_cli, tmp_path: Path) -> None:
+    """A destination that cannot be written (a folder that does not exist, a path through a file, a
+    trailing slash) is refused before any work: one line naming -o, exit status 2, nothing written."""
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    for target in (tmp_path / "missing" / "x.md", blocker / "x.html", f"{tmp_path}/x.md/"):
+        code, out, err = solver_cli("explain", "data/scenes/sliding_bar.toml", "-o", str(target))
+        assert code == 2 and out == "" and err.count("\n") == 1 and err.startswith("error: -o "), err
+        assert "Traceback" not in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["file"]
+
+
+def test_survey_outputs_share_the_write(tmp_path: Path) -> None:
+    """The survey analytics write through the same mechanics (mode of a plain open, trailing slash
+    refused), with their own error type."""
+    from analysis._io import atomic_write
+    from analysis.errors import SurveyInputError
+
+    old = os.umask(0o022)
+    try:
+        assert stat.S_IMODE(atomic_write(tmp_path / "t.csv", "a,b\n").stat().st_mode) == 0o644
+    finally:
+        os.umask(old)
+    with pytest.raises(SurveyInputError, match="ends with a slash"):
+        atomic_write(f"{tmp_path}/u.csv/", "a\n")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["t.csv"]

@@ -245,3 +245,27 @@ def advice_step(system, state, parts: dict | None = None) -> Step:
                          str(c.group) if c.group else "-", "0 (fixed)" if c.fixed else "known" if c.known else "derive"))
     return Step("advice", "Which point P?", text,
                 table=Table(("body", "point", "what", "unknowns", "which", "solvable group", "a_P"), tuple(rows)))
+
+
+def advice_explanation(system):
+    """The point advisor alone (``explain --suggest-point``) as an Explanation, so that every
+    ``--format`` renders it: the contact regime that holds at the state (when the scene has
+    contacts), then :func:`advice_step`. Contacts that hold a body redundantly leave its contact
+    forces statically indeterminate: then no point is ranked, and the step says why."""
+    from ..analyses.instant import assemble
+    from .build import _regime_step, latex_names, system_in_regime
+    from .content import Explanation, Section
+
+    scene, section = system, Section("Choosing the point P", None)
+    if scene.contacts:  # the points are ranked in the contact regime that holds at the state
+        system, regime, warning, state = system_in_regime(scene, None)
+        section.steps.append(_regime_step(scene, regime, warning))
+        if regime is not None and regime.indeterminate:
+            section.steps.append(Step("advice", "Which point P?", [
+                "The sticking contacts hold the bodies redundantly, so their forces are statically "
+                "indeterminate: no choice of P separates them, and no point is ranked."]))
+    else:
+        state = assemble(system)
+    if not section.steps or section.steps[-1].kind != "advice":
+        section.steps.append(advice_step(system, state))
+    return Explanation(f"Point advisor: {scene.name}", scene.name, {}, [section], symbol_latex=latex_names(system))

@@ -40,7 +40,8 @@ class _Renderer:
     def document(self) -> str:
         out = [self.title(self.expl.title)]
         points = ", ".join(f"{b}: {p}" for b, p in self.expl.points.items())
-        out.append(self.paragraph(f"Scene {self.expl.scene}; moments about {points}."))
+        out.append(self.paragraph(f"Scene {self.expl.scene}; moments about {points}." if points
+                                  else f"Scene {self.expl.scene}."))
         for section in self.expl.sections:
             out.append(self.heading(section.title, 2))
             for step in section.steps:
@@ -239,13 +240,17 @@ class _Latex(_Renderer):
 # -- HTML ------------------------------------------------------------------------------------------
 
 
+_CSS = ("body{font-family:sans-serif;max-width:60em;margin:auto} "
+        ".eq{font-family:monospace;margin:.3em 0 .8em 2em;white-space:pre-wrap} .note{color:#555} "
+        "table{border-collapse:collapse} td,th{border:1px solid #ccc;padding:.2em .5em}")
+"""The worked solution's style sheet (a plain string: no f-string brace doubling)."""
+
+
 class _Html(_Renderer):
     def wrap(self, body):
         return ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
-                f"<title>{_h(self.expl.title)}</title>\n<style>body{{font-family:sans-serif;max-width:60em;"
-                "margin:auto}} .eq{{font-family:monospace;margin:.3em 0 .8em 2em;white-space:pre-wrap}} "
-                ".note{{color:#555}} table{{border-collapse:collapse}} td,th{{border:1px solid #ccc;"
-                "padding:.2em .5em}}</style></head><body>\n" + body + "\n</body></html>\n")
+                f"<title>{_h(self.expl.title)}</title>\n<style>{_CSS}</style></head><body>\n" + body
+                + "\n</body></html>\n")
 
     def title(self, text):
         return f"<h1>{_h(text)}</h1>"
