@@ -592,10 +592,16 @@ class _SceneLoader:
                 units.check_angle(float(quantity.to("rad").magnitude), f"{self.label}: {key}", f"{quantity.magnitude:g} {quantity.units:~}")
             except InputError as err:
                 raise SceneError(str(err)) from None
-        for name, quantity in [*self.parameters.items(), *state.items()]:
-            key = f"--set {name}" if name in overrides else (
-                f"parameters.{name}" if name in self.parameters else
-                "coordinate.value" if name == coordinate else "coordinate.rate")
+        keys = {name: "coordinate.value" if name == coordinate else "coordinate.rate" for name in state}
+        self.check_magnitudes({**self.parameters, **state}, overrides, keys)
+
+    def check_magnitudes(self, quantities: Mapping[str, pint.Quantity], overrides: Mapping[str, str],
+                         keys: Mapping[str, str] | None = None) -> None:
+        """Every parameter (and given state value) within :func:`solver.units.check_si_magnitude`'s
+        range, for both scene formats; the key named is ``--set NAME`` when the value came from the
+        command line, else ``keys[name]`` or ``parameters.NAME``."""
+        for name, quantity in quantities.items():
+            key = f"--set {name}" if name in overrides else (keys or {}).get(name, f"parameters.{name}")
             try:
                 units.check_si_magnitude(quantity, f"{self.label}: {key}")
             except InputError as err:

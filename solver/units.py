@@ -290,14 +290,15 @@ def check_magnitude(number: float, where: str, text: Any = None) -> float:
 
 
 MAX_SI_MAGNITUDE = 1e100
-"""A scene's parameters and state, in SI units, must be at most MAX_SI_MAGNITUDE in size:
-products of a few of them then stay within float64's range (a 1e200 ft bar would overflow
-its own moment of inertia). Tiny values are allowed (a 1e-300 kg bar is a valid limit)."""
+"""A scene's parameters and state, in SI units, must be 0 or between 1/MAX_SI_MAGNITUDE and
+MAX_SI_MAGNITUDE in size: products of a few of them then stay within float64's normal range.
+A 1e200 ft bar would overflow its own moment of inertia; a 1e-150 kg, 1e-150 m bar has
+m l**2 = 1e-450, which underflows to 0 (its answers came out 0.5 % off, then "singular")."""
 
 
 def check_si_magnitude(quantity: pint.Quantity, where: str) -> pint.Quantity:
-    """``quantity`` if its SI magnitude is at most :data:`MAX_SI_MAGNITUDE` in size; else an
-    :class:`InputError` naming ``where`` and the limit.
+    """``quantity`` if its SI magnitude is 0 or between 1/:data:`MAX_SI_MAGNITUDE` and
+    :data:`MAX_SI_MAGNITUDE` in size; else an :class:`InputError` naming ``where`` and the limit.
 
     Examples
     --------
@@ -305,12 +306,21 @@ def check_si_magnitude(quantity: pint.Quantity, where: str) -> pint.Quantity:
     Traceback (most recent call last):
     ...
     solver.errors.InputError: parameters.l_b: 1e+200 ft is 3.048e+199 in SI units; the limit is 1e+100 in size
+    >>> check_si_magnitude(Q_(1e-150, "lbm"), "parameters.m_b")
+    Traceback (most recent call last):
+    ...
+    solver.errors.InputError: parameters.m_b: 1e-150 lbm is 4.536e-151 in SI units; a value that is not 0 must be at least 1e-100 in size (smaller ones underflow in products such as m*l**2)
     """
     value = float(quantity.to_base_units().magnitude)
     if not abs(value) <= MAX_SI_MAGNITUDE:
         raise InputError(
             f"{where}: {quantity.magnitude:g} {quantity.units:~} is {value:.4g} in SI units; the limit is "
             f"{MAX_SI_MAGNITUDE:g} in size"
+        )
+    if value != 0 and abs(value) < 1 / MAX_SI_MAGNITUDE:
+        raise InputError(
+            f"{where}: {quantity.magnitude:g} {quantity.units:~} is {value:.4g} in SI units; a value that is not 0 "
+            f"must be at least {1 / MAX_SI_MAGNITUDE:g} in size (smaller ones underflow in products such as m*l**2)"
         )
     return quantity
 

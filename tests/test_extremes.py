@@ -13,6 +13,7 @@ Independent references:
 """
 from __future__ import annotations
 
+import json
 import math
 from functools import lru_cache
 
@@ -202,11 +203,12 @@ def test_period_input_errors_are_one_line():
         period_to_tolerance(system(DISK), math.radians(181), tol=1e-6)
 
 
-@pytest.mark.parametrize("m_b", [1e-12, 1e-300])
+@pytest.mark.parametrize("m_b", [1e-12, 1e-100])
 def test_tiny_bar_mass_keeps_its_small_restoring_moment(m_b):
     # Regression: `frequency` called V' "zero" when below 1e-13 of V's constant m g r_d
     # (m_b = 1e-12 kg gave "no restoring moment" while `period` answered), and the
-    # series coefficient of the period divided by k^2 m0^2, which underflows (1e-300 kg).
+    # series coefficient of the period divided by k^2 m0^2, which underflowed at 1e-300 kg
+    # (scene values now stop at 1e-100 in SI: the smallest a scene can give is tried).
     from solver.derivation import natural_frequency
 
     p = dict(EX2, m_b=m_b)
@@ -217,6 +219,24 @@ def test_tiny_bar_mass_keeps_its_small_restoring_moment(m_b):
     assert got == pytest.approx(w, rel=1e-12)  # closed form; only round-off differs
     res = period_to_tolerance(system(DISK).with_values(m_b=m_b), math.radians(1e-4), tol=1e-10)
     assert res.period == pytest.approx(2 * math.pi / w, rel=1e-10)  # linear model within tol
+
+
+def test_scene_values_scale_down_to_the_floor_and_stop_there(solver_cli):
+    """Mass and length 1e-100 times the paper's (the smallest a scene may give, in SI about 4.5e-101
+    kg and 3e-101 m): alpha scales as 1/l and the reactions as m, exactly up to the unit conversions'
+    round-off (1e-12 relative). At 1e-150 of each, m*l**2 = 1e-450 would underflow to 0 (the answers
+    came out 0.5 % off): refused, one line naming the flag, exit 2."""
+    def solve(*sets):
+        code, out, err = solver_cli("solve", BAR, "--json", *sets)
+        assert code == 0, err
+        return {k: v["value"] for k, v in json.loads(out)["unknowns"].items()}
+
+    paper, tiny = solve(), solve("--set", "m_b=5e-99 lbm", "--set", "l_b=4e-100 ft")
+    assert tiny["alpha"] == pytest.approx(paper["alpha"] * 1e100, rel=1e-12)
+    assert tiny["R_A"] == pytest.approx(paper["R_A"] * 1e-100, rel=1e-12)
+    code, out, err = solver_cli("solve", BAR, "--set", "m_b=1e-150 lbm", "--set", "l_b=1e-150 ft")
+    assert code == 2 and out == "" and err.count("\n") == 1
+    assert "--set m_b: 1e-150 lbm" in err and "at least 1e-100" in err
 
 
 ROCKER = "data/scenes/rocking_semicircle.toml"

@@ -163,6 +163,7 @@ class _MultibodyReader:
                 if q.dimensionality != L.parameters[oname].dimensionality:
                     raise self.fail(f"--set {oname}", f"{text!r} has the wrong dimension for {oname}")
                 L.parameters[oname] = q
+        L.check_magnitudes(L.parameters, self.overrides)
 
     def _setup_symbols(self):
         L = self.L
