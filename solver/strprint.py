@@ -12,7 +12,9 @@ changes only how the work is done:
 
 * each distinct subexpression is printed once per printer (the text of a node
   depends on the node alone; sympy compares nodes structurally, and a Float is
-  never equal to an Integer or Rational, so ``2.0*x`` and ``2*x`` stay apart);
+  never equal to an Integer or Rational, so ``2.0*x`` and ``2*x`` stay apart),
+  except a Float itself, whose text depends on where it stands (``1.50000000000000``
+  printed alone, ``1.5`` inside ``sin(1.5*theta)``: sympy's ``full_prec="auto"``);
 * the precedence of a node is found once per printer;
 * a sum's terms are ordered by the same key as ``as_ordered_terms`` (lex order
   of the exponents of the sorted generators, then the coefficient), with a
@@ -115,8 +117,8 @@ class FastStrPrinter(_FastOrdering, StrPrinter):
         return key
 
     def _print(self, expr, **kwargs) -> str:
-        if kwargs or not isinstance(expr, sp.Basic):
-            return super()._print(expr, **kwargs)
+        if kwargs or not isinstance(expr, sp.Basic) or expr.is_Float:  # a Float's text depends on its level:
+            return super()._print(expr, **kwargs)  # all its digits alone, shortest inside an expression
         text = self._texts.get(expr)
         if text is None:
             text = self._texts[expr] = super()._print(expr)

@@ -137,20 +137,53 @@ class NumericModel:
         params = sorted(values, key=str)
         self._param_values = tuple(values[p] for p in params)
         self.args = (*sysm.q, *sysm.qd, sysm.t)
-        entries = list(A) + list(b)
-        stray = set().union(*[sp.sympify(e).free_symbols for e in entries]) - set(self.args) - set(params)
+        entries = [sp.sympify(e) for e in list(A) + list(b)]
+        stray = set().union(*[e.free_symbols for e in entries]) - set(self.args) - set(params)
         if stray:
             raise InputError(f"{self.label}: undefined name(s) {', '.join(sorted(map(str, stray)))} in the scene's expressions")
-        self._f = lambdify((*self.args, *params), entries, "numpy", cse=True)
+        self._entries, self._params = entries, tuple(params)
+        self._f = None  # compiled on first use (:meth:`_compiled`)
         self._structured = None
 
-    def matrices(self, q, qd, t=0.0):
-        """(A, b) at the states: q and qd are sequences (one array per free coordinate)."""
+    def _compiled(self):
+        """The entries of A and b as one numpy function (``lambdify`` with common subexpressions),
+        built on first use: a model asked for one state only (:meth:`solve` with ``once``) never
+        pays for it."""
+        if self._f is None:
+            self._f = lambdify((*self.args, *self._params), self._entries, "numpy", cse=True)
+        return self._f
+
+    def _walked(self, arrays):
+        """The entries at the one state of ``arrays`` by one walk over their trees (shared subtrees
+        once: :func:`solver.tree_value.tree_value`), or None where the walk cannot go (then the
+        compiled function serves). What numpy would give as inf or nan, or a complex number gives,
+        is nan (a singular system, as the compiled path decides it)."""
+        from ..tree_value import NotEvaluable, tree_value
+
+        point = dict(zip(self._params, self._param_values))
+        point.update((a, float(v.reshape(-1)[0])) for a, v in zip(self.args, arrays))
+        memo: dict = {}
+        vals = []
+        for e in self._entries:
+            try:
+                v = tree_value(e, point, memo=memo)
+            except (ZeroDivisionError, OverflowError):
+                v = complex(math.nan)
+            except (NotEvaluable, KeyError, TypeError, ValueError):
+                return None
+            vals.append(v.real if abs(v.imag) <= 1e-12 * max(1.0, abs(v.real)) else math.nan)
+        return vals
+
+    def matrices(self, q, qd, t=0.0, once: bool = False):
+        """(A, b) at the states: q and qd are sequences (one array per free coordinate).
+        ``once``: a single state asked for once (:meth:`solve`)."""
         arrays = [np.asarray(v, dtype=float) for v in (*q, *qd, t)]
         arrays = np.broadcast_arrays(*arrays) if arrays else arrays
         shape = arrays[0].shape if arrays else ()
-        with np.errstate(all="ignore"):
-            vals = self._f(*arrays, *self._param_values)
+        vals = self._walked(arrays) if once and arrays and arrays[0].size == 1 else None
+        if vals is None:
+            with np.errstate(all="ignore"):
+                vals = self._compiled()(*arrays, *self._param_values)
         m, k = self.shape
         A = np.empty(shape + (m * k,))
         b = np.empty(shape + (m,))
@@ -160,8 +193,13 @@ class NumericModel:
             b[..., i] = v
         return A.reshape(shape + (m, k)), b
 
-    def solve(self, q, qd, t=0.0) -> dict[str, np.ndarray]:
+    def solve(self, q, qd, t=0.0, once: bool = False) -> dict[str, np.ndarray]:
         """Every unknown (SI) at the given states, with ``condition_number``.
+
+        ``once``: the caller solves this one state once (an instantaneous solve, one contact
+        regime tried): its matrices come from one walk over the expressions (:meth:`_walked`,
+        tens of microseconds) instead of compiled code (``lambdify``, milliseconds to build).
+        Both are double precision; their results agree to round-off, not always to the last bit.
 
         Raises
         ------
@@ -179,7 +217,7 @@ class NumericModel:
             out = {name: x[i].reshape(shape) for i, name in enumerate(self.names)}
             out["condition_number"] = cond.reshape(shape)
             return out
-        A, b = self.matrices(q, qd, t)
+        A, b = self.matrices(q, qd, t, once)
         x, cond = self._solve_with_estimate(A, b)
         if np.any(~(cond <= CONDITION_LIMIT)):
             self.singular(q, qd, t, A, cond)
@@ -480,7 +518,7 @@ def solution_in_regime(system, regime, warning: str | None, state: State | None,
     else:
         f = formulate(system, method, point)
         state = assemble(system) if state is None else state
-        res = f.numeric().solve(state.q, state.qd, state.t)
+        res = f.numeric().solve(state.q, state.qd, state.t, once=True)
     _check_limits(system, state)
     unknowns: dict[str, pint.Quantity] = {}
     if len(system.bodies) == 1:

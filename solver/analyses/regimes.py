@@ -456,7 +456,7 @@ def _solve_variant(system, regimes, q, qd, t, point, method, strict_direction):
 
     variant = regime_system(system, regimes, q, qd, t)
     try:
-        res = formulate(variant, method, point).numeric().solve(q, qd, t)
+        res = formulate(variant, method, point).numeric().solve(q, qd, t, once=True)
     except SingularConfigurationError as err:
         return f"its equations are singular ({_short(err)})"
     values = {k: float(v) for k, v in res.items()}
@@ -583,7 +583,7 @@ def least_friction(system, state) -> dict:
         return out
     try:
         variant = regime_system(system, regimes, q, qd, t)
-        res = formulate(variant).numeric().solve(q, qd, t)
+        res = formulate(variant).numeric().solve(q, qd, t, once=True)
     except RedundantConstraints:
         for name in regimes:
             out[name] = {"value": None, "note": "statically indeterminate (held redundantly): see --critical"}
