@@ -105,3 +105,29 @@ def test_a_singular_state_in_a_batch_is_reported(slider_crank):
     q[0][1234] = 0.3
     res = model.solve(q, qd, t)
     assert all(np.all(np.isfinite(v)) for v in res.values())
+
+
+@pytest.mark.parametrize("scene", sorted(p.stem for p in (ROOT / "data" / "scenes").glob("*.toml")))
+def test_one_state_walk_equals_the_compiled_matrices(scene):
+    """A state solved once takes A and b from one walk over the expression trees
+    (``NumericModel.matrices(..., once=True)``) instead of the lambdified function. Same
+    expressions, evaluated in another order and without common subexpressions: each entry agrees
+    to round-off, a few ulps of the largest term it sums (relative 1e-12 of the matrix's scale
+    leaves room for cancellations of up to ~1e3 in an entry). The model is not compiled for it."""
+    from solver.analyses.instant import assemble
+    from solver.explain.build import system_in_regime
+    from solver.formulations import Formulation, resolve_points
+
+    system = load_system(ROOT / "data" / "scenes" / f"{scene}.toml")
+    if system.contacts:  # the equations of the contact regime that holds at the state
+        system, _, _, state = system_in_regime(system, None)
+    else:
+        state = assemble(system)
+    # the equations as written (Formulation itself: formulate() refuses a contact that may change
+    # regime, or one held redundantly; their equations are still the model's)
+    model = Formulation(system, "generalized_euler", resolve_points(system, None)).numeric()
+    A1, b1 = model.matrices(state.q, state.qd, state.t, once=True)
+    assert model._f is None  # the walk served: nothing compiled
+    A2, b2 = model.matrices(state.q, state.qd, state.t)
+    scale = max(np.abs(A2).max(), np.abs(b2).max())
+    assert np.allclose(A1, A2, rtol=1e-12, atol=1e-12 * scale) and np.allclose(b1, b2, rtol=1e-12, atol=1e-12 * scale)
