@@ -14,7 +14,9 @@ Commands
 ``verify-table TABLE [--n N | --n-range LO HI] [--json]``
     Check a published percentage table; ``--json`` prints
     ``{"n": int, "rows": [{"item", "cells": [{"label", "published", "attainable",
-    "counts"}], "sum_ok"}]}``. Without N, the range 1..1000 (or ``--n-range``) is
+    "counts"}], "sum_ok", "consistent", "findings"}]}`` (``findings``: what is wrong
+    with the row, among ``cell_not_attainable``, ``sum_off``, ``counts_do_not_add_up``;
+    ``sum_ok``: the printed sum is one rounding of the printed cells allows). Without N, the range 1..1000 (or ``--n-range``) is
     searched: ``n`` is then the smallest N that makes the whole table attainable (or the
     N attaining the most cells), and ``"n_range"`` and ``"feasible_n"`` are added.
 ``report FILE -o OUT.html [--claims CLAIMS]``

@@ -248,6 +248,7 @@ class _Raw:
     comments: list[str] = field(default_factory=list)             # leading '#' lines
     row_map: "np.ndarray | None" = None   # spreadsheet row per record when not consecutive
     notes: list[str] = field(default_factory=list)
+    given: "list[str] | None" = None      # header as written, before a reader renamed any
 
     def row_of(self, idx):
         """Spreadsheet row of data record(s) ``idx`` (0-based record indices)."""
@@ -406,12 +407,22 @@ def _read_csv_encoded(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]
     comments = [ln.decode(encoding, errors="replace").lstrip("#").strip()
                 for ln in raw[:pos].splitlines()]
     first = skip + 2 if row_map is None or not len(row_map) else int(row_map[0])
-    out = _Raw(source, header, _frame_to_columns(df), first, len(df), comments, row_map)
+    out = _Raw(source, header, _frame_to_columns(df), first, len(df), comments, row_map,
+               given=None if single else _given_header(body, sep, encoding))
     if trailing:
         out.notes.append(f"{source}: {trailing} empty line(s) at the end not read as "
                          f"respondents (in a one-column file an empty line elsewhere is a "
                          f"blank answer)")
     return out, peek
+
+
+def _given_header(body: bytes, sep: str, encoding: str) -> list[str]:
+    """The header record as written: pandas names a repeated ``Q1`` ``Q1.1`` and a blank
+    cell ``Unnamed: 3``, so the header is read again as a data record, by the same parser."""
+    first = pd.read_csv(io.BytesIO(body), header=None, nrows=1, dtype=str, sep=sep,
+                        keep_default_na=False, na_filter=False, encoding=encoding,
+                        engine="c", skipinitialspace=False, index_col=False)
+    return [str(v) for v in first.iloc[0]] if len(first) else []
 
 
 def _trim_single_column(body: bytes) -> tuple[bytes, int, int]:
@@ -619,12 +630,14 @@ def _read_xlsx_raw(path: Path) -> tuple[_Raw, list[list[str]]]:
     while width > 0 and header[width - 1] == "" and all(
             len(r) < width or r[width - 1] == "" for r in rows):
         width -= 1
-    header = _distinct([h if h else f"column {j + 1}" for j, h in enumerate(header[:width])])
+    given = header[:width]
+    header = _distinct([h if h else f"column {j + 1}" for j, h in enumerate(given)])
     body = [(r + [""] * width)[:width] for r in rows[1:]]
     df = pd.DataFrame(body, columns=header, dtype=object) if body else pd.DataFrame(
         columns=header)
     peek = [header] + body[:3]
-    return _Raw(source, header, _frame_to_columns(df), first + 2, len(body)), peek
+    return _Raw(source, header, _frame_to_columns(df), first + 2, len(body),
+                given=given), peek
 
 
 def _distinct(header: list[str]) -> list[str]:
@@ -653,7 +666,8 @@ def _raw_from_frame(df: pd.DataFrame, source: str, first_row: int) -> tuple[_Raw
     peek = [header]
     for i in range(min(3, len(df))):
         peek.append([c.cats[c.codes[i]] for c in cols])
-    return _Raw(source, header, cols, first_row, len(df)), peek
+    return _Raw(source, header, cols, first_row, len(df),
+                given=[str(c) for c in df.columns]), peek
 
 
 # ---------------------------------------------------------------------------
@@ -734,7 +748,9 @@ def read_survey(path: "str | Path", scale: "str | Scale | None" = None,
     ------
     SurveyInputError
         Empty or unreadable file, bad encoding, no item columns, mixed scales,
-        unknown answers (with ``unknown="error"``), unknown column names.
+        unknown answers (with ``unknown="error"``), unknown column names, two columns
+        named alike (ignoring case and spacing; a Canvas export's points columns aside),
+        which readers would otherwise rename (``Q1.1``) without a word.
     ValueError
         Bad option strings (the message lists the valid ones).
     """
@@ -789,6 +805,9 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
         why = platforms.signature_missing(shape, raw.header, peek)
         if why:
             raise SurveyInputError(why, raw.source)
+    why = platforms.repeated_column(raw.given or raw.header, shape)
+    if why:                    # a reader's renaming (Q1 -> Q1.1) would hide it
+        raise SurveyInputError(why, raw.source)
     notes = list(raw.notes)
     extra = platforms.header_rows(shape, raw.header, peek) if raw.nrows else 0
     if raw.nrows <= extra and shape != "long":

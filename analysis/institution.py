@@ -16,6 +16,9 @@ the columns named by ``items``, else every column that is not a grouping or id
 column). In a long file a respondent of a group with no row for an item is missing
 on it (respondents per group are distinct respondent ids).
 
+Two columns named alike (ignoring case and spacing, as DuckDB does) are refused: DuckDB
+would rename the second ``Q1_1`` without a word.
+
 pandas is not imported on this path (it would cost more memory than the counting).
 
 Public API: :func:`summarize_by` -> :class:`GroupedSummary`.
@@ -157,6 +160,31 @@ def _source_sql(path: Path) -> str:
             f"max_line_size = {_MAX_LINE})")
 
 
+def _given_header(con, path: Path, header: list[str]) -> list[str]:
+    """The column names as the file writes them (``header`` is DuckDB's, made distinct).
+
+    A CSV's first record is read again as data; a Parquet file's names come from its
+    schema (the root's children, in order).
+    """
+    lit = "'" + str(path).replace("'", "''") + "'"
+    if path.suffix.lower() == ".parquet":
+        rows = con.execute(f"SELECT name, num_children FROM parquet_schema({lit})").fetchall()
+        names, i = [], 1
+        while i < len(rows):                       # skip each top-level column's subtree
+            names.append(rows[i][0])
+            left = rows[i][1] or 0
+            i += 1
+            while left:
+                left += (rows[i][1] or 0) - 1
+                i += 1
+    else:
+        first = con.execute(f"SELECT * FROM read_csv({lit}, all_varchar = true, header = false, "
+                            f"buffer_size = {_BUFFER}, max_line_size = {_MAX_LINE}) "
+                            f"LIMIT 1").fetchone()
+        names = ["" if v is None else str(v) for v in (first or ())]
+    return names if len(names) == len(header) else header
+
+
 def _validate_by(path, by, min_group):
     p = Path(path)
     if not p.exists():
@@ -233,6 +261,9 @@ def _count(p, by, scale, items, min_group, memory_limit, threads) -> GroupedSumm
         except duckdb.Error as e:
             raise SurveyInputError(f"cannot read as CSV/Parquet ({str(e).splitlines()[0]})",
                                    str(p)) from None
+        why = platforms.repeated_column(_given_header(con, p, header))
+        if why:                     # DuckDB renames a repeated Q1 to Q1_1 (and q1 too)
+            raise SurveyInputError(why, str(p))
         gcols = []
         for b in by:
             j = platforms.find_column(header, (b.strip().casefold(),))

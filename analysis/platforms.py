@@ -36,7 +36,7 @@ import re
 
 __all__ = ["PLATFORMS", "SHAPES", "META", "detect", "header_rows", "signature_missing", "split_stem",
            "candidate", "is_blank_header",
-           "name_matches", "find_column"]
+           "name_matches", "find_column", "repeated_column"]
 
 #: How to supply a code map, for messages.
 CODES_HINT = ("give the survey definition with --codes FILE.qsf (Qualtrics) or FILE.lss "
@@ -116,6 +116,44 @@ def name_matches(pattern: str, name: str) -> bool:
 def is_blank_header(h: str) -> bool:
     """A header cell the reader had to name (pandas ``Unnamed: 3``, workbook ``column 4``)."""
     return not h.strip() or bool(_UNNAMED.match(h))
+
+
+_CANVAS_POINTS = re.compile(r"^\s*\d+(\.\d+)?\s*$")
+
+
+def repeated_column(header: list[str], shape: "str | None" = None) -> "str | None":
+    """Why two columns of ``header`` (names as written in the file) cannot be told apart,
+    or None when every name is distinct.
+
+    Names are compared as columns are matched everywhere (``--items``, ``--group``,
+    DuckDB): ignoring case and spacing. Blank header cells name no column and are
+    not compared. A Canvas export's points columns (``1.0`` after each question) repeat
+    by design and are never read, so they are not compared either. The message names
+    the first repeated name with all its 1-based positions, and how many other names
+    repeat.
+    """
+    from .scales import normalize_answer
+    where: dict[str, list[int]] = {}
+    for j, h in enumerate(header):
+        if not h.strip() or (shape == "canvas" and _CANVAS_POINTS.match(h)):
+            continue
+        where.setdefault(normalize_answer(h), []).append(j)
+    repeated = [js for js in where.values() if len(js) > 1]
+    if not repeated:
+        return None
+    js = repeated[0]
+    cols = ", ".join(str(j + 1) for j in js[:-1]) + f" and {js[-1] + 1}"
+    names = [header[j] for j in js]
+    if len(set(names)) == 1:
+        what = f"columns {cols} are {'both' if len(js) == 2 else 'all'} named {names[0]!r}"
+    else:
+        what = (f"columns {cols} are named " + ", ".join(map(repr, names[:-1]))
+                + f" and {names[-1]!r}, which differ only in case or spacing (columns are "
+                f"matched ignoring both)")
+    more = len(repeated) - 1
+    return (f"{what}; rename {'one' if len(js) == 2 else 'all but one'}"
+            + (f" ({more} more name{'s' if more > 1 else ''} repeat{'' if more > 1 else 's'})"
+               if more else ""))
 
 
 def _keys(header) -> set:

@@ -6,6 +6,8 @@ between two printed values is recognised as such (binary floats cannot).
 - :func:`round_fraction` -- round to ``decimals`` places by a named rule
   (:data:`ROUNDING_RULES`); ``"half_away"`` (half away from zero) is the
   project's documented rule for printed percentages.
+- :func:`rounding_interval` -- every exact percentage that prints as a given
+  value: the tolerance a printed precision implies.
 - :func:`largest_remainder` -- Hamilton's method: percentages of counts that
   add up to exactly 100.
 """
@@ -14,7 +16,7 @@ from __future__ import annotations
 import math
 from fractions import Fraction
 
-__all__ = ["ROUNDING_RULES", "round_fraction", "largest_remainder"]
+__all__ = ["ROUNDING_RULES", "round_fraction", "rounding_interval", "largest_remainder"]
 
 #: Valid values of the ``rule`` argument.
 ROUNDING_RULES = ("half_away", "half_even", "truncate", "ceil")
@@ -62,6 +64,57 @@ def _validate_rule(rule: str) -> None:
     if rule not in ROUNDING_RULES:
         raise ValueError(f"`rule` must be one of {list(ROUNDING_RULES)}, got {rule!r}")
 
+
+def rounding_interval(printed: Fraction, decimals: int, rule: str = "half_away"
+                      ) -> "tuple[Fraction, Fraction, bool, bool] | None":
+    """Every exact percentage in 0..100 that ``rule`` prints as ``printed``.
+
+    Parameters
+    ----------
+    printed : Fraction
+        The printed percentage, exactly.
+    decimals : int
+        Printed precision.
+    rule : {"half_away", "half_even", "truncate", "ceil"}
+
+    Returns
+    -------
+    (lo, hi, lo_closed, hi_closed) or None
+        The interval of exact values (each end included when its flag is true);
+        None when ``printed`` has more decimals than the rounding keeps.
+
+    Notes
+    -----
+    With u = 10**-decimals and h = u / 2 the values printing as p are
+    half_away ``[p - h, p + h)``; half_even ``[p - h, p + h]`` when p / u is even,
+    ``(p - h, p + h)`` when odd; truncate ``[p, p + u)``; ceil ``(p - u, p]``;
+    each cut to 0..100 (a percentage), where a cut end is included.
+
+    Examples
+    --------
+    >>> rounding_interval(Fraction("4.5"), 1)
+    (Fraction(89, 20), Fraction(91, 20), True, False)
+    """
+    _validate_rule(rule)
+    p = Fraction(printed)
+    u = Fraction(1, 10 ** decimals)
+    if (p / u).denominator != 1:
+        return None
+    h = u / 2
+    if rule == "half_away":
+        lo, hi, lc, hc = p - h, p + h, True, False
+    elif rule == "half_even":
+        even = (p / u).numerator % 2 == 0
+        lo, hi, lc, hc = p - h, p + h, even, even
+    elif rule == "truncate":
+        lo, hi, lc, hc = p, p + u, True, False
+    else:  # ceil
+        lo, hi, lc, hc = p - u, p, False, True
+    if lo < 0:
+        lo, lc = Fraction(0), True
+    if hi > 100:
+        hi, hc = Fraction(100), True
+    return lo, hi, lc, hc
 
 
 def largest_remainder(counts: list[int], decimals: int = 1) -> list[Fraction]:

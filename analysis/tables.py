@@ -20,10 +20,23 @@ zero* (``rule="half_away"``, what hand calculators and spreadsheets print);
 The printed precision d is taken from each cell's text (``"50.0"`` has one
 decimal) unless given.
 
-Rows and reconstruction
+Rows and their verdicts
 -----------------------
-A row is consistent (``sum_ok``) when one attainable count per cell can be chosen
-so that the counts add up to N (a subset-sum over the candidate sets). The counts
+Each row's verdict names what is wrong (:data:`FINDINGS`), each with its evidence:
+
+- ``cell_not_attainable``: a cell no count out of N gives (with the nearest
+  attainable values);
+- ``sum_off``: the printed sum is one no rounding of the printed cells allows. A cell
+  printed p at d decimals stands for an exact share in p's rounding interval (half
+  away from zero: ``[p - h, p + h)``, h = half a unit of the d-th decimal, cut to
+  0..100); the row is off when no choice of shares in those intervals adds up to
+  100 (``sum_ok`` false). This depends only on the printed precision, not on N;
+- ``counts_do_not_add_up``: every cell attainable and the sum within rounding, yet no
+  choice of one attainable count per cell adds up to N (a subset-sum over the
+  candidate sets).
+
+A row is ``consistent`` when every cell is attainable and its counts can add up to
+N (then its sum is necessarily within rounding). The counts
 are reconstructed even for a row with unattainable cells, taking the count
 nearest each such cell, and among choices adding up to N the one closest to the
 printed values. For such rows two known ways of producing a table are tested and
@@ -58,11 +71,13 @@ import numpy as np
 
 from ._io import read_bytes, read_toml
 from .errors import SurveyInputError
-from .rounding import ROUNDING_RULES, _validate_rule, largest_remainder, round_fraction
+from .rounding import (ROUNDING_RULES, _validate_rule, largest_remainder, round_fraction,
+                       rounding_interval)
 
 __all__ = ["ROUNDING_RULES", "PublishedTable", "CellCheck", "RowCheck", "TableCheck",
            "read_table_csv", "verify_table", "table1_check", "published_dir",
-           "round_fraction", "attainable_counts", "nearest_attainable", "load_table1"]
+           "round_fraction", "attainable_counts", "nearest_attainable", "load_table1",
+           "FINDINGS"]
 
 #: Largest N searched for a single table (guards against accidental huge ranges).
 MAX_N = 1_000_000
@@ -324,6 +339,12 @@ class CellCheck:
         return d
 
 
+#: Row findings, in the order a verdict names them, with their labels in text output.
+FINDINGS = {"cell_not_attainable": "CELL NOT ATTAINABLE",
+            "sum_off": "SUM OFF",
+            "counts_do_not_add_up": "COUNTS DO NOT ADD UP TO N"}
+
+
 @dataclass
 class RowCheck:
     """One row checked against N.
@@ -334,9 +355,23 @@ class RowCheck:
         Row label.
     cells : list of CellCheck
     sum_ok : bool
+        The printed sum is one rounding allows: the exact shares the printed cells
+        stand for (each within its rounding interval, from the printed precision)
+        can add up to 100. Independent of N.
+    consistent : bool
         Every cell is attainable and some choice of candidate counts adds up to N.
+    findings : list of str
+        What is wrong, as keys of :data:`FINDINGS` (empty when consistent):
+        ``cell_not_attainable`` (some cell no count gives), ``sum_off`` (not
+        ``sum_ok``), ``counts_do_not_add_up`` (every cell attainable and the sum
+        within rounding, yet no choice of counts adds up to N).
+    verdict : str
+        One line: each finding's label (:data:`FINDINGS`) with its evidence, or ``"ok"``.
     printed_sum : float
         Sum of the printed values (as printed, exactly).
+    exact_total : (float, float)
+        Least and greatest total of exact shares that print as the row's cells (the
+        verdict says whether each end is reached).
     reconstructed : list of int or None
         Counts that add up to N, taking for each cell a candidate count (or, for
         a cell that is not attainable, the count nearest its printed value) and,
@@ -345,26 +380,33 @@ class RowCheck:
     unique : bool
         Exactly one choice of candidate counts adds up to N.
     reason : str
+        The verdict with how the row could have been produced, when known.
     """
 
     item: str
     cells: list[CellCheck]
     sum_ok: bool
+    consistent: bool
+    findings: list[str]
+    verdict: str
     printed_sum: float
+    exact_total: tuple[float, float]
     reconstructed: list[int] | None
     unique: bool
     reason: str
 
     def to_dict(self) -> dict:
-        """The ``--json`` row: item, cells, sum_ok."""
+        """The ``--json`` row: item, cells, sum_ok, consistent, findings."""
         return {"item": self.item, "cells": [c.to_dict() for c in self.cells],
-                "sum_ok": self.sum_ok}
+                "sum_ok": self.sum_ok, "consistent": self.consistent,
+                "findings": list(self.findings)}
 
     def to_full_dict(self) -> dict:
-        return {"item": self.item, "cells": [c.to_full_dict() for c in self.cells],
-                "sum_ok": self.sum_ok, "printed_sum": self.printed_sum,
-                "reconstructed": self.reconstructed, "unique": self.unique,
-                "reason": self.reason}
+        d = self.to_dict()
+        d.update(cells=[c.to_full_dict() for c in self.cells], verdict=self.verdict,
+                 printed_sum=self.printed_sum, exact_total=list(self.exact_total),
+                 reconstructed=self.reconstructed, unique=self.unique, reason=self.reason)
+        return d
 
 
 @dataclass
@@ -399,7 +441,7 @@ class TableCheck:
     @property
     def all_attainable(self) -> bool:
         """Every cell attainable and every row can sum to N."""
-        return all(r.sum_ok for r in self.rows)
+        return all(r.consistent for r in self.rows)
 
     @property
     def unattainable(self) -> list[CellCheck]:
@@ -441,10 +483,10 @@ class TableCheck:
             out.append(f"N in {lo}..{hi} making the whole table attainable: "
                        + (shown if fn else "none"))
         for r in self.rows:
-            rec = "" if r.reconstructed is None else " counts " + ",".join(map(str, r.reconstructed))
+            rec = "" if r.reconstructed is None else "; counts " + ",".join(map(str, r.reconstructed))
             d = max(c.decimals for c in r.cells)
-            out.append(f"  {r.item}: {'sum ok' if r.sum_ok else 'SUM NOT OK'} "
-                       f"(printed sum {r.printed_sum:.{d}f}){rec}")
+            said = "" if r.findings else f" (printed sum {r.printed_sum:.{d}f})"
+            out.append(f"  {r.item}: {r.verdict}{said}{rec}")
             for c in r.cells:
                 if not c.attainable:
                     out.append(f"    {c.label} = {c.printed}: {c.reason}")
@@ -604,40 +646,85 @@ def _explain_adjustment(counts: list[int], printed: list[Fraction], cells: list[
     return ""
 
 
+def _exact_total(cells: list[CellCheck], values: list[Fraction], rule: str):
+    """Whether 100 is among the totals of exact shares that print as the row's cells;
+    the least and greatest such total and whether each is reached. A cell printed with
+    more decimals than the rounding keeps is taken at its face value."""
+    lo = hi = Fraction(0)
+    lo_closed = hi_closed = True
+    for c, v in zip(cells, values):
+        band = rounding_interval(v, c.decimals, rule) or (v, v, True, True)
+        lo, hi = lo + band[0], hi + band[1]
+        lo_closed, hi_closed = lo_closed and band[2], hi_closed and band[3]
+    ok = (lo < 100 < hi) or (lo == 100 and lo_closed) or (hi == 100 and hi_closed)
+    return ok, lo, hi, lo_closed, hi_closed
+
+
+def _verdict(cells, values, n, rule, rec, strict) -> tuple[bool, list[str], str, tuple]:
+    """sum_ok, the findings and the one-line verdict of a checked row.
+
+    The verdict names each finding by its label in :data:`FINDINGS`, then its evidence.
+    """
+    d = max(c.decimals for c in cells)
+    printed = _fmt(sum(values), d)
+    sum_ok, lo, hi, lo_closed, hi_closed = _exact_total(cells, values, rule)
+    total = (f"{'[' if lo_closed else '('}{_fmt(lo, d + 1)}, {_fmt(hi, d + 1)}"
+             f"{']' if hi_closed else ')'}")
+    found: dict[str, str] = {}
+    bad = [c for c in cells if not c.attainable]
+    if bad:
+        found["cell_not_attainable"] = "; ".join(
+            f"{c.label} = {c.printed} (nearest attainable "
+            + " or ".join(f"{v:.{c.decimals}f} = {k}/{n}"
+                          for k, v in zip(c.nearest_counts, c.nearest_values)) + ")"
+            for c in bad)
+    if not sum_ok:
+        found["sum_off"] = (f"printed sum {printed}, but the printed cells stand for exact "
+                            f"shares totalling {total}, which excludes 100")
+    elif not bad and not _sum_reachable(strict, n):
+        ks = sum(a for a, _ in strict), sum(b for _, b in strict)
+        found["counts_do_not_add_up"] = (
+            f"every cell attainable and printed sum {printed} within rounding of 100, but "
+            f"the counts they allow total {ks[0]}" + (f" to {ks[1]}" if ks[1] > ks[0] else "")
+            + f", never N = {n}")
+    said = [f"{FINDINGS[f]}: {why}" for f, why in found.items()]
+    if bad and sum_ok:
+        said.append(f"printed sum {printed} within rounding of 100 (exact totals {total})")
+    if bad and rec is None:
+        said.append("with the nearest attainable values no choice of counts adds up to N")
+    return sum_ok, list(found), "; ".join(said) or "ok", (float(lo), float(hi))
+
+
+def _check_row(table: PublishedTable, i: int, n: int, rule: str, decimals) -> RowCheck:
+    item, cells, values = table.items[i], [], []
+    for j, label in enumerate(table.labels):
+        value, dec = table.value(i, j)
+        dec = dec if decimals is None else decimals
+        values.append(value)
+        cells.append(_check_cell(item, label, value, dec, table.cells[i][j], n, rule))
+    all_ok = all(c.counts for c in cells)
+    strict = [_run(c.counts) for c in cells] if all_ok else []
+    consistent = all_ok and _sum_reachable(strict, n)
+    unique = consistent and _unique_sum(strict, n)
+    loose = [c.counts if c.attainable else c.nearest_counts for c in cells]
+    rec = _reconstruct(loose, values, n)
+    sum_ok, findings, verdict, total = _verdict(cells, values, n, rule, rec, strict)
+    reason = verdict
+    if not all_ok and rec is not None:
+        reason += "; with the nearest attainable values the counts add up to N"
+        why = _explain_adjustment(rec, values, cells, n, rule)
+        if why:
+            reason += f"; {why}"
+            for c in cells:
+                if not c.attainable:
+                    c.reason += f" ({why})"
+    return RowCheck(item=item, cells=cells, sum_ok=sum_ok, consistent=consistent,
+                    findings=findings, verdict=verdict, printed_sum=float(sum(values)),
+                    exact_total=total, reconstructed=rec, unique=unique, reason=reason)
+
+
 def _check_rows(table: PublishedTable, n: int, rule: str, decimals) -> list[RowCheck]:
-    rows = []
-    for i, item in enumerate(table.items):
-        cells, values = [], []
-        for j, label in enumerate(table.labels):
-            value, dec = table.value(i, j)
-            dec = dec if decimals is None else decimals
-            values.append(value)
-            cells.append(_check_cell(item, label, value, dec, table.cells[i][j], n, rule))
-        all_ok = all(c.counts for c in cells)
-        strict = [_run(c.counts) for c in cells] if all_ok else []
-        sum_ok = all_ok and _sum_reachable(strict, n)
-        unique = sum_ok and _unique_sum(strict, n)
-        loose = [c.counts if c.attainable else c.nearest_counts for c in cells]
-        rec = _reconstruct(loose, values, n)
-        printed_sum = float(sum(values))
-        if sum_ok:
-            reason = "every cell attainable and the counts can add up to N"
-        elif not all_ok:
-            bad = ", ".join(c.label for c in cells if not c.attainable)
-            reason = f"not attainable: {bad}"
-            if rec is not None:
-                reason += "; with the nearest attainable values the counts add up to N"
-                why = _explain_adjustment(rec, values, cells, n, rule)
-                if why:
-                    reason += f"; {why}"
-                    for c in cells:
-                        if not c.attainable:
-                            c.reason += f" ({why})"
-        else:
-            reason = "every cell attainable, but no choice of counts adds up to N"
-        rows.append(RowCheck(item=item, cells=cells, sum_ok=sum_ok, printed_sum=printed_sum,
-                             reconstructed=rec, unique=unique, reason=reason))
-    return rows
+    return [_check_row(table, i, n, rule, decimals) for i in range(len(table.items))]
 
 
 def verify_table(table: PublishedTable, n: int | None = None,
@@ -673,8 +760,9 @@ def verify_table(table: PublishedTable, n: int | None = None,
     Notes
     -----
     A cell is attainable when ``round(100 k / N, d) == p`` for some integer
-    ``0 <= k <= N`` (exact rational arithmetic). A row is consistent (``sum_ok``)
-    when one may choose an attainable count per cell so that the counts add up to N.
+    ``0 <= k <= N`` (exact rational arithmetic). A row is ``consistent`` when one may
+    choose an attainable count per cell so that the counts add up to N; its ``findings``
+    and ``verdict`` say what is wrong otherwise (see the module's notes).
     """
     _validate_verify(table, n, n_range, rule, decimals)
     _validate_n_needed(table, n if n is not None else n_range[1])

@@ -555,7 +555,6 @@ def survey_checks(dataset_path: Path) -> tuple[list[Check], SurveyResults]:
         rounded = [float(round_fraction(x, facts.decimals)) for x in exact_row]
         lr_row = [float(x) for x in largest_remainder([item.counts[label] for label in check.labels], facts.decimals)]
         lr[row.item] = lr_row
-        printed_row = [c.published for c in row.cells]
         for j, cell in enumerate(row.cells):
             computed = rounded[j]
             ok = cell.attainable and math.isclose(computed, cell.published, abs_tol=1e-9)
@@ -565,17 +564,11 @@ def survey_checks(dataset_path: Path) -> tuple[list[Check], SurveyResults]:
             )
             explanation = ""
             if not ok:
-                sum_correct = sum(rounded)
+                # the verdict (what is wrong with the cell and its row) is analysis.tables'
                 explanation = (
-                    f"No count out of N = {check.n} gives {cell.printed}%: {cell.nearest_counts[0] if cell.nearest_counts else '?'}"
-                    f"/{check.n} is {float(exact_row[j]):.2f}%, printed correctly as {computed:.{facts.decimals}f}%. "
-                    f"The printed row adds up to {sum(printed_row):.1f}%; correctly rounded cells add up to "
-                    f"{sum_correct:.1f}%"
-                    + (
-                        ", so this cell appears to have been raised to make the row total 100%"
-                        if abs(sum(printed_row) - 100) < 1e-9 and abs(sum_correct - 100) > 1e-9
-                        else ""
-                    )
+                    f"Row {row.item}: {row.reason}. "
+                    f"The rebuilt dataset has {item.counts[cell.label]}/{item.n} = {float(exact_row[j]):.2f}%, "
+                    f"printed correctly as {computed:.{facts.decimals}f}%"
                     + (
                         "; a largest-remainder rounding would also print "
                         f"{lr_row[j]:.{facts.decimals}f}% here"
@@ -604,9 +597,11 @@ def survey_checks(dataset_path: Path) -> tuple[list[Check], SurveyResults]:
     # ---- response facts
     search = verify_table(table, n_range=(1, max(facts.enrolled, facts.respondents)))
     rate = facts.respondents / facts.enrolled
-    rows_ok = all(sum(r.reconstructed or []) == facts.respondents for r in check.rows)
+    # rows whose counts cannot add up to N, by the row verdicts of analysis.tables
+    off_rows = [r for r in check.rows if r.reconstructed is None
+                or {"sum_off", "counts_do_not_add_up"} & set(r.findings)]
     most = search.n
-    ok = summary.respondents == facts.respondents and most == facts.respondents and rows_ok
+    ok = summary.respondents == facts.respondents and most == facts.respondents and not off_rows
     rows.append(
         Check(
             id="response-rate",
@@ -615,8 +610,10 @@ def survey_checks(dataset_path: Path) -> tuple[list[Check], SurveyResults]:
             computed=f"{summary.respondents} of {facts.enrolled} ({100 * summary.respondents / facts.enrolled:.1f}%)",
             verdict="agrees" if ok else "disagrees",
             detail=(
-                f"response rate {facts.respondents}/{facts.enrolled} = {100 * rate:.1f}%; every item's rebuilt counts "
-                f"add up to N = {facts.respondents}; among N = 1..{max(facts.enrolled, facts.respondents)}, "
+                f"response rate {facts.respondents}/{facts.enrolled} = {100 * rate:.1f}%; "
+                + (f"every item's rebuilt counts add up to N = {facts.respondents}; " if not off_rows else
+                   "".join(f"item {r.item}: {r.verdict}; " for r in off_rows))
+                + f"among N = 1..{max(facts.enrolled, facts.respondents)}, "
                 f"N = {most} makes the most printed cells attainable"
                 + (" (no N makes all of them attainable)" if not search.feasible_n else
                    f" (N making every cell attainable: {search.feasible_n})")

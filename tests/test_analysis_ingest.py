@@ -268,7 +268,7 @@ def test_not_applicable_is_no_evidence_of_an_item(tmp_path):
 
 
 def test_csv_layout_quirks(tmp_path, capsys):
-    """Delimiters, blank lines and repeated headers as spreadsheets write them.
+    """Delimiters and blank lines as spreadsheets write them.
 
     Regressions: a semicolon file whose quoted question text has a comma was split on
     commas (no items found); rows after a blank line were misnumbered in errors; a blank
@@ -297,13 +297,8 @@ def test_csv_layout_quirks(tmp_path, capsys):
     it = summarize(data).items[0]
     assert (it.respondents, it.n, it.missing) == (2, 1, 1)
     assert any("2 empty line(s) at the end" in note for note in data.notes), data.notes
-    wb = openpyxl.Workbook()
-    wb.active.append(["q1", "q1", "q2"])
-    wb.active.append(["Neutral", "Definitely Agree", "Neutral"])
-    wb.save(tmp_path / "dup.xlsx")
-    data = read_survey(tmp_path / "dup.xlsx")
-    assert data.items == ["q1", "q1.1", "q2"]         # as pandas names a repeated CSV header
-    assert list(data.answers[0]) == [2, 0, 2]
+    # (a repeated header, once renamed q1.1 as pandas does, is refused: see
+    # test_repeated_column_names_are_refused)
 
 
 def test_long_items_in_questionnaire_order_when_first_rows_skip_one(tmp_path):
@@ -372,3 +367,77 @@ def test_shape_named_for_a_workbook_is_kept(tmp_path):
     data = read_survey(tmp_path / "w.xlsx", shape="wide")
     assert data.shape == "wide" and data.items == ["item", "answer"]   # respondent: an id
     assert read_survey(tmp_path / "w.xlsx", shape="xlsx").shape == "long"
+
+
+# --------------------------------------------------------------------------- repeated names
+AGREE_CODES = ('[codes]\n1 = "Strongly disagree"\n2 = "Disagree"\n'
+               '3 = "Neither agree nor disagree"\n4 = "Agree"\n5 = "Strongly agree"\n')
+# respondent, first column, second column (codes 1-5 as a Qualtrics numeric export has them)
+REPEATED_ROWS = [["r1", "1", "5"], ["r2", "2", "4"], ["r3", "3", "4"], ["r4", "5", "1"]]
+
+
+def _survey_file(tmp_path, header, suffix):
+    path = tmp_path / f"survey{suffix}"
+    if suffix == ".csv":
+        with open(path, "w", newline="", encoding="utf-8") as fh:
+            csv.writer(fh).writerows([header] + REPEATED_ROWS)
+    else:
+        from tests.xlsx_factory import workbook
+        path.write_bytes(workbook([header] + REPEATED_ROWS))
+    return path
+
+
+@pytest.mark.parametrize("suffix", [".csv", ".xlsx"])
+@pytest.mark.parametrize("header, message", [
+    (["respondent", "Q1", "Q1"], "columns 2 and 3 are both named 'Q1'; rename one"),
+    # names are matched ignoring case and spacing (--items, --group, DuckDB): ambiguous too
+    (["respondent", "Q1", "q1 "], "columns 2 and 3 are named 'Q1' and 'q1 ', which differ "
+                                  "only in case or spacing"),
+])
+def test_repeated_column_names_are_refused(tmp_path, capsys, suffix, header, message):
+    """Two columns named alike stop the read with one line naming the file, the name and
+    both positions, exit status 2.
+
+    Regression: `respondent,Q1,Q1` gave items Q1 and Q1.1 (pandas' renaming of a
+    repeated header) with no note, and a workbook did the same on purpose."""
+    path = _survey_file(tmp_path, header, suffix)
+    book = tmp_path / "map.toml"
+    book.write_text(AGREE_CODES)
+    err = _one_line_error(capsys, ["summarize", str(path), "--codes", str(book)])
+    assert err.startswith(f"error: {path}: {message}")
+    with pytest.raises(SurveyInputError, match="rename one"):
+        read_survey(path, codes=book)
+
+
+@pytest.mark.parametrize("suffix", [".csv", ".xlsx"])
+def test_a_real_column_named_like_a_renamed_one_is_read(tmp_path, suffix):
+    """A header that merely ends in ".1" (`Q1.1` next to `Q1`) is a name of its own: both
+    items are read, with the counts of the rows above (by hand: Q1 has codes 1, 2, 3, 5,
+    Q1.1 has 5, 4, 4, 1)."""
+    path = _survey_file(tmp_path, ["respondent", "Q1", "Q1.1"], suffix)
+    book = tmp_path / "map.toml"
+    book.write_text(AGREE_CODES)
+    s = summarize(read_survey(path, codes=book))
+    assert [it.item for it in s.items] == ["Q1", "Q1.1"]
+    labels = ["Strongly disagree", "Disagree", "Neither agree nor disagree", "Agree",
+              "Strongly agree"]
+    assert [[it.counts[lab] for lab in labels] for it in s.items] == [[1, 1, 1, 0, 1],
+                                                                      [1, 0, 0, 2, 1]]
+
+
+def test_repeated_names_in_a_frame_and_canvas_points_columns():
+    """A DataFrame with two columns named alike is refused as a file is; a Canvas export's
+    points columns (`1.0` after each question) repeat by design and are not compared
+    (tests/test_analysis_platforms.py reads such an export)."""
+    import pandas as pd
+
+    from analysis.ingest import survey_from_frame
+    from analysis.platforms import repeated_column
+    df = pd.DataFrame([["Neutral", "Neutral"]], columns=["Q1", "Q1"])
+    with pytest.raises(SurveyInputError, match="columns 1 and 2 are both named 'Q1'"):
+        survey_from_frame(df, source="frame")
+    canvas = ["name", "sis_id", "1: first", "1.0", "2: second", "1.0"]
+    assert repeated_column(canvas, "canvas") is None
+    assert repeated_column(canvas, "wide") == "columns 4 and 6 are both named '1.0'; rename one"
+    assert repeated_column(["Q1", "Q1", "Q1", "Q2", "Q2"]) == (
+        "columns 1, 2 and 3 are all named 'Q1'; rename all but one (1 more name repeats)")

@@ -95,3 +95,44 @@ def test_wide_file_and_refusals(tmp_path, capsys):
         summarize_by(coded, ["term"])
     assert main(["summarize", str(f), "--by", "nosuch"]) == 2
     assert "--by 'nosuch'" in capsys.readouterr().err
+
+
+def _parquet_with_names(path, first, second):
+    """A Parquet file whose two answer columns are named ``first`` and ``second``.
+
+    DuckDB writes distinct names only, so the file is written with the placeholders QAAA
+    and QBBB, which are then replaced in the footer's schema (same length: the Thrift
+    strings keep their sizes; the data pages, holding only answers, are untouched)."""
+    import duckdb
+    con = duckdb.connect()
+    con.execute(f"COPY (SELECT * FROM (VALUES ('C1', 'Disagree', 'Agree'), "
+                f"('C1', 'Agree', 'Agree')) AS t(course, QAAA, QBBB)) TO '{path}' "
+                f"(FORMAT parquet)")
+    con.close()
+    data = path.read_bytes()
+    assert data.count(b"QAAA") == data.count(b"QBBB") == 2      # schema + column chunk
+    path.write_bytes(data.replace(b"QAAA", first.encode()).replace(b"QBBB", second.encode()))
+    return path
+
+
+def test_repeated_column_names_refused_out_of_core(tmp_path, capsys):
+    """The DuckDB route reads the names as written and refuses two columns named alike,
+    as the in-memory route does (DuckDB itself renames a repeated Q1 to Q1_1).
+    A real column named Q1.1 is counted as itself (by hand: C1 answers Disagree, Agree to
+    Q1 and Agree, Agree to Q1.1)."""
+    dup = tmp_path / "dup.csv"
+    dup.write_text("course,Q1,Q1\nC1,Disagree,Agree\nC1,Agree,Agree\n")
+    pq = _parquet_with_names(tmp_path / "dup.parquet", "Q1xx", "Q1xx")
+    for path in (dup, pq):
+        assert main(["summarize", str(path), "--by", "course"]) == 2
+        err = capsys.readouterr().err
+        name = "Q1" if path is dup else "Q1xx"
+        assert err == f"error: {path}: columns 2 and 3 are both named {name!r}; rename one\n"
+    for path in (tmp_path / "ok.csv", _parquet_with_names(tmp_path / "ok.parquet", "Q1xx", "Q1.1")):
+        if path.suffix == ".csv":
+            path.write_text("course,Q1xx,Q1.1\nC1,Disagree,Agree\nC1,Agree,Agree\n")
+        res = summarize_by(path, ["course"], scale="agree5")
+        assert res.items == ["Q1xx", "Q1.1"]
+        counts = {it.item: it.counts for it in res.overall()}
+        assert (counts["Q1xx"]["Disagree"], counts["Q1xx"]["Agree"]) == (1, 1)
+        assert counts["Q1.1"]["Agree"] == 2

@@ -94,7 +94,8 @@ def test_table1_as_published():
                 bad[(row.item, c.label)] = f"{c.nearest_values[0]:.1f}"
         assert row.reconstructed == EXPECTED_COUNTS[row.item]
         assert sum(row.reconstructed) == check.n
-        assert row.sum_ok == all(c.attainable for c in row.cells)
+        assert row.consistent == all(c.attainable for c in row.cells)
+        assert row.sum_ok                  # 100.0 printed: no sum finding on any row
     assert bad == EXPECTED_UNATTAINABLE
 
 
@@ -104,7 +105,7 @@ def test_unattainable_cells_explained_by_row_forcing():
     check = table1_check()
     for row in check.rows:
         forced = "adding the row's deficit" in row.reason
-        assert forced == (not row.sum_ok)
+        assert forced == (not row.consistent)
         assert all(("adding the row's deficit" in c.reason) == (not c.attainable) for c in row.cells)
 
 
@@ -131,7 +132,7 @@ def test_round_trip_random_rows(counts, decimals, rule):
     check = verify_table(table, n=n, rule=rule)
     row = check.rows[0]
     assert all(c.attainable for c in row.cells)
-    assert row.sum_ok
+    assert row.consistent and row.sum_ok and row.findings == []
     for c, k in zip(row.cells, counts):
         assert k in c.counts
     if 100 / n > 10 ** -decimals:      # one count per printed step: reconstruction is exact
@@ -156,7 +157,7 @@ def test_cli_json_shape(tmp_path, capsys):
     out = json.loads(capsys.readouterr().out)
     assert set(out) == {"n", "rows"} and out["n"] == facts.respondents
     for row in out["rows"]:
-        assert set(row) == {"item", "cells", "sum_ok"}
+        assert set(row) == {"item", "cells", "sum_ok", "consistent", "findings"}
         for cell in row["cells"]:
             assert set(cell) == {"label", "published", "attainable", "counts"}
     flags = {(r["item"], c["label"]) for r in out["rows"] for c in r["cells"] if not c["attainable"]}
@@ -217,7 +218,7 @@ def test_table_csv_as_european_spreadsheets_write_it(tmp_path, capsys):
     semi.write_bytes(b"\xef\xbb\xbfItem;Agree;Neutral;Disagree\r\nQ1;\"50,0 %\";25,0;25,0\r\n")
     assert main(["verify-table", str(semi), "--n", "4", "--json"]) == 0
     row = json.loads(capsys.readouterr().out)["rows"][0]
-    assert [c["counts"] for c in row["cells"]] == [[2], [1], [1]] and row["sum_ok"]
+    assert [c["counts"] for c in row["cells"]] == [[2], [1], [1]] and row["consistent"]
     gaps = tmp_path / "gaps.csv"
     gaps.write_text("item,Agree,Neutral,Disagree\n\nQ1,50,25,25\n\nQ2,50,x,25\n")
     assert main(["verify-table", str(gaps), "--n", "4"]) == 2
@@ -239,15 +240,13 @@ def test_n_search_matches_per_n_check_and_scales(rule):
     table, _ = load_table1()
     rng = verify_table(table, n_range=(4, 120), rule=rule)   # every row has 4 non-zero cells
     exact = [n for n in range(4, 121)
-             if all(r.sum_ok and all(c.attainable for c in r.cells)
-                    for r in verify_table(table, n=n, rule=rule).rows)]
+             if all(r.consistent for r in verify_table(table, n=n, rule=rule).rows)]
     assert rng.feasible_n == exact
     big = verify_table(table, n_range=(4, 1_000_000), rule=rule)
     assert [n for n in big.feasible_n if n <= 120] == exact and big.feasible_n[-1] > 990_000
 
     def consistent(n):
-        return all(r.sum_ok and all(c.attainable for c in r.cells)
-                   for r in verify_table(table, n=n, rule=rule).rows)
+        return all(r.consistent for r in verify_table(table, n=n, rule=rule).rows)
     mid = max(n for n in big.feasible_n if n <= 3000)    # spot check past the exact range
     assert consistent(mid) and (mid - 1 in big.feasible_n) == consistent(mid - 1)
 
@@ -265,7 +264,7 @@ def _brute_row(printed: list[str], n: int):
 @settings(max_examples=60)
 @given(st.lists(st.integers(0, 1000), min_size=2, max_size=4), st.integers(1, 12))
 def test_row_check_matches_enumeration(tenths, n):
-    """sum_ok, uniqueness and the reconstruction agree with enumerating every choice of
+    """Consistency, uniqueness and the reconstruction agree with enumerating every choice of
     counts (small N, any printed values, including rows that do not add up to 100)."""
     printed = [f"{Decimal(t) / 10:.1f}" for t in tenths]
     table = PublishedTable(("q",), tuple(f"L{j}" for j in range(len(printed))),
@@ -278,7 +277,7 @@ def test_row_check_matches_enumeration(tenths, n):
     row = verify_table(table, n=n).rows[0]
     sols, cand = _brute_row(printed, n)
     assert [c.counts for c in row.cells] == cand
-    assert row.sum_ok == bool(sols) and row.unique == (len(sols) == 1)
+    assert row.consistent == bool(sols) and row.unique == (len(sols) == 1)
     # reconstruction: counts adding up to n, each attainable (or nearest when not),
     # with the least total distance to the printed values; checked by enumeration
     loose = [c.counts or c.nearest_counts for c in row.cells]
@@ -321,3 +320,95 @@ def test_utf16_table_and_size_caps(tmp_path, capsys):
     assert main(["verify-table", str(big), "--n", "2"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and f"at most {MAX_TABLE_CELLS} cells" in err
+
+
+# --------------------------------------------------------------------------- row verdicts
+def test_table1_verdict_names_the_unattainable_cell(capsys):
+    """The paper's rows #2-#4 add up to 100.0 as printed: their verdict is the cell no count
+    gives, with the nearest attainable value, and no sum verdict.
+
+    Regression: `verify-table table1.csv --n 22` printed "SUM NOT OK (printed sum 100.0)".
+    Hand check of row #2 (59.2, 31.8, 0.0, 4.5, 4.5 at one decimal, half away from zero):
+    a cell printed p stands for an exact share in [p - 0.05, p + 0.05), 0.0 for [0, 0.05),
+    so the exact shares total 59.15 + 31.75 + 0 + 4.45 + 4.45 = 99.80 to
+    59.25 + 31.85 + 0.05 + 4.55 + 4.55 = 100.25, and 100 lies inside.
+    """
+    check = table1_check()
+    findings = {r.item: r.findings for r in check.rows}
+    assert findings == {"#1": [], "#2": ["cell_not_attainable"], "#3": ["cell_not_attainable"],
+                        "#4": ["cell_not_attainable"], "#5": []}
+    row2 = check.rows[1]
+    assert row2.exact_total == (99.8, 100.25)
+    assert main(["verify-table", str(published_dir() / "table1.csv"), "--n", "22"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    line2 = next(x for x in lines if x.strip().startswith("#2:"))
+    assert line2.strip().startswith(
+        "#2: CELL NOT ATTAINABLE: Definitely Agree = 59.2 (nearest attainable 59.1 = 13/22)")
+    assert "within rounding of 100 (exact totals [99.80, 100.25))" in line2
+    assert not [x for x in lines if "SUM" in x or "COUNTS DO NOT" in x]
+
+
+@pytest.mark.parametrize("cells, n, findings, words", [
+    # 9/22 = 40.909 -> 40.9, 13/22 = 59.091 -> 59.1, 1/22 = 4.545 -> 4.5: every cell
+    # attainable; exact shares total [40.85 + 59.05 + 4.45, 40.95 + 59.15 + 4.55) =
+    # [104.35, 104.65), never 100
+    (("40.9", "59.1", "4.5"), 22, ["sum_off"],
+     "SUM OFF: printed sum 104.5, but the printed cells stand for exact shares totalling "
+     "[104.35, 104.65), which excludes 100"),
+    # the same with 59.2, which no count out of 22 gives: both findings
+    (("40.9", "59.2", "4.5"), 22, ["cell_not_attainable", "sum_off"],
+     "CELL NOT ATTAINABLE: B = 59.2 (nearest attainable 59.1 = 13/22); SUM OFF: "
+     "printed sum 104.6"),
+    # 33.4 is only 334/1000 and 33.3 only 333/1000: 334 + 334 + 333 = 1001, while the
+    # printed sum 100.1 is within rounding (exact totals [99.95, 100.25))
+    (("33.4", "33.4", "33.3"), 1000, ["counts_do_not_add_up"],
+     "COUNTS DO NOT ADD UP TO N: every cell attainable and printed sum 100.1 within "
+     "rounding of 100, but the counts they allow total 1001, never N = 1000"),
+    # whole percentages, half away from zero: 50 stands for [49.5, 50.5), 51 for
+    # [50.5, 51.5); 99/200 = 49.5% -> 50 and 101/200 = 50.5% -> 51 add up: a printed
+    # sum of 101 is within rounding, at its closed end
+    (("50", "51"), 200, [], "ok"),
+    # 49 stands for [48.5, 49.5), 50 for [49.5, 50.5): totals below 100 (the open end)
+    (("49", "50"), 200, ["sum_off"],
+     "SUM OFF: printed sum 99, but the printed cells stand for exact shares totalling "
+     "[98.0, 100.0), which excludes 100"),
+])
+def test_row_verdict_names_what_is_wrong(tmp_path, capsys, cells, n, findings, words):
+    """Each finding is named for what it is; the sum verdict only when no exact shares
+    that print as the row's cells (the printed precision's rounding intervals) add up
+    to 100. Expected counts and totals by hand, in the comments."""
+    labels = tuple("ABC"[:len(cells)])
+    row = verify_table(PublishedTable(("q",), labels, (cells,)), n=n).rows[0]
+    assert row.findings == findings
+    assert row.sum_ok == ("sum_off" not in findings)
+    assert row.consistent == (findings == [])
+    assert row.verdict.startswith(words)
+    f = tmp_path / "t.csv"
+    f.write_text("item," + ",".join(labels) + "\nq," + ",".join(cells) + "\n")
+    assert main(["verify-table", str(f), "--n", str(n)]) == 0
+    assert f"q: {words}" in capsys.readouterr().out
+    assert main(["verify-table", str(f), "--n", str(n), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)["rows"][0]
+    assert out["findings"] == findings and out["sum_ok"] == row.sum_ok
+
+
+@settings(max_examples=60)
+@given(st.integers(0, 10_000), st.integers(1, 10_000), st.integers(0, 3),
+       st.sampled_from(ROUNDING_RULES))
+def test_rounding_interval_is_what_prints_as_the_value(k, n, decimals, rule):
+    """The interval behind a printed value (the sum verdict's tolerance) holds exactly the
+    shares that round to it: the share itself, each included end, and nothing just past an
+    end or at an excluded end (checked with round_fraction, point by point)."""
+    from analysis.rounding import rounding_interval
+    x = Fraction(100 * min(k, n), n)
+    p = round_fraction(x, decimals, rule)
+    lo, hi, lo_closed, hi_closed = rounding_interval(p, decimals, rule)
+    assert lo <= x <= hi
+    eps = Fraction(1, 10 ** (decimals + 6))          # far below one printed unit
+    assert (round_fraction(lo, decimals, rule) == p) == lo_closed
+    assert (round_fraction(hi, decimals, rule) == p) == hi_closed
+    assert lo == 0 or round_fraction(lo - eps, decimals, rule) != p
+    assert hi == 100 or round_fraction(hi + eps, decimals, rule) != p
+    if lo < hi:                                      # (ceil prints only 0 itself as 0)
+        assert round_fraction(lo + eps, decimals, rule) == p == round_fraction(hi - eps, decimals,
+                                                                               rule)

@@ -124,6 +124,25 @@ def test_findings_match_the_known_errors_of_the_paper(verification):
         assert verdicts[key]["verdict"] == "agrees", verdicts[key]
 
 
+def test_table_cell_findings_carry_the_row_verdict_of_verify_table(built):
+    """The report explains a Table 1 finding with the verdict `verify-table` gives (one
+    place decides it): the cell no count out of 22 gives, never a sum verdict, since the
+    printed rows add up to 100.0 (hand check in tests/test_analysis_tables.py).
+
+    Regression: the report derived its own "raised to make the row total 100%" story,
+    while `verify-table` called the same rows "SUM NOT OK"."""
+    from analysis.tables import table1_check
+
+    verdicts = {row.item: row for row in table1_check().rows}
+    context_rows = {r.id: r for r in built["context"]["rows"]}
+    for cell_id in sorted(EXPECTED_OTHER_DISAGREEMENTS - {"eq30-alpha-unit"}):
+        item = "#" + re.fullmatch(r"table1-item(\d)-.*", cell_id).group(1)
+        explanation = context_rows[cell_id].explanation
+        assert explanation.startswith(f"Row {item}: {verdicts[item].reason}"), explanation
+        assert "CELL NOT ATTAINABLE: Definitely Agree" in explanation
+        assert "SUM" not in explanation
+
+
 def test_every_disagreement_is_explained_first_in_the_html(built, verification):
     html = (Path(built["out"]) / "report.html").read_text(encoding="utf-8")
     findings_at = html.index('id="findings"')
