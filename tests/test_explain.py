@@ -529,6 +529,73 @@ def test_loop_closure_equation_of_motion(every_scene, scene):
         assert value == pytest.approx(float(numeric[name]), rel=1e-8, abs=1e-9), name
 
 
+def test_four_bar_rocker_about_its_fixed_pivot(every_scene):
+    """The rocker is placed through the coupler (its pin B), so the placement writes its pivot O4
+    along the loop, still only where the closure holds. The pin O4 to the ground holds it: the
+    worked solution shows r_O4 = (d, 0) (the ground point of data/scenes/four_bar.toml) with
+    v_O4 = a_O4 = 0, and about O4 the moment equation written by hand for a bar of mass m4 and
+    length c turning about a fixed end, with the pin force (B_x, B_y) on the rocker at B:
+
+        -m4 g (c/2) cos(theta4) + c (B_y cos(theta4) - B_x sin(theta4)) = (m4 c^2 / 3) theta4''
+
+    Moments about the fixed pivot remove the pivot's reactions O4_x, O4_y and, a_O4 being zero,
+    there is no inertial term; the coupler's pin force remains: 3 unknowns, not the five
+    (theta2'', theta3'' as well) that the loop-written a_O4 brought in. Exact comparisons."""
+    system, expl = every_scene["four_bar"]
+    a, b, c, d, m4, g = (sp.Symbol(n, real=True) for n in ("a", "b", "c", "d", "m4", "g"))
+    th4, w4, al4 = sp.symbols("theta4 theta4_dot theta4_ddot", real=True)
+    Bx, By, O4x, O4y = sp.symbols("B_x B_y O4_x O4_y", real=True)
+    rocker = expl.section("rocker")
+    kin = rocker.step("kinematics")
+    assert list(kin.equation("pos:O4").left) == [d, 0]
+    assert list(kin.equation("vel:O4").left) == [0, 0] and list(kin.equation("accel:O4").left) == [0, 0]
+    euler = rocker.step("euler").equation("euler")
+    assert not any("inertial" in t.note for t in euler.lhs)
+    by_hand = -m4 * g * c / 2 * sp.cos(th4) + c * (By * sp.cos(th4) - Bx * sp.sin(th4)) - m4 * c**2 / 3 * al4
+    assert sp.expand(euler.residual - by_hand) == 0
+    unknowns = list(system.qdd) + [r.symbol for r in system.reactions]
+    present = [u for u in unknowns if sp.expand(euler.residual).coeff(u) != 0]
+    # by hand: O4_x, O4_y act through O4 (no moment), a_O4 = 0 leaves no theta2'', theta3''; the
+    # coupler's pin force at B, a distance c from O4, remains with the rocker's own theta4''
+    assert present == [al4, Bx, By]
+    said = rocker.step("dropped").text[0]
+    assert said == "The moment equation about O4 contains 3 unknown(s): theta4_ddot, B_x, B_y."
+    # Newton with a_G = alpha x r_G/O4 - omega^2 r_G/O4 (r_G/O4 = c/2 (cos, sin)): the rocker's own angle only
+    nx = rocker.step("newton").equation("newton_x").residual
+    assert sp.expand(nx - (Bx + O4x + m4 * c / 2 * (al4 * sp.sin(th4) + w4**2 * sp.cos(th4)))) == 0
+    ny = rocker.step("newton").equation("newton_y").residual
+    assert sp.expand(ny - (By + O4y - m4 * g - m4 * c / 2 * (al4 * sp.cos(th4) - w4**2 * sp.sin(th4)))) == 0
+    assert not (a in sp.sympify(nx).free_symbols or b in sp.sympify(ny).free_symbols)
+    # true equations, not only tidy ones: the mass-centre route's solution at the state satisfies
+    # all three to 1e-9 of their largest term (two double-precision solves agree to ~1e-13)
+    from solver.analyses.instant import assemble
+    from solver.formulations import formulate
+
+    state = assemble(system)
+    numeric = formulate(system, "mass_center").numeric().solve(state.q, state.qd, state.t)
+    vals = _state_values(system, state)
+    vals.update({u: sp.Float(float(numeric[str(u)])) for u in unknowns})
+    for eq in (euler, rocker.step("newton").equation("newton_x"), rocker.step("newton").equation("newton_y")):
+        terms = [float(t.xreplace(vals)) for t in sp.Add.make_args(sp.expand(eq.residual))]
+        assert abs(sum(terms)) <= 1e-9 * max(map(abs, terms)), eq.label
+
+
+def test_four_bar_advisor_takes_the_rocker_about_its_fixed_pivot():
+    """The advisor, on the same equations as the worked solution: about the rocker's O4 a_O4 = 0
+    (fixed), and 3 unknowns (the rocker's angular acceleration and the coupler's pin force; the
+    pivot's reactions drop out, see the test above)."""
+    from solver.analyses.instant import assemble
+    from solver.explain.advisor import advice_step
+
+    system = load_system(ROOT / "data" / "scenes" / "four_bar.toml")
+    step = advice_step(system, assemble(system))
+    row = next(r for r in step.table.rows if r[:2] == ("rocker", "O4"))
+    assert row[3] == "3" and row[4] == "theta4_ddot, B_x, B_y" and row[6] == "0 (fixed)"
+    best = next(t for t in step.text if t.startswith("Best point of rocker:"))
+    assert best.startswith("Best point of rocker: O4 — the moment equation about O4 holds 3 unknown(s)")
+    assert "a_O4 = 0 (a fixed point)" in best
+
+
 def test_suggest_point_in_the_contact_regime(capsys):
     """The advisor ranks points in the regime that holds at the state; for contacts that hold a
     body redundantly it says that no point separates their (indeterminate) forces."""

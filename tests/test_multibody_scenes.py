@@ -305,6 +305,22 @@ def test_given_states_are_read_as_written():
     assert params("slider_crank")["omega"] == 100.0 and params("drum_and_block")["k_d"] == 0.15
 
 
+def test_kinematics_of_the_four_bar_rockers_fixed_pivot():
+    """`kinematics` gives the rocker's pivot O4 where the pin to the ground holds it, (d, 0) =
+    (0.28 m, 0) as the scene writes it, at rest, exactly (the placement, through the coupler, put
+    round-off there: 2.7e-15 m); the rocker's B, carried from O4, is the coupler's B (the pin B)
+    to the module's tolerance."""
+    from solver.analyses.kinematics import kinematics_at
+
+    out = kinematics_at(load_system(SCENES / "four_bar.toml"))["points"]
+    o4 = out["rocker:O4"]
+    assert (o4["position"]["value"], o4["velocity"]["value"], o4["acceleration"]["value"]) == (
+        [0.28, 0.0], [0.0, 0.0], [0.0, 0.0])
+    for what in ("position", "velocity", "acceleration"):
+        ours, theirs = out["rocker:B"][what]["value"], out["coupler:B"][what]["value"]
+        assert ours == pytest.approx(theirs, rel=RTOL, abs=FLOOR * max(map(abs, theirs))), what
+
+
 def test_references_reproduce_textbook_limits():
     """Sanity of the references themselves: a double pendulum hanging straight with
     no motion feels no acceleration and carries the weights; the drum's closed form

@@ -38,11 +38,11 @@ def kinematics_at(system, point=None, method: str = "generalized_euler") -> dict
         bodies[name] = {"omega": {"value": num(system.omega(name)), "unit": "rad/s"},
                         "alpha": {"value": num(system.alpha(name)), "unit": "rad/s**2"}}
         for p in body.point_names():
-            key = f"{name}:{p}"
-            points[key] = {
-                "position": {"value": [num(v) for v in system.point_position(name, p)], "unit": "m"},
-                "velocity": {"value": [num(v) for v in system.point_velocity(name, p)], "unit": "m/s"},
-                "acceleration": {"value": [num(v) for v in system.point_acceleration(name, p)], "unit": "m/s**2"},
+            r, v, a = system.point_kinematics(name, p)  # a pivot held by a ground pin: at its place, at rest
+            points[f"{name}:{p}"] = {
+                "position": {"value": [num(x) for x in r], "unit": "m"},
+                "velocity": {"value": [num(x) for x in v], "unit": "m/s"},
+                "acceleration": {"value": [num(x) for x in a], "unit": "m/s**2"},
             }
     state_out = {}
     for c, v, r in zip(system.free, state.q, state.qd):

@@ -430,8 +430,9 @@ def free_body_items(system, state, solution, points: dict[str, str]) -> list[Dra
     applied = [(load, a, fb.pair(None if a.force is None else system.prescribe(sp.Matrix(a.force))), fb.pair(a.at),
                 fb.slot(system.prescribe(sp.sympify(a.couple))))
                for load in system.loads for a in load.applied(system)]
-    inertial = {body: (fb.pair(system.point_acceleration(body, p)), fb.slot(system.alpha(body)),
-                       fb.pair(system.point_position(body, p))) for body, p in points.items()}
+    motion = {body: system.point_kinematics(body, p) for body, p in points.items()}  # as the worked solution
+    inertial = {body: (fb.pair(motion[body][2]), fb.slot(system.alpha(body)), fb.pair(motion[body][0]))
+                for body in points}
     fb.evaluate()
     items = _reaction_items(fb, joint_loads) + _load_items(fb, applied) + _inertial_items(fb, inertial, points)
     return _mark_zeros(items)

@@ -113,6 +113,20 @@ def _numeric(expr, subs: _State) -> float:
 
 
 def _rows(system, f, body, subs):
+    """The body's Newton x, Newton y and moment rows about its P0 at the state: the formulation's,
+    or, when P0's acceleration on the motion is not the placement's (a pivot the placement reaches
+    along a loop: :meth:`System.point_kinematics`), the body's equations with that acceleration, as
+    the worked solution writes them."""
+    from ..formulations import _coefficients
+    from ..formulations.newton_euler import body_equations
+
+    P0 = f.points[body]
+    a_P, placed = system.point_kinematics(body, P0)[2], system.point_acceleration(body, P0)
+    if any(sp.expand(x - y) != 0 for x, y in zip(a_P, placed)):
+        zero = {u: sp.Integer(0) for u in f.unknowns}
+        eqs = dict(zip("xyE", body_equations(system, body, P0, a_P)))
+        return {k: np.array([_numeric(a, subs) for a in _coefficients(e.expr, f.unknowns, zero)])
+                for k, e in eqs.items()}
     A, _ = f.linear_system()
     idx = {"x": None, "y": None, "E": None}
     for i, e in enumerate(f.equations):
@@ -212,7 +226,7 @@ def rank_points(system, body: str, state, f=None, parts=None) -> list[Candidate]
 def _fixed(system, body, name) -> bool:
     from .build import _zero
 
-    a = system.point_acceleration(body, name)
+    a = system.point_kinematics(body, name)[2]
     return _zero(a[0]) and _zero(a[1])
 
 

@@ -177,15 +177,17 @@ def _data_step(system, body: str) -> Step:
 
 def _kinematics_step(system, body: str, P: str, used: list[str], points: _Points) -> Step:
     w, al = system.omega(body), system.alpha(body)
-    r_P = system.point_position(body, P)
-    v_P, a_P = system.point_velocity(body, P), system.point_acceleration(body, P)
+    r_P = system.point_position(body, P)  # the placement's: the other points are placed with it
+    shown, v_P, a_P = system.point_kinematics(body, P)
+    pivot = _pivot_text(system, body, P, r_P, shown)
+    source = pivot[0] if pivot else "from the placement (the joints)"
     eqs = [
         Equation((Term(w),), (Term(tidy(w)),), "angular velocity (k component)", tag="omega", name="omega"),
         Equation((Term(al),), (Term(tidy(al)),), "angular acceleration (k component)", tag="alpha", name="alpha"),
-        Equation((Term(r_P),), (Term(_vec(r_P)),), f"position of {P}", tag=f"pos:{P}", name=f"r_{P}", vector=True),
-        Equation((Term(v_P),), (Term(_vec(v_P)),), f"velocity of {P}, from the placement (the joints)",
+        Equation((Term(shown),), (Term(_vec(shown)),), f"position of {P}", tag=f"pos:{P}", name=f"r_{P}", vector=True),
+        Equation((Term(v_P),), (Term(_vec(v_P)),), f"velocity of {P}, {source}",
                  "Eq. (6)", tag=f"vel:{P}", name=f"v_{P}", vector=True),
-        Equation((Term(a_P),), (Term(_vec(a_P)),), f"acceleration of {P}, from the placement (the joints)",
+        Equation((Term(a_P),), (Term(_vec(a_P)),), f"acceleration of {P}, {source}",
                  "Eq. (15)", tag=f"accel:{P}", name=f"a_{P}", vector=True),
     ]
     for X in used:
@@ -202,10 +204,30 @@ def _kinematics_step(system, body: str, P: str, used: list[str], points: _Points
                              Term(_vec(cr), f"-omega^2 r_{X}/{P}")),
                             f"acceleration of {X}", "Eq. (15)", tag=f"accel:{X}", name=f"a_{X}", vector=True))
     eqs += _midpoints(system, body, points, eqs)
-    text = [f"P = {P}. Its velocity and acceleration follow from the joints (the placement of {body}); "
+    how = pivot[1] if pivot else f"Its velocity and acceleration follow from the joints (the placement of {body})"
+    text = [f"P = {P}. {how}; "
             f"every other point's follow by the rigid-body relation from {P}: v = v_{P} + omega x r, "
             f"a = a_{P} + alpha x r - omega^2 r (Eqs. 6, 15)."]
     return Step("kinematics", f"Kinematics of {body} from {P}", text, eqs)
+
+
+def _pivot_text(system, body: str, P: str, r_P, shown) -> tuple[str, str] | None:
+    """(label, sentence) saying where P's motion comes from when a pin to the ground holds the body
+    and its placement reaches it through other bodies (:meth:`System.point_kinematics`); None
+    when P's kinematics are the placement's."""
+    if _zero(r_P[0] - shown[0]) and _zero(r_P[1] - shown[1]):
+        return None
+    joint, F, _, _ = system.fixed_point(body)
+    F = F or "the pivot"
+    why = (f"{body} is placed through the other bodies, so its placement writes {F} along the loop, at its "
+           f"place only where the closure equations hold")
+    if F == P:
+        return (f"fixed by joint {joint.name} (a pin to the ground)",
+                f"{P} is held by joint {joint.name}, a pin to the ground: r_{P} is the pin's fixed place and "
+                f"v_{P} = a_{P} = 0 ({why})")
+    return (f"from the fixed point {F}",
+            f"{P} turns with {body} about {F}, held by joint {joint.name}, a pin to the ground ({why}): "
+            f"v_{P} = omega x r_{P}/{F}, a_{P} = alpha x r_{P}/{F} - omega^2 r_{P}/{F}")
 
 
 def _midpoints(system, body: str, points: _Points, eqs: list[Equation]) -> list[Equation]:
@@ -259,7 +281,7 @@ def _element_offsets(system, body: str, P: str):
 
 def _element_accelerations(system, body: str, P: str):
     """(element, m_k, r_k/P, a_k) per element, a_k by Eq. 15 from P."""
-    a_P = system.point_acceleration(body, P)
+    a_P = system.point_kinematics(body, P)[2]
     w, al = system.omega(body), system.alpha(body)
     return [(e, m, r, a_P + k_cross(al, r) - w**2 * r) for e, m, r in _element_offsets(system, body, P)]
 
@@ -301,7 +323,7 @@ def _inertia_equation(system, body: str, P: str) -> Equation:
 
 def _euler_step(system, body: str, P: str, forces: list[_Force]) -> tuple[Step, list[_Force]]:
     r_P = system.point_position(body, P)
-    a_P = system.point_acceleration(body, P)
+    a_P = system.point_kinematics(body, P)[2]
     al = system.alpha(body)
     rates = system.qdd + [c.qd**2 for c in system.coordinates]
     lhs, dropped = [], []

@@ -23,7 +23,9 @@ from dataclasses import dataclass
 import sympy as sp
 
 
-__all__ = ["NamedEquation", "generalized_euler_equations", "mass_center_equations", "closure_equations"]
+__all__ = [
+    "NamedEquation", "body_equations", "generalized_euler_equations", "mass_center_equations", "closure_equations",
+]
 
 
 @dataclass(frozen=True)
@@ -98,34 +100,41 @@ def generalized_euler_equations(system, points: dict[str, str]) -> list[NamedEqu
     For a single element these are Eqs. (1), (6) and (10).
     """
     out = []
-    for name, body in system.bodies.items():
-        P = points[name]
-        composite = len(body.elements) > 1
-        r_P = system.point_position(name, P)
-        a_P = system.point_acceleration(name, P)
-        w, al = system.omega(name), system.alpha(name)
-        centers = [system.body_point(name, e.mass_center) for e in body.elements]
-        S = [sp.Add(*[e.mass * (c[k] - r_P[k]) for e, c in zip(body.elements, centers)]) for k in (0, 1)]
-        if system.is_body_point(name, P):
-            I_P = body.inertia_about(body.body_coords(P))
-        else:  # an instant point: the distances from the elements change with the configuration
-            I_P = sp.Add(*[e.I_G + e.mass * ((c[0] - r_P[0]) ** 2 + (c[1] - r_P[1]) ** 2)
-                           for e, c in zip(body.elements, centers)])
-        forces, couples = _loads_on(system, name)
-        m = body.total_mass
-        F = _resultant(forces)
-        w2 = w**2
-        newton = (F[0] - (m * a_P[0] - al * S[1] - w2 * S[0]),   # alpha k x S = (-alpha S_y, alpha S_x)
-                  F[1] - (m * a_P[1] + al * S[0] - w2 * S[1]))
-        euler = _moment_about(forces, couples, r_P) - (S[0] * a_P[1] - S[1] * a_P[0]) - I_P * al
-        nref = "Eq. (14)" if composite else "Eq. (1)"
-        eref = "Eq. (11)" if composite else "Eq. (10)"
-        out += [
-            NamedEquation(_label(system, name, "Newton x"), newton[0], nref, name),
-            NamedEquation(_label(system, name, "Newton y"), newton[1], nref, name),
-            NamedEquation(_label(system, name, f"Euler about {P}"), euler, eref, name),
-        ]
+    for name in system.bodies:
+        out += body_equations(system, name, points[name])
     return out + closure_equations(system)
+
+
+def body_equations(system, name: str, P: str, a_P=None) -> list[NamedEquation]:
+    """Newton x, Newton y and the generalized Euler equation about P of one body (see
+    :func:`generalized_euler_equations`); ``a_P``: P's acceleration, by default the placement's
+    (:meth:`System.point_acceleration`)."""
+    body = system.bodies[name]
+    composite = len(body.elements) > 1
+    r_P = system.point_position(name, P)
+    a_P = system.point_acceleration(name, P) if a_P is None else a_P
+    w, al = system.omega(name), system.alpha(name)
+    centers = [system.body_point(name, e.mass_center) for e in body.elements]
+    S = [sp.Add(*[e.mass * (c[k] - r_P[k]) for e, c in zip(body.elements, centers)]) for k in (0, 1)]
+    if system.is_body_point(name, P):
+        I_P = body.inertia_about(body.body_coords(P))
+    else:  # an instant point: the distances from the elements change with the configuration
+        I_P = sp.Add(*[e.I_G + e.mass * ((c[0] - r_P[0]) ** 2 + (c[1] - r_P[1]) ** 2)
+                       for e, c in zip(body.elements, centers)])
+    forces, couples = _loads_on(system, name)
+    m = body.total_mass
+    F = _resultant(forces)
+    w2 = w**2
+    newton = (F[0] - (m * a_P[0] - al * S[1] - w2 * S[0]),   # alpha k x S = (-alpha S_y, alpha S_x)
+              F[1] - (m * a_P[1] + al * S[0] - w2 * S[1]))
+    euler = _moment_about(forces, couples, r_P) - (S[0] * a_P[1] - S[1] * a_P[0]) - I_P * al
+    nref = "Eq. (14)" if composite else "Eq. (1)"
+    eref = "Eq. (11)" if composite else "Eq. (10)"
+    return [
+        NamedEquation(_label(system, name, "Newton x"), newton[0], nref, name),
+        NamedEquation(_label(system, name, "Newton y"), newton[1], nref, name),
+        NamedEquation(_label(system, name, f"Euler about {P}"), euler, eref, name),
+    ]
 
 
 def mass_center_equations(system) -> list[NamedEquation]:

@@ -36,7 +36,7 @@ import sympy as sp
 from ..errors import SceneError
 from ..tree_value import NotEvaluable, tree_value
 from .bodies import GROUND, Ground, RigidBody
-from .joints import Actuator, Contact, Joint, Motor, k_cross, rotation, vec
+from .joints import Actuator, Contact, Joint, Motor, Pin, k_cross, rotation, vec
 from .loads import Load
 
 __all__ = ["Coordinate", "System", "ClosureRow", "RedundantConstraints"]
@@ -571,6 +571,59 @@ class System:
 
     def is_body_point(self, body: str, point: str) -> bool:
         return self._resolve(body, point)[0] == "body"
+
+    def fixed_point(self, body: str):
+        """The point of ``body`` that a pin to the ground holds still, or None.
+
+        Returns
+        -------
+        (Pin, str or None, sympy.Matrix, sympy.Matrix) or None
+            The joint, the body's name for the point (None when it has none),
+            its body-frame coordinates and its fixed-frame place (the ground's
+            point: ground points never move).
+        """
+        def build():
+            if body == GROUND:
+                return None
+            for j in self.joints:
+                if isinstance(j, Pin) and {j.first, j.second} == {GROUND, body}:
+                    coords, place = ((j.at_second, j.at_first) if j.first == GROUND else (j.at_first, j.at_second))
+                    b = self.bodies[body]
+                    name = next((n for n, p in b.points.items() if not p.is_instant
+                                 and all(sp.expand(x - y) == 0 for x, y in zip(p.coords, coords))), None)
+                    return j, name, sp.Matrix(coords), sp.Matrix(place)
+            return None
+        return self._memo(("fixed", body), build)
+
+    def point_kinematics(self, body: str, point: str) -> tuple[sp.Matrix, sp.Matrix, sp.Matrix]:
+        """Position, velocity and acceleration of a named point on the motion the joints allow.
+
+        Those of :meth:`point_position`, :meth:`point_velocity` and
+        :meth:`point_acceleration` (the placement, true for every value of the
+        coordinates), except on a body that a pin to the ground holds
+        (:meth:`fixed_point`) but that the placement reaches through other
+        bodies (a four-bar's rocker, placed through the coupler): there the
+        placement writes the pivot along the loop, fixed only where the closure
+        equations hold. The motion is then carried from the pivot F, at its
+        fixed place with v_F = a_F = 0, by the rigid-body relation
+        (Eqs. 6, 15): r = r_F + r_/F, v = omega x r_/F,
+        a = alpha x r_/F - omega^2 r_/F, r_/F from the placement (the body's own
+        angle only). Used for the moment equation about P; the placement's
+        kinematics stay where the equations must hold off the loop too (the
+        multipliers' equations, Kane's projection, Lagrange's equations).
+        """
+        def build():
+            r = self.point_position(body, point)
+            held = self.fixed_point(body)
+            if held is not None:
+                r_F = self.body_point(body, held[2])
+                if any(sp.expand(x - y) != 0 for x, y in zip(r_F, held[3])):
+                    rel = vec(r[0] - r_F[0], r[1] - r_F[1])
+                    w, al = self.omega(body), self.alpha(body)
+                    return (vec(held[3][0] + rel[0], held[3][1] + rel[1]), vec(-w * rel[1], w * rel[0]),
+                            vec(-al * rel[1] - w**2 * rel[0], al * rel[0] - w**2 * rel[1]))
+            return r, self.point_velocity(body, point), self.point_acceleration(body, point)
+        return self._memo(("kinematics", body, point), build)
 
     # -- joints: reactions, closure ---------------------------------------------------------------
     @property
