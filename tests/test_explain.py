@@ -596,6 +596,29 @@ def test_four_bar_advisor_takes_the_rocker_about_its_fixed_pivot():
     assert "a_O4 = 0 (a fixed point)" in best
 
 
+def test_four_bar_pin_to_the_ground_written_either_way(tmp_path):
+    """The pivot pin spelled the other way round (``connects = ["rocker:O4", "ground:O4"]``: the
+    rocker first) acts on the rocker at the rocker's own O4, so about O4 its moment equation holds
+    the same 3 unknowns as above, and the solution is the same motion: the accelerations equal,
+    the O4 reactions opposite in sign (a pin's reactions are the force on its second body, now the
+    ground). Equal to round-off (1e-12): the same equations up to that sign."""
+    from solver.analyses.instant import solve_instant
+
+    text = (ROOT / "data" / "scenes" / "four_bar.toml").read_text()
+    spelled = 'connects = ["ground:O4", "rocker:O4"]'
+    assert text.count(spelled) == 1
+    path = tmp_path / "four_bar_reversed.toml"
+    path.write_text(text.replace(spelled, 'connects = ["rocker:O4", "ground:O4"]'))
+    system = load_system(path)
+    rocker = explain(system).section("rocker")
+    assert rocker.step("dropped").text[0] == "The moment equation about O4 contains 3 unknown(s): theta4_ddot, B_x, B_y."
+    ours = solve_instant(system).unknowns
+    shipped = solve_instant(load_system(ROOT / "data" / "scenes" / "four_bar.toml")).unknowns
+    for name, value in shipped.items():
+        sign = -1 if name.startswith("O4_") else 1
+        assert ours[name].magnitude == pytest.approx(sign * value.magnitude, rel=1e-12, abs=1e-12), name
+
+
 def test_suggest_point_in_the_contact_regime(capsys):
     """The advisor ranks points in the regime that holds at the state; for contacts that hold a
     body redundantly it says that no point separates their (indeterminate) forces."""

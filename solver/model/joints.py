@@ -197,15 +197,22 @@ class Joint:
     def loads(self, pose: Pose, t: sp.Symbol) -> list[JointLoad]:
         """Each reaction as unit loads on the second body and, opposite, on the first."""
         out = []
+        on_first = self._first_body_point(pose)
         for reaction, (force, at, couple) in zip(self.reactions, self._unit_loads(pose, t)):
             for body, sign in ((self.second, 1), (self.first, -1)):
                 out.append(JointLoad(
                     reaction, body,
                     None if force is None else sign * force,
-                    at,
+                    at if body == self.second or on_first is None else on_first,
                     sign * couple,
                 ))
         return out
+
+    def _first_body_point(self, pose: Pose) -> sp.Matrix | None:
+        """Where the reactions act on the first body when that is its own point (a pin's
+        ``at_first``), rather than the second body's point (the same place wherever the joint
+        holds); None: the second body's point (:meth:`_unit_loads`)."""
+        return None
 
     def _unit_loads(self, pose: Pose, t: sp.Symbol):
         """(force per unit reaction or None, application point, couple) per reaction."""
@@ -361,6 +368,12 @@ class Pin(Joint):
     def _unit_loads(self, pose, t):
         at = _at(pose, self.second, self.at_second)
         return [(sp.Matrix([1, 0]), at, 0), (sp.Matrix([0, 1]), at, 0)]
+
+    def _first_body_point(self, pose):
+        """The first body's own pin point: its reactions' moment about that point is then zero in
+        every configuration, not only where the loop closes (a pin to the ground written
+        ``["rocker:O4", "ground:O4"]``: the rocker's moment about its pivot holds no pivot force)."""
+        return _at(pose, self.first, self.at_first)
 
 
 # --------------------------------------------------------------------------- rail
