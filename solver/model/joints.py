@@ -27,6 +27,8 @@ from typing import Callable, ClassVar
 
 import sympy as sp
 from sympy.polys.domains import EXRAW as _EXRAW
+from sympy.polys.domains import QQ as _QQ
+from sympy.polys.domains import ZZ as _ZZ
 from sympy.polys.matrices import DomainMatrix as _DomainMatrix
 
 from .contacts import SLIDING, STICK, Friction, Regime
@@ -46,14 +48,17 @@ def vec(x, y) -> sp.Matrix:
     a call, and the model builds tens of 2-vectors per command."""
     x = x if isinstance(x, sp.Basic) else sp.sympify(x)
     y = y if isinstance(y, sp.Basic) else sp.sympify(y)
-    if x.is_Rational and y.is_Rational or not (isinstance(x, sp.Expr) and isinstance(y, sp.Expr)):
-        return sp.Matrix([x, y])  # an integer or rational domain, or sympy's deprecation warning
+    if not (isinstance(x, sp.Expr) and isinstance(y, sp.Expr)):
+        return sp.Matrix([x, y])  # sympy's deprecation warning for non-expressions
     rows = {}
     if x != 0:
         rows[0] = {0: x}
     if y != 0:
         rows[1] = {0: y}
-    return sp.MutableDenseMatrix._fromrep(_DomainMatrix(rows, (2, 1), _EXRAW))
+    rep = _DomainMatrix(rows, (2, 1), _EXRAW)
+    if x.is_Rational and y.is_Rational:  # sympy's domain for numbers: integers ZZ, rationals QQ
+        rep = rep.convert_to(_ZZ if x.is_Integer and y.is_Integer else _QQ)
+    return sp.MutableDenseMatrix._fromrep(rep)
 
 
 def rotation(phi: sp.Expr) -> sp.Matrix:

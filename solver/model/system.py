@@ -385,8 +385,8 @@ class System:
                 a, b = sp.diff(row, X), sp.diff(row, Y)
                 if a == 0 and b == 0:
                     continue
-                if any(sp.diff(c, s) != 0 for c in (a, b) for s in (X, Y)):
-                    continue  # not linear in the translation
+                if a.has(X, Y) or b.has(X, Y):
+                    continue  # not linear in the translation (rows hold X, Y only through the origin)
                 candidates.append((j.placement_priority, j, k, a, b, row))
         candidates.sort(key=lambda c: (c[0], c[1].row_rank(c[2])))
         chosen = []
