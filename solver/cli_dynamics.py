@@ -75,7 +75,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     )
     add_common_arguments(p, method=False)  # --method is the integrator here
     p.add_argument("--t-end", required=True, metavar="T",
-                   help=f'end time, e.g. "10 s" (bare number: seconds; at most {MAX_T_END:g} s)')
+                   help=f'end time, e.g. "10 s" (bare number: seconds; at most {MAX_T_END:g} s); the run starts '
+                   "at the scene's time (its `time`, 0 unless given)")
     p.add_argument("--method", dest="ivp_method", choices=METHODS, default="DOP853",
                    help="solve_ivp method (default DOP853)")
     p.add_argument("--rtol", type=float_in(1e-13, 0.1), default=1e-9,
@@ -280,7 +281,11 @@ def simulate_command(args: argparse.Namespace) -> int:
     loaded = load_scene_from_args(args)
     if len(loaded.free) != 1 or loaded.closure or len(loaded.bodies) != 1 or loaded.free[0].kind != "angle" \
             or loaded.time_dependent or any(j.friction is not None for j in loaded.contacts):
-        return _simulate_multibody(args, loaded, t_end)
+        # --t-end is the end time; the run starts at the scene's own time (`time`, 0 unless given)
+        if not t_end > loaded.time:
+            raise InputError(f"--t-end {args.t_end!r} is not after the scene's start time, {loaded.time:g} s "
+                             "(its `time`): give the time the run should end at")
+        return _simulate_multibody(args, loaded, t_end - loaded.time)
     scene, _, system = _system(args)
     res = simulate(system, t_end, y0=state_si(scene), method=args.ivp_method, rtol=args.rtol, atol=args.atol,
                    mu=args.mu, samples=args.samples, progress=args.progress)

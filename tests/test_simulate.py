@@ -258,3 +258,17 @@ def test_an_interpolant_that_fails_later_is_an_input_error():
     broken.append(True)
     with pytest.raises(InputError, match="oscillator: integration failed: float division by zero"):
         sol.sol(1.5)
+
+
+def test_t_end_is_the_end_time_for_a_scene_that_starts_later(solver_cli):
+    """--t-end is an end time (its help says so): the slider-crank scene starts at its `time`,
+    t = 0.004 s, so --t-end 0.006 s runs 2 ms and its last sample is at 0.006 s (it was run for
+    0.006 s, to 0.010 s); an end before the start is refused in one line naming the flag."""
+    scene = "data/scenes/slider_crank.toml"
+    code, out, err = solver_cli("simulate", scene, "--t-end", "0.006 s", "--samples", "3", "--json")
+    assert code == 0, err
+    result = json.loads(out)
+    assert result["status"] == "completed" and result["t_final"] == {"value": 0.006, "unit": "s"}
+    code, out, err = solver_cli("simulate", scene, "--t-end", "0.002 s")
+    assert code == 2 and out == "" and err.count("\n") == 1
+    assert "--t-end '0.002 s' is not after the scene's start time, 0.004 s" in err
