@@ -75,6 +75,9 @@ class Check:
         For the HTML table.
     explanation : str
         Why it disagrees (for the findings section), when it does.
+    published_text : str
+        The published value exactly as printed (``"-0.05080"``, ``"50.0"``): the HTML shows it, so
+        that its printed precision, which sets the tolerance, is visible; empty when not a number.
     outcome : EquationOutcome or None
         The symbolic comparison behind an equation row.
     """
@@ -92,6 +95,7 @@ class Check:
     tolerance: str = ""
     explanation: str = ""
     caveat: str = ""
+    published_text: str = ""
     outcome: EquationOutcome | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
@@ -118,6 +122,14 @@ def not_checkable(id_: str, kind: str, published, reason: str, label: str = "", 
 
 
 # --------------------------------------------------------------------------- numbers
+def _signed(printed: str | None, value: float) -> str:
+    """The printed text with the value's sign: Eq. (29) prints a negative coefficient as a minus
+    sign between terms and the magnitude (``0.05080``), and the row shows ``-0.05080``."""
+    if not printed:
+        return ""
+    return "-" + printed if value < 0 and not printed.lstrip().startswith("-") else printed
+
+
 def _digits(printed: str, extra: int = 3) -> int:
     text = printed.strip()
     decimals = len(text.split(".")[1]) if "." in text else 0
@@ -335,6 +347,7 @@ def example1_value_checks(values_path: Path, eqset: EquationSet, scene, deriv, s
                     id=key,
                     kind="value",
                     published=value,
+                    published_text=_signed(printed, value),
                     computed=round(magnitude, _digits(printed or "0", 4)),
                     verdict="agrees" if ok else "disagrees",
                     detail=(
@@ -399,6 +412,7 @@ def example1_value_checks(values_path: Path, eqset: EquationSet, scene, deriv, s
                 id=key,
                 kind="value",
                 published=value,
+                published_text=entry["printed"],
                 computed=round(magnitude, _digits(entry["printed"])),
                 verdict="agrees" if ok else "disagrees",
                 detail=detail,
@@ -475,6 +489,7 @@ def example1_value_checks(values_path: Path, eqset: EquationSet, scene, deriv, s
                 id=key,
                 kind="value",
                 published=value,
+                published_text=entry["printed"],
                 computed=round(magnitude, _digits(entry["printed"], 4)),
                 verdict="agrees" if ok else "disagrees",
                 detail=(
@@ -582,6 +597,7 @@ def survey_checks(dataset_path: Path) -> tuple[list[Check], SurveyResults]:
                     id=f"table1-item{item_no}-{_slug(cell.label)}",
                     kind="table-cell",
                     published=cell.published,
+                    published_text=cell.printed,
                     computed=computed,
                     verdict="agrees" if ok else "disagrees",
                     detail=detail,

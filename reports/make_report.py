@@ -19,6 +19,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import re
 import shutil
 import subprocess
 import tempfile
@@ -413,8 +414,8 @@ def build(root: Path = ROOT, out: Path | None = None, pdf: str = "auto", log=pri
             "prose": paper.PROSE,
             "survey": survey,
             "benchmarks": bench,
-            "tolerance_notes": checks_mod.__doc__.split("Tolerances (documented once, applied everywhere)")[1]
-            .split("\n", 2)[2].strip(),
+            "tolerance_notes": _doc_bullets(checks_mod.__doc__.split("Tolerances (documented once, applied "
+                                                                     "everywhere)")[1].split("\n", 2)[2]),
             "engine": None,
         }
 
@@ -463,6 +464,27 @@ def build(root: Path = ROOT, out: Path | None = None, pdf: str = "auto", log=pri
 
 
 _SESSION_CACHE: dict[tuple[str, str], dict] = {}
+
+
+def _doc_bullets(text: str) -> list[list[tuple[str, bool]]]:
+    """A docstring's ``* `` bullet list as items of (text, is code) parts for the HTML: the lines
+    of each item joined, and reST's inline literals and roles (````x````, ``:func:`x```) marked as
+    code instead of shown raw (the template escapes every part)."""
+    items: list[str] = []
+    for line in text.strip().splitlines():
+        if line.startswith("* "):
+            items.append(line[2:].strip())
+        elif items and line.strip():
+            items[-1] += " " + line.strip()
+    pattern = re.compile(r"``(.+?)``|:\w+:`(.+?)`")
+    out = []
+    for item in items:
+        parts, at = [], 0
+        for m in pattern.finditer(item):
+            parts += [(item[at:m.start()], False), (m.group(1) or m.group(2), True)]
+            at = m.end()
+        out.append(parts + [(item[at:], False)])
+    return out
 
 
 def build_cached(out: Path, root: Path = ROOT) -> dict:

@@ -63,6 +63,9 @@ PROBE = r"""
   out.texLeftovers = (text.match(/\$\$|\\frac|\\left|\\begin\{|\\\(|\\\[/g) || []).length;
   out.scripts = document.querySelectorAll('script').length;
   out.external = Array.from(document.querySelectorAll('[src], link[href]')).map(e => e.src || e.href).filter(u => /^https?:/.test(u));
+  out.pageWidth = document.documentElement.scrollWidth;
+  out.viewWidth = document.documentElement.clientWidth;
+  out.rawDocMarkup = (text.match(/:func:`|:class:`|``/g) || []).length;
   return JSON.stringify(out);
 })()
 """
@@ -213,6 +216,9 @@ def test_page_renders_in_chromium(built, page, browser):
     assert probe["svgs"] >= 2 and probe["emptySvgs"] == 0, f"{page}: figures missing or empty: {probe}"
     assert probe["texLeftovers"] == 0, f"{page}: raw TeX left in the text"
     assert probe["scripts"] == 0 and probe["external"] == [], f"{page}: scripts or network resources: {probe}"
+    # at the 1280 px window nothing is wider than the page (a wide table of equations scrolls by itself)
+    assert probe["pageWidth"] <= probe["viewWidth"], f"{page}: wider than the window: {probe['pageWidth']} px"
+    assert probe["rawDocMarkup"] == 0, f"{page}: reST markup (``x``, :func:`x`) shown raw"
     assert len(base64.b64decode(shot)) > 20_000, f"{page}: screenshot suspiciously small (blank page?)"
 
 

@@ -81,6 +81,24 @@ def test_build_writes_every_output(built):
     ends = re.findall(r"\\end\{(\w+\*?)\}", tex)
     assert sorted(begins) == sorted(ends)
     assert tex.count("{") - tex.count("\\{") == tex.count("}") - tex.count("\\}")
+    # LaTeX numbers nothing itself: the article's equation numbers are tags and the figures' captions
+    # number themselves ("Figure 1, redrawn ..."), so "Eq. (10)" and "Figure 3" mean the article's
+    assert "\\caption{" not in tex and not re.search(r"\\begin\{equation\}(?![^\n]*\n[^\n]*\\tag)", tex)
+    assert re.findall(r"\\tag\{(\d+)\}", tex) == ["10", "11", "14", "14"]
+
+
+def test_printed_column_shows_the_value_as_printed(built):
+    """The "printed" column of the HTML shows each published number as data/published records it
+    (trailing zeros kept: they set the printed precision and with it the tolerance), with the
+    value's sign where the paper prints the sign apart (Eq. 29's minus between terms)."""
+    page = (Path(built["out"]) / "report.html").read_text(encoding="utf-8")
+
+    def printed_cell(row_id):
+        row = re.search(rf'<tr id="row-{row_id}">(.*?)</tr>', page, flags=re.S).group(1)
+        return re.sub(r"\s+", " ", re.findall(r"<td[^>]*>(.*?)</td>", row, flags=re.S)[2]).strip()
+
+    assert printed_cell("eq29-r1-alpha") == "-0.05080"  # example1.toml: printed "0.05080", value -0.05080
+    assert printed_cell("table1-item1-definitely-agree") == "50.0 %"  # table1.csv prints 50.0
 
 
 def test_verification_json_schema_and_required_rows(verification):
