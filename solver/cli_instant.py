@@ -264,9 +264,15 @@ def eom_command(args: argparse.Namespace) -> int:
     print(f"  M = {text(mass)}")
     print()
     print("reactions as functions of the state (SI parameters give SI values), and their values at the state:")
+    from solver.display import _size
+
     for name, expr in reactions.items():
         entry = at_state[name]
-        print(f"  {name} = {text(expr)}")
+        nodes = _size(expr)
+        if nodes > DISPLAY_MAX_NODES:  # thousands of characters: a screenful nobody reads
+            print(f"  {name} = (a closed form of {nodes} nodes, too long to read here; --json and --latex print it)")
+        else:
+            print(f"  {name} = {text(expr)}")
         print(f"      = {format_number(entry['value'])} {entry['unit']} at the state")
     return 0
 
@@ -329,11 +335,48 @@ def _eom_multi(args, system) -> int:
         print(f"dependent coordinates {', '.join(c.name for c in system.dependent)} follow from the closure "
               "equations (their values and rates appear as symbols)")
     print()
+    if system.closure:
+        _print_projection(f, text)
+        return 0
     for c, e in zip(coords, shown):
         print(f"equation for {c.name} (reactions eliminated):")
         print(f"  {text(e)} = 0")
         print()
     return 0
+
+
+def _print_projection(f, text) -> None:
+    """The equations of a system with closure equations as built (:class:`solver.analyses.eom.Projection`),
+    each part tidied on its own: every coordinate's equation E_q (closure reactions left out), the
+    velocity ratios k = dv'/du', and the dependent accelerations from the closure differentiated
+    twice; the equation for u is E_u + sum_v k_v E_v = 0 (written out whole, it runs to thousands
+    of characters)."""
+    from solver.analyses.eom import projection
+    from solver.display import tidy, tidy_linear
+
+    p = projection(f)
+    system = f.system
+    qdd = [c.qdd for c in system.free]
+    qd = [c.qd for c in system.free]
+    rates = [a * b for i, a in enumerate(qd) for b in qd[i:]]
+    for k, u in enumerate(p.independent):
+        terms = [f"E_{u.name}"] + [f"k_{v.name}_{u.name}*E_{v.name}" for v in p.dependent]
+        print(f"equation for {u.name} (reactions eliminated: the coordinates' equations projected on the motions "
+              "the closure allows, with the velocity ratios k):")
+        print(f"  {' + '.join(terms)} = 0")
+        print()
+    print("where each coordinate's equation (its closure reactions drop out of the sum) is")
+    for c, e in zip(system.free, p.equations):
+        print(f"  E_{c.name} = {text(tidy_linear(e, qdd + rates))}")
+    print("the velocity ratios (the closure's Jacobian, dv' = k du') are")
+    for j, v in enumerate(p.dependent):
+        for k, u in enumerate(p.independent):
+            print(f"  k_{v.name}_{u.name} = {text(tidy(p.ratios[j, k]))}")
+    print("and the dependent accelerations, from the closure equations differentiated twice:")
+    for j, (v, a) in enumerate(zip(p.dependent, p.dependent_rate_terms)):
+        lead = " + ".join(f"k_{v.name}_{u.name}*{u.name}_ddot" for u in p.independent)
+        print(f"  {v.name}_ddot = {lead} + {text(tidy_linear(a, rates))}")
+    print()
 
 
 def _tidy_multi(expr, system):
@@ -351,6 +394,10 @@ DISPLAY_BUDGET_S = 4.0
 """Most CPU time spent tidying one expression for display [s]."""
 DISPLAY_MAX_OPS = 200
 """Expressions larger than this are printed as derived (cancel gets slow)."""
+DISPLAY_MAX_NODES = 1500
+"""A reaction's closed form with more expression-tree nodes than this is not printed in the text
+output (the paper scenes' have under 100; a plate on two links, solved by Cramer's rule, has
+tens of thousands): its value at the state is, and --json and --latex give the expression."""
 
 
 class _OutOfTime(Exception):

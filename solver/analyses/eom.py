@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-__all__ = ["equations_of_motion", "reduced_equations_of_motion"]
+__all__ = ["equations_of_motion", "reduced_equations_of_motion", "projection", "Projection"]
 
 
 def _reference_velocity(formulation, body: str) -> sp.Matrix:
@@ -83,29 +83,60 @@ def reduced_equations_of_motion(formulation) -> tuple[list[sp.Expr], list]:
     s = formulation.system
 
     def build():
-        eqs = equations_of_motion(formulation)
-        free = s.free
-        ind = [i for i, c in enumerate(free) if not c.dependent]
-        dep = [i for i, c in enumerate(free) if c.dependent]
-        Phi = sp.Matrix([r.expr for r in s.closure])
-        q = sp.Matrix(s.q)
-        J = Phi.jacobian(q)
-        Ju, Jv = J[:, ind], J[:, dep]
-        Jv_inv = Jv.inv(method="LU")
-        B = sp.zeros(len(free), len(ind))
-        for k, i in enumerate(ind):
-            B[i, k] = 1
-        Bv = -Jv_inv * Ju
-        for k, i in enumerate(dep):
-            B[i, :] = Bv[k, :]
-        zero_l = {r.reaction.symbol: 0 for r in s.closure}
-        projected = [sp.Add(*[B[i, k] * eqs[i] for i in range(len(free))]).xreplace(zero_l) for k in range(len(ind))]
-        acc = sp.Matrix([s.D(s.D(r.expr)) for r in s.closure])
-        qdd = [c.qdd for c in free]
-        rest = acc.xreplace({x: 0 for x in qdd})
-        udd = sp.Matrix([free[i].qdd for i in ind])
-        vdd = -Jv_inv * (Ju * udd + rest)
-        subs = {free[i].qdd: vdd[k] for k, i in enumerate(dep)}
-        return [e.xreplace(subs) for e in projected], [free[i] for i in ind]
+        p = projection(formulation)
+        projected = [sp.Add(*[p.ratio(i, k) * e for i, e in enumerate(p.equations)]) for k in range(len(p.independent))]
+        subs = {c.qdd: v for c, v in zip(p.dependent, p.dependent_accelerations)}
+        return [e.xreplace(subs) for e in projected], list(p.independent)
 
     return s._memo(("reduced_eom", formulation.method, tuple(sorted(formulation.points.items()))), build)
+
+
+class Projection:
+    """The parts of :func:`reduced_equations_of_motion`, kept apart for display (``eom`` on a loop).
+
+    Attributes
+    ----------
+    equations : list of sympy.Expr
+        Each free coordinate's equation of :func:`equations_of_motion` with the closure reactions
+        set to zero (they drop out of the projection).
+    independent, dependent : list of Coordinate
+    ratios : sympy.Matrix
+        dv'/du' = -Phi_v^-1 Phi_u (dependent x independent): the velocity ratios.
+    dependent_accelerations : list of sympy.Expr
+        v'' from the closure differentiated twice, in u'', the coordinates and their rates.
+    dependent_rate_terms : list of sympy.Expr
+        The same without the u'' terms: v'' = ratios u'' + dependent_rate_terms.
+    """
+
+    def __init__(self, formulation):
+        s = formulation.system
+        free = s.free
+        self.independent = [c for c in free if not c.dependent]
+        self.dependent = [c for c in free if c.dependent]
+        ind = [i for i, c in enumerate(free) if not c.dependent]
+        dep = [i for i, c in enumerate(free) if c.dependent]
+        zero_l = {r.reaction.symbol: 0 for r in s.closure}
+        self.equations = [e.xreplace(zero_l) for e in equations_of_motion(formulation)]
+        Phi = sp.Matrix([r.expr for r in s.closure])
+        J = Phi.jacobian(sp.Matrix(s.q))
+        Ju, Jv = J[:, ind], J[:, dep]
+        Jv_inv = Jv.inv(method="LU")
+        self.ratios = -Jv_inv * Ju
+        self._position = {i: ("dep", k) for k, i in enumerate(dep)} | {i: ("ind", k) for k, i in enumerate(ind)}
+        acc = sp.Matrix([s.D(s.D(r.expr)) for r in s.closure])
+        rest = acc.xreplace({c.qdd: 0 for c in free})
+        udd = sp.Matrix([c.qdd for c in self.independent])
+        self.dependent_accelerations = list(-Jv_inv * (Ju * udd + rest))
+        self.dependent_rate_terms = list(-Jv_inv * rest)  # v'' = ratios u'' + these (for display)
+
+    def ratio(self, i: int, k: int) -> sp.Expr:
+        """d q_i' / d u_k': 1 or 0 for an independent coordinate, the velocity ratio for a dependent one."""
+        kind, j = self._position[i]
+        return self.ratios[j, k] if kind == "dep" else sp.Integer(1 if j == k else 0)
+
+
+def projection(formulation) -> Projection:
+    """The :class:`Projection` of a system with closure equations (cached on the system)."""
+    s = formulation.system
+    return s._memo(("projection", formulation.method, tuple(sorted(formulation.points.items()))),
+                   lambda: Projection(formulation))
