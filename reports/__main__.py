@@ -9,4 +9,9 @@ gc.disable()
 
 from reports.cli import main  # noqa: E402
 
-sys.exit(main())
+status = main()
+# The interpreter still runs one full collection as it shuts down, disabled or not: over the heap a
+# build leaves that took about 0.5 s of CPU. Frozen objects are not traversed (the memory goes back
+# to the system with the process); every output is written and closed by now.
+gc.freeze()
+sys.exit(status)
