@@ -7,13 +7,15 @@ the solver) are imported.
 from __future__ import annotations
 
 import argparse
+import gc
 import sys
+from contextlib import contextmanager
 from pathlib import Path
 
 from reports.published import ReportInputError
 from solver.errors import InputError
 
-__all__ = ["main", "validate_build"]
+__all__ = ["main", "validate_build", "cyclic_gc_paused"]
 
 ROOT = Path(__file__).resolve().parent.parent
 DESCRIPTION = "Build the verification report and the reproducible paper (``make report``)."
@@ -25,6 +27,27 @@ def validate_build(root, pdf) -> None:
         raise ValueError(f"`pdf` must be one of ('auto', 'never'), got {pdf!r}")
     if not (Path(root) / "data").is_dir():
         raise ReportInputError(f"{root}: not the project root (no data/ folder)")
+
+
+@contextmanager
+def cyclic_gc_paused():
+    """Run a block with Python's cyclic garbage collector off, then restore its previous state.
+
+    A build allocates a great many short-lived sympy and matplotlib objects on top of the large heap
+    of the imported modules, and each full collection walks all of it: in a cold build of about 4 s
+    of CPU, five full collections took 0.33 s and the younger ones another 0.1 s. Reference counting
+    still frees every object that is not part of a cycle; the cycles left (figures, sympy caches)
+    held some 13 MB more at the end of a build. Nothing the build computes depends on when the
+    collector runs. The first collection after the block walks what the block left (about 0.2 s
+    after a build): ``python -m reports`` keeps the collector off until it exits instead.
+    """
+    was_enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if was_enabled:
+            gc.enable()
 
 
 def main(argv: list[str] | None = None) -> int:

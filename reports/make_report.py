@@ -32,7 +32,7 @@ from markupsafe import Markup
 
 from reports import checks as checks_mod
 from reports import figures, mathfont, paper, provenance
-from reports.cli import main, validate_build
+from reports.cli import cyclic_gc_paused, main, validate_build
 from reports.mathml import equation_mathml, to_latex, to_mathml
 from reports.published import ReportInputError, load_equations
 from solver.errors import InputError
@@ -233,9 +233,18 @@ def build(root: Path = ROOT, out: Path | None = None, pdf: str = "auto", log=pri
     ------
     InputError
         Bad input files (one line).
+
+    Notes
+    -----
+    Python's cyclic garbage collector is paused during the build (:func:`reports.cli.cyclic_gc_paused`).
     """
     validate_build(root, pdf)
-    root = Path(root)
+    with cyclic_gc_paused():
+        return _build(Path(root), out, pdf, log)
+
+
+def _build(root: Path, out: Path | None, pdf: str, log) -> dict:
+    """:func:`build`, with the collector paused by the caller."""
     out = Path(out) if out is not None else root / "reports" / "build"
     out.parent.mkdir(parents=True, exist_ok=True)
     started = time.perf_counter()

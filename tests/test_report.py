@@ -330,6 +330,25 @@ def test_load_equations_names_file_and_place(tmp_path):
         load_equations(path)
 
 
+def test_the_collector_pause_restores_the_state_it_found():
+    """build() pauses the cyclic collector; a caller's process must get back the state it had."""
+    import gc
+
+    from reports.cli import cyclic_gc_paused
+
+    was = gc.isenabled()
+    try:
+        for before in (True, False):
+            (gc.enable if before else gc.disable)()
+            with pytest.raises(KeyError):  # restored on the way out of a failure too
+                with cyclic_gc_paused():
+                    assert not gc.isenabled()
+                    raise KeyError("inside")
+            assert gc.isenabled() is before
+    finally:
+        (gc.enable if was else gc.disable)()
+
+
 def test_command_line_has_no_traceback_on_bad_root(tmp_path):
     done = subprocess.run([sys.executable, "-m", "reports", "--root", str(tmp_path), "--out", str(tmp_path / "o")],
                           cwd=ROOT, capture_output=True, text=True, timeout=120, check=False)
