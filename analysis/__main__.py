@@ -267,23 +267,34 @@ def _notes(data) -> None:
         sys.stderr.write("\n")
 
 
+#: Options of the in-memory route that the out-of-core count (--by) cannot honour, with
+#: their defaults: any other value is refused, never ignored.
+_NOT_WITH_BY = (("--group", "group", None), ("--chart", "chart", None),
+                ("--reliability", "reliability", None), ("--codes", "codes", None),
+                ("--group-order", "group_order", None), ("--shape", "shape", "auto"),
+                ("--encoding", "encoding", None),
+                ("--unknown-as-missing", "unknown_as_missing", False),
+                ("--percent-method", "percent_method", "round"))
+
+
 def _cmd_summarize_by(args) -> int:
     """Large files: counted out of core by DuckDB per group (``--by``)."""
-    for flag, value in (("--group", args.group), ("--chart", args.chart),
-                        ("--reliability", args.reliability), ("--codes", args.codes)):
-        if value is not None:
+    for flag, name, default in _NOT_WITH_BY:
+        if getattr(args, name) != default:
             return _usage_error(f"summarize: {flag} is not available with --by (the "
                                 "out-of-core count); use --group on a file that fits memory")
     _check_table_output(args.table)
     from .institution import summarize_by
     res = summarize_by(args.file, args.by, scale=args.scale, items=args.items,
-                       min_group=args.min_group)
+                       min_group=args.min_group, reverse=args.reverse,
+                       respondents=args.respondents, confidence_level=args.confidence,
+                       method=args.ci)
     if args.table:
         import pandas as pd
         from .export import write_table
         write_table(pd.DataFrame(res.rows()), args.table)
     print(json.dumps(res.to_dict(), indent=2, ensure_ascii=False) if args.json
-          else res.format_text())
+          else res.format_text(args.decimals))
     return 0
 
 

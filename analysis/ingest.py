@@ -1028,26 +1028,15 @@ def _column_index(raw: _Raw, name: str) -> int:
     raise SurveyInputError(f"no column {name!r}; columns are {raw.header!r}", raw.source, 1)
 
 
-def _resolve_reverse(source, names, reverse) -> set:
-    out = set()
-    for pat in _as_list(reverse):
-        hits = [n for n in names if name_matches(pat, n)]
-        if not hits:
-            raise SurveyInputError(f"reverse-keyed item {pat!r} is not an item; items are {names!r}",
-                                   source)
-        out.update(hits)
-    return out
+_resolve_reverse = platforms.resolve_reverse
 
 
 def _declare(data: SurveyData, respondents: int | None) -> SurveyData:
     if respondents is None:
         return data
+    from .likert import absent_respondents
     have = data.respondents
-    if respondents < have:
-        raise SurveyInputError(
-            f"{respondents} respondents declared, but the file holds {have} responses",
-            data.source)
-    if respondents > have:
+    if absent_respondents(respondents, have, data.source):
         pad = np.full((respondents - have, len(data.items)), BLANK, dtype=np.int8)
         data.answers = np.vstack([data.answers, pad])
         data.rows = np.concatenate([data.rows, np.zeros(respondents - have, dtype=np.int64)])

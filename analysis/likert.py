@@ -44,13 +44,44 @@ import numpy as np
 
 from .rounding import largest_remainder, round_fraction
 
-__all__ = ["CI_METHODS", "PERCENT_METHODS", "Proportion", "ItemSummary", "SurveySummary",
+__all__ = ["CI_METHODS", "PERCENT_METHODS", "absent_respondents", "Proportion", "ItemSummary", "SurveySummary",
            "proportion", "summarize", "summarize_dataframe"]
 
 #: Valid interval methods (statsmodels names): Wilson score, Clopper-Pearson.
 CI_METHODS = ("wilson", "beta")
 #: Valid printed-percentage methods.
 PERCENT_METHODS = ("round", "largest_remainder")
+#: Names of the interval methods as printed.
+CI_NAMES = {"wilson": "Wilson", "beta": "Clopper-Pearson"}
+#: Printed after a reverse-keyed item's name, explained by :data:`REVERSE_NOTE`.
+REVERSE_MARK = " (R)"
+REVERSE_NOTE = ("(R) reverse-keyed item: counts, percentages and agreement are the answers as "
+                "given (raw, not reversed); median, IQR, mean and SD use the reversed codes")
+
+
+def interval_label(confidence_level: float, method: str) -> str:
+    """The interval as printed, e.g. ``"95% Wilson interval"``."""
+    return f"{100 * confidence_level:.10g}% {CI_NAMES[method]} interval"
+
+
+def absent_respondents(declared: "int | None", have: int, source: str) -> int:
+    """Respondents declared (``--respondents``) but absent from the file (0 if none declared).
+
+    They are counted as missing on every item, so that the invariant
+    ``n + missing + excluded == respondents`` holds for the declared number.
+
+    Raises
+    ------
+    SurveyInputError
+        Fewer respondents declared than the file holds.
+    """
+    if declared is None:
+        return 0
+    if declared < have:
+        from .errors import SurveyInputError
+        raise SurveyInputError(f"{declared} respondents declared, but the file holds {have} "
+                               f"responses", source)
+    return declared - have
 
 
 def _validate_ci(method, confidence_level):
@@ -350,7 +381,8 @@ class SurveySummary:
         cw = max([len(lab) for lab in labels] + [14])
         head = f"{'item':<{width}}  " + "  ".join(f"{lab:>{cw}}" for lab in labels)
         out.append(head + f"  {'n':>5} {'miss':>5} {'n/a':>5}  {'median':>6} {'IQR':>5} "
-                   f"{'mean':>5} {'SD':>5}  agree [95% CI]")
+                   f"{'mean':>5} {'SD':>5}  agree "
+                   f"[{interval_label(self.confidence_level, self.ci_method)}]")
         stem = ""
         for it in self.items:
             if it.stem and it.stem != stem:
