@@ -25,7 +25,10 @@ Cliff's delta of group A against group B is
 computed here by sorting and binary search (no n_A * n_B pair matrix).
 
 Groups with fewer respondents than ``min_size`` (default 5) are suppressed: their
-results are not shown and they take no part in the tests; the reason is given.
+results are not shown and they take no part in the tests; the reason is given. As the
+survey's total is shown beside the groups, the smallest other groups are suppressed too
+when a small group would otherwise be the total minus the groups shown
+(:mod:`analysis.disclosure`).
 Group values match as answers do, ignoring case and white space ("Mon", " mon ").
 
 Public API: :func:`compare_groups` -> :class:`GroupComparison` (``to_dict()``,
@@ -39,6 +42,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import stats
 
+from .disclosure import suppress_groups
 from .errors import SurveyInputError
 from .ingest import SurveyData
 from .scales import normalize_answer
@@ -150,6 +154,7 @@ class GroupComparison:
     labels: list = field(default_factory=list)
     summaries: dict = field(default_factory=dict, repr=False)   # shown group -> SurveySummary
     paired_by: str = ""
+    note: str = ""
 
     @property
     def shown(self) -> list[str]:
@@ -158,6 +163,7 @@ class GroupComparison:
 
     def to_dict(self) -> dict:
         return {"column": self.column, "min_size": self.min_size, "paired_by": self.paired_by,
+                "note": self.note,
                 "groups": [g.to_dict() for g in self.groups],
                 "items": [i.to_dict() for i in self.items]}
 
@@ -182,6 +188,8 @@ class GroupComparison:
         for g in self.groups:
             out.append(f"  {g.name}: {g.respondents} respondents"
                        + (f" -- suppressed: {g.reason}" if g.suppressed else ""))
+        if self.note:
+            out.append(f"  note: {self.note}")
         width = max([len(g) for g in self.shown] + [5])
         for it in self.items:
             if it.test == "none":
@@ -282,12 +290,17 @@ def compare_groups(data: SurveyData, column: str, min_size: int = 5,
     sizes = np.bincount(inverse, minlength=len(values))
     # respondents of each group, found once (a scan per group was quadratic in the groups)
     members = np.split(np.argsort(inverse, kind="stable"), np.cumsum(sizes)[:-1])
+    withheld = suppress_groups(sizes, min_size, [str(v) for v in values])
     for g, val in enumerate(values):
         size = int(sizes[g])
         if size < min_size:
             infos.append(GroupInfo(str(val), size, True,
                                    f"{size} respondent{'s' if size != 1 else ''} < {min_size}: "
                                    f"too few to report without identifying people"))
+        elif withheld.withheld(g):
+            infos.append(GroupInfo(str(val), size, True,
+                                   "complementary suppression: with it shown, a smaller group "
+                                   "would be the total minus the groups shown"))
         else:
             infos.append(GroupInfo(str(val), size, False))
             shown.append(g)
@@ -297,7 +310,7 @@ def compare_groups(data: SurveyData, column: str, min_size: int = 5,
             f"{MAX_GROUP_CELLS} group-item pairs are compared (raise --min-group or choose "
             f"--items)", data.source)
     comp = GroupComparison(column=name, min_size=min_size, groups=infos,
-                           labels=list(data.scale.labels))
+                           labels=list(data.scale.labels), note=withheld.note)
     for g in shown:
         comp.summaries[str(values[g])] = summarize(data.subset(members[g]))
     pairs = _pairs(data, inverse, shown, min_size) if paired and len(shown) == 2 else None

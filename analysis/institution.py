@@ -32,6 +32,7 @@ import numpy as np
 
 from . import platforms
 from ._io import is_regular_file
+from .disclosure import suppress_groups
 from .errors import SurveyInputError
 from .likert import (REVERSE_MARK, REVERSE_NOTE, _num, _validate_ci, absent_respondents,
                      interval_label)
@@ -106,18 +107,32 @@ class GroupedSummary:
         return self._item_summaries(self.tallies[g], int(self.respondents[g]),
                                     confidence_level, method)
 
+    def suppression(self):
+        """The groups withheld: under :attr:`min_group`, and their complements (the
+        institution-wide totals are shown, see :mod:`analysis.disclosure`)."""
+        return suppress_groups(self.respondents, self.min_group,
+                               [" / ".join(v or "(blank)" for v in key) for key in self.groups])
+
     def suppressed(self, g: int) -> bool:
-        return int(self.respondents[g]) < self.min_group
+        """Group ``g`` is withheld (small, or its complement)."""
+        return self.suppression().withheld(g)
+
+    def _why(self, g: int) -> str:
+        if int(self.respondents[g]) < self.min_group:
+            return f"fewer than {self.min_group} respondents"
+        return ("complementary suppression: with it shown, a smaller group would be the "
+                "total minus the groups shown")
 
     def rows(self) -> list[dict]:
         """One record per (group, item), institution-wide first; suppressed groups blanked."""
         out = []
+        withheld = self.suppression()
         for g in [None] + list(range(len(self.groups))):
             values = ["(all)"] * len(self.by) if g is None else list(self.groups[g])
             key = dict(zip(self.by, values))
-            if g is not None and self.suppressed(g):
+            if g is not None and withheld.withheld(g):
                 out.append({**key, "item": "", "respondents": int(self.respondents[g]),
-                            "suppressed": f"fewer than {self.min_group} respondents"})
+                            "suppressed": self._why(g)})
                 continue
             sums = self.overall() if g is None else self.group_summaries(g)
             for it in sums:
@@ -138,7 +153,11 @@ class GroupedSummary:
                 "reversed": [n for n in self.items if n in self.reverse],
                 "respondents": int(self.respondents.sum()), "groups": len(self.groups),
                 "overall": [it.to_dict() for it in self.overall()], "rows": self.rows(),
-                "notes": list(self.notes)}
+                "notes": self._all_notes()}
+
+    def _all_notes(self) -> list:
+        note = self.suppression().note
+        return list(self.notes) + ([note] if note else [])
 
     def format_text(self, decimals: int = 1) -> str:
         """One line per (group, item), institution-wide first; the agreement share printed
@@ -148,11 +167,12 @@ class GroupedSummary:
                f"counted out of core (DuckDB); agreement with its "
                f"{interval_label(self.confidence_level, self.ci_method)}"]
         labels = list(self.scale.labels)
+        withheld = self.suppression()
         for g in [None] + list(range(len(self.groups))):
             head = " / ".join(["(all)"] * len(self.by) if g is None
                               else [v or "(blank)" for v in self.groups[g]])
-            if g is not None and self.suppressed(g):
-                out.append(f"{head}: suppressed (fewer than {self.min_group} respondents)")
+            if g is not None and withheld.withheld(g):
+                out.append(f"{head}: suppressed ({self._why(g)})")
                 continue
             for it in (self.overall() if g is None else self.group_summaries(g)):
                 dist = " ".join(str(it.counts[lab]) for lab in labels)
@@ -168,7 +188,7 @@ class GroupedSummary:
         out.append("counts in scale order: " + ", ".join(labels))
         if self.reverse:
             out.append(REVERSE_NOTE)
-        out.extend(f"note: {n}" for n in self.notes)
+        out.extend(f"note: {n}" for n in self._all_notes())
         return "\n".join(out)
 
 

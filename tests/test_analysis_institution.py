@@ -31,6 +31,8 @@ def _long(tmp_path, seed=1, n=120):
             a = "" if rng.random() < 0.05 else "N/A" if rng.random() < 0.03 else rng.choice(AGREE5)
             rows.append([course, term, f"r{r}", q, a])
     rows.append(["C9", "2025SP", "lonely", "Q1", "Agree"])   # a group of one: suppressed
+    # and one of four: suppressed; pooled the two hold five, so no other group is withheld
+    rows += [["C8", "2025SP", f"few{k}", "Q1", "Disagree"] for k in range(4)]
     f = tmp_path / "long.csv"
     with open(f, "w", newline="") as fh:
         csv.writer(fh).writerows([["course", "term", "respondent", "item", "answer"]] + rows)
@@ -53,7 +55,7 @@ def test_long_file_by_course_and_term_matches_a_tally(tmp_path):
             # blank answers plus respondents of the group with no row for the item
             assert it.missing == cells.get("", 0) + len(people[key]) - sum(cells.values())
     sup = [r for r in res.rows() if r.get("suppressed")]
-    assert [(r["course"], r["term"]) for r in sup] == [("C9", "2025SP")]
+    assert [(r["course"], r["term"]) for r in sup] == [("C8", "2025SP"), ("C9", "2025SP")]
 
 
 def test_overall_equals_the_small_file_route_and_parquet_equals_csv(tmp_path, capsys):
@@ -171,7 +173,8 @@ def test_by_honours_reverse_interval_and_declared_respondents(tmp_path, capsys):
     f = tmp_path / "survey3.csv"
     f.write_text(SURVEY3)
     assert main(["summarize", str(f), "--by", "Section", "--reverse", "Q3", "--ci", "beta",
-                 "--confidence", "0.5", "--respondents", "20", "--json"]) == 0
+                 "--confidence", "0.5", "--respondents", "20", "--min-group", "2",
+                 "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert (out["ci_method"], out["confidence_level"], out["reversed"]) == ("beta", 0.5, ["Q3"])
     q1, q3 = out["overall"][0], out["overall"][2]
