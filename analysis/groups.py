@@ -45,6 +45,7 @@ from scipy import stats
 from .disclosure import suppress_groups
 from .errors import SurveyInputError
 from .ingest import SurveyData
+from .likert import REVERSE_MARK, REVERSE_NOTE, REVERSED_STATISTICS
 from .scales import normalize_answer
 
 __all__ = ["GroupInfo", "ItemComparison", "GroupComparison", "compare_groups", "cliffs_delta",
@@ -122,6 +123,8 @@ class ItemComparison:
         Respondents paired across the two groups (Wilcoxon test), else 0.
     trend : dict or None
         More than two groups: Spearman ``rho`` and ``p_value`` of code on group position.
+    reverse : bool
+        Reverse-keyed: tests and median, IQR, mean, SD on reversed codes; counts raw.
     """
 
     item: str
@@ -135,9 +138,12 @@ class ItemComparison:
     p_holm: float | None = None
     pairs: int = 0
     trend: dict | None = None
+    reverse: bool = False
 
     def to_dict(self) -> dict:
-        return {"item": self.item, "test": self.test, "statistic": self.statistic,
+        return {"item": self.item, "reversed": self.reverse,
+                "reversed_statistics": list(REVERSED_STATISTICS) if self.reverse else [],
+                "test": self.test, "statistic": self.statistic,
                 "p_value": self.p_value, "p_holm": self.p_holm, "effect_name": self.effect_name,
                 "effect": self.effect, "pairs": self.pairs, "trend": self.trend,
                 "per_group": self.per_group, "note": self.note}
@@ -173,8 +179,10 @@ class GroupComparison:
         rows = []
         for it in self.items:
             for g, d in it.per_group.items():
-                row = {"item": it.item, "group": g, "n": d["n"], "missing": d["missing"],
-                       "excluded": d["excluded"]}
+                row = {"item": it.item, "group": g, "reversed": it.reverse,
+                       "statistics on reversed codes": ", ".join(
+                           REVERSED_STATISTICS if it.reverse else ()),
+                       "n": d["n"], "missing": d["missing"], "excluded": d["excluded"]}
                 row.update({f"{lab} (count)": d["counts"][lab] for lab in self.labels})
                 row.update({f"{lab} (%)": d["percent"][lab] for lab in self.labels})
                 row.update({k: d[k] for k in ("agree_share", "median", "iqr", "mean", "sd")})
@@ -192,12 +200,13 @@ class GroupComparison:
             out.append(f"  note: {self.note}")
         width = max([len(g) for g in self.shown] + [5])
         for it in self.items:
+            name = it.item + (REVERSE_MARK if it.reverse else "")
             if it.test == "none":
-                out.append(f"  {it.item}: no test ({it.note})")
+                out.append(f"  {name}: no test ({it.note})")
             else:
                 holm = "" if it.p_holm is None else f", Holm p = {it.p_holm:.4g}"
                 pairs = f" on {it.pairs} pairs" if it.pairs else ""
-                out.append(f"  {it.item}: {it.test}{pairs} statistic {it.statistic:.4g}, "
+                out.append(f"  {name}: {it.test}{pairs} statistic {it.statistic:.4g}, "
                            f"p = {it.p_value:.4g}{holm}, {it.effect_name} = {it.effect:.3f}")
             if it.trend:
                 out.append(f"    trend over {' -> '.join(self.shown)}: Spearman rho = "
@@ -208,6 +217,8 @@ class GroupComparison:
                 out.append(f"    {g:<{width}} n={d['n']:<4} agree {agree:>4} | {dist} | "
                            f"median {_num(d['median'])} IQR {_num(d['iqr'])} "
                            f"mean {_num(d['mean'], 2)} SD {_num(d['sd'], 2)}")
+        if any(it.reverse for it in self.items):
+            out.append(f"  {REVERSE_NOTE}")
         return "\n".join(out)
 
 
@@ -328,6 +339,7 @@ def compare_groups(data: SurveyData, column: str, min_size: int = 5,
             sel = a[members[g]]
             samples.append(codes[sel[sel >= 0]])
         comp.items.append(_test_item(item, samples, per, codes, a, pairs, min_size))
+        comp.items[-1].reverse = rev
     _holm(comp.items)
     return comp
 

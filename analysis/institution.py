@@ -34,6 +34,7 @@ from . import platforms
 from ._io import is_regular_file
 from .disclosure import suppress_groups
 from .errors import SurveyInputError
+from .export import reversal_columns
 from .likert import (REVERSE_MARK, REVERSE_NOTE, _num, _validate_ci, absent_respondents,
                      interval_label)
 from .scales import BUILTIN_SCALES, Scale, get_scale, normalize_answer
@@ -136,7 +137,7 @@ class GroupedSummary:
                 continue
             sums = self.overall() if g is None else self.group_summaries(g)
             for it in sums:
-                rec = {**key, "item": it.item, "reversed": it.reverse,
+                rec = {**key, "item": it.item, **reversal_columns(it),
                        "respondents": it.respondents, "n": it.n,
                        "missing": it.missing, "excluded": it.excluded}
                 rec.update({f"{lab} (count)": it.counts[lab] for lab in it.labels})

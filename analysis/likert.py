@@ -57,6 +57,8 @@ CI_NAMES = {"wilson": "Wilson", "beta": "Clopper-Pearson"}
 REVERSE_MARK = " (R)"
 REVERSE_NOTE = ("(R) reverse-keyed item: counts, percentages and agreement are the answers as "
                 "given (raw, not reversed); median, IQR, mean and SD use the reversed codes")
+#: The statistics a reverse-keyed item gives on reversed codes (counts stay raw).
+REVERSED_STATISTICS = ("median", "iqr", "mean", "sd")
 
 
 def interval_label(confidence_level: float, method: str) -> str:
@@ -286,10 +288,17 @@ class ItemSummary:
 
     def to_dict(self) -> dict:
         """The ``summarize --json`` item (plus ``excluded`` for the invariant)."""
-        return {"item": self.item, "n": self.n, "missing": self.missing,
-                "excluded": self.excluded, "counts": dict(self.counts),
+        return {"item": self.item, "reversed": self.reverse,
+                "reversed_statistics": self.reversed_statistics, "n": self.n,
+                "missing": self.missing, "excluded": self.excluded, "counts": dict(self.counts),
                 "percent": dict(self.percent), "agree": self.agree.to_dict(),
                 "median": self.median, "iqr": self.iqr, "mean": self.mean, "sd": self.sd}
+
+    @property
+    def reversed_statistics(self) -> list:
+        """The statistics given on reversed codes (none unless reverse-keyed; counts,
+        percentages and shares are always of the answers as given)."""
+        return list(REVERSED_STATISTICS) if self.reverse else []
 
     def to_full_dict(self) -> dict:
         d = self.to_dict()
@@ -356,9 +365,14 @@ class SurveySummary:
         ``{"respondents": int, "items": [...], "not_items": [str], "dropped": [{"row",
         "reason"}], "unknown_answers": [{"row", "column", "value"}]}``: every column
         left out of the table and every row or answer not counted is listed, as the
-        text output lists them.
+        text output lists them. Each item says whether it is ``reversed`` and which
+        statistics use reversed codes (``reversed_statistics``; counts stay raw);
+        ``reverse_note`` says so in words when an item is reversed.
         """
-        return {"respondents": self.respondents, "items": [i.to_dict() for i in self.items],
+        note = REVERSE_NOTE if any(i.reverse for i in self.items) else ""
+        return {"respondents": self.respondents, "ci_method": self.ci_method,
+                "confidence_level": self.confidence_level, "reverse_note": note,
+                "items": [i.to_dict() for i in self.items],
                 "not_items": list(self.other_columns),
                 "dropped": [vars(d) for d in self.dropped],
                 "unknown_answers": [vars(u) for u in self.unknown_answers]}
@@ -377,7 +391,7 @@ class SurveySummary:
         labels = list(self.scale.labels)
         out = [f"{self.source}: {self.respondents} respondents, scale {self.scale.name!r}, "
                f"shape {self.shape}"]
-        width = max([len(i.item) for i in self.items] + [4])
+        width = max([len(_name(i)) for i in self.items] + [4])
         cw = max([len(lab) for lab in labels] + [14])
         head = f"{'item':<{width}}  " + "  ".join(f"{lab:>{cw}}" for lab in labels)
         out.append(head + f"  {'n':>5} {'miss':>5} {'n/a':>5}  {'median':>6} {'IQR':>5} "
@@ -393,14 +407,21 @@ class SurveySummary:
             ag = it.agree
             agree = ("-" if ag.share is None else
                      f"{ag.percent_text(1)}% [{ag.ci[0]:.1%}, {ag.ci[1]:.1%}]")
-            out.append(f"{it.item:<{width}}  {cells}  {it.n:>5} {it.missing:>5} "
+            out.append(f"{_name(it):<{width}}  {cells}  {it.n:>5} {it.missing:>5} "
                        f"{it.excluded:>5}  {_num(it.median):>6} {_num(it.iqr):>5} "
                        f"{_num(it.mean, 2):>5} {_num(it.sd, 2):>5}  {agree}")
+        if any(it.reverse for it in self.items):
+            out.append(REVERSE_NOTE)
         for d in self.dropped:
             out.append(f"dropped row {d.row}: {d.reason}")
         if self.other_columns:
             out.append("not items (left out of the table): " + ", ".join(self.other_columns))
         return "\n".join(out)
+
+
+def _name(it: ItemSummary) -> str:
+    """An item's name as printed, marked when reverse-keyed."""
+    return it.item + (REVERSE_MARK if it.reverse else "")
 
 
 def _num(x, decimals: int = 1) -> str:
