@@ -171,7 +171,8 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--reliability", nargs="*", metavar="ITEM",
                    help="Cronbach's alpha for these items (none given: all items)")
     s.add_argument("--decimals", type=_int_in(0, 6), default=1,
-                   help="printed decimals, 0..6 (text output; default 1)")
+                   help="printed decimals of percentages, 0..6 (text output, group lines "
+                        "included; default 1)")
     s.add_argument("--percent-method", choices=("round", "largest_remainder"), default="round",
                    help="printed percentages: round each (default) or make rows sum to 100")
     s.add_argument("--chart", metavar="OUT.svg",
@@ -377,8 +378,10 @@ def _cmd_summarize(args) -> int:
         print(json.dumps(out, indent=2, ensure_ascii=False))
     else:
         print(summary.format_text(args.decimals, args.percent_method))
-        for v in extra.values():
-            print(v.format_text())
+        if "groups" in extra:
+            print(extra["groups"].format_text(args.decimals, args.percent_method))
+        if "reliability" in extra:
+            print(extra["reliability"].format_text())
     return 0
 
 

@@ -190,7 +190,15 @@ class GroupComparison:
                 rows.append(row)
         return pd.DataFrame(rows)
 
-    def format_text(self) -> str:
+    def printed(self, j: int, group: str, decimals: int = 1, method: str = "round"):
+        """Item ``j`` of a shown group as printed: (percent per label, agreement percent),
+        by the rule of the main table (:meth:`~analysis.likert.ItemSummary.printed_percent`)."""
+        it = self.summaries[group].items[j]
+        return it.printed_percent(decimals, method), it.agree.percent_text(decimals)
+
+    def format_text(self, decimals: int = 1, method: str = "round") -> str:
+        """Tests per item, then one line per shown group with its distribution, printed
+        to ``decimals`` places by ``method`` as the main table prints it."""
         out = [f"groups by {self.column!r} (groups under {self.min_size} respondents suppressed)"
                + (f"; pre/post paired by {self.paired_by!r}" if self.paired_by else "")]
         for g in self.groups:
@@ -199,7 +207,7 @@ class GroupComparison:
         if self.note:
             out.append(f"  note: {self.note}")
         width = max([len(g) for g in self.shown] + [5])
-        for it in self.items:
+        for j, it in enumerate(self.items):
             name = it.item + (REVERSE_MARK if it.reverse else "")
             if it.test == "none":
                 out.append(f"  {name}: no test ({it.note})")
@@ -212,8 +220,9 @@ class GroupComparison:
                 out.append(f"    trend over {' -> '.join(self.shown)}: Spearman rho = "
                            f"{it.trend['rho']:.3f}, p = {it.trend['p_value']:.4g}")
             for g, d in it.per_group.items():
-                dist = " ".join(f"{lab} {d['percent'][lab]:.0f}%" for lab in self.labels)
-                agree = "-" if d["agree_share"] is None else f"{100 * d['agree_share']:.0f}%"
+                pp, agree = self.printed(j, g, decimals, method)
+                dist = " ".join(f"{lab} {pp[lab]:.{decimals}f}%" for lab in self.labels)
+                agree = "-" if agree == "-" else f"{agree}%"
                 out.append(f"    {g:<{width}} n={d['n']:<4} agree {agree:>4} | {dist} | "
                            f"median {_num(d['median'])} IQR {_num(d['iqr'])} "
                            f"mean {_num(d['mean'], 2)} SD {_num(d['sd'], 2)}")

@@ -42,7 +42,7 @@ from fractions import Fraction
 
 import numpy as np
 
-from .rounding import largest_remainder, round_fraction
+from .rounding import largest_remainder, percent_text, round_fraction
 
 __all__ = ["CI_METHODS", "PERCENT_METHODS", "absent_respondents", "Proportion", "ItemSummary", "SurveySummary",
            "proportion", "summarize", "summarize_dataframe"]
@@ -127,7 +127,7 @@ class Proportion:
         a category and as a share); ``"-"`` when n == 0."""
         if self.n == 0:
             return "-"
-        return f"{float(round_fraction(Fraction(100 * self.k, self.n), decimals)):.{decimals}f}"
+        return percent_text(self.k, self.n, decimals)
 
     def to_dict(self) -> dict:
         return {"share": self.share, "ci": list(self.ci)}
@@ -406,7 +406,8 @@ class SurveySummary:
             cells = "  ".join(f"{f'{pp[lab]:.{decimals}f}% ({it.counts[lab]})':>{cw}}" for lab in labels)
             ag = it.agree
             agree = ("-" if ag.share is None else
-                     f"{ag.percent_text(1)}% [{ag.ci[0]:.1%}, {ag.ci[1]:.1%}]")
+                     f"{ag.percent_text(decimals)}% [{ag.ci[0]:.{decimals}%}, "
+                     f"{ag.ci[1]:.{decimals}%}]")
             out.append(f"{_name(it):<{width}}  {cells}  {it.n:>5} {it.missing:>5} "
                        f"{it.excluded:>5}  {_num(it.median):>6} {_num(it.iqr):>5} "
                        f"{_num(it.mean, 2):>5} {_num(it.sd, 2):>5}  {agree}")

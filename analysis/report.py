@@ -105,7 +105,7 @@ def render_report(data: SurveyData, claims=None, group: str | None = None, min_g
     return env.get_template("survey_report.html.j2").render(
         title=title or f"Survey report: {Path(data.source).name}", s=s,
         printed=[it.printed_percent(decimals, percent_method) for it in s.items],
-        decimals=decimals, rounding_note=rounding,
+        decimals=decimals, percent_method=percent_method, rounding_note=rounding,
         ci_name={"wilson": "Wilson", "beta": "Clopper-Pearson"}[method],
         fmt=_fmt, svg=Markup(svg), claims=claims_rep, groups=groups, group_svg=group_svg,
         reliability=rel,

@@ -82,7 +82,7 @@ def test_pre_post_paired_by_id_matches_scipy(tmp_path, capsys):
         holm[k] = running
     assert [it.p_holm for it in comp.items] == pytest.approx([holm[0], holm[1]], rel=1e-12)
     # text and HTML show the per-group distributions, not only p-values
-    assert main(["summarize", str(f), "--group", "Term"]) == 0
+    assert main(["summarize", str(f), "--group", "Term", "--decimals", "0"]) == 0
     out = capsys.readouterr().out
     pre_agree = 100 * comp.items[0].per_group["Pre"]["agree_share"]
     assert re.search(rf"Pre +n=40 +agree +{pre_agree:.0f}%", out)
@@ -240,3 +240,53 @@ def test_no_suppressed_group_is_the_total_minus_the_shown_groups(tmp_path, capsy
         rest = remainder(total["counts"], [{lab: r[f"{lab} (count)"] for lab in AGREE5}
                                            for r in rows])
         assert rest != c_counts
+
+
+PREPOST = """student_id,Term,Q1,Q2
+1,Pre,Disagree,Neutral
+2,Pre,Strongly disagree,Agree
+3,Pre,Agree,Disagree
+4,Pre,Strongly disagree,Strongly disagree
+5,Pre,Agree,Strongly agree
+6,Pre,Strongly disagree,Neutral
+7,Pre,Disagree,Neutral
+8,Pre,Strongly disagree,Strongly disagree
+1,Post,Disagree,Strongly agree
+2,Post,Neutral,Strongly disagree
+3,Post,Strongly agree,Agree
+4,Post,Neutral,Disagree
+5,Post,Strongly agree,Agree
+6,Post,Neutral,Strongly disagree
+7,Post,Disagree,Strongly agree
+8,Post,Strongly disagree,Disagree
+"""
+
+
+def test_group_lines_round_as_the_main_table(tmp_path, capsys):
+    """Group lines follow --decimals and --percent-method with the half-away rule.
+
+    By hand, Post answers Q1: SD 1, D 2, N 3, A 0, SA 2 of 8, i.e. 12.5, 25, 37.5, 0,
+    25 %. Half away from zero at 0 decimals: 13, 25, 38, 0, 25 (Python's round would
+    give 12 and 38). Largest remainder at 0 decimals: floors 12, 25, 37, 0, 25 leave 1
+    unit; the remainders .5 (SD) and .5 (N) tie, so the first label printed (SD) gets
+    it: 13, 25, 37, 0, 25 (adds up to 100). At 2 decimals: 12.50 25.00 37.50 0.00 25.00.
+    Post agreement on Q1: 2 of 8 = 25 %; on Q2 (A 2, SA 2): 4 of 8 = 50 %.
+    """
+    f = tmp_path / "prepost.csv"
+    f.write_text(PREPOST)
+
+    def post_q1(*flags):
+        assert main(["summarize", str(f), "--group", "Term", *flags]) == 0
+        lines = capsys.readouterr().out.splitlines()
+        q1 = lines.index(next(ln for ln in lines if ln.startswith("  Q1:")))
+        return next(ln for ln in lines[q1:] if ln.strip().startswith("Post"))
+
+    def cells(line):
+        return re.findall(r"(?:disagree|Disagree|Agree|agree) ([0-9.]+)%", line.split("|")[1])
+
+    assert cells(post_q1("--decimals", "0")) == ["13", "25", "38", "0", "25"]
+    assert cells(post_q1("--decimals", "0", "--percent-method", "largest_remainder")) == [
+        "13", "25", "37", "0", "25"]
+    line = post_q1("--decimals", "2")
+    assert cells(line) == ["12.50", "25.00", "37.50", "0.00", "25.00"]
+    assert re.search(r"agree 25\.00%", line)
