@@ -403,7 +403,8 @@ class SurveySummary:
                 out.append(f"{it.stem}")         # a grid's question, once above its rows
             stem = it.stem
             pp = it.printed_percent(decimals, method)
-            cells = "  ".join(f"{f'{pp[lab]:.{decimals}f}% ({it.counts[lab]})':>{cw}}" for lab in labels)
+            cells = "  ".join(f"{(f'{pp[lab]:.{decimals}f}%' if it.n else '-') + f' ({it.counts[lab]})':>{cw}}"
+                              for lab in labels)           # no percent of nobody
             ag = it.agree
             agree = ("-" if ag.share is None else
                      f"{ag.percent_text(decimals)}% [{ag.ci[0]:.{decimals}%}, "
