@@ -306,24 +306,10 @@ def compare_groups(data: SurveyData, column: str, min_size: int = 5,
     from .likert import summarize
     name = _validate_groups(data, column, min_size, order)
     inverse, values = _group_values([str(v) for v in data.groups[name]], order, data.source)
-    infos, shown = [], []
     sizes = np.bincount(inverse, minlength=len(values))
     # respondents of each group, found once (a scan per group was quadratic in the groups)
     members = np.split(np.argsort(inverse, kind="stable"), np.cumsum(sizes)[:-1])
-    withheld = suppress_groups(sizes, min_size, [str(v) for v in values])
-    for g, val in enumerate(values):
-        size = int(sizes[g])
-        if size < min_size:
-            infos.append(GroupInfo(str(val), size, True,
-                                   f"{size} respondent{'s' if size != 1 else ''} < {min_size}: "
-                                   f"too few to report without identifying people"))
-        elif withheld.withheld(g):
-            infos.append(GroupInfo(str(val), size, True,
-                                   "complementary suppression: with it shown, a smaller group "
-                                   "would be the total minus the groups shown"))
-        else:
-            infos.append(GroupInfo(str(val), size, False))
-            shown.append(g)
+    infos, shown, withheld = _group_infos(values, sizes, min_size)
     if len(shown) * len(data.items) > MAX_GROUP_CELLS:
         raise SurveyInputError(
             f"grouping column {name!r}: {len(shown)} groups x {len(data.items)} items; at most "
@@ -351,6 +337,28 @@ def compare_groups(data: SurveyData, column: str, min_size: int = 5,
         comp.items[-1].reverse = rev
     _holm(comp.items)
     return comp
+
+
+def _group_infos(values, sizes, min_size):
+    """(GroupInfo per group, indices of the shown groups, the Suppression): groups under
+    ``min_size`` and their complements (:func:`analysis.disclosure.suppress_groups`) are
+    withheld, each with its reason."""
+    withheld = suppress_groups(sizes, min_size, [str(v) for v in values])
+    infos, shown = [], []
+    for g, val in enumerate(values):
+        size = int(sizes[g])
+        if size < min_size:
+            infos.append(GroupInfo(str(val), size, True,
+                                   f"{size} respondent{'s' if size != 1 else ''} < {min_size}: "
+                                   f"too few to report without identifying people"))
+        elif withheld.withheld(g):
+            infos.append(GroupInfo(str(val), size, True,
+                                   "complementary suppression: with it shown, a smaller group "
+                                   "would be the total minus the groups shown"))
+        else:
+            infos.append(GroupInfo(str(val), size, False))
+            shown.append(g)
+    return infos, shown, withheld
 
 
 def _per_group(it) -> dict:
