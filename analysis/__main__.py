@@ -4,10 +4,12 @@ Commands
 --------
 ``summarize FILE [--scale NAME|FILE] [--items ...] [--group COLUMN] [--chart OUT.svg] [--json]``
     Table 1 for a survey export; ``--json`` prints
-    ``{"respondents": int, "items": [{"item", "n", "missing", "excluded", "counts",
-    "percent", "agree": {"share", "ci"}}], "not_items": [str], "dropped": [{"row",
-    "reason"}], "unknown_answers": [{"row", "column", "value"}]}`` (shares 0-1, percents
-    0-100): every column, row and answer left out is listed. With
+    ``{"respondents": int, "ci_method", "confidence_level", "reverse_note", "items":
+    [{"item", "reversed", "reversed_statistics", "n", "missing", "excluded", "counts",
+    "percent", "agree": {"share", "ci"}, "median", "iqr", "mean", "sd"}], "not_items": [str],
+    "dropped": [{"row", "reason"}], "unknown_answers": [{"row", "column", "value"}]}``
+    (shares 0-1, percents 0-100): every column, row and answer left out is listed; a
+    reverse-keyed item's counts are raw, ``reversed_statistics`` names those on reversed codes. With
     ``--group`` the JSON gains ``"groups"``; with ``--reliability`` it gains ``"reliability"``.
 ``claims FILE CLAIMS [--json]``
     Evaluate a claims TOML file against a survey export.
@@ -169,7 +171,8 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--reliability", nargs="*", metavar="ITEM",
                    help="Cronbach's alpha for these items (none given: all items)")
     s.add_argument("--decimals", type=_int_in(0, 6), default=1,
-                   help="printed decimals, 0..6 (text output; default 1)")
+                   help="printed decimals of percentages, 0..6 (text output, group lines "
+                        "included; default 1)")
     s.add_argument("--percent-method", choices=("round", "largest_remainder"), default="round",
                    help="printed percentages: round each (default) or make rows sum to 100")
     s.add_argument("--chart", metavar="OUT.svg",
@@ -267,23 +270,34 @@ def _notes(data) -> None:
         sys.stderr.write("\n")
 
 
+#: Options of the in-memory route that the out-of-core count (--by) cannot honour, with
+#: their defaults: any other value is refused, never ignored.
+_NOT_WITH_BY = (("--group", "group", None), ("--chart", "chart", None),
+                ("--reliability", "reliability", None), ("--codes", "codes", None),
+                ("--group-order", "group_order", None), ("--shape", "shape", "auto"),
+                ("--encoding", "encoding", None),
+                ("--unknown-as-missing", "unknown_as_missing", False),
+                ("--percent-method", "percent_method", "round"))
+
+
 def _cmd_summarize_by(args) -> int:
     """Large files: counted out of core by DuckDB per group (``--by``)."""
-    for flag, value in (("--group", args.group), ("--chart", args.chart),
-                        ("--reliability", args.reliability), ("--codes", args.codes)):
-        if value is not None:
+    for flag, name, default in _NOT_WITH_BY:
+        if getattr(args, name) != default:
             return _usage_error(f"summarize: {flag} is not available with --by (the "
                                 "out-of-core count); use --group on a file that fits memory")
     _check_table_output(args.table)
     from .institution import summarize_by
     res = summarize_by(args.file, args.by, scale=args.scale, items=args.items,
-                       min_group=args.min_group)
+                       min_group=args.min_group, reverse=args.reverse,
+                       respondents=args.respondents, confidence_level=args.confidence,
+                       method=args.ci)
     if args.table:
         import pandas as pd
         from .export import write_table
         write_table(pd.DataFrame(res.rows()), args.table)
     print(json.dumps(res.to_dict(), indent=2, ensure_ascii=False) if args.json
-          else res.format_text())
+          else res.format_text(args.decimals))
     return 0
 
 
@@ -364,8 +378,10 @@ def _cmd_summarize(args) -> int:
         print(json.dumps(out, indent=2, ensure_ascii=False))
     else:
         print(summary.format_text(args.decimals, args.percent_method))
-        for v in extra.values():
-            print(v.format_text())
+        if "groups" in extra:
+            print(extra["groups"].format_text(args.decimals, args.percent_method))
+        if "reliability" in extra:
+            print(extra["reliability"].format_text())
     return 0
 
 

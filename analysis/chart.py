@@ -30,6 +30,7 @@ from solver.drawing.layout import fix_layout  # matplotlib only (no sympy): the 
 
 from .errors import SurveyInputError
 from .likert import SurveySummary
+from .rounding import percent_text
 
 __all__ = ["ORDERS", "CHART_FORMATS", "MAX_CHART_ITEMS", "MAX_CHART_BARS", "diverging_bar",
            "faceted_bar", "figure_svg", "figure_bytes", "chart_format"]
@@ -106,17 +107,18 @@ def _draw_bars(ax, bars, scale, wrap: int) -> None:
         shown = w > 0
         ax.barh(y[shown], w[shown], left=left[shown], color=colors[lab], edgecolor="white",
                 linewidth=0.5, height=0.7)
-        for yi, lo, wi in zip(y[w >= 8], left[w >= 8], w[w >= 8]):
-            ax.text(lo + wi / 2, yi, f"{wi:.0f}", ha="center", va="center", fontsize=7,
-                    color="white" if lab not in neutral else "black")
+        for b in np.flatnonzero(w >= 8):
+            _, counts, n = bars[b]
+            ax.text(left[b] + w[b] / 2, y[b], percent_text(counts[lab], n, 0), ha="center",
+                    va="center", fontsize=7, color="white" if lab not in neutral else "black")
         left = left + w
-    dis = pct @ np.array([lab in negative for lab in drawn], dtype=float)
-    agr = pct @ np.array([lab in positive for lab in drawn], dtype=float)
-    for yi, (_, _, n), lo, hi, d, a in zip(y, bars, start, left, dis, agr):
-        if n:
-            ax.text(lo - 1.5, yi, f"{d:.0f}%", ha="right", va="center", fontsize=7,
+    for yi, (_, counts, n), lo, hi in zip(y, bars, start, left):
+        if n:                         # totals printed by the rule of every printed percentage
+            d = percent_text(sum(counts[lab] for lab in negative), n, 0)
+            a = percent_text(sum(counts[lab] for lab in positive), n, 0)
+            ax.text(lo - 1.5, yi, f"{d}%", ha="right", va="center", fontsize=7,
                     color=_NEG[0], fontweight="bold")
-            ax.text(hi + 1.5, yi, f"{a:.0f}%", ha="left", va="center", fontsize=7,
+            ax.text(hi + 1.5, yi, f"{a}%", ha="left", va="center", fontsize=7,
                     color=_POS[0], fontweight="bold")
     names = ["\n".join(textwrap.wrap(_plain(name), wrap) or [""]) + f"\n(n = {n})"
              for name, _, n in bars]

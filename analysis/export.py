@@ -1,6 +1,6 @@
 """Summary tables an instructor can reuse: pandas DataFrames, CSV and XLSX files.
 
-:func:`summary_frame` gives one row per item (counts and percent per label, n,
+:func:`summary_frame` gives one row per item (whether it is reverse-keyed, counts and percent per label, n,
 missing, excluded, agreement share and interval, median, IQR, mean, SD) -- the same
 numbers as ``summarize --json``. :func:`write_table` writes a DataFrame as CSV or
 XLSX by the file's suffix. Every text cell that a spreadsheet would read as a
@@ -17,7 +17,7 @@ from pathlib import Path
 
 from ._io import atomic_write, spreadsheet_safe
 
-__all__ = ["TABLE_FORMATS", "summary_frame", "write_table", "neutralise"]
+__all__ = ["TABLE_FORMATS", "summary_frame", "reversal_columns", "write_table", "neutralise"]
 
 #: Table file formats, chosen by the output file's suffix.
 TABLE_FORMATS = ("csv", "xlsx")
@@ -35,8 +35,8 @@ def summary_frame(summary):
     labels = list(summary.scale.labels)
     rows = []
     for it in summary.items:
-        row = {"item": it.item, "stem": it.stem, "n": it.n, "missing": it.missing,
-               "excluded": it.excluded}
+        row = {"item": it.item, "stem": it.stem, **reversal_columns(it), "n": it.n,
+               "missing": it.missing, "excluded": it.excluded}
         row.update({f"{lab} (count)": it.counts[lab] for lab in labels})
         row.update({f"{lab} (%)": it.percent[lab] for lab in labels})
         row.update({"agree (%)": None if it.agree.share is None else 100 * it.agree.share,
@@ -47,6 +47,13 @@ def summary_frame(summary):
                     "median": it.median, "IQR": it.iqr, "mean": it.mean, "SD": it.sd})
         rows.append(row)
     return pd.DataFrame(rows)
+
+
+def reversal_columns(it) -> dict:
+    """Table columns marking a reverse-keyed item: ``reversed`` (true or false) and
+    ``statistics on reversed codes`` (counts and percentages are always raw)."""
+    return {"reversed": it.reverse,
+            "statistics on reversed codes": ", ".join(it.reversed_statistics)}
 
 
 def table_format(path) -> str:

@@ -25,7 +25,10 @@ Cliff's delta of group A against group B is
 computed here by sorting and binary search (no n_A * n_B pair matrix).
 
 Groups with fewer respondents than ``min_size`` (default 5) are suppressed: their
-results are not shown and they take no part in the tests; the reason is given.
+results are not shown and they take no part in the tests; the reason is given. As the
+survey's total is shown beside the groups, the smallest other groups are suppressed too
+when a small group would otherwise be the total minus the groups shown
+(:mod:`analysis.disclosure`).
 Group values match as answers do, ignoring case and white space ("Mon", " mon ").
 
 Public API: :func:`compare_groups` -> :class:`GroupComparison` (``to_dict()``,
@@ -39,8 +42,10 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import stats
 
+from .disclosure import suppress_groups
 from .errors import SurveyInputError
 from .ingest import SurveyData
+from .likert import REVERSE_MARK, REVERSE_NOTE, REVERSED_STATISTICS
 from .scales import normalize_answer
 
 __all__ = ["GroupInfo", "ItemComparison", "GroupComparison", "compare_groups", "cliffs_delta",
@@ -118,6 +123,8 @@ class ItemComparison:
         Respondents paired across the two groups (Wilcoxon test), else 0.
     trend : dict or None
         More than two groups: Spearman ``rho`` and ``p_value`` of code on group position.
+    reverse : bool
+        Reverse-keyed: tests and median, IQR, mean, SD on reversed codes; counts raw.
     """
 
     item: str
@@ -131,9 +138,12 @@ class ItemComparison:
     p_holm: float | None = None
     pairs: int = 0
     trend: dict | None = None
+    reverse: bool = False
 
     def to_dict(self) -> dict:
-        return {"item": self.item, "test": self.test, "statistic": self.statistic,
+        return {"item": self.item, "reversed": self.reverse,
+                "reversed_statistics": list(REVERSED_STATISTICS) if self.reverse else [],
+                "test": self.test, "statistic": self.statistic,
                 "p_value": self.p_value, "p_holm": self.p_holm, "effect_name": self.effect_name,
                 "effect": self.effect, "pairs": self.pairs, "trend": self.trend,
                 "per_group": self.per_group, "note": self.note}
@@ -150,6 +160,7 @@ class GroupComparison:
     labels: list = field(default_factory=list)
     summaries: dict = field(default_factory=dict, repr=False)   # shown group -> SurveySummary
     paired_by: str = ""
+    note: str = ""
 
     @property
     def shown(self) -> list[str]:
@@ -158,6 +169,7 @@ class GroupComparison:
 
     def to_dict(self) -> dict:
         return {"column": self.column, "min_size": self.min_size, "paired_by": self.paired_by,
+                "note": self.note,
                 "groups": [g.to_dict() for g in self.groups],
                 "items": [i.to_dict() for i in self.items]}
 
@@ -167,8 +179,10 @@ class GroupComparison:
         rows = []
         for it in self.items:
             for g, d in it.per_group.items():
-                row = {"item": it.item, "group": g, "n": d["n"], "missing": d["missing"],
-                       "excluded": d["excluded"]}
+                row = {"item": it.item, "group": g, "reversed": it.reverse,
+                       "statistics on reversed codes": ", ".join(
+                           REVERSED_STATISTICS if it.reverse else ()),
+                       "n": d["n"], "missing": d["missing"], "excluded": d["excluded"]}
                 row.update({f"{lab} (count)": d["counts"][lab] for lab in self.labels})
                 row.update({f"{lab} (%)": d["percent"][lab] for lab in self.labels})
                 row.update({k: d[k] for k in ("agree_share", "median", "iqr", "mean", "sd")})
@@ -176,30 +190,44 @@ class GroupComparison:
                 rows.append(row)
         return pd.DataFrame(rows)
 
-    def format_text(self) -> str:
+    def printed(self, j: int, group: str, decimals: int = 1, method: str = "round"):
+        """Item ``j`` of a shown group as printed: (percent per label, agreement percent),
+        by the rule of the main table (:meth:`~analysis.likert.ItemSummary.printed_percent`)."""
+        it = self.summaries[group].items[j]
+        return it.printed_percent(decimals, method), it.agree.percent_text(decimals)
+
+    def format_text(self, decimals: int = 1, method: str = "round") -> str:
+        """Tests per item, then one line per shown group with its distribution, printed
+        to ``decimals`` places by ``method`` as the main table prints it."""
         out = [f"groups by {self.column!r} (groups under {self.min_size} respondents suppressed)"
                + (f"; pre/post paired by {self.paired_by!r}" if self.paired_by else "")]
         for g in self.groups:
             out.append(f"  {g.name}: {g.respondents} respondents"
                        + (f" -- suppressed: {g.reason}" if g.suppressed else ""))
+        if self.note:
+            out.append(f"  note: {self.note}")
         width = max([len(g) for g in self.shown] + [5])
-        for it in self.items:
+        for j, it in enumerate(self.items):
+            name = it.item + (REVERSE_MARK if it.reverse else "")
             if it.test == "none":
-                out.append(f"  {it.item}: no test ({it.note})")
+                out.append(f"  {name}: no test ({it.note})")
             else:
                 holm = "" if it.p_holm is None else f", Holm p = {it.p_holm:.4g}"
                 pairs = f" on {it.pairs} pairs" if it.pairs else ""
-                out.append(f"  {it.item}: {it.test}{pairs} statistic {it.statistic:.4g}, "
+                out.append(f"  {name}: {it.test}{pairs} statistic {it.statistic:.4g}, "
                            f"p = {it.p_value:.4g}{holm}, {it.effect_name} = {it.effect:.3f}")
             if it.trend:
                 out.append(f"    trend over {' -> '.join(self.shown)}: Spearman rho = "
                            f"{it.trend['rho']:.3f}, p = {it.trend['p_value']:.4g}")
             for g, d in it.per_group.items():
-                dist = " ".join(f"{lab} {d['percent'][lab]:.0f}%" for lab in self.labels)
-                agree = "-" if d["agree_share"] is None else f"{100 * d['agree_share']:.0f}%"
+                pp, agree = self.printed(j, g, decimals, method)
+                dist = " ".join(f"{lab} {pp[lab]:.{decimals}f}%" for lab in self.labels)
+                agree = "-" if agree == "-" else f"{agree}%"
                 out.append(f"    {g:<{width}} n={d['n']:<4} agree {agree:>4} | {dist} | "
                            f"median {_num(d['median'])} IQR {_num(d['iqr'])} "
                            f"mean {_num(d['mean'], 2)} SD {_num(d['sd'], 2)}")
+        if any(it.reverse for it in self.items):
+            out.append(f"  {REVERSE_NOTE}")
         return "\n".join(out)
 
 
@@ -278,26 +306,17 @@ def compare_groups(data: SurveyData, column: str, min_size: int = 5,
     from .likert import summarize
     name = _validate_groups(data, column, min_size, order)
     inverse, values = _group_values([str(v) for v in data.groups[name]], order, data.source)
-    infos, shown = [], []
     sizes = np.bincount(inverse, minlength=len(values))
     # respondents of each group, found once (a scan per group was quadratic in the groups)
     members = np.split(np.argsort(inverse, kind="stable"), np.cumsum(sizes)[:-1])
-    for g, val in enumerate(values):
-        size = int(sizes[g])
-        if size < min_size:
-            infos.append(GroupInfo(str(val), size, True,
-                                   f"{size} respondent{'s' if size != 1 else ''} < {min_size}: "
-                                   f"too few to report without identifying people"))
-        else:
-            infos.append(GroupInfo(str(val), size, False))
-            shown.append(g)
+    infos, shown, withheld = _group_infos(values, sizes, min_size)
     if len(shown) * len(data.items) > MAX_GROUP_CELLS:
         raise SurveyInputError(
             f"grouping column {name!r}: {len(shown)} groups x {len(data.items)} items; at most "
             f"{MAX_GROUP_CELLS} group-item pairs are compared (raise --min-group or choose "
             f"--items)", data.source)
     comp = GroupComparison(column=name, min_size=min_size, groups=infos,
-                           labels=list(data.scale.labels))
+                           labels=list(data.scale.labels), note=withheld.note)
     for g in shown:
         comp.summaries[str(values[g])] = summarize(data.subset(members[g]))
     pairs = _pairs(data, inverse, shown, min_size) if paired and len(shown) == 2 else None
@@ -315,8 +334,31 @@ def compare_groups(data: SurveyData, column: str, min_size: int = 5,
             sel = a[members[g]]
             samples.append(codes[sel[sel >= 0]])
         comp.items.append(_test_item(item, samples, per, codes, a, pairs, min_size))
+        comp.items[-1].reverse = rev
     _holm(comp.items)
     return comp
+
+
+def _group_infos(values, sizes, min_size):
+    """(GroupInfo per group, indices of the shown groups, the Suppression): groups under
+    ``min_size`` and their complements (:func:`analysis.disclosure.suppress_groups`) are
+    withheld, each with its reason."""
+    withheld = suppress_groups(sizes, min_size, [str(v) for v in values])
+    infos, shown = [], []
+    for g, val in enumerate(values):
+        size = int(sizes[g])
+        if size < min_size:
+            infos.append(GroupInfo(str(val), size, True,
+                                   f"{size} respondent{'s' if size != 1 else ''} < {min_size}: "
+                                   f"too few to report without identifying people"))
+        elif withheld.withheld(g):
+            infos.append(GroupInfo(str(val), size, True,
+                                   "complementary suppression: with it shown, a smaller group "
+                                   "would be the total minus the groups shown"))
+        else:
+            infos.append(GroupInfo(str(val), size, False))
+            shown.append(g)
+    return infos, shown, withheld
 
 
 def _per_group(it) -> dict:

@@ -1028,26 +1028,15 @@ def _column_index(raw: _Raw, name: str) -> int:
     raise SurveyInputError(f"no column {name!r}; columns are {raw.header!r}", raw.source, 1)
 
 
-def _resolve_reverse(source, names, reverse) -> set:
-    out = set()
-    for pat in _as_list(reverse):
-        hits = [n for n in names if name_matches(pat, n)]
-        if not hits:
-            raise SurveyInputError(f"reverse-keyed item {pat!r} is not an item; items are {names!r}",
-                                   source)
-        out.update(hits)
-    return out
+_resolve_reverse = platforms.resolve_reverse
 
 
 def _declare(data: SurveyData, respondents: int | None) -> SurveyData:
     if respondents is None:
         return data
+    from .likert import absent_respondents
     have = data.respondents
-    if respondents < have:
-        raise SurveyInputError(
-            f"{respondents} respondents declared, but the file holds {have} responses",
-            data.source)
-    if respondents > have:
+    if absent_respondents(respondents, have, data.source):
         pad = np.full((respondents - have, len(data.items)), BLANK, dtype=np.int8)
         data.answers = np.vstack([data.answers, pad])
         data.rows = np.concatenate([data.rows, np.zeros(respondents - have, dtype=np.int64)])
@@ -1093,6 +1082,12 @@ def _label_item(stats) -> bool:
     """At least one label text, and labels, codes or N/A make up half the answers or more."""
     nonblank, labels, codes, na = stats
     return nonblank > 0 and labels > 0 and 2 * (labels + codes + na) >= nonblank
+
+
+def _unanswered(stats) -> bool:
+    """No answer at all: every cell blank or not applicable."""
+    nonblank, labels, codes, na = stats
+    return labels == 0 and codes == 0 and nonblank == na
 
 
 def _code_item(stats) -> bool:
@@ -1195,7 +1190,42 @@ def _choose_items(source: str, names: list[str], cols, exclude, scale, items,
                     f"{what} {chosen[0][1].name!r} uses {scale_obj.name!r}; analyse one "
                     f"scale at a time with --items and --scale", source,
                     None if long else 1, None if long else c.name)
+    if not long:
+        chosen = _unanswered_items(source, chosen, candidates, stats, notes)
     return scale_obj, chosen
+
+
+def _unanswered_items(source, chosen, candidates, stats, notes):
+    """Add the columns nobody answered (blank or not applicable throughout) that are
+    named like the items (``Q2`` among ``Q1``, ``Q3``: digits aside, the same header).
+
+    Such a column has no answer to recognise it by. Named like the items it is an item
+    with n = 0 (every respondent missing or excluded); otherwise (``Comments``, an id, a
+    date) it stays out, and a note says which and why. Nothing is left out silently.
+    """
+    shapes = {_header_shape(c) for _, c in chosen}
+    taken = {j for j, _ in chosen}
+    out = list(chosen)
+    for j, c in candidates:
+        if j in taken or not _unanswered(stats[j]):
+            continue
+        name = c.field or c.name
+        if _header_shape(c) in shapes:
+            out.append((j, c))
+            why = f"column {name!r} has no answer in any row: counted as an item (n = 0)"
+        else:
+            why = (f"column {name!r} has no answer in any row, and its name is not like the "
+                   f"items' names: not counted as an item (name it with --items to count it)")
+        if notes is not None:
+            notes.append(f"{source}: {why}")
+    out.sort(key=lambda t: t[0])
+    _check_item_count(source, out)
+    return out
+
+
+def _header_shape(col: _Column) -> str:
+    """A header with every run of digits replaced by ``#`` (``Q12_3`` -> ``q#_#``)."""
+    return re.sub(r"\d+", "#", normalize_answer(col.field or col.name))
 
 
 def _drop_narrow_coded(source, chosen, scale, notes, long):
@@ -1242,12 +1272,13 @@ def _detect_scale(source, cols, require_all: bool, long: bool = False) -> Scale:
     what = "item" if long else "column"
     per_col = []
     for j, c in cols:
-        fits = {}
+        fits, empty = {}, True
         for s in BUILTIN_SCALES.values():
             st = _column_stats(c, s)
+            empty = empty and _unanswered(st)
             if _label_item(st):
                 fits[s.name] = st[1] / st[0]
-        if not fits and require_all:
+        if not fits and require_all and not empty:     # an item nobody answered fits any
             raise SurveyInputError(
                 f"{'item ' + repr(c.name) + ': ' if long else ''}answers are not labels of any "
                 f"built-in scale ({', '.join(BUILTIN_SCALES)}); give --scale (a name or a "

@@ -32,7 +32,11 @@ import numpy as np
 
 from . import platforms
 from ._io import is_regular_file
+from .disclosure import suppress_groups
 from .errors import SurveyInputError
+from .export import reversal_columns
+from .likert import (REVERSE_MARK, REVERSE_NOTE, _num, _validate_ci, absent_respondents,
+                     interval_label)
 from .scales import BUILTIN_SCALES, Scale, get_scale, normalize_answer
 
 __all__ = ["GroupedSummary", "summarize_by", "DEFAULT_MEMORY_LIMIT"]
@@ -79,71 +83,113 @@ class GroupedSummary:
     shape: str
     min_group: int = 5
     notes: list = field(default_factory=list)
+    reverse: set = field(default_factory=set)
+    ci_method: str = "wilson"
+    confidence_level: float = 0.95
 
-    def overall(self, confidence_level=0.95, method="wilson") -> list:
-        """Institution-wide item summaries (the sum of every group's tally)."""
+    def _item_summaries(self, tally, respondents: int, confidence_level, method) -> list:
+        """Summaries of every item from one (items, k + 3) tally (the one route,
+        :func:`analysis.likert.summarize_tally`; reversal and interval as declared)."""
         from .likert import summarize_tally
-        total = self.tallies.sum(axis=0)
-        resp = int(self.respondents.sum())
-        return [summarize_tally(total[i], self.scale, name, respondents=resp,
-                                confidence_level=confidence_level, method=method)
+        level = self.confidence_level if confidence_level is None else confidence_level
+        return [summarize_tally(tally[i], self.scale, name, respondents=respondents,
+                                reverse=name in self.reverse, confidence_level=level,
+                                method=method or self.ci_method)
                 for i, name in enumerate(self.items)]
 
-    def group_summaries(self, g: int, confidence_level=0.95, method="wilson") -> list:
+    def overall(self, confidence_level=None, method=None) -> list:
+        """Institution-wide item summaries (the sum of every group's tally); the interval
+        by :attr:`ci_method` at :attr:`confidence_level` unless given."""
+        return self._item_summaries(self.tallies.sum(axis=0), int(self.respondents.sum()),
+                                    confidence_level, method)
+
+    def group_summaries(self, g: int, confidence_level=None, method=None) -> list:
         """Item summaries of group ``g`` (an index into :attr:`groups`)."""
-        from .likert import summarize_tally
-        return [summarize_tally(self.tallies[g, i], self.scale, name,
-                                respondents=int(self.respondents[g]),
-                                confidence_level=confidence_level, method=method)
-                for i, name in enumerate(self.items)]
+        return self._item_summaries(self.tallies[g], int(self.respondents[g]),
+                                    confidence_level, method)
+
+    def suppression(self):
+        """The groups withheld: under :attr:`min_group`, and their complements (the
+        institution-wide totals are shown, see :mod:`analysis.disclosure`)."""
+        return suppress_groups(self.respondents, self.min_group,
+                               [" / ".join(v or "(blank)" for v in key) for key in self.groups])
 
     def suppressed(self, g: int) -> bool:
-        return int(self.respondents[g]) < self.min_group
+        """Group ``g`` is withheld (small, or its complement)."""
+        return self.suppression().withheld(g)
+
+    def _why(self, g: int) -> str:
+        if int(self.respondents[g]) < self.min_group:
+            return f"fewer than {self.min_group} respondents"
+        return ("complementary suppression: with it shown, a smaller group would be the "
+                "total minus the groups shown")
 
     def rows(self) -> list[dict]:
         """One record per (group, item), institution-wide first; suppressed groups blanked."""
         out = []
+        withheld = self.suppression()
         for g in [None] + list(range(len(self.groups))):
             values = ["(all)"] * len(self.by) if g is None else list(self.groups[g])
             key = dict(zip(self.by, values))
-            if g is not None and self.suppressed(g):
+            if g is not None and withheld.withheld(g):
                 out.append({**key, "item": "", "respondents": int(self.respondents[g]),
-                            "suppressed": f"fewer than {self.min_group} respondents"})
+                            "suppressed": self._why(g)})
                 continue
             sums = self.overall() if g is None else self.group_summaries(g)
             for it in sums:
-                rec = {**key, "item": it.item, "respondents": it.respondents, "n": it.n,
+                rec = {**key, "item": it.item, **reversal_columns(it),
+                       "respondents": it.respondents, "n": it.n,
                        "missing": it.missing, "excluded": it.excluded}
                 rec.update({f"{lab} (count)": it.counts[lab] for lab in it.labels})
-                rec.update({"agree_share": it.agree.share, "median": it.median, "iqr": it.iqr,
-                            "mean": it.mean, "sd": it.sd})
+                rec.update({"agree_share": it.agree.share, "agree_ci_low": it.agree.ci[0],
+                            "agree_ci_high": it.agree.ci[1], "median": it.median,
+                            "iqr": it.iqr, "mean": it.mean, "sd": it.sd})
                 out.append(rec)
         return out
 
     def to_dict(self) -> dict:
         return {"source": self.source, "by": list(self.by), "shape": self.shape,
                 "scale": self.scale.name, "min_group": self.min_group,
+                "ci_method": self.ci_method, "confidence_level": self.confidence_level,
+                "reversed": [n for n in self.items if n in self.reverse],
                 "respondents": int(self.respondents.sum()), "groups": len(self.groups),
-                "overall": [it.to_dict() for it in self.overall()], "rows": self.rows()}
+                "overall": [it.to_dict() for it in self.overall()], "rows": self.rows(),
+                "notes": self._all_notes()}
 
-    def format_text(self) -> str:
+    def _all_notes(self) -> list:
+        note = self.suppression().note
+        return list(self.notes) + ([note] if note else [])
+
+    def format_text(self, decimals: int = 1) -> str:
+        """One line per (group, item), institution-wide first; the agreement share printed
+        to ``decimals`` places by the project's rounding rule, with its interval."""
         out = [f"{self.source}: {int(self.respondents.sum())} respondents in {len(self.groups)} "
                f"groups by {', '.join(self.by)}; scale {self.scale.name!r}; {self.shape} file "
-               f"counted out of core (DuckDB)"]
+               f"counted out of core (DuckDB); agreement with its "
+               f"{interval_label(self.confidence_level, self.ci_method)}"]
         labels = list(self.scale.labels)
-        for rec in self.rows():
-            head = " / ".join(str(rec[b]) for b in self.by)
-            if "suppressed" in rec:
-                out.append(f"{head}: suppressed ({rec['suppressed']})")
+        withheld = self.suppression()
+        for g in [None] + list(range(len(self.groups))):
+            head = " / ".join(["(all)"] * len(self.by) if g is None
+                              else [v or "(blank)" for v in self.groups[g]])
+            if g is not None and withheld.withheld(g):
+                out.append(f"{head}: suppressed ({self._why(g)})")
                 continue
-            dist = " ".join(f"{rec[f'{lab} (count)']}" for lab in labels)
-            agree = "-" if rec["agree_share"] is None else f"{100 * rec['agree_share']:.1f}%"
-            stats = " ".join(f"{k} {'-' if rec[key] is None else format(rec[key], f)}"
-                             for k, key, f in (("median", "median", ".1f"), ("IQR", "iqr", ".1f"),
-                                               ("mean", "mean", ".2f"), ("SD", "sd", ".2f")))
-            out.append(f"{head}: {rec['item']}: n={rec['n']} missing={rec['missing']} "
-                       f"n/a={rec['excluded']} counts [{dist}] agree {agree} {stats}")
+            for it in (self.overall() if g is None else self.group_summaries(g)):
+                dist = " ".join(str(it.counts[lab]) for lab in labels)
+                ag = it.agree
+                agree = ("-" if ag.share is None else f"{ag.percent_text(decimals)}% "
+                         f"[{ag.ci[0]:.{decimals}%}, {ag.ci[1]:.{decimals}%}]")
+                stats = " ".join(f"{k} {_num(v, d)}" for k, v, d in (
+                    ("median", it.median, 1), ("IQR", it.iqr, 1), ("mean", it.mean, 2),
+                    ("SD", it.sd, 2)))
+                mark = REVERSE_MARK if it.reverse else ""
+                out.append(f"{head}: {it.item}{mark}: n={it.n} missing={it.missing} "
+                           f"n/a={it.excluded} counts [{dist}] agree {agree} {stats}")
         out.append("counts in scale order: " + ", ".join(labels))
+        if self.reverse:
+            out.append(REVERSE_NOTE)
+        out.extend(f"note: {n}" for n in self._all_notes())
         return "\n".join(out)
 
 
@@ -185,7 +231,8 @@ def _given_header(con, path: Path, header: list[str]) -> list[str]:
     return names if len(names) == len(header) else header
 
 
-def _validate_by(path, by, min_group):
+def _validate_by(path, by, min_group, respondents=None, confidence_level=0.95,
+                 method="wilson"):
     p = Path(path)
     if not p.exists():
         raise SurveyInputError("no such file", str(p))
@@ -196,12 +243,16 @@ def _validate_by(path, by, min_group):
         raise ValueError(f"--by needs 1..{_MAX_GROUP_COLUMNS} grouping columns, got {by!r}")
     if not isinstance(min_group, int) or min_group < 1:
         raise ValueError(f"--min-group must be a positive integer, got {min_group!r}")
+    if respondents is not None and (not isinstance(respondents, int) or respondents < 1):
+        raise ValueError(f"`respondents` must be a positive integer or None, got {respondents!r}")
+    _validate_ci(method, confidence_level)
     return p
 
 
 def summarize_by(path: "str | Path", by: "list[str]", scale=None, items=None,
                  min_group: int = 5, memory_limit: str = DEFAULT_MEMORY_LIMIT,
-                 threads: int = 1) -> GroupedSummary:
+                 threads: int = 1, reverse=None, respondents: "int | None" = None,
+                 confidence_level: float = 0.95, method: str = "wilson") -> GroupedSummary:
     """Count a large survey file by grouping columns, out of core.
 
     Parameters
@@ -220,21 +271,55 @@ def summarize_by(path: "str | Path", by: "list[str]", scale=None, items=None,
         DuckDB's memory limit (it spills to a temporary folder beyond it).
     threads : int
         DuckDB threads (each holds its own read buffers and hash tables).
+    reverse : list of str, optional
+        Reverse-keyed items (names or patterns, as ``read_survey`` takes them).
+    respondents : int, optional
+        Declared respondents; those absent from the file belong to no group: they are
+        counted missing on every item in the group of blank grouping values (as
+        ``summarize --group`` counts them in its ``(blank)`` group).
+    confidence_level : float
+    method : {"wilson", "beta"}
+        Interval of the agreement shares (as :func:`analysis.likert.summarize`).
 
     Returns
     -------
     GroupedSummary
     """
     import duckdb
-    p = _validate_by(path, by, min_group)
+    p = _validate_by(path, by, min_group, respondents, confidence_level, method)
     size, unit = _split_limit(memory_limit)
     for factor in _RETRY_FACTORS:
         try:
-            return _count(p, by, scale, items, min_group, f"{size * factor}{unit}", threads)
+            res = _count(p, by, scale, items, min_group, f"{size * factor}{unit}", threads)
+            break
         except duckdb.OutOfMemoryException:
             continue
-    raise SurveyInputError(f"counting needs more than {size * _RETRY_FACTORS[-1]}{unit} of "
-                           f"memory; give a larger memory limit", str(p))
+    else:
+        raise SurveyInputError(f"counting needs more than {size * _RETRY_FACTORS[-1]}{unit} "
+                               f"of memory; give a larger memory limit", str(p))
+    res.reverse = platforms.resolve_reverse(res.source, res.items, reverse)
+    res.ci_method, res.confidence_level = method, confidence_level
+    _declare(res, respondents)
+    return res
+
+
+def _declare(res: GroupedSummary, respondents: "int | None") -> None:
+    """Add the declared respondents absent from the file, missing on every item, to the
+    group of blank grouping values (created when the file has none)."""
+    pad = absent_respondents(respondents, int(res.respondents.sum()), res.source)
+    if not pad:
+        return
+    blank = ("",) * len(res.by)
+    if blank not in res.groups:
+        g = sorted(res.groups + [blank]).index(blank)
+        res.groups.insert(g, blank)
+        res.respondents = np.insert(res.respondents, g, 0)
+        res.tallies = np.insert(res.tallies, g, 0, axis=0)
+    g = res.groups.index(blank)
+    res.respondents[g] += pad
+    res.tallies[g, :, 2] += pad                  # 2: blank (missing), see GroupedSummary
+    res.notes.append(f"{pad} declared respondents absent from the file are counted as missing "
+                     f"on every item, in the group of blank {', '.join(res.by)}")
 
 
 def _split_limit(limit: str) -> tuple[int, str]:

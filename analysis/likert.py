@@ -42,15 +42,48 @@ from fractions import Fraction
 
 import numpy as np
 
-from .rounding import largest_remainder, round_fraction
+from .rounding import largest_remainder, percent_text, round_fraction
 
-__all__ = ["CI_METHODS", "PERCENT_METHODS", "Proportion", "ItemSummary", "SurveySummary",
+__all__ = ["CI_METHODS", "PERCENT_METHODS", "absent_respondents", "Proportion", "ItemSummary", "SurveySummary",
            "proportion", "summarize", "summarize_dataframe"]
 
 #: Valid interval methods (statsmodels names): Wilson score, Clopper-Pearson.
 CI_METHODS = ("wilson", "beta")
 #: Valid printed-percentage methods.
 PERCENT_METHODS = ("round", "largest_remainder")
+#: Names of the interval methods as printed.
+CI_NAMES = {"wilson": "Wilson", "beta": "Clopper-Pearson"}
+#: Printed after a reverse-keyed item's name, explained by :data:`REVERSE_NOTE`.
+REVERSE_MARK = " (R)"
+REVERSE_NOTE = ("(R) reverse-keyed item: counts, percentages and agreement are the answers as "
+                "given (raw, not reversed); median, IQR, mean and SD use the reversed codes")
+#: The statistics a reverse-keyed item gives on reversed codes (counts stay raw).
+REVERSED_STATISTICS = ("median", "iqr", "mean", "sd")
+
+
+def interval_label(confidence_level: float, method: str) -> str:
+    """The interval as printed, e.g. ``"95% Wilson interval"``."""
+    return f"{100 * confidence_level:.10g}% {CI_NAMES[method]} interval"
+
+
+def absent_respondents(declared: "int | None", have: int, source: str) -> int:
+    """Respondents declared (``--respondents``) but absent from the file (0 if none declared).
+
+    They are counted as missing on every item, so that the invariant
+    ``n + missing + excluded == respondents`` holds for the declared number.
+
+    Raises
+    ------
+    SurveyInputError
+        Fewer respondents declared than the file holds.
+    """
+    if declared is None:
+        return 0
+    if declared < have:
+        from .errors import SurveyInputError
+        raise SurveyInputError(f"{declared} respondents declared, but the file holds {have} "
+                               f"responses", source)
+    return declared - have
 
 
 def _validate_ci(method, confidence_level):
@@ -94,7 +127,7 @@ class Proportion:
         a category and as a share); ``"-"`` when n == 0."""
         if self.n == 0:
             return "-"
-        return f"{float(round_fraction(Fraction(100 * self.k, self.n), decimals)):.{decimals}f}"
+        return percent_text(self.k, self.n, decimals)
 
     def to_dict(self) -> dict:
         return {"share": self.share, "ci": list(self.ci)}
@@ -255,10 +288,17 @@ class ItemSummary:
 
     def to_dict(self) -> dict:
         """The ``summarize --json`` item (plus ``excluded`` for the invariant)."""
-        return {"item": self.item, "n": self.n, "missing": self.missing,
-                "excluded": self.excluded, "counts": dict(self.counts),
+        return {"item": self.item, "reversed": self.reverse,
+                "reversed_statistics": self.reversed_statistics, "n": self.n,
+                "missing": self.missing, "excluded": self.excluded, "counts": dict(self.counts),
                 "percent": dict(self.percent), "agree": self.agree.to_dict(),
                 "median": self.median, "iqr": self.iqr, "mean": self.mean, "sd": self.sd}
+
+    @property
+    def reversed_statistics(self) -> list:
+        """The statistics given on reversed codes (none unless reverse-keyed; counts,
+        percentages and shares are always of the answers as given)."""
+        return list(REVERSED_STATISTICS) if self.reverse else []
 
     def to_full_dict(self) -> dict:
         d = self.to_dict()
@@ -325,9 +365,14 @@ class SurveySummary:
         ``{"respondents": int, "items": [...], "not_items": [str], "dropped": [{"row",
         "reason"}], "unknown_answers": [{"row", "column", "value"}]}``: every column
         left out of the table and every row or answer not counted is listed, as the
-        text output lists them.
+        text output lists them. Each item says whether it is ``reversed`` and which
+        statistics use reversed codes (``reversed_statistics``; counts stay raw);
+        ``reverse_note`` says so in words when an item is reversed.
         """
-        return {"respondents": self.respondents, "items": [i.to_dict() for i in self.items],
+        note = REVERSE_NOTE if any(i.reverse for i in self.items) else ""
+        return {"respondents": self.respondents, "ci_method": self.ci_method,
+                "confidence_level": self.confidence_level, "reverse_note": note,
+                "items": [i.to_dict() for i in self.items],
                 "not_items": list(self.other_columns),
                 "dropped": [vars(d) for d in self.dropped],
                 "unknown_answers": [vars(u) for u in self.unknown_answers]}
@@ -346,29 +391,39 @@ class SurveySummary:
         labels = list(self.scale.labels)
         out = [f"{self.source}: {self.respondents} respondents, scale {self.scale.name!r}, "
                f"shape {self.shape}"]
-        width = max([len(i.item) for i in self.items] + [4])
+        width = max([len(_name(i)) for i in self.items] + [4])
         cw = max([len(lab) for lab in labels] + [14])
         head = f"{'item':<{width}}  " + "  ".join(f"{lab:>{cw}}" for lab in labels)
         out.append(head + f"  {'n':>5} {'miss':>5} {'n/a':>5}  {'median':>6} {'IQR':>5} "
-                   f"{'mean':>5} {'SD':>5}  agree [95% CI]")
+                   f"{'mean':>5} {'SD':>5}  agree "
+                   f"[{interval_label(self.confidence_level, self.ci_method)}]")
         stem = ""
         for it in self.items:
             if it.stem and it.stem != stem:
                 out.append(f"{it.stem}")         # a grid's question, once above its rows
             stem = it.stem
             pp = it.printed_percent(decimals, method)
-            cells = "  ".join(f"{f'{pp[lab]:.{decimals}f}% ({it.counts[lab]})':>{cw}}" for lab in labels)
+            cells = "  ".join(f"{(f'{pp[lab]:.{decimals}f}%' if it.n else '-') + f' ({it.counts[lab]})':>{cw}}"
+                              for lab in labels)           # no percent of nobody
             ag = it.agree
             agree = ("-" if ag.share is None else
-                     f"{ag.percent_text(1)}% [{ag.ci[0]:.1%}, {ag.ci[1]:.1%}]")
-            out.append(f"{it.item:<{width}}  {cells}  {it.n:>5} {it.missing:>5} "
+                     f"{ag.percent_text(decimals)}% [{ag.ci[0]:.{decimals}%}, "
+                     f"{ag.ci[1]:.{decimals}%}]")
+            out.append(f"{_name(it):<{width}}  {cells}  {it.n:>5} {it.missing:>5} "
                        f"{it.excluded:>5}  {_num(it.median):>6} {_num(it.iqr):>5} "
                        f"{_num(it.mean, 2):>5} {_num(it.sd, 2):>5}  {agree}")
+        if any(it.reverse for it in self.items):
+            out.append(REVERSE_NOTE)
         for d in self.dropped:
             out.append(f"dropped row {d.row}: {d.reason}")
         if self.other_columns:
             out.append("not items (left out of the table): " + ", ".join(self.other_columns))
         return "\n".join(out)
+
+
+def _name(it: ItemSummary) -> str:
+    """An item's name as printed, marked when reverse-keyed."""
+    return it.item + (REVERSE_MARK if it.reverse else "")
 
 
 def _num(x, decimals: int = 1) -> str:

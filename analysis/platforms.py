@@ -36,7 +36,7 @@ import re
 
 __all__ = ["PLATFORMS", "SHAPES", "META", "detect", "header_rows", "signature_missing", "split_stem",
            "candidate", "is_blank_header",
-           "name_matches", "find_column", "repeated_column"]
+           "name_matches", "resolve_reverse", "find_column", "repeated_column"]
 
 #: How to supply a code map, for messages.
 CODES_HINT = ("give the survey definition with --codes FILE.qsf (Qualtrics) or FILE.lss "
@@ -111,6 +111,34 @@ def name_matches(pattern: str, name: str) -> bool:
     rx = "".join(".*" if ch == "*" else "." if ch == "?" else re.escape(ch)
                  for ch in normalize_answer(pattern))
     return re.fullmatch(rx, normalize_answer(name), re.S) is not None
+
+
+def resolve_reverse(source, names, reverse) -> set:
+    """The items named reverse-keyed (``--reverse``): names or patterns matched to ``names``.
+
+    Parameters
+    ----------
+    source : str
+        File named in the error.
+    names : list of str
+        The survey's items.
+    reverse : str, list of str or None
+        Names or ``*``/``?`` patterns.
+
+    Raises
+    ------
+    SurveyInputError
+        A name or pattern that matches no item (a typo is never ignored).
+    """
+    from .errors import SurveyInputError
+    out = set()
+    for pat in ([reverse] if isinstance(reverse, str) else list(reverse or [])):
+        hits = [n for n in names if name_matches(pat, n)]
+        if not hits:
+            raise SurveyInputError(f"reverse-keyed item {pat!r} is not an item; items are "
+                                   f"{list(names)!r}", source)
+        out.update(hits)
+    return out
 
 
 def is_blank_header(h: str) -> bool:

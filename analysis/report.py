@@ -23,7 +23,7 @@ from ._io import atomic_write
 from .chart import diverging_bar, figure_svg
 from .claims import evaluate_claims
 from .ingest import SurveyData
-from .likert import PERCENT_METHODS, summarize
+from .likert import PERCENT_METHODS, REVERSE_NOTE, summarize
 from .respondents import PAIRING_UNKNOWN
 
 __all__ = ["render_report", "build_report", "template_environment"]
@@ -105,7 +105,8 @@ def render_report(data: SurveyData, claims=None, group: str | None = None, min_g
     return env.get_template("survey_report.html.j2").render(
         title=title or f"Survey report: {Path(data.source).name}", s=s,
         printed=[it.printed_percent(decimals, percent_method) for it in s.items],
-        decimals=decimals, rounding_note=rounding,
+        decimals=decimals, percent_method=percent_method, rounding_note=rounding,
+        reverse_note=REVERSE_NOTE if any(it.reverse for it in s.items) else "",
         ci_name={"wilson": "Wilson", "beta": "Clopper-Pearson"}[method],
         fmt=_fmt, svg=Markup(svg), claims=claims_rep, groups=groups, group_svg=group_svg,
         reliability=rel,

@@ -6,6 +6,8 @@ between two printed values is recognised as such (binary floats cannot).
 - :func:`round_fraction` -- round to ``decimals`` places by a named rule
   (:data:`ROUNDING_RULES`); ``"half_away"`` (half away from zero) is the
   project's documented rule for printed percentages.
+- :func:`percent_text` -- ``100 k / n`` as printed (half away from zero): every
+  printed share, percentage and chart label goes through it.
 - :func:`rounding_interval` -- every exact percentage that prints as a given
   value: the tolerance a printed precision implies.
 - :func:`largest_remainder` -- Hamilton's method: percentages of counts that
@@ -16,7 +18,8 @@ from __future__ import annotations
 import math
 from fractions import Fraction
 
-__all__ = ["ROUNDING_RULES", "round_fraction", "rounding_interval", "largest_remainder"]
+__all__ = ["ROUNDING_RULES", "round_fraction", "percent_text", "rounding_interval",
+           "largest_remainder"]
 
 #: Valid values of the ``rule`` argument.
 ROUNDING_RULES = ("half_away", "half_even", "truncate", "ceil")
@@ -58,6 +61,24 @@ def round_fraction(x: Fraction, decimals: int, rule: str = "half_away") -> Fract
     else:  # ceil (towards +infinity; percentages are not negative)
         return Fraction(math.ceil(y), scale)
     return Fraction(sign * m, scale)
+
+
+def percent_text(k: int, n: int, decimals: int = 1) -> str:
+    """The percentage ``100 k / n`` as printed: exact, rounded half away from zero.
+
+    Parameters
+    ----------
+    k, n : int
+        Part and whole (n > 0).
+    decimals : int
+        Places after the decimal point.
+
+    Examples
+    --------
+    >>> percent_text(1, 8, 0), percent_text(1, 8, 1)
+    ('13', '12.5')
+    """
+    return f"{float(round_fraction(Fraction(100 * int(k), int(n)), decimals)):.{decimals}f}"
 
 
 def _validate_rule(rule: str) -> None:

@@ -82,7 +82,7 @@ def test_pre_post_paired_by_id_matches_scipy(tmp_path, capsys):
         holm[k] = running
     assert [it.p_holm for it in comp.items] == pytest.approx([holm[0], holm[1]], rel=1e-12)
     # text and HTML show the per-group distributions, not only p-values
-    assert main(["summarize", str(f), "--group", "Term"]) == 0
+    assert main(["summarize", str(f), "--group", "Term", "--decimals", "0"]) == 0
     out = capsys.readouterr().out
     pre_agree = 100 * comp.items[0].per_group["Pre"]["agree_share"]
     assert re.search(rf"Pre +n=40 +agree +{pre_agree:.0f}%", out)
@@ -96,7 +96,8 @@ def test_pre_post_paired_by_id_matches_scipy(tmp_path, capsys):
 def test_unpaired_without_ids_and_order_as_given(tmp_path, capsys):
     rng = random.Random(5)
     rows = [["Term", "Q1"]] + [[t, rng.choice(AGREE5)] for t in TERMS for _ in range(12)]
-    rows += [["Fall 2025", "Agree"]] * 2                       # suppressed: 2 < 5
+    # suppressed: 2 < 5 and 3 < 5; pooled they are 5, so no shown group is withheld too
+    rows += [["Fall 2025", "Agree"]] * 2 + [["Spring 2026", "Disagree"]] * 3
     f = tmp_path / "terms.csv"
     f.write_text("\n".join(",".join(r) for r in rows) + "\n")
     data = read_survey(f, group="Term")
@@ -106,6 +107,7 @@ def test_unpaired_without_ids_and_order_as_given(tmp_path, capsys):
     it = comp.items[0]
     assert it.test == "kruskal-wallis" and list(it.per_group) == order
     assert "Fall 2025" not in it.per_group            # small cell suppressed everywhere
+    assert "Spring 2026" not in it.per_group
     pos = [k for t in order for k, r in enumerate(rows[1:]) if r[0] == t]
     x = [order.index(rows[1 + k][0]) for k in pos]
     y = [CODE[rows[1 + k][1]] for k in pos]
@@ -197,3 +199,94 @@ def test_python_api_gives_the_cli_numbers_and_keeps_na_as_text(tmp_path, capsys)
     # a frame read by pandas with its defaults has lost "N/A": said in the notes
     data = analysis.survey_from_frame(pd.read_csv(f))
     assert any("keep_default_na=False" in n for n in data.notes)
+
+
+def test_no_suppressed_group_is_the_total_minus_the_shown_groups(tmp_path, capsys):
+    """Complementary suppression, on both routes (--group and --by).
+
+    The tester's survey3.csv: sections A and B of six respondents, C of two answering
+    Strongly disagree to every item. C is under 5; were A and B shown beside the total,
+    C would be total - A - B exactly. So the smaller of the others (A and B tie at 6:
+    the first, A) is withheld too, and total - shown pools A and C: 8 respondents, never
+    C's answers alone (by hand, C's counts are 2 Strongly disagree and nothing else).
+    """
+    from tests.test_analysis_institution import SURVEY3
+    f = tmp_path / "survey3.csv"
+    f.write_text(SURVEY3)
+    c_counts = {lab: (2 if lab == "Strongly disagree" else 0) for lab in AGREE5}
+
+    def remainder(total, shown):
+        return {lab: total[lab] - sum(s[lab] for s in shown) for lab in AGREE5}
+
+    assert main(["summarize", str(f), "--group", "Section", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    groups = {g["group"]: g for g in out["groups"]["groups"]}
+    assert [g for g in groups if not groups[g]["suppressed"]] == ["B"]
+    assert "complementary suppression" in out["groups"]["note"]
+    hidden = out["respondents"] - sum(g["respondents"] for g in groups.values()
+                                      if not g["suppressed"])
+    assert hidden == 8 >= 5
+    for total, comp in zip(out["items"], out["groups"]["items"]):
+        rest = remainder(total["counts"], [d["counts"] for d in comp["per_group"].values()])
+        assert list(comp["per_group"]) == ["B"] and rest != c_counts
+
+    assert main(["summarize", str(f), "--by", "Section", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    shown = [r for r in out["rows"] if r["Section"] != "(all)" and "suppressed" not in r]
+    assert {r["Section"] for r in shown} == {"B"}
+    assert any("complementary suppression" in n for n in out["notes"])
+    for total in out["overall"]:
+        rows = [r for r in shown if r["item"] == total["item"]]
+        rest = remainder(total["counts"], [{lab: r[f"{lab} (count)"] for lab in AGREE5}
+                                           for r in rows])
+        assert rest != c_counts
+
+
+PREPOST = """student_id,Term,Q1,Q2
+1,Pre,Disagree,Neutral
+2,Pre,Strongly disagree,Agree
+3,Pre,Agree,Disagree
+4,Pre,Strongly disagree,Strongly disagree
+5,Pre,Agree,Strongly agree
+6,Pre,Strongly disagree,Neutral
+7,Pre,Disagree,Neutral
+8,Pre,Strongly disagree,Strongly disagree
+1,Post,Disagree,Strongly agree
+2,Post,Neutral,Strongly disagree
+3,Post,Strongly agree,Agree
+4,Post,Neutral,Disagree
+5,Post,Strongly agree,Agree
+6,Post,Neutral,Strongly disagree
+7,Post,Disagree,Strongly agree
+8,Post,Strongly disagree,Disagree
+"""
+
+
+def test_group_lines_round_as_the_main_table(tmp_path, capsys):
+    """Group lines follow --decimals and --percent-method with the half-away rule.
+
+    By hand, Post answers Q1: SD 1, D 2, N 3, A 0, SA 2 of 8, i.e. 12.5, 25, 37.5, 0,
+    25 %. Half away from zero at 0 decimals: 13, 25, 38, 0, 25 (Python's round would
+    give 12 and 38). Largest remainder at 0 decimals: floors 12, 25, 37, 0, 25 leave 1
+    unit; the remainders .5 (SD) and .5 (N) tie, so the first label printed (SD) gets
+    it: 13, 25, 37, 0, 25 (adds up to 100). At 2 decimals: 12.50 25.00 37.50 0.00 25.00.
+    Post agreement on Q1: 2 of 8 = 25 %; on Q2 (A 2, SA 2): 4 of 8 = 50 %.
+    """
+    f = tmp_path / "prepost.csv"
+    f.write_text(PREPOST)
+
+    def post_q1(*flags):
+        assert main(["summarize", str(f), "--group", "Term", *flags]) == 0
+        lines = capsys.readouterr().out.splitlines()
+        q1 = lines.index(next(ln for ln in lines if ln.startswith("  Q1:")))
+        return next(ln for ln in lines[q1:] if ln.strip().startswith("Post"))
+
+    def cells(line):
+        return re.findall(r"(?:disagree|Disagree|Agree|agree) ([0-9.]+)%", line.split("|")[1])
+
+    assert cells(post_q1("--decimals", "0")) == ["13", "25", "38", "0", "25"]
+    assert cells(post_q1("--decimals", "0", "--percent-method", "largest_remainder")) == [
+        "13", "25", "37", "0", "25"]
+    line = post_q1("--decimals", "2")
+    assert cells(line) == ["12.50", "25.00", "37.50", "0.00", "25.00"]
+    assert re.search(r"agree 25\.00%", line)

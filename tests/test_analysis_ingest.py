@@ -441,3 +441,31 @@ def test_repeated_names_in_a_frame_and_canvas_points_columns():
     assert repeated_column(canvas, "wide") == "columns 4 and 6 are both named '1.0'; rename one"
     assert repeated_column(["Q1", "Q1", "Q1", "Q2", "Q2"]) == (
         "columns 1, 2 and 3 are all named 'Q1'; rename all but one (1 more name repeats)")
+
+
+def test_an_item_nobody_answered_is_shown_not_dropped(tmp_path, capsys):
+    """The tester's edge.csv: Q2 is blank in all four rows. Named like Q1 and Q3 it is an
+    item with n = 0 and all 4 respondents missing (by hand: 4 blank cells). Blank columns
+    not named like the items (free text, a date) stay out, and a note says so; the id
+    column stays out as before."""
+    f = tmp_path / "edge.csv"
+    f.write_text("id,Q1,Q2,Q3,Comments,Submitted\n1,Agree,,N/A,,\n2,Disagree,,Agree,,\n"
+                 "3,Strongly agree,,N/A,,\n4,Agree,,Disagree,,\n")
+    assert main(["summarize", str(f), "--json"]) == 0
+    captured = capsys.readouterr()
+    out = json.loads(captured.out)
+    items = {it["item"]: it for it in out["items"]}
+    assert list(items) == ["Q1", "Q2", "Q3"]
+    assert (items["Q2"]["n"], items["Q2"]["missing"], items["Q2"]["excluded"]) == (0, 4, 0)
+    assert items["Q2"]["agree"] == {"share": None, "ci": [None, None]}
+    assert items["Q3"]["excluded"] == 2                       # the two N/A
+    assert out["not_items"] == ["id", "Comments", "Submitted"]
+    for name in ("Comments", "Submitted"):
+        assert (f"column {name!r} has no answer in any row, and its name is not like the "
+                f"items' names: not counted as an item") in captured.err
+    # named with --items, the unanswered column is read too (it fits any scale)
+    data = read_survey(f, items=["Q1", "Q2", "Q3"])
+    assert data.items == ["Q1", "Q2", "Q3"] and (data.answers[:, 1] < 0).all()
+    assert main(["summarize", str(f)]) == 0
+    q2 = next(ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("Q2"))
+    assert q2.split()[:2] == ["Q2", "-"]                  # no percentage of nobody

@@ -31,6 +31,8 @@ def _long(tmp_path, seed=1, n=120):
             a = "" if rng.random() < 0.05 else "N/A" if rng.random() < 0.03 else rng.choice(AGREE5)
             rows.append([course, term, f"r{r}", q, a])
     rows.append(["C9", "2025SP", "lonely", "Q1", "Agree"])   # a group of one: suppressed
+    # and one of four: suppressed; pooled the two hold five, so no other group is withheld
+    rows += [["C8", "2025SP", f"few{k}", "Q1", "Disagree"] for k in range(4)]
     f = tmp_path / "long.csv"
     with open(f, "w", newline="") as fh:
         csv.writer(fh).writerows([["course", "term", "respondent", "item", "answer"]] + rows)
@@ -53,7 +55,7 @@ def test_long_file_by_course_and_term_matches_a_tally(tmp_path):
             # blank answers plus respondents of the group with no row for the item
             assert it.missing == cells.get("", 0) + len(people[key]) - sum(cells.values())
     sup = [r for r in res.rows() if r.get("suppressed")]
-    assert [(r["course"], r["term"]) for r in sup] == [("C9", "2025SP")]
+    assert [(r["course"], r["term"]) for r in sup] == [("C8", "2025SP"), ("C9", "2025SP")]
 
 
 def test_overall_equals_the_small_file_route_and_parquet_equals_csv(tmp_path, capsys):
@@ -136,3 +138,63 @@ def test_repeated_column_names_refused_out_of_core(tmp_path, capsys):
         counts = {it.item: it.counts for it in res.overall()}
         assert (counts["Q1xx"]["Disagree"], counts["Q1xx"]["Agree"]) == (1, 1)
         assert counts["Q1.1"]["Agree"] == 2
+
+
+# The tester's survey3.csv: sections A and B of six respondents, C of two.
+SURVEY3 = """id,Section,Q1,Q2,Q3,Q4,Q5
+1,A,Strongly agree,Agree,Disagree,Neutral,Strongly agree
+2,A,Agree,Agree,Strongly disagree,Agree,
+3,A,Neutral,,Agree,Agree,Agree
+4,A,Agree,Strongly agree,Disagree,Strongly agree,Agree
+5,A,Strongly disagree,Disagree,Strongly agree,Disagree,Neutral
+6,A,Agree,Neutral,Neutral,Agree,Agree
+7,B,Disagree,Disagree,Agree,Neutral,Disagree
+8,B,Neutral,Agree,Strongly disagree,,Neutral
+9,B,Strongly agree,Strongly agree,Disagree,Agree,Agree
+10,B,Agree,Neutral,Neutral,Strongly disagree,
+11,B,Disagree,Disagree,Agree,Neutral,Disagree
+12,B,,Agree,Disagree,Agree,Strongly agree
+13,C,Strongly disagree,Strongly disagree,Strongly disagree,Strongly disagree,Strongly disagree
+14,C,Strongly disagree,Strongly disagree,Strongly disagree,Strongly disagree,Strongly disagree
+"""
+
+
+def test_by_honours_reverse_interval_and_declared_respondents(tmp_path, capsys):
+    """--by applies --reverse, --ci, --confidence and --respondents as the in-memory route.
+
+    By hand, Q3 over all 14 respondents: SD 4, D 4, N 2, A 3, SA 1. Reversed codes
+    (SD=5 .. SA=1) sum to 4*5 + 4*4 + 2*3 + 3*2 + 1*1 = 49, mean 49/14 = 3.5; sorted they
+    are 1 2 2 2 3 3 4 | 4 4 4 5 5 5 5, median 4. Q1 overall: 6 agree of 13 answers, one
+    blank. The Clopper-Pearson interval at 50 % is the 25 % quantile of Beta(6, 13 - 6 + 1)
+    and the 75 % quantile of Beta(6 + 1, 13 - 6) (scipy.stats.beta, not the product's
+    statsmodels route).
+    """
+    from scipy.stats import beta
+    f = tmp_path / "survey3.csv"
+    f.write_text(SURVEY3)
+    assert main(["summarize", str(f), "--by", "Section", "--reverse", "Q3", "--ci", "beta",
+                 "--confidence", "0.5", "--respondents", "20", "--min-group", "2",
+                 "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert (out["ci_method"], out["confidence_level"], out["reversed"]) == ("beta", 0.5, ["Q3"])
+    q1, q3 = out["overall"][0], out["overall"][2]
+    assert (q3["mean"], q3["median"]) == (3.5, 4.0)
+    # 14 answered the file, 20 declared: the six absent are missing on every item
+    assert (out["respondents"], q1["n"], q1["missing"], q3["missing"]) == (20, 13, 7, 6)
+    lo, hi = beta.ppf(0.25, 6, 8), beta.ppf(0.75, 7, 7)
+    # both are inverse incomplete beta functions to double precision: 1e-9 allows for
+    # the two libraries' different iterations
+    assert q1["agree"]["ci"] == pytest.approx([lo, hi], abs=1e-9)
+    blank = [r for r in out["rows"] if r["Section"] == "" and r["item"] == "Q1"]
+    assert [(r["respondents"], r["n"], r["missing"]) for r in blank] == [(6, 0, 6)]
+    # text: the interval is named, the reversed item marked
+    assert main(["summarize", str(f), "--by", "Section", "--reverse", "Q3", "--ci", "beta",
+                 "--confidence", "0.5"]) == 0
+    text = capsys.readouterr().out
+    assert "50% Clopper-Pearson interval" in text and "(all): Q3 (R): " in text
+    # a typo is refused, as the in-memory route refuses it
+    assert main(["summarize", str(f), "--by", "Section", "--reverse", "NOPE"]) == 2
+    assert "reverse-keyed item 'NOPE' is not an item" in capsys.readouterr().err
+    assert main(["summarize", str(f), "--by", "Section", "--shape", "long"]) == 2
+    assert capsys.readouterr().err.startswith("error: python -m analysis summarize: --shape is "
+                                              "not available with --by")

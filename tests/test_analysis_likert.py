@@ -63,7 +63,8 @@ def test_table1_recomputed_from_shipped_dataset(rebuilt):
 def test_summarize_json_shape(rebuilt, capsys):
     assert main(["summarize", str(rebuilt), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    assert set(out) == {"respondents", "items", "not_items", "dropped", "unknown_answers"}
+    assert set(out) == {"respondents", "ci_method", "confidence_level", "reverse_note", "items",
+                        "not_items", "dropped", "unknown_answers"}
     # the rebuilt file's id column is left out of the table, and said so
     assert out["not_items"] == ["respondent"] and out["dropped"] == out["unknown_answers"] == []
     for item in out["items"]:
@@ -154,3 +155,47 @@ def test_shares_printed_by_the_same_rule_as_cells(tmp_path, capsys):
     assert main(["summarize", str(f), "--scale", str(scale), "--decimals", "-1"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "--decimals" in err and "Traceback" not in err
+
+
+SURVEY = """id,Section,Q1,Q2,Q3,Q4,Q5
+1,A,Strongly agree,Agree,Disagree,Neutral,Strongly agree
+2,A,Agree,Agree,Strongly disagree,Agree,
+3,A,Neutral,,Agree,Agree,Agree
+4,A,Agree,Strongly agree,Disagree,Strongly agree,Agree
+5,A,Strongly disagree,Disagree,Strongly agree,Disagree,Neutral
+6,A,Agree,Neutral,Neutral,Agree,Agree
+7,B,Disagree,Disagree,Agree,Neutral,Disagree
+8,B,Neutral,Agree,Strongly disagree,,Neutral
+9,B,Strongly agree,Strongly agree,Disagree,Agree,Agree
+10,B,Agree,Neutral,Neutral,Strongly disagree,
+11,B,Disagree,Disagree,Agree,Neutral,Disagree
+12,B,,Agree,Disagree,Agree,Strongly agree
+"""
+
+
+def test_reverse_keyed_items_are_marked_in_text_json_and_table(tmp_path, capsys):
+    """A reversed item's statistics sit beside raw counts: every output says so.
+
+    By hand, Q3 of the tester's survey.csv: SD 2, D 4, N 2, A 3, SA 1 (raw). Reversed
+    codes (SD=5 .. SA=1) give the mean (2*5 + 4*4 + 2*3 + 3*2 + 1*1) / 12 = 39/12 = 3.25;
+    the raw codes would give 33/12 = 2.75.
+    """
+    import csv as _csv
+    f, table = tmp_path / "survey.csv", tmp_path / "t.csv"
+    f.write_text(SURVEY)
+    assert main(["summarize", str(f), "--reverse", "Q3", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    q1, q3 = out["items"][0], out["items"][2]
+    assert (q1["reversed"], q1["reversed_statistics"]) == (False, [])
+    assert (q3["reversed"], q3["reversed_statistics"]) == (True, ["median", "iqr", "mean", "sd"])
+    assert list(q3["counts"].values()) == [2, 4, 2, 3, 1] and q3["mean"] == 3.25
+    assert "raw, not reversed" in out["reverse_note"]
+    assert main(["summarize", str(f), "--reverse", "Q3", "--table", str(table)]) == 0
+    text = capsys.readouterr().out
+    lines = text.splitlines()
+    assert [ln.split()[:2] for ln in lines if ln.startswith("Q3")] == [["Q3", "(R)"]]
+    assert any(ln.startswith("(R) reverse-keyed item: counts") for ln in lines)
+    rows = list(_csv.DictReader(table.read_text(encoding="utf-8-sig").splitlines()))
+    assert [(r["item"], r["reversed"]) for r in rows][1:3] == [("Q2", "False"), ("Q3", "True")]
+    assert rows[2]["statistics on reversed codes"] == "median, iqr, mean, sd"
+    assert rows[2]["mean"] == "3.25" and rows[2]["Strongly disagree (count)"] == "2"

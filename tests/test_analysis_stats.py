@@ -86,20 +86,21 @@ def test_cliffs_delta_three_routes(x, y):
 
 def test_groups_suppression_and_tests():
     labels = ["Definitely Agree", "Partially Agree", "Neutral", "Partially Disagree"]
+    # C (3) and D (2) are under 5; pooled they are 5, so A and B are shown
     rows = ([("A", labels[i % 2]) for i in range(6)] + [("B", labels[2 + i % 2]) for i in range(6)]
-            + [("C", labels[0])] * 3)
+            + [("C", labels[0])] * 3 + [("D", labels[3])] * 2)
     df = pd.DataFrame(rows, columns=["section", "q1"])
     data = survey_from_frame(df, group="section")
     comp = compare_groups(data, "Section", min_size=5)
     sup = {g.name: g.suppressed for g in comp.groups}
-    assert sup == {"A": False, "B": False, "C": True}
+    assert sup == {"A": False, "B": False, "C": True, "D": True}
     assert "3 respondents < 5" in [g for g in comp.groups if g.name == "C"][0].reason
     it = comp.items[0]
     assert it.test == "mann-whitney" and it.effect == pytest.approx(1.0)   # A all above B
     assert "C" not in it.per_group
-    comp3 = compare_groups(data, "section", min_size=3)
+    comp3 = compare_groups(data, "section", min_size=2)
     assert comp3.items[0].test == "kruskal-wallis"
-    h = stats.kruskal([5, 4] * 3, [3, 2] * 3, [5] * 3).statistic
+    h = stats.kruskal([5, 4] * 3, [3, 2] * 3, [5] * 3, [2] * 2).statistic
     assert comp3.items[0].statistic == pytest.approx(h, rel=1e-12)
     with pytest.raises(SurveyInputError, match="term"):
         compare_groups(data, "term")
