@@ -194,7 +194,7 @@ def _where(scene) -> str:
 
 # -- period ------------------------------------------------------------------------------------
 def period_command(args: argparse.Namespace) -> int:
-    from solver.fidelity import period_to_tolerance
+    from solver.fidelity import INPUT_ROUNDING, amplitude_sensitivity, period_to_tolerance
     from solver.period import find_equilibrium
 
     amplitude = _angle(args.amplitude, "--amplitude")
@@ -202,10 +202,12 @@ def period_command(args: argparse.Namespace) -> int:
     eq = find_equilibrium(system, near=state_si(scene)[0])
     res = period_to_tolerance(system, amplitude, tol=args.tol, model=args.model, equilibrium=eq)
     shown = to_output_units(res.to_dict(), scene.output_units)
+    kappa = None if res.model in ("linear", "integration") else amplitude_sensitivity(system, res, args.tol, eq)
     if args.json:
         payload = {"scene": scene.name}
         payload.update(shown)
         payload["tol"] = args.tol
+        payload["amplitude_sensitivity"] = kappa
         print_json(payload)
         return 0
     rows = [
@@ -223,6 +225,12 @@ def period_command(args: argparse.Namespace) -> int:
     how = {"elliptic": " (closed form: complete elliptic integrals of the first and third kinds)",
            "quadrature": f" ({res.nodes} nodes, {res.precision})"}.get(res.model, "")
     print(f"model: {res.model}{how}, estimated relative error {res.error_estimate:.2g} (requested {args.tol:g})")
+    if kappa is not None:
+        floor = kappa * INPUT_ROUNDING
+        print(f"sensitivity to the amplitude: a relative change d of the amplitude changes the period by "
+              f"{kappa:.3g} d; the amplitude's own rounding ({INPUT_ROUNDING:.2g}) moves it by {floor:.2g}"
+              + (", more than the tolerance: the period of the amplitude as typed is known only that closely"
+                 if floor > args.tol else ""))
     return 0
 
 

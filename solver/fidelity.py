@@ -42,7 +42,12 @@ from .errors import InputError
 from .period import (TOL_MAX, TOL_MIN, Equilibrium, OneDofSystem, PeriodResult, QuadratureError, exact_period,
                      find_equilibrium, turning_points)
 
-__all__ = ["MODELS", "MARGIN", "SeriesCoefficients", "amplitude_coefficient", "period_to_tolerance"]
+__all__ = ["MODELS", "MARGIN", "SeriesCoefficients", "amplitude_coefficient", "period_to_tolerance",
+           "amplitude_sensitivity", "INPUT_ROUNDING"]
+
+INPUT_ROUNDING = 2.0 ** -52
+"""Relative uncertainty of an amplitude as the solver holds it: a double's rounding (2**-53) and
+the degree-to-radian conversion's (another 2**-53 at most)."""
 
 from .limits import PERIOD_MODELS as MODELS  # noqa: E402 - one place, read by --help too
 # Safety factor on the leading series term: the next terms (a^3, a^4) are
@@ -181,3 +186,32 @@ def _integrated(system: OneDofSystem, amplitude: float, tol: float, eq: Equilibr
     T = b.period
     return PeriodResult(T, eq.period, T / eq.period, amplitude, eq.q, (q1, q0), "integration", est,
                         a.nfev + b.nfev, "float64")
+
+
+def amplitude_sensitivity(system: OneDofSystem, result, tol: float, equilibrium: Equilibrium | None = None) -> float:
+    """The relative condition number of the period in the amplitude, kappa = (a / T) dT/da.
+
+    A relative change d of the amplitude a changes the period by about kappa d; the amplitude as
+    the solver holds it carries a relative rounding of :data:`INPUT_ROUNDING`, so no model can give
+    the period of the amplitude as typed closer than kappa * INPUT_ROUNDING. kappa is small at
+    small amplitudes (2 c2 a**2) and grows without bound towards the separatrix (T ~ -log of the
+    distance to it). By a central difference of the period at a (1 +- h) (the same model and
+    tolerance as ``result``), h = 1e-6, or ten times smaller until a (1 + h) stays short of the
+    separatrix; its own error, relative, is about (h kappa)**2 + error / h: ample for a
+    sensitivity near the separatrix, where kappa is large.
+    """
+    a, T = result.amplitude, result.period
+    if a == 0.0:
+        return 0.0
+
+    def period_at(x):
+        return period_to_tolerance(system, x, tol=tol, model=result.model, equilibrium=equilibrium).period
+
+    h = 1e-6
+    while True:
+        try:
+            return abs((period_at(a * (1 + h)) - period_at(a * (1 - h))) / (2 * h * T))
+        except InputError:  # a (1 + h) is past the separatrix: a smaller step, down to 1e-13
+            if h < 1e-12:
+                raise
+            h /= 10

@@ -190,6 +190,30 @@ def test_cli_period_json(solver_cli):
     assert 0 <= data["error_estimate"] <= 1e-11
 
 
+@pytest.mark.parametrize("degrees, step", [(120.0, 1e-6), (179.0, 1e-7)])
+def test_amplitude_sensitivity_is_the_periods_condition_number(solver_cli, degrees, step):
+    """`period` reports kappa = (a / T) dT/da, the relative change of the period per relative change
+    of the amplitude: near the separatrix it is large, and the amplitude's own rounding then limits
+    what any model can give. Reference: a central difference of the 30-digit mpmath quadrature of
+    the energy integral (Eqs. 44-46), with a step well inside the distance to the separatrix; its
+    error is about (step kappa)**2 + 1e-16 / step, under 1e-6 here. 1e-4: the product's own
+    difference (of periods to 1e-12) carries up to ~1e-6."""
+    a = math.radians(degrees)
+    T = ex2_reference_period(a)
+    kappa = a / T * (ex2_reference_period(a * (1 + step)) - ex2_reference_period(a * (1 - step))) / (2 * a * step)
+    code, out, err = solver_cli("period", SCENE, "--amplitude", f"{degrees} deg", "--tol", "1e-12", "--json")
+    assert code == 0, err
+    assert json.loads(out)["amplitude_sensitivity"] == pytest.approx(kappa, rel=1e-4)
+
+
+def test_amplitude_rounding_beyond_the_tolerance_is_said(solver_cli):
+    """At 179.9999999 deg the period is so sensitive (kappa ~ 1e8) that the amplitude's own rounding
+    (2**-52) moves it by ~2e-8, beyond the requested 1e-12: the text says so."""
+    code, out, err = solver_cli("period", SCENE, "--amplitude", "179.9999999 deg", "--tol", "1e-12")
+    assert code == 0, err
+    assert "more than the tolerance: the period of the amplitude as typed is known only that closely" in out
+
+
 def test_cli_period_units_and_errors(solver_cli):
     code, out, _ = solver_cli("period", SCENE, "--amplitude", "0.5 rad", "--json")
     assert json.loads(out)["period"]["value"] == pytest.approx(ex2_reference_period(0.5), rel=1e-10)
