@@ -29,6 +29,7 @@ from solver.cli_common import (
     format_number,
     int_in,
     format_table,
+    in_output_units,
     load_scene_from_args,
     print_json,
     to_output_units,
@@ -211,11 +212,13 @@ def period_command(args: argparse.Namespace) -> int:
         ("period", format_number(shown["period"]["value"], 12), shown["period"]["unit"]),
         ("period_linear", format_number(shown["period_linear"]["value"], 12), shown["period_linear"]["unit"]),
         ("ratio", format_number(res.ratio, 12), ""),
-        ("equilibrium", format_number(math.degrees(res.equilibrium), 10), "deg"),
-        ("turning points", ", ".join(format_number(math.degrees(x), 10) for x in res.turning_points), "deg"),
+        ("equilibrium", format_number(shown["equilibrium"]["value"], 10), shown["equilibrium"]["unit"]),
+        ("turning points", ", ".join(format_number(x, 10) for x in shown["turning_points"]["value"]),
+         shown["turning_points"]["unit"]),
     ]
     print(f"scene   {scene.name}  ({_where(scene)})")
-    print(f"amplitude {format_number(math.degrees(amplitude), 10)} deg from the equilibrium, released from rest")
+    print(f"amplitude {format_number(shown['amplitude']['value'], 10)} {shown['amplitude']['unit']} "
+          "from the equilibrium, released from rest")
     print()
     print(format_table(("name", "value", "unit"), rows, align="lrl"))
     print()
@@ -249,8 +252,10 @@ def _simulate_multibody(args, system, t_end) -> int:
         print()
         print("regime switches:")
         for ev in res.events:
-            print(f"  t = {format_number(ev['t'], 10)} s  {ev['joint']}: {ev['from']} -> {ev['to']}  ({ev['cause']})")
-    rows = [("t", format_number(float(res.t[-1]), 10), "s")]
+            t, t_unit = in_output_units(ev["t"], "s", system.output_units)
+            print(f"  t = {format_number(t, 10)} {t_unit}  {ev['joint']}: {ev['from']} -> {ev['to']}  ({ev['cause']})")
+    t, t_unit = in_output_units(float(res.t[-1]), "s", system.output_units)
+    rows = [("t", format_number(t, 10), t_unit)]
     for name, (values, unit) in res.columns.items():
         shown = to_output_units({"value": float(values[-1]), "unit": unit}, system.output_units)
         rows.append((name, format_number(shown["value"], 10), shown["unit"]))
@@ -376,7 +381,8 @@ def friction_command(args: argparse.Namespace) -> int:
         print(f"least friction coefficient mu_min = max |{system.friction_pairs[0].friction}| / "
               f"{system.friction_pairs[0].normal} over a free oscillation")
         first = f"{fmap.ratio_of[0]}/{fmap.ratio_of[1]}" if fmap.ratio_of else "masses"
-        header = (first, *[f"{math.degrees(a):.6g} deg" for a in fmap.amplitudes])
+        header = (first, *["{:.6g} {}".format(*in_output_units(math.degrees(a), "deg", scene.output_units))
+                           for a in fmap.amplitudes])
         rows = [(format_number(r, 6) if fmap.ratio_of else "as in scene",
                  *[format_number(v, 6) if math.isfinite(v) else "lifts off" for v in row])
                 for r, row in zip(fmap.mass_ratios, fmap.mu_min)]
@@ -398,13 +404,15 @@ def friction_command(args: argparse.Namespace) -> int:
         print_json(to_output_units(payload, scene.output_units))
         return 0
     print(f"scene   {scene.name}  ({_where(scene)})")
-    print(f"release angles with {', '.join(win.reactions)} >= 0 "
-          f"(searched {math.degrees(lo):.6g} .. {math.degrees(hi):.6g} deg):")
+    def angle(x: float, digits: int) -> str:
+        value, unit = in_output_units(math.degrees(x), "deg", scene.output_units)
+        return f"{value:.{digits}g} {unit}"
+
+    print(f"release angles with {', '.join(win.reactions)} >= 0 (searched {angle(lo, 6)} .. {angle(hi, 6)}):")
     if not win.intervals:
         print("  none")
     for iv in win.intervals:
-        print(f"  {math.degrees(iv.low):.10g} deg ({iv.low_reason}) .. {math.degrees(iv.high):.10g} deg "
-              f"({iv.high_reason})")
+        print(f"  {angle(iv.low, 10)} ({iv.low_reason}) .. {angle(iv.high, 10)} ({iv.high_reason})")
     return 0
 
 

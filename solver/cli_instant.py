@@ -29,6 +29,8 @@ from solver.cli_common import (
     print_json,
     quantity_entry,
     state_text,
+    output_unit,
+    in_output_units,
     to_output_units,
 )
 from solver.errors import InputError
@@ -165,7 +167,7 @@ def _state_payload(system, state) -> dict:
         out[c.name] = {"value": v, "unit": c.unit}
         out[f"{c.name}_dot"] = {"value": r, "unit": f"{c.unit}/s"}
     out["t"] = {"value": state.t, "unit": "s"}
-    return out
+    return to_output_units(out, system.output_units)
 
 
 def _has_time(load, system) -> bool:
@@ -180,7 +182,7 @@ def kinematics_command(args: argparse.Namespace) -> int:
     from solver.analyses.kinematics import kinematics_at
 
     system = load_scene_from_args(args)
-    result = kinematics_at(system, args.point, args.method)
+    result = to_output_units(kinematics_at(system, args.point, args.method), system.output_units)
     if args.json:
         print_json({"scene": system.name, **result})
         return 0
@@ -277,11 +279,6 @@ def _printer():
 
     printer = FastStrPrinter()
     return printer.doprint
-
-
-def _output_unit(system, unit: str) -> str:
-    key = {"N": "force", "N*m": "moment"}.get(unit)
-    return system.output_units.get(key, unit) if key else unit
 
 
 def _eom_multi(args, system) -> int:
@@ -489,26 +486,31 @@ def _modes_command(args, system) -> int:
 
     formulate(system, args.method, args.point)  # checks the point
     result = modes(system, args.method)
-    payload = result.to_dict()
+    units = system.output_units
+    payload = to_output_units(result.to_dict(), units)
     if len(result.modes) == 1:  # one freedom: also the keys of the one-coordinate answer
         (name, value), = result.equilibrium.items()
         mode = payload["modes"][0]
         payload = {"omega_n": mode["omega_n"], "frequency": mode["frequency"], "period": mode["period"],
-                   **payload, "equilibrium": {"value": value, "unit": result.units[name]}}
+                   **payload, "equilibrium": to_output_units({"value": value, "unit": result.units[name]}, units)}
     if args.json:
         print_json({"scene": system.name, "method": args.method, **payload})
         return 0
     print(f"scene   {system.name}  ({_where(system)})")
-    eq = ", ".join(f"{k} = {format_number(math.degrees(v) if result.units[k] == 'rad' else v)} "
-                   f"{'deg' if result.units[k] == 'rad' else result.units[k]}" for k, v in result.equilibrium.items())
+    eq = ", ".join("{} = {} {}".format(k, format_number(v[0]), v[1]) for k, v in (
+        (k, in_output_units(math.degrees(v), "deg", units) if result.units[k] == "rad" else in_output_units(v, result.units[k], units))
+        for k, v in result.equilibrium.items()))
     print(f"small oscillations about the stable equilibrium {eq}")
     print()
+    omega_unit, period_unit = output_unit("rad/s", units), output_unit("s", units)
     rows = []
-    for i, m in enumerate(result.modes, 1):
-        shape = ", ".join(f"{k}: {format_number(v, 4)}" for k, v in m.shape.items())
-        rows.append((str(i), format_number(m.omega), format_number(m.frequency),
-                     format_number(m.period) if math.isfinite(m.period) else "-", shape))
-    print(format_table(("mode", "omega_n [rad/s]", "f [Hz]", "period [s]", "shape"), rows, align="rrrrl"))
+    for i, m in enumerate(payload["modes"], 1):
+        shape = ", ".join(f"{k}: {format_number(v, 4)}" for k, v in m["shape"].items())
+        period = m["period"]["value"]
+        rows.append((str(i), format_number(m["omega_n"]["value"]), format_number(m["frequency"]["value"]),
+                     "-" if period is None or not math.isfinite(period) else format_number(period), shape))
+    print(format_table(("mode", f"omega_n [{omega_unit}]", "f [Hz]", f"period [{period_unit}]", "shape"), rows,
+                       align="rrrrl"))
     if any(m.omega == 0 for m in result.modes):
         print("\na mode with omega_n = 0 is a neutral direction: nothing restores it.")
     return 0
