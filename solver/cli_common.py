@@ -226,9 +226,25 @@ def state_si(system) -> tuple[float, float]:
     if len(free) != 1 or system.closure:
         raise InputError(
             f"{system.label}: this command needs one degree of freedom without closure constraints; "
-            f"the scene has {len(free)} free coordinate(s) ({', '.join(c.name for c in free) or 'none'})"
+            f"the scene has {freedom_words(system)}"
         )
     return free[0].value, free[0].rate
+
+
+def freedom_words(system) -> str:
+    """How many independent coordinates a system has, named, and what else moves it:
+    ``1 independent coordinate (theta2), theta3, theta4 dependent on it through closure
+    constraints`` (for messages that refuse a system)."""
+    independent = [c.name for c in system.free if not c.dependent]
+    dependent = [c.name for c in system.free if c.dependent]
+    text = f"{len(independent)} independent coordinate(s) ({', '.join(independent) or 'none'})"
+    if dependent:
+        text += f", {', '.join(dependent)} dependent through closure constraints"
+    elif system.closure:
+        text += " and closure constraints"
+    if system.time_dependent:
+        text += ", and motion prescribed in time"
+    return text
 
 
 # -- output --------------------------------------------------------------------------------
@@ -425,6 +441,7 @@ __all__ = [
     "format_table",
     "state_text",
     "state_si",
+    "freedom_words",
     "run_handler",
     "cpu_budget",
     "cpu_seconds_allowed",

@@ -29,6 +29,7 @@ from solver.cli_common import (
     format_number,
     int_in,
     format_table,
+    freedom_words,
     in_output_units,
     load_scene_from_args,
     print_json,
@@ -180,8 +181,7 @@ def _system(args, reactions: bool = True):
     if len(scene.free) != 1 or scene.closure or scene.time_dependent or scene.free[0].kind != "angle":
         raise InputError(
             f"{scene.label}: {args.command} needs one degree of freedom given by an angle (one free angle "
-            f"coordinate, no closure constraints, no prescribed motion); this scene has {len(scene.free)} free coordinate(s) "
-            f"({', '.join(c.name for c in scene.free) or 'none'}){' and closure constraints' if scene.closure else ''}: "
+            f"coordinate, no closure constraints, no prescribed motion); this scene has {freedom_words(scene)}: "
             "use `frequency` for its natural modes or `simulate` for its motion"
         )
     d = derive(scene, getattr(args, "point", None), getattr(args, "method", "generalized_euler"))
@@ -461,15 +461,22 @@ def precision_command(args: argparse.Namespace) -> int:
     from solver.precision import PRECISIONS, solve_precise
 
     scene = load_scene_from_args(args)
-    d = derive(scene, args.point, args.method)
+    system, state = _precision_system(scene, args.point, args.method)
+    d = derive(system, args.point, args.method)
     which = PRECISIONS if args.precision == "all" else (args.precision,)
-    results = [solve_precise(d, p, args.dps) for p in which]
+    results = [solve_precise(d, p, args.dps, assembled=state) for p in which]
+    regimes = ({j.name: j.current_regime.label for j in system.contacts} if system is not scene else {})
     if args.json:
         print_json({"scene": scene.name, "point": d.point, "method": d.method,
                     "condition_number": results[0].condition_number,
+                    **({"regime": regimes} if regimes else {}),
                     "solutions": {r.precision: r.to_dict() for r in results}})
         return 0
     print(f"scene   {scene.name}  ({_where(scene)})")
+    if regimes:
+        print("contacts in the regime that holds at the state (as `solve` finds it): "
+              + ", ".join(f"{j}: {r}" for j, r in regimes.items())
+              + "; a sliding contact's friction (-mu_k N) and a separated one's forces (0) are not unknowns here")
     print(f"condition number of the linear system (2-norm): {results[0].condition_number:.6g} "
           f"(float64 relative error bound ~ {results[0].condition_number * 2.2e-16:.2g})")
     for r in results:
@@ -479,5 +486,33 @@ def precision_command(args: argparse.Namespace) -> int:
         print(format_table(("name", "value (SI)", "unit", "float64 rel. error"), rows, align="lrll"))
         for n, e in r.exact_form.items():
             print(f"  {n} = {e}")
+        if r.note:
+            print(f"note: {r.note}")
     sys.stdout.flush()
     return 0
+
+
+def _precision_system(scene, point, method):
+    """(system, float64 state) that ``precision`` solves: the scene as written, or, when it has
+    contacts, the scene in the contact regime that holds at its state (as ``solve`` finds it):
+    there a sliding contact's friction is -mu_k N and a separated one's forces are zero, so
+    neither is an unknown of the linear system.
+
+    Raises
+    ------
+    InputError
+        When the regime leaves the split of the forces undetermined (statically
+        indeterminate): there is no one linear system to solve precisely.
+    """
+    if not scene.contacts:
+        return scene, None
+    from solver.analyses.regimes import regime_at_state
+
+    regime, _, state = regime_at_state(scene, None, point, method)
+    if regime is None:
+        return scene, state
+    if regime.indeterminate:
+        raise InputError(f"{scene.label}: precision: the sticking contacts hold the bodies redundantly "
+                         "(statically indeterminate), so the forces have no unique value to compute precisely; "
+                         "`solve` gives the accelerations and one admissible split")
+    return regime.system.with_regimes(regime.regimes, state.q, state.qd, state.t), state
