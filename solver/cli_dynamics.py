@@ -464,7 +464,8 @@ def precision_command(args: argparse.Namespace) -> int:
     system, state = _precision_system(scene, args.point, args.method)
     d = derive(system, args.point, args.method)
     which = PRECISIONS if args.precision == "all" else (args.precision,)
-    results = [solve_precise(d, p, args.dps, assembled=state) for p in which]
+    results = [_precise_in_output_units(solve_precise(d, p, args.dps, assembled=state), scene.output_units)
+               for p in which]
     regimes = ({j.name: j.current_regime.label for j in system.contacts} if system is not scene else {})
     if args.json:
         print_json({"scene": scene.name, "point": d.point, "method": d.method,
@@ -483,13 +484,44 @@ def precision_command(args: argparse.Namespace) -> int:
         print()
         print(f"{r.precision}" + (f" ({r.dps} digits)" if r.precision != "float64" else ""))
         rows = [(n, r.text[n], r.units.get(n, ""), f"{r.float64_error.get(n, 0.0):.2g}") for n in r.unknowns]
-        print(format_table(("name", "value (SI)", "unit", "float64 rel. error"), rows, align="lrll"))
+        print(format_table(("name", "value", "unit", "float64 rel. error"), rows, align="lrll"))
+        if r.exact_form:
+            print("exact forms (SI units):")
         for n, e in r.exact_form.items():
             print(f"  {n} = {e}")
         if r.note:
             print(f"note: {r.note}")
     sys.stdout.flush()
     return 0
+
+
+def _precise_in_output_units(result, units):
+    """``result`` (a :class:`~solver.precision.PreciseSolution`, SI) with its printed values and
+    units in the scene's output units (:func:`solver.output_units.output_unit`), converted by the
+    exact SI factor of each unit (ft = 0.3048 m exactly) at the answer's own precision, so that
+    no digit is lost; the float64 relative errors do not change. The exact forms stay SI."""
+    import dataclasses
+
+    import mpmath
+
+    from solver.output_units import output_unit
+    from solver.precision import exact_quantity
+    from solver.units import Q_
+
+    text, shown_units = dict(result.text), dict(result.units)
+    for name, unit in result.units.items():
+        target = output_unit(unit, units) if unit and name in text else unit
+        if target == unit:
+            continue
+        factor = exact_quantity(Q_(1, unit)) / exact_quantity(Q_(1, target))
+        if result.precision == "float64":
+            text[name] = repr(float(text[name]) * float(factor))
+        else:
+            with mpmath.workdps(result.dps + 10):
+                value = mpmath.mpf(text[name]) * mpmath.mpf(str(factor.evalf(result.dps + 15)))
+                text[name] = mpmath.nstr(value, result.dps)
+        shown_units[name] = target
+    return dataclasses.replace(result, text=text, units=shown_units)
 
 
 def _precision_system(scene, point, method):

@@ -179,3 +179,24 @@ def test_frequency_derives_stiffness_and_inertia_units(tmp_path: Path, capsys: p
 ])
 def test_output_unit_rules(si: str, units: dict, expected: str) -> None:
     assert output_unit(si, units) == expected
+
+
+def test_precision_prints_in_the_scenes_units_without_losing_digits(incline: str,
+                                                                   capsys: pytest.CaptureFixture[str]) -> None:
+    # Regression: precision printed every value in SI whatever [output_units] said. It now
+    # converts by the exact decimal definitions of the units, so a 30-digit answer keeps its
+    # 30 digits: the closed forms below (exact data: m = 5, g = 9.81, beta = 30 deg, L = 2),
+    # evaluated at 40 digits, agree with the printed text to 2 units of its 30th digit.
+    import mpmath
+
+    payload = json.loads(_run(capsys, "precision", incline, "--precision", "mpmath", "--dps", "30", "--json"))
+    unknowns = payload["solutions"]["mpmath"]["unknowns"]
+    with mpmath.workdps(40):
+        ft, lbf = mpmath.mpf("0.3048"), mpmath.mpf("4.4482216152605")  # exact definitions (see top)
+        weight_normal = 5 * mpmath.mpf("9.81") * mpmath.sqrt(3) / 2  # m g cos(beta) [N]
+        expected = {"N": (weight_normal / lbf, "lbf"),
+                    "M_s": (weight_normal * 2 / 2 / (ft * lbf), "ft*lbf"),  # m g cos(beta) L / 2
+                    "s_ddot": (mpmath.mpf("9.81") / 2 / ft, "ft/s**2")}  # g sin(beta)
+        for name, (value, unit) in expected.items():
+            assert unknowns[name]["unit"] == unit
+            assert abs(mpmath.mpf(unknowns[name]["text"]) - value) <= 2 * mpmath.mpf(10) ** -29 * abs(value)
