@@ -452,7 +452,7 @@ def frequency_command(args: argparse.Namespace) -> int:
     result = derivation.natural_frequency(scene, args.method)
     omega = float(result.omega_n.to("rad/s").magnitude)
     period = float(result.period.to("s").magnitude)
-    equilibrium = float(result.equilibrium.to("rad").magnitude)
+    equilibrium = float(result.equilibrium.to_base_units().magnitude)  # rad or m
     check_finite({"omega_n": omega, "period": period, "equilibrium": equilibrium}, _where(scene))
     if not omega > 0:
         raise InputError(f"{_where(scene)}: the natural frequency came out as {omega}; no oscillation")
@@ -462,10 +462,13 @@ def frequency_command(args: argparse.Namespace) -> int:
         print_json({"scene": scene.name, "method": args.method, **payload})
         return 0
     q = scene.free[0].name if scene.free else "q"
-    eq_deg = math.degrees(equilibrium)
+    angle = scene.free[0].kind == "angle"
+    eq_value, eq_unit = in_output_units(math.degrees(equilibrium) if angle else equilibrium,
+                                        "deg" if angle else "m", scene.output_units)
+    in_rad = f" ({format_number(equilibrium)} rad)" if angle and eq_unit != "rad" else ""
     print(f"scene   {scene.name}  ({_where(scene)})")
-    print(f"small oscillations about the stable equilibrium {q} = {format_number(eq_deg)} deg "
-          f"({format_number(equilibrium)} rad), every position-dependent load included")
+    print(f"small oscillations about the stable equilibrium {q} = {format_number(eq_value)} {eq_unit}{in_rad}, "
+          "every position-dependent load included")
     print()
     rows = [
         ("omega_n", format_number(payload["omega_n"]["value"]), payload["omega_n"]["unit"]),

@@ -200,3 +200,51 @@ def test_precision_prints_in_the_scenes_units_without_losing_digits(incline: str
         for name, (value, unit) in expected.items():
             assert unknowns[name]["unit"] == unit
             assert abs(mpmath.mpf(unknowns[name]["text"]) - value) <= 2 * mpmath.mpf(10) ** -29 * abs(value)
+
+
+BLOCK_ON_SPRING = """
+name = "block_spring"
+[parameters]
+m = "2 kg"
+k = "200 N/m"
+[coordinates]
+x = { value = "0.1 m", rate = "0 m/s" }
+[ground.points]
+A0 = ["0", "0"]
+[[bodies]]
+name = "block"
+orientation = "0"
+position = { point = "A", at = ["x", "0"] }
+points = { A = ["0", "0"] }
+elements = [{ kind = "point_mass", mass = "m", at = "A" }]
+[[joints]]
+kind = "slider"
+name = "floor"
+point = "block:A"
+angle = "0"
+relative_angle = "0"
+reactions = ["N", "M_s"]
+[[loads]]
+kind = "spring"
+name = "s"
+stiffness = "k"
+between = ["block:A", "ground:A0"]
+[output_units]
+force = "lbf"
+length = "ft"
+"""
+
+
+def test_frequency_of_a_length_coordinate(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    # Regression: a block on a spring (x, a length) printed its stiffness k as "200 N*m/rad" and
+    # its mass m as "21.5 kg*ft**2", the units of an angle coordinate. For a length coordinate
+    # V'' = k [N/m -> force/length] and M = m [kg]; omega_n = sqrt(k / m) = 10 rad/s.
+    scene = tmp_path / "block.toml"
+    scene.write_text(BLOCK_ON_SPRING)
+    payload = json.loads(_run(capsys, "frequency", str(scene), "--json"))
+    assert payload["stiffness"]["unit"] == "lbf/ft"
+    assert payload["stiffness"]["value"] == pytest.approx(200.0 * FT / LBF, rel=REL)
+    assert payload["mass"] == {"value": pytest.approx(2.0, rel=REL), "unit": "kg"}
+    # the equilibrium x = 0 comes from a root search that stops within ~1e-15 m of it
+    assert payload["equilibrium"] == {"value": pytest.approx(0.0, abs=1e-12), "unit": "ft"}
+    assert payload["omega_n"]["value"] == pytest.approx(math.sqrt(200.0 / 2.0), rel=REL)
