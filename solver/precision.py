@@ -1,8 +1,11 @@
 """The instantaneous solve in three arithmetics, and how well float64 does.
 
-At a state (theta, theta_dot) the unknowns x = (theta_ddot, reactions...)
-solve the linear system A x = b of the Derivation (for Example 1 the paper's
-Eqs. 24, 25 and 28, whose numbers are Eq. 29). This module solves it
+At a state (every coordinate's value and rate, and t) the unknowns
+x = (the coordinates' second derivatives, reactions...) solve the linear system
+A x = b of the Derivation (for Example 1 the paper's Eqs. 24, 25 and 28, whose
+numbers are Eq. 29). Dependent coordinates (loop closures) have no closed value:
+they are solved again from the closure equations in mpmath to the digits asked
+for plus 15, and the exact answer is exact at those values. This module solves it
 
 * ``"float64"``: numpy, as :func:`solver.derivation.solve_instant` does;
 * ``"exact"``: sympy, with every parameter turned into an exact number
@@ -112,7 +115,7 @@ def _dependent_state(system: Any, subs: dict, dps: int) -> dict:
     with mpmath.workdps(digits):
         num = {k: mpmath.mpf(str(sp.N(v, digits + 5))) for k, v in fixed.items()}
         args = (*q_dep, *num.keys())
-        f_phi = sp.lambdify(args, list(rows.xreplace({})), "mpmath")
+        f_phi = sp.lambdify(args, list(rows), "mpmath")
         f_jac = sp.lambdify(args, rows.jacobian(q_dep).tolist(), "mpmath")
         x = [mpmath.mpf(str(sp.N(subs[q], 20))) for q in q_dep]
         for _ in range(2 * digits):  # quadratic convergence from a float64 start: a few steps
