@@ -38,6 +38,7 @@ if TYPE_CHECKING:  # annotations only: pint loads in ~0.3 s, which --help does n
 
 from solver.errors import InputError
 from solver.files import MAX_INPUT_BYTES
+from solver.output_units import in_output_units, output_unit, to_output_units  # noqa: F401 - re-exported for the commands
 
 EXIT_OK = 0
 EXIT_INTERNAL = 1
@@ -225,9 +226,25 @@ def state_si(system) -> tuple[float, float]:
     if len(free) != 1 or system.closure:
         raise InputError(
             f"{system.label}: this command needs one degree of freedom without closure constraints; "
-            f"the scene has {len(free)} free coordinate(s) ({', '.join(c.name for c in free) or 'none'})"
+            f"the scene has {freedom_words(system)}"
         )
     return free[0].value, free[0].rate
+
+
+def freedom_words(system) -> str:
+    """How many independent coordinates a system has, named, and what else moves it:
+    ``1 independent coordinate (theta2), theta3, theta4 dependent on it through closure
+    constraints`` (for messages that refuse a system)."""
+    independent = [c.name for c in system.free if not c.dependent]
+    dependent = [c.name for c in system.free if c.dependent]
+    text = f"{len(independent)} independent coordinate(s) ({', '.join(independent) or 'none'})"
+    if dependent:
+        text += f", {', '.join(dependent)} dependent through closure constraints"
+    elif system.closure:
+        text += " and closure constraints"
+    if system.time_dependent:
+        text += ", and motion prescribed in time"
+    return text
 
 
 # -- output --------------------------------------------------------------------------------
@@ -257,36 +274,6 @@ def quantity_entry(quantity: pint.Quantity, unit: str | None = None) -> dict[str
     else:
         unit_text = f"{quantity.units:~}" or "dimensionless"
     return {"value": float(quantity.magnitude), "unit": unit_text}
-
-
-# SI (or degree) unit strings the commands print -> the [output_units] key that may convert them.
-# Only these exact strings are converted ("Hz", "N*m/rad", "kg*m**2", "J" stay as they are).
-_OUTPUT_KEY_OF_UNIT = {
-    "N": "force", "N*m": "moment", "m": "length", "kg": "mass", "s": "time",
-    "rad": "angle", "deg": "angle", "rad/s": "angular_velocity", "rad/s**2": "angular_acceleration",
-    "m/s**2": "acceleration", "m/s": "velocity",
-}
-
-
-def to_output_units(payload: Any, units: Mapping[str, str] | None) -> Any:
-    """``payload`` with every ``{"value": ..., "unit": u}`` entry converted to the scene's
-    ``[output_units]`` (values may be numbers or lists of numbers); the rest unchanged."""
-    if not units:
-        return payload
-    if isinstance(payload, list):
-        return [to_output_units(item, units) for item in payload]
-    if not isinstance(payload, dict):
-        return payload
-    unit = payload.get("unit")
-    target = units.get(_OUTPUT_KEY_OF_UNIT.get(unit, ""), None) if isinstance(unit, str) else None
-    if target is not None and "value" in payload and target != unit:
-        from solver.units import ureg
-
-        factor = float(ureg.Quantity(1.0, unit).to(target).magnitude)
-        value = payload["value"]
-        converted = [float(v) * factor for v in value] if isinstance(value, list) else float(value) * factor
-        return {**payload, "value": converted, "unit": target}
-    return {key: to_output_units(item, units) for key, item in payload.items()}
 
 
 def print_json(payload: Any) -> None:
@@ -321,17 +308,24 @@ def format_table(header: Sequence[str], rows: Sequence[Sequence[str]], align: st
 
 
 def state_text(system, state=None) -> str:
-    """``theta = 30 deg, theta_dot = 0 rad/s`` (angles in degrees, rates in rad/s, lengths in m)."""
+    """``theta = 30 deg, theta_dot = 0 rad/s`` (angles in degrees, rates in rad/s, lengths in m,
+    each in the scene's ``[output_units]`` where it names one)."""
     parts = []
     q = [c.value for c in system.free] if state is None else state.q
     qd = [c.rate for c in system.free] if state is None else state.qd
+    units = system.output_units
+
+    def part(name: str, value: float, unit: str) -> str:
+        value, unit = in_output_units(value, unit, units)
+        return f"{name} = {format_number(value)} {unit}"
+
     for c, v, r in zip(system.free, q, qd):
         if c.kind == "angle":
-            parts += [f"{c.name} = {format_number(math.degrees(v))} deg", f"{c.name}_dot = {format_number(r)} rad/s"]
+            parts += [part(c.name, math.degrees(v), "deg"), part(f"{c.name}_dot", r, "rad/s")]
         else:
-            parts += [f"{c.name} = {format_number(v)} m", f"{c.name}_dot = {format_number(r)} m/s"]
+            parts += [part(c.name, v, "m"), part(f"{c.name}_dot", r, "m/s")]
     if system.time_dependent:
-        parts.append(f"t = {format_number(system.time if state is None else state.t)} s")
+        parts.append(part("t", system.time if state is None else state.t, "s"))
     return ", ".join(parts)
 
 
@@ -439,11 +433,15 @@ __all__ = [
     "load_scene_from_args",
     "check_finite",
     "quantity_entry",
+    "output_unit",
+    "to_output_units",
+    "in_output_units",
     "print_json",
     "format_number",
     "format_table",
     "state_text",
     "state_si",
+    "freedom_words",
     "run_handler",
     "cpu_budget",
     "cpu_seconds_allowed",

@@ -15,7 +15,7 @@ from __future__ import annotations
 import argparse
 import math
 
-from solver.cli_common import format_number, format_table, print_json, state_text
+from solver.cli_common import format_number, format_table, in_output_units, output_unit, print_json, state_text
 from solver.errors import InputError
 
 
@@ -80,16 +80,17 @@ def _over(system, text) -> dict:
 def _critical(system, name, between) -> dict:
     """Onsets of motion from rest as ``name`` (a coordinate or a parameter) sweeps ``between``."""
     from solver.analyses.thresholds import onsets
-    from solver.units import parse_angle, parse_quantity
+    from solver.units import Q_, parse_angle, parse_quantity
 
     flags = ("--between LOW", "--between HIGH")
     coord = next((c for c in system.free if c.name == name), None)
     if coord is not None and coord.kind == "angle":  # bare numbers are degrees, as for every angle flag
         low, high = (parse_angle(v, f) for v, f in zip(between, flags))
-        unit, scale = "deg", math.pi / 180
+        unit = output_unit("deg", system.output_units)
+        scale = float(Q_(1.0, unit).to("rad").magnitude)
     else:
-        if coord is not None:
-            shown = parse_quantity("1 m", "--critical").units
+        if coord is not None:  # a length, printed in the scene's output length
+            shown = parse_quantity(f"1 {output_unit('m', system.output_units)}", "--critical").units
         elif name in system.parameters:
             shown = system.parameters[name].units
         else:
@@ -131,11 +132,16 @@ def _print(system, payload) -> None:
     print(format_table(("contact", "mu_min", "note"), rows, align="lrl"))
     if "over_motion" in payload:
         over = payload["over_motion"]
+
+        def time(seconds: float) -> str:  # in the scene's output units
+            value, unit = in_output_units(seconds, "s", system.output_units)
+            return f"{format_number(value, 6)} {unit}"
+
         print()
-        print(f"least friction coefficient over the motion to t = {format_number(over['t_end'], 6)} s "
+        print(f"least friction coefficient over the motion to t = {time(over['t_end'])} "
               f"({over['status']}: {over['reason']}):")
         for j, v in over["least_mu"].items():
-            print(f"  {j}: mu_min = {format_number(v['value'], 10)} (at t = {format_number(v['at_t'], 6)} s)")
+            print(f"  {j}: mu_min = {format_number(v['value'], 10)} (at t = {time(v['at_t'])})")
     if "critical" in payload:
         c = payload["critical"]
         print()

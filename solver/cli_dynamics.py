@@ -29,6 +29,8 @@ from solver.cli_common import (
     format_number,
     int_in,
     format_table,
+    freedom_words,
+    in_output_units,
     load_scene_from_args,
     print_json,
     to_output_units,
@@ -180,8 +182,7 @@ def _system(args, reactions: bool = True):
     if len(scene.free) != 1 or scene.closure or scene.time_dependent or scene.free[0].kind != "angle":
         raise InputError(
             f"{scene.label}: {args.command} needs one degree of freedom given by an angle (one free angle "
-            f"coordinate, no closure constraints, no prescribed motion); this scene has {len(scene.free)} free coordinate(s) "
-            f"({', '.join(c.name for c in scene.free) or 'none'}){' and closure constraints' if scene.closure else ''}: "
+            f"coordinate, no closure constraints, no prescribed motion); this scene has {freedom_words(scene)}: "
             "use `frequency` for its natural modes or `simulate` for its motion"
         )
     d = derive(scene, getattr(args, "point", None), getattr(args, "method", "generalized_euler"))
@@ -214,11 +215,13 @@ def period_command(args: argparse.Namespace) -> int:
         ("period", format_number(shown["period"]["value"], 12), shown["period"]["unit"]),
         ("period_linear", format_number(shown["period_linear"]["value"], 12), shown["period_linear"]["unit"]),
         ("ratio", format_number(res.ratio, 12), ""),
-        ("equilibrium", format_number(math.degrees(res.equilibrium), 10), "deg"),
-        ("turning points", ", ".join(format_number(math.degrees(x), 10) for x in res.turning_points), "deg"),
+        ("equilibrium", format_number(shown["equilibrium"]["value"], 10), shown["equilibrium"]["unit"]),
+        ("turning points", ", ".join(format_number(x, 10) for x in shown["turning_points"]["value"]),
+         shown["turning_points"]["unit"]),
     ]
     print(f"scene   {scene.name}  ({_where(scene)})")
-    print(f"amplitude {format_number(math.degrees(amplitude), 10)} deg from the equilibrium, released from rest")
+    print(f"amplitude {format_number(shown['amplitude']['value'], 10)} {shown['amplitude']['unit']} "
+          "from the equilibrium, released from rest")
     print()
     print(format_table(("name", "value", "unit"), rows, align="lrl"))
     print()
@@ -258,8 +261,10 @@ def _simulate_multibody(args, system, t_end) -> int:
         print()
         print("regime switches:")
         for ev in res.events:
-            print(f"  t = {format_number(ev['t'], 10)} s  {ev['joint']}: {ev['from']} -> {ev['to']}  ({ev['cause']})")
-    rows = [("t", format_number(float(res.t[-1]), 10), "s")]
+            t, t_unit = in_output_units(ev["t"], "s", system.output_units)
+            print(f"  t = {format_number(t, 10)} {t_unit}  {ev['joint']}: {ev['from']} -> {ev['to']}  ({ev['cause']})")
+    t, t_unit = in_output_units(float(res.t[-1]), "s", system.output_units)
+    rows = [("t", format_number(t, 10), t_unit)]
     for name, (values, unit) in res.columns.items():
         shown = to_output_units({"value": float(values[-1]), "unit": unit}, system.output_units)
         rows.append((name, format_number(shown["value"], 10), shown["unit"]))
@@ -389,7 +394,8 @@ def friction_command(args: argparse.Namespace) -> int:
         print(f"least friction coefficient mu_min = max |{system.friction_pairs[0].friction}| / "
               f"{system.friction_pairs[0].normal} over a free oscillation")
         first = f"{fmap.ratio_of[0]}/{fmap.ratio_of[1]}" if fmap.ratio_of else "masses"
-        header = (first, *[f"{math.degrees(a):.6g} deg" for a in fmap.amplitudes])
+        header = (first, *["{:.6g} {}".format(*in_output_units(math.degrees(a), "deg", scene.output_units))
+                           for a in fmap.amplitudes])
         rows = [(format_number(r, 6) if fmap.ratio_of else "as in scene",
                  *[format_number(v, 6) if math.isfinite(v) else "lifts off" for v in row])
                 for r, row in zip(fmap.mass_ratios, fmap.mu_min)]
@@ -411,13 +417,15 @@ def friction_command(args: argparse.Namespace) -> int:
         print_json(to_output_units(payload, scene.output_units))
         return 0
     print(f"scene   {scene.name}  ({_where(scene)})")
-    print(f"release angles with {', '.join(win.reactions)} >= 0 "
-          f"(searched {math.degrees(lo):.6g} .. {math.degrees(hi):.6g} deg):")
+    def angle(x: float, digits: int) -> str:
+        value, unit = in_output_units(math.degrees(x), "deg", scene.output_units)
+        return f"{value:.{digits}g} {unit}"
+
+    print(f"release angles with {', '.join(win.reactions)} >= 0 (searched {angle(lo, 6)} .. {angle(hi, 6)}):")
     if not win.intervals:
         print("  none")
     for iv in win.intervals:
-        print(f"  {math.degrees(iv.low):.10g} deg ({iv.low_reason}) .. {math.degrees(iv.high):.10g} deg "
-              f"({iv.high_reason})")
+        print(f"  {angle(iv.low, 10)} ({iv.low_reason}) .. {angle(iv.high, 10)} ({iv.high_reason})")
     return 0
 
 
@@ -466,23 +474,90 @@ def precision_command(args: argparse.Namespace) -> int:
     from solver.precision import PRECISIONS, solve_precise
 
     scene = load_scene_from_args(args)
-    d = derive(scene, args.point, args.method)
+    system, state = _precision_system(scene, args.point, args.method)
+    d = derive(system, args.point, args.method)
     which = PRECISIONS if args.precision == "all" else (args.precision,)
-    results = [solve_precise(d, p, args.dps) for p in which]
+    results = [_precise_in_output_units(solve_precise(d, p, args.dps, assembled=state), scene.output_units)
+               for p in which]
+    regimes = ({j.name: j.current_regime.label for j in system.contacts} if system is not scene else {})
     if args.json:
         print_json({"scene": scene.name, "point": d.point, "method": d.method,
                     "condition_number": results[0].condition_number,
+                    **({"regime": regimes} if regimes else {}),
                     "solutions": {r.precision: r.to_dict() for r in results}})
         return 0
     print(f"scene   {scene.name}  ({_where(scene)})")
+    if regimes:
+        print("contacts in the regime that holds at the state (as `solve` finds it): "
+              + ", ".join(f"{j}: {r}" for j, r in regimes.items())
+              + "; a sliding contact's friction (-mu_k N) and a separated one's forces (0) are not unknowns here")
     print(f"condition number of the linear system (2-norm): {results[0].condition_number:.6g} "
           f"(float64 relative error bound ~ {results[0].condition_number * 2.2e-16:.2g})")
     for r in results:
         print()
         print(f"{r.precision}" + (f" ({r.dps} digits)" if r.precision != "float64" else ""))
         rows = [(n, r.text[n], r.units.get(n, ""), f"{r.float64_error.get(n, 0.0):.2g}") for n in r.unknowns]
-        print(format_table(("name", "value (SI)", "unit", "float64 rel. error"), rows, align="lrll"))
+        print(format_table(("name", "value", "unit", "float64 rel. error"), rows, align="lrll"))
+        if r.exact_form:
+            print("exact forms (SI units):")
         for n, e in r.exact_form.items():
             print(f"  {n} = {e}")
+        if r.note:
+            print(f"note: {r.note}")
     sys.stdout.flush()
     return 0
+
+
+def _precise_in_output_units(result, units):
+    """``result`` (a :class:`~solver.precision.PreciseSolution`, SI) with its printed values and
+    units in the scene's output units (:func:`solver.output_units.output_unit`), converted by the
+    exact SI factor of each unit (ft = 0.3048 m exactly) at the answer's own precision, so that
+    no digit is lost; the float64 relative errors do not change. The exact forms stay SI."""
+    import dataclasses
+
+    import mpmath
+
+    from solver.output_units import output_unit
+    from solver.precision import exact_quantity
+    from solver.units import Q_
+
+    text, shown_units = dict(result.text), dict(result.units)
+    for name, unit in result.units.items():
+        target = output_unit(unit, units) if unit and name in text else unit
+        if target == unit:
+            continue
+        factor = exact_quantity(Q_(1, unit)) / exact_quantity(Q_(1, target))
+        if result.precision == "float64":
+            text[name] = repr(float(text[name]) * float(factor))
+        else:
+            with mpmath.workdps(result.dps + 10):
+                value = mpmath.mpf(text[name]) * mpmath.mpf(str(factor.evalf(result.dps + 15)))
+                text[name] = mpmath.nstr(value, result.dps)
+        shown_units[name] = target
+    return dataclasses.replace(result, text=text, units=shown_units)
+
+
+def _precision_system(scene, point, method):
+    """(system, float64 state) that ``precision`` solves: the scene as written, or, when it has
+    contacts, the scene in the contact regime that holds at its state (as ``solve`` finds it):
+    there a sliding contact's friction is -mu_k N and a separated one's forces are zero, so
+    neither is an unknown of the linear system.
+
+    Raises
+    ------
+    InputError
+        When the regime leaves the split of the forces undetermined (statically
+        indeterminate): there is no one linear system to solve precisely.
+    """
+    if not scene.contacts:
+        return scene, None
+    from solver.analyses.regimes import regime_at_state
+
+    regime, _, state = regime_at_state(scene, None, point, method)
+    if regime is None:
+        return scene, state
+    if regime.indeterminate:
+        raise InputError(f"{scene.label}: precision: the sticking contacts hold the bodies redundantly "
+                         "(statically indeterminate), so the forces have no unique value to compute precisely; "
+                         "`solve` gives the accelerations and one admissible split")
+    return regime.system.with_regimes(regime.regimes, state.q, state.qd, state.t), state

@@ -29,6 +29,8 @@ from solver.cli_common import (
     print_json,
     quantity_entry,
     state_text,
+    output_unit,
+    in_output_units,
     to_output_units,
 )
 from solver.errors import InputError
@@ -165,7 +167,7 @@ def _state_payload(system, state) -> dict:
         out[c.name] = {"value": v, "unit": c.unit}
         out[f"{c.name}_dot"] = {"value": r, "unit": f"{c.unit}/s"}
     out["t"] = {"value": state.t, "unit": "s"}
-    return out
+    return to_output_units(out, system.output_units)
 
 
 def _has_time(load, system) -> bool:
@@ -180,7 +182,7 @@ def kinematics_command(args: argparse.Namespace) -> int:
     from solver.analyses.kinematics import kinematics_at
 
     system = load_scene_from_args(args)
-    result = kinematics_at(system, args.point, args.method)
+    result = to_output_units(kinematics_at(system, args.point, args.method), system.output_units)
     if args.json:
         print_json({"scene": system.name, **result})
         return 0
@@ -283,11 +285,6 @@ def _printer():
 
     printer = FastStrPrinter()
     return printer.doprint
-
-
-def _output_unit(system, unit: str) -> str:
-    key = {"N": "force", "N*m": "moment"}.get(unit)
-    return system.output_units.get(key, unit) if key else unit
 
 
 def _eom_multi(args, system) -> int:
@@ -502,7 +499,7 @@ def frequency_command(args: argparse.Namespace) -> int:
     result = derivation.natural_frequency(scene, args.method)
     omega = float(result.omega_n.to("rad/s").magnitude)
     period = float(result.period.to("s").magnitude)
-    equilibrium = float(result.equilibrium.to("rad").magnitude)
+    equilibrium = float(result.equilibrium.to_base_units().magnitude)  # rad or m
     check_finite({"omega_n": omega, "period": period, "equilibrium": equilibrium}, _where(scene))
     if not omega > 0:
         raise InputError(f"{_where(scene)}: the natural frequency came out as {omega}; no oscillation")
@@ -512,10 +509,13 @@ def frequency_command(args: argparse.Namespace) -> int:
         print_json({"scene": scene.name, "method": args.method, **payload})
         return 0
     q = scene.free[0].name if scene.free else "q"
-    eq_deg = math.degrees(equilibrium)
+    angle = scene.free[0].kind == "angle"
+    eq_value, eq_unit = in_output_units(math.degrees(equilibrium) if angle else equilibrium,
+                                        "deg" if angle else "m", scene.output_units)
+    in_rad = f" ({format_number(equilibrium)} rad)" if angle and eq_unit != "rad" else ""
     print(f"scene   {scene.name}  ({_where(scene)})")
-    print(f"small oscillations about the stable equilibrium {q} = {format_number(eq_deg)} deg "
-          f"({format_number(equilibrium)} rad), every position-dependent load included")
+    print(f"small oscillations about the stable equilibrium {q} = {format_number(eq_value)} {eq_unit}{in_rad}, "
+          "every position-dependent load included")
     print()
     rows = [
         ("omega_n", format_number(payload["omega_n"]["value"]), payload["omega_n"]["unit"]),
@@ -536,26 +536,31 @@ def _modes_command(args, system) -> int:
 
     formulate(system, args.method, args.point)  # checks the point
     result = modes(system, args.method)
-    payload = result.to_dict()
+    units = system.output_units
+    payload = to_output_units(result.to_dict(), units)
     if len(result.modes) == 1:  # one freedom: also the keys of the one-coordinate answer
         (name, value), = result.equilibrium.items()
         mode = payload["modes"][0]
         payload = {"omega_n": mode["omega_n"], "frequency": mode["frequency"], "period": mode["period"],
-                   **payload, "equilibrium": {"value": value, "unit": result.units[name]}}
+                   **payload, "equilibrium": to_output_units({"value": value, "unit": result.units[name]}, units)}
     if args.json:
         print_json({"scene": system.name, "method": args.method, **payload})
         return 0
     print(f"scene   {system.name}  ({_where(system)})")
-    eq = ", ".join(f"{k} = {format_number(math.degrees(v) if result.units[k] == 'rad' else v)} "
-                   f"{'deg' if result.units[k] == 'rad' else result.units[k]}" for k, v in result.equilibrium.items())
+    eq = ", ".join("{} = {} {}".format(k, format_number(v[0]), v[1]) for k, v in (
+        (k, in_output_units(math.degrees(v), "deg", units) if result.units[k] == "rad" else in_output_units(v, result.units[k], units))
+        for k, v in result.equilibrium.items()))
     print(f"small oscillations about the stable equilibrium {eq}")
     print()
+    omega_unit, period_unit = output_unit("rad/s", units), output_unit("s", units)
     rows = []
-    for i, m in enumerate(result.modes, 1):
-        shape = ", ".join(f"{k}: {format_number(v, 4)}" for k, v in m.shape.items())
-        rows.append((str(i), format_number(m.omega), format_number(m.frequency),
-                     format_number(m.period) if math.isfinite(m.period) else "-", shape))
-    print(format_table(("mode", "omega_n [rad/s]", "f [Hz]", "period [s]", "shape"), rows, align="rrrrl"))
+    for i, m in enumerate(payload["modes"], 1):
+        shape = ", ".join(f"{k}: {format_number(v, 4)}" for k, v in m["shape"].items())
+        period = m["period"]["value"]
+        rows.append((str(i), format_number(m["omega_n"]["value"]), format_number(m["frequency"]["value"]),
+                     "-" if period is None or not math.isfinite(period) else format_number(period), shape))
+    print(format_table(("mode", f"omega_n [{omega_unit}]", "f [Hz]", f"period [{period_unit}]", "shape"), rows,
+                       align="rrrrl"))
     if any(m.omega == 0 for m in result.modes):
         print("\na mode with omega_n = 0 is a neutral direction: nothing restores it.")
     return 0

@@ -71,11 +71,11 @@ class FrequencyResult:
     omega_n : pint.Quantity
         Natural frequency, sqrt(V''(q_e) / M(q_e)). [rad/s]
     equilibrium : pint.Quantity
-        q_e with V'(q_e) = 0, V''(q_e) > 0. [rad]
+        q_e with V'(q_e) = 0, V''(q_e) > 0. [rad, or m for a length coordinate]
     stiffness : pint.Quantity
-        V''(q_e). [N*m/rad]
+        V''(q_e). [N*m/rad, or N/m]
     mass : pint.Quantity
-        M(q_e), the generalized mass. [kg*m**2]
+        M(q_e), the generalized mass. [kg*m**2, or kg]
     period : pint.Quantity
         2 pi / omega_n. [s]
     """
@@ -91,9 +91,9 @@ class FrequencyResult:
         return {
             "omega_n": {"value": float(self.omega_n.to("rad/s").magnitude), "unit": "rad/s"},
             "period": {"value": float(self.period.to("s").magnitude), "unit": "s"},
-            "equilibrium": {"value": float(self.equilibrium.to("rad").magnitude), "unit": "rad"},
-            "stiffness": {"value": float(self.stiffness.to("N*m/rad").magnitude), "unit": "N*m/rad"},
-            "mass": {"value": float(self.mass.to("kg*m**2").magnitude), "unit": "kg*m**2"},
+            **{name: {"value": float(q.to(unit).magnitude), "unit": unit}
+               for name, q, unit in zip(("equilibrium", "stiffness", "mass"), (self.equilibrium, self.stiffness, self.mass),
+                                        _FREQUENCY_UNITS["length" if self.equilibrium.check("[length]") else "angle"])},
         }
 
 
@@ -487,10 +487,15 @@ def natural_frequency(scene, method: str = "generalized_euler") -> FrequencyResu
     one = OneDofSystem.from_derivation(d, reactions=False)  # M and V only: no reactions needed
     eq = find_equilibrium(one, near=system.free[0].value)
     w = eq.omega
+    q_unit, k_unit, m_unit = _FREQUENCY_UNITS[system.free[0].kind]
     return FrequencyResult(
         omega_n=Q_(w, "rad/s"),
-        equilibrium=Q_(eq.q, "rad"),
-        stiffness=Q_(eq.stiffness, "N*m/rad"),
-        mass=Q_(eq.mass, "kg*m**2"),
+        equilibrium=Q_(eq.q, q_unit),
+        stiffness=Q_(eq.stiffness, k_unit),
+        mass=Q_(eq.mass, m_unit),
         period=Q_(2 * math.pi / w, "s"),
     )
+
+
+# coordinate kind -> units of (q_e, V'' [a stiffness], M [a generalized mass]), SI
+_FREQUENCY_UNITS = {"angle": ("rad", "N*m/rad", "kg*m**2"), "length": ("m", "N/m", "kg")}

@@ -1,8 +1,11 @@
 """The instantaneous solve in three arithmetics, and how well float64 does.
 
-At a state (theta, theta_dot) the unknowns x = (theta_ddot, reactions...)
-solve the linear system A x = b of the Derivation (for Example 1 the paper's
-Eqs. 24, 25 and 28, whose numbers are Eq. 29). This module solves it
+At a state (every coordinate's value and rate, and t) the unknowns
+x = (the coordinates' second derivatives, reactions...) solve the linear system
+A x = b of the Derivation (for Example 1 the paper's Eqs. 24, 25 and 28, whose
+numbers are Eq. 29). Dependent coordinates (loop closures) have no closed value:
+they are solved again from the closure equations in mpmath to the digits asked
+for plus 15, and the exact answer is exact at those values. This module solves it
 
 * ``"float64"``: numpy, as :func:`solver.derivation.solve_instant` does;
 * ``"exact"``: sympy, with every parameter turned into an exact number
@@ -73,15 +76,71 @@ def exact_quantity(quantity: pint.Quantity) -> sp.Expr:
 
 
 def exact_values(scene: Any) -> tuple[dict[sp.Symbol, sp.Expr], sp.Expr, sp.Expr]:
-    """(parameter symbol -> exact SI value, exact theta, exact theta_dot) of a scene."""
+    """(parameter symbol -> exact SI value, exact theta, exact theta_dot) of a scene
+    (the first free coordinate's value and rate)."""
     from .derivation import as_system
 
     system = as_system(scene)
     params = {sp.Symbol(n, real=True): exact_quantity(q) for n, q in system.parameters.items()}
     c = system.free[0]
-    if c.given is not None:
-        return params, exact_quantity(c.given[0]), exact_quantity(c.given[1])
-    return params, sp.Rational(repr(c.value)), sp.Rational(repr(c.rate))
+    return (params, *_exact_coordinate(c, c.value, c.rate))
+
+
+def _exact_coordinate(c: Any, value: float, rate: float) -> tuple[sp.Expr, sp.Expr]:
+    """A free coordinate's value and rate as exact numbers: from the text the scene gave when
+    the state is the scene's, else from the float (its shortest decimal)."""
+    if c.given is not None and not c.dependent and value == c.value and rate == c.rate:
+        return exact_quantity(c.given[0]), exact_quantity(c.given[1])
+    return sp.Rational(repr(float(value))), sp.Rational(repr(float(rate)))
+
+
+def _dependent_state(system: Any, subs: dict, dps: int) -> dict:
+    """The dependent coordinates' values and rates, solved from the closure equations
+    Phi(q, t) = 0 and Phi_q q' + Phi_t = 0 by Newton's method in mpmath at ``dps`` + 15 digits,
+    starting from the float64 assembly already in ``subs`` (exact independent values, t
+    and parameters); returned as sympy Floats of that precision (symbol -> value).
+
+    Raises
+    ------
+    SingularConfigurationError
+        When the closure Jacobian of the dependent coordinates is singular there.
+    """
+    dep = [c for c in system.free if c.dependent]
+    if not dep or not system.closure:
+        return {}
+    rows = sp.Matrix([r.expr for r in system.closure])
+    q_dep = [c.q for c in dep]
+    fixed = {k: v for k, v in subs.items() if k not in q_dep and k not in [c.qd for c in dep]}
+    digits = dps + 15
+    with mpmath.workdps(digits):
+        num = {k: mpmath.mpf(str(sp.N(v, digits + 5))) for k, v in fixed.items()}
+        args = (*q_dep, *num.keys())
+        f_phi = sp.lambdify(args, list(rows), "mpmath")
+        f_jac = sp.lambdify(args, rows.jacobian(q_dep).tolist(), "mpmath")
+        x = [mpmath.mpf(str(sp.N(subs[q], 20))) for q in q_dep]
+        for _ in range(2 * digits):  # quadratic convergence from a float64 start: a few steps
+            J = mpmath.matrix(f_jac(*x, *num.values()))
+            r = mpmath.matrix(f_phi(*x, *num.values()))
+            try:
+                step = mpmath.lu_solve(J, -r) if J.rows == J.cols else mpmath.qr_solve(J, -r)[0]
+            except ZeroDivisionError:
+                raise SingularConfigurationError(f"{system.label}: the closure equations are singular at "
+                                                 "the state (a dead centre)") from None
+            x = [a + b for a, b in zip(x, step)]
+            if mpmath.norm(step) <= mpmath.mpf(10) ** (-digits) * (1 + mpmath.norm(mpmath.matrix(x))):
+                break
+        out = {q: sp.Float(str(v), digits) for q, v in zip(q_dep, x)}
+        # rates: Phi_q q' + Phi_t = 0, i.e. J_dep q'_dep = -(J_ind q'_ind + Phi_t)
+        at = {**fixed, **out}
+        rate_rows = rows.jacobian([c.q for c in system.free]) * sp.Matrix([c.qd for c in system.free]) \
+            + sp.diff(rows, system.t)
+        A = rate_rows.jacobian([c.qd for c in dep])
+        b = -rate_rows.xreplace({c.qd: 0 for c in dep})
+        Am = mpmath.matrix([[mpmath.mpf(str(sp.N(e.xreplace(at), digits))) for e in A.row(i)] for i in range(A.rows)])
+        bm = mpmath.matrix([mpmath.mpf(str(sp.N(e.xreplace(at), digits))) for e in b])
+        rates = mpmath.lu_solve(Am, bm) if Am.rows == Am.cols else mpmath.qr_solve(Am, bm)[0]
+        out.update({c.qd: sp.Float(str(v), digits) for c, v in zip(dep, rates)})
+    return out
 
 
 @dataclass(frozen=True)
@@ -105,6 +164,10 @@ class PreciseSolution:
     float64_error : dict[str, float]
         |float64 - this| / |this| per unknown (0 for the float64 solve).
     units : dict[str, str]
+    exact_form : dict[str, str]
+        The exact answers as expressions (none with dependent coordinates).
+    note : str
+        What the answer rests on besides the scene's exact values, if anything.
     """
 
     precision: str
@@ -115,6 +178,7 @@ class PreciseSolution:
     float64_error: dict[str, float] = field(default_factory=dict)
     units: dict[str, str] = field(default_factory=dict)
     exact_form: dict[str, str] = field(default_factory=dict)
+    note: str = ""
 
     def to_dict(self) -> dict:
         out = {
@@ -128,6 +192,8 @@ class PreciseSolution:
         }
         if self.exact_form:
             out["exact"] = self.exact_form
+        if self.note:
+            out["note"] = self.note
         return out
 
 
@@ -140,7 +206,8 @@ def _validate_solve_precise(precision: str, dps: int) -> None:
 
 def solve_precise(derivation: Any, precision: str = "float64", dps: int = 50,
                   state: tuple[Any, Any] | None = None,
-                  parameters: Mapping[sp.Symbol, Any] | None = None) -> PreciseSolution:
+                  parameters: Mapping[sp.Symbol, Any] | None = None,
+                  assembled: Any = None) -> PreciseSolution:
     """Solve A x = b at the scene's state in the chosen arithmetic.
 
     Parameters
@@ -150,9 +217,14 @@ def solve_precise(derivation: Any, precision: str = "float64", dps: int = 50,
     dps : int
         Digits for mpmath (and for printing the exact answer).
     state : (theta, theta_dot), optional
-        Exact sympy numbers (or floats) overriding the scene's state. [rad, rad/s]
+        Exact sympy numbers (or floats) overriding the first coordinate's state. [rad, rad/s]
     parameters : mapping, optional
         Exact values overriding the scene's (symbol -> number).
+    assembled : solver.analyses.instant.State, optional
+        The float64 state of every free coordinate (and t), dependent ones solved from the
+        closure equations; default the scene's, assembled. The independent coordinates take
+        the exact values the scene wrote when they are the scene's; the dependent ones are
+        solved again from the closure equations to ``dps`` + 15 digits.
 
     Returns
     -------
@@ -165,86 +237,133 @@ def solve_precise(derivation: Any, precision: str = "float64", dps: int = 50,
     """
     _validate_solve_precise(precision, dps)
     d = derivation
-    scene = d.scene
-    params, q_ex, qd_ex = exact_values(scene)
+    system = d.system
+    params = {sp.Symbol(n, real=True): exact_quantity(q) for n, q in system.parameters.items()}
     if parameters:
         params.update({k: sp.nsimplify(v) if isinstance(v, float) else v for k, v in parameters.items()})
-    if state is not None:
-        q_ex, qd_ex = (sp.sympify(state[0]), sp.sympify(state[1]))
+    subs = _exact_state(system, params, state, assembled, dps)
     A, b = d.linear_system()
     names = [str(u) for u in d.unknowns]
-    units = {names[0]: "rad/s**2", "alpha": "rad/s**2"}
+    units = {str(c.qdd): "rad/s**2" if c.kind == "angle" else "m/s**2" for c in system.free}
+    units["alpha"] = "rad/s**2"
     units.update(d.reaction_units)
-    subs = dict(params)
-    subs.update({d.q: q_ex, d.qd: qd_ex, d.t: sp.Integer(0)})
-    args = (d.q, d.qd, d.t, *params.keys())
-    # linear in qdd: alpha = dphi * qdd + ddphi * qd^2; the body's alpha only for a one-body scene
-    alpha_expr = d.alpha if len(d.system.bodies) == 1 else None
+    coords = [c.q for c in system.free] + [c.qd for c in system.free] + [system.t]
+    args = (*coords, *params.keys())
+    accelerations = [c.qdd for c in system.free]
+    # the body's alpha only for a one-body scene; linear in the accelerations
+    alpha_expr = d.alpha if len(system.bodies) == 1 else None
+    where = f"{system.label}: singular configuration at {_state_words(system, subs)}"
 
     # float64 ---------------------------------------------------------------
     fA = lambdify(args, [list(A.row(i)) for i in range(A.rows)] + [list(b)], "numpy")
-    fvals = [float(sp.N(v, 20)) for v in params.values()]
-    qf, qdf = float(sp.N(q_ex, 20)), float(sp.N(qd_ex, 20))
+    fvals = [float(sp.N(subs[a], 20)) for a in args]
     with np.errstate(all="ignore"):
-        out = fA(qf, qdf, 0.0, *fvals)
+        out = fA(*fvals)
     Af = np.array(out[:-1], dtype=float)
     bf = np.array(out[-1], dtype=float)
     with np.errstate(all="ignore"):
         cond = float(np.linalg.cond(Af)) if np.all(np.isfinite(Af)) else math.inf
     if not math.isfinite(cond) or cond > 1e16:
-        raise SingularConfigurationError(
-            f"{scene.source or scene.name}: singular configuration at {d.q} = {math.degrees(qf):.6g} deg "
-            f"(condition number {cond:.3g})"
-        )
+        raise SingularConfigurationError(f"{where} (condition number {cond:.3g})")
     xf = np.linalg.solve(Af, bf)
     fl = {n: float(x) for n, x in zip(names, xf)}
     if alpha_expr is not None:
-        falpha = lambdify((d.q, d.qd, d.qdd), alpha_expr, "math")
-        fl["alpha"] = float(falpha(qf, qdf, fl[names[0]]))
+        falpha = lambdify((*args, *accelerations), alpha_expr, "math")
+        fl["alpha"] = float(falpha(*fvals, *[fl[str(a)] for a in accelerations]))
 
     if precision == "float64":
         text = {n: repr(v) for n, v in fl.items()}
         return PreciseSolution("float64", 16, fl, text, cond, {n: 0.0 for n in fl}, units)
 
     if precision == "exact":
-        # rational values are substituted; irrational ones (angles: multiples of pi) stay symbols
-        # until the end, so that sympy never expands e.g. sin(41 pi/120) into nested radicals
-        rational = {k: v for k, v in subs.items() if sp.sympify(v).is_Rational}
-        kept = {k: v for k, v in subs.items() if k not in rational}
-        where = f"{scene.source or scene.name}: singular configuration at {d.q} = {q_ex}"
+        # rational values are substituted; the coordinates and irrational values (angles:
+        # multiples of pi; dependent coordinates solved to many digits) stay symbols until the
+        # end, so that sympy never expands e.g. sin(41 pi/120) into nested radicals, nor meets
+        # sin(1/2), which has no closed value
+        # A dependent coordinate has no closed value: its value and rate, solved to dps + 15
+        # digits, enter as those exact decimals, and so do the sines and cosines of them.
+        solved = {k: subs[k] for c in system.free if c.dependent for k in (c.q, c.qd)}
+        A, b = _as_rationals(A.xreplace(solved)), _as_rationals(b.xreplace(solved))
+        positions = {c.q for c in system.free} | {system.t}
+        rational = {k: v for k, v in subs.items()
+                    if k not in solved and sp.sympify(v).is_Rational and k not in positions}
+        kept = {k: v for k, v in subs.items() if k not in rational and k not in solved}
         x = _exact_solve(A.xreplace(rational), b.xreplace(rational), kept, where)
         sym = {n: x[i] for i, n in enumerate(names)}
         if alpha_expr is not None:
-            sym["alpha"] = alpha_expr.xreplace(rational).xreplace({d.qdd: sym[names[0]]})
+            sym["alpha"] = alpha_expr.xreplace(rational).xreplace({a: sym[str(a)] for a in accelerations})
         vals = {n: _exact_value(v, kept) for n, v in sym.items()}
         text = {n: str(_evalf(v, kept, dps)) for n, v in sym.items()}
         err = {n: _relerr(fl[n], _evalf(v, kept, dps + 5)) for n, v in sym.items()}
-        at = ", ".join(f"{k} = {v}" for k, v in kept.items())
-        exact_form = {n: str(v) + (f"   at {at}" if at else "") for n, v in sym.items()}
-        return PreciseSolution("exact", dps, vals, text, cond, err, units, exact_form)
+        at = ", ".join(f"{k} = {v}" for k, v in kept.items() if _uses(sym, k))
+        # with dependent coordinates the closed form holds their many-digit values: not shown
+        exact_form = {} if solved else {n: str(v) + (f"   at {at}" if at else "") for n, v in sym.items()}
+        return PreciseSolution("exact", dps, vals, text, cond, err, units, exact_form, _note(system, dps))
 
     # mpmath ----------------------------------------------------------------
     with mpmath.workdps(dps + 5):
-        mvals = [mpmath.mpf(str(sp.N(v, dps + 10))) for v in params.values()]
-        mq = mpmath.mpf(str(sp.N(q_ex, dps + 10)))
-        mqd = mpmath.mpf(str(sp.N(qd_ex, dps + 10)))
+        mvals = [mpmath.mpf(str(sp.N(subs[a], dps + 10))) for a in args]
         fm = sp.lambdify(args, [list(A.row(i)) for i in range(A.rows)] + [list(b)], modules="mpmath")
-        rows = fm(mq, mqd, mpmath.mpf(0), *mvals)
+        rows = fm(*mvals)
         Am = mpmath.matrix(rows[:-1])
         bm = mpmath.matrix(rows[-1])
         try:
             xm = mpmath.lu_solve(Am, bm)
         except ZeroDivisionError:
-            raise SingularConfigurationError(
-                f"{scene.source or scene.name}: singular configuration at {d.q} = {math.degrees(qf):.6g} deg"
-            ) from None
+            raise SingularConfigurationError(where) from None
         vals = {n: xm[i] for i, n in enumerate(names)}
         if alpha_expr is not None:
-            malpha = sp.lambdify((d.q, d.qd, d.qdd), alpha_expr, "mpmath")
-            vals["alpha"] = malpha(mq, mqd, vals[names[0]])
+            malpha = sp.lambdify((*args, *accelerations), alpha_expr, "mpmath")
+            vals["alpha"] = malpha(*mvals, *[vals[str(a)] for a in accelerations])
         text = {n: mpmath.nstr(v, dps) for n, v in vals.items()}
         err = {n: _relerr(fl[n], v) for n, v in vals.items()}
-    return PreciseSolution("mpmath", dps, vals, text, cond, err, units)
+    return PreciseSolution("mpmath", dps, vals, text, cond, err, units, note=_note(system, dps))
+
+
+def _as_rationals(matrix: sp.Matrix) -> sp.Matrix:
+    """``matrix`` with every floating-point number (a function of a solved dependent
+    coordinate, evaluated at its precision) replaced by the rational it stands for exactly."""
+    floats = set().union(*(sp.sympify(e).atoms(sp.Float) for e in matrix)) if len(matrix) else set()
+    return matrix.xreplace({f: sp.Rational(f) for f in floats})
+
+
+def _note(system: Any, dps: int) -> str:
+    """What the answer rests on besides the scene's exact values (dependent coordinates)."""
+    dependent = [c.name for c in system.free if c.dependent]
+    if not dependent or not system.closure:
+        return ""
+    return (f"the dependent coordinate(s) {', '.join(dependent)} and their rates are solved from the closure "
+            f"equations to {dps + 15} digits; the answer is exact at those values")
+
+
+def _uses(solution: Mapping[str, sp.Expr], symbol: sp.Symbol) -> bool:
+    """Whether any exact answer still holds ``symbol``."""
+    return any(sp.sympify(v).has(symbol) for v in solution.values())
+
+
+def _exact_state(system: Any, params: dict, state: tuple[Any, Any] | None, assembled: Any, dps: int) -> dict:
+    """symbol -> exact (or ``dps`` + 15 digit) value of every parameter, coordinate, rate and t."""
+    from .analyses.instant import assemble
+
+    st = assemble(system) if assembled is None else assembled
+    subs = dict(params)
+    subs[system.t] = sp.Rational(repr(float(st.t)))
+    for c, v, r in zip(system.free, st.q, st.qd):
+        subs[c.q], subs[c.qd] = _exact_coordinate(c, v, r)
+    if state is not None:
+        c = system.free[0]
+        subs[c.q], subs[c.qd] = sp.sympify(state[0]), sp.sympify(state[1])
+    subs.update(_dependent_state(system, subs, dps))
+    return subs
+
+
+def _state_words(system: Any, subs: Mapping) -> str:
+    """``theta = 30 deg, x = 1.2 m`` (the free coordinates, for messages)."""
+    parts = []
+    for c in system.free:
+        v = float(sp.N(subs[c.q], 20))
+        parts.append(f"{c.name} = {math.degrees(v):.6g} deg" if c.kind == "angle" else f"{c.name} = {v:.6g} m")
+    return ", ".join(parts)
 
 
 def _evalf(expr: sp.Expr, kept: Mapping, dps: int) -> sp.Float:

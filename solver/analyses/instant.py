@@ -427,10 +427,6 @@ def _check_closure_jacobian(system, Jd: np.ndarray, q, t) -> None:
 
 
 # --------------------------------------------------------------------------- results
-_DIMENSION_OF_UNIT = {"N": "force", "N*m": "moment", "rad/s**2": "angular_acceleration",
-                      "m/s**2": "acceleration"}
-
-
 @dataclass
 class InstantSolution:
     """Every acceleration and reaction at one state.
@@ -456,14 +452,13 @@ class InstantSolution:
     extra: dict = field(default_factory=dict)
 
     def to_dict(self, units: Mapping[str, str] | None = None) -> dict:
-        """JSON-ready dict; ``units`` maps dimension names (``force``, ``moment``,
-        ``angular_acceleration``) to display units (e.g. ``lbf``)."""
-        units = dict(units or {})
-        out = {}
-        for name, qty in self.unknowns.items():
-            si = _unit_string(qty)
-            target = units.get(_DIMENSION_OF_UNIT.get(si, ""), si)
-            out[name] = {"value": float(qty.to(target).magnitude), "unit": target}
+        """JSON-ready dict; ``units`` is a scene's ``[output_units]`` (dimension names such
+        as ``force``, ``moment``, ``length`` -> display units such as ``lbf``), applied by
+        :func:`solver.output_units.to_output_units`."""
+        from solver.output_units import to_output_units
+
+        out = to_output_units({name: {"value": float(qty.magnitude), "unit": f"{qty.units:~}"}
+                               for name, qty in self.unknowns.items()}, units)
         head = {"scene": self.scene} if self.scene is not None else {}
         cond = float(self.condition_number)
         return {**head, "point": self.point, "method": self.method, "unknowns": out,
@@ -472,13 +467,6 @@ class InstantSolution:
     def __repr__(self) -> str:
         vals = ", ".join(f"{k}={v:.6g~P}" for k, v in self.unknowns.items())
         return f"InstantSolution({vals}, cond={self.condition_number:.3g}, point={self.point!r}, method={self.method!r})"
-
-
-def _unit_string(qty: pint.Quantity) -> str:
-    for s in _DIMENSION_OF_UNIT:
-        if qty.units == Q_(1, s).units:
-            return s
-    return str(qty.units)
 
 
 def solve_instant(system, point: str | None = None, method: str = "generalized_euler",

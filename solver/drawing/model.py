@@ -444,8 +444,10 @@ class _FreeBodies:
 
     def __init__(self, system, state, solution):
         self.system, self.state = system, state
-        self.force_unit = system.output_units.get("force", "N")
-        self.moment_unit = system.output_units.get("moment", "N*m")
+        from ..output_units import output_unit
+
+        self.force_unit = output_unit("N", system.output_units)  # the scene's [output_units]
+        self.moment_unit = output_unit("N*m", system.output_units)
         self.solved = {name: float(q.to_base_units().magnitude) for name, q in solution.unknowns.items()}
         self.shapes = _memo(system, "shapes", body_shapes)
         self.poses = _memo(system, "poses", PoseFunction)(state.q, state.t)

@@ -585,12 +585,17 @@ def _body_section(system, body: str, P: str, parts: dict | None = None) -> Secti
 
 def _system_data_section(system, state) -> Section:
     rows = tuple((name, f"{q:~}" if hasattr(q, "units") else str(q)) for name, q in system.parameters.items())
+    from ..cli_common import in_output_units
+
+    def shown(value: float, unit: str) -> str:  # in the scene's output units
+        return "{:.6g} {}".format(*in_output_units(value, unit, system.output_units))
+
     coords = []
     for c, v, r in zip(system.free, state.q, state.qd):
         if c.kind == "angle":
-            coords.append((c.name, f"{math.degrees(v):.6g} deg", f"{r:.6g} rad/s"))
+            coords.append((c.name, shown(math.degrees(v), "deg"), shown(r, "rad/s")))
         else:
-            coords.append((c.name, f"{v:.6g} m", f"{r:.6g} m/s"))
+            coords.append((c.name, shown(v, "m"), shown(r, "m/s")))
     step = Step("data", "Data and state", [system.description] if system.description else [],
                 table=Table(("parameter", "value"), rows))
     state_step = Step("data", "State", ["The instant solved (dependent coordinates from the closure equations)."]

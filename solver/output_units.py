@@ -1,0 +1,124 @@
+"""The units in which the commands print: the scene's ``[output_units]``, applied in one place.
+
+The solver computes in SI. Every quantity a command prints (text, ``--json``) is an entry
+``{"value": ..., "unit": SI unit}`` passed through :func:`to_output_units`, which converts it to
+the unit :func:`output_unit` makes from the scene's ``[output_units]`` (documented in
+``data/scenes/README.md``): the scene's own unit for a dimension it names, and for a derived
+quantity (a speed, a stiffness, a moment of inertia) the unit made of the scene's units for its
+parts, SI for the parts the scene does not name.
+"""
+from __future__ import annotations
+
+import functools
+import re
+from collections.abc import Mapping
+from typing import Any
+
+
+# What the commands print, by SI (or degree) unit -> how its [output_units] unit is made.
+# A base entry names one [output_units] key; a derived entry is a formula over the keys, each
+# key standing for the scene's unit or, where the scene gives none, for the SI unit after "|".
+# Rates stay per second (ft/s, not ft/min): `time` is the unit of durations (t, a period), and
+# angular rates have keys of their own.
+# The units are compared as pint parses them, so "m * N" is "N*m" (but "J" is not "N*m").
+_OUTPUT_UNIT_RULES = {
+    "N": "{force|N}", "N*m": "{moment|N*m}", "m": "{length|m}", "kg": "{mass|kg}", "s": "{time|s}",
+    "rad": "{angle|rad}", "deg": "{angle|deg}", "rad/s": "{angular_velocity|rad/s}",
+    "rad/s**2": "{angular_acceleration|rad/s**2}",
+    "m/s": "{velocity|{length|m}/s}", "m/s**2": "{acceleration|{length|m}/s**2}",
+    "N*m/rad": "{moment|N*m}/rad", "N/m": "{force|N}/{length|m}", "kg*m**2": "{mass|kg}*{length|m}**2",
+    "N*m*s/rad": "{moment|N*m}*s/rad", "N*s/m": "{force|N}*s/{length|m}",
+}
+_RULE_TERM = re.compile(r"\{(\w+)\|([^{}]*(?:\{[^{}]*\}[^{}]*)*)\}")
+
+
+def _fill_rule(rule: str, units: Mapping[str, str]) -> tuple[str, bool]:
+    """The unit text a rule makes, and whether any scene unit entered it."""
+    used = False
+
+    def term(match: re.Match) -> str:
+        nonlocal used
+        key, fallback = match.group(1), match.group(2)
+        if key in units:
+            used = True
+            text = units[key]
+        else:
+            text, inner = _fill_rule(fallback, units)
+            used = used or inner
+        whole = match.start() == 0 and match.end() == len(rule)
+        simple = whole or re.fullmatch(r"\w+", text) or (match.start() == 0 and re.fullmatch(r"[\w*]+", text))
+        return text if simple else f"({text})"
+
+    return _RULE_TERM.sub(term, rule), used
+
+
+@functools.lru_cache(maxsize=256)
+def _si_rule(unit: str) -> tuple[str, str] | None:
+    """(SI spelling, rule) of :data:`_OUTPUT_UNIT_RULES` for ``unit`` (any spelling pint reads
+    alike), or None."""
+    from solver.units import ureg  # here, not above: `--help` loads no pint
+
+    try:
+        parsed = ureg.Unit(unit)
+    except Exception:  # noqa: BLE001 - a label pint does not read (e.g. "") is not converted
+        return None
+    for si, rule in _OUTPUT_UNIT_RULES.items():
+        if ureg.Unit(si) == parsed:
+            return si, rule
+    return None
+
+
+def output_unit(unit: str, units: Mapping[str, str] | None) -> str:
+    """The unit in which a quantity the solver holds in ``unit`` (SI, or deg for angles) is
+    printed, given the scene's ``[output_units]``.
+
+    A quantity of a dimension the scene names prints in the scene's unit; a derived quantity
+    (a speed, a stiffness, a moment of inertia, ...) prints in the unit made of the scene's
+    units for its parts (``ft*lbf/rad`` when ``moment = "ft*lbf"``; ``kg*ft**2`` when only
+    ``length = "ft"``); a quantity none of whose parts the scene names prints in SI, spelled
+    as in :data:`_OUTPUT_UNIT_RULES` (``N*m``, not ``m * N``); anything else stays in ``unit``.
+
+    >>> output_unit("N*m/rad", {"moment": "ft*lbf"}), output_unit("m/s", {"length": "ft"})
+    ('ft*lbf/rad', 'ft/s')
+    >>> output_unit("m * N", {"moment": "ft*lbf"}), output_unit("Hz", {"time": "min"})
+    ('ft*lbf', 'Hz')
+    """
+    found = _si_rule(unit)
+    if found is None:
+        return unit
+    text, used = _fill_rule(found[1], units or {})
+    return text if used else found[0]
+
+
+def to_output_units(payload: Any, units: Mapping[str, str] | None) -> Any:
+    """``payload`` with every ``{"value": ..., "unit": u}`` entry converted to the unit
+    :func:`output_unit` gives for ``u`` (values may be numbers or lists of numbers, or lists
+    of such lists); the rest unchanged. The one place where printed quantities change unit."""
+    if isinstance(payload, list):
+        return [to_output_units(item, units) for item in payload]
+    if not isinstance(payload, dict):
+        return payload
+    unit = payload.get("unit")
+    target = output_unit(unit, units) if isinstance(unit, str) and "value" in payload else unit
+    if target != unit:
+        from solver.units import ureg
+
+        factor = float(ureg.Quantity(1.0, unit).to(target).magnitude)
+        value = payload["value"] if factor == 1.0 else _scaled(payload["value"], factor)
+        return {**payload, "value": value, "unit": target}
+    return {key: to_output_units(item, units) for key, item in payload.items()}
+
+
+def _scaled(value: Any, factor: float) -> Any:
+    if isinstance(value, (list, tuple)):
+        return [_scaled(v, factor) for v in value]
+    return None if value is None else float(value) * factor
+
+
+def in_output_units(value: Any, unit: str, units: Mapping[str, str] | None) -> tuple[Any, str]:
+    """(value, unit) of one quantity as printed (:func:`to_output_units` of one entry)."""
+    entry = to_output_units({"value": value, "unit": unit}, units)
+    return entry["value"], entry["unit"]
+
+
+__all__ = ["output_unit", "to_output_units", "in_output_units"]
