@@ -1,7 +1,8 @@
 """``friction`` for scenes with contacts that stick, slip or separate.
 
 * at the state: the regime that holds, and the least friction coefficient of
-  each contact that keeps it sticking (rolling);
+  each contact that keeps it sticking (rolling), a rolling contact without a
+  coefficient included;
 * ``--over T``: the least coefficient over a motion, with the friction
   assumed sufficient (max |F|/N along the run);
 * ``--critical NAME --between LOW HIGH``: the values of a coordinate or a

@@ -124,6 +124,49 @@ def test_least_mu_on_an_incline(solver_cli, beta):
     assert out["over_motion"]["least_mu"]["incline"]["value"] == pytest.approx(t / 3, rel=REL)
 
 
+def _wheel_least_mu(m_h, r, m_u, d, gamma, F_0):
+    """|F_f| / F_n for wheel_on_incline.toml at rest at theta = 0, t = 0, derived by hand.
+
+    A hoop (I_O = m_h r^2) rolls down a slope at gamma, axle moving r theta along
+    d = (cos, -sin), with a point mass m_u at d straight below the axle and a push
+    F_0 along d at the axle. Lagrange at rest: the hoop's generalized mass is
+    2 m_h r^2, the point mass's m_u |r d - d k x (0, -1)|^2 = m_u (r^2 - 2 r d cos + d^2);
+    gravity does (m_h + m_u) g r sin per unit theta, the push F_0 r, the contact
+    nothing. Newton for the whole wheel along d and along the normal n = (sin, cos)
+    (the point mass accelerates by r theta'' d - d theta'' x) gives F_f and F_n.
+    """
+    s, c = math.sin(gamma), math.cos(gamma)
+    m = m_h + m_u
+    theta_dd = (m * G * r * s + F_0 * r) / (2 * m_h * r ** 2 + m_u * (r ** 2 - 2 * r * d * c + d ** 2))
+    F_f = m * r * theta_dd - m_u * d * c * theta_dd - m * G * s - F_0
+    F_n = m * G * c - m_u * d * s * theta_dd
+    return abs(F_f) / F_n
+
+
+@pytest.mark.parametrize("gamma", [5.0, 30.0])
+def test_least_mu_of_a_rolling_contact_without_a_coefficient(solver_cli, gamma):
+    # wheel_on_incline.toml's rolling joint has no friction coefficient: it rolls by assumption,
+    # and the least mu that keeps it rolling is still |F|/N. The bare hoop (no unbalance, no push):
+    # a = g sin / 2 (I = m r^2), so F = m g sin / 2 against N = m g cos: mu = tan(gamma) * k, k = 1/2.
+    # 1e-9 relative: the solve's round-off is ~1e-14, while the disk's k = 1/3 is off by a third.
+    scene = "data/scenes/wheel_on_incline.toml"
+    bare = _json(solver_cli, "friction", scene, "--set", "F_0=0 N", "--set", "m_u=0 kg",
+                 "--set", f"gamma={gamma} deg", "--json")["at_state"]
+    assert list(bare["least_mu"]) == ["rolling_hoop"]
+    assert bare["least_mu"]["rolling_hoop"]["value"] == pytest.approx(math.tan(math.radians(gamma)) / 2, rel=1e-9)
+    # the scene as shipped (unbalance mass and axle push): the hand derivation above, 0.0880 at 5 deg
+    out = _json(solver_cli, "friction", scene, "--set", f"gamma={gamma} deg", "--json")["at_state"]
+    expected = _wheel_least_mu(2.0, 0.3, 1.0, 0.25, math.radians(gamma), 3.0)
+    assert out["least_mu"]["rolling_hoop"]["value"] == pytest.approx(expected, rel=1e-9)
+    assert out["regime"]["rolling_hoop"]["least_mu"] == pytest.approx(expected, rel=1e-9)
+    # and the text table has its row
+    code, text, err = solver_cli("friction", scene, "--set", f"gamma={gamma} deg")
+    assert code == 0, err
+    (row,) = [line for line in text.splitlines() if line.startswith("rolling_hoop ")]
+    assert float(row.split()[1]) == pytest.approx(expected, rel=1e-9)
+    assert "no coefficient given: it rolls by assumption" in row
+
+
 def test_the_ring_slides_where_the_disk_rolls(solver_cli):
     disk = _json(solver_cli, "solve", "data/scenes/incline_disk.toml", "--json")
     ring = _json(solver_cli, "solve", "data/scenes/incline_ring.toml", "--json")

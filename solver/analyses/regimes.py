@@ -558,11 +558,15 @@ def _redundant_stick(system, regimes, q, qd, t, point=None, method="generalized_
 
 
 def least_friction(system, state) -> dict:
-    """Per friction contact: the least mu that keeps it sticking (rolling) at ``state``.
+    """Per contact that can stick or roll: the least mu that keeps it so at ``state``.
 
-    Every touching contact with friction is assumed to stick; the least
-    coefficient is then |F| / N. A contact already sliding, open, or held
-    redundantly (statically indeterminate forces) gets a note instead.
+    The contacts asked about are those with a friction coefficient and those
+    that roll without one (a rolling contact the scene gives no coefficient
+    rolls by assumption; the least mu that keeps it rolling is still |F| / N).
+    A frictionless rail, which slides freely, is not asked about. Every
+    touching contact asked about is assumed to stick; the least coefficient
+    is then |F| / N. A contact already sliding, open, or held redundantly
+    (statically indeterminate forces) gets a note instead.
     """
     from ..formulations import formulate
 
@@ -570,8 +574,8 @@ def least_friction(system, state) -> dict:
     out, regimes = {}, {}
     scale_v = 1.0 + max((abs(v) for v in qd), default=0.0)
     for j in system.contacts:
-        if j.friction is None:
-            continue
+        if j.friction is None and not j.current_regime.keeps_tangential:
+            continue  # frictionless: it slides, no coefficient to find
         gap, vgap, _, vt, _ = _kin(system, j.name, q, qd, [0.0] * len(q), t)
         if j.normal_reaction.one_sided and gap > GAP_TOL * (1.0 + max(map(abs, q), default=0.0)):
             out[j.name] = {"value": None, "note": "apart at the state"}
@@ -590,13 +594,18 @@ def least_friction(system, state) -> dict:
         return out
     for j in variant.contacts:
         if j.name in regimes:
-            F, N = j.pair
-            f, n = float(res[F.name]), float(res[N.name])
-            mu = float(sp.sympify(j.friction.static).xreplace(variant.si_values()))
-            out[j.name] = {"value": abs(f) / n if n > 0 else math.inf,
-                           "note": f"|{F.name}|/{N.name} with {F.name} = {f:.6g} N, {N.name} = {n:.6g} N "
-                                   f"(the scene's mu_s = {mu:g})" if n > 0 else f"{N.name} = {n:.6g} N pulls"}
+            out[j.name] = _ratio_entry(j, float(res[j.pair[0].name]), float(res[j.pair[1].name]), variant)
     return out
+
+
+def _ratio_entry(joint, f, n, system) -> dict:
+    """The least-mu entry of a sticking (rolling) contact: |F|/N, with a note on how it was found."""
+    F, N = (r.name for r in joint.pair)
+    if not n > 0:
+        return {"value": math.inf, "note": f"{N} = {n:.6g} N pulls"}
+    given = ("no coefficient given: it rolls by assumption" if joint.friction is None else
+             f"the scene's mu_s = {float(sp.sympify(joint.friction.static).xreplace(system.si_values())):g}")
+    return {"value": abs(f) / n, "note": f"|{F}|/{N} with {F} = {f:.6g} N, {N} = {n:.6g} N ({given})"}
 
 
 def holding(system):
