@@ -6,7 +6,8 @@
 * ``--over T``: the least coefficient over a motion, with the friction
   assumed sufficient (max |F|/N along the run);
 * ``--critical NAME --between LOW HIGH``: the values of a coordinate or a
-  parameter at which a motion from rest starts (:mod:`solver.analyses.thresholds`).
+  parameter at which a motion from rest starts (:mod:`solver.analyses.thresholds`),
+  or, when there is none in the range, the regime that holds throughout it.
 
 The one-angle answers of Examples 1 and 2 (the rolling table over a free
 oscillation, the release window) stay in :mod:`solver.cli_dynamics`.
@@ -102,8 +103,42 @@ def _critical(system, name, between) -> dict:
         unit = format(shown, "~") or "1"
         scale = float((1 * shown).to_base_units().magnitude)
     found = onsets(system, name, low, high)
-    return {"name": name, "unit": unit, "between": [low / scale, high / scale],
-            "onsets": [{**o.to_dict(unit), "value": o.value / scale} for o in found]}
+    out = {"name": name, "unit": unit, "between": [low / scale, high / scale],
+           "onsets": [{**o.to_dict(unit), "value": o.value / scale} for o in found], "throughout": None}
+    if not found:
+        out.update(_throughout(system, name, low, high, scale, unit))
+    return out
+
+
+def _throughout(system, name, low, high, scale, unit) -> dict:
+    """With no onset in [low, high]: the regime at rest there, each contact's label
+    (``throughout``), checked at both ends and the middle; or a ``note`` saying why not."""
+    from solver.analyses.regimes import AmbiguousRegime, NoConsistentRegime
+    from solver.analyses.thresholds import regime_at_rest
+
+    found = {}
+    for value in (low, 0.5 * (low + high), high):
+        try:
+            res = regime_at_rest(system, name, value)
+        except (NoConsistentRegime, AmbiguousRegime) as err:
+            return {"note": f"at {name} = {format_number(value / scale, 6)} {unit}: {err}"}
+        found[value] = {joint: regime.label for joint, regime in res.regimes.items()}
+    if len({tuple(sorted(v.items())) for v in found.values()}) > 1:
+        at = "; ".join(f"{name} = {format_number(v / scale, 6)} {unit}: {_regime_words(r)}" for v, r in found.items())
+        return {"note": f"no onset was found, but the regime at rest is not the same across the range ({at})"}
+    return {"throughout": found[low]}
+
+
+def _regime_words(regimes: dict) -> str:
+    """'every contact sticks', or each contact with what it does ('floor slips (+ along its line)')."""
+    if all(label == "stick" for label in regimes.values()):
+        return "every contact sticks"
+
+    def verb(label: str) -> str:
+        if label.startswith("slip"):
+            return f"slips ({label.split()[1]} along its line)"
+        return {"stick": "sticks", "slides": "slides", "separated": "separates"}.get(label, label)
+    return ", ".join(f"{joint} {verb(label)}" for joint, label in regimes.items())
 
 
 def _in_units_of(q, unit, flag, text) -> float:
@@ -148,8 +183,10 @@ def _print(system, payload) -> None:
         print()
         print(f"motion from rest as {c['name']} goes from {format_number(c['between'][0], 6)} to "
               f"{format_number(c['between'][1], 6)} {c['unit']}:")
-        if not c["onsets"]:
-            print("  no regime changes in the range")
+        if c["throughout"] is not None:
+            print(f"  no regime change in the range: from rest, {_regime_words(c['throughout'])} throughout")
+        elif not c["onsets"]:
+            print(f"  no regime change found in the range; {c['note']}")
         for o in c["onsets"]:
             what = ", ".join(f"{k} {v}" for k, v in o["regimes"].items())
             side = "above" if o["starts"] else "below"

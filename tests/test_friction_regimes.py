@@ -46,6 +46,33 @@ def test_ladder_critical_angle(solver_cli, mu_a, mu_b):
     assert set(onsets[0]["regimes"].values()) == {"slip + (impending)"}
     expected = math.degrees(math.atan((1 - mu_a * mu_b) / (2 * mu_a)))
     assert onsets[0]["value"] == pytest.approx(expected, rel=REL)
+    assert out["critical"]["throughout"] is None  # the regime changes in the range
+
+
+# Why the ladder slips, or stands, at every angle of 5..89 deg. With both frictions at their
+# limits (the wall's helping most, F_B = mu_B N_B up): horizontally F_A = N_B, vertically
+# N_A + mu_B N_B = m g, moments about the foot N_B (sin + mu_B cos) = (m g / 2) cos, so
+# N_B = m g / (2 (tan + mu_B)), and the floor holds, F_A <= mu_A N_A, exactly when
+#     2 mu_A tan(theta) >= 1 - mu_A mu_B.
+# mu_A = 0.001 (mu_B = 0.2 as in the scene): tan(theta) >= 0.9998 / 0.002 = 499.9, theta >= 89.885 deg:
+#     at 89 deg tan = 57.3 falls short, so both ends slip (the foot out, + along the floor; the top
+#     down, + along the wall's -y) at every angle of the range.
+# mu_A = 2, mu_B = 0.6: 4 tan(theta) >= 1 - 1.2 = -0.2 holds for every tan > 0 (at 5 deg, 0.35 >= -0.2):
+#     every contact sticks throughout.
+@pytest.mark.parametrize("sets, throughout, words", [
+    (("mu_A=0.001",), {"floor": "slip +", "wall": "slip +"},
+     "floor slips (+ along its line), wall slips (+ along its line) throughout"),
+    (("mu_A=2", "mu_B=0.6"), {"floor": "stick", "wall": "stick"}, "every contact sticks throughout"),
+])
+def test_ladder_regime_throughout_a_range_without_onsets(solver_cli, sets, throughout, words):
+    argv = ["friction", "data/scenes/ladder_friction.toml", "--critical", "theta", "--between", "5 deg", "89 deg"]
+    for s in sets:
+        argv += ["--set", s]
+    out = _json(solver_cli, *argv, "--json")["critical"]
+    assert out["onsets"] == [] and out["throughout"] == throughout
+    code, text, err = solver_cli(*argv)
+    assert code == 0, err
+    assert f"no regime change in the range: from rest, {words}" in text
 
 
 def test_ladder_sticks_above_and_slips_below_the_critical_angle(solver_cli):

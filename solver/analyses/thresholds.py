@@ -25,7 +25,7 @@ from ..strprint import lambdify
 from ..model.contacts import SEPARATED, STICK, Slip
 from .instant import CONDITION_LIMIT, solve_with_estimate
 
-__all__ = ["Onset", "onsets", "MAX_SCAN"]
+__all__ = ["Onset", "onsets", "regime_at_rest", "MAX_SCAN"]
 
 MAX_SCAN = 2001
 """Most scan points of one search."""
@@ -97,6 +97,38 @@ def onsets(system, name: str, low: float, high: float, scan: int = 201) -> list[
                               xtol=1e-15 * max(1.0, abs(grid[k])), rtol=4 * np.finfo(float).eps)
                 out.append(Onset(regimes, float(root), bool(b >= 0)))
     return sorted(out, key=lambda o: o.value)
+
+
+def regime_at_rest(system, name: str, value: float):
+    """The regime that holds at rest with ``name`` (a coordinate or a parameter) at ``value`` (SI).
+
+    The other coordinates keep the scene's values, every rate is zero, as in
+    :func:`onsets`. Where :func:`onsets` finds no onset in a range, this regime
+    holds throughout it.
+
+    Returns
+    -------
+    RegimeResult
+        See :func:`solver.analyses.regimes.find_regime`.
+
+    Raises
+    ------
+    NoConsistentRegime, AmbiguousRegime
+        As :func:`~solver.analyses.regimes.find_regime`.
+    """
+    from ..units import Q_
+    from .regimes import find_regime, start_state
+
+    st = start_state(system)
+    q = list(st.q)
+    names = [c.name for c in system.free]
+    if name in names:
+        q[names.index(name)] = float(value)
+        at = system
+    else:  # a copy with the parameter changed, its SI value in the parameter's base units
+        at = system.copy()
+        at.parameters[name] = Q_(float(value), (1 * system.parameters[name]).to_base_units().units)
+    return find_regime(at, q, [0.0] * len(q), st.t)
 
 
 def _motion_regimes(system):
