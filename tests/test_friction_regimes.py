@@ -513,3 +513,16 @@ g = "g"
     assert onset["value"] == pytest.approx(math.degrees(math.atan((1 - 0.4 * 0.1) / (2 * 0.4))), rel=REL)
     code, _, err = solver_cli("solve", str(scene), "--set", "mu_A=-1")  # a negative coefficient: refused
     assert code == 2 and "mu_A" in err
+
+
+def test_regime_throughout_is_not_claimed_when_the_ends_differ():
+    # the guard behind "throughout": over 20..89 deg the default ladder slips at 20 deg and stands
+    # at 89 deg (tan 20 deg = 0.36 < tan(theta_c) = 0.94 / 0.6 = 1.57 < tan 89 deg), so no single
+    # regime may be named, whatever the scan found
+    from solver.cli_contacts import _throughout
+    from solver.io.scenes import load_system
+
+    system = load_system("data/scenes/ladder_friction.toml", {})
+    out = _throughout(system, "theta", math.radians(20), math.radians(89), math.radians(1), "deg")
+    assert "throughout" not in out
+    assert "theta = 20 deg: floor slips" in out["note"] and "theta = 89 deg: every contact sticks" in out["note"]
