@@ -181,8 +181,9 @@ def _print(system, payload) -> None:
     if "critical" in payload:
         c = payload["critical"]
         print()
+        unit = "" if c["unit"] in ("", "1", "dimensionless") else f" {c['unit']}"  # a pure number has none
         print(f"motion from rest as {c['name']} goes from {format_number(c['between'][0], 6)} to "
-              f"{format_number(c['between'][1], 6)} {c['unit']}:")
+              f"{format_number(c['between'][1], 6)}{unit}:")
         if c["throughout"] is not None:
             print(f"  no regime change in the range: from rest, {_regime_words(c['throughout'])} throughout")
         elif not c["onsets"]:
@@ -190,4 +191,4 @@ def _print(system, payload) -> None:
         for o in c["onsets"]:
             what = ", ".join(f"{k} {v}" for k, v in o["regimes"].items())
             side = "above" if o["starts"] else "below"
-            print(f"  {c['name']} = {format_number(o['value'], 12)} {c['unit']}: {what} is possible {side} it")
+            print(f"  {c['name']} = {format_number(o['value'], 12)}{unit}: {what} is possible {side} it")

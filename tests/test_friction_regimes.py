@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 
 import numpy as np
 import pytest
@@ -526,3 +527,13 @@ def test_regime_throughout_is_not_claimed_when_the_ends_differ():
     out = _throughout(system, "theta", math.radians(20), math.radians(89), math.radians(1), "deg")
     assert "throughout" not in out
     assert "theta = 20 deg: floor slips" in out["note"] and "theta = 89 deg: every contact sticks" in out["note"]
+
+
+def test_critical_value_of_a_pure_number_prints_no_unit(solver_cli):
+    """A coefficient swept by --critical is a pure number: its header and onsets carry no unit
+    (pint's dimensionless unit printed as a stray "1": "from 0.05 to 2 1")."""
+    code, text, err = solver_cli("friction", "data/scenes/ladder_friction.toml", "--critical", "mu_A",
+                                 "--between", "0.05", "2")
+    assert code == 0, err
+    assert "motion from rest as mu_A goes from 0.05 to 2:" in text
+    assert re.search(r"^  mu_A = [0-9.]+: ", text, flags=re.M)
