@@ -96,7 +96,8 @@ def test_groups_suppression_and_tests():
     assert sup == {"A": False, "B": False, "C": True, "D": True}
     assert "3 respondents < 5" in [g for g in comp.groups if g.name == "C"][0].reason
     it = comp.items[0]
-    assert it.test == "mann-whitney" and it.effect == pytest.approx(1.0)   # A all above B
+    # A (first) all above B (second): second against first, -1
+    assert it.test == "mann-whitney" and it.effect == pytest.approx(-1.0)
     assert "C" not in it.per_group
     comp3 = compare_groups(data, "section", min_size=2)
     assert comp3.items[0].test == "kruskal-wallis"
