@@ -198,3 +198,29 @@ def test_by_honours_reverse_interval_and_declared_respondents(tmp_path, capsys):
     assert main(["summarize", str(f), "--by", "Section", "--shape", "long"]) == 2
     assert capsys.readouterr().err.startswith("error: python -m analysis summarize: --shape is "
                                               "not available with --by")
+
+
+def test_by_takes_the_items_the_in_memory_route_takes(tmp_path, capsys):
+    """Regression: --by read the term and comments columns as items and refused the file.
+
+    By hand: Q1 and Q2 hold agree4 labels; term holds F23/S24 and Comments holds one
+    label ("Agree") among three answers, under the half the in-memory rule asks for, so
+    neither is an item. Q1: SD 1, D 1, A 2, SA 0; Q2: D 1, A 1, SA 1 and one blank."""
+    f = tmp_path / "m.csv"
+    f.write_text("section,term,Q1,Q2,Comments\nA,F23,Agree,Disagree,good\n"
+                 "B,S24,Disagree,,too fast\nA,S24,Agree,Strongly agree,\n"
+                 "B,F23,Strongly disagree,Agree,Agree\n")
+    want = {"Q1": ({"Strongly disagree": 1, "Disagree": 1, "Agree": 2, "Strongly agree": 0}, 0),
+            "Q2": ({"Strongly disagree": 0, "Disagree": 1, "Agree": 1, "Strongly agree": 1}, 1)}
+    assert main(["summarize", str(f), "--group", "section", "--min-group", "1", "--json"]) == 0
+    small = json.loads(capsys.readouterr().out)
+    assert main(["summarize", str(f), "--by", "section", "--min-group", "1", "--json"]) == 0
+    big = json.loads(capsys.readouterr().out)
+    for items in (small["items"], big["overall"]):
+        assert {it["item"]: (it["counts"], it["missing"]) for it in items} == want
+    assert small["not_items"] == big["not_items"] == ["section", "term", "Comments"]
+    assert big["not_item_reasons"]["term"] == "its answers are not labels of scale 'agree4'"
+    assert big["not_item_reasons"]["section"] == "grouping column"
+    assert main(["summarize", str(f), "--by", "section", "--min-group", "1"]) == 0
+    assert "not items (left out of the table): section (grouping column), term (its " in \
+        capsys.readouterr().out
