@@ -48,7 +48,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import stats
 
-from .disclosure import suppress_groups
+from .disclosure import BLANK_GROUP, suppress_groups
 from .errors import SurveyInputError
 from .ingest import SurveyData
 from .likert import REVERSE_MARK, REVERSE_NOTE, REVERSED_STATISTICS
@@ -57,7 +57,6 @@ from .scales import normalize_answer
 __all__ = ["GroupInfo", "ItemComparison", "GroupComparison", "compare_groups", "cliffs_delta",
            "rank_biserial_paired"]
 
-BLANK_GROUP = "(blank)"
 #: Most (reported groups x items) one comparison computes (about half a millisecond each).
 MAX_GROUP_CELLS = 10_000
 

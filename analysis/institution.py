@@ -35,7 +35,7 @@ import numpy as np
 
 from . import platforms
 from ._io import is_regular_file
-from .disclosure import suppress_groups
+from .disclosure import BLANK_GROUP, suppress_groups
 from .errors import SurveyInputError
 from .export import reversal_columns
 from .likert import (REVERSE_MARK, REVERSE_NOTE, _num, _validate_ci, absent_respondents,
@@ -65,7 +65,8 @@ class GroupedSummary:
     scale : Scale
     items : list of str
     groups : list of tuple of str
-        Grouping values, in first-seen-sorted order (sorted as text).
+        Grouping values, sorted as text (a blank value is "" here; outputs name it
+        :data:`~analysis.disclosure.BLANK_GROUP`, see :meth:`group_names`).
     respondents : numpy.ndarray of int, shape (groups,)
     tallies : numpy.ndarray of int, shape (groups, items, k + 3)
         Per group and item: unknown (0), not applicable (1), blank/absent (2), then
@@ -114,11 +115,16 @@ class GroupedSummary:
         return self._item_summaries(self.tallies[g], int(self.respondents[g]),
                                     confidence_level, method)
 
+    def group_names(self, g: int) -> list:
+        """The grouping values of group ``g`` as every output names them (a blank value
+        as :data:`~analysis.disclosure.BLANK_GROUP`, as ``--group`` names it)."""
+        return [v or BLANK_GROUP for v in self.groups[g]]
+
     def suppression(self):
         """The groups withheld: under :attr:`min_group`, and their complements (the
         institution-wide totals are shown, see :mod:`analysis.disclosure`)."""
         return suppress_groups(self.respondents, self.min_group,
-                               [" / ".join(v or "(blank)" for v in key) for key in self.groups])
+                               [" / ".join(self.group_names(g)) for g in range(len(self.groups))])
 
     def suppressed(self, g: int) -> bool:
         """Group ``g`` is withheld (small, or its complement)."""
@@ -135,7 +141,7 @@ class GroupedSummary:
         out = []
         withheld = self.suppression()
         for g in [None] + list(range(len(self.groups))):
-            values = ["(all)"] * len(self.by) if g is None else list(self.groups[g])
+            values = ["(all)"] * len(self.by) if g is None else self.group_names(g)
             key = dict(zip(self.by, values))
             if g is not None and withheld.withheld(g):
                 out.append({**key, "item": "", "respondents": int(self.respondents[g]),
@@ -178,7 +184,7 @@ class GroupedSummary:
         withheld = self.suppression()
         for g in [None] + list(range(len(self.groups))):
             head = " / ".join(["(all)"] * len(self.by) if g is None
-                              else [v or "(blank)" for v in self.groups[g]])
+                              else self.group_names(g))
             if g is not None and withheld.withheld(g):
                 out.append(f"{head}: suppressed ({self._why(g)})")
                 continue
