@@ -165,8 +165,9 @@ def diverging_bar(summary: SurveySummary, order: str = "questionnaire",
     fig = Figure(figsize=(8.5, 1.6 + 0.55 * len(items)), layout="constrained")
     ax = fig.add_subplot()
     _draw_bars(ax, [(it.item, it.counts, it.n) for it in items], summary.scale, wrap)
-    ax.set_xlabel("percent of valid answers (neutral split across the centre; totals: "
-                  "disagree left, agree right)", fontsize=8)
+    centre = "neutral split across the centre; " if summary.scale.neutral else ""
+    ax.set_xlabel(f"percent of valid answers ({centre}totals: disagree left, agree right)",
+                  fontsize=8)
     _legend(fig, summary.scale, len(items))
     if title is None:
         from pathlib import Path

@@ -30,6 +30,12 @@ Verdicts (:data:`VERDICTS`)
     cannot rule out a population share on the other side.
 ``does not hold``
     The observed share does not satisfy the comparison.
+``cannot be evaluated: no valid answers``
+    Nobody gave the item a valid answer (every answer blank or not applicable): there
+    is no share to compare, so the claim neither holds nor fails.
+
+:meth:`ClaimsReport.verdict_counts` counts the claims per verdict, each verdict its own
+category.
 
 Public API: :func:`load_claims`, :func:`evaluate_claims` (returns
 :class:`ClaimsReport` with ``to_dict()``), :func:`evaluate_claim`.
@@ -64,6 +70,7 @@ VERDICTS = {
     "holds": "holds (the whole interval clears the threshold)",
     "sample_only": "holds for this sample only",
     "does_not_hold": "does not hold",
+    "no_answers": "cannot be evaluated: no valid answers",
 }
 
 
@@ -101,7 +108,7 @@ class ClaimResult:
         Respondents in the categories (``k``) out of valid answers (``n``), the
         share and its interval; ``k``, ``n``, ``share``, ``ci``, ``method`` and
         ``confidence_level`` are also available directly.
-    verdict_code : {"holds", "sample_only", "does_not_hold"}
+    verdict_code : {"holds", "sample_only", "does_not_hold", "no_answers"}
     verdict : str
         Wording from :data:`VERDICTS`.
     reason : str
@@ -148,7 +155,15 @@ class ClaimsReport:
         return {"source": self.source, "claims_file": self.claims_file,
                 "respondents": self.respondents, "ci_method": self.method,
                 "confidence_level": self.confidence_level,
+                "verdict_counts": self.verdict_counts(),
                 "claims": [r.to_dict() for r in self.results]}
+
+    def verdict_counts(self) -> dict:
+        """Claims per verdict code (every code of :data:`VERDICTS`, zeros included)."""
+        counts = dict.fromkeys(VERDICTS, 0)
+        for r in self.results:
+            counts[r.verdict_code] += 1
+        return counts
 
     def format_text(self) -> str:
         out = [f"{self.source}: claims from {self.claims_file} "
@@ -158,6 +173,9 @@ class ClaimsReport:
             ci = "" if r.share is None else f" [{r.ci[0]:.1%}, {r.ci[1]:.1%}]"
             out.append(f"  {r.claim.id}: {r.item} share {r.k}/{r.n} = {share}{ci} "
                        f"{r.claim.comparison} {100 * r.claim.threshold:g}%: {r.verdict}")
+        counts = self.verdict_counts()
+        out.append(f"  {len(self.results)} claim{'s' if len(self.results) != 1 else ''}: "
+                   + ", ".join(f"{counts[c]} {VERDICTS[c].split(' (')[0]}" for c in VERDICTS))
         return "\n".join(out)
 
 
@@ -265,7 +283,9 @@ def evaluate_claim(claim: Claim, summary: SurveySummary, confidence_level: float
         k += it.counts[lab]
     p = proportion(k, it.n, confidence_level, method)
     if p.share is None:
-        code, reason = "does_not_hold", "no valid answers to this item"
+        code = "no_answers"
+        reason = (f"no valid answers to this item ({it.missing} missing, {it.excluded} not "
+                  f"applicable): there is no share to compare with the threshold")
     elif not _satisfies(p.share, claim.comparison, claim.threshold):
         code = "does_not_hold"
         reason = f"observed share {p.share:.4f} is not {claim.comparison} {claim.threshold:g}"

@@ -9,13 +9,17 @@ at least two and hold together at least the threshold of respondents. The total 
 the shown groups then reveals only the pooled answers of several groups, themselves
 a group large enough to show.
 
-Public API: :func:`suppress_groups` -> :class:`Suppression`.
+Public API: :func:`suppress_groups` -> :class:`Suppression`; :data:`BLANK_GROUP`.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-__all__ = ["Suppression", "suppress_groups"]
+__all__ = ["BLANK_GROUP", "Suppression", "suppress_groups"]
+
+#: The name every output (text, JSON, tables, HTML) gives the group of blank grouping
+#: values, on both routes (``--group`` and ``--by``).
+BLANK_GROUP = "(blank)"
 
 
 @dataclass

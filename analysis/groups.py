@@ -5,8 +5,14 @@ agreement share, median, IQR, mean and SD of the codes (the same numbers as
 :func:`~analysis.likert.summarize` on that group alone). Groups come in data order
 (first appearance) or in a given ``order`` (e.g. terms as the user lists them).
 
-Two groups: Mann-Whitney U (``scipy.stats.mannwhitneyu``, two-sided) with
-Cliff's delta as the ordinal effect size. When the survey carries respondent ids
+Direction: every signed number compares the later group in the group order with the
+earlier one, and is positive when the later (second) group answers higher; each
+compared item says so in ``direction`` (text, HTML, JSON). For a reverse-keyed item
+"higher" is on the reversed codes.
+
+Two groups: Mann-Whitney U (``scipy.stats.mannwhitneyu``, two-sided; U is the second
+group's) with Cliff's delta of the second group against the first as the ordinal effect
+size. When the survey carries respondent ids
 (:attr:`~analysis.ingest.SurveyData.ids`) and at least ``min_size`` ids answered in
 both groups (pre/post), those pairs are compared instead with the Wilcoxon
 signed-rank test (``scipy.stats.wilcoxon`` on second minus first group, zero
@@ -18,7 +24,7 @@ Spearman's rho between the group's position and the answer code
 (``scipy.stats.spearmanr``). When several items are tested, p-values are also
 given Holm-adjusted (``statsmodels`` ``multipletests(method="holm")``).
 
-Cliff's delta of group A against group B is
+Cliff's delta of sample A against sample B (here A is the second group, B the first) is
 
 .. math::  \\delta = P(X_A > X_B) - P(X_A < X_B) = \\frac{2U_A}{n_A n_B} - 1,
 
@@ -42,7 +48,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import stats
 
-from .disclosure import suppress_groups
+from .disclosure import BLANK_GROUP, suppress_groups
 from .errors import SurveyInputError
 from .ingest import SurveyData
 from .likert import REVERSE_MARK, REVERSE_NOTE, REVERSED_STATISTICS
@@ -51,7 +57,6 @@ from .scales import normalize_answer
 __all__ = ["GroupInfo", "ItemComparison", "GroupComparison", "compare_groups", "cliffs_delta",
            "rank_biserial_paired"]
 
-BLANK_GROUP = "(blank)"
 #: Most (reported groups x items) one comparison computes (about half a millisecond each).
 MAX_GROUP_CELLS = 10_000
 
@@ -111,7 +116,8 @@ class ItemComparison:
         ``"mann-whitney"``, ``"kruskal-wallis"`` or ``"none"`` (with ``note``).
     statistic, p_value : float or None
     effect_name : str
-        ``"cliffs_delta"`` (first shown group against the second) or ``"epsilon_squared"``.
+        ``"cliffs_delta"`` or ``"rank_biserial_paired"`` (second group against the first)
+        or ``"epsilon_squared"`` (no sign).
     effect : float or None
     per_group : dict
         Per shown group: n, missing, excluded, counts and percent per label, agreement
@@ -125,6 +131,8 @@ class ItemComparison:
         More than two groups: Spearman ``rho`` and ``p_value`` of code on group position.
     reverse : bool
         Reverse-keyed: tests and median, IQR, mean, SD on reversed codes; counts raw.
+    direction : str
+        Which way the signed numbers point, in words ("" when nothing was tested).
     """
 
     item: str
@@ -139,9 +147,10 @@ class ItemComparison:
     pairs: int = 0
     trend: dict | None = None
     reverse: bool = False
+    direction: str = ""
 
     def to_dict(self) -> dict:
-        return {"item": self.item, "reversed": self.reverse,
+        return {"item": self.item, "reversed": self.reverse, "direction": self.direction,
                 "reversed_statistics": list(REVERSED_STATISTICS) if self.reverse else [],
                 "test": self.test, "statistic": self.statistic,
                 "p_value": self.p_value, "p_holm": self.p_holm, "effect_name": self.effect_name,
@@ -216,8 +225,9 @@ class GroupComparison:
                 pairs = f" on {it.pairs} pairs" if it.pairs else ""
                 out.append(f"  {name}: {it.test}{pairs} statistic {it.statistic:.4g}, "
                            f"p = {it.p_value:.4g}{holm}, {it.effect_name} = {it.effect:.3f}")
+                out.append(f"    direction: {it.direction}")
             if it.trend:
-                out.append(f"    trend over {' -> '.join(self.shown)}: Spearman rho = "
+                out.append(f"    trend over {' -> '.join(it.trend['groups'])}: Spearman rho = "
                            f"{it.trend['rho']:.3f}, p = {it.trend['p_value']:.4g}")
             for g, d in it.per_group.items():
                 pp, agree = self.printed(j, g, decimals, method)
@@ -333,8 +343,11 @@ def compare_groups(data: SurveyData, column: str, min_size: int = 5,
         for g in shown:
             sel = a[members[g]]
             samples.append(codes[sel[sel >= 0]])
-        comp.items.append(_test_item(item, samples, per, codes, a, pairs, min_size))
+        names = [str(values[g]) for g in shown]
+        comp.items.append(_test_item(item, samples, names, per, codes, a, pairs, min_size))
         comp.items[-1].reverse = rev
+        if rev and comp.items[-1].direction:
+            comp.items[-1].direction += " (on the reversed codes)"
     _holm(comp.items)
     return comp
 
@@ -387,11 +400,23 @@ def _pairs(data, inverse, shown, min_size):
             np.array([idx[1][k] for k in common], dtype=np.int64))
 
 
-def _test_item(item, samples, per, codes, a, pairs, min_size) -> ItemComparison:
-    usable = [s for s in samples if s.size]
+def _direction(first: str, second: str) -> str:
+    """The sign convention of a two-group effect, in words."""
+    return f"{second} vs {first}: positive when {second} answers higher"
+
+
+def _test_item(item, samples, names, per, codes, a, pairs, min_size) -> ItemComparison:
+    """Test one item over the shown groups (``samples`` and ``names`` in group order).
+
+    Two groups are compared second against first (Wilcoxon on post - pre, Mann-Whitney U
+    of the second group, Cliff's delta of the second against the first), so that every
+    signed number is positive when the second group answers higher.
+    """
+    usable = [(nm, s) for nm, s in zip(names, samples) if s.size]
     if len(usable) < 2:
         return ItemComparison(item, "none", None, None, "", None, per,
                               "fewer than two groups with answers to compare after suppression")
+    names, usable = [u[0] for u in usable], [u[1] for u in usable]
     allx = np.concatenate(usable)
     if np.all(allx == allx[0]):
         return ItemComparison(item, "none", None, None, "", None, per, "every answer is the same")
@@ -399,21 +424,28 @@ def _test_item(item, samples, per, codes, a, pairs, min_size) -> ItemComparison:
         both = (a[pairs[0]] >= 0) & (a[pairs[1]] >= 0)
         pre, post = codes[a[pairs[0][both]]], codes[a[pairs[1][both]]]
         if both.sum() >= min_size and np.any(post != pre):
-            res = stats.wilcoxon(post, pre)
+            res = stats.wilcoxon(post, pre)       # two-sided: min(T+, T-), no sign
             return ItemComparison(item, "wilcoxon-signed-rank", float(res.statistic),
                                   float(res.pvalue), "rank_biserial_paired",
-                                  rank_biserial_paired(post - pre), per, pairs=int(both.sum()))
+                                  rank_biserial_paired(post - pre), per, pairs=int(both.sum()),
+                                  direction=_direction(*names))
     if len(usable) == 2:
-        res = stats.mannwhitneyu(usable[0], usable[1], alternative="two-sided")
+        first, second = usable
+        res = stats.mannwhitneyu(second, first, alternative="two-sided")
         return ItemComparison(item, "mann-whitney", float(res.statistic), float(res.pvalue),
-                              "cliffs_delta", cliffs_delta(usable[0], usable[1]), per)
+                              "cliffs_delta", cliffs_delta(second, first), per,
+                              direction=_direction(*names) + f"; U is {names[1]}'s")
     res = stats.kruskal(*usable)
     n = allx.size
     position = np.concatenate([np.full(s.size, k, dtype=float) for k, s in enumerate(usable)])
     rho = stats.spearmanr(position, allx)
     return ItemComparison(item, "kruskal-wallis", float(res.statistic), float(res.pvalue),
                           "epsilon_squared", float(res.statistic / (n - 1)), per,
-                          trend={"rho": float(rho.statistic), "p_value": float(rho.pvalue)})
+                          trend={"rho": float(rho.statistic), "p_value": float(rho.pvalue),
+                                 "groups": names},
+                          direction=f"trend rho positive when later groups in the order "
+                                    f"{' -> '.join(names)} answer higher; epsilon_squared "
+                                    f"has no sign")
 
 
 def _holm(items) -> None:

@@ -69,7 +69,8 @@ from .scales import (BLANK, BUILTIN_SCALES, DEFAULT_NOT_APPLICABLE, NOT_APPLICAB
                      Scale, code_key, get_scale, normalize_answer)
 
 __all__ = ["SHAPES", "UNKNOWN_POLICIES", "SurveyData", "UnknownAnswer", "DroppedRow",
-           "read_survey", "survey_from_frame", "BLANK", "NOT_APPLICABLE", "UNKNOWN"]
+           "read_survey", "survey_from_frame", "choose_items_from_counts", "BLANK",
+           "NOT_APPLICABLE", "UNKNOWN"]
 
 #: Valid ``shape`` values.
 SHAPES = platforms.SHAPES
@@ -1193,6 +1194,67 @@ def _choose_items(source: str, names: list[str], cols, exclude, scale, items,
     if not long:
         chosen = _unanswered_items(source, chosen, candidates, stats, notes)
     return scale_obj, chosen
+
+
+def choose_items_from_counts(source: str, columns, scale=None, items=None,
+                             long: bool = False):
+    """The scale and the items among columns known only by their answer counts.
+
+    The rule :func:`read_survey` applies (:func:`_choose_items`), for a reader that
+    tallies each column's answer texts instead of keeping the rows (the out-of-core
+    count of :mod:`analysis.institution`), so that both routes take the same items.
+
+    Parameters
+    ----------
+    source : str
+        File named in messages.
+    columns : list of (str, dict of str to int)
+        Each candidate column (``long``: each item) with its count per answer text
+        (``""`` for a blank cell), in file order; grouping columns left out.
+    scale : str, Scale or None
+        As :func:`read_survey` takes it (None: detected).
+    items : list of str, optional
+        Item names or patterns.
+    long : bool
+        The names are items of a long file, not columns.
+
+    Returns
+    -------
+    scale : Scale
+    chosen : list of str
+        The items, in the order of ``columns``.
+    not_items : dict of str to str
+        Every other column with the reason it is not an item.
+    notes : list of str
+    """
+    cols = []
+    for j, (name, texts) in enumerate(columns):
+        cats = [str(t) for t in texts]
+        col = _Column(str(name), cats, np.zeros(0, dtype=np.int64))   # counts alone:
+        col.__dict__["_counts"] = np.array(list(texts.values()), dtype=np.int64)  # no rows
+        cols.append((j, col))
+    notes: list[str] = []
+    scale_obj, chosen = _choose_items(source, [c.name for _, c in cols], cols, set(), scale,
+                                      items, long=long, notes=notes)
+    if scale is None:
+        _note_no_neutral(scale_obj, notes)
+    taken = {j for j, _ in chosen}
+    not_items = {c.name: _why_not_item(c, scale_obj, items, long, notes)
+                 for j, c in cols if j not in taken}
+    return scale_obj, [c.name for _, c in chosen], not_items, notes
+
+
+def _why_not_item(col: _Column, scale: Scale, items, long: bool, notes: list) -> str:
+    """Why :func:`_choose_items` left a column out, in words."""
+    if items:
+        return "not named by --items"
+    if not long and _ID_LIKE.match(col.name.strip()):
+        return "an identifier column"
+    if any(repr(col.name) in n for n in notes):
+        return "see the note"
+    if _unanswered(_column_stats(col, scale)):
+        return "no answer in any row"
+    return f"its answers are not labels of scale {scale.name!r}"
 
 
 def _unanswered_items(source, chosen, candidates, stats, notes):

@@ -11,10 +11,13 @@ summary comes from :func:`analysis.likert.summarize_tally`, the same route as
 ``summarize`` on a small file, so the numbers agree.
 
 Layouts: *long* (a row per answer: respondent, item, answer columns, named as in
-:mod:`analysis.ingest`) or *wide* (a row per respondent, a column per item: items are
-the columns named by ``items``, else every column that is not a grouping or id
-column). In a long file a respondent of a group with no row for an item is missing
-on it (respondents per group are distinct respondent ids).
+:mod:`analysis.ingest`) or *wide* (a row per respondent, a column per item). Which
+columns (or, long, which items) are items, and on which scale, is decided from the
+counted answer texts by :func:`analysis.ingest.choose_items_from_counts`, the rule of
+``read_survey``: so a term or a comments column is left out here as it is there, and
+listed among the ``not_items`` with the reason. In a long file a respondent of a group
+with no row for an item is missing on it (respondents per group are distinct
+respondent ids).
 
 Two columns named alike (ignoring case and spacing, as DuckDB does) are refused: DuckDB
 would rename the second ``Q1_1`` without a word.
@@ -32,12 +35,12 @@ import numpy as np
 
 from . import platforms
 from ._io import is_regular_file
-from .disclosure import suppress_groups
+from .disclosure import BLANK_GROUP, suppress_groups
 from .errors import SurveyInputError
 from .export import reversal_columns
 from .likert import (REVERSE_MARK, REVERSE_NOTE, _num, _validate_ci, absent_respondents,
                      interval_label)
-from .scales import BUILTIN_SCALES, Scale, get_scale, normalize_answer
+from .scales import Scale
 
 __all__ = ["GroupedSummary", "summarize_by", "DEFAULT_MEMORY_LIMIT"]
 
@@ -62,7 +65,8 @@ class GroupedSummary:
     scale : Scale
     items : list of str
     groups : list of tuple of str
-        Grouping values, in first-seen-sorted order (sorted as text).
+        Grouping values, sorted as text (a blank value is "" here; outputs name it
+        :data:`~analysis.disclosure.BLANK_GROUP`, see :meth:`group_names`).
     respondents : numpy.ndarray of int, shape (groups,)
     tallies : numpy.ndarray of int, shape (groups, items, k + 3)
         Per group and item: unknown (0), not applicable (1), blank/absent (2), then
@@ -71,6 +75,8 @@ class GroupedSummary:
         ``"long"`` or ``"wide"``.
     min_group : int
         Groups with fewer respondents are suppressed in outputs (small cells).
+    not_items : dict of str to str
+        Columns (long: items) not counted as items, each with the reason.
     """
 
     source: str
@@ -86,6 +92,7 @@ class GroupedSummary:
     reverse: set = field(default_factory=set)
     ci_method: str = "wilson"
     confidence_level: float = 0.95
+    not_items: dict = field(default_factory=dict)
 
     def _item_summaries(self, tally, respondents: int, confidence_level, method) -> list:
         """Summaries of every item from one (items, k + 3) tally (the one route,
@@ -108,11 +115,16 @@ class GroupedSummary:
         return self._item_summaries(self.tallies[g], int(self.respondents[g]),
                                     confidence_level, method)
 
+    def group_names(self, g: int) -> list:
+        """The grouping values of group ``g`` as every output names them (a blank value
+        as :data:`~analysis.disclosure.BLANK_GROUP`, as ``--group`` names it)."""
+        return [v or BLANK_GROUP for v in self.groups[g]]
+
     def suppression(self):
         """The groups withheld: under :attr:`min_group`, and their complements (the
         institution-wide totals are shown, see :mod:`analysis.disclosure`)."""
         return suppress_groups(self.respondents, self.min_group,
-                               [" / ".join(v or "(blank)" for v in key) for key in self.groups])
+                               [" / ".join(self.group_names(g)) for g in range(len(self.groups))])
 
     def suppressed(self, g: int) -> bool:
         """Group ``g`` is withheld (small, or its complement)."""
@@ -129,7 +141,7 @@ class GroupedSummary:
         out = []
         withheld = self.suppression()
         for g in [None] + list(range(len(self.groups))):
-            values = ["(all)"] * len(self.by) if g is None else list(self.groups[g])
+            values = ["(all)"] * len(self.by) if g is None else self.group_names(g)
             key = dict(zip(self.by, values))
             if g is not None and withheld.withheld(g):
                 out.append({**key, "item": "", "respondents": int(self.respondents[g]),
@@ -154,6 +166,7 @@ class GroupedSummary:
                 "reversed": [n for n in self.items if n in self.reverse],
                 "respondents": int(self.respondents.sum()), "groups": len(self.groups),
                 "overall": [it.to_dict() for it in self.overall()], "rows": self.rows(),
+                "not_items": list(self.not_items), "not_item_reasons": dict(self.not_items),
                 "notes": self._all_notes()}
 
     def _all_notes(self) -> list:
@@ -171,7 +184,7 @@ class GroupedSummary:
         withheld = self.suppression()
         for g in [None] + list(range(len(self.groups))):
             head = " / ".join(["(all)"] * len(self.by) if g is None
-                              else [v or "(blank)" for v in self.groups[g]])
+                              else self.group_names(g))
             if g is not None and withheld.withheld(g):
                 out.append(f"{head}: suppressed ({self._why(g)})")
                 continue
@@ -187,6 +200,9 @@ class GroupedSummary:
                 out.append(f"{head}: {it.item}{mark}: n={it.n} missing={it.missing} "
                            f"n/a={it.excluded} counts [{dist}] agree {agree} {stats}")
         out.append("counts in scale order: " + ", ".join(labels))
+        if self.not_items:
+            out.append("not items (left out of the table): " + ", ".join(
+                f"{name} ({why})" for name, why in self.not_items.items()))
         if self.reverse:
             out.append(REVERSE_NOTE)
         out.extend(f"note: {n}" for n in self._all_notes())
@@ -359,6 +375,7 @@ def _count(p, by, scale, items, min_group, memory_limit, threads) -> GroupedSumm
         ri, ii, ai = (platforms.find_column(header, platforms.LONG_RESP),
                       platforms.find_column(header, platforms.LONG_ITEM),
                       platforms.find_column(header, platforms.LONG_ANSWER))
+        left_out = {}
         if None not in (ri, ii, ai):
             shape = "long"
             rows = _count_long(con, src, gcols, header[ri], header[ii], header[ai])
@@ -370,6 +387,9 @@ def _count(p, by, scale, items, min_group, memory_limit, threads) -> GroupedSumm
             if items:
                 from .platforms import name_matches
                 cand = [h for h in cand if any(name_matches(pat, h) for pat in items)]
+            left_out = {h: ("grouping column" if h in gcols else
+                            "respondent id column" if h in idcols else "not named by --items")
+                        for h in header if h not in cand}
             if not cand:
                 raise SurveyInputError("no item columns to count", str(p), 1)
             rows = _count_wide(con, src, gcols, cand)
@@ -380,8 +400,12 @@ def _count(p, by, scale, items, min_group, memory_limit, threads) -> GroupedSumm
     finally:
         con.close()
         spill.cleanup()
-    return _assemble(str(p), gcols, shape, rows, scale, items, min_group,
-                     cand if shape == "wide" else None)
+    res = _assemble(str(p), gcols, shape, rows, scale, items, min_group,
+                    cand if shape == "wide" else None)
+    if shape == "wide":                            # in the file's column order
+        res.not_items = {h: left_out.get(h) or res.not_items[h] for h in header
+                         if h in left_out or h in res.not_items}
+    return res
 
 
 def _count_long(con, src, gcols, resp, item, answer):
@@ -411,23 +435,30 @@ def _count_wide(con, src, gcols, cand):
     return con.execute(sql).fetchall()
 
 
+def _answer_counts(rows, ng: int, wide_items) -> list:
+    """(name, {answer text: count}) per counted column (long: per item), over all groups;
+    a blank cell is the text ``""``. Wide columns in file order, long items sorted."""
+    per: dict = {}
+    for r in rows:
+        if not r[ng + 2] and r[ng] is not None:
+            texts = per.setdefault(r[ng], {})
+            t = "" if r[ng + 1] is None else r[ng + 1]
+            texts[t] = texts.get(t, 0) + r[ng + 3]
+    names = list(wide_items) if wide_items is not None else sorted(per, key=str)
+    return [(str(n), per.get(n, {})) for n in names]
+
+
 def _assemble(source, gcols, shape, rows, scale, items, min_group,
               wide_items=None) -> GroupedSummary:
-    """Tallies from the aggregated rows: texts matched to the scale, groups indexed."""
+    """Tallies from the aggregated rows: items and scale chosen by the in-memory rule
+    (:func:`analysis.ingest.choose_items_from_counts`), texts matched, groups indexed."""
+    from .ingest import choose_items_from_counts
     ng = len(gcols)
-    texts: dict[str, int] = {}
-    for r in rows:
-        if not r[ng + 2] and r[ng + 1] is not None:
-            texts[r[ng + 1]] = texts.get(r[ng + 1], 0) + r[ng + 3]
-    scale_obj = _scale_for(source, texts, scale)
-    names = sorted({r[ng] for r in rows if not r[ng + 2] and r[ng] is not None},
-                   key=lambda x: str(x))
-    if items and shape == "long":
-        from .platforms import name_matches
-        names = [n for n in names if any(name_matches(pat, str(n)) for pat in items)]
-    if wide_items is not None:
-        names = list(wide_items)            # column order
+    counted = _answer_counts(rows, ng, wide_items)
+    scale_obj, names, not_items, notes = choose_items_from_counts(
+        source, counted, scale, items, long=shape == "long")
     index_item = {n: i for i, n in enumerate(names)}
+    texts = {t: c for n, tx in counted if n in index_item for t, c in tx.items() if t != ""}
     keys = sorted({tuple("" if v is None else str(v) for v in r[:ng]) for r in rows})
     index_group = {k: i for i, k in enumerate(keys)}
     k = scale_obj.k
@@ -437,47 +468,23 @@ def _assemble(source, gcols, shape, rows, scale, items, min_group,
     for t in texts:
         m = scale_obj.match(t)
         if m is None:
-            raise SurveyInputError(f"answer {t!r} ({texts[t]} times) is not on scale "
-                                   f"{scale_obj.name!r}; valid labels: "
-                                   f"{scale_obj.describe_valid()}", source)
+            raise SurveyInputError(f"answer {t!r} is not on scale {scale_obj.name!r}; valid "
+                                   f"labels: {scale_obj.describe_valid()}", source)
         lut[t] = m + 3
     for r in rows:
         g = index_group[tuple("" if v is None else str(v) for v in r[:ng])]
         if r[ng + 2]:
             respondents[g] += r[ng + 3]
             continue
-        i = index_item.get(r[ng])
+        i = index_item.get(None if r[ng] is None else str(r[ng]))
         if i is None:
             continue
-        pos = 2 if r[ng + 1] is None else lut[r[ng + 1]]
+        pos = 2 if r[ng + 1] is None or r[ng + 1] == "" else lut[r[ng + 1]]
         tallies[g, i, pos] += r[ng + 3]
     if shape == "wide":
         respondents = tallies[:, 0, :].sum(axis=1) if names else respondents
     else:            # respondents with no row for an item are missing on it
         tallies[:, :, 2] += np.maximum(respondents[:, None] - tallies.sum(axis=2), 0)
-    return GroupedSummary(source=source, by=list(gcols), scale=scale_obj, items=[str(n) for n in names],
+    return GroupedSummary(source=source, by=list(gcols), scale=scale_obj, items=names,
                           groups=keys, respondents=respondents, tallies=tallies, shape=shape,
-                          min_group=min_group)
-
-
-def _scale_for(source, texts: dict, scale) -> Scale:
-    """The scale named, or the built-in scale whose labels cover every answer text."""
-    if scale is not None:
-        return get_scale(scale)
-    answered = {t: c for t, c in texts.items() if normalize_answer(t) != ""}
-    best = None
-    for s in BUILTIN_SCALES.values():
-        hits = [s.match(t, accept_codes=False) for t in answered]
-        if all(h is not None for h in hits) and any(h is not None and h >= 0 for h in hits):
-            if best is None or s.k < best.k:
-                best = s
-    if best is None:
-        numeric = all(t.strip().isdigit() for t in answered)
-        if numeric:
-            from .platforms import CODES_HINT
-            raise SurveyInputError("answers are numeric codes, and which end of the numbering "
-                                   f"means agreement is not known; name the scale with --scale "
-                                   f"FILE.toml (codes stated), or {CODES_HINT}", source)
-        raise SurveyInputError("answers are not the labels of one built-in scale "
-                               f"({', '.join(BUILTIN_SCALES)}); give --scale", source)
-    return best
+                          min_group=min_group, notes=notes, not_items=not_items)

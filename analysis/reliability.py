@@ -138,7 +138,8 @@ def cronbach_alpha_for(data: SurveyData, items=None,
                        confidence_level: float = 0.95) -> ReliabilityResult:
     """Cronbach's alpha for items of a survey named as a scale (default: all items).
 
-    Reverse-keyed items (``data.reverse``) enter with reversed codes.
+    Reverse-keyed items (``data.reverse``) enter with reversed codes. An item nobody
+    answered (n = 0) is left out, with a note (it would leave out every respondent).
 
     Raises
     ------
@@ -157,6 +158,17 @@ def cronbach_alpha_for(data: SurveyData, items=None,
         idx = list(range(len(data.items)))
     if len(idx) < 2:
         raise SurveyInputError("Cronbach's alpha needs at least two items", data.source)
+    unanswered = [data.items[j] for j in idx if not (data.answers[:, j] >= 0).any()]
+    idx = [j for j in idx if data.items[j] not in unanswered]
+    notes = [f"left out of alpha, as nobody answered {'it' if len(unanswered) == 1 else 'them'} "
+             f"(n = 0): {', '.join(unanswered)}"] if unanswered else []
+    if any(PAIRING_UNKNOWN in c for c in data.comments):
+        notes.append("the file was rebuilt from per-item marginals: alpha describes an "
+                     "arbitrary pairing of answers, not the respondents")
+    if len(idx) < 2:
+        return ReliabilityResult([data.items[j] for j in idx], None, (None, None), 0,
+                                 data.respondents, confidence_level,
+                                 "; ".join(["fewer than two items have answers"] + notes))
     cols = []
     for j in idx:
         rev = data.items[j] in data.reverse
@@ -164,7 +176,5 @@ def cronbach_alpha_for(data: SurveyData, items=None,
         a = data.answers[:, j]
         cols.append(np.where(a >= 0, codes[np.clip(a, 0, None)], np.nan))
     res = cronbach_alpha(np.column_stack(cols), confidence_level, [data.items[j] for j in idx])
-    if any(PAIRING_UNKNOWN in c for c in data.comments):
-        res.note = ("the file was rebuilt from per-item marginals: alpha describes an "
-                    "arbitrary pairing of answers, not the respondents")
+    res.note = "; ".join(([res.note] if res.note else []) + notes)
     return res

@@ -659,12 +659,15 @@ def survey_checks(dataset_path: Path) -> tuple[list[Check], SurveyResults]:
                 kind="claim",
                 published=c.printed or c.statement,
                 computed=f"{share} {ci}".strip(),
-                verdict="agrees" if holds else "disagrees",
+                verdict=("not-checkable" if result.verdict_code == "no_answers"
+                         else "agrees" if holds else "disagrees"),
                 detail=f"{c.statement} Verdict: {result.verdict}; {result.reason} "
                 f"({result.k}/{result.n}, 95% {result.method} interval {ci}).",
                 label=f"Claim about item {item_no}",
                 section="survey",
-                explanation="" if holds else f"The observed share {share} does not satisfy the claim.",
+                explanation=("" if holds else f"No valid answers: {result.reason}."
+                             if result.verdict_code == "no_answers"
+                             else f"The observed share {share} does not satisfy the claim."),
                 caveat=caveat,
             )
         )

@@ -164,3 +164,34 @@ def test_category_listed_twice_is_refused(tmp_path, rebuilt, capsys):
     assert main(["claims", str(rebuilt), str(f)]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and str(f) in err and "listed twice" in err
+
+
+def test_claim_on_an_item_nobody_answered_cannot_be_evaluated(tmp_path, capsys):
+    """Regression: 0/0 valid answers gave "does not hold".
+
+    By hand: Q2 is blank in all three rows, so n = 0 and there is no share. Q1 has 2
+    Agree of 3; the 95 % Wilson lower bound is (2 + 1.92 - 1.96 sqrt(2/3 + 0.96)) /
+    (3 + 3.84) = 0.21 > 0.10, so its claim "> 10 %" holds: one claim of each kind.
+    """
+    f = tmp_path / "nb.csv"
+    f.write_text("Q1,Q2\nAgree,\nDisagree,\nAgree,\n")
+    toml = tmp_path / "nb.toml"
+    toml.write_text('[[claims]]\nid="q2"\nitem="Q2"\ncategories=["Agree"]\ncomparison="<"\n'
+                    'threshold=90\n\n[[claims]]\nid="q1"\nitem="Q1"\ncategories=["Agree"]\n'
+                    'comparison=">"\nthreshold=10\n')
+    assert main(["claims", str(f), str(toml)]) == 0
+    out = capsys.readouterr().out
+    assert "q2: Q2 share 0/0 = n/a < 90%: cannot be evaluated: no valid answers" in out
+    assert "does not hold\n" not in out.replace("0 does not hold", "")
+    assert main(["claims", str(f), str(toml), "--json"]) == 0
+    rep = json.loads(capsys.readouterr().out)
+    q2 = rep["claims"][0]
+    assert (q2["verdict_code"], q2["verdict"], q2["n"]) == (
+        "no_answers", "cannot be evaluated: no valid answers", 0)
+    assert rep["verdict_counts"] == {"holds": 1, "sample_only": 0, "does_not_hold": 0,
+                                     "no_answers": 1}
+    html = tmp_path / "r.html"
+    assert main(["report", str(f), "--claims", str(toml), "-o", str(html)]) == 0
+    text = html.read_text()
+    assert 'class="no_answers">cannot be evaluated: no valid answers' in text
+    assert "0 do not hold, 1 cannot be evaluated" in text and "does not hold" not in text

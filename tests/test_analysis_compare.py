@@ -290,3 +290,43 @@ def test_group_lines_round_as_the_main_table(tmp_path, capsys):
     line = post_q1("--decimals", "2")
     assert cells(line) == ["12.50", "25.00", "37.50", "0.00", "25.00"]
     assert re.search(r"agree 25\.00%", line)
+
+
+# Pre and post answers (agree5 codes 1..5), worked by hand. Unpaired, post against pre:
+# Cliff's delta = sum over post x of (#pre below x - #pre above x) / 25
+#   = (-1 + 2 + 2 + 4 + 4) / 25 = 11/25; U of post = 2 + 3.5 + 3.5 + 4.5 + 4.5 = 18
+#   (pairs where post is higher, ties half), and 2 U / 25 - 1 = 11/25 too.
+# Paired (ids s1..s5), post - pre = -2, 2, 1, 2, 1: |d| ranks 1s -> 1.5, 2s -> 4;
+#   T+ = 4 + 1.5 + 4 + 1.5 = 11, T- = 4, r = (11 - 4) / 15 = 7/15; two-sided statistic 4.
+PRE_POST = [("s1", 4, 2), ("s2", 1, 3), ("s3", 2, 3), ("s4", 2, 4), ("s5", 3, 4)]
+
+
+def test_effect_sizes_point_the_same_way_with_and_without_ids(tmp_path, capsys):
+    """Regression: Cliff's delta was first minus second, the paired rank-biserial second
+    minus first, so one pre->post improvement read -1 without ids and +1 with them."""
+    lab = BUILTIN_SCALES["agree5"].labels
+    rows = [(i, t, lab[c - 1]) for i, pre, post in PRE_POST for t, c in (("Pre", pre), ("Post", post))]
+    with_id, no_id = tmp_path / "pp.csv", tmp_path / "pp_noid.csv"
+    with_id.write_text("id,Term,Q1\n" + "".join(f"{i},{t},{a}\n" for i, t, a in rows))
+    no_id.write_text("Term,Q1\n" + "".join(f"{t},{a}\n" for _, t, a in rows))
+    want = {(with_id, False): ("rank_biserial_paired", 7 / 15, 4),
+            (no_id, False): ("cliffs_delta", 11 / 25, 18),
+            (with_id, True): ("rank_biserial_paired", -7 / 15, 4),     # statistic has no sign
+            (no_id, True): ("cliffs_delta", -11 / 25, 25 - 18)}        # U of Pre
+    for (f, flipped), (name, effect, statistic) in want.items():
+        order = ["Post", "Pre"] if flipped else ["Pre", "Post"]
+        assert main(["summarize", str(f), "--group", "Term", "--scale", "agree5",
+                     "--group-order", *order, "--json"]) == 0
+        it = json.loads(capsys.readouterr().out)["groups"]["items"][0]
+        assert (it["effect_name"], it["statistic"]) == (name, statistic)
+        assert it["effect"] == pytest.approx(effect, abs=1e-12)     # sums of halves and ranks
+        assert it["direction"].startswith(f"{order[1]} vs {order[0]}: positive when "
+                                          f"{order[1]} answers higher")
+    assert main(["summarize", str(no_id), "--group", "Term", "--scale", "agree5"]) == 0
+    out = capsys.readouterr().out
+    assert "cliffs_delta = 0.440" in out and "direction: Post vs Pre: positive when Post" in out
+    html = tmp_path / "r.html"
+    assert main(["report", str(with_id), "--group", "Term", "--scale", "agree5",
+                 "-o", str(html)]) == 0
+    text = html.read_text()
+    assert "rank_biserial_paired = 0.467" in text and "Post vs Pre: positive when Post" in text

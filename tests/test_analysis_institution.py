@@ -185,7 +185,7 @@ def test_by_honours_reverse_interval_and_declared_respondents(tmp_path, capsys):
     # both are inverse incomplete beta functions to double precision: 1e-9 allows for
     # the two libraries' different iterations
     assert q1["agree"]["ci"] == pytest.approx([lo, hi], abs=1e-9)
-    blank = [r for r in out["rows"] if r["Section"] == "" and r["item"] == "Q1"]
+    blank = [r for r in out["rows"] if r["Section"] == "(blank)" and r["item"] == "Q1"]
     assert [(r["respondents"], r["n"], r["missing"]) for r in blank] == [(6, 0, 6)]
     # text: the interval is named, the reversed item marked
     assert main(["summarize", str(f), "--by", "Section", "--reverse", "Q3", "--ci", "beta",
@@ -198,3 +198,48 @@ def test_by_honours_reverse_interval_and_declared_respondents(tmp_path, capsys):
     assert main(["summarize", str(f), "--by", "Section", "--shape", "long"]) == 2
     assert capsys.readouterr().err.startswith("error: python -m analysis summarize: --shape is "
                                               "not available with --by")
+
+
+def test_by_takes_the_items_the_in_memory_route_takes(tmp_path, capsys):
+    """Regression: --by read the term and comments columns as items and refused the file.
+
+    By hand: Q1 and Q2 hold agree4 labels; term holds F23/S24 and Comments holds one
+    label ("Agree") among three answers, under the half the in-memory rule asks for, so
+    neither is an item. Q1: SD 1, D 1, A 2, SA 0; Q2: D 1, A 1, SA 1 and one blank."""
+    f = tmp_path / "m.csv"
+    f.write_text("section,term,Q1,Q2,Comments\nA,F23,Agree,Disagree,good\n"
+                 "B,S24,Disagree,,too fast\nA,S24,Agree,Strongly agree,\n"
+                 "B,F23,Strongly disagree,Agree,Agree\n")
+    want = {"Q1": ({"Strongly disagree": 1, "Disagree": 1, "Agree": 2, "Strongly agree": 0}, 0),
+            "Q2": ({"Strongly disagree": 0, "Disagree": 1, "Agree": 1, "Strongly agree": 1}, 1)}
+    assert main(["summarize", str(f), "--group", "section", "--min-group", "1", "--json"]) == 0
+    small = json.loads(capsys.readouterr().out)
+    assert main(["summarize", str(f), "--by", "section", "--min-group", "1", "--json"]) == 0
+    big = json.loads(capsys.readouterr().out)
+    for items in (small["items"], big["overall"]):
+        assert {it["item"]: (it["counts"], it["missing"]) for it in items} == want
+    assert small["not_items"] == big["not_items"] == ["section", "term", "Comments"]
+    assert big["not_item_reasons"]["term"] == "its answers are not labels of scale 'agree4'"
+    assert big["not_item_reasons"]["section"] == "grouping column"
+    assert main(["summarize", str(f), "--by", "section", "--min-group", "1"]) == 0
+    assert "not items (left out of the table): section (grouping column), term (its " in \
+        capsys.readouterr().out
+
+
+def test_blank_grouping_value_has_one_name_on_every_output(tmp_path, capsys):
+    """Regression: --by --json named the blank section "" while its text and --group said
+    "(blank)". By hand: two respondents with no section, one Agree and one Disagree."""
+    f = tmp_path / "b.csv"
+    f.write_text("section,Q1\nA,Agree\n,Agree\nA,Disagree\n,Disagree\n")
+    assert main(["summarize", str(f), "--by", "section", "--min-group", "1", "--json"]) == 0
+    rows = json.loads(capsys.readouterr().out)["rows"]
+    blank = [r for r in rows if r["section"] not in ("(all)", "A")]
+    assert [(r["section"], r["n"], r["Agree (count)"]) for r in blank] == [("(blank)", 2, 1)]
+    table = tmp_path / "t.csv"
+    assert main(["summarize", str(f), "--by", "section", "--min-group", "1",
+                 "--table", str(table)]) == 0
+    assert "\n(blank): Q1: n=2 " in capsys.readouterr().out
+    assert "\n(blank),Q1," in table.read_text()
+    assert main(["summarize", str(f), "--group", "section", "--min-group", "1", "--json"]) == 0
+    groups = json.loads(capsys.readouterr().out)["groups"]["groups"]
+    assert [g["group"] for g in groups] == ["A", "(blank)"]

@@ -80,3 +80,19 @@ def test_bad_input_has_no_traceback(tmp_path):
                        capture_output=True, text=True)
     assert r.returncode == 2 and "Traceback" not in r.stderr
     assert r.stderr.count("\n") == 1 and r.stderr.startswith(f"error: {f}")
+
+
+def test_no_neutral_share_on_a_scale_without_a_neutral_answer():
+    """Regression: a four-point scale's report showed "neutral 0.0% [0.0, 11.4]".
+    By hand: Never, Often, Always, Always on frequency4 (Often and Always positive):
+    agree 3/4 = 75.0 %, disagree 1/4 = 25.0 %; agree5 keeps its neutral column."""
+    four = survey_from_frame(pd.DataFrame({"Q1": ["Never", "Often", "Always", "Always"]}),
+                             scale="frequency4")
+    html = render_report(four, reliability=False)
+    head = "<th>Item</th><th>agree</th><th>disagree</th><th>median</th>"
+    assert head in html and "<th>neutral</th>" not in html
+    assert "<td>75.0% [" in html and "<td>25.0% [" in html
+    assert "neutral split" not in html and "has no neutral answer" in html
+    five = survey_from_frame(pd.DataFrame({"Q1": ["Disagree", "Agree", "Neutral"]}),
+                             scale="agree5")
+    assert "<th>agree</th><th>neutral</th><th>disagree</th>" in render_report(five, reliability=False)

@@ -96,7 +96,8 @@ def test_groups_suppression_and_tests():
     assert sup == {"A": False, "B": False, "C": True, "D": True}
     assert "3 respondents < 5" in [g for g in comp.groups if g.name == "C"][0].reason
     it = comp.items[0]
-    assert it.test == "mann-whitney" and it.effect == pytest.approx(1.0)   # A all above B
+    # A (first) all above B (second): second against first, -1
+    assert it.test == "mann-whitney" and it.effect == pytest.approx(-1.0)
     assert "C" not in it.per_group
     comp3 = compare_groups(data, "section", min_size=2)
     assert comp3.items[0].test == "kruskal-wallis"
@@ -116,3 +117,22 @@ def test_group_spellings_are_one_group():
     assert [(g.name, g.respondents, g.suppressed) for g in comp.groups] == [
         ("Mon", 6, False), ("Wed", 5, False)]
     assert comp.items[0].test == "mann-whitney"
+
+
+def test_alpha_leaves_out_an_item_nobody_answered():
+    """Regression: one all-blank item made alpha undefined for everyone.
+
+    By hand, Q1 = 1, 2, 4, 5 and Q2 = 2, 2, 5, 4 (agree5 codes): variances 10/3 and 9/4,
+    totals 3, 4, 9, 9 with variance 41/4, so alpha = 2 (1 - (67/12) / (41/4)) = 112/123.
+    """
+    df = pd.DataFrame({"Q1": ["Strongly disagree", "Disagree", "Agree", "Strongly agree"],
+                       "Q2": ["Disagree", "Disagree", "Strongly agree", "Agree"],
+                       "Q3": [""] * 4})
+    data = survey_from_frame(df, scale="agree5")
+    assert data.items == ["Q1", "Q2", "Q3"]
+    res = cronbach_alpha_for(data)
+    assert res.items == ["Q1", "Q2"] and (res.n, res.left_out) == (4, 0)
+    assert res.alpha == pytest.approx(112 / 123, abs=1e-12)     # float sums of small integers
+    assert "nobody answered it (n = 0): Q3" in res.note
+    one = cronbach_alpha_for(survey_from_frame(df[["Q1", "Q3"]], scale="agree5"))
+    assert one.alpha is None and one.note.startswith("fewer than two items have answers")
