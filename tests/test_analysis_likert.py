@@ -157,20 +157,10 @@ def test_shares_printed_by_the_same_rule_as_cells(tmp_path, capsys):
     assert err.count("\n") == 1 and "--decimals" in err and "Traceback" not in err
 
 
-SURVEY = """id,Section,Q1,Q2,Q3,Q4,Q5
-1,A,Strongly agree,Agree,Disagree,Neutral,Strongly agree
-2,A,Agree,Agree,Strongly disagree,Agree,
-3,A,Neutral,,Agree,Agree,Agree
-4,A,Agree,Strongly agree,Disagree,Strongly agree,Agree
-5,A,Strongly disagree,Disagree,Strongly agree,Disagree,Neutral
-6,A,Agree,Neutral,Neutral,Agree,Agree
-7,B,Disagree,Disagree,Agree,Neutral,Disagree
-8,B,Neutral,Agree,Strongly disagree,,Neutral
-9,B,Strongly agree,Strongly agree,Disagree,Agree,Agree
-10,B,Agree,Neutral,Neutral,Strongly disagree,
-11,B,Disagree,Disagree,Agree,Neutral,Disagree
-12,B,,Agree,Disagree,Agree,Strongly agree
-"""
+from tests.test_analysis_institution import SURVEY3  # noqa: E402 - one copy of the tester's file
+
+# The tester's survey.csv: survey3.csv's sections A and B (its first twelve respondents).
+SURVEY = "".join(SURVEY3.splitlines(keepends=True)[:13])
 
 
 def test_reverse_keyed_items_are_marked_in_text_json_and_table(tmp_path, capsys):
