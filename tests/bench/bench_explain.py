@@ -15,10 +15,10 @@ sympy's own cache serves both sides alike. Median of repeated runs, each with th
 garbage collector off as ``timeit`` does, in CPU time of this process (the machine is shared: wall time would measure the neighbours). Target
 (issue 11/12): ours at most half of KanesMethod (ratio <= 0.5).
 
-Last figures (this file on 2026-11-24, main, the 2-core machine otherwise idle): sliding_bar
-KanesMethod 31 ms, eom 15 ms (0.5x), explain 39 ms (1.2x); disk_bar KanesMethod 38 ms, eom
-16 ms (0.4x), explain 61 ms (1.6x). Earlier runs on the same code under the neighbours' load
-moved every figure by up to a half (KanesMethod 31-80 ms).
+Last figures (this file on 2026-11-25, main, two runs on a quieter 2-core machine): sliding_bar
+KanesMethod 19-20 ms, eom 10 ms (0.5-0.55x), explain 25-27 ms (1.3-1.5x); disk_bar KanesMethod
+23 ms, eom 10 ms (0.4x), explain 29-31 ms (1.2-1.4x; 38 ms before one-state solves stopped
+compiling their matrices). Under the neighbours' load every figure moves by up to a half.
 
 Writes reports/build/bench/explain.json.
 """
