@@ -73,6 +73,7 @@ def _setup(ax, low, high, span, title):
     ax.set_yticks([])
     for side in ax.spines.values():
         side.set_visible(False)
+    ax.patch.set_visible(False)  # no background: a label running past the panel stays readable over its neighbour
     if title:
         ax.set_title(title.replace("$", r"\$"), fontsize=9)  # a scene name is text, never mathtext
 
@@ -333,8 +334,8 @@ def place_labels(fig, axes) -> None:
 
     Greedy, in drawing order: each label keeps its place when that is clear, else takes the
     nearest offset (8 directions, :data:`_STEPS` points away) that stays inside the figure and
-    overlaps no label placed before it (with :data:`LABEL_PAD` clearance), covering as few drawn
-    points as possible.
+    overlaps no label placed before it on any of ``axes`` (with :data:`LABEL_PAD` clearance: a label
+    may run past its panel, which has no background), covering as few drawn points as possible.
     Text extents come from the renderer after the layout is fixed (labels are taken out of the
     constrained layout so that moving them cannot move the axes). A label's offset is in points,
     so each candidate box is its measured box moved by the offset (measured once, not per try).
@@ -350,9 +351,9 @@ def place_labels(fig, axes) -> None:
     offsets = np.array([(0.0, 0.0)] + [(step * d[0], step * d[1]) for step in _STEPS[1:] for d in directions])
     rank = np.array([0] + [k for k in range(1, len(_STEPS)) for _ in directions])  # the step of each offset
     to_pixels = fig.dpi / 72.0
+    placed = np.zeros((0, 4))  # x0, y0, x1, y1 of the labels placed so far, on every panel (they may cross)
     for ax in axes:
         obstacles = _obstacles(ax)
-        placed = np.zeros((0, 4))  # x0, y0, x1, y1 of the labels placed so far
         for t in texts[id(ax)]:
             base = np.array(t.xyann, float)
             b = t.get_window_extent(renderer)
