@@ -13,7 +13,8 @@ import sympy as sp
 
 from reports.mathml import equation_latex, equation_mathml, to_latex, to_mathml
 
-__all__ = ["Shown", "shown", "method_equations", "example_steps", "quantity_text", "linearisation"]
+__all__ = ["Shown", "shown", "method_equations", "example_steps", "quantity_text", "linearisation",
+           "unit_conversion", "result_rows"]
 
 
 @dataclass
@@ -196,6 +197,58 @@ def parameter_rows(scene) -> list[dict]:
         rows.append({"name": inline(sp.Symbol(name, real=True)), "value": f"{q:~P}"})
     for name, q in scene.state.items():
         rows.append({"name": inline(sp.Symbol(name, real=True)), "value": f"{q:~P}"})
+    return rows
+
+
+def unit_conversion(scene) -> dict | None:
+    """How a force in the scene's own consistent units becomes its output force unit (g_c).
+
+    With the mass in lbm and g in ft/s^2, m g comes out in lbm*ft/s^2; the output unit lbf is
+    that divided by g_c = 32.174 (lbm*ft/s^2)/lbf. The factor is pint's, never typed.
+
+    Returns
+    -------
+    dict or None
+        ``consistent`` (the pint unit of mass times gravity), ``force`` (the output unit),
+        ``factor`` (g_c, consistent units per output unit) and ``sentence`` (the words shared by
+        paper.html and paper.tex); None when the scene names no output force unit, has no mass or
+        gravity parameter, or needs no conversion (SI: kg*m/s^2 is N).
+    """
+    from solver.units import ureg
+
+    force = scene.output_units.get("force")
+    gravity = next((load for load in getattr(scene, "loads", ()) if load.kind == "gravity"), None)
+    mass = next((q for q in scene.parameters.values() if q.check("[mass]")), None)
+    g = scene.parameters.get(str(gravity.magnitude)) if gravity is not None else None
+    if force is None or mass is None or g is None or not g.check("[acceleration]"):
+        return None
+    consistent = mass.units * g.units
+    factor = float(ureg.Quantity(1, force).to(consistent).magnitude)
+    if math.isclose(factor, 1.0, rel_tol=1e-12):
+        return None
+    c_text, f_text = f"{consistent:~P}", f"{ureg.Unit(force):~P}"
+    sentence = (f"The equations above hold in any consistent set of units. With the mass in {mass.units:~P} and "
+                f"g in {g.units:~P}, a force comes out in {c_text}; it is given in {f_text} by dividing by "
+                f"g_c = {factor:.5g} ({c_text})/{f_text}, since 1 {f_text} = {factor:.5g} {c_text}. "
+                f"The table shows each force both ways.")
+    return {"consistent": consistent, "force": force, "factor": factor, "sentence": sentence,
+            "consistent_text": c_text}
+
+
+def result_rows(solution, scene, conversion: dict | None = None) -> list[dict]:
+    """The solver's unknowns at the scene's state as table rows (name as math, value with unit).
+
+    Forces are shown in the scene's output force unit when it names one; with ``conversion``
+    (:func:`unit_conversion`) a force also carries ``consistent``, its value before dividing by g_c.
+    """
+    force_unit = scene.output_units.get("force")
+    rows = []
+    for name, q in solution.unknowns.items():
+        is_force = q.check("[force]")
+        shown_q = q.to(force_unit) if is_force and force_unit else q
+        before = quantity_text(q.to(conversion["consistent"])) if is_force and conversion else ""
+        rows.append({"name": inline(sp.Symbol(name, real=True)), "value": quantity_text(shown_q),
+                     "consistent": before, "text": name})
     return rows
 
 
