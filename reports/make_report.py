@@ -362,7 +362,8 @@ def _build(root: Path, out: Path | None, pdf: str, log) -> dict:
         }
         ex1_system, ex2_system = system_of(eqset.scenes[ex1_key]), system_of(eqset.scenes[ex2_key])
         examples["ex1"]["explained"] = paper.explained(ex1_system, derivations[ex1_key].point, at_rest=True)
-        examples["ex2"]["explained"] = paper.explained(ex2_system, derivations[ex2_key].point, at_rest=False)
+        examples["ex2"]["explained"] = paper.explained(ex2_system, derivations[ex2_key].point, at_rest=False,
+                                                     shows_alternative=True)  # shown below, when it differs
         best = examples["ex2"]["explained"]["advisor_best"]
         if best != derivations[ex2_key].point:  # the one-step alternative the advisor finds (about C)
             examples["ex2"]["alternative"] = paper.explained(ex2_system, best, at_rest=False)

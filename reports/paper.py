@@ -315,9 +315,10 @@ def _mathml_body(expr):
     return body(expr)
 
 
-def explained(system, point: str, at_rest: bool) -> dict:
+def explained(system, point: str, at_rest: bool, shows_alternative: bool = False) -> dict:
     """Newton by component, I_P per element and the generalized Euler equation about ``point`` with the
-    inertial term apart, the unknowns that drop out, and why this point (the advisor's reason)."""
+    inertial term apart, the unknowns that drop out, and why this point (the advisor's reason);
+    ``shows_alternative``: the paper shows the advisor's point too, after the equation of motion."""
     from solver.analyses.instant import assemble
     from solver.explain import explain, rank_points
 
@@ -344,7 +345,59 @@ def explained(system, point: str, at_rest: bool) -> dict:
         "inertia": terms_shown(euler_step.equation("inertia")),
         "euler": at(euler_step.equation("euler")),
         "dropped": section.step("dropped").text,
-        "why": f"Why {point}: {ranked[point].reason()}." if point in ranked else "",
-        "advisor_best": best.name,
-        "advisor_why": f"The point advisor's first choice is {best.name}: {best.reason()}.",
+        **point_choice(ranked, point, best, shows_alternative),
     }
+
+
+def point_choice(ranked: dict, point: str, best, shows_alternative: bool = False) -> dict:
+    """The words on the choice of P, from the point advisor's ranking (:func:`solver.explain.rank_points`).
+
+    Parameters
+    ----------
+    ranked : dict
+        Candidate name -> :class:`solver.explain.advisor.Candidate`.
+    point : str
+        The point the paper takes moments about.
+    best : Candidate
+        The advisor's first choice.
+    shows_alternative : bool
+        Whether the paper shows the working about ``best`` after the equation of motion.
+
+    Returns
+    -------
+    dict
+        ``why`` (why ``point``, and, when the advisor prefers another point, that both work),
+        ``advisor_best`` (its name), ``alternative_title`` and ``advisor_why`` (the paper's choice
+        and the advisor's side by side), all shared word for word by paper.html and paper.tex.
+    """
+    one_step = best.group == 1
+    kind = "one-step alternative" if one_step else "alternative"
+    why = f"Why {point}: {ranked[point].reason()}." if point in ranked else ""
+    if best.name == point or point not in ranked:
+        return {"why": why, "advisor_best": best.name, "alternative_title": "", "advisor_why": ""}
+    mine, theirs = ranked[point], best
+    why += f" The point advisor ranks {theirs.name} first; both points work" + (
+        f" (the {kind} about {theirs.name} is shown after the equation of motion)." if shows_alternative else ".")
+    advisor_why = (
+        f"Both {point} and {theirs.name} work: the generalized Euler equation holds about any point of the body, "
+        f"and every choice gives the same motion. The paper takes moments about {point}, whose moment equation "
+        f"holds {_count(mine.unknowns, 'unknown')} ({', '.join(mine.unknowns)}) and {_solved(mine)}. "
+        f"The point advisor ranks {theirs.name} first because its moment equation holds "
+        f"{_count(theirs.unknowns, 'unknown')} ({', '.join(theirs.unknowns)})"
+        + (", which it gives on its own: a one-step alternative." if one_step else f": an {kind}."))
+    return {"why": why, "advisor_best": theirs.name, "alternative_title": f"The {kind} about {theirs.name}",
+            "advisor_why": advisor_why}
+
+
+def _count(items, noun: str) -> str:
+    """``"1 unknown"``, ``"2 unknowns"``."""
+    return f"{len(items)} {noun}{'' if len(items) == 1 else 's'}"
+
+
+def _solved(candidate) -> str:
+    """How a candidate's moment equation is solved, from its group size (advisor's ``group``)."""
+    if candidate.group == 1:
+        return "gives them on its own"
+    if candidate.group:
+        return f"is solved together with {_count(range(candidate.group - 1), 'Newton component')}"
+    return "is solved together with the other bodies' equations"
