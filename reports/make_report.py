@@ -362,19 +362,16 @@ def _build(root: Path, out: Path | None, pdf: str, log) -> dict:
         }
         ex1_system, ex2_system = system_of(eqset.scenes[ex1_key]), system_of(eqset.scenes[ex2_key])
         examples["ex1"]["explained"] = paper.explained(ex1_system, derivations[ex1_key].point, at_rest=True)
-        examples["ex2"]["explained"] = paper.explained(ex2_system, derivations[ex2_key].point, at_rest=False)
+        examples["ex2"]["explained"] = paper.explained(ex2_system, derivations[ex2_key].point, at_rest=False,
+                                                     shows_alternative=True)  # shown below, when it differs
         best = examples["ex2"]["explained"]["advisor_best"]
         if best != derivations[ex2_key].point:  # the one-step alternative the advisor finds (about C)
             examples["ex2"]["alternative"] = paper.explained(ex2_system, best, at_rest=False)
-        ex1_solution = examples["ex1"]["solution"]
-        out_units = scenes[ex1_key].output_units
-        ex1_results = []
-        for name, q in ex1_solution.unknowns.items():
-            unit = out_units.get("force") if q.check("[force]") else None
-            shown_q = q.to(unit) if unit else q
-            ex1_results.append({"name": paper.inline(sp.Symbol(name, real=True)), "value": paper.quantity_text(shown_q),
-                                "text": name})
-        examples["ex1"]["results"] = ex1_results
+        conversion = paper.unit_conversion(scenes[ex1_key])  # lbm*ft/s^2 to lbf (g_c), from pint
+        examples["ex1"]["conversion"] = conversion
+        examples["ex1"]["results"] = paper.result_rows(examples["ex1"]["solution"], scenes[ex1_key], conversion)
+        examples["ex2"]["solution"] = solve_instant(scenes[ex2_key])  # at the scene's state
+        examples["ex2"]["results"] = paper.result_rows(examples["ex2"]["solution"], scenes[ex2_key])
         timings["paper"] = time.perf_counter() - t0
 
         # ---------------- verdicts and findings

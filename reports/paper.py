@@ -13,7 +13,8 @@ import sympy as sp
 
 from reports.mathml import equation_latex, equation_mathml, to_latex, to_mathml
 
-__all__ = ["Shown", "shown", "method_equations", "example_steps", "quantity_text", "linearisation"]
+__all__ = ["Shown", "shown", "method_equations", "example_steps", "quantity_text", "linearisation",
+           "unit_conversion", "result_rows"]
 
 
 @dataclass
@@ -199,6 +200,58 @@ def parameter_rows(scene) -> list[dict]:
     return rows
 
 
+def unit_conversion(scene) -> dict | None:
+    """How a force in the scene's own consistent units becomes its output force unit (g_c).
+
+    With the mass in lbm and g in ft/s^2, m g comes out in lbm*ft/s^2; the output unit lbf is
+    that divided by g_c = 32.174 (lbm*ft/s^2)/lbf. The factor is pint's, never typed.
+
+    Returns
+    -------
+    dict or None
+        ``consistent`` (the pint unit of mass times gravity), ``force`` (the output unit),
+        ``factor`` (g_c, consistent units per output unit) and ``sentence`` (the words shared by
+        paper.html and paper.tex); None when the scene names no output force unit, has no mass or
+        gravity parameter, or needs no conversion (SI: kg*m/s^2 is N).
+    """
+    from solver.units import ureg
+
+    force = scene.output_units.get("force")
+    gravity = next((load for load in getattr(scene, "loads", ()) if load.kind == "gravity"), None)
+    mass = next((q for q in scene.parameters.values() if q.check("[mass]")), None)
+    g = scene.parameters.get(str(gravity.magnitude)) if gravity is not None else None
+    if force is None or mass is None or g is None or not g.check("[acceleration]"):
+        return None
+    consistent = mass.units * g.units
+    factor = float(ureg.Quantity(1, force).to(consistent).magnitude)
+    if math.isclose(factor, 1.0, rel_tol=1e-12):
+        return None
+    c_text, f_text = f"{consistent:~P}", f"{ureg.Unit(force):~P}"
+    sentence = (f"The equations above hold in any consistent set of units. With the mass in {mass.units:~P} and "
+                f"g in {g.units:~P}, a force comes out in {c_text}; it is given in {f_text} by dividing by "
+                f"g_c = {factor:.5g} ({c_text})/{f_text}, since 1 {f_text} = {factor:.5g} {c_text}. "
+                f"The table shows each force both ways.")
+    return {"consistent": consistent, "force": force, "factor": factor, "sentence": sentence,
+            "consistent_text": c_text}
+
+
+def result_rows(solution, scene, conversion: dict | None = None) -> list[dict]:
+    """The solver's unknowns at the scene's state as table rows (name as math, value with unit).
+
+    Forces are shown in the scene's output force unit when it names one; with ``conversion``
+    (:func:`unit_conversion`) a force also carries ``consistent``, its value before dividing by g_c.
+    """
+    force_unit = scene.output_units.get("force")
+    rows = []
+    for name, q in solution.unknowns.items():
+        is_force = q.check("[force]")
+        shown_q = q.to(force_unit) if is_force and force_unit else q
+        before = quantity_text(q.to(conversion["consistent"])) if is_force and conversion else ""
+        rows.append({"name": inline(sp.Symbol(name, real=True)), "value": quantity_text(shown_q),
+                     "consistent": before, "text": name})
+    return rows
+
+
 # -- worked steps from solver.explain (one source for paper.html and paper.tex) ------------------------
 
 PROSE = {
@@ -262,9 +315,10 @@ def _mathml_body(expr):
     return body(expr)
 
 
-def explained(system, point: str, at_rest: bool) -> dict:
+def explained(system, point: str, at_rest: bool, shows_alternative: bool = False) -> dict:
     """Newton by component, I_P per element and the generalized Euler equation about ``point`` with the
-    inertial term apart, the unknowns that drop out, and why this point (the advisor's reason)."""
+    inertial term apart, the unknowns that drop out, and why this point (the advisor's reason);
+    ``shows_alternative``: the paper shows the advisor's point too, after the equation of motion."""
     from solver.analyses.instant import assemble
     from solver.explain import explain, rank_points
 
@@ -291,7 +345,59 @@ def explained(system, point: str, at_rest: bool) -> dict:
         "inertia": terms_shown(euler_step.equation("inertia")),
         "euler": at(euler_step.equation("euler")),
         "dropped": section.step("dropped").text,
-        "why": f"Why {point}: {ranked[point].reason()}." if point in ranked else "",
-        "advisor_best": best.name,
-        "advisor_why": f"The point advisor's first choice is {best.name}: {best.reason()}.",
+        **point_choice(ranked, point, best, shows_alternative),
     }
+
+
+def point_choice(ranked: dict, point: str, best, shows_alternative: bool = False) -> dict:
+    """The words on the choice of P, from the point advisor's ranking (:func:`solver.explain.rank_points`).
+
+    Parameters
+    ----------
+    ranked : dict
+        Candidate name -> :class:`solver.explain.advisor.Candidate`.
+    point : str
+        The point the paper takes moments about.
+    best : Candidate
+        The advisor's first choice.
+    shows_alternative : bool
+        Whether the paper shows the working about ``best`` after the equation of motion.
+
+    Returns
+    -------
+    dict
+        ``why`` (why ``point``, and, when the advisor prefers another point, that both work),
+        ``advisor_best`` (its name), ``alternative_title`` and ``advisor_why`` (the paper's choice
+        and the advisor's side by side), all shared word for word by paper.html and paper.tex.
+    """
+    one_step = best.group == 1
+    kind = "one-step alternative" if one_step else "alternative"
+    why = f"Why {point}: {ranked[point].reason()}." if point in ranked else ""
+    if best.name == point or point not in ranked:
+        return {"why": why, "advisor_best": best.name, "alternative_title": "", "advisor_why": ""}
+    mine, theirs = ranked[point], best
+    why += f" The point advisor ranks {theirs.name} first; both points work" + (
+        f" (the {kind} about {theirs.name} is shown after the equation of motion)." if shows_alternative else ".")
+    advisor_why = (
+        f"Both {point} and {theirs.name} work: the generalized Euler equation holds about any point of the body, "
+        f"and every choice gives the same motion. The paper takes moments about {point}, whose moment equation "
+        f"holds {_count(mine.unknowns, 'unknown')} ({', '.join(mine.unknowns)}) and {_solved(mine)}. "
+        f"The point advisor ranks {theirs.name} first because its moment equation holds "
+        f"{_count(theirs.unknowns, 'unknown')} ({', '.join(theirs.unknowns)})"
+        + (", which it gives on its own: a one-step alternative." if one_step else f": an {kind}."))
+    return {"why": why, "advisor_best": theirs.name, "alternative_title": f"The {kind} about {theirs.name}",
+            "advisor_why": advisor_why}
+
+
+def _count(items, noun: str) -> str:
+    """``"1 unknown"``, ``"2 unknowns"``."""
+    return f"{len(items)} {noun}{'' if len(items) == 1 else 's'}"
+
+
+def _solved(candidate) -> str:
+    """How a candidate's moment equation is solved, from its group size (advisor's ``group``)."""
+    if candidate.group == 1:
+        return "gives them on its own"
+    if candidate.group:
+        return f"is solved together with {_count(range(candidate.group - 1), 'Newton component')}"
+    return "is solved together with the other bodies' equations"

@@ -370,3 +370,114 @@ def test_paper_shows_the_inertial_term_apart_in_both_outputs(built):
         assert "Why A:" in text and "Why P:" in text
     assert "is the angular acceleration, the" not in html_text  # the old wording tied to Example 1
     assert r"\toprule point & $x$ & $y$" in tex  # the kinematics table
+
+
+# --------------------------------------------------------------------------- paper: units, Example 2's numbers, choice of P
+def _html_table(page: str, table_id: str) -> dict[str, list[str]]:
+    """{unknown: [text of each cell after the name]} of a paper.html results table."""
+    import html as html_mod
+
+    body = re.search(rf'<table id="{table_id}">(.*?)</table>', page, flags=re.S).group(1)
+    rows = re.findall(r'<tr data-unknown="([^"]+)">(.*?)</tr>', body, flags=re.S)
+    return {name: [html_mod.unescape(c).strip() for c in re.findall(r'<td class="num">(.*?)</td>', cells, flags=re.S)]
+            for name, cells in rows}
+
+
+def _tex_rows(tex: str, after: str, names) -> dict[str, list[str]]:
+    """{unknown: [cells after the name]} of the paper.tex tabular that follows the text ``after``,
+    LaTeX escapes of units turned back into the characters paper.html shows (rows found by the name's
+    LaTeX, as reports.mathml writes it)."""
+    from reports.mathml import to_latex
+
+    start = tex.index(after)
+    body = tex[start:tex.index(r"\end{tabular}", start)]
+    plain = body.replace(r"\textsuperscript{2}", "²").replace(r"\ensuremath{\cdot}", "·")
+    found = {}
+    for name in names:
+        line = re.search(rf"^\${re.escape(to_latex(sp.Symbol(name, real=True)))}\$ & (.*?) \\\\$", plain, flags=re.M)
+        found[name] = [c.strip() for c in line.group(1).split("&")]
+    return found
+
+
+def _number(text: str) -> float:
+    return float(text.split()[0])
+
+
+def test_example1_states_g_c_and_shows_forces_before_the_division(built):
+    """Student report: 50 lbm and 32.174 ft/s^2 give lbm*ft/s^2, the table lbf. The paper must say so,
+    with g_c (pint's 1 lbf in lbm*ft/s^2), and each force in lbm*ft/s^2 must be its lbf value times g_c."""
+    import html as html_mod
+    import tomllib
+
+    printed = {v["id"]: v for v in tomllib.loads((PUBLISHED / "example1.toml").read_text(encoding="utf-8"))["value"]}
+    g_c = printed["data-g"]["value"]  # 32.174: the paper's g, standard gravity in ft/s^2, i.e. 1 lbf in lbm*ft/s^2
+    tolerance = half_unit(printed["data-g"]["printed"])  # the paper prints 5 significant figures: +-0.0005
+    out = Path(built["out"])
+    page = (out / "paper.html").read_text(encoding="utf-8")
+    tex = (out / "paper.tex").read_text(encoding="utf-8")
+    sentence = html_mod.unescape(re.search(r'<p id="units-gc">(.*?)</p>', page, flags=re.S).group(1))
+    assert "consistent set of units" in sentence and "lbf" in sentence and "lbm" in sentence
+    shown_factor = float(re.search(r"g_c = ([0-9.]+) ", sentence).group(1))
+    assert abs(shown_factor - g_c) <= tolerance, sentence
+    # one source of words: paper.tex carries the same sentence, escaped for LaTeX
+    assert latex_escape(sentence) in tex
+    # each force: value in lbf and in lbm*ft/s^2; their ratio is g_c. Both are shown to 4 significant
+    # figures (each off by at most half a unit in the 4th figure, 5e-4 relative), hence rel=1e-3.
+    table = _html_table(page, "ex1-results")
+    forces = {name: cells for name, cells in table.items() if cells[0].endswith("lbf")}
+    assert set(forces) == {"R_A", "R_B"}
+    for name, (in_lbf, consistent) in forces.items():
+        assert consistent.endswith("lbm/s²"), consistent
+        assert _number(consistent) / _number(in_lbf) == pytest.approx(g_c, rel=1e-3), name
+    # the student's own figure: R_B of about 725 lbm*ft/s^2 (22.53 lbf printed, Eq. 30, times 32.174 = 724.9;
+    # +-1 covers the paper's 4-figure rounding of R_B, 0.005 lbf * 32.174 = 0.16, and ours)
+    assert _number(forces["R_B"][1]) == pytest.approx(printed["eq30-R_B"]["value"] * g_c, abs=1.0)
+    assert _tex_rows(tex, "At release:", forces) == forces  # the same numbers in paper.tex
+
+
+def test_example2_numbers_table_holds_the_solver_values(built):
+    """Example 2's table: theta_ddot, alpha, F_f, F_n at the scene's state, against the closed forms
+    Eq. 44 (F_a = 0, so its sign error does not matter), Eq. 39, Eq. 40 and alpha = -theta_ddot (Eq. 33)."""
+    import math
+
+    from references import EX2
+
+    scene = load_scene(ROOT / "data/scenes/disk_bar.toml")  # the input: its state and F_a
+    th = scene.state["theta"].to("rad").magnitude
+    assert scene.state["theta_dot"].magnitude == 0 and scene.parameters["F_a"].magnitude == 0  # as the forms below
+    md, rd, mb, lb, g = (EX2[k] for k in ("m_d", "r_d", "m_b", "l_b", "g"))
+    mass = (1.5 * md + mb) * rd**2 + mb * lb**2 / 3 - mb * rd * lb * math.cos(th)  # Eq. 44's bracket
+    thdd = -0.5 * mb * g * lb * math.sin(th) / mass  # Eq. 44 at rest, F_a = 0
+    expected = {
+        "theta_ddot": (thdd, "rad/s²"),
+        "alpha": (-thdd, "rad/s²"),
+        "F_f": ((md + mb) * rd * thdd - 0.5 * mb * lb * thdd * math.cos(th), "N"),  # Eq. 39
+        "F_n": ((md + mb) * g + 0.5 * mb * lb * thdd * math.sin(th), "N"),  # Eq. 40
+    }
+    out = Path(built["out"])
+    table = _html_table((out / "paper.html").read_text(encoding="utf-8"), "ex2-results")
+    assert set(table) == set(expected)
+    for name, (value, unit) in expected.items():
+        (cell,) = table[name]
+        assert cell.split(" ", 1)[1] == unit, cell
+        # shown to 4 significant figures: off by at most half a unit in the 4th figure (5e-4 relative)
+        assert _number(cell) == pytest.approx(value, rel=5e-4), name
+    tex = (out / "paper.tex").read_text(encoding="utf-8")
+    assert _tex_rows(tex, "Solving the equations at the state of the data table:", expected) == table
+
+
+def test_example2_says_both_points_work(built):
+    """Student report: "Why P" then "the advisor's first choice is C". Both work; the words come from the
+    advisor. By hand: about P, F_n (vertical through C, below P) drops out but F_f does not; about C both
+    contact forces drop out, leaving theta_ddot alone."""
+    import html as html_mod
+
+    out = Path(built["out"])
+    page = html_mod.unescape((out / "paper.html").read_text(encoding="utf-8"))
+    tex = (out / "paper.tex").read_text(encoding="utf-8")
+    for text in (page, tex.replace(r"\_", "_")):
+        assert "first choice is" not in text
+        assert "The point advisor ranks C first; both points work" in text
+        assert "Both P and C work" in text
+        assert "about P, whose moment equation holds 2 unknowns (theta_ddot, F_f)" in text
+        assert "holds 1 unknown (theta_ddot), which it gives on its own: a one-step alternative" in text
