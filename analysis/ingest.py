@@ -800,12 +800,15 @@ def survey_from_frame(df: pd.DataFrame, scale: "str | Scale | None" = None,
 
 def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respondents,
            codes=None):
+    given = shape
     if shape == "auto":
         shape = _detect_shape(raw, peek)
-    else:
-        why = platforms.signature_missing(shape, raw.header, peek)
-        if why:
-            raise SurveyInputError(why, raw.source)
+    why = platforms.signature_missing(shape, raw.header, peek) if given != "auto" else None
+    below = [[c.cats[c.codes[i]] for c in raw.columns] for i in range(min(2, raw.nrows))]
+    if not why and below:
+        why = platforms.header_row_missing(shape, raw.header, below, int(raw.row_of(0)))
+    if why:
+        raise SurveyInputError(why, raw.source)
     why = platforms.repeated_column(raw.given or raw.header, shape)
     if why:                    # a reader's renaming (Q1 -> Q1.1) would hide it
         raise SurveyInputError(why, raw.source)

@@ -361,3 +361,69 @@ def test_chart_with_unknown_suffix_is_refused(tmp_path, capsys):
     f = _csv(tmp_path / "w.csv", [["Q1"]] + _draw(11, 6, 1, AGREE5, na=0))
     assert main(["summarize", str(f), "--chart", str(tmp_path / "c.gif")]) == 2
     assert "--chart" in capsys.readouterr().err and not (tmp_path / "c.gif").exists()
+
+
+# ---------------------------------------------------------------------------
+# an export that lost one of its header rows (the tester's files, rows deleted)
+# ---------------------------------------------------------------------------
+SM_HEAD = ["Respondent ID", "Collector ID", "Start Date", "End Date", "IP Address",
+           "Email Address", "First Name", "Last Name", "Custom Data 1",
+           "How much do you agree with the following?", "", "Would you recommend this course?"]
+SM_ANSWERS = [["114001", "4321", "01/10/2024 10:00:00 AM", "01/10/2024 10:05:00 AM",
+               "1.1.1.1", "", "", "", "", "Agree", "Strongly agree", "Agree"],
+              ["114002", "4321", "01/10/2024 10:00:00 AM", "01/10/2024 10:05:00 AM",
+               "1.1.1.2", "", "", "", "", "Disagree", "", "Strongly disagree"]]
+Q_ROWS = [["StartDate", "EndDate", "Status", "ResponseId", "Q1_1", "Q1_2"],
+          ["Start Date", "End Date", "Response Type", "Response ID",
+           "How much do you agree? - The method is clear",
+           "How much do you agree? - The method is useful"],
+          ['{"ImportId":"startDate"}', '{"ImportId":"endDate"}', '{"ImportId":"status"}',
+           '{"ImportId":"_recordId"}', '{"ImportId":"QID1_1"}', '{"ImportId":"QID1_2"}'],
+          ["2024-01-01", "2024-01-01", "IP Address", "R_1", "Strongly agree", "Agree"],
+          ["2024-01-01", "2024-01-01", "IP Address", "R_2", "Agree", "Disagree"]]
+
+
+@pytest.mark.parametrize("case, expect", [
+    ("sm-csv", "SurveyMonkey's second header row (the statements row) is missing: row 2 "
+               "holds answers (Respondent ID '114001')"),
+    ("sm-xlsx", "SurveyMonkey's second header row (the statements row) is missing: row 2 "
+                "holds answers (Respondent ID '114001')"),
+    ("sm-no-id", "SurveyMonkey's second header row (the statements row) is missing: row 2 "
+                 "holds answers (the answer 'Agree')"),
+    ("q-no-text", "Qualtrics' question-text header row is missing: row 2 holds the "
+                  "{\"ImportId\": ...} row"),
+    ("q-no-import", "Qualtrics' third header row ({\"ImportId\": ...}) is missing: row 2 "
+                    "holds question text but row 3 holds answers")])
+def test_export_missing_a_header_row_is_refused(tmp_path, capsys, case, expect):
+    # SurveyMonkey without its statements row: respondent 114001's answers stand where
+    # the statements were (the old reader named an item 'Strongly agree' and counted 1
+    # respondent of 2); Qualtrics without row 2 or 3 was read as a plain table and
+    # refused for an answer '{"ImportId":...}' or a question text not on the scale.
+    if case.startswith("sm"):
+        rows = [SM_HEAD] + [list(r) for r in SM_ANSWERS]
+        if case == "sm-no-id":
+            rows[1][0] = rows[1][1] = ""
+    else:
+        rows = [r for i, r in enumerate(Q_ROWS) if i != (1 if case == "q-no-text" else 2)]
+    if case == "sm-xlsx":
+        f = tmp_path / "x.xlsx"
+        wb = openpyxl.Workbook()
+        for r in rows:
+            wb.active.append([c if c != "" else None for c in r])
+        wb.save(f)
+    else:
+        f = _csv(tmp_path / "x.csv", rows)
+    assert main(["summarize", str(f)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and str(f) in err and expect in err
+
+
+def test_whole_exports_with_all_header_rows_still_read(tmp_path):
+    # the same fixtures with every header row: 2 SurveyMonkey respondents (the statements
+    # row restored), 2 Qualtrics respondents
+    sm = [SM_HEAD, [""] * 9 + ["The lectures were clear", "The homework helped", "Response"]]
+    data = read_survey(_csv(tmp_path / "sm.csv", sm + SM_ANSWERS))
+    assert data.shape == "surveymonkey" and data.respondents == 2
+    assert data.items[:2] == ["The lectures were clear", "The homework helped"]
+    data = read_survey(_csv(tmp_path / "q.csv", Q_ROWS))
+    assert data.shape == "qualtrics" and data.respondents == 2
