@@ -427,3 +427,38 @@ def test_whole_exports_with_all_header_rows_still_read(tmp_path):
     assert data.items[:2] == ["The lectures were clear", "The homework helped"]
     data = read_survey(_csv(tmp_path / "q.csv", Q_ROWS))
     assert data.shape == "qualtrics" and data.respondents == 2
+
+
+CANVAS_HEAD = ["name", "id", "sis_id", "section", "section_id", "section_sis_id", "submitted",
+               "attempt", "101: The lectures were clear", "1.0", "102: The homework helped",
+               "1.0", "n correct", "n incorrect", "score"]
+
+
+def _canvas_row(name, pid, sis, attempt, a, b):
+    return [name, pid, sis, "Sec A", "10", "", "2024-01-10 10:00:00 UTC", attempt, a, "0.0",
+            b, "0.0", "0", "0", "0"]
+
+
+def test_canvas_counts_each_students_latest_attempt_once(tmp_path, capsys):
+    # the tester's canvas2.csv with Bob's attempts in the other order: the latest
+    # attempt (2, row 3) counts and attempt 1 (row 4) is set aside although it comes
+    # later in the file. By hand: 2 respondents (Ann, Bob); 'The lectures were clear'
+    # Agree 2 (Ann, Bob's attempt 2), Strongly disagree 0 (was 1: attempt 1 counted).
+    rows = [CANVAS_HEAD, _canvas_row("Ann", "1", "s1", "1", "Agree", "Agree"),
+            _canvas_row("Bob", "2", "s2", "2", "Agree", "Agree"),
+            _canvas_row("Bob", "2", "s2", "1", "Strongly disagree", "Disagree")]
+    f = _csv(tmp_path / "canvas.csv", rows)
+    data = read_survey(f)
+    assert data.respondents == 2 and list(data.rows) == [2, 3]
+    assert [(d.row, d.reason) for d in data.dropped] == [(4, "earlier attempt")]
+    assert any("1 earlier attempt set aside" in n for n in data.notes)
+    s = summarize(data)
+    assert s.items[0].counts == {"Strongly disagree": 0, "Disagree": 0, "Agree": 2,
+                                 "Strongly agree": 0}
+    assert s.items[1].counts["Disagree"] == 0 and s.items[1].n == 2
+    # which attempt is the latest cannot be told from a non-number: refused, not guessed
+    rows[3][7] = "first"
+    f = _csv(tmp_path / "canvas_bad.csv", rows)
+    assert main(["summarize", str(f)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"{f}: row 4, column 'attempt': attempt 'first'" in err
