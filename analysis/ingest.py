@@ -830,6 +830,8 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
     if shape == "canvas":
         keep, earlier = _drop_earlier_attempts(raw, keep, notes)
         dropped += earlier
+    if shape == "limesurvey":
+        _note_incomplete(raw, keep, notes)
     names, stems = _item_names(raw, shape, extra, codes)
     rows = raw.row_of(keep)
     exclude = {j for j, h in enumerate(raw.header)
@@ -952,6 +954,23 @@ def _drop_earlier_attempts(raw: _Raw, keep: np.ndarray, notes: list):
     gone[later] = True
     dropped = [DroppedRow(int(raw.row_of(keep[i])), "earlier attempt") for i in sorted(later)]
     return keep[~gone], dropped
+
+
+def _note_incomplete(raw: _Raw, keep: np.ndarray, notes: list) -> None:
+    """Note LimeSurvey responses never submitted (blank ``submitdate``): they are counted
+    with the answers they hold, as partial respondents, not dropped."""
+    j = _find(raw.header, ("submitdate", "date submitted"))
+    if j is None:
+        return
+    col = raw.columns[j]
+    blank = np.array([not x.strip() for x in col.cats], dtype=bool)[col.codes[keep]]
+    k = int(blank.sum())
+    if k:
+        rows = [int(r) for r in raw.row_of(keep[blank][:5])]
+        more = f" and {k - 5} more" if k > 5 else ""
+        notes.append(f"{raw.source}: {k} incomplete response{'s' if k != 1 else ''} (blank "
+                     f"{raw.header[j].strip()!r}, row{'s' if k != 1 else ''} "
+                     f"{', '.join(map(str, rows))}{more}) counted with the answers given")
 
 
 def _item_names(raw: _Raw, shape: str, extra: int, codes) -> tuple[list[str], list[str]]:

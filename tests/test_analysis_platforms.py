@@ -462,3 +462,22 @@ def test_canvas_counts_each_students_latest_attempt_once(tmp_path, capsys):
     assert main(["summarize", str(f)]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and f"{f}: row 4, column 'attempt': attempt 'first'" in err
+
+
+def test_limesurvey_incomplete_responses_are_counted_with_a_note(tmp_path):
+    # the tester's lime.csv: response 3 was never submitted (blank submitdate, row 4).
+    # By hand: 3 respondents; Q1[SQ001] n = 3 (Agree, Disagree, Strongly agree);
+    # Q1[SQ002] n = 2, 1 missing (response 3 stopped on page 1).
+    rows = [["id", "submitdate", "lastpage", "startlanguage", "seed", "Q1[SQ001]",
+             "Q1[SQ002]", "Q2"],
+            ["1", "2024-01-10 10:00:00", "2", "en", "123", "Agree", "Strongly agree",
+             "Disagree"],
+            ["2", "2024-01-10 10:00:00", "2", "en", "124", "Disagree", "Agree", "Agree"],
+            ["3", "", "1", "en", "125", "Strongly agree", "", ""]]
+    data = read_survey(_csv(tmp_path / "lime.csv", rows))
+    assert data.shape == "limesurvey" and data.respondents == 3 and not data.dropped
+    assert [n for n in data.notes if "incomplete" in n] == [
+        f"{tmp_path / 'lime.csv'}: 1 incomplete response (blank 'submitdate', row 4) "
+        "counted with the answers given"]
+    s = summarize(data)
+    assert (s.items[0].n, s.items[1].n, s.items[1].missing) == (3, 2, 1)
