@@ -800,12 +800,15 @@ def survey_from_frame(df: pd.DataFrame, scale: "str | Scale | None" = None,
 
 def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respondents,
            codes=None):
+    given = shape
     if shape == "auto":
         shape = _detect_shape(raw, peek)
-    else:
-        why = platforms.signature_missing(shape, raw.header, peek)
-        if why:
-            raise SurveyInputError(why, raw.source)
+    why = platforms.signature_missing(shape, raw.header, peek) if given != "auto" else None
+    below = [[c.cats[c.codes[i]] for c in raw.columns] for i in range(min(2, raw.nrows))]
+    if not why and below:
+        why = platforms.header_row_missing(shape, raw.header, below, int(raw.row_of(0)))
+    if why:
+        raise SurveyInputError(why, raw.source)
     why = platforms.repeated_column(raw.given or raw.header, shape)
     if why:                    # a reader's renaming (Q1 -> Q1.1) would hide it
         raise SurveyInputError(why, raw.source)
@@ -824,6 +827,11 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
         if len(keep) == 0:
             raise SurveyInputError(f"no responses below the header (after dropping "
                                    f"{len(dropped)} preview and test rows)", raw.source)
+    if shape == "canvas":
+        keep, earlier = _drop_earlier_attempts(raw, keep, notes)
+        dropped += earlier
+    if shape == "limesurvey":
+        _note_incomplete(raw, keep, notes)
     names, stems = _item_names(raw, shape, extra, codes)
     rows = raw.row_of(keep)
     exclude = {j for j, h in enumerate(raw.header)
@@ -903,6 +911,66 @@ def _drop_qualtrics_tests(raw: _Raw, keep: np.ndarray, text_row: list[str]):
                           f"{_QUALTRICS_NOT_RESPONDENTS[vals[i]]} response")
                for i in np.flatnonzero(drop)]
     return keep[~drop], dropped
+
+
+def _drop_earlier_attempts(raw: _Raw, keep: np.ndarray, notes: list):
+    """Rows kept and rows dropped: of a Canvas student's attempts only the latest counts.
+
+    A student is known by ``id`` and ``sis_id`` (rows where both are blank are never
+    merged); the latest attempt has the highest ``attempt`` number, and of two rows with
+    the same number the later in the file. An attempt that is not a whole number, on a
+    student with several rows, is an error: which attempt counts cannot be told.
+    """
+    at = _find(raw.header, ("attempt",))
+    who = [j for j in (_find(raw.header, ("id",)), _find(raw.header, ("sis_id",)))
+           if j is not None]
+    if at is None or not who:
+        return keep, []
+    text = {j: np.array([x.strip() for x in raw.columns[j].cats], dtype=object)[
+        raw.columns[j].codes[keep]] for j in who + [at]}
+    keys = list(zip(*(text[j] for j in who)))
+    rows_of: dict = {}
+    for i, key in enumerate(keys):
+        if any(key):
+            rows_of.setdefault(key, []).append(i)
+    later = []
+    for key, idx in rows_of.items():
+        if len(idx) < 2:
+            continue
+        bad = [i for i in idx if not _isint(text[at][i])]
+        if bad:
+            raise SurveyInputError(f"row {raw.row_of(keep[bad[0]])}, column "
+                                   f"{raw.header[at]!r}: attempt {text[at][bad[0]]!r} is "
+                                   "not a whole number, so the "
+                                   "student's latest attempt cannot be told", raw.source)
+        last = max(idx, key=lambda i: (int(text[at][i]), i))
+        later += [i for i in idx if i != last]
+    if later:
+        k = len(later)
+        notes.append(f"{raw.source}: {k} earlier attempt{'s' if k != 1 else ''} set aside; "
+                     "of each student's attempts (same id and sis_id) only the latest is "
+                     "counted")
+    gone = np.zeros(len(keep), dtype=bool)
+    gone[later] = True
+    dropped = [DroppedRow(int(raw.row_of(keep[i])), "earlier attempt") for i in sorted(later)]
+    return keep[~gone], dropped
+
+
+def _note_incomplete(raw: _Raw, keep: np.ndarray, notes: list) -> None:
+    """Note LimeSurvey responses never submitted (blank ``submitdate``): they are counted
+    with the answers they hold, as partial respondents, not dropped."""
+    j = _find(raw.header, ("submitdate", "date submitted"))
+    if j is None:
+        return
+    col = raw.columns[j]
+    blank = np.array([not x.strip() for x in col.cats], dtype=bool)[col.codes[keep]]
+    k = int(blank.sum())
+    if k:
+        rows = [int(r) for r in raw.row_of(keep[blank][:5])]
+        more = f" and {k - 5} more" if k > 5 else ""
+        notes.append(f"{raw.source}: {k} incomplete response{'s' if k != 1 else ''} (blank "
+                     f"{raw.header[j].strip()!r}, row{'s' if k != 1 else ''} "
+                     f"{', '.join(map(str, rows))}{more}) counted with the answers given")
 
 
 def _item_names(raw: _Raw, shape: str, extra: int, codes) -> tuple[list[str], list[str]]:

@@ -35,7 +35,7 @@ from __future__ import annotations
 import re
 
 __all__ = ["PLATFORMS", "SHAPES", "META", "detect", "header_rows", "signature_missing", "split_stem",
-           "candidate", "is_blank_header",
+           "candidate", "is_blank_header", "header_row_missing",
            "name_matches", "resolve_reverse", "find_column", "repeated_column"]
 
 #: How to supply a code map, for messages.
@@ -223,6 +223,71 @@ def header_rows(shape: str, header: list[str], peek: list[list[str]]) -> int:
     if shape == "surveymonkey":
         return 1
     return 0
+
+
+def _on_a_scale(cell: str) -> bool:
+    from .scales import BUILTIN_SCALES
+    return any(s.matches_label(cell) for s in BUILTIN_SCALES.values())
+
+
+def _surveymonkey_row_missing(header: list[str], second: list[str]) -> "str | None":
+    """Why the second row of a SurveyMonkey export is an answer row, or None.
+
+    SurveyMonkey leaves the metadata columns of its statements row blank and writes
+    statement text (or ``Response``) above the answers; a respondent id there, or an
+    answer label of a built-in scale, means the row was deleted and respondent 1's
+    answers moved up.
+    """
+    for name in ("respondent id", "collector id"):
+        j = find_column(header, (name,))
+        if j is not None and j < len(second) and second[j].strip():
+            return f"{header[j].strip()} {second[j].strip()!r}"
+    for h, cell in zip(header, second):
+        if cell.strip() and candidate("surveymonkey", h) and _on_a_scale(cell):
+            return f"the answer {cell.strip()!r}"
+    return None
+
+
+def _text_row(header: list[str], row: list[str]) -> bool:
+    """Whether ``row`` is Qualtrics' question-text row: at least two metadata columns
+    whose text is their field name spelled out (``StartDate`` above ``Start Date``)."""
+    same = sum(1 for h, t in zip(header, row) if h.strip().casefold() in META["qualtrics"]
+               and t.strip() and "".join(t.split()).casefold() == h.strip().casefold())
+    return same >= 2
+
+
+def header_row_missing(shape: str, header: list[str], records: list[list[str]],
+                       row: int = 2) -> "str | None":
+    """Why a platform export lacks one of its header rows (None when nothing is missing).
+
+    Parameters
+    ----------
+    shape : str
+        The shape detected or given (a Qualtrics export that lost a header row is no
+        longer recognised, so ``wide`` is checked for Qualtrics rows too).
+    header : list of str
+        The first row.
+    records : list of list of str
+        The (at most two) rows below it, as read.
+    row : int
+        Spreadsheet row of ``records[0]``, for the message.
+    """
+    second = records[0]
+    if shape == "surveymonkey":
+        what = _surveymonkey_row_missing(header, second)
+        if what:
+            return ("SurveyMonkey's second header row (the statements row) is missing: "
+                    f"row {row} holds answers ({what}), not statement text")
+    if shape not in ("wide", "qualtrics"):
+        return None
+    if any(c.strip().startswith(('{"ImportId"', "{'ImportId'")) for c in second):
+        return (f"Qualtrics' question-text header row is missing: row {row} holds the "
+                "{\"ImportId\": ...} row, which Qualtrics writes below the question text")
+    if (_text_row(header, second) and "responseset" not in _keys(header)
+            and not _import_id_row([header] + records)):
+        return (f"Qualtrics' third header row ({{\"ImportId\": ...}}) is missing: row {row} "
+                f"holds question text but row {row + 1} holds answers")
+    return None
 
 
 def signature_missing(shape: str, header: list[str], peek: list[list[str]]) -> "str | None":

@@ -361,3 +361,123 @@ def test_chart_with_unknown_suffix_is_refused(tmp_path, capsys):
     f = _csv(tmp_path / "w.csv", [["Q1"]] + _draw(11, 6, 1, AGREE5, na=0))
     assert main(["summarize", str(f), "--chart", str(tmp_path / "c.gif")]) == 2
     assert "--chart" in capsys.readouterr().err and not (tmp_path / "c.gif").exists()
+
+
+# ---------------------------------------------------------------------------
+# an export that lost one of its header rows (the tester's files, rows deleted)
+# ---------------------------------------------------------------------------
+SM_HEAD = ["Respondent ID", "Collector ID", "Start Date", "End Date", "IP Address",
+           "Email Address", "First Name", "Last Name", "Custom Data 1",
+           "How much do you agree with the following?", "", "Would you recommend this course?"]
+SM_ANSWERS = [["114001", "4321", "01/10/2024 10:00:00 AM", "01/10/2024 10:05:00 AM",
+               "1.1.1.1", "", "", "", "", "Agree", "Strongly agree", "Agree"],
+              ["114002", "4321", "01/10/2024 10:00:00 AM", "01/10/2024 10:05:00 AM",
+               "1.1.1.2", "", "", "", "", "Disagree", "", "Strongly disagree"]]
+Q_ROWS = [["StartDate", "EndDate", "Status", "ResponseId", "Q1_1", "Q1_2"],
+          ["Start Date", "End Date", "Response Type", "Response ID",
+           "How much do you agree? - The method is clear",
+           "How much do you agree? - The method is useful"],
+          ['{"ImportId":"startDate"}', '{"ImportId":"endDate"}', '{"ImportId":"status"}',
+           '{"ImportId":"_recordId"}', '{"ImportId":"QID1_1"}', '{"ImportId":"QID1_2"}'],
+          ["2024-01-01", "2024-01-01", "IP Address", "R_1", "Strongly agree", "Agree"],
+          ["2024-01-01", "2024-01-01", "IP Address", "R_2", "Agree", "Disagree"]]
+
+
+@pytest.mark.parametrize("case, expect", [
+    ("sm-csv", "SurveyMonkey's second header row (the statements row) is missing: row 2 "
+               "holds answers (Respondent ID '114001')"),
+    ("sm-xlsx", "SurveyMonkey's second header row (the statements row) is missing: row 2 "
+                "holds answers (Respondent ID '114001')"),
+    ("sm-no-id", "SurveyMonkey's second header row (the statements row) is missing: row 2 "
+                 "holds answers (the answer 'Agree')"),
+    ("q-no-text", "Qualtrics' question-text header row is missing: row 2 holds the "
+                  "{\"ImportId\": ...} row"),
+    ("q-no-import", "Qualtrics' third header row ({\"ImportId\": ...}) is missing: row 2 "
+                    "holds question text but row 3 holds answers")])
+def test_export_missing_a_header_row_is_refused(tmp_path, capsys, case, expect):
+    # SurveyMonkey without its statements row: respondent 114001's answers stand where
+    # the statements were (the old reader named an item 'Strongly agree' and counted 1
+    # respondent of 2); Qualtrics without row 2 or 3 was read as a plain table and
+    # refused for an answer '{"ImportId":...}' or a question text not on the scale.
+    if case.startswith("sm"):
+        rows = [SM_HEAD] + [list(r) for r in SM_ANSWERS]
+        if case == "sm-no-id":
+            rows[1][0] = rows[1][1] = ""
+    else:
+        rows = [r for i, r in enumerate(Q_ROWS) if i != (1 if case == "q-no-text" else 2)]
+    if case == "sm-xlsx":
+        f = tmp_path / "x.xlsx"
+        wb = openpyxl.Workbook()
+        for r in rows:
+            wb.active.append([c if c != "" else None for c in r])
+        wb.save(f)
+    else:
+        f = _csv(tmp_path / "x.csv", rows)
+    assert main(["summarize", str(f)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and str(f) in err and expect in err
+
+
+def test_whole_exports_with_all_header_rows_still_read(tmp_path):
+    # the same fixtures with every header row: 2 SurveyMonkey respondents (the statements
+    # row restored), 2 Qualtrics respondents
+    sm = [SM_HEAD, [""] * 9 + ["The lectures were clear", "The homework helped", "Response"]]
+    data = read_survey(_csv(tmp_path / "sm.csv", sm + SM_ANSWERS))
+    assert data.shape == "surveymonkey" and data.respondents == 2
+    assert data.items[:2] == ["The lectures were clear", "The homework helped"]
+    data = read_survey(_csv(tmp_path / "q.csv", Q_ROWS))
+    assert data.shape == "qualtrics" and data.respondents == 2
+
+
+CANVAS_HEAD = ["name", "id", "sis_id", "section", "section_id", "section_sis_id", "submitted",
+               "attempt", "101: The lectures were clear", "1.0", "102: The homework helped",
+               "1.0", "n correct", "n incorrect", "score"]
+
+
+def _canvas_row(name, pid, sis, attempt, a, b):
+    return [name, pid, sis, "Sec A", "10", "", "2024-01-10 10:00:00 UTC", attempt, a, "0.0",
+            b, "0.0", "0", "0", "0"]
+
+
+def test_canvas_counts_each_students_latest_attempt_once(tmp_path, capsys):
+    # the tester's canvas2.csv with Bob's attempts in the other order: the latest
+    # attempt (2, row 3) counts and attempt 1 (row 4) is set aside although it comes
+    # later in the file. By hand: 2 respondents (Ann, Bob); 'The lectures were clear'
+    # Agree 2 (Ann, Bob's attempt 2), Strongly disagree 0 (was 1: attempt 1 counted).
+    rows = [CANVAS_HEAD, _canvas_row("Ann", "1", "s1", "1", "Agree", "Agree"),
+            _canvas_row("Bob", "2", "s2", "2", "Agree", "Agree"),
+            _canvas_row("Bob", "2", "s2", "1", "Strongly disagree", "Disagree")]
+    f = _csv(tmp_path / "canvas.csv", rows)
+    data = read_survey(f)
+    assert data.respondents == 2 and list(data.rows) == [2, 3]
+    assert [(d.row, d.reason) for d in data.dropped] == [(4, "earlier attempt")]
+    assert any("1 earlier attempt set aside" in n for n in data.notes)
+    s = summarize(data)
+    assert s.items[0].counts == {"Strongly disagree": 0, "Disagree": 0, "Agree": 2,
+                                 "Strongly agree": 0}
+    assert s.items[1].counts["Disagree"] == 0 and s.items[1].n == 2
+    # which attempt is the latest cannot be told from a non-number: refused, not guessed
+    rows[3][7] = "first"
+    f = _csv(tmp_path / "canvas_bad.csv", rows)
+    assert main(["summarize", str(f)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"{f}: row 4, column 'attempt': attempt 'first'" in err
+
+
+def test_limesurvey_incomplete_responses_are_counted_with_a_note(tmp_path):
+    # the tester's lime.csv: response 3 was never submitted (blank submitdate, row 4).
+    # By hand: 3 respondents; Q1[SQ001] n = 3 (Agree, Disagree, Strongly agree);
+    # Q1[SQ002] n = 2, 1 missing (response 3 stopped on page 1).
+    rows = [["id", "submitdate", "lastpage", "startlanguage", "seed", "Q1[SQ001]",
+             "Q1[SQ002]", "Q2"],
+            ["1", "2024-01-10 10:00:00", "2", "en", "123", "Agree", "Strongly agree",
+             "Disagree"],
+            ["2", "2024-01-10 10:00:00", "2", "en", "124", "Disagree", "Agree", "Agree"],
+            ["3", "", "1", "en", "125", "Strongly agree", "", ""]]
+    data = read_survey(_csv(tmp_path / "lime.csv", rows))
+    assert data.shape == "limesurvey" and data.respondents == 3 and not data.dropped
+    assert [n for n in data.notes if "incomplete" in n] == [
+        f"{tmp_path / 'lime.csv'}: 1 incomplete response (blank 'submitdate', row 4) "
+        "counted with the answers given"]
+    s = summarize(data)
+    assert (s.items[0].n, s.items[1].n, s.items[1].missing) == (3, 2, 1)
