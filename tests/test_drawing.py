@@ -158,6 +158,7 @@ def test_drawing_matches_the_scene(path):
         assert len(inertial) == 1 and inertial[0].label.startswith(f"-m a_{fbd.point[body]}")
         _assert_no_moment_about_P(fbd, points[(body, fbd.point[body])], body, path.name)
     _assert_labels_apart(fbd.figure, path.name)
+    _assert_arrows_apart(fbd.figure, path.name)
 
 
 # Two labels' boxes may share at most 1 display pixel (at the figure's 100 dpi, 0.72 pt) each way:
@@ -165,6 +166,16 @@ def test_drawing_matches_the_scene(path):
 # report a 1-pixel intersection; anything visible as overlapping text is several pixels (the labels
 # are 7-8 pt, about 10 pixels high). Without the label placer 14 of the 17 shipped scenes fail this.
 LABEL_OVERLAP_TOL = 1.0
+
+
+def _assert_arrows_apart(figure, where):
+    """No two arrows are drawn one over the other (same ends): the block of drum_and_block drew its
+    dashed -m a_P exactly over the cord tension, the piston of slider_crank its weight over N_cyl."""
+    from matplotlib.patches import FancyArrowPatch
+
+    for ax in figure.axes:
+        ends = [tuple(np.round(np.ravel(p._posA_posB), 9)) for p in ax.patches if isinstance(p, FancyArrowPatch)]
+        assert len(ends) == len(set(ends)), f"{where}: arrows drawn one over another in {ax.get_title()!r}"
 
 
 def _assert_labels_apart(figure, where):

@@ -222,7 +222,21 @@ def _crowd(tips, at, span) -> int:
     return sum(1 for t in tips[:-1] if abs(t[0] - at[0]) + abs(t[1] - at[1]) < 0.08 * span)
 
 
-def _force_arrow(ax, item: DrawnItem, length, colour, dashed, tips, centre=None):
+def _beside(tail, tip, direction, length, segments):
+    """The segment tail-tip moved sideways, 6 % of an arrow's length per earlier arrow it would lie
+    on (same ends), so that each stays visible; the drawn arrows are recorded in ``segments``. Only
+    the drawing moves: the force's point of application (the model's anchor) is unchanged."""
+    close = 1e-6 * length
+    same = sum(1 for a, b in segments if math.dist(a, tail) <= close and math.dist(b, tip) <= close)
+    segments.append((tail, tip))
+    if not same:
+        return tail, tip
+    shift = 0.06 * length * same
+    nx, ny = -direction[1] * shift, direction[0] * shift
+    return (tail[0] + nx, tail[1] + ny), (tip[0] + nx, tip[1] + ny)
+
+
+def _force_arrow(ax, item: DrawnItem, length, colour, dashed, tips, centre=None, segments=None):
     direction = item.direction
     zero = direction is None
     if zero:
@@ -240,10 +254,12 @@ def _force_arrow(ax, item: DrawnItem, length, colour, dashed, tips, centre=None)
             0.5 * math.dist(centre, (x, y)) + 1e-9 * length:
         # a force pushing towards the body's mass centre (within 60 deg): drawn ending at its point, from outside
         tail, tip = (x - length * direction[0], y - length * direction[1]), (x, y)
+    outward = 1 if tip != (x, y) else -1  # the label goes at the free end of the arrow
+    if segments is not None:  # an arrow drawn over an earlier one (gravity and a normal force at one point)
+        tail, tip = _beside(tail, tip, direction, length, segments)
     ax.add_patch(FancyArrowPatch(tail, tip, arrowstyle="-|>", mutation_scale=11, color=colour,
                                  linewidth=0.8 if zero else 1.6, linestyle="--" if dashed else "-",
                                  alpha=0.45 if zero else 1.0, zorder=7))
-    outward = 1 if tip != (x, y) else -1  # the label goes at the free end of the arrow
     label_at = tip if outward == 1 else tail
     tips.append(label_at)
     right = outward * direction[0] >= 0
@@ -261,11 +277,13 @@ def render_fbd(ax, scene_items: list[DrawnItem], forces: list[DrawnItem], body: 
     length = 0.45 * span
     centre = next((i.anchor for i in own if i.kind == "point" and i.name == "G"), None)
     tips: list = []
+    segments: list = []  # the arrows drawn so far, (tail, tip)
     couples = 0
     for item in forces:
         if item.kind in ("force", "inertial"):
             colour = INERTIAL_COLOUR if item.kind == "inertial" else FORCE_COLOUR
-            _force_arrow(ax, item, length, colour, dashed=item.kind == "inertial", tips=tips, centre=centre)
+            _force_arrow(ax, item, length, colour, dashed=item.kind == "inertial", tips=tips, centre=centre,
+                         segments=segments)
         elif item.turn == 0:  # a zero couple: its label only
             colour = INERTIAL_COLOUR if item.kind == "inertial_couple" else FORCE_COLOUR
             tips.append(item.anchor)
