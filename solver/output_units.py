@@ -29,6 +29,10 @@ _OUTPUT_UNIT_RULES = {
     "N*m/rad": "{moment|N*m}/rad", "N/m": "{force|N}/{length|m}", "kg*m**2": "{mass|kg}*{length|m}**2",
     "N*m*s/rad": "{moment|N*m}*s/rad", "N*s/m": "{force|N}*s/{length|m}",
 }
+# A rule used instead of the one above when the scene names these keys and not the first
+# rule's own: a moment of inertia with no mass unit given but a moment unit (ft*lbf) prints in
+# that unit times s**2 (ft*lbf*s**2, the slug*ft**2 of US texts), not in kg*ft**2.
+_WHEN_NAMED = {"kg*m**2": (("mass",), ("moment",), "{moment|N*m}*s**2")}
 _RULE_TERM = re.compile(r"\{(\w+)\|([^{}]*(?:\{[^{}]*\}[^{}]*)*)\}")
 
 
@@ -86,7 +90,13 @@ def output_unit(unit: str, units: Mapping[str, str] | None) -> str:
     found = _si_rule(unit)
     if found is None:
         return unit
-    text, used = _fill_rule(found[1], units or {})
+    units = units or {}
+    rule = found[1]
+    if found[0] in _WHEN_NAMED:
+        own, other, alternative = _WHEN_NAMED[found[0]]
+        if not any(k in units for k in own) and all(k in units for k in other):
+            rule = alternative
+    text, used = _fill_rule(rule, units)
     return text if used else found[0]
 
 

@@ -153,15 +153,16 @@ def test_eom_solve_and_kinematics_print_in_the_scenes_units(incline: str, capsys
 def test_frequency_derives_stiffness_and_inertia_units(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     # Regression: stiffness printed in N*m/rad and the generalized mass in kg*m**2 although the
     # scene set moment = "ft*lbf" and length = "ft". Stiffness = moment/rad; the moment of
-    # inertia = mass * length**2 with the mass in kg (the scene gives no mass unit: SI stays).
+    # inertia = moment * s**2 (the scene gives no mass unit but a moment unit: ft*lbf*s**2, the
+    # slug*ft**2 of US texts, not the mixed kg*ft**2).
     scene = tmp_path / "pend_us.toml"
     scene.write_text(PENDULUM_US)
     m, arm, g = 2.0, 1.0, 9.81
     payload = json.loads(_run(capsys, "frequency", str(scene), "--json"))
     assert payload["stiffness"]["unit"] == "ft*lbf/rad"
     assert payload["stiffness"]["value"] == pytest.approx(m * g * arm / FT_LBF, rel=REL)
-    assert payload["mass"]["unit"] == "kg*ft**2"
-    assert payload["mass"]["value"] == pytest.approx(m * arm**2 / FT**2, rel=REL)
+    assert payload["mass"]["unit"] == "ft*lbf*s**2"
+    assert payload["mass"]["value"] == pytest.approx(m * arm**2 / FT_LBF, rel=REL)  # kg*m**2 = N*m*s**2
     text = _run(capsys, "frequency", str(scene))
     assert "N*m/rad" not in text and "kg*m**2" not in text and "ft*lbf/rad" in text
 
@@ -172,6 +173,8 @@ def test_frequency_derives_stiffness_and_inertia_units(tmp_path: Path, capsys: p
     ("N*m/rad", {"moment": "ft*lbf"}, "ft*lbf/rad"),
     ("kg*m**2", {"mass": "lb", "length": "ft"}, "lb*ft**2"),
     ("kg*m**2", {"force": "lbf"}, "kg*m**2"),              # neither part named: SI stays
+    ("kg*m**2", {"moment": "ft*lbf", "length": "ft"}, "ft*lbf*s**2"),  # no mass unit: from the moment's
+    ("kg*m**2", {"mass": "lb", "moment": "ft*lbf"}, "lb*m**2"),  # a mass unit given: mass * length**2
     ("m/s", {"length": "ft", "time": "min"}, "ft/s"),      # rates stay per second
     ("m/s**2", {"acceleration": "g0"}, "g0"),              # an explicit key wins
     ("N/m", {"force": "lbf", "length": "inch"}, "lbf/inch"),
