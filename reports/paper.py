@@ -254,6 +254,20 @@ def result_rows(solution, scene, conversion: dict | None = None) -> list[dict]:
 
 # -- worked steps from solver.explain (one source for paper.html and paper.tex) ------------------------
 
+def unreachable_cells(findings, respondents: int) -> str:
+    """The sentence under the survey table naming the published cells no whole count gives (the
+    table shows the rebuilt counts' percentages, so those cells differ from the published ones):
+    empty when there are none. One text for both renderings."""
+    cells = [r for r in findings if r.kind == "table-cell"]
+    if not cells:
+        return ""
+    listed = "; ".join(f"{r.label.removeprefix('Table 1, ')} printed {r.published_text or r.published} %, "
+                       f"shown {r.computed} %" for r in cells)
+    return (f"{len(cells)} cell(s) of the published table print a percentage that no whole count out of "
+            f"{respondents} gives; the table shows the percentage of the nearest count: {listed} "
+            f"(section 5 says why).")
+
+
 PROSE = {
     "alpha": "alpha is the k-component of the body's angular acceleration; each example gives it in terms "
              "of its own coordinate in its kinematics",
