@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-__all__ = ["Arithmetic", "DOUBLE", "mpmath_arithmetic", "NotEvaluable", "substitute", "tree_value"]
+__all__ = ["Arithmetic", "DOUBLE", "mpmath_arithmetic", "NotEvaluable", "real_value", "substitute", "tree_value"]
 
 
 class NotEvaluable(Exception):
@@ -141,6 +141,14 @@ def tree_value(expr: sp.Expr, point: dict, arithmetic: Arithmetic = DOUBLE, memo
     memo[expr] = value
     return value
 
+
+
+def real_value(value) -> float:
+    """The real number a double-precision walk (:data:`DOUBLE`, complex arithmetic) gave: its real
+    part when the imaginary part is round-off (at most 1e-12 of the real part's size, or of 1),
+    else nan (the expression is not real there: a square root of a negative number)."""
+    value = complex(value)
+    return value.real if abs(value.imag) <= 1e-12 * max(1.0, abs(value.real)) else float("nan")
 
 
 def substitute(expr: sp.Basic, rule: dict, memo: dict) -> sp.Basic:

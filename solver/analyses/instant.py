@@ -158,7 +158,7 @@ class NumericModel:
         once: :func:`solver.tree_value.tree_value`), or None where the walk cannot go (then the
         compiled function serves). What numpy would give as inf or nan, or a complex number gives,
         is nan (a singular system, as the compiled path decides it)."""
-        from ..tree_value import NotEvaluable, tree_value
+        from ..tree_value import NotEvaluable, real_value, tree_value
 
         point = dict(zip(self._params, self._param_values))
         point.update((a, float(v.reshape(-1)[0])) for a, v in zip(self.args, arrays))
@@ -171,7 +171,7 @@ class NumericModel:
                 v = complex(math.nan)
             except (NotEvaluable, KeyError, TypeError, ValueError):
                 return None
-            vals.append(v.real if abs(v.imag) <= 1e-12 * max(1.0, abs(v.real)) else math.nan)
+            vals.append(real_value(v))
         return vals
 
     def matrices(self, q, qd, t=0.0, once: bool = False):

@@ -34,7 +34,7 @@ import pint
 import sympy as sp
 
 from ..errors import SceneError
-from ..tree_value import NotEvaluable, tree_value
+from ..tree_value import NotEvaluable, real_value, tree_value
 from .bodies import GROUND, Ground, RigidBody
 from .joints import Actuator, Contact, Joint, Motor, Pin, k_cross, rotation, vec
 from .loads import Load
@@ -297,8 +297,7 @@ class System:
             except (NotEvaluable, KeyError, TypeError, ValueError):
                 pass
             else:
-                real = value.real if isinstance(value, complex) else float(value)
-                return real if abs(complex(value).imag) <= 1e-12 * max(1.0, abs(real)) else float("nan")
+                return real_value(value)
         try:
             return float(expr.xreplace({k: sp.Float(values[k]) for k in expr.free_symbols if k in values}).evalf())
         except (TypeError, ValueError):
