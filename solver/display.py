@@ -449,8 +449,58 @@ def _tidy_general(e: sp.Expr) -> sp.Expr:
     # (over monomial denominators the common monomial of the numerator cancels by itself below)
     num, den = _tidy_polynomial(num), _tidy_polynomial(den)
     if den.is_number and den != 0 and num.is_Add:
-        return sp.factor_terms(sp.expand(num / den))
+        return factor_monomial_terms(sp.expand(num / den))
     return num / den
+
+
+def _plain_generator(f) -> bool:
+    """A symbol, or a function call whose arguments are all symbols (``sin(theta)``)."""
+    return f.is_Symbol or (f.is_Function and all(a.is_Symbol for a in f.args))
+
+
+def _monomial_term(t) -> bool:
+    """A rational times plain generators (:func:`_plain_generator`) to positive integer powers."""
+    for f in sp.Mul.make_args(t):
+        if f.is_Rational:
+            continue
+        if f.is_Pow:
+            if not (f.exp.is_Integer and f.exp > 0):
+                return False
+            f = f.base
+        if not _plain_generator(f):
+            return False
+    return True
+
+
+def factor_monomial_terms(p: sp.Expr) -> sp.Expr:
+    """``sympy.factor_terms(p)``, the same expression, without its recursion when ``p`` is a sum of
+    monomials in plain generators (:func:`_monomial_term`). The steps ``factor_terms`` composes
+    there (its default ``clear=False``): the rational content, a common negative sign, the greatest
+    common monomial of the terms, a denominator kept inside the sum when some term's coefficient
+    is then an integer (``x/2 + y`` stays as it is), in one pass over the terms (about 3x faster:
+    ``factor_terms`` builds its ``Factors`` per term at every level). Any other expression goes to
+    ``factor_terms`` itself."""
+    if not p.is_Add or not all(_monomial_term(t) for t in p.args):
+        return sp.factor_terms(p)
+    content, prim = p.as_content_primitive(clear=False)
+    if not prim.is_Add:
+        return sp.factor_terms(p)
+    args = list(prim.args)
+    if all(a.as_coeff_Mul()[0].is_negative for a in args):  # factor_terms takes a common -1 out
+        content, args = -content, [-a for a in args]
+    coeffs, powers = zip(*[(c, rest.as_powers_dict()) for c, rest in (a.as_coeff_Mul() for a in args)])
+    common = {b: min(d.get(b, 0) for d in powers) for b in powers[0]}
+    common = {b: x for b, x in common.items() if x}
+    g = reduce(lambda a, b: a.gcd(b), coeffs)
+    sums = sp.Add(*[(c / g) * sp.Mul(*[b**(x - common.get(b, 0)) for b, x in d.items()])
+                    for c, d in zip(coeffs, powers)])
+    if not g.is_Integer and sums.is_Add:  # gcd_terms(clear=False): a denominator stays inside
+        n, den = g.as_numer_denom()
+        inside = sums / den
+        if any(a.as_coeff_Mul()[0].is_Integer for a in inside.args):
+            sums, g = inside, n
+    inner = _keep_coeff(g, sp.Mul(*[b**x for b, x in common.items()], sums), clear=False)
+    return _keep_coeff(content, inner, clear=False, sign=True)
 
 
 def _fraction_of_ratio(num: sp.Expr, den: sp.Expr, once=None) -> tuple[sp.Expr, sp.Expr]:

@@ -128,6 +128,33 @@ def test_the_single_term_fraction_is_sympys_cancel():
     assert taken > 150
 
 
+def test_the_fast_factor_terms_is_sympys():
+    """display.factor_monomial_terms replaces sympy.factor_terms on sums of monomials (the display
+    of a coefficient over a number) for speed: the very same expression, tree for tree, so the
+    printed forms do not change. Random sums with rational coefficients (some all negative, some
+    with a common monomial, some with an integer term beside fractions) and two that leave the fast
+    path (a power of a sum, a function of a sum)."""
+    from solver.display import factor_monomial_terms
+
+    x = sp.Symbol("x", real=True)
+    gens = [x, g, m, s, c, sp.sin(beta), sp.cos(beta)]
+    rng = random.Random(1)
+    for _ in range(800):
+        terms = []
+        for _ in range(rng.randint(1, 5)):
+            mono = sp.Rational(rng.choice([-1, 1]) * rng.randint(1, 12), rng.randint(1, 6))
+            for gen in rng.sample(gens, rng.randint(0, 3)):
+                mono *= gen ** rng.randint(1, 3)
+            terms.append(mono)
+        if rng.random() < 0.3:
+            common = rng.choice(gens) ** rng.randint(1, 2) * sp.Rational(rng.randint(1, 5), rng.randint(1, 4))
+            terms = [t * common for t in terms]
+        p = sp.expand(sp.Add(*terms))
+        assert sp.srepr(factor_monomial_terms(p)) == sp.srepr(sp.factor_terms(p)), p
+    for other in (g * (x + m) ** 2 / 2 + g * m / 2, sp.sin(x + m) / 3 + m / 6):
+        assert sp.srepr(factor_monomial_terms(other)) == sp.srepr(sp.factor_terms(other))
+
+
 def test_a_plain_monomial_is_left_as_it_is():
     """tidy returns a rational times symbols and sin/cos of symbols (to positive powers) at once;
     the general path (solver.display._tidy_general) must agree, tree for tree, on such monomials."""
