@@ -266,11 +266,11 @@ def eom_command(args: argparse.Namespace) -> int:
     print(f"  M = {text(mass)}")
     print()
     print("reactions as functions of the state (SI parameters give SI values), and their values at the state:")
-    from solver.display import _size
+    from solver.display import tree_size
 
     for name, expr in reactions.items():
         entry = at_state[name]
-        nodes = _size(expr)
+        nodes = tree_size(expr)
         if nodes > DISPLAY_MAX_NODES:  # thousands of characters: a screenful nobody reads
             print(f"  {name} = (a closed form of {nodes} nodes, too long to read here; --json and --latex print it)")
         else:
