@@ -481,7 +481,10 @@ def precision_command(args: argparse.Namespace) -> int:
                for p in which]
     regimes = ({j.name: j.current_regime.label for j in system.contacts} if system is not scene else {})
     if args.json:
-        print_json({"scene": scene.name, "point": d.point, "method": d.method,
+        from solver.formulations import point_entries, shown_point
+
+        print_json({"scene": scene.name, **point_entries(d.method, shown_point(system, d.method, args.point)),
+                    "method": d.method,
                     "condition_number": results[0].condition_number,
                     **({"regime": regimes} if regimes else {}),
                     "solutions": {r.precision: r.to_dict() for r in results}})

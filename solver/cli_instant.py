@@ -113,6 +113,8 @@ def solve_command(args: argparse.Namespace) -> int:
     >>> status, [abs(unknowns[n]["value"] - published[f"eq30-{n}"]["value"]) <= tol[n] for n in ("alpha", "R_A", "R_B")]
     (0, [True, True, True])
     """
+    from solver.formulations import point_entries, point_text
+
     system = load_scene_from_args(args)
     solution = derivation.solve_instant(system, args.point, args.method)
     result = solution.to_dict(system.output_units)
@@ -123,7 +125,7 @@ def solve_command(args: argparse.Namespace) -> int:
     if args.json:
         payload = {
             "scene": system.name,
-            "point": solution.point,
+            **point_entries(solution.method, solution.point),
             "method": solution.method,
             "unknowns": unknowns,
             "condition_number": result["condition_number"],
@@ -141,7 +143,7 @@ def solve_command(args: argparse.Namespace) -> int:
     print(f"scene   {system.name}  ({_where(system)})")
     timed = any(_has_time(a, system) for a in system.applied_loads)
     print(f"state   {state_text(system, solution.state)}" + ("   (loads taken at the scene's time)" if timed else ""))
-    print(f"point   {solution.point}   method  {solution.method}")
+    print(f"method  {solution.method}   point  {point_text(solution.method, solution.point)}")
     print()
     print(format_table(("name", "value", "unit"), rows, align="lrl"))
     print()
@@ -210,6 +212,8 @@ def kinematics_command(args: argparse.Namespace) -> int:
 
 
 def eom_command(args: argparse.Namespace) -> int:
+    from solver.formulations import point_entries, point_text, shown_point
+
     system = load_scene_from_args(args)
     if len(system.free) != 1 or system.closure:
         return _eom_multi(args, system)
@@ -224,11 +228,12 @@ def eom_command(args: argparse.Namespace) -> int:
     at_state = _reactions_at_state(system, d)
     q = system.free[0].name
     text = _printer()
+    shown = shown_point(system, d.method, args.point)
     if args.json:
         print_json(
             {
                 "scene": system.name,
-                "point": d.point,
+                **point_entries(d.method, shown),
                 "method": d.method,
                 "coordinate": q,
                 "eom": text(eom),
@@ -248,7 +253,8 @@ def eom_command(args: argparse.Namespace) -> int:
         def latex(expr: sp.Expr) -> str:
             return sp.latex(expr, symbol_names=names)
 
-        print(f"% {system.name}: equation of motion (about {d.point}, {d.method}); reactions eliminated")
+        about = f"about {shown}, " if shown is not None else ""
+        print(f"% {system.name}: equation of motion ({about}{d.method}); reactions eliminated")
         print(f"{latex(eom)} = 0")
         print(f"% generalized mass M({q})")
         print(f"M = {latex(mass)}")
@@ -257,7 +263,7 @@ def eom_command(args: argparse.Namespace) -> int:
             print(f"{sp.latex(sp.Symbol(name))} = {latex(expr)}")
         return 0
     print(f"scene   {system.name}  ({_where(system)})")
-    print(f"point   {d.point}   method  {d.method}")
+    print(f"method  {d.method}   point  {point_text(d.method, shown)}")
     print()
     print(f"equation of motion ({q}_ddot is the second derivative of {q}):")
     print(f"  {text(eom)} = 0")
@@ -307,7 +313,9 @@ def _eom_multi(args, system) -> int:
         shown = [_tidy_multi(e, system) for e in eqs]
     text = _printer()
     if args.json:
-        print_json({"scene": system.name, "point": ",".join(f"{b}:{p}" for b, p in f.points.items()),
+        from solver.formulations import point_entries, shown_point
+
+        print_json({"scene": system.name, **point_entries(f.method, shown_point(system, f.method, args.point)),
                     "method": f.method, "coordinates": [c.name for c in coords],
                     "dependent": [c.name for c in system.dependent],
                     "eom": [text(e) for e in shown],

@@ -109,9 +109,34 @@ def test_solve_any_point_and_method_matches_published(
     status, out, err = run_main(capsys, "solve", str(SLIDING_BAR), "--point", point, "--method", method, "--json")
     assert status == 0, err
     result = json.loads(out)
-    assert result["point"] == point and result["method"] == method
+    # the mass-centre and Lagrange routes use no reference point: they say so rather than echo --point
+    shown = point if method == "generalized_euler" else None
+    assert result["point"] == shown and result["method"] == method
+    assert ("point_note" in result) == (shown is None)
     for name, entry in _published().items():
         assert result["unknowns"][name]["value"] == pytest.approx(entry["value"], abs=_tolerance(name))
+
+
+@pytest.mark.parametrize("method", ["mass_center", "lagrange"])
+def test_a_route_without_reference_point_does_not_echo_point(capsys: pytest.CaptureFixture[str], method: str) -> None:
+    """`--point` with a route that takes no moments about P (mass_center: about each G; lagrange: no
+    moment equation) is checked but not used: every output that names the point says null with the
+    route's note, in JSON and text alike (solve, eom of a one- and a two-freedom scene, precision),
+    and a point the body does not have is still refused."""
+    double = str(ROOT / "data" / "scenes" / "double_pendulum.toml")
+    for argv in (["solve", str(SLIDING_BAR), "--point", "B"], ["eom", str(SLIDING_BAR), "--point", "B"],
+                 ["eom", double, "--point", "lower:A"], ["precision", str(SLIDING_BAR), "--point", "B"]):
+        status, out, err = run_main(capsys, *argv, "--method", method, "--json")
+        assert status == 0, err
+        result = json.loads(out)
+        assert result["point"] is None and result["method"] == method, argv
+        assert method in result["point_note"] and "not used" in result["point_note"]
+    for argv in (["solve", str(SLIDING_BAR), "--point", "B"], ["eom", str(SLIDING_BAR), "--point", "B"]):
+        status, out, err = run_main(capsys, *argv, "--method", method)
+        assert status == 0, err
+        assert f"point  none ({method} " in out and "point  B" not in out
+    status, out, err = run_main(capsys, "solve", str(SLIDING_BAR), "--point", "Z", "--method", method, "--json")
+    assert status == 2 and "'Z'" in err and out == ""
 
 
 @pytest.mark.parametrize("theta_dot", [0.0, 1.5])
