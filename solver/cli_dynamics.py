@@ -494,7 +494,8 @@ def precision_command(args: argparse.Namespace) -> int:
         print("contacts in the regime that holds at the state (as `solve` finds it): "
               + ", ".join(f"{j}: {r}" for j, r in regimes.items())
               + "; a sliding contact's friction (-mu_k N) and a separated one's forces (0) are not unknowns here")
-    print(f"condition number of the linear system (2-norm): {results[0].condition_number:.6g} "
+    print(f"condition number of the linear system (exact; 1-norm, rows and columns equilibrated, so unit-free; "
+          f"`solve` prints an estimate of it): {results[0].condition_number:.6g} "
           f"(float64 relative error bound ~ {results[0].condition_number * 2.2e-16:.2g})")
     for r in results:
         print()

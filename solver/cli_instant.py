@@ -121,14 +121,14 @@ def solve_command(args: argparse.Namespace) -> int:
     unknowns = result["unknowns"]
     check_finite({name: entry["value"] for name, entry in unknowns.items()}, _where(system))
     if "indeterminate" not in result:
-        check_finite({"condition number": result["condition_number"]}, _where(system))
+        check_finite({"condition number estimate": result["condition_number_estimate"]}, _where(system))
     if args.json:
         payload = {
             "scene": system.name,
             **point_entries(solution.method, solution.point),
             "method": solution.method,
             "unknowns": unknowns,
-            "condition_number": result["condition_number"],
+            "condition_number_estimate": result["condition_number_estimate"],
         }
         for key in ("regime", "indeterminate", "warning"):
             if key in result:
@@ -155,7 +155,8 @@ def solve_command(args: argparse.Namespace) -> int:
     if "indeterminate" in result:
         print(f"statically indeterminate: {result['indeterminate']}")
     else:
-        print(f"condition number of the system (rows and columns equilibrated, so unit-free): {format_number(result['condition_number'], 3)}")
+        print("condition number estimate of the system (1-norm, rows and columns equilibrated, so unit-free; a lower "
+              f"bound, `precision` gives the exact value): {format_number(result['condition_number_estimate'], 3)}")
     if "warning" in result:
         print(f"warning: {result['warning']}")
     if "alpha" in unknowns:

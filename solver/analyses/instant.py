@@ -437,6 +437,8 @@ class InstantSolution:
         ``alpha`` (one-body systems) and each coordinate's second derivative
         [rad/s**2 or m/s**2], then each reaction [N or N*m].
     condition_number : float
+        The cheap estimate of the solve (:func:`solve_with_estimate`; JSON
+        ``condition_number_estimate``); the exact value is :func:`condition_numbers`'.
     point : str or None
         The reference point(s) P of the moment equations; None for a route that uses none
         (:data:`solver.formulations.POINT_FREE_METHODS`).
@@ -466,7 +468,7 @@ class InstantSolution:
         from solver.formulations import point_entries
 
         return {**head, **point_entries(self.method, self.point), "method": self.method, "unknowns": out,
-                "condition_number": cond if math.isfinite(cond) else None, **self.extra}
+                "condition_number_estimate": cond if math.isfinite(cond) else None, **self.extra}
 
     def __repr__(self) -> str:
         vals = ", ".join(f"{k}={v:.6g~P}" for k, v in self.unknowns.items())
