@@ -213,7 +213,7 @@ def kinematics_command(args: argparse.Namespace) -> int:
 
 
 def eom_command(args: argparse.Namespace) -> int:
-    from solver.formulations import point_entries, point_text, shown_point
+    from solver.formulations import point_text, shown_point
 
     system = load_scene_from_args(args)
     if len(system.free) != 1 or system.closure:
@@ -231,22 +231,8 @@ def eom_command(args: argparse.Namespace) -> int:
     text = _printer()
     shown = shown_point(system, d.method, args.point)
     if args.json:
-        print_json(
-            {
-                "scene": system.name,
-                **point_entries(d.method, shown),
-                "method": d.method,
-                "coordinate": q,
-                "eom": text(eom),
-                "mass": text(mass),
-                "kinetic_energy": text(d.kinetic_energy),
-                "potential_energy": text(d.potential_energy),
-                "generalized_force": text(d.generalized_force),
-                "reactions": {name: text(expr) for name, expr in reactions.items()},
-                "reaction_units": dict(d.reaction_units),
-                "reactions_at_state": at_state,
-            }
-        )
+        print_json(_eom_payload(system, d.method, shown, [q], [eom], [[mass]], d.kinetic_energy, d.potential_energy,
+                                {q: d.generalized_force}, reactions, at_state, text))
         return 0
     if args.latex:
         names = _latex_names(system)
@@ -286,6 +272,32 @@ def eom_command(args: argparse.Namespace) -> int:
     return 0
 
 
+def _eom_payload(system, method, point, coordinates, eqs, mass, kinetic, potential, forces, reactions, at_state,
+                 text) -> dict:
+    """The one schema of ``eom --json``, whatever the number of freedoms: ``eom`` (one expression
+    == 0 per independent coordinate, in the order of ``coordinates``), ``mass`` (the matrix of
+    their coefficients of the independent accelerations: the generalized mass), the energies,
+    ``generalized_forces`` by coordinate, ``reactions`` (closed forms; null where none is derived,
+    with several freedoms or a loop) and each reaction's value at the state. Expressions are SI
+    (``expression_units``); ``reaction_units`` and ``reactions_at_state`` are the scene's output
+    units, as everywhere else."""
+    from solver.formulations import point_entries
+
+    return {
+        "scene": system.name, **point_entries(method, point), "method": method,
+        "coordinates": list(coordinates), "dependent": [c.name for c in system.dependent],
+        "eom": [text(e) for e in eqs],
+        "mass": [[text(m) for m in row] for row in mass],
+        "kinetic_energy": text(kinetic), "potential_energy": text(potential),
+        "generalized_forces": {name: text(q) for name, q in forces.items()},
+        "expression_units": "SI: the expressions give SI values from SI values of the parameters, "
+                            "coordinates and rates",
+        "reactions": None if reactions is None else {name: text(expr) for name, expr in reactions.items()},
+        "reaction_units": {name: entry["unit"] for name, entry in at_state.items()},
+        "reactions_at_state": at_state,
+    }
+
+
 def _printer():
     """``str`` of expressions (sympy's text) for one command's output, common subexpressions printed once."""
     from solver.strprint import FastStrPrinter
@@ -314,15 +326,17 @@ def _eom_multi(args, system) -> int:
         shown = [_tidy_multi(e, system) for e in eqs]
     text = _printer()
     if args.json:
-        from solver.formulations import point_entries, shown_point
+        from solver.analyses.instant import solve_instant
+        from solver.formulations import shown_point
 
-        print_json({"scene": system.name, **point_entries(f.method, shown_point(system, f.method, args.point)),
-                    "method": f.method, "coordinates": [c.name for c in coords],
-                    "dependent": [c.name for c in system.dependent],
-                    "eom": [text(e) for e in shown],
-                    "kinetic_energy": text(system.kinetic_energy()),
-                    "potential_energy": text(system.potential_energy()),
-                    "generalized_forces": [text(q) for q in system.generalized_forces()]})
+        mass = [[_display_form(sp.diff(e, u.qdd), _tidy_display) for u in coords] for e in eqs]
+        solution = solve_instant(system, args.point, args.method)
+        at_state = {r.name: to_output_units(quantity_entry(solution.unknowns[r.name]), system.output_units)
+                    for r in system.reactions}
+        forces = dict(zip((c.name for c in system.free), system.generalized_forces()))
+        print_json(_eom_payload(system, f.method, shown_point(system, f.method, args.point), [c.name for c in coords],
+                                shown, mass, system.kinetic_energy(), system.potential_energy(), forces, None,
+                                at_state, text))
         return 0
     if args.latex:
         names = {}

@@ -175,6 +175,39 @@ def test_solve_table_is_readable(capsys: pytest.CaptureFixture[str]) -> None:
 # -- Example 2: eom and frequency --------------------------------------------------------------
 
 
+def test_eom_json_has_one_schema_in_output_units(capsys: pytest.CaptureFixture[str]) -> None:
+    """`eom --json` gives the same keys, of the same types, for one freedom (Example 1, in lbm/ft) and
+    for two (the double pendulum); the units it names for the reactions are those of the values it
+    prints (the scene's lbf), not SI. Reference for `mass`: d2T/(dqd_i dqd_j) of the kinetic energy
+    the same output prints, parsed back and compared exactly after expand/trigsimp."""
+    double = str(ROOT / "data" / "scenes" / "double_pendulum.toml")
+    payloads = {}
+    for scene in (str(SLIDING_BAR), double):
+        status, out, err = run_main(capsys, "eom", scene, "--json")
+        assert status == 0, err
+        payloads[scene] = json.loads(out)
+    bar, pendulum = payloads[str(SLIDING_BAR)], payloads[double]
+    assert list(bar) == list(pendulum)
+    for key in bar:
+        if bar[key] is not None and pendulum[key] is not None:
+            assert type(bar[key]) is type(pendulum[key]), key
+    assert bar["reaction_units"] == {"R_A": "lbf", "R_B": "lbf"}
+    assert {n: e["unit"] for n, e in bar["reactions_at_state"].items()} == bar["reaction_units"]
+    assert "SI" in bar["expression_units"]
+    assert pendulum["coordinates"] == ["theta1", "theta2"] and len(pendulum["eom"]) == 2
+    assert set(pendulum["reactions_at_state"]) == {"O_x", "O_y", "A_x", "A_y"} and pendulum["reactions"] is None
+    names = {n: sp.Symbol(n, real=True) for n in ("m1", "m2", "l1", "l2", "g", "theta1", "theta2", "theta1_dot",
+                                                   "theta2_dot", "theta1_ddot", "theta2_ddot")}
+    T = parse_expression(pendulum["kinetic_energy"], names, "kinetic_energy")
+    rates = [names["theta1_dot"], names["theta2_dot"]]
+    for i, row in enumerate(pendulum["mass"]):
+        for j, entry in enumerate(row):
+            M = parse_expression(entry, names, "mass")
+            assert sp.trigsimp(sp.expand(M - sp.diff(T, rates[i], rates[j]))) == 0, (i, j)
+
+
+
+
 def _disk_symbols() -> dict[str, sp.Symbol]:
     names = ["m_d", "r_d", "m_b", "l_b", "g", "F_a", "theta", "theta_dot", "theta_ddot", "t"]
     return {n: sp.Symbol(n, real=True) for n in names}
@@ -186,7 +219,8 @@ def test_eom_json_disk_bar_is_corrected_eq44(capsys: pytest.CaptureFixture[str])
     result = json.loads(out)
     names = _disk_symbols()
     # Read our own output back with the whitelist parser (no sympify).
-    eom = parse_expression(result["eom"], names, "eom --json")
+    assert result["coordinates"] == ["theta"]
+    eom = parse_expression(result["eom"][0], names, "eom --json")
     m_d, r_d, m_b, l_b, g, F_a, th, thd, thdd = (names[n] for n in
                                                   ["m_d", "r_d", "m_b", "l_b", "g", "F_a", "theta", "theta_dot", "theta_ddot"])
     eq44 = (
