@@ -245,12 +245,12 @@ def _simulate_multibody(args, system, t_end) -> int:
     res = simulate_system(system, t_end, method=args.ivp_method, rtol=args.rtol, atol=args.atol, mu=args.mu,
                           samples=args.samples)
     if args.out is not None:
-        write_motion_csv(res, args.out)
+        write_motion_csv(res, args.out, system.output_units)
     if args.animate is not None:
         _animate(args, system, res.t, [res.columns[c.name][0] for c in system.free],
                  [res.columns[f"{c.name}_dot"][0] for c in system.free])
     if args.json:
-        payload = {"scene": system.name, **to_output_units(res.to_dict(), system.output_units)}
+        payload = {"scene": system.name, **to_output_units(res.to_dict(system.output_units), system.output_units)}
         if args.out is not None:
             payload["out"] = str(args.out)
         print_json(payload)
@@ -274,7 +274,8 @@ def _simulate_multibody(args, system, t_end) -> int:
     if res.energy_drift is not None:
         print(f"\nenergy drift over the run: {format_number(res.energy_drift, 3)} (of the largest kinetic energy)")
     if args.out is not None:
-        print(f"\ntime history written to {args.out} (SI units)")
+        units = ", ".join(f"{n} [{u}]" for n, u in res.to_dict(system.output_units)["columns"].items())
+        print(f"\ntime history written to {args.out} (columns in the scene's output units: {units})")
     return 0
 
 
@@ -303,12 +304,12 @@ def simulate_command(args: argparse.Namespace) -> int:
     res = simulate(system, t_end, y0=state_si(scene), method=args.ivp_method, rtol=args.rtol, atol=args.atol,
                    mu=args.mu, samples=args.samples, progress=args.progress)
     if args.out is not None:
-        write_csv(res, args.out)
+        write_csv(res, args.out, scene.output_units)
     if args.animate is not None:
         _animate(args, scene, res.t, [res.theta], [res.theta_dot])
     if args.json:
         payload = {"scene": scene.name}
-        payload.update(to_output_units(res.to_dict(), scene.output_units))  # "columns" (the CSV) stay SI
+        payload.update(to_output_units(res.to_dict(scene.output_units), scene.output_units))
         if args.out is not None:
             payload["out"] = str(args.out)
         print_json(payload)
@@ -336,8 +337,8 @@ def simulate_command(args: argparse.Namespace) -> int:
                   else "not applicable (the loads depend on time or rate: they do work)")
     print(f"energy drift (relative to the largest kinetic energy): {drift_text}   samples: {res.t.size}")
     if args.out is not None:
-        units = ", ".join(f"{n} [{u}]" for n, u in res.to_dict()["columns"].items())
-        print(f"wrote {args.out} (SI columns: {units})")
+        units = ", ".join(f"{n} [{u}]" for n, u in res.to_dict(scene.output_units)["columns"].items())
+        print(f"wrote {args.out} (columns in the scene's output units: {units})")
     return 0
 
 
