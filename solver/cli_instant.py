@@ -132,7 +132,7 @@ def solve_command(args: argparse.Namespace) -> int:
         }
         for key in ("regime", "indeterminate", "warning"):
             if key in result:
-                payload[key] = result[key]
+                payload[key] = to_output_units(result[key], system.output_units)
         if system.dependent or system.time_dependent or "regime" in result:  # the solved state is part of the answer
             payload["state"] = _state_payload(system, solution.state)
         print_json(payload)
