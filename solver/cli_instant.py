@@ -578,14 +578,15 @@ def _modes_command(args, system) -> int:
     omega_unit, period_unit = output_unit("rad/s", units), output_unit("s", units)
     rows = []
     for i, m in enumerate(payload["modes"], 1):
-        shape = ", ".join(f"{k}: {format_number(v, 4)}" for k, v in m["shape"].items())
+        shape = ", ".join(f"{k}: {format_number(v['value'], 4)} {v['unit']}" for k, v in m["shape"].items())
         period = m["period"]["value"]
         rows.append((str(i), format_number(m["omega_n"]["value"]), format_number(m["frequency"]["value"]),
                      "-" if period is None or not math.isfinite(period) else format_number(period), shape))
     print(format_table(("mode", f"omega_n [{omega_unit}]", "f [Hz]", f"period [{period_unit}]", "shape"), rows,
                        align="rrrrl"))
+    print("\na shape gives the coordinates' amplitudes relative to one another, each in its own unit.")
     if any(m.omega == 0 for m in result.modes):
-        print("\na mode with omega_n = 0 is a neutral direction: nothing restores it.")
+        print("a mode with omega_n = 0 is a neutral direction: nothing restores it.")
     return 0
 
 
