@@ -329,7 +329,8 @@ def _eom_multi(args, system) -> int:
         from solver.analyses.instant import solve_instant
         from solver.formulations import shown_point
 
-        mass = [[_display_form(sp.diff(e, u.qdd), _tidy_display) for u in coords] for e in eqs]
+        tidied = (lambda m: m) if system.closure else (lambda m: _display_form(m, _tidy_display))  # as `shown`
+        mass = [[tidied(sp.diff(e, u.qdd)) for u in coords] for e in eqs]
         solution = solve_instant(system, args.point, args.method)
         at_state = {r.name: to_output_units(quantity_entry(solution.unknowns[r.name]), system.output_units)
                     for r in system.reactions}
