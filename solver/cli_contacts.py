@@ -17,7 +17,7 @@ from __future__ import annotations
 import argparse
 import math
 
-from solver.cli_common import format_number, format_table, in_output_units, output_unit, print_json, state_text
+from solver.cli_common import format_number, format_table, output_unit, print_json, state_text, to_output_units
 from solver.errors import InputError
 
 
@@ -33,9 +33,10 @@ def contact_friction(args: argparse.Namespace, system) -> int:
     if (args.critical is None) != (args.between is None):
         raise InputError("--critical and --between go together: --critical NAME --between LOW HIGH")
     payload = {"scene": system.name, "mode": "contacts"}
-    payload["at_state"] = _at_state(system)
+    units = system.output_units  # times and forces as the text prints them (--critical picks its own unit)
+    payload["at_state"] = to_output_units(_at_state(system), units)
     if args.over is not None:
-        payload["over_motion"] = _over(system, args.over)
+        payload["over_motion"] = to_output_units(_over(system, args.over), units)
     if args.critical is not None:
         payload["critical"] = _critical(system, args.critical, args.between)
     if args.json:
@@ -67,7 +68,8 @@ def _over(system, text) -> dict:
         raise InputError(f"--over must be a positive time of at most {MAX_OVER_T:g} s, got {text!r}")
     held = holding(system)
     res = simulate_system(held, T, rtol=1e-10, atol=1e-12, samples=2001)
-    out = {"t_end": float(res.t[-1]), "status": res.status, "reason": res.reason, "least_mu": {}}
+    out = {"t_end": {"value": float(res.t[-1]), "unit": "s"}, "status": res.status, "reason": res.reason,
+           "least_mu": {}}
     for j in held.contacts:
         F, N = j.pair
         if F is None or F.name not in res.columns:
@@ -75,7 +77,7 @@ def _over(system, text) -> dict:
         f, n = res.columns[F.name][0], res.columns[N.name][0]
         ratio = [abs(a) / b if b > 0 else math.inf for a, b in zip(f, n)]
         k = max(range(len(ratio)), key=ratio.__getitem__)
-        out["least_mu"][j.name] = {"value": float(ratio[k]), "at_t": float(res.t[k])}
+        out["least_mu"][j.name] = {"value": float(ratio[k]), "at_t": {"value": float(res.t[k]), "unit": "s"}}
     return out
 
 
@@ -169,9 +171,8 @@ def _print(system, payload) -> None:
     if "over_motion" in payload:
         over = payload["over_motion"]
 
-        def time(seconds: float) -> str:  # in the scene's output units
-            value, unit = in_output_units(seconds, "s", system.output_units)
-            return f"{format_number(value, 6)} {unit}"
+        def time(entry: dict) -> str:  # already in the scene's output units
+            return f"{format_number(entry['value'], 6)} {entry['unit']}"
 
         print()
         print(f"least friction coefficient over the motion to t = {time(over['t_end'])} "

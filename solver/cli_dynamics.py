@@ -245,12 +245,12 @@ def _simulate_multibody(args, system, t_end) -> int:
     res = simulate_system(system, t_end, method=args.ivp_method, rtol=args.rtol, atol=args.atol, mu=args.mu,
                           samples=args.samples)
     if args.out is not None:
-        write_motion_csv(res, args.out)
+        write_motion_csv(res, args.out, system.output_units)
     if args.animate is not None:
         _animate(args, system, res.t, [res.columns[c.name][0] for c in system.free],
                  [res.columns[f"{c.name}_dot"][0] for c in system.free])
     if args.json:
-        payload = {"scene": system.name, **to_output_units(res.to_dict(), system.output_units)}
+        payload = {"scene": system.name, **to_output_units(res.to_dict(system.output_units), system.output_units)}
         if args.out is not None:
             payload["out"] = str(args.out)
         print_json(payload)
@@ -274,7 +274,8 @@ def _simulate_multibody(args, system, t_end) -> int:
     if res.energy_drift is not None:
         print(f"\nenergy drift over the run: {format_number(res.energy_drift, 3)} (of the largest kinetic energy)")
     if args.out is not None:
-        print(f"\ntime history written to {args.out} (SI units)")
+        units = ", ".join(f"{n} [{u}]" for n, u in res.to_dict(system.output_units)["columns"].items())
+        print(f"\ntime history written to {args.out} (columns in the scene's output units: {units})")
     return 0
 
 
@@ -303,12 +304,12 @@ def simulate_command(args: argparse.Namespace) -> int:
     res = simulate(system, t_end, y0=state_si(scene), method=args.ivp_method, rtol=args.rtol, atol=args.atol,
                    mu=args.mu, samples=args.samples, progress=args.progress)
     if args.out is not None:
-        write_csv(res, args.out)
+        write_csv(res, args.out, scene.output_units)
     if args.animate is not None:
         _animate(args, scene, res.t, [res.theta], [res.theta_dot])
     if args.json:
         payload = {"scene": scene.name}
-        payload.update(to_output_units(res.to_dict(), scene.output_units))  # "columns" (the CSV) stay SI
+        payload.update(to_output_units(res.to_dict(scene.output_units), scene.output_units))
         if args.out is not None:
             payload["out"] = str(args.out)
         print_json(payload)
@@ -336,8 +337,8 @@ def simulate_command(args: argparse.Namespace) -> int:
                   else "not applicable (the loads depend on time or rate: they do work)")
     print(f"energy drift (relative to the largest kinetic energy): {drift_text}   samples: {res.t.size}")
     if args.out is not None:
-        units = ", ".join(f"{n} [{u}]" for n, u in res.to_dict()["columns"].items())
-        print(f"wrote {args.out} (SI columns: {units})")
+        units = ", ".join(f"{n} [{u}]" for n, u in res.to_dict(scene.output_units)["columns"].items())
+        print(f"wrote {args.out} (columns in the scene's output units: {units})")
     return 0
 
 
@@ -481,7 +482,10 @@ def precision_command(args: argparse.Namespace) -> int:
                for p in which]
     regimes = ({j.name: j.current_regime.label for j in system.contacts} if system is not scene else {})
     if args.json:
-        print_json({"scene": scene.name, "point": d.point, "method": d.method,
+        from solver.formulations import point_entries, shown_point
+
+        print_json({"scene": scene.name, **point_entries(d.method, shown_point(system, d.method, args.point)),
+                    "method": d.method,
                     "condition_number": results[0].condition_number,
                     **({"regime": regimes} if regimes else {}),
                     "solutions": {r.precision: r.to_dict() for r in results}})
@@ -491,7 +495,8 @@ def precision_command(args: argparse.Namespace) -> int:
         print("contacts in the regime that holds at the state (as `solve` finds it): "
               + ", ".join(f"{j}: {r}" for j, r in regimes.items())
               + "; a sliding contact's friction (-mu_k N) and a separated one's forces (0) are not unknowns here")
-    print(f"condition number of the linear system (2-norm): {results[0].condition_number:.6g} "
+    print(f"condition number of the linear system (exact; 1-norm, rows and columns equilibrated, so unit-free; "
+          f"`solve` prints an estimate of it): {results[0].condition_number:.6g} "
           f"(float64 relative error bound ~ {results[0].condition_number * 2.2e-16:.2g})")
     for r in results:
         print()

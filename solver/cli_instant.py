@@ -113,24 +113,26 @@ def solve_command(args: argparse.Namespace) -> int:
     >>> status, [abs(unknowns[n]["value"] - published[f"eq30-{n}"]["value"]) <= tol[n] for n in ("alpha", "R_A", "R_B")]
     (0, [True, True, True])
     """
+    from solver.formulations import point_entries, point_text
+
     system = load_scene_from_args(args)
     solution = derivation.solve_instant(system, args.point, args.method)
     result = solution.to_dict(system.output_units)
     unknowns = result["unknowns"]
     check_finite({name: entry["value"] for name, entry in unknowns.items()}, _where(system))
     if "indeterminate" not in result:
-        check_finite({"condition number": result["condition_number"]}, _where(system))
+        check_finite({"condition number estimate": result["condition_number_estimate"]}, _where(system))
     if args.json:
         payload = {
             "scene": system.name,
-            "point": solution.point,
+            **point_entries(solution.method, solution.point),
             "method": solution.method,
             "unknowns": unknowns,
-            "condition_number": result["condition_number"],
+            "condition_number_estimate": result["condition_number_estimate"],
         }
         for key in ("regime", "indeterminate", "warning"):
             if key in result:
-                payload[key] = result[key]
+                payload[key] = to_output_units(result[key], system.output_units)
         if system.dependent or system.time_dependent or "regime" in result:  # the solved state is part of the answer
             payload["state"] = _state_payload(system, solution.state)
         print_json(payload)
@@ -141,7 +143,7 @@ def solve_command(args: argparse.Namespace) -> int:
     print(f"scene   {system.name}  ({_where(system)})")
     timed = any(_has_time(a, system) for a in system.applied_loads)
     print(f"state   {state_text(system, solution.state)}" + ("   (loads taken at the scene's time)" if timed else ""))
-    print(f"point   {solution.point}   method  {solution.method}")
+    print(f"method  {solution.method}   point  {point_text(solution.method, solution.point)}")
     print()
     print(format_table(("name", "value", "unit"), rows, align="lrl"))
     print()
@@ -153,7 +155,8 @@ def solve_command(args: argparse.Namespace) -> int:
     if "indeterminate" in result:
         print(f"statically indeterminate: {result['indeterminate']}")
     else:
-        print(f"condition number of the system (rows and columns equilibrated, so unit-free): {format_number(result['condition_number'], 3)}")
+        print("condition number estimate of the system (1-norm, rows and columns equilibrated, so unit-free; a lower "
+              f"bound, `precision` gives the exact value): {format_number(result['condition_number_estimate'], 3)}")
     if "warning" in result:
         print(f"warning: {result['warning']}")
     if "alpha" in unknowns:
@@ -210,6 +213,8 @@ def kinematics_command(args: argparse.Namespace) -> int:
 
 
 def eom_command(args: argparse.Namespace) -> int:
+    from solver.formulations import point_text, shown_point
+
     system = load_scene_from_args(args)
     if len(system.free) != 1 or system.closure:
         return _eom_multi(args, system)
@@ -224,23 +229,10 @@ def eom_command(args: argparse.Namespace) -> int:
     at_state = _reactions_at_state(system, d)
     q = system.free[0].name
     text = _printer()
+    shown = shown_point(system, d.method, args.point)
     if args.json:
-        print_json(
-            {
-                "scene": system.name,
-                "point": d.point,
-                "method": d.method,
-                "coordinate": q,
-                "eom": text(eom),
-                "mass": text(mass),
-                "kinetic_energy": text(d.kinetic_energy),
-                "potential_energy": text(d.potential_energy),
-                "generalized_force": text(d.generalized_force),
-                "reactions": {name: text(expr) for name, expr in reactions.items()},
-                "reaction_units": dict(d.reaction_units),
-                "reactions_at_state": at_state,
-            }
-        )
+        print_json(_eom_payload(system, d.method, shown, [q], [eom], [[mass]], d.kinetic_energy, d.potential_energy,
+                                {q: d.generalized_force}, reactions, at_state, text))
         return 0
     if args.latex:
         names = _latex_names(system)
@@ -248,7 +240,8 @@ def eom_command(args: argparse.Namespace) -> int:
         def latex(expr: sp.Expr) -> str:
             return sp.latex(expr, symbol_names=names)
 
-        print(f"% {system.name}: equation of motion (about {d.point}, {d.method}); reactions eliminated")
+        about = f"about {shown}, " if shown is not None else ""
+        print(f"% {system.name}: equation of motion ({about}{d.method}); reactions eliminated")
         print(f"{latex(eom)} = 0")
         print(f"% generalized mass M({q})")
         print(f"M = {latex(mass)}")
@@ -257,7 +250,7 @@ def eom_command(args: argparse.Namespace) -> int:
             print(f"{sp.latex(sp.Symbol(name))} = {latex(expr)}")
         return 0
     print(f"scene   {system.name}  ({_where(system)})")
-    print(f"point   {d.point}   method  {d.method}")
+    print(f"method  {d.method}   point  {point_text(d.method, shown)}")
     print()
     print(f"equation of motion ({q}_ddot is the second derivative of {q}):")
     print(f"  {text(eom)} = 0")
@@ -266,17 +259,43 @@ def eom_command(args: argparse.Namespace) -> int:
     print(f"  M = {text(mass)}")
     print()
     print("reactions as functions of the state (SI parameters give SI values), and their values at the state:")
-    from solver.display import _size
+    from solver.display import tree_size
 
     for name, expr in reactions.items():
         entry = at_state[name]
-        nodes = _size(expr)
+        nodes = tree_size(expr)
         if nodes > DISPLAY_MAX_NODES:  # thousands of characters: a screenful nobody reads
             print(f"  {name} = (a closed form of {nodes} nodes, too long to read here; --json and --latex print it)")
         else:
             print(f"  {name} = {text(expr)}")
         print(f"      = {format_number(entry['value'])} {entry['unit']} at the state")
     return 0
+
+
+def _eom_payload(system, method, point, coordinates, eqs, mass, kinetic, potential, forces, reactions, at_state,
+                 text) -> dict:
+    """The one schema of ``eom --json``, whatever the number of freedoms: ``eom`` (one expression
+    == 0 per independent coordinate, in the order of ``coordinates``), ``mass`` (the matrix of
+    their coefficients of the independent accelerations: the generalized mass), the energies,
+    ``generalized_forces`` by coordinate, ``reactions`` (closed forms; null where none is derived,
+    with several freedoms or a loop) and each reaction's value at the state. Expressions are SI
+    (``expression_units``); ``reaction_units`` and ``reactions_at_state`` are the scene's output
+    units, as everywhere else."""
+    from solver.formulations import point_entries
+
+    return {
+        "scene": system.name, **point_entries(method, point), "method": method,
+        "coordinates": list(coordinates), "dependent": [c.name for c in system.dependent],
+        "eom": [text(e) for e in eqs],
+        "mass": [[text(m) for m in row] for row in mass],
+        "kinetic_energy": text(kinetic), "potential_energy": text(potential),
+        "generalized_forces": {name: text(q) for name, q in forces.items()},
+        "expression_units": "SI: the expressions give SI values from SI values of the parameters, "
+                            "coordinates and rates",
+        "reactions": None if reactions is None else {name: text(expr) for name, expr in reactions.items()},
+        "reaction_units": {name: entry["unit"] for name, entry in at_state.items()},
+        "reactions_at_state": at_state,
+    }
 
 
 def _printer():
@@ -307,13 +326,18 @@ def _eom_multi(args, system) -> int:
         shown = [_tidy_multi(e, system) for e in eqs]
     text = _printer()
     if args.json:
-        print_json({"scene": system.name, "point": ",".join(f"{b}:{p}" for b, p in f.points.items()),
-                    "method": f.method, "coordinates": [c.name for c in coords],
-                    "dependent": [c.name for c in system.dependent],
-                    "eom": [text(e) for e in shown],
-                    "kinetic_energy": text(system.kinetic_energy()),
-                    "potential_energy": text(system.potential_energy()),
-                    "generalized_forces": [text(q) for q in system.generalized_forces()]})
+        from solver.analyses.instant import solve_instant
+        from solver.formulations import shown_point
+
+        tidied = (lambda m: m) if system.closure else (lambda m: _display_form(m, _tidy_display))  # as `shown`
+        mass = [[tidied(sp.diff(e, u.qdd)) for u in coords] for e in eqs]
+        solution = solve_instant(system, args.point, args.method)
+        at_state = {r.name: to_output_units(quantity_entry(solution.unknowns[r.name]), system.output_units)
+                    for r in system.reactions}
+        forces = dict(zip((c.name for c in system.free), system.generalized_forces()))
+        print_json(_eom_payload(system, f.method, shown_point(system, f.method, args.point), [c.name for c in coords],
+                                shown, mass, system.kinetic_energy(), system.potential_energy(), forces, None,
+                                at_state, text))
         return 0
     if args.latex:
         names = {}
@@ -555,14 +579,15 @@ def _modes_command(args, system) -> int:
     omega_unit, period_unit = output_unit("rad/s", units), output_unit("s", units)
     rows = []
     for i, m in enumerate(payload["modes"], 1):
-        shape = ", ".join(f"{k}: {format_number(v, 4)}" for k, v in m["shape"].items())
+        shape = ", ".join(f"{k}: {format_number(v['value'], 4)} {v['unit']}" for k, v in m["shape"].items())
         period = m["period"]["value"]
         rows.append((str(i), format_number(m["omega_n"]["value"]), format_number(m["frequency"]["value"]),
                      "-" if period is None or not math.isfinite(period) else format_number(period), shape))
     print(format_table(("mode", f"omega_n [{omega_unit}]", "f [Hz]", f"period [{period_unit}]", "shape"), rows,
                        align="rrrrl"))
+    print("\na shape gives the coordinates' amplitudes relative to one another, each in its own unit.")
     if any(m.omega == 0 for m in result.modes):
-        print("\na mode with omega_n = 0 is a neutral direction: nothing restores it.")
+        print("a mode with omega_n = 0 is a neutral direction: nothing restores it.")
     return 0
 
 

@@ -22,7 +22,7 @@ from sympy.core.mul import _keep_coeff
 from .tree_value import DOUBLE, NotEvaluable, tree_value
 
 __all__ = ["reduce_trig", "numerator_reduces_to_zero", "tidy", "tidy_fraction", "tidy_linear", "is_identically_zero",
-           "MAX_TIDY_NODES"]
+           "tree_size", "MAX_TIDY_NODES"]
 
 MAX_CANCEL_NODES = 120
 """Above this size a single fraction of polynomials is not passed through ``cancel`` (the common
@@ -339,7 +339,7 @@ def _reduce_denominators(e: sp.Expr) -> sp.Expr:
     return _replace_powers(e, _is_trig_denominator, lambda x: _reduce_poly(x.base) ** x.exp)
 
 
-def _size(e: sp.Expr) -> int:
+def tree_size(e: sp.Expr) -> int:
     """Number of nodes of the expression tree (a cheap stand-in for ``count_ops``; the count of
     ``sympy.preorder_traversal``, by a walk with a list for a stack)."""
     n, stack = 0, [e]
@@ -412,7 +412,7 @@ def tidy(expr: sp.Expr) -> sp.Expr:
     nested trigonometric arguments with only common factors pulled out.
     """
     e = sp.sympify(expr)
-    if e.is_number or _plain_monomial(e) or _size(e) > MAX_TIDY_NODES:
+    if e.is_number or _plain_monomial(e) or tree_size(e) > MAX_TIDY_NODES:
         return e
     return _tidy_general(e)
 
@@ -439,7 +439,7 @@ def _tidy_general(e: sp.Expr) -> sp.Expr:
     if not _angles_ok(e):
         return sp.factor_terms(e)
     monomial = _monomial_denominators(e)
-    small = _size(e) <= MAX_CANCEL_NODES
+    small = tree_size(e) <= MAX_CANCEL_NODES
     if not monomial and small:  # common factors out (cheap when small)
         num, den = _single_term_fraction(e) or sp.fraction(sp.cancel(_together(e)))
     else:

@@ -120,6 +120,8 @@ def to_output_units(payload: Any, units: Mapping[str, str] | None) -> Any:
 
 
 def _scaled(value: Any, factor: float) -> Any:
+    if getattr(value, "ndim", 0):  # a numpy array (a column of samples): scaled as a whole
+        return value * factor
     if isinstance(value, (list, tuple)):
         return [_scaled(v, factor) for v in value]
     return None if value is None else float(value) * factor
@@ -131,4 +133,11 @@ def in_output_units(value: Any, unit: str, units: Mapping[str, str] | None) -> t
     return entry["value"], entry["unit"]
 
 
-__all__ = ["output_unit", "to_output_units", "in_output_units"]
+def columns_in_output_units(columns: Mapping[str, tuple[Any, str]], units: Mapping[str, str] | None
+                            ) -> dict[str, tuple[Any, str]]:
+    """Columns of samples ``name -> (values, SI unit)`` (a time history) as every output prints
+    them: each converted by :func:`in_output_units`, with the unit it is then in."""
+    return {name: in_output_units(values, unit, units) for name, (values, unit) in columns.items()}
+
+
+__all__ = ["output_unit", "to_output_units", "in_output_units", "columns_in_output_units"]

@@ -16,8 +16,11 @@ for plus 15, and the exact answer is exact at those values. This module solves i
 * ``"mpmath"``: mpmath at ``dps`` significant digits, parameters from the
   same exact values.
 
-and reports the condition number of A (2-norm, float64), which bounds the
-relative error of the float64 answer by about cond(A) * 2.2e-16.
+and reports the condition number of A (float64): exactly, the one whose cheap estimate
+``solve`` prints (:func:`solver.analyses.instant.condition_numbers`: 1-norm, rows and
+columns equilibrated, so that it does not depend on the units). It bounds the relative
+error of the float64 answer, each unknown measured against its column's scale, by about
+cond(A) * 2.2e-16.
 """
 from __future__ import annotations
 
@@ -30,6 +33,7 @@ import numpy as np
 import pint
 import sympy as sp
 
+from .analyses.instant import condition_numbers
 from .errors import InputError, SingularConfigurationError
 from .strprint import lambdify
 
@@ -160,7 +164,8 @@ class PreciseSolution:
     text : dict[str, str]
         Each value printed to ``dps`` digits (the exact expression's value).
     condition_number : float
-        2-norm condition number of A (float64).
+        The exact condition number of A (float64; 1-norm, rows and columns equilibrated,
+        :func:`solver.analyses.instant.condition_numbers`).
     float64_error : dict[str, float]
         |float64 - this| / |this| per unknown (0 for the float64 solve).
     units : dict[str, str]
@@ -261,8 +266,7 @@ def solve_precise(derivation: Any, precision: str = "float64", dps: int = 50,
         out = fA(*fvals)
     Af = np.array(out[:-1], dtype=float)
     bf = np.array(out[-1], dtype=float)
-    with np.errstate(all="ignore"):
-        cond = float(np.linalg.cond(Af)) if np.all(np.isfinite(Af)) else math.inf
+    cond = float(condition_numbers(Af[None])[0])  # the exact one, as `solve` estimates it
     if not math.isfinite(cond) or cond > 1e16:
         raise SingularConfigurationError(f"{where} (condition number {cond:.3g})")
     xf = np.linalg.solve(Af, bf)

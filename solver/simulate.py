@@ -29,7 +29,7 @@ import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 from types import SimpleNamespace
-from typing import Any, Callable
+from typing import Any, Callable, Mapping
 
 import numpy as np
 import sympy as sp
@@ -156,8 +156,9 @@ class SimulationResult:
             return 0.0
         return change / self.kinetic_max if self.kinetic_max > 0 else None  # never moved: no scale
 
-    def columns(self) -> dict[str, tuple[np.ndarray, str]]:
-        """Ordered columns name -> (values, unit) as written to CSV."""
+    def columns(self, units: Mapping[str, str] | None = None) -> dict[str, tuple[np.ndarray, str]]:
+        """Ordered columns name -> (values, unit) as written to CSV: SI, or in the units of a
+        scene's ``[output_units]`` (:func:`solver.output_units.columns_in_output_units`)."""
         cols = {
             "t": (self.t, "s"),
             "theta": (self.theta, "rad"),
@@ -168,10 +169,15 @@ class SimulationResult:
         for name, values in self.reactions.items():
             cols[name] = (values, self.reaction_units.get(name, "N"))
         cols["energy"] = (self.energy, "J")
+        if units:
+            from .output_units import columns_in_output_units
+
+            return columns_in_output_units(cols, units)
         return cols
 
-    def to_dict(self) -> dict:
-        """Summary for ``--json``: final state, reason, counts."""
+    def to_dict(self, units: Mapping[str, str] | None = None) -> dict:
+        """Summary for ``--json``: final state, reason, counts, and the unit of each column of the
+        samples (SI, or as ``units``, a scene's ``[output_units]``, makes them: as the CSV has them)."""
         out = {
             "status": self.status,
             "reason": self.reason,
@@ -184,7 +190,7 @@ class SimulationResult:
             "atol": self.atol,
             "nfev": self.nfev,
             "samples": int(self.t.size),
-            "columns": {name: unit for name, (_, unit) in self.columns().items()},
+            "columns": {name: unit for name, (_, unit) in self.columns(units).items()},
         }
         if self.event is not None:
             out["event"] = {
@@ -201,21 +207,19 @@ class SimulationResult:
                 f"samples={self.t.size}, method={self.method!r}, reason={self.reason!r})")
 
 
-def write_csv(result: SimulationResult, path: str | os.PathLike) -> Path:
+def write_csv(result: SimulationResult, path: str | os.PathLike, units: Mapping[str, str] | None = None) -> Path:
     """Write the samples as CSV, atomically (temporary file in the same folder, then rename).
 
-    The header row holds the plain column names (``t, theta, theta_dot,
-    theta_ddot, alpha, <reactions...>, energy``) so that tools can address
-    columns by name; every value is SI: t [s], theta [rad], theta_dot [rad/s],
-    theta_ddot and alpha [rad/s^2], reactions [N or N m as
-    ``SimulationResult.reaction_units``], energy [J]
-    (:meth:`SimulationResult.columns` lists them).
+    The header row names each column with its unit, ``name [unit]`` (``t [s], theta [rad],
+    theta_dot [rad/s], theta_ddot [rad/s**2], alpha [rad/s**2], <reactions...>, energy [J]``),
+    as :func:`solver.analyses.motion.write_motion_csv` does; the values are SI, or in the units
+    ``units`` (a scene's ``[output_units]``) makes them (:meth:`SimulationResult.columns`).
     """
-    cols = result.columns()
+    cols = result.columns(units)
 
     def write(fh) -> None:
         w = csv.writer(fh)
-        w.writerow(list(cols))
+        w.writerow([f"{name} [{unit}]" for name, (_, unit) in cols.items()])
         data = np.column_stack([v for v, _ in cols.values()])
         for row in data:
             w.writerow([repr(float(x)) for x in row])

@@ -85,7 +85,7 @@ def test_solve_json_sliding_bar_matches_published_eq30(capsys: pytest.CaptureFix
     status, out, err = run_main(capsys, "solve", str(SLIDING_BAR), "--json")
     assert status == 0, err
     result = json.loads(out)
-    assert set(result) == {"scene", "point", "method", "unknowns", "condition_number"}
+    assert set(result) == {"scene", "point", "method", "unknowns", "condition_number_estimate"}
     assert result["point"] == "A" and result["method"] == "generalized_euler"
     unknowns = result["unknowns"]
     published = _published()
@@ -96,7 +96,7 @@ def test_solve_json_sliding_bar_matches_published_eq30(capsys: pytest.CaptureFix
     assert unknowns["alpha"]["unit"] == "rad/s**2"
     assert unknowns["R_A"]["unit"] == unknowns["R_B"]["unit"] == "lbf"
     assert unknowns["theta_ddot"]["value"] == pytest.approx(-unknowns["alpha"]["value"], rel=1e-12)
-    assert math.isfinite(result["condition_number"]) and result["condition_number"] >= 1
+    assert math.isfinite(result["condition_number_estimate"]) and result["condition_number_estimate"] >= 1
 
 
 @pytest.mark.parametrize(
@@ -109,9 +109,34 @@ def test_solve_any_point_and_method_matches_published(
     status, out, err = run_main(capsys, "solve", str(SLIDING_BAR), "--point", point, "--method", method, "--json")
     assert status == 0, err
     result = json.loads(out)
-    assert result["point"] == point and result["method"] == method
+    # the mass-centre and Lagrange routes use no reference point: they say so rather than echo --point
+    shown = point if method == "generalized_euler" else None
+    assert result["point"] == shown and result["method"] == method
+    assert ("point_note" in result) == (shown is None)
     for name, entry in _published().items():
         assert result["unknowns"][name]["value"] == pytest.approx(entry["value"], abs=_tolerance(name))
+
+
+@pytest.mark.parametrize("method", ["mass_center", "lagrange"])
+def test_a_route_without_reference_point_does_not_echo_point(capsys: pytest.CaptureFixture[str], method: str) -> None:
+    """`--point` with a route that takes no moments about P (mass_center: about each G; lagrange: no
+    moment equation) is checked but not used: every output that names the point says null with the
+    route's note, in JSON and text alike (solve, eom of a one- and a two-freedom scene, precision),
+    and a point the body does not have is still refused."""
+    double = str(ROOT / "data" / "scenes" / "double_pendulum.toml")
+    for argv in (["solve", str(SLIDING_BAR), "--point", "B"], ["eom", str(SLIDING_BAR), "--point", "B"],
+                 ["eom", double, "--point", "lower:A"], ["precision", str(SLIDING_BAR), "--point", "B"]):
+        status, out, err = run_main(capsys, *argv, "--method", method, "--json")
+        assert status == 0, err
+        result = json.loads(out)
+        assert result["point"] is None and result["method"] == method, argv
+        assert method in result["point_note"] and "not used" in result["point_note"]
+    for argv in (["solve", str(SLIDING_BAR), "--point", "B"], ["eom", str(SLIDING_BAR), "--point", "B"]):
+        status, out, err = run_main(capsys, *argv, "--method", method)
+        assert status == 0, err
+        assert f"point  none ({method} " in out and "point  B" not in out
+    status, out, err = run_main(capsys, "solve", str(SLIDING_BAR), "--point", "Z", "--method", method, "--json")
+    assert status == 2 and "'Z'" in err and out == ""
 
 
 @pytest.mark.parametrize("theta_dot", [0.0, 1.5])
@@ -150,6 +175,39 @@ def test_solve_table_is_readable(capsys: pytest.CaptureFixture[str]) -> None:
 # -- Example 2: eom and frequency --------------------------------------------------------------
 
 
+def test_eom_json_has_one_schema_in_output_units(capsys: pytest.CaptureFixture[str]) -> None:
+    """`eom --json` gives the same keys, of the same types, for one freedom (Example 1, in lbm/ft) and
+    for two (the double pendulum); the units it names for the reactions are those of the values it
+    prints (the scene's lbf), not SI. Reference for `mass`: d2T/(dqd_i dqd_j) of the kinetic energy
+    the same output prints, parsed back and compared exactly after expand/trigsimp."""
+    double = str(ROOT / "data" / "scenes" / "double_pendulum.toml")
+    payloads = {}
+    for scene in (str(SLIDING_BAR), double):
+        status, out, err = run_main(capsys, "eom", scene, "--json")
+        assert status == 0, err
+        payloads[scene] = json.loads(out)
+    bar, pendulum = payloads[str(SLIDING_BAR)], payloads[double]
+    assert list(bar) == list(pendulum)
+    for key in bar:
+        if bar[key] is not None and pendulum[key] is not None:
+            assert type(bar[key]) is type(pendulum[key]), key
+    assert bar["reaction_units"] == {"R_A": "lbf", "R_B": "lbf"}
+    assert {n: e["unit"] for n, e in bar["reactions_at_state"].items()} == bar["reaction_units"]
+    assert "SI" in bar["expression_units"]
+    assert pendulum["coordinates"] == ["theta1", "theta2"] and len(pendulum["eom"]) == 2
+    assert set(pendulum["reactions_at_state"]) == {"O_x", "O_y", "A_x", "A_y"} and pendulum["reactions"] is None
+    names = {n: sp.Symbol(n, real=True) for n in ("m1", "m2", "l1", "l2", "g", "theta1", "theta2", "theta1_dot",
+                                                   "theta2_dot", "theta1_ddot", "theta2_ddot")}
+    T = parse_expression(pendulum["kinetic_energy"], names, "kinetic_energy")
+    rates = [names["theta1_dot"], names["theta2_dot"]]
+    for i, row in enumerate(pendulum["mass"]):
+        for j, entry in enumerate(row):
+            M = parse_expression(entry, names, "mass")
+            assert sp.trigsimp(sp.expand(M - sp.diff(T, rates[i], rates[j]))) == 0, (i, j)
+
+
+
+
 def _disk_symbols() -> dict[str, sp.Symbol]:
     names = ["m_d", "r_d", "m_b", "l_b", "g", "F_a", "theta", "theta_dot", "theta_ddot", "t"]
     return {n: sp.Symbol(n, real=True) for n in names}
@@ -161,7 +219,8 @@ def test_eom_json_disk_bar_is_corrected_eq44(capsys: pytest.CaptureFixture[str])
     result = json.loads(out)
     names = _disk_symbols()
     # Read our own output back with the whitelist parser (no sympify).
-    eom = parse_expression(result["eom"], names, "eom --json")
+    assert result["coordinates"] == ["theta"]
+    eom = parse_expression(result["eom"][0], names, "eom --json")
     m_d, r_d, m_b, l_b, g, F_a, th, thd, thdd = (names[n] for n in
                                                   ["m_d", "r_d", "m_b", "l_b", "g", "F_a", "theta", "theta_dot", "theta_ddot"])
     eq44 = (

@@ -79,7 +79,7 @@ def test_eom_mass_is_the_generalized_mass_of_the_kinetic_energy(capsys):
         system = load_system(path)
         c = system.free[0]
         names = {**system.symbols, c.name: c.q, f"{c.name}_dot": c.qd, "t": system.t}
-        shown = parse_expression(payload["mass"], names, where=scene)
+        shown = parse_expression(payload["mass"][0][0], names, where=scene)
         assert is_identically_zero(sp.expand(shown - sp.diff(system.kinetic_energy(), c.qd, 2)))
 
 
@@ -173,9 +173,9 @@ def test_a_plain_monomial_is_left_as_it_is():
 
 
 def test_the_tree_walks_are_sympys():
-    """_nodes and _size walk the tree with a list for a stack: the same nodes as sympy's atoms and
+    """_nodes and tree_size walk the tree with a list for a stack: the same nodes as sympy's atoms and
     the same count as preorder_traversal, on expressions with shared and nested subtrees."""
-    from solver.display import _nodes, _size
+    from solver.display import _nodes, tree_size
 
     rng = random.Random(5)
     pieces = [s, c, s**2, 1 / c, sp.sin(beta) ** 3, g, m / 2, sp.sqrt(g * m), (g + m) ** -2]
@@ -184,7 +184,7 @@ def test_the_tree_walks_are_sympys():
         e = e / (1 + rng.choice(pieces)) if rng.random() < 0.5 else e
         assert _nodes(e, sp.Pow) == e.atoms(sp.Pow)
         assert _nodes(e, (sp.sin, sp.cos)) == e.atoms(sp.sin, sp.cos)
-        assert _size(e) == sum(1 for _ in sp.preorder_traversal(e))
+        assert tree_size(e) == sum(1 for _ in sp.preorder_traversal(e))
 
 
 def test_terms_by_power_of_the_rate_as_collect():
@@ -278,3 +278,24 @@ def test_the_denominator_reduction_is_replaces():
         e = sp.Add(*[rng.choice([g, m * s, c**3]) * rng.choice(dens) ** -rng.randint(1, 2) for _ in range(3)])
         expected = e.replace(_is_trig_denominator, lambda x: _reduce_poly(x.base) ** x.exp)
         assert _reduce_denominators(e) == expected
+
+
+def test_other_modules_use_only_the_public_names_of_display():
+    """solver.display is used by the commands and the report through its public names (those in
+    its ``__all__``): a private helper imported elsewhere would be a second, unannounced interface.
+    Every ``from ... display import NAME`` in solver/ and reports/ is checked, read by ``ast``."""
+    import ast
+    from pathlib import Path
+
+    import solver.display as display
+
+    root = Path(__file__).resolve().parents[1]
+    found = []
+    for path in sorted([*root.glob("solver/**/*.py"), *root.glob("reports/**/*.py")]):
+        if path.name == "display.py" and path.parent.name == "solver":
+            continue
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.ImportFrom) and (node.module or "").split(".")[-1] == "display":
+                found += [(path.name, a.name) for a in node.names]
+    assert found, "no module imports from solver.display: the scan is broken"
+    assert [(f, n) for f, n in found if n not in display.__all__] == []

@@ -340,3 +340,36 @@ def test_the_command_line_starts_without_matplotlib():
         top = [n for n in tree.body if isinstance(n, (ast.Import, ast.ImportFrom))]
         names = [a.name for n in top for a in n.names] + [n.module or "" for n in top if isinstance(n, ast.ImportFrom)]
         assert not any(n.split(".")[0] in ("matplotlib", "PIL") or n.endswith("render") for n in names), module
+
+
+@pytest.mark.parametrize("name, zeros", [("drum_and_block", {"axle_x", "N_guide"}), ("ladder_leaves_wall", {"N_top"})])
+def test_a_zero_force_is_a_label_not_an_arrow(name, zeros):
+    """A reaction that is zero at the state has no direction to show: its free-body diagram draws
+    no arrow for it (once a faint arrow along its positive sense, which reads as a force) and lists
+    it in its label as zero. Checked on the rendered panels: no arrow has an end at the force's
+    point and lies along its line (another force at the same point, such as axle_y beside axle_x,
+    lies across it); the label `NAME = 0 UNIT` is on the panel."""
+    import matplotlib.pyplot as plt
+    from matplotlib.patches import FancyArrowPatch
+
+    system = load_system(ROOT / "data" / "scenes" / f"{name}.toml")
+    drawing = draw_system(system, fbd=True)
+    try:
+        zero = [i for i in drawing.items if i.kind == "force" and i.direction is None and i.name in zeros]
+        assert {i.name for i in zero} == zeros  # the premise: these are the scene's zero reactions
+        panels = dict(zip(drawing.panels, drawing.figure.axes))
+        for item in zero:
+            ax = panels[item.body]
+            assert f"{item.name} = 0 {item.unit}" in {t.get_text() for t in ax.texts}
+            positive = np.asarray(item.shape["positive"], float)
+            for patch in ax.patches:
+                if not (isinstance(patch, FancyArrowPatch) and getattr(patch, "_posA_posB", None)):
+                    continue
+                a, b = (np.asarray(p, float) for p in patch._posA_posB)
+                along = b - a
+                # ends within 1e-9 of the panel's size (round-off), direction within 1e-6 rad
+                at_point = min(np.hypot(*(a - item.anchor)), np.hypot(*(b - item.anchor))) <= 1e-9 * np.hypot(*along)
+                parallel = abs(along[0] * positive[1] - along[1] * positive[0]) <= 1e-6 * np.hypot(*along)
+                assert not (at_point and parallel), f"{name}: {item.name} is drawn as an arrow"
+    finally:
+        plt.close(drawing.figure)

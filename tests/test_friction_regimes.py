@@ -537,3 +537,25 @@ def test_critical_value_of_a_pure_number_prints_no_unit(solver_cli):
     assert code == 0, err
     assert "motion from rest as mu_A goes from 0.05 to 2:" in text
     assert re.search(r"^  mu_A = [0-9.]+: ", text, flags=re.M)
+
+
+def test_friction_json_names_the_units_of_times_and_forces(solver_cli, tmp_path):
+    """`friction --over --json` gives every time and force as {value, unit} in the scene's output
+    units, as its text does: the incline disk with [output_units] time in ms and force in lbf.
+    Reference, rolling from rest on the incline (beta = 30 deg): N = m g cos(beta) and
+    |F| = m g sin(beta) / 3 (a solid disk), in lbf by its definition (4.4482216152605 N exactly)."""
+    scene = tmp_path / "incline_disk_us.toml"
+    scene.write_text(open("data/scenes/incline_disk.toml").read()
+                     + '\n[output_units]\ntime = "ms"\nforce = "lbf"\n')
+    out = _json(solver_cli, "friction", str(scene), "--set", "mu=10", "--over", "0.5", "--json")
+    over = out["over_motion"]
+    assert over["t_end"] == {"value": pytest.approx(500.0, rel=1e-12), "unit": "ms"}
+    assert over["least_mu"]["incline"]["at_t"]["unit"] == "ms"
+    assert 0 <= over["least_mu"]["incline"]["at_t"]["value"] <= 500.0
+    check = out["at_state"]["regime"]["incline"]
+    m, g, beta, lbf = 3.0, 9.80665, math.radians(30.0), 4.4482216152605
+    assert check["normal_force"]["unit"] == check["friction_force"]["unit"] == "lbf"
+    assert check["normal_force"]["value"] == pytest.approx(m * g * math.cos(beta) / lbf, rel=REL)
+    assert abs(check["friction_force"]["value"]) == pytest.approx(m * g * math.sin(beta) / 3 / lbf, rel=REL)
+    text = solver_cli("friction", str(scene), "--set", "mu=10", "--over", "0.5")[1]
+    assert "to t = 500 ms" in text

@@ -19,7 +19,7 @@ Every route of the product (``--method``), several reference points
 (:func:`assert_matches`): 1e-10 relative per entry, plus an absolute floor of
 1e-12 of the largest entry of the same unit. Why: each answer is one linear
 solve of a system whose (equilibrated) condition number is below 1e3 at all
-the states used here (checked: ``condition_number`` in the answers), so
+the states used here (checked: ``condition_number_estimate`` in the answers), so
 double-precision round-off leaves ~1e3 * 2.2e-16 * (largest entry) ~ 1e-13 of
 the largest entry in every entry, and the dependent coordinates are solved by Newton to a
 residual of 1e-13; 1e-10 is therefore well above what a correct solver
@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 from functools import lru_cache
 from pathlib import Path
 
@@ -375,7 +376,7 @@ def test_command_line_agrees_with_independent_route(solver_cli, scene, method, p
     assert code == 0, err
     payload = json.loads(out)
     assert payload["method"] == method
-    assert payload["condition_number"] < 1e2  # the premise of the tolerance (module docstring)
+    assert payload["condition_number_estimate"] < 1e2  # the premise of the tolerance (module docstring)
     state, ref = reference(scene, overrides)
     assert_matches(from_json(payload), ref, f"{scene} {method} {point} {overrides}")
     if state is not None:  # the dependent coordinates and rates, solved by the product
@@ -608,3 +609,27 @@ def test_crank_angle_as_a_prescribed_coordinate(solver_cli, tmp_path):
     assert code == 0, err
     state, ref = slider_crank_ref(params("slider_crank"), 0.004)
     assert_matches(from_json(json.loads(out)), ref, "prescribed theta")
+
+
+def test_cart_pendulum_mode_shape_names_each_components_unit(solver_cli, tmp_path):
+    """A mode shape mixes a length and an angle: each component carries its unit, in the scene's
+    output units, in JSON and text. Reference: with the cart free, horizontal momentum is conserved,
+    (M + m) x'' + m (L/2) theta'' = 0 to first order, so the pendulum mode moves
+    x = -m (L/2) / (M + m) theta (0.06 m per rad); printed with length in ft and angle in deg it is
+    -0.06 / 0.3048 ft per 180/pi deg. Tolerance 1e-9 relative: the modes come from a
+    finite-difference linearization that is exact for the quadratic terms left at the equilibrium
+    (observed ~1e-12)."""
+    scene = tmp_path / "cart_pendulum_us.toml"
+    scene.write_text((SCENES / "cart_pendulum.toml").read_text() + '\n[output_units]\nlength = "ft"\nangle = "deg"\n')
+    code, out, err = solver_cli("frequency", str(scene), "--json")
+    assert code == 0, err
+    neutral, swing = json.loads(out)["modes"]
+    assert {k: v["unit"] for k, v in swing["shape"].items()} == {"x": "ft", "theta": "deg"}
+    assert neutral["shape"]["x"] == {"value": pytest.approx(1 / 0.3048, rel=1e-9), "unit": "ft"}
+    M, m, L = 2.0, 0.5, 0.6
+    per_rad = -m * (L / 2) / (M + m) / 0.3048  # ft per rad
+    ratio = swing["shape"]["x"]["value"] / swing["shape"]["theta"]["value"]
+    assert ratio == pytest.approx(per_rad * math.pi / 180, rel=1e-9)
+    code, text, err = solver_cli("frequency", str(scene))
+    assert code == 0, err
+    assert re.search(r"x: -?[\d.]+ ft, theta: [\d.]+ deg", text)

@@ -201,3 +201,37 @@ def test_period_counts_independent_coordinates(solver_cli) -> None:
     status, out, err = solver_cli("period", "data/scenes/four_bar.toml", "--amplitude", "10 deg")
     assert (status, out) == (2, "") and err.count("\n") == 1
     assert "1 independent coordinate(s) (theta2), theta3, theta4 dependent through closure constraints" in err
+
+
+def test_condition_number_one_concept_named_by_kind(capsys):
+    """One condition number, two ways of getting it, each output naming which it prints: `solve`
+    prints the cheap estimate (`condition_number_estimate`), `precision` the exact value
+    (`condition_number`), and `explain` the same exact value. Reference: the definition applied
+    here to the equations' matrix at the state, with numpy: A scaled by its columns' and then its
+    rows' largest entries, then ||As||_1 ||As^-1||_1 (np.linalg.cond with p=1). The estimate is a
+    lower bound by construction (||As^-1 z||_1 / ||z||_1 <= ||As^-1||_1)."""
+    import numpy as np
+
+    from solver.__main__ import main
+
+    d = derivation()
+    system = d.system
+    c = system.free[0]
+    values = {k: sp.Float(v) for k, v in system.si_values().items()}
+    values.update({c.q: sp.Float(c.value), c.qd: sp.Float(c.rate), system.t: sp.Float(system.time)})
+    A = np.array(d.linear_system()[0].xreplace(values).evalf(), dtype=float)
+    As = A / np.max(np.abs(A), axis=0)
+    As = As / np.max(np.abs(As), axis=1)[:, None]
+    reference = np.linalg.cond(As, 1)
+
+    assert main(["precision", BAR, "--precision", "float64", "--json"]) == 0
+    exact = json.loads(capsys.readouterr().out)["condition_number"]
+    assert exact == pytest.approx(reference, rel=1e-12)  # the same float64 inverse, up to round-off
+    assert main(["solve", BAR, "--json"]) == 0
+    solved = json.loads(capsys.readouterr().out)
+    assert "condition_number" not in solved
+    assert 1 <= solved["condition_number_estimate"] <= exact * (1 + 1e-12)
+    assert main(["solve", BAR]) == 0
+    assert "condition number estimate" in capsys.readouterr().out
+    assert main(["explain", BAR]) == 0
+    assert f"(condition number {exact:.3g})" in capsys.readouterr().out

@@ -139,7 +139,8 @@ def test_csv_is_written_atomically(tmp_path, monkeypatch):
     write_csv(res, out)
     with open(out, newline="") as fh:
         rows = list(csv.reader(fh))
-    assert rows[0] == ["t", "theta", "theta_dot", "theta_ddot", "alpha", "F_f", "F_n", "energy"]
+    assert rows[0] == ["t [s]", "theta [rad]", "theta_dot [rad/s]", "theta_ddot [rad/s**2]", "alpha [rad/s**2]",
+                       "F_f [N]", "F_n [N]", "energy [J]"]
     assert res.to_dict()["columns"]["theta_dot"] == "rad/s" and res.to_dict()["columns"]["F_n"] == "N"
     assert len(rows) == 52
     np.testing.assert_allclose([float(r[1]) for r in rows[1:]], res.theta, rtol=0, atol=0)  # repr round-trips
@@ -272,3 +273,34 @@ def test_t_end_is_the_end_time_for_a_scene_that_starts_later(solver_cli):
     code, out, err = solver_cli("simulate", scene, "--t-end", "0.002 s")
     assert code == 2 and out == "" and err.count("\n") == 1
     assert "--t-end '0.002 s' is not after the scene's start time, 0.004 s" in err
+
+
+@pytest.mark.parametrize("scene", ["data/scenes/sliding_bar.toml", "data/scenes/double_pendulum.toml"])
+def test_simulate_columns_carry_the_output_units(solver_cli, tmp_path, scene):
+    """`simulate --json` names the unit of every column of the samples, in the scene's output units,
+    and the CSV file is in those units, each column headed `name [unit]`, for the one-angle route
+    and the multibody route alike. Example 1 (lbm/ft, output in lbf): the first sample is the
+    release state, so R_A and R_B there are the paper's Eq. (30) values in lbf (tolerance: the one
+    the printed precision implies, reports.rounding.eq30_tolerances)."""
+    import tomllib
+
+    from reports.rounding import eq30_tolerances
+
+    out = tmp_path / "run.csv"
+    code, text, err = solver_cli("simulate", scene, "--t-end", "0.05 s", "--samples", "11", "--out", str(out),
+                                 "--json", *(["--no-progress"] if "sliding" in scene else []))
+    assert code == 0, err
+    columns = json.loads(text)["columns"]
+    with open(out, newline="") as fh:
+        rows = list(csv.reader(fh))
+    assert rows[0] == [f"{name} [{unit}]" for name, unit in columns.items()]
+    assert columns["t"] == "s"
+    if "sliding" not in scene:
+        assert columns["O_x"] == "N"  # an SI scene stays SI
+        return
+    assert columns["R_A"] == columns["R_B"] == "lbf"
+    published = {v["id"]: v for v in tomllib.load(open("data/published/example1.toml", "rb"))["value"]}
+    tol = eq30_tolerances(published)
+    first = dict(zip(columns, map(float, rows[1])))
+    for name in ("R_A", "R_B"):
+        assert abs(first[name] - published[f"eq30-{name}"]["value"]) <= tol[name], name

@@ -437,7 +437,11 @@ class InstantSolution:
         ``alpha`` (one-body systems) and each coordinate's second derivative
         [rad/s**2 or m/s**2], then each reaction [N or N*m].
     condition_number : float
-    point : str
+        The cheap estimate of the solve (:func:`solve_with_estimate`; JSON
+        ``condition_number_estimate``); the exact value is :func:`condition_numbers`'.
+    point : str or None
+        The reference point(s) P of the moment equations; None for a route that uses none
+        (:data:`solver.formulations.POINT_FREE_METHODS`).
     method : str
     state : State
     scene : str
@@ -445,7 +449,7 @@ class InstantSolution:
 
     unknowns: dict[str, pint.Quantity]
     condition_number: float
-    point: str
+    point: str | None
     method: str
     state: State | None = None
     scene: str | None = None
@@ -461,8 +465,10 @@ class InstantSolution:
                                for name, qty in self.unknowns.items()}, units)
         head = {"scene": self.scene} if self.scene is not None else {}
         cond = float(self.condition_number)
-        return {**head, "point": self.point, "method": self.method, "unknowns": out,
-                "condition_number": cond if math.isfinite(cond) else None, **self.extra}
+        from solver.formulations import point_entries
+
+        return {**head, **point_entries(self.method, self.point), "method": self.method, "unknowns": out,
+                "condition_number_estimate": cond if math.isfinite(cond) else None, **self.extra}
 
     def __repr__(self) -> str:
         vals = ", ".join(f"{k}={v:.6g~P}" for k, v in self.unknowns.items())
@@ -494,7 +500,7 @@ def solution_in_regime(system, regime, warning: str | None, state: State | None,
     """The :class:`InstantSolution` of :func:`solve_instant` once the contact regime is known:
     ``(regime, warning, state)`` as :func:`solver.analyses.regimes.regime_at_state` returns them
     (``regime`` None: the system as written)."""
-    from ..formulations import formulate, resolve_points
+    from ..formulations import formulate, resolve_points, shown_point
 
     extra = {"warning": warning} if warning else {}
     if regime is not None:
@@ -518,9 +524,8 @@ def solution_in_regime(system, regime, warning: str | None, state: State | None,
     for r in system.reactions + [j.pair[0] for j in system.contacts if j.pair[0] not in system.reactions]:
         if r is not None:  # a separated contact's forces are zero; a sliding one's friction is -s mu_k N
             unknowns[r.name] = Q_(float(res.get(r.name, 0.0)), r.unit)
-    points = resolve_points(system, point)
-    shown = point if point is not None else ",".join(f"{b}:{p}" for b, p in points.items()) \
-        if len(points) > 1 else next(iter(points.values()))
+    resolve_points(system, point)  # checks the point whatever the route
+    shown = shown_point(system, method, point)
     cond = float(res["condition_number"]) if "condition_number" in res else math.inf
     return InstantSolution(unknowns, cond, shown, method, state, system.name, extra)
 

@@ -72,10 +72,20 @@ class MotionResult:
     energy_drift: float | None = None
     events: list = field(default_factory=list)
 
-    def to_dict(self) -> dict:
+    def columns_with_time(self, units=None) -> dict:
+        """``t`` and every column, name -> (values, unit), as the CSV file has them: SI, or in the
+        units ``units`` (a scene's ``[output_units]``) makes them."""
+        from ..output_units import columns_in_output_units
+
+        return columns_in_output_units({"t": (self.t, "s"), **self.columns}, units)
+
+    def to_dict(self, units=None) -> dict:
+        """Summary for ``--json``; ``columns`` names the unit of each column of the CSV file
+        (:meth:`columns_with_time`)."""
         last = {k: {"value": float(v[-1]), "unit": u} for k, (v, u) in self.columns.items()}
+        columns = {name: unit for name, (_, unit) in self.columns_with_time(units).items()}
         return {"status": self.status, "reason": self.reason, "t_final": {"value": float(self.t[-1]), "unit": "s"},
-                "samples": int(len(self.t)), "nfev": self.nfev, "final": last,
+                "samples": int(len(self.t)), "nfev": self.nfev, "final": last, "columns": columns,
                 "energy_drift": self.energy_drift,
                 "events": [{**e, "t": float(e["t"]), "state": {k: float(v) for k, v in e.get("state", {}).items()}}
                            for e in self.events]}
@@ -581,18 +591,19 @@ def _energy_drift(system, columns, ts):
     return float(np.max(np.abs(E - E[0])) / scale)
 
 
-def write_motion_csv(result: MotionResult, path) -> None:
-    """Write t and every column (SI) to ``path`` atomically (:func:`solver.files.write_atomic`)."""
+def write_motion_csv(result: MotionResult, path, units=None) -> None:
+    """Write t and every column to ``path`` atomically (:func:`solver.files.write_atomic`), each
+    headed ``name [unit]``: SI, or in the units ``units`` (a scene's ``[output_units]``) makes them."""
     import csv
 
     from ..files import write_atomic
 
-    names = list(result.columns)
+    cols = result.columns_with_time(units)
 
     def write(fh):
         w = csv.writer(fh)
-        w.writerow(["t [s]"] + [f"{n} [{result.columns[n][1]}]" for n in names])
-        for i, t in enumerate(result.t):
-            w.writerow([repr(float(t))] + [repr(float(result.columns[n][0][i])) for n in names])
+        w.writerow([f"{n} [{unit}]" for n, (_, unit) in cols.items()])
+        for row in zip(*(values for values, _ in cols.values())):
+            w.writerow([repr(float(x)) for x in row])
 
     write_atomic(path, write, "--out")

@@ -73,7 +73,8 @@ class ContactCheck:
 
     def to_dict(self) -> dict:
         out = {"joint": self.joint, "regime": self.regime.label, "reason": self.reason,
-               "normal_force": self.normal, "friction_force": self.friction}
+               "normal_force": {"value": self.normal, "unit": "N"},
+               "friction_force": {"value": self.friction, "unit": "N"}}
         if self.needed_mu is not None:
             out["least_mu"] = self.needed_mu
         return out

@@ -560,7 +560,7 @@ def _force(kind, label, at, vec, positive, body, name, value, unit) -> DrawnItem
     size = float(np.hypot(*vec))
     direction = tuple((vec / size).tolist()) if size > 0 else None
     shape = {"size": size}
-    if positive is not None:  # a reaction: its positive sense, drawn when it is zero
+    if positive is not None:  # a reaction: its positive sense (a zero one is drawn as a label, not along it)
         shape["positive"] = tuple((positive / (float(np.hypot(*positive)) or 1.0)).tolist())
     return DrawnItem(kind, label, tuple(float(x) for x in at), direction, body=body, name=name, value=value,
                      unit=unit, shape=shape)

@@ -238,12 +238,9 @@ def _beside(tail, tip, direction, length, segments):
 
 def _force_arrow(ax, item: DrawnItem, length, colour, dashed, tips, centre=None, segments=None):
     direction = item.direction
-    zero = direction is None
-    if zero:
-        direction = item.shape.get("positive")
     x, y = item.anchor
     span = length / 0.45
-    if direction is None:  # a zero applied force: only its label
+    if direction is None:  # a zero force (a reaction or an applied one): a mark at its point and its label
         tips.append((x, y))
         ax.plot(x, y, "x", color=colour, markersize=5, zorder=6)
         ax.annotate(item.label, (x, y), xytext=(5, -10 - 9 * _crowd(tips, (x, y), span)), textcoords="offset points",
@@ -258,8 +255,7 @@ def _force_arrow(ax, item: DrawnItem, length, colour, dashed, tips, centre=None,
     if segments is not None:  # an arrow drawn over an earlier one (gravity and a normal force at one point)
         tail, tip = _beside(tail, tip, direction, length, segments)
     ax.add_patch(FancyArrowPatch(tail, tip, arrowstyle="-|>", mutation_scale=11, color=colour,
-                                 linewidth=0.8 if zero else 1.6, linestyle="--" if dashed else "-",
-                                 alpha=0.45 if zero else 1.0, zorder=7))
+                                 linewidth=1.6, linestyle="--" if dashed else "-", zorder=7))
     label_at = tip if outward == 1 else tail
     tips.append(label_at)
     right = outward * direction[0] >= 0

@@ -18,9 +18,47 @@ import sympy as sp
 from ..errors import SceneError
 from .newton_euler import NamedEquation, generalized_euler_equations, mass_center_equations
 
-__all__ = ["METHODS", "Formulation", "formulate", "NamedEquation", "resolve_points"]
+__all__ = ["METHODS", "Formulation", "formulate", "NamedEquation", "resolve_points", "POINT_FREE_METHODS",
+           "shown_point", "point_entries", "point_text"]
 
 from ..limits import FORMULATION_METHODS as METHODS  # noqa: E402 - one place, read by --help too
+
+
+POINT_FREE_METHODS = {
+    "mass_center": "mass_center takes each body's moments about its own mass centre G (Eqs. 1-2), "
+                   "so it has no reference point P; --point is checked but not used",
+    "lagrange": "lagrange writes Lagrange's equations, which have no moment equation and so no "
+                "reference point P; --point is checked but not used",
+}
+"""The routes whose equations use no reference point P, each with what it does instead (printed
+beside a ``point`` of null in place of a point the route did not use)."""
+
+
+def shown_point(system, method: str, point: str | None) -> str | None:
+    """The reference point(s) the equations of ``method`` are written about, as the commands print
+    them: ``point`` as given, or each body's default (``A``; ``crank:O,rod:A`` for several bodies);
+    None for a route that uses no reference point (:data:`POINT_FREE_METHODS`)."""
+    if method in POINT_FREE_METHODS:
+        return None
+    if point is not None:
+        return point
+    points = resolve_points(system, None)
+    return ",".join(f"{b}:{p}" for b, p in points.items()) if len(points) > 1 else next(iter(points.values()))
+
+
+def point_entries(method: str, shown: str | None) -> dict:
+    """The ``point`` entry of a command's JSON (:func:`shown_point`), with a ``point_note`` saying
+    what the route does instead when it uses no reference point."""
+    if shown is None and method in POINT_FREE_METHODS:
+        return {"point": None, "point_note": POINT_FREE_METHODS[method]}
+    return {"point": shown}
+
+
+def point_text(method: str, shown: str | None) -> str:
+    """The same for a command's text output: the point, or "none (" the route's note ")"."""
+    if shown is None and method in POINT_FREE_METHODS:
+        return f"none ({POINT_FREE_METHODS[method]})"
+    return str(shown)
 
 
 def resolve_points(system, point: str | None) -> dict[str, str]:
