@@ -48,6 +48,7 @@ from pathlib import Path
 from ._io import read_toml
 from .errors import SurveyInputError
 from .likert import CI_METHODS, Proportion, SurveySummary, proportion
+from .rounding import share_percent_text
 from .scales import normalize_answer
 
 __all__ = ["COMPARISONS", "VERDICTS", "Claim", "ClaimResult", "ClaimsReport", "load_claims",
@@ -170,7 +171,7 @@ class ClaimsReport:
                f"({self.confidence_level:.0%} {self.method} intervals)"]
         for r in self.results:
             share = "n/a" if r.share is None else f"{r.proportion.percent_text(1)}%"
-            ci = "" if r.share is None else f" [{r.ci[0]:.1%}, {r.ci[1]:.1%}]"
+            ci = "" if r.share is None else f" [{share_percent_text(r.ci[0])}%, {share_percent_text(r.ci[1])}%]"
             out.append(f"  {r.claim.id}: {r.item} share {r.k}/{r.n} = {share}{ci} "
                        f"{r.claim.comparison} {100 * r.claim.threshold:g}%: {r.verdict}")
         counts = self.verdict_counts()

@@ -8,6 +8,8 @@ between two printed values is recognised as such (binary floats cannot).
   project's documented rule for printed percentages.
 - :func:`percent_text` -- ``100 k / n`` as printed (half away from zero): every
   printed share, percentage and chart label goes through it.
+- :func:`share_percent_text` -- a share that is not a count ratio (an interval bound)
+  in percent by the same rule.
 - :func:`rounding_interval` -- every exact percentage that prints as a given
   value: the tolerance a printed precision implies.
 - :func:`largest_remainder` -- Hamilton's method: percentages of counts that
@@ -18,8 +20,8 @@ from __future__ import annotations
 import math
 from fractions import Fraction
 
-__all__ = ["ROUNDING_RULES", "round_fraction", "percent_text", "rounding_interval",
-           "largest_remainder"]
+__all__ = ["ROUNDING_RULES", "round_fraction", "percent_text", "share_percent_text",
+           "rounding_interval", "largest_remainder"]
 
 #: Valid values of the ``rule`` argument.
 ROUNDING_RULES = ("half_away", "half_even", "truncate", "ceil")
@@ -79,6 +81,19 @@ def percent_text(k: int, n: int, decimals: int = 1) -> str:
     ('13', '12.5')
     """
     return f"{float(round_fraction(Fraction(100 * int(k), int(n)), decimals)):.{decimals}f}"
+
+
+def share_percent_text(share: float, decimals: int = 1) -> str:
+    """A share 0..1 that is no count ratio (an interval bound) in percent as printed: the
+    float's exact value times 100, rounded half away from zero like :func:`percent_text`
+    (Python's ``f"{x:.1%}"`` rounds half to even, so 0.0625 would print 6.2).
+
+    Examples
+    --------
+    >>> share_percent_text(0.0625), share_percent_text(0.8125, 0)
+    ('6.3', '81')
+    """
+    return f"{float(round_fraction(Fraction(share) * 100, decimals)):.{decimals}f}"
 
 
 def _validate_rule(rule: str) -> None:

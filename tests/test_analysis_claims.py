@@ -195,3 +195,18 @@ def test_claim_on_an_item_nobody_answered_cannot_be_evaluated(tmp_path, capsys):
     text = html.read_text()
     assert 'class="no_answers">cannot be evaluated: no valid answers' in text
     assert "0 do not hold, 1 cannot be evaluated" in text and "does not hold" not in text
+
+
+def test_claims_text_rounds_interval_bounds_by_the_one_rule():
+    """New-user report: `claims` printed its interval bounds with Python's ``:.1%`` (half to even on the
+    float) while shares and every other printed percentage round half away from zero
+    (analysis.rounding). Bounds of 0.0625 and 0.8125 are exact in binary and lie half-way at one
+    decimal: the rule prints 6.3% and 81.3% (``:.1%`` gave 6.2% and 81.2%)."""
+    from analysis.claims import Claim, ClaimResult, ClaimsReport
+    from analysis.likert import Proportion
+
+    share = Proportion(13, 16, 13 / 16, (0.0625, 0.8125), "wilson", 0.95)  # made-up bounds: ties by design
+    result = ClaimResult(Claim("c", "q", ("Definitely Agree",), ">", 0.5), "q", share, "sample_only",
+                         VERDICTS["sample_only"], "")
+    text = ClaimsReport([result], "s.csv", "c.toml", 16).format_text()
+    assert "share 13/16 = 81.3% [6.3%, 81.3%] > 50%" in text
