@@ -268,6 +268,21 @@ def unreachable_cells(findings, respondents: int) -> str:
             f"(section 5 says why).")
 
 
+def claim_texts(rows, survey) -> dict:
+    """Each claim check's id -> ``{"statement", "explanation"}``: the claim as stated and its verdict
+    explained by :meth:`analysis.claims.ClaimResult.explanation`, the one text report.html shows for a
+    claim (the paper shows the same, per result). The claim checks are the ``kind == "claim"`` rows, one
+    per result in the same order; a row whose printed wording is not its result's is an error."""
+    if survey is None:
+        return {}
+    rows = [r for r in rows if r.kind == "claim"]
+    results = survey.claims.results
+    if len(rows) != len(results) or any(r.published != (c.claim.printed or c.claim.statement)
+                                        for r, c in zip(rows, results)):
+        raise ValueError("the claim checks do not match the evaluated claims one to one")
+    return {r.id: {"statement": c.claim.statement, "explanation": c.explanation()} for r, c in zip(rows, results)}
+
+
 def rounding_ties(survey) -> str:
     """The sentence under the survey table stating the tie a published row needs: a row that
     largest-remainder rounding of the rebuilt counts prints only because equal remainders were

@@ -210,3 +210,20 @@ def test_claims_text_rounds_interval_bounds_by_the_one_rule():
                          VERDICTS["sample_only"], "")
     text = ClaimsReport([result], "s.csv", "c.toml", 16).format_text()
     assert "share 13/16 = 81.3% [6.3%, 81.3%] > 50%" in text
+
+
+def test_explanation_names_the_verdict_in_percent():
+    """ClaimResult.explanation, the one text report.html, the paper and `analysis report` show: every
+    verdict opens with its name, shares and bounds in percent by the one rule. By hand: 95/100 = 95.0%
+    over 80% (Wilson lower bound 88.8% > 80%: holds); 50/100 = 50.0% not over 80%."""
+    from analysis.claims import Claim, evaluate_claim
+    import pandas as pd
+    from analysis.likert import summarize_dataframe
+    s = summarize_dataframe(pd.DataFrame({"q": ["Definitely Agree"] * 95 + ["Neutral"] * 5,
+                                          "r": ["Partially Agree"] * 50 + ["Definitely Disagree"] * 50}))
+    up = evaluate_claim(Claim("a", "q", ("Definitely Agree",), ">", 0.8), s).explanation()
+    lo, hi = _wilson(95, 100)
+    assert up.startswith(f"Holds: 95/100 = 95.0% of those who answered, over 80%, and the whole 95% Wilson "
+                         f"interval ({100 * lo:.1f}% to {100 * hi:.1f}%) is over 80%")
+    down = evaluate_claim(Claim("b", "r", ("Partially Agree",), ">", 0.8), s).explanation()
+    assert down.startswith("Does not hold: 50/100 = 50.0% of those who answered is not over 80%")
