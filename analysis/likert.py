@@ -42,7 +42,8 @@ from fractions import Fraction
 
 import numpy as np
 
-from .rounding import largest_remainder, largest_remainder_tie, percent_text, round_fraction
+from .rounding import (largest_remainder, largest_remainder_tie, percent_text, round_fraction,
+                       share_percent_text)
 
 __all__ = ["CI_METHODS", "PERCENT_METHODS", "absent_respondents", "Proportion", "ItemSummary", "SurveySummary",
            "proportion", "summarize", "summarize_dataframe"]
@@ -412,8 +413,8 @@ class SurveySummary:
                               for lab in labels)           # no percent of nobody
             ag = it.agree
             agree = ("-" if ag.share is None else
-                     f"{ag.percent_text(decimals)}% [{ag.ci[0]:.{decimals}%}, "
-                     f"{ag.ci[1]:.{decimals}%}]")
+                     f"{ag.percent_text(decimals)}% [{share_percent_text(ag.ci[0], decimals)}%, "
+                     f"{share_percent_text(ag.ci[1], decimals)}%]")
             out.append(f"{_name(it):<{width}}  {cells}  {it.n:>5} {it.missing:>5} "
                        f"{it.excluded:>5}  {_num(it.median):>6} {_num(it.iqr):>5} "
                        f"{_num(it.mean, 2):>5} {_num(it.sd, 2):>5}  {agree}")
