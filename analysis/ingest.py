@@ -842,7 +842,7 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
             raise SurveyInputError(f"no responses below the header (after dropping "
                                    f"{len(dropped)} preview and test rows)", raw.source)
     if shape == "canvas":
-        keep, earlier = _drop_earlier_attempts(raw, keep, notes)
+        keep, earlier = _drop_earlier_attempts(raw, keep)
         dropped += earlier
     if shape == "limesurvey":
         _note_incomplete(raw, keep, notes)
@@ -927,8 +927,9 @@ def _drop_qualtrics_tests(raw: _Raw, keep: np.ndarray, text_row: list[str]):
     return keep[~drop], dropped
 
 
-def _drop_earlier_attempts(raw: _Raw, keep: np.ndarray, notes: list):
-    """Rows kept and rows dropped: of a Canvas student's attempts only the latest counts.
+def _drop_earlier_attempts(raw: _Raw, keep: np.ndarray):
+    """Rows kept and rows dropped: of a Canvas student's attempts only the latest counts (each
+    dropped row says why, :data:`DROP_WHY`; the command line sums them up in one line).
 
     A student is known by ``id`` and ``sis_id`` (rows where both are blank are never
     merged); the latest attempt has the highest ``attempt`` number, and of two rows with
@@ -959,11 +960,6 @@ def _drop_earlier_attempts(raw: _Raw, keep: np.ndarray, notes: list):
                                    "student's latest attempt cannot be told", raw.source)
         last = max(idx, key=lambda i: (int(text[at][i]), i))
         later += [i for i in idx if i != last]
-    if later:
-        k = len(later)
-        notes.append(f"{raw.source}: {k} earlier attempt{'s' if k != 1 else ''} set aside; "
-                     "of each student's attempts (same id and sis_id) only the latest is "
-                     "counted")
     gone = np.zeros(len(keep), dtype=bool)
     gone[later] = True
     dropped = [DroppedRow(int(raw.row_of(keep[i])), "earlier attempt") for i in sorted(later)]
