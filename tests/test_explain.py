@@ -695,3 +695,5 @@ def test_latex_writes_names_units_and_formulae_as_latex(every_scene):
     example2 = render(every_scene["disk_bar"][1], "latex")
     assert r"$m_{d}$ & $m_{d}\,r_{d}^{2}/2$" in example2  # I_G of the disk, no * or **
     assert r"[$\mathrm{N\,m}$]" in example2
+    slipping = render(every_scene["disk_backspin"][1], "latex")  # words stay words, formulae become maths
+    assert r"known force $-s \mu_{k} N$ along the contact line (s the sign of the sliding velocity)" in slipping

@@ -173,6 +173,8 @@ class LatexProse:
         kind, value = tokens[start]
         if not (self._operand(kind, value) or value in ("-", "(", "|", "=")):
             return start
+        if value in _FUNCTIONS and tokens[start + 1:start + 2] != [("paren", "(")]:
+            return start
         end, depth, last_good, strong, relation = start, 0, start, False, False
         while end < len(tokens):
             kind, value = tokens[end]
@@ -180,6 +182,8 @@ class LatexProse:
                 break
             if kind == "name" and not self._operand(kind, value):
                 break
+            if value in _FUNCTIONS and tokens[end + 1:end + 2] != [("paren", "(")]:
+                break  # sin, sign... are functions only when applied: "the sign of" is a word
             if kind == "paren":
                 depth += 1 if value == "(" else -1
                 if depth < 0:
