@@ -260,11 +260,12 @@ def _notes(data) -> None:
         sys.stderr.write(f"warning: {u.line(data.source)}\n")
     counts: dict = {}
     for d in data.dropped:
-        counts[d.reason] = counts.get(d.reason, 0) + 1
+        counts.setdefault(d.reason, []).append(d)
         sys.stderr.write(f"note: {data.source}: row {d.row}: {d.reason} dropped\n")
-    for reason, k in counts.items():
+    for reason, rows in counts.items():
+        k = len(rows)
         sys.stderr.write(f"note: {data.source}: {k} {reason}{'s' if k != 1 else ''} dropped "
-                         f"in all (not respondents)\n")
+                         f"in all: {rows[0].why}\n")
     for note in getattr(data, "notes", []):
         sys.stderr.write(note if note.startswith("warning:") else f"note: {note}")
         sys.stderr.write("\n")

@@ -47,7 +47,8 @@ from pathlib import Path
 
 from ._io import read_toml
 from .errors import SurveyInputError
-from .likert import CI_METHODS, Proportion, SurveySummary, proportion
+from .likert import CI_METHODS, Proportion, SurveySummary, interval_label, proportion
+from .rounding import share_percent_text
 from .scales import normalize_answer
 
 __all__ = ["COMPARISONS", "VERDICTS", "Claim", "ClaimResult", "ClaimsReport", "load_claims",
@@ -128,6 +129,28 @@ class ClaimResult:
     method = property(lambda self: self.proportion.method)
     confidence_level = property(lambda self: self.proportion.confidence_level)
 
+    def explanation(self) -> str:
+        """The verdict explained in words, the one text every report shows (report.html, the paper,
+        ``analysis report``): counts, the share and interval bounds in percent by the one rounding rule
+        (:mod:`analysis.rounding`), and what the interval means for the claim."""
+        c, n = self.claim, self.n
+        if self.share is None:
+            return f"Cannot be evaluated: {self.reason}."
+        words = {">": "over", ">=": "at least", "<": "under", "<=": "at most"}[c.comparison]
+        threshold, share = f"{words} {100 * c.threshold:g}%", f"{self.k}/{n} = {self.proportion.percent_text(1)}%"
+        label = interval_label(self.confidence_level, self.method)
+        bounds = f"{share_percent_text(self.ci[0])}% to {share_percent_text(self.ci[1])}%"
+        if self.verdict_code == "does_not_hold":
+            return f"Does not hold: {share} of those who answered is not {threshold} ({label}: {bounds})."
+        if self.verdict_code == "holds":
+            return (f"Holds: {share} of those who answered, {threshold}, and the whole {label} "
+                    f"({bounds}) is {threshold}, so the data support the claim beyond these "
+                    "respondents too.")
+        side = "below" if c.comparison in (">", ">=") else "above"
+        return (f"Holds for this sample only: {share} of those who answered, {threshold}; but the {label} "
+                f"({bounds}) reaches {side} {100 * c.threshold:g}%, so with {n} answers the data cannot show that "
+                f"the share among students in general is {threshold}.")
+
     def to_dict(self) -> dict:
         return {"id": self.claim.id, "item": self.item, "categories": list(self.claim.categories),
                 "comparison": self.claim.comparison, "threshold": self.claim.threshold,
@@ -170,7 +193,7 @@ class ClaimsReport:
                f"({self.confidence_level:.0%} {self.method} intervals)"]
         for r in self.results:
             share = "n/a" if r.share is None else f"{r.proportion.percent_text(1)}%"
-            ci = "" if r.share is None else f" [{r.ci[0]:.1%}, {r.ci[1]:.1%}]"
+            ci = "" if r.share is None else f" [{share_percent_text(r.ci[0])}%, {share_percent_text(r.ci[1])}%]"
             out.append(f"  {r.claim.id}: {r.item} share {r.k}/{r.n} = {share}{ci} "
                        f"{r.claim.comparison} {100 * r.claim.threshold:g}%: {r.verdict}")
         counts = self.verdict_counts()

@@ -40,6 +40,7 @@ from .errors import SurveyInputError
 from .export import reversal_columns
 from .likert import (REVERSE_MARK, REVERSE_NOTE, _num, _validate_ci, absent_respondents,
                      interval_label)
+from .rounding import share_percent_text
 from .scales import Scale
 
 __all__ = ["GroupedSummary", "summarize_by", "DEFAULT_MEMORY_LIMIT"]
@@ -192,7 +193,7 @@ class GroupedSummary:
                 dist = " ".join(str(it.counts[lab]) for lab in labels)
                 ag = it.agree
                 agree = ("-" if ag.share is None else f"{ag.percent_text(decimals)}% "
-                         f"[{ag.ci[0]:.{decimals}%}, {ag.ci[1]:.{decimals}%}]")
+                         f"[{share_percent_text(ag.ci[0], decimals)}%, {share_percent_text(ag.ci[1], decimals)}%]")
                 stats = " ".join(f"{k} {_num(v, d)}" for k, v, d in (
                     ("median", it.median, 1), ("IQR", it.iqr, 1), ("mean", it.mean, 2),
                     ("SD", it.sd, 2)))

@@ -42,7 +42,8 @@ from fractions import Fraction
 
 import numpy as np
 
-from .rounding import largest_remainder, percent_text, round_fraction
+from .rounding import (largest_remainder, largest_remainder_tie, percent_text, round_fraction,
+                       share_percent_text)
 
 __all__ = ["CI_METHODS", "PERCENT_METHODS", "absent_respondents", "Proportion", "ItemSummary", "SurveySummary",
            "proportion", "summarize", "summarize_dataframe"]
@@ -286,6 +287,11 @@ class ItemSummary:
             vals = largest_remainder(cs, decimals)
         return {lab: float(v) for lab, v in zip(self.labels, vals)}
 
+    def rounding_tie(self, decimals: int = 1) -> str:
+        """How largest-remainder rounding of this item broke a tie between equal remainders, or ``""``
+        (:func:`analysis.rounding.largest_remainder_tie`)."""
+        return largest_remainder_tie(list(self.labels), [self.counts[lab] for lab in self.labels], decimals)
+
     def to_dict(self) -> dict:
         """The ``summarize --json`` item (plus ``excluded`` for the invariant)."""
         return {"item": self.item, "reversed": self.reverse,
@@ -407,13 +413,15 @@ class SurveySummary:
                               for lab in labels)           # no percent of nobody
             ag = it.agree
             agree = ("-" if ag.share is None else
-                     f"{ag.percent_text(decimals)}% [{ag.ci[0]:.{decimals}%}, "
-                     f"{ag.ci[1]:.{decimals}%}]")
+                     f"{ag.percent_text(decimals)}% [{share_percent_text(ag.ci[0], decimals)}%, "
+                     f"{share_percent_text(ag.ci[1], decimals)}%]")
             out.append(f"{_name(it):<{width}}  {cells}  {it.n:>5} {it.missing:>5} "
                        f"{it.excluded:>5}  {_num(it.median):>6} {_num(it.iqr):>5} "
                        f"{_num(it.mean, 2):>5} {_num(it.sd, 2):>5}  {agree}")
         if any(it.reverse for it in self.items):
             out.append(REVERSE_NOTE)
+        if method == "largest_remainder":  # a tie the rounded row depends on is stated
+            out += [f"{_name(it)}: {it.rounding_tie(decimals)}" for it in self.items if it.rounding_tie(decimals)]
         for d in self.dropped:
             out.append(f"dropped row {d.row}: {d.reason}")
         if self.other_columns:

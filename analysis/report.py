@@ -25,6 +25,7 @@ from .claims import evaluate_claims
 from .ingest import SurveyData
 from .likert import PERCENT_METHODS, REVERSE_NOTE, summarize
 from .respondents import PAIRING_UNKNOWN
+from .rounding import share_percent_text
 
 __all__ = ["render_report", "build_report", "template_environment"]
 
@@ -33,8 +34,10 @@ _TEMPLATES = Path(__file__).resolve().parent / "templates"
 
 def template_environment() -> Environment:
     """The Jinja2 environment (autoescape on for every template)."""
-    return Environment(loader=FileSystemLoader(str(_TEMPLATES)), autoescape=True,
-                       undefined=StrictUndefined, trim_blocks=False, lstrip_blocks=False)
+    env = Environment(loader=FileSystemLoader(str(_TEMPLATES)), autoescape=True,
+                      undefined=StrictUndefined, trim_blocks=False, lstrip_blocks=False)
+    env.filters["percent"] = share_percent_text  # a share 0..1 in percent by the one rounding rule
+    return env
 
 
 def _fmt(x, digits: int = 1) -> str:

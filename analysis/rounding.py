@@ -8,18 +8,21 @@ between two printed values is recognised as such (binary floats cannot).
   project's documented rule for printed percentages.
 - :func:`percent_text` -- ``100 k / n`` as printed (half away from zero): every
   printed share, percentage and chart label goes through it.
+- :func:`share_percent_text` -- a share that is not a count ratio (an interval bound)
+  in percent by the same rule.
 - :func:`rounding_interval` -- every exact percentage that prints as a given
   value: the tolerance a printed precision implies.
 - :func:`largest_remainder` -- Hamilton's method: percentages of counts that
-  add up to exactly 100.
+  add up to exactly 100; :func:`largest_remainder_tie` says when equal remainders
+  straddled the last unit handed out, and how that tie was broken.
 """
 from __future__ import annotations
 
 import math
 from fractions import Fraction
 
-__all__ = ["ROUNDING_RULES", "round_fraction", "percent_text", "rounding_interval",
-           "largest_remainder"]
+__all__ = ["ROUNDING_RULES", "round_fraction", "percent_text", "share_percent_text",
+           "rounding_interval", "largest_remainder", "largest_remainder_tie"]
 
 #: Valid values of the ``rule`` argument.
 ROUNDING_RULES = ("half_away", "half_even", "truncate", "ceil")
@@ -79,6 +82,19 @@ def percent_text(k: int, n: int, decimals: int = 1) -> str:
     ('13', '12.5')
     """
     return f"{float(round_fraction(Fraction(100 * int(k), int(n)), decimals)):.{decimals}f}"
+
+
+def share_percent_text(share: float, decimals: int = 1) -> str:
+    """A share 0..1 that is no count ratio (an interval bound) in percent as printed: the
+    float's exact value times 100, rounded half away from zero like :func:`percent_text`
+    (Python's ``f"{x:.1%}"`` rounds half to even, so 0.0625 would print 6.2).
+
+    Examples
+    --------
+    >>> share_percent_text(0.0625), share_percent_text(0.8125, 0)
+    ('6.3', '81')
+    """
+    return f"{float(round_fraction(Fraction(share) * 100, decimals)):.{decimals}f}"
 
 
 def _validate_rule(rule: str) -> None:
@@ -144,14 +160,53 @@ def largest_remainder(counts: list[int], decimals: int = 1) -> list[Fraction]:
     Each share ``100 c / n`` is truncated to ``decimals`` places; the units still
     missing from 100 go one each to the largest remainders (ties: first label).
     """
-    n = sum(counts)
-    if n == 0:
-        return [Fraction(0)] * len(counts)
-    units = 100 * 10 ** decimals
-    quotas = [Fraction(c * units, n) for c in counts]
-    floors = [math.floor(q) for q in quotas]
-    left = units - sum(floors)
-    order = sorted(range(len(counts)), key=lambda i: (-(quotas[i] - floors[i]), i))
+    floors, order, left = _hamilton(counts, decimals)
     for i in order[:left]:
         floors[i] += 1
     return [Fraction(f, 10 ** decimals) for f in floors]
+
+
+def _hamilton(counts: list[int], decimals: int):
+    """(truncated shares in units of the last place, indices by falling remainder with ties to the
+    first, units left to hand out)."""
+    n = sum(counts)
+    if n == 0:
+        return [0] * len(counts), list(range(len(counts))), 0
+    units = 100 * 10 ** decimals
+    quotas = [Fraction(c * units, n) for c in counts]
+    floors = [math.floor(q) for q in quotas]
+    order = sorted(range(len(counts)), key=lambda i: (-(quotas[i] - floors[i]), i))
+    return floors, order, units - sum(floors)
+
+
+def largest_remainder_tie(labels: list[str], counts: list[int], decimals: int = 1) -> str:
+    """The sentence stating how :func:`largest_remainder` broke a tie, or ``""`` when none decided.
+
+    A tie decides when cells with equal remainders straddle the last unit handed out: some get
+    it and some do not. :func:`largest_remainder` gives it to the first label in scale order.
+
+    Examples
+    --------
+    >>> largest_remainder_tie(["DA", "PA", "N", "PD", "DD"], [12, 7, 2, 1, 0])  # Table 1, item #4
+    'DA and PD tie for the last 0.1 (equal remainders): it goes to the first in scale order, DA (54.6 and 4.5; the other way 54.5 and 4.6)'
+    """
+    floors, order, left = _hamilton(counts, decimals)
+    if left <= 0 or left >= len(order):
+        return ""
+    n, units = sum(counts), 100 * 10 ** decimals
+    rem = {i: Fraction(counts[i] * units, n) - floors[i] for i in order}
+    tied = [i for i in order if rem[i] == rem[order[left - 1]]]
+    won, lost = [i for i in tied if i in order[:left]], [i for i in tied if i not in order[:left]]
+    if not won or not lost:
+        return ""
+    unit, shown = Fraction(1, 10 ** decimals), largest_remainder(counts, decimals)
+
+    def values(xs):
+        return " and ".join(f"{float(x):.{decimals}f}" for x in xs)
+
+    swapped = ""
+    if len(won) == len(lost) == 1:  # one unit between two cells: the row the other way round
+        swapped = f"; the other way {values([shown[i] - unit if i in won else shown[i] + unit for i in tied])}"
+    return (f"{' and '.join(labels[i] for i in tied)} tie for the last {float(unit):.{decimals}f} "
+            f"(equal remainders): it goes to the first in scale order, {', '.join(labels[i] for i in won)} "
+            f"({values([shown[i] for i in tied])}{swapped})")

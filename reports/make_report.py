@@ -58,6 +58,7 @@ def html_environment(templates: Path = TEMPLATES) -> Environment:
         keep_trailing_newline=True,
     )
     env.filters["num"] = format_number
+    env.filters["percent"] = _share_percent  # a share 0..1 in percent by the one rounding rule
     env.filters["verdict_class"] = lambda v: {"agrees": "ok", "disagrees": "bad"}.get(v, "na")
     env.globals["math_font_css"] = mathfont.font_face_css()  # the embedded maths font (_style.html.j2)
     return env
@@ -112,7 +113,15 @@ def latex_environment(templates: Path = TEMPLATES) -> Environment:
     )
     env.filters["latex"] = latex_escape
     env.filters["num"] = format_number
+    env.filters["percent"] = _share_percent
     return env
+
+
+def _share_percent(share: float, decimals: int = 1) -> str:
+    """A share 0..1 in percent as every output prints it (:func:`analysis.rounding.share_percent_text`)."""
+    from analysis.rounding import share_percent_text
+
+    return share_percent_text(share, decimals)
 
 
 def format_number(value, digits: int = 4) -> str:
@@ -420,6 +429,8 @@ def _build(root: Path, out: Path | None, pdf: str, log) -> dict:
             "prose": paper.PROSE,
             "survey": survey,
             "unreachable_cells": paper.unreachable_cells(findings, survey.facts.respondents) if survey else "",
+            "rounding_ties": paper.rounding_ties(survey) if survey else "",
+            "claim_texts": paper.claim_texts(rows, survey),
             "benchmarks": bench,
             "tolerance_notes": _doc_bullets(checks_mod.__doc__.split("Tolerances (documented once, applied "
                                                                      "everywhere)")[1].split("\n", 2)[2]),

@@ -268,6 +268,44 @@ def unreachable_cells(findings, respondents: int) -> str:
             f"(section 5 says why).")
 
 
+def claim_texts(rows, survey) -> dict:
+    """Each claim check's id -> ``{"statement", "explanation"}``: the claim as stated and its verdict
+    explained by :meth:`analysis.claims.ClaimResult.explanation`, the one text report.html shows for a
+    claim (the paper shows the same, per result). The claim checks are the ``kind == "claim"`` rows, one
+    per result in the same order; a row whose printed wording is not its result's is an error."""
+    if survey is None:
+        return {}
+    rows = [r for r in rows if r.kind == "claim"]
+    results = survey.claims.results
+    if len(rows) != len(results) or any(r.published != (c.claim.printed or c.claim.statement)
+                                        for r, c in zip(rows, results)):
+        raise ValueError("the claim checks do not match the evaluated claims one to one")
+    return {r.id: {"statement": c.claim.statement, "explanation": c.explanation()} for r, c in zip(rows, results)}
+
+
+def rounding_ties(survey) -> str:
+    """The sentence under the survey table stating the tie a published row needs: a row that
+    largest-remainder rounding of the rebuilt counts prints only because equal remainders were
+    broken in favour of the first label (:func:`analysis.rounding.largest_remainder_tie`); empty
+    when no published row needs one. One text for both renderings."""
+    from fractions import Fraction
+
+    from analysis.rounding import largest_remainder
+    from analysis.tables import load_table1
+
+    table, _ = load_table1()
+    found = []
+    for row_id, cells, it in zip(table.items, table.cells, survey.summary.items):
+        counts = [it.counts[label] for label in table.labels]
+        tie = it.rounding_tie(survey.facts.decimals)
+        if tie and largest_remainder(counts, survey.facts.decimals) == [Fraction(c) for c in cells]:
+            found.append(f"row {row_id} ({', '.join(map(str, counts))} of {it.n}) is what largest-remainder "
+                         f"rounding prints, with a tie: {tie}")
+    if not found:
+        return ""
+    return "In the published table, " + "; ".join(found) + "."
+
+
 PROSE = {
     "alpha": "alpha is the k-component of the body's angular acceleration; each example gives it in terms "
              "of its own coordinate in its kinematics",

@@ -195,3 +195,35 @@ def test_claim_on_an_item_nobody_answered_cannot_be_evaluated(tmp_path, capsys):
     text = html.read_text()
     assert 'class="no_answers">cannot be evaluated: no valid answers' in text
     assert "0 do not hold, 1 cannot be evaluated" in text and "does not hold" not in text
+
+
+def test_claims_text_rounds_interval_bounds_by_the_one_rule():
+    """New-user report: `claims` printed its interval bounds with Python's ``:.1%`` (half to even on the
+    float) while shares and every other printed percentage round half away from zero
+    (analysis.rounding). Bounds of 0.0625 and 0.8125 are exact in binary and lie half-way at one
+    decimal: the rule prints 6.3% and 81.3% (``:.1%`` gave 6.2% and 81.2%)."""
+    from analysis.claims import Claim, ClaimResult, ClaimsReport
+    from analysis.likert import Proportion
+
+    share = Proportion(13, 16, 13 / 16, (0.0625, 0.8125), "wilson", 0.95)  # made-up bounds: ties by design
+    result = ClaimResult(Claim("c", "q", ("Definitely Agree",), ">", 0.5), "q", share, "sample_only",
+                         VERDICTS["sample_only"], "")
+    text = ClaimsReport([result], "s.csv", "c.toml", 16).format_text()
+    assert "share 13/16 = 81.3% [6.3%, 81.3%] > 50%" in text
+
+
+def test_explanation_names_the_verdict_in_percent():
+    """ClaimResult.explanation, the one text report.html, the paper and `analysis report` show: every
+    verdict opens with its name, shares and bounds in percent by the one rule. By hand: 95/100 = 95.0%
+    over 80% (Wilson lower bound 88.8% > 80%: holds); 50/100 = 50.0% not over 80%."""
+    from analysis.claims import Claim, evaluate_claim
+    import pandas as pd
+    from analysis.likert import summarize_dataframe
+    s = summarize_dataframe(pd.DataFrame({"q": ["Definitely Agree"] * 95 + ["Neutral"] * 5,
+                                          "r": ["Partially Agree"] * 50 + ["Definitely Disagree"] * 50}))
+    up = evaluate_claim(Claim("a", "q", ("Definitely Agree",), ">", 0.8), s).explanation()
+    lo, hi = _wilson(95, 100)
+    assert up.startswith(f"Holds: 95/100 = 95.0% of those who answered, over 80%, and the whole 95% Wilson "
+                         f"interval ({100 * lo:.1f}% to {100 * hi:.1f}%) is over 80%")
+    down = evaluate_claim(Claim("b", "r", ("Partially Agree",), ">", 0.8), s).explanation()
+    assert down.startswith("Does not hold: 50/100 = 50.0% of those who answered is not over 80%")

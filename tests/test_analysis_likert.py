@@ -189,3 +189,16 @@ def test_reverse_keyed_items_are_marked_in_text_json_and_table(tmp_path, capsys)
     assert [(r["item"], r["reversed"]) for r in rows][1:3] == [("Q2", "False"), ("Q3", "True")]
     assert rows[2]["statistics on reversed codes"] == "median, iqr, mean, sd"
     assert rows[2]["mean"] == "3.25" and rows[2]["Strongly disagree (count)"] == "2"
+
+
+def test_summary_text_rounds_interval_bounds_by_the_one_rule():
+    """summarize's text printed the agreement interval with Python's ``:.1%`` (half to even on the float);
+    it follows the one rule (half away from zero, analysis.rounding) as its shares do. Bounds of 0.0625
+    and 0.8125 (exact in binary, made up: ties by design) print 6.3% and 81.3% (``:.1%``: 6.2%, 81.2%)."""
+    import pandas as pd
+
+    from analysis.likert import Proportion, summarize_dataframe
+
+    s = summarize_dataframe(pd.DataFrame({"q": ["Definitely Agree"] * 13 + ["Neutral"] * 3}))
+    s.items[0].agree = Proportion(13, 16, 13 / 16, (0.0625, 0.8125), "wilson", 0.95)
+    assert "81.3% [6.3%, 81.3%]" in s.format_text()

@@ -96,3 +96,24 @@ def test_no_neutral_share_on_a_scale_without_a_neutral_answer():
     five = survey_from_frame(pd.DataFrame({"Q1": ["Disagree", "Agree", "Neutral"]}),
                              scale="agree5")
     assert "<th>agree</th><th>neutral</th><th>disagree</th>" in render_report(five, reliability=False)
+
+
+def test_report_interval_bounds_follow_the_one_rule(monkeypatch):
+    """The HTML report's agreement interval, like the text, rounds half away from zero (analysis.rounding):
+    made-up bounds 0.0625 and 0.8125 (exact in binary, ties by design) print 6.3 and 81.3 ('%.1f': 6.2, 81.2)."""
+    import pandas as pd
+
+    import analysis.report as report_module
+    from analysis.ingest import survey_from_frame
+    from analysis.likert import Proportion
+
+    real = report_module.summarize
+
+    def tied(*args, **kwargs):
+        s = real(*args, **kwargs)
+        s.items[0].agree = Proportion(13, 16, 13 / 16, (0.0625, 0.8125), "wilson", 0.95)
+        return s
+
+    monkeypatch.setattr(report_module, "summarize", tied)
+    data = survey_from_frame(pd.DataFrame({"q": ["Definitely Agree"] * 13 + ["Neutral"] * 3}))
+    assert "81.3% [6.3, 81.3]" in report_module.render_report(data)

@@ -412,3 +412,40 @@ def test_rounding_interval_is_what_prints_as_the_value(k, n, decimals, rule):
     if lo < hi:                                      # (ceil prints only 0 itself as 0)
         assert round_fraction(lo + eps, decimals, rule) == p == round_fraction(hi - eps, decimals,
                                                                                rule)
+
+
+def test_largest_remainder_tie_of_table1_item4_is_stated(tmp_path, capsys):
+    """Table 1, item #4 printed 54.6, 31.8, 9.1, 4.5, 0.0: counts 12, 7, 2, 1, 0 of 22. By hand, in
+    tenths of a percent: quotas 545.45, 318.18, 90.91, 45.45, 0; truncated they sum to 998, so two
+    tenths go to the largest remainders: Neutral (0.91), then Definitely Agree and Partially
+    Disagree tie (10/22 each) for the last one. The printed row gave it to Definitely Agree (the
+    first label); the other way gives 54.5 and 4.6. The tie is stated wherever the largest-remainder
+    row is shown: summarize's text, and (reports/paper.py) under the paper's survey table."""
+    from analysis.rounding import largest_remainder, largest_remainder_tie
+
+    labels = ["Definitely Agree", "Partially Agree", "Neutral", "Partially Disagree", "Definitely Disagree"]
+    assert largest_remainder([12, 7, 2, 1, 0], 1) == [Fraction(x) for x in ("54.6", "31.8", "9.1", "4.5", "0")]
+    tie = largest_remainder_tie(labels, [12, 7, 2, 1, 0], 1)
+    assert tie == ("Definitely Agree and Partially Disagree tie for the last 0.1 (equal remainders): it goes "
+                   "to the first in scale order, Definitely Agree (54.6 and 4.5; the other way 54.5 and 4.6)")
+    assert largest_remainder_tie(labels, [14, 5, 2, 0, 1], 1) == ""  # item #3: remainders all differ
+    assert largest_remainder_tie(["a", "b"], [1, 1], 1) == ""  # 50.0 each: nothing left to hand out
+
+    from analysis.respondents import rebuild_table1_dataset
+    from reports.paper import rounding_ties
+
+    path = tmp_path / "t1.csv"
+    rebuild_table1_dataset(path)
+    assert main(["summarize", str(path), "--percent-method", "largest_remainder"]) == 0
+    assert f"item4: {tie}" in capsys.readouterr().out
+    assert main(["summarize", str(path)]) == 0
+    assert "tie for the last" not in capsys.readouterr().out  # rounded cell by cell: no tie to state
+
+    from types import SimpleNamespace
+
+    from analysis.ingest import read_survey
+    from analysis.likert import summarize
+
+    facts = load_table1()[1]
+    sentence = rounding_ties(SimpleNamespace(summary=summarize(read_survey(path)), facts=facts))
+    assert sentence == f"In the published table, row #4 (12, 7, 2, 1, 0 of 22) is what largest-remainder rounding prints, with a tie: {tie}."

@@ -657,3 +657,43 @@ def test_html_worked_solution_style_sheet_is_valid(solver_cli):
     assert "".join(f"{sel}{{{body}}}" for sel, body in rules).replace(" ", "") == css.replace(" ", "")
     declared = {sel.strip(): body for sel, body in rules}
     assert "white-space:pre-wrap" in declared[".eq"] and "border:" in declared["td,th"]
+
+
+def _latex_maths(doc: str) -> list[str]:
+    """The maths of a LaTeX document: each equation* block and each inline $...$, with the text of
+    every \\text{...} (words, which may name a scene's element) taken out."""
+    blocks = re.findall(r"\\begin\{equation\*\}(.*?)\\end\{equation\*\}", doc, re.S)
+    prose = re.sub(r"\\begin\{equation\*\}.*?\\end\{equation\*\}", "", doc, flags=re.S).replace(r"\$", "")
+    assert prose.count("$") % 2 == 0
+    out = []
+    for m in blocks + re.findall(r"\$([^$]*)\$", prose):
+        while (bare := re.sub(r"\\text\{(?:[^{}]|\{[^{}]*\})*\}", "", m)) != m:
+            m = bare
+        out.append(m)
+    return out
+
+
+def test_latex_writes_names_units_and_formulae_as_latex(every_scene):
+    """New-user report: units were code (``ft / s ** 2``), names were code (``theta_ddot``), notes in
+    \\text{} held code, and the unknowns were theta_ddot in the text but alpha in the equations. The
+    LaTeX now has no ``**`` or ``_ddot`` anywhere, no ``*`` in maths, balanced braces, units upright,
+    and one sentence saying what alpha stands for."""
+    for name, (_, expl) in every_scene.items():
+        doc = render(expl, "latex")
+        assert "**" not in doc and "_ddot" not in doc and "_dot" not in doc, name
+        unescaped = re.sub(r"\\[{}$]", "", doc)
+        assert unescaped.count("{") == unescaped.count("}"), name
+        code = [m for m in _latex_maths(doc) if "*" in m or r"\_" in m or "textasciicircum" in m]
+        assert not code, (name, code[:2])
+    example1 = render(every_scene["sliding_bar"][1], "latex")
+    assert r"$g$ & $32.174\,\mathrm{ft/s^{2}}$" in example1  # the data table: 32.174 ft/s^2
+    assert r"contains 2 unknown(s): $\ddot{\theta}$, $R_{B}$." in example1
+    assert r"$\alpha$ & $2.29693$ & $\mathrm{rad/s^{2}}$" in example1  # Eq. 30's alpha, unit upright
+    assert example1.count(r"Here $\alpha = -\ddot{\theta}$") == 1  # said once, where alpha first stands in
+    assert r"\underbrace{- 0.05081 \alpha}_{\text{$\alpha$}}" in example1
+    assert r"_{\text{rate terms $\dot{\theta}^{2}$}}" in example1
+    example2 = render(every_scene["disk_bar"][1], "latex")
+    assert r"$m_{d}$ & $m_{d}\,r_{d}^{2}/2$" in example2  # I_G of the disk, no * or **
+    assert r"[$\mathrm{N\,m}$]" in example2
+    slipping = render(every_scene["disk_backspin"][1], "latex")  # words stay words, formulae become maths
+    assert r"known force $-s \mu_{k} N$ along the contact line (s the sign of the sliding velocity)" in slipping

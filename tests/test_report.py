@@ -113,6 +113,30 @@ def test_paper_says_which_survey_cells_differ_from_the_published_table(built):
         assert f"item \\{item}, Definitely Agree printed {printed} \\%, shown {shown} \\%" in tex
 
 
+def test_claim_verdicts_explained_once_and_alike_in_report_and_paper(built):
+    """New-user report: report.html showed each claim twice (the check's detail with shares as 0.9091 and
+    "wilson", then a caveat in percent), and the paper gave no explanation. Both now show the statement
+    and ClaimResult.explanation(), the one text. By hand: item 2, 20/22 = 90.91% -> 90.9%; item 3,
+    19/22 = 86.36% -> 86.4%; the Wilson bounds (closed form, tests/test_analysis_claims.py) 72.2 to 97.5
+    and 66.7 to 95.3 reach below 90% and 85%."""
+    import html as html_module
+    import re
+
+    out = Path(built["out"])
+    texts = {name: html_module.unescape(re.sub(r"<[^>]+>", " ", (out / name).read_text(encoding="utf-8")))
+             for name in ("report.html", "paper.html")}
+    tex = (out / "paper.tex").read_text(encoding="utf-8")
+    for share, bounds, threshold in (("20/22 = 90.9%", "72.2% to 97.5%", "90%"),
+                                     ("19/22 = 86.4%", "66.7% to 95.3%", "85%")):
+        sentence = (f"Holds for this sample only: {share} of those who answered, over {threshold}; but the 95% "
+                    f"Wilson interval ({bounds}) reaches below {threshold},")
+        assert texts["paper.html"].count(sentence) == 1
+        assert texts["report.html"].count(sentence) == 2  # the caveat, and its row among all checks
+        assert sentence.replace("%", "\\%") in tex
+    for name, text in texts.items():
+        assert "0.9091" not in text and "wilson interval" not in text, name  # one format: percent, "Wilson"
+
+
 def test_verification_json_schema_and_required_rows(verification):
     ids = [row["id"] for row in verification]
     assert len(ids) == len(set(ids)), "duplicate ids"

@@ -2,7 +2,10 @@
 
 One content, four renderings: every renderer walks the same sections, steps,
 equations and tables. Input text (names from the scene) is data: HTML escapes
-it, LaTeX escapes its special characters, Markdown escapes table pipes.
+it, LaTeX escapes its special characters, Markdown escapes table pipes. The LaTeX
+rendering also writes the names, formulae and units in the prose and tables as
+LaTeX (:mod:`.latex_prose`). Where the equations write a one-body scene's q'' as
+the body's alpha, every rendering says so once (:func:`_alpha_alias`).
 """
 from __future__ import annotations
 
@@ -13,6 +16,7 @@ import sympy as sp
 
 from ..strprint import FastStrPrinter, sstr
 from .content import Equation, Explanation, Step, Table, Term
+from .latex_prose import LatexProse, latex_escape, unit_latex
 
 __all__ = ["FORMATS", "render"]
 
@@ -36,6 +40,7 @@ class _Renderer:
     def __init__(self, expl: Explanation):
         self.expl = expl
         self.printed = FastStrPrinter()  # each expression's text once per rendering (a point's v_P shows often)
+        self.alias = _alpha_alias(expl)
 
     def document(self) -> str:
         out = [self.title(self.expl.title)]
@@ -51,6 +56,8 @@ class _Renderer:
     def step(self, step: Step) -> str:
         out = [self.heading(step.title, 3)]
         out += [self.paragraph(t) for t in step.text]
+        if self.alias is not None and step is self.alias[0]:
+            out.append(self.paragraph(self.alias[1]))
         if step.figure is not None:
             out.append(self.figure(step.figure))
         if step.figure_svg is not None:
@@ -70,6 +77,29 @@ class _Renderer:
     def drawing(self, svg: str) -> str:
         """A drawn free-body diagram: only HTML shows it (the forces are listed in every format)."""
         return ""
+
+
+def _alpha_alias(expl: Explanation):
+    """(step, sentence) saying once that alpha stands for +-q'': the first step after the kinematics whose
+    equations write the unknown q'' as the body's angular acceleration alpha (a one-body, one-coordinate
+    scene: the collected moment equation and the numbers, as the paper's Eqs. 28-29 do); None otherwise."""
+    defined = [(section.body, e) for section in expl.sections for step in section.steps
+               if step.kind == "kinematics" for e in step.equations if e.tag == "alpha"]
+    if len(defined) != 1:
+        return None
+    body, eq = defined[0]
+    rate = sp.sympify(eq.right)
+    q_ddot = [s for s in rate.free_symbols if s in expl.symbol_latex]
+    if len(q_ddot) != 1 or rate not in (q_ddot[0], -q_ddot[0]):
+        return None
+    alpha = sp.Symbol("alpha", real=True)
+    for step in expl.steps():
+        if step.kind != "kinematics" and any(alpha in sp.sympify(t.expr).free_symbols
+                                             for e in step.equations for t in (*e.lhs, *e.rhs)):
+            return step, (f"Here alpha = {sstr(rate)}, the angular acceleration of {body} (k component, "
+                          f"counter-clockwise positive): from here on the equations write the unknown {q_ddot[0]} "
+                          "as alpha.")
+    return None
 
 
 # -- text ------------------------------------------------------------------------------------------
@@ -130,14 +160,6 @@ class _Text(_Renderer):
 
 # -- LaTeX-based (Markdown and LaTeX) -------------------------------------------------------------
 
-_LATEX_SPECIAL = {"\\": r"\textbackslash{}", "&": r"\&", "%": r"\%", "$": r"\$", "#": r"\#", "_": r"\_",
-                  "{": r"\{", "}": r"\}", "~": r"\textasciitilde{}", "^": r"\textasciicircum{}"}
-
-
-def latex_escape(text: str) -> str:
-    return "".join(_LATEX_SPECIAL.get(ch, ch) for ch in str(text))
-
-
 def _name_latex(name: str) -> str:
     """``a_G,x`` -> ``a_{G,x}``; names are letters, digits, _ , / and ``G_bar`` style."""
     safe = re.sub(r"[^A-Za-z0-9_,/()]", "", name)
@@ -147,9 +169,10 @@ def _name_latex(name: str) -> str:
 
 
 class _LatexMath:
-    def __init__(self, names):
+    def __init__(self, names, note=None):
         self.names = names
         self.printed: dict = {}  # expression -> its LaTeX, for this rendering
+        self.note = note or latex_escape  # a term's note as the text of \text{...}
 
     def expr(self, e) -> str:
         if isinstance(e, sp.MatrixBase):
@@ -166,7 +189,7 @@ class _LatexMath:
             negative = i > 0 and not isinstance(expr, sp.MatrixBase) and sp.sympify(expr).could_extract_minus_sign()
             s = self.expr(-expr if negative else expr)
             if notes and t.note and len(terms) > 1:
-                s = rf"\underbrace{{{s}}}_{{\text{{{latex_escape(t.note)}}}}}"
+                s = rf"\underbrace{{{s}}}_{{\text{{{self.note(t.note)}}}}}"
             out += ("" if i == 0 else (" - " if negative else " + ")) + s
         return out
 
@@ -206,30 +229,42 @@ def _md(text: str) -> str:
 
 
 class _Latex(_Renderer):
+    """A LaTeX document: prose as text with inline maths for its names and formulae (names through the
+    explanation's LaTeX name map), units upright (``\\mathrm{ft/s^{2}}``), no code-style ``*`` or ``**``."""
+
     def __init__(self, expl):
         super().__init__(expl)
-        self.math = _LatexMath(expl.symbol_latex)
+        symbols = set().union(*[sp.sympify(t.expr).free_symbols for s in expl.steps() for e in s.equations
+                                for t in (*e.lhs, *e.rhs)])
+        self.prose = LatexProse(symbols, expl.symbol_latex)
+        self.math = _LatexMath(expl.symbol_latex, note=self.prose.cell)
 
     def wrap(self, body):
         return ("\\documentclass{article}\n\\usepackage{amsmath}\n\\usepackage[margin=2cm]{geometry}\n"
                 "\\allowdisplaybreaks\n\\begin{document}\n" + body + "\n\\end{document}\n")
 
     def title(self, text):
-        return f"\\section*{{{latex_escape(text)}}}"
+        return f"\\section*{{{self.prose.text(text)}}}"
 
     def heading(self, text, level):
-        return f"\\{'sub' * (level - 1)}section*{{{latex_escape(text)}}}"
+        return f"\\{'sub' * (level - 1)}section*{{{self.prose.text(text)}}}"
 
     def paragraph(self, text):
-        return latex_escape(text) + "\n"
+        return self.prose.text(text) + "\n"
 
     def equation(self, eq):
-        head = latex_escape(eq.label) + (f" ({latex_escape(eq.ref)})" if eq.ref else "")
+        label, unit = eq.label, ""
+        bracket = re.fullmatch(r"(.*) \[([^\]]+)\]", label)  # "body: Newton, x component [lbf]"
+        if bracket and unit_latex(bracket[2]):
+            label, unit = bracket[1], f" [${unit_latex(bracket[2])}$]"
+        head = self.prose.text(label) + unit + (f" ({self.prose.text(eq.ref)})" if eq.ref else "")
         return f"{head}:\n\\begin{{equation*}}\n{self.math.equation(eq)}\n\\end{{equation*}}"
 
     def table(self, table):
         cols = "l" * len(table.header)
-        rows = [" & ".join(latex_escape(c) for c in r) + r" \\" for r in (table.header, *table.rows)]
+        units = [h == "unit" for h in table.header]
+        rows = [" & ".join(self.prose.text(c) for c in table.header) + r" \\"]
+        rows += [" & ".join(self.prose.cell(c, u) for c, u in zip(r, units)) + r" \\" for r in table.rows]
         return ("\\begin{center}\\small\n\\begin{tabular}{" + cols + "}\n" + rows[0] + "\n\\hline\n"
                 + "\n".join(rows[1:]) + "\n\\end{tabular}\n\\end{center}")
 

@@ -1,0 +1,243 @@
+"""Prose, names, expressions and units of a worked solution written as LaTeX.
+
+The content of a worked solution (:mod:`solver.explain.content`) carries its words as plain
+text in which names (``theta_ddot``, ``r_G/A``), short formulae (``v = v_A + omega x r``),
+expressions (``l_b**2*m_b/12``) and units (``ft / s ** 2``) are written the way code writes
+them. :class:`LatexProse` turns such text into LaTeX: the words stay text (escaped), each
+formula becomes inline maths with the symbols' LaTeX names (the ``symbol_latex`` map of the
+explanation, :func:`solver.explain.build.latex_names`, and sympy's names of the symbols the
+equations hold), powers as superscripts, no ``*`` and no ``**``; a unit becomes
+``\\mathrm{ft/s^{2}}``.
+
+Nothing is evaluated: the text is split by one regular expression into words, numbers and
+operators, and a word is maths only when it is a symbol of the explanation, a Greek letter,
+a rate (``x_dot``, ``x_ddot``) or a one-letter name with a subscript (``a_A``, ``M_P``).
+Everything else is escaped text, so scene names stay data.
+"""
+from __future__ import annotations
+
+import re
+
+import sympy as sp
+
+__all__ = ["LatexProse", "latex_escape", "unit_latex"]
+
+_LATEX_SPECIAL = {"\\": r"\textbackslash{}", "&": r"\&", "%": r"\%", "$": r"\$", "#": r"\#", "_": r"\_",
+                  "{": r"\{", "}": r"\}", "~": r"\textasciitilde{}", "^": r"\textasciicircum{}"}
+
+
+def latex_escape(text: str) -> str:
+    """Plain text for LaTeX's text mode: every special character escaped."""
+    return "".join(_LATEX_SPECIAL.get(ch, ch) for ch in str(text))
+
+
+_GREEK = {"alpha", "beta", "gamma", "delta", "epsilon", "zeta", "eta", "theta", "iota", "kappa", "lambda",
+          "mu", "nu", "xi", "pi", "rho", "sigma", "tau", "upsilon", "phi", "chi", "psi", "omega",
+          "Gamma", "Delta", "Theta", "Lambda", "Xi", "Pi", "Sigma", "Upsilon", "Phi", "Psi", "Omega"}
+_FUNCTIONS = {"sin": r"\sin", "cos": r"\cos", "tan": r"\tan", "exp": r"\exp", "log": r"\log",
+              "sqrt": r"\operatorname{sqrt}", "sign": r"\operatorname{sign}", "Abs": r"\operatorname{abs}"}
+_RELATIONS = {">=": r"\geq", "<=": r"\leq", "=": "=", "~": r"\approx"}
+
+_TOKEN = re.compile(r"""
+    (?P<name>[A-Za-z][A-Za-z0-9]*
+             (?:(?:_[A-Za-z0-9]+)+(?:,[a-z](?![A-Za-z0-9]))?(?:/[A-Za-z][A-Za-z0-9]*(?![A-Za-z0-9(]))?)?
+             (?:\([A-Za-z0-9_,]+\)(?=[\s,.;:)]|$))?'*)
+  | (?P<num>\d+(?:\.\d+)?(?:e[-+]?\d+)?)
+  | (?P<op>\*\*|>=|<=|[-+*/=^|~])
+  | (?P<paren>[()])
+  | (?P<space>[ ]+)
+  | (?P<other>.)
+""", re.VERBOSE | re.DOTALL)
+_ONE_LETTER_SUB = re.compile(r"[A-Za-z](?:_[A-Za-z0-9]+)+(?:,[a-z])?(?:/[A-Za-z][A-Za-z0-9]*)?")
+_SUBSCRIPTED = re.compile(r"[A-Za-z][0-9]*(?:_[A-Za-z0-9]+)+")
+_RATE = re.compile(r"(?P<base>[A-Za-z][A-Za-z0-9]*)_(?P<dots>d?dot)")
+_UNIT = re.compile(r"[A-Za-z]+(?:\s*(?:\*\*\s*-?\d+|[*/]\s*[A-Za-z]+))*")
+_NUMBER_UNIT = re.compile(r"(?P<num>-?\d+(?:\.\d+)?(?:e[-+]?\d+)?)(?:\s+(?P<unit>" + _UNIT.pattern + "))?")
+
+
+def unit_latex(unit: str) -> str | None:
+    """``ft / s ** 2`` -> ``\\mathrm{ft/s^{2}}``, ``N*m`` -> ``\\mathrm{N\\,m}``; None when ``unit`` is
+    not written as units are (letters joined by ``*``, ``/`` and integer powers)."""
+    unit = unit.strip()
+    if not _UNIT.fullmatch(unit):
+        return None
+    text = re.sub(r"\s*\*\*\s*(-?\d+)", r"^{\1}", unit)
+    text = re.sub(r"\s*\*\s*", r"\\,", text)
+    text = re.sub(r"\s*/\s*", "/", text)
+    return rf"\mathrm{{{text}}}"
+
+
+def _number_latex(number: str) -> str:
+    """``1.9e-16`` -> ``1.9\\times 10^{-16}``; other numbers as written."""
+    mantissa, e, exponent = number.partition("e")
+    if not e:
+        return number
+    return "0" if float(mantissa) == 0 else rf"{mantissa}\times 10^{{{int(exponent)}}}"
+
+
+class LatexProse:
+    """Text of a worked solution as LaTeX, with the names of one explanation.
+
+    Parameters
+    ----------
+    symbols : iterable of sympy.Symbol
+        The symbols the explanation's equations hold (each is maths wherever its name appears).
+    symbol_latex : dict
+        LaTeX names that differ from sympy's (dotted rates, :func:`solver.explain.build.latex_names`).
+    """
+
+    def __init__(self, symbols, symbol_latex: dict):
+        self.known = {str(s): sp.latex(s, symbol_names=symbol_latex) for s in symbols}
+        self.known.update({str(s): tex for s, tex in symbol_latex.items()})
+
+    # -- names ------------------------------------------------------------------------------------
+
+    def name(self, word: str) -> str | None:
+        """The LaTeX of a name, or None when the word is not a name of maths."""
+        primes = len(word) - len(word.rstrip("'"))
+        word = word.rstrip("'")
+        args = ""
+        if word.endswith(")") and "(" in word:  # a point named by two lines, I(R_A,R_B)
+            word, _, inner = word[:-1].partition("(")
+            args = "(" + ",".join(self.name(a) or latex_escape(a) for a in inner.split(",")) + ")"
+        tex = _FUNCTIONS.get(word) if args and word in _FUNCTIONS else self._plain_name(word)  # sin(beta)
+        if tex is None:
+            return None
+        if args:
+            tex = tex[:-1] + args + "}" if tex.endswith("}") else tex + args
+        return tex + "'" * primes
+
+    def _plain_name(self, word: str) -> str | None:
+        if word in self.known:
+            return self.known[word]
+        rate = _RATE.fullmatch(word)
+        if rate:
+            base = self._plain_name(rate["base"])
+            return None if base is None else rf"\{rate['dots']}{{{base}}}"
+        head, _, tail = word.partition("_")
+        if head in _GREEK or _SUBSCRIPTED.fullmatch(word):  # as sympy writes the symbol (O2_x: O_{2 x})
+            return sp.latex(sp.Symbol(word))
+        if _ONE_LETTER_SUB.fullmatch(word):
+            return head + "_{" + tail.replace("_", r"\_") + "}"
+        if len(word) == 1 or word == "dt":  # one letter; dt of d^2 Phi/dt^2
+            return word
+        return None
+
+    def _strong(self, word: str, letters: bool) -> bool:
+        """Maths by itself. A single letter is, in prose, maths only next to an operator or another name
+        (``a`` is also an article); with ``letters`` (a table cell, a note) a symbol's letter is maths."""
+        bare = word.rstrip("'")
+        if len(bare) == 1 and bare == word:
+            return letters and word in self.known
+        return self.name(word) is not None or bare in _FUNCTIONS
+
+    # -- text -------------------------------------------------------------------------------------
+
+    def text(self, text: str, letters: bool = False) -> str:
+        """Prose as LaTeX text with inline maths for its names and formulae (``letters``: see
+        :meth:`_strong`)."""
+        tokens = [(m.lastgroup, m.group()) for m in _TOKEN.finditer(str(text))]
+        out, i = [], 0
+        while i < len(tokens):
+            end = self._formula_end(tokens, i, letters)
+            if end > i:
+                out.append("$" + self._maths(tokens[i:end]) + "$")
+                i = end
+            else:
+                out.append(latex_escape(tokens[i][1]))
+                i += 1
+        return "".join(out)
+
+    def cell(self, text: str, unit: bool = False) -> str:
+        """A table cell: a unit (``unit``), a number with its unit, a name, or prose."""
+        text = str(text)
+        if unit and unit_latex(text):
+            return "$" + unit_latex(text) + "$"
+        m = _NUMBER_UNIT.fullmatch(text.strip())
+        if m:
+            tail = rf"\,{unit_latex(m['unit'])}" if m["unit"] else ""
+            return f"${_number_latex(m['num'])}{tail}$"
+        word = text.strip()
+        if re.fullmatch(r"[A-Z][0-9]*", word):  # a point (A, O2)
+            return f"${word}$"
+        if _TOKEN.fullmatch(word) and _TOKEN.fullmatch(word).lastgroup == "name" and self.name(word):
+            return "$" + self.name(word) + "$"
+        return self.text(text, letters=True)
+
+    def _operand(self, kind: str, value: str) -> bool:
+        return kind == "num" or (kind == "name" and (self.name(value) is not None or value in _FUNCTIONS
+                                                     or value == "x"))
+
+    def _formula_end(self, tokens, start: int, letters: bool) -> int:
+        """End of the formula that starts at ``start`` (``start`` when none does)."""
+        kind, value = tokens[start]
+        if not (self._operand(kind, value) or value in ("-", "(", "|", "=")):
+            return start
+        if value in _FUNCTIONS and tokens[start + 1:start + 2] != [("paren", "(")]:
+            return start
+        end, depth, last_good, strong, relation = start, 0, start, False, False
+        while end < len(tokens):
+            kind, value = tokens[end]
+            if kind == "other" and not (value == "," and depth > 0):
+                break
+            if kind == "name" and not self._operand(kind, value):
+                break
+            if value in _FUNCTIONS and tokens[end + 1:end + 2] != [("paren", "(")]:
+                break  # sin, sign... are functions only when applied: "the sign of" is a word
+            if kind == "paren":
+                depth += 1 if value == "(" else -1
+                if depth < 0:
+                    break
+            strong = strong or (kind == "name" and self._strong(value, letters)) or value in ("**", "^", "*")
+            relation = relation or value in _RELATIONS
+            end += 1
+            if depth == 0 and kind in ("name", "num", "paren") or value == "|":
+                last_good = end
+        if last_good == start or not (strong or relation):
+            return start
+        if all(k in ("num", "space", "op", "paren") for k, _ in tokens[start:last_good]) and not strong:
+            return start  # numbers alone (Eqs. 11-14) stay text
+        return last_good
+
+    def _maths(self, tokens) -> str:
+        out, i = [], 0
+        while i < len(tokens):
+            kind, value = tokens[i]
+            if value in ("**", "^") and i + 1 < len(tokens):
+                j, group = self._exponent(tokens, i + 1)
+                out.append("^{" + self._maths(group) + "}")
+                i = j
+                continue
+            if kind == "name":
+                prev = [v for k, v in tokens[:i] if k != "space"]
+                after = [v for k, v in tokens[i + 1:] if k != "space"]
+                if value == "x" and prev and after and prev[-1] not in ("(", ",") and after[0] not in (")", ","):
+                    out.append(r"\times")
+                else:
+                    out.append(_FUNCTIONS.get(value) or self.name(value))
+            elif kind == "op":
+                out.append({"*": r"\,", "|": "|", "/": "/"}.get(value, _RELATIONS.get(value, value)))
+            elif kind == "space":
+                out.append(" ")
+            else:
+                out.append(value)
+            i += 1
+        return re.sub(r" *\\, *", r"\\,", "".join(out)).strip()
+
+    @staticmethod
+    def _exponent(tokens, i: int):
+        """(index after the exponent, its tokens): one operand or one parenthesised group."""
+        while i < len(tokens) and tokens[i][0] == "space":
+            i += 1
+        if i < len(tokens) and tokens[i][1] == "-":
+            j, group = LatexProse._exponent(tokens, i + 1)
+            return j, [tokens[i], *group]
+        if i < len(tokens) and tokens[i][1] == "(":
+            depth, j = 0, i
+            while j < len(tokens):
+                depth += {"(": 1, ")": -1}.get(tokens[j][1], 0)
+                j += 1
+                if depth == 0:
+                    break
+            return j, tokens[i + 1:j - 1]
+        return i + 1, tokens[i:i + 1]
