@@ -559,7 +559,7 @@ def test_four_bar_rocker_about_its_fixed_pivot(every_scene):
     # coupler's pin force at B, a distance c from O4, remains with the rocker's own theta4''
     assert present == [al4, Bx, By]
     said = rocker.step("dropped").text[0]
-    assert said == "The moment equation about O4 contains 3 unknown(s): theta4_ddot, B_x, B_y."
+    assert said == "The moment equation about O4 contains 3 unknowns: theta4_ddot, B_x, B_y."
     # Newton with a_G = alpha x r_G/O4 - omega^2 r_G/O4 (r_G/O4 = c/2 (cos, sin)): the rocker's own angle only
     nx = rocker.step("newton").equation("newton_x").residual
     assert sp.expand(nx - (Bx + O4x + m4 * c / 2 * (al4 * sp.sin(th4) + w4**2 * sp.cos(th4)))) == 0
@@ -611,7 +611,7 @@ def test_four_bar_pin_to_the_ground_written_either_way(tmp_path):
     path.write_text(text.replace(spelled, 'connects = ["rocker:O4", "ground:O4"]'))
     system = load_system(path)
     rocker = explain(system).section("rocker")
-    assert rocker.step("dropped").text[0] == "The moment equation about O4 contains 3 unknown(s): theta4_ddot, B_x, B_y."
+    assert rocker.step("dropped").text[0] == "The moment equation about O4 contains 3 unknowns: theta4_ddot, B_x, B_y."
     ours = solve_instant(system).unknowns
     shipped = solve_instant(load_system(ROOT / "data" / "scenes" / "four_bar.toml")).unknowns
     for name, value in shipped.items():
@@ -657,3 +657,62 @@ def test_html_worked_solution_style_sheet_is_valid(solver_cli):
     assert "".join(f"{sel}{{{body}}}" for sel, body in rules).replace(" ", "") == css.replace(" ", "")
     declared = {sel.strip(): body for sel, body in rules}
     assert "white-space:pre-wrap" in declared[".eq"] and "border:" in declared["td,th"]
+
+
+PENDULUM = """name = "pendulum"
+[parameters]
+m = "2 kg"
+L = "0.8 m"
+g = "9.81 m/s^2"
+[coordinates]
+theta = { value = "THETA", rate = "1 rad/s" }
+[ground.points]
+O = ["0", "0"]
+[[bodies]]
+name = "bar"
+orientation = "theta - pi/2"
+points = { O = ["0", "0"], E = ["L", "0"] }
+elements = [{ kind = "slender_bar", mass = "m", from = "O", to = "E" }]
+[[joints]]
+kind = "pin"
+name = "O"
+connects = ["ground:O", "bar:O"]
+[[loads]]
+kind = "gravity"
+g = "g"
+"""
+
+
+def _pendulum(tmp_path, theta="0 deg"):
+    path = tmp_path / "pendulum.toml"
+    path.write_text(PENDULUM.replace("THETA", theta), encoding="utf-8")
+    return load_system(path)
+
+
+def _euler_column(step):
+    return {row[0]: row[3] for row in step.table.rows}
+
+
+def test_dropped_unknowns_at_the_state_agree_with_the_advisor(tmp_path, every_scene):
+    """A hanging pendulum (theta = 0) about its tip E: O_y's line of action passes through E at
+    this state only (its moment coefficient is -L sin theta). The step on the dropped unknowns, the
+    point advisor and the equations with the data entered make one decision: 2 unknowns here,
+    O_y's coefficient vanishing at this state and not identically. At theta = 30 deg O_y stays."""
+    from solver.analyses.instant import assemble
+    from solver.explain import rank_points
+
+    system = _pendulum(tmp_path)
+    expl = explain(system, "E")
+    step = expl.section("bar").step("dropped")
+    advisor = {c.name: c for c in rank_points(system, "bar", assemble(system))}["E"]
+    assert advisor.unknowns == ["theta_ddot", "O_x"]
+    assert _euler_column(step) == {"O_x": "yes", "O_y": "no, at this state"}
+    assert "3 unknowns in general" in step.text[0] and "2 at this state (theta_ddot, O_x)" in step.text[0]
+    assert any("O_y" in t and "at this state only" in t for t in step.text)
+    numbers = expl.sections[-1].step("numbers").equation("numbers:bar:euler")
+    assert {t.note for t in numbers.lhs} == {"alpha", "O_x"}
+    moved = explain(_pendulum(tmp_path, "30 deg"), "E").section("bar").step("dropped")
+    assert _euler_column(moved) == {"O_x": "yes", "O_y": "yes"}
+    # the crate at rest, held redundantly (no advisor ranking): F_B's line passes through A at theta = 0
+    crate = every_scene["crate_tipping"][1].section("crate").step("dropped")
+    assert _euler_column(crate) == {"F_A": "no", "N_A": "no", "F_B": "no, at this state", "N_B": "yes"}

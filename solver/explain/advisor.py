@@ -30,7 +30,7 @@ import sympy as sp
 
 from .content import Step, Table
 
-__all__ = ["Candidate", "rank_points", "advice_step", "MAX_CANDIDATES"]
+__all__ = ["Candidate", "rank_points", "advice_step", "unknowns_at_state", "MAX_CANDIDATES"]
 
 MAX_CANDIDATES = 60
 """Most candidate points examined per body (pairs of reaction lines grow quadratically)."""
@@ -155,19 +155,51 @@ def _known_points(system, body, forces_at):
     return known
 
 
+class _BodyRows:
+    """A body's equations at the state, and the one decision of which unknowns a moment equation
+    about a point X holds there (the advisor's ranking and the worked solution's step "Unknowns in
+    the moment equation" both ask :meth:`unknowns_about`)."""
+
+    def __init__(self, system, f, body: str, state):
+        from .build import _state_subs
+
+        self.subs = _State(_state_subs(system, state))
+        self.rows = _rows(system, f, body, self.subs)
+        self.names = [str(u) for u in f.unknowns]
+        self.scale = max(float(np.max(np.abs(r))) for r in self.rows.values()) or 1.0
+        self.r0 = np.array([_numeric(x, self.subs) for x in system.point_position(body, f.points[body])])
+
+    def position(self, r) -> np.ndarray:
+        """A symbolic position at the state [m]."""
+        return np.array([_numeric(x, self.subs) for x in r])
+
+    def moment_row(self, at) -> np.ndarray:
+        """Coefficients of the unknowns in the moment equation about the place ``at`` (Eq. 3)."""
+        a = self.r0 - np.asarray(at, dtype=float)
+        return self.rows["E"] + a[0] * self.rows["y"] - a[1] * self.rows["x"]
+
+    def unknowns_about(self, at) -> list[str]:
+        """The unknowns whose coefficient about ``at`` is not zero at the state (:data:`_REL_ZERO`)."""
+        row = self.moment_row(at)
+        return [n for n, v in zip(self.names, row) if abs(v) > _REL_ZERO * self.scale]
+
+
+def unknowns_at_state(system, f, body: str, P: str, state) -> list[str]:
+    """The unknowns the moment equation of ``body`` about its point ``P`` holds at ``state``: the
+    same decision as the advisor's count for P (:class:`_BodyRows`)."""
+    rows = _BodyRows(system, f, body, state)
+    return rows.unknowns_about(rows.position(system.point_position(body, P)))
+
+
 def rank_points(system, body: str, state, f=None, parts=None) -> list[Candidate]:
     """The candidate points of ``body`` at ``state``, best first (see the module docstring);
     ``parts``: the body's (points, forces) when the worked solution has built them already."""
     from ..formulations import formulate
-    from .build import _Points, _forces_on, _state_subs
+    from .build import _Points, _forces_on
 
     f = f or formulate(system, "generalized_euler", None)
-    subs = _State(_state_subs(system, state))
-    rows = _rows(system, f, body, subs)
-    names = [str(u) for u in f.unknowns]
-    scale = max(float(np.max(np.abs(r))) for r in rows.values()) or 1.0
-    P0 = f.points[body]
-    r0 = np.array([_numeric(x, subs) for x in system.point_position(body, P0)])
+    body_rows = _BodyRows(system, f, body, state)
+    subs, rows, scale = body_rows.subs, body_rows.rows, body_rows.scale
 
     if parts is None:
         points = _Points(system, body)
@@ -206,10 +238,8 @@ def rank_points(system, body: str, state, f=None, parts=None) -> list[Candidate]
             s, _ = np.linalg.solve(M, p2 - p1)
             add(f"I({n1},{n2})", p1 + s * d1, f"intersection of the lines of action of {n1} and {n2}")
     for c in cands:
-        a = r0 - np.array(c.position)
-        row = rows["E"] + a[0] * rows["y"] - a[1] * rows["x"]
-        present = np.abs(row) > _REL_ZERO * scale
-        c.unknowns = [n for n, p in zip(names, present) if p]
+        row = body_rows.moment_row(c.position)
+        c.unknowns = body_rows.unknowns_about(c.position)
         c.group = _group(row, rows, scale)
         c.known = c.name in known_names
         c.fixed = c.name in points.named and c.name in b.point_names() and _fixed(system, body, c.name)

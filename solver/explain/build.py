@@ -407,11 +407,24 @@ def _unknowns_in(expr, unknowns) -> list:
     return [u for u in unknowns if not _zero(e.coeff(u))]
 
 
-def _dropped_step(system, body: str, P: str, forces, dropped, newton: Step, euler: Step) -> Step:
+def counted(n: int, noun: str) -> str:
+    """``1 unknown``, ``2 unknowns``: a count with its noun in the right number."""
+    return f"{n} {noun}" if n == 1 else f"{n} {noun}s"
+
+
+def _dropped_step(system, body: str, P: str, forces, dropped, newton: Step, euler: Step,
+                  at_state: list[str] | None = None) -> Step:
+    """Which unknowns the moment equation about P holds, and why the others drop out.
+
+    ``at_state``: the names of the unknowns it holds at the state, as the point advisor counts them
+    (:func:`solver.explain.advisor.unknowns_at_state`); an unknown whose coefficient is not
+    identically zero but vanishes there is said to vanish at this state only.
+    """
     unknowns = list(system.qdd) + [r.symbol for r in system.reactions]
-    in_euler = _unknowns_in(euler.equation("euler").residual, unknowns)
-    rows = []
-    text = []
+    residual = sp.expand(euler.equation("euler").residual)
+    in_euler = _unknowns_in(residual, unknowns)
+    here = [u for u in in_euler if at_state is None or str(u) in at_state]
+    rows, text = [], []
     for f in forces:
         if f.reaction is None:
             continue
@@ -419,20 +432,34 @@ def _dropped_step(system, body: str, P: str, forces, dropped, newton: Step, eule
         cells = [f.name]
         for tag in ("newton_x", "newton_y"):
             cells.append("yes" if u in _unknowns_in(newton.equation(tag).residual, [u]) else "no")
-        cells.append("yes" if u in in_euler else "no")
-        if f in dropped and u not in in_euler:
-            why = (f"its line of action passes through {P}" if f.force is not None and _zero(f.couple)
-                   else f"its moment about {P} is zero")
-        elif u not in in_euler:
-            why = f"its moments about {P} cancel"
-        else:
+        line = f.force is not None and _zero(f.couple)
+        if u in here:
+            cells.append("yes")
             why = ""
+        elif u in in_euler:
+            cells.append("no, at this state")
+            why = (f"{'its line of action passes through ' + P if line else 'its moment about ' + P + ' is zero'} "
+                   f"at this state only (its coefficient {sp.sstr(tidy(residual.coeff(u)))} vanishes here, "
+                   "not identically)")
+        else:
+            cells.append("no")
+            why = (f"its line of action passes through {P}" if f in dropped and line
+                   else f"its moment about {P} is zero" if f in dropped else f"its moments about {P} cancel")
         cells.append(why)
         rows.append(tuple(cells))
         if why:
             text.append(f"{f.name} drops out of the moment equation: {why}.")
-    names = ", ".join(str(u) for u in in_euler)
-    text.insert(0, f"The moment equation about {P} contains {len(in_euler)} unknown(s): {names}.")
+    for u in in_euler:  # an acceleration whose coefficient vanishes at the state
+        if u not in here and u in system.qdd:
+            text.append(f"{u} drops out of the moment equation at this state only (its coefficient "
+                        f"{sp.sstr(tidy(residual.coeff(u)))} vanishes here, not identically).")
+    names = ", ".join(str(u) for u in here)
+    if len(here) == len(in_euler):
+        text.insert(0, f"The moment equation about {P} contains {counted(len(here), 'unknown')}: {names}.")
+    else:
+        text.insert(0, f"The moment equation about {P} contains {counted(len(in_euler), 'unknown')} in "
+                       f"general ({', '.join(map(str, in_euler))}), {len(here)} at this state ({names}): the "
+                       "count of the point advisor and of the equations with the data entered.")
     return Step("dropped", f"Unknowns in the moment equation about {P}", text,
                 table=Table(("reaction", "Newton x", "Newton y", f"Euler about {P}", "why not in Euler"), tuple(rows)))
 
@@ -482,7 +509,7 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
         expl.sections[-1].steps.append(_regime_step(scene, regime, warning))
     parts: dict = {}
     for body, P in f.points.items():
-        expl.sections.append(_body_section(system, body, P, parts))
+        expl.sections.append(_body_section(system, body, P, parts, (f, state)))
     if not solution:
         return expl
     final = Section("Solution", None)
@@ -554,9 +581,10 @@ def _regime_step(scene, regime, warning) -> Step:
                 table=Table(("contact", "regime", "why"), tuple(rows)) if rows else None)
 
 
-def _body_section(system, body: str, P: str, parts: dict | None = None) -> Section:
+def _body_section(system, body: str, P: str, parts: dict | None = None, at=None) -> Section:
     """The steps of one body; ``parts`` (body -> (points, forces)) receives what the point advisor
-    needs again (no later step names new points)."""
+    needs again (no later step names new points); ``at``: (formulation, state), to say which
+    unknowns the moment equation holds at the state."""
     points = _Points(system, body)
     forces = _forces_on(system, body, points)
     if parts is not None:
@@ -576,7 +604,12 @@ def _body_section(system, body: str, P: str, parts: dict | None = None) -> Secti
     section.steps.append(newton)
     euler, dropped = _euler_step(system, body, P, forces)
     section.steps.append(euler)
-    section.steps.append(_dropped_step(system, body, P, forces, dropped, newton, euler))
+    at_state = None
+    if at is not None:
+        from .advisor import unknowns_at_state
+
+        at_state = unknowns_at_state(system, at[0], body, P, at[1])
+    section.steps.append(_dropped_step(system, body, P, forces, dropped, newton, euler, at_state))
     return section
 
 
