@@ -716,3 +716,27 @@ def test_dropped_unknowns_at_the_state_agree_with_the_advisor(tmp_path, every_sc
     # the crate at rest, held redundantly (no advisor ranking): F_B's line passes through A at theta = 0
     crate = every_scene["crate_tipping"][1].section("crate").step("dropped")
     assert _euler_column(crate) == {"F_A": "no", "N_A": "no", "F_B": "no, at this state", "N_B": "yes"}
+
+
+@pytest.mark.parametrize("scene,body,name", [("wheel_on_incline", "body", "C_rolling_hoop"),
+                                             ("drum_and_block", "drum", "C_cord")])
+def test_a_joint_place_is_named_after_its_joint_and_accepted_by_point(scene, body, name):
+    """The place where a joint acts and the scene names no point (the hoop's contact point, the
+    drum's cord tangent point) is named C_<joint>, said what it is, and, as the advisor's choice
+    for the hoop, taken by --point: the moment equation about it gives the same answers as the
+    mass-centre form (round-off only: a relative difference under 1e-9, far above double
+    precision's 1e-16 and far below any real disagreement)."""
+    from solver.analyses.instant import assemble
+    from solver.explain import rank_points
+
+    system = load_system(ROOT / "data" / "scenes" / f"{scene}.toml")
+    ranked = rank_points(system, body, assemble(system))
+    assert name in {c.name for c in ranked} and not any(c.name.startswith("X") for c in ranked)
+    if scene == "wheel_on_incline":
+        assert ranked[0].name == name and ranked[0].origin == "point of its joint"
+    expl = explain(system, f"{body}:{name}")
+    assert expl.points[body] == name
+    kinematics = " ".join(expl.section(body).step("kinematics").text)
+    assert f"{name} is the point of {body} where joint {name[2:]} acts" in kinematics
+    check = expl.sections[-1].step("check").table.rows
+    assert all(float(row[4]) < 1e-9 for row in check), check

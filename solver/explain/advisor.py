@@ -49,7 +49,7 @@ class Candidate:
     position : tuple of float
         Fixed-frame position at the state [m].
     origin : str
-        "named point", "mass centre", "element centre", "joint", "intersection of ...".
+        "named point", "mass centre", "element centre", "point of its joint" (C_<joint>), "intersection of ...".
     unknowns : list of str
         The unknowns its moment equation contains at the state.
     group : int or None
@@ -218,7 +218,7 @@ def rank_points(system, body: str, state, f=None, parts=None) -> list[Candidate]
     b = system.bodies[body]
     for name, r in points.named.items():
         origin = ("mass centre" if name == "G" else "element centre" if name.startswith("G_")
-                  else "joint" if name in reaction_at and name.startswith("X") else "named point")
+                  else "point of its joint" if name in points.about else "named point")
         add(name, np.array([_numeric(x, subs) for x in r]), origin)
     lines = []
     for fc in forces:

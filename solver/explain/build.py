@@ -80,16 +80,76 @@ class _Points:
                 if not any(_zero(r[0] - q[0]) and _zero(r[1] - q[1]) for q in self.named.values()):
                     self.named[key] = r
         self.extra = 0
+        self.about: dict[str, str] = {}  # a point named after its joint -> what it is, in words
+        for j in system.joints:  # one that --point asked for is a point of the body already
+            name = f"C_{j.name}"
+            if name in b.points and b.points[name].is_instant:
+                self.about[name] = self.describe(name, j)
 
-    def name_of(self, at) -> str:
+    def describe(self, name: str, joint) -> str:
+        return (f"{name} is the point of {self.body} where joint {joint.name} acts at this instant "
+                f"({_joint_place(joint)}); the scene names no point there, so it is named after its joint, "
+                f"and --point {name} takes moments about it")
+
+    def name_of(self, at, joint=None) -> str:
+        """The name of the place ``at``: a named point there, else ``C_<joint>`` for the place where
+        ``joint`` acts (:func:`joint_point_name`), else ``X1``, ``X2`` ..."""
         for name, r in self.named.items():
             d = r - at
             if _zero(d[0]) and _zero(d[1]):
                 return name
-        self.extra += 1
-        name = f"X{self.extra}"
+        if joint is not None:
+            name = joint_point_name(joint, self.named)
+            self.about[name] = self.describe(name, joint)
+        else:
+            self.extra += 1
+            name = f"X{self.extra}"
         self.named[name] = sp.Matrix(at)
         return name
+
+
+def add_joint_point(system, point: str | None) -> None:
+    """Make the point ``--point`` names a point of its body when it is one the worked solution and
+    the advisor name after a joint (``C_<joint>``, :meth:`_Points.name_of`): an instant point at
+    the place where the joint acts, so that the moment equation can be taken about it. Other
+    names are left to the formulation to accept or refuse."""
+    from ..model.bodies import Point
+
+    if point is None:
+        return
+    body, _, name = point.rpartition(":")
+    for b in ([system.bodies[body]] if body in system.bodies else [] if body else system.bodies.values()):
+        if name in b.point_names():
+            continue
+        points = _Points(system, b.name)
+        at = next((f.at for f in _forces_on(system, b.name, points) if f.point == name), None)
+        if at is None or name not in points.about:
+            continue
+        ref = next((n for n, p in b.points.items() if not p.is_instant), "G")
+        offset = sp.Matrix(at) - system.point_position(b.name, ref)
+        b.points[name] = Point(name, _vec(offset), frame="instant", relative_to=ref)
+        system.reset()
+
+
+def joint_point_name(joint, taken=()) -> str:
+    """``C_<joint>``: the name of the unnamed place where ``joint`` acts on a body (a contact point,
+    a cord's tangent point, a gear's pitch point), primed until it is not in ``taken``."""
+    name = f"C_{joint.name}"
+    while name in taken:
+        name += "'"
+    return name
+
+
+def _joint_place(joint) -> str:
+    from ..model.joints import Cord, Contact, GearMesh
+
+    if isinstance(joint, Cord):
+        return "where the cord leaves the drum"
+    if isinstance(joint, GearMesh):
+        return "the pitch point of the gears"
+    if isinstance(joint, Contact):
+        return "the contact point, a material point of the body"
+    return f"a {joint.kind} joint"
 
 
 # -- the forces on a body -----------------------------------------------------------------------
@@ -119,12 +179,13 @@ def _forces_on(system, body: str, points: _Points) -> list[_Force]:
         point = points.name_of(a.at) if a.force is not None else ""
         out.append(_Force(a.name, a.kind, a.force, a.at, a.couple, point=point))
     slipping = _slipping_contacts(system)
+    joints = {j.name: j for j in system.joints}
     for jl in system.joint_loads():
         if jl.body != body:
             continue
         sym = jl.reaction.symbol
         force = None if jl.force is None else sym * jl.force
-        point = points.name_of(jl.at) if jl.force is not None else ""
+        point = points.name_of(jl.at, joints.get(jl.reaction.joint)) if jl.force is not None else ""
         contact = slipping.get(jl.reaction.name)
         if contact is not None and force is not None:  # N n, and the friction -s mu_k N d apart
             joint, d, n = contact
@@ -208,6 +269,7 @@ def _kinematics_step(system, body: str, P: str, used: list[str], points: _Points
     text = [f"P = {P}. {how}; "
             f"every other point's follow by the rigid-body relation from {P}: v = v_{P} + omega x r, "
             f"a = a_{P} + alpha x r - omega^2 r (Eqs. 6, 15)."]
+    text += [points.about[X] + "." for X in dict.fromkeys([P, *used]) if X in points.about]
     return Step("kinematics", f"Kinematics of {body} from {P}", text, eqs)
 
 
@@ -490,6 +552,7 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
     from ..analyses.instant import assemble, solution_in_regime, solve_instant
     from ..formulations import formulate
 
+    add_joint_point(system, point)
     scene, regime, warning = system, None, None
     if system.contacts:  # the contact regime that holds at the state decides the equations
         system, regime, warning, state = system_in_regime(system, point)
