@@ -281,6 +281,7 @@ class _MultibodyReader:
         raw_points = L._read_points(L.table(L.require(spec, "points", key, "its named points"), f"{key}.points"))
         elements = self._read_elements(L.array_of_tables(L.require(spec, "elements", key, "at least one element"),
                                                          f"{key}.elements"), raw_points, key)
+        L.check_mass_centre_name(raw_points, elements, f"{key}.points")
         points = {n: Point(n, sp.Matrix(p.coords), p.frame, p.relative_to) for n, p in raw_points.items()}
         orientation = None
         if "orientation" in spec:
