@@ -640,13 +640,15 @@ class _SceneLoader:
                 )
 
     # -- points and elements --------------------------------------------------------------
-    def _read_points(self, table: dict[str, Any]) -> dict[str, Point]:
+    def _read_points(self, table: dict[str, Any], where: str = "points") -> dict[str, Point]:
+        """The named points of a body; ``where``: the place of the table in the file (``points``,
+        ``bodies[0].points``), named in every message."""
         if not table:
-            raise self.fail("points", "no points defined; name at least the reference point, e.g. A = [\"0\", \"0\"]")
+            raise self.fail(where, "no points defined; name at least the reference point, e.g. A = [\"0\", \"0\"]")
         points: dict[str, Point] = {}
         instants: list[tuple[str, dict[str, Any]]] = []
         for name, value in table.items():
-            key = f"points.{name}"
+            key = f"{where}.{name}"
             self.identifier(name, key, "point name")
             if isinstance(value, list):
                 points[name] = Point(name, self.vector(value, key, self.names.params, LENGTH))
@@ -660,7 +662,7 @@ class _SceneLoader:
             else:
                 instants.append((name, spec))
         for name, spec in instants:
-            key = f"points.{name}"
+            key = f"{where}.{name}"
             base = self.text(self.require(spec, "relative_to", key, "the body point this point is measured from"), f"{key}.relative_to")
             if base not in points:
                 raise self.fail(
