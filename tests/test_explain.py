@@ -740,3 +740,18 @@ def test_a_joint_place_is_named_after_its_joint_and_accepted_by_point(scene, bod
     assert f"{name} is the point of {body} where joint {name[2:]} acts" in kinematics
     check = expl.sections[-1].step("check").table.rows
     assert all(float(row[4]) < 1e-9 for row in check), check
+
+
+def test_no_negative_zero_in_the_results(every_scene):
+    """A zero prints as 0, never -0 (the crate at rest: x_ddot, theta_ddot; the guide's moment of
+    drum_and_block; solve prints 0 too): every table cell of every shipped scene's explanation."""
+    zeros = 0
+    for name, (_, expl) in every_scene.items():
+        for step in expl.steps():
+            for row in (step.table.rows if step.table is not None else ()):
+                for cell in row:
+                    assert not re.fullmatch(r"-0(\.0*)?( .*)?", cell), (name, step.title, row)
+                    zeros += cell == "0"
+    solution = {r[0]: r[1] for r in every_scene["crate_tipping"][1].sections[-1].step("solution").table.rows}
+    assert solution["x_ddot"] == solution["theta_ddot"] == "0"
+    assert zeros > 0

@@ -681,10 +681,11 @@ def _body_section(system, body: str, P: str, parts: dict | None = None, at=None)
 
 def _system_data_section(system, state) -> Section:
     rows = tuple((name, f"{q:~}" if hasattr(q, "units") else str(q)) for name, q in system.parameters.items())
-    from ..cli_common import in_output_units
+    from ..cli_common import format_number, in_output_units
 
     def shown(value: float, unit: str) -> str:  # in the scene's output units
-        return "{:.6g} {}".format(*in_output_units(value, unit, system.output_units))
+        value, unit = in_output_units(value, unit, system.output_units)
+        return f"{format_number(value)} {unit}"
 
     coords = []
     for c, v, r in zip(system.free, state.q, state.qd):
@@ -1041,10 +1042,12 @@ def _out(system, name: str, qty):
 
 
 def _solution_step(system, solution) -> Step:
+    from ..cli_common import format_number
+
     rows = []
     for name, qty in solution.unknowns.items():
         value, unit = _out(system, name, qty)
-        rows.append((name, f"{value:.6g}", unit))
+        rows.append((name, format_number(value), unit))
     text = [f"The {len(rows)} unknowns at the state, from the linear equations above "
             f"(condition number {solution.condition_number:.3g}), in the scene's output units."]
     return Step("solution", "Solution", text, table=Table(("unknown", "value", "unit"), tuple(rows)))
@@ -1119,6 +1122,8 @@ def _mass_center_check(system, state) -> dict:
 
 
 def _check_step(system, solution, check) -> Step:
+    from ..cli_common import format_number
+
     rows = []
     worst = 0.0
     for name, qty in solution.unknowns.items():
@@ -1127,7 +1132,7 @@ def _check_step(system, solution, check) -> Step:
         scale = max(abs(v1), abs(v2), 1e-300)
         diff = abs(v1 - v2) / scale if (v1 or v2) else 0.0
         worst = max(worst, diff)
-        rows.append((name, f"{v1:.6g}", f"{v2:.6g}", unit, f"{diff:.1e}"))
+        rows.append((name, format_number(v1), format_number(v2), unit, f"{diff:.1e}"))
     text = ["The same unknowns by the mass-centre form (Eq. 1 with a_G, Eq. 2 about G for each body): "
             f"the largest relative difference is {worst:.1e}."]
     return Step("check", "Check by the mass-centre form", text,
