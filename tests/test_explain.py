@@ -755,3 +755,25 @@ def test_no_negative_zero_in_the_results(every_scene):
     solution = {r[0]: r[1] for r in every_scene["crate_tipping"][1].sections[-1].step("solution").table.rows}
     assert solution["x_ddot"] == solution["theta_ddot"] == "0"
     assert zeros > 0
+
+
+def test_check_prints_values_equal_to_print_precision_equal(tmp_path):
+    """The mass-centre check prints two values that agree to round-off alike, even when they
+    straddle a rounding boundary of the 6 figures shown (159.41249999999997 and the next double
+    above 159.4125 print 159.412 and 159.413 with '.6g'): one more digit is shown. Values that
+    really differ keep 6 figures and print different."""
+    import math
+
+    from solver.cli_common import format_pair
+
+    low = math.nextafter(159.4125, 0.0)
+    high = math.nextafter(159.4125, 1e9)
+    assert (f"{low:.6g}", f"{high:.6g}") == ("159.412", "159.413")  # the trap this guards against
+    x, y = format_pair(low, high)
+    assert x == y and x.startswith("159.412")
+    assert format_pair(1.0, 1.1) == ("1", "1.1")
+    assert format_pair(-0.0, 0.0) == ("0", "0")
+    assert format_pair(63.7178, 63.7178 * (1 + 4.5e-16)) == ("63.7178", "63.7178")
+    # the pendulum about its tip at 30 deg: both routes agree to ~4e-16, and print alike
+    rows = explain(_pendulum(tmp_path, "30 deg"), "E").sections[-1].step("check").table.rows
+    assert all(row[1] == row[2] for row in rows), rows

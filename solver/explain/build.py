@@ -1122,7 +1122,7 @@ def _mass_center_check(system, state) -> dict:
 
 
 def _check_step(system, solution, check) -> Step:
-    from ..cli_common import format_number
+    from ..cli_common import format_pair
 
     rows = []
     worst = 0.0
@@ -1132,7 +1132,7 @@ def _check_step(system, solution, check) -> Step:
         scale = max(abs(v1), abs(v2), 1e-300)
         diff = abs(v1 - v2) / scale if (v1 or v2) else 0.0
         worst = max(worst, diff)
-        rows.append((name, format_number(v1), format_number(v2), unit, f"{diff:.1e}"))
+        rows.append((name, *format_pair(v1, v2), unit, f"{diff:.1e}"))
     text = ["The same unknowns by the mass-centre form (Eq. 1 with a_G, Eq. 2 about G for each body): "
             f"the largest relative difference is {worst:.1e}."]
     return Step("check", "Check by the mass-centre form", text,
