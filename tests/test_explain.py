@@ -777,3 +777,36 @@ def test_check_prints_values_equal_to_print_precision_equal(tmp_path):
     # the pendulum about its tip at 30 deg: both routes agree to ~4e-16, and print alike
     rows = explain(_pendulum(tmp_path, "30 deg"), "E").sections[-1].step("check").table.rows
     assert all(row[1] == row[2] for row in rows), rows
+
+
+LOADS = (PENDULUM + """[[loads]]
+kind = "spring"
+between = ["ground:S", "bar:E"]
+stiffness = "k"
+free_length = "L0"
+[[loads]]
+kind = "damper"
+between = ["ground:S", "bar:E"]
+coefficient = "c"
+""").replace('O = ["0", "0"]\n[[bodies]]', 'O = ["0", "0"]\nS = ["L", "-L"]\n[[bodies]]').replace(
+    'g = "9.81 m/s^2"', 'g = "9.81 m/s^2"\nk = "50 N/m"\nL0 = "0.2 m"\nc = "3 N*s/m"').replace("THETA", "30 deg")
+
+
+def test_no_collected_form_longer_than_its_equation_and_short_table_cells(tmp_path):
+    """A spring and a damper between the ground and the bar's tip: collecting the moment
+    equation by unknown spreads their long moments over the coefficients (the collected known
+    side ran to 2000 characters), so it is not shown, and the step says so; the free-body table
+    refers to the force's vector instead of a 500-character cell. The paper's Example 1 keeps its
+    collected form (Eq. 28, test_eq28_is_the_collected_moment_equation_as_printed)."""
+    from solver.explain.build import MAX_CELL
+
+    path = tmp_path / "loads.toml"
+    path.write_text(LOADS, encoding="utf-8")
+    assert 'S = ["L", "-L"]' in LOADS and "kind = \"spring\"" in LOADS
+    expl = explain(load_system(path), "O")  # about the pivot: the spring's and damper's moments stay
+    euler = expl.section("bar").step("euler")
+    assert [e.tag for e in euler.equations] == ["inertia", "euler"]
+    assert any("not shown collected" in t for t in euler.text)
+    table = expl.section("bar").step("fbd").table
+    assert all(len(cell) <= MAX_CELL for row in table.rows for cell in row), table.rows
+    assert {row[0]: row[3] for row in table.rows}["spring_2"] == "the vector spring_2 above"

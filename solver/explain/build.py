@@ -313,14 +313,22 @@ def _midpoints(system, body: str, points: _Points, eqs: list[Equation]) -> list[
     return out
 
 
+MAX_CELL = 60
+"""Most characters of a free-body table cell; a longer force is shown by its vector equation only."""
+
+
 def _fbd_step(system, body: str, forces: list[_Force]) -> Step:
     rows = []
     for f in forces:
         what = "unknown (reaction)" if f.reaction is not None else "known (applied)"
         if f.force is not None:
-            rows.append((f.name, f.kind, f.point, f"({sp.sstr(tidy(f.force[0]))}, {sp.sstr(tidy(f.force[1]))})", what))
+            shown = f"({sp.sstr(tidy(f.force[0]))}, {sp.sstr(tidy(f.force[1]))})"
+            if len(shown) > MAX_CELL:
+                shown = f"the vector {f.name.replace('gravity:', 'W_')} above"
+            rows.append((f.name, f.kind, f.point, shown, what))
         else:
-            rows.append((f.name, f.kind, "-", f"couple {sp.sstr(tidy(f.couple))}", what))
+            shown = f"couple {sp.sstr(tidy(f.couple))}"
+            rows.append((f.name, f.kind, "-", shown if len(shown) <= MAX_CELL else "a couple (too long to show here)", what))
     step = Step("fbd", f"Free-body diagram of {body}",
                 [f"The forces and couples on {body}, fixed-frame components (x right, y up)."],
                 _force_vectors(forces), table=Table(("force", "kind", "at", "components", ""), tuple(rows)))
@@ -410,11 +418,20 @@ def _euler_step(system, body: str, P: str, forces: list[_Force]) -> tuple[Step, 
         text.append(f"The inertial term vanishes here: r_G/{P} x a_{P} = 0 ({P} is the mass centre, or a_{P} "
                     f"is parallel to r_G/{P} or zero).")
     collected = _collected_equation(system, body, P, euler)
+    if collected is not None and _length(collected) > _length(euler):
+        collected = None  # collecting spreads the terms over the unknowns' coefficients: no help to read
+        text.append(f"The equation is not shown collected by unknown: that form is longer than the equation "
+                    f"above.")
     if collected is not None:
         text.append(collected.label[0].upper() + collected.label[1:] + ": each unknown with its coefficient, "
                     "the known terms on the right (as the paper's Eq. 28 writes Eq. 27).")
     return (Step("euler", f"Generalized Euler equation of {body} about {P}", text,
                  [inertia, euler] + ([collected] if collected is not None else [])), dropped)
+
+
+def _length(eq: Equation) -> int:
+    """Characters of an equation's terms as printed (to compare two forms of it)."""
+    return sum(len(sp.sstr(t.expr)) for t in (*eq.lhs, *eq.rhs))
 
 
 ALPHA = sp.Symbol("alpha", real=True)
