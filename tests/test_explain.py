@@ -592,7 +592,7 @@ def test_four_bar_advisor_takes_the_rocker_about_its_fixed_pivot():
     row = next(r for r in step.table.rows if r[:2] == ("rocker", "O4"))
     assert row[3] == "3" and row[4] == "theta4_ddot, B_x, B_y" and row[6] == "0 (fixed)"
     best = next(t for t in step.text if t.startswith("Best point of rocker:"))
-    assert best.startswith("Best point of rocker: O4 — the moment equation about O4 holds 3 unknown(s)")
+    assert best.startswith("Best point of rocker: O4 — the moment equation about O4 holds 3 unknowns")
     assert "a_O4 = 0 (a fixed point)" in best
 
 
@@ -810,3 +810,28 @@ def test_no_collected_form_longer_than_its_equation_and_short_table_cells(tmp_pa
     table = expl.section("bar").step("fbd").table
     assert all(len(cell) <= MAX_CELL for row in table.rows for cell in row), table.rows
     assert {row[0]: row[3] for row in table.rows}["spring_2"] == "the vector spring_2 above"
+
+
+def test_wording_citations_and_grammar(paper, every_scene):
+    """The kinematics cite the paper's numbering: its Eq. (6) is the acceleration relation
+    a_G = a_P + alpha x r - omega^2 r and its Eq. (15) the same for an element's mass centre; it
+    prints no velocity relation, and a_P from the placement is no equation of it. A one-body
+    scene's advisor does not speak of other bodies; the slipping friction is not called a
+    configuration term; counts agree with their nouns (no "unknown(s)", "give(s)")."""
+    from solver.explain.advisor import advice_explanation
+
+    # the paper as printed: (6) a_G = a_P + alpha x r_G/P - omega^2 r_G/P (the text then gets a_Q "via
+    # Eq. (6)"); (15) a-bar_k = a_p + alpha x (r-bar_k - r_p) - omega^2 (r-bar_k - r_p); no velocity relation
+    kinematics = paper[2]["sliding_bar"].section("body").step("kinematics")
+    refs = {e.tag: e.ref for e in kinematics.equations}
+    assert refs["vel:A"] == refs["accel:A"] == refs["vel:B"] == refs["vel:G"] == ""
+    assert refs["accel:B"] == refs["accel:G"] == "Eq. (6)" and refs["midpoint:G"] == "Eq. (16)"
+    one_body = render(advice_explanation(load_system(ROOT / "data/scenes/incline_disk.toml")), "text")
+    assert "other bodies" not in one_body and "holds 2 unknowns" in one_body
+    eom = every_scene["disk_backspin"][1].sections[-1].step("motion")
+    notes = {t.note: sp.sstr(t.expr) for e in eom.equations if e.tag.startswith("eom:") for t in e.lhs}
+    assert "mu" in notes["friction terms (slipping: -s mu_k N)"] and "configuration terms" not in notes
+    for name, (_, expl) in every_scene.items():
+        out = render(expl, "text")
+        assert "(s)" not in out, (name, out[out.index("(s)") - 80:out.index("(s)") + 20])
+    assert "(s)" not in render(advice_explanation(load_system(ROOT / "data/scenes/sliding_bar.toml")), "text")

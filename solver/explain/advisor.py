@@ -70,21 +70,25 @@ class Candidate:
     known: bool = False
     fixed: bool = False
     cost: str = ""
+    together: str = "it must be solved together with the other bodies' equations"
+    """What the moment equation needs when no group of the body's equations is solvable alone."""
 
     @property
     def key(self):
         return (0 if self.known else 1, len(self.unknowns), self.group or 99, 0 if self.fixed else 1)
 
     def reason(self) -> str:
+        from .build import counted
+
         n = len(self.unknowns)
-        parts = [f"the moment equation about {self.name} holds {n} unknown(s) ({', '.join(self.unknowns)})"]
+        parts = [f"the moment equation about {self.name} holds {counted(n, 'unknown')} ({', '.join(self.unknowns)})"]
         if self.group == 1:
-            parts.append("it gives them on its own")
+            parts.append(f"it gives {'it' if n == 1 else 'them'} on its own")
         elif self.group:
-            parts.append(f"with {self.group - 1} Newton component(s) it forms a group of {self.group} "
+            parts.append(f"with {counted(self.group - 1, 'Newton component')} it forms a group of {self.group} "
                          "equations solvable on its own")
         else:
-            parts.append("it must be solved together with the other bodies' equations")
+            parts.append(self.together)
         parts.append(self.cost)
         return "; ".join(parts)
 
@@ -242,13 +246,16 @@ def rank_points(system, body: str, state, f=None, parts=None) -> list[Candidate]
         c.unknowns = body_rows.unknowns_about(c.position)
         c.group = _group(row, rows, scale)
         c.known = c.name in known_names
+        if len(system.bodies) == 1:
+            c.together = ("it must be solved together with the joints' closure equations" if system.closure
+                          else "it must be solved together with the body's other equations")
         c.fixed = c.name in points.named and c.name in b.point_names() and _fixed(system, body, c.name)
         if c.fixed:
             c.cost = f"a_{c.name} = 0 (a fixed point): no inertial term, no extra kinematics"
         elif c.known:
             c.cost = f"a_{c.name} is known from the joints (no extra kinematics)"
         else:
-            c.cost = f"a_{c.name} must be derived first (Eq. 15 from a point whose acceleration is known)"
+            c.cost = f"a_{c.name} must be derived first (Eq. 6 from a point whose acceleration is known)"
     order = {c.name: i for i, c in enumerate(cands)}
     return sorted(cands, key=lambda c: (*c.key, order[c.name]))
 
@@ -273,6 +280,8 @@ def _group(row, rows, scale):
 def advice_step(system, state, parts: dict | None = None) -> Step:
     """The ranking as a step of the worked solution (all bodies); ``parts``: body -> (points,
     forces) as the body sections built them."""
+    from .build import counted
+
     rows, text = [], []
     for body in system.bodies:
         ranked = rank_points(system, body, state, parts=(parts or {}).get(body))
@@ -282,7 +291,7 @@ def advice_step(system, state, parts: dict | None = None) -> Step:
         fewer = [c for c in ranked if not c.known and len(c.unknowns) < len(best.unknowns)]
         if fewer:
             c = min(fewer, key=lambda c: c.key[1:])
-            text.append(f"{c.name} ({c.origin}) would leave only {len(c.unknowns)} unknown(s), "
+            text.append(f"{c.name} ({c.origin}) would leave only {counted(len(c.unknowns), 'unknown')}, "
                         f"but a_{c.name} must be derived first.")
         for c in ranked:
             rows.append((body, c.name, c.origin, str(len(c.unknowns)), ", ".join(c.unknowns),

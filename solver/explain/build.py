@@ -4,7 +4,8 @@ For each body, in order (paper Eqs. 1, 6, 10-15):
 
 1. the data with units;
 2. the kinematics: the positions of the points used relative to P, then their
-   velocities and accelerations by the rigid-body relation from P (Eqs. 6, 15);
+   velocities and accelerations by the rigid-body relations from P (the accelerations: Eq. 6, Eq. 15
+   for the elements' mass centres; the paper prints no velocity relation);
 3. the free-body diagram as a list of forces (``Step.figure`` is the hook for the drawing);
 4. Newton's equations by component (Eq. 1; Eq. 14 for a composite body);
 5. the generalized Euler equation about P: the moments of the actual forces,
@@ -230,7 +231,7 @@ def _data_step(system, body: str) -> Step:
     rows = []
     for e in b.elements:
         rows.append((e.name, e.kind or type(e).__name__, sp.sstr(e.mass), sp.sstr(tidy(e.I_G))))
-    text = [f"Body {body}: {len(b.elements)} element(s), total mass m = {sp.sstr(b.total_mass)}."]
+    text = [f"Body {body}: {counted(len(b.elements), 'element')}, total mass m = {sp.sstr(b.total_mass)}."]
     if len(b.elements) > 1:
         text.append("A composite body (Eqs. 11-14): each element keeps its own mass centre and centroidal inertia.")
     return Step("data", f"Data of {body}", text, table=Table(("element", "kind", "mass m_k", "I_G,k"), tuple(rows)))
@@ -247,9 +248,9 @@ def _kinematics_step(system, body: str, P: str, used: list[str], points: _Points
         Equation((Term(al),), (Term(tidy(al)),), "angular acceleration (k component)", tag="alpha", name="alpha"),
         Equation((Term(shown),), (Term(_vec(shown)),), f"position of {P}", tag=f"pos:{P}", name=f"r_{P}", vector=True),
         Equation((Term(v_P),), (Term(_vec(v_P)),), f"velocity of {P}, {source}",
-                 "Eq. (6)", tag=f"vel:{P}", name=f"v_{P}", vector=True),
+                 tag=f"vel:{P}", name=f"v_{P}", vector=True),
         Equation((Term(a_P),), (Term(_vec(a_P)),), f"acceleration of {P}, {source}",
-                 "Eq. (15)", tag=f"accel:{P}", name=f"a_{P}", vector=True),
+                 tag=f"accel:{P}", name=f"a_{P}", vector=True),
     ]
     for X in used:
         if X == P:
@@ -259,16 +260,17 @@ def _kinematics_step(system, body: str, P: str, used: list[str], points: _Points
         eqs.append(Equation((Term(r),), (Term(_vec(r)),), f"position of {X} relative to {P}",
                             tag=f"rel:{X}", name=f"r_{X}/{P}", vector=True))
         eqs.append(Equation((Term(v_P + wr),), (Term(_vec(v_P), f"v_{P}"), Term(_vec(wr), f"omega x r_{X}/{P}")),
-                            f"velocity of {X}", "Eq. (6)", tag=f"vel:{X}", name=f"v_{X}", vector=True))
+                            f"velocity of {X}", tag=f"vel:{X}", name=f"v_{X}", vector=True))
         eqs.append(Equation((Term(a_P + ar + cr),),
                             (Term(_vec(a_P), f"a_{P}"), Term(_vec(ar), f"alpha x r_{X}/{P}"),
                              Term(_vec(cr), f"-omega^2 r_{X}/{P}")),
-                            f"acceleration of {X}", "Eq. (15)", tag=f"accel:{X}", name=f"a_{X}", vector=True))
+                            f"acceleration of {X}", "Eq. (15)" if X.startswith("G_") else "Eq. (6)",
+                            tag=f"accel:{X}", name=f"a_{X}", vector=True))
     eqs += _midpoints(system, body, points, eqs)
     how = pivot[1] if pivot else f"Its velocity and acceleration follow from the joints (the placement of {body})"
     text = [f"P = {P}. {how}; "
             f"every other point's follow by the rigid-body relation from {P}: v = v_{P} + omega x r, "
-            f"a = a_{P} + alpha x r - omega^2 r (Eqs. 6, 15)."]
+            f"a = a_{P} + alpha x r - omega^2 r (Eq. 6; Eq. 15 for an element's mass centre G_k)."]
     text += [points.about[X] + "." for X in dict.fromkeys([P, *used]) if X in points.about]
     return Step("kinematics", f"Kinematics of {body} from {P}", text, eqs)
 
@@ -763,7 +765,9 @@ def _motion_step(system, f, expl) -> Step | None:
             eqs.append(Equation((Term(tidy_linear(eliminated, qdd + rates)),), (Term(sp.Integer(0)),),
                                 f"moment equation with {', '.join(map(str, subs))} substituted", tag="eliminated"))
             text.append(f"The moment equation about {f.points[body]} still holds "
-                        f"{', '.join(map(str, subs))}; {', '.join(used)} give(s) it without other reactions.")
+                        f"{', '.join(map(str, subs))}; {' and '.join(used)} "
+                        f"give{'s' if len(used) == 1 else ''} {'it' if len(subs) == 1 else 'them'} without other "
+                        "reactions.")
     Q = system.generalized_forces()
     for c, e, q in zip(system.free, equations_of_motion(f), Q):
         eqs.append(_structured_eom(system, c, e, q, (), "reactions eliminated"))
@@ -776,9 +780,9 @@ def _motion_step(system, f, expl) -> Step | None:
                     "parameters, those that are zero set to zero): with the small-motion rules below (each "
                     "exact to first order), the equation of motion linearised, M(0) q'' + K q = 0, "
                     "oscillates at omega_n = sqrt(K / M(0)).")
-    text.append("Equation(s) of motion: the reactions eliminated (projection on the partial velocities of "
-                "each body's P), written as M q'' + (rate terms) + (configuration terms) = Q, with Q the "
-                "generalized force of the non-conservative loads.")
+    text.append(f"{_eom_words(system)}: the reactions eliminated (projection on the partial velocities of "
+                f"each body's P), written as M q'' + (rate terms) + (configuration terms) = Q, with Q the "
+                f"generalized force of the non-conservative loads.")
     return Step("motion", "Equation of motion", text, eqs)
 
 
@@ -841,6 +845,17 @@ def _normal_force_from_newton(expl, contact, r, known: dict, unknown: set):
     return -e.xreplace({r: 0}) / coef, f"Newton along the normal of contact {joint.name} ({joint.second})"
 
 
+def _eom_words(system) -> str:
+    """``The equation of motion`` or ``The equations of motion``, by the number of free coordinates."""
+    return "The equation of motion" if len(system.free) == 1 else "The equations of motion"
+
+
+def _kinetic_coefficients(system) -> set:
+    """The symbols of the kinetic friction coefficients of the contacts slipping at the state."""
+    return {s for joint, _, _ in _slipping_contacts(system).values()
+            for s in sp.sympify(joint.friction.kinetic).free_symbols}
+
+
 def _structured_eom(system, c, e, q, keep, ref: str = "projected on the partial velocities") -> Equation:
     """M q'' + (rate terms) + (configuration terms) - (reaction terms in ``keep``) = Q for one coordinate
     (``e + q``: the equation with the generalized force ``q`` moved to the right)."""
@@ -861,6 +876,11 @@ def _structured_eom(system, c, e, q, keep, ref: str = "projected on the partial 
         if coef != 0 and not coef.has(*system.qd):
             lhs.append(Term(tidy(coef) * x, f"rate terms {x}"))
             rest = sp.expand(rest - coef * x)
+    mus = _kinetic_coefficients(system)
+    friction = sp.Add(*[t for t in sp.Add.make_args(rest) if mus and t.has(*mus)])
+    if friction != 0:  # the slipping friction -s mu_k N with N substituted: not a configuration term
+        lhs.append(Term(tidy(friction), "friction terms (slipping: -s mu_k N)"))
+        rest = sp.expand(rest - friction)
     if rest != 0:
         lhs.append(Term(tidy(rest), "configuration terms"))
     return Equation(tuple(lhs) or (Term(sp.Integer(0)),), (Term(tidy(q), "Q"),),
@@ -917,8 +937,10 @@ def _constrained_motion_step(system, f, expl) -> Step:
             "and a driven mechanism has no independent coordinate at all; here every term stays small, each "
             "row is named by its joint, and lambda keep their meaning as reactions.")
     else:
-        text.append("Equation(s) of motion: the workless reactions eliminated (projection on the partial velocities "
-                    "of each body's P), written as M q'' + (rate terms) + (configuration terms) = Q.")
+        friction = " + (friction terms)" if _kinetic_coefficients(system) else ""
+        text.append(f"{_eom_words(system)}: the workless reactions eliminated (projection on the partial "
+                    f"velocities of each body's P), written as M q'' + (rate terms) + (configuration terms)"
+                    f"{friction} = Q.")
     return Step("motion", "Equation of motion", text, eqs)
 
 
