@@ -835,3 +835,16 @@ def test_wording_citations_and_grammar(paper, every_scene):
         out = render(expl, "text")
         assert "(s)" not in out, (name, out[out.index("(s)") - 80:out.index("(s)") + 20])
     assert "(s)" not in render(advice_explanation(load_system(ROOT / "data/scenes/sliding_bar.toml")), "text")
+
+
+def test_html_joins_a_negative_term_with_minus_and_keeps_labels(paper):
+    """In HTML as in text: a negative term after the first reads "- R_B*l_b*(...)", never
+    "+ -R_B..." (Example 1's moment about A), and a one-term side keeps its label when the
+    equation has two labelled terms (the data-entered rows: "... [R_B] = 21.65 [known]")."""
+    out = render(paper[2]["sliding_bar"], "html")
+    equations = re.findall(r'<div class="eq">(.*?)</div>', out, flags=re.S)
+    assert equations and not any(re.search(r"[+-]\s+-", e) for e in equations)
+    assert any(re.search(r"\n\s+- R_B\*l_b\*", e) for e in equations)
+    assert any('<span class="note">[known]</span>' in e for e in equations)
+    text = render(paper[2]["sliding_bar"], "text")
+    assert "[known]" in text  # the text shows the same labels
