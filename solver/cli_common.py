@@ -292,6 +292,22 @@ def format_number(value: float, digits: int = 6) -> str:
     return f"{value:.{digits}g}"
 
 
+def format_pair(a: float, b: float, digits: int = 6) -> tuple[str, str]:
+    """Two values to compare, printed so that values equal to the printed precision print equal.
+
+    Each is printed to ``digits`` significant figures (:func:`format_number`); when the texts
+    differ only because the two values straddle a rounding boundary (they differ by less than a
+    unit of the last digit shown), one more digit is shown, up to 17 (all of a double), until
+    the texts agree or the digits show a real difference.
+    """
+    scale = max(abs(a), abs(b))
+    for d in range(digits, 18):
+        x, y = format_number(a, d), format_number(b, d)
+        if x == y or abs(a - b) >= 10.0 ** (1 - d) * scale:
+            return x, y
+    return x, y
+
+
 def format_table(header: Sequence[str], rows: Sequence[Sequence[str]], align: str | None = None) -> str:
     """A plain text table; ``align`` is one letter per column, ``l`` or ``r``."""
     align = align or "l" * len(header)
@@ -438,6 +454,7 @@ __all__ = [
     "in_output_units",
     "print_json",
     "format_number",
+    "format_pair",
     "format_table",
     "state_text",
     "state_si",

@@ -37,8 +37,8 @@ def draw_command(args: argparse.Namespace) -> int:
     from solver.drawing import FORMATS, check_format, draw_system, save_figure
     from solver.files import check_output_path
 
+    check_output_path(args.output, "-o")  # before the work, not after it; a folder is said to be one
     check_format(args.output, FORMATS, "-o")
-    check_output_path(args.output, "-o")  # before the work, not after it
     system = load_scene_from_args(args)
     drawing = draw_system(system, fbd=args.fbd, point=args.point)
     save_figure(drawing.figure, args.output, "-o")

@@ -291,6 +291,7 @@ def simulate_command(args: argparse.Namespace) -> int:
     if args.animate is not None:
         from solver.drawing import check_animation_path
 
+        check_output_path(args.animate, "--animate")  # the place first: a folder is said to be one
         check_animation_path(args.animate, "--animate")  # suffix, ffmpeg for .mp4, the place
     loaded = load_scene_from_args(args)
     if len(loaded.free) != 1 or loaded.closure or len(loaded.bodies) != 1 or loaded.free[0].kind != "angle" \

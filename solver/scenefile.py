@@ -479,6 +479,7 @@ class _SceneLoader:
             self.array_of_tables(self.require(data, "elements", "elements", "at least one [[elements]] entry"), "elements"),
             points,
         )
+        self.check_mass_centre_name(points, elements, "points")
         position = self._read_position(body, points)
         constraints = self._read_constraints(
             self.array_of_tables(self.require(data, "constraints", "constraints", "at least one [[constraints]] entry"), "constraints"),
@@ -639,13 +640,15 @@ class _SceneLoader:
                 )
 
     # -- points and elements --------------------------------------------------------------
-    def _read_points(self, table: dict[str, Any]) -> dict[str, Point]:
+    def _read_points(self, table: dict[str, Any], where: str = "points") -> dict[str, Point]:
+        """The named points of a body; ``where``: the place of the table in the file (``points``,
+        ``bodies[0].points``), named in every message."""
         if not table:
-            raise self.fail("points", "no points defined; name at least the reference point, e.g. A = [\"0\", \"0\"]")
+            raise self.fail(where, "no points defined; name at least the reference point, e.g. A = [\"0\", \"0\"]")
         points: dict[str, Point] = {}
         instants: list[tuple[str, dict[str, Any]]] = []
         for name, value in table.items():
-            key = f"points.{name}"
+            key = f"{where}.{name}"
             self.identifier(name, key, "point name")
             if isinstance(value, list):
                 points[name] = Point(name, self.vector(value, key, self.names.params, LENGTH))
@@ -659,7 +662,7 @@ class _SceneLoader:
             else:
                 instants.append((name, spec))
         for name, spec in instants:
-            key = f"points.{name}"
+            key = f"{where}.{name}"
             base = self.text(self.require(spec, "relative_to", key, "the body point this point is measured from"), f"{key}.relative_to")
             if base not in points:
                 raise self.fail(
@@ -669,6 +672,32 @@ class _SceneLoader:
             offset = self.vector(self.require(spec, "offset", key, "its fixed-frame offset [dx, dy]"), f"{key}.offset", self.names.params, LENGTH)
             points[name] = Point(name, offset, frame="instant", relative_to=base)
         return {name: points[name] for name in table}  # file order
+
+    def check_mass_centre_name(self, points: Mapping[str, Point], elements, key: str) -> None:
+        """Refuse a point named ``G`` that is not the body's mass centre (sum m_k c_k / sum m_k of
+        its ``elements``): ``G`` names the mass centre everywhere (Eqs. 1-2, 10, the inertial term
+        -r_G/P x m a_P), so a G elsewhere would put that name on two places. ``key``: the place of the
+        points table in the file (``points``, ``bodies[0].points``)."""
+        if "G" not in points:
+            return
+        where = f"{key}.G"
+        if points["G"].frame != "body":
+            raise self.fail(where, "G is reserved for the mass centre; an instant point cannot be named G")
+        total = sp.Add(*[e.mass for e in elements])
+        if not self.si(total, where) > 0:
+            return  # no mass centre to compare with (a massless body is refused where its elements are read)
+        centre = sum((e.mass * _mass_centre(e) for e in elements), sp.zeros(2, 1)) / total
+        given = sp.Matrix(points["G"].coords)
+        values = [(self.si(centre[i], where), self.si(given[i], where)) for i in range(2)]
+        size = max([1e-300] + [abs(x) for pair in values for x in pair]
+                   + [abs(self.si(sp.Matrix(p.coords)[i], where)) for p in points.values() if p.frame == "body"
+                      for i in range(2)])
+        # the same place to round-off of the parameter arithmetic (~1e-16 relative to the body's size)
+        if all(abs(c - g) <= 1e-9 * size for c, g in values):
+            return
+        shown = ", ".join(f"{c:.6g}" for c, _ in values)
+        raise self.fail(where, f"G is reserved for the mass centre, which is at ({shown}) m in the body frame, "
+                               f"not at [{', '.join(sp.sstr(x) for x in given)}]; give this point another name")
 
     def _place(self, value: Any, key: str, points: Mapping[str, Point]) -> sp.Matrix:
         """A body-frame position: a point name or a pair of expressions."""
@@ -1007,3 +1036,14 @@ class _SceneLoader:
 
 
 __all__ = ["load_scene", "parse_quantity", "describe_dimension", "OUTPUT_UNIT_DIMENSIONS"]
+
+
+def _mass_centre(element) -> sp.Matrix:
+    """The body-frame mass centre of an element of either format (a semicircular disk's is off its
+    ``center``, the midpoint of its straight edge)."""
+    from solver.model.elements import ELEMENT_CLASSES
+
+    if hasattr(element, "mass_center"):
+        return sp.Matrix(element.mass_center)
+    return ELEMENT_CLASSES[element.kind](element.name, sp.sympify(element.mass), sp.Matrix(element.center),
+                                         sp.sympify(element.angle), dict(element.dims)).mass_center

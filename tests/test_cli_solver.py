@@ -271,7 +271,10 @@ SUBPROCESS_CASES = {
     ("args", "words"),
     [
         (("solve", "data/scenes/no_such_scene.toml"), "cannot read the scene file"),
-        (("solve", str(SLIDING_BAR), "--point", "Z"), "'Z' is not a point of the body"),
+        (("solve", str(SLIDING_BAR), "--point", "Z"), "--point Z: point 'Z' is not a point of the body 'body'"),
+        (("explain", "data/scenes/compound_pendulum.toml", "--point", "Z"), "--point Z: point 'Z' is not a point"),
+        (("simulate", str(SLIDING_BAR), "--t-end", "1 s", "--animate", "tests"), "--animate tests: it is a folder"),
+        (("draw", str(SLIDING_BAR), "-o", "tests"), "-o tests: it is a folder"),
         (("solve", str(SLIDING_BAR), "--method", "newton"), "invalid choice: 'newton'"),
         (("solve", str(SLIDING_BAR), "--set", "m_b=50 ft"), "--set m_b: '50 ft' is a length"),
         (("solve", str(SLIDING_BAR), "--set", "beta"), "expected NAME=VALUE"),
@@ -561,3 +564,15 @@ def test_help_loads_neither_sympy_nor_scipy_nor_pint() -> None:
     done = subprocess.run([sys.executable, "-c", probe], cwd=ROOT, capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == "[]"
+
+
+def test_a_multibody_point_error_names_its_full_place(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    """A point of a body in the multibody format is named with its body's place in the file:
+    bodies[0].points.E, not points.E (which is the one-body format's [points] table)."""
+    text = (ROOT / "data" / "scenes" / "double_pendulum.toml").read_text(encoding="utf-8")
+    assert 'A = ["l1", "0"]' in text
+    path = tmp_path / "arity.toml"
+    path.write_text(text.replace('A = ["l1", "0"]', 'A = ["l1"]', 1), encoding="utf-8")
+    status, out, err = run_main(capsys, "solve", str(path))
+    assert status == 2 and out == ""
+    assert err.startswith(f"error: {path}: bodies[0].points.A: expected a pair"), err

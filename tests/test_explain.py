@@ -559,7 +559,7 @@ def test_four_bar_rocker_about_its_fixed_pivot(every_scene):
     # coupler's pin force at B, a distance c from O4, remains with the rocker's own theta4''
     assert present == [al4, Bx, By]
     said = rocker.step("dropped").text[0]
-    assert said == "The moment equation about O4 contains 3 unknown(s): theta4_ddot, B_x, B_y."
+    assert said == "The moment equation about O4 contains 3 unknowns: theta4_ddot, B_x, B_y."
     # Newton with a_G = alpha x r_G/O4 - omega^2 r_G/O4 (r_G/O4 = c/2 (cos, sin)): the rocker's own angle only
     nx = rocker.step("newton").equation("newton_x").residual
     assert sp.expand(nx - (Bx + O4x + m4 * c / 2 * (al4 * sp.sin(th4) + w4**2 * sp.cos(th4)))) == 0
@@ -592,7 +592,7 @@ def test_four_bar_advisor_takes_the_rocker_about_its_fixed_pivot():
     row = next(r for r in step.table.rows if r[:2] == ("rocker", "O4"))
     assert row[3] == "3" and row[4] == "theta4_ddot, B_x, B_y" and row[6] == "0 (fixed)"
     best = next(t for t in step.text if t.startswith("Best point of rocker:"))
-    assert best.startswith("Best point of rocker: O4 — the moment equation about O4 holds 3 unknown(s)")
+    assert best.startswith("Best point of rocker: O4 — the moment equation about O4 holds 3 unknowns")
     assert "a_O4 = 0 (a fixed point)" in best
 
 
@@ -611,7 +611,7 @@ def test_four_bar_pin_to_the_ground_written_either_way(tmp_path):
     path.write_text(text.replace(spelled, 'connects = ["rocker:O4", "ground:O4"]'))
     system = load_system(path)
     rocker = explain(system).section("rocker")
-    assert rocker.step("dropped").text[0] == "The moment equation about O4 contains 3 unknown(s): theta4_ddot, B_x, B_y."
+    assert rocker.step("dropped").text[0] == "The moment equation about O4 contains 3 unknowns: theta4_ddot, B_x, B_y."
     ours = solve_instant(system).unknowns
     shipped = solve_instant(load_system(ROOT / "data" / "scenes" / "four_bar.toml")).unknowns
     for name, value in shipped.items():
@@ -687,7 +687,7 @@ def test_latex_writes_names_units_and_formulae_as_latex(every_scene):
         assert not code, (name, code[:2])
     example1 = render(every_scene["sliding_bar"][1], "latex")
     assert r"$g$ & $32.174\,\mathrm{ft/s^{2}}$" in example1  # the data table: 32.174 ft/s^2
-    assert r"contains 2 unknown(s): $\ddot{\theta}$, $R_{B}$." in example1
+    assert r"contains 2 unknowns: $\ddot{\theta}$, $R_{B}$." in example1
     assert r"$\alpha$ & $2.29693$ & $\mathrm{rad/s^{2}}$" in example1  # Eq. 30's alpha, unit upright
     assert example1.count(r"Here $\alpha = -\ddot{\theta}$") == 1  # said once, where alpha first stands in
     assert r"\underbrace{- 0.05081 \alpha}_{\text{$\alpha$}}" in example1
@@ -697,3 +697,192 @@ def test_latex_writes_names_units_and_formulae_as_latex(every_scene):
     assert r"[$\mathrm{N\,m}$]" in example2
     slipping = render(every_scene["disk_backspin"][1], "latex")  # words stay words, formulae become maths
     assert r"known force $-s \mu_{k} N$ along the contact line (s the sign of the sliding velocity)" in slipping
+PENDULUM = """name = "pendulum"
+[parameters]
+m = "2 kg"
+L = "0.8 m"
+g = "9.81 m/s^2"
+[coordinates]
+theta = { value = "THETA", rate = "1 rad/s" }
+[ground.points]
+O = ["0", "0"]
+[[bodies]]
+name = "bar"
+orientation = "theta - pi/2"
+points = { O = ["0", "0"], E = ["L", "0"] }
+elements = [{ kind = "slender_bar", mass = "m", from = "O", to = "E" }]
+[[joints]]
+kind = "pin"
+name = "O"
+connects = ["ground:O", "bar:O"]
+[[loads]]
+kind = "gravity"
+g = "g"
+"""
+
+
+def _pendulum(tmp_path, theta="0 deg"):
+    path = tmp_path / "pendulum.toml"
+    path.write_text(PENDULUM.replace("THETA", theta), encoding="utf-8")
+    return load_system(path)
+
+
+def _euler_column(step):
+    return {row[0]: row[3] for row in step.table.rows}
+
+
+def test_dropped_unknowns_at_the_state_agree_with_the_advisor(tmp_path, every_scene):
+    """A hanging pendulum (theta = 0) about its tip E: O_y's line of action passes through E at
+    this state only (its moment coefficient is -L sin theta). The step on the dropped unknowns, the
+    point advisor and the equations with the data entered make one decision: 2 unknowns here,
+    O_y's coefficient vanishing at this state and not identically. At theta = 30 deg O_y stays."""
+    from solver.analyses.instant import assemble
+    from solver.explain import rank_points
+
+    system = _pendulum(tmp_path)
+    expl = explain(system, "E")
+    step = expl.section("bar").step("dropped")
+    advisor = {c.name: c for c in rank_points(system, "bar", assemble(system))}["E"]
+    assert advisor.unknowns == ["theta_ddot", "O_x"]
+    assert _euler_column(step) == {"O_x": "yes", "O_y": "no, at this state"}
+    assert "3 unknowns in general" in step.text[0] and "2 at this state (theta_ddot, O_x)" in step.text[0]
+    assert any("O_y" in t and "at this state only" in t for t in step.text)
+    numbers = expl.sections[-1].step("numbers").equation("numbers:bar:euler")
+    assert {t.note for t in numbers.lhs} == {"alpha", "O_x"}
+    moved = explain(_pendulum(tmp_path, "30 deg"), "E").section("bar").step("dropped")
+    assert _euler_column(moved) == {"O_x": "yes", "O_y": "yes"}
+    # the crate at rest, held redundantly (no advisor ranking): F_B's line passes through A at theta = 0
+    crate = every_scene["crate_tipping"][1].section("crate").step("dropped")
+    assert _euler_column(crate) == {"F_A": "no", "N_A": "no", "F_B": "no, at this state", "N_B": "yes"}
+
+
+@pytest.mark.parametrize("scene,body,name", [("wheel_on_incline", "body", "C_rolling_hoop"),
+                                             ("drum_and_block", "drum", "C_cord")])
+def test_a_joint_place_is_named_after_its_joint_and_accepted_by_point(scene, body, name):
+    """The place where a joint acts and the scene names no point (the hoop's contact point, the
+    drum's cord tangent point) is named C_<joint>, said what it is, and, as the advisor's choice
+    for the hoop, taken by --point: the moment equation about it gives the same answers as the
+    mass-centre form (round-off only: a relative difference under 1e-9, far above double
+    precision's 1e-16 and far below any real disagreement)."""
+    from solver.analyses.instant import assemble
+    from solver.explain import rank_points
+
+    system = load_system(ROOT / "data" / "scenes" / f"{scene}.toml")
+    ranked = rank_points(system, body, assemble(system))
+    assert name in {c.name for c in ranked} and not any(c.name.startswith("X") for c in ranked)
+    if scene == "wheel_on_incline":
+        assert ranked[0].name == name and ranked[0].origin == "point of its joint"
+    expl = explain(system, f"{body}:{name}")
+    assert expl.points[body] == name
+    kinematics = " ".join(expl.section(body).step("kinematics").text)
+    assert f"{name} is the point of {body} where joint {name[2:]} acts" in kinematics
+    check = expl.sections[-1].step("check").table.rows
+    assert all(float(row[4]) < 1e-9 for row in check), check
+
+
+def test_no_negative_zero_in_the_results(every_scene):
+    """A zero prints as 0, never -0 (the crate at rest: x_ddot, theta_ddot; the guide's moment of
+    drum_and_block; solve prints 0 too): every table cell of every shipped scene's explanation."""
+    zeros = 0
+    for name, (_, expl) in every_scene.items():
+        for step in expl.steps():
+            for row in (step.table.rows if step.table is not None else ()):
+                for cell in row:
+                    assert not re.fullmatch(r"-0(\.0*)?( .*)?", cell), (name, step.title, row)
+                    zeros += cell == "0"
+    solution = {r[0]: r[1] for r in every_scene["crate_tipping"][1].sections[-1].step("solution").table.rows}
+    assert solution["x_ddot"] == solution["theta_ddot"] == "0"
+    assert zeros > 0
+
+
+def test_check_prints_values_equal_to_print_precision_equal(tmp_path):
+    """The mass-centre check prints two values that agree to round-off alike, even when they
+    straddle a rounding boundary of the 6 figures shown (159.41249999999997 and the next double
+    above 159.4125 print 159.412 and 159.413 with '.6g'): one more digit is shown. Values that
+    really differ keep 6 figures and print different."""
+    import math
+
+    from solver.cli_common import format_pair
+
+    low = math.nextafter(159.4125, 0.0)
+    high = math.nextafter(159.4125, 1e9)
+    assert (f"{low:.6g}", f"{high:.6g}") == ("159.412", "159.413")  # the trap this guards against
+    x, y = format_pair(low, high)
+    assert x == y and x.startswith("159.412")
+    assert format_pair(1.0, 1.1) == ("1", "1.1")
+    assert format_pair(-0.0, 0.0) == ("0", "0")
+    assert format_pair(63.7178, 63.7178 * (1 + 4.5e-16)) == ("63.7178", "63.7178")
+    # the pendulum about its tip at 30 deg: both routes agree to ~4e-16, and print alike
+    rows = explain(_pendulum(tmp_path, "30 deg"), "E").sections[-1].step("check").table.rows
+    assert all(row[1] == row[2] for row in rows), rows
+
+
+LOADS = (PENDULUM + """[[loads]]
+kind = "spring"
+between = ["ground:S", "bar:E"]
+stiffness = "k"
+free_length = "L0"
+[[loads]]
+kind = "damper"
+between = ["ground:S", "bar:E"]
+coefficient = "c"
+""").replace('O = ["0", "0"]\n[[bodies]]', 'O = ["0", "0"]\nS = ["L", "-L"]\n[[bodies]]').replace(
+    'g = "9.81 m/s^2"', 'g = "9.81 m/s^2"\nk = "50 N/m"\nL0 = "0.2 m"\nc = "3 N*s/m"').replace("THETA", "30 deg")
+
+
+def test_no_collected_form_longer_than_its_equation_and_short_table_cells(tmp_path):
+    """A spring and a damper between the ground and the bar's tip: collecting the moment
+    equation by unknown spreads their long moments over the coefficients (the collected known
+    side ran to 2000 characters), so it is not shown, and the step says so; the free-body table
+    refers to the force's vector instead of a 500-character cell. The paper's Example 1 keeps its
+    collected form (Eq. 28, test_eq28_is_the_collected_moment_equation_as_printed)."""
+    from solver.explain.build import MAX_CELL
+
+    path = tmp_path / "loads.toml"
+    path.write_text(LOADS, encoding="utf-8")
+    assert 'S = ["L", "-L"]' in LOADS and "kind = \"spring\"" in LOADS
+    expl = explain(load_system(path), "O")  # about the pivot: the spring's and damper's moments stay
+    euler = expl.section("bar").step("euler")
+    assert [e.tag for e in euler.equations] == ["inertia", "euler"]
+    assert any("not shown collected" in t for t in euler.text)
+    table = expl.section("bar").step("fbd").table
+    assert all(len(cell) <= MAX_CELL for row in table.rows for cell in row), table.rows
+    assert {row[0]: row[3] for row in table.rows}["spring_2"] == "the vector spring_2 above"
+
+
+def test_wording_citations_and_grammar(paper, every_scene):
+    """The kinematics cite the paper's numbering: its Eq. (6) is the acceleration relation
+    a_G = a_P + alpha x r - omega^2 r and its Eq. (15) the same for an element's mass centre; it
+    prints no velocity relation, and a_P from the placement is no equation of it. A one-body
+    scene's advisor does not speak of other bodies; the slipping friction is not called a
+    configuration term; counts agree with their nouns (no "unknown(s)", "give(s)")."""
+    from solver.explain.advisor import advice_explanation
+
+    # the paper as printed: (6) a_G = a_P + alpha x r_G/P - omega^2 r_G/P (the text then gets a_Q "via
+    # Eq. (6)"); (15) a-bar_k = a_p + alpha x (r-bar_k - r_p) - omega^2 (r-bar_k - r_p); no velocity relation
+    kinematics = paper[2]["sliding_bar"].section("body").step("kinematics")
+    refs = {e.tag: e.ref for e in kinematics.equations}
+    assert refs["vel:A"] == refs["accel:A"] == refs["vel:B"] == refs["vel:G"] == ""
+    assert refs["accel:B"] == refs["accel:G"] == "Eq. (6)" and refs["midpoint:G"] == "Eq. (16)"
+    one_body = render(advice_explanation(load_system(ROOT / "data/scenes/incline_disk.toml")), "text")
+    assert "other bodies" not in one_body and "holds 2 unknowns" in one_body
+    eom = every_scene["disk_backspin"][1].sections[-1].step("motion")
+    notes = {t.note: sp.sstr(t.expr) for e in eom.equations if e.tag.startswith("eom:") for t in e.lhs}
+    assert "mu" in notes["friction terms (slipping: -s mu_k N)"] and "configuration terms" not in notes
+    for name, (_, expl) in every_scene.items():
+        out = render(expl, "text")
+        assert "(s)" not in out, (name, out[out.index("(s)") - 80:out.index("(s)") + 20])
+    assert "(s)" not in render(advice_explanation(load_system(ROOT / "data/scenes/sliding_bar.toml")), "text")
+
+
+def test_html_joins_a_negative_term_with_minus_and_keeps_labels(paper):
+    """In HTML as in text: a negative term after the first reads "- R_B*l_b*(...)", never
+    "+ -R_B..." (Example 1's moment about A), and a one-term side keeps its label when the
+    equation has two labelled terms (the data-entered rows: "... [R_B] = 21.65 [known]")."""
+    out = render(paper[2]["sliding_bar"], "html")
+    equations = re.findall(r'<div class="eq">(.*?)</div>', out, flags=re.S)
+    assert equations and not any(re.search(r"[+-]\s+-", e) for e in equations)
+    assert any(re.search(r"\n\s+- R_B\*l_b\*", e) for e in equations)
+    assert any('<span class="note">[known]</span>' in e for e in equations)
+    text = render(paper[2]["sliding_bar"], "text")
+    assert "[known]" in text  # the text shows the same labels

@@ -259,3 +259,49 @@ def test_byte_order_mark_is_accepted(tmp_path: Path) -> None:
     path = tmp_path / "bom.toml"
     path.write_bytes(b"\xef\xbb\xbf" + (SCENES / "sliding_bar.toml").read_bytes())
     assert load_scene(path).parameters == load_scene(SCENES / "sliding_bar.toml").parameters
+
+
+PENDULUM_G = """name = "pendulum"
+[parameters]
+m = "2 kg"
+L = "0.8 m"
+g = "9.81 m/s^2"
+[coordinates]
+theta = { value = "30 deg", rate = "1 rad/s" }
+[ground.points]
+O = ["0", "0"]
+[[bodies]]
+name = "bar"
+orientation = "theta - pi/2"
+points = { O = ["0", "0"], E = ["L", "0"], G = ["GX", "0"] }
+elements = [{ kind = "slender_bar", mass = "m", from = "O", to = "E" }]
+[[joints]]
+kind = "pin"
+name = "O"
+connects = ["ground:O", "bar:O"]
+"""
+
+
+@pytest.mark.parametrize("gx,refused", [("L", True), ("L/2", False), ("L - L/2", False)])
+def test_a_point_named_G_must_be_the_mass_centre(tmp_path: Path, solver_cli, gx: str, refused: bool) -> None:
+    """G names the mass centre in every equation (Eqs. 1-2, 10): a user point G elsewhere (the bar's
+    tip, L) is refused at load in one line naming the file and the place; a G at the mass centre
+    (L/2 of a uniform bar), however written, is accepted."""
+    text = PENDULUM_G.replace("GX", gx)
+    path = tmp_path / "pend_G.toml"
+    path.write_text(text, encoding="utf-8")
+    code, _, err = solver_cli("solve", str(path))
+    if refused:
+        assert code == 2 and err.count("\n") == 1
+        assert err.startswith(f"error: {path}: bodies[0].points.G: G is reserved for the mass centre"), err
+    else:
+        assert code == 0, err
+
+
+def test_the_one_body_format_checks_G_too(tmp_path: Path) -> None:
+    """The same rule in the one-body format (the sliding bar's G moved to the end A)."""
+    text = SLIDING_BAR.read_text(encoding="utf-8")
+    path = tmp_path / "bar.toml"
+    path.write_text(text.replace("G = [", "G = [\"0\", \"0\"]\nG_old = [", 1), encoding="utf-8")
+    with pytest.raises(SceneError, match=r"points\.G: G is reserved for the mass centre"):
+        load_scene(path)

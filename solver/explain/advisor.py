@@ -30,7 +30,7 @@ import sympy as sp
 
 from .content import Step, Table
 
-__all__ = ["Candidate", "rank_points", "advice_step", "MAX_CANDIDATES"]
+__all__ = ["Candidate", "rank_points", "advice_step", "unknowns_at_state", "MAX_CANDIDATES"]
 
 MAX_CANDIDATES = 60
 """Most candidate points examined per body (pairs of reaction lines grow quadratically)."""
@@ -49,7 +49,7 @@ class Candidate:
     position : tuple of float
         Fixed-frame position at the state [m].
     origin : str
-        "named point", "mass centre", "element centre", "joint", "intersection of ...".
+        "named point", "mass centre", "element centre", "point of its joint" (C_<joint>), "intersection of ...".
     unknowns : list of str
         The unknowns its moment equation contains at the state.
     group : int or None
@@ -70,21 +70,25 @@ class Candidate:
     known: bool = False
     fixed: bool = False
     cost: str = ""
+    together: str = "it must be solved together with the other bodies' equations"
+    """What the moment equation needs when no group of the body's equations is solvable alone."""
 
     @property
     def key(self):
         return (0 if self.known else 1, len(self.unknowns), self.group or 99, 0 if self.fixed else 1)
 
     def reason(self) -> str:
+        from .build import counted
+
         n = len(self.unknowns)
-        parts = [f"the moment equation about {self.name} holds {n} unknown(s) ({', '.join(self.unknowns)})"]
+        parts = [f"the moment equation about {self.name} holds {counted(n, 'unknown')} ({', '.join(self.unknowns)})"]
         if self.group == 1:
-            parts.append("it gives them on its own")
+            parts.append(f"it gives {'it' if n == 1 else 'them'} on its own")
         elif self.group:
-            parts.append(f"with {self.group - 1} Newton component(s) it forms a group of {self.group} "
+            parts.append(f"with {counted(self.group - 1, 'Newton component')} it forms a group of {self.group} "
                          "equations solvable on its own")
         else:
-            parts.append("it must be solved together with the other bodies' equations")
+            parts.append(self.together)
         parts.append(self.cost)
         return "; ".join(parts)
 
@@ -155,19 +159,51 @@ def _known_points(system, body, forces_at):
     return known
 
 
+class _BodyRows:
+    """A body's equations at the state, and the one decision of which unknowns a moment equation
+    about a point X holds there (the advisor's ranking and the worked solution's step "Unknowns in
+    the moment equation" both ask :meth:`unknowns_about`)."""
+
+    def __init__(self, system, f, body: str, state):
+        from .build import _state_subs
+
+        self.subs = _State(_state_subs(system, state))
+        self.rows = _rows(system, f, body, self.subs)
+        self.names = [str(u) for u in f.unknowns]
+        self.scale = max(float(np.max(np.abs(r))) for r in self.rows.values()) or 1.0
+        self.r0 = np.array([_numeric(x, self.subs) for x in system.point_position(body, f.points[body])])
+
+    def position(self, r) -> np.ndarray:
+        """A symbolic position at the state [m]."""
+        return np.array([_numeric(x, self.subs) for x in r])
+
+    def moment_row(self, at) -> np.ndarray:
+        """Coefficients of the unknowns in the moment equation about the place ``at`` (Eq. 3)."""
+        a = self.r0 - np.asarray(at, dtype=float)
+        return self.rows["E"] + a[0] * self.rows["y"] - a[1] * self.rows["x"]
+
+    def unknowns_about(self, at) -> list[str]:
+        """The unknowns whose coefficient about ``at`` is not zero at the state (:data:`_REL_ZERO`)."""
+        row = self.moment_row(at)
+        return [n for n, v in zip(self.names, row) if abs(v) > _REL_ZERO * self.scale]
+
+
+def unknowns_at_state(system, f, body: str, P: str, state) -> list[str]:
+    """The unknowns the moment equation of ``body`` about its point ``P`` holds at ``state``: the
+    same decision as the advisor's count for P (:class:`_BodyRows`)."""
+    rows = _BodyRows(system, f, body, state)
+    return rows.unknowns_about(rows.position(system.point_position(body, P)))
+
+
 def rank_points(system, body: str, state, f=None, parts=None) -> list[Candidate]:
     """The candidate points of ``body`` at ``state``, best first (see the module docstring);
     ``parts``: the body's (points, forces) when the worked solution has built them already."""
     from ..formulations import formulate
-    from .build import _Points, _forces_on, _state_subs
+    from .build import _Points, _forces_on
 
     f = f or formulate(system, "generalized_euler", None)
-    subs = _State(_state_subs(system, state))
-    rows = _rows(system, f, body, subs)
-    names = [str(u) for u in f.unknowns]
-    scale = max(float(np.max(np.abs(r))) for r in rows.values()) or 1.0
-    P0 = f.points[body]
-    r0 = np.array([_numeric(x, subs) for x in system.point_position(body, P0)])
+    body_rows = _BodyRows(system, f, body, state)
+    subs, rows, scale = body_rows.subs, body_rows.rows, body_rows.scale
 
     if parts is None:
         points = _Points(system, body)
@@ -186,7 +222,7 @@ def rank_points(system, body: str, state, f=None, parts=None) -> list[Candidate]
     b = system.bodies[body]
     for name, r in points.named.items():
         origin = ("mass centre" if name == "G" else "element centre" if name.startswith("G_")
-                  else "joint" if name in reaction_at and name.startswith("X") else "named point")
+                  else "point of its joint" if name in points.about else "named point")
         add(name, np.array([_numeric(x, subs) for x in r]), origin)
     lines = []
     for fc in forces:
@@ -206,19 +242,20 @@ def rank_points(system, body: str, state, f=None, parts=None) -> list[Candidate]
             s, _ = np.linalg.solve(M, p2 - p1)
             add(f"I({n1},{n2})", p1 + s * d1, f"intersection of the lines of action of {n1} and {n2}")
     for c in cands:
-        a = r0 - np.array(c.position)
-        row = rows["E"] + a[0] * rows["y"] - a[1] * rows["x"]
-        present = np.abs(row) > _REL_ZERO * scale
-        c.unknowns = [n for n, p in zip(names, present) if p]
+        row = body_rows.moment_row(c.position)
+        c.unknowns = body_rows.unknowns_about(c.position)
         c.group = _group(row, rows, scale)
         c.known = c.name in known_names
+        if len(system.bodies) == 1:
+            c.together = ("it must be solved together with the joints' closure equations" if system.closure
+                          else "it must be solved together with the body's other equations")
         c.fixed = c.name in points.named and c.name in b.point_names() and _fixed(system, body, c.name)
         if c.fixed:
             c.cost = f"a_{c.name} = 0 (a fixed point): no inertial term, no extra kinematics"
         elif c.known:
             c.cost = f"a_{c.name} is known from the joints (no extra kinematics)"
         else:
-            c.cost = f"a_{c.name} must be derived first (Eq. 15 from a point whose acceleration is known)"
+            c.cost = f"a_{c.name} must be derived first (Eq. 6 from a point whose acceleration is known)"
     order = {c.name: i for i, c in enumerate(cands)}
     return sorted(cands, key=lambda c: (*c.key, order[c.name]))
 
@@ -243,6 +280,8 @@ def _group(row, rows, scale):
 def advice_step(system, state, parts: dict | None = None) -> Step:
     """The ranking as a step of the worked solution (all bodies); ``parts``: body -> (points,
     forces) as the body sections built them."""
+    from .build import counted
+
     rows, text = [], []
     for body in system.bodies:
         ranked = rank_points(system, body, state, parts=(parts or {}).get(body))
@@ -252,7 +291,7 @@ def advice_step(system, state, parts: dict | None = None) -> Step:
         fewer = [c for c in ranked if not c.known and len(c.unknowns) < len(best.unknowns)]
         if fewer:
             c = min(fewer, key=lambda c: c.key[1:])
-            text.append(f"{c.name} ({c.origin}) would leave only {len(c.unknowns)} unknown(s), "
+            text.append(f"{c.name} ({c.origin}) would leave only {counted(len(c.unknowns), 'unknown')}, "
                         f"but a_{c.name} must be derived first.")
         for c in ranked:
             rows.append((body, c.name, c.origin, str(len(c.unknowns)), ", ".join(c.unknowns),

@@ -4,7 +4,8 @@ For each body, in order (paper Eqs. 1, 6, 10-15):
 
 1. the data with units;
 2. the kinematics: the positions of the points used relative to P, then their
-   velocities and accelerations by the rigid-body relation from P (Eqs. 6, 15);
+   velocities and accelerations by the rigid-body relations from P (the accelerations: Eq. 6, Eq. 15
+   for the elements' mass centres; the paper prints no velocity relation);
 3. the free-body diagram as a list of forces (``Step.figure`` is the hook for the drawing);
 4. Newton's equations by component (Eq. 1; Eq. 14 for a composite body);
 5. the generalized Euler equation about P: the moments of the actual forces,
@@ -80,16 +81,76 @@ class _Points:
                 if not any(_zero(r[0] - q[0]) and _zero(r[1] - q[1]) for q in self.named.values()):
                     self.named[key] = r
         self.extra = 0
+        self.about: dict[str, str] = {}  # a point named after its joint -> what it is, in words
+        for j in system.joints:  # one that --point asked for is a point of the body already
+            name = f"C_{j.name}"
+            if name in b.points and b.points[name].is_instant:
+                self.about[name] = self.describe(name, j)
 
-    def name_of(self, at) -> str:
+    def describe(self, name: str, joint) -> str:
+        return (f"{name} is the point of {self.body} where joint {joint.name} acts at this instant "
+                f"({_joint_place(joint)}); the scene names no point there, so it is named after its joint, "
+                f"and --point {name} takes moments about it")
+
+    def name_of(self, at, joint=None) -> str:
+        """The name of the place ``at``: a named point there, else ``C_<joint>`` for the place where
+        ``joint`` acts (:func:`joint_point_name`), else ``X1``, ``X2`` ..."""
         for name, r in self.named.items():
             d = r - at
             if _zero(d[0]) and _zero(d[1]):
                 return name
-        self.extra += 1
-        name = f"X{self.extra}"
+        if joint is not None:
+            name = joint_point_name(joint, self.named)
+            self.about[name] = self.describe(name, joint)
+        else:
+            self.extra += 1
+            name = f"X{self.extra}"
         self.named[name] = sp.Matrix(at)
         return name
+
+
+def add_joint_point(system, point: str | None) -> None:
+    """Make the point ``--point`` names a point of its body when it is one the worked solution and
+    the advisor name after a joint (``C_<joint>``, :meth:`_Points.name_of`): an instant point at
+    the place where the joint acts, so that the moment equation can be taken about it. Other
+    names are left to the formulation to accept or refuse."""
+    from ..model.bodies import Point
+
+    if point is None:
+        return
+    body, _, name = point.rpartition(":")
+    for b in ([system.bodies[body]] if body in system.bodies else [] if body else system.bodies.values()):
+        if name in b.point_names():
+            continue
+        points = _Points(system, b.name)
+        at = next((f.at for f in _forces_on(system, b.name, points) if f.point == name), None)
+        if at is None or name not in points.about:
+            continue
+        ref = next((n for n, p in b.points.items() if not p.is_instant), "G")
+        offset = sp.Matrix(at) - system.point_position(b.name, ref)
+        b.points[name] = Point(name, _vec(offset), frame="instant", relative_to=ref)
+        system.reset()
+
+
+def joint_point_name(joint, taken=()) -> str:
+    """``C_<joint>``: the name of the unnamed place where ``joint`` acts on a body (a contact point,
+    a cord's tangent point, a gear's pitch point), primed until it is not in ``taken``."""
+    name = f"C_{joint.name}"
+    while name in taken:
+        name += "'"
+    return name
+
+
+def _joint_place(joint) -> str:
+    from ..model.joints import Cord, Contact, GearMesh
+
+    if isinstance(joint, Cord):
+        return "where the cord leaves the drum"
+    if isinstance(joint, GearMesh):
+        return "the pitch point of the gears"
+    if isinstance(joint, Contact):
+        return "the contact point, a material point of the body"
+    return f"a {joint.kind} joint"
 
 
 # -- the forces on a body -----------------------------------------------------------------------
@@ -119,12 +180,13 @@ def _forces_on(system, body: str, points: _Points) -> list[_Force]:
         point = points.name_of(a.at) if a.force is not None else ""
         out.append(_Force(a.name, a.kind, a.force, a.at, a.couple, point=point))
     slipping = _slipping_contacts(system)
+    joints = {j.name: j for j in system.joints}
     for jl in system.joint_loads():
         if jl.body != body:
             continue
         sym = jl.reaction.symbol
         force = None if jl.force is None else sym * jl.force
-        point = points.name_of(jl.at) if jl.force is not None else ""
+        point = points.name_of(jl.at, joints.get(jl.reaction.joint)) if jl.force is not None else ""
         contact = slipping.get(jl.reaction.name)
         if contact is not None and force is not None:  # N n, and the friction -s mu_k N d apart
             joint, d, n = contact
@@ -169,7 +231,7 @@ def _data_step(system, body: str) -> Step:
     rows = []
     for e in b.elements:
         rows.append((e.name, e.kind or type(e).__name__, sp.sstr(e.mass), sp.sstr(tidy(e.I_G))))
-    text = [f"Body {body}: {len(b.elements)} element(s), total mass m = {sp.sstr(b.total_mass)}."]
+    text = [f"Body {body}: {counted(len(b.elements), 'element')}, total mass m = {sp.sstr(b.total_mass)}."]
     if len(b.elements) > 1:
         text.append("A composite body (Eqs. 11-14): each element keeps its own mass centre and centroidal inertia.")
     return Step("data", f"Data of {body}", text, table=Table(("element", "kind", "mass m_k", "I_G,k"), tuple(rows)))
@@ -186,9 +248,9 @@ def _kinematics_step(system, body: str, P: str, used: list[str], points: _Points
         Equation((Term(al),), (Term(tidy(al)),), "angular acceleration (k component)", tag="alpha", name="alpha"),
         Equation((Term(shown),), (Term(_vec(shown)),), f"position of {P}", tag=f"pos:{P}", name=f"r_{P}", vector=True),
         Equation((Term(v_P),), (Term(_vec(v_P)),), f"velocity of {P}, {source}",
-                 "Eq. (6)", tag=f"vel:{P}", name=f"v_{P}", vector=True),
+                 tag=f"vel:{P}", name=f"v_{P}", vector=True),
         Equation((Term(a_P),), (Term(_vec(a_P)),), f"acceleration of {P}, {source}",
-                 "Eq. (15)", tag=f"accel:{P}", name=f"a_{P}", vector=True),
+                 tag=f"accel:{P}", name=f"a_{P}", vector=True),
     ]
     for X in used:
         if X == P:
@@ -198,16 +260,18 @@ def _kinematics_step(system, body: str, P: str, used: list[str], points: _Points
         eqs.append(Equation((Term(r),), (Term(_vec(r)),), f"position of {X} relative to {P}",
                             tag=f"rel:{X}", name=f"r_{X}/{P}", vector=True))
         eqs.append(Equation((Term(v_P + wr),), (Term(_vec(v_P), f"v_{P}"), Term(_vec(wr), f"omega x r_{X}/{P}")),
-                            f"velocity of {X}", "Eq. (6)", tag=f"vel:{X}", name=f"v_{X}", vector=True))
+                            f"velocity of {X}", tag=f"vel:{X}", name=f"v_{X}", vector=True))
         eqs.append(Equation((Term(a_P + ar + cr),),
                             (Term(_vec(a_P), f"a_{P}"), Term(_vec(ar), f"alpha x r_{X}/{P}"),
                              Term(_vec(cr), f"-omega^2 r_{X}/{P}")),
-                            f"acceleration of {X}", "Eq. (15)", tag=f"accel:{X}", name=f"a_{X}", vector=True))
+                            f"acceleration of {X}", "Eq. (15)" if X.startswith("G_") else "Eq. (6)",
+                            tag=f"accel:{X}", name=f"a_{X}", vector=True))
     eqs += _midpoints(system, body, points, eqs)
     how = pivot[1] if pivot else f"Its velocity and acceleration follow from the joints (the placement of {body})"
     text = [f"P = {P}. {how}; "
             f"every other point's follow by the rigid-body relation from {P}: v = v_{P} + omega x r, "
-            f"a = a_{P} + alpha x r - omega^2 r (Eqs. 6, 15)."]
+            f"a = a_{P} + alpha x r - omega^2 r (Eq. 6; Eq. 15 for an element's mass centre G_k)."]
+    text += [points.about[X] + "." for X in dict.fromkeys([P, *used]) if X in points.about]
     return Step("kinematics", f"Kinematics of {body} from {P}", text, eqs)
 
 
@@ -251,14 +315,22 @@ def _midpoints(system, body: str, points: _Points, eqs: list[Equation]) -> list[
     return out
 
 
+MAX_CELL = 60
+"""Most characters of a free-body table cell; a longer force is shown by its vector equation only."""
+
+
 def _fbd_step(system, body: str, forces: list[_Force]) -> Step:
     rows = []
     for f in forces:
         what = "unknown (reaction)" if f.reaction is not None else "known (applied)"
         if f.force is not None:
-            rows.append((f.name, f.kind, f.point, f"({sp.sstr(tidy(f.force[0]))}, {sp.sstr(tidy(f.force[1]))})", what))
+            shown = f"({sp.sstr(tidy(f.force[0]))}, {sp.sstr(tidy(f.force[1]))})"
+            if len(shown) > MAX_CELL:
+                shown = f"the vector {f.name.replace('gravity:', 'W_')} above"
+            rows.append((f.name, f.kind, f.point, shown, what))
         else:
-            rows.append((f.name, f.kind, "-", f"couple {sp.sstr(tidy(f.couple))}", what))
+            shown = f"couple {sp.sstr(tidy(f.couple))}"
+            rows.append((f.name, f.kind, "-", shown if len(shown) <= MAX_CELL else "a couple (too long to show here)", what))
     step = Step("fbd", f"Free-body diagram of {body}",
                 [f"The forces and couples on {body}, fixed-frame components (x right, y up)."],
                 _force_vectors(forces), table=Table(("force", "kind", "at", "components", ""), tuple(rows)))
@@ -348,11 +420,20 @@ def _euler_step(system, body: str, P: str, forces: list[_Force]) -> tuple[Step, 
         text.append(f"The inertial term vanishes here: r_G/{P} x a_{P} = 0 ({P} is the mass centre, or a_{P} "
                     f"is parallel to r_G/{P} or zero).")
     collected = _collected_equation(system, body, P, euler)
+    if collected is not None and _length(collected) > _length(euler):
+        collected = None  # collecting spreads the terms over the unknowns' coefficients: no help to read
+        text.append(f"The equation is not shown collected by unknown: that form is longer than the equation "
+                    f"above.")
     if collected is not None:
         text.append(collected.label[0].upper() + collected.label[1:] + ": each unknown with its coefficient, "
                     "the known terms on the right (as the paper's Eq. 28 writes Eq. 27).")
     return (Step("euler", f"Generalized Euler equation of {body} about {P}", text,
                  [inertia, euler] + ([collected] if collected is not None else [])), dropped)
+
+
+def _length(eq: Equation) -> int:
+    """Characters of an equation's terms as printed (to compare two forms of it)."""
+    return sum(len(sp.sstr(t.expr)) for t in (*eq.lhs, *eq.rhs))
 
 
 ALPHA = sp.Symbol("alpha", real=True)
@@ -407,11 +488,24 @@ def _unknowns_in(expr, unknowns) -> list:
     return [u for u in unknowns if not _zero(e.coeff(u))]
 
 
-def _dropped_step(system, body: str, P: str, forces, dropped, newton: Step, euler: Step) -> Step:
+def counted(n: int, noun: str) -> str:
+    """``1 unknown``, ``2 unknowns``: a count with its noun in the right number."""
+    return f"{n} {noun}" if n == 1 else f"{n} {noun}s"
+
+
+def _dropped_step(system, body: str, P: str, forces, dropped, newton: Step, euler: Step,
+                  at_state: list[str] | None = None) -> Step:
+    """Which unknowns the moment equation about P holds, and why the others drop out.
+
+    ``at_state``: the names of the unknowns it holds at the state, as the point advisor counts them
+    (:func:`solver.explain.advisor.unknowns_at_state`); an unknown whose coefficient is not
+    identically zero but vanishes there is said to vanish at this state only.
+    """
     unknowns = list(system.qdd) + [r.symbol for r in system.reactions]
-    in_euler = _unknowns_in(euler.equation("euler").residual, unknowns)
-    rows = []
-    text = []
+    residual = sp.expand(euler.equation("euler").residual)
+    in_euler = _unknowns_in(residual, unknowns)
+    here = [u for u in in_euler if at_state is None or str(u) in at_state]
+    rows, text = [], []
     for f in forces:
         if f.reaction is None:
             continue
@@ -419,20 +513,34 @@ def _dropped_step(system, body: str, P: str, forces, dropped, newton: Step, eule
         cells = [f.name]
         for tag in ("newton_x", "newton_y"):
             cells.append("yes" if u in _unknowns_in(newton.equation(tag).residual, [u]) else "no")
-        cells.append("yes" if u in in_euler else "no")
-        if f in dropped and u not in in_euler:
-            why = (f"its line of action passes through {P}" if f.force is not None and _zero(f.couple)
-                   else f"its moment about {P} is zero")
-        elif u not in in_euler:
-            why = f"its moments about {P} cancel"
-        else:
+        line = f.force is not None and _zero(f.couple)
+        if u in here:
+            cells.append("yes")
             why = ""
+        elif u in in_euler:
+            cells.append("no, at this state")
+            why = (f"{'its line of action passes through ' + P if line else 'its moment about ' + P + ' is zero'} "
+                   f"at this state only (its coefficient {sp.sstr(tidy(residual.coeff(u)))} vanishes here, "
+                   "not identically)")
+        else:
+            cells.append("no")
+            why = (f"its line of action passes through {P}" if f in dropped and line
+                   else f"its moment about {P} is zero" if f in dropped else f"its moments about {P} cancel")
         cells.append(why)
         rows.append(tuple(cells))
         if why:
             text.append(f"{f.name} drops out of the moment equation: {why}.")
-    names = ", ".join(str(u) for u in in_euler)
-    text.insert(0, f"The moment equation about {P} contains {len(in_euler)} unknown(s): {names}.")
+    for u in in_euler:  # an acceleration whose coefficient vanishes at the state
+        if u not in here and u in system.qdd:
+            text.append(f"{u} drops out of the moment equation at this state only (its coefficient "
+                        f"{sp.sstr(tidy(residual.coeff(u)))} vanishes here, not identically).")
+    names = ", ".join(str(u) for u in here)
+    if len(here) == len(in_euler):
+        text.insert(0, f"The moment equation about {P} contains {counted(len(here), 'unknown')}: {names}.")
+    else:
+        text.insert(0, f"The moment equation about {P} contains {counted(len(in_euler), 'unknown')} in "
+                       f"general ({', '.join(map(str, in_euler))}), {len(here)} at this state ({names}): the "
+                       "count of the point advisor and of the equations with the data entered.")
     return Step("dropped", f"Unknowns in the moment equation about {P}", text,
                 table=Table(("reaction", "Newton x", "Newton y", f"Euler about {P}", "why not in Euler"), tuple(rows)))
 
@@ -463,6 +571,7 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
     from ..analyses.instant import assemble, solution_in_regime, solve_instant
     from ..formulations import formulate
 
+    add_joint_point(system, point)
     scene, regime, warning = system, None, None
     if system.contacts:  # the contact regime that holds at the state decides the equations
         system, regime, warning, state = system_in_regime(system, point)
@@ -482,7 +591,7 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
         expl.sections[-1].steps.append(_regime_step(scene, regime, warning))
     parts: dict = {}
     for body, P in f.points.items():
-        expl.sections.append(_body_section(system, body, P, parts))
+        expl.sections.append(_body_section(system, body, P, parts, (f, state)))
     if not solution:
         return expl
     final = Section("Solution", None)
@@ -554,9 +663,10 @@ def _regime_step(scene, regime, warning) -> Step:
                 table=Table(("contact", "regime", "why"), tuple(rows)) if rows else None)
 
 
-def _body_section(system, body: str, P: str, parts: dict | None = None) -> Section:
+def _body_section(system, body: str, P: str, parts: dict | None = None, at=None) -> Section:
     """The steps of one body; ``parts`` (body -> (points, forces)) receives what the point advisor
-    needs again (no later step names new points)."""
+    needs again (no later step names new points); ``at``: (formulation, state), to say which
+    unknowns the moment equation holds at the state."""
     points = _Points(system, body)
     forces = _forces_on(system, body, points)
     if parts is not None:
@@ -576,7 +686,12 @@ def _body_section(system, body: str, P: str, parts: dict | None = None) -> Secti
     section.steps.append(newton)
     euler, dropped = _euler_step(system, body, P, forces)
     section.steps.append(euler)
-    section.steps.append(_dropped_step(system, body, P, forces, dropped, newton, euler))
+    at_state = None
+    if at is not None:
+        from .advisor import unknowns_at_state
+
+        at_state = unknowns_at_state(system, at[0], body, P, at[1])
+    section.steps.append(_dropped_step(system, body, P, forces, dropped, newton, euler, at_state))
     return section
 
 
@@ -585,10 +700,11 @@ def _body_section(system, body: str, P: str, parts: dict | None = None) -> Secti
 
 def _system_data_section(system, state) -> Section:
     rows = tuple((name, f"{q:~}" if hasattr(q, "units") else str(q)) for name, q in system.parameters.items())
-    from ..cli_common import in_output_units
+    from ..cli_common import format_number, in_output_units
 
     def shown(value: float, unit: str) -> str:  # in the scene's output units
-        return "{:.6g} {}".format(*in_output_units(value, unit, system.output_units))
+        value, unit = in_output_units(value, unit, system.output_units)
+        return f"{format_number(value)} {unit}"
 
     coords = []
     for c, v, r in zip(system.free, state.q, state.qd):
@@ -649,7 +765,9 @@ def _motion_step(system, f, expl) -> Step | None:
             eqs.append(Equation((Term(tidy_linear(eliminated, qdd + rates)),), (Term(sp.Integer(0)),),
                                 f"moment equation with {', '.join(map(str, subs))} substituted", tag="eliminated"))
             text.append(f"The moment equation about {f.points[body]} still holds "
-                        f"{', '.join(map(str, subs))}; {', '.join(used)} give(s) it without other reactions.")
+                        f"{', '.join(map(str, subs))}; {' and '.join(used)} "
+                        f"give{'s' if len(used) == 1 else ''} {'it' if len(subs) == 1 else 'them'} without other "
+                        "reactions.")
     Q = system.generalized_forces()
     for c, e, q in zip(system.free, equations_of_motion(f), Q):
         eqs.append(_structured_eom(system, c, e, q, (), "reactions eliminated"))
@@ -662,9 +780,9 @@ def _motion_step(system, f, expl) -> Step | None:
                     "parameters, those that are zero set to zero): with the small-motion rules below (each "
                     "exact to first order), the equation of motion linearised, M(0) q'' + K q = 0, "
                     "oscillates at omega_n = sqrt(K / M(0)).")
-    text.append("Equation(s) of motion: the reactions eliminated (projection on the partial velocities of "
-                "each body's P), written as M q'' + (rate terms) + (configuration terms) = Q, with Q the "
-                "generalized force of the non-conservative loads.")
+    text.append(f"{_eom_words(system)}: the reactions eliminated (projection on the partial velocities of "
+                f"each body's P), written as M q'' + (rate terms) + (configuration terms) = Q, with Q the "
+                f"generalized force of the non-conservative loads.")
     return Step("motion", "Equation of motion", text, eqs)
 
 
@@ -727,6 +845,17 @@ def _normal_force_from_newton(expl, contact, r, known: dict, unknown: set):
     return -e.xreplace({r: 0}) / coef, f"Newton along the normal of contact {joint.name} ({joint.second})"
 
 
+def _eom_words(system) -> str:
+    """``The equation of motion`` or ``The equations of motion``, by the number of free coordinates."""
+    return "The equation of motion" if len(system.free) == 1 else "The equations of motion"
+
+
+def _kinetic_coefficients(system) -> set:
+    """The symbols of the kinetic friction coefficients of the contacts slipping at the state."""
+    return {s for joint, _, _ in _slipping_contacts(system).values()
+            for s in sp.sympify(joint.friction.kinetic).free_symbols}
+
+
 def _structured_eom(system, c, e, q, keep, ref: str = "projected on the partial velocities") -> Equation:
     """M q'' + (rate terms) + (configuration terms) - (reaction terms in ``keep``) = Q for one coordinate
     (``e + q``: the equation with the generalized force ``q`` moved to the right)."""
@@ -747,6 +876,11 @@ def _structured_eom(system, c, e, q, keep, ref: str = "projected on the partial 
         if coef != 0 and not coef.has(*system.qd):
             lhs.append(Term(tidy(coef) * x, f"rate terms {x}"))
             rest = sp.expand(rest - coef * x)
+    mus = _kinetic_coefficients(system)
+    friction = sp.Add(*[t for t in sp.Add.make_args(rest) if mus and t.has(*mus)])
+    if friction != 0:  # the slipping friction -s mu_k N with N substituted: not a configuration term
+        lhs.append(Term(tidy(friction), "friction terms (slipping: -s mu_k N)"))
+        rest = sp.expand(rest - friction)
     if rest != 0:
         lhs.append(Term(tidy(rest), "configuration terms"))
     return Equation(tuple(lhs) or (Term(sp.Integer(0)),), (Term(tidy(q), "Q"),),
@@ -803,8 +937,10 @@ def _constrained_motion_step(system, f, expl) -> Step:
             "and a driven mechanism has no independent coordinate at all; here every term stays small, each "
             "row is named by its joint, and lambda keep their meaning as reactions.")
     else:
-        text.append("Equation(s) of motion: the workless reactions eliminated (projection on the partial velocities "
-                    "of each body's P), written as M q'' + (rate terms) + (configuration terms) = Q.")
+        friction = " + (friction terms)" if _kinetic_coefficients(system) else ""
+        text.append(f"{_eom_words(system)}: the workless reactions eliminated (projection on the partial "
+                    f"velocities of each body's P), written as M q'' + (rate terms) + (configuration terms)"
+                    f"{friction} = Q.")
     return Step("motion", "Equation of motion", text, eqs)
 
 
@@ -945,10 +1081,12 @@ def _out(system, name: str, qty):
 
 
 def _solution_step(system, solution) -> Step:
+    from ..cli_common import format_number
+
     rows = []
     for name, qty in solution.unknowns.items():
         value, unit = _out(system, name, qty)
-        rows.append((name, f"{value:.6g}", unit))
+        rows.append((name, format_number(value), unit))
     text = [f"The {len(rows)} unknowns at the state, from the linear equations above "
             f"(condition number {solution.condition_number:.3g}), in the scene's output units."]
     return Step("solution", "Solution", text, table=Table(("unknown", "value", "unit"), tuple(rows)))
@@ -1023,6 +1161,8 @@ def _mass_center_check(system, state) -> dict:
 
 
 def _check_step(system, solution, check) -> Step:
+    from ..cli_common import format_pair
+
     rows = []
     worst = 0.0
     for name, qty in solution.unknowns.items():
@@ -1031,7 +1171,7 @@ def _check_step(system, solution, check) -> Step:
         scale = max(abs(v1), abs(v2), 1e-300)
         diff = abs(v1 - v2) / scale if (v1 or v2) else 0.0
         worst = max(worst, diff)
-        rows.append((name, f"{v1:.6g}", f"{v2:.6g}", unit, f"{diff:.1e}"))
+        rows.append((name, *format_pair(v1, v2), unit, f"{diff:.1e}"))
     text = ["The same unknowns by the mass-centre form (Eq. 1 with a_G, Eq. 2 about G for each body): "
             f"the largest relative difference is {worst:.1e}."]
     return Step("check", "Check by the mass-centre form", text,

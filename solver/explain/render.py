@@ -298,9 +298,10 @@ class _Html(_Renderer):
 
     def equation(self, eq):
         head = _h(eq.label) + (f" ({_h(eq.ref)})" if eq.ref else "")
-        lhs = _h(eq.name) if eq.name else _terms_html(eq.lhs, self.printed)
+        notes = len([t for t in (*eq.rhs, *([] if eq.name else eq.lhs)) if t.note]) >= 2  # as the text shows them
+        lhs = _h(eq.name) if eq.name else _terms_html(eq.lhs, self.printed, notes)
         sign = "&asymp;" if eq.approximate else "="
-        return f"<div>{head}:</div><div class=\"eq\">{lhs} {sign} {_terms_html(eq.rhs, self.printed)}</div>"
+        return f"<div>{head}:</div><div class=\"eq\">{lhs} {sign} {_terms_html(eq.rhs, self.printed, notes)}</div>"
 
     def table(self, table):
         head = "".join(f"<th>{_h(c)}</th>" for c in table.header)
@@ -318,11 +319,14 @@ def _h(text) -> str:
     return html.escape(str(text), quote=True)
 
 
-def _terms_html(terms, printed: FastStrPrinter | None = None) -> str:
-    parts = []
-    for t in terms:
-        s = _h(_sstr(t.expr, printed))
-        if t.note and len(terms) > 1:
-            s += f" <span class=\"note\">[{_h(t.note)}]</span>"
-        parts.append(s)
-    return "\n   + ".join(parts)
+def _terms_html(terms, printed: FastStrPrinter | None = None, notes: bool = True) -> str:
+    """The terms of one side, a negative scalar term after the first joined by "-" (not "+ -"),
+    each with its note when ``notes``."""
+    out = ""
+    for i, t in enumerate(terms):
+        s = _sstr(t.expr, printed)
+        sign = "\n   + " if i else ""
+        if i and s.startswith("-") and not isinstance(t.expr, sp.MatrixBase):
+            sign, s = "\n   - ", s[1:]
+        out += sign + _h(s) + (f" <span class=\"note\">[{_h(t.note)}]</span>" if t.note and notes else "")
+    return out

@@ -83,8 +83,8 @@ def resolve_points(system, point: str | None) -> dict[str, str]:
         targets = [b for b, body in system.bodies.items() if name in body.point_names()]
         if not targets and len(system.bodies) == 1:
             body = next(iter(system.bodies.values()))
-            raise SceneError(f"{system.label}: point {name!r} is not a point of the body "
-                             f"(points: {', '.join(body.point_names())})")
+            raise SceneError(f"{system.label}: --point {point}: point {name!r} is not a point of the body "
+                             f"{body.name!r} (points: {', '.join(body.point_names())})")
         if not targets:
             every = sorted({f"{b}:{p}" for b, body in system.bodies.items() for p in body.point_names()})
             raise SceneError(f"{system.label}: --point {point}: no body has a point {name!r} "

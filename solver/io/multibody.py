@@ -278,9 +278,11 @@ class _MultibodyReader:
         name = L.identifier(L.require(spec, "name", key, "the body's name"), f"{key}.name", "body name")
         if name == GROUND:
             raise self.fail(f"{key}.name", "'ground' is the fixed frame's name")
-        raw_points = L._read_points(L.table(L.require(spec, "points", key, "its named points"), f"{key}.points"))
+        raw_points = L._read_points(L.table(L.require(spec, "points", key, "its named points"), f"{key}.points"),
+                                     f"{key}.points")
         elements = self._read_elements(L.array_of_tables(L.require(spec, "elements", key, "at least one element"),
                                                          f"{key}.elements"), raw_points, key)
+        L.check_mass_centre_name(raw_points, elements, f"{key}.points")
         points = {n: Point(n, sp.Matrix(p.coords), p.frame, p.relative_to) for n, p in raw_points.items()}
         orientation = None
         if "orientation" in spec:
