@@ -340,3 +340,37 @@ def test_the_command_line_starts_without_matplotlib():
         top = [n for n in tree.body if isinstance(n, (ast.Import, ast.ImportFrom))]
         names = [a.name for n in top for a in n.names] + [n.module or "" for n in top if isinstance(n, ast.ImportFrom)]
         assert not any(n.split(".")[0] in ("matplotlib", "PIL") or n.endswith("render") for n in names), module
+
+
+def test_a_moving_ground_point_is_drawn_where_it_is_at_each_time(tmp_path, monkeypatch):
+    """A pivot on a prescribed path (ground point P = [A sin(w t), 0], A = 0.1 m, w = 5 rad/s):
+    draw, the free-body diagram and each animation frame show P, its support and the bar's end O
+    where the path puts them at that frame's time (they were refused with an internal error)."""
+    from solver.analyses.instant import State
+    from solver.drawing import render
+
+    scene = ROOT / "tests" / "data" / "multibody" / "moving_pivot.toml"
+    system = load_system(scene)
+    at = State(q=start_state(system).q, qd=(0.0,), t=0.3)
+    pivot = (0.1 * math.sin(5 * 0.3), 0.0)  # the path at t = 0.3 s, by hand
+    drawn = draw_system(system, at)
+    for item in drawn.of_kind("point", "support"):
+        if item.body == GROUND or item.name == "O":
+            np.testing.assert_allclose(item.anchor, pivot, atol=POSITION_TOL, err_msg=item.label)
+    fbd = draw_system(system, at, fbd=True)
+    pin = [i for i in fbd.items if i.name in ("pin_1_x", "pin_1_y")]  # the pin's reactions act at the pivot
+    assert len(pin) == 2 and all(i.anchor == pytest.approx(pivot, abs=POSITION_TOL) for i in pin)
+
+    frames = []
+    keep = render.render_scene
+    monkeypatch.setattr(render, "render_scene", lambda ax, items, *a, **k: frames.append(items) or keep(ax, items, *a, **k))
+    out = tmp_path / "pivot.gif"
+    assert main(["simulate", str(scene), "--t-end", "0.3 s", "--samples", "2", "--animate", str(out)]) == 0
+    from PIL import Image
+
+    with Image.open(out) as gif:
+        assert gif.n_frames == 2
+    # the first call draws what never changes (nothing of the ground here: its one point moves), then one per frame
+    supports = [[i.anchor for i in items if i.kind == "support"] for items in frames[1:]]
+    assert supports[0][0] == pytest.approx((0.0, 0.0), abs=POSITION_TOL)  # t = 0
+    assert supports[1][0] == pytest.approx(pivot, abs=POSITION_TOL)  # t = 0.3 s

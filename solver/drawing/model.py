@@ -115,8 +115,17 @@ class Drawing:
 
 
 # --------------------------------------------------------------------------- numbers
+def _si(system, t: float | None = None) -> dict:
+    """The substitution that turns a scene expression into a number: every parameter's SI value,
+    and ``t`` [s] when given (a ground point may move with time)."""
+    si = {k: sp.Float(v) for k, v in system.si_values().items()}
+    if t is not None:
+        si[system.t] = sp.Float(t)
+    return si
+
+
 def _constant(expr, si) -> float:
-    """A parameter-only expression (body-frame coordinates, dimensions) as a float."""
+    """An expression of the parameters (and of ``t`` when ``si`` holds it) as a float."""
     value = sp.sympify(expr).xreplace(si)
     return float(value.evalf())
 
@@ -188,7 +197,7 @@ class BodyShape:
 
 def body_shapes(system) -> dict[str, BodyShape]:
     """Body-frame points, instant points and elements of every body, evaluated once."""
-    si = {k: sp.Float(v) for k, v in system.si_values().items()}
+    si = _si(system)
     out = {}
     for name, body in system.bodies.items():
         points, instant = {}, {}
@@ -244,9 +253,9 @@ def _light_link(body: str, shape: BodyShape, pose) -> DrawnItem | None:
                      shape={"type": "polyline", "points": path})
 
 
-def _scale(system, shapes, poses) -> tuple[np.ndarray, np.ndarray]:
-    """Bounding box (low, high) of every point and element of the scene [m]."""
-    pts = [np.asarray(_ground_point(system, n)) for n in system.ground.points]
+def _scale(system, shapes, poses, t: float) -> tuple[np.ndarray, np.ndarray]:
+    """Bounding box (low, high) of every point and element of the scene at time ``t`` [m]."""
+    pts = [np.asarray(_ground_point(system, n, t)) for n in system.ground.points]
     for name, shape in shapes.items():
         for p in list(shape.points) + list(shape.instant):
             pts.append(shape.position(p, poses[name]))
@@ -259,9 +268,9 @@ def _scale(system, shapes, poses) -> tuple[np.ndarray, np.ndarray]:
     return pts.min(axis=0), pts.max(axis=0)
 
 
-def _ground_point(system, name) -> list[float]:
-    si = {k: sp.Float(v) for k, v in system.si_values().items()}
-    return _vec(system.ground.points[name].coords, si).tolist()
+def _ground_point(system, name, t: float) -> list[float]:
+    """Where a ground point is at time ``t`` [s] (a ground point's path may be a function of t)."""
+    return _vec(system.ground.points[name].coords, _si(system, t)).tolist()
 
 
 # --------------------------------------------------------------------------- the scene
@@ -288,9 +297,9 @@ def scene_items(system, state, poses=None, shapes=None) -> list[DrawnItem]:
             pos = shape.position(p, poses[name])
             items.append(DrawnItem("point", p, tuple(pos.tolist()), body=name, name=p))
     for p in system.ground.points:
-        items.append(DrawnItem("point", p, tuple(_ground_point(system, p)), body=GROUND, name=p))
-    low, high = _scale(system, shapes, poses)
-    items += _guides(system, shapes, poses, low, high)
+        items.append(DrawnItem("point", p, tuple(_ground_point(system, p, state.t)), body=GROUND, name=p))
+    low, high = _scale(system, shapes, poses, state.t)
+    items += _guides(system, shapes, poses, low, high, state.t)
     items += _coordinates(system, state, shapes, poses, float(np.max(high - low)) or 1.0)
     return items
 
@@ -299,22 +308,22 @@ def _pose_of(poses, body):
     return (np.zeros(2), 0.0) if body == GROUND else poses[body]
 
 
-def _at(system, poses, body, coords) -> np.ndarray:
-    si = {k: sp.Float(v) for k, v in system.si_values().items()}
+def _at(system, poses, body, coords, t: float) -> np.ndarray:
+    """Fixed-frame place of a point given by its coordinates in ``body``'s frame, at time ``t``."""
     origin, phi = _pose_of(poses, body)
-    return origin + _rot(phi) @ _vec(coords, si)
+    return origin + _rot(phi) @ _vec(coords, _si(system, t))
 
 
-def _guides(system, shapes, poses, low, high) -> list[DrawnItem]:
+def _guides(system, shapes, poses, low, high, t: float) -> list[DrawnItem]:
     from ..model import joints as J
 
-    si = {k: sp.Float(v) for k, v in system.si_values().items()}
+    si = _si(system, t)
     span = float(np.max(high - low)) or 1.0
     items = []
     for j in system.joints:
         first_phi = _pose_of(poses, j.first)[1]
         if isinstance(j, (J.Rail, J.Rolling, J.Actuator)):  # Rail covers PinInSlot and Slider
-            o = _at(system, poses, j.first, j.through)
+            o = _at(system, poses, j.first, j.through, t)
             a = first_phi + _constant(j.angle, si)
             d = np.array([math.cos(a), math.sin(a)])
             n = np.array([-d[1], d[0]])
@@ -328,19 +337,19 @@ def _guides(system, shapes, poses, low, high) -> list[DrawnItem]:
                                    shape={"type": "line", "ends": (ends[0].tolist(), ends[1].tolist()),
                                           "hatch": (-n).tolist(), "dashed": isinstance(j, J.Actuator)}))
         elif isinstance(j, J.RollingOnCircle):
-            O = _at(system, poses, j.first, j.circle_center)
+            O = _at(system, poses, j.first, j.circle_center, t)
             R = _constant(j.circle_radius, si)
             items.append(DrawnItem("guide", f"{j.name} (rolling on a circle)", tuple(O.tolist()), body=j.first,
                                    name=j.name, shape={"type": "circle", "centre": O.tolist(), "radius": R,
                                                        "hatch_inside": not j.inside}))
         elif isinstance(j, J.Pin) and GROUND in j.bodies:
-            at = _at(system, poses, GROUND, j.at_first if j.first == GROUND else j.at_second)
+            at = _at(system, poses, GROUND, j.at_first if j.first == GROUND else j.at_second, t)
             items.append(DrawnItem("support", f"{j.name} (pin)", tuple(at.tolist()), body=GROUND, name=j.name,
                                    shape={"type": "pin_support", "size": 0.06 * span}))
         elif isinstance(j, J.Cord):
             tangent = j.tangent_point(lambda b: _sym_pose(system, poses, b))
             start = np.array([float(v) for v in tangent.xreplace(si)])
-            end = _at(system, poses, j.second, j.point)
+            end = _at(system, poses, j.second, j.point, t)
             items.append(DrawnItem("guide", f"{j.name} (cord)", tuple(start.tolist()), body=j.first, name=j.name,
                                    shape={"type": "cord", "ends": (start.tolist(), end.tolist())}))
     return items
@@ -401,8 +410,7 @@ def _length_mark(system, c, value, shapes, poses):
         u = sp.diff(system.origin(name), c.q)
         if any(s in u.free_symbols for s in (*system.q, system.t)) or u == sp.zeros(2, 1):
             continue
-        si = {k: sp.Float(v) for k, v in system.si_values().items()}
-        u = _vec(u, si)
+        u = _vec(u, _si(system))
         point = body.default_point if body.default_point in shapes[name].points else "G"
         tip = shapes[name].position(point, poses[name])
         base = tip - value * u
@@ -451,7 +459,7 @@ class _FreeBodies:
         self.solved = {name: float(q.to_base_units().magnitude) for name, q in solution.unknowns.items()}
         self.shapes = _memo(system, "shapes", body_shapes)
         self.poses = _memo(system, "poses", PoseFunction)(state.q, state.t)
-        self.si = {k: sp.Float(v) for k, v in system.si_values().items()}
+        self.si = _si(system, state.t)
         self.exprs: list = []
         self.vals: list[float] = []
 
@@ -551,9 +559,8 @@ def _inertial_items(fb: _FreeBodies, inertial, points) -> list[DrawnItem]:
 
 
 def _mass_centre(system, shapes, poses, body) -> np.ndarray:
-    si = {k: sp.Float(v) for k, v in system.si_values().items()}
     origin, phi = poses[body]
-    return origin + _rot(phi) @ _vec(system.bodies[body].mass_center(), si)
+    return origin + _rot(phi) @ _vec(system.bodies[body].mass_center(), _si(system))
 
 
 def _force(kind, label, at, vec, positive, body, name, value, unit) -> DrawnItem:
