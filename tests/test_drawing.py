@@ -155,10 +155,24 @@ def test_drawing_matches_the_scene(path):
     # the inertial force of Eq. 10, dashed, on every body
     for body in system.bodies:
         inertial = [i for i in fbd.on(body) if i.kind == "inertial"]
-        assert len(inertial) == 1 and inertial[0].label.startswith(f"-m a_{fbd.point[body]}")
+        assert len(inertial) == 1 and inertial[0].label.startswith(f"|-m a_{fbd.point[body]}| = ")
         _assert_no_moment_about_P(fbd, points[(body, fbd.point[body])], body, path.name)
+    _assert_sizes_in_labels(fbd, path.name)
     _assert_labels_apart(fbd.figure, path.name)
     _assert_arrows_apart(fbd.figure, path.name)
+
+
+def _assert_sizes_in_labels(fbd, where):
+    """The convention of the diagrams, stated under each of them: arrows (arcs) in the actual sense,
+    labels ``|X| = size``: no label carries a sign, each gives the size of the value its item holds."""
+    for item in fbd.items:
+        if item.kind in ("force", "couple", "inertial", "inertial_couple"):
+            assert item.label.endswith(f"| = {abs(item.value):.4g} {item.unit}") and "= -" not in item.label, \
+                f"{where}: {item.label!r} (value {item.value})"
+    for ax in fbd.figure.axes:
+        if ax.get_visible():
+            legend = ax.get_xlabel()
+            assert "actual sense" in legend and "|X| = its size" in legend, f"{where}: no convention under a diagram"
 
 
 # Two labels' boxes may share at most 1 display pixel (at the figure's 100 dpi, 0.72 pt) each way:
@@ -309,10 +323,8 @@ def test_paper_figures_1_to_3_are_drawn_from_the_scenes(tmp_path_factory):
         assert figure and "<svg" in figure.group(1), f"Figure {n} missing from paper.html"
         assert f"figures/{stem}.pdf" in tex and (out / "figures" / f"{stem}.pdf").stat().st_size > 1000
     rod = re.search(r'<figure id="figure1">(.*?)</figure>', html, re.S).group(1)
-    for name in ("A_x", "A_y"):  # on the rod (the joints' second body), as solved, 4 significant figures
-        assert f"{name} = {solution.unknowns[name].magnitude:.4g} N" in rod
-    for name in ("B_x", "B_y"):  # the rod is the first body of pin B: the force on it is -B
-        assert f"-{name} = {-solution.unknowns[name].magnitude:.4g} N" in rod
+    for name in ("A_x", "A_y", "B_x", "B_y"):  # on the rod, sizes to 4 significant figures (the arrows give the sense)
+        assert f"|{name}| = {abs(solution.unknowns[name].magnitude):.4g} N" in rod
 
 
 @pytest.mark.parametrize("name, scene_file, body, number", PAPER_SCENE_FIGURES)
@@ -374,3 +386,30 @@ def test_a_moving_ground_point_is_drawn_where_it_is_at_each_time(tmp_path, monke
     supports = [[i.anchor for i in items if i.kind == "support"] for items in frames[1:]]
     assert supports[0][0] == pytest.approx((0.0, 0.0), abs=POSITION_TOL)  # t = 0
     assert supports[1][0] == pytest.approx(pivot, abs=POSITION_TOL)  # t = 0.3 s
+
+
+def test_labels_give_sizes_and_arrows_the_sense_for_reactions_and_loads_alike():
+    """A bar on a pin at 30 deg, turning at 1 rad/s, with a spring and a damper from the ground point
+    S = (L, -L) to its tip E. O_x is solved negative and the damper shortens (its tension
+    c dL/dt < 0, a push): both are drawn as arrows in their actual sense labelled with their size,
+    and the diagram says so under it. Before, O_x was an arrow to the left labelled "O_x = -17.96 N"
+    and the damper's push was labelled "damper_3 = 1.697 N", a magnitude, unlike the reactions."""
+    system = load_system(ROOT / "tests" / "data" / "multibody" / "pendulum_loads.toml")
+    fbd = draw_system(system, fbd=True)
+    o_x = float(fbd.solution.unknowns["O_x"].to("N").magnitude)
+    assert o_x < 0
+    (item,) = [i for i in fbd.items if i.name == "O_x"]
+    assert item.label == f"|O_x| = {-o_x:.4g} N"
+    np.testing.assert_allclose(item.direction, [-1.0, 0.0], atol=DIRECTION_TOL)  # O_x < 0 on the bar: to the left
+
+    # the damper by hand: E = L (sin th, -cos th), v_E = L th' (cos th, sin th), tension c u.(v_E - 0), u from S to E
+    L, c, th, th_dot = 0.8, 3.0, math.radians(30), 1.0
+    E, S = L * np.array([math.sin(th), -math.cos(th)]), np.array([L, -L])
+    u = (E - S) / np.linalg.norm(E - S)
+    tension = c * float(u @ (L * th_dot * np.array([math.cos(th), math.sin(th)])))
+    assert tension < 0  # the damper is being shortened: it pushes E away from S
+    (item,) = [i for i in fbd.items if i.name == "damper_3"]
+    assert item.label == f"|damper_3| = {-tension:.4g} N"
+    np.testing.assert_allclose(item.direction, u, atol=DIRECTION_TOL)
+    legend = fbd.figure.axes[0].get_xlabel()
+    assert legend.startswith("Arrows and arcs: each force and couple in its actual sense at this state; |X| = its size.")

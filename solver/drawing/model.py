@@ -26,7 +26,14 @@ from ..model.bodies import GROUND
 from ..strprint import lambdify
 
 __all__ = ["DrawnItem", "Drawing", "BodyShape", "scene_items", "free_body_items", "PoseFunction",
-           "body_shapes", "ZERO_FORCE"]
+           "body_shapes", "ZERO_FORCE", "CONVENTION", "size_label"]
+
+CONVENTION = "Arrows and arcs: each force and couple in its actual sense at this state; |X| = its size."
+"""The free-body diagrams' sign convention, written under every diagram: an arrow (a couple's arc)
+points the way the force (couple) acts at the state, and its label gives the size, never a sign.
+A reaction solved negative (O_x = -6.772 N) is an arrow against its positive sense labelled
+|O_x| = 6.772 N; a spring in compression an arrow pushing its point, labelled with the size of the
+tension. Both bodies a joint connects show its reaction by the same label, the arrows opposite."""
 
 ZERO_FORCE = 1e-9
 """A force or couple whose size is below this fraction of the largest on the
@@ -60,7 +67,10 @@ class DrawnItem:
     name : str or None
         The scene's name: point, reaction, load or coordinate name.
     value : float or None
-        Size in ``unit`` (signed for reactions and couples, as solved).
+        The named quantity in ``unit``, signed as the solve gives it: a reaction as solved (on
+        both bodies it acts on), a spring's or damper's tension, a couple's counter-clockwise
+        moment; a size for a weight, an applied force vector and the inertial force. The label
+        shows its size (:data:`CONVENTION`), the direction or turn its sense.
     unit : str
     shape : dict
         Geometry for the renderer (segment ends, radius, arc angles ...).
@@ -436,7 +446,7 @@ def free_body_items(system, state, solution, points: dict[str, str]) -> list[Dra
     fb = _FreeBodies(system, state, solution)
     joint_loads = [(jl, fb.pair(jl.force), fb.pair(jl.at), fb.slot(jl.couple)) for jl in system.joint_loads()]
     applied = [(load, a, fb.pair(None if a.force is None else system.prescribe(sp.Matrix(a.force))), fb.pair(a.at),
-                fb.slot(system.prescribe(sp.sympify(a.couple))))
+                fb.slot(system.prescribe(sp.sympify(a.couple))), fb.pair(_other_end(system, load, a)))
                for load in system.loads for a in load.applied(system)]
     motion = {body: system.point_kinematics(body, p) for body, p in points.items()}  # as the worked solution
     inertial = {body: (fb.pair(motion[body][2]), fb.slot(system.alpha(body)), fb.pair(motion[body][0]))
@@ -444,6 +454,14 @@ def free_body_items(system, state, solution, points: dict[str, str]) -> list[Dra
     fb.evaluate()
     items = _reaction_items(fb, joint_loads) + _load_items(fb, applied) + _inertial_items(fb, inertial, points)
     return _mark_zeros(items)
+
+
+def _other_end(system, load, applied):
+    """A spring's or damper's far end (fixed-frame position) from the point ``applied`` acts at; else None."""
+    if load.kind not in ("spring", "damper") or applied.point is None:
+        return None
+    other = load.b if applied.point == tuple(load.a) else load.a
+    return system.prescribe(system.point_position(*other))
 
 
 class _FreeBodies:
@@ -497,39 +515,42 @@ class _FreeBodies:
 
 
 def _reaction_items(fb: _FreeBodies, joint_loads) -> list[DrawnItem]:
-    """Each reaction on each body it acts on, as solved; on a joint's first body it is the opposite."""
+    """Each reaction on each body it acts on, by its name and solved value (the joint's direction
+    on its first body is the opposite of that on its second, so the arrows are opposite)."""
     items = []
     for jl, f, at, c in joint_loads:
         body, r = jl.body, jl.reaction
         if body == GROUND:  # the ground has no diagram
             continue
         value = fb.solved[r.name]
-        joint = next(j for j in fb.system.joints if j.name == r.joint)
-        sign = -1 if (body == joint.first and body != joint.second) else 1
-        name = f"{'-' if sign < 0 else ''}{r.name}"
-        if f is not None:
+        if f is not None:  # the force on this body: value times the joint's direction on it
             unit_vec = fb.vec(f)
-            items.append(_force("force", name, fb.vec(at), value * unit_vec, unit_vec, body, r.name,
-                                sign * fb.force(value), fb.force_unit))
+            items.append(_force("force", r.name, fb.vec(at), value * unit_vec, unit_vec, body, r.name,
+                                fb.force(value), fb.force_unit))
         else:  # a couple (slider, motor), drawn at the body's reference point
-            items.append(_couple("couple", name, fb.where(body, fb.system.bodies[body].default_point),
-                                 value * fb.vals[c], body, r.name, sign * fb.moment(value), fb.moment_unit))
+            items.append(_couple("couple", r.name, fb.where(body, fb.system.bodies[body].default_point),
+                                 value * fb.vals[c], body, r.name, fb.moment(value), fb.moment_unit))
     return items
 
 
 def _load_items(fb: _FreeBodies, applied) -> list[DrawnItem]:
-    """Applied forces and couples (springs, dampers too); each body's weight as one force at G."""
+    """Applied forces and couples (springs, dampers too); each body's weight as one force at G.
+
+    ``applied`` holds (load, applied load, force slots, place slots, couple slot, the other end's
+    place slots for a spring or damper, else None)."""
     items, weights = [], {}
-    for load, a, f, at, c in applied:
+    for load, a, f, at, c, other in applied:
         if a.body not in fb.system.bodies:  # the ground's share of a spring or damper
             continue
         if load.kind == "gravity":  # the resultant of the elements' weights acts at G
             weights[(a.body, load.name)] = weights.get((a.body, load.name), np.zeros(2)) + fb.vec(f)
             continue
         if f is not None:
-            vec = fb.vec(f)
-            items.append(_force("force", a.name, fb.vec(at), vec, None, a.body, load.name,
-                                fb.force(float(np.hypot(*vec))), fb.force_unit))
+            vec, where = fb.vec(f), fb.vec(at)
+            size = float(np.hypot(*vec))
+            if other is not None:  # a spring or damper: its tension, positive when it pulls towards the other end
+                size = math.copysign(size, float(vec @ (fb.vec(other) - where)))
+            items.append(_force("force", a.name, where, vec, None, a.body, load.name, fb.force(size), fb.force_unit))
         if a.force is None or sp.sympify(a.couple) != 0:
             m = fb.vals[c]
             items.append(_couple("couple", a.name, fb.where(a.body, "G"), m, a.body, load.name, fb.moment(m),
@@ -579,6 +600,20 @@ def _couple(kind, label, at, moment, body, name, value, unit) -> DrawnItem:
                      unit=unit, shape={"size": abs(float(moment))})
 
 
+def size_label(name: str, value: float, unit: str) -> str:
+    """The label of a drawn force or couple under :data:`CONVENTION`: ``|name| = size unit``.
+
+    Examples
+    --------
+    >>> size_label("O_x", -6.7716, "N")
+    '|O_x| = 6.772 N'
+    >>> size_label("gravity: m g", 19.62, "N")
+    'gravity: |m g| = 19.62 N'
+    """
+    head, sep, symbol = name.rpartition(": ")
+    return f"{head}{sep}|{symbol}| = {abs(value):.4g} {unit}"
+
+
 def _mark_zeros(items: list[DrawnItem]) -> list[DrawnItem]:
     """Forces (couples) below ZERO_FORCE of the largest force (couple) on the same body lose their direction."""
     out = []
@@ -588,7 +623,7 @@ def _mark_zeros(items: list[DrawnItem]) -> list[DrawnItem]:
         biggest = max(same) if same else 0.0
         zero = item.shape.get("size", 0.0) <= ZERO_FORCE * biggest
         value = 0.0 if zero else item.value
-        label = f"{item.label} = {value:.4g} {item.unit}"
+        label = size_label(item.label, value, item.unit)
         out.append(DrawnItem(item.kind, label, item.anchor, None if zero else item.direction, 0 if zero else item.turn,
                              item.body, item.name, value, item.unit, {**item.shape, "zero": zero}))
     return out

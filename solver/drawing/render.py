@@ -21,7 +21,7 @@ from matplotlib.figure import Figure  # noqa: E402
 from matplotlib.patches import Circle, FancyArrowPatch, Polygon, Rectangle, Wedge  # noqa: E402
 
 from .layout import fix_layout  # noqa: E402
-from .model import DrawnItem  # noqa: E402
+from .model import CONVENTION, DrawnItem  # noqa: E402
 
 __all__ = ["new_figure", "render_scene", "render_fbd", "place_labels", "label_boxes", "fix_layout", "RC"]
 
@@ -302,6 +302,14 @@ def render_fbd(ax, scene_items: list[DrawnItem], forces: list[DrawnItem], body: 
     pts = np.array(pts)
     _setup(ax, pts.min(axis=0), pts.max(axis=0), max(span, float(np.max(pts.max(axis=0) - pts.min(axis=0)))) * 0.5,
            title)
+    ax.set_xlabel(fbd_legend(forces), fontsize=7, color="0.25", wrap=True)
+
+
+def fbd_legend(forces: list[DrawnItem]) -> str:
+    """The text under a free-body diagram: the sign convention of its labels and what is dashed."""
+    inertial = [i.name for i in forces if i.kind in ("inertial", "inertial_couple")]
+    dashed = f"\nDashed: the inertial terms {' and '.join(inertial)} at G (Eq. 10)." if inertial else ""
+    return CONVENTION.replace("$", r"\$") + dashed
 
 
 # -- label placement -------------------------------------------------------------------------------
