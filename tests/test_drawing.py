@@ -413,3 +413,34 @@ def test_labels_give_sizes_and_arrows_the_sense_for_reactions_and_loads_alike():
     np.testing.assert_allclose(item.direction, u, atol=DIRECTION_TOL)
     legend = fbd.figure.axes[0].get_xlabel()
     assert legend.startswith("Arrows and arcs: each force and couple in its actual sense at this state; |X| = its size.")
+
+
+def test_springs_and_dampers_are_drawn_between_their_points():
+    """The scene drawing of a bar with a spring and a damper from the ground point S = (L, -L) to its
+    tip E (L = 0.8 m, theta = 30 deg): each is an item between S and E, the spring drawn as a
+    zigzag from S to E, the damper as a dashpot beside it (before, S was drawn alone, floating)."""
+    system = load_system(ROOT / "tests" / "data" / "multibody" / "pendulum_loads.toml")
+    drawing = draw_system(system)
+    L, th = 0.8, math.radians(30)
+    S, E = np.array([L, -L]), L * np.array([math.sin(th), -math.cos(th)])  # by hand
+    for kind, name in (("spring", "spring_2"), ("damper", "damper_3")):
+        (item,) = [i for i in drawing.of_kind(kind) if i.name == name]
+        np.testing.assert_allclose(np.array(item.shape["ends"]), [S, E], atol=POSITION_TOL)
+        assert item.label == name
+    (ax,) = drawing.figure.axes
+    lines = [np.column_stack(line.get_data()).astype(float) for line in ax.lines]
+    lines = [xy for xy in lines if len(xy) > 1]  # not the points' dots
+    along = (E - S) / np.linalg.norm(E - S)
+    side = lambda xy: np.sign((xy - S) @ np.array([-along[1], along[0]]))  # noqa: E731 - which side of line S-E
+    from_S = [xy for xy in lines if np.allclose(xy[0], S, atol=POSITION_TOL)]
+    to_E = [xy for xy in lines if np.allclose(xy[-1], E, atol=POSITION_TOL)]
+    # the spring: one polyline from S to E crossing its own lane's centre line 8 times or more (a zigzag)
+    zigzags = [xy for xy in from_S if np.allclose(xy[-1], E, atol=POSITION_TOL) and len(xy) >= 12]
+    assert len(zigzags) == 1
+    middle = zigzags[0][3:-3]  # the coils, off the lane: their sides about the lane's centre alternate
+    lane_centre = middle.mean(axis=0)
+    turns = np.sign((middle - lane_centre) @ np.array([-along[1], along[0]]))
+    assert np.count_nonzero(np.diff(turns[turns != 0])) >= 6
+    # the damper: its own rod from S and rod to E, on the other side of S-E than the spring's coils
+    damper_rods = [xy for xy in from_S + to_E if len(xy) == 3]
+    assert len(damper_rods) == 2 and {side(xy[1]) for xy in damper_rods} == {-side(lane_centre)}

@@ -49,7 +49,8 @@ class DrawnItem:
     ----------
     kind : str
         ``element``, ``link`` (the light frame of a body of point masses),
-        ``point``, ``guide``, ``support``, ``coordinate``,
+        ``point``, ``guide``, ``support``, ``coordinate``, ``spring`` and
+        ``damper`` (a linear spring or damper between its two points),
         ``force``, ``couple``, ``inertial`` (dashed force) or
         ``inertial_couple`` (dashed couple).
     label : str
@@ -290,8 +291,8 @@ def scene_items(system, state, poses=None, shapes=None) -> list[DrawnItem]:
     Bodies by their elements, every named point of every body (and G) and of
     the ground, the guides of the joints (rails, sliders and rolling lines as
     hatched lines, circles of rolling on a circle, fixed pins as supports,
-    cords as lines), and every free coordinate: an arc for an angle, a
-    dimension line for a length.
+    cords as lines), the linear springs and dampers between their two points,
+    and every free coordinate: an arc for an angle, a dimension line for a length.
     """
     shapes = shapes or _memo(system, "shapes", body_shapes)
     poses = poses or _memo(system, "poses", PoseFunction)(state.q, state.t)
@@ -310,6 +311,7 @@ def scene_items(system, state, poses=None, shapes=None) -> list[DrawnItem]:
         items.append(DrawnItem("point", p, tuple(_ground_point(system, p, state.t)), body=GROUND, name=p))
     low, high = _scale(system, shapes, poses, state.t)
     items += _guides(system, shapes, poses, low, high, state.t)
+    items += _connectors(system, shapes, poses, state.t)
     items += _coordinates(system, state, shapes, poses, float(np.max(high - low)) or 1.0)
     return items
 
@@ -362,6 +364,31 @@ def _guides(system, shapes, poses, low, high, t: float) -> list[DrawnItem]:
             end = _at(system, poses, j.second, j.point, t)
             items.append(DrawnItem("guide", f"{j.name} (cord)", tuple(start.tolist()), body=j.first, name=j.name,
                                    shape={"type": "cord", "ends": (start.tolist(), end.tolist())}))
+    return items
+
+
+def _connectors(system, shapes, poses, t: float) -> list[DrawnItem]:
+    """Each linear spring (a zigzag) and damper (a dashpot) between its two points.
+
+    Several between the same two points are drawn side by side, as in parallel: ``shape["lane"]``
+    is each one's place across the line joining the points (0 for a single one, then -0.5, 0.5
+    for two ...), in lanes (:func:`solver.drawing.render.connector_paths`).
+    """
+    def place(body, point):
+        if body == GROUND:
+            return np.array(_ground_point(system, point, t))
+        return shapes[body].position(point, poses[body])
+
+    loads = [load for load in system.loads if load.kind in ("spring", "damper")]
+    pairs = [frozenset((tuple(load.a), tuple(load.b))) for load in loads]
+    items = []
+    for load, pair in zip(loads, pairs):
+        same = [other for other, p in zip(loads, pairs) if p == pair]
+        lane = same.index(load) - (len(same) - 1) / 2
+        a, b = place(*load.a), place(*load.b)
+        body = next((name for name, _ in (load.a, load.b) if name != GROUND), GROUND)
+        items.append(DrawnItem(load.kind, load.name, tuple(((a + b) / 2).tolist()), body=body, name=load.name,
+                               shape={"type": load.kind, "ends": (a.tolist(), b.tolist()), "lane": lane}))
     return items
 
 

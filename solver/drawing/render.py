@@ -3,7 +3,8 @@
 Bodies: bars as thick segments, disks as filled circles, rings as hollow
 circles, plates as rectangles, semicircular disks as half discs, point masses
 as dots, elements given by an inertia as a small circle (or their rim).
-Guides are lines or circles hatched on the side of the ground. Forces are
+Guides are lines or circles hatched on the side of the ground; linear springs are zigzags and
+dampers dashpots (a cylinder and a piston) between their two points. Forces are
 arrows of one length starting at their point of application (the label gives
 the size), couples curved arrows; the inertial terms are dashed.
 """
@@ -23,7 +24,8 @@ from matplotlib.patches import Circle, FancyArrowPatch, Polygon, Rectangle, Wedg
 from .layout import fix_layout  # noqa: E402
 from .model import CONVENTION, DrawnItem  # noqa: E402
 
-__all__ = ["new_figure", "render_scene", "render_fbd", "place_labels", "label_boxes", "fix_layout", "RC"]
+__all__ = ["new_figure", "render_scene", "render_fbd", "place_labels", "label_boxes", "fix_layout", "RC",
+           "connector_paths"]
 
 RC = {"svg.hashsalt": "alt-euler-drawing", "svg.fonttype": "none", "font.size": 8}
 """Deterministic SVG (fixed ids, text kept as text)."""
@@ -154,6 +156,63 @@ def _arc(ax, centre, radius, start, end, colour, label, dashed=False, arrow=True
                 zorder=6)
 
 
+CONNECTOR_WIDTH = 0.03
+"""Half the width of a drawn spring's zigzag or damper's cylinder, as a fraction of the scene's span."""
+
+
+def connector_paths(kind: str, a, b, width: float, lane: float = 0.0) -> list[np.ndarray]:
+    """The polylines of a spring (``kind="spring"``: a zigzag) or a damper (a dashpot) from ``a`` to ``b``.
+
+    Parameters
+    ----------
+    kind : str
+        ``spring`` or ``damper``.
+    a, b : array-like
+        The two points [m].
+    width : float
+        Half the symbol's width [m].
+    lane : float
+        Its place across the line a-b, in lanes ``3.5 * width`` apart: several between
+        the same points are drawn side by side, joined to the points by short cross bars.
+
+    Returns
+    -------
+    list of numpy.ndarray
+        Each an (n, 2) polyline; the first starts at ``a`` and the last ends at ``b``.
+    """
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    length = float(np.linalg.norm(b - a))
+    along = (b - a) / length if length > 0 else np.array([1.0, 0.0])
+    across = np.array([-along[1], along[0]])
+    shift = 3.5 * width * lane * across
+    p, q = a + shift, b + shift  # the lane's ends, joined to a and b by cross bars
+
+    def at(s, w=0.0):  # the point a fraction s along the lane, w across it
+        return p + s * (q - p) + w * across
+
+    if kind == "spring":
+        turns = 8  # half-waves of the zigzag, on the middle 60 % of the length
+        zig = [at(0.2 + 0.6 * (k + 0.5) / turns, width * (1 if k % 2 == 0 else -1)) for k in range(turns)]
+        return [np.array([a, p, at(0.2), *zig, at(0.8), q, b])]
+    cylinder = [at(0.7, width), at(0.3, width), at(0.3, -width), at(0.7, -width)]  # closed at a's end, open at b's
+    return [np.array([a, p, at(0.3)]), np.array(cylinder),  # a's rod, the cylinder, the piston and b's rod
+            np.array([at(0.55, 0.75 * width), at(0.55, -0.75 * width)]), np.array([at(0.55), q, b])]
+
+
+def _connector(ax, item: DrawnItem, span: float, faint: bool = False) -> None:
+    width = CONNECTOR_WIDTH * span
+    s = item.shape
+    for path in connector_paths(s["type"], *s["ends"], width, s.get("lane", 0.0)):
+        ax.plot(path[:, 0], path[:, 1], color="0.25", linewidth=1.1, alpha=0.35 if faint else 1.0, zorder=1)
+    a, b = np.asarray(s["ends"][0], float), np.asarray(s["ends"][1], float)
+    along = (b - a) / (np.linalg.norm(b - a) or 1.0)
+    across = np.array([-along[1], along[0]])
+    side = 1 if s.get("lane", 0.0) >= 0 else -1
+    where = (a + b) / 2 + (3.5 * width * s.get("lane", 0.0) + side * 2.2 * width) * across
+    ax.annotate(item.label, where.tolist(), xytext=(0, 0), textcoords="offset points", fontsize=7, color="0.25",
+                ha="center", va="center", zorder=6)
+
+
 def _points(ax, items, bodies, span):
     """Every named point as a dot; the names of the points at one place (a pin's two halves, a
     bob's G) written once, together."""
@@ -192,6 +251,8 @@ def render_scene(ax, items: list[DrawnItem], bodies: list[str], title: str = "",
                 ax.plot([x0, x1], [y0, y1], color="0.3", linewidth=1, zorder=1)
         elif i.kind == "support":
             _support(ax, i, span)
+        elif i.kind in ("spring", "damper"):
+            _connector(ax, i, span, faint)
         elif i.kind == "coordinate":
             s = i.shape
             if s["type"] == "arc":
