@@ -428,7 +428,7 @@ def render_fbd(ax, scene_items: list[DrawnItem], forces: list[DrawnItem], body: 
     pts = np.array(pts)
     _setup(ax, pts.min(axis=0), pts.max(axis=0), max(span, float(np.max(pts.max(axis=0) - pts.min(axis=0)))) * 0.5,
            title)
-    ax.set_xlabel(fbd_legend(forces), fontsize=7, color="0.25", wrap=True)
+    ax.set_xlabel(fbd_legend(forces), fontsize=7, color="0.25")
 
 
 COUPLE_RADIUS = 0.1
