@@ -546,3 +546,27 @@ def test_free_body_diagrams_keep_arrows_couples_and_labels_apart(scene, point, r
     _assert_couples_apart(fbd.figure, scene)
     _assert_labels_apart(fbd.figure, scene)
     _assert_labels_off_arrows(fbd.figure, scene)
+
+
+def test_animation_frames_name_a_pin_once(tmp_path, monkeypatch):
+    """In each frame the pin O (the ground's point O and the bar's point O at one place) is named once,
+    as in the still drawing; the ground's name, drawn once for all frames under the bar's, made a
+    smudged double "O". The spring and damper move with the bar: they are drawn in every frame."""
+    from solver.drawing import render
+
+    seen = []
+    keep = render.render_scene
+
+    def record(ax, items, *a, **k):
+        keep(ax, items, *a, **k)
+        seen.append(([t.get_text() for t in ax.texts], {i.kind for i in items}))
+
+    monkeypatch.setattr(render, "render_scene", record)
+    out = tmp_path / "bar.gif"
+    scene = ROOT / "tests" / "data" / "multibody" / "pendulum_loads.toml"
+    assert main(["simulate", str(scene), "--t-end", "0.2 s", "--samples", "2", "--animate", str(out)]) == 0
+    frames = seen[1:]  # the first call draws what never changes
+    assert len(frames) == 2
+    for texts, kinds in frames:
+        assert texts.count("O") == 1, texts
+        assert {"spring", "damper"} <= kinds

@@ -211,9 +211,10 @@ def animate(system, times, states, path, flag: str = "--animate") -> Path:
     with rc_context(render.RC):
         figure = Figure(figsize=(4.0, 4.0))
         ax = figure.add_axes((0.0, 0.0, 1.0, 0.93))
-        # what is the same in every frame (the fixed ground's guides, supports and points) is drawn
-        # once; the bodies, and a ground point that moves with t (a prescribed pivot), every frame
-        fixed = _unchanging([[i for i in f if i.body == GROUND] for f in frames])
+        # what is the same in every frame (the fixed ground's guides and supports) is drawn once; the
+        # bodies, a ground item that moves with t (a prescribed pivot), and the points every frame: the
+        # names of a body's point and a ground point at one place (a pin) are then written once
+        fixed = _unchanging([[i for i in f if i.body == GROUND and i.kind != "point"] for f in frames])
         render.render_scene(ax, fixed, bodies, limits=(low, high, span))
         render._setup(ax, low, high, span, "")
         title = figure.suptitle("", fontsize=9)
