@@ -285,7 +285,8 @@ def scene_figure(path, name: str, number: int, body: str | None = None, point: s
         f"{state_text(system, state)}. Left, the configuration with its named points, guides and coordinates. "
         f"Right, the free-body diagram of {'the body' if len(system.bodies) == 1 else body}, {composite}, with the forces at this state: {'; '.join(real)}. "
         f"Dashed: the inertial force -m a_{P} drawn at the mass centre G and the couple -I_{P} alpha; with them "
-        f"the forces have no moment about {P} (Eq. 10)."
+        f"the forces have no moment about {P} (Eq. 10). Each arrow (arc) points the way its force (couple) acts "
+        f"at this state, and |X| is its size: a reaction solved negative points against its positive sense."
     )
     facts = {"scene": system.name, "body": body, "point": P, "labels": [i.label for i in items]}
     return _result(name, fig, caption, facts)

@@ -155,10 +155,26 @@ def test_drawing_matches_the_scene(path):
     # the inertial force of Eq. 10, dashed, on every body
     for body in system.bodies:
         inertial = [i for i in fbd.on(body) if i.kind == "inertial"]
-        assert len(inertial) == 1 and inertial[0].label.startswith(f"-m a_{fbd.point[body]}")
+        assert len(inertial) == 1 and inertial[0].label.startswith(f"|-m a_{fbd.point[body]}| = ")
         _assert_no_moment_about_P(fbd, points[(body, fbd.point[body])], body, path.name)
+    _assert_sizes_in_labels(fbd, path.name)
     _assert_labels_apart(fbd.figure, path.name)
     _assert_arrows_apart(fbd.figure, path.name)
+    _assert_couples_apart(fbd.figure, path.name)
+    _assert_labels_off_arrows(fbd.figure, path.name)
+
+
+def _assert_sizes_in_labels(fbd, where):
+    """The convention of the diagrams, stated under each of them: arrows (arcs) in the actual sense,
+    labels ``|X| = size``: no label carries a sign, each gives the size of the value its item holds."""
+    for item in fbd.items:
+        if item.kind in ("force", "couple", "inertial", "inertial_couple"):
+            assert item.label.endswith(f"| = {abs(item.value):.4g} {item.unit}") and "= -" not in item.label, \
+                f"{where}: {item.label!r} (value {item.value})"
+    for ax in fbd.figure.axes:
+        if ax.get_visible():
+            legend = ax.get_xlabel()
+            assert "actual sense" in legend and "|X| = its size" in legend, f"{where}: no convention under a diagram"
 
 
 # Two labels' boxes may share at most 1 display pixel (at the figure's 100 dpi, 0.72 pt) each way:
@@ -168,14 +184,91 @@ def test_drawing_matches_the_scene(path):
 LABEL_OVERLAP_TOL = 1.0
 
 
+# Two arrows within 30 deg of parallel (or of opposite) can be read as one; at a larger angle they are
+# told apart at a glance. Such arrows must not touch (a gap under 5 % of an arrow's length, about 5 px
+# on a 4.6 inch panel, or crossing) unless they are opposite arrows leaving one point, and the heads
+# of opposite ones must not meet (closer than 15 % of an arrow's length).
+NEAR_PARALLEL = math.radians(30)
+TOUCHING = 0.05
+HEADS_MEET = 0.15
+
+
+def _gap(a0, a1, b0, b1) -> float:
+    """Least distance between two segments, by sampling each finely (the test's own route)."""
+    s = np.linspace(0, 1, 401)[:, None]
+    pa, pb = a0 + s * (a1 - a0), b0 + s * (b1 - b0)
+    return float(np.min(np.linalg.norm(pa[:, None, :] - pb[None, :, :], axis=2)))
+
+
 def _assert_arrows_apart(figure, where):
-    """No two arrows are drawn one over the other (same ends): the block of drum_and_block drew its
-    dashed -m a_P exactly over the cord tension, the piston of slider_crank its weight over N_cyl."""
+    """No two force arrows are drawn so that they read as one: on top of each other (drum_and_block's
+    block drew its dashed -m a_P over the cord tension, slider_crank's piston its weight over N_cyl),
+    end to end on one line, or head to head (disk_bar's weight from G ran down into F_n's head at C)."""
     from matplotlib.patches import FancyArrowPatch
 
     for ax in figure.axes:
-        ends = [tuple(np.round(np.ravel(p._posA_posB), 9)) for p in ax.patches if isinstance(p, FancyArrowPatch)]
-        assert len(ends) == len(set(ends)), f"{where}: arrows drawn one over another in {ax.get_title()!r}"
+        arrows = [tuple(np.array(p, float) for p in a._posA_posB) for a in ax.patches if isinstance(a, FancyArrowPatch)]
+        length = max((np.linalg.norm(b - a) for a, b in arrows), default=0.0)
+        arrows = [(a, b) for a, b in arrows if np.linalg.norm(b - a) > 0.5 * length]  # not an arc's head
+        for i, (a0, a1) in enumerate(arrows):
+            for b0, b1 in arrows[:i]:
+                ua, ub = (a1 - a0) / np.linalg.norm(a1 - a0), (b1 - b0) / np.linalg.norm(b1 - b0)
+                if abs(ua[0] * ub[1] - ua[1] * ub[0]) > math.sin(NEAR_PARALLEL):
+                    continue
+                opposite = ua @ ub < 0
+                what = f"{where}: arrows {a0}->{a1} and {b0}->{b1} in {ax.get_title()!r}"
+                if opposite:
+                    assert np.linalg.norm(a1 - b1) >= HEADS_MEET * length, f"{what} meet head to head"
+                if opposite and np.linalg.norm(a0 - b0) < 1e-9 * length:
+                    continue  # two forces leaving one point, opposite
+                assert _gap(a0, a1, b0, b1) >= TOUCHING * length, f"{what} touch"
+
+
+def _assert_labels_off_arrows(figure, where):
+    """No label lies across a force arrow, its shaft or its head (drum_and_block's "-m a_P" had its
+    minus sign under the head of the T arrow). The head: the segment across the tip as wide as the
+    head drawn ("-|>" at mutation scale 11 pt: 2.2 pt each side). A box's outer pixel is allowed
+    (LABEL_OVERLAP_TOL: the renderer's rounding)."""
+    from matplotlib.patches import FancyArrowPatch
+
+    from solver.drawing.render import label_boxes
+
+    figure.canvas.draw()
+    for ax in (a for a in figure.axes if a.get_visible()):
+        ends = [tuple(ax.transData.transform(np.array(q, float)) for q in p._posA_posB)
+                for p in ax.patches if isinstance(p, FancyArrowPatch)]
+        longest = max((np.linalg.norm(b - a) for a, b in ends), default=0.0)
+        half = 2.2 * figure.dpi / 72
+        shafts = []
+        for a, b in ends:
+            if np.linalg.norm(b - a) > 0.5 * longest:
+                across = np.array([a[1] - b[1], b[0] - a[0]]) / np.linalg.norm(b - a)
+                shafts += [a + np.linspace(0, 1, 400)[:, None] * (b - a),
+                           b + np.linspace(-half, half, 20)[:, None] * across]
+        texts = [t.get_text() for t in ax.texts if t.get_visible() and t.get_text()]
+        for text, box in zip(texts, label_boxes(ax)):
+            for pts in shafts:
+                inside = ((pts[:, 0] > box.x0 + LABEL_OVERLAP_TOL) & (pts[:, 0] < box.x1 - LABEL_OVERLAP_TOL)
+                          & (pts[:, 1] > box.y0 + LABEL_OVERLAP_TOL) & (pts[:, 1] < box.y1 - LABEL_OVERLAP_TOL))
+                assert not inside.any(), f"{where}: label {text!r} lies on an arrow in {ax.get_title()!r}"
+
+
+def _assert_couples_apart(figure, where):
+    """No two couples' arcs overlap: each is drawn around its own centre, at least two radii from
+    any other (the centre of an arc from three of its points, the test's own route)."""
+    for ax in figure.axes:
+        arcs = [np.column_stack(line.get_data()).astype(float) for line in ax.lines]
+        arcs = [xy for xy in arcs if len(xy) == 39]  # a couple's arc: 40 samples less the arrowhead's end
+        circles = []
+        for xy in arcs:
+            (x1, y1), (x2, y2), (x3, y3) = xy[0], xy[19], xy[-1]
+            d = 2 * (x1 * (y2 - y3) + x2 * (y3 - y1) + x3 * (y1 - y2))
+            cx = ((x1**2 + y1**2) * (y2 - y3) + (x2**2 + y2**2) * (y3 - y1) + (x3**2 + y3**2) * (y1 - y2)) / d
+            cy = ((x1**2 + y1**2) * (x3 - x2) + (x2**2 + y2**2) * (x1 - x3) + (x3**2 + y3**2) * (x2 - x1)) / d
+            circles.append((np.array([cx, cy]), math.dist((cx, cy), (x1, y1))))
+        for i, (c, r) in enumerate(circles):
+            for c2, r2 in circles[:i]:
+                assert np.linalg.norm(c - c2) >= r + r2, f"{where}: couple arcs overlap in {ax.get_title()!r}"
 
 
 def _assert_labels_apart(figure, where):
@@ -309,10 +402,8 @@ def test_paper_figures_1_to_3_are_drawn_from_the_scenes(tmp_path_factory):
         assert figure and "<svg" in figure.group(1), f"Figure {n} missing from paper.html"
         assert f"figures/{stem}.pdf" in tex and (out / "figures" / f"{stem}.pdf").stat().st_size > 1000
     rod = re.search(r'<figure id="figure1">(.*?)</figure>', html, re.S).group(1)
-    for name in ("A_x", "A_y"):  # on the rod (the joints' second body), as solved, 4 significant figures
-        assert f"{name} = {solution.unknowns[name].magnitude:.4g} N" in rod
-    for name in ("B_x", "B_y"):  # the rod is the first body of pin B: the force on it is -B
-        assert f"-{name} = {-solution.unknowns[name].magnitude:.4g} N" in rod
+    for name in ("A_x", "A_y", "B_x", "B_y"):  # on the rod, sizes to 4 significant figures (the arrows give the sense)
+        assert f"|{name}| = {abs(solution.unknowns[name].magnitude):.4g} N" in rod
 
 
 @pytest.mark.parametrize("name, scene_file, body, number", PAPER_SCENE_FIGURES)
@@ -348,7 +439,7 @@ def test_a_zero_force_is_a_label_not_an_arrow(name, zeros):
     no arrow for it (once a faint arrow along its positive sense, which reads as a force) and lists
     it in its label as zero. Checked on the rendered panels: no arrow has an end at the force's
     point and lies along its line (another force at the same point, such as axle_y beside axle_x,
-    lies across it); the label `NAME = 0 UNIT` is on the panel."""
+    lies across it); the label `|NAME| = 0 UNIT` is on the panel."""
     import matplotlib.pyplot as plt
     from matplotlib.patches import FancyArrowPatch
 
@@ -360,7 +451,7 @@ def test_a_zero_force_is_a_label_not_an_arrow(name, zeros):
         panels = dict(zip(drawing.panels, drawing.figure.axes))
         for item in zero:
             ax = panels[item.body]
-            assert f"{item.name} = 0 {item.unit}" in {t.get_text() for t in ax.texts}
+            assert f"|{item.name}| = 0 {item.unit}" in {t.get_text() for t in ax.texts}
             positive = np.asarray(item.shape["positive"], float)
             for patch in ax.patches:
                 if not (isinstance(patch, FancyArrowPatch) and getattr(patch, "_posA_posB", None)):
@@ -373,3 +464,142 @@ def test_a_zero_force_is_a_label_not_an_arrow(name, zeros):
                 assert not (at_point and parallel), f"{name}: {item.name} is drawn as an arrow"
     finally:
         plt.close(drawing.figure)
+
+
+def test_a_moving_ground_point_is_drawn_where_it_is_at_each_time(tmp_path, monkeypatch):
+    """A pivot on a prescribed path (ground point P = [A sin(w t), 0], A = 0.1 m, w = 5 rad/s):
+    draw, the free-body diagram and each animation frame show P, its support and the bar's end O
+    where the path puts them at that frame's time (they were refused with an internal error)."""
+    from solver.analyses.instant import State
+    from solver.drawing import render
+
+    scene = ROOT / "tests" / "data" / "multibody" / "moving_pivot.toml"
+    system = load_system(scene)
+    at = State(q=start_state(system).q, qd=(0.0,), t=0.3)
+    pivot = (0.1 * math.sin(5 * 0.3), 0.0)  # the path at t = 0.3 s, by hand
+    drawn = draw_system(system, at)
+    for item in drawn.of_kind("point", "support"):
+        if item.body == GROUND or item.name == "O":
+            np.testing.assert_allclose(item.anchor, pivot, atol=POSITION_TOL, err_msg=item.label)
+    fbd = draw_system(system, at, fbd=True)
+    pin = [i for i in fbd.items if i.name in ("pin_1_x", "pin_1_y")]  # the pin's reactions act at the pivot
+    assert len(pin) == 2 and all(i.anchor == pytest.approx(pivot, abs=POSITION_TOL) for i in pin)
+
+    frames = []
+    keep = render.render_scene
+    monkeypatch.setattr(render, "render_scene", lambda ax, items, *a, **k: frames.append(items) or keep(ax, items, *a, **k))
+    out = tmp_path / "pivot.gif"
+    assert main(["simulate", str(scene), "--t-end", "0.3 s", "--samples", "2", "--animate", str(out)]) == 0
+    from PIL import Image
+
+    with Image.open(out) as gif:
+        assert gif.n_frames == 2
+    # the first call draws what never changes (nothing of the ground here: its one point moves), then one per frame
+    supports = [[i.anchor for i in items if i.kind == "support"] for items in frames[1:]]
+    assert supports[0][0] == pytest.approx((0.0, 0.0), abs=POSITION_TOL)  # t = 0
+    assert supports[1][0] == pytest.approx(pivot, abs=POSITION_TOL)  # t = 0.3 s
+
+
+def test_labels_give_sizes_and_arrows_the_sense_for_reactions_and_loads_alike():
+    """A bar on a pin at 30 deg, turning at 1 rad/s, with a spring and a damper from the ground point
+    S = (L, -L) to its tip E. O_x is solved negative and the damper shortens (its tension
+    c dL/dt < 0, a push): both are drawn as arrows in their actual sense labelled with their size,
+    and the diagram says so under it. Before, O_x was an arrow to the left labelled "O_x = -17.96 N"
+    and the damper's push was labelled "damper_3 = 1.697 N", a magnitude, unlike the reactions."""
+    system = load_system(ROOT / "tests" / "data" / "multibody" / "pendulum_loads.toml")
+    fbd = draw_system(system, fbd=True)
+    o_x = float(fbd.solution.unknowns["O_x"].to("N").magnitude)
+    assert o_x < 0
+    (item,) = [i for i in fbd.items if i.name == "O_x"]
+    assert item.label == f"|O_x| = {-o_x:.4g} N"
+    np.testing.assert_allclose(item.direction, [-1.0, 0.0], atol=DIRECTION_TOL)  # O_x < 0 on the bar: to the left
+
+    # the damper by hand: E = L (sin th, -cos th), v_E = L th' (cos th, sin th), tension c u.(v_E - 0), u from S to E
+    L, c, th, th_dot = 0.8, 3.0, math.radians(30), 1.0
+    E, S = L * np.array([math.sin(th), -math.cos(th)]), np.array([L, -L])
+    u = (E - S) / np.linalg.norm(E - S)
+    tension = c * float(u @ (L * th_dot * np.array([math.cos(th), math.sin(th)])))
+    assert tension < 0  # the damper is being shortened: it pushes E away from S
+    (item,) = [i for i in fbd.items if i.name == "damper_3"]
+    assert item.label == f"|damper_3| = {-tension:.4g} N"
+    np.testing.assert_allclose(item.direction, u, atol=DIRECTION_TOL)
+    legend = fbd.figure.axes[0].get_xlabel()
+    assert legend.startswith("Arrows and arcs: each force and couple in its actual sense at this state; |X| = its size.")
+
+
+def test_springs_and_dampers_are_drawn_between_their_points():
+    """The scene drawing of a bar with a spring and a damper from the ground point S = (L, -L) to its
+    tip E (L = 0.8 m, theta = 30 deg): each is an item between S and E, the spring drawn as a
+    zigzag from S to E, the damper as a dashpot beside it (before, S was drawn alone, floating)."""
+    system = load_system(ROOT / "tests" / "data" / "multibody" / "pendulum_loads.toml")
+    drawing = draw_system(system)
+    L, th = 0.8, math.radians(30)
+    S, E = np.array([L, -L]), L * np.array([math.sin(th), -math.cos(th)])  # by hand
+    for kind, name in (("spring", "spring_2"), ("damper", "damper_3")):
+        (item,) = [i for i in drawing.of_kind(kind) if i.name == name]
+        np.testing.assert_allclose(np.array(item.shape["ends"]), [S, E], atol=POSITION_TOL)
+        assert item.label == name
+    (ax,) = drawing.figure.axes
+    lines = [np.column_stack(line.get_data()).astype(float) for line in ax.lines]
+    lines = [xy for xy in lines if len(xy) > 1]  # not the points' dots
+    along = (E - S) / np.linalg.norm(E - S)
+    side = lambda xy: np.sign((xy - S) @ np.array([-along[1], along[0]]))  # noqa: E731 - which side of line S-E
+    from_S = [xy for xy in lines if np.allclose(xy[0], S, atol=POSITION_TOL)]
+    to_E = [xy for xy in lines if np.allclose(xy[-1], E, atol=POSITION_TOL)]
+    # the spring: one polyline from S to E crossing its own lane's centre line 8 times or more (a zigzag)
+    zigzags = [xy for xy in from_S if np.allclose(xy[-1], E, atol=POSITION_TOL) and len(xy) >= 12]
+    assert len(zigzags) == 1
+    middle = zigzags[0][3:-3]  # the coils, off the lane: their sides about the lane's centre alternate
+    lane_centre = middle.mean(axis=0)
+    turns = np.sign((middle - lane_centre) @ np.array([-along[1], along[0]]))
+    assert np.count_nonzero(np.diff(turns[turns != 0])) >= 6
+    # the damper: its own rod from S and rod to E, on the other side of S-E than the spring's coils
+    damper_rods = [xy for xy in from_S + to_E if len(xy) == 3]
+    assert len(damper_rods) == 2 and {side(xy[1]) for xy in damper_rods} == {-side(lane_centre)}
+
+
+@pytest.mark.parametrize("scene, point, rates, bodies", [
+    ("data/scenes/disk_bar.toml", None, None, None),  # the weight from G ran into F_n's head at C
+    ("data/scenes/disk_bar.toml", "C", (3.0,), None),  # -m a_C lay on the weight, both down from G
+    ("data/scenes/slider_crank.toml", None, None, None),  # the piston's weight close beside N_cyl
+    ("data/scenes/drum_and_block.toml", None, None, ["block"]),  # as explain draws it: -m a_P's label on T's head
+    ("tests/data/multibody/pendulum_loads.toml", None, None, None),  # four couples' arcs, one inside another
+])
+def test_free_body_diagrams_keep_arrows_couples_and_labels_apart(scene, point, rates, bodies):
+    """The overlaps a new user found, by general rules: arrows that would read as one are drawn
+    arriving at their point, or beside it; couples (free vectors) each at its own place on the body."""
+    from solver.analyses.instant import State
+
+    system = load_system(ROOT / scene)
+    state = start_state(system)
+    if rates is not None:
+        state = State(q=state.q, qd=rates, t=state.t)
+    fbd = draw_system(system, state, fbd=True, point=point, bodies=bodies)
+    _assert_arrows_apart(fbd.figure, scene)
+    _assert_couples_apart(fbd.figure, scene)
+    _assert_labels_apart(fbd.figure, scene)
+    _assert_labels_off_arrows(fbd.figure, scene)
+
+
+def test_animation_frames_name_a_pin_once(tmp_path, monkeypatch):
+    """In each frame the pin O (the ground's point O and the bar's point O at one place) is named once,
+    as in the still drawing; the ground's name, drawn once for all frames under the bar's, made a
+    smudged double "O". The spring and damper move with the bar: they are drawn in every frame."""
+    from solver.drawing import render
+
+    seen = []
+    keep = render.render_scene
+
+    def record(ax, items, *a, **k):
+        keep(ax, items, *a, **k)
+        seen.append(([t.get_text() for t in ax.texts], {i.kind for i in items}))
+
+    monkeypatch.setattr(render, "render_scene", record)
+    out = tmp_path / "bar.gif"
+    scene = ROOT / "tests" / "data" / "multibody" / "pendulum_loads.toml"
+    assert main(["simulate", str(scene), "--t-end", "0.2 s", "--samples", "2", "--animate", str(out)]) == 0
+    frames = seen[1:]  # the first call draws what never changes
+    assert len(frames) == 2
+    for texts, kinds in frames:
+        assert texts.count("O") == 1, texts
+        assert {"spring", "damper"} <= kinds

@@ -211,8 +211,11 @@ def animate(system, times, states, path, flag: str = "--animate") -> Path:
     with rc_context(render.RC):
         figure = Figure(figsize=(4.0, 4.0))
         ax = figure.add_axes((0.0, 0.0, 1.0, 0.93))
-        # the ground (its guides, supports and points) is drawn once; the bodies every frame
-        render.render_scene(ax, [i for i in frames[0] if i.body == GROUND], bodies, limits=(low, high, span))
+        # what is the same in every frame (the fixed ground's guides and supports) is drawn once; the
+        # bodies, a ground item that moves with t (a prescribed pivot), and the points every frame: the
+        # names of a body's point and a ground point at one place (a pin) are then written once
+        fixed = _unchanging([[i for i in f if i.body == GROUND and i.kind != "point"] for f in frames])
+        render.render_scene(ax, fixed, bodies, limits=(low, high, span))
         render._setup(ax, low, high, span, "")
         title = figure.suptitle("", fontsize=9)
         name = system.name.replace("$", r"\$")  # a scene name is text, never mathtext
@@ -222,7 +225,7 @@ def animate(system, times, states, path, flag: str = "--animate") -> Path:
             for artist in previous:
                 artist.remove()
             before = set(ax.get_children())
-            render.render_scene(ax, [i for i in frames[k] if i.body != GROUND], bodies, limits=(low, high, span))
+            render.render_scene(ax, [i for i in frames[k] if i not in fixed], bodies, limits=(low, high, span))
             previous[:] = [a for a in ax.get_children() if a not in before]
             title.set_text(f"{name}   t = {times[keep[k]]:.3f} s")
             return []
@@ -238,6 +241,13 @@ def animate(system, times, states, path, flag: str = "--animate") -> Path:
                 movie.save(str(scratch), writer=FFMpegWriter(fps=FRAME_RATE), dpi=DPI)
                 data = scratch.read_bytes()
     return write_atomic(path, lambda fh: fh.write(data), flag, binary=True)
+
+
+def _unchanging(ground: list[list]) -> list:
+    """The ground's items drawn alike in every frame (``ground``: each frame's ground items, listed
+    in one order, as :func:`~solver.drawing.model.scene_items` lists them)."""
+    first = ground[0]
+    return [item for k, item in enumerate(first) if all(len(f) == len(first) and f[k] == item for f in ground)]
 
 
 def frame_indices(n: int, limit: int = MAX_FRAMES) -> list[int]:

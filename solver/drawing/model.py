@@ -26,7 +26,14 @@ from ..model.bodies import GROUND
 from ..strprint import lambdify
 
 __all__ = ["DrawnItem", "Drawing", "BodyShape", "scene_items", "free_body_items", "PoseFunction",
-           "body_shapes", "ZERO_FORCE"]
+           "body_shapes", "ZERO_FORCE", "CONVENTION", "size_label"]
+
+CONVENTION = "Arrows and arcs: each force and couple in its actual sense at this state; |X| = its size."
+"""The free-body diagrams' sign convention, written under every diagram: an arrow (a couple's arc)
+points the way the force (couple) acts at the state, and its label gives the size, never a sign.
+A reaction solved negative (O_x = -6.772 N) is an arrow against its positive sense labelled
+|O_x| = 6.772 N; a spring in compression an arrow pushing its point, labelled with the size of the
+tension. Both bodies a joint connects show its reaction by the same label, the arrows opposite."""
 
 ZERO_FORCE = 1e-9
 """A force or couple whose size is below this fraction of the largest on the
@@ -42,7 +49,8 @@ class DrawnItem:
     ----------
     kind : str
         ``element``, ``link`` (the light frame of a body of point masses),
-        ``point``, ``guide``, ``support``, ``coordinate``,
+        ``point``, ``guide``, ``support``, ``coordinate``, ``spring`` and
+        ``damper`` (a linear spring or damper between its two points),
         ``force``, ``couple``, ``inertial`` (dashed force) or
         ``inertial_couple`` (dashed couple).
     label : str
@@ -60,7 +68,10 @@ class DrawnItem:
     name : str or None
         The scene's name: point, reaction, load or coordinate name.
     value : float or None
-        Size in ``unit`` (signed for reactions and couples, as solved).
+        The named quantity in ``unit``, signed as the solve gives it: a reaction as solved (on
+        both bodies it acts on), a spring's or damper's tension, a couple's counter-clockwise
+        moment; a size for a weight, an applied force vector and the inertial force. The label
+        shows its size (:data:`CONVENTION`), the direction or turn its sense.
     unit : str
     shape : dict
         Geometry for the renderer (segment ends, radius, arc angles ...).
@@ -115,8 +126,17 @@ class Drawing:
 
 
 # --------------------------------------------------------------------------- numbers
+def _si(system, t: float | None = None) -> dict:
+    """The substitution that turns a scene expression into a number: every parameter's SI value,
+    and ``t`` [s] when given (a ground point may move with time)."""
+    si = {k: sp.Float(v) for k, v in system.si_values().items()}
+    if t is not None:
+        si[system.t] = sp.Float(t)
+    return si
+
+
 def _constant(expr, si) -> float:
-    """A parameter-only expression (body-frame coordinates, dimensions) as a float."""
+    """An expression of the parameters (and of ``t`` when ``si`` holds it) as a float."""
     value = sp.sympify(expr).xreplace(si)
     return float(value.evalf())
 
@@ -188,7 +208,7 @@ class BodyShape:
 
 def body_shapes(system) -> dict[str, BodyShape]:
     """Body-frame points, instant points and elements of every body, evaluated once."""
-    si = {k: sp.Float(v) for k, v in system.si_values().items()}
+    si = _si(system)
     out = {}
     for name, body in system.bodies.items():
         points, instant = {}, {}
@@ -244,9 +264,9 @@ def _light_link(body: str, shape: BodyShape, pose) -> DrawnItem | None:
                      shape={"type": "polyline", "points": path})
 
 
-def _scale(system, shapes, poses) -> tuple[np.ndarray, np.ndarray]:
-    """Bounding box (low, high) of every point and element of the scene [m]."""
-    pts = [np.asarray(_ground_point(system, n)) for n in system.ground.points]
+def _scale(system, shapes, poses, t: float) -> tuple[np.ndarray, np.ndarray]:
+    """Bounding box (low, high) of every point and element of the scene at time ``t`` [m]."""
+    pts = [np.asarray(_ground_point(system, n, t)) for n in system.ground.points]
     for name, shape in shapes.items():
         for p in list(shape.points) + list(shape.instant):
             pts.append(shape.position(p, poses[name]))
@@ -259,9 +279,9 @@ def _scale(system, shapes, poses) -> tuple[np.ndarray, np.ndarray]:
     return pts.min(axis=0), pts.max(axis=0)
 
 
-def _ground_point(system, name) -> list[float]:
-    si = {k: sp.Float(v) for k, v in system.si_values().items()}
-    return _vec(system.ground.points[name].coords, si).tolist()
+def _ground_point(system, name, t: float) -> list[float]:
+    """Where a ground point is at time ``t`` [s] (a ground point's path may be a function of t)."""
+    return _vec(system.ground.points[name].coords, _si(system, t)).tolist()
 
 
 # --------------------------------------------------------------------------- the scene
@@ -271,8 +291,8 @@ def scene_items(system, state, poses=None, shapes=None) -> list[DrawnItem]:
     Bodies by their elements, every named point of every body (and G) and of
     the ground, the guides of the joints (rails, sliders and rolling lines as
     hatched lines, circles of rolling on a circle, fixed pins as supports,
-    cords as lines), and every free coordinate: an arc for an angle, a
-    dimension line for a length.
+    cords as lines), the linear springs and dampers between their two points,
+    and every free coordinate: an arc for an angle, a dimension line for a length.
     """
     shapes = shapes or _memo(system, "shapes", body_shapes)
     poses = poses or _memo(system, "poses", PoseFunction)(state.q, state.t)
@@ -288,9 +308,10 @@ def scene_items(system, state, poses=None, shapes=None) -> list[DrawnItem]:
             pos = shape.position(p, poses[name])
             items.append(DrawnItem("point", p, tuple(pos.tolist()), body=name, name=p))
     for p in system.ground.points:
-        items.append(DrawnItem("point", p, tuple(_ground_point(system, p)), body=GROUND, name=p))
-    low, high = _scale(system, shapes, poses)
-    items += _guides(system, shapes, poses, low, high)
+        items.append(DrawnItem("point", p, tuple(_ground_point(system, p, state.t)), body=GROUND, name=p))
+    low, high = _scale(system, shapes, poses, state.t)
+    items += _guides(system, shapes, poses, low, high, state.t)
+    items += _connectors(system, shapes, poses, state.t)
     items += _coordinates(system, state, shapes, poses, float(np.max(high - low)) or 1.0)
     return items
 
@@ -299,22 +320,22 @@ def _pose_of(poses, body):
     return (np.zeros(2), 0.0) if body == GROUND else poses[body]
 
 
-def _at(system, poses, body, coords) -> np.ndarray:
-    si = {k: sp.Float(v) for k, v in system.si_values().items()}
+def _at(system, poses, body, coords, t: float) -> np.ndarray:
+    """Fixed-frame place of a point given by its coordinates in ``body``'s frame, at time ``t``."""
     origin, phi = _pose_of(poses, body)
-    return origin + _rot(phi) @ _vec(coords, si)
+    return origin + _rot(phi) @ _vec(coords, _si(system, t))
 
 
-def _guides(system, shapes, poses, low, high) -> list[DrawnItem]:
+def _guides(system, shapes, poses, low, high, t: float) -> list[DrawnItem]:
     from ..model import joints as J
 
-    si = {k: sp.Float(v) for k, v in system.si_values().items()}
+    si = _si(system, t)
     span = float(np.max(high - low)) or 1.0
     items = []
     for j in system.joints:
         first_phi = _pose_of(poses, j.first)[1]
         if isinstance(j, (J.Rail, J.Rolling, J.Actuator)):  # Rail covers PinInSlot and Slider
-            o = _at(system, poses, j.first, j.through)
+            o = _at(system, poses, j.first, j.through, t)
             a = first_phi + _constant(j.angle, si)
             d = np.array([math.cos(a), math.sin(a)])
             n = np.array([-d[1], d[0]])
@@ -328,21 +349,46 @@ def _guides(system, shapes, poses, low, high) -> list[DrawnItem]:
                                    shape={"type": "line", "ends": (ends[0].tolist(), ends[1].tolist()),
                                           "hatch": (-n).tolist(), "dashed": isinstance(j, J.Actuator)}))
         elif isinstance(j, J.RollingOnCircle):
-            O = _at(system, poses, j.first, j.circle_center)
+            O = _at(system, poses, j.first, j.circle_center, t)
             R = _constant(j.circle_radius, si)
             items.append(DrawnItem("guide", f"{j.name} (rolling on a circle)", tuple(O.tolist()), body=j.first,
                                    name=j.name, shape={"type": "circle", "centre": O.tolist(), "radius": R,
                                                        "hatch_inside": not j.inside}))
         elif isinstance(j, J.Pin) and GROUND in j.bodies:
-            at = _at(system, poses, GROUND, j.at_first if j.first == GROUND else j.at_second)
+            at = _at(system, poses, GROUND, j.at_first if j.first == GROUND else j.at_second, t)
             items.append(DrawnItem("support", f"{j.name} (pin)", tuple(at.tolist()), body=GROUND, name=j.name,
                                    shape={"type": "pin_support", "size": 0.06 * span}))
         elif isinstance(j, J.Cord):
             tangent = j.tangent_point(lambda b: _sym_pose(system, poses, b))
             start = np.array([float(v) for v in tangent.xreplace(si)])
-            end = _at(system, poses, j.second, j.point)
+            end = _at(system, poses, j.second, j.point, t)
             items.append(DrawnItem("guide", f"{j.name} (cord)", tuple(start.tolist()), body=j.first, name=j.name,
                                    shape={"type": "cord", "ends": (start.tolist(), end.tolist())}))
+    return items
+
+
+def _connectors(system, shapes, poses, t: float) -> list[DrawnItem]:
+    """Each linear spring (a zigzag) and damper (a dashpot) between its two points.
+
+    Several between the same two points are drawn side by side, as in parallel: ``shape["lane"]``
+    is each one's place across the line joining the points (0 for a single one, then -0.5, 0.5
+    for two ...), in lanes (:func:`solver.drawing.render.connector_paths`).
+    """
+    def place(body, point):
+        if body == GROUND:
+            return np.array(_ground_point(system, point, t))
+        return shapes[body].position(point, poses[body])
+
+    loads = [load for load in system.loads if load.kind in ("spring", "damper")]
+    pairs = [frozenset((tuple(load.a), tuple(load.b))) for load in loads]
+    items = []
+    for load, pair in zip(loads, pairs):
+        same = [other for other, p in zip(loads, pairs) if p == pair]
+        lane = same.index(load) - (len(same) - 1) / 2
+        a, b = place(*load.a), place(*load.b)
+        body = next((name for name, _ in (load.a, load.b) if name != GROUND), GROUND)
+        items.append(DrawnItem(load.kind, load.name, tuple(((a + b) / 2).tolist()), body=body, name=load.name,
+                               shape={"type": load.kind, "ends": (a.tolist(), b.tolist()), "lane": lane}))
     return items
 
 
@@ -401,8 +447,7 @@ def _length_mark(system, c, value, shapes, poses):
         u = sp.diff(system.origin(name), c.q)
         if any(s in u.free_symbols for s in (*system.q, system.t)) or u == sp.zeros(2, 1):
             continue
-        si = {k: sp.Float(v) for k, v in system.si_values().items()}
-        u = _vec(u, si)
+        u = _vec(u, _si(system))
         point = body.default_point if body.default_point in shapes[name].points else "G"
         tip = shapes[name].position(point, poses[name])
         base = tip - value * u
@@ -428,7 +473,7 @@ def free_body_items(system, state, solution, points: dict[str, str]) -> list[Dra
     fb = _FreeBodies(system, state, solution)
     joint_loads = [(jl, fb.pair(jl.force), fb.pair(jl.at), fb.slot(jl.couple)) for jl in system.joint_loads()]
     applied = [(load, a, fb.pair(None if a.force is None else system.prescribe(sp.Matrix(a.force))), fb.pair(a.at),
-                fb.slot(system.prescribe(sp.sympify(a.couple))))
+                fb.slot(system.prescribe(sp.sympify(a.couple))), fb.pair(_other_end(system, load, a)))
                for load in system.loads for a in load.applied(system)]
     motion = {body: system.point_kinematics(body, p) for body, p in points.items()}  # as the worked solution
     inertial = {body: (fb.pair(motion[body][2]), fb.slot(system.alpha(body)), fb.pair(motion[body][0]))
@@ -436,6 +481,14 @@ def free_body_items(system, state, solution, points: dict[str, str]) -> list[Dra
     fb.evaluate()
     items = _reaction_items(fb, joint_loads) + _load_items(fb, applied) + _inertial_items(fb, inertial, points)
     return _mark_zeros(items)
+
+
+def _other_end(system, load, applied):
+    """A spring's or damper's far end (fixed-frame position) from the point ``applied`` acts at; else None."""
+    if load.kind not in ("spring", "damper") or applied.point is None:
+        return None
+    other = load.b if applied.point == tuple(load.a) else load.a
+    return system.prescribe(system.point_position(*other))
 
 
 class _FreeBodies:
@@ -451,7 +504,7 @@ class _FreeBodies:
         self.solved = {name: float(q.to_base_units().magnitude) for name, q in solution.unknowns.items()}
         self.shapes = _memo(system, "shapes", body_shapes)
         self.poses = _memo(system, "poses", PoseFunction)(state.q, state.t)
-        self.si = {k: sp.Float(v) for k, v in system.si_values().items()}
+        self.si = _si(system, state.t)
         self.exprs: list = []
         self.vals: list[float] = []
 
@@ -489,39 +542,42 @@ class _FreeBodies:
 
 
 def _reaction_items(fb: _FreeBodies, joint_loads) -> list[DrawnItem]:
-    """Each reaction on each body it acts on, as solved; on a joint's first body it is the opposite."""
+    """Each reaction on each body it acts on, by its name and solved value (the joint's direction
+    on its first body is the opposite of that on its second, so the arrows are opposite)."""
     items = []
     for jl, f, at, c in joint_loads:
         body, r = jl.body, jl.reaction
         if body == GROUND:  # the ground has no diagram
             continue
         value = fb.solved[r.name]
-        joint = next(j for j in fb.system.joints if j.name == r.joint)
-        sign = -1 if (body == joint.first and body != joint.second) else 1
-        name = f"{'-' if sign < 0 else ''}{r.name}"
-        if f is not None:
+        if f is not None:  # the force on this body: value times the joint's direction on it
             unit_vec = fb.vec(f)
-            items.append(_force("force", name, fb.vec(at), value * unit_vec, unit_vec, body, r.name,
-                                sign * fb.force(value), fb.force_unit))
+            items.append(_force("force", r.name, fb.vec(at), value * unit_vec, unit_vec, body, r.name,
+                                fb.force(value), fb.force_unit))
         else:  # a couple (slider, motor), drawn at the body's reference point
-            items.append(_couple("couple", name, fb.where(body, fb.system.bodies[body].default_point),
-                                 value * fb.vals[c], body, r.name, sign * fb.moment(value), fb.moment_unit))
+            items.append(_couple("couple", r.name, fb.where(body, fb.system.bodies[body].default_point),
+                                 value * fb.vals[c], body, r.name, fb.moment(value), fb.moment_unit))
     return items
 
 
 def _load_items(fb: _FreeBodies, applied) -> list[DrawnItem]:
-    """Applied forces and couples (springs, dampers too); each body's weight as one force at G."""
+    """Applied forces and couples (springs, dampers too); each body's weight as one force at G.
+
+    ``applied`` holds (load, applied load, force slots, place slots, couple slot, the other end's
+    place slots for a spring or damper, else None)."""
     items, weights = [], {}
-    for load, a, f, at, c in applied:
+    for load, a, f, at, c, other in applied:
         if a.body not in fb.system.bodies:  # the ground's share of a spring or damper
             continue
         if load.kind == "gravity":  # the resultant of the elements' weights acts at G
             weights[(a.body, load.name)] = weights.get((a.body, load.name), np.zeros(2)) + fb.vec(f)
             continue
         if f is not None:
-            vec = fb.vec(f)
-            items.append(_force("force", a.name, fb.vec(at), vec, None, a.body, load.name,
-                                fb.force(float(np.hypot(*vec))), fb.force_unit))
+            vec, where = fb.vec(f), fb.vec(at)
+            size = float(np.hypot(*vec))
+            if other is not None:  # a spring or damper: its tension, positive when it pulls towards the other end
+                size = math.copysign(size, float(vec @ (fb.vec(other) - where)))
+            items.append(_force("force", a.name, where, vec, None, a.body, load.name, fb.force(size), fb.force_unit))
         if a.force is None or sp.sympify(a.couple) != 0:
             m = fb.vals[c]
             items.append(_couple("couple", a.name, fb.where(a.body, "G"), m, a.body, load.name, fb.moment(m),
@@ -551,9 +607,8 @@ def _inertial_items(fb: _FreeBodies, inertial, points) -> list[DrawnItem]:
 
 
 def _mass_centre(system, shapes, poses, body) -> np.ndarray:
-    si = {k: sp.Float(v) for k, v in system.si_values().items()}
     origin, phi = poses[body]
-    return origin + _rot(phi) @ _vec(system.bodies[body].mass_center(), si)
+    return origin + _rot(phi) @ _vec(system.bodies[body].mass_center(), _si(system))
 
 
 def _force(kind, label, at, vec, positive, body, name, value, unit) -> DrawnItem:
@@ -572,6 +627,20 @@ def _couple(kind, label, at, moment, body, name, value, unit) -> DrawnItem:
                      unit=unit, shape={"size": abs(float(moment))})
 
 
+def size_label(name: str, value: float, unit: str) -> str:
+    """The label of a drawn force or couple under :data:`CONVENTION`: ``|name| = size unit``.
+
+    Examples
+    --------
+    >>> size_label("O_x", -6.7716, "N")
+    '|O_x| = 6.772 N'
+    >>> size_label("gravity: m g", 19.62, "N")
+    'gravity: |m g| = 19.62 N'
+    """
+    head, sep, symbol = name.rpartition(": ")
+    return f"{head}{sep}|{symbol}| = {abs(value):.4g} {unit}"
+
+
 def _mark_zeros(items: list[DrawnItem]) -> list[DrawnItem]:
     """Forces (couples) below ZERO_FORCE of the largest force (couple) on the same body lose their direction."""
     out = []
@@ -581,7 +650,7 @@ def _mark_zeros(items: list[DrawnItem]) -> list[DrawnItem]:
         biggest = max(same) if same else 0.0
         zero = item.shape.get("size", 0.0) <= ZERO_FORCE * biggest
         value = 0.0 if zero else item.value
-        label = f"{item.label} = {value:.4g} {item.unit}"
+        label = size_label(item.label, value, item.unit)
         out.append(DrawnItem(item.kind, label, item.anchor, None if zero else item.direction, 0 if zero else item.turn,
                              item.body, item.name, value, item.unit, {**item.shape, "zero": zero}))
     return out

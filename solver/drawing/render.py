@@ -3,7 +3,8 @@
 Bodies: bars as thick segments, disks as filled circles, rings as hollow
 circles, plates as rectangles, semicircular disks as half discs, point masses
 as dots, elements given by an inertia as a small circle (or their rim).
-Guides are lines or circles hatched on the side of the ground. Forces are
+Guides are lines or circles hatched on the side of the ground; linear springs are zigzags and
+dampers dashpots (a cylinder and a piston) between their two points. Forces are
 arrows of one length starting at their point of application (the label gives
 the size), couples curved arrows; the inertial terms are dashed.
 """
@@ -21,9 +22,10 @@ from matplotlib.figure import Figure  # noqa: E402
 from matplotlib.patches import Circle, FancyArrowPatch, Polygon, Rectangle, Wedge  # noqa: E402
 
 from .layout import fix_layout  # noqa: E402
-from .model import DrawnItem  # noqa: E402
+from .model import CONVENTION, DrawnItem  # noqa: E402
 
-__all__ = ["new_figure", "render_scene", "render_fbd", "place_labels", "label_boxes", "fix_layout", "RC"]
+__all__ = ["new_figure", "render_scene", "render_fbd", "place_labels", "label_boxes", "fix_layout", "RC",
+           "connector_paths"]
 
 RC = {"svg.hashsalt": "alt-euler-drawing", "svg.fonttype": "none", "font.size": 8}
 """Deterministic SVG (fixed ids, text kept as text)."""
@@ -154,6 +156,63 @@ def _arc(ax, centre, radius, start, end, colour, label, dashed=False, arrow=True
                 zorder=6)
 
 
+CONNECTOR_WIDTH = 0.03
+"""Half the width of a drawn spring's zigzag or damper's cylinder, as a fraction of the scene's span."""
+
+
+def connector_paths(kind: str, a, b, width: float, lane: float = 0.0) -> list[np.ndarray]:
+    """The polylines of a spring (``kind="spring"``: a zigzag) or a damper (a dashpot) from ``a`` to ``b``.
+
+    Parameters
+    ----------
+    kind : str
+        ``spring`` or ``damper``.
+    a, b : array-like
+        The two points [m].
+    width : float
+        Half the symbol's width [m].
+    lane : float
+        Its place across the line a-b, in lanes ``3.5 * width`` apart: several between
+        the same points are drawn side by side, joined to the points by short cross bars.
+
+    Returns
+    -------
+    list of numpy.ndarray
+        Each an (n, 2) polyline; the first starts at ``a`` and the last ends at ``b``.
+    """
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    length = float(np.linalg.norm(b - a))
+    along = (b - a) / length if length > 0 else np.array([1.0, 0.0])
+    across = np.array([-along[1], along[0]])
+    shift = 3.5 * width * lane * across
+    p, q = a + shift, b + shift  # the lane's ends, joined to a and b by cross bars
+
+    def at(s, w=0.0):  # the point a fraction s along the lane, w across it
+        return p + s * (q - p) + w * across
+
+    if kind == "spring":
+        turns = 8  # half-waves of the zigzag, on the middle 60 % of the length
+        zig = [at(0.2 + 0.6 * (k + 0.5) / turns, width * (1 if k % 2 == 0 else -1)) for k in range(turns)]
+        return [np.array([a, p, at(0.2), *zig, at(0.8), q, b])]
+    cylinder = [at(0.7, width), at(0.3, width), at(0.3, -width), at(0.7, -width)]  # closed at a's end, open at b's
+    return [np.array([a, p, at(0.3)]), np.array(cylinder),  # a's rod, the cylinder, the piston and b's rod
+            np.array([at(0.55, 0.75 * width), at(0.55, -0.75 * width)]), np.array([at(0.55), q, b])]
+
+
+def _connector(ax, item: DrawnItem, span: float, faint: bool = False) -> None:
+    width = CONNECTOR_WIDTH * span
+    s = item.shape
+    for path in connector_paths(s["type"], *s["ends"], width, s.get("lane", 0.0)):
+        ax.plot(path[:, 0], path[:, 1], color="0.25", linewidth=1.1, alpha=0.35 if faint else 1.0, zorder=1)
+    a, b = np.asarray(s["ends"][0], float), np.asarray(s["ends"][1], float)
+    along = (b - a) / (np.linalg.norm(b - a) or 1.0)
+    across = np.array([-along[1], along[0]])
+    side = 1 if s.get("lane", 0.0) >= 0 else -1
+    where = (a + b) / 2 + (3.5 * width * s.get("lane", 0.0) + side * 2.2 * width) * across
+    ax.annotate(item.label, where.tolist(), xytext=(0, 0), textcoords="offset points", fontsize=7, color="0.25",
+                ha="center", va="center", zorder=6)
+
+
 def _points(ax, items, bodies, span):
     """Every named point as a dot; the names of the points at one place (a pin's two halves, a
     bob's G) written once, together."""
@@ -192,6 +251,8 @@ def render_scene(ax, items: list[DrawnItem], bodies: list[str], title: str = "",
                 ax.plot([x0, x1], [y0, y1], color="0.3", linewidth=1, zorder=1)
         elif i.kind == "support":
             _support(ax, i, span)
+        elif i.kind in ("spring", "damper"):
+            _connector(ax, i, span, faint)
         elif i.kind == "coordinate":
             s = i.shape
             if s["type"] == "arc":
@@ -222,18 +283,86 @@ def _crowd(tips, at, span) -> int:
     return sum(1 for t in tips[:-1] if abs(t[0] - at[0]) + abs(t[1] - at[1]) < 0.08 * span)
 
 
-def _beside(tail, tip, direction, length, segments):
-    """The segment tail-tip moved sideways, 6 % of an arrow's length per earlier arrow it would lie
-    on (same ends), so that each stays visible; the drawn arrows are recorded in ``segments``. Only
-    the drawing moves: the force's point of application (the model's anchor) is unchanged."""
-    close = 1e-6 * length
-    same = sum(1 for a, b in segments if math.dist(a, tail) <= close and math.dist(b, tip) <= close)
+NEAR_ANGLE = math.radians(30.0)
+"""Arrows within this angle of parallel (or of opposite) can be read as one: they are kept apart.
+Arrows crossing at a larger angle are told apart at a glance, as in any textbook diagram."""
+TOUCH = 0.1
+"""Two such arrows closer than this fraction of an arrow's length lie on one another (about 10
+pixels on a 4.6 inch panel: closer, two shafts and their heads run together)."""
+HEAD_GAP = 0.25
+"""Two such arrows with the heads of opposite ones, or the head of one and the tail of the other,
+closer than this fraction of an arrow's length read as arrows meeting head to head, or as one
+arrow drawn in two pieces."""
+SIDE_STEP = 0.12
+"""How far an arrow is moved sideways, as a fraction of an arrow's length, when both of its ends
+at its point are taken (about 12 pixels on a 4.6 inch panel: a clear gap between two arrows)."""
+
+
+def _segment_gap(a0, a1, b0, b1) -> float:
+    """The least distance between segments a0-a1 and b0-b1 (0 when they cross)."""
+    def side(p, q, r):
+        return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0])
+
+    if side(a0, a1, b0) * side(a0, a1, b1) < 0 and side(b0, b1, a0) * side(b0, b1, a1) < 0:
+        return 0.0
+
+    def to_segment(p, q0, q1):
+        d = q1 - q0
+        t = min(1.0, max(0.0, float((p - q0) @ d) / float(d @ d)))
+        return float(np.linalg.norm(p - (q0 + t * d)))
+
+    return min(to_segment(a0, b0, b1), to_segment(a1, b0, b1), to_segment(b0, a0, a1), to_segment(b1, a0, a1))
+
+
+def _reads_as_one(seg, other, length) -> bool:
+    """Whether arrow ``seg`` (tail, tip) would be read together with the drawn arrow ``other``.
+
+    Only arrows within :data:`NEAR_ANGLE` of parallel or opposite can be: when a head is close to
+    the other's head (opposite arrows) or tail (parallel ones, :data:`HEAD_GAP`), or when they
+    touch or lie on one another (:data:`TOUCH`), unless they are opposite arrows leaving one
+    point (tail to tail, as textbooks draw two forces at a point on one line)."""
+    a0, a1 = (np.asarray(p, float) for p in seg)
+    b0, b1 = (np.asarray(p, float) for p in other)
+    la, lb = float(np.linalg.norm(a1 - a0)), float(np.linalg.norm(b1 - b0))
+    if la == 0 or lb == 0:
+        return False
+    ua, ub = (a1 - a0) / la, (b1 - b0) / lb
+    if abs(ua[0] * ub[1] - ua[1] * ub[0]) > math.sin(NEAR_ANGLE):
+        return False
+    opposite = float(ua @ ub) < 0
+    near = math.dist(a1, b1) if opposite else min(math.dist(a1, b0), math.dist(a0, b1))
+    if near < HEAD_GAP * length:
+        return True
+    if _segment_gap(a0, a1, b0, b1) > TOUCH * length:
+        return False
+    return not (opposite and math.dist(a0, b0) <= TOUCH * length)
+
+
+def _arrow_place(at, direction, length, pushing, segments):
+    """Where to draw a force's arrow: (tail, tip, sideways normal or None); recorded in ``segments``.
+
+    Tried in order, the first that no earlier arrow would be read with (:func:`_reads_as_one`) wins:
+    leaving its point (a pull) or arriving at it (``pushing``: a force towards the body), then the
+    other of the two, then each of the two moved sideways by :data:`SIDE_STEP` arrow lengths, one side
+    then the other, up to three steps (the last try is kept when all clash). Only the drawing moves: the force's point of application (the
+    model's anchor) is unchanged."""
+    x, y = at
+    d = np.asarray(direction, float)
+    leaving = ((x, y), (x + length * d[0], y + length * d[1]))
+    arriving = ((x - length * d[0], y - length * d[1]), (x, y))
+    first, second = (arriving, leaving) if pushing else (leaving, arriving)
+    normal = np.array([-d[1], d[0]])
+    tries = [(first, None), (second, None)]
+    for step in (1, 2, 3):
+        for way in (first, second):
+            for side in (1, -1):
+                shift = side * step * SIDE_STEP * length * normal
+                tries.append(((tuple(np.add(way[0], shift)), tuple(np.add(way[1], shift))), side * normal))
+    for (tail, tip), moved in tries:
+        if not any(_reads_as_one((tail, tip), other, length) for other in segments):
+            break
     segments.append((tail, tip))
-    if not same:
-        return tail, tip
-    shift = 0.06 * length * same
-    nx, ny = -direction[1] * shift, direction[0] * shift
-    return (tail[0] + nx, tail[1] + ny), (tip[0] + nx, tip[1] + ny)
+    return tail, tip, moved
 
 
 def _force_arrow(ax, item: DrawnItem, length, colour, dashed, tips, centre=None, segments=None):
@@ -246,19 +375,18 @@ def _force_arrow(ax, item: DrawnItem, length, colour, dashed, tips, centre=None,
         ax.annotate(item.label, (x, y), xytext=(5, -10 - 9 * _crowd(tips, (x, y), span)), textcoords="offset points",
                     fontsize=7, color=colour)
         return
-    tail, tip = (x, y), (x + length * direction[0], y + length * direction[1])
-    if centre is not None and (centre[0] - x) * direction[0] + (centre[1] - y) * direction[1] > \
-            0.5 * math.dist(centre, (x, y)) + 1e-9 * length:
-        # a force pushing towards the body's mass centre (within 60 deg): drawn ending at its point, from outside
-        tail, tip = (x - length * direction[0], y - length * direction[1]), (x, y)
-    outward = 1 if tip != (x, y) else -1  # the label goes at the free end of the arrow
-    if segments is not None:  # an arrow drawn over an earlier one (gravity and a normal force at one point)
-        tail, tip = _beside(tail, tip, direction, length, segments)
+    # a force pushing towards the body's mass centre (within 60 deg): drawn ending at its point, from outside
+    pushing = centre is not None and (centre[0] - x) * direction[0] + (centre[1] - y) * direction[1] > \
+        0.5 * math.dist(centre, (x, y)) + 1e-9 * length
+    tail, tip, moved = _arrow_place((x, y), direction, length, pushing, [] if segments is None else segments)
     ax.add_patch(FancyArrowPatch(tail, tip, arrowstyle="-|>", mutation_scale=11, color=colour,
                                  linewidth=1.6, linestyle="--" if dashed else "-", zorder=7))
-    label_at = tip if outward == 1 else tail
+    leaves = math.dist(tail, (x, y)) <= math.dist(tip, (x, y))  # the label goes at the free end of the arrow
+    label_at = tip if leaves else tail
     tips.append(label_at)
-    right = outward * direction[0] >= 0
+    right = (1 if leaves else -1) * direction[0] >= 0
+    if moved is not None and abs(moved[0]) > 0.3:  # moved aside: the label on that side, off the other arrow
+        right = moved[0] > 0
     ax.annotate(item.label, label_at, xytext=(3 if right else -3, 3 - 9 * _crowd(tips, label_at, span)),
                 textcoords="offset points", fontsize=7, color=colour, ha="left" if right else "right", zorder=8)
 
@@ -274,7 +402,7 @@ def render_fbd(ax, scene_items: list[DrawnItem], forces: list[DrawnItem], body: 
     centre = next((i.anchor for i in own if i.kind == "point" and i.name == "G"), None)
     tips: list = []
     segments: list = []  # the arrows drawn so far, (tail, tip)
-    couples = 0
+    arcs = _couple_places(forces, own, span)
     for item in forces:
         if item.kind in ("force", "inertial"):
             colour = INERTIAL_COLOUR if item.kind == "inertial" else FORCE_COLOUR
@@ -287,10 +415,8 @@ def render_fbd(ax, scene_items: list[DrawnItem], forces: list[DrawnItem], body: 
                         textcoords="offset points", fontsize=7, color=colour, zorder=8)
         else:
             colour = INERTIAL_COLOUR if item.kind == "inertial_couple" else FORCE_COLOUR
-            r = (0.1 + 0.04 * (couples % 3)) * span
-            a0 = math.radians(30 + 100 * couples)
-            couples += 1
-            _arc(ax, item.anchor, r, a0, a0 + 1.5 * math.pi * item.turn, colour, item.label,
+            where, r, a0 = arcs[id(item)]
+            _arc(ax, where, r, a0, a0 + 1.5 * math.pi * item.turn, colour, item.label,
                  dashed=item.kind == "inertial_couple")
     pts = [i.anchor for i in forces] + [low.tolist(), high.tolist()]
     pts += [(i.anchor[0] + s * length * i.direction[0], i.anchor[1] + s * length * i.direction[1])
@@ -298,6 +424,50 @@ def render_fbd(ax, scene_items: list[DrawnItem], forces: list[DrawnItem], body: 
     pts = np.array(pts)
     _setup(ax, pts.min(axis=0), pts.max(axis=0), max(span, float(np.max(pts.max(axis=0) - pts.min(axis=0)))) * 0.5,
            title)
+    ax.set_xlabel(fbd_legend(forces), fontsize=7, color="0.25")
+
+
+COUPLE_RADIUS = 0.1
+"""A couple's arc radius, as a fraction of the body's span; arcs at one place grow by 0.04 each."""
+
+
+def _couple_places(forces: list[DrawnItem], own: list[DrawnItem], span: float) -> dict:
+    """Where each couple's arc is drawn: id(item) -> (centre, radius, start angle).
+
+    A couple is a free vector: its moment is the same about every point, so its arc may be
+    drawn anywhere on the body. Each takes its own place, the nearest to its anchor that is at
+    least 2.5 radii from every arc drawn before: its anchor, a named point of the body, or a
+    point halfway between G and a named point. The inertial couple -I_P alpha is placed first and
+    keeps G, beside -m a_P. Only when every place is taken do arcs share one, with growing radii.
+    """
+    r = COUPLE_RADIUS * span
+    named = [np.asarray(i.anchor, float) for i in own if i.kind == "point"]
+    G = next((np.asarray(i.anchor, float) for i in own if i.kind == "point" and i.name == "G"), None)
+    halfway = [(G + p) / 2 for p in named] if G is not None else []
+    turning = sorted((i for i in forces if i.kind in ("couple", "inertial_couple") and i.turn != 0),
+                     key=lambda i: i.kind != "inertial_couple")  # stable: the inertial couple first
+    taken: list = []  # [centre, arcs there]
+    out = {}
+    for k, item in enumerate(turning):
+        anchor = np.asarray(item.anchor, float)
+        places = sorted([anchor, *named, *halfway], key=lambda p: float(np.linalg.norm(p - anchor)))
+        free = next((p for p in places if all(np.linalg.norm(p - c) >= 2.5 * r for c, _ in taken)), None)
+        if free is None:  # no room: around the least used place, a larger arc
+            spot = min(taken, key=lambda t: t[1])
+            spot[1] += 1
+            centre, radius = spot[0], r + 0.04 * span * (spot[1] - 1)
+        else:
+            taken.append([free, 1])
+            centre, radius = free, r
+        out[id(item)] = (tuple(centre.tolist()), radius, math.radians(30 + 100 * k))
+    return out
+
+
+def fbd_legend(forces: list[DrawnItem]) -> str:
+    """The text under a free-body diagram: the sign convention of its labels and what is dashed."""
+    inertial = [i.name for i in forces if i.kind in ("inertial", "inertial_couple")]
+    dashed = f"\nDashed: the inertial terms {' and '.join(inertial)} at G (Eq. 10)." if inertial else ""
+    return CONVENTION.replace("$", r"\$") + dashed
 
 
 # -- label placement -------------------------------------------------------------------------------
@@ -305,7 +475,7 @@ def render_fbd(ax, scene_items: list[DrawnItem], forces: list[DrawnItem], body: 
 LABEL_PAD = 1.5
 """Clearance kept between two labels [display pixels at the figure's dpi]."""
 
-_STEPS = (0.0, 5.0, 9.0, 13.0, 18.0, 24.0, 31.0, 40.0)
+_STEPS = (0.0, 5.0, 9.0, 13.0, 18.0, 24.0, 31.0, 40.0, 50.0)
 """Distances [points] a label may move from where it was put, tried nearest first."""
 
 
@@ -324,23 +494,44 @@ def label_boxes(ax, renderer=None) -> list:
     return [t.get_window_extent(renderer) for t in ax.texts if t.get_visible() and t.get_text()]
 
 
-def _obstacles(ax) -> np.ndarray:
-    """Display points along what is drawn (bodies, links, arrows): labels avoid covering them."""
-    pts = []
+OBSTACLE_STEP = 3.0
+"""Spacing [display pixels] of the points sampled along drawn lines and arrows for the label
+placer: less than the height of a 7-point label (about 10 pixels at 100 dpi), so that a label
+laid across a line always covers some of its points."""
+
+
+def _head(tail, tip, scale: float) -> np.ndarray:
+    """Display points filling an arrow's head ("-|>": 0.4 of the mutation ``scale`` [pixels] long,
+    0.2 of it to each side), so that a label does not cover the head either."""
+    length = float(np.linalg.norm(tip - tail)) or 1.0
+    back, across = (tail - tip) / length, np.array([tail[1] - tip[1], tip[0] - tail[0]]) / length
+    s, w = np.meshgrid(np.linspace(0, 0.4 * scale, 5), np.linspace(-0.2 * scale, 0.2 * scale, 5))
+    return tip + s.reshape(-1, 1) * back + (w * (1 - s / (0.4 * scale))).reshape(-1, 1) * across
+
+
+def _obstacles(ax) -> tuple[np.ndarray, np.ndarray]:
+    """Display points along what is drawn, labels avoid covering them: (along the arrows, along
+    everything else: bodies, links, arcs, guides)."""
+    def along(a, b):  # a point every OBSTACLE_STEP pixels: no label slips between two of them
+        n = max(2, int(np.linalg.norm(b - a) / OBSTACLE_STEP) + 1)
+        return a + np.linspace(0, 1, n)[:, None] * (b - a)
+
+    pts, arrows = [], []
     for line in ax.lines:
         xy = line.get_transform().transform(np.column_stack(line.get_data()).astype(float))
         pts.append(xy)
         for a, b in zip(xy[:-1], xy[1:]):
-            pts.append(a + np.linspace(0, 1, 12)[:, None] * (b - a))
+            pts.append(along(a, b))
     for patch in ax.patches:
         if isinstance(patch, FancyArrowPatch) and getattr(patch, "_posA_posB", None):
             a, b = (ax.transData.transform(np.array(p, float)) for p in patch._posA_posB)
-            pts.append(a + np.linspace(0, 1, 16)[:, None] * (b - a))
+            arrows.append(along(a, b))
+            arrows.append(_head(a, b, patch.get_mutation_scale() * ax.figure.dpi / 72.0))
         else:
             verts = patch.get_verts()
             if len(verts):
                 pts.append(verts)
-    return np.vstack(pts) if pts else np.zeros((0, 2))
+    return tuple(np.vstack(group) if group else np.zeros((0, 2)) for group in (arrows, pts))
 
 
 def place_labels(fig, axes) -> None:
@@ -349,7 +540,8 @@ def place_labels(fig, axes) -> None:
     Greedy, in drawing order: each label keeps its place when that is clear, else takes the
     nearest offset (8 directions, :data:`_STEPS` points away) that stays inside the figure and
     overlaps no label placed before it on any of ``axes`` (with :data:`LABEL_PAD` clearance: a label
-    may run past its panel, which has no background), covering as few drawn points as possible.
+    may run past its panel, which has no background), covering no arrow if it can, then as few
+    drawn points as possible.
     Text extents come from the renderer after the layout is fixed (labels are taken out of the
     constrained layout so that moving them cannot move the axes). A label's offset is in points,
     so each candidate box is its measured box moved by the offset (measured once, not per try).
@@ -367,16 +559,17 @@ def place_labels(fig, axes) -> None:
     to_pixels = fig.dpi / 72.0
     placed = np.zeros((0, 4))  # x0, y0, x1, y1 of the labels placed so far, on every panel (they may cross)
     for ax in axes:
-        obstacles = _obstacles(ax)
+        arrows, others = _obstacles(ax)
         for t in texts[id(ax)]:
             base = np.array(t.xyann, float)
             b = t.get_window_extent(renderer)
             boxes = np.array([b.x0, b.y0, b.x1, b.y1]) + np.tile(offsets * to_pixels, 2)
             clash = _overlaps(boxes, placed, LABEL_PAD)
-            covered = _covered(boxes, obstacles)
+            on_arrows = _covered(boxes, arrows)
+            covered = on_arrows + _covered(boxes, others)
             cut = _cut_off(boxes, fig.bbox.extents)
-            # the first least (cut off, clash, covers any, step, count covered)
-            best = np.lexsort((covered, rank, covered > 0, clash, cut))[0]
+            # the first least (cut off, clash, covers an arrow, covers any, step, count covered)
+            best = np.lexsort((covered, rank, covered > 0, on_arrows > 0, clash, cut))[0]
             t.xyann = tuple(base + offsets[best])
             b = t.get_window_extent(renderer)
             placed = np.vstack([placed, [b.x0, b.y0, b.x1, b.y1]])
