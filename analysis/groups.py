@@ -52,7 +52,7 @@ from .disclosure import BLANK_GROUP, suppress_groups
 from .errors import SurveyInputError
 from .ingest import SurveyData
 from .likert import REVERSE_MARK, REVERSE_NOTE, REVERSED_STATISTICS
-from .scales import normalize_answer
+from .scales import group_names, normalize_answer
 
 __all__ = ["GroupInfo", "ItemComparison", "GroupComparison", "compare_groups", "cliffs_delta",
            "rank_biserial_paired"]
@@ -265,20 +265,21 @@ def _group_values(texts: list[str], order, source):
     Spellings of one value ("Mon", " mon ") are one group, named by its commonest
     spelling; groups come in first-appearance order, or in ``order``.
     """
-    keys = [normalize_answer(t) for t in texts]
+    counts: dict[str, int] = {}
+    for t in texts:
+        counts[t] = counts.get(t, 0) + 1
+    named = group_names(counts)
+    keys = [named[t][0] for t in texts]
     first: dict[str, int] = {}
-    spelled: dict[str, dict] = {}
-    for i, (k, t) in enumerate(zip(keys, texts)):
+    for i, k in enumerate(keys):
         first.setdefault(k, i)
-        t = " ".join(t.split())
-        sp = spelled.setdefault(k, {})
-        sp[t] = sp.get(t, 0) + 1
+    name_of = {k: nm for k, nm in named.values()}
     ranked = sorted(first, key=first.get)
     if order:
         want = list(dict.fromkeys(normalize_answer(o) for o in order))   # a repeat once
         missing = [o for o in order if normalize_answer(o) not in first]
         if missing:
-            shown = [max(spelled[k], key=spelled[k].get) for k in ranked[:20]]
+            shown = [name_of[k] for k in ranked[:20]]
             more = f" and {len(ranked) - 20} more" if len(ranked) > 20 else ""
             raise SurveyInputError(f"--group-order names {missing[0]!r}, which is not a value of "
                                    f"the grouping column; values are {shown}{more}", source)
@@ -286,8 +287,7 @@ def _group_values(texts: list[str], order, source):
         ranked = want + [k for k in ranked if k not in wanted]
     index = {k: g for g, k in enumerate(ranked)}
     inverse = np.array([index[k] for k in keys], dtype=np.int64)
-    names = [BLANK_GROUP if k == "" else max(spelled[k], key=lambda t: (spelled[k][t], t))
-             for k in ranked]
+    names = [BLANK_GROUP if k == "" else name_of[k] for k in ranked]
     return inverse, names
 
 

@@ -17,7 +17,10 @@ counted answer texts by :func:`analysis.ingest.choose_items_from_counts`, the ru
 ``read_survey``: so a term or a comments column is left out here as it is there, and
 listed among the ``not_items`` with the reason. In a long file a respondent of a group
 with no row for an item is missing on it (respondents per group are distinct
-respondent ids).
+respondent ids); ids and item names are trimmed and an answer given twice by one
+respondent is refused, as ``read_survey`` does. Spellings of a grouping value that differ
+only in case or spacing are one group, by the rule of ``--group``
+(:func:`analysis.scales.group_names`).
 
 Two columns named alike (ignoring case and spacing, as DuckDB does) are refused: DuckDB
 would rename the second ``Q1_1`` without a word.
@@ -41,7 +44,7 @@ from .export import reversal_columns
 from .likert import (REVERSE_MARK, REVERSE_NOTE, _num, _validate_ci, absent_respondents,
                      interval_label)
 from .rounding import share_percent_text
-from .scales import Scale
+from .scales import Scale, group_names
 
 __all__ = ["GroupedSummary", "summarize_by", "DEFAULT_MEMORY_LIMIT"]
 
@@ -52,6 +55,9 @@ DEFAULT_MEMORY_LIMIT = "48MB"
 _RETRY_FACTORS = (1, 4, 16)
 _MAX_GROUP_COLUMNS = 8
 _BUFFER, _MAX_LINE = 8 * 2 ** 20, 2 ** 20        # CSV read buffer; longest line accepted
+#: White space trimmed from respondent ids and item names (as Python's ``str.strip``
+#: trims the common ones in ``read_survey``).
+_WS = "' \t\n\r\x0b\x0c\u00a0'"
 
 
 @dataclass
@@ -379,7 +385,7 @@ def _count(p, by, scale, items, min_group, memory_limit, threads) -> GroupedSumm
         left_out = {}
         if None not in (ri, ii, ai):
             shape = "long"
-            rows = _count_long(con, src, gcols, header[ri], header[ii], header[ai])
+            rows = _count_long(con, src, gcols, header[ri], header[ii], header[ai], p)
         else:
             shape = "wide"
             idcols = {header[j] for j in range(len(header)) if platforms.find_column(
@@ -393,7 +399,7 @@ def _count(p, by, scale, items, min_group, memory_limit, threads) -> GroupedSumm
                         for h in header if h not in cand}
             if not cand:
                 raise SurveyInputError("no item columns to count", str(p), 1)
-            rows = _count_wide(con, src, gcols, cand)
+            rows = _merge_spellings(_count_wide(con, src, gcols, cand), len(gcols), cand[0])
     except duckdb.OutOfMemoryException:
         raise
     except duckdb.Error as e:
@@ -409,19 +415,83 @@ def _count(p, by, scale, items, min_group, memory_limit, threads) -> GroupedSumm
     return res
 
 
-def _count_long(con, src, gcols, resp, item, answer):
-    """One scan: answers per (groups, item, answer) and distinct respondents per group."""
+def _count_long(con, src, gcols, resp, item, answer, path: Path):
+    """One scan: answers per (groups, item, answer) and distinct respondents per group.
+
+    Respondent ids and item names are read trimmed, as ``read_survey`` reads them; a
+    respondent answering one item twice is refused as there (the scan's third grouping
+    set keeps only repeated (respondent, item) pairs). Spellings of one grouping value
+    are one group (:func:`analysis.scales.group_names`).
+    """
     g = ", ".join(_quote(c) for c in gcols)
-    sql = f"""
-        WITH agg AS (
-            SELECT {g}, {_quote(item)} AS item, {_quote(answer)} AS answer,
-                   {_quote(resp)} AS resp, GROUPING({_quote(item)}) AS by_resp,
+    con.execute(f"""
+        CREATE TEMP TABLE agg AS SELECT * FROM (
+            SELECT {g}, item, answer, resp, GROUPING(item) AS gi, GROUPING(resp) AS gr,
                    count(*) AS c
-            FROM {src}
-            GROUP BY GROUPING SETS (({g}, {_quote(item)}, {_quote(answer)}), ({g}, {_quote(resp)})))
-        SELECT {g}, item, answer, by_resp, CASE WHEN by_resp = 1 THEN count(*) ELSE sum(c) END
-        FROM agg GROUP BY {g}, item, answer, by_resp"""
-    return con.execute(sql).fetchall()
+            FROM (SELECT {g}, trim({_quote(item)}, {_WS}) AS item, {_quote(answer)} AS answer,
+                         trim({_quote(resp)}, {_WS}) AS resp FROM {src})
+            GROUP BY GROUPING SETS (({g}, item, answer), ({g}, resp), (resp, item)))
+        WHERE NOT (gi = 0 AND gr = 0 AND c = 1)""")
+    dup = con.execute("SELECT resp, item FROM agg WHERE gi = 0 AND gr = 0 "
+                      "ORDER BY resp, item LIMIT 1").fetchone()
+    if dup:
+        raise SurveyInputError(f"respondent {dup[0]!r} answers item {dup[1]!r} twice",
+                               str(path), _second_row(con, path, resp, item, dup), answer)
+    spelled = con.execute(f"SELECT {g}, count(*) FROM agg WHERE gi = 1 GROUP BY ALL").fetchall()
+    named = _group_map({_raw_key(r[:-1]): r[-1] for r in spelled})
+    ng = len(gcols)
+    con.execute("CREATE TEMP TABLE gmap AS SELECT * FROM (VALUES " + ", ".join(
+        "(" + ", ".join(_literal(v) for v in raw + name) + ")" for raw, name in named.items())
+        + ") AS t(" + ", ".join([f"r{j}" for j in range(ng)] + [f"n{j}" for j in range(ng)])
+        + ")")
+    on = " AND ".join(f"coalesce(agg.{_quote(c)}, '') = gmap.r{j}" for j, c in enumerate(gcols))
+    names = ", ".join(f"gmap.n{j}" for j in range(ng))
+    return con.execute(f"""
+        SELECT {names}, item, answer, 0, sum(c) FROM agg JOIN gmap ON {on}
+            WHERE gi = 0 AND gr = 1 GROUP BY ALL
+        UNION ALL
+        SELECT {names}, NULL, NULL, 1, count(DISTINCT resp) FROM agg JOIN gmap ON {on}
+            WHERE gi = 1 GROUP BY ALL""").fetchall()
+
+
+def _literal(v: str) -> str:
+    return "'" + str(v).replace("'", "''") + "'"
+
+
+def _raw_key(values) -> tuple:
+    return tuple("" if v is None else str(v) for v in values)
+
+
+def _group_map(spelled: dict) -> dict:
+    """``{raw grouping values: group name values}``, by the one rule of ``--group``."""
+    return {raw: name for raw, (_key, name) in group_names(spelled).items()}
+
+
+def _second_row(con, path: Path, resp: str, item: str, pair) -> "int | None":
+    """Spreadsheet row (header = row 1) of the second row giving ``pair`` (respondent,
+    item), both trimmed; read again only on this error path."""
+    if path.suffix.lower() == ".parquet":
+        got = con.execute(
+            f"SELECT file_row_number FROM read_parquet({_literal(path)}, file_row_number = true) "
+            f"WHERE trim({_quote(resp)}, {_WS}) = ? AND trim({_quote(item)}, {_WS}) = ? "
+            f"ORDER BY file_row_number LIMIT 1 OFFSET 1", list(pair)).fetchone()
+        return None if got is None else int(got[0]) + 2
+    import csv
+    sep = con.execute(f"SELECT Delimiter FROM sniff_csv({_literal(path)})").fetchone()[0]
+    seen = 0
+    with open(path, encoding="utf-8", errors="replace", newline="") as f:
+        reader = csv.reader(f, delimiter=sep or ",")
+        header = next(reader, [])
+        ri, ii = header.index(resp) if resp in header else None, header.index(item) \
+            if item in header else None
+        if ri is None or ii is None:
+            return None
+        for row, rec in enumerate(reader, start=2):
+            if len(rec) > max(ri, ii) and (rec[ri].strip(), rec[ii].strip()) == tuple(pair):
+                seen += 1
+                if seen == 2:
+                    return row
+    return None
 
 
 def _count_wide(con, src, gcols, cand):
@@ -434,6 +504,23 @@ def _count_wide(con, src, gcols, cand):
             SELECT {g}, unnest([{names}]) AS item, unnest([{cols}]) AS answer FROM {src})
         GROUP BY ALL"""
     return con.execute(sql).fetchall()
+
+
+def _merge_spellings(rows, ng: int, first_item) -> list:
+    """Wide rows (a row per respondent) with the spellings of a grouping value merged
+    (:func:`analysis.scales.group_names`); respondents per spelling are the answers to
+    the first item column."""
+    spelled: dict = {}
+    for r in rows:
+        if r[ng] == first_item:
+            k = _raw_key(r[:ng])
+            spelled[k] = spelled.get(k, 0) + r[ng + 3]
+    named = _group_map(spelled)
+    merged: dict = {}
+    for r in rows:
+        k = named[_raw_key(r[:ng])] + tuple(r[ng:ng + 3])
+        merged[k] = merged.get(k, 0) + r[ng + 3]
+    return [k + (c,) for k, c in merged.items()]
 
 
 def _answer_counts(rows, ng: int, wide_items) -> list:

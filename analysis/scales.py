@@ -70,6 +70,41 @@ def normalize_answer(text: str) -> str:
     return _SPACE.sub(" ", str(text).strip()).casefold()
 
 
+def group_names(spellings: dict) -> dict:
+    """The group each spelling of a grouping value belongs to, named once for both routes.
+
+    Spellings of one value ("Sec 1", "sec 1 ") are one group: they match as answers do
+    (:func:`normalize_answer`). The group is named by its commonest spelling (inner white
+    space collapsed), ties broken by the larger text.
+
+    Parameters
+    ----------
+    spellings : dict
+        Respondents per spelling; a spelling is a text or a tuple of texts (one per
+        grouping column, matched column by column).
+
+    Returns
+    -------
+    dict
+        ``{spelling: (key, name)}``: the normalised key and the group's name, both of the
+        spelling's type.
+    """
+    def key(sp):
+        return (tuple(normalize_answer(v) for v in sp) if isinstance(sp, tuple)
+                else normalize_answer(sp))
+
+    def tidy(sp):
+        return (tuple(" ".join(v.split()) for v in sp) if isinstance(sp, tuple)
+                else " ".join(sp.split()))
+
+    tally: dict = {}
+    for sp, n in spellings.items():
+        per = tally.setdefault(key(sp), {})
+        per[tidy(sp)] = per.get(tidy(sp), 0) + n
+    name = {k: max(per, key=lambda t: (per[t], t)) for k, per in tally.items()}
+    return {sp: (key(sp), name[key(sp)]) for sp in spellings}
+
+
 def _code_key(text: str) -> str | None:
     """Canonical form of a numeric answer (``"5"``, ``"5.0"``, ``" 5 "`` -> ``"5"``)."""
     t = str(text).strip()

@@ -243,3 +243,44 @@ def test_blank_grouping_value_has_one_name_on_every_output(tmp_path, capsys):
     assert main(["summarize", str(f), "--group", "section", "--min-group", "1", "--json"]) == 0
     groups = json.loads(capsys.readouterr().out)["groups"]["groups"]
     assert [g["group"] for g in groups] == ["A", "(blank)"]
+
+
+def test_by_refuses_an_answer_given_twice_as_the_in_memory_route_does(tmp_path, capsys):
+    """A (respondent, item) pair on two rows would be counted twice: counted + missing +
+    excluded would exceed the respondents. Both routes refuse it naming the second row
+    (spreadsheet row 5: header row 1, then r1 Q1, r1 Q2, r2 Q1, and r1's Q1 again)."""
+    f = tmp_path / "dup.csv"
+    f.write_text("respondent,course,item,answer\nr1,A,Q1,Agree\nr1,A,Q2,Agree\n"
+                 "r2,A,Q1,Disagree\n r1 ,A,Q1 ,Disagree\n")
+    want = f"{f}: row 5, column 'answer': respondent 'r1' answers item 'Q1' twice"
+    for extra in ([], ["--by", "course"]):
+        assert main(["summarize", str(f), *extra]) == 2
+        assert capsys.readouterr().err.strip() == f"error: {want}"
+    import duckdb
+    pq = tmp_path / "dup.parquet"
+    duckdb.sql(f"COPY (SELECT * FROM read_csv('{f}', all_varchar=true)) TO '{pq}' "
+               "(FORMAT parquet)")
+    with pytest.raises(SurveyInputError, match="row 5, column 'answer': respondent 'r1'"):
+        summarize_by(pq, ["course"])
+
+
+@pytest.mark.parametrize("shape", ["wide", "long"])
+def test_by_merges_spellings_of_a_group_value_as_group_does(tmp_path, capsys, shape):
+    """'Sec 1', 'sec 1 ' and 'Sec  1' are one group of 5 under --group; --by must agree
+    (named by the commonest spelling), not make three suppressed groups."""
+    secs = ["Sec 1", "Sec 1", "Sec 1", "sec 1 ", "Sec  1"] + ["Sec 2"] * 5
+    f = tmp_path / "g.csv"
+    if shape == "wide":
+        rows = [["Section", "Q1"]] + [[s, "Agree"] for s in secs]
+    else:
+        rows = [["respondent", "Section", "item", "answer"]]
+        rows += [[f"r{i}", s, q, "Agree"] for i, s in enumerate(secs) for q in ("Q1", "Q2")]
+    with open(f, "w", newline="") as fh:
+        csv.writer(fh).writerows(rows)
+    res = summarize_by(f, ["Section"])
+    assert res.groups == [("Sec 1",), ("Sec 2",)]
+    assert res.respondents.tolist() == [5, 5]
+    assert main(["summarize", str(f), "--group", "Section", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)["groups"]["groups"]
+    sizes = {g["group"]: g["respondents"] for g in out}
+    assert sizes == {"Sec 1": 5, "Sec 2": 5}
