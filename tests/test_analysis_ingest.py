@@ -469,3 +469,26 @@ def test_an_item_nobody_answered_is_shown_not_dropped(tmp_path, capsys):
     assert main(["summarize", str(f)]) == 0
     q2 = next(ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("Q2"))
     assert q2.split()[:2] == ["Q2", "-"]                  # no percentage of nobody
+
+
+@pytest.mark.parametrize("suffix", [".csv", ".xlsx"])
+def test_empty_rows_are_not_respondents_and_a_footer_is_dropped_with_its_row(tmp_path, suffix):
+    """Four students, two empty rows between them, then four empty rows and an export note
+    in the first cell of spreadsheet row 11 (header 1, s1-s2 rows 2-3, empty 4-5, s3-s4
+    rows 6-7, empty 8-10). An empty row holds no answers: 4 respondents, none missing, in
+    both formats; the note is dropped with its row and reason, not counted missing."""
+    from tests.xlsx_factory import workbook
+    rows = [["Student", "Q1", "Q2"], ["s1", "Agree", "Disagree"], ["s2", "Agree", "Agree"],
+            [], [], ["s3", "Disagree", "Agree"], ["s4", "Agree", "Agree"], [], [], [],
+            ["Exported by J. Smith on 2024-10-05"]]
+    path = tmp_path / f"s{suffix}"
+    if suffix == ".csv":
+        path.write_text("\n".join(",".join(r) for r in rows) + "\n")
+    else:
+        path.write_bytes(workbook(rows))
+    data = read_survey(path)
+    assert data.respondents == 4
+    assert data.rows.tolist() == [2, 3, 6, 7]
+    assert [(d.row, d.reason) for d in data.dropped] == [(11, "text-only footer row")]
+    s = summarize(data)
+    assert [(it.n, it.missing) for it in s.items] == [(4, 0), (4, 0)]
