@@ -101,6 +101,28 @@ def test_scale_with_nan_code_refused(tmp_path, analysis_cli):
     _one_error_line(code, err, str(scale), "codes", "finite")
 
 
+@pytest.mark.parametrize("codes", ["[1, 1e308]", "[-2e6, 1]"])
+def test_scale_with_huge_code_refused(tmp_path, analysis_cli, codes):
+    """Regression: codes = [1, 1e308] overflowed the mean to inf (exit 0, JSON Infinity);
+    a code beyond 1e6 in magnitude is refused naming the file and the key."""
+    scale = tmp_path / "s.toml"
+    scale.write_text(f'labels = ["A", "B"]\ncodes = {codes}\n')
+    f = tmp_path / "s.csv"
+    f.write_text("q1\nA\nB\nA\nB\n")
+    code, _, err = analysis_cli("summarize", str(f), "--scale", str(scale), "--json")
+    _one_error_line(code, err, str(scale), "key 'codes'", "code 1" if "-" in codes else "code 2")
+
+
+def test_json_output_is_standard():
+    """JSON has no Infinity or NaN: a float that is not finite is written null."""
+    from analysis.__main__ import _json
+
+    def refuse(name):
+        raise AssertionError(f"non-standard JSON constant {name}")
+    text = _json({"mean": float("inf"), "sd": [float("nan"), 1.5], "n": 3})
+    assert json.loads(text, parse_constant=refuse) == {"mean": None, "sd": [None, 1.5], "n": 3}
+
+
 def test_deep_scale_toml_one_line(tmp_path, analysis_cli):
     scale = tmp_path / "s.toml"
     scale.write_text("labels = " + "[" * 50_000 + "]" * 50_000 + "\n")
