@@ -869,7 +869,8 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
     if codes is not None:
         cols = _apply_codebook(cols, codes, exclude - set(group_idx), notes, raw.source)
     scale_obj, item_cols = _choose_items(raw.source, names, cols, exclude, scale, items,
-                                         notes=notes)
+                                         notes=notes,
+                                         codes_file=None if codes is None else codes.source)
     answers, unknowns = _match(raw.source, scale_obj, item_cols, rows, unknown)
     _warn_unused_labels(scale_obj, answers, notes)
     if scale is None:
@@ -1034,6 +1035,26 @@ def _is_na_text(text: str) -> bool:
     return normalize_answer(text) in {normalize_answer(x) for x in DEFAULT_NOT_APPLICABLE}
 
 
+def _mostly_codes_of(col: _Column, keys: list[str], m: dict) -> bool:
+    """A code map given for any column applies to ``col`` when its answers are whole
+    numbers, most of them codes of the map, and it is not an id column. A number the
+    map lacks (a typo "6" among codes 1-5) is then an unknown answer, named by its row
+    and column, never a reason to leave the whole column out unsaid."""
+    if _ID_LIKE.match(col.name.strip()):
+        return False
+    inside = outside = 0
+    for t, k, cnt in zip(col.cats, keys, col.counts()):
+        if not cnt or not t.strip() or _is_na_text(t):
+            continue
+        if k in m:
+            inside += int(cnt)
+        elif _isint(k):
+            outside += int(cnt)
+        else:
+            return False                 # text that is no code: not a coded column
+    return inside > outside
+
+
 def _apply_codebook(cols, book, exclude, notes, source):
     """Columns with their codes replaced by answer text, where the code map covers them."""
     from .codebook import Codebook
@@ -1048,8 +1069,8 @@ def _apply_codebook(cols, book, exclude, notes, source):
         keys = [Codebook.key(t) for t in c.cats]
         used = [k for t, k, cnt in zip(c.cats, keys, c.counts()) if cnt and t.strip()
                 and not _is_na_text(t)]
-        if general and (not used or any(k not in m for k in used)):
-            out.append((j, c))              # not all codes of the map: not a coded item
+        if general and not _mostly_codes_of(c, keys, m):
+            out.append((j, c))              # not a coded item
             continue
         cats = [m.get(k, t) if t.strip() else t for t, k in zip(c.cats, keys)]
         new = _Column(c.name, cats, c.codes, c.field)
@@ -1066,8 +1087,9 @@ def _apply_codebook(cols, book, exclude, notes, source):
                 out[i] = (j, old)
                 notes.append(f"{source}: column {old.field or old.name!r} holds only codes 1 "
                              "and 2 while other items use more: read as a question of its own "
-                             "(e.g. a section), not an item; list the item columns under "
-                             "'columns' in the code map to take it as one")
+                             "(e.g. a section), not an item; to take it as one, list the item "
+                             "columns in the code map: columns = [\"Q1\", \"Q2\"] under "
+                             "[codes]")
     return out
 
 
@@ -1220,20 +1242,27 @@ def _numeric_only(col: _Column) -> bool:
     return seen
 
 
-def _refuse_codes(source: str, col: _Column, long: bool):
+def _refuse_codes(source: str, col: _Column, long: bool, codes_file: "str | None" = None):
     where = f"item {col.name!r}: " if long else ""
+    if codes_file:                  # a code map was given: it is the map that falls short
+        hint = (f"the code map {codes_file} does not cover them; add the missing codes "
+                f"under [codes], or a .qsf/.lss survey definition that has this column")
+    else:
+        hint = CODES_HINT
     return SurveyInputError(
         f"{where}answers are numeric codes, and which end of the numbering means agreement "
-        f"is not known; {CODES_HINT}", source, None if long else 1,
+        f"is not known; {hint}", source, None if long else 1,
         None if long else (col.field or col.name))
 
 
 def _choose_items(source: str, names: list[str], cols, exclude, scale, items,
-                  long: bool = False, notes: "list | None" = None):
+                  long: bool = False, notes: "list | None" = None,
+                  codes_file: "str | None" = None):
     """The scale and the item columns: named by ``items`` patterns, or detected.
 
     ``cols`` is a list of (index, _Column); ``names`` are the names listed in messages
-    (column headers, or item names of a long file).
+    (column headers, or item names of a long file); ``codes_file`` is the code map the
+    columns were read through, if any.
     """
     what = "item" if long else "column"
     if items:
@@ -1251,7 +1280,7 @@ def _choose_items(source: str, names: list[str], cols, exclude, scale, items,
         if scale is None:
             for _, c in chosen:
                 if _numeric_only(c):
-                    raise _refuse_codes(source, c, long)
+                    raise _refuse_codes(source, c, long, codes_file)
             scale_obj = _detect_scale(source, chosen, require_all=True, long=long)
         else:
             scale_obj = _get_scale(scale, source)
@@ -1263,7 +1292,7 @@ def _choose_items(source: str, names: list[str], cols, exclude, scale, items,
                    for s in BUILTIN_SCALES.values()):
             coded = [c for _, c in candidates if _numeric_only(c)]
             if coded:
-                raise _refuse_codes(source, coded[0], long)
+                raise _refuse_codes(source, coded[0], long, codes_file)
         scale_obj = _detect_scale(source, candidates, require_all=False, long=long)
     else:
         scale_obj = _get_scale(scale, source)
@@ -1272,7 +1301,7 @@ def _choose_items(source: str, names: list[str], cols, exclude, scale, items,
     if not chosen:
         chosen = [(j, c) for j, c in candidates if _code_item(stats[j])]
         if chosen and not scale_obj.numeric_codes:
-            raise _refuse_codes(source, chosen[0][1], long)
+            raise _refuse_codes(source, chosen[0][1], long, codes_file)
         chosen = _drop_narrow_coded(source, chosen, scale_obj, notes, long)
     if not chosen:
         raise SurveyInputError(

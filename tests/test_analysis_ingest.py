@@ -492,3 +492,29 @@ def test_empty_rows_are_not_respondents_and_a_footer_is_dropped_with_its_row(tmp
     assert [(d.row, d.reason) for d in data.dropped] == [(11, "text-only footer row")]
     s = summarize(data)
     assert [(it.n, it.missing) for it in s.items] == [(4, 0), (4, 0)]
+
+
+def test_a_code_the_map_lacks_is_an_error_at_its_row(tmp_path, capsys):
+    """Regression: Q1 holding codes 2-5 and one typo '6' (row 6: header row 1, then
+    respondents 1-5) vanished from the items with no reason. It is an unknown answer
+    named by file, row, column and value, with or without --items."""
+    f = tmp_path / "typo.csv"
+    f.write_text("id,Q1,Q2\n1,5,4\n2,4,4\n3,3,5\n4,4,5\n5,6,2\n6,2,3\n")
+    book = tmp_path / "map.toml"
+    book.write_text(AGREE_CODES)
+    for extra in ([], ["--items", "Q*"]):
+        err = _one_line_error(capsys, ["summarize", str(f), "--codes", str(book), *extra])
+        assert err.startswith(f"error: {f}: row 6, column 'Q1': answer '6' is not on scale"), err
+    # columns = [...] written under [codes] (as the note advising it says) is taken
+    # as the map's columns, not refused as a code
+    inside = tmp_path / "inside.toml"
+    inside.write_text(AGREE_CODES + 'columns = ["Q2"]\n')
+    data = read_survey(f, codes=inside)
+    assert data.items == ["Q2"] and data.other_columns == ["id", "Q1"]
+    # a column of codes the map does not cover is refused naming the map, not asking
+    # for --codes, which was given
+    wild = tmp_path / "wild.csv"
+    wild.write_text("id,Q1\n1,7\n2,8\n3,1\n")
+    err = _one_line_error(capsys, ["summarize", str(wild), "--codes", str(book),
+                                   "--items", "Q1"])
+    assert f"the code map {book} does not cover them" in err and "give the survey" not in err
