@@ -894,7 +894,31 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
     if pid is not None:
         c = raw.columns[pid]
         data.ids, data.id_column = np.array(c.cats, dtype=object)[c.codes[keep]], c.name
+        _note_repeated_ids(data)
     return _declare(data, respondents)
+
+
+def _note_repeated_ids(data: "SurveyData") -> None:
+    """Note ids (an email, a student id) on more than one row within one value of the
+    grouping columns read: each row is still counted, and the note says so with the rows.
+    Ids match as answers do (case and spacing ignored)."""
+    groups = [[normalize_answer(str(v)) for v in col] for col in data.groups.values()]
+    rows_of: dict = {}
+    for i, x in enumerate(data.ids):
+        k = normalize_answer(str(x))
+        if k:
+            rows_of.setdefault((k,) + tuple(g[i] for g in groups), []).append(i)
+    repeated = [idx for idx in rows_of.values() if len(idx) > 1]
+    if not repeated:
+        return
+    shown = "; ".join(f"{str(data.ids[idx[0]]).strip()!r} in rows "
+                      f"{', '.join(str(int(data.rows[i])) for i in idx)}" for idx in repeated[:3])
+    more = f"; and {len(repeated) - 3} more" if len(repeated) > 3 else ""
+    within = f" with the same {', '.join(map(repr, data.groups))}" if data.groups else ""
+    k = len(repeated)
+    data.notes.append(f"{data.source}: column {data.id_column!r}: {k} id{'s' if k != 1 else ''} "
+                      f"on more than one row{within} ({shown}{more}); each row is counted as "
+                      f"a respondent: remove repeated submissions if they are one person's")
 
 
 #: Columns that identify a person across surveys (pre/post pairing), best first.
