@@ -367,8 +367,12 @@ def _count(p, by, scale, items, min_group, memory_limit, threads) -> GroupedSumm
         except duckdb.OutOfMemoryException:
             raise
         except duckdb.Error as e:
+            bad = _not_utf8(p)
+            if bad is not None:
+                raise SurveyInputError(bad[1], str(p), bad[0]) from None
             raise SurveyInputError(f"cannot read as CSV/Parquet ({str(e).splitlines()[0]})",
                                    str(p)) from None
+        _refuse_header_rows(con, src, p, header)
         why = platforms.repeated_column(_given_header(con, p, header))
         if why:                     # DuckDB renames a repeated Q1 to Q1_1 (and q1 too)
             raise SurveyInputError(why, str(p))
@@ -407,8 +411,16 @@ def _count(p, by, scale, items, min_group, memory_limit, threads) -> GroupedSumm
     finally:
         con.close()
         spill.cleanup()
+    if shape == "wide":
+        def locate(item, text):
+            return _find_row(p, [(item, text, False)]), item
+    else:
+        cols = header[ri], header[ii], header[ai]
+
+        def locate(item, text):
+            return _find_row(p, [(cols[2], text, False), (cols[1], item, True)]), cols[2]
     res = _assemble(str(p), gcols, shape, rows, scale, items, min_group,
-                    cand if shape == "wide" else None)
+                    cand if shape == "wide" else None, locate)
     if shape == "wide":                            # in the file's column order
         res.not_items = {h: left_out.get(h) or res.not_items[h] for h in header
                          if h in left_out or h in res.not_items}
@@ -436,7 +448,8 @@ def _count_long(con, src, gcols, resp, item, answer, path: Path):
                       "ORDER BY resp, item LIMIT 1").fetchone()
     if dup:
         raise SurveyInputError(f"respondent {dup[0]!r} answers item {dup[1]!r} twice",
-                               str(path), _second_row(con, path, resp, item, dup), answer)
+                               str(path), _find_row(path, [(resp, dup[0], True), (item, dup[1], True)], 2),
+                               answer)
     spelled = con.execute(f"SELECT {g}, count(*) FROM agg WHERE gi = 1 GROUP BY ALL").fetchall()
     named = _group_map({_raw_key(r[:-1]): r[-1] for r in spelled})
     ng = len(gcols)
@@ -454,6 +467,57 @@ def _count_long(con, src, gcols, resp, item, answer, path: Path):
             WHERE gi = 1 GROUP BY ALL""").fetchall()
 
 
+def _not_utf8(path: Path) -> "tuple[int, str] | None":
+    """(row, why) when a CSV file is not UTF-8 text, the only encoding --by reads; None
+    when it is (or is Parquet). Read in blocks, on the error path only."""
+    import codecs
+    if path.suffix.lower() == ".parquet":
+        return None
+    fix = ("--by reads UTF-8 only: save the file as CSV UTF-8, or summarize it without "
+           "--by (which reads Windows-1252 and takes --encoding)")
+    with open(path, "rb") as f:
+        head = f.read(4)
+        if head[:2] in (b"\xff\xfe", b"\xfe\xff") or b"\x00" in head:
+            return 1, f"UTF-16 text (byte-order mark or NUL bytes); {fix}"
+        f.seek(0)
+        carry, offset, row = b"", 0, 1          # offset: of ``carry`` in the file
+        while True:
+            block = f.read(1 << 20)
+            data = carry + block
+            try:
+                data.decode("utf-8")
+                carry = b""
+            except UnicodeDecodeError as e:
+                if block and e.reason == "unexpected end of data":
+                    carry = data[e.start:]      # a character split across two blocks
+                    data = data[:e.start]
+                else:
+                    row += data[:e.start].count(b"\n")
+                    return row, (f"byte 0x{data[e.start]:02x} at offset {offset + e.start} "
+                                 f"is not UTF-8; {fix}")
+            if not block:
+                return None
+            offset += len(data)
+            row += data.count(b"\n")
+
+
+def _refuse_header_rows(con, src: str, path: Path, header: list[str]) -> None:
+    """Refuse an export with header rows below the first (Qualtrics' question text and
+    import ids, SurveyMonkey's statements): DuckDB would count them as answers."""
+    first = [["" if v is None else str(v) for v in r]
+             for r in con.execute(f"SELECT * FROM {src} LIMIT 3").fetchall()]
+    peek = [header] + first
+    shape = platforms.detect(header, peek)
+    extra = platforms.header_rows(shape, header, peek) if shape else 0
+    if extra:
+        rows = "rows 2-3 are header rows" if extra == 2 else "row 2 is a header row"
+        name = {"qualtrics": "Qualtrics", "surveymonkey": "SurveyMonkey"}.get(shape, shape)
+        raise SurveyInputError(
+            f"a {name} export: {rows} (statement texts), not answers; --by "
+            f"counts files with one header row: summarize the export without --by, or "
+            f"delete the rows below the first header row", str(path), 2)
+
+
 def _literal(v: str) -> str:
     return "'" + str(v).replace("'", "''") + "'"
 
@@ -467,29 +531,39 @@ def _group_map(spelled: dict) -> dict:
     return {raw: name for raw, (_key, name) in group_names(spelled).items()}
 
 
-def _second_row(con, path: Path, resp: str, item: str, pair) -> "int | None":
-    """Spreadsheet row (header = row 1) of the second row giving ``pair`` (respondent,
-    item), both trimmed; read again only on this error path."""
-    if path.suffix.lower() == ".parquet":
-        got = con.execute(
-            f"SELECT file_row_number FROM read_parquet({_literal(path)}, file_row_number = true) "
-            f"WHERE trim({_quote(resp)}, {_WS}) = ? AND trim({_quote(item)}, {_WS}) = ? "
-            f"ORDER BY file_row_number LIMIT 1 OFFSET 1", list(pair)).fetchone()
-        return None if got is None else int(got[0]) + 2
+def _find_row(path: Path, tests: list, nth: int = 1) -> "int | None":
+    """Spreadsheet row (header = row 1) of the ``nth`` row where every ``(column, value,
+    trimmed)`` test holds (the cell, trimmed when ``trimmed``, equals ``value``); None
+    when not found. The file is read again: for error messages only."""
+    import duckdb
+    con = duckdb.connect()
+    try:
+        if path.suffix.lower() == ".parquet":
+            where = " AND ".join((f"trim({_quote(c)}, {_WS})" if t else _quote(c)) + " = ?"
+                                 for c, _, t in tests)
+            got = con.execute(
+                f"SELECT file_row_number FROM read_parquet({_literal(path)}, file_row_number "
+                f"= true) WHERE {where} ORDER BY file_row_number LIMIT 1 OFFSET {nth - 1}",
+                [v for _, v, _ in tests]).fetchone()
+            return None if got is None else int(got[0]) + 2
+        sep = con.execute(f"SELECT Delimiter FROM sniff_csv({_literal(path)})").fetchone()[0]
+    except duckdb.Error:
+        return None
+    finally:
+        con.close()
     import csv
-    sep = con.execute(f"SELECT Delimiter FROM sniff_csv({_literal(path)})").fetchone()[0]
-    seen = 0
     with open(path, encoding="utf-8", errors="replace", newline="") as f:
         reader = csv.reader(f, delimiter=sep or ",")
         header = next(reader, [])
-        ri, ii = header.index(resp) if resp in header else None, header.index(item) \
-            if item in header else None
-        if ri is None or ii is None:
+        if any(c not in header for c, _, _ in tests):
             return None
+        where = [(header.index(c), v, t) for c, v, t in tests]
+        last = max(j for j, _, _ in where)
         for row, rec in enumerate(reader, start=2):
-            if len(rec) > max(ri, ii) and (rec[ri].strip(), rec[ii].strip()) == tuple(pair):
-                seen += 1
-                if seen == 2:
+            if len(rec) > last and all((rec[j].strip() if t else rec[j]) == v
+                                       for j, v, t in where):
+                nth -= 1
+                if not nth:
                     return row
     return None
 
@@ -537,9 +611,10 @@ def _answer_counts(rows, ng: int, wide_items) -> list:
 
 
 def _assemble(source, gcols, shape, rows, scale, items, min_group,
-              wide_items=None) -> GroupedSummary:
+              wide_items=None, locate=None) -> GroupedSummary:
     """Tallies from the aggregated rows: items and scale chosen by the in-memory rule
-    (:func:`analysis.ingest.choose_items_from_counts`), texts matched, groups indexed."""
+    (:func:`analysis.ingest.choose_items_from_counts`), texts matched, groups indexed.
+    ``locate(item, text)`` gives the (row, column) an unknown answer is named by."""
     from .ingest import choose_items_from_counts
     ng = len(gcols)
     counted = _answer_counts(rows, ng, wide_items)
@@ -556,8 +631,10 @@ def _assemble(source, gcols, shape, rows, scale, items, min_group,
     for t in texts:
         m = scale_obj.match(t)
         if m is None:
+            item = next(n for n, tx in counted if n in index_item and t in tx)
+            row, column = locate(item, t) if locate else (None, None)
             raise SurveyInputError(f"answer {t!r} is not on scale {scale_obj.name!r}; valid "
-                                   f"labels: {scale_obj.describe_valid()}", source)
+                                   f"labels: {scale_obj.describe_valid()}", source, row, column)
         lut[t] = m + 3
     for r in rows:
         g = index_group[tuple("" if v is None else str(v) for v in r[:ng])]

@@ -284,3 +284,37 @@ def test_by_merges_spellings_of_a_group_value_as_group_does(tmp_path, capsys, sh
     out = json.loads(capsys.readouterr().out)["groups"]["groups"]
     sizes = {g["group"]: g["respondents"] for g in out}
     assert sizes == {"Sec 1": 5, "Sec 2": 5}
+
+
+def test_by_errors_name_the_place_and_the_real_cause(tmp_path, capsys):
+    """Regressions: a Windows-1252 or UTF-16 file gave 'cannot read as CSV/Parquet (... CSV
+    Error on Line: 1)'; a Qualtrics export's statement row was counted as answers ('answer
+    "How much ... - The lectures were clear" is not on scale', no row); a typo answer was
+    named without its row or column."""
+    def err_of(path, *by):
+        assert main(["summarize", str(path), "--by", *by]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and err.startswith(f"error: {path}: "), err
+        return err
+    cp = tmp_path / "cp.csv"        # 0x92 (a curly apostrophe): offset 11 + 8 + 4, row 3
+    cp.write_bytes(b"Section,Q1\nA,Agree\nB it\x92s,Agree\n")
+    assert "row 3: byte 0x92 at offset 23 is not UTF-8; --by reads UTF-8 only" in err_of(
+        cp, "Section")
+    u16 = tmp_path / "u16.csv"
+    u16.write_bytes("Section,Q1\nA,Agree\n".encode("utf-16"))
+    assert "row 1: UTF-16 text" in err_of(u16, "Section")
+    q = tmp_path / "q.csv"
+    with open(q, "w", newline="") as fh:
+        csv.writer(fh).writerows([
+            ["ResponseId", "Q1_1", "Section"],
+            ["Response ID", "How much do you agree? - The lectures were clear", "Section"],
+            ['{"ImportId":"_recordId"}', '{"ImportId":"QID1_1"}', '{"ImportId":"QID2"}'],
+            ["R_1", "Agree", "A"]])
+    assert "row 2: a Qualtrics export: rows 2-3 are header rows" in err_of(q, "Section")
+    typo = tmp_path / "typo.csv"    # header row 1; 'Agre' in row 3, column Q2
+    typo.write_text("Term,Q1,Q2\nF,Agree,Disagree\nF,Agree,Agre\n")
+    assert "row 3, column 'Q2': answer 'Agre' is not on scale" in err_of(typo, "Term")
+    long = tmp_path / "long.csv"    # long: the answer column, row 4
+    long.write_text("respondent,term,item,answer\nr1,F,Q1,Agree\nr1,F,Q2,Neutral\n"
+                    "r2,F,Q2,Agre\n")
+    assert "row 4, column 'answer': answer 'Agre' is not on scale" in err_of(long, "term")
