@@ -1124,9 +1124,12 @@ def _note_no_neutral(scale: Scale, notes: list) -> None:
     mine = {normalize_answer(x) for x in scale.labels}
     for other in BUILTIN_SCALES.values():
         if other.neutral and mine < {normalize_answer(x) for x in other.labels}:
-            notes.append(f"read as the {scale.k}-point scale {scale.name!r} (no neutral answer "
-                         f"in the data); give --scale {other.name} if the questionnaire offered "
-                         f"{other.neutral[0]!r}")
+            lacking = [x for x in other.labels if normalize_answer(x) not in mine]
+            named = " or ".join(map(repr, lacking))
+            what = "neutral answer" if lacking == list(other.neutral) else f"answer {named}"
+            notes.append(f"read as the {scale.k}-point scale {scale.name!r} (no {what} in the "
+                         f"data); give --scale {other.name} if the questionnaire offered "
+                         f"{named}")
             return
 
 
@@ -1651,8 +1654,9 @@ def _build_long(raw: _Raw, scale, items, unknown, group, reverse, respondents):
     by_item = np.argsort(item_code, kind="stable")
     parts = np.split(ac.codes[by_item], np.cumsum(np.bincount(item_code, minlength=nitem))[:-1])
     per_item = [(k, _Column(item_names[k], ac.cats, parts[k])) for k in range(nitem)]
+    notes = list(raw.notes)
     scale_obj, chosen = _choose_items(source, item_names, per_item, set(), scale, items,
-                                      long=True)
+                                      long=True, notes=notes)
     wanted = [k for k, _ in chosen]
     pos = {k: p for p, k in enumerate(wanted)}
     sel = np.isin(item_code, wanted)
@@ -1670,6 +1674,9 @@ def _build_long(raw: _Raw, scale, items, unknown, group, reverse, respondents):
                               unknown)
     answers = np.full((nresp, len(wanted)), BLANK, dtype=np.int8)
     answers[r_sel, i_sel] = a
+    _warn_unused_labels(scale_obj, answers, notes)       # the notes of the wide route
+    if scale is None:
+        _note_no_neutral(scale_obj, notes)
     first_idx = np.full(nresp, np.iinfo(np.int64).max, dtype=np.int64)
     np.minimum.at(first_idx, resp_code, np.arange(raw.nrows))
     first_rows = raw.row_of(first_idx)
@@ -1685,5 +1692,5 @@ def _build_long(raw: _Raw, scale, items, unknown, group, reverse, respondents):
                       groups=groups, unknown_answers=unknowns,
                       reverse=_resolve_reverse(source, names, reverse),
                       other_columns=[item_names[k] for k in range(nitem) if k not in wanted],
-                      comments=list(raw.comments))
+                      comments=list(raw.comments), notes=notes)
     return _declare(data, respondents)

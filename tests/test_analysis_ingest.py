@@ -518,3 +518,24 @@ def test_a_code_the_map_lacks_is_an_error_at_its_row(tmp_path, capsys):
     err = _one_line_error(capsys, ["summarize", str(wild), "--codes", str(book),
                                    "--items", "Q1"])
     assert f"the code map {book} does not cover them" in err and "give the survey" not in err
+
+
+def test_narrow_scale_note_names_the_missing_label_in_both_layouts(tmp_path):
+    """Regressions: with 'Sometimes' answered and 'Rarely' not, the note said 'no neutral
+    answer' and advised --scale frequency5 'if the questionnaire offered Sometimes'; a long
+    file read as agree4 gave no note at all, while the same answers wide did."""
+    freq = tmp_path / "freq.csv"
+    freq.write_text("Q1,Q2\nOften,Always\nSometimes,Often\nNever,Sometimes\n")
+    notes = read_survey(freq).notes
+    assert any("(no answer 'Rarely' in the data); give --scale frequency5 if the "
+               "questionnaire offered 'Rarely'" in n for n in notes), notes
+    wide = tmp_path / "wide.csv"
+    wide.write_text("respondent,Q1\nr1,Agree\nr2,Disagree\nr3,Strongly agree\n")
+    long = tmp_path / "long.csv"
+    long.write_text("respondent,item,answer\nr1,Q1,Agree\nr2,Q1,Disagree\n"
+                    "r3,Q1,Strongly agree\n")
+    want = ("read as the 4-point scale 'agree4' (no neutral answer in the data); give --scale "
+            "agree5 if the questionnaire offered 'Neither agree nor disagree'")
+    for f, shape in ((wide, "wide"), (long, "long")):
+        data = read_survey(f)
+        assert data.shape == shape and want in data.notes, (shape, data.notes)
