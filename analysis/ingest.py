@@ -885,7 +885,8 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
                       item_texts=item_names, answers=answers,
                       rows=np.asarray(rows, dtype=np.int64), groups=groups,
                       unknown_answers=unknowns, dropped=dropped,
-                      reverse=_resolve_reverse(raw.source, item_names, reverse),
+                      reverse=_resolve_reverse(raw.source, item_names, reverse,
+                                               [raw.columns[j].name for j in chosen]),
                       other_columns=[names[j] for j in range(len(raw.columns))
                                      if j not in item_idx],
                       comments=list(raw.comments), stems=[stems[j] for j in chosen],
@@ -1295,8 +1296,7 @@ def _choose_items(source: str, names: list[str], cols, exclude, scale, items,
     if items:
         chosen, taken = [], set()
         for pat in items:
-            hits = [(j, c) for j, c in cols if name_matches(pat, c.name)
-                    or (c.field and name_matches(pat, c.field))]
+            hits = [(j, c) for j, c in cols if platforms.item_matches(pat, c.name, c.field)]
             if not hits:
                 raise SurveyInputError(f"no {what} matches item {pat!r}; {what}s are {names!r}",
                                        source, None if long else 1)

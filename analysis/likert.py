@@ -258,6 +258,7 @@ class ItemSummary:
     reverse: bool = False
     unknown: int = 0
     stem: str = ""
+    field: str = ""              # the export's field id (Q1_4), also naming the item
 
     @property
     def iqr(self) -> float | None:
@@ -357,6 +358,9 @@ class SurveySummary:
         key = str(name).strip().casefold()
         for it in self.items:
             if it.item.strip().casefold() == key:
+                return it
+        for it in self.items:               # else by its export field id, as --items
+            if it.field and it.field.strip().casefold() == key:
                 return it
         raise KeyError(f"no item {name!r}; items are {[i.item for i in self.items]}")
 
@@ -472,6 +476,7 @@ def summarize(data: SurveyData, confidence_level: float = 0.95,
             tally, scale, name, text=data.item_texts[j], respondents=data.respondents,
             reverse=name in data.reverse, stem=data.stems[j] if j < len(data.stems) else "",
             confidence_level=confidence_level, method=method))
+        out[-1].field = data.fields[j] if j < len(data.fields) else ""
     return SurveySummary(respondents=data.respondents, items=out, scale=scale,
                          source=data.source, shape=data.shape,
                          unknown_answers=list(data.unknown_answers), dropped=list(data.dropped),

@@ -94,6 +94,28 @@ def _qualtrics_rows(answers, status_of, numeric=False, section=None):
     return rows
 
 
+def test_export_field_ids_name_items_everywhere_items_are_named(tmp_path, capsys):
+    """Regression: --items Q1_3 took the field id, but --reverse, --reliability and a claim's
+    item refused it as 'not an item'. Reference: the answers written here; Q1_3 is the
+    third statement, 'Exams were fair'."""
+    ans = [[AGREE5[(i + k) % 5] for k in range(3)] for i in range(8)]
+    f = _csv(tmp_path / "q.csv", _qualtrics_rows(ans, lambda i: "IP Address"))
+    data = read_survey(f, reverse=["Q1_3"])
+    assert data.reverse == {"Exams were fair"}
+    from analysis.reliability import cronbach_alpha_for
+    assert cronbach_alpha_for(data, ["Q1_1", "Q1_3"]).items == ["The lectures were clear",
+                                                              "Exams were fair"]
+    claims = tmp_path / "c.toml"
+    claims.write_text('[[claims]]\nid = "fair"\nitem = "Q1_3"\nstatement = "s"\n'
+                      'categories = ["Strongly agree"]\ncomparison = ">"\nthreshold = 10\n'
+                      'unit = "%"\n')
+    assert main(["claims", str(f), str(claims), "--json"]) == 0
+    got = json.loads(capsys.readouterr().out)
+    # Exams were fair = AGREE5[(i + 2) % 5] for i in 0..7: 'Strongly agree' (index 4) at i = 2, 7
+    assert (got["claims"][0]["item"], got["claims"][0]["k"], got["claims"][0]["n"]) == (
+        "Exams were fair", 2, 8)
+
+
 def test_qualtrics_choice_text_drops_preview_and_test_rows(tmp_path, capsys):
     real = _draw(1, 30, 3, AGREE5)
     status = ["IP Address"] * 30
