@@ -53,8 +53,13 @@ _NEU = "#bdbdbd"
 
 
 def _plain(text: str) -> str:
-    """Text shown literally by matplotlib (no mathtext)."""
-    return str(text).replace("\\", "\\\\").replace("$", r"\$")
+    """Text shown literally by matplotlib (no mathtext).
+
+    Mathtext starts only at an unescaped ``$``; with every ``$`` escaped, matplotlib
+    draws ``\\$`` as ``$`` and leaves backslashes as they are (doubling them would
+    draw them doubled).
+    """
+    return str(text).replace("$", r"\$")
 
 
 def _colors(scale) -> dict:

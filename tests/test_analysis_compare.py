@@ -373,3 +373,18 @@ def test_repeated_email_is_noted_with_its_rows(tmp_path, capsys):
     assert main(["summarize", str(f)]) == 0
     err = capsys.readouterr().err
     assert "column 'Email Address': 1 id on more than one row ('a@x.edu' in rows 2, 4)" in err
+
+
+def test_chart_labels_are_drawn_as_written(tmp_path):
+    """Regression: a label 'C:\\Users\\me' was drawn 'C:\\\\Users\\\\me' (backslashes doubled);
+    dollars must stay literal too (no mathtext), in item names and group panel titles."""
+    f = tmp_path / "s.csv"
+    with open(f, "w", newline="") as fh:
+        csv.writer(fh).writerows([["Saved to C:\\Users\\me", "Paid $50 (vs $20)", "Section"]]
+                                 + [["Agree", "Disagree", "AB"[i % 2]] for i in range(10)])
+    for extra in ([], ["--group", "Section"]):
+        out = tmp_path / "c.svg"
+        assert main(["summarize", str(f), "--chart", str(out), *extra]) == 0
+        svg = out.read_text()
+        assert "Saved to C:\\Users\\me" in svg and "\\\\" not in svg
+        assert "Paid $50 (vs $20)" in svg
