@@ -388,3 +388,24 @@ def test_chart_labels_are_drawn_as_written(tmp_path):
         svg = out.read_text()
         assert "Saved to C:\\Users\\me" in svg and "\\\\" not in svg
         assert "Paid $50 (vs $20)" in svg
+
+
+def test_long_item_labels_do_not_overlap_in_the_chart(tmp_path):
+    """Regression: an eight-line label overlapped its neighbour's. Reference: the drawn
+    label boxes (matplotlib's own text extents), which must not share any height."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from analysis.chart import diverging_bar
+    long_name = "I understand the difference between " * 6 + "the forms."
+    f = tmp_path / "s.csv"
+    with open(f, "w", newline="") as fh:
+        csv.writer(fh).writerows([[f"Q{k} short" for k in range(1, 6)] + [long_name]
+                                  + [f"Q{k} short" for k in range(7, 13)]]
+                                 + [["Agree"] * 5 + ["Disagree"] + ["Agree"] * 6] * 4)
+    fig = diverging_bar(summarize(read_survey(f)))
+    FigureCanvasAgg(fig).draw()
+    boxes = sorted((t.get_window_extent().y0, t.get_window_extent().y1)
+                   for t in fig.axes[0].get_yticklabels())
+    assert len(boxes) == 12
+    for (lo0, hi0), (lo1, hi1) in zip(boxes, boxes[1:]):
+        assert hi0 <= lo1, boxes
