@@ -310,9 +310,8 @@ def _cmd_summarize_by(args) -> int:
                        respondents=args.respondents, confidence_level=args.confidence,
                        method=args.ci)
     if args.table:
-        import pandas as pd
         from .export import write_table
-        write_table(pd.DataFrame(res.rows()), args.table)
+        write_table(res.to_frame(), args.table)
     print(_json(res.to_dict()) if args.json else res.format_text(args.decimals))
     return 0
 

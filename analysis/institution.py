@@ -166,6 +166,15 @@ class GroupedSummary:
                 out.append(rec)
         return out
 
+    def to_frame(self):
+        """:meth:`rows` as a pandas DataFrame; counts stay whole numbers (nullable ``Int64``,
+        blank in a suppressed group's row, where a float column would print ``36.0``)."""
+        import pandas as pd
+        frame = pd.DataFrame(self.rows())
+        counts = [c for c in frame.columns if c in ("respondents", "n", "missing", "excluded")
+                  or str(c).endswith(" (count)")]
+        return frame.astype({c: "Int64" for c in counts})
+
     def to_dict(self) -> dict:
         return {"source": self.source, "by": list(self.by), "shape": self.shape,
                 "scale": self.scale.name, "min_group": self.min_group,

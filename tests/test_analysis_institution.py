@@ -318,3 +318,23 @@ def test_by_errors_name_the_place_and_the_real_cause(tmp_path, capsys):
     long.write_text("respondent,term,item,answer\nr1,F,Q1,Agree\nr1,F,Q2,Neutral\n"
                     "r2,F,Q2,Agre\n")
     assert "row 4, column 'answer': answer 'Agre' is not on scale" in err_of(long, "term")
+
+
+@pytest.mark.parametrize("suffix", [".csv", ".xlsx"])
+def test_by_table_writes_counts_as_whole_numbers(tmp_path, capsys, suffix):
+    """Regression: with a suppressed group (blank counts) the count columns became floats
+    and the CSV said '36.0'. Reference: the tally of the rows written by ``_long``."""
+    f, rows = _long(tmp_path)
+    out = tmp_path / f"t{suffix}"
+    assert main(["summarize", str(f), "--by", "course", "term", "--table", str(out)]) == 0
+    if suffix == ".csv":
+        with open(out, encoding="utf-8-sig", newline="") as fh:
+            table = list(csv.DictReader(fh))
+    else:
+        import openpyxl
+        got = list(openpyxl.load_workbook(out).active.iter_rows(values_only=True))
+        table = [dict(zip(got[0], r)) for r in got[1:]]
+    q1 = next(r for r in table if r["course"] == "(all)" and r["item"] == "Q1")
+    answered = sum(1 for c, t, r, q, a in rows if q == "Q1" and a in AGREE5)
+    assert str(q1["n"]) == str(answered) and str(q1["Agree (count)"]).isdigit()
+    assert any(r["suppressed"] and r["n"] in ("", None) for r in table)
