@@ -887,8 +887,7 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
                       unknown_answers=unknowns, dropped=dropped,
                       reverse=_resolve_reverse(raw.source, item_names, reverse,
                                                [raw.columns[j].name for j in chosen]),
-                      other_columns=[names[j] for j in range(len(raw.columns))
-                                     if j not in item_idx],
+                      other_columns=_other_columns(raw, shape, names, item_idx),
                       comments=list(raw.comments), stems=[stems[j] for j in chosen],
                       fields=[raw.columns[j].name for j in chosen], notes=notes)
     pid = _id_column(raw.header)
@@ -920,6 +919,16 @@ def _note_repeated_ids(data: "SurveyData") -> None:
     data.notes.append(f"{data.source}: column {data.id_column!r}: {k} id{'s' if k != 1 else ''} "
                       f"on more than one row{within} ({shown}{more}); each row is counted as "
                       f"a respondent: remove repeated submissions if they are one person's")
+
+
+def _other_columns(raw: _Raw, shape: str, names: list[str], item_idx: set) -> list[str]:
+    """The columns that are not items, by name; a Canvas points column, repeated by
+    design (a reader renames the second ``1.0`` to ``1.0.1``), by its header as written
+    and its position."""
+    given = raw.given if raw.given and len(raw.given) == len(names) else raw.header
+    return [f"{given[j].strip()} (points, column {j + 1})"
+            if platforms.points_column(shape, given[j]) else names[j]
+            for j in range(len(raw.columns)) if j not in item_idx]
 
 
 #: Columns that identify a person across surveys (pre/post pairing), best first.

@@ -159,6 +159,12 @@ def is_blank_header(h: str) -> bool:
 _CANVAS_POINTS = re.compile(r"^\s*\d+(\.\d+)?\s*$")
 
 
+def points_column(shape: str, given: str) -> bool:
+    """A Canvas quiz export's points column (header ``1.0`` after each question): never
+    an item, and repeated by design."""
+    return shape == "canvas" and bool(_CANVAS_POINTS.match(given))
+
+
 def repeated_column(header: list[str], shape: "str | None" = None) -> "str | None":
     """Why two columns of ``header`` (names as written in the file) cannot be told apart,
     or None when every name is distinct.
@@ -173,7 +179,7 @@ def repeated_column(header: list[str], shape: "str | None" = None) -> "str | Non
     from .scales import normalize_answer
     where: dict[str, list[int]] = {}
     for j, h in enumerate(header):
-        if not h.strip() or (shape == "canvas" and _CANVAS_POINTS.match(h)):
+        if not h.strip() or points_column(shape, h):
             continue
         where.setdefault(normalize_answer(h), []).append(j)
     repeated = [js for js in where.values() if len(js) > 1]

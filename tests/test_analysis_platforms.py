@@ -519,3 +519,13 @@ def test_limesurvey_incomplete_responses_are_counted_with_a_note(tmp_path):
         "counted with the answers given"]
     s = summarize(data)
     assert (s.items[0].n, s.items[1].n, s.items[1].missing) == (3, 2, 1)
+
+
+def test_canvas_points_columns_listed_by_their_names_in_the_file(tmp_path):
+    """Regression: the two '1.0' points columns (columns 10 and 12 of CANVAS_HEAD) were
+    listed as '1.0, 1.0.1', a name the file does not have."""
+    f = _csv(tmp_path / "canvas.csv", [CANVAS_HEAD, _canvas_row("Ann", "1", "s1", "1", "Agree",
+                                                                "Agree")])
+    others = read_survey(f).other_columns
+    assert "1.0 (points, column 10)" in others and "1.0 (points, column 12)" in others
+    assert not any("1.0.1" in c for c in others)
