@@ -412,6 +412,11 @@ def _read_csv_encoded(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]
     except pd.errors.ParserError as e:
         m = re.search(r"line (\d+)", str(e))
         row = int(m.group(1)) + skip if m else None
+        quote = re.search(r"EOF inside string starting at row (\d+)", str(e))
+        if quote:                     # pandas counts rows from 0 (the header is its row 0)
+            raise SurveyInputError("a quoted field opened here is never closed (the file "
+                                   "ends inside it)", source,
+                                   int(quote.group(1)) + 1 + skip) from None
         raise SurveyInputError(f"not a well-formed CSV ({str(e).strip().splitlines()[-1]})",
                                source, row) from None
     if any(issubclass(w.category, pd.errors.ParserWarning) for w in caught):

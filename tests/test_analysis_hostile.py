@@ -269,3 +269,14 @@ def test_long_file_with_too_many_items(tmp_path, analysis_cli, monkeypatch):
     f.write_text("respondent,item,answer\n" + "".join(f"r1,i{k},Neutral\n" for k in range(4)))
     code, _, err = analysis_cli("summarize", str(f))
     _one_error_line(code, err, "4 distinct items", "at most 3")
+
+
+@pytest.mark.parametrize("text, row", [('a,b\n"unterminated,x\n', 2),
+                                       ('Q1,Q2\nAgree,Agree\nAgree,"oops\nAgree,Agree\n', 3)])
+def test_unclosed_quote_named_at_its_row(tmp_path, analysis_cli, text, row):
+    """Regression: pandas' 0-based 'EOF inside string starting at row 1' was passed on for
+    a quote opened on row 2 (the header is row 1 everywhere else)."""
+    f = tmp_path / "m.csv"
+    f.write_text(text)
+    code, _, err = analysis_cli("summarize", str(f))
+    _one_error_line(code, err, f"{f}: row {row}: a quoted field opened here is never closed")
