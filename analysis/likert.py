@@ -404,7 +404,9 @@ class SurveySummary:
         width = max([len(_name(i)) for i in self.items] + [4])
         cw = max([len(lab) for lab in labels] + [14])
         head = f"{'item':<{width}}  " + "  ".join(f"{lab:>{cw}}" for lab in labels)
-        out.append(head + f"  {'n':>5} {'miss':>5} {'n/a':>5}  {'median':>6} {'IQR':>5} "
+        # count columns as wide as the largest count (10 million respondents: 8 digits)
+        nw = max([5] + [len(str(v)) for i in self.items for v in (i.n, i.missing, i.excluded)])
+        out.append(head + f"  {'n':>{nw}} {'miss':>{nw}} {'n/a':>{nw}}  {'median':>6} {'IQR':>5} "
                    f"{'mean':>5} {'SD':>5}  agree "
                    f"[{interval_label(self.confidence_level, self.ci_method)}]")
         stem = ""
@@ -419,8 +421,8 @@ class SurveySummary:
             agree = ("-" if ag.share is None else
                      f"{ag.percent_text(decimals)}% [{share_percent_text(ag.ci[0], decimals)}%, "
                      f"{share_percent_text(ag.ci[1], decimals)}%]")
-            out.append(f"{_name(it):<{width}}  {cells}  {it.n:>5} {it.missing:>5} "
-                       f"{it.excluded:>5}  {_num(it.median):>6} {_num(it.iqr):>5} "
+            out.append(f"{_name(it):<{width}}  {cells}  {it.n:>{nw}} {it.missing:>{nw}} "
+                       f"{it.excluded:>{nw}}  {_num(it.median):>6} {_num(it.iqr):>5} "
                        f"{_num(it.mean, 2):>5} {_num(it.sd, 2):>5}  {agree}")
         if any(it.reverse for it in self.items):
             out.append(REVERSE_NOTE)
