@@ -1063,11 +1063,21 @@ def _item_names(raw: _Raw, shape: str, extra: int, codes) -> tuple[list[str], li
                   codes.stems.get(h.strip().casefold(), s))
                  for h, (n, s) in zip(header, pairs)]
     names = [" ".join(n.split()) or h for h, (n, _) in zip(header, pairs)]
+    # a statement asked under two stems ("Before this course - X", "After this course -
+    # X") is named with its stem; only a name repeated even so falls back to the field id
+    names = _unique_or(names, [" ".join(f"{s} - {n}".split()) if s.strip() else n
+                               for n, (_, s) in zip(names, pairs)])
+    names = _unique_or(names, header)
+    return _distinct(names), [s for _, s in pairs]
+
+
+def _unique_or(names: list[str], instead: list[str]) -> list[str]:
+    """``names``, each name that is repeated (ignoring case and spacing) replaced by the
+    same position of ``instead``."""
     seen: dict[str, int] = {}
     for n in names:
         seen[normalize_answer(n)] = seen.get(normalize_answer(n), 0) + 1
-    names = [n if seen[normalize_answer(n)] == 1 else h for n, h in zip(names, header)]
-    return _distinct(names), [s for _, s in pairs]
+    return [n if seen[normalize_answer(n)] == 1 else alt for n, alt in zip(names, instead)]
 
 
 def _is_na_text(text: str) -> bool:

@@ -529,3 +529,23 @@ def test_canvas_points_columns_listed_by_their_names_in_the_file(tmp_path):
     others = read_survey(f).other_columns
     assert "1.0 (points, column 10)" in others and "1.0 (points, column 12)" in others
     assert not any("1.0.1" in c for c in others)
+
+
+def test_qualtrics_statement_shared_by_two_matrices_keeps_its_text(tmp_path):
+    """Regression: 'Before this course - The pace was right' and 'After this course - The
+    pace was right' share a statement, and both matrices were named only Q1_1 .. Q2_2."""
+    rows = [["StartDate", "Status", "ResponseId", "Q1_1", "Q1_2", "Q2_1", "Q2_2"],
+            ["Start Date", "Response Type", "Response ID",
+             "Before this course - The pace was right", "Before this course - Slides were clear",
+             "After this course - The pace was right", "After this course - Slides were clear"],
+            ['{"ImportId":"startDate"}', '{"ImportId":"status"}', '{"ImportId":"_recordId"}',
+             '{"ImportId":"QID1_1"}', '{"ImportId":"QID1_2"}', '{"ImportId":"QID2_1"}',
+             '{"ImportId":"QID2_2"}']]
+    rows += [["2024-01-01", "IP Address", f"R_{i}", "Agree", "Disagree", "Agree", "Agree"]
+             for i in range(3)]
+    data = read_survey(_csv(tmp_path / "q.csv", rows))
+    assert data.items == ["Before this course - The pace was right",
+                          "Before this course - Slides were clear",
+                          "After this course - The pace was right",
+                          "After this course - Slides were clear"]
+    assert data.fields == ["Q1_1", "Q1_2", "Q2_1", "Q2_2"]      # still selectable by id
