@@ -166,6 +166,8 @@ class SurveyData:
     other_columns : list of str
         Columns read but not taken as items (metadata, ids, free text), so that a
         column left out is never left out silently.
+    not_item_reasons : dict of str to str
+        Why each of ``other_columns`` is not an item, in words.
     comments : list of str
         Leading ``#`` comment lines of a CSV file (without the ``#``).
     stems : list of str
@@ -195,6 +197,7 @@ class SurveyData:
     dropped: list[DroppedRow] = field(default_factory=list)
     reverse: set = field(default_factory=set)
     other_columns: list = field(default_factory=list)
+    not_item_reasons: dict = field(default_factory=dict)
     comments: list = field(default_factory=list)
     stems: list = field(default_factory=list)
     fields: list = field(default_factory=list)
@@ -886,13 +889,20 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
     by_index = dict(cols)                   # answer text after any code map
     groups = {raw.columns[j].name: np.array(by_index[j].cats, dtype=object)[by_index[j].codes]
               for j in group_idx}
+    def why(j):
+        if j in group_idx:
+            return "grouping column"
+        if j in exclude:
+            return "metadata"
+        return _why_not_item(by_index[j], scale_obj, items, False, notes)
+    others = _other_columns(raw, shape, names, item_idx, why)
     data = SurveyData(source=raw.source, shape=shape, scale=scale_obj, items=item_names,
                       item_texts=item_names, answers=answers,
                       rows=np.asarray(rows, dtype=np.int64), groups=groups,
                       unknown_answers=unknowns, dropped=dropped,
                       reverse=_resolve_reverse(raw.source, item_names, reverse,
                                                [raw.columns[j].name for j in chosen]),
-                      other_columns=_other_columns(raw, shape, names, item_idx),
+                      other_columns=list(others), not_item_reasons=others,
                       comments=list(raw.comments), stems=[stems[j] for j in chosen],
                       fields=[raw.columns[j].name for j in chosen], notes=notes)
     pid = _id_column(raw.header)
@@ -926,14 +936,21 @@ def _note_repeated_ids(data: "SurveyData") -> None:
                       f"a respondent: remove repeated submissions if they are one person's")
 
 
-def _other_columns(raw: _Raw, shape: str, names: list[str], item_idx: set) -> list[str]:
-    """The columns that are not items, by name; a Canvas points column, repeated by
-    design (a reader renames the second ``1.0`` to ``1.0.1``), by its header as written
+def _other_columns(raw: _Raw, shape: str, names: list[str], item_idx: set, why) -> dict:
+    """``{name: reason}`` of the columns that are not items, in file order; ``why(j)``
+    gives the reason of column ``j``. A Canvas points column, repeated by design (a
+    reader renames the second ``1.0`` to ``1.0.1``), is named by its header as written
     and its position."""
     given = raw.given if raw.given and len(raw.given) == len(names) else raw.header
-    return [f"{given[j].strip()} (points, column {j + 1})"
-            if platforms.points_column(shape, given[j]) else names[j]
-            for j in range(len(raw.columns)) if j not in item_idx]
+    out = {}
+    for j in range(len(raw.columns)):
+        if j in item_idx:
+            continue
+        if platforms.points_column(shape, given[j]):
+            out[f"{given[j].strip()} in column {j + 1}"] = "Canvas points column"
+        else:
+            out[names[j]] = why(j)
+    return out
 
 
 #: Columns that identify a person across surveys (pre/post pairing), best first.
@@ -1716,5 +1733,8 @@ def _build_long(raw: _Raw, scale, items, unknown, group, reverse, respondents):
                       groups=groups, unknown_answers=unknowns,
                       reverse=_resolve_reverse(source, names, reverse),
                       other_columns=[item_names[k] for k in range(nitem) if k not in wanted],
+                      not_item_reasons={item_names[k]: _why_not_item(
+                          per_item[k][1], scale_obj, items, True, notes)
+                          for k in range(nitem) if k not in wanted},
                       comments=list(raw.comments), notes=notes)
     return _declare(data, respondents)

@@ -42,7 +42,7 @@ from .disclosure import BLANK_GROUP, suppress_groups
 from .errors import SurveyInputError
 from .export import reversal_columns
 from .likert import (REVERSE_MARK, REVERSE_NOTE, _num, _validate_ci, absent_respondents,
-                     interval_label)
+                     interval_label, not_items_text)
 from .rounding import share_percent_text
 from .scales import Scale, group_names
 
@@ -217,8 +217,7 @@ class GroupedSummary:
                            f"n/a={it.excluded} counts [{dist}] agree {agree} {stats}")
         out.append("counts in scale order: " + ", ".join(labels))
         if self.not_items:
-            out.append("not items (left out of the table): " + ", ".join(
-                f"{name} ({why})" for name, why in self.not_items.items()))
+            out.append(not_items_text(self.not_items))
         if self.reverse:
             out.append(REVERSE_NOTE)
         out.extend(f"note: {n}" for n in self._all_notes())
@@ -408,7 +407,7 @@ def _count(p, by, scale, items, min_group, memory_limit, threads) -> GroupedSumm
                 from .platforms import name_matches
                 cand = [h for h in cand if any(name_matches(pat, h) for pat in items)]
             left_out = {h: ("grouping column" if h in gcols else
-                            "respondent id column" if h in idcols else "not named by --items")
+                            "an identifier column" if h in idcols else "not named by --items")
                         for h in header if h not in cand}
             if not cand:
                 raise SurveyInputError("no item columns to count", str(p), 1)

@@ -348,6 +348,7 @@ class SurveySummary:
     ci_method: str = "wilson"
     confidence_level: float = 0.95
     other_columns: list = field(default_factory=list)
+    not_item_reasons: dict = field(default_factory=dict)
 
     def item(self, name: "str | int") -> ItemSummary:
         """An item by header (any case) or 1-based position."""
@@ -431,8 +432,16 @@ class SurveySummary:
         for d in self.dropped:
             out.append(f"dropped row {d.row}: {d.reason}")
         if self.other_columns:
-            out.append("not items (left out of the table): " + ", ".join(self.other_columns))
+            out.append(not_items_text({c: self.not_item_reasons.get(c, "")
+                                       for c in self.other_columns}))
         return "\n".join(out)
+
+
+def not_items_text(reasons: dict) -> str:
+    """The line listing the columns left out of the table, each with its reason (both
+    routes)."""
+    return "not items (left out of the table): " + ", ".join(
+        f"{name} ({why})" if why else name for name, why in reasons.items())
 
 
 def _name(it: ItemSummary) -> str:
@@ -483,7 +492,8 @@ def summarize(data: SurveyData, confidence_level: float = 0.95,
                          source=data.source, shape=data.shape,
                          unknown_answers=list(data.unknown_answers), dropped=list(data.dropped),
                          ci_method=method, confidence_level=confidence_level,
-                         other_columns=list(data.other_columns))
+                         other_columns=list(data.other_columns),
+                         not_item_reasons=dict(data.not_item_reasons))
 
 
 def _tally(col: np.ndarray, k: int) -> np.ndarray:

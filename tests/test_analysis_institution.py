@@ -338,3 +338,23 @@ def test_by_table_writes_counts_as_whole_numbers(tmp_path, capsys, suffix):
     answered = sum(1 for c, t, r, q, a in rows if q == "Q1" and a in AGREE5)
     assert str(q1["n"]) == str(answered) and str(q1["Agree (count)"]).isdigit()
     assert any(r["suppressed"] and r["n"] in ("", None) for r in table)
+
+
+def test_both_routes_give_each_column_left_out_the_same_reason(tmp_path, capsys):
+    """Regression: the in-memory route listed 'not items: id, term, Comments' without a
+    reason; --by gave one per column. By hand: section groups, id is an identifier,
+    term and Comments hold no agree4 labels (see the test above)."""
+    f = tmp_path / "m.csv"
+    f.write_text("section,id,term,Q1,Q2,Comments\nA,1,F23,Agree,Disagree,good\n"
+                 "B,2,S24,Disagree,,too fast\nA,3,S24,Agree,Strongly agree,\n"
+                 "B,4,F23,Strongly disagree,Agree,Agree\n")
+    from analysis.ingest import read_survey
+    small = read_survey(f, group="section").not_item_reasons
+    big = summarize_by(f, ["section"]).not_items
+    assert small == {"section": "grouping column", "id": "an identifier column",
+                     "term": "its answers are not labels of scale 'agree4'",
+                     "Comments": "its answers are not labels of scale 'agree4'"}
+    assert big == small
+    assert main(["summarize", str(f)]) == 0
+    assert ("not items (left out of the table): section (its answers are not labels of scale "
+            "'agree4'), id (an identifier column), term (") in capsys.readouterr().out

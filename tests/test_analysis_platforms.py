@@ -527,7 +527,7 @@ def test_canvas_points_columns_listed_by_their_names_in_the_file(tmp_path):
     f = _csv(tmp_path / "canvas.csv", [CANVAS_HEAD, _canvas_row("Ann", "1", "s1", "1", "Agree",
                                                                 "Agree")])
     others = read_survey(f).other_columns
-    assert "1.0 (points, column 10)" in others and "1.0 (points, column 12)" in others
+    assert "1.0 in column 10" in others and "1.0 in column 12" in others
     assert not any("1.0.1" in c for c in others)
 
 
