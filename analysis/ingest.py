@@ -1706,8 +1706,9 @@ def _build_long(raw: _Raw, scale, items, unknown, group, reverse, respondents):
     flat = r_sel * len(wanted) + i_sel
     order = np.argsort(flat, kind="stable")
     dup = np.flatnonzero(np.diff(flat[order]) == 0)
-    if dup.size:
-        i = int(order[dup[0] + 1])
+    if dup.size:           # the repeat whose second row comes first in the file
+        later = order[dup + 1]
+        i = int(later[np.argmin(rows_sel[later])])
         raise SurveyInputError(
             f"respondent {resp_ids[r_sel[i]]!r} answers item {item_names[wanted[i_sel[i]]]!r} "
             f"twice", source, int(rows_sel[i]), ac.name)

@@ -58,6 +58,8 @@ _BUFFER, _MAX_LINE = 8 * 2 ** 20, 2 ** 20        # CSV read buffer; longest line
 #: White space trimmed from respondent ids and item names (as Python's ``str.strip``
 #: trims the common ones in ``read_survey``).
 _WS = "' \t\n\r\x0b\x0c\u00a0'"
+#: Repeated (respondent, item) pairs looked at to name the one met first in the file.
+_MAX_REPEATS = 1000
 
 
 @dataclass
@@ -438,28 +440,33 @@ def _count(p, by, scale, items, min_group, memory_limit, threads) -> GroupedSumm
 def _count_long(con, src, gcols, resp, item, answer, path: Path):
     """One scan: answers per (groups, item, answer) and distinct respondents per group.
 
-    Respondent ids and item names are read trimmed, as ``read_survey`` reads them; a
-    respondent answering one item twice is refused as there (the scan's third grouping
-    set keeps only repeated (respondent, item) pairs). Spellings of one grouping value
-    are one group (:func:`analysis.scales.group_names`).
+    Respondent ids and item names count trimmed, as ``read_survey`` reads them; a
+    respondent answering one item twice is refused as there. The scan's third grouping
+    set is a 64-bit hash of each (respondent, item) pair, of which only repeated hashes
+    are kept; a repeat is then confirmed on the pair itself (a collision is no error),
+    and pairs that repeat only once trimmed are looked for when a padded id or item
+    name exists. Spellings of one grouping value are one group
+    (:func:`analysis.scales.group_names`).
     """
     g = ", ".join(_quote(c) for c in gcols)
+    r, i, a = _quote(resp), _quote(item), _quote(answer)
     con.execute(f"""
         CREATE TEMP TABLE agg AS SELECT * FROM (
-            SELECT {g}, item, answer, resp, GROUPING(item) AS gi, GROUPING(resp) AS gr,
-                   count(*) AS c
-            FROM (SELECT {g}, trim({_quote(item)}, {_WS}) AS item, {_quote(answer)} AS answer,
-                         trim({_quote(resp)}, {_WS}) AS resp FROM {src})
-            GROUP BY GROUPING SETS (({g}, item, answer), ({g}, resp), (resp, item)))
-        WHERE NOT (gi = 0 AND gr = 0 AND c = 1)""")
-    dup = con.execute("SELECT resp, item FROM agg WHERE gi = 0 AND gr = 0 "
-                      "ORDER BY resp, item LIMIT 1").fetchone()
-    if dup:
-        raise SurveyInputError(f"respondent {dup[0]!r} answers item {dup[1]!r} twice",
-                               str(path), _find_row(path, [(resp, dup[0], True), (item, dup[1], True)], 2),
-                               answer)
-    spelled = con.execute(f"SELECT {g}, count(*) FROM agg WHERE gi = 1 GROUP BY ALL").fetchall()
-    named = _group_map({_raw_key(r[:-1]): r[-1] for r in spelled})
+            SELECT {g}, {i} AS __item, {a} AS __answer, {r} AS __resp, __h,
+                   GROUPING({i}) AS __gi, GROUPING({r}) AS __gr, count(*) AS __c
+            FROM (SELECT *, hash({r}, {i}) AS __h FROM {src})
+            GROUP BY GROUPING SETS (({g}, {i}, {a}), ({g}, {r}), (__h)))
+        WHERE NOT (__gi = 1 AND __gr = 1 AND __c = 1)""")
+    for col, what, where in ((resp, "blank respondent id", "__gi = 1 AND __gr = 0 AND "
+                              f"coalesce(trim(__resp, {_WS}), '') = ''"),
+                             (item, "blank item name", "__gi = 0 AND __gr = 1 AND "
+                              f"coalesce(trim(__item, {_WS}), '') = ''")):
+        if con.execute(f"SELECT 1 FROM agg WHERE {where} LIMIT 1").fetchone():
+            raise SurveyInputError(what, str(path), _find_row(path, [(col, "", True)]), col)
+    _refuse_repeated_pairs(con, src, path, resp, item, answer)
+    spelled = con.execute(f"SELECT {g}, count(*) FROM agg WHERE __gi = 1 AND __gr = 0 "
+                          f"GROUP BY ALL").fetchall()
+    named = _group_map({_raw_key(row[:-1]): row[-1] for row in spelled})
     ng = len(gcols)
     con.execute("CREATE TEMP TABLE gmap AS SELECT * FROM (VALUES " + ", ".join(
         "(" + ", ".join(_literal(v) for v in raw + name) + ")" for raw, name in named.items())
@@ -467,12 +474,40 @@ def _count_long(con, src, gcols, resp, item, answer, path: Path):
         + ")")
     on = " AND ".join(f"coalesce(agg.{_quote(c)}, '') = gmap.r{j}" for j, c in enumerate(gcols))
     names = ", ".join(f"gmap.n{j}" for j in range(ng))
-    return con.execute(f"""
-        SELECT {names}, item, answer, 0, sum(c) FROM agg JOIN gmap ON {on}
-            WHERE gi = 0 AND gr = 1 GROUP BY ALL
+    rows = con.execute(f"""
+        SELECT {names}, __item, __answer, 0, sum(__c) FROM agg JOIN gmap ON {on}
+            WHERE __gi = 0 AND __gr = 1 GROUP BY ALL
         UNION ALL
-        SELECT {names}, NULL, NULL, 1, count(DISTINCT resp) FROM agg JOIN gmap ON {on}
-            WHERE gi = 1 GROUP BY ALL""").fetchall()
+        SELECT {names}, NULL, NULL, 1, count(DISTINCT trim(__resp, {_WS})) FROM agg
+            JOIN gmap ON {on} WHERE __gi = 1 AND __gr = 0 GROUP BY ALL""").fetchall()
+    merged: dict = {}                 # item names trimmed (few rows: in Python, by strip)
+    for row in rows:
+        key = row[:ng] + (None if row[ng] is None else str(row[ng]).strip(),) + row[ng + 1:-1]
+        merged[key] = merged.get(key, 0) + row[-1]
+    return [k + (c,) for k, c in merged.items()]
+
+
+def _refuse_repeated_pairs(con, src, path: Path, resp: str, item: str, answer: str) -> None:
+    """Raise naming the (respondent, item) pair given twice whose second row comes first,
+    if any (as ``read_survey`` names it)."""
+    r, i = _quote(resp), _quote(item)
+    hashes = [h for (h,) in con.execute("SELECT __h FROM agg WHERE __gi = 1 AND __gr = 1 "
+                                        f"LIMIT {_MAX_REPEATS}").fetchall()]
+    pairs = []
+    if hashes:                                        # confirmed on the pairs themselves
+        pairs = con.execute(f"SELECT {r}, {i} FROM {src} WHERE hash({r}, {i}) IN "
+                            f"({', '.join(['?'] * len(hashes))}) GROUP BY ALL "
+                            f"HAVING count(*) > 1", hashes).fetchall()
+    if not pairs and con.execute(
+            f"SELECT 1 FROM agg WHERE (__gi = 1 AND __gr = 0 AND __resp <> trim(__resp, {_WS})) "
+            f"OR (__gi = 0 AND __gr = 1 AND __item <> trim(__item, {_WS})) LIMIT 1").fetchone():
+        pairs = con.execute(f"SELECT trim({r}, {_WS}), trim({i}, {_WS}) FROM {src} GROUP BY ALL "
+                            f"HAVING count(*) > 1 LIMIT {_MAX_REPEATS}").fetchall()
+    if pairs:
+        pair, row = _earliest_repeat(path, resp, item, {
+            tuple("" if v is None else str(v).strip() for v in p) for p in pairs})
+        raise SurveyInputError(f"respondent {pair[0]!r} answers item {pair[1]!r} twice",
+                               str(path), row, answer)
 
 
 def _not_utf8(path: Path) -> "tuple[int, str] | None":
@@ -539,41 +574,57 @@ def _group_map(spelled: dict) -> dict:
     return {raw: name for raw, (_key, name) in group_names(spelled).items()}
 
 
-def _find_row(path: Path, tests: list, nth: int = 1) -> "int | None":
-    """Spreadsheet row (header = row 1) of the ``nth`` row where every ``(column, value,
-    trimmed)`` test holds (the cell, trimmed when ``trimmed``, equals ``value``); None
-    when not found. The file is read again: for error messages only."""
+def _records(path: Path, columns: list[str]):
+    """``(spreadsheet row, cell texts of columns)`` of every data row, in file order (the
+    header is row 1); nothing when a column cannot be found. The file is read again:
+    for error messages only."""
     import duckdb
     con = duckdb.connect()
     try:
         if path.suffix.lower() == ".parquet":
-            where = " AND ".join((f"trim({_quote(c)}, {_WS})" if t else _quote(c)) + " = ?"
-                                 for c, _, t in tests)
-            got = con.execute(
-                f"SELECT file_row_number FROM read_parquet({_literal(path)}, file_row_number "
-                f"= true) WHERE {where} ORDER BY file_row_number LIMIT 1 OFFSET {nth - 1}",
-                [v for _, v, _ in tests]).fetchone()
-            return None if got is None else int(got[0]) + 2
+            cur = con.execute(f"SELECT file_row_number, {', '.join(map(_quote, columns))} FROM "
+                              f"read_parquet({_literal(path)}, file_row_number = true) "
+                              f"ORDER BY file_row_number")
+            while batch := cur.fetchmany(10_000):
+                for rec in batch:
+                    yield int(rec[0]) + 2, tuple("" if v is None else str(v) for v in rec[1:])
+            return
         sep = con.execute(f"SELECT Delimiter FROM sniff_csv({_literal(path)})").fetchone()[0]
     except duckdb.Error:
-        return None
+        return
     finally:
         con.close()
     import csv
     with open(path, encoding="utf-8", errors="replace", newline="") as f:
         reader = csv.reader(f, delimiter=sep or ",")
         header = next(reader, [])
-        if any(c not in header for c, _, _ in tests):
-            return None
-        where = [(header.index(c), v, t) for c, v, t in tests]
-        last = max(j for j, _, _ in where)
+        if any(c not in header for c in columns):
+            return
+        idx = [header.index(c) for c in columns]
         for row, rec in enumerate(reader, start=2):
-            if len(rec) > last and all((rec[j].strip() if t else rec[j]) == v
-                                       for j, v, t in where):
-                nth -= 1
-                if not nth:
-                    return row
+            yield row, tuple(rec[j] if j < len(rec) else "" for j in idx)
+
+
+def _find_row(path: Path, tests: list) -> "int | None":
+    """Spreadsheet row of the first row where every ``(column, value, trimmed)`` test holds
+    (the cell, trimmed when ``trimmed``, equals ``value``); None when not found."""
+    for row, cells in _records(path, [c for c, _, _ in tests]):
+        if all((x.strip() if t else x) == v for x, (_, v, t) in zip(cells, tests)):
+            return row
     return None
+
+
+def _earliest_repeat(path: Path, resp: str, item: str, pairs: set):
+    """(pair, row) of the (respondent, item) pair among ``pairs`` whose second row comes
+    first in the file, both trimmed; the in-memory route names the same one."""
+    seen: set = set()
+    for row, (who, what) in _records(path, [resp, item]):
+        key = (who.strip(), what.strip())
+        if key in pairs:
+            if key in seen:
+                return key, row
+            seen.add(key)
+    return min(pairs), None
 
 
 def _count_wide(con, src, gcols, cand):

@@ -262,6 +262,25 @@ def test_by_refuses_an_answer_given_twice_as_the_in_memory_route_does(tmp_path, 
                "(FORMAT parquet)")
     with pytest.raises(SurveyInputError, match="row 5, column 'answer': respondent 'r1'"):
         summarize_by(pq, ["course"])
+    # two pairs repeated: both routes name the one whose second row comes first (r1's,
+    # row 4), whatever order respondents first appear in or hashes fall in
+    two = tmp_path / "two.csv"
+    two.write_text("respondent,course,item,answer\nr2,A,Q1,Agree\nr1,A,Q1,Agree\n"
+                   "r1,A,Q1,Agree\nr2,A,Q1,Agree\n")
+    want = f"{two}: row 4, column 'answer': respondent 'r1' answers item 'Q1' twice"
+    for extra in ([], ["--by", "course"]):
+        assert main(["summarize", str(two), *extra]) == 2
+        assert capsys.readouterr().err.strip() == f"error: {want}"
+    # a blank id or item name was counted (or its answer dropped) unsaid under --by
+    for body, want in (("r1,A,Q1,Agree\n ,A,Q1,Agree\n", "row 3, column 'respondent': blank "
+                        "respondent id"),
+                       ("r1,A,Q1,Agree\nr2,A, ,Agree\n", "row 3, column 'item': blank item "
+                        "name")):
+        blank = tmp_path / "blank.csv"
+        blank.write_text("respondent,course,item,answer\n" + body)
+        for extra in ([], ["--by", "course"]):
+            assert main(["summarize", str(blank), *extra]) == 2
+            assert capsys.readouterr().err.strip() == f"error: {blank}: {want}"
 
 
 @pytest.mark.parametrize("shape", ["wide", "long"])
