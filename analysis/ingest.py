@@ -1035,15 +1035,17 @@ def _drop_earlier_attempts(raw: _Raw, keep: np.ndarray):
 
 def _drop_footer(raw: _Raw, keep: np.ndarray):
     """Rows kept and rows dropped: a last row below empty rows with text in its first cell
-    only ("Exported by ... on ...") is a note of the exporting tool, not a respondent."""
+    only ("Exported by ... on ...") is a note of the exporting tool, not a respondent.
+    A number or a label of a built-in scale there is an answer: that row is kept."""
     if len(keep) < 2 or len(raw.columns) < 2:
         return keep, []
     last, before = int(keep[-1]), int(keep[-2])
     if int(raw.row_of(last)) - int(raw.row_of(before)) < 2:
         return keep, []
     cells = [c.cats[c.codes[last]].strip() for c in raw.columns]
-    if not cells[0] or any(cells[1:]):
-        return keep, []
+    if not cells[0] or any(cells[1:]) or _isint(cells[0]) or _is_na_text(cells[0]) or any(
+            s.match(cells[0], accept_codes=False) is not None for s in BUILTIN_SCALES.values()):
+        return keep, []           # an answer or a code in the first column: a respondent
     return keep[:-1], [DroppedRow(int(raw.row_of(last)), "text-only footer row")]
 
 

@@ -492,6 +492,15 @@ def test_empty_rows_are_not_respondents_and_a_footer_is_dropped_with_its_row(tmp
     assert [(d.row, d.reason) for d in data.dropped] == [(11, "text-only footer row")]
     s = summarize(data)
     assert [(it.n, it.missing) for it in s.items] == [(4, 0), (4, 0)]
+    # an answer in the first column is a respondent, however far below: never a footer
+    rows[-1] = ["Strongly agree"]
+    rows[0][0] = "Q0"
+    if suffix == ".csv":
+        path.write_text("\n".join(",".join(r) for r in rows) + "\n")
+    else:
+        path.write_bytes(workbook(rows))
+    data = read_survey(path)
+    assert data.respondents == 5 and data.dropped == [] and data.rows[-1] == 11
 
 
 def test_a_code_the_map_lacks_is_an_error_at_its_row(tmp_path, capsys):
