@@ -413,15 +413,7 @@ def _read_csv_encoded(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]
     except pd.errors.EmptyDataError:
         raise SurveyInputError("empty file", source) from None
     except pd.errors.ParserError as e:
-        m = re.search(r"line (\d+)", str(e))
-        row = int(m.group(1)) + skip if m else None
-        quote = re.search(r"EOF inside string starting at row (\d+)", str(e))
-        if quote:                     # pandas counts rows from 0 (the header is its row 0)
-            raise SurveyInputError("a quoted field opened here is never closed (the file "
-                                   "ends inside it)", source,
-                                   int(quote.group(1)) + 1 + skip) from None
-        raise SurveyInputError(f"not a well-formed CSV ({str(e).strip().splitlines()[-1]})",
-                               source, row) from None
+        raise _parser_error(e, source, skip) from None
     if any(issubclass(w.category, pd.errors.ParserWarning) for w in caught):
         _check_extra_fields(body, encoding, sep, df.shape[1], source, skip)
     _check_width(source, df.shape[1])
@@ -439,6 +431,18 @@ def _read_csv_encoded(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]
                          f"respondents (in a one-column file an empty line elsewhere is a "
                          f"blank answer)")
     return out, peek
+
+
+def _parser_error(e: Exception, source: str, skip: int) -> SurveyInputError:
+    """pandas' tokenizer error as one line at the spreadsheet row it names (``skip``
+    comment lines above the header)."""
+    quote = re.search(r"EOF inside string starting at row (\d+)", str(e))
+    if quote:                          # pandas counts rows from 0 (the header is its row 0)
+        return SurveyInputError("a quoted field opened here is never closed (the file ends "
+                                "inside it)", source, int(quote.group(1)) + 1 + skip)
+    m = re.search(r"line (\d+)", str(e))
+    return SurveyInputError(f"not a well-formed CSV ({str(e).strip().splitlines()[-1]})",
+                            source, int(m.group(1)) + skip if m else None)
 
 
 def _given_header(body: bytes, sep: str, encoding: str) -> list[str]:
@@ -880,22 +884,16 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
                                          notes=notes,
                                          codes_file=None if codes is None else codes.source)
     answers, unknowns = _match(raw.source, scale_obj, item_cols, rows, unknown)
-    _warn_unused_labels(scale_obj, answers, notes)
-    if scale is None:
-        _note_no_neutral(scale_obj, notes)
+    _scale_notes(scale_obj, answers, scale is None, notes)
     chosen = [j for j, _ in item_cols]
     item_idx = set(chosen)                        # built once: the column scan stays linear
     item_names = [names[j] for j in chosen]
     by_index = dict(cols)                   # answer text after any code map
     groups = {raw.columns[j].name: np.array(by_index[j].cats, dtype=object)[by_index[j].codes]
               for j in group_idx}
-    def why(j):
-        if j in group_idx:
-            return "grouping column"
-        if j in exclude:
-            return "metadata"
-        return _why_not_item(by_index[j], scale_obj, items, False, notes)
-    others = _other_columns(raw, shape, names, item_idx, why)
+    others = _other_columns(raw, shape, names, item_idx, lambda j: (
+        "grouping column" if j in group_idx else "metadata" if j in exclude
+        else _why_not_item(by_index[j], scale_obj, items, False, notes)))
     data = SurveyData(source=raw.source, shape=shape, scale=scale_obj, items=item_names,
                       item_texts=item_names, answers=answers,
                       rows=np.asarray(rows, dtype=np.int64), groups=groups,
@@ -1159,6 +1157,14 @@ def _apply_codebook(cols, book, exclude, notes, source):
                              "columns in the code map: columns = [\"Q1\", \"Q2\"] under "
                              "[codes]")
     return out
+
+
+def _scale_notes(scale: Scale, answers: np.ndarray, detected: bool, notes: list) -> None:
+    """The notes on the scale read, for wide and long files alike: labels nobody used
+    while another scale fits, and (when the scale was ``detected``) a missing label."""
+    _warn_unused_labels(scale, answers, notes)
+    if detected:
+        _note_no_neutral(scale, notes)
 
 
 def _note_no_neutral(scale: Scale, notes: list) -> None:
@@ -1718,9 +1724,7 @@ def _build_long(raw: _Raw, scale, items, unknown, group, reverse, respondents):
                               unknown)
     answers = np.full((nresp, len(wanted)), BLANK, dtype=np.int8)
     answers[r_sel, i_sel] = a
-    _warn_unused_labels(scale_obj, answers, notes)       # the notes of the wide route
-    if scale is None:
-        _note_no_neutral(scale_obj, notes)
+    _scale_notes(scale_obj, answers, scale is None, notes)
     first_idx = np.full(nresp, np.iinfo(np.int64).max, dtype=np.int64)
     np.minimum.at(first_idx, resp_code, np.arange(raw.nrows))
     first_rows = raw.row_of(first_idx)

@@ -421,20 +421,23 @@ def _count(p, by, scale, items, min_group, memory_limit, threads) -> GroupedSumm
     finally:
         con.close()
         spill.cleanup()
-    if shape == "wide":
-        def locate(item, text):
-            return _find_row(p, [(item, text, False)]), item
-    else:
-        cols = header[ri], header[ii], header[ai]
-
-        def locate(item, text):
-            return _find_row(p, [(cols[2], text, False), (cols[1], item, True)]), cols[2]
+    locate = _locator(p, None if shape == "wide" else (header[ii], header[ai]))
     res = _assemble(str(p), gcols, shape, rows, scale, items, min_group,
                     cand if shape == "wide" else None, locate)
     if shape == "wide":                            # in the file's column order
         res.not_items = {h: left_out.get(h) or res.not_items[h] for h in header
                          if h in left_out or h in res.not_items}
     return res
+
+
+def _locator(path: Path, long_columns: "tuple[str, str] | None"):
+    """``locate(item, text) -> (row, column)`` of the first row giving answer ``text`` to
+    ``item``: a wide file's item column, or a long file's (item, answer) columns."""
+    if long_columns is None:
+        return lambda item, text: (_find_row(path, [(item, text, False)]), item)
+    item_col, answer_col = long_columns
+    return lambda item, text: (_find_row(path, [(answer_col, text, False),
+                                                (item_col, item, True)]), answer_col)
 
 
 def _count_long(con, src, gcols, resp, item, answer, path: Path):
@@ -513,7 +516,6 @@ def _refuse_repeated_pairs(con, src, path: Path, resp: str, item: str, answer: s
 def _not_utf8(path: Path) -> "tuple[int, str] | None":
     """(row, why) when a CSV file is not UTF-8 text, the only encoding --by reads; None
     when it is (or is Parquet). Read in blocks, on the error path only."""
-    import codecs
     if path.suffix.lower() == ".parquet":
         return None
     fix = ("--by reads UTF-8 only: save the file as CSV UTF-8, or summarize it without "
