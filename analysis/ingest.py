@@ -903,7 +903,7 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
                       other_columns=list(others), not_item_reasons=others,
                       comments=list(raw.comments), stems=[stems[j] for j in chosen],
                       fields=[raw.columns[j].name for j in chosen], notes=notes)
-    pid = _id_column(raw.header)
+    pid = person_id_column(raw.header)
     if pid is not None:
         c = raw.columns[pid]
         data.ids, data.id_column = np.array(c.cats, dtype=object)[c.codes[keep]], c.name
@@ -922,16 +922,23 @@ def _note_repeated_ids(data: "SurveyData") -> None:
         if k:
             rows_of.setdefault((k,) + tuple(g[i] for g in groups), []).append(i)
     repeated = [idx for idx in rows_of.values() if len(idx) > 1]
-    if not repeated:
-        return
-    shown = "; ".join(f"{str(data.ids[idx[0]]).strip()!r} in rows "
-                      f"{', '.join(str(int(data.rows[i])) for i in idx)}" for idx in repeated[:3])
-    more = f"; and {len(repeated) - 3} more" if len(repeated) > 3 else ""
-    within = f" with the same {', '.join(map(repr, data.groups))}" if data.groups else ""
-    k = len(repeated)
-    data.notes.append(f"{data.source}: column {data.id_column!r}: {k} id{'s' if k != 1 else ''} "
-                      f"on more than one row{within} ({shown}{more}); each row is counted as "
-                      f"a respondent: remove repeated submissions if they are one person's")
+    if repeated:
+        data.notes.append(repeated_ids_note(
+            data.source, data.id_column, list(data.groups), len(repeated),
+            [(str(data.ids[idx[0]]).strip(), [int(data.rows[i]) for i in idx])
+             for idx in repeated[:3]]))
+
+
+def repeated_ids_note(source: str, column: str, groups: list, k: int, shown: list) -> str:
+    """The note on ``k`` ids found on more than one row (within one value of the
+    ``groups`` columns), naming the first few: ``shown`` lists (id, rows). Both routes
+    (``read_survey`` and ``summarize_by``) word it here."""
+    listed = "; ".join(f"{x!r} in rows {', '.join(map(str, rows))}" for x, rows in shown)
+    more = f"; and {k - len(shown)} more" if k > len(shown) else ""
+    within = f" with the same {', '.join(map(repr, groups))}" if groups else ""
+    return (f"{source}: column {column!r}: {k} id{'s' if k != 1 else ''} on more than one "
+            f"row{within} ({listed}{more}); each row is counted as a respondent: remove "
+            f"repeated submissions if they are one person's")
 
 
 def _other_columns(raw: _Raw, shape: str, names: list[str], item_idx: set, why) -> dict:
@@ -958,7 +965,8 @@ _PERSON_ID = ("student id", "student_id", "studentid", "sis_id", "sis user id", 
               "username", "user", "email address", "email", "recipientemail")
 
 
-def _id_column(header: list[str]) -> "int | None":
+def person_id_column(header: list[str]) -> "int | None":
+    """Index of the column that identifies a person (student id, e-mail ...), or None."""
     return _find(header, _PERSON_ID)
 
 

@@ -396,7 +396,7 @@ def _count(p, by, scale, items, min_group, memory_limit, threads) -> GroupedSumm
         ri, ii, ai = (platforms.find_column(header, platforms.LONG_RESP),
                       platforms.find_column(header, platforms.LONG_ITEM),
                       platforms.find_column(header, platforms.LONG_ANSWER))
-        left_out = {}
+        left_out, idcol = {}, None
         if None not in (ri, ii, ai):
             shape = "long"
             rows = _count_long(con, src, gcols, header[ri], header[ii], header[ai], p)
@@ -413,7 +413,13 @@ def _count(p, by, scale, items, min_group, memory_limit, threads) -> GroupedSumm
                         for h in header if h not in cand}
             if not cand:
                 raise SurveyInputError("no item columns to count", str(p), 1)
-            rows = _merge_spellings(_count_wide(con, src, gcols, cand), len(gcols), cand[0])
+            from .ingest import person_id_column
+            pid = person_id_column(header)
+            idcol = header[pid] if pid is not None and header[pid] not in gcols else None
+            rows = _count_wide(con, src, gcols, cand, idcol)
+            repeats = [r for r in rows if r[len(gcols) + 2] == 2]
+            rows = _merge_spellings([r for r in rows if r[len(gcols) + 2] == 0],
+                                    len(gcols), cand[0])
     except duckdb.OutOfMemoryException:
         raise
     except duckdb.Error as e:
@@ -424,6 +430,9 @@ def _count(p, by, scale, items, min_group, memory_limit, threads) -> GroupedSumm
     locate = _locator(p, None if shape == "wide" else (header[ii], header[ai]))
     res = _assemble(str(p), gcols, shape, rows, scale, items, min_group,
                     cand if shape == "wide" else None, locate)
+    if shape == "wide" and idcol is not None:
+        note = _repeated_ids(p, gcols, idcol, repeats)
+        res.notes += [note] if note else []
     if shape == "wide":                            # in the file's column order
         res.not_items = {h: left_out.get(h) or res.not_items[h] for h in header
                          if h in left_out or h in res.not_items}
@@ -629,16 +638,41 @@ def _earliest_repeat(path: Path, resp: str, item: str, pairs: set):
     return min(pairs), None
 
 
-def _count_wide(con, src, gcols, cand):
+def _count_wide(con, src, gcols, cand, idcol=None):
+    """Answers per (groups, item, answer) in one scan; with ``idcol``, also the ids
+    (trimmed, lower case) found on more than one row of a group, as rows of kind 2."""
     g = ", ".join(_quote(c) for c in gcols)
-    cols = ", ".join(_quote(c) for c in cand)
-    names = ", ".join("'" + c.replace("'", "''") + "'" for c in cand)
-    # two lists unnested side by side: one row per (respondent, item), blank answers kept
+    cols = [_quote(c) for c in cand]
+    names = [_literal(c) for c in cand]
+    kinds = ["0"] * len(cand)
+    if idcol is not None:
+        cols.append(f"lower(trim({_quote(idcol)}, {_WS}))")
+        names.append(_literal(idcol))
+        kinds.append("2")
+    # lists unnested side by side: one row per (respondent, item), blank answers kept
     sql = f"""
-        SELECT {g}, item, answer, 0 AS by_resp, count(*) FROM (
-            SELECT {g}, unnest([{names}]) AS item, unnest([{cols}]) AS answer FROM {src})
-        GROUP BY ALL"""
+        SELECT {g}, item, answer, kind, count(*) FROM (
+            SELECT {g}, unnest([{', '.join(names)}]) AS item,
+                   unnest([{', '.join(cols)}]) AS answer, unnest([{', '.join(kinds)}]) AS kind
+            FROM {src})
+        GROUP BY ALL HAVING kind = 0 OR (count(*) > 1 AND coalesce(answer, '') <> '')"""
     return con.execute(sql).fetchall()
+
+
+def _repeated_ids(path: Path, gcols, idcol: str, repeats: list) -> "str | None":
+    """The note of :func:`analysis.ingest.repeated_ids_note` on the kind-2 rows of
+    :func:`_count_wide`, the rows of the first three ids found by reading the file again."""
+    from .ingest import repeated_ids_note
+    if not repeats:
+        return None
+    ng = len(gcols)
+    first = {(_raw_key(r[:ng]), str(r[ng + 1])): [] for r in repeats[:3]}
+    for row, cells in _records(path, list(gcols) + [idcol]):
+        key = (tuple(cells[:ng]), cells[ng].strip().lower())
+        if key in first:
+            first[key].append(row)
+    return repeated_ids_note(str(path), idcol, list(gcols), len(repeats),
+                             [(k[1], rows) for k, rows in first.items()])
 
 
 def _merge_spellings(rows, ng: int, first_item) -> list:

@@ -377,3 +377,19 @@ def test_both_routes_give_each_column_left_out_the_same_reason(tmp_path, capsys)
     assert main(["summarize", str(f)]) == 0
     assert ("not items (left out of the table): section (its answers are not labels of scale "
             "'agree4'), id (an identifier column), term (") in capsys.readouterr().out
+
+
+def test_both_routes_note_an_id_on_two_rows_of_a_group_alike(tmp_path, capsys):
+    """Regression: a@x.edu answering twice was counted twice unsaid. Both routes count both
+    rows and give one note, word for word, naming its rows (2 and 4: header row 1)."""
+    f = tmp_path / "g.csv"
+    f.write_text("Section,Email Address,Q1\nA,a@x.edu,Agree\nA,b@x.edu,Agree\n"
+                 "A, A@x.edu,Disagree\nB,c@x.edu,Agree\nB,a@x.edu,Agree\n")
+    want = (f"{f}: column 'Email Address': 1 id on more than one row with the same 'Section' "
+            f"('a@x.edu' in rows 2, 4); each row is counted as a respondent: remove repeated "
+            f"submissions if they are one person's")
+    from analysis.ingest import read_survey
+    data = read_survey(f, group="Section")
+    assert data.respondents == 5 and want in data.notes, data.notes
+    res = summarize_by(f, ["Section"])
+    assert res.respondents.tolist() == [3, 2] and want in res.notes, res.notes
