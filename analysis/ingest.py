@@ -931,9 +931,11 @@ def _note_repeated_ids(data: "SurveyData") -> None:
 
 def repeated_ids_note(source: str, column: str, groups: list, k: int, shown: list) -> str:
     """The note on ``k`` ids found on more than one row (within one value of the
-    ``groups`` columns), naming the first few: ``shown`` lists (id, rows). Both routes
-    (``read_survey`` and ``summarize_by``) word it here."""
-    listed = "; ".join(f"{x!r} in rows {', '.join(map(str, rows))}" for x, rows in shown)
+    ``groups`` columns), naming the first few: ``shown`` lists (id, rows), or (id, number
+    of rows) when the rows were not looked up. Both routes (``read_survey`` and
+    ``summarize_by``) word it here."""
+    listed = "; ".join(f"{x!r} on {rows} rows" if isinstance(rows, int) else
+                       f"{x!r} in rows {', '.join(map(str, rows))}" for x, rows in shown)
     more = f"; and {k - len(shown)} more" if k > len(shown) else ""
     within = f" with the same {', '.join(map(repr, groups))}" if groups else ""
     return (f"{source}: column {column!r}: {k} id{'s' if k != 1 else ''} on more than one "

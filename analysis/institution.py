@@ -60,6 +60,9 @@ _BUFFER, _MAX_LINE = 8 * 2 ** 20, 2 ** 20        # CSV read buffer; longest line
 _WS = "' \t\n\r\x0b\x0c\u00a0'"
 #: Repeated (respondent, item) pairs looked at to name the one met first in the file.
 _MAX_REPEATS = 1000
+#: Largest file read again (in Python, a few seconds) to give the rows of repeated ids in
+#: a note; beyond it the note gives how many rows each id is on.
+_MAX_REREAD = 64 * 2 ** 20
 
 
 @dataclass
@@ -667,6 +670,9 @@ def _repeated_ids(path: Path, gcols, idcol: str, repeats: list) -> "str | None":
         return None
     ng = len(gcols)
     first = {(_raw_key(r[:ng]), str(r[ng + 1])): [] for r in repeats[:3]}
+    if path.stat().st_size > _MAX_REREAD:      # too long to read again in Python: counts
+        return repeated_ids_note(str(path), idcol, list(gcols), len(repeats),
+                                 [(str(r[ng + 1]), int(r[ng + 3])) for r in repeats[:3]])
     for row, cells in _records(path, list(gcols) + [idcol]):
         key = (tuple(cells[:ng]), cells[ng].strip().lower())
         if key in first:
