@@ -255,6 +255,22 @@ def _usage_error(message: str) -> int:
     return 2
 
 
+def _standard(obj):
+    """``obj`` with every float that is not finite as None: JSON has no Infinity or NaN."""
+    if isinstance(obj, float):
+        return obj if math.isfinite(obj) else None
+    if isinstance(obj, dict):
+        return {k: _standard(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_standard(v) for v in obj]
+    return obj
+
+
+def _json(obj) -> str:
+    """Standard JSON text of ``obj`` (``allow_nan=False`` guards the rule)."""
+    return json.dumps(_standard(obj), indent=2, ensure_ascii=False, allow_nan=False)
+
+
 def _notes(data) -> None:
     for u in data.unknown_answers:
         sys.stderr.write(f"warning: {u.line(data.source)}\n")
@@ -294,11 +310,9 @@ def _cmd_summarize_by(args) -> int:
                        respondents=args.respondents, confidence_level=args.confidence,
                        method=args.ci)
     if args.table:
-        import pandas as pd
         from .export import write_table
-        write_table(pd.DataFrame(res.rows()), args.table)
-    print(json.dumps(res.to_dict(), indent=2, ensure_ascii=False) if args.json
-          else res.format_text(args.decimals))
+        write_table(res.to_frame(), args.table)
+    print(_json(res.to_dict()) if args.json else res.format_text(args.decimals))
     return 0
 
 
@@ -376,7 +390,7 @@ def _cmd_summarize(args) -> int:
     if args.json:
         out = summary.to_dict()
         out.update({k: v.to_dict() for k, v in extra.items()})
-        print(json.dumps(out, indent=2, ensure_ascii=False))
+        print(_json(out))
     else:
         print(summary.format_text(args.decimals, args.percent_method))
         if "groups" in extra:
@@ -395,8 +409,7 @@ def _cmd_claims(args) -> int:
     rep = evaluate_claims(claims, summarize(data, args.confidence, args.ci),
                           confidence_level=args.confidence, method=args.ci,
                           claims_file=args.claims)
-    print(json.dumps(rep.to_dict(), indent=2, ensure_ascii=False) if args.json
-          else rep.format_text())
+    print(_json(rep.to_dict()) if args.json else rep.format_text())
     return 0
 
 
@@ -416,8 +429,7 @@ def _cmd_verify(args) -> int:
         rng = tuple(args.n_range) if args.n_range else DEFAULT_N_RANGE
         check = verify_table(table, n_range=rng, rule=args.rule, decimals=args.decimals)
     if args.json:
-        print(json.dumps(check.to_full_dict() if args.full else check.to_dict(), indent=2,
-                         ensure_ascii=False))
+        print(_json(check.to_full_dict() if args.full else check.to_dict()))
     else:
         print(check.format_text())
     return 0

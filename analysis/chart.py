@@ -50,11 +50,18 @@ MAX_CHART_BARS = 200
 _NEG = ("#b2182b", "#d6604d", "#f4a582")      # strongest first
 _POS = ("#2166ac", "#4393c3", "#92c5de")
 _NEU = "#bdbdbd"
+#: Label lines (8 pt) one bar's row (0.55 in) holds; a longer label gets a taller row.
+_LINES_PER_ROW = 3
 
 
 def _plain(text: str) -> str:
-    """Text shown literally by matplotlib (no mathtext)."""
-    return str(text).replace("\\", "\\\\").replace("$", r"\$")
+    """Text shown literally by matplotlib (no mathtext).
+
+    Mathtext starts only at an unescaped ``$``; with every ``$`` escaped, matplotlib
+    draws ``\\$`` as ``$`` and leaves backslashes as they are (doubling them would
+    draw them doubled).
+    """
+    return str(text).replace("$", r"\$")
 
 
 def _colors(scale) -> dict:
@@ -84,18 +91,23 @@ def _validate_chart(summary, order):
                                f"{MAX_CHART_ITEMS} (choose some with --items)", summary.source)
 
 
-def _draw_bars(ax, bars, scale, wrap: int) -> None:
+def _draw_bars(ax, bars, scale, wrap: int) -> float:
     """Draw one diverging bar per (name, counts, n), top to bottom, with end totals.
 
     The disagreeing total is printed beyond the left end of each bar, the agreeing total
     beyond the right end (percent of valid answers, neutral not included in either).
-    One ``barh`` call per label, so the work grows with the bars only once.
+    One ``barh`` call per label, so the work grows with the bars only once. A bar whose
+    wrapped label takes more than three lines gets a row as tall as its label, so that
+    labels never overlap. Returns the height of the rows, in bars.
     """
+    names = ["\n".join(textwrap.wrap(_plain(name), wrap) or [""]) + f"\n(n = {n})"
+             for name, _, n in bars]
+    rows = np.array([max(1.0, (nm.count("\n") + 1) / _LINES_PER_ROW) for nm in names])
+    y = rows.sum() - (np.cumsum(rows) - rows / 2) - 0.5      # 0.5: as np.arange when all 1
     code = dict(zip(scale.labels, scale.codes))
     drawn = sorted(scale.labels, key=lambda lab: code[lab])     # left to right
     colors = _colors(scale)
     neutral, negative, positive = set(scale.neutral), set(scale.negative), set(scale.positive)
-    y = np.arange(len(bars))[::-1]
     pct = np.array([[100.0 * counts[lab] / n if n else 0.0 for lab in drawn]
                     for _, counts, n in bars]).reshape(len(bars), len(drawn))
     away = np.array([lab in negative for lab in drawn]) + 0.5 * np.array(
@@ -120,8 +132,6 @@ def _draw_bars(ax, bars, scale, wrap: int) -> None:
                     color=_NEG[0], fontweight="bold")
             ax.text(hi + 1.5, yi, f"{a}%", ha="left", va="center", fontsize=7,
                     color=_POS[0], fontweight="bold")
-    names = ["\n".join(textwrap.wrap(_plain(name), wrap) or [""]) + f"\n(n = {n})"
-             for name, _, n in bars]
     ax.set_yticks(y, names, fontsize=8)
     ax.axvline(0, color="black", linewidth=0.8)
     ax.set_xlim(-115, 115)
@@ -129,6 +139,7 @@ def _draw_bars(ax, bars, scale, wrap: int) -> None:
     ax.set_xticks(ticks, [f"{abs(t):.0f}%" for t in ticks], fontsize=8)
     for side in ("top", "right"):
         ax.spines[side].set_visible(False)
+    return float(rows.sum())
 
 
 def _legend(fig, scale, ncol_anchor) -> None:
@@ -164,7 +175,8 @@ def diverging_bar(summary: SurveySummary, order: str = "questionnaire",
         items.sort(key=lambda it: -(it.agree.share or 0.0))
     fig = Figure(figsize=(8.5, 1.6 + 0.55 * len(items)), layout="constrained")
     ax = fig.add_subplot()
-    _draw_bars(ax, [(it.item, it.counts, it.n) for it in items], summary.scale, wrap)
+    rows = _draw_bars(ax, [(it.item, it.counts, it.n) for it in items], summary.scale, wrap)
+    fig.set_size_inches(8.5, 1.6 + 0.55 * rows)      # taller rows for long labels
     centre = "neutral split across the centre; " if summary.scale.neutral else ""
     ax.set_xlabel(f"percent of valid answers ({centre}totals: disagree left, agree right)",
                   fontsize=8)

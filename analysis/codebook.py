@@ -146,6 +146,12 @@ def _from_toml(p: Path) -> Codebook:
             raise SurveyInputError(f"key {key!r}: unknown key; allowed: ['codes', 'columns']",
                                    str(p))
     codes = data.get("codes")
+    if isinstance(codes, dict) and "columns" in codes:   # columns = [...] under [codes]
+        if "columns" in data:
+            raise SurveyInputError("key 'columns': given twice (at the top and under "
+                                   "[codes]); give it once", str(p))
+        codes = dict(codes)
+        data = {**data, "columns": codes.pop("columns")}
     if not isinstance(codes, dict) or not codes or not all(
             isinstance(v, str) and v.strip() for v in codes.values()):
         raise SurveyInputError("key 'codes': must be a table of code = \"answer label\"", str(p))

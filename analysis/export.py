@@ -81,7 +81,8 @@ def write_table(frame, path: "str | Path") -> Path:
     ws.title = "summary"
     ws.append(list(safe.columns))
     for rec in safe.itertuples(index=False):
-        ws.append([None if (isinstance(v, float) and v != v) else v for v in rec])
+        ws.append([None if v is pd.NA or (isinstance(v, float) and v != v) else v
+                   for v in rec])
     # openpyxl would store "=..." text as a formula: neutralised cells start with "'"; mark
     # every text cell as a string so nothing is evaluated
     for row in ws.iter_rows():

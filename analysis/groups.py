@@ -52,7 +52,7 @@ from .disclosure import BLANK_GROUP, suppress_groups
 from .errors import SurveyInputError
 from .ingest import SurveyData
 from .likert import REVERSE_MARK, REVERSE_NOTE, REVERSED_STATISTICS
-from .scales import normalize_answer
+from .scales import group_names, normalize_answer
 
 __all__ = ["GroupInfo", "ItemComparison", "GroupComparison", "compare_groups", "cliffs_delta",
            "rank_biserial_paired"]
@@ -170,6 +170,7 @@ class GroupComparison:
     summaries: dict = field(default_factory=dict, repr=False)   # shown group -> SurveySummary
     paired_by: str = ""
     note: str = ""
+    pairing: str = ""            # how ids were paired, or why not (two groups with ids)
 
     @property
     def shown(self) -> list[str]:
@@ -178,7 +179,7 @@ class GroupComparison:
 
     def to_dict(self) -> dict:
         return {"column": self.column, "min_size": self.min_size, "paired_by": self.paired_by,
-                "note": self.note,
+                "note": self.note, "pairing": self.pairing,
                 "groups": [g.to_dict() for g in self.groups],
                 "items": [i.to_dict() for i in self.items]}
 
@@ -215,6 +216,8 @@ class GroupComparison:
                        + (f" -- suppressed: {g.reason}" if g.suppressed else ""))
         if self.note:
             out.append(f"  note: {self.note}")
+        if self.pairing:
+            out.append(f"  pairing: {self.pairing}")
         width = max([len(g) for g in self.shown] + [5])
         for j, it in enumerate(self.items):
             name = it.item + (REVERSE_MARK if it.reverse else "")
@@ -226,6 +229,8 @@ class GroupComparison:
                 out.append(f"  {name}: {it.test}{pairs} statistic {it.statistic:.4g}, "
                            f"p = {it.p_value:.4g}{holm}, {it.effect_name} = {it.effect:.3f}")
                 out.append(f"    direction: {it.direction}")
+                if it.note:
+                    out.append(f"    note: {it.note}")
             if it.trend:
                 out.append(f"    trend over {' -> '.join(it.trend['groups'])}: Spearman rho = "
                            f"{it.trend['rho']:.3f}, p = {it.trend['p_value']:.4g}")
@@ -265,20 +270,21 @@ def _group_values(texts: list[str], order, source):
     Spellings of one value ("Mon", " mon ") are one group, named by its commonest
     spelling; groups come in first-appearance order, or in ``order``.
     """
-    keys = [normalize_answer(t) for t in texts]
+    counts: dict[str, int] = {}
+    for t in texts:
+        counts[t] = counts.get(t, 0) + 1
+    named = group_names(counts)
+    keys = [named[t][0] for t in texts]
     first: dict[str, int] = {}
-    spelled: dict[str, dict] = {}
-    for i, (k, t) in enumerate(zip(keys, texts)):
+    for i, k in enumerate(keys):
         first.setdefault(k, i)
-        t = " ".join(t.split())
-        sp = spelled.setdefault(k, {})
-        sp[t] = sp.get(t, 0) + 1
+    name_of = {k: nm for k, nm in named.values()}
     ranked = sorted(first, key=first.get)
     if order:
         want = list(dict.fromkeys(normalize_answer(o) for o in order))   # a repeat once
         missing = [o for o in order if normalize_answer(o) not in first]
         if missing:
-            shown = [max(spelled[k], key=spelled[k].get) for k in ranked[:20]]
+            shown = [name_of[k] for k in ranked[:20]]
             more = f" and {len(ranked) - 20} more" if len(ranked) > 20 else ""
             raise SurveyInputError(f"--group-order names {missing[0]!r}, which is not a value of "
                                    f"the grouping column; values are {shown}{more}", source)
@@ -286,8 +292,7 @@ def _group_values(texts: list[str], order, source):
         ranked = want + [k for k in ranked if k not in wanted]
     index = {k: g for g, k in enumerate(ranked)}
     inverse = np.array([index[k] for k in keys], dtype=np.int64)
-    names = [BLANK_GROUP if k == "" else max(spelled[k], key=lambda t: (spelled[k][t], t))
-             for k in ranked]
+    names = [BLANK_GROUP if k == "" else name_of[k] for k in ranked]
     return inverse, names
 
 
@@ -329,7 +334,9 @@ def compare_groups(data: SurveyData, column: str, min_size: int = 5,
                            labels=list(data.scale.labels), note=withheld.note)
     for g in shown:
         comp.summaries[str(values[g])] = summarize(data.subset(members[g]))
-    pairs = _pairs(data, inverse, shown, min_size) if paired and len(shown) == 2 else None
+    pairs = None
+    if paired and len(shown) == 2:
+        pairs, comp.pairing = _pairs(data, inverse, shown, min_size, values)
     if pairs is not None:
         comp.paired_by = data.id_column
     scale = data.scale
@@ -381,23 +388,40 @@ def _per_group(it) -> dict:
             "mean": it.mean, "sd": it.sd}
 
 
-def _pairs(data, inverse, shown, min_size):
-    """(row index in first group, row index in second) of ids found once in each, or None."""
+def _pairs(data, inverse, shown, min_size, values):
+    """((row index in first group, row index in second) of ids found once in each, or
+    None; a note saying how the pairing went, "" when the survey has no ids)."""
     if data.ids is None:
-        return None
+        return None, ""
     ids = np.array([normalize_answer(str(x)) for x in data.ids], dtype=object)
-    idx = []
+    idx, twice, seen = [], [], []
     for g in shown:
         rows = np.flatnonzero((inverse == g) & (ids != ""))
         keys = ids[rows]
         uniq, cnt = np.unique(keys, return_counts=True)
         once = set(uniq[cnt == 1].tolist())
         idx.append({k: r for k, r in zip(keys, rows) if k in once})
+        seen.append(set(uniq.tolist()))
+        twice += [f"{str(data.ids[rows[keys == k][0]]).strip()!r} {int(c)} times in "
+                  f"{values[g]}" for k, c in zip(uniq, cnt) if c > 1]
     common = [k for k in idx[0] if k in idx[1]]
+    both = len(seen[0] & seen[1])
+    names = [str(values[g]) for g in shown]
+    parts = []
+    if twice:
+        parts.append(f"ids on more than one row of a group are not paired "
+                     f"({', '.join(twice[:3])}{' ...' if len(twice) > 3 else ''})")
     if len(common) < min_size:
-        return None
+        if both:
+            parts.append(f"{len(common)} ids answered once in both groups, fewer than "
+                         f"{min_size}: the groups are compared as independent samples, "
+                         f"though {both} id{'s are' if both != 1 else ' is'} in both")
+        return None, "; ".join(parts)
+    parts.append(f"{len(common)} ids answered once in both groups (of {len(idx[0])} in "
+                 f"{names[0]} and {len(idx[1])} in {names[1]}): the signed-rank test uses "
+                 f"these pairs only")
     return (np.array([idx[0][k] for k in common], dtype=np.int64),
-            np.array([idx[1][k] for k in common], dtype=np.int64))
+            np.array([idx[1][k] for k in common], dtype=np.int64)), "; ".join(parts)
 
 
 def _direction(first: str, second: str) -> str:
@@ -420,10 +444,18 @@ def _test_item(item, samples, names, per, codes, a, pairs, min_size) -> ItemComp
     allx = np.concatenate(usable)
     if np.all(allx == allx[0]):
         return ItemComparison(item, "none", None, None, "", None, per, "every answer is the same")
+    fallback = ""
     if pairs is not None:
         both = (a[pairs[0]] >= 0) & (a[pairs[1]] >= 0)
         pre, post = codes[a[pairs[0][both]]], codes[a[pairs[1][both]]]
-        if both.sum() >= min_size and np.any(post != pre):
+        if both.sum() >= min_size and not np.any(post != pre):
+            return ItemComparison(item, "none", None, None, "", None, per,
+                                  f"each of the {int(both.sum())} pairs gave the same answer "
+                                  f"both times: no change to test", pairs=int(both.sum()))
+        if both.sum() < min_size:
+            fallback = (f"{int(both.sum())} pairs answered this item in both groups, fewer "
+                        f"than {min_size}: compared as independent samples")
+        if both.sum() >= min_size:
             res = stats.wilcoxon(post, pre)       # two-sided: min(T+, T-), no sign
             return ItemComparison(item, "wilcoxon-signed-rank", float(res.statistic),
                                   float(res.pvalue), "rank_biserial_paired",
@@ -434,6 +466,7 @@ def _test_item(item, samples, names, per, codes, a, pairs, min_size) -> ItemComp
         res = stats.mannwhitneyu(second, first, alternative="two-sided")
         return ItemComparison(item, "mann-whitney", float(res.statistic), float(res.pvalue),
                               "cliffs_delta", cliffs_delta(second, first), per,
+                              note=fallback,
                               direction=_direction(*names) + f"; U is {names[1]}'s")
     res = stats.kruskal(*usable)
     n = allx.size

@@ -17,7 +17,10 @@ counted answer texts by :func:`analysis.ingest.choose_items_from_counts`, the ru
 ``read_survey``: so a term or a comments column is left out here as it is there, and
 listed among the ``not_items`` with the reason. In a long file a respondent of a group
 with no row for an item is missing on it (respondents per group are distinct
-respondent ids).
+respondent ids); ids and item names are trimmed and an answer given twice by one
+respondent is refused, as ``read_survey`` does. Spellings of a grouping value that differ
+only in case or spacing are one group, by the rule of ``--group``
+(:func:`analysis.scales.group_names`).
 
 Two columns named alike (ignoring case and spacing, as DuckDB does) are refused: DuckDB
 would rename the second ``Q1_1`` without a word.
@@ -39,9 +42,9 @@ from .disclosure import BLANK_GROUP, suppress_groups
 from .errors import SurveyInputError
 from .export import reversal_columns
 from .likert import (REVERSE_MARK, REVERSE_NOTE, _num, _validate_ci, absent_respondents,
-                     interval_label)
+                     interval_label, not_items_text)
 from .rounding import share_percent_text
-from .scales import Scale
+from .scales import Scale, group_names
 
 __all__ = ["GroupedSummary", "summarize_by", "DEFAULT_MEMORY_LIMIT"]
 
@@ -52,6 +55,14 @@ DEFAULT_MEMORY_LIMIT = "48MB"
 _RETRY_FACTORS = (1, 4, 16)
 _MAX_GROUP_COLUMNS = 8
 _BUFFER, _MAX_LINE = 8 * 2 ** 20, 2 ** 20        # CSV read buffer; longest line accepted
+#: White space trimmed from respondent ids and item names (as Python's ``str.strip``
+#: trims the common ones in ``read_survey``).
+_WS = "' \t\n\r\x0b\x0c\u00a0'"
+#: Repeated (respondent, item) pairs looked at to name the one met first in the file.
+_MAX_REPEATS = 1000
+#: Largest file read again (in Python, a few seconds) to give the rows of repeated ids in
+#: a note; beyond it the note gives how many rows each id is on.
+_MAX_REREAD = 64 * 2 ** 20
 
 
 @dataclass
@@ -160,6 +171,15 @@ class GroupedSummary:
                 out.append(rec)
         return out
 
+    def to_frame(self):
+        """:meth:`rows` as a pandas DataFrame; counts stay whole numbers (nullable ``Int64``,
+        blank in a suppressed group's row, where a float column would print ``36.0``)."""
+        import pandas as pd
+        frame = pd.DataFrame(self.rows())
+        counts = [c for c in frame.columns if c in ("respondents", "n", "missing", "excluded")
+                  or str(c).endswith(" (count)")]
+        return frame.astype({c: "Int64" for c in counts})
+
     def to_dict(self) -> dict:
         return {"source": self.source, "by": list(self.by), "shape": self.shape,
                 "scale": self.scale.name, "min_group": self.min_group,
@@ -202,8 +222,7 @@ class GroupedSummary:
                            f"n/a={it.excluded} counts [{dist}] agree {agree} {stats}")
         out.append("counts in scale order: " + ", ".join(labels))
         if self.not_items:
-            out.append("not items (left out of the table): " + ", ".join(
-                f"{name} ({why})" for name, why in self.not_items.items()))
+            out.append(not_items_text(self.not_items))
         if self.reverse:
             out.append(REVERSE_NOTE)
         out.extend(f"note: {n}" for n in self._all_notes())
@@ -361,8 +380,12 @@ def _count(p, by, scale, items, min_group, memory_limit, threads) -> GroupedSumm
         except duckdb.OutOfMemoryException:
             raise
         except duckdb.Error as e:
+            bad = _not_utf8(p)
+            if bad is not None:
+                raise SurveyInputError(bad[1], str(p), bad[0]) from None
             raise SurveyInputError(f"cannot read as CSV/Parquet ({str(e).splitlines()[0]})",
                                    str(p)) from None
+        _refuse_header_rows(con, src, p, header)
         why = platforms.repeated_column(_given_header(con, p, header))
         if why:                     # DuckDB renames a repeated Q1 to Q1_1 (and q1 too)
             raise SurveyInputError(why, str(p))
@@ -376,10 +399,10 @@ def _count(p, by, scale, items, min_group, memory_limit, threads) -> GroupedSumm
         ri, ii, ai = (platforms.find_column(header, platforms.LONG_RESP),
                       platforms.find_column(header, platforms.LONG_ITEM),
                       platforms.find_column(header, platforms.LONG_ANSWER))
-        left_out = {}
+        left_out, idcol = {}, None
         if None not in (ri, ii, ai):
             shape = "long"
-            rows = _count_long(con, src, gcols, header[ri], header[ii], header[ai])
+            rows = _count_long(con, src, gcols, header[ri], header[ii], header[ai], p)
         else:
             shape = "wide"
             idcols = {header[j] for j in range(len(header)) if platforms.find_column(
@@ -389,11 +412,17 @@ def _count(p, by, scale, items, min_group, memory_limit, threads) -> GroupedSumm
                 from .platforms import name_matches
                 cand = [h for h in cand if any(name_matches(pat, h) for pat in items)]
             left_out = {h: ("grouping column" if h in gcols else
-                            "respondent id column" if h in idcols else "not named by --items")
+                            "an identifier column" if h in idcols else "not named by --items")
                         for h in header if h not in cand}
             if not cand:
                 raise SurveyInputError("no item columns to count", str(p), 1)
-            rows = _count_wide(con, src, gcols, cand)
+            from .ingest import person_id_column
+            pid = person_id_column(header)
+            idcol = header[pid] if pid is not None and header[pid] not in gcols else None
+            rows = _count_wide(con, src, gcols, cand, idcol)
+            repeats = [r for r in rows if r[len(gcols) + 2] == 2]
+            rows = _merge_spellings([r for r in rows if r[len(gcols) + 2] == 0],
+                                    len(gcols), cand[0])
     except duckdb.OutOfMemoryException:
         raise
     except duckdb.Error as e:
@@ -401,39 +430,272 @@ def _count(p, by, scale, items, min_group, memory_limit, threads) -> GroupedSumm
     finally:
         con.close()
         spill.cleanup()
+    locate = _locator(p, None if shape == "wide" else (header[ii], header[ai]))
     res = _assemble(str(p), gcols, shape, rows, scale, items, min_group,
-                    cand if shape == "wide" else None)
+                    cand if shape == "wide" else None, locate)
+    if shape == "wide" and idcol is not None:
+        note = _repeated_ids(p, gcols, idcol, repeats)
+        res.notes += [note] if note else []
     if shape == "wide":                            # in the file's column order
         res.not_items = {h: left_out.get(h) or res.not_items[h] for h in header
                          if h in left_out or h in res.not_items}
     return res
 
 
-def _count_long(con, src, gcols, resp, item, answer):
-    """One scan: answers per (groups, item, answer) and distinct respondents per group."""
+def _locator(path: Path, long_columns: "tuple[str, str] | None"):
+    """``locate(item, text) -> (row, column)`` of the first row giving answer ``text`` to
+    ``item``: a wide file's item column, or a long file's (item, answer) columns."""
+    if long_columns is None:
+        return lambda item, text: (_find_row(path, [(item, text, False)]), item)
+    item_col, answer_col = long_columns
+    return lambda item, text: (_find_row(path, [(answer_col, text, False),
+                                                (item_col, item, True)]), answer_col)
+
+
+def _count_long(con, src, gcols, resp, item, answer, path: Path):
+    """One scan: answers per (groups, item, answer) and distinct respondents per group.
+
+    Respondent ids and item names count trimmed, as ``read_survey`` reads them; a
+    respondent answering one item twice is refused as there. The scan's third grouping
+    set is a 64-bit hash of each (respondent, item) pair, of which only repeated hashes
+    are kept; a repeat is then confirmed on the pair itself (a collision is no error),
+    and pairs that repeat only once trimmed are looked for when a padded id or item
+    name exists. Spellings of one grouping value are one group
+    (:func:`analysis.scales.group_names`).
+    """
     g = ", ".join(_quote(c) for c in gcols)
+    r, i, a = _quote(resp), _quote(item), _quote(answer)
+    con.execute(f"""
+        CREATE TEMP TABLE agg AS SELECT * FROM (
+            SELECT {g}, {i} AS __item, {a} AS __answer, {r} AS __resp, __h,
+                   GROUPING({i}) AS __gi, GROUPING({r}) AS __gr, count(*) AS __c
+            FROM (SELECT *, hash({r}, {i}) AS __h FROM {src})
+            GROUP BY GROUPING SETS (({g}, {i}, {a}), ({g}, {r}), (__h)))
+        WHERE NOT (__gi = 1 AND __gr = 1 AND __c = 1)""")
+    for col, what, where in ((resp, "blank respondent id", "__gi = 1 AND __gr = 0 AND "
+                              f"coalesce(trim(__resp, {_WS}), '') = ''"),
+                             (item, "blank item name", "__gi = 0 AND __gr = 1 AND "
+                              f"coalesce(trim(__item, {_WS}), '') = ''")):
+        if con.execute(f"SELECT 1 FROM agg WHERE {where} LIMIT 1").fetchone():
+            raise SurveyInputError(what, str(path), _find_row(path, [(col, "", True)]), col)
+    _refuse_repeated_pairs(con, src, path, resp, item, answer)
+    spelled = con.execute(f"SELECT {g}, count(*) FROM agg WHERE __gi = 1 AND __gr = 0 "
+                          f"GROUP BY ALL").fetchall()
+    named = _group_map({_raw_key(row[:-1]): row[-1] for row in spelled})
+    ng = len(gcols)
+    con.execute("CREATE TEMP TABLE gmap AS SELECT * FROM (VALUES " + ", ".join(
+        "(" + ", ".join(_literal(v) for v in raw + name) + ")" for raw, name in named.items())
+        + ") AS t(" + ", ".join([f"r{j}" for j in range(ng)] + [f"n{j}" for j in range(ng)])
+        + ")")
+    on = " AND ".join(f"coalesce(agg.{_quote(c)}, '') = gmap.r{j}" for j, c in enumerate(gcols))
+    names = ", ".join(f"gmap.n{j}" for j in range(ng))
+    rows = con.execute(f"""
+        SELECT {names}, __item, __answer, 0, sum(__c) FROM agg JOIN gmap ON {on}
+            WHERE __gi = 0 AND __gr = 1 GROUP BY ALL
+        UNION ALL
+        SELECT {names}, NULL, NULL, 1, count(DISTINCT trim(__resp, {_WS})) FROM agg
+            JOIN gmap ON {on} WHERE __gi = 1 AND __gr = 0 GROUP BY ALL""").fetchall()
+    merged: dict = {}                 # item names trimmed (few rows: in Python, by strip)
+    for row in rows:
+        key = row[:ng] + (None if row[ng] is None else str(row[ng]).strip(),) + row[ng + 1:-1]
+        merged[key] = merged.get(key, 0) + row[-1]
+    return [k + (c,) for k, c in merged.items()]
+
+
+def _refuse_repeated_pairs(con, src, path: Path, resp: str, item: str, answer: str) -> None:
+    """Raise naming the (respondent, item) pair given twice whose second row comes first,
+    if any (as ``read_survey`` names it)."""
+    r, i = _quote(resp), _quote(item)
+    hashes = [h for (h,) in con.execute("SELECT __h FROM agg WHERE __gi = 1 AND __gr = 1 "
+                                        f"LIMIT {_MAX_REPEATS}").fetchall()]
+    pairs = []
+    if hashes:                                        # confirmed on the pairs themselves
+        pairs = con.execute(f"SELECT {r}, {i} FROM {src} WHERE hash({r}, {i}) IN "
+                            f"({', '.join(['?'] * len(hashes))}) GROUP BY ALL "
+                            f"HAVING count(*) > 1", hashes).fetchall()
+    if not pairs and con.execute(
+            f"SELECT 1 FROM agg WHERE (__gi = 1 AND __gr = 0 AND __resp <> trim(__resp, {_WS})) "
+            f"OR (__gi = 0 AND __gr = 1 AND __item <> trim(__item, {_WS})) LIMIT 1").fetchone():
+        pairs = con.execute(f"SELECT trim({r}, {_WS}), trim({i}, {_WS}) FROM {src} GROUP BY ALL "
+                            f"HAVING count(*) > 1 LIMIT {_MAX_REPEATS}").fetchall()
+    if pairs:
+        pair, row = _earliest_repeat(path, resp, item, {
+            tuple("" if v is None else str(v).strip() for v in p) for p in pairs})
+        raise SurveyInputError(f"respondent {pair[0]!r} answers item {pair[1]!r} twice",
+                               str(path), row, answer)
+
+
+def _not_utf8(path: Path) -> "tuple[int, str] | None":
+    """(row, why) when a CSV file is not UTF-8 text, the only encoding --by reads; None
+    when it is (or is Parquet). Read in blocks, on the error path only."""
+    if path.suffix.lower() == ".parquet":
+        return None
+    fix = ("--by reads UTF-8 only: save the file as CSV UTF-8, or summarize it without "
+           "--by (which reads Windows-1252 and takes --encoding)")
+    with open(path, "rb") as f:
+        head = f.read(4)
+        if head[:2] in (b"\xff\xfe", b"\xfe\xff") or b"\x00" in head:
+            return 1, f"UTF-16 text (byte-order mark or NUL bytes); {fix}"
+        f.seek(0)
+        carry, offset, row = b"", 0, 1          # offset: of ``carry`` in the file
+        while True:
+            block = f.read(1 << 20)
+            data = carry + block
+            try:
+                data.decode("utf-8")
+                carry = b""
+            except UnicodeDecodeError as e:
+                if block and e.reason == "unexpected end of data":
+                    carry = data[e.start:]      # a character split across two blocks
+                    data = data[:e.start]
+                else:
+                    row += data[:e.start].count(b"\n")
+                    return row, (f"byte 0x{data[e.start]:02x} at offset {offset + e.start} "
+                                 f"is not UTF-8; {fix}")
+            if not block:
+                return None
+            offset += len(data)
+            row += data.count(b"\n")
+
+
+def _refuse_header_rows(con, src: str, path: Path, header: list[str]) -> None:
+    """Refuse an export with header rows below the first (Qualtrics' question text and
+    import ids, SurveyMonkey's statements): DuckDB would count them as answers."""
+    first = [["" if v is None else str(v) for v in r]
+             for r in con.execute(f"SELECT * FROM {src} LIMIT 3").fetchall()]
+    peek = [header] + first
+    shape = platforms.detect(header, peek)
+    extra = platforms.header_rows(shape, header, peek) if shape else 0
+    if extra:
+        rows = "rows 2-3 are header rows" if extra == 2 else "row 2 is a header row"
+        name = {"qualtrics": "Qualtrics", "surveymonkey": "SurveyMonkey"}.get(shape, shape)
+        raise SurveyInputError(
+            f"a {name} export: {rows} (statement texts), not answers; --by "
+            f"counts files with one header row: summarize the export without --by, or "
+            f"delete the rows below the first header row", str(path), 2)
+
+
+def _literal(v: str) -> str:
+    return "'" + str(v).replace("'", "''") + "'"
+
+
+def _raw_key(values) -> tuple:
+    return tuple("" if v is None else str(v) for v in values)
+
+
+def _group_map(spelled: dict) -> dict:
+    """``{raw grouping values: group name values}``, by the one rule of ``--group``."""
+    return {raw: name for raw, (_key, name) in group_names(spelled).items()}
+
+
+def _records(path: Path, columns: list[str]):
+    """``(spreadsheet row, cell texts of columns)`` of every data row, in file order (the
+    header is row 1); nothing when a column cannot be found. The file is read again:
+    for error messages only."""
+    import duckdb
+    con = duckdb.connect()
+    try:
+        if path.suffix.lower() == ".parquet":
+            cur = con.execute(f"SELECT file_row_number, {', '.join(map(_quote, columns))} FROM "
+                              f"read_parquet({_literal(path)}, file_row_number = true) "
+                              f"ORDER BY file_row_number")
+            while batch := cur.fetchmany(10_000):
+                for rec in batch:
+                    yield int(rec[0]) + 2, tuple("" if v is None else str(v) for v in rec[1:])
+            return
+        sep = con.execute(f"SELECT Delimiter FROM sniff_csv({_literal(path)})").fetchone()[0]
+    except duckdb.Error:
+        return
+    finally:
+        con.close()
+    import csv
+    with open(path, encoding="utf-8", errors="replace", newline="") as f:
+        reader = csv.reader(f, delimiter=sep or ",")
+        header = next(reader, [])
+        if any(c not in header for c in columns):
+            return
+        idx = [header.index(c) for c in columns]
+        for row, rec in enumerate(reader, start=2):
+            yield row, tuple(rec[j] if j < len(rec) else "" for j in idx)
+
+
+def _find_row(path: Path, tests: list) -> "int | None":
+    """Spreadsheet row of the first row where every ``(column, value, trimmed)`` test holds
+    (the cell, trimmed when ``trimmed``, equals ``value``); None when not found."""
+    for row, cells in _records(path, [c for c, _, _ in tests]):
+        if all((x.strip() if t else x) == v for x, (_, v, t) in zip(cells, tests)):
+            return row
+    return None
+
+
+def _earliest_repeat(path: Path, resp: str, item: str, pairs: set):
+    """(pair, row) of the (respondent, item) pair among ``pairs`` whose second row comes
+    first in the file, both trimmed; the in-memory route names the same one."""
+    seen: set = set()
+    for row, (who, what) in _records(path, [resp, item]):
+        key = (who.strip(), what.strip())
+        if key in pairs:
+            if key in seen:
+                return key, row
+            seen.add(key)
+    return min(pairs), None
+
+
+def _count_wide(con, src, gcols, cand, idcol=None):
+    """Answers per (groups, item, answer) in one scan; with ``idcol``, also the ids
+    (trimmed, lower case) found on more than one row of a group, as rows of kind 2."""
+    g = ", ".join(_quote(c) for c in gcols)
+    cols = [_quote(c) for c in cand]
+    names = [_literal(c) for c in cand]
+    kinds = ["0"] * len(cand)
+    if idcol is not None:
+        cols.append(f"lower(trim({_quote(idcol)}, {_WS}))")
+        names.append(_literal(idcol))
+        kinds.append("2")
+    # lists unnested side by side: one row per (respondent, item), blank answers kept
     sql = f"""
-        WITH agg AS (
-            SELECT {g}, {_quote(item)} AS item, {_quote(answer)} AS answer,
-                   {_quote(resp)} AS resp, GROUPING({_quote(item)}) AS by_resp,
-                   count(*) AS c
-            FROM {src}
-            GROUP BY GROUPING SETS (({g}, {_quote(item)}, {_quote(answer)}), ({g}, {_quote(resp)})))
-        SELECT {g}, item, answer, by_resp, CASE WHEN by_resp = 1 THEN count(*) ELSE sum(c) END
-        FROM agg GROUP BY {g}, item, answer, by_resp"""
+        SELECT {g}, item, answer, kind, count(*) FROM (
+            SELECT {g}, unnest([{', '.join(names)}]) AS item,
+                   unnest([{', '.join(cols)}]) AS answer, unnest([{', '.join(kinds)}]) AS kind
+            FROM {src})
+        GROUP BY ALL HAVING kind = 0 OR (count(*) > 1 AND coalesce(answer, '') <> '')"""
     return con.execute(sql).fetchall()
 
 
-def _count_wide(con, src, gcols, cand):
-    g = ", ".join(_quote(c) for c in gcols)
-    cols = ", ".join(_quote(c) for c in cand)
-    names = ", ".join("'" + c.replace("'", "''") + "'" for c in cand)
-    # two lists unnested side by side: one row per (respondent, item), blank answers kept
-    sql = f"""
-        SELECT {g}, item, answer, 0 AS by_resp, count(*) FROM (
-            SELECT {g}, unnest([{names}]) AS item, unnest([{cols}]) AS answer FROM {src})
-        GROUP BY ALL"""
-    return con.execute(sql).fetchall()
+def _repeated_ids(path: Path, gcols, idcol: str, repeats: list) -> "str | None":
+    """The note of :func:`analysis.ingest.repeated_ids_note` on the kind-2 rows of
+    :func:`_count_wide`, the rows of the first three ids found by reading the file again."""
+    from .ingest import repeated_ids_note
+    if not repeats:
+        return None
+    ng = len(gcols)
+    first = {(_raw_key(r[:ng]), str(r[ng + 1])): [] for r in repeats[:3]}
+    if path.stat().st_size > _MAX_REREAD:      # too long to read again in Python: counts
+        return repeated_ids_note(str(path), idcol, list(gcols), len(repeats),
+                                 [(str(r[ng + 1]), int(r[ng + 3])) for r in repeats[:3]])
+    for row, cells in _records(path, list(gcols) + [idcol]):
+        key = (tuple(cells[:ng]), cells[ng].strip().lower())
+        if key in first:
+            first[key].append(row)
+    return repeated_ids_note(str(path), idcol, list(gcols), len(repeats),
+                             [(k[1], rows) for k, rows in first.items()])
+
+
+def _merge_spellings(rows, ng: int, first_item) -> list:
+    """Wide rows (a row per respondent) with the spellings of a grouping value merged
+    (:func:`analysis.scales.group_names`); respondents per spelling are the answers to
+    the first item column."""
+    spelled: dict = {}
+    for r in rows:
+        if r[ng] == first_item:
+            k = _raw_key(r[:ng])
+            spelled[k] = spelled.get(k, 0) + r[ng + 3]
+    named = _group_map(spelled)
+    merged: dict = {}
+    for r in rows:
+        k = named[_raw_key(r[:ng])] + tuple(r[ng:ng + 3])
+        merged[k] = merged.get(k, 0) + r[ng + 3]
+    return [k + (c,) for k, c in merged.items()]
 
 
 def _answer_counts(rows, ng: int, wide_items) -> list:
@@ -450,9 +712,10 @@ def _answer_counts(rows, ng: int, wide_items) -> list:
 
 
 def _assemble(source, gcols, shape, rows, scale, items, min_group,
-              wide_items=None) -> GroupedSummary:
+              wide_items=None, locate=None) -> GroupedSummary:
     """Tallies from the aggregated rows: items and scale chosen by the in-memory rule
-    (:func:`analysis.ingest.choose_items_from_counts`), texts matched, groups indexed."""
+    (:func:`analysis.ingest.choose_items_from_counts`), texts matched, groups indexed.
+    ``locate(item, text)`` gives the (row, column) an unknown answer is named by."""
     from .ingest import choose_items_from_counts
     ng = len(gcols)
     counted = _answer_counts(rows, ng, wide_items)
@@ -469,8 +732,10 @@ def _assemble(source, gcols, shape, rows, scale, items, min_group,
     for t in texts:
         m = scale_obj.match(t)
         if m is None:
+            item = next(n for n, tx in counted if n in index_item and t in tx)
+            row, column = locate(item, t) if locate else (None, None)
             raise SurveyInputError(f"answer {t!r} is not on scale {scale_obj.name!r}; valid "
-                                   f"labels: {scale_obj.describe_valid()}", source)
+                                   f"labels: {scale_obj.describe_valid()}", source, row, column)
         lut[t] = m + 3
     for r in rows:
         g = index_group[tuple("" if v is None else str(v) for v in r[:ng])]

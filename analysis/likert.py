@@ -258,6 +258,7 @@ class ItemSummary:
     reverse: bool = False
     unknown: int = 0
     stem: str = ""
+    field: str = ""              # the export's field id (Q1_4), also naming the item
 
     @property
     def iqr(self) -> float | None:
@@ -347,6 +348,7 @@ class SurveySummary:
     ci_method: str = "wilson"
     confidence_level: float = 0.95
     other_columns: list = field(default_factory=list)
+    not_item_reasons: dict = field(default_factory=dict)
 
     def item(self, name: "str | int") -> ItemSummary:
         """An item by header (any case) or 1-based position."""
@@ -357,6 +359,9 @@ class SurveySummary:
         key = str(name).strip().casefold()
         for it in self.items:
             if it.item.strip().casefold() == key:
+                return it
+        for it in self.items:               # else by its export field id, as --items
+            if it.field and it.field.strip().casefold() == key:
                 return it
         raise KeyError(f"no item {name!r}; items are {[i.item for i in self.items]}")
 
@@ -400,7 +405,9 @@ class SurveySummary:
         width = max([len(_name(i)) for i in self.items] + [4])
         cw = max([len(lab) for lab in labels] + [14])
         head = f"{'item':<{width}}  " + "  ".join(f"{lab:>{cw}}" for lab in labels)
-        out.append(head + f"  {'n':>5} {'miss':>5} {'n/a':>5}  {'median':>6} {'IQR':>5} "
+        # count columns as wide as the largest count (10 million respondents: 8 digits)
+        nw = max([5] + [len(str(v)) for i in self.items for v in (i.n, i.missing, i.excluded)])
+        out.append(head + f"  {'n':>{nw}} {'miss':>{nw}} {'n/a':>{nw}}  {'median':>6} {'IQR':>5} "
                    f"{'mean':>5} {'SD':>5}  agree "
                    f"[{interval_label(self.confidence_level, self.ci_method)}]")
         stem = ""
@@ -415,8 +422,8 @@ class SurveySummary:
             agree = ("-" if ag.share is None else
                      f"{ag.percent_text(decimals)}% [{share_percent_text(ag.ci[0], decimals)}%, "
                      f"{share_percent_text(ag.ci[1], decimals)}%]")
-            out.append(f"{_name(it):<{width}}  {cells}  {it.n:>5} {it.missing:>5} "
-                       f"{it.excluded:>5}  {_num(it.median):>6} {_num(it.iqr):>5} "
+            out.append(f"{_name(it):<{width}}  {cells}  {it.n:>{nw}} {it.missing:>{nw}} "
+                       f"{it.excluded:>{nw}}  {_num(it.median):>6} {_num(it.iqr):>5} "
                        f"{_num(it.mean, 2):>5} {_num(it.sd, 2):>5}  {agree}")
         if any(it.reverse for it in self.items):
             out.append(REVERSE_NOTE)
@@ -425,8 +432,16 @@ class SurveySummary:
         for d in self.dropped:
             out.append(f"dropped row {d.row}: {d.reason}")
         if self.other_columns:
-            out.append("not items (left out of the table): " + ", ".join(self.other_columns))
+            out.append(not_items_text({c: self.not_item_reasons.get(c, "")
+                                       for c in self.other_columns}))
         return "\n".join(out)
+
+
+def not_items_text(reasons: dict) -> str:
+    """The line listing the columns left out of the table, each with its reason (both
+    routes)."""
+    return "not items (left out of the table): " + ", ".join(
+        f"{name} ({why})" if why else name for name, why in reasons.items())
 
 
 def _name(it: ItemSummary) -> str:
@@ -472,11 +487,13 @@ def summarize(data: SurveyData, confidence_level: float = 0.95,
             tally, scale, name, text=data.item_texts[j], respondents=data.respondents,
             reverse=name in data.reverse, stem=data.stems[j] if j < len(data.stems) else "",
             confidence_level=confidence_level, method=method))
+        out[-1].field = data.fields[j] if j < len(data.fields) else ""
     return SurveySummary(respondents=data.respondents, items=out, scale=scale,
                          source=data.source, shape=data.shape,
                          unknown_answers=list(data.unknown_answers), dropped=list(data.dropped),
                          ci_method=method, confidence_level=confidence_level,
-                         other_columns=list(data.other_columns))
+                         other_columns=list(data.other_columns),
+                         not_item_reasons=dict(data.not_item_reasons))
 
 
 def _tally(col: np.ndarray, k: int) -> np.ndarray:

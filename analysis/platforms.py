@@ -36,7 +36,7 @@ import re
 
 __all__ = ["PLATFORMS", "SHAPES", "META", "detect", "header_rows", "signature_missing", "split_stem",
            "candidate", "is_blank_header", "header_row_missing",
-           "name_matches", "resolve_reverse", "find_column", "repeated_column"]
+           "name_matches", "item_matches", "resolve_reverse", "find_column", "repeated_column"]
 
 #: How to supply a code map, for messages.
 CODES_HINT = ("give the survey definition with --codes FILE.qsf (Qualtrics) or FILE.lss "
@@ -113,7 +113,14 @@ def name_matches(pattern: str, name: str) -> bool:
     return re.fullmatch(rx, normalize_answer(name), re.S) is not None
 
 
-def resolve_reverse(source, names, reverse) -> set:
+def item_matches(pattern: str, name: str, field: "str | None" = "") -> bool:
+    """An item is named by its name (a statement text) or by its export field id
+    (``Q1_4``), either as a name or as a pattern (:func:`name_matches`): the one rule of
+    ``--items``, ``--reverse``, ``--reliability`` and claims."""
+    return name_matches(pattern, name) or bool(field) and name_matches(pattern, field)
+
+
+def resolve_reverse(source, names, reverse, fields=None) -> set:
     """The items named reverse-keyed (``--reverse``): names or patterns matched to ``names``.
 
     Parameters
@@ -123,7 +130,9 @@ def resolve_reverse(source, names, reverse) -> set:
     names : list of str
         The survey's items.
     reverse : str, list of str or None
-        Names or ``*``/``?`` patterns.
+        Names or ``*``/``?`` patterns (of names or export field ids).
+    fields : list of str, optional
+        Each item's export field id (``Q1_4``), when it has one.
 
     Raises
     ------
@@ -133,7 +142,8 @@ def resolve_reverse(source, names, reverse) -> set:
     from .errors import SurveyInputError
     out = set()
     for pat in ([reverse] if isinstance(reverse, str) else list(reverse or [])):
-        hits = [n for n in names if name_matches(pat, n)]
+        hits = [n for j, n in enumerate(names)
+                if item_matches(pat, n, fields[j] if fields and j < len(fields) else "")]
         if not hits:
             raise SurveyInputError(f"reverse-keyed item {pat!r} is not an item; items are "
                                    f"{list(names)!r}", source)
@@ -147,6 +157,12 @@ def is_blank_header(h: str) -> bool:
 
 
 _CANVAS_POINTS = re.compile(r"^\s*\d+(\.\d+)?\s*$")
+
+
+def points_column(shape: str, given: str) -> bool:
+    """A Canvas quiz export's points column (header ``1.0`` after each question): never
+    an item, and repeated by design."""
+    return shape == "canvas" and bool(_CANVAS_POINTS.match(given))
 
 
 def repeated_column(header: list[str], shape: "str | None" = None) -> "str | None":
@@ -163,7 +179,7 @@ def repeated_column(header: list[str], shape: "str | None" = None) -> "str | Non
     from .scales import normalize_answer
     where: dict[str, list[int]] = {}
     for j, h in enumerate(header):
-        if not h.strip() or (shape == "canvas" and _CANVAS_POINTS.match(h)):
+        if not h.strip() or points_column(shape, h):
             continue
         where.setdefault(normalize_answer(h), []).append(j)
     repeated = [js for js in where.values() if len(js) > 1]

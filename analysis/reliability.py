@@ -35,7 +35,8 @@ import numpy as np
 from scipy import stats
 
 from .errors import SurveyInputError
-from .ingest import SurveyData, name_matches
+from .ingest import SurveyData
+from .platforms import item_matches
 from .respondents import PAIRING_UNKNOWN
 
 __all__ = ["ReliabilityResult", "cronbach_alpha", "cronbach_alpha_for"]
@@ -149,7 +150,8 @@ def cronbach_alpha_for(data: SurveyData, items=None,
     if items:
         idx = []
         for pat in items:
-            hits = [j for j, nm in enumerate(data.items) if name_matches(pat, nm)]
+            hits = [j for j, nm in enumerate(data.items) if item_matches(
+                pat, nm, data.fields[j] if j < len(data.fields) else "")]
             if not hits:
                 raise SurveyInputError(f"reliability item {pat!r} is not an item; items are "
                                        f"{data.items!r}", data.source)

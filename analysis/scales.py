@@ -70,6 +70,41 @@ def normalize_answer(text: str) -> str:
     return _SPACE.sub(" ", str(text).strip()).casefold()
 
 
+def group_names(spellings: dict) -> dict:
+    """The group each spelling of a grouping value belongs to, named once for both routes.
+
+    Spellings of one value ("Sec 1", "sec 1 ") are one group: they match as answers do
+    (:func:`normalize_answer`). The group is named by its commonest spelling (inner white
+    space collapsed), ties broken by the larger text.
+
+    Parameters
+    ----------
+    spellings : dict
+        Respondents per spelling; a spelling is a text or a tuple of texts (one per
+        grouping column, matched column by column).
+
+    Returns
+    -------
+    dict
+        ``{spelling: (key, name)}``: the normalised key and the group's name, both of the
+        spelling's type.
+    """
+    def key(sp):
+        return (tuple(normalize_answer(v) for v in sp) if isinstance(sp, tuple)
+                else normalize_answer(sp))
+
+    def tidy(sp):
+        return (tuple(" ".join(v.split()) for v in sp) if isinstance(sp, tuple)
+                else " ".join(sp.split()))
+
+    tally: dict = {}
+    for sp, n in spellings.items():
+        per = tally.setdefault(key(sp), {})
+        per[tidy(sp)] = per.get(tidy(sp), 0) + n
+    name = {k: max(per, key=lambda t: (per[t], t)) for k, per in tally.items()}
+    return {sp: (key(sp), name[key(sp)]) for sp in spellings}
+
+
 def _code_key(text: str) -> str | None:
     """Canonical form of a numeric answer (``"5"``, ``"5.0"``, ``" 5 "`` -> ``"5"``)."""
     t = str(text).strip()
@@ -246,6 +281,20 @@ def _finite(x) -> bool:
         return False
 
 
+#: Largest magnitude of a scale code. Means and SDs sum codes (squared) over up to
+#: 10 million answers: with codes up to 1e6 the sums stay far below float's range and
+#: keep 1e-6 relative precision; a Likert code is a small number in any real scale.
+MAX_CODE = 1e6
+
+
+def _bad_code(codes) -> "int | None":
+    """0-based index of the first code that is not a finite number within ``MAX_CODE``."""
+    for i, c in enumerate(codes):
+        if not _finite(c) or abs(c) > MAX_CODE:
+            return i
+    return None
+
+
 def _validate_scale(s: Scale) -> None:
     where = f"scale {s.name!r}"
     if not isinstance(s.name, str) or not s.name.strip():
@@ -256,8 +305,9 @@ def _validate_scale(s: Scale) -> None:
         raise ValueError(f"{where}: {len(s.labels)} labels; at most {MAX_LABELS}")
     if len(s.codes) != len(s.labels):
         raise ValueError(f"{where}: {len(s.codes)} codes for {len(s.labels)} labels")
-    if not all(_finite(c) for c in s.codes):     # nan would match nothing and count nothing
-        raise ValueError(f"{where}: codes must be finite numbers, got {list(s.codes)!r}")
+    if _bad_code(s.codes) is not None:    # nan would match nothing; 1e308 overflows a mean
+        raise ValueError(f"{where}: codes must be finite numbers within +-{MAX_CODE:g}, got "
+                         f"{list(s.codes)!r}")
     keys = [normalize_answer(x) for x in s.labels]
     if len(set(keys)) != len(keys) or "" in keys:
         raise ValueError(f"{where}: labels must be distinct and non-blank (ignoring case), "
@@ -375,10 +425,10 @@ def load_scale(path: "str | Path") -> Scale:
     if (not isinstance(codes, list) or len(codes) != k
             or not all(isinstance(c, (int, float)) and not isinstance(c, bool) for c in codes)):
         raise SurveyInputError(f"key 'codes': must be a list of {k} numbers", str(p))
-    bad = [i for i, c in enumerate(codes) if not _finite(c)]
-    if bad:
-        raise SurveyInputError(f"key 'codes': must be finite numbers; code {bad[0] + 1} "
-                               f"is not", str(p))
+    bad = _bad_code(codes)
+    if bad is not None:
+        raise SurveyInputError(f"key 'codes': must be finite numbers within +-{MAX_CODE:g}; "
+                               f"code {bad + 1} is {codes[bad]!r}", str(p))
     mid = (min(codes) + max(codes)) / 2 if codes else 0
     default_pos = [lab for lab, c in zip(labels, codes) if c > mid]
     default_neg = [lab for lab, c in zip(labels, codes) if c < mid]

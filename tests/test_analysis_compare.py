@@ -330,3 +330,82 @@ def test_effect_sizes_point_the_same_way_with_and_without_ids(tmp_path, capsys):
                  "-o", str(html)]) == 0
     text = html.read_text()
     assert "rank_biserial_paired = 0.467" in text and "Post vs Pre: positive when Post" in text
+
+
+def _prepost(tmp_path, pre, post):
+    """A pre/post file: ``pre`` and ``post`` are lists of (student id, Q1 answer)."""
+    f = tmp_path / "pp.csv"
+    rows = [["student_id", "Term", "Q1"]] + [[s, "Pre", a] for s, a in pre] + \
+        [[s, "Post", a] for s, a in post]
+    with open(f, "w", newline="") as fh:
+        csv.writer(fh).writerows(rows)
+    return f
+
+
+def test_pairing_says_why_the_paired_test_was_not_used(tmp_path, capsys):
+    """Regressions: a student submitting Pre twice fell out of the pairing, which then had
+    4 pairs (< 5) and went to Mann-Whitney unsaid; 5 pairs that never changed were
+    tested as independent groups under a header saying 'paired'."""
+    # s1 twice in Pre (rows 2 and 7: header row 1, s1-s5 rows 2-6, s1 again row 7)
+    f = _prepost(tmp_path, [(f"s{k}", "Disagree") for k in range(1, 6)] + [("s1", "Agree")],
+                 [(f"s{k}", "Agree") for k in range(1, 6)])
+    data = read_survey(f, group="Term")
+    assert any("'student_id': 1 id on more than one row with the same 'Term' ('s1' in rows "
+               "2, 7)" in n for n in data.notes), data.notes
+    comp = compare_groups(data, "Term")
+    assert comp.paired_by == "" and comp.items[0].test == "mann-whitney"
+    assert "'s1' 2 times in Pre" in comp.pairing
+    assert "4 ids answered once in both groups, fewer than 5" in comp.pairing
+    # five pairs, every one the same both times: paired, and no change to test
+    same = [(f"s{k}", AGREE5[k - 1]) for k in range(1, 6)]
+    comp = compare_groups(read_survey(_prepost(tmp_path, same, same), group="Term"), "Term")
+    it = comp.items[0]
+    assert comp.paired_by == "student_id" and (it.test, it.pairs) == ("none", 5)
+    assert "same answer both times" in it.note
+    assert main(["summarize", str(tmp_path / "pp.csv"), "--group", "Term", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["groups"]["items"][0]["pairs"] == 5
+
+
+def test_repeated_email_is_noted_with_its_rows(tmp_path, capsys):
+    """One address on rows 2 and 4 (header row 1): both rows counted, and said so."""
+    f = tmp_path / "g.csv"
+    f.write_text("Email Address,Q1\na@x.edu,Agree\nb@x.edu,Agree\n A@x.edu,Disagree\n")
+    assert main(["summarize", str(f)]) == 0
+    err = capsys.readouterr().err
+    assert "column 'Email Address': 1 id on more than one row ('a@x.edu' in rows 2, 4)" in err
+
+
+def test_chart_labels_are_drawn_as_written(tmp_path):
+    """Regression: a label 'C:\\Users\\me' was drawn 'C:\\\\Users\\\\me' (backslashes doubled);
+    dollars must stay literal too (no mathtext), in item names and group panel titles."""
+    f = tmp_path / "s.csv"
+    with open(f, "w", newline="") as fh:
+        csv.writer(fh).writerows([["Saved to C:\\Users\\me", "Paid $50 (vs $20)", "Section"]]
+                                 + [["Agree", "Disagree", "AB"[i % 2]] for i in range(10)])
+    for extra in ([], ["--group", "Section"]):
+        out = tmp_path / "c.svg"
+        assert main(["summarize", str(f), "--chart", str(out), *extra]) == 0
+        svg = out.read_text()
+        assert "Saved to C:\\Users\\me" in svg and "\\\\" not in svg
+        assert "Paid $50 (vs $20)" in svg
+
+
+def test_long_item_labels_do_not_overlap_in_the_chart(tmp_path):
+    """Regression: an eight-line label overlapped its neighbour's. Reference: the drawn
+    label boxes (matplotlib's own text extents), which must not share any height."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from analysis.chart import diverging_bar
+    long_name = "I understand the difference between " * 6 + "the forms."
+    f = tmp_path / "s.csv"
+    with open(f, "w", newline="") as fh:
+        csv.writer(fh).writerows([[f"Q{k} short" for k in range(1, 6)] + [long_name]
+                                  + [f"Q{k} short" for k in range(7, 13)]]
+                                 + [["Agree"] * 5 + ["Disagree"] + ["Agree"] * 6] * 4)
+    fig = diverging_bar(summarize(read_survey(f)))
+    FigureCanvasAgg(fig).draw()
+    boxes = sorted((t.get_window_extent().y0, t.get_window_extent().y1)
+                   for t in fig.axes[0].get_yticklabels())
+    assert len(boxes) == 12
+    for (lo0, hi0), (lo1, hi1) in zip(boxes, boxes[1:]):
+        assert hi0 <= lo1, boxes

@@ -101,6 +101,28 @@ def test_scale_with_nan_code_refused(tmp_path, analysis_cli):
     _one_error_line(code, err, str(scale), "codes", "finite")
 
 
+@pytest.mark.parametrize("codes", ["[1, 1e308]", "[-2e6, 1]"])
+def test_scale_with_huge_code_refused(tmp_path, analysis_cli, codes):
+    """Regression: codes = [1, 1e308] overflowed the mean to inf (exit 0, JSON Infinity);
+    a code beyond 1e6 in magnitude is refused naming the file and the key."""
+    scale = tmp_path / "s.toml"
+    scale.write_text(f'labels = ["A", "B"]\ncodes = {codes}\n')
+    f = tmp_path / "s.csv"
+    f.write_text("q1\nA\nB\nA\nB\n")
+    code, _, err = analysis_cli("summarize", str(f), "--scale", str(scale), "--json")
+    _one_error_line(code, err, str(scale), "key 'codes'", "code 1" if "-" in codes else "code 2")
+
+
+def test_json_output_is_standard():
+    """JSON has no Infinity or NaN: a float that is not finite is written null."""
+    from analysis.__main__ import _json
+
+    def refuse(name):
+        raise AssertionError(f"non-standard JSON constant {name}")
+    text = _json({"mean": float("inf"), "sd": [float("nan"), 1.5], "n": 3})
+    assert json.loads(text, parse_constant=refuse) == {"mean": None, "sd": [None, 1.5], "n": 3}
+
+
 def test_deep_scale_toml_one_line(tmp_path, analysis_cli):
     scale = tmp_path / "s.toml"
     scale.write_text("labels = " + "[" * 50_000 + "]" * 50_000 + "\n")
@@ -247,3 +269,14 @@ def test_long_file_with_too_many_items(tmp_path, analysis_cli, monkeypatch):
     f.write_text("respondent,item,answer\n" + "".join(f"r1,i{k},Neutral\n" for k in range(4)))
     code, _, err = analysis_cli("summarize", str(f))
     _one_error_line(code, err, "4 distinct items", "at most 3")
+
+
+@pytest.mark.parametrize("text, row", [('a,b\n"unterminated,x\n', 2),
+                                       ('Q1,Q2\nAgree,Agree\nAgree,"oops\nAgree,Agree\n', 3)])
+def test_unclosed_quote_named_at_its_row(tmp_path, analysis_cli, text, row):
+    """Regression: pandas' 0-based 'EOF inside string starting at row 1' was passed on for
+    a quote opened on row 2 (the header is row 1 everywhere else)."""
+    f = tmp_path / "m.csv"
+    f.write_text(text)
+    code, _, err = analysis_cli("summarize", str(f))
+    _one_error_line(code, err, f"{f}: row {row}: a quoted field opened here is never closed")

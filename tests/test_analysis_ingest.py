@@ -469,3 +469,82 @@ def test_an_item_nobody_answered_is_shown_not_dropped(tmp_path, capsys):
     assert main(["summarize", str(f)]) == 0
     q2 = next(ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("Q2"))
     assert q2.split()[:2] == ["Q2", "-"]                  # no percentage of nobody
+
+
+@pytest.mark.parametrize("suffix", [".csv", ".xlsx"])
+def test_empty_rows_are_not_respondents_and_a_footer_is_dropped_with_its_row(tmp_path, suffix):
+    """Four students, two empty rows between them, then four empty rows and an export note
+    in the first cell of spreadsheet row 11 (header 1, s1-s2 rows 2-3, empty 4-5, s3-s4
+    rows 6-7, empty 8-10). An empty row holds no answers: 4 respondents, none missing, in
+    both formats; the note is dropped with its row and reason, not counted missing."""
+    from tests.xlsx_factory import workbook
+    rows = [["Student", "Q1", "Q2"], ["s1", "Agree", "Disagree"], ["s2", "Agree", "Agree"],
+            [], [], ["s3", "Disagree", "Agree"], ["s4", "Agree", "Agree"], [], [], [],
+            ["Exported by J. Smith on 2024-10-05"]]
+    path = tmp_path / f"s{suffix}"
+    if suffix == ".csv":
+        path.write_text("\n".join(",".join(r) for r in rows) + "\n")
+    else:
+        path.write_bytes(workbook(rows))
+    data = read_survey(path)
+    assert data.respondents == 4
+    assert data.rows.tolist() == [2, 3, 6, 7]
+    assert [(d.row, d.reason) for d in data.dropped] == [(11, "text-only footer row")]
+    s = summarize(data)
+    assert [(it.n, it.missing) for it in s.items] == [(4, 0), (4, 0)]
+    # an answer in the first column is a respondent, however far below: never a footer
+    rows[-1] = ["Strongly agree"]
+    rows[0][0] = "Q0"
+    if suffix == ".csv":
+        path.write_text("\n".join(",".join(r) for r in rows) + "\n")
+    else:
+        path.write_bytes(workbook(rows))
+    data = read_survey(path)
+    assert data.respondents == 5 and data.dropped == [] and data.rows[-1] == 11
+
+
+def test_a_code_the_map_lacks_is_an_error_at_its_row(tmp_path, capsys):
+    """Regression: Q1 holding codes 2-5 and one typo '6' (row 6: header row 1, then
+    respondents 1-5) vanished from the items with no reason. It is an unknown answer
+    named by file, row, column and value, with or without --items."""
+    f = tmp_path / "typo.csv"
+    f.write_text("id,Q1,Q2\n1,5,4\n2,4,4\n3,3,5\n4,4,5\n5,6,2\n6,2,3\n")
+    book = tmp_path / "map.toml"
+    book.write_text(AGREE_CODES)
+    for extra in ([], ["--items", "Q*"]):
+        err = _one_line_error(capsys, ["summarize", str(f), "--codes", str(book), *extra])
+        assert err.startswith(f"error: {f}: row 6, column 'Q1': answer '6' is not on scale"), err
+    # columns = [...] written under [codes] (as the note advising it says) is taken
+    # as the map's columns, not refused as a code
+    inside = tmp_path / "inside.toml"
+    inside.write_text(AGREE_CODES + 'columns = ["Q2"]\n')
+    data = read_survey(f, codes=inside)
+    assert data.items == ["Q2"] and data.other_columns == ["id", "Q1"]
+    # a column of codes the map does not cover is refused naming the map, not asking
+    # for --codes, which was given
+    wild = tmp_path / "wild.csv"
+    wild.write_text("id,Q1\n1,7\n2,8\n3,1\n")
+    err = _one_line_error(capsys, ["summarize", str(wild), "--codes", str(book),
+                                   "--items", "Q1"])
+    assert f"the code map {book} does not cover them" in err and "give the survey" not in err
+
+
+def test_narrow_scale_note_names_the_missing_label_in_both_layouts(tmp_path):
+    """Regressions: with 'Sometimes' answered and 'Rarely' not, the note said 'no neutral
+    answer' and advised --scale frequency5 'if the questionnaire offered Sometimes'; a long
+    file read as agree4 gave no note at all, while the same answers wide did."""
+    freq = tmp_path / "freq.csv"
+    freq.write_text("Q1,Q2\nOften,Always\nSometimes,Often\nNever,Sometimes\n")
+    notes = read_survey(freq).notes
+    assert any("(no answer 'Rarely' in the data); give --scale frequency5 if the "
+               "questionnaire offered 'Rarely'" in n for n in notes), notes
+    wide = tmp_path / "wide.csv"
+    wide.write_text("respondent,Q1\nr1,Agree\nr2,Disagree\nr3,Strongly agree\n")
+    long = tmp_path / "long.csv"
+    long.write_text("respondent,item,answer\nr1,Q1,Agree\nr2,Q1,Disagree\n"
+                    "r3,Q1,Strongly agree\n")
+    want = ("read as the 4-point scale 'agree4' (no neutral answer in the data); give --scale "
+            "agree5 if the questionnaire offered 'Neither agree nor disagree'")
+    for f, shape in ((wide, "wide"), (long, "long")):
+        data = read_survey(f)
+        assert data.shape == shape and want in data.notes, (shape, data.notes)

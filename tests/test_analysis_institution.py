@@ -243,3 +243,158 @@ def test_blank_grouping_value_has_one_name_on_every_output(tmp_path, capsys):
     assert main(["summarize", str(f), "--group", "section", "--min-group", "1", "--json"]) == 0
     groups = json.loads(capsys.readouterr().out)["groups"]["groups"]
     assert [g["group"] for g in groups] == ["A", "(blank)"]
+
+
+def test_by_refuses_an_answer_given_twice_as_the_in_memory_route_does(tmp_path, capsys):
+    """A (respondent, item) pair on two rows would be counted twice: counted + missing +
+    excluded would exceed the respondents. Both routes refuse it naming the second row
+    (spreadsheet row 5: header row 1, then r1 Q1, r1 Q2, r2 Q1, and r1's Q1 again)."""
+    f = tmp_path / "dup.csv"
+    f.write_text("respondent,course,item,answer\nr1,A,Q1,Agree\nr1,A,Q2,Agree\n"
+                 "r2,A,Q1,Disagree\n r1 ,A,Q1 ,Disagree\n")
+    want = f"{f}: row 5, column 'answer': respondent 'r1' answers item 'Q1' twice"
+    for extra in ([], ["--by", "course"]):
+        assert main(["summarize", str(f), *extra]) == 2
+        assert capsys.readouterr().err.strip() == f"error: {want}"
+    import duckdb
+    pq = tmp_path / "dup.parquet"
+    duckdb.sql(f"COPY (SELECT * FROM read_csv('{f}', all_varchar=true)) TO '{pq}' "
+               "(FORMAT parquet)")
+    with pytest.raises(SurveyInputError, match="row 5, column 'answer': respondent 'r1'"):
+        summarize_by(pq, ["course"])
+    # two pairs repeated: both routes name the one whose second row comes first (r1's,
+    # row 4), whatever order respondents first appear in or hashes fall in
+    two = tmp_path / "two.csv"
+    two.write_text("respondent,course,item,answer\nr2,A,Q1,Agree\nr1,A,Q1,Agree\n"
+                   "r1,A,Q1,Agree\nr2,A,Q1,Agree\n")
+    want = f"{two}: row 4, column 'answer': respondent 'r1' answers item 'Q1' twice"
+    for extra in ([], ["--by", "course"]):
+        assert main(["summarize", str(two), *extra]) == 2
+        assert capsys.readouterr().err.strip() == f"error: {want}"
+    # a blank id or item name was counted (or its answer dropped) unsaid under --by
+    for body, want in (("r1,A,Q1,Agree\n ,A,Q1,Agree\n", "row 3, column 'respondent': blank "
+                        "respondent id"),
+                       ("r1,A,Q1,Agree\nr2,A, ,Agree\n", "row 3, column 'item': blank item "
+                        "name")):
+        blank = tmp_path / "blank.csv"
+        blank.write_text("respondent,course,item,answer\n" + body)
+        for extra in ([], ["--by", "course"]):
+            assert main(["summarize", str(blank), *extra]) == 2
+            assert capsys.readouterr().err.strip() == f"error: {blank}: {want}"
+
+
+@pytest.mark.parametrize("shape", ["wide", "long"])
+def test_by_merges_spellings_of_a_group_value_as_group_does(tmp_path, capsys, shape):
+    """'Sec 1', 'sec 1 ' and 'Sec  1' are one group of 5 under --group; --by must agree
+    (named by the commonest spelling), not make three suppressed groups."""
+    secs = ["Sec 1", "Sec 1", "Sec 1", "sec 1 ", "Sec  1"] + ["Sec 2"] * 5
+    f = tmp_path / "g.csv"
+    if shape == "wide":
+        rows = [["Section", "Q1"]] + [[s, "Agree"] for s in secs]
+    else:
+        rows = [["respondent", "Section", "item", "answer"]]
+        rows += [[f"r{i}", s, q, "Agree"] for i, s in enumerate(secs) for q in ("Q1", "Q2")]
+    with open(f, "w", newline="") as fh:
+        csv.writer(fh).writerows(rows)
+    res = summarize_by(f, ["Section"])
+    assert res.groups == [("Sec 1",), ("Sec 2",)]
+    assert res.respondents.tolist() == [5, 5]
+    assert main(["summarize", str(f), "--group", "Section", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)["groups"]["groups"]
+    sizes = {g["group"]: g["respondents"] for g in out}
+    assert sizes == {"Sec 1": 5, "Sec 2": 5}
+
+
+def test_by_errors_name_the_place_and_the_real_cause(tmp_path, capsys):
+    """Regressions: a Windows-1252 or UTF-16 file gave 'cannot read as CSV/Parquet (... CSV
+    Error on Line: 1)'; a Qualtrics export's statement row was counted as answers ('answer
+    "How much ... - The lectures were clear" is not on scale', no row); a typo answer was
+    named without its row or column."""
+    def err_of(path, *by):
+        assert main(["summarize", str(path), "--by", *by]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and err.startswith(f"error: {path}: "), err
+        return err
+    cp = tmp_path / "cp.csv"        # 0x92 (a curly apostrophe): offset 11 + 8 + 4, row 3
+    cp.write_bytes(b"Section,Q1\nA,Agree\nB it\x92s,Agree\n")
+    assert "row 3: byte 0x92 at offset 23 is not UTF-8; --by reads UTF-8 only" in err_of(
+        cp, "Section")
+    u16 = tmp_path / "u16.csv"
+    u16.write_bytes("Section,Q1\nA,Agree\n".encode("utf-16"))
+    assert "row 1: UTF-16 text" in err_of(u16, "Section")
+    q = tmp_path / "q.csv"
+    with open(q, "w", newline="") as fh:
+        csv.writer(fh).writerows([
+            ["ResponseId", "Q1_1", "Section"],
+            ["Response ID", "How much do you agree? - The lectures were clear", "Section"],
+            ['{"ImportId":"_recordId"}', '{"ImportId":"QID1_1"}', '{"ImportId":"QID2"}'],
+            ["R_1", "Agree", "A"]])
+    assert "row 2: a Qualtrics export: rows 2-3 are header rows" in err_of(q, "Section")
+    typo = tmp_path / "typo.csv"    # header row 1; 'Agre' in row 3, column Q2
+    typo.write_text("Term,Q1,Q2\nF,Agree,Disagree\nF,Agree,Agre\n")
+    assert "row 3, column 'Q2': answer 'Agre' is not on scale" in err_of(typo, "Term")
+    long = tmp_path / "long.csv"    # long: the answer column, row 4
+    long.write_text("respondent,term,item,answer\nr1,F,Q1,Agree\nr1,F,Q2,Neutral\n"
+                    "r2,F,Q2,Agre\n")
+    assert "row 4, column 'answer': answer 'Agre' is not on scale" in err_of(long, "term")
+
+
+@pytest.mark.parametrize("suffix", [".csv", ".xlsx"])
+def test_by_table_writes_counts_as_whole_numbers(tmp_path, capsys, suffix):
+    """Regression: with a suppressed group (blank counts) the count columns became floats
+    and the CSV said '36.0'. Reference: the tally of the rows written by ``_long``."""
+    f, rows = _long(tmp_path)
+    out = tmp_path / f"t{suffix}"
+    assert main(["summarize", str(f), "--by", "course", "term", "--table", str(out)]) == 0
+    if suffix == ".csv":
+        with open(out, encoding="utf-8-sig", newline="") as fh:
+            table = list(csv.DictReader(fh))
+    else:
+        import openpyxl
+        got = list(openpyxl.load_workbook(out).active.iter_rows(values_only=True))
+        table = [dict(zip(got[0], r)) for r in got[1:]]
+    q1 = next(r for r in table if r["course"] == "(all)" and r["item"] == "Q1")
+    answered = sum(1 for c, t, r, q, a in rows if q == "Q1" and a in AGREE5)
+    assert str(q1["n"]) == str(answered) and str(q1["Agree (count)"]).isdigit()
+    assert any(r["suppressed"] and r["n"] in ("", None) for r in table)
+
+
+def test_both_routes_give_each_column_left_out_the_same_reason(tmp_path, capsys):
+    """Regression: the in-memory route listed 'not items: id, term, Comments' without a
+    reason; --by gave one per column. By hand: section groups, id is an identifier,
+    term and Comments hold no agree4 labels (see the test above)."""
+    f = tmp_path / "m.csv"
+    f.write_text("section,id,term,Q1,Q2,Comments\nA,1,F23,Agree,Disagree,good\n"
+                 "B,2,S24,Disagree,,too fast\nA,3,S24,Agree,Strongly agree,\n"
+                 "B,4,F23,Strongly disagree,Agree,Agree\n")
+    from analysis.ingest import read_survey
+    small = read_survey(f, group="section").not_item_reasons
+    big = summarize_by(f, ["section"]).not_items
+    assert small == {"section": "grouping column", "id": "an identifier column",
+                     "term": "its answers are not labels of scale 'agree4'",
+                     "Comments": "its answers are not labels of scale 'agree4'"}
+    assert big == small
+    assert main(["summarize", str(f)]) == 0
+    assert ("not items (left out of the table): section (its answers are not labels of scale "
+            "'agree4'), id (an identifier column), term (") in capsys.readouterr().out
+
+
+def test_both_routes_note_an_id_on_two_rows_of_a_group_alike(tmp_path, capsys, monkeypatch):
+    """Regression: a@x.edu answering twice was counted twice unsaid. Both routes count both
+    rows and give one note, word for word, naming its rows (2 and 4: header row 1)."""
+    f = tmp_path / "g.csv"
+    f.write_text("Section,Email Address,Q1\nA,a@x.edu,Agree\nA,b@x.edu,Agree\n"
+                 "A, A@x.edu,Disagree\nB,c@x.edu,Agree\nB,a@x.edu,Agree\n")
+    want = (f"{f}: column 'Email Address': 1 id on more than one row with the same 'Section' "
+            f"('a@x.edu' in rows 2, 4); each row is counted as a respondent: remove repeated "
+            f"submissions if they are one person's")
+    from analysis.ingest import read_survey
+    data = read_survey(f, group="Section")
+    assert data.respondents == 5 and want in data.notes, data.notes
+    res = summarize_by(f, ["Section"])
+    assert res.respondents.tolist() == [3, 2] and want in res.notes, res.notes
+    # a file too large to read again for the rows: how many rows, not which
+    import analysis.institution as institution
+    monkeypatch.setattr(institution, "_MAX_REREAD", 0)
+    notes = summarize_by(f, ["Section"]).notes
+    assert any("('a@x.edu' on 2 rows); each row is counted" in n for n in notes), notes

@@ -202,3 +202,19 @@ def test_summary_text_rounds_interval_bounds_by_the_one_rule():
     s = summarize_dataframe(pd.DataFrame({"q": ["Definitely Agree"] * 13 + ["Neutral"] * 3}))
     s.items[0].agree = Proportion(13, 16, 13 / 16, (0.0625, 0.8125), "wilson", 0.95)
     assert "81.3% [6.3%, 81.3%]" in s.format_text()
+
+
+def test_count_columns_stay_aligned_with_ten_million_respondents(tmp_path):
+    """Regression: with --respondents 10000000 the 7-digit missing count overflowed its
+    5-wide column and stood under 'n'. Each count must end where its header ends."""
+    from analysis.ingest import read_survey
+    from analysis.likert import summarize
+    f = tmp_path / "s.csv"
+    f.write_text("Q1\nAgree\nDisagree\nN/A\n")
+    text = summarize(read_survey(f, respondents=10_000_000)).format_text()
+    head, row = text.splitlines()[1], text.splitlines()[2]
+    # Q1: n = 2, missing = 10,000,000 - 3 = 9,999,997, n/a = 1
+    for name, value in (("n", "2"), ("miss", "9999997"), ("n/a", "1")):
+        end = head.index(f" {name} ") + 1 + len(name)
+        assert row[end - len(value):end] == value and row[end - len(value) - 1] == " ", (
+            name, head, row)

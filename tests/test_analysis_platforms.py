@@ -94,6 +94,28 @@ def _qualtrics_rows(answers, status_of, numeric=False, section=None):
     return rows
 
 
+def test_export_field_ids_name_items_everywhere_items_are_named(tmp_path, capsys):
+    """Regression: --items Q1_3 took the field id, but --reverse, --reliability and a claim's
+    item refused it as 'not an item'. Reference: the answers written here; Q1_3 is the
+    third statement, 'Exams were fair'."""
+    ans = [[AGREE5[(i + k) % 5] for k in range(3)] for i in range(8)]
+    f = _csv(tmp_path / "q.csv", _qualtrics_rows(ans, lambda i: "IP Address"))
+    data = read_survey(f, reverse=["Q1_3"])
+    assert data.reverse == {"Exams were fair"}
+    from analysis.reliability import cronbach_alpha_for
+    assert cronbach_alpha_for(data, ["Q1_1", "Q1_3"]).items == ["The lectures were clear",
+                                                              "Exams were fair"]
+    claims = tmp_path / "c.toml"
+    claims.write_text('[[claims]]\nid = "fair"\nitem = "Q1_3"\nstatement = "s"\n'
+                      'categories = ["Strongly agree"]\ncomparison = ">"\nthreshold = 10\n'
+                      'unit = "%"\n')
+    assert main(["claims", str(f), str(claims), "--json"]) == 0
+    got = json.loads(capsys.readouterr().out)
+    # Exams were fair = AGREE5[(i + 2) % 5] for i in 0..7: 'Strongly agree' (index 4) at i = 2, 7
+    assert (got["claims"][0]["item"], got["claims"][0]["k"], got["claims"][0]["n"]) == (
+        "Exams were fair", 2, 8)
+
+
 def test_qualtrics_choice_text_drops_preview_and_test_rows(tmp_path, capsys):
     real = _draw(1, 30, 3, AGREE5)
     status = ["IP Address"] * 30
@@ -497,3 +519,33 @@ def test_limesurvey_incomplete_responses_are_counted_with_a_note(tmp_path):
         "counted with the answers given"]
     s = summarize(data)
     assert (s.items[0].n, s.items[1].n, s.items[1].missing) == (3, 2, 1)
+
+
+def test_canvas_points_columns_listed_by_their_names_in_the_file(tmp_path):
+    """Regression: the two '1.0' points columns (columns 10 and 12 of CANVAS_HEAD) were
+    listed as '1.0, 1.0.1', a name the file does not have."""
+    f = _csv(tmp_path / "canvas.csv", [CANVAS_HEAD, _canvas_row("Ann", "1", "s1", "1", "Agree",
+                                                                "Agree")])
+    others = read_survey(f).other_columns
+    assert "1.0 in column 10" in others and "1.0 in column 12" in others
+    assert not any("1.0.1" in c for c in others)
+
+
+def test_qualtrics_statement_shared_by_two_matrices_keeps_its_text(tmp_path):
+    """Regression: 'Before this course - The pace was right' and 'After this course - The
+    pace was right' share a statement, and both matrices were named only Q1_1 .. Q2_2."""
+    rows = [["StartDate", "Status", "ResponseId", "Q1_1", "Q1_2", "Q2_1", "Q2_2"],
+            ["Start Date", "Response Type", "Response ID",
+             "Before this course - The pace was right", "Before this course - Slides were clear",
+             "After this course - The pace was right", "After this course - Slides were clear"],
+            ['{"ImportId":"startDate"}', '{"ImportId":"status"}', '{"ImportId":"_recordId"}',
+             '{"ImportId":"QID1_1"}', '{"ImportId":"QID1_2"}', '{"ImportId":"QID2_1"}',
+             '{"ImportId":"QID2_2"}']]
+    rows += [["2024-01-01", "IP Address", f"R_{i}", "Agree", "Disagree", "Agree", "Agree"]
+             for i in range(3)]
+    data = read_survey(_csv(tmp_path / "q.csv", rows))
+    assert data.items == ["Before this course - The pace was right",
+                          "Before this course - Slides were clear",
+                          "After this course - The pace was right",
+                          "After this course - Slides were clear"]
+    assert data.fields == ["Q1_1", "Q1_2", "Q2_1", "Q2_2"]      # still selectable by id
