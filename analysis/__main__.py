@@ -7,7 +7,8 @@ Commands
     ``{"respondents": int, "ci_method", "confidence_level", "reverse_note", "items":
     [{"item", "reversed", "reversed_statistics", "n", "missing", "excluded", "counts",
     "percent", "agree": {"share", "ci"}, "median", "iqr", "mean", "sd"}], "not_items": [str],
-    "dropped": [{"row", "reason"}], "unknown_answers": [{"row", "column", "value"}]}``
+    "not_item_reasons": {str: str}, "dropped": [{"row", "reason"}], "unknown_answers": [{"row",
+    "column", "value"}]}``
     (shares 0-1, percents 0-100): every column, row and answer left out is listed; a
     reverse-keyed item's counts are raw, ``reversed_statistics`` names those on reversed codes. With
     ``--group`` the JSON gains ``"groups"``; with ``--reliability`` it gains ``"reliability"``.

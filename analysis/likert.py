@@ -373,10 +373,10 @@ class SurveySummary:
     def to_dict(self) -> dict:
         """The ``summarize --json`` shape.
 
-        ``{"respondents": int, "items": [...], "not_items": [str], "dropped": [{"row",
-        "reason"}], "unknown_answers": [{"row", "column", "value"}]}``: every column
-        left out of the table and every row or answer not counted is listed, as the
-        text output lists them. Each item says whether it is ``reversed`` and which
+        ``{"respondents": int, "items": [...], "not_items": [str], "not_item_reasons": {str: str},
+        "dropped": [{"row", "reason"}], "unknown_answers": [{"row", "column", "value"}]}``: every
+        column left out of the table (with why, as the ``--by`` route gives it) and every row or
+        answer not counted is listed, as the text output lists them. Each item says whether it is ``reversed`` and which
         statistics use reversed codes (``reversed_statistics``; counts stay raw);
         ``reverse_note`` says so in words when an item is reversed.
         """
@@ -385,6 +385,7 @@ class SurveySummary:
                 "confidence_level": self.confidence_level, "reverse_note": note,
                 "items": [i.to_dict() for i in self.items],
                 "not_items": list(self.other_columns),
+                "not_item_reasons": {c: self.not_item_reasons.get(c, "") for c in self.other_columns},
                 "dropped": [vars(d) for d in self.dropped],
                 "unknown_answers": [vars(u) for u in self.unknown_answers]}
 

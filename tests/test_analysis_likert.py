@@ -64,9 +64,10 @@ def test_summarize_json_shape(rebuilt, capsys):
     assert main(["summarize", str(rebuilt), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert set(out) == {"respondents", "ci_method", "confidence_level", "reverse_note", "items",
-                        "not_items", "dropped", "unknown_answers"}
-    # the rebuilt file's id column is left out of the table, and said so
+                        "not_items", "not_item_reasons", "dropped", "unknown_answers"}
+    # the rebuilt file's id column is left out of the table, and said so, with why
     assert out["not_items"] == ["respondent"] and out["dropped"] == out["unknown_answers"] == []
+    assert set(out["not_item_reasons"]) == {"respondent"} and out["not_item_reasons"]["respondent"]
     for item in out["items"]:
         assert {"item", "n", "missing", "counts", "percent", "agree"} <= set(item)
         assert set(item["agree"]) == {"share", "ci"} and len(item["agree"]["ci"]) == 2
