@@ -33,7 +33,7 @@ from markupsafe import Markup
 from reports import checks as checks_mod
 from reports import figures, mathfont, paper, provenance
 from reports.cli import cyclic_gc_paused, main, validate_build
-from reports.mathml import equation_mathml, to_latex, to_mathml
+from reports.mathml import equation_mathml, to_mathml
 from reports.published import ReportInputError, load_equations
 from solver.errors import InputError
 from solver.expressions import parse_expression
@@ -401,8 +401,6 @@ def _build(root: Path, out: Path | None, pdf: str, log) -> dict:
                     "derived": (equation_mathml(o.derived_lhs, o.derived_rhs)
                                 if o.derived_lhs is not None and r.kind == "equation" and
                                 o.transcription.kind in ("eom", "frequency") else None),
-                    "printed_latex": to_latex(o.printed_lhs) + " = " + to_latex(o.printed_rhs),
-                    "residual_latex": to_latex(o.residual) if o.residual is not None else "",
                 }
         context = {
             "title": "Alternative form of Euler's equation: verification report",
