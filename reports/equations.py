@@ -32,6 +32,7 @@ from __future__ import annotations
 import random
 import zlib
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import mpmath
 import sympy as sp
@@ -163,7 +164,7 @@ def _meaning_value(meaning, scene, deriv, tr: Transcription, lin) -> sp.Expr:
         if _exact_zero(u.dot(u) - 1) is not True:
             raise ReportInputError(f"{where}.along: must be a unit vector, got {list(meaning.along)}")
         vector = _vector_quantity(meaning, deriv, where)
-        return (vector.T * u)[0]
+        return sp.Add(*[v * w for v, w in zip(vector, u)])  # the component along u (vector . u)
     if quantity == "element_inertia":
         return _element_inertia(deriv, meaning, where)
     if quantity == "reaction":
@@ -420,6 +421,13 @@ def _diagnose(residual: sp.Expr, lhs: sp.Expr, rhs: sp.Expr, solution: dict) -> 
     return ""
 
 
+@lru_cache(maxsize=64)
+def _qdd_solution(eom: sp.Expr, qdd: sp.Symbol) -> sp.Expr:
+    """theta_ddot solved from the equation of motion (linear in it); the same for every printed
+    equation of an example under the same conditions, so solved once."""
+    return -eom.xreplace({qdd: 0}) / sp.diff(eom, qdd)
+
+
 def check_equation(tr: Transcription, scene, deriv) -> EquationOutcome:
     """Compare one printed equation with the solver's derivation.
 
@@ -464,8 +472,7 @@ def check_equation(tr: Transcription, scene, deriv) -> EquationOutcome:
         diff = printed
         derived_l, derived_r = mapped_l, mapped_r
     elif tr.kind in ("relation", "eom"):
-        qdd_solution = -eom.xreplace({qdd: 0}) / sp.diff(eom, qdd)
-        solution = {qdd: qdd_solution}
+        solution = {qdd: _qdd_solution(eom, qdd)}
         diff = printed.xreplace(solution)
         if tr.kind == "eom":
             if printed.has(*[sp.Symbol(r, real=True) for r in deriv.reactions]):
