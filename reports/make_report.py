@@ -303,12 +303,12 @@ def _build(root: Path, out: Path | None, pdf: str, log) -> dict:
         figs["example1"] = figures.example1_release_sweep(scenes[ex1_key], derivations[ex1_key])
         eq45 = eqset.ranges.get("eq45", {})
         amplitude = _eval_text(eq45.get("amplitude_max", "0"), f"{eqset.path}: ranges.eq45.amplitude_max")
-        freq = natural_frequency(scenes[ex2_key])
-        omega_n = float(freq.omega_n.to("rad/s").magnitude)
         from solver.period import OneDofSystem
 
-        # one one-degree-of-freedom model of Example 2 for its figure, its period and its friction
+        # one one-degree-of-freedom model of Example 2 for its frequency, figure, period and friction
         ex2_one_dof = OneDofSystem.from_derivation(derivations[ex2_key])
+        freq = natural_frequency(scenes[ex2_key], one_dof=ex2_one_dof)
+        omega_n = float(freq.omega_n.to("rad/s").magnitude)
         figs["example2"] = figures.example2_free_motion(scenes[ex2_key], derivations[ex2_key], amplitude, omega_n,
                                                         one_dof=ex2_one_dof)
         for name, scene_file, body, number in figures.PAPER_SCENE_FIGURES:  # the paper's Figures 1-3
