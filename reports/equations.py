@@ -342,7 +342,13 @@ def _trig_reduce(expr: sp.Expr) -> sp.Expr | None:
 
 def _normal_form(expr: sp.Expr) -> sp.Expr:
     """The rational normal form modulo sin**2 + cos**2 = 1 (a constant ratio comes out as a
-    number); sympy's ``simplify`` only where that form does not apply."""
+    number: :func:`solver.display.constant_value` finds it without the form's ``cancel``); sympy's
+    ``simplify`` only where that form does not apply."""
+    from solver.display import constant_value
+
+    constant = constant_value(expr)
+    if constant is not None:
+        return constant
     reduced = _trig_reduce(expr)
     return sp.simplify(expr) if reduced is None else reduced
 

@@ -22,7 +22,7 @@ from sympy.core.mul import _keep_coeff
 
 from .tree_value import DOUBLE, NotEvaluable, tree_value
 
-__all__ = ["reduce_trig", "numerator_reduces_to_zero", "tidy", "tidy_fraction", "tidy_linear", "is_identically_zero",
+__all__ = ["reduce_trig", "numerator_reduces_to_zero", "constant_value", "tidy", "tidy_fraction", "tidy_linear", "is_identically_zero",
            "MAX_TIDY_NODES"]
 
 MAX_CANCEL_NODES = 120
@@ -155,15 +155,44 @@ def _ring_generators(e: sp.Expr) -> tuple[list, list]:
 
 
 def _ring_numerator_zero(e: sp.Expr) -> bool | None:
-    """:func:`numerator_reduces_to_zero` in sympy's sparse polynomials over the rationals: ``e`` as
-    numerator / denominator (products of the denominators met, no gcd) in S_a = sin(a), C_a = cos(a)
-    for each angle a and the other symbols, the numerator's remainder by the S_a**2 + C_a**2 - 1.
+    """:func:`numerator_reduces_to_zero` in sympy's sparse polynomials with integer coefficients:
+    ``e`` as numerator / denominator (products of the denominators met, no gcd) in S_a = sin(a),
+    C_a = cos(a) for each angle a and the other symbols, the numerator's remainder by the
+    S_a**2 + C_a**2 - 1 (:func:`_ring_remainders`).
 
     The same decision as the expression route: with S_a ahead of C_a in lexicographic order the
     leading terms S_a**2 are coprime, so the S_a**2 + C_a**2 - 1 are a Groebner basis and the
     remainder is 0 exactly when the numerator lies in the (prime) ideal they generate. None, so that
     the expression route decides, when ``e`` holds something else (:func:`_ring_generators`) or its
     denominator itself reduces to 0 (``e`` undefined)."""
+    remainders = _ring_remainders(e)
+    return None if remainders is None else not remainders[0]
+
+
+def constant_value(e: sp.Expr) -> sp.Rational | None:
+    """The rational number ``e`` equals modulo sin**2 + cos**2 = 1, decided exactly; None when it is
+    not a rational constant, or not a rational function of symbols and sin/cos/tan/cot of symbols.
+
+    The remainders of numerator and denominator (:func:`_ring_remainders`) are normal forms, so
+    ``e`` is the constant k exactly when the numerator's is k times the denominator's. (The same
+    number :func:`reduce_trig` gives then, without its ``cancel``.)"""
+    remainders = _ring_remainders(e)
+    if remainders is None:
+        return None
+    num, den = remainders
+    if not num:
+        return sp.Integer(0)
+    if num.keys() != den.keys():
+        return None
+    mon = next(iter(den))
+    k = sp.Rational(num[mon], den[mon])
+    return k if all(num[m] * k.q == den[m] * k.p for m in den) else None
+
+
+def _ring_remainders(e: sp.Expr) -> tuple[dict, dict] | None:
+    """The terms of the remainders of ``e``'s numerator and denominator in sympy's sparse integer
+    polynomials (see :func:`_ring_numerator_zero`); None outside that form, or when the
+    denominator's remainder is 0."""
     from sympy.polys.domains import ZZ
     from sympy.polys.rings import ring
 
@@ -173,7 +202,7 @@ def _ring_numerator_zero(e: sp.Expr) -> bool | None:
         return None
     trig = [f(a) for a in angles for f in (sp.sin, sp.cos)]
     if not trig + symbols:
-        return e == 0  # a rational number
+        return ({(): e.p} if e.p else {}, {(): e.q})  # a rational number
     R, *gens = ring(trig + symbols, ZZ)  # sin(a) > cos(a) > the next angle's > ... > the symbols
     at = dict(zip(trig + symbols, gens))
     for a in angles:  # (an angle's own symbol, when it also stands alone, is a generator of its own)
@@ -209,9 +238,8 @@ def _ring_numerator_zero(e: sp.Expr) -> bool | None:
         return out
 
     num, den = fraction(e)
-    if not _circle_remainder(den, len(angles)):
-        return None
-    return not _circle_remainder(num, len(angles))
+    den = _circle_remainder(den, len(angles))
+    return (_circle_remainder(num, len(angles)), den) if den else None
 
 
 def _circle_remainder(p, angles: int) -> dict:

@@ -87,6 +87,23 @@ def test_the_polynomial_route_decides_what_it_can_and_leaves_the_rest():
     assert numerator_reduces_to_zero(sp.sin(2 * phi) - 2 * s * c)  # (decided by the expression route)
 
 
+def test_a_constant_ratio_is_found_exactly():
+    """constant_value: k for (k num + (sin^2 + cos^2 - 1) anything) / num, by construction; None
+    for a ratio that varies or one outside the polynomial route; 0 for zero."""
+    from solver.display import constant_value
+
+    rng = random.Random(3)
+    pieces = [s, c**3, sp.tan(beta), g, m * sp.cos(beta), phi]
+    for _ in range(10):
+        num = sum(rng.randint(1, 4) * rng.choice(pieces) * rng.choice(pieces) for _ in range(3)) + s
+        k = sp.Rational(rng.randint(-9, 9), rng.randint(1, 5))
+        assert constant_value((k * num + (s**2 + c**2 - 1) * rng.choice(pieces)) / num) == k
+        assert constant_value((k * num + g * s) / num) is None
+    assert constant_value(sp.Rational(-3, 4)) == sp.Rational(-3, 4)
+    assert constant_value((s**2 + c**2 - 1) / g) == 0
+    assert constant_value(sp.sqrt(g) / sp.sqrt(g * (s**2 + c**2))) is None
+
+
 def test_eom_mass_is_the_generalized_mass_of_the_kinetic_energy(capsys):
     """`eom` prints M as the theta_ddot coefficient of the projected equation of motion: it must be
     2 T / theta_dot^2 (exact identity after reduction modulo sin^2 + cos^2 = 1)."""
