@@ -2,8 +2,9 @@
 
 Every figure is computed here from the solver or the survey analytics; the SVG
 text is embedded inline in the HTML (no files fetched) and also written next to
-the LaTeX source (``figures/*.svg``; the PDF build converts nothing, it uses
-the PDF twins written by :func:`save_pdf` when a LaTeX engine exists).
+the LaTeX source (``figures/*.svg``), with its PDF twin (``figures/*.pdf``, for
+LaTeX, written whether or not a LaTeX engine exists). Matplotlib draws each
+figure once for both files (:func:`reports.vector_pair.svg_and_pdf`).
 
 Determinism: ``svg.hashsalt`` is fixed, no date or creator is written, text is
 kept as text (``svg.fonttype = "none"``), and element ids are stable.
