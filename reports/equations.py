@@ -251,10 +251,12 @@ def _first_order(expr: sp.Expr, deriv, about: dict) -> sp.Expr:
 
 
 def _random_point(symbols, seed: int) -> dict:
+    """Symbol -> a random rational n / 97 as an mpmath number at the working precision (call it
+    inside ``mpmath.workdps``)."""
     rng = random.Random(seed)
-    # Positive values of moderate size: masses, lengths, angles and rates alike. Rationals keep the
-    # substitution exact; evaluation is at _DIGITS digits.
-    return {s: sp.Rational(rng.randint(23, 181), 97) for s in sorted(symbols, key=lambda s: s.name)}
+    # Positive values of moderate size: masses, lengths, angles and rates alike; evaluation is at
+    # _DIGITS digits.
+    return {s: mpmath.mpf(rng.randint(23, 181)) / 97 for s in sorted(symbols, key=lambda s: s.name)}
 
 
 def _evaluator(ordered: list, exprs: list):
@@ -306,7 +308,7 @@ def is_zero(expr: sp.Expr, scale_terms=(), seed: int = 0) -> tuple[bool, float]:
         while tried < _RANDOM_POINTS and attempt < 5 * _RANDOM_POINTS:
             point = _random_point(ordered, seed + attempt)
             attempt += 1
-            args = [mpmath.mpf(point[s].p) / point[s].q for s in ordered]
+            args = [point[s] for s in ordered]
             try:
                 values = fn(*args)
                 value = abs(values[0])
@@ -388,7 +390,7 @@ def _varies(expr: sp.Expr, seed: int = 0) -> bool:
         for attempt in range(4):
             point = _random_point(symbols, seed + attempt)
             try:
-                value = fn(*[mpmath.mpf(point[s].p) / point[s].q for s in symbols])[0]
+                value = fn(*[point[s] for s in symbols])[0]
             except (ZeroDivisionError, ValueError, TypeError):
                 continue
             if not mpmath.isfinite(value):
