@@ -32,6 +32,7 @@ from __future__ import annotations
 import random
 import zlib
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import mpmath
 import sympy as sp
@@ -163,7 +164,7 @@ def _meaning_value(meaning, scene, deriv, tr: Transcription, lin) -> sp.Expr:
         if _exact_zero(u.dot(u) - 1) is not True:
             raise ReportInputError(f"{where}.along: must be a unit vector, got {list(meaning.along)}")
         vector = _vector_quantity(meaning, deriv, where)
-        return (vector.T * u)[0]
+        return sp.Add(*[v * w for v, w in zip(vector, u)])  # the component along u (vector . u)
     if quantity == "element_inertia":
         return _element_inertia(deriv, meaning, where)
     if quantity == "reaction":
@@ -250,10 +251,12 @@ def _first_order(expr: sp.Expr, deriv, about: dict) -> sp.Expr:
 
 
 def _random_point(symbols, seed: int) -> dict:
+    """Symbol -> a random rational n / 97 as an mpmath number at the working precision (call it
+    inside ``mpmath.workdps``)."""
     rng = random.Random(seed)
-    # Positive values of moderate size: masses, lengths, angles and rates alike. Rationals keep the
-    # substitution exact; evaluation is at _DIGITS digits.
-    return {s: sp.Rational(rng.randint(23, 181), 97) for s in sorted(symbols, key=lambda s: s.name)}
+    # Positive values of moderate size: masses, lengths, angles and rates alike; evaluation is at
+    # _DIGITS digits.
+    return {s: mpmath.mpf(rng.randint(23, 181)) / 97 for s in sorted(symbols, key=lambda s: s.name)}
 
 
 def _evaluator(ordered: list, exprs: list):
@@ -305,7 +308,7 @@ def is_zero(expr: sp.Expr, scale_terms=(), seed: int = 0) -> tuple[bool, float]:
         while tried < _RANDOM_POINTS and attempt < 5 * _RANDOM_POINTS:
             point = _random_point(ordered, seed + attempt)
             attempt += 1
-            args = [mpmath.mpf(point[s].p) / point[s].q for s in ordered]
+            args = [point[s] for s in ordered]
             try:
                 values = fn(*args)
                 value = abs(values[0])
@@ -341,7 +344,13 @@ def _trig_reduce(expr: sp.Expr) -> sp.Expr | None:
 
 def _normal_form(expr: sp.Expr) -> sp.Expr:
     """The rational normal form modulo sin**2 + cos**2 = 1 (a constant ratio comes out as a
-    number); sympy's ``simplify`` only where that form does not apply."""
+    number: :func:`solver.display.constant_value` finds it without the form's ``cancel``); sympy's
+    ``simplify`` only where that form does not apply."""
+    from solver.display import constant_value
+
+    constant = constant_value(expr)
+    if constant is not None:
+        return constant
     reduced = _trig_reduce(expr)
     return sp.simplify(expr) if reduced is None else reduced
 
@@ -381,7 +390,7 @@ def _varies(expr: sp.Expr, seed: int = 0) -> bool:
         for attempt in range(4):
             point = _random_point(symbols, seed + attempt)
             try:
-                value = fn(*[mpmath.mpf(point[s].p) / point[s].q for s in symbols])[0]
+                value = fn(*[point[s] for s in symbols])[0]
             except (ZeroDivisionError, ValueError, TypeError):
                 continue
             if not mpmath.isfinite(value):
@@ -418,6 +427,13 @@ def _diagnose(residual: sp.Expr, lhs: sp.Expr, rhs: sp.Expr, solution: dict) -> 
                     )
                 return f"the term {sp.sstr(term)} on the {side} should be {sp.sstr(sp.expand(factor * term))}"
     return ""
+
+
+@lru_cache(maxsize=64)
+def _qdd_solution(eom: sp.Expr, qdd: sp.Symbol) -> sp.Expr:
+    """theta_ddot solved from the equation of motion (linear in it); the same for every printed
+    equation of an example under the same conditions, so solved once."""
+    return -eom.xreplace({qdd: 0}) / sp.diff(eom, qdd)
 
 
 def check_equation(tr: Transcription, scene, deriv) -> EquationOutcome:
@@ -464,8 +480,7 @@ def check_equation(tr: Transcription, scene, deriv) -> EquationOutcome:
         diff = printed
         derived_l, derived_r = mapped_l, mapped_r
     elif tr.kind in ("relation", "eom"):
-        qdd_solution = -eom.xreplace({qdd: 0}) / sp.diff(eom, qdd)
-        solution = {qdd: qdd_solution}
+        solution = {qdd: _qdd_solution(eom, qdd)}
         diff = printed.xreplace(solution)
         if tr.kind == "eom":
             if printed.has(*[sp.Symbol(r, real=True) for r in deriv.reactions]):

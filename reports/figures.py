@@ -2,8 +2,9 @@
 
 Every figure is computed here from the solver or the survey analytics; the SVG
 text is embedded inline in the HTML (no files fetched) and also written next to
-the LaTeX source (``figures/*.svg``; the PDF build converts nothing, it uses
-the PDF twins written by :func:`save_pdf` when a LaTeX engine exists).
+the LaTeX source (``figures/*.svg``), with its PDF twin (``figures/*.pdf``, for
+LaTeX, written whether or not a LaTeX engine exists). Matplotlib draws each
+figure once for both files (:func:`reports.vector_pair.svg_and_pdf`).
 
 Determinism: ``svg.hashsalt`` is fixed, no date or creator is written, text is
 kept as text (``svg.fonttype = "none"``), and element ids are stable.
@@ -23,7 +24,7 @@ from matplotlib import rc_context  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 from scipy.integrate import solve_ivp  # noqa: E402
 
-from solver.drawing.render import fix_layout  # noqa: E402
+from reports.vector_pair import svg_and_pdf  # noqa: E402
 from solver.units import Q_  # noqa: E402
 
 __all__ = ["FigureResult", "svg_text", "example1_release_sweep", "example2_free_motion", "likert_chart",
@@ -64,28 +65,30 @@ class FigureResult:
     facts: dict
 
 
+_SVG_METADATA = {"Date": None, "Creator": None}
+_PDF_METADATA = {"CreationDate": None, "Creator": None, "Producer": None}
+"""No dates and no producer in the files: the same inputs give the same bytes."""
+
+
+def _without_prolog(svg: str) -> str:
+    return svg[svg.find("<svg"):]
+
+
 def svg_text(fig: Figure) -> str:
     """SVG of a figure, without prolog, reproducible."""
     buf = io.StringIO()
     with rc_context(RC):
-        fig.savefig(buf, format="svg", metadata={"Date": None, "Creator": None})
-    text = buf.getvalue()
-    return text[text.find("<svg"):]
-
-
-def _pdf_bytes(fig: Figure) -> bytes:
-    buf = io.BytesIO()
-    with rc_context(RC):
-        fig.savefig(buf, format="pdf", metadata={"CreationDate": None, "Creator": None, "Producer": None})
-    return buf.getvalue()
+        fig.savefig(buf, format="svg", metadata=_SVG_METADATA)
+    return _without_prolog(buf.getvalue())
 
 
 def _result(name: str, fig: Figure, caption: str, facts: dict) -> FigureResult:
-    """Both renderings of ``fig``, in one layout: the layout engine (constrained layout, a solver
-    over every text's extent) runs once, and both files reuse the positions it found."""
-    with rc_context(RC):
-        fix_layout(fig)  # (Figures 1-3: already fixed when their labels were placed)
-    return FigureResult(name=name, caption=caption, svg=svg_text(fig), pdf=_pdf_bytes(fig), facts=facts)
+    """Both renderings of ``fig``, in one layout and one drawing: the layout engine (constrained
+    layout, a solver over every text's extent) runs once, and matplotlib draws the figure once for
+    both files (:func:`reports.vector_pair.svg_and_pdf`)."""
+    with rc_context(RC):  # (Figures 1-3: the layout already fixed when their labels were placed)
+        svg, pdf = svg_and_pdf(fig, _SVG_METADATA, _PDF_METADATA)
+    return FigureResult(name=name, caption=caption, svg=_without_prolog(svg), pdf=pdf, facts=facts)
 
 
 # --------------------------------------------------------------------------- Example 1

@@ -452,7 +452,7 @@ def _by_powers(expr: sp.Expr, x: sp.Symbol) -> dict:
     return {(x**k if k else sp.S.One): sp.Add(*terms) for k, terms in groups.items()}
 
 
-def natural_frequency(scene, method: str = "generalized_euler") -> FrequencyResult:
+def natural_frequency(scene, method: str = "generalized_euler", one_dof=None) -> FrequencyResult:
     """Small-oscillation natural frequency of a one-coordinate system about its stable equilibrium.
 
     Parameters
@@ -460,6 +460,9 @@ def natural_frequency(scene, method: str = "generalized_euler") -> FrequencyResu
     scene : System or Scene
     method : str
         Route for M(q) and the loads (all agree).
+    one_dof : solver.period.OneDofSystem, optional
+        The scene's one-degree-of-freedom model when the caller has it (its compiled functions
+        are then shared with the caller's period and friction work); default: built here.
 
     Returns
     -------
@@ -483,9 +486,10 @@ def natural_frequency(scene, method: str = "generalized_euler") -> FrequencyResu
     from .period import OneDofSystem, find_equilibrium
 
     system = as_system(scene)
-    d = derive(system, None, method)
-    one = OneDofSystem.from_derivation(d, reactions=False)  # M and V only: no reactions needed
-    eq = find_equilibrium(one, near=system.free[0].value)
+    if one_dof is None:
+        d = derive(system, None, method)
+        one_dof = OneDofSystem.from_derivation(d, reactions=False)  # M and V only: no reactions needed
+    eq = find_equilibrium(one_dof, near=system.free[0].value)
     w = eq.omega
     q_unit, k_unit, m_unit = _FREQUENCY_UNITS[system.free[0].kind]
     return FrequencyResult(

@@ -827,6 +827,18 @@ def _diff_function(e: sp.Expr, q: sp.Symbol, memo: dict) -> tuple[sp.Expr, sp.Ex
     return D, _scaled(D, inner)
 
 
+class _OnFirstCall:
+    """A function built by ``build()`` when it is first called (and kept)."""
+
+    def __init__(self, build: Callable[[], Callable]):
+        self._build, self._f = build, None
+
+    def __call__(self, *args):
+        if self._f is None:
+            self._f = self._build()
+        return self._f(*args)
+
+
 @dataclass(frozen=True)
 class _Compiled:
     """The compiled potential and mass of one set of parameter values, for the period
@@ -916,13 +928,14 @@ def _compiled(system: OneDofSystem) -> _Compiled:
         dV = lambda d: sp.diff(system.effective_potential(), system.q, d)  # noqa: E731
         V = [_bound(system, (f"V{d}", zeros), lambda d=d: dV(d)) for d in (0, 1)]
         D, B = _potential_difference(system)
-        # sin^2 + cos^2 in M reduced first (fewer array operations per node)
-        f = sp.sqrt((reduce_trig(sp.sympify(system.mass)) or system.mass) * _COS2 / D)
-        integrand = _bound(system, ("integrand", zeros), lambda: f if B is None else (f, B / sp.Abs(D)),
-                           (_HALF, _COS2))
+        def integrand():  # (built at its first use: the turning points alone, as least_friction
+            # wants them, need no quadrature) sin^2 + cos^2 in M reduced first (fewer array operations per node)
+            f = sp.sqrt((reduce_trig(sp.sympify(system.mass)) or system.mass) * _COS2 / D)
+            return _bound(system, ("integrand", zeros), lambda: f if B is None else (f, B / sp.Abs(D)),
+                          (_HALF, _COS2))
         newton = _scalar(system, ("Newton", zeros), (system.q, _HALF), lambda: [D, dV(1), dV(2)])
         local = _scalar(system, ("V, V', V''", zeros), (system.q,), lambda: [dV(0), dV(1), dV(2)])
-        return _Compiled(V[0], V[1], lambda q: local(q, *vals), integrand,
+        return _Compiled(V[0], V[1], lambda q: local(q, *vals), _OnFirstCall(integrand),
                          lambda q, ref: newton(q, 0.5 * (ref - q), *vals), B is not None)
 
     key = ("period functions", system.values)

@@ -121,6 +121,16 @@ def test_frequency_result_dict():
     assert f["period"]["value"] == pytest.approx(2 * math.pi / f["omega_n"]["value"])
 
 
+def test_frequency_from_the_callers_one_dof_model_is_the_same():
+    """The caller's one-degree-of-freedom model (with reactions, as the report builds it) gives
+    the frequency natural_frequency finds with its own model: the same M and V, so equal floats."""
+    from solver.period import OneDofSystem
+
+    scene = example2(theta_deg=20.0)
+    shared = natural_frequency(scene, one_dof=OneDofSystem.from_derivation(derive(scene)))
+    assert shared.to_dict() == natural_frequency(scene).to_dict()
+
+
 def test_reactions_and_units_attributes():
     d = derive(example2(), "P")
     assert [str(u) for u in d.unknowns] == ["theta_ddot", "F_f", "F_n"]

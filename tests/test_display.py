@@ -63,6 +63,47 @@ def test_numerator_reduction_decides_zero_through_denominators():
         assert not numerator_reduces_to_zero(num / den - (num + g) * (s**2 + c**2) / den)
 
 
+def test_the_polynomial_route_decides_what_it_can_and_leaves_the_rest():
+    """The sparse-polynomial route (rational functions of symbols and sin/cos/tan/cot of symbols)
+    decides by construction: zero for (sin^2 + cos^2)^k - 1 times anything, over any denominator,
+    with odd and even powers of sin up to 7; nonzero once a term is added. It leaves (None) what is
+    not such a function, and an expression whose denominator vanishes identically."""
+    from solver.display import _ring_numerator_zero
+
+    one = s**2 + c**2
+    rng = random.Random(5)
+    pieces = [s, c, s**3, c * sp.sin(beta) ** 2, sp.tan(beta), sp.cot(phi), g / m, phi]
+    for _ in range(12):
+        num = sum(rng.randint(-3, 3) * rng.choice(pieces) * rng.choice(pieces) for _ in range(3)) + s**7
+        den = 2 + s**2 + rng.randint(0, 2) * sp.cos(beta) ** 2 * g
+        k = rng.randint(1, 3)
+        assert _ring_numerator_zero(num / den - num * one**k / den) is True
+        assert _ring_numerator_zero(num / den - num * one**k / den + rng.choice(pieces) / 5) is False
+    assert _ring_numerator_zero(phi - s) is False  # the angle itself is not a function of sin and cos
+    assert _ring_numerator_zero(sp.Rational(3, 4) - sp.Rational(3, 4)) is True
+    for outside in (sp.sin(2 * phi) - 2 * s * c, sp.Float(0.25) * g * s - s, sp.sqrt(g) * s, sp.pi * s,
+                    g / (one - 1)):
+        assert _ring_numerator_zero(outside) is None
+    assert numerator_reduces_to_zero(sp.sin(2 * phi) - 2 * s * c)  # (decided by the expression route)
+
+
+def test_a_constant_ratio_is_found_exactly():
+    """constant_value: k for (k num + (sin^2 + cos^2 - 1) anything) / num, by construction; None
+    for a ratio that varies or one outside the polynomial route; 0 for zero."""
+    from solver.display import constant_value
+
+    rng = random.Random(3)
+    pieces = [s, c**3, sp.tan(beta), g, m * sp.cos(beta), phi]
+    for _ in range(10):
+        num = sum(rng.randint(1, 4) * rng.choice(pieces) * rng.choice(pieces) for _ in range(3)) + s
+        k = sp.Rational(rng.randint(-9, 9), rng.randint(1, 5))
+        assert constant_value((k * num + (s**2 + c**2 - 1) * rng.choice(pieces)) / num) == k
+        assert constant_value((k * num + g * s) / num) is None
+    assert constant_value(sp.Rational(-3, 4)) == sp.Rational(-3, 4)
+    assert constant_value((s**2 + c**2 - 1) / g) == 0
+    assert constant_value(sp.sqrt(g) / sp.sqrt(g * (s**2 + c**2))) is None
+
+
 def test_eom_mass_is_the_generalized_mass_of_the_kinetic_energy(capsys):
     """`eom` prints M as the theta_ddot coefficient of the projected equation of motion: it must be
     2 T / theta_dot^2 (exact identity after reduction modulo sin^2 + cos^2 = 1)."""

@@ -314,6 +314,23 @@ def _assert_no_moment_about_P(fbd, P, body, where):
     assert abs(moment) <= 1e-9 * max(scale, 1e-12), f"{where}: moment about {body}:{fbd.point[body]} = {moment}"
 
 
+def test_free_body_values_by_the_walk_and_by_the_compiled_fallback():
+    """The values the free-body diagrams draw: by one tree walk, or, where a node is one the walk
+    does not know (atan2), by numpy for the whole list; nan where a value is not real, either way.
+    (1e-15 relative: a few double-precision operations; the reference is the math module.)"""
+    from solver.drawing.model import _evaluate
+
+    system = load_system(SCENES[0])
+    state = start_state(system)
+    q, x = system.q[0], state.q[0]
+    walked = _evaluate(system, [sp.sin(q) + 1, sp.sqrt(-1 - q**2)], state)
+    compiled = _evaluate(system, [sp.sin(q) + 1, sp.sqrt(-1 - q**2), sp.atan2(q, 1)], state)
+    for values in (walked, compiled):
+        assert values[0] == pytest.approx(math.sin(x) + 1, rel=1e-15)
+        assert math.isnan(values[1])
+    assert compiled[2] == pytest.approx(math.atan2(x, 1), rel=1e-15)
+
+
 def test_inertial_force_follows_the_kinematics_of_the_paper():
     """Example 2 about P: x_P = r_d theta (Eq. 31), so a_P = r_d theta_ddot i and the dashed
     arrow is -(m_d + m_b) r_d theta_ddot i. Example 1 about A: A runs on the horizontal rail,

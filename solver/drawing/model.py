@@ -24,6 +24,7 @@ import sympy as sp
 
 from ..model.bodies import GROUND
 from ..strprint import lambdify
+from ..tree_value import DOUBLE, NotEvaluable, real_value, tree_value
 
 __all__ = ["DrawnItem", "Drawing", "BodyShape", "scene_items", "free_body_items", "PoseFunction",
            "body_shapes", "ZERO_FORCE", "CONVENTION", "size_label"]
@@ -171,15 +172,24 @@ class PoseFunction:
 
 
 def _evaluate(system, exprs: list, state, accelerations: dict | None = None) -> list[float]:
-    """Expressions in (q, q_dot, q_ddot, t, parameters) at a state, as floats (one compiled call)."""
+    """Expressions in (q, q_dot, q_ddot, t, parameters) at a state, as floats: one walk of the trees
+    in double precision (:func:`solver.tree_value.tree_value`, shared subtrees once), or one compiled
+    call where a node is not one the walk knows (nan where a value is not a finite real number)."""
     values = system.si_values()
     params = sorted(values, key=str)
     qdd = [sp.Symbol(str(c.qdd), real=True) for c in system.free]
     args = (*system.q, *system.qd, *qdd, system.t, *params)
-    f = lambdify(args, [sp.sympify(e) for e in exprs], "numpy", cse=True)
     acc = [float((accelerations or {}).get(str(c.qdd), 0.0)) for c in system.free]
+    numbers = (*state.q, *state.qd, *acc, state.t, *[values[p] for p in params])
+    exprs = [sp.sympify(e) for e in exprs]
+    point, memo = {a: complex(float(v)) for a, v in zip(args, numbers)}, {}
+    try:
+        return [real_value(tree_value(e, point, DOUBLE, memo)) for e in exprs]
+    except (NotEvaluable, KeyError, TypeError, ZeroDivisionError, OverflowError, ValueError):
+        pass  # (numpy's answer instead: inf or nan where the walk stopped)
+    f = lambdify(args, exprs, "numpy", cse=True)
     with np.errstate(all="ignore"):
-        out = f(*state.q, *state.qd, *acc, state.t, *[values[p] for p in params])
+        out = f(*numbers)
     return [float(v) for v in out]
 
 

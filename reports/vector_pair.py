@@ -1,0 +1,123 @@
+"""One figure as SVG and as PDF from a single drawing pass.
+
+The report inlines each figure as SVG and writes its PDF twin next to paper.tex. Saving the
+two separately draws the figure twice: every artist, tick and text laid out again for the
+second file. Here matplotlib draws once into a renderer that hands every drawing call to both
+matplotlib's SVG renderer and its PDF renderer (both at 72 points to the inch). The SVG is
+byte for byte what ``savefig`` writes; the PDF is too, but for texts anchored by the SVG
+renderer's measure of their width (see :class:`_BothRenderers`; the tests hold both).
+"""
+from __future__ import annotations
+
+import io
+
+from matplotlib.backend_bases import FigureCanvasBase
+from matplotlib.backends.backend_mixed import MixedModeRenderer
+from matplotlib.backends.backend_pdf import PdfFile, RendererPdf
+from matplotlib.backends.backend_svg import RendererSVG
+
+from solver.drawing.layout import fix_layout
+
+__all__ = ["svg_and_pdf"]
+
+_DRAWING_CALLS = ("draw_path", "draw_markers", "draw_path_collection", "draw_quad_mesh",
+                  "draw_gouraud_triangles", "draw_image", "open_group", "close_group",
+                  "start_rasterizing", "stop_rasterizing", "start_filter", "stop_filter")
+
+
+class _BothRenderers:
+    """A renderer passing each drawing call to an SVG and a PDF renderer.
+
+    Questions the artists ask while drawing (text extents, canvas size, points to pixels) are
+    answered by the SVG renderer, so the SVG is the one ``savefig`` writes. The PDF renderer
+    measures a text's width up to about 0.1 % apart (another route to the same font metrics), so
+    a centred or right-aligned text, or a legend's frame, can lie that much (hundredths of a
+    point) from where the PDF alone puts it; nothing else differs. Text positions come with y downwards (SVG's ``flipy``); the PDF renderer gets them
+    with y upwards.
+    """
+
+    def __init__(self, svg, pdf):
+        self._svg, self._pdf = svg, pdf
+        self._height = svg.get_canvas_width_height()[1]
+        for name in _DRAWING_CALLS:
+            setattr(self, name, self._both(name))
+
+    def _both(self, name):
+        first, second = getattr(self._svg, name), getattr(self._pdf, name)
+
+        def call(*args, **kwargs):
+            first(*args, **kwargs)
+            second(*args, **kwargs)
+        return call
+
+    def __getattr__(self, name):
+        return getattr(self._svg, name)
+
+    def new_gc(self):
+        return self._pdf.new_gc()  # a PDF graphics context: the SVG renderer reads the same properties
+
+    def draw_text(self, gc, x, y, s, prop, angle, ismath=False, mtext=None):
+        self._svg.draw_text(gc, x, y, s, prop, angle, ismath=ismath, mtext=mtext)
+        self._pdf.draw_text(gc, x, self._height - y, s, prop, angle, ismath=ismath, mtext=mtext)
+
+    def draw_tex(self, gc, x, y, s, prop, angle, *, mtext=None):
+        self._svg.draw_tex(gc, x, y, s, prop, angle, mtext=mtext)
+        self._pdf.draw_tex(gc, x, self._height - y, s, prop, angle, mtext=mtext)
+
+
+class _PairCanvas(FigureCanvasBase):
+    """A canvas whose one output format, ``svgpdf``, is the pair of files (see :func:`svg_and_pdf`)."""
+
+    filetypes = {"svgpdf": "SVG and PDF, one drawing"}
+
+    def print_svgpdf(self, sink, *, bbox_inches_restore=None, svg_metadata=None, pdf_metadata=None,
+                     **_colours):
+        """The body of matplotlib's ``print_svg`` and ``print_pdf``, with one ``figure.draw``. (Like
+        them it ignores the face and edge colours and the orientation ``print_figure`` passes: the
+        figure's own colours are set by ``print_figure`` itself.)"""
+        image_dpi = self.figure.dpi
+        self.figure.dpi = 72  # points to the inch of both formats
+        width, height = self.figure.get_size_inches()
+        svg_out, pdf_out = io.StringIO(), io.BytesIO()
+        pdf_file = PdfFile(pdf_out, metadata=pdf_metadata)
+        try:
+            pdf_file.newPage(width, height)
+            svg = MixedModeRenderer(self.figure, width, height, image_dpi,
+                                    RendererSVG(width * 72, height * 72, svg_out, image_dpi=image_dpi,
+                                                metadata=svg_metadata),
+                                    bbox_inches_restore=bbox_inches_restore)
+            pdf = MixedModeRenderer(self.figure, width, height, image_dpi,
+                                    RendererPdf(pdf_file, image_dpi, height, width),
+                                    bbox_inches_restore=bbox_inches_restore)
+            self.figure.draw(_BothRenderers(svg, pdf))
+            svg.finalize()
+            pdf.finalize()
+            pdf_file.finalize()
+        finally:
+            pdf_file.close()
+        sink["svg"], sink["pdf"] = svg_out.getvalue(), pdf_out.getvalue()
+
+
+def svg_and_pdf(fig, svg_metadata: dict | None = None, pdf_metadata: dict | None = None) -> tuple[str, bytes]:
+    """The figure's SVG text and PDF bytes, drawn once, in the layout :func:`solver.drawing.layout.fix_layout`
+    fixes (the figure keeps it).
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+    svg_metadata, pdf_metadata : dict, optional
+        As ``savefig(..., metadata=...)`` takes them for each format.
+
+    Returns
+    -------
+    (str, bytes)
+        The SVG document (with its XML prolog) and the PDF file, as ``savefig`` writes them.
+    """
+    fix_layout(fig)  # with a layout engine left, savefig would lay the figure out with the pair renderer
+    previous = fig.canvas
+    sink: dict = {}
+    try:
+        _PairCanvas(fig).print_figure(sink, format="svgpdf", svg_metadata=svg_metadata, pdf_metadata=pdf_metadata)
+    finally:
+        fig.set_canvas(previous)
+    return sink["svg"], sink["pdf"]
