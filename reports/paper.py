@@ -374,7 +374,8 @@ def explained(system, point: str, at_rest: bool, shows_alternative: bool = False
     from solver.analyses.instant import assemble
     from solver.explain import explain, rank_points
 
-    expl = explain(system, point, advice=False, solution=False)  # the per-body steps are what the paper shows
+    # the per-body steps are what the paper shows (its kinematics are example_steps')
+    expl = explain(system, point, advice=False, solution=False, kinematics=False)
     body = next(iter(system.bodies))
     section = expl.section(body)
     rest = {c.qd: 0 for c in system.coordinates} if at_rest else {}

@@ -545,7 +545,8 @@ def _dropped_step(system, body: str, P: str, forces, dropped, newton: Step, eule
                 table=Table(("reaction", "Newton x", "Newton y", f"Euler about {P}", "why not in Euler"), tuple(rows)))
 
 
-def explain(system, point: str | None = None, *, advice: bool = True, solution: bool = True) -> Explanation:
+def explain(system, point: str | None = None, *, advice: bool = True, solution: bool = True,
+            kinematics: bool = True) -> Explanation:
     """The worked solution of ``system`` at its state about ``point`` (``--point``).
 
     Parameters
@@ -558,6 +559,9 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
     solution : bool
         Include the whole-system section (equation of motion, solution at the state, check by
         the mass-centre form); False: the data and the per-body steps only.
+    kinematics : bool
+        Include each body's kinematics step (False: a reader that shows its own kinematics, as
+        the paper's examples do, skips its cost, a third of the per-body work).
 
     Returns
     -------
@@ -591,7 +595,7 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
         expl.sections[-1].steps.append(_regime_step(scene, regime, warning))
     parts: dict = {}
     for body, P in f.points.items():
-        expl.sections.append(_body_section(system, body, P, parts, (f, state)))
+        expl.sections.append(_body_section(system, body, P, parts, (f, state), kinematics))
     if not solution:
         return expl
     final = Section("Solution", None)
@@ -663,10 +667,11 @@ def _regime_step(scene, regime, warning) -> Step:
                 table=Table(("contact", "regime", "why"), tuple(rows)) if rows else None)
 
 
-def _body_section(system, body: str, P: str, parts: dict | None = None, at=None) -> Section:
+def _body_section(system, body: str, P: str, parts: dict | None = None, at=None,
+                  kinematics: bool = True) -> Section:
     """The steps of one body; ``parts`` (body -> (points, forces)) receives what the point advisor
     needs again (no later step names new points); ``at``: (formulation, state), to say which
-    unknowns the moment equation holds at the state."""
+    unknowns the moment equation holds at the state; ``kinematics``: with the kinematics step."""
     points = _Points(system, body)
     forces = _forces_on(system, body, points)
     if parts is not None:
@@ -680,7 +685,8 @@ def _body_section(system, body: str, P: str, parts: dict | None = None, at=None)
             used.append(f.point)
     section = Section(f"Body {body}", body)
     section.steps.append(_data_step(system, body))
-    section.steps.append(_kinematics_step(system, body, P, used, points))
+    if kinematics:
+        section.steps.append(_kinematics_step(system, body, P, used, points))
     section.steps.append(_fbd_step(system, body, forces))
     newton = _newton_step(system, body, P, forces)
     section.steps.append(newton)
