@@ -649,14 +649,18 @@ def test_suggest_point_in_every_format(solver_cli, tmp_path):
 def test_html_worked_solution_style_sheet_is_valid(solver_cli):
     """The style sheet is a sequence of ``selector{declarations}`` rules with balanced braces (a
     doubled brace, as an f-string's escape left in a plain string, ends the sheet after its first
-    rule in a browser), and it lays equations out as preformatted blocks with bordered tables."""
+    rule in a browser): the embedded maths font for every ``<math>``, equations in blocks that scroll
+    sideways by themselves when longer than the page, bordered tables, and each free-body diagram
+    drawn at the page's width (its own 331 pt made its labels smaller than the text)."""
     code, page, _ = solver_cli("explain", "data/scenes/sliding_bar.toml", "--format", "html")
     assert code == 0
     css = re.search(r"<style>(.*?)</style>", page, flags=re.S).group(1)
     rules = re.findall(r"\s*([^{}]+)\{([^{}]*)\}", css)
-    assert "".join(f"{sel}{{{body}}}" for sel, body in rules).replace(" ", "") == css.replace(" ", "")
-    declared = {sel.strip(): body for sel, body in rules}
-    assert "white-space:pre-wrap" in declared[".eq"] and "border:" in declared["td,th"]
+    assert "".join(f"{sel}{{{body}}}" for sel, body in rules).replace(" ", "") == re.sub(r"\s", "", css)
+    declared = {sel.strip(): body.replace(" ", "") for sel, body in rules}
+    assert 'font-family:"AltEulerMath",math' in declared["math"] and "data:font/woff;base64," in declared["@font-face"]
+    assert "overflow-x:auto" in declared[".eq"] and "border:" in declared["td,th"]
+    assert "width:100%" in declared["figure.fbd svg"] and "height:auto" in declared["figure.fbd svg"]
 
 
 def _latex_maths(doc: str) -> list[str]:
@@ -876,13 +880,25 @@ def test_wording_citations_and_grammar(paper, every_scene):
 
 
 def test_html_joins_a_negative_term_with_minus_and_keeps_labels(paper):
-    """In HTML as in text: a negative term after the first reads "- R_B*l_b*(...)", never
+    """In HTML as in text: a negative term after the first reads "- R_B l_b (...)", never
     "+ -R_B..." (Example 1's moment about A), and a one-term side keeps its label when the
-    equation has two labelled terms (the data-entered rows: "... [R_B] = 21.65 [known]")."""
+    equation has two labelled terms (the data-entered rows: "... [R_B] = 21.65 [known]"). In
+    MathML: a term's row holds its sign in a cell of its own, and no term after it starts with a
+    minus; on one line, no "+" or "-" is followed by a term's own minus."""
+    from solver.mathml import mathml_text
+
     out = render(paper[2]["sliding_bar"], "html")
-    equations = re.findall(r'<div class="eq">(.*?)</div>', out, flags=re.S)
-    assert equations and not any(re.search(r"[+-]\s+-", e) for e in equations)
-    assert any(re.search(r"\n\s+- R_B\*l_b\*", e) for e in equations)
-    assert any('<span class="note">[known]</span>' in e for e in equations)
+    assert not re.search(r"<mo>[+-]</mo>(?:<mrow>)*<mo>-</mo>", out)
+    tables = "".join(re.findall(r'<table class="terms">(.*?)</table>', out))
+    rows = re.findall(r"<tr><td>(.*?)</td><td>(.*?)</td><td>(.*?)</td><td>(.*?)</td></tr>", tables)
+    signs = [mathml_text(sign) for _, sign, _, _ in rows]
+    assert rows and set(signs) <= {"", "=", "+", "-", "\u2248"}, set(signs)
+    terms = {sign: [] for sign in signs}
+    for (_, _, term, _), sign in zip(rows, signs):
+        terms[sign].append(re.sub(r"<math[^>]*><mstyle displaystyle=\"true\">", "", term))
+    assert not any(t.startswith(("<mo>-</mo>", "<mrow><mo>-</mo>")) for s in "+-" for t in terms.get(s, []))
+    assert any(t.startswith("<mrow><msub><mi>R</mi><mi>B</mi></msub><mo>&InvisibleTimes;</mo><msub><mi>l</mi>")
+               for t in terms["-"]), terms["-"]
+    assert any('<span class="note">[known]</span>' == note for *_, note in rows)
     text = render(paper[2]["sliding_bar"], "text")
     assert "[known]" in text  # the text shows the same labels
