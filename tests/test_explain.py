@@ -902,3 +902,19 @@ def test_html_joins_a_negative_term_with_minus_and_keeps_labels(paper):
     assert any('<span class="note">[known]</span>' == note for *_, note in rows)
     text = render(paper[2]["sliding_bar"], "text")
     assert "[known]" in text  # the text shows the same labels
+
+
+def test_html_typesets_every_equation_name_and_formula_as_mathml(every_scene):
+    """New-user report: the HTML printed the equations as code (``l_b**2*m_b/12``, ``theta_ddot``)
+    while Markdown and LaTeX typeset them. Now, for every shipped scene, the page's visible text
+    (outside the MathML, the style sheet and the drawings) has no ``**``, no ``a*b`` and no
+    ``_dot``/``_ddot`` name, and each equation block is MathML with the rates as accents."""
+    for name, (_, expl) in every_scene.items():
+        page = render(expl, "html")
+        body = re.sub(r"<style>.*?</style>|<svg.*?</svg>|<math.*?</math>", "", page, flags=re.S)
+        text = re.sub(r"<[^>]+>", " ", body)
+        assert not re.search(r"\*\*|\w\*\w|_d?dot\b", text), (name, re.findall(r"\S*(?:\*|_d?dot)\S*", text)[:5])
+        blocks = re.findall(r'<div class="eq">(.*?)</div>', page, flags=re.S)
+        assert blocks and all(b.startswith(("<math", '<table class="terms">')) for b in blocks), name
+    page = render(every_scene["sliding_bar"][1], "html")
+    assert '<mover accent="true"><mi>&#952;</mi><mo>&#168;</mo></mover>' in page  # theta with two dots
