@@ -607,13 +607,16 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
     numbers = _numbers_step(system, expl, state)
     if numbers is not None:
         final.steps.append(numbers)
+    numeric = _numeric_system(system, f, state)  # the equations shown, at the state
+    cond = _condition_number(numeric[0])
     if scene.contacts:  # the product's own regime solve, and the same by the mass-centre form
         solution = solution_in_regime(scene, *found, point, "generalized_euler")
         check = solve_instant(scene, None, "mass_center", state).unknowns
     else:
-        solution = _solve_at_state(system, f, point, state) or solve_instant(system, point, "generalized_euler", state)
+        solution = (_solve_at_state(system, f, point, state, numeric, cond)
+                    or solve_instant(system, point, "generalized_euler", state))
         check = _mass_center_check(system, state)
-    final.steps.append(_solution_step(system, solution))
+    final.steps.append(_solution_step(system, solution, cond))
     final.steps.append(_check_step(system, solution, check))
     if regime is not None and regime.indeterminate:
         final.steps[-1].text.append("The contact forces are statically indeterminate: each route picks one "
@@ -1080,15 +1083,29 @@ def _out(system, name: str, qty):
     return entry["value"], entry["unit"].replace(" / ", "/").replace(" ** ", "**").replace(" * ", "*")
 
 
-def _solution_step(system, solution) -> Step:
+def _condition_number(A) -> float | None:
+    """The exact condition number of the equations' matrix ``A`` at the state, the one quantity
+    ``precision`` prints (:func:`solver.analyses.instant.condition_numbers`: 1-norm, rows and columns
+    equilibrated); None when ``A`` is not square."""
+    from ..analyses.instant import condition_numbers
+
+    if A.shape[0] != A.shape[1]:
+        return None
+    return float(condition_numbers(A[None])[0])
+
+
+def _solution_step(system, solution, cond: float | None) -> Step:
+    """The unknowns at the state; ``cond``: the exact condition number of the equations (:func:`_condition_number`)."""
     from ..cli_common import format_number
 
     rows = []
     for name, qty in solution.unknowns.items():
         value, unit = _out(system, name, qty)
         rows.append((name, format_number(value), unit))
-    text = [f"The {len(rows)} unknowns at the state, from the linear equations above "
-            f"(condition number {solution.condition_number:.3g}), in the scene's output units."]
+    how = (f"condition number {cond:.3g}" if cond is not None and math.isfinite(cond) else
+           "their matrix is singular, its condition number infinite: one admissible solution")
+    text = [f"The {len(rows)} unknowns at the state, from the linear equations above ({how}), in the scene's "
+            "output units."]
     return Step("solution", "Solution", text, table=Table(("unknown", "value", "unit"), tuple(rows)))
 
 
@@ -1106,21 +1123,19 @@ def _numeric_system(system, f, state):
     return An, bn
 
 
-def _solve_at_state(system, f, point, state):
-    """The InstantSolution at the state from the substituted system, or None when its condition
-    number is not comfortably regular (then :func:`solve_instant` decides and names the singularity)."""
+def _solve_at_state(system, f, point, state, numeric, cond):
+    """The InstantSolution at the state from the substituted system ``numeric`` (A, b) whose exact
+    condition number is ``cond``, or None when that is not comfortably regular (then
+    :func:`solve_instant` decides and names the singularity)."""
     import numpy as np
 
-    from ..analyses.instant import CONDITION_LIMIT, InstantSolution, condition_numbers
+    from ..analyses.instant import CONDITION_LIMIT, InstantSolution
     from ..units import Q_
 
     if system.limits():  # a joint with a model limit: solve_instant checks it
         return None
-    An, bn = _numeric_system(system, f, state)
-    if An.shape[0] != An.shape[1]:
-        return None
-    cond = float(condition_numbers(An[None])[0])
-    if not np.isfinite(cond) or cond > CONDITION_LIMIT:
+    An, bn = numeric
+    if cond is None or not np.isfinite(cond) or cond > CONDITION_LIMIT:
         return None
     x = dict(zip((str(u) for u in f.unknowns), np.linalg.solve(An, bn)))
     unknowns = {}
