@@ -942,3 +942,27 @@ def test_solution_prints_the_exact_condition_number_in_a_contact_regime(solver_c
     assert f"(condition number {exact:.3g})" in text, re.findall(r"\(condition number [^)]*\)", text)
     code, text, err = solver_cli("explain", "data/scenes/crate_tipping.toml")
     assert "condition number inf)" not in text and "singular, its condition number infinite" in text
+
+
+def test_what_alpha_stands_for_is_said_once_by_the_content(paper):
+    """The sentence saying that alpha stands for -theta_ddot (Example 1: alpha = -theta_ddot, the
+    bar turning clockwise as theta grows) is part of the content, in the first step whose equations
+    write theta_ddot as alpha (the collected moment equation, Eq. 28), not made up by each renderer:
+    every format shows the one sentence of the content, once."""
+    import html
+
+    from solver.mathml import mathml_text
+
+    expl = paper[2]["sliding_bar"]
+    said = [(s.kind, t) for s in expl.steps() for t in s.text if t.startswith("Here alpha")]
+    assert said == [("euler", "Here alpha = -theta_ddot, the angular acceleration of body (k component, "
+                              "counter-clockwise positive): from here on the equations write the unknown "
+                              "theta_ddot as alpha.")]
+    assert render(expl, "text").count(said[0][1]) == 1
+    assert render(expl, "latex").count(r"Here $\alpha = -\ddot{\theta}$, the angular acceleration") == 1
+    assert render(expl, "markdown").count(r"Here alpha = -theta\_ddot, the angular acceleration") == 1
+    page = html.unescape(mathml_text(render(expl, "html")))
+    assert page.count("Here \u03b1=-\u03b8\u00a8, the angular acceleration") == 1
+    # a scene whose equations never write alpha for q'' (two coordinates) says nothing of it
+    double = explain(load_system(ROOT / "data" / "scenes" / "double_pendulum.toml"), advice=False)
+    assert not any(t.startswith("Here alpha") for s in double.steps() for t in s.text)

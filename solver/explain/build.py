@@ -450,6 +450,23 @@ def _alpha_form(system) -> dict:
     return {c.qdd: (ALPHA, k)} if k in (1, -1) and _zero(al - k * c.qdd) else {}
 
 
+def say_what_alpha_is(system, expl: Explanation) -> None:
+    """Say once, in the text of the first step whose equations write the unknown q'' as alpha
+    (:func:`_alpha_form`: the collected moment equation, else the equations with the data entered, as
+    the paper's Eqs. 28-29 do), what alpha stands for; nothing when no equation does (in place)."""
+    form = _alpha_form(system)
+    if not form:
+        return
+    (q_ddot, (alpha, k)), = form.items()
+    body = next(iter(system.bodies))
+    for step in expl.steps():
+        if any(alpha in sp.sympify(t.expr).free_symbols for e in step.equations for t in (*e.lhs, *e.rhs)):
+            step.text.append(f"Here alpha = {sp.sstr(k * q_ddot)}, the angular acceleration of {body} (k component, "
+                             f"counter-clockwise positive): from here on the equations write the unknown {q_ddot} "
+                             "as alpha.")
+            return
+
+
 def _collected_equation(system, body: str, P: str, euler: Equation) -> Equation | None:
     """The moment equation divided by the parameters common to all its terms and collected by
     unknown, known terms on the right, signed so that the first reaction's coefficient reads
@@ -593,6 +610,7 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
     for body, P in f.points.items():
         expl.sections.append(_body_section(system, body, P, parts, (f, state)))
     if not solution:
+        say_what_alpha_is(system, expl)
         return expl
     final = Section("Solution", None)
     if advice and not (regime is not None and regime.indeterminate):  # the advisor needs a system that validates
@@ -623,6 +641,7 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
                                     "admissible split of them, so they may differ; the accelerations are "
                                     "determined and must agree.")
     expl.sections.append(final)
+    say_what_alpha_is(system, expl)
     return expl
 
 

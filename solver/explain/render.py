@@ -5,8 +5,9 @@ equations and tables. Input text (names from the scene) is data: HTML escapes
 it, LaTeX escapes its special characters, Markdown escapes table pipes. The LaTeX
 rendering also writes the names, formulae and units in the prose and tables as
 LaTeX (:mod:`.latex_prose`), the HTML rendering as MathML (:mod:`.mathml_prose`,
-through :mod:`solver.mathml`). Where the equations write a one-body scene's q'' as
-the body's alpha, every rendering says so once (:func:`_alpha_alias`).
+through :mod:`solver.mathml`). The sentence saying what alpha stands for, where the
+equations write a one-body scene's q'' as alpha, is content like any other
+(:func:`solver.explain.build.say_what_alpha_is`).
 """
 from __future__ import annotations
 
@@ -41,7 +42,6 @@ class _Renderer:
     def __init__(self, expl: Explanation):
         self.expl = expl
         self.printed = FastStrPrinter()  # each expression's text once per rendering (a point's v_P shows often)
-        self.alias = _alpha_alias(expl)
 
     def document(self) -> str:
         out = [self.title(self.expl.title)]
@@ -57,8 +57,6 @@ class _Renderer:
     def step(self, step: Step) -> str:
         out = [self.heading(step.title, 3)]
         out += [self.paragraph(t) for t in step.text]
-        if self.alias is not None and step is self.alias[0]:
-            out.append(self.paragraph(self.alias[1]))
         if step.figure is not None:
             out.append(self.figure(step.figure))
         if step.figure_svg is not None:
@@ -78,29 +76,6 @@ class _Renderer:
     def drawing(self, svg: str) -> str:
         """A drawn free-body diagram: only HTML shows it (the forces are listed in every format)."""
         return ""
-
-
-def _alpha_alias(expl: Explanation):
-    """(step, sentence) saying once that alpha stands for +-q'': the first step after the kinematics whose
-    equations write the unknown q'' as the body's angular acceleration alpha (a one-body, one-coordinate
-    scene: the collected moment equation and the numbers, as the paper's Eqs. 28-29 do); None otherwise."""
-    defined = [(section.body, e) for section in expl.sections for step in section.steps
-               if step.kind == "kinematics" for e in step.equations if e.tag == "alpha"]
-    if len(defined) != 1:
-        return None
-    body, eq = defined[0]
-    rate = sp.sympify(eq.right)
-    q_ddot = [s for s in rate.free_symbols if s in expl.symbol_latex]
-    if len(q_ddot) != 1 or rate not in (q_ddot[0], -q_ddot[0]):
-        return None
-    alpha = sp.Symbol("alpha", real=True)
-    for step in expl.steps():
-        if step.kind != "kinematics" and any(alpha in sp.sympify(t.expr).free_symbols
-                                             for e in step.equations for t in (*e.lhs, *e.rhs)):
-            return step, (f"Here alpha = {sstr(rate)}, the angular acceleration of {body} (k component, "
-                          f"counter-clockwise positive): from here on the equations write the unknown {q_ddot[0]} "
-                          "as alpha.")
-    return None
 
 
 # -- text ------------------------------------------------------------------------------------------
