@@ -966,3 +966,18 @@ def test_what_alpha_stands_for_is_said_once_by_the_content(paper):
     # a scene whose equations never write alpha for q'' (two coordinates) says nothing of it
     double = explain(load_system(ROOT / "data" / "scenes" / "double_pendulum.toml"), advice=False)
     assert not any(t.startswith("Here alpha") for s in double.steps() for t in s.text)
+
+
+def test_data_entered_and_dropped_unknowns_make_one_decision(tmp_path):
+    """The equations with the data entered used a cut-off of their own (1e-12 absolute, in output
+    units) to call a coefficient zero, the dropped-unknowns step and the advisor another (1e-9 of
+    the body's largest coefficient). The hanging pendulum at theta = 1e-9 deg about its tip E: O_y's
+    moment coefficient -L sin(theta) is 1.4e-11 m, below the shared cut-off (L = 0.8 m, the largest
+    coefficient about 1) and above the other. Both steps now say that the moment equation holds
+    theta_ddot and O_x only; Newton y (O_y, theta_ddot) keeps O_y."""
+    system = _pendulum(tmp_path, "1e-9 deg")
+    expl = explain(system, "E", advice=False)
+    assert _euler_column(expl.section("bar").step("dropped")) == {"O_x": "yes", "O_y": "no, at this state"}
+    numbers = expl.sections[-1].step("numbers")
+    assert {t.note for t in numbers.equation("numbers:bar:euler").lhs} == {"alpha", "O_x"}
+    assert "O_y" in {t.note for t in numbers.equation("numbers:bar:newton_y").lhs}

@@ -622,7 +622,7 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
         motion = _constrained_motion_step(system, f, expl)
     if motion is not None:
         final.steps.append(motion)
-    numbers = _numbers_step(system, expl, state)
+    numbers = _numbers_step(system, f, expl, state)
     if numbers is not None:
         final.steps.append(numbers)
     numeric = _numeric_system(system, f, state)  # the equations shown, at the state
@@ -1025,11 +1025,14 @@ NUMBER_DIGITS = 4
 """Significant figures of the equations with the data entered (as the paper's Eq. 29)."""
 
 
-def _numbers_step(system, expl, state) -> Step | None:
+def _numbers_step(system, f, expl, state) -> Step | None:
     """Each body's equations with the data and the state entered, in the scene's output units
     (the paper's Eq. 29): numeric linear equations in the unknowns, those with the fewest unknowns
     first (they can be solved first), the moment equation before Newton's within a body. A one-body,
-    one-coordinate system is written in alpha when alpha = +-q''. None when there is no body step."""
+    one-coordinate system is written in alpha when alpha = +-q''. None when there is no body step.
+    Which unknowns an equation holds at the state is the decision of the step on the dropped unknowns
+    and of the advisor (:func:`solver.explain.advisor.unknowns_in_equations`), so that they agree."""
+    from .advisor import unknowns_in_equations
     unknowns = [(c.qdd, str(c.qdd), "rad/s**2" if c.kind == "angle" else "m/s**2") for c in system.free]
     unknowns += [(r.symbol, r.name, r.unit) for r in system.reactions]
     rename = _alpha_form(system)  # q'' = alpha / k
@@ -1039,6 +1042,7 @@ def _numbers_step(system, expl, state) -> Step | None:
     for section in expl.sections:
         if section.body is None:
             continue
+        held = unknowns_in_equations(system, f, section.body, expl.points[section.body], state)
         for step_kind, tag, unit in (("euler", "euler", "N*m"), ("newton", "newton_x", "N"), ("newton", "newton_y", "N")):
             try:
                 eq = section.step(step_kind).equation(tag)
@@ -1056,7 +1060,7 @@ def _numbers_step(system, expl, state) -> Step | None:
             terms = []
             for u, name, _ in unknowns:
                 coef = float(row.coeff(u)) * scale / per[u]
-                if abs(coef) > 1e-12 * (1.0 + abs(scale)):
+                if name in held[tag]:
                     shown, k = rename.get(u, (u, 1))
                     value = sp.Float(coef / k, NUMBER_DIGITS)
                     unit = abs(float(f"{coef / k:.{NUMBER_DIGITS}g}")) == 1.0  # written as R_A, not 1.000 R_A
