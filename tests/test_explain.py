@@ -918,6 +918,12 @@ def test_html_typesets_every_equation_name_and_formula_as_mathml(every_scene):
         assert blocks and all(b.startswith(("<math", '<table class="terms">')) for b in blocks), name
     page = render(every_scene["sliding_bar"][1], "html")
     assert '<mover accent="true"><mi>&#952;</mi><mo>&#168;</mo></mover>' in page  # theta with two dots
+    # a table cell: a number in e-notation as 1.5 x 10^-3, its unit after it unescaped, words escaped
+    from solver.explain.mathml_prose import MathmlProse
+
+    cell = MathmlProse([], {}).cell("1.5e-3 ft / s ** 2")
+    assert cell.endswith("</math>&#8201;ft/s<sup>2</sup>") and "<mn>10</mn><mn>-3</mn>" in cell, cell
+    assert MathmlProse([], {}).text("a_A <b>").endswith(" &lt;b&gt;")
 
 
 @pytest.mark.parametrize("scene", ["rocking_semicircle", "disk_backspin"])

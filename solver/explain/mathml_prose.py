@@ -80,7 +80,7 @@ class MathmlProse:
             return unit_html(text)
         m = _NUMBER_UNIT.fullmatch(text.strip())
         if m:
-            number = m["num"] if "e" not in m["num"] else wrap(number_mathml(m["num"]), "inline")
+            number = m["num"] if "e" not in m["num"] else str(wrap(number_mathml(m["num"]), "inline"))
             return number + (f"&#8201;{unit_html(m['unit'])}" if m["unit"] else "")
         word = text.strip()
         if re.fullmatch(r"[A-Z][0-9]*", word) or (re.fullmatch(r"[A-Za-z][A-Za-z0-9_,/]*'*", word)
