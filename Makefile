@@ -56,7 +56,7 @@ DATA_ANY := $(wildcard data/* data/*/* data/*/*/* data/*/*/*/*)
 DATA_DIRS := $(patsubst %/.,%,$(wildcard data/*/. data/*/*/. data/*/*/*/.))
 PY_SOURCES := $(filter-out reports/build/%,$(wildcard $(foreach d,solver analysis reports,$(d)/*.py $(d)/*/*.py $(d)/*/*/*.py)))
 REPORT_INPUTS := $(filter-out $(DATA_DIRS),$(DATA_ANY)) $(PY_SOURCES) \
-	$(wildcard analysis/templates/* reports/templates/* reports/fonts/*) \
+	$(wildcard analysis/templates/* reports/templates/* solver/fonts/*) \
 	$(filter-out $(BUILD)/bench/report.json,$(wildcard $(BUILD)/bench/*.json))
 
 $(REPORT_STAMP): $(STAMP) $(REPORT_INPUTS)

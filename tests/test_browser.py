@@ -1,4 +1,4 @@
-"""The report and the paper open cleanly in a real browser (headless Chromium).
+"""The report, the paper and a worked solution open cleanly in a real browser (headless Chromium).
 
 Each page is loaded through the DevTools protocol over a pipe
 (``--remote-debugging-pipe``: JSON messages separated by NUL bytes on file
@@ -6,7 +6,9 @@ descriptors 3 and 4, no network port, no extra package). The test fails on
 console errors or uncaught exceptions, resources that fail to load, images or
 SVG figures that do not render, MathML that the browser does not lay out, and
 leftover TeX source (``$...$``, ``\\frac``) in the page text. A screenshot of
-each page is saved next to the build for a person to look at.
+each page is saved next to the build for a person to look at. The worked solution is Example 1's
+(``solver explain data/scenes/sliding_bar.toml -o ...html``): its MathML, dots and free-body diagram
+are held to the same checks as the paper's.
 
 Skipped, with the reason, when Chromium is not installed (.ci/run installs it).
 """
@@ -18,6 +20,7 @@ import os
 import select
 import shutil
 import subprocess
+import sys
 import time
 from pathlib import Path
 
@@ -175,6 +178,29 @@ def built(tmp_path_factory) -> Path:
     return out
 
 
+EXPLAINED = "explain_sliding_bar.html"
+"""The worked solution's page among the pages tested (written by ``solver explain``, not the report build)."""
+
+
+@pytest.fixture(scope="module")
+def explained(tmp_path_factory) -> Path:
+    """Example 1's worked solution as ``python -m solver explain ... -o FILE.html`` writes it."""
+    out = tmp_path_factory.mktemp("explain") / EXPLAINED
+    subprocess.run([sys.executable, "-m", "solver", "explain", "data/scenes/sliding_bar.toml", "-o", str(out)],
+                   cwd=ROOT, check=True, capture_output=True, timeout=120)
+    return out
+
+
+@pytest.fixture(scope="module")
+def pages(request):
+    """Page name -> its file (the report's pages are built only by the tests that show them)."""
+    def path(page: str) -> Path:
+        if page == EXPLAINED:
+            return request.getfixturevalue("explained")
+        return request.getfixturevalue("built") / page
+    return path
+
+
 @pytest.fixture(scope="module")
 def browser(tmp_path_factory):
     """One Chromium (with the machine's fonts) for the pages of :func:`test_page_renders_in_chromium`:
@@ -185,9 +211,10 @@ def browser(tmp_path_factory):
     tools.close()
 
 
-@pytest.mark.parametrize("page", ["report.html", "paper.html"])
-def test_page_renders_in_chromium(built, page, browser):
-    path = built / page
+@pytest.mark.parametrize("page", ["report.html", "paper.html", EXPLAINED])
+def test_page_renders_in_chromium(pages, page, browser):
+    path = pages(page)
+    built = path.parent
     assert path.is_file(), f"{page} was not built"
     tools = browser
     tools.events.clear()  # events of an earlier page (they carry its session) are not this page's
@@ -213,7 +240,8 @@ def test_page_renders_in_chromium(built, page, browser):
     assert probe["mathZeroSize"] == 0, f"{page}: {probe['mathZeroSize']} equations render with no size"
     assert probe["mathNotLaidOut"] == 0, f"{page}: {probe['mathNotLaidOut']} equations not laid out as math"
     assert probe["brokenImages"] == [], f"{page}: images that did not load: {probe['brokenImages']}"
-    assert probe["svgs"] >= 2 and probe["emptySvgs"] == 0, f"{page}: figures missing or empty: {probe}"
+    figures = 1 if page == EXPLAINED else 2  # Example 1 has one body: one free-body diagram
+    assert probe["svgs"] >= figures and probe["emptySvgs"] == 0, f"{page}: figures missing or empty: {probe}"
     assert probe["texLeftovers"] == 0, f"{page}: raw TeX left in the text"
     assert probe["scripts"] == 0 and probe["external"] == [], f"{page}: scripts or network resources: {probe}"
     # at the 1280 px window nothing is wider than the page (a wide table of equations scrolls by itself)
@@ -330,8 +358,8 @@ def browser_without_maths_fonts(tmp_path_factory):
     tools.close()
 
 
-@pytest.mark.parametrize("page", ["paper.html", "report.html"])
-def test_accents_and_sum_limits_are_visible_without_a_system_maths_font(built, page, browser_without_maths_fonts):
+@pytest.mark.parametrize("page", ["paper.html", "report.html", EXPLAINED])
+def test_accents_and_sum_limits_are_visible_without_a_system_maths_font(pages, page, browser_without_maths_fonts):
     """The dots of theta_dot and theta_ddot, and the limits of a sum, measured on the screen.
 
     Each accent's ink is found by hiding it and comparing pixels: it must exist, be dark
@@ -344,7 +372,7 @@ def test_accents_and_sum_limits_are_visible_without_a_system_maths_font(built, p
     from reports.mathfont import FAMILY
 
     tools = browser_without_maths_fonts
-    view = Page(tools, built / page)
+    view = Page(tools, pages(page))
     try:
         marked = view.js(MARK)
         kinds = [kind for kind, _ in marked["accents"]]
@@ -376,3 +404,31 @@ def test_accents_and_sum_limits_are_visible_without_a_system_maths_font(built, p
                 assert over_rows.max() < op_rows.min(), f"{page}: sum {i}: the upper limit touches the sigma"
     finally:
         tools.send("Target.closeTarget", {"targetId": view.target})
+
+
+# Each label of a drawing: its font size on the screen [CSS px], from the SVG's own size and its scale.
+LABEL_SIZES = r"""
+(() => {
+  const texts = Array.from(document.querySelectorAll('figure.fbd svg text'));
+  const body = parseFloat(getComputedStyle(document.querySelector('p')).fontSize);
+  return JSON.stringify({body: body, labels: texts.map(t => parseFloat(t.style.fontSize) * t.getScreenCTM().a),
+                         width: document.querySelector('figure.fbd svg').getBoundingClientRect().width,
+                         text: document.querySelector('p').getBoundingClientRect().width});
+})()
+"""
+
+
+def test_worked_solution_free_body_diagram_reads_at_the_page_width(explained, browser):
+    """The free-body diagram of the HTML worked solution is drawn wide enough that its labels
+    (forces and their sizes) are at least 85 % of the text's size: matplotlib's 331 pt figure at its
+    own size wrote them at 8 pt (10.7 px) beside 16 px text. 85 %: a label a little smaller than the
+    text still reads; 10.7/16 = 67 % did not."""
+    tools = browser
+    view = Page(tools, explained)
+    try:
+        sizes = view.js(LABEL_SIZES)
+    finally:
+        tools.send("Target.closeTarget", {"targetId": view.target})
+    assert sizes["labels"], "no labels found in the free-body diagram"
+    assert min(sizes["labels"]) >= 0.85 * sizes["body"], sizes
+    assert sizes["width"] <= sizes["text"] + 1, f"the diagram is wider than the text column: {sizes}"

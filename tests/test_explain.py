@@ -649,14 +649,18 @@ def test_suggest_point_in_every_format(solver_cli, tmp_path):
 def test_html_worked_solution_style_sheet_is_valid(solver_cli):
     """The style sheet is a sequence of ``selector{declarations}`` rules with balanced braces (a
     doubled brace, as an f-string's escape left in a plain string, ends the sheet after its first
-    rule in a browser), and it lays equations out as preformatted blocks with bordered tables."""
+    rule in a browser): the embedded maths font for every ``<math>``, equations in blocks that scroll
+    sideways by themselves when longer than the page, bordered tables, and each free-body diagram
+    drawn at the page's width (its own 331 pt made its labels smaller than the text)."""
     code, page, _ = solver_cli("explain", "data/scenes/sliding_bar.toml", "--format", "html")
     assert code == 0
     css = re.search(r"<style>(.*?)</style>", page, flags=re.S).group(1)
     rules = re.findall(r"\s*([^{}]+)\{([^{}]*)\}", css)
-    assert "".join(f"{sel}{{{body}}}" for sel, body in rules).replace(" ", "") == css.replace(" ", "")
-    declared = {sel.strip(): body for sel, body in rules}
-    assert "white-space:pre-wrap" in declared[".eq"] and "border:" in declared["td,th"]
+    assert "".join(f"{sel}{{{body}}}" for sel, body in rules).replace(" ", "") == re.sub(r"\s", "", css)
+    declared = {sel.strip(): body.replace(" ", "") for sel, body in rules}
+    assert 'font-family:"AltEulerMath",math' in declared["math"] and "data:font/woff;base64," in declared["@font-face"]
+    assert "overflow-x:auto" in declared[".eq"] and "border:" in declared["td,th"]
+    assert "width:100%" in declared["figure.fbd svg"] and "height:auto" in declared["figure.fbd svg"]
 
 
 def _latex_maths(doc: str) -> list[str]:
@@ -876,13 +880,110 @@ def test_wording_citations_and_grammar(paper, every_scene):
 
 
 def test_html_joins_a_negative_term_with_minus_and_keeps_labels(paper):
-    """In HTML as in text: a negative term after the first reads "- R_B*l_b*(...)", never
+    """In HTML as in text: a negative term after the first reads "- R_B l_b (...)", never
     "+ -R_B..." (Example 1's moment about A), and a one-term side keeps its label when the
-    equation has two labelled terms (the data-entered rows: "... [R_B] = 21.65 [known]")."""
+    equation has two labelled terms (the data-entered rows: "... [R_B] = 21.65 [known]"). In
+    MathML: a term's row holds its sign in a cell of its own, and no term after it starts with a
+    minus; on one line, no "+" or "-" is followed by a term's own minus."""
+    from solver.mathml import mathml_text
+
     out = render(paper[2]["sliding_bar"], "html")
-    equations = re.findall(r'<div class="eq">(.*?)</div>', out, flags=re.S)
-    assert equations and not any(re.search(r"[+-]\s+-", e) for e in equations)
-    assert any(re.search(r"\n\s+- R_B\*l_b\*", e) for e in equations)
-    assert any('<span class="note">[known]</span>' in e for e in equations)
+    assert not re.search(r"<mo>[+-]</mo>(?:<mrow>)*<mo>-</mo>", out)
+    tables = "".join(re.findall(r'<table class="terms">(.*?)</table>', out))
+    rows = re.findall(r"<tr><td>(.*?)</td><td>(.*?)</td><td>(.*?)</td><td>(.*?)</td></tr>", tables)
+    signs = [mathml_text(sign) for _, sign, _, _ in rows]
+    assert rows and set(signs) <= {"", "=", "+", "-", "\u2248"}, set(signs)
+    terms = {sign: [] for sign in signs}
+    for (_, _, term, _), sign in zip(rows, signs):
+        terms[sign].append(re.sub(r"<math[^>]*><mstyle displaystyle=\"true\">", "", term))
+    assert not any(t.startswith(("<mo>-</mo>", "<mrow><mo>-</mo>")) for s in "+-" for t in terms.get(s, []))
+    assert any(t.startswith("<mrow><msub><mi>R</mi><mi>B</mi></msub><mo>&InvisibleTimes;</mo><msub><mi>l</mi>")
+               for t in terms["-"]), terms["-"]
+    assert any('<span class="note">[known]</span>' == note for *_, note in rows)
     text = render(paper[2]["sliding_bar"], "text")
     assert "[known]" in text  # the text shows the same labels
+
+
+def test_html_typesets_every_equation_name_and_formula_as_mathml(every_scene):
+    """New-user report: the HTML printed the equations as code (``l_b**2*m_b/12``, ``theta_ddot``)
+    while Markdown and LaTeX typeset them. Now, for every shipped scene, the page's visible text
+    (outside the MathML, the style sheet and the drawings) has no ``**``, no ``a*b`` and no
+    ``_dot``/``_ddot`` name, and each equation block is MathML with the rates as accents."""
+    for name, (_, expl) in every_scene.items():
+        page = render(expl, "html")
+        body = re.sub(r"<style>.*?</style>|<svg.*?</svg>|<math.*?</math>", "", page, flags=re.S)
+        text = re.sub(r"<[^>]+>", " ", body)
+        assert not re.search(r"\*\*|\w\*\w|_d?dot\b", text), (name, re.findall(r"\S*(?:\*|_d?dot)\S*", text)[:5])
+        blocks = re.findall(r'<div class="eq">(.*?)</div>', page, flags=re.S)
+        assert blocks and all(b.startswith(("<math", '<table class="terms">')) for b in blocks), name
+    page = render(every_scene["sliding_bar"][1], "html")
+    assert '<mover accent="true"><mi>&#952;</mi><mo>&#168;</mo></mover>' in page  # theta with two dots
+    # a table cell: a number in e-notation as 1.5 x 10^-3, its unit after it unescaped, words escaped
+    from solver.explain.mathml_prose import MathmlProse
+
+    cell = MathmlProse([], {}).cell("1.5e-3 ft / s ** 2")
+    assert cell.endswith("</math>&#8201;ft/s<sup>2</sup>") and "<mn>10</mn><mn>-3</mn>" in cell, cell
+    assert MathmlProse([], {}).text("a_A <b>").endswith(" &lt;b&gt;")
+
+
+@pytest.mark.parametrize("scene", ["rocking_semicircle", "disk_backspin"])
+def test_solution_prints_the_exact_condition_number_in_a_contact_regime(solver_cli, scene):
+    """README: the condition number is one quantity, `solve` prints a cheap estimate of it (a lower
+    bound) and `explain` its exact value. With a contact (the semicircle's also has a joint limit,
+    its rim) explain took solve's estimate (2.53 for the rocking semicircle, 1.15 for the disk) and
+    called it the condition number; it prints `precision`'s exact value now (3.79, 1.49), to the
+    3 figures it shows. A regime whose sticking contacts hold the body redundantly has a singular
+    matrix: said in words, not as "condition number inf"."""
+    import json
+
+    path = f"data/scenes/{scene}.toml"
+    code, out, err = solver_cli("precision", path, "--json")
+    assert code == 0, err
+    exact = json.loads(out)["condition_number"]
+    code, out, err = solver_cli("solve", path, "--json")
+    estimate = json.loads(out)["condition_number_estimate"]
+    assert f"{exact:.3g}" != f"{estimate:.3g}"  # the two are told apart at the printed precision
+    code, text, err = solver_cli("explain", path)
+    assert code == 0, err
+    assert f"(condition number {exact:.3g})" in text, re.findall(r"\(condition number [^)]*\)", text)
+    code, text, err = solver_cli("explain", "data/scenes/crate_tipping.toml")
+    assert "condition number inf)" not in text and "singular, its condition number infinite" in text
+
+
+def test_what_alpha_stands_for_is_said_once_by_the_content(paper):
+    """The sentence saying that alpha stands for -theta_ddot (Example 1: alpha = -theta_ddot, the
+    bar turning clockwise as theta grows) is part of the content, in the first step whose equations
+    write theta_ddot as alpha (the collected moment equation, Eq. 28), not made up by each renderer:
+    every format shows the one sentence of the content, once."""
+    import html
+
+    from solver.mathml import mathml_text
+
+    expl = paper[2]["sliding_bar"]
+    said = [(s.kind, t) for s in expl.steps() for t in s.text if t.startswith("Here alpha")]
+    assert said == [("euler", "Here alpha = -theta_ddot, the angular acceleration of body (k component, "
+                              "counter-clockwise positive): from here on the equations write the unknown "
+                              "theta_ddot as alpha.")]
+    assert render(expl, "text").count(said[0][1]) == 1
+    assert render(expl, "latex").count(r"Here $\alpha = -\ddot{\theta}$, the angular acceleration") == 1
+    assert render(expl, "markdown").count(r"Here alpha = -theta\_ddot, the angular acceleration") == 1
+    page = html.unescape(mathml_text(render(expl, "html")))
+    assert page.count("Here \u03b1=-\u03b8\u00a8, the angular acceleration") == 1
+    # a scene whose equations never write alpha for q'' (two coordinates) says nothing of it
+    double = explain(load_system(ROOT / "data" / "scenes" / "double_pendulum.toml"), advice=False)
+    assert not any(t.startswith("Here alpha") for s in double.steps() for t in s.text)
+
+
+def test_data_entered_and_dropped_unknowns_make_one_decision(tmp_path):
+    """The equations with the data entered used a cut-off of their own (1e-12 absolute, in output
+    units) to call a coefficient zero, the dropped-unknowns step and the advisor another (1e-9 of
+    the body's largest coefficient). The hanging pendulum at theta = 1e-9 deg about its tip E: O_y's
+    moment coefficient -L sin(theta) is 1.4e-11 m, below the shared cut-off (L = 0.8 m, the largest
+    coefficient about 1) and above the other. Both steps now say that the moment equation holds
+    theta_ddot and O_x only; Newton y (O_y, theta_ddot) keeps O_y."""
+    system = _pendulum(tmp_path, "1e-9 deg")
+    expl = explain(system, "E", advice=False)
+    assert _euler_column(expl.section("bar").step("dropped")) == {"O_x": "yes", "O_y": "no, at this state"}
+    numbers = expl.sections[-1].step("numbers")
+    assert {t.note for t in numbers.equation("numbers:bar:euler").lhs} == {"alpha", "O_x"}
+    assert "O_y" in {t.note for t in numbers.equation("numbers:bar:newton_y").lhs}

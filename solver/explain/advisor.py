@@ -30,7 +30,8 @@ import sympy as sp
 
 from .content import Step, Table
 
-__all__ = ["Candidate", "rank_points", "advice_step", "unknowns_at_state", "MAX_CANDIDATES"]
+__all__ = ["Candidate", "rank_points", "advice_step", "unknowns_at_state", "unknowns_in_equations",
+           "MAX_CANDIDATES"]
 
 MAX_CANDIDATES = 60
 """Most candidate points examined per body (pairs of reaction lines grow quadratically)."""
@@ -184,15 +185,27 @@ class _BodyRows:
 
     def unknowns_about(self, at) -> list[str]:
         """The unknowns whose coefficient about ``at`` is not zero at the state (:data:`_REL_ZERO`)."""
-        row = self.moment_row(at)
+        return self.held(self.moment_row(at))
+
+    def held(self, row) -> list[str]:
+        """The unknowns whose coefficient in ``row`` (one of the body's rows at the state, or a
+        moment row) is not zero: above :data:`_REL_ZERO` of the body's largest coefficient."""
         return [n for n, v in zip(self.names, row) if abs(v) > _REL_ZERO * self.scale]
 
 
 def unknowns_at_state(system, f, body: str, P: str, state) -> list[str]:
     """The unknowns the moment equation of ``body`` about its point ``P`` holds at ``state``: the
     same decision as the advisor's count for P (:class:`_BodyRows`)."""
+    return unknowns_in_equations(system, f, body, P, state)["euler"]
+
+
+def unknowns_in_equations(system, f, body: str, P: str, state) -> dict[str, list[str]]:
+    """The unknowns each equation of ``body`` holds at ``state`` (tags ``euler``, the moment equation
+    about ``P``, ``newton_x``, ``newton_y``), by the one decision of :class:`_BodyRows`: the step on
+    the dropped unknowns, the advisor and the equations with the data entered all ask it."""
     rows = _BodyRows(system, f, body, state)
-    return rows.unknowns_about(rows.position(system.point_position(body, P)))
+    return {"euler": rows.unknowns_about(rows.position(system.point_position(body, P))),
+            "newton_x": rows.held(rows.rows["x"]), "newton_y": rows.held(rows.rows["y"])}
 
 
 def rank_points(system, body: str, state, f=None, parts=None) -> list[Candidate]:

@@ -450,6 +450,23 @@ def _alpha_form(system) -> dict:
     return {c.qdd: (ALPHA, k)} if k in (1, -1) and _zero(al - k * c.qdd) else {}
 
 
+def say_what_alpha_is(system, expl: Explanation) -> None:
+    """Say once, in the text of the first step whose equations write the unknown q'' as alpha
+    (:func:`_alpha_form`: the collected moment equation, else the equations with the data entered, as
+    the paper's Eqs. 28-29 do), what alpha stands for; nothing when no equation does (in place)."""
+    form = _alpha_form(system)
+    if not form:
+        return
+    (q_ddot, (alpha, k)), = form.items()
+    body = next(iter(system.bodies))
+    for step in expl.steps():
+        if any(alpha in sp.sympify(t.expr).free_symbols for e in step.equations for t in (*e.lhs, *e.rhs)):
+            step.text.append(f"Here alpha = {sp.sstr(k * q_ddot)}, the angular acceleration of {body} (k component, "
+                             f"counter-clockwise positive): from here on the equations write the unknown {q_ddot} "
+                             "as alpha.")
+            return
+
+
 def _collected_equation(system, body: str, P: str, euler: Equation) -> Equation | None:
     """The moment equation divided by the parameters common to all its terms and collected by
     unknown, known terms on the right, signed so that the first reaction's coefficient reads
@@ -597,6 +614,7 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
     for body, P in f.points.items():
         expl.sections.append(_body_section(system, body, P, parts, (f, state), kinematics))
     if not solution:
+        say_what_alpha_is(system, expl)
         return expl
     final = Section("Solution", None)
     if advice and not (regime is not None and regime.indeterminate):  # the advisor needs a system that validates
@@ -608,22 +626,26 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
         motion = _constrained_motion_step(system, f, expl)
     if motion is not None:
         final.steps.append(motion)
-    numbers = _numbers_step(system, expl, state)
+    numbers = _numbers_step(system, f, expl, state)
     if numbers is not None:
         final.steps.append(numbers)
+    numeric = _numeric_system(system, f, state)  # the equations shown, at the state
+    cond = _condition_number(numeric[0])
     if scene.contacts:  # the product's own regime solve, and the same by the mass-centre form
         solution = solution_in_regime(scene, *found, point, "generalized_euler")
         check = solve_instant(scene, None, "mass_center", state).unknowns
     else:
-        solution = _solve_at_state(system, f, point, state) or solve_instant(system, point, "generalized_euler", state)
+        solution = (_solve_at_state(system, f, point, state, numeric, cond)
+                    or solve_instant(system, point, "generalized_euler", state))
         check = _mass_center_check(system, state)
-    final.steps.append(_solution_step(system, solution))
+    final.steps.append(_solution_step(system, solution, cond))
     final.steps.append(_check_step(system, solution, check))
     if regime is not None and regime.indeterminate:
         final.steps[-1].text.append("The contact forces are statically indeterminate: each route picks one "
                                     "admissible split of them, so they may differ; the accelerations are "
                                     "determined and must agree.")
     expl.sections.append(final)
+    say_what_alpha_is(system, expl)
     return expl
 
 
@@ -1009,11 +1031,14 @@ NUMBER_DIGITS = 4
 """Significant figures of the equations with the data entered (as the paper's Eq. 29)."""
 
 
-def _numbers_step(system, expl, state) -> Step | None:
+def _numbers_step(system, f, expl, state) -> Step | None:
     """Each body's equations with the data and the state entered, in the scene's output units
     (the paper's Eq. 29): numeric linear equations in the unknowns, those with the fewest unknowns
     first (they can be solved first), the moment equation before Newton's within a body. A one-body,
-    one-coordinate system is written in alpha when alpha = +-q''. None when there is no body step."""
+    one-coordinate system is written in alpha when alpha = +-q''. None when there is no body step.
+    Which unknowns an equation holds at the state is the decision of the step on the dropped unknowns
+    and of the advisor (:func:`solver.explain.advisor.unknowns_in_equations`), so that they agree."""
+    from .advisor import unknowns_in_equations
     unknowns = [(c.qdd, str(c.qdd), "rad/s**2" if c.kind == "angle" else "m/s**2") for c in system.free]
     unknowns += [(r.symbol, r.name, r.unit) for r in system.reactions]
     rename = _alpha_form(system)  # q'' = alpha / k
@@ -1023,6 +1048,7 @@ def _numbers_step(system, expl, state) -> Step | None:
     for section in expl.sections:
         if section.body is None:
             continue
+        held = unknowns_in_equations(system, f, section.body, expl.points[section.body], state)
         for step_kind, tag, unit in (("euler", "euler", "N*m"), ("newton", "newton_x", "N"), ("newton", "newton_y", "N")):
             try:
                 eq = section.step(step_kind).equation(tag)
@@ -1040,7 +1066,7 @@ def _numbers_step(system, expl, state) -> Step | None:
             terms = []
             for u, name, _ in unknowns:
                 coef = float(row.coeff(u)) * scale / per[u]
-                if abs(coef) > 1e-12 * (1.0 + abs(scale)):
+                if name in held[tag]:
                     shown, k = rename.get(u, (u, 1))
                     value = sp.Float(coef / k, NUMBER_DIGITS)
                     unit = abs(float(f"{coef / k:.{NUMBER_DIGITS}g}")) == 1.0  # written as R_A, not 1.000 R_A
@@ -1086,15 +1112,29 @@ def _out(system, name: str, qty):
     return entry["value"], entry["unit"].replace(" / ", "/").replace(" ** ", "**").replace(" * ", "*")
 
 
-def _solution_step(system, solution) -> Step:
+def _condition_number(A) -> float | None:
+    """The exact condition number of the equations' matrix ``A`` at the state, the one quantity
+    ``precision`` prints (:func:`solver.analyses.instant.condition_numbers`: 1-norm, rows and columns
+    equilibrated); None when ``A`` is not square."""
+    from ..analyses.instant import condition_numbers
+
+    if A.shape[0] != A.shape[1]:
+        return None
+    return float(condition_numbers(A[None])[0])
+
+
+def _solution_step(system, solution, cond: float | None) -> Step:
+    """The unknowns at the state; ``cond``: the exact condition number of the equations (:func:`_condition_number`)."""
     from ..cli_common import format_number
 
     rows = []
     for name, qty in solution.unknowns.items():
         value, unit = _out(system, name, qty)
         rows.append((name, format_number(value), unit))
-    text = [f"The {len(rows)} unknowns at the state, from the linear equations above "
-            f"(condition number {solution.condition_number:.3g}), in the scene's output units."]
+    how = (f"condition number {cond:.3g}" if cond is not None and math.isfinite(cond) else
+           "their matrix is singular, its condition number infinite: one admissible solution")
+    text = [f"The {len(rows)} unknowns at the state, from the linear equations above ({how}), in the scene's "
+            "output units."]
     return Step("solution", "Solution", text, table=Table(("unknown", "value", "unit"), tuple(rows)))
 
 
@@ -1112,21 +1152,19 @@ def _numeric_system(system, f, state):
     return An, bn
 
 
-def _solve_at_state(system, f, point, state):
-    """The InstantSolution at the state from the substituted system, or None when its condition
-    number is not comfortably regular (then :func:`solve_instant` decides and names the singularity)."""
+def _solve_at_state(system, f, point, state, numeric, cond):
+    """The InstantSolution at the state from the substituted system ``numeric`` (A, b) whose exact
+    condition number is ``cond``, or None when that is not comfortably regular (then
+    :func:`solve_instant` decides and names the singularity)."""
     import numpy as np
 
-    from ..analyses.instant import CONDITION_LIMIT, InstantSolution, condition_numbers
+    from ..analyses.instant import CONDITION_LIMIT, InstantSolution
     from ..units import Q_
 
     if system.limits():  # a joint with a model limit: solve_instant checks it
         return None
-    An, bn = _numeric_system(system, f, state)
-    if An.shape[0] != An.shape[1]:
-        return None
-    cond = float(condition_numbers(An[None])[0])
-    if not np.isfinite(cond) or cond > CONDITION_LIMIT:
+    An, bn = numeric
+    if cond is None or not np.isfinite(cond) or cond > CONDITION_LIMIT:
         return None
     x = dict(zip((str(u) for u in f.unknowns), np.linalg.solve(An, bn)))
     unknowns = {}

@@ -136,17 +136,28 @@ class LatexProse:
     def text(self, text: str, letters: bool = False) -> str:
         """Prose as LaTeX text with inline maths for its names and formulae (``letters``: see
         :meth:`_strong`)."""
+        return "".join("$" + self._maths(part) + "$" if maths else latex_escape(part)
+                       for maths, part in self.segments(text, letters))
+
+    def segments(self, text: str, letters: bool = False):
+        """The prose split into words and formulae: ``(False, text)`` for text, ``(True, tokens)`` for a
+        formula (its ``(kind, value)`` tokens). The one decision of what is maths in the worked
+        solution's prose, for LaTeX (:meth:`text`) and for HTML's MathML (:mod:`.mathml_prose`)."""
         tokens = [(m.lastgroup, m.group()) for m in _TOKEN.finditer(str(text))]
-        out, i = [], 0
+        i, words = 0, ""
         while i < len(tokens):
             end = self._formula_end(tokens, i, letters)
             if end > i:
-                out.append("$" + self._maths(tokens[i:end]) + "$")
+                if words:
+                    yield False, words
+                    words = ""
+                yield True, tokens[i:end]
                 i = end
             else:
-                out.append(latex_escape(tokens[i][1]))
+                words += tokens[i][1]
                 i += 1
-        return "".join(out)
+        if words:
+            yield False, words
 
     def cell(self, text: str, unit: bool = False) -> str:
         """A table cell: a unit (``unit``), a number with its unit, a name, or prose."""

@@ -4,8 +4,10 @@ One content, four renderings: every renderer walks the same sections, steps,
 equations and tables. Input text (names from the scene) is data: HTML escapes
 it, LaTeX escapes its special characters, Markdown escapes table pipes. The LaTeX
 rendering also writes the names, formulae and units in the prose and tables as
-LaTeX (:mod:`.latex_prose`). Where the equations write a one-body scene's q'' as
-the body's alpha, every rendering says so once (:func:`_alpha_alias`).
+LaTeX (:mod:`.latex_prose`), the HTML rendering as MathML (:mod:`.mathml_prose`,
+through :mod:`solver.mathml`). The sentence saying what alpha stands for, where the
+equations write a one-body scene's q'' as alpha, is content like any other
+(:func:`solver.explain.build.say_what_alpha_is`).
 """
 from __future__ import annotations
 
@@ -40,7 +42,6 @@ class _Renderer:
     def __init__(self, expl: Explanation):
         self.expl = expl
         self.printed = FastStrPrinter()  # each expression's text once per rendering (a point's v_P shows often)
-        self.alias = _alpha_alias(expl)
 
     def document(self) -> str:
         out = [self.title(self.expl.title)]
@@ -56,8 +57,6 @@ class _Renderer:
     def step(self, step: Step) -> str:
         out = [self.heading(step.title, 3)]
         out += [self.paragraph(t) for t in step.text]
-        if self.alias is not None and step is self.alias[0]:
-            out.append(self.paragraph(self.alias[1]))
         if step.figure is not None:
             out.append(self.figure(step.figure))
         if step.figure_svg is not None:
@@ -77,29 +76,6 @@ class _Renderer:
     def drawing(self, svg: str) -> str:
         """A drawn free-body diagram: only HTML shows it (the forces are listed in every format)."""
         return ""
-
-
-def _alpha_alias(expl: Explanation):
-    """(step, sentence) saying once that alpha stands for +-q'': the first step after the kinematics whose
-    equations write the unknown q'' as the body's angular acceleration alpha (a one-body, one-coordinate
-    scene: the collected moment equation and the numbers, as the paper's Eqs. 28-29 do); None otherwise."""
-    defined = [(section.body, e) for section in expl.sections for step in section.steps
-               if step.kind == "kinematics" for e in step.equations if e.tag == "alpha"]
-    if len(defined) != 1:
-        return None
-    body, eq = defined[0]
-    rate = sp.sympify(eq.right)
-    q_ddot = [s for s in rate.free_symbols if s in expl.symbol_latex]
-    if len(q_ddot) != 1 or rate not in (q_ddot[0], -q_ddot[0]):
-        return None
-    alpha = sp.Symbol("alpha", real=True)
-    for step in expl.steps():
-        if step.kind != "kinematics" and any(alpha in sp.sympify(t.expr).free_symbols
-                                             for e in step.equations for t in (*e.lhs, *e.rhs)):
-            return step, (f"Here alpha = {sstr(rate)}, the angular acceleration of {body} (k component, "
-                          f"counter-clockwise positive): from here on the equations write the unknown {q_ddot[0]} "
-                          "as alpha.")
-    return None
 
 
 # -- text ------------------------------------------------------------------------------------------
@@ -275,37 +251,75 @@ class _Latex(_Renderer):
 # -- HTML ------------------------------------------------------------------------------------------
 
 
-_CSS = ("body{font-family:sans-serif;max-width:60em;margin:auto} "
-        ".eq{font-family:monospace;margin:.3em 0 .8em 2em;white-space:pre-wrap} .note{color:#555} "
-        "table{border-collapse:collapse} td,th{border:1px solid #ccc;padding:.2em .5em}")
-"""The worked solution's style sheet (a plain string: no f-string brace doubling)."""
+_CSS = ("body{font-family:sans-serif;max-width:60em;margin:auto;padding:0 1em} "
+        ".eq{margin:.3em 0 .8em 2em;padding:.2em 0;overflow-x:auto;overflow-y:hidden} .eq math{font-size:1.15em} "
+        ".terms td{border:none;padding:.1em .3em;vertical-align:middle} .note{color:#555;white-space:nowrap} "
+        "table{border-collapse:collapse} td,th{border:1px solid #ccc;padding:.2em .5em} "
+        "figure.fbd{margin:1em 0} figure.fbd svg{display:block;width:100%;max-width:44em;height:auto}")
+"""The worked solution's style sheet (a plain string: no f-string brace doubling). A free-body
+diagram is drawn at the page's width (at most 44em), so that its labels read at the size of the text."""
 
 
 class _Html(_Renderer):
+    """HTML with every equation, name and formula as MathML (:mod:`solver.mathml`, the report's
+    conversion), drawn with the embedded maths font (:mod:`solver.mathfont`): no script, no network."""
+
+    def __init__(self, expl):
+        super().__init__(expl)
+        from .mathml_prose import MathmlProse
+
+        symbols = set().union(*[sp.sympify(t.expr).free_symbols for s in expl.steps() for e in s.equations
+                                for t in (*e.lhs, *e.rhs)])
+        self.prose = MathmlProse(symbols, expl.symbol_latex)
+
     def wrap(self, body):
+        from ..mathfont import font_face_css
+
         return ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
-                f"<title>{_h(self.expl.title)}</title>\n<style>{_CSS}</style></head><body>\n" + body
-                + "\n</body></html>\n")
+                f"<title>{_h(self.expl.title)}</title>\n<style>{font_face_css()}\n  {_CSS}</style></head><body>\n"
+                + body + "\n</body></html>\n")
 
     def title(self, text):
-        return f"<h1>{_h(text)}</h1>"
+        return f"<h1>{self.prose.text(text)}</h1>"
 
     def heading(self, text, level):
-        return f"<h{level}>{_h(text)}</h{level}>"
+        return f"<h{level}>{self.prose.text(text)}</h{level}>"
 
     def paragraph(self, text):
-        return f"<p>{_h(text)}</p>"
+        return f"<p>{self.prose.text(text)}</p>"
 
     def equation(self, eq):
-        head = _h(eq.label) + (f" ({_h(eq.ref)})" if eq.ref else "")
+        label, unit = eq.label, ""
+        bracket = re.fullmatch(r"(.*) \[([^\]]+)\]", label)  # "body: Newton, x component [lbf]"
+        if bracket and _unit_html(bracket[2]):
+            label, unit = bracket[1], f" [{_unit_html(bracket[2])}]"
+        head = self.prose.text(label) + unit + (f" ({self.prose.text(eq.ref)})" if eq.ref else "")
         notes = len([t for t in (*eq.rhs, *([] if eq.name else eq.lhs)) if t.note]) >= 2  # as the text shows them
-        lhs = _h(eq.name) if eq.name else _terms_html(eq.lhs, self.printed, notes)
-        sign = "&asymp;" if eq.approximate else "="
-        return f"<div>{head}:</div><div class=\"eq\">{lhs} {sign} {_terms_html(eq.rhs, self.printed, notes)}</div>"
+        sign = "<mo>\u2248</mo>" if eq.approximate else "<mo>=</mo>"
+        lhs = (Term(sp.Symbol(eq.name)),) if eq.name else eq.lhs
+        if not notes:
+            body = f"{_terms_mathml(lhs, eq.name)}{sign}{_terms_mathml(eq.rhs)}"
+            return f"<div>{head}:</div><div class=\"eq\">{_math(body)}</div>"
+        # one row per term (left side, then right side), each with its note; a left side of one term
+        # without a note (a name, a_G) stands before the right side's first row
+        inline = len(lhs) == 1 and not lhs[0].note
+        rows = []
+        for mark, terms in ((sign, eq.rhs),) if inline else (("", lhs), (sign, eq.rhs)):
+            for i, t in enumerate(terms):
+                negative = i > 0 and _negative(t.expr)
+                op = "<mo>-</mo>" if negative else "<mo>+</mo>" if i else mark
+                term = _term_mathml(-t.expr if negative else t.expr, eq.name if t in lhs and eq.name else "")
+                note = f"<span class=\"note\">[{self.prose.cell(t.note)}]</span>" if t.note else ""
+                left = _math(_term_mathml(lhs[0].expr, eq.name)) if inline and i == 0 else ""
+                rows.append(f"<tr><td>{left}</td><td>{_math(op) if op else ''}</td><td>{_math(term)}</td>"
+                            f"<td>{note}</td></tr>")
+        return f"<div>{head}:</div><div class=\"eq\"><table class=\"terms\">{''.join(rows)}</table></div>"
 
     def table(self, table):
-        head = "".join(f"<th>{_h(c)}</th>" for c in table.header)
-        rows = "".join("<tr>" + "".join(f"<td>{_h(c)}</td>" for c in r) + "</tr>" for r in table.rows)
+        units = [h == "unit" for h in table.header]
+        head = "".join(f"<th>{self.prose.cell(c)}</th>" for c in table.header)
+        rows = "".join("<tr>" + "".join(f"<td>{self.prose.cell(c, u)}</td>" for c, u in zip(r, units)) + "</tr>"
+                       for r in table.rows)
         return f"<table><tr>{head}</tr>{rows}</table>"
 
     def figure(self, figure):
@@ -319,14 +333,39 @@ def _h(text) -> str:
     return html.escape(str(text), quote=True)
 
 
-def _terms_html(terms, printed: FastStrPrinter | None = None, notes: bool = True) -> str:
-    """The terms of one side, a negative scalar term after the first joined by "-" (not "+ -"),
-    each with its note when ``notes``."""
+def _unit_html(unit: str):
+    from .mathml_prose import unit_html
+
+    return unit_html(unit)
+
+
+def _math(body: str) -> str:
+    """One inline ``<math>`` element shown in display style (full-size fractions), left-aligned."""
+    from ..mathml import wrap
+
+    return wrap(f"<mstyle displaystyle=\"true\">{body}</mstyle>", "inline")
+
+
+def _negative(expr) -> bool:
+    return not isinstance(expr, sp.MatrixBase) and sp.sympify(expr).could_extract_minus_sign()
+
+
+def _term_mathml(expr, name: str = "") -> str:
+    """The MathML of one term: a 2-vector as ``(x, y)``, as the text writes it; ``name`` a name."""
+    from ..mathml import mathml_body
+    from .mathml_prose import name_mathml
+
+    if name:
+        return name_mathml(name)
+    if isinstance(expr, sp.MatrixBase):
+        return f"<mrow><mo>(</mo>{mathml_body(expr[0])}<mo>,</mo>{mathml_body(expr[1])}<mo>)</mo></mrow>"
+    return mathml_body(sp.sympify(expr))
+
+
+def _terms_mathml(terms, name: str = "") -> str:
+    """The terms of one side in one row, a negative scalar term after the first joined by "-" (not "+ -")."""
     out = ""
     for i, t in enumerate(terms):
-        s = _sstr(t.expr, printed)
-        sign = "\n   + " if i else ""
-        if i and s.startswith("-") and not isinstance(t.expr, sp.MatrixBase):
-            sign, s = "\n   - ", s[1:]
-        out += sign + _h(s) + (f" <span class=\"note\">[{_h(t.note)}]</span>" if t.note and notes else "")
-    return out
+        negative = i > 0 and _negative(t.expr)
+        out += ("<mo>-</mo>" if negative else "<mo>+</mo>" if i else "") + _term_mathml(-t.expr if negative else t.expr, name)
+    return f"<mrow>{out}</mrow>"

@@ -4,7 +4,7 @@ Not run by the build: the subset is committed (users' machines have only
 Python). Run it by hand after changing the character set:
 
     apt-get install fonts-dejavu-extra   # Debian 12: fonts-dejavu-extra 2.37-6, DejaVu Math TeX Gyre 2.37
-    .venv/bin/python reports/fonts/make_math_font.py
+    .venv/bin/python solver/fonts/make_math_font.py
 
 The source is DejaVu Math TeX Gyre: Bitstream Vera glyphs under the Bitstream
 Vera license, DejaVu changes and the maths extensions in the public domain

@@ -1,0 +1,99 @@
+"""Presentation MathML of sympy expressions: the one conversion of every HTML output.
+
+Browsers render MathML natively (MathML Core), so a page needs no script or web
+font. Symbols follow the paper's notation: ``theta_dot`` is printed as a dotted
+theta, ``theta_ddot`` with two dots, ``R_B`` with a subscript. The report's pages
+(:mod:`reports.mathml` re-exports these functions) and the worked solution's HTML
+(:mod:`solver.explain.render`) print through here; :mod:`solver.mathfont` embeds the
+maths font they are drawn with.
+"""
+from __future__ import annotations
+
+import re
+from functools import lru_cache
+
+import sympy as sp
+from markupsafe import Markup
+from sympy.printing.mathml import MathMLPresentationPrinter
+
+__all__ = ["to_mathml", "equation_mathml", "mathml_body", "wrap", "mathml_text", "MATHML_NS"]
+
+MATHML_NS = "http://www.w3.org/1998/Math/MathML"
+_DOTS = (("_ddot", "\u00a8"), ("_dot", "\u02d9"))
+
+
+class _Printer(MathMLPresentationPrinter):
+    """sympy's presentation printer with dotted time derivatives."""
+
+    def _print_Symbol(self, sym, style="plain"):  # noqa: N802 (sympy's naming)
+        for suffix, accent in _DOTS:
+            if sym.name.endswith(suffix):
+                base = sp.Symbol(sym.name[: -len(suffix)])
+                over = self.dom.createElement("mover")
+                over.setAttribute("accent", "true")
+                over.appendChild(super()._print_Symbol(base, style))
+                mo = self.dom.createElement("mo")
+                mo.appendChild(self.dom.createTextNode(accent))
+                over.appendChild(mo)
+                return over
+        return super()._print_Symbol(sym, style)
+
+
+def mathml_body(expr: sp.Basic) -> str:
+    """The MathML of one expression without its ``<math>`` element, printed once per process
+    however often it is shown (the report prints each transcribed equation in block and inline
+    form, the worked solution shows a point's velocity in several steps)."""
+    try:
+        return _printed_mathml(expr)
+    except TypeError:  # an unhashable expression (a mutable Matrix): printed each time
+        return _Printer({"mul_symbol": None}).doprint(expr)
+
+
+@lru_cache(maxsize=2048)
+def _printed_mathml(expr: sp.Basic) -> str:
+    # sympy's == is structural (2.0 and 2 differ), so equal expressions print alike
+    return _Printer({"mul_symbol": None}).doprint(expr)
+
+
+def wrap(body: str, display: str) -> Markup:
+    """``body`` (MathML made by this module, its text escaped) as one ``<math>`` element."""
+    _validate_display(display)
+    return Markup(f'<math xmlns="{MATHML_NS}" display="{display}">{body}</math>')
+
+
+def to_mathml(expr: sp.Basic, display: str = "inline") -> Markup:
+    """Render one sympy expression as a ``<math>`` element.
+
+    Parameters
+    ----------
+    expr : sympy.Basic
+    display : {"inline", "block"}
+
+    Returns
+    -------
+    markupsafe.Markup
+        ``<math xmlns=... display=...>...</math>``, safe to insert in HTML: sympy's printer
+        escapes the text of the symbols through ``xml.dom``.
+    """
+    _validate_display(display)
+    return wrap(mathml_body(sp.sympify(expr)), display)
+
+
+def equation_mathml(lhs: sp.Basic, rhs: sp.Basic, display: str = "block") -> Markup:
+    """``lhs = rhs`` as one ``<math>`` element (left and right kept as written)."""
+    _validate_display(display)
+    return wrap(f"<mrow>{mathml_body(lhs)}<mo>=</mo>{mathml_body(rhs)}</mrow>", display)
+
+
+def _validate_display(display: str) -> None:
+    valid = ("inline", "block")
+    if display not in valid:
+        raise ValueError(f"`display` must be one of {valid}, got {display!r}")
+
+
+_TAG = re.compile(r"<[^>]+>")
+
+
+def mathml_text(markup: str) -> str:
+    """The visible text of a MathML fragment (for tests and plain-text alt)."""
+    return _TAG.sub("", str(markup))
