@@ -436,6 +436,7 @@ def _build(root: Path, out: Path | None, pdf: str, log) -> dict:
             "survey": survey,
             "unreachable_cells": paper.unreachable_cells(findings, survey.facts.respondents) if survey else "",
             "rounding_ties": paper.rounding_ties(survey) if survey else "",
+            "survey_table": paper.survey_table(survey) if survey else None,
             "claim_texts": paper.claim_texts(rows, survey),
             "benchmarks": bench,
             "tolerance_notes": _doc_bullets(checks_mod.__doc__.split("Tolerances (documented once, applied "

@@ -268,6 +268,30 @@ def unreachable_cells(findings, respondents: int) -> str:
             f"(section 5 says why).")
 
 
+def survey_table(survey) -> dict:
+    """The survey table and the statements under it, one content for paper.html and paper.tex.
+
+    Returns
+    -------
+    dict
+        ``header``: the column titles; ``rows``: per item its cells as text (item id, per scale
+        label "count (percent%)", n, agreement, 95 % interval); ``statements``: per item its id and
+        its wording as printed on the survey (a quotation, copied verbatim from the paper).
+    """
+    from analysis.rounding import share_percent_text
+
+    facts = survey.facts
+    header = ["item", *facts.labels, "n", "agree", "95% interval"]
+    rows = []
+    for item_id, it in zip(facts.item_ids, survey.summary.items):
+        shown = it.printed_percent(1)
+        rows.append([item_id, *(f"{it.counts[label]} ({shown[label]}%)" for label in facts.labels), str(it.n),
+                     f"{it.agree.percent_text(1)}%",
+                     f"{share_percent_text(it.agree.ci[0], 1)}\u2013{share_percent_text(it.agree.ci[1], 1)}%"])
+    return {"header": header, "rows": rows,
+            "statements": [{"id": i, "text": t} for i, t in zip(facts.item_ids, facts.item_texts)]}
+
+
 def claim_texts(rows, survey) -> dict:
     """Each claim check's id -> ``{"statement", "explanation"}``: the claim as stated and its verdict
     explained by :meth:`analysis.claims.ClaimResult.explanation`, the one text report.html shows for a

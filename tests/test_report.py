@@ -32,6 +32,7 @@ import sympy as sp
 from reports.checks import KINDS, VERDICTS, example1_value_checks, half_unit
 from reports.equations import check_equation, is_zero
 from reports.make_report import ROOT, build_cached, html_environment, latex_environment, latex_escape, main
+from reports.paper import survey_table
 from reports.published import ReportInputError, load_equations
 from solver.derivation import derive, solve_instant
 from solver.scenefile import load_scene
@@ -318,6 +319,7 @@ def test_text_from_input_is_escaped(built):
     survey = copy.copy(context["survey"])
     survey.facts = dataclasses.replace(survey.facts, item_texts=(attack,) + survey.facts.item_texts[1:])
     context["survey"] = survey
+    context["survey_table"] = survey_table(survey)  # the table and statements both renderings show
     env = html_environment()
     try:
         row.detail = row.label = attack
@@ -517,3 +519,24 @@ def test_example2_says_both_points_work(built):
         assert "Both P and C work" in text
         assert "about P, whose moment equation holds 2 unknowns (theta_ddot, F_f)" in text
         assert "holds 1 unknown (theta_ddot), which it gives on its own: a one-step alternative" in text
+
+
+def test_survey_table_and_statements_alike_in_both_renderings(built):
+    """QA: paper.tex's survey table showed counts only while the note under it spoke of percentages
+    shown, and it lacked the five statements. Both renderings now carry the same cells, by hand for
+    item #2: 13, 7, 0, 1, 1 of 22 -> 59.1, 31.8, 0.0, 4.5, 4.5 %; and both quote each statement as
+    worded on the survey (the wording below is the paper's, Table 1, item 2)."""
+    out = Path(built["out"])
+    html_text = (out / "paper.html").read_text(encoding="utf-8")
+    tex = (out / "paper.tex").read_text(encoding="utf-8")
+    expected = ["#2", "13 (59.1%)", "7 (31.8%)", "0 (0.0%)", "1 (4.5%)", "1 (4.5%)", "22", "90.9%"]
+    row = re.search(r"<tr><td[^>]*>#2</td>(.*?)</tr>", html_text, flags=re.S).group(1)
+    assert ["#2", *re.findall(r"<td[^>]*>(.*?)</td>", row)][:8] == expected
+    tex_row = re.search(r"^\\#2 & .*\\\\$", tex, flags=re.M).group(0)
+    tex_cells = [c.strip().replace("\\%", "%").replace("\\#", "#") for c in tex_row.rstrip("\\").split(" & ")]
+    assert tex_cells[:8] == expected
+    statement = ("I recognize that the alternative form of Euler's equation could offer an advantage over the "
+                 "other two standard forms of this equation for the solution of some dynamics problems.")
+    assert "as worded on the survey" in html_text and "as worded on the survey" in tex
+    assert f"<li class=\"small\">“{statement.replace(chr(39), '&#39;')}”</li>" in html_text
+    assert f"\\item ``{statement}''" in tex
