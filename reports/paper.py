@@ -26,9 +26,11 @@ class Shown:
     text: str
     label: str = ""
     ref: str = ""
+    number: str = ""
+    """The article's equation number the display carries in both renderings ("" for none)."""
 
 
-def shown(lhs, rhs, label: str = "", ref: str = "") -> Shown:
+def shown(lhs, rhs, label: str = "", ref: str = "", number: str = "") -> Shown:
     """Render ``lhs = rhs`` as MathML (block) and LaTeX."""
     return Shown(
         mathml=equation_mathml(lhs, rhs),
@@ -36,6 +38,7 @@ def shown(lhs, rhs, label: str = "", ref: str = "") -> Shown:
         text=f"{sp.sstr(lhs)} = {sp.sstr(rhs)}",
         label=label,
         ref=ref,
+        number=number,
     )
 
 
@@ -83,17 +86,17 @@ def method_equations() -> dict[str, Shown]:
     r = sp.Matrix([x, y, 0])
     a = sp.Matrix([ax, ay, 0])
     inertial = (r.cross(m * a))[2]
-    eq10 = shown(M_P - inertial, I_P * alpha, "Moments about an embedded point P", "Eq. (10)")
+    eq10 = shown(M_P - inertial, I_P * alpha, "Moments about an embedded point P", "Eq. (10)", "10")
     k, n = sp.symbols("k n", integer=True, positive=True)
     mk, xk, yk, Ik = (sp.IndexedBase(s) for s in ("m", "x", "y", "I_P"))
     rk = sp.Matrix([xk[k], yk[k], 0])
     term = (rk.cross(mk[k] * a))[2]
     eq11 = shown(M_P - sp.Sum(term, (k, 1, n)), sp.Sum(Ik[k], (k, 1, n)) * alpha,
-                 "Composite body of n elements", "Eq. (11)")
+                 "Composite body of n elements", "Eq. (11)", "11")
     eq1 = shown(sp.Symbol("F_x"), sp.Sum(mk[k] * sp.Indexed(sp.IndexedBase("a_x"), k), (k, 1, n)),
-                "Newton's law for the composite body, x component", "Eq. (14)")
+                "Newton's law for the composite body, x component", "Eq. (14)", "14")
     eq1y = shown(sp.Symbol("F_y"), sp.Sum(mk[k] * sp.Indexed(sp.IndexedBase("a_y"), k), (k, 1, n)),
-                 "Newton's law for the composite body, y component", "Eq. (14)")
+                 "Newton's law for the composite body, y component", "Eq. (14)", "14")
     return {"eq10": eq10, "eq11": eq11, "eq14": eq1, "eq14y": eq1y, "inertial_term": inline(inertial)}
 
 

@@ -540,3 +540,15 @@ def test_survey_table_and_statements_alike_in_both_renderings(built):
     assert "as worded on the survey" in html_text and "as worded on the survey" in tex
     assert f"<li class=\"small\">“{statement.replace(chr(39), '&#39;')}”</li>" in html_text
     assert f"\\item ``{statement}''" in tex
+
+
+def test_both_renderings_number_the_same_displays(built):
+    """QA: paper.tex tagged section 1's displays (10), (11), (14), (14) while paper.html numbered none.
+    Both now take the number from the display (paper.Shown.number). The article numbers them Eq. 10
+    (single body), Eq. 11 (composite body) and Eq. 14 (Newton's law, x and y components)."""
+    out = Path(built["out"])
+    html_text = (out / "paper.html").read_text(encoding="utf-8")
+    tex = (out / "paper.tex").read_text(encoding="utf-8")
+    html_numbers = re.findall(r'<div class="numbered"><math.*?</math><span class="eqno">\((\d+)\)</span></div>',
+                              html_text, flags=re.S)
+    assert html_numbers == re.findall(r"\\tag\{(\d+)\}", tex) == ["10", "11", "14", "14"]
