@@ -33,7 +33,7 @@ from markupsafe import Markup
 from reports import checks as checks_mod
 from reports import figures, mathfont, paper, provenance
 from reports.cli import cyclic_gc_paused, main, validate_build
-from reports.mathml import equation_mathml, to_mathml
+from reports.mathml import equation_mathml, to_mathml, transcription_mathml
 from reports.published import ReportInputError, load_equations
 from solver.errors import InputError
 from solver.expressions import parse_expression
@@ -412,8 +412,9 @@ def _build(root: Path, out: Path | None, pdf: str, log) -> dict:
             if r.outcome is not None:
                 o = r.outcome
                 equation_views[r.id] = {
-                    "printed": equation_mathml(o.printed_lhs, o.printed_rhs),
-                    "printed_inline": equation_mathml(o.printed_lhs, o.printed_rhs, display="inline"),
+                    # as transcribed: drawn from the text, not from sympy's evaluated form
+                    "printed": transcription_mathml(o.transcription.lhs, o.transcription.rhs),
+                    "printed_inline": transcription_mathml(o.transcription.lhs, o.transcription.rhs, "inline"),
                     "residual": to_mathml(o.residual) if o.residual is not None else Markup(""),
                     "derived": (equation_mathml(o.derived_lhs, o.derived_rhs)
                                 if o.derived_lhs is not None and r.kind == "equation" and

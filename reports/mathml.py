@@ -7,14 +7,19 @@ with a subscript.
 """
 from __future__ import annotations
 
+import ast
+
 import sympy as sp
+from markupsafe import escape
 from sympy.printing.latex import LatexPrinter
 
 from solver.mathml import equation_mathml, mathml_text, to_mathml
 from solver.mathml import mathml_body as _mathml_body  # noqa: F401 (reports.paper prints term by term)
-from solver.mathml import wrap as _wrap  # noqa: F401
+from solver.mathml import wrap as _wrap
+from markupsafe import Markup
 
-__all__ = ["to_mathml", "equation_mathml", "to_latex", "equation_latex", "display_symbols", "mathml_text"]
+__all__ = ["to_mathml", "equation_mathml", "to_latex", "equation_latex", "display_symbols", "mathml_text",
+           "transcription_mathml"]
 
 _LATEX_DOTS = (("_ddot", r"\ddot"), ("_dot", r"\dot"))
 
@@ -40,3 +45,84 @@ def to_latex(expr: sp.Basic) -> str:
 def equation_latex(lhs: sp.Basic, rhs: sp.Basic) -> str:
     """LaTeX of ``lhs = rhs`` (math mode content)."""
     return f"{to_latex(lhs)} = {to_latex(rhs)}"
+
+
+# -- a transcription shown as written ------------------------------------------------------------
+# Operator precedence of the whitelist syntax (solver.expressions), to put back the brackets the
+# syntax tree drops: a sum inside a product, a product inside a power, ...
+_PRECEDENCE = {ast.Add: 1, ast.Sub: 1, ast.Mult: 2, ast.Pow: 4, ast.Div: 4.5}  # a fraction bar groups itself
+_OPERATOR = {ast.Add: "+", ast.Sub: "\u2212", ast.Mult: "&InvisibleTimes;"}
+
+
+def transcription_mathml(lhs: str, rhs: str, display: str = "block") -> Markup:
+    """``lhs = rhs`` as MathML, each side drawn from its transcribed text as written: terms and
+    factors in the order of the text, numbers with their printed digits, nothing evaluated
+    (sympy's parser would reorder terms and merge factors).
+
+    Parameters
+    ----------
+    lhs, rhs : str
+        The two sides in the whitelist expression syntax (:mod:`solver.expressions`), already
+        accepted by its parser (this function only draws the syntax tree; it runs nothing).
+    display : {"inline", "block"}
+
+    Returns
+    -------
+    markupsafe.Markup
+        One ``<math>`` element; brackets only where the order of operations needs them.
+
+    Raises
+    ------
+    ValueError
+        A construct outside the whitelist syntax.
+    """
+    sides = [_drawn(ast.parse(t.replace("^", "**").strip(), mode="eval").body, t.replace("^", "**").strip())
+             for t in (lhs, rhs)]
+    return _wrap(f"<mrow>{sides[0]}<mo>=</mo>{sides[1]}</mrow>", display)
+
+
+def _rank(node: ast.AST) -> int:
+    """Precedence of a node (5 for atoms: names, numbers, calls; 3 for a unary sign; a fraction
+    binds tighter than a product, being drawn as one block)."""
+    if isinstance(node, ast.BinOp):
+        return _PRECEDENCE[type(node.op)]
+    return 3 if isinstance(node, ast.UnaryOp) else 5
+
+
+def _bracketed(node: ast.AST, source: str, below: float) -> str:
+    """A node drawn inside brackets when its precedence is below ``below``."""
+    body = _drawn(node, source)
+    return f"<mrow><mo>(</mo>{body}<mo>)</mo></mrow>" if _rank(node) < below else body
+
+
+def _drawn(node: ast.AST, source: str) -> str:
+    """MathML of one node of a transcription's syntax tree, in the order written."""
+    if isinstance(node, ast.Name):
+        return _mathml_body(sp.Symbol(node.id)) if node.id != "pi" else "<mi>&#960;</mi>"
+    if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)):
+        return f"<mn>{escape(ast.get_source_segment(source, node))}</mn>"
+    if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
+        sign = "\u2212" if isinstance(node.op, ast.USub) else "+"
+        return f"<mrow><mo>{sign}</mo>{_bracketed(node.operand, source, 3)}</mrow>"
+    if isinstance(node, ast.BinOp) and isinstance(node.op, ast.Div):
+        return f"<mfrac><mrow>{_drawn(node.left, source)}</mrow><mrow>{_drawn(node.right, source)}</mrow></mfrac>"
+    if isinstance(node, ast.BinOp) and isinstance(node.op, ast.Pow):
+        return f"<msup>{_bracketed(node.left, source, 5)}<mrow>{_drawn(node.right, source)}</mrow></msup>"
+    if isinstance(node, ast.BinOp) and type(node.op) in _OPERATOR:
+        rank = _PRECEDENCE[type(node.op)]
+        left = _bracketed(node.left, source, rank)
+        # a sum after a minus, and a product after a number, keep their brackets
+        right = _bracketed(node.right, source, 5 if isinstance(node.right, ast.UnaryOp) else
+                           rank + (not isinstance(node.op, ast.Add)))
+        op = _OPERATOR[type(node.op)]
+        if isinstance(node.op, ast.Mult) and isinstance(node.right, ast.Constant):
+            op = "\u00b7"  # two numbers side by side need a visible product sign
+        return f"<mrow>{left}<mo>{op}</mo>{right}</mrow>"
+    if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and not node.keywords:
+        args = "<mo>,</mo>".join(_drawn(a, source) for a in node.args)
+        if node.func.id == "sqrt" and len(node.args) == 1:
+            return f"<msqrt><mrow>{args}</mrow></msqrt>"
+        if node.func.id == "abs" and len(node.args) == 1:
+            return f"<mrow><mo>|</mo>{args}<mo>|</mo></mrow>"
+        return f"<mrow><mi>{escape(node.func.id)}</mi><mo>&ApplyFunction;</mo><mrow><mo>(</mo>{args}<mo>)</mo></mrow></mrow>"
+    raise ValueError(f"not in the whitelist expression syntax: {ast.dump(node)[:60]}")

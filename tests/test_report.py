@@ -18,6 +18,7 @@ from __future__ import annotations
 import copy
 import csv
 import dataclasses
+import html
 import json
 import re
 import shutil
@@ -552,3 +553,28 @@ def test_both_renderings_number_the_same_displays(built):
     html_numbers = re.findall(r'<div class="numbered"><math.*?</math><span class="eqno">\((\d+)\)</span></div>',
                               html_text, flags=re.S)
     assert html_numbers == re.findall(r"\\tag\{(\d+)\}", tex) == ["10", "11", "14", "14"]
+
+
+def test_printed_equation_column_shows_the_transcription_as_written(built):
+    """QA: the "printed" column showed sympy's evaluated form (Eq. 46 as sqrt(2)*sqrt(...)/2, Eq. 44's
+    terms reordered), not the transcription. It is now drawn from the transcribed text: the terms in
+    the order data/published/equations.toml writes them, typed here by hand from the paper (Eq. 44:
+    inertia bracket times theta_ddot, then the theta_dot squared term, then gravity, = -F_a r_d;
+    Eq. 46: one root over the whole fraction)."""
+    page = (Path(built["out"]) / "report.html").read_text(encoding="utf-8")
+
+    def printed_cell(row_id):
+        row = re.search(rf'<tr id="row-{row_id}">(.*?)</tr>', page, flags=re.S).group(1)
+        return re.findall(r"<td[^>]*>(.*?)</td>", row, flags=re.S)[2]
+
+    def visible(markup):
+        text = html.unescape(re.sub(r"<[^>]+>", " ", markup).replace("&InvisibleTimes;", "")
+                             .replace("&ApplyFunction;", ""))
+        return re.sub(r"\s+", "", text)
+
+    assert visible(printed_cell("eq44")) == (
+        "((32md+mb)rd2+13mblb2\u2212mbrdlbcos(\u03b8))\u03b8\u00a8"
+        + "+12mbrdlbsin(\u03b8)\u03b8\u02d92+12mbglbsin(\u03b8)=\u2212Fard")
+    eq46 = printed_cell("eq46")
+    assert re.search(r"<mo>=</mo><msqrt><mrow><mfrac>", eq46) and "<mn>2</mn></msqrt>" not in eq46
+    assert visible(eq46) == "\u03c9n=12mbglb(32md+mb)rd2+mblb(13lb\u2212rd)"
