@@ -104,6 +104,14 @@ def _drawn(node: ast.AST, source: str) -> str:
     if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
         sign = "\u2212" if isinstance(node.op, ast.USub) else "+"
         return f"<mrow><mo>{sign}</mo>{_bracketed(node.operand, source, 3)}</mrow>"
+    if isinstance(node, ast.BinOp) and isinstance(node.op, ast.Div) and isinstance(node.right, ast.Constant):
+        # "-1/2*a" and "a*1/2" read as a number over 2, not as a fraction with "-1" or "a*1" on top
+        left = node.left
+        if isinstance(left, ast.UnaryOp) and isinstance(left.op, ast.USub) and isinstance(left.operand, ast.Constant):
+            return f"<mrow><mo>\u2212</mo>{_drawn(ast.BinOp(left.operand, ast.Div(), node.right), source)}</mrow>"
+        if isinstance(left, ast.BinOp) and isinstance(left.op, ast.Mult) and isinstance(left.right, ast.Constant):
+            number = _drawn(ast.BinOp(left.right, ast.Div(), node.right), source)
+            return f"<mrow>{_bracketed(left.left, source, 2)}<mo>&InvisibleTimes;</mo>{number}</mrow>"
     if isinstance(node, ast.BinOp) and isinstance(node.op, ast.Div):
         return f"<mfrac><mrow>{_drawn(node.left, source)}</mrow><mrow>{_drawn(node.right, source)}</mrow></mfrac>"
     if isinstance(node, ast.BinOp) and isinstance(node.op, ast.Pow):
