@@ -68,6 +68,12 @@ PROBE = r"""
   out.external = Array.from(document.querySelectorAll('[src], link[href]')).map(e => e.src || e.href).filter(u => /^https?:/.test(u));
   out.pageWidth = document.documentElement.scrollWidth;
   out.viewWidth = document.documentElement.clientWidth;
+  // a table of checks whose columns run past its scrolling box hides the verdict and detail columns
+  out.cutTables = Array.from(document.querySelectorAll('div.wide')).filter(
+    d => d.querySelector('td.verdict') && d.scrollWidth > d.clientWidth + 1).length;
+  out.splitVerdicts = Array.from(document.querySelectorAll('td.verdict')).filter(c => {
+    const r = document.createRange(); r.selectNodeContents(c); return r.getClientRects().length !== 1 || c.scrollWidth > c.clientWidth + 1; }).length;
+  out.verdictCells = document.querySelectorAll('td.verdict').length;
   out.rawDocMarkup = (text.match(/:func:`|:class:`|``/g) || []).length;
   return JSON.stringify(out);
 })()
@@ -246,6 +252,10 @@ def test_page_renders_in_chromium(pages, page, browser):
     assert probe["scripts"] == 0 and probe["external"] == [], f"{page}: scripts or network resources: {probe}"
     # at the 1280 px window nothing is wider than the page (a wide table of equations scrolls by itself)
     assert probe["pageWidth"] <= probe["viewWidth"], f"{page}: wider than the window: {probe['pageWidth']} px"
+    # every column of the tables of checks shows on the page at 1280 px: the verdict on one line, whole
+    assert probe["cutTables"] == 0, f"{page}: {probe['cutTables']} tables of checks wider than the page"
+    assert probe["splitVerdicts"] == 0, f"{page}: {probe['splitVerdicts']} verdicts wrapped or clipped"
+    assert page != "report.html" or probe["verdictCells"] > 100, f"{page}: the verdict cells are not marked"
     assert probe["rawDocMarkup"] == 0, f"{page}: reST markup (``x``, :func:`x`) shown raw"
     assert len(base64.b64decode(shot)) > 20_000, f"{page}: screenshot suspiciously small (blank page?)"
 
