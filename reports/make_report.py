@@ -33,7 +33,7 @@ from markupsafe import Markup
 from reports import checks as checks_mod
 from reports import figures, mathfont, paper, provenance
 from reports.cli import cyclic_gc_paused, main, validate_build
-from reports.mathml import equation_mathml, to_mathml, transcription_mathml
+from reports.mathml import equation_mathml, latex_display, to_mathml, transcription_mathml
 from reports.published import ReportInputError, load_equations
 from solver.errors import InputError
 from solver.expressions import parse_expression
@@ -120,6 +120,7 @@ def latex_environment(templates: Path = TEMPLATES) -> Environment:
         optimized=_JINJA_OPTIMIZER,
     )
     env.filters["latex"] = latex_escape
+    env.filters["display"] = latex_display  # an unnumbered display, broken into lines when too wide
     env.filters["num"] = format_number
     env.filters["percent"] = _share_percent
     return env

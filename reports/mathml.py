@@ -8,6 +8,7 @@ with a subscript.
 from __future__ import annotations
 
 import ast
+import re
 
 import sympy as sp
 from markupsafe import escape
@@ -19,7 +20,7 @@ from solver.mathml import wrap as _wrap
 from markupsafe import Markup
 
 __all__ = ["to_mathml", "equation_mathml", "to_latex", "equation_latex", "display_symbols", "mathml_text",
-           "transcription_mathml"]
+           "transcription_mathml", "latex_display", "latex_width"]
 
 _LATEX_DOTS = (("_ddot", r"\ddot"), ("_dot", r"\dot"))
 
@@ -134,3 +135,94 @@ def _drawn(node: ast.AST, source: str) -> str:
             return f"<mrow><mo>|</mo>{args}<mo>|</mo></mrow>"
         return f"<mrow><mi>{escape(node.func.id)}</mi><mo>&ApplyFunction;</mo><mrow><mo>(</mo>{args}<mo>)</mo></mrow></mrow>"
     raise ValueError(f"not in the whitelist expression syntax: {ast.dump(node)[:60]}")
+
+
+# -- LaTeX displays that fit the text block ---------------------------------------------------------
+LINE_WIDTH = 55
+"""Widest display line of paper.tex, in :func:`latex_width` units (about one glyph of 11 pt maths).
+The 16.6 cm text block of the paper's 2.5 cm margins holds some 85 italic glyphs of 11 pt maths
+(about 1.9 mm each); the estimate leaves out the spacing around operators and brackets, which
+takes up to a third of a long display, hence 55."""
+_COMMAND = re.compile(r"\\([A-Za-z]+)")
+_NAMED = {"sin", "cos", "tan", "sinh", "cosh", "tanh", "log", "exp", "asin", "acos", "atan"}
+_SILENT = {"left", "right", "frac", "dfrac", "text", "underbrace", "mathrm", "operatorname", "quad", "qquad"}
+
+
+def latex_width(body: str) -> float:
+    """An estimate of the printed width of LaTeX maths, erring wide: each visible character and each
+    symbol command (``\\theta``) counts one, a function's name its letters, spacing and grouping
+    nothing; a fraction counts its wider part, an underbrace the wider of its term and its label
+    (set in script size, 0.7)."""
+    total, i = 0.0, 0
+    while i < len(body):
+        for command, scale in ((r"\frac{", 1.0), (r"\underbrace{", 0.7)):
+            if body.startswith(command, i):
+                first, i = _group(body, i + len(command) - 1)
+                second = ""
+                if body.startswith("}{", i - 1) or body.startswith("{", i) or body.startswith("_{", i):
+                    second, i = _group(body, body.index("{", i))
+                total += max(latex_width(first), scale * latex_width(second))
+                break
+        else:
+            j = body.find("\\", i + 1) if body[i] != "\\" else i
+            j = len(body) if j == -1 else j
+            if j == i:  # a command
+                m = _COMMAND.match(body, i)
+                name = m.group(1) if m else body[i + 1:i + 2]
+                total += 0 if name in _SILENT else len(name) if name in _NAMED else 1
+                total += 4 if name == "qquad" else 0
+                i += 1 + len(name)
+            else:
+                total += len(re.sub(r"[{}_^\s]", "", body[i:j]))
+                i = j
+    return total
+
+
+def _group(body: str, start: int) -> tuple[str, int]:
+    """The text of the brace group opening at ``body[start]`` and the index after it."""
+    depth = 0
+    for k in range(start, len(body)):
+        if body[k] == "{" and body[k - 1] != "\\":
+            depth += 1
+        elif body[k] == "}" and body[k - 1] != "\\":
+            depth -= 1
+            if depth == 0:
+                return body[start + 1:k], k + 1
+    return body[start + 1:], len(body)
+
+
+def _top_level_breaks(body: str) -> list[int]:
+    """Positions in ``body`` just before a `` + ``, `` - ``, `` = `` or ``\\qquad`` outside every
+    group, where a display may break (never right after "=", which would leave a lone sign)."""
+    depth, found = 0, []
+    for i, ch in enumerate(body):
+        depth += {"{": 1, "}": -1}.get(ch, 0) if body[i - 1:i] != "\\" else 0
+        depth += 1 if body.startswith(r"\left", i) else -1 if body.startswith(r"\right", i) else 0
+        if depth == 0 and i and (body.startswith((" + ", " - ", " = "), i) or body.startswith(r" \qquad", i)):
+            if not body[:i].rstrip().endswith("="):
+                found.append(i)
+    return found
+
+
+def latex_display(body: str, width: int = LINE_WIDTH) -> str:
+    """One unnumbered display: ``equation*`` when it fits, else ``multline*`` broken at top-level
+    signs into lines of at most ``width`` (:func:`latex_width`) where the terms allow."""
+    body = body.strip()
+    if latex_width(body) <= width:
+        return f"\\begin{{equation*}}\n{body}\n\\end{{equation*}}\n"
+    lines, start, last = [], 0, 0
+    for cut in [*_top_level_breaks(body), len(body)]:
+        # break before the piece that overflows, unless the line would hold only a short left side
+        short_side = body.startswith(" = ", last) and latex_width(body[start:last]) < width / 4
+        if latex_width(body[start:cut]) > width and last > start and not short_side:
+            lines.append(body[start:last].strip())
+            start = last
+        last = cut
+    lines.append(body[start:].strip())
+    env = "multline*" if len(lines) > 1 else "equation*"
+    shown = f"\\begin{{{env}}}\n" + " \\\\\n".join(lines) + f"\n\\end{{{env}}}"
+    widest = max(latex_width(line) for line in lines)
+    # a single term wider than the line cannot break: the display is set one or two sizes smaller
+    # (\small is 10/11 of the text size, \footnotesize 9/11)
+    size = "" if widest <= width else "\\small" if widest <= width * 11 / 10 else "\\footnotesize"
+    return (f"{{{size}\n{shown}}}" if size else shown) + "\n"

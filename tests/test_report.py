@@ -578,3 +578,28 @@ def test_printed_equation_column_shows_the_transcription_as_written(built):
     eq46 = printed_cell("eq46")
     assert re.search(r"<mo>=</mo><msqrt><mrow><mfrac>", eq46) and "<mn>2</mn></msqrt>" not in eq46
     assert visible(eq46) == "\u03c9n=12mbglb(32md+mb)rd2+mblb(13lb\u2212rd)"
+
+
+def test_paper_tex_long_displays_break_and_the_survey_table_fits(built):
+    """QA: paper.tex's nine-column survey table (about 20 cm) and three one-line displays (Example 1's
+    moment equation about A with its labelled terms, the R_A expression, Example 2's equation about C)
+    ran past the 16.6 cm text block. No TeX engine here, so structurally: the table is scaled to
+    \\textwidth, and those displays are multline* with each labelled term whole on one line (a break
+    inside braces would not compile) and the equals sign of R_A's display ending the first line's
+    left side, the sum on the next."""
+    tex = (Path(built["out"]) / "paper.tex").read_text(encoding="utf-8")
+    assert re.search(r"\\resizebox\{\\textwidth\}\{!\}\{%\n\\begin\{tabular\}\{lrrrrrrrr\}", tex)
+    displays = re.findall(r"\\begin\{(multline\*|equation\*)\}\n(.*?)\n\\end\{\1\}", tex, flags=re.S)
+
+    def lines_of(marker):
+        found = [(env, body.split(" \\\\\n")) for env, body in displays if marker in body]
+        assert len(found) == 1, marker
+        return found[0]
+
+    for marker in ("about A}}", "about C}}"):
+        env, lines = lines_of(marker)
+        assert env == "multline*" and len(lines) >= 2, marker
+        for line in lines:  # braces balance on every line: no term is cut
+            assert line.count("{") == line.count("}"), line
+    env, lines = lines_of("R_{A} = g m_{b}")
+    assert env == "multline*" and lines[0] == "R_{A} = g m_{b}" and lines[1].startswith("+ \\frac{")
