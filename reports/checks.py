@@ -195,7 +195,7 @@ def equation_checks(eqset: EquationSet, scenes: dict, derivations: dict) -> list
         sources = [by_id[s] for s in tr.derived_from]
         parts = []
         if row.outcome.diagnosis:
-            parts.append(f"In Eq. ({tr.number}), {row.outcome.diagnosis}.")
+            parts.append(f"In Eq. ({tr.number}), {row.outcome.diagnosis_prose}.")
         if sources and all(s.verdict == "agrees" for s in sources):
             parts.append(
                 f"It is obtained from {', '.join(s.label for s in sources)}, which agree with the "
@@ -447,7 +447,8 @@ def example1_value_checks(values_path: Path, eqset: EquationSet, scene, deriv, s
                     computed_unit=expected,
                     explanation="" if unit_ok else (
                         f"Eq. ({results_prefix[2:]}) prints the unit of {u} as {entry['unit']} (dimension "
-                        f"{printed_dim}), but {u} is computed with dimension {computed_dim}, unit {expected}."
+                        f"{(1 * printed_unit).dimensionality:P}), but {u} is computed with dimension "
+                        f"{computed_q.dimensionality:P}, unit {expected}."
                         + (
                             f" The number itself agrees (row {key}), so the unit is a typographical slip."
                             if ok else ""

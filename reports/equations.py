@@ -37,6 +37,7 @@ from functools import lru_cache
 import mpmath
 import sympy as sp
 
+from reports.mathml import expr_text
 from reports.published import ReportInputError, Transcription
 from solver.expressions import parse_expression
 from solver.tree_value import NotEvaluable, mpmath_arithmetic, tree_value
@@ -73,7 +74,9 @@ class EquationOutcome:
         "agrees", "disagrees" or "not-checkable".
     detail : str
     diagnosis : str
-        A plain statement of the error when it is a single wrong term.
+        A plain statement of the error when it is a single wrong term (sympy's text of the term).
+    diagnosis_prose : str
+        The same statement with the term in the paper's notation (:func:`reports.mathml.expr_text`).
     symbolic_zero : bool
         Whether sympy reduced the residual to 0 (besides the numeric test).
     """
@@ -88,6 +91,7 @@ class EquationOutcome:
     derived_lhs: sp.Expr | None = None
     derived_rhs: sp.Expr | None = None
     diagnosis: str = ""
+    diagnosis_prose: str = ""
     symbolic_zero: bool = False
     notes: list[str] = field(default_factory=list)
 
@@ -402,14 +406,15 @@ def _varies(expr: sp.Expr, seed: int = 0) -> bool:
     return False
 
 
-def _diagnose(residual: sp.Expr, lhs: sp.Expr, rhs: sp.Expr, solution: dict) -> str:
-    """Say which printed term is wrong when the residual is a multiple of one term.
+def _diagnose(residual: sp.Expr, lhs: sp.Expr, rhs: sp.Expr, solution: dict) -> tuple[str, str]:
+    """Say which printed term is wrong when the residual is a multiple of one term: the sentence
+    twice, with the term as sympy's text (verification.json) and as prose (:func:`expr_text`).
 
     ``lhs``/``rhs`` are the printed sides with the derived quantities substituted
     (before the solution); the residual is printed (lhs - rhs) minus the derived form.
     """
     if residual == 0:
-        return ""
+        return "", ""
     for side, sign, expr in (("left-hand side", 1, lhs), ("right-hand side", -1, rhs)):
         for term in sp.Add.make_args(sp.expand(expr)):
             value = (sign * term).xreplace(solution) if solution else sign * term
@@ -421,12 +426,11 @@ def _diagnose(residual: sp.Expr, lhs: sp.Expr, rhs: sp.Expr, solution: dict) -> 
             if ratio.is_number and ratio != 0:
                 factor = sp.nsimplify(1 - ratio)
                 if factor == -1:
-                    return (
-                        f"the term {sp.sstr(term)} on the {side} has the wrong sign: "
-                        f"the derivation gives {sp.sstr(-term)} there"
-                    )
-                return f"the term {sp.sstr(term)} on the {side} should be {sp.sstr(sp.expand(factor * term))}"
-    return ""
+                    return tuple(f"the term {show(term)} on the {side} has the wrong sign: "
+                                 f"the derivation gives {show(-term)} there" for show in (sp.sstr, expr_text))
+                return tuple(f"the term {show(term)} on the {side} should be {show(sp.expand(factor * term))}"
+                             for show in (sp.sstr, expr_text))
+    return "", ""
 
 
 @lru_cache(maxsize=64)
@@ -523,7 +527,7 @@ def check_equation(tr: Transcription, scene, deriv) -> EquationOutcome:
             symbolic_zero = True
             residual = sp.Integer(0)
     agrees = numeric_zero and not notes
-    diagnosis = "" if agrees else _diagnose(residual, mapped_l, mapped_r, solution)
+    diagnosis, diagnosis_prose = ("", "") if agrees else _diagnose(residual, mapped_l, mapped_r, solution)
 
     if agrees:
         how = "reduces to 0 symbolically" if symbolic_zero else (
@@ -561,6 +565,7 @@ def check_equation(tr: Transcription, scene, deriv) -> EquationOutcome:
         derived_lhs=derived_l,
         derived_rhs=derived_r,
         diagnosis=diagnosis,
+        diagnosis_prose=diagnosis_prose,
         symbolic_zero=symbolic_zero,
         notes=notes,
     )

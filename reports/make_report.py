@@ -33,7 +33,7 @@ from markupsafe import Markup
 from reports import checks as checks_mod
 from reports import figures, mathfont, paper, provenance
 from reports.cli import cyclic_gc_paused, main, validate_build
-from reports.mathml import equation_mathml, latex_display, to_mathml, transcription_mathml
+from reports.mathml import equation_mathml, latex_display, name_text, to_mathml, transcription_mathml
 from reports.published import ReportInputError, load_equations
 from solver.errors import InputError
 from solver.expressions import parse_expression
@@ -66,6 +66,8 @@ def html_environment(templates: Path = TEMPLATES) -> Environment:
     )
     env.filters["num"] = format_number
     env.filters["percent"] = _share_percent  # a share 0..1 in percent by the one rounding rule
+    env.filters["unit"] = _unit_shown
+    env.filters["detail_prose"] = detail_prose
     env.filters["verdict_class"] = lambda v: {"agrees": "ok", "disagrees": "bad"}.get(v, "na")
     env.globals["math_font_css"] = mathfont.font_face_css()  # the embedded maths font (_style.html.j2)
     return env
@@ -90,9 +92,25 @@ _LATEX_SPECIAL = {
 }
 
 
+_LATEX_GREEK = re.compile("([\u03b1-\u03c9])([\u0307\u0308]?)")
+_GREEK_NAMES = dict(zip("\u03b1\u03b2\u03b8\u03c6\u03c8\u03c9", ("alpha", "beta", "theta", "phi", "psi", "omega")))
+
+
+def _latex_greek(m: re.Match) -> str:
+    r"""A Greek letter of prose (:func:`reports.mathml.name_text`) in maths, with its dot accent:
+    θ̈ -> ``\ensuremath{\ddot{	heta}}``."""
+    name = _GREEK_NAMES.get(m.group(1))
+    if name is None:
+        return m.group(0)
+    accent = {"\u0307": r"\dot", "\u0308": r"\ddot"}.get(m.group(2))
+    return rf"\ensuremath{{{accent}{{\{name}}}}}" if accent else rf"\ensuremath{{\{name}}}"
+
+
 def latex_escape(value) -> str:
-    """Escape text for LaTeX (every special character, so input text stays text)."""
-    return "".join(_LATEX_SPECIAL.get(ch, ch) for ch in str(value))
+    """Escape text for LaTeX (every special character, so input text stays text; a Greek letter of
+    the prose, dotted or not, as maths)."""
+    text = "".join(_LATEX_SPECIAL.get(ch, ch) for ch in str(value))
+    return _LATEX_GREEK.sub(_latex_greek, text)
 
 
 def latex_environment(templates: Path = TEMPLATES) -> Environment:
@@ -124,6 +142,27 @@ def latex_environment(templates: Path = TEMPLATES) -> Environment:
     env.filters["num"] = format_number
     env.filters["percent"] = _share_percent
     return env
+
+
+_SUPERSCRIPT = str.maketrans("0123456789-", "\u2070\u00b9\u00b2\u00b3\u2074\u2075\u2076\u2077\u2078\u2079\u207b")
+
+
+def detail_prose(text) -> str:
+    """A check's detail with pint's dimension text and sympy's products and powers written as
+    formulas, not code: ``[length] * [mass] / [time] ** 2`` -> ``[length]·[mass]/[time]²``,
+    ``2*F_a*r_d`` -> ``2·F_a·r_d``. Only the text shown in report.html; verification.json keeps the
+    detail as it is."""
+    text = re.sub(r"(\]) \*\* (-?\d+)", lambda m: m.group(1) + m.group(2).translate(_SUPERSCRIPT), str(text))
+    text = re.sub(r"(?<=[\]\u00b9\u00b2\u00b3\u2070-\u2079]) \* (?=\[)", "\u00b7", text)
+    text = re.sub(r"(?:(?<=[\]\u00b9\u00b2\u00b3\u2070-\u2079])|(?<=\b1)) / (?=\[)", "/", text)
+    # sympy's text of a term: F_a*r_d -> F_a·r_d, theta_dot**2 -> theta_dot²
+    text = re.sub(r"(?<=[\w)])\*\*(\d+)\b", lambda m: m.group(1).translate(_SUPERSCRIPT), text)
+    return name_text(re.sub(r"(?<=[\w)])\*(?=[\w(])", "\u00b7", text))  # theta_ddot -> θ̈
+
+
+def _unit_shown(unit) -> str:
+    """A unit as a table shows it after a number: none for a dimensionless quantity (pint's "1")."""
+    return "" if unit in (None, "1", "dimensionless") else str(unit)
 
 
 def _share_percent(share: float, decimals: int = 1) -> str:
@@ -186,7 +225,7 @@ def _benchmarks(bench_dir: Path) -> list[dict]:
             elif isinstance(obj, (int, float, str, bool)) and not isinstance(obj, str) or (
                 isinstance(obj, str) and len(obj) < 80
             ):
-                scalars.append({"key": prefix, "value": obj})
+                scalars.append({"key": prefix, "value": ("yes" if obj else "no") if isinstance(obj, bool) else obj})
 
         walk("", data)
         found.append({"name": path.stem, "error": "", "scalars": scalars, "data": data})

@@ -20,7 +20,7 @@ from solver.mathml import wrap as _wrap
 from markupsafe import Markup
 
 __all__ = ["to_mathml", "equation_mathml", "to_latex", "equation_latex", "display_symbols", "mathml_text",
-           "transcription_mathml", "latex_display", "latex_width"]
+           "transcription_mathml", "latex_display", "latex_width", "expr_text"]
 
 _LATEX_DOTS = (("_ddot", r"\ddot"), ("_dot", r"\dot"))
 
@@ -226,3 +226,22 @@ def latex_display(body: str, width: int = LINE_WIDTH) -> str:
     # (\small is 10/11 of the text size, \footnotesize 9/11)
     size = "" if widest <= width else "\\small" if widest <= width * 11 / 10 else "\\footnotesize"
     return (f"{{{size}\n{shown}}}" if size else shown) + "\n"
+
+
+# -- an expression in running text ---------------------------------------------------------------
+_GREEK = {"alpha": "\u03b1", "beta": "\u03b2", "theta": "\u03b8", "phi": "\u03c6", "omega": "\u03c9", "psi": "\u03c8"}
+_ACCENT = {"_ddot": "\u0308", "_dot": "\u0307"}
+_NAME = re.compile(r"\b(alpha|beta|theta|phi|omega|psi)(_ddot|_dot)?\b")
+
+
+def name_text(text: str) -> str:
+    """Symbol names of the solver in a sentence as the paper writes them: ``theta_ddot`` as θ̈
+    (theta with a combining diaeresis), ``omega`` as ω; other names unchanged."""
+    return _NAME.sub(lambda m: _GREEK[m.group(1)] + _ACCENT.get(m.group(2) or "", ""), text)
+
+
+def expr_text(expr: sp.Basic) -> str:
+    """An expression for running text, in the paper's notation rather than code: products with a
+    middle dot, squares as ², a minus sign −, Greek letters and dotted rates (:func:`name_text`)."""
+    text = sp.sstr(expr).replace("**2", "\u00b2").replace("*", "\u00b7")
+    return name_text(re.sub(r"(^|[\s(])-", "\\1\u2212", text).replace(" - ", " \u2212 "))

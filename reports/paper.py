@@ -9,9 +9,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+import re
+
 import sympy as sp
 
-from reports.mathml import equation_latex, equation_mathml, to_latex, to_mathml
+from reports.mathml import equation_latex, equation_mathml, name_text, to_latex, to_mathml
 
 __all__ = ["Shown", "shown", "method_equations", "example_steps", "quantity_text", "linearisation",
            "unit_conversion", "result_rows"]
@@ -358,11 +360,24 @@ def _term_parts(terms):
         m = _mathml_body(body)
         x = to_latex(body)
         if t.note and len(terms) > 1:
-            m = f"<munder><mrow>{m}</mrow><mtext mathsize=\"small\">{escape(t.note)}</mtext></munder>"
-            x = rf"\underbrace{{{x}}}_{{\text{{{_latex_text(t.note)}}}}}"
+            note = note_text(t.note)
+            m = f"<munder><mrow>{m}</mrow><mtext mathsize=\"small\">{escape(note)}</mtext></munder>"
+            x = rf"\underbrace{{{x}}}_{{\text{{{_latex_text(note)}}}}}"
         ml.append(("" if i == 0 else f"<mo>{op}</mo>") + m)
         lx.append(("" if i == 0 else (" - " if negative else " + ")) + x)
     return "".join(ml), "".join(lx)
+
+
+_NOTE_WORDS = ((re.compile(r"gravity:(\w+)"), r"weight of \1"), (re.compile(r"\bm d\^2\b"), "m d\u00b2"),
+               (re.compile(r" x "), " \u00d7 "), (re.compile(r"(?<![\w/])-(?=r_G)"), "\u2212"))
+
+
+def note_text(note: str) -> str:
+    """A term's note in words and symbols, not code: the scene's load id ``gravity:bar`` as "weight
+    of bar", ``d^2`` as d², the cross product ``x`` as ×, a minus as −."""
+    for pattern, words in _NOTE_WORDS:
+        note = pattern.sub(words, note)
+    return note
 
 
 def _latex_text(text: str) -> str:
@@ -424,7 +439,7 @@ def explained(system, point: str, at_rest: bool, shows_alternative: bool = False
         "newton": newton,
         "inertia": terms_shown(euler_step.equation("inertia")),
         "euler": at(euler_step.equation("euler")),
-        "dropped": section.step("dropped").text,
+        "dropped": [name_text(t) for t in section.step("dropped").text],
         **point_choice(ranked, point, best, shows_alternative),
     }
 
@@ -454,7 +469,7 @@ def point_choice(ranked: dict, point: str, best, shows_alternative: bool = False
     kind = "one-step alternative" if one_step else "alternative"
     why = f"Why {point}: {ranked[point].reason()}." if point in ranked else ""
     if best.name == point or point not in ranked:
-        return {"why": why, "advisor_best": best.name, "alternative_title": "", "advisor_why": ""}
+        return {"why": name_text(why), "advisor_best": best.name, "alternative_title": "", "advisor_why": ""}
     mine, theirs = ranked[point], best
     why += f" The point advisor ranks {theirs.name} first; both points work" + (
         f" (the {kind} about {theirs.name} is shown after the equation of motion)." if shows_alternative else ".")
@@ -465,8 +480,8 @@ def point_choice(ranked: dict, point: str, best, shows_alternative: bool = False
         f"The point advisor ranks {theirs.name} first because its moment equation holds "
         f"{_count(theirs.unknowns, 'unknown')} ({', '.join(theirs.unknowns)})"
         + (", which it gives on its own: a one-step alternative." if one_step else f": an {kind}."))
-    return {"why": why, "advisor_best": theirs.name, "alternative_title": f"The {kind} about {theirs.name}",
-            "advisor_why": advisor_why}
+    return {"why": name_text(why), "advisor_best": theirs.name,
+            "alternative_title": f"The {kind} about {theirs.name}", "advisor_why": name_text(advisor_why)}
 
 
 def _count(items, noun: str) -> str:

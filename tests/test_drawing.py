@@ -45,6 +45,11 @@ def _value(expr, system, state) -> float:
     return float(sp.sympify(expr).xreplace({k: sp.Float(v) for k, v in vals.items()}).evalf())
 
 
+def _written(unit: str) -> str:
+    """A unit as a label writes it: a product with a middle dot (N·m), as the paper prints it."""
+    return unit.replace("*", "\u00b7")
+
+
 def _unit(angle: float) -> np.ndarray:
     return np.array([math.cos(angle), math.sin(angle)])
 
@@ -118,7 +123,7 @@ def test_drawing_matches_the_scene(path):
                 drawn = [i for i in fbd.on(body) if i.name == reaction.name]
                 assert len(drawn) == 1, f"{path.name}: reaction {reaction.name} on {body}: {drawn}"
                 item = drawn[0]
-                assert reaction.name in item.label and item.unit in item.label
+                assert reaction.name in item.label and _written(item.unit) in item.label
                 if item.direction is None and item.turn == 0:  # drawn as zero: it must be negligible
                     assert item.value == 0.0
                     # ZERO_FORCE: below 1e-9 of the largest force on the body (round-off of the solve)
@@ -169,7 +174,7 @@ def _assert_sizes_in_labels(fbd, where):
     labels ``|X| = size``: no label carries a sign, each gives the size of the value its item holds."""
     for item in fbd.items:
         if item.kind in ("force", "couple", "inertial", "inertial_couple"):
-            assert item.label.endswith(f"| = {abs(item.value):.4g} {item.unit}") and "= -" not in item.label, \
+            assert item.label.endswith(f"| = {abs(item.value):.4g} {_written(item.unit)}") and "= -" not in item.label, \
                 f"{where}: {item.label!r} (value {item.value})"
     for ax in fbd.figure.axes:
         if ax.get_visible():
@@ -468,7 +473,7 @@ def test_a_zero_force_is_a_label_not_an_arrow(name, zeros):
         panels = dict(zip(drawing.panels, drawing.figure.axes))
         for item in zero:
             ax = panels[item.body]
-            assert f"|{item.name}| = 0 {item.unit}" in {t.get_text() for t in ax.texts}
+            assert f"|{item.name}| = 0 {_written(item.unit)}" in {t.get_text() for t in ax.texts}
             positive = np.asarray(item.shape["positive"], float)
             for patch in ax.patches:
                 if not (isinstance(patch, FancyArrowPatch) and getattr(patch, "_posA_posB", None)):

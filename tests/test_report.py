@@ -402,7 +402,8 @@ def test_paper_shows_the_inertial_term_apart_in_both_outputs(built):
     html_text = (out / "paper.html").read_text(encoding="utf-8")
     tex = (out / "paper.tex").read_text(encoding="utf-8")
     for text in (html_text, tex):
-        assert text.count("inertial term -r") >= 3  # Example 1 about A, Example 2 about P and about C
+        # the labels under the terms, with a minus sign (not a hyphen): Example 1 about A, Example 2 about P and C
+        assert text.count("inertial term \u2212r") >= 3
         assert "I_G of disk" in text or r"I\_G of disk" in text
         assert "one-step alternative about C" in text
         assert "y component" in text and "x component" in text
@@ -518,8 +519,10 @@ def test_example2_says_both_points_work(built):
         assert "first choice is" not in text
         assert "The point advisor ranks C first; both points work" in text
         assert "Both P and C work" in text
-        assert "about P, whose moment equation holds 2 unknowns (theta_ddot, F_f)" in text
-        assert "holds 1 unknown (theta_ddot), which it gives on its own: a one-step alternative" in text
+        # theta_ddot as the paper writes it (θ̈; \ddot{\theta} in LaTeX), not the code name
+        text = text.replace("\\ensuremath{\\ddot{\\theta}}", "\u03b8\u0308")
+        assert "about P, whose moment equation holds 2 unknowns (\u03b8\u0308, F_f)" in text
+        assert "holds 1 unknown (\u03b8\u0308), which it gives on its own: a one-step alternative" in text
 
 
 def test_survey_table_and_statements_alike_in_both_renderings(built):
@@ -603,3 +606,23 @@ def test_paper_tex_long_displays_break_and_the_survey_table_fits(built):
             assert line.count("{") == line.count("}"), line
     env, lines = lines_of("R_{A} = g m_{b}")
     assert env == "multline*" and lines[0] == "R_{A} = g m_{b}" and lines[1].startswith("+ \\frac{")
+
+
+def test_no_code_notation_in_the_prose_and_labels(built):
+    """QA: prose and labels showed code: "1 / [time] ** 2", "F_a*r_d", "theta_ddot", underbrace labels
+    "gravity:bar", figure units "ft*lbf"/"N*m", a dimensionless "1" after a number. By hand: alpha's
+    dimension is 1/[time]² (rad/s², the radian being dimensionless); the wrong term of Eq. 43 is
+    F_a r_d; Eq. (29) row 1's coefficient of R_B is cos 15° = 0.96592583, a pure number."""
+    out = Path(built["out"])
+    pages = {name: (out / name).read_text(encoding="utf-8") for name in ("paper.html", "report.html", "paper.tex")}
+    for name, text in pages.items():
+        visible = re.sub(r"<[^>]*>", " ", text)  # attributes (data-unknown="theta_ddot") are not shown
+        for code in ("** 2", "F_a*r_d", "{'[", "theta_ddot", "gravity:bar", "gravity:disk", "ft*lbf", "N*m",
+                     "lbf*ft", "0.96592583 1 "):
+            assert code not in visible, f"{name}: {code!r} shown"
+    assert "computed with dimension 1/[time]², unit rad/s²" in pages["paper.html"]
+    assert "the term F_a·r_d on the left-hand side has the wrong sign" in pages["paper.html"]
+    assert "holds 2 unknowns (θ\u0308, R_B)" in pages["paper.html"]
+    assert "holds 2 unknowns (\\ensuremath{\\ddot{\\theta}}, R\\_B)" in pages["paper.tex"]
+    assert "{\\text{weight of bar}}" in pages["paper.tex"] and ">weight of bar</mtext>" in pages["paper.html"]
+    assert re.search(r"\| = [0-9.]+ (ft·lbf|N·m)<", pages["paper.html"])

@@ -646,8 +646,11 @@ def size_label(name: str, value: float, unit: str) -> str:
     '|O_x| = 6.772 N'
     >>> size_label("gravity: m g", 19.62, "N")
     'gravity: |m g| = 19.62 N'
+    >>> size_label("M", 2.5, "N*m")
+    '|M| = 2.5 N\u00b7m'
     """
     head, sep, symbol = name.rpartition(": ")
+    unit = unit.replace("*", "\u00b7")  # a product of units as N·m, not code's N*m
     return f"{head}{sep}|{symbol}| = {abs(value):.4g} {unit}"
 
 
