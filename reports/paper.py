@@ -341,8 +341,21 @@ PROSE = {
     "separate": "The moment equation is written as the paper writes it: the moments of the actual forces "
                 "about P, then the inertial term -r_G/P x m a_P as a term of its own, equal to I_P alpha with "
                 "I_P built element by element by the parallel-axis theorem (Eq. 12).",
+    "kinematics_heading": "Kinematics at release",
+    "equations_heading": "Equations",
+    "ex1_numbers_heading": "Numbers at release",
+    "ex2_numbers_heading": "Numbers at the chosen state",
+    "oscillations_heading": "Small oscillations",
+    "ex1_solve": "The moment equation about {point} holds only the reaction at the other end and the angular "
+                 "acceleration; together with the horizontal force balance it fixes both, and the vertical "
+                 "balance then gives the remaining reaction. Solving the system:",
+    "ex1_reactions": "and the reactions in terms of the angular acceleration:",
+    "ex2_reactions": "The force balances give the friction and normal forces in terms of the motion:",
+    "ex2_eom": "Eliminating the friction force between the horizontal balance and the moment equation gives the "
+               "equation of motion:",
+    "ex2_findings": "The article's printed versions of this step differ from the derivation:",
 }
-"""Sentences shared word for word by paper.html and paper.tex."""
+"""Sentences and headings shared word for word by paper.html and paper.tex."""
 
 
 def _term_parts(terms):

@@ -472,7 +472,7 @@ def test_example1_states_g_c_and_shows_forces_before_the_division(built):
     # the student's own figure: R_B of about 725 lbm*ft/s^2 (22.53 lbf printed, Eq. 30, times 32.174 = 724.9;
     # +-1 covers the paper's 4-figure rounding of R_B, 0.005 lbf * 32.174 = 0.16, and ours)
     assert _number(forces["R_B"][1]) == pytest.approx(printed["eq30-R_B"]["value"] * g_c, abs=1.0)
-    assert _tex_rows(tex, "At release:", forces) == forces  # the same numbers in paper.tex
+    assert _tex_rows(tex, "\\subsection*{Numbers at release}", forces) == forces  # the same numbers in paper.tex
 
 
 def test_example2_numbers_table_holds_the_solver_values(built):
@@ -626,3 +626,24 @@ def test_no_code_notation_in_the_prose_and_labels(built):
     assert "holds 2 unknowns (\\ensuremath{\\ddot{\\theta}}, R\\_B)" in pages["paper.tex"]
     assert "{\\text{weight of bar}}" in pages["paper.tex"] and ">weight of bar</mtext>" in pages["paper.html"]
     assert re.search(r"\| = [0-9.]+ (ft·lbf|N·m)<", pages["paper.html"])
+
+
+def test_paper_tex_says_what_paper_html_says(built):
+    """QA: paper.tex lacked the HTML's sub-headings, "Moment of inertia about A", the composite I_P, the
+    sentence on the moment equation about A, and the lead-in and list before Eq. (43); it had "At release:"
+    followed by an unrelated sentence. The shared sentences now come from paper.PROSE; here every one of
+    them, and the headings, must appear in both renderings (typed out for the ones the QA named)."""
+    out = Path(built["out"])
+    page = html.unescape(re.sub(r"<[^>]+>", "", (out / "paper.html").read_text(encoding="utf-8")))
+    tex = (out / "paper.tex").read_text(encoding="utf-8")
+    flat_tex = re.sub(r"\s+", " ", tex)
+    flat_page = re.sub(r"\s+", " ", page)
+    for sentence in ("The moment equation about A holds only the reaction at the other end and the angular "
+                     "acceleration", "The article's printed versions of this step differ from the derivation:",
+                     "Moment of inertia about A:", "moment of inertia of the composite body about P:",
+                     "Kinematics at release", "Numbers at release", "Numbers at the chosen state",
+                     "Small oscillations", "The one-step alternative about C"):
+        assert sentence in flat_page, sentence
+        assert latex_escape(sentence) in flat_tex, sentence
+    assert re.search(r"differ from the derivation:\n\\begin\{itemize\}\n\\item \\textbf\{Eq\. \(43\)\}", tex)
+    assert "At release:" not in tex and "\\subsection*{Numbers at release}" in tex
