@@ -16,7 +16,7 @@ import sympy as sp
 from markupsafe import Markup
 from sympy.printing.mathml import MathMLPresentationPrinter
 
-__all__ = ["to_mathml", "equation_mathml", "mathml_body", "wrap", "mathml_text", "MATHML_NS"]
+__all__ = ["to_mathml", "equation_mathml", "mathml_body", "wrap", "mathml_text", "MATHML_NS", "MINUS"]
 
 MATHML_NS = "http://www.w3.org/1998/Math/MathML"
 _DOTS = (("_ddot", "\u00a8"), ("_dot", "\u02d9"))
@@ -39,20 +39,28 @@ class _Printer(MathMLPresentationPrinter):
         return super()._print_Symbol(sym, style)
 
 
+MINUS = "\u2212"
+"""The minus sign of every MathML operator (sympy's printer writes the hyphen-minus "-")."""
+
+
 def mathml_body(expr: sp.Basic) -> str:
     """The MathML of one expression without its ``<math>`` element, printed once per process
     however often it is shown (the report prints each transcribed equation in block and inline
-    form, the worked solution shows a point's velocity in several steps)."""
+    form, the worked solution shows a point's velocity in several steps). A minus is U+2212."""
     try:
         return _printed_mathml(expr)
     except TypeError:  # an unhashable expression (a mutable Matrix): printed each time
-        return _Printer({"mul_symbol": None}).doprint(expr)
+        return _doprint(expr)
 
 
 @lru_cache(maxsize=2048)
 def _printed_mathml(expr: sp.Basic) -> str:
     # sympy's == is structural (2.0 and 2 differ), so equal expressions print alike
-    return _Printer({"mul_symbol": None}).doprint(expr)
+    return _doprint(expr)
+
+
+def _doprint(expr: sp.Basic) -> str:
+    return _Printer({"mul_symbol": None}).doprint(expr).replace("<mo>-</mo>", f"<mo>{MINUS}</mo>")
 
 
 def wrap(body: str, display: str) -> Markup:

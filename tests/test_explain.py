@@ -888,17 +888,18 @@ def test_html_joins_a_negative_term_with_minus_and_keeps_labels(paper):
     from solver.mathml import mathml_text
 
     out = render(paper[2]["sliding_bar"], "html")
-    assert not re.search(r"<mo>[+-]</mo>(?:<mrow>)*<mo>-</mo>", out)
+    assert not re.search(r"<mo>[+\-\u2212]</mo>(?:<mrow>)*<mo>[\-\u2212]</mo>", out)
     tables = "".join(re.findall(r'<table class="terms">(.*?)</table>', out))
     rows = re.findall(r"<tr><td>(.*?)</td><td>(.*?)</td><td>(.*?)</td><td>(.*?)</td></tr>", tables)
     signs = [mathml_text(sign) for _, sign, _, _ in rows]
-    assert rows and set(signs) <= {"", "=", "+", "-", "\u2248"}, set(signs)
+    assert rows and set(signs) <= {"", "=", "+", "\u2212", "\u2248"}, set(signs)  # minus as U+2212
     terms = {sign: [] for sign in signs}
     for (_, _, term, _), sign in zip(rows, signs):
         terms[sign].append(re.sub(r"<math[^>]*><mstyle displaystyle=\"true\">", "", term))
-    assert not any(t.startswith(("<mo>-</mo>", "<mrow><mo>-</mo>")) for s in "+-" for t in terms.get(s, []))
+    assert not any(t.startswith((f"<mo>{m}</mo>", f"<mrow><mo>{m}</mo>")) for m in "-\u2212"
+                   for s in "+\u2212" for t in terms.get(s, []))
     assert any(t.startswith("<mrow><msub><mi>R</mi><mi>B</mi></msub><mo>&InvisibleTimes;</mo><msub><mi>l</mi>")
-               for t in terms["-"]), terms["-"]
+               for t in terms["\u2212"]), terms["\u2212"]
     assert any('<span class="note">[known]</span>' == note for *_, note in rows)
     text = render(paper[2]["sliding_bar"], "text")
     assert "[known]" in text  # the text shows the same labels

@@ -647,3 +647,15 @@ def test_paper_tex_says_what_paper_html_says(built):
         assert latex_escape(sentence) in flat_tex, sentence
     assert re.search(r"differ from the derivation:\n\\begin\{itemize\}\n\\item \\textbf\{Eq\. \(43\)\}", tex)
     assert "At release:" not in tex and "\\subsection*{Numbers at release}" in tex
+
+
+def test_mathml_minus_is_the_minus_sign_and_the_heading_reads(built):
+    """QA: MathML wrote a minus as a hyphen (<mo>-</mo>) while the prose used U+2212; and section 5's
+    title, "Where the article and the computation part", lacked its verb's particle ("part ways")."""
+    out = Path(built["out"])
+    for name in ("paper.html", "report.html"):
+        text = (out / name).read_text(encoding="utf-8")
+        assert "<mo>-</mo>" not in text and "<mo>\u2212</mo>" in text, name
+    assert "Where the article and the computation part ways" in (out / "paper.html").read_text(encoding="utf-8")
+    assert "\\section{Where the article and the computation part ways}" in (out / "paper.tex").read_text(
+        encoding="utf-8")

@@ -307,7 +307,7 @@ class _Html(_Renderer):
         for mark, terms in ((sign, eq.rhs),) if inline else (("", lhs), (sign, eq.rhs)):
             for i, t in enumerate(terms):
                 negative = i > 0 and _negative(t.expr)
-                op = "<mo>-</mo>" if negative else "<mo>+</mo>" if i else mark
+                op = "<mo>\u2212</mo>" if negative else "<mo>+</mo>" if i else mark
                 term = _term_mathml(-t.expr if negative else t.expr, eq.name if t in lhs and eq.name else "")
                 note = f"<span class=\"note\">[{self.prose.cell(t.note)}]</span>" if t.note else ""
                 left = _math(_term_mathml(lhs[0].expr, eq.name)) if inline and i == 0 else ""
@@ -367,5 +367,5 @@ def _terms_mathml(terms, name: str = "") -> str:
     out = ""
     for i, t in enumerate(terms):
         negative = i > 0 and _negative(t.expr)
-        out += ("<mo>-</mo>" if negative else "<mo>+</mo>" if i else "") + _term_mathml(-t.expr if negative else t.expr, name)
+        out += ("<mo>\u2212</mo>" if negative else "<mo>+</mo>" if i else "") + _term_mathml(-t.expr if negative else t.expr, name)
     return f"<mrow>{out}</mrow>"
