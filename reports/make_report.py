@@ -67,6 +67,7 @@ def html_environment(templates: Path = TEMPLATES) -> Environment:
     env.filters["num"] = format_number
     env.filters["percent"] = _share_percent  # a share 0..1 in percent by the one rounding rule
     env.filters["unit"] = _unit_shown
+    env.filters["same_decimals"] = same_decimals
     env.filters["detail_prose"] = detail_prose
     env.filters["verdict_class"] = lambda v: {"agrees": "ok", "disagrees": "bad"}.get(v, "na")
     env.globals["math_font_css"] = mathfont.font_face_css()  # the embedded maths font (_style.html.j2)
@@ -158,6 +159,15 @@ def detail_prose(text) -> str:
     # sympy's text of a term: F_a*r_d -> F_a·r_d, theta_dot**2 -> theta_dot²
     text = re.sub(r"(?<=[\w)])\*\*(\d+)\b", lambda m: m.group(1).translate(_SUPERSCRIPT), text)
     return name_text(re.sub(r"(?<=[\w)])\*(?=[\w(])", "\u00b7", text))  # theta_ddot -> θ̈
+
+
+def same_decimals(value, printed: str) -> str:
+    """A computed table percentage with as many decimals as the printed one beside it ("50.0" next to
+    a printed "50.0", not "50"); without a printed decimal text, :func:`format_number`'s 8 digits."""
+    if not isinstance(value, (int, float)) or isinstance(value, bool) or not printed:
+        return format_number(value, 8)
+    decimals = len(printed.partition(".")[2]) if "." in printed else 0
+    return f"{value:.{decimals}f}"
 
 
 def _unit_shown(unit) -> str:

@@ -49,9 +49,11 @@ def inline(expr) -> dict:
     return {"mathml": to_mathml(expr), "latex": to_latex(expr), "text": sp.sstr(expr)}
 
 
-def quantity_text(q, digits: int = 4) -> str:
-    """``"1.234 rad/s²"``-style text of a pint quantity (significant figures)."""
-    return f"{q.magnitude:.{digits}g} {q.units:~P}".strip()
+def quantity_text(q, digits: int = 4, keep_zeros: bool = False) -> str:
+    """``"1.234 rad/s²"``-style text of a pint quantity (significant figures); with ``keep_zeros``
+    the trailing zeros stay, so a column of results shows each to the same precision (725.0 next to
+    897.1, not 725)."""
+    return f"{q.magnitude:{'#' if keep_zeros else ''}.{digits}g} {q.units:~P}".strip()
 
 
 def _upright(expr: sp.Expr) -> sp.Expr:
@@ -251,8 +253,8 @@ def result_rows(solution, scene, conversion: dict | None = None) -> list[dict]:
     for name, q in solution.unknowns.items():
         is_force = q.check("[force]")
         shown_q = q.to(force_unit) if is_force and force_unit else q
-        before = quantity_text(q.to(conversion["consistent"])) if is_force and conversion else ""
-        rows.append({"name": inline(sp.Symbol(name, real=True)), "value": quantity_text(shown_q),
+        before = quantity_text(q.to(conversion["consistent"]), keep_zeros=True) if is_force and conversion else ""
+        rows.append({"name": inline(sp.Symbol(name, real=True)), "value": quantity_text(shown_q, keep_zeros=True),
                      "consistent": before, "text": name})
     return rows
 

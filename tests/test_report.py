@@ -659,3 +659,21 @@ def test_mathml_minus_is_the_minus_sign_and_the_heading_reads(built):
     assert "Where the article and the computation part ways" in (out / "paper.html").read_text(encoding="utf-8")
     assert "\\section{Where the article and the computation part ways}" in (out / "paper.tex").read_text(
         encoding="utf-8")
+
+
+def test_result_and_survey_columns_keep_the_printed_precision(built):
+    """QA: the "in ft·lbm/s²" column printed "725" next to "897.1", and the survey's computed column "50 %"
+    next to the printed "50.0 %". By hand: R_B = 22.54 lbf x 32.174 = 725.0 ft·lbm/s² to 4 figures;
+    11/22 = 50.0 % at the printed one decimal; 0/22 = 0.0 %."""
+    out = Path(built["out"])
+    paper_page = (out / "paper.html").read_text(encoding="utf-8")
+    table = re.search(r'<table id="ex1-results">(.*?)</table>', paper_page, flags=re.S).group(1)
+    assert '<td class="num">725.0 ft·lbm/s²</td>' in table and '<td class="num">897.1 ft·lbm/s²</td>' in table
+    page = (out / "report.html").read_text(encoding="utf-8")
+
+    def cells(row_id):
+        row = re.search(rf'<tr id="row-{row_id}">(.*?)</tr>', page, flags=re.S).group(1)
+        return [re.sub(r"\s+", " ", c).strip() for c in re.findall(r"<td[^>]*>(.*?)</td>", row, flags=re.S)[2:4]]
+
+    assert cells("table1-item1-definitely-agree") == ["50.0 %", "50.0 %"]
+    assert cells("table1-item5-definitely-disagree") == ["0.0 %", "0.0 %"]
