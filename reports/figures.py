@@ -205,7 +205,8 @@ def example2_free_motion(scene, deriv, amplitude: float, omega_n: float, periods
         ax.plot(t, np.degrees(exact), label="nonlinear equation of motion (solve_ivp)")
         ax.plot(t, np.degrees(linear), linestyle="--", label="linear model (Eq. 46)")
         ax.set_ylabel("theta [deg]")
-        ax.legend(loc="upper right", fontsize=8)
+        # above the axes, not over them: the curves reach their maxima at every period, so no corner is free
+        ax.legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=2, fontsize=8, frameon=False)
         ax_d.plot(t, np.degrees(exact - linear), color="tab:purple")
         ax_d.set_ylabel("difference [deg]")
         ax_d.set_xlabel("time t [s]")
@@ -301,7 +302,8 @@ def likert_chart(summary, item_texts: dict[str, str] | None = None) -> FigureRes
     from analysis.chart import diverging_bar
 
     with rc_context(RC):
-        fig = diverging_bar(summary, order="questionnaire")
+        # titled by what it shows (diverging_bar's default title names the data file)
+        fig = diverging_bar(summary, order="questionnaire", title="Survey answers per item (Table 1)")
     caption = (
         f"Answers of the {summary.respondents} respondents to the five items, from the dataset rebuilt from "
         "Table 1: disagreement to the left, agreement to the right, neutral answers split across the centre."

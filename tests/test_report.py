@@ -27,6 +27,7 @@ import sys
 from pathlib import Path
 
 import jinja2
+import numpy as np
 import pytest
 import sympy as sp
 
@@ -677,3 +678,26 @@ def test_result_and_survey_columns_keep_the_printed_precision(built):
 
     assert cells("table1-item1-definitely-agree") == ["50.0 %", "50.0 %"]
     assert cells("table1-item5-definitely-disagree") == ["0.0 %", "0.0 %"]
+
+
+def test_figures_titled_by_content_and_the_motion_legend_clear_of_the_curves(built, monkeypatch):
+    """QA: the Likert chart's title was a file name ("table1_respondents.csv: ..."), and the legend of
+    example2_motion sat over the curves' third maxima. The legend now stands above the plot: its box
+    must lie wholly above the top axes, where no curve is drawn."""
+    from reports import figures
+
+    svg = (Path(built["out"]) / "figures" / "likert.svg").read_text(encoding="utf-8")
+    assert ".csv" not in svg and "Survey answers per item" in svg
+    captured = {}
+    monkeypatch.setattr(figures, "_result", lambda name, fig, caption, facts: captured.setdefault("fig", fig))
+    scene = load_scene(ROOT / "data" / "scenes" / "disk_bar.toml")
+    # omega_n = 1.8855 rad/s: the paper's data (paper.html, section 3); 30 deg, the amplitude it treats as small
+    figures.example2_free_motion(scene, derive(scene), np.radians(30.0), 1.8855)
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    fig = captured["fig"]
+    renderer = FigureCanvasAgg(fig).get_renderer()
+    fig.draw(renderer)  # runs the constrained layout
+    top = fig.axes[0]
+    legend_box = top.get_legend().get_window_extent(renderer)
+    assert legend_box.y0 >= top.get_window_extent(renderer).y1 - 1  # 1 px: rounding of the layout
