@@ -148,12 +148,20 @@ def latex_environment(templates: Path = TEMPLATES) -> Environment:
 _SUPERSCRIPT = str.maketrans("0123456789-", "\u2070\u00b9\u00b2\u00b3\u2074\u2075\u2076\u2077\u2078\u2079\u207b")
 
 
+def _dimension_dict(m: re.Match) -> str:
+    """``{'[mass]': 1, '[time]': -2}`` (a dimension as a Python dict) as ``[mass]·[time]⁻²``."""
+    parts = re.findall(r"'(\[\w+\])': (-?\d+)", m.group(1))
+    return "\u00b7".join(name + ("" if power == "1" else power.translate(_SUPERSCRIPT)) for name, power in parts)
+
+
 def detail_prose(text) -> str:
     """A check's detail with pint's dimension text and sympy's products and powers written as
     formulas, not code: ``[length] * [mass] / [time] ** 2`` -> ``[length]·[mass]/[time]²``,
     ``2*F_a*r_d`` -> ``2·F_a·r_d``. Only the text shown in report.html; verification.json keeps the
     detail as it is."""
-    text = re.sub(r"(\]) \*\* (-?\d+)", lambda m: m.group(1) + m.group(2).translate(_SUPERSCRIPT), str(text))
+    text = re.sub(r"\{('\[\w+\]': -?\d+(?:, '\[\w+\]': -?\d+)*)\}", _dimension_dict, str(text))
+    text = re.sub(r"(\]) \*\* (-?\d+)", lambda m: m.group(1) + m.group(2).translate(_SUPERSCRIPT), text)
+    text = re.sub(r"(?<=[A-Za-z)])\^(-?\d+)", lambda m: m.group(1).translate(_SUPERSCRIPT), text)  # s^2 -> s²
     text = re.sub(r"(?<=[\]\u00b9\u00b2\u00b3\u2070-\u2079]) \* (?=\[)", "\u00b7", text)
     text = re.sub(r"(?:(?<=[\]\u00b9\u00b2\u00b3\u2070-\u2079])|(?<=\b1)) / (?=\[)", "/", text)
     # sympy's text of a term: F_a*r_d -> F_a·r_d, theta_dot**2 -> theta_dot²

@@ -617,7 +617,7 @@ def test_no_code_notation_in_the_prose_and_labels(built):
     out = Path(built["out"])
     pages = {name: (out / name).read_text(encoding="utf-8") for name in ("paper.html", "report.html", "paper.tex")}
     for name, text in pages.items():
-        visible = re.sub(r"<[^>]*>", " ", text)  # attributes (data-unknown="theta_ddot") are not shown
+        visible = html.unescape(re.sub(r"<[^>]*>", " ", text))  # attributes (data-unknown=...) are not shown
         for code in ("** 2", "F_a*r_d", "{'[", "theta_ddot", "gravity:bar", "gravity:disk", "ft*lbf", "N*m",
                      "lbf*ft", "0.96592583 1 "):
             assert code not in visible, f"{name}: {code!r} shown"
@@ -627,6 +627,8 @@ def test_no_code_notation_in_the_prose_and_labels(built):
     assert "holds 2 unknowns (\\ensuremath{\\ddot{\\theta}}, R\\_B)" in pages["paper.tex"]
     assert "{\\text{weight of bar}}" in pages["paper.tex"] and ">weight of bar</mtext>" in pages["paper.html"]
     assert re.search(r"\| = [0-9.]+ (ft·lbf|N·m)<", pages["paper.html"])
+    # Eq. (30)'s lbf·s²/ft is a mass: the detail names its dimension [mass], not a Python dict
+    assert "has the dimension of the quantity ([mass])" in pages["report.html"]
 
 
 def test_paper_tex_says_what_paper_html_says(built):
