@@ -133,7 +133,8 @@ def _drawn(node: ast.AST, source: str) -> str:
             return f"<msqrt><mrow>{args}</mrow></msqrt>"
         if node.func.id == "abs" and len(node.args) == 1:
             return f"<mrow><mo>|</mo>{args}<mo>|</mo></mrow>"
-        return f"<mrow><mi>{escape(node.func.id)}</mi><mo>&ApplyFunction;</mo><mrow><mo>(</mo>{args}<mo>)</mo></mrow></mrow>"
+        call = f"<mi>{escape(node.func.id)}</mi><mo>&ApplyFunction;</mo>"
+        return f"<mrow>{call}<mrow><mo>(</mo>{args}<mo>)</mo></mrow></mrow>"
     raise ValueError(f"not in the whitelist expression syntax: {ast.dump(node)[:60]}")
 
 

@@ -72,7 +72,8 @@ PROBE = r"""
   out.cutTables = Array.from(document.querySelectorAll('div.wide')).filter(
     d => d.querySelector('td.verdict') && d.scrollWidth > d.clientWidth + 1).length;
   out.splitVerdicts = Array.from(document.querySelectorAll('td.verdict')).filter(c => {
-    const r = document.createRange(); r.selectNodeContents(c); return r.getClientRects().length !== 1 || c.scrollWidth > c.clientWidth + 1; }).length;
+    const r = document.createRange(); r.selectNodeContents(c);
+    return r.getClientRects().length !== 1 || c.scrollWidth > c.clientWidth + 1; }).length;
   out.verdictCells = document.querySelectorAll('td.verdict').length;
   out.rawDocMarkup = (text.match(/:func:`|:class:`|``/g) || []).length;
   return JSON.stringify(out);
