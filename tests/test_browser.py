@@ -20,7 +20,6 @@ import os
 import select
 import shutil
 import subprocess
-import sys
 import time
 from pathlib import Path
 
@@ -192,9 +191,10 @@ EXPLAINED = "explain_sliding_bar.html"
 @pytest.fixture(scope="module")
 def explained(tmp_path_factory) -> Path:
     """Example 1's worked solution as ``python -m solver explain ... -o FILE.html`` writes it."""
+    from solver.__main__ import main  # in this process: the command's own code path, without a second interpreter
+
     out = tmp_path_factory.mktemp("explain") / EXPLAINED
-    subprocess.run([sys.executable, "-m", "solver", "explain", "data/scenes/sliding_bar.toml", "-o", str(out)],
-                   cwd=ROOT, check=True, capture_output=True, timeout=120)
+    assert main(["explain", str(ROOT / "data" / "scenes" / "sliding_bar.toml"), "-o", str(out)]) == 0
     return out
 
 

@@ -134,7 +134,7 @@ def test_the_fast_together_is_sympys_together():
     rng = random.Random(5)
     pieces = [s, c, 1 / sp.sin(beta), a, 1 / b, sp.Rational(1, 3), -sp.Rational(5, 6), 1 / (a + b),
               1 / (2 * a + 2 * b) ** 2, 1 / (3 * a - 6 * c), sp.Rational(2, 3) / (a**2 + b), (a - b) ** 2, sp.sqrt(a)]
-    for _ in range(150):
+    for _ in range(100):  # ~0.9 s
         e = sum(rng.randint(-4, 4) * rng.choice(pieces) * rng.choice(pieces) * rng.choice(pieces)
                 for _ in range(rng.randint(1, 4)))
         for expr in (e, sp.expand(e)):
@@ -153,7 +153,7 @@ def test_the_single_term_fraction_is_sympys_cancel():
     gens = [a, b, x, c, s, beta]
     rng = random.Random(11)
     taken = 0
-    for _ in range(300):
+    for _ in range(200):  # ~1.2 s; most take the fast path (asserted below)
         num = sp.Rational(rng.choice([-12, -3, -1, 1, 2, 4, 6]), rng.randint(1, 6))
         for _ in range(rng.randint(0, 3)):
             num *= rng.choice(gens) ** rng.choice([1, 1, 2, -1])
@@ -166,7 +166,7 @@ def test_the_single_term_fraction_is_sympys_cancel():
         if fast is not None:
             taken += 1
             assert sp.srepr(fast) == sp.srepr(sp.fraction(sp.cancel(_together(e)))), e
-    assert taken > 150
+    assert taken > 100
 
 
 def test_the_fast_factor_terms_is_sympys():

@@ -105,12 +105,12 @@ def assert_energy_rate_equals_power(d, scene, x):
     assert abs(lhs - rhs) <= 1e-8 * scale
 
 
-# 12 random bodies x 5 points = 60 route comparisons per run (about 0.4 s per body, six
-# derivations each), and the work-energy balance of each body on its derivation about the
+# 9 random bodies x 5 points = 45 route comparisons per run (about 0.4 s per body, six
+# derivations each; 9, down from 12, keeps `make test` under its 60 s), and the work-energy balance of each body on its derivation about the
 # instant point I (about 0.05 s more: two derivatives of T; it used to draw 10 bodies of its
 # own and derive them again). The default profile draws new bodies every run, pivots, rolling
 # and rails alike, so coverage grows across runs while `make test` stays within its budget.
-@settings(max_examples=12)
+@settings(max_examples=9)
 @given(random_scene())
 def test_independent_of_point_equal_to_mass_center_form_and_energy_balanced(scene):
     """Eq. (11) about every named point (incl. an instant point and G) gives the
