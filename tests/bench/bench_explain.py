@@ -15,10 +15,12 @@ sympy's own cache serves both sides alike. Median of repeated runs, each with th
 garbage collector off as ``timeit`` does, in CPU time of this process (the machine is shared: wall time would measure the neighbours). Target
 (issue 11/12): ours at most half of KanesMethod (ratio <= 0.5).
 
-Last figures (this file on 2026-11-25, main, two runs on a quieter 2-core machine): sliding_bar
-KanesMethod 19-20 ms, eom 10 ms (0.5-0.55x), explain 25-27 ms (1.3-1.5x); disk_bar KanesMethod
-23 ms, eom 10 ms (0.4x), explain 29-31 ms (1.2-1.4x; 38 ms before one-state solves stopped
-compiling their matrices). Under the neighbours' load every figure moves by up to a half.
+Last figures (this file on 2026-11-25, evening, main): sliding_bar KanesMethod 20 ms, eom 10 ms
+(0.51x), explain 31 ms (1.5x); disk_bar KanesMethod 24 ms, eom 9 ms (0.37x), explain 31 ms (1.3x).
+explain grew from 23-29 ms that morning as it gained content (the unknowns each moment equation
+holds at the state, the exact condition number, the contact point named after its joint); the
+display's factor_terms in one pass took about 1.5 ms off disk_bar. Under the neighbours' load
+every figure moves by up to a half.
 
 Writes reports/build/bench/explain.json.
 """
