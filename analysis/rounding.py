@@ -187,8 +187,13 @@ def largest_remainder_tie(labels: list[str], counts: list[int], decimals: int = 
 
     Examples
     --------
-    >>> largest_remainder_tie(["DA", "PA", "N", "PD", "DD"], [12, 7, 2, 1, 0])  # Table 1, item #4
-    'DA and PD tie for the last 0.1 (equal remainders): it goes to the first in scale order, DA (54.6 and 4.5; the other way 54.5 and 4.6)'
+    Three answers of 7 (3, 3, 1): A and B share 42.857...%, and one of them gets the last tenth
+    (Table 1's item #4 has such a tie; the report states it from the published data):
+
+    >>> largest_remainder_tie(["A", "B", "C"], [3, 3, 1])
+    'A and B tie for the last 0.1 (equal remainders): it goes to the first in scale order, A (42.9 and 42.8; the other way 42.8 and 42.9)'
+    >>> largest_remainder_tie(["A", "B", "C"], [2, 1, 1])  # 50 and 25 and 25: nothing to hand out
+    ''
     """
     floors, order, left = _hamilton(counts, decimals)
     if left <= 0 or left >= len(order):
