@@ -39,12 +39,13 @@ import numpy as np
 from . import platforms
 from ._io import is_regular_file
 from .disclosure import BLANK_GROUP, suppress_groups
+from .dropped import FOOTER, DroppedRow, is_footer_note
 from .errors import SurveyInputError
 from .export import reversal_columns
 from .likert import (REVERSE_MARK, REVERSE_NOTE, _num, _validate_ci, absent_respondents,
                      interval_label, not_items_text)
 from .rounding import share_percent_text
-from .scales import Scale, group_names
+from .scales import Scale, group_names, normalize_answer, two_groups_message
 
 __all__ = ["GroupedSummary", "summarize_by", "DEFAULT_MEMORY_LIMIT"]
 
@@ -105,6 +106,7 @@ class GroupedSummary:
     ci_method: str = "wilson"
     confidence_level: float = 0.95
     not_items: dict = field(default_factory=dict)
+    dropped: list = field(default_factory=list)
 
     def _item_summaries(self, tally, respondents: int, confidence_level, method) -> list:
         """Summaries of every item from one (items, k + 3) tally (the one route,
@@ -188,11 +190,16 @@ class GroupedSummary:
                 "respondents": int(self.respondents.sum()), "groups": len(self.groups),
                 "overall": [it.to_dict() for it in self.overall()], "rows": self.rows(),
                 "not_items": list(self.not_items), "not_item_reasons": dict(self.not_items),
-                "notes": self._all_notes()}
+                "dropped": [vars(d) for d in self.dropped], "notes": self._all_notes()}
 
     def _all_notes(self) -> list:
         note = self.suppression().note
-        return list(self.notes) + ([note] if note else [])
+        kinds: dict = {}
+        for d in self.dropped:
+            kinds.setdefault(d.reason, []).append(d)
+        dropped = [f"{len(rows)} {reason}{'s' if len(rows) != 1 else ''} dropped in all: "
+                   f"{rows[0].why}" for reason, rows in kinds.items()]
+        return dropped + list(self.notes) + ([note] if note else [])
 
     def format_text(self, decimals: int = 1) -> str:
         """One line per (group, item), institution-wide first; the agreement share printed
@@ -225,6 +232,8 @@ class GroupedSummary:
             out.append(not_items_text(self.not_items))
         if self.reverse:
             out.append(REVERSE_NOTE)
+        out.extend(f"dropped {'the last row' if d.row is None else f'row {d.row}'}: {d.reason}"
+                   for d in self.dropped)
         out.extend(f"note: {n}" for n in self._all_notes())
         return "\n".join(out)
 
@@ -240,6 +249,51 @@ def _source_sql(path: Path) -> str:
     # small read buffers (DuckDB's default is 32 MB per buffer): memory stays bounded
     return (f"read_csv({lit}, all_varchar = true, header = true, buffer_size = {_BUFFER}, "
             f"max_line_size = {_MAX_LINE})")
+
+
+def _last_line(path: Path) -> "tuple[str, bool] | None":
+    """The last non-blank line of a CSV file and whether an empty line comes just before
+    it; None when the file's tail has no such pair (only the last 2 MiB are read)."""
+    with open(path, "rb") as f:
+        f.seek(0, 2)
+        size = f.tell()
+        f.seek(max(0, size - 2 * _MAX_LINE))
+        tail = f.read().decode("utf-8", errors="replace")
+    lines = tail.splitlines()
+    while lines and not lines[-1].strip():
+        lines.pop()
+    if len(lines) < 3 or (size > 2 * _MAX_LINE and len(lines) < 4):
+        return None                           # (a first line read from mid-file is cut)
+    return lines[-1], not lines[-2].strip()
+
+
+def _without_footer(con, src: str, path: Path, header: list[str]):
+    """``(source, dropped, notes)``: the CSV source without its text-only footer row, if it has
+    one (the rule of the in-memory reader, :func:`analysis.dropped.is_footer_note`),
+    and the row dropped. The footer is left out by its cells; when other rows have the
+    same cells it is kept, with a note, rather than dropping a respondent."""
+    if path.suffix.lower() == ".parquet" or len(header) < 2:
+        return src, [], []
+    last = _last_line(path)
+    if last is None or not last[1]:
+        return src, [], []
+    import csv
+    sep = con.execute(f"SELECT Delimiter FROM sniff_csv({_literal(path)})").fetchone()[0]
+    cells = next(csv.reader([last[0]], delimiter=sep or ","), [])
+    if len(cells) != len(header) or not is_footer_note(cells):
+        return src, [], []
+    cond = " AND ".join([f"trim({_quote(header[0])}, {_WS}) = {_literal(cells[0].strip())}"]
+                        + [f"coalesce(trim({_quote(h)}, {_WS}), '') = ''" for h in header[1:]])
+    alike = con.execute(f"SELECT count(*) FROM {src} WHERE {cond}").fetchone()[0]
+    if alike != 1:
+        return src, [], [f"the last row ({cells[0].strip()!r} in its first cell only) looks like "
+                         f"a {FOOTER}, but {alike} rows have these cells: all are counted as "
+                         f"respondents"]
+    row = None
+    if path.stat().st_size <= _MAX_REREAD:
+        for row, _ in _records(path, [header[0]]):
+            pass
+    return f"(SELECT * FROM {src} WHERE NOT ({cond}))", [DroppedRow(row, FOOTER)], []
 
 
 def _given_header(con, path: Path, header: list[str]) -> list[str]:
@@ -385,6 +439,7 @@ def _count(p, by, scale, items, min_group, memory_limit, threads) -> GroupedSumm
                 raise SurveyInputError(bad[1], str(p), bad[0]) from None
             raise SurveyInputError(f"cannot read as CSV/Parquet ({str(e).splitlines()[0]})",
                                    str(p)) from None
+        src, dropped, footer_notes = _without_footer(con, src, p, header)
         _refuse_header_rows(con, src, p, header)
         why = platforms.repeated_column(_given_header(con, p, header))
         if why:                     # DuckDB renames a repeated Q1 to Q1_1 (and q1 too)
@@ -433,6 +488,7 @@ def _count(p, by, scale, items, min_group, memory_limit, threads) -> GroupedSumm
     locate = _locator(p, None if shape == "wide" else (header[ii], header[ai]))
     res = _assemble(str(p), gcols, shape, rows, scale, items, min_group,
                     cand if shape == "wide" else None, locate)
+    res.dropped, res.notes = dropped, footer_notes + res.notes
     if shape == "wide" and idcol is not None:
         note = _repeated_ids(p, gcols, idcol, repeats)
         res.notes += [note] if note else []
@@ -489,6 +545,11 @@ def _count_long(con, src, gcols, resp, item, answer, path: Path):
         + ")")
     on = " AND ".join(f"coalesce(agg.{_quote(c)}, '') = gmap.r{j}" for j, c in enumerate(gcols))
     names = ", ".join(f"gmap.n{j}" for j in range(ng))
+    torn = con.execute(f"SELECT trim(__resp, {_WS}) FROM agg JOIN gmap ON {on} WHERE __gi = 1 "
+                       f"AND __gr = 0 GROUP BY 1 HAVING count(DISTINCT [{names}]) > 1 "
+                       f"LIMIT {_MAX_REPEATS}").fetchall()
+    if torn:
+        _refuse_two_groups(path, resp, gcols, {t for (t,) in torn})
     rows = con.execute(f"""
         SELECT {names}, __item, __answer, 0, sum(__c) FROM agg JOIN gmap ON {on}
             WHERE __gi = 0 AND __gr = 1 GROUP BY ALL
@@ -500,6 +561,23 @@ def _count_long(con, src, gcols, resp, item, answer, path: Path):
         key = row[:ng] + (None if row[ng] is None else str(row[ng]).strip(),) + row[ng + 1:-1]
         merged[key] = merged.get(key, 0) + row[-1]
     return [k + (c,) for k, c in merged.items()]
+
+
+def _refuse_two_groups(path: Path, resp: str, gcols: list, torn: set) -> None:
+    """Raise at the first row (in file order) where one of the ``torn`` respondents gives a
+    group that is not a spelling of the one on their first row, as ``read_survey`` does
+    (:func:`analysis.scales.two_groups_message`). The file is read again: error path only."""
+    first: dict = {}
+    for row, (who, *values) in _records(path, [resp, *gcols]):
+        who = who.strip()
+        if who not in torn:
+            continue
+        seen = first.setdefault(who, values)
+        for col, was, now in zip(gcols, seen, values):
+            if normalize_answer(was) != normalize_answer(now):
+                raise SurveyInputError(two_groups_message(who, col, was, now), str(path), row, col)
+    raise SurveyInputError(f"respondents in two groups by {', '.join(gcols)}, e.g. "
+                           f"{min(torn)!r}", str(path))
 
 
 def _refuse_repeated_pairs(con, src, path: Path, resp: str, item: str, answer: str) -> None:

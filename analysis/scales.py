@@ -105,6 +105,23 @@ def group_names(spellings: dict) -> dict:
     return {sp: (key(sp), name[key(sp)]) for sp in spellings}
 
 
+def two_groups_message(respondent: str, column: str, first: str, other: str) -> str:
+    """The one refusal of both routes when a long file's rows of one respondent give two
+    groups (values that are not spellings of one value, :func:`group_names`): the file
+    contradicts itself, and counting the respondent in both groups, or in the first only,
+    would each be a guess made without a word.
+
+    >>> two_groups_message("s1", "Section", "A", " ")
+    "respondent 's1' is in two groups by 'Section': 'A' on an earlier row, (blank) on this one; a respondent's rows must give one group"
+    """
+    from .disclosure import BLANK_GROUP
+
+    def shown(v):
+        return repr(v) if str(v).strip() else BLANK_GROUP
+    return (f"respondent {respondent!r} is in two groups by {column!r}: {shown(first)} on an "
+            f"earlier row, {shown(other)} on this one; a respondent's rows must give one group")
+
+
 def _code_key(text: str) -> str | None:
     """Canonical form of a numeric answer (``"5"``, ``"5.0"``, ``" 5 "`` -> ``"5"``)."""
     t = str(text).strip()

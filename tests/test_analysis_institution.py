@@ -398,3 +398,50 @@ def test_both_routes_note_an_id_on_two_rows_of_a_group_alike(tmp_path, capsys, m
     monkeypatch.setattr(institution, "_MAX_REREAD", 0)
     notes = summarize_by(f, ["Section"]).notes
     assert any("('a@x.edu' on 2 rows); each row is counted" in n for n in notes), notes
+
+
+def test_both_routes_drop_a_footer_row_alike(tmp_path, capsys):
+    """Regression: an export note below empty rows ("Exported by ..." in the first cell of
+    spreadsheet row 9: header 1, answers 2-5, empty 6-8) was a fifth respondent of a
+    (blank) group under --by, missing on every item, while summarize dropped it. Both
+    routes now drop that row, naming it, and count 4 respondents, none missing."""
+    f = tmp_path / "footer.csv"
+    f.write_text("Student,Section,Q1,Q2\ns1,A,Agree,Disagree\ns2,A,Agree,Neutral\n"
+                 "s3,B,Strongly agree,Agree\ns4,B,Disagree,Agree\n\n\n\n"
+                 "Exported by J. Smith on 2024-10-05,,,\n")
+    res = summarize_by(f, ["Section"], min_group=1)
+    assert res.groups == [("A",), ("B",)] and res.respondents.tolist() == [2, 2]
+    assert [(d.row, d.reason) for d in res.dropped] == [(9, "text-only footer row")]
+    assert [(it.n, it.missing) for it in res.overall()] == [(4, 0), (4, 0)]
+    assert main(["summarize", str(f), "--by", "Section"]) == 0
+    assert "dropped row 9: text-only footer row" in capsys.readouterr().out
+    assert main(["summarize", str(f), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["dropped"] == [
+        {"row": 9, "reason": "text-only footer row"}]
+    # the same cells on an earlier row too: a respondent there, so nothing is dropped
+    # (DuckDB cannot tell the two rows apart), and the note says so
+    twice = tmp_path / "twice.csv"
+    twice.write_text(f.read_text().replace("s4,B,Disagree,Agree\n", "s4,B,Disagree,Agree\n"
+                                           "Exported by J. Smith on 2024-10-05,,,\n"))
+    res = summarize_by(twice, ["Section"], min_group=1)
+    assert res.dropped == [] and int(res.respondents.sum()) == 6
+    assert any("2 rows have these cells" in n for n in res.notes)
+
+
+def test_both_routes_refuse_a_respondent_in_two_groups(tmp_path, capsys):
+    """Regression: in a long file whose rows of respondent s1 say Section A (row 2) and
+    then B (row 3), --by counted s1 in both groups (3 respondents for 2 people) and
+    --group silently put s1's B answer in group A. The file contradicts itself: both
+    routes refuse it at row 3. Spellings of one value ('A', ' a') are one group, not two."""
+    f = tmp_path / "torn.csv"
+    f.write_text("respondent,item,answer,Section\ns1,Q1,Agree,A\ns1,Q2,Agree,B\n"
+                 "s2,Q1,Disagree,A\ns2,Q2,Agree,A\n")
+    want = (f"error: {f}: row 3, column 'Section': respondent 's1' is in two groups by "
+            f"'Section': 'A' on an earlier row, 'B' on this one; a respondent's rows must "
+            f"give one group")
+    for extra in (["--group", "Section"], ["--by", "Section"]):
+        assert main(["summarize", str(f), *extra, "--min-group", "1"]) == 2
+        assert capsys.readouterr().err.strip() == want
+    f.write_text(f.read_text().replace("s1,Q2,Agree,B", "s1,Q2,Agree, a"))
+    res = summarize_by(f, ["Section"], min_group=1)
+    assert res.groups == [("A",)] and res.respondents.tolist() == [2]
