@@ -625,3 +625,27 @@ def test_animation_frames_name_a_pin_once(tmp_path, monkeypatch):
     for texts, kinds in frames:
         assert texts.count("O") == 1, texts
         assert {"spring", "damper"} <= kinds
+
+
+def test_torsional_springs_and_dampers_are_drawn_about_their_pin():
+    """The bar's torsional spring and damper act between the ground and the bar, which the pin O
+    at (0, 0) joins: each is drawn about O (before, neither was drawn at all). The spring is a
+    spiral: its distance from O grows along it, through two turns; the damper an arc at one
+    distance from O, outside the spiral."""
+    system = load_system(ROOT / "tests" / "data" / "multibody" / "pendulum_loads.toml")
+    drawing = draw_system(system)
+    found = {i.kind: i for i in drawing.of_kind("torsional_spring", "torsional_damper")}
+    assert set(found) == {"torsional_spring", "torsional_damper"}
+    for item in found.values():
+        np.testing.assert_allclose(item.anchor, (0.0, 0.0), atol=POSITION_TOL)
+        assert item.label == item.name
+    (ax,) = drawing.figure.axes
+    lines = [np.column_stack(line.get_data()).astype(float) for line in ax.lines]
+    radii = [np.hypot(xy[:, 0], xy[:, 1]) for xy in lines if len(xy) > 40]  # the long curves
+    spirals = [r for r in radii if np.all(np.diff(r) > 0)]
+    arcs = [r for r in radii if np.ptp(r) < 1e-9 * r.max()]
+    assert len(spirals) == 1 and len(arcs) == 1
+    (xy,) = [xy for xy in lines if len(xy) > 40 and np.all(np.diff(np.hypot(xy[:, 0], xy[:, 1])) > 0)]
+    turned = np.sum(np.diff(np.unwrap(np.arctan2(xy[:, 1], xy[:, 0]))))
+    assert turned == pytest.approx(4 * math.pi, rel=1e-9)  # two turns, counter-clockwise
+    assert arcs[0][0] > spirals[0][-1]  # the damper outside the spring

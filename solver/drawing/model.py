@@ -52,7 +52,8 @@ class DrawnItem:
         ``element``, ``link`` (the light frame of a body of point masses),
         ``point``, ``guide``, ``support``, ``coordinate``, ``spring`` and
         ``damper`` (a linear spring or damper between its two points),
-        ``force``, ``couple``, ``inertial`` (dashed force) or
+        ``torsional_spring`` and ``torsional_damper`` (about the pin joining their
+        bodies), ``force``, ``couple``, ``inertial`` (dashed force) or
         ``inertial_couple`` (dashed couple).
     label : str
         The text written next to it.
@@ -301,8 +302,8 @@ def scene_items(system, state, poses=None, shapes=None) -> list[DrawnItem]:
     Bodies by their elements, every named point of every body (and G) and of
     the ground, the guides of the joints (rails, sliders and rolling lines as
     hatched lines, circles of rolling on a circle, fixed pins as supports,
-    cords as lines), the linear springs and dampers between their two points,
-    and every free coordinate: an arc for an angle, a dimension line for a length.
+    cords as lines), the linear springs and dampers between their two points, the
+    torsional ones about the pin joining their bodies, and every free coordinate: an arc for an angle, a dimension line for a length.
     """
     shapes = shapes or _memo(system, "shapes", body_shapes)
     poses = poses or _memo(system, "poses", PoseFunction)(state.q, state.t)
@@ -399,6 +400,31 @@ def _connectors(system, shapes, poses, t: float) -> list[DrawnItem]:
         body = next((name for name, _ in (load.a, load.b) if name != GROUND), GROUND)
         items.append(DrawnItem(load.kind, load.name, tuple(((a + b) / 2).tolist()), body=body, name=load.name,
                                shape={"type": load.kind, "ends": (a.tolist(), b.tolist()), "lane": lane}))
+    return items + _torsional(system, shapes, poses, t)
+
+
+def _torsional(system, shapes, poses, t: float) -> list[DrawnItem]:
+    """Each torsional spring (a spiral) and damper (a rotary dashpot) about the pin joining its two
+    bodies, or about the moving body's G when no pin joins them. Several about one place are drawn
+    one outside another: ``shape["lane"]`` counts them from the inside (0, 1, ...)."""
+    from ..model import joints as J
+
+    loads = [load for load in system.loads if load.kind in ("torsional_spring", "torsional_damper")]
+    items: list[DrawnItem] = []
+    for load in loads:
+        pair = {load.first, load.second}
+        pin = next((j for j in system.joints if isinstance(j, J.Pin) and set(j.bodies) == pair), None)
+        body = load.second if load.second != GROUND else load.first
+        if pin is not None:
+            centre = _at(system, poses, pin.first, pin.at_first, t)
+        elif "G" in shapes[body].points:
+            centre = shapes[body].position("G", poses[body])
+        else:
+            centre = poses[body][0]
+        lane = sum(1 for i in items if math.dist(i.anchor, centre) < 1e-9)
+        items.append(DrawnItem(load.kind, load.name, tuple(np.asarray(centre, float).tolist()), body=body,
+                               name=load.name, shape={"type": load.kind, "centre": list(map(float, centre)),
+                                                      "lane": lane}))
     return items
 
 

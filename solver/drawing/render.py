@@ -4,7 +4,8 @@ Bodies: bars as thick segments, disks as filled circles, rings as hollow
 circles, plates as rectangles, semicircular disks as half discs, point masses
 as dots, elements given by an inertia as a small circle (or their rim).
 Guides are lines or circles hatched on the side of the ground; linear springs are zigzags and
-dampers dashpots (a cylinder and a piston) between their two points. Forces are
+dampers dashpots (a cylinder and a piston) between their two points; torsional springs are
+spirals and torsional dampers rotary dashpots about the pin joining their bodies. Forces are
 arrows of one length starting at their point of application (the label gives
 the size), couples curved arrows; the inertial terms are dashed.
 """
@@ -199,6 +200,39 @@ def connector_paths(kind: str, a, b, width: float, lane: float = 0.0) -> list[np
             np.array([at(0.55, 0.75 * width), at(0.55, -0.75 * width)]), np.array([at(0.55), q, b])]
 
 
+def torsional_paths(kind: str, centre, width: float, lane: int = 0) -> list[np.ndarray]:
+    """The polylines of a torsional spring (``kind="torsional_spring"``: a spiral of two turns
+    growing out from ``centre``) or damper (a rotary dashpot: an arc of 270 degrees, with a vane
+    across it) about ``centre``; the ``lane``-th about one place lies outside the ones before it.
+
+    Returns
+    -------
+    list of numpy.ndarray
+        Each an (n, 2) polyline [m].
+    """
+    c = np.asarray(centre, float)
+    outer = (2.2 + 1.6 * lane) * width
+    if kind == "torsional_spring":
+        a = np.linspace(0.0, 4 * math.pi, 97)  # two turns, the radius growing from a third of `outer`
+        r = outer * (1 + 2 * a / (4 * math.pi)) / 3
+        return [c + np.column_stack([r * np.cos(a), r * np.sin(a)])]
+    a = np.linspace(math.pi / 4, 7 * math.pi / 4, 73)
+    arc = c + outer * np.column_stack([np.cos(a), np.sin(a)])
+    vane = c + np.outer([outer - 0.6 * width, outer + 0.6 * width], [math.cos(math.pi), math.sin(math.pi)])
+    return [arc, vane]
+
+
+def _torsion(ax, item: DrawnItem, span: float, faint: bool = False) -> None:
+    width = CONNECTOR_WIDTH * span
+    s = item.shape
+    paths = torsional_paths(s["type"], s["centre"], width, s.get("lane", 0))
+    for path in paths:
+        ax.plot(path[:, 0], path[:, 1], color="0.25", linewidth=1.1, alpha=0.35 if faint else 1.0, zorder=1)
+    end = paths[0][-1]
+    ax.annotate(item.label, end.tolist(), xytext=(3, -3), textcoords="offset points", fontsize=7, color="0.25",
+                ha="left", va="top", zorder=6)
+
+
 def _connector(ax, item: DrawnItem, span: float, faint: bool = False) -> None:
     width = CONNECTOR_WIDTH * span
     s = item.shape
@@ -253,6 +287,8 @@ def render_scene(ax, items: list[DrawnItem], bodies: list[str], title: str = "",
             _support(ax, i, span)
         elif i.kind in ("spring", "damper"):
             _connector(ax, i, span, faint)
+        elif i.kind in ("torsional_spring", "torsional_damper"):
+            _torsion(ax, i, span, faint)
         elif i.kind == "coordinate":
             s = i.shape
             if s["type"] == "arc":
