@@ -73,6 +73,11 @@ FUNCTIONS: dict[str, tuple[Callable[..., sp.Expr], tuple[int, ...]]] = {
 CONSTANTS: dict[str, sp.Expr] = {"pi": sp.pi}
 RESERVED_NAMES = frozenset(FUNCTIONS) | frozenset(CONSTANTS)
 """Names a scene cannot use for its own parameters."""
+SOLVER_NAMES = frozenset({"t", "alpha"})
+"""Names of the solver's own symbols (time, and alpha: a body's angular acceleration, an unknown
+of the worked solutions): a scene's parameter or coordinate cannot take them (a parameter
+``alpha`` was printed as, and merged with, the unknown alpha). ``omega`` stays free: a crank
+speed named omega is a parameter of its own, printed beside the bodies' ``omega = ...``."""
 
 _BINARY = {
     ast.Add: lambda a, b: a + b,
@@ -379,5 +384,5 @@ class _Builder:
         return value
 
 
-__all__ = ["parse_expression", "FUNCTIONS", "CONSTANTS", "RESERVED_NAMES", "MAX_LENGTH", "MAX_DEPTH", "MAX_DIGITS",
+__all__ = ["parse_expression", "FUNCTIONS", "CONSTANTS", "RESERVED_NAMES", "SOLVER_NAMES", "MAX_LENGTH", "MAX_DEPTH", "MAX_DIGITS",
            "MAX_EXPONENT", "MAX_ARGUMENT"]

@@ -28,7 +28,7 @@ from pint.util import UnitsContainer
 
 from solver import files, units
 from solver.errors import ExpressionError, InputError, SceneError
-from solver.expressions import RESERVED_NAMES, parse_expression
+from solver.expressions import RESERVED_NAMES, SOLVER_NAMES, parse_expression
 from solver.scene import (
     CONSTRAINT_KINDS,
     ELEMENT_KINDS,
@@ -529,8 +529,9 @@ class _SceneLoader:
         for name, value in table.items():
             key = f"parameters.{name}"
             self.identifier(name, key, "parameter name")
-            if name in RESERVED_NAMES or name == "t":
-                raise self.fail(key, f"{name!r} is reserved (a function, constant or time) and cannot be a parameter name")
+            if name in RESERVED_NAMES or name in SOLVER_NAMES:
+                raise self.fail(key, f"{name!r} is reserved (a function, a constant, time t, or the angular "
+                                     f"acceleration alpha) and cannot be a parameter name")
             self.parameters[name] = parse_quantity(value, f"{self.label}: {key}")
 
     def _read_coordinate(self, table: dict[str, Any]) -> tuple[str, dict[str, pint.Quantity]]:
@@ -540,7 +541,7 @@ class _SceneLoader:
         for name in self.parameters:
             if name in reserved:
                 raise self.fail(f"parameters.{name}", f"{name!r} is the coordinate or its rate and cannot also be a parameter")
-        if coordinate in RESERVED_NAMES or coordinate in {"t", "alpha"}:
+        if coordinate in RESERVED_NAMES or coordinate in SOLVER_NAMES:
             raise self.fail("coordinate.name", f"{coordinate!r} is reserved; use e.g. \"theta\"")
         value = parse_quantity(
             self.require(table, "value", "coordinate", "the coordinate's value, e.g. \"30 deg\""),

@@ -145,6 +145,10 @@ BAD = [
     # name would be silently taken for one of them)
     ("name of an internal symbol", _edit(BAR, 'l_b  = "4 ft"', 'l_b  = "4 ft"\n__c0 = "1 ft"'),
      "parameters.__c0", "names starting with '__' are reserved"),
+    # (explain writes a body's angular acceleration as alpha: a parameter alpha was printed as,
+    # and merged with, that unknown, giving a wrong equation)
+    ("parameter named alpha", _edit(BAR, 'l_b  = "4 ft"', 'l_b  = "4 ft"\nalpha = "1 rad"'),
+     "parameters.alpha", "the angular acceleration alpha"),
     ("missing key", _edit(BAR, 'mass = "m_b"', ''), "elements[0]", "missing key 'mass'"),
     ("negative mass", _edit(BAR, '"50 lbm"', '"-50 lbm"'), "parameters.m_b", "must not be negative"),
     ("massless body", _edit(BAR, '"50 lbm"', '"0 lbm"'), "elements", "the body has no mass"),
@@ -280,6 +284,22 @@ kind = "pin"
 name = "O"
 connects = ["ground:O", "bar:O"]
 """
+
+
+@pytest.mark.parametrize("name, words", [
+    ("alpha", "'alpha' is reserved (a function, a constant, time t, or the angular acceleration alpha)"),
+    ("theta_ddot", "'theta_ddot' is a rate of coordinate 'theta' (its velocity or acceleration)"),
+])
+def test_a_parameter_cannot_take_a_name_the_solver_writes(tmp_path: Path, solver_cli, name: str, words: str) -> None:
+    """Regression: a torsional spring's free angle given as a parameter named alpha was accepted,
+    and explain then printed ``-9.573*alpha [alpha] = 6.548``: the parameter merged with the unknown
+    angular acceleration alpha (a parameter theta_ddot alike). Refused at load, at the parameter."""
+    text = PENDULUM_G.replace("GX", "L/2").replace('g = "9.81 m/s^2"', f'g = "9.81 m/s^2"\n{name} = "1 rad"')
+    path = tmp_path / "pend.toml"
+    path.write_text(text, encoding="utf-8")
+    code, _, err = solver_cli("explain", str(path))
+    assert code == 2 and err.count("\n") == 1
+    assert err.startswith(f"error: {path}: parameters.{name}: {words}"), err
 
 
 @pytest.mark.parametrize("gx,refused", [("L", True), ("L/2", False), ("L - L/2", False)])

@@ -14,7 +14,7 @@ from typing import Any, Mapping
 import sympy as sp
 
 from ..errors import ExpressionError, SceneError
-from ..expressions import RESERVED_NAMES
+from ..expressions import RESERVED_NAMES, SOLVER_NAMES
 from ..model.bodies import GROUND, Ground, Point, RigidBody
 from ..model.contacts import Friction
 from ..model.elements import ELEMENT_CLASSES
@@ -134,8 +134,12 @@ class _MultibodyReader:
         for cname, spec in table.items():
             key = f"coordinates.{cname}"
             L.identifier(cname, key, "coordinate name")
-            if cname in RESERVED_NAMES or cname in {"t", "alpha", "ground"} or cname in L.parameters:
+            if cname in RESERVED_NAMES or cname in SOLVER_NAMES | {"ground"} or cname in L.parameters:
                 raise self.fail(key, f"{cname!r} is reserved or already a parameter")
+            for rate in (f"{cname}_dot", f"{cname}_ddot"):
+                if rate in L.parameters:
+                    raise self.fail(f"parameters.{rate}", f"{rate!r} is a rate of coordinate {cname!r} (its velocity or "
+                                                          f"acceleration) and cannot also be a parameter")
             spec = L.table(spec, key)
             L.check_keys(spec, COORD_KEYS, key, "a coordinate (value + rate, guess, or motion)")
             given = [k for k in ("value", "guess", "motion") if k in spec]
@@ -371,7 +375,7 @@ class _MultibodyReader:
     def reaction(self, value, key, joint, unit="N", one_sided=False) -> Reaction:
         L = self.L
         rname = L.identifier(value, key, "reaction name")
-        taken = {"alpha", "t", *L.parameters, *self.raw_coords, *(f"{c}_dot" for c in self.raw_coords),
+        taken = {*SOLVER_NAMES, *L.parameters, *self.raw_coords, *(f"{c}_dot" for c in self.raw_coords),
                  *(f"{c}_ddot" for c in self.raw_coords)}
         if rname in self.reaction_names:
             raise self.fail(key, f"duplicate reaction name {rname!r} (also used at {self.reaction_names[rname]})")
