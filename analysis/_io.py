@@ -5,9 +5,12 @@
 - :func:`spreadsheet_safe` -- neutralise a CSV cell that a spreadsheet would run as a formula.
 - :func:`check_output` -- refuse an output path that cannot take a file (before the work).
 - :func:`atomic_write` -- write to a temporary file in the same folder, then rename.
+- :func:`sniff_delimiter` -- a CSV text's delimiter, the one rule of both survey routes.
 """
 from __future__ import annotations
 
+import csv
+import io
 import os
 import stat
 from pathlib import Path
@@ -138,3 +141,37 @@ def atomic_write(path: "str | Path", data: "str | bytes", encoding: str = "utf-8
     except OSError as e:
         raise SurveyInputError(f"cannot write: {e.strerror or type(e).__name__}", str(p)) from None
     return p
+
+
+_DELIMITERS = (",", ";", "\t")
+
+
+def sniff_delimiter(head_text: str) -> tuple[str, list[list[str]]]:
+    """The delimiter (comma, semicolon or tab) and the first few records.
+
+    The delimiter that splits the header into the most fields wins, among those that
+    split the next records into as many (quotes respected, so a question text with
+    commas in a semicolon file, or with semicolons in a comma file, does not mislead);
+    ties go to the comma.
+    """
+    best = None
+    for sep in _DELIMITERS:
+        recs = []
+        try:
+            for rec in csv.reader(io.StringIO(head_text, newline=""), delimiter=sep):
+                if rec and any(c.strip() for c in rec):
+                    recs.append(rec)
+                if len(recs) >= 6:
+                    break
+        except csv.Error:             # not text a CSV reader takes: pandas will say what
+            pass
+        if not recs:
+            continue
+        width = len(recs[0])
+        consistent = width > 1 and all(len(r) == width for r in recs[1:5])
+        key = (consistent, width)
+        if best is None or key > best[0]:
+            best = (key, sep, recs[:4])
+    if best is None:
+        return ",", []
+    return best[1], best[2]

@@ -63,7 +63,7 @@ import pandas as pd
 
 from . import platforms
 from .platforms import CODES_HINT
-from ._io import is_regular_file, read_bytes
+from ._io import is_regular_file, read_bytes, sniff_delimiter
 from .dropped import DROP_WHY, FOOTER, DroppedRow, is_footer_note, is_na_text as _is_na_text
 from .errors import SurveyInputError
 from .scales import (BLANK, BUILTIN_SCALES, NOT_APPLICABLE, UNKNOWN,
@@ -366,7 +366,7 @@ def _read_csv_encoded(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]
                                "not a text file; give --encoding utf-16-le (or save as CSV)",
                                source)
     head_text = body[:262144].decode(encoding, errors="replace")
-    sep, peek = _sniff_delimiter(head_text)
+    sep, peek = sniff_delimiter(head_text)
     _check_width(source, max((len(r) for r in peek), default=0), at_least=True)  # before pandas
     lines = body.count(b"\n")                  # lines bound the records from above
     if peek and lines * len(peek[0]) > MAX_CELLS:
@@ -462,39 +462,7 @@ def _may_have_blank_lines(body: bytes, nrows: int) -> bool:
     return lines != nrows + 1
 
 
-_DELIMITERS = (",", ";", "\t")
 _BLANK_LINE = re.compile(rb"\n[ \t]*\r?\n[^\r\n]")
-
-
-def _sniff_delimiter(head_text: str) -> tuple[str, list[list[str]]]:
-    """The delimiter (comma, semicolon or tab) and the first few records.
-
-    The delimiter that splits the header into the most fields wins, among those that
-    split the next records into as many (quotes respected, so a question text with
-    commas in a semicolon file, or with semicolons in a comma file, does not mislead);
-    ties go to the comma.
-    """
-    best = None
-    for sep in _DELIMITERS:
-        recs = []
-        try:
-            for rec in csv.reader(io.StringIO(head_text, newline=""), delimiter=sep):
-                if rec and any(c.strip() for c in rec):
-                    recs.append(rec)
-                if len(recs) >= 6:
-                    break
-        except csv.Error:             # not text a CSV reader takes: pandas will say what
-            pass
-        if not recs:
-            continue
-        width = len(recs[0])
-        consistent = width > 1 and all(len(r) == width for r in recs[1:5])
-        key = (consistent, width)
-        if best is None or key > best[0]:
-            best = (key, sep, recs[:4])
-    if best is None:
-        return ",", []
-    return best[1], best[2]
 
 
 def _check_extra_fields(body: bytes, encoding: str, sep: str, width: int, source: str,
@@ -640,17 +608,10 @@ def _read_xlsx_raw(path: Path) -> tuple[_Raw, list[list[str]]]:
     given = header[:width]
     header = _distinct([h if h else f"column {j + 1}" for j, h in enumerate(given)])
     body = [(r + [""] * width)[:width] for r in rows[1:]]
-    row_map = None
-    if width > 1:      # rows with no cells are not respondents, as a CSV's empty lines
-        kept = [i for i, r in enumerate(body) if any(c.strip() for c in r)]
-        if len(kept) < len(body):
-            row_map = np.asarray([first + 2 + i for i in kept], dtype=np.int64)
-            body = [body[i] for i in kept]
     df = pd.DataFrame(body, columns=header, dtype=object) if body else pd.DataFrame(
         columns=header)
-    peek = [header] + body[:3]
-    return _Raw(source, header, _frame_to_columns(df), first + 2, len(body), row_map=row_map,
-                given=given), peek
+    peek = [header] + [r for r in body if any(c.strip() for c in r)][:3]
+    return _Raw(source, header, _frame_to_columns(df), first + 2, len(body), given=given), peek
 
 
 def _distinct(header: list[str]) -> list[str]:
@@ -810,8 +771,27 @@ def survey_from_frame(df: pd.DataFrame, scale: "str | Scale | None" = None,
                   _codebook(codes))
 
 
+def _without_empty_records(raw: _Raw) -> _Raw:
+    """The records with a cell that is not blank. A row whose every cell is empty or white space
+    (an empty workbook row, or the ``,,,,`` a spreadsheet writes for one when saved as CSV) holds
+    no answer and no id: it is not a respondent, as a CSV's empty line is not. A one-column file
+    is left as it is (there an empty line is a blank answer)."""
+    if len(raw.columns) < 2 or not raw.nrows:
+        return raw
+    filled = np.zeros(raw.nrows, dtype=bool)
+    for c in raw.columns:
+        filled |= np.array([bool(str(x).strip()) for x in c.cats] or [False], dtype=bool)[c.codes]
+    if filled.all():
+        return raw
+    keep = np.flatnonzero(filled)
+    rows = raw.row_of(keep)
+    return replace(raw, columns=[replace(c, codes=c.codes[keep]) for c in raw.columns], nrows=len(keep),
+                   row_map=rows, first_row=int(rows[0]) if len(rows) else raw.first_row)
+
+
 def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respondents,
            codes=None):
+    raw = _without_empty_records(raw)
     given = shape
     if shape == "auto":
         shape = _detect_shape(raw, peek)

@@ -37,7 +37,7 @@ from pathlib import Path
 import numpy as np
 
 from . import platforms
-from ._io import is_regular_file
+from ._io import is_regular_file, sniff_delimiter
 from .disclosure import BLANK_GROUP, suppress_groups
 from .dropped import FOOTER, DroppedRow, is_footer_note
 from .errors import SurveyInputError
@@ -242,48 +242,72 @@ def _quote(name: str) -> str:
     return '"' + name.replace('"', '""') + '"'
 
 
+def _delimiter(path: Path) -> str:
+    """The CSV file's delimiter by the in-memory route's rule (:func:`analysis._io.sniff_delimiter`),
+    from its first 256 KiB: DuckDB's own sniffer took a footer line with no comma as the sign of
+    a one-column file."""
+    with open(path, "rb") as f:
+        head = f.read(262144).decode("utf-8", errors="replace").lstrip("\ufeff")
+    return sniff_delimiter(head)[0]
+
+
+def _csv_sql(path: Path, header: bool = True) -> str:
+    """``read_csv(...)`` of a CSV file as text: its delimiter given, short rows padded with
+    blanks (as pandas reads them), small read buffers (DuckDB's default is 32 MB per buffer),
+    so that memory stays bounded."""
+    return (f"read_csv({_literal(path)}, all_varchar = true, header = {str(header).lower()}, "
+            f"delim = {_literal(_delimiter(path))}, null_padding = true, "
+            f"buffer_size = {_BUFFER}, max_line_size = {_MAX_LINE})")
+
+
 def _source_sql(path: Path) -> str:
-    lit = "'" + str(path).replace("'", "''") + "'"
     if path.suffix.lower() == ".parquet":
-        return f"read_parquet({lit})"
-    # small read buffers (DuckDB's default is 32 MB per buffer): memory stays bounded
-    return (f"read_csv({lit}, all_varchar = true, header = true, buffer_size = {_BUFFER}, "
-            f"max_line_size = {_MAX_LINE})")
+        return f"read_parquet({_literal(path)})"
+    return _csv_sql(path)
+
+
+def _empty(line: str) -> bool:
+    """Whether a CSV line holds no cell text: nothing but delimiters, quotes and white space."""
+    return not line.strip(' \t\r\n,;"')
 
 
 def _last_line(path: Path) -> "tuple[str, bool] | None":
-    """The last non-blank line of a CSV file and whether an empty line comes just before
-    it; None when the file's tail has no such pair (only the last 2 MiB are read)."""
+    """The last line of a CSV file with cell text, and whether an empty line (:func:`_empty`)
+    comes just before it; None when the file's tail has no such pair (only the last 2 MiB
+    are read)."""
     with open(path, "rb") as f:
         f.seek(0, 2)
         size = f.tell()
         f.seek(max(0, size - 2 * _MAX_LINE))
         tail = f.read().decode("utf-8", errors="replace")
     lines = tail.splitlines()
-    while lines and not lines[-1].strip():
+    while lines and _empty(lines[-1]):
         lines.pop()
     if len(lines) < 3 or (size > 2 * _MAX_LINE and len(lines) < 4):
         return None                           # (a first line read from mid-file is cut)
-    return lines[-1], not lines[-2].strip()
+    return lines[-1], _empty(lines[-2])
 
 
-def _without_footer(con, src: str, path: Path, header: list[str]):
-    """``(source, dropped, notes)``: the CSV source without its text-only footer row, if it has
-    one (the rule of the in-memory reader, :func:`analysis.dropped.is_footer_note`),
-    and the row dropped. The footer is left out by its cells; when other rows have the
-    same cells it is kept, with a note, rather than dropping a respondent."""
-    if path.suffix.lower() == ".parquet" or len(header) < 2:
+def _answer_rows(con, src: str, path: Path, header: list[str]):
+    """``(source, dropped, notes)``: the rows of ``src`` that can be respondents, by the rules
+    of the in-memory reader. A row whose every cell is blank is not one
+    (:func:`analysis.ingest.read_survey` skips it as an empty line); nor is a CSV file's
+    text-only footer row (:func:`analysis.dropped.is_footer_note`), which is dropped with its
+    row. The footer is left out by its cells: when other rows have the same cells it is kept,
+    with a note, rather than dropping a respondent."""
+    if len(header) < 2:
         return src, [], []
-    last = _last_line(path)
+    blank = [f"coalesce(trim({_quote(h)}, {_WS}), '') = ''" for h in header]
+    src = f"(SELECT * FROM {src} WHERE NOT ({' AND '.join(blank)}))"
+    last = None if path.suffix.lower() == ".parquet" else _last_line(path)
     if last is None or not last[1]:
         return src, [], []
     import csv
-    sep = con.execute(f"SELECT Delimiter FROM sniff_csv({_literal(path)})").fetchone()[0]
-    cells = next(csv.reader([last[0]], delimiter=sep or ","), [])
+    cells = next(csv.reader([last[0]], delimiter=_delimiter(path)), [])
+    cells += [""] * (len(header) - len(cells))            # a short row is padded, as it is read
     if len(cells) != len(header) or not is_footer_note(cells):
         return src, [], []
-    cond = " AND ".join([f"trim({_quote(header[0])}, {_WS}) = {_literal(cells[0].strip())}"]
-                        + [f"coalesce(trim({_quote(h)}, {_WS}), '') = ''" for h in header[1:]])
+    cond = " AND ".join([f"trim({_quote(header[0])}, {_WS}) = {_literal(cells[0].strip())}"] + blank[1:])
     alike = con.execute(f"SELECT count(*) FROM {src} WHERE {cond}").fetchone()[0]
     if alike != 1:
         return src, [], [f"the last row ({cells[0].strip()!r} in its first cell only) looks like "
@@ -314,9 +338,7 @@ def _given_header(con, path: Path, header: list[str]) -> list[str]:
                 left += (rows[i][1] or 0) - 1
                 i += 1
     else:
-        first = con.execute(f"SELECT * FROM read_csv({lit}, all_varchar = true, header = false, "
-                            f"buffer_size = {_BUFFER}, max_line_size = {_MAX_LINE}) "
-                            f"LIMIT 1").fetchone()
+        first = con.execute(f"SELECT * FROM {_csv_sql(path, header=False)} LIMIT 1").fetchone()
         names = ["" if v is None else str(v) for v in (first or ())]
     return names if len(names) == len(header) else header
 
@@ -439,7 +461,7 @@ def _count(p, by, scale, items, min_group, memory_limit, threads) -> GroupedSumm
                 raise SurveyInputError(bad[1], str(p), bad[0]) from None
             raise SurveyInputError(f"cannot read as CSV/Parquet ({str(e).splitlines()[0]})",
                                    str(p)) from None
-        src, dropped, footer_notes = _without_footer(con, src, p, header)
+        src, dropped, footer_notes = _answer_rows(con, src, p, header)
         _refuse_header_rows(con, src, p, header)
         why = platforms.repeated_column(_given_header(con, p, header))
         if why:                     # DuckDB renames a repeated Q1 to Q1_1 (and q1 too)
@@ -650,7 +672,8 @@ def _refuse_header_rows(con, src: str, path: Path, header: list[str]) -> None:
         raise SurveyInputError(
             f"a {name} export: {rows} (statement texts), not answers; --by "
             f"counts files with one header row: summarize the export without --by, or "
-            f"delete the rows below the first header row", str(path), 2)
+            f"delete {'rows 2-3' if extra == 2 else 'row 2'} (and keep row 1 and the answers "
+            f"below)", str(path), 2)
 
 
 def _literal(v: str) -> str:
@@ -681,8 +704,8 @@ def _records(path: Path, columns: list[str]):
                 for rec in batch:
                     yield int(rec[0]) + 2, tuple("" if v is None else str(v) for v in rec[1:])
             return
-        sep = con.execute(f"SELECT Delimiter FROM sniff_csv({_literal(path)})").fetchone()[0]
-    except duckdb.Error:
+        sep = _delimiter(path)
+    except (duckdb.Error, OSError):
         return
     finally:
         con.close()

@@ -243,8 +243,8 @@ def read_table_csv(path: "str | Path", item_column: str = "item",
         line = raw[:e.start].count(b"\n") + 1
         raise SurveyInputError(f"byte 0x{raw[e.start]:02x} is not valid {encoding}",
                                src, line) from None
-    from .ingest import _sniff_delimiter
-    sep, _ = _sniff_delimiter(text[:65536])
+    from ._io import sniff_delimiter
+    sep, _ = sniff_delimiter(text[:65536])
     try:
         records = list(csv.reader(io.StringIO(text, newline=""), delimiter=sep))
     except csv.Error as e:

@@ -330,6 +330,8 @@ def test_by_errors_name_the_place_and_the_real_cause(tmp_path, capsys):
             ['{"ImportId":"_recordId"}', '{"ImportId":"QID1_1"}', '{"ImportId":"QID2"}'],
             ["R_1", "Agree", "A"]])
     assert "row 2: a Qualtrics export: rows 2-3 are header rows" in err_of(q, "Section")
+    # the advice removes those rows only (it said "the rows below the first header row": every answer)
+    assert err_of(q, "Section").rstrip().endswith("or delete rows 2-3 (and keep row 1 and the answers below)")
     typo = tmp_path / "typo.csv"    # header row 1; 'Agre' in row 3, column Q2
     typo.write_text("Term,Q1,Q2\nF,Agree,Disagree\nF,Agree,Agre\n")
     assert "row 3, column 'Q2': answer 'Agre' is not on scale" in err_of(typo, "Term")
@@ -445,3 +447,24 @@ def test_both_routes_refuse_a_respondent_in_two_groups(tmp_path, capsys):
     f.write_text(f.read_text().replace("s1,Q2,Agree,B", "s1,Q2,Agree, a"))
     res = summarize_by(f, ["Section"], min_group=1)
     assert res.groups == [("A",)] and res.respondents.tolist() == [2]
+
+
+def test_rows_of_empty_cells_are_not_respondents_on_either_route(tmp_path, capsys):
+    """Regression: a form export re-saved by a spreadsheet writes ',,,' for an empty row and ends
+    with a comma-free note. Spreadsheet rows: header 1, s1 2, ',,,' 3, s2-s4 4-6, ',,,' 7-8, the note 9.
+    summarize counted each ',,,' row as a respondent missing on every item (and, the note then not
+    being below empty rows, the note too); under --by DuckDB's sniffer read the whole header as one
+    column. Both routes: 4 respondents, none missing, the note dropped at row 9."""
+    f = tmp_path / "resaved.csv"
+    f.write_text("Student,Term,Q1,Q2\r\ns1,F,Agree,Disagree\r\n,,,\r\ns2,F,Agree,Neutral\r\n"
+                 "s3,S,Strongly agree,Agree\r\ns4,S,Disagree,Agree\r\n,,,\r\n,,,\r\n"
+                 "Exported by Google Forms on 2024-05-01\r\n")
+    res = summarize_by(f, ["Term"], min_group=1)
+    assert res.groups == [("F",), ("S",)] and res.respondents.tolist() == [2, 2]
+    assert [(it.n, it.missing) for it in res.overall()] == [(4, 0), (4, 0)]
+    assert [(d.row, d.reason) for d in res.dropped] == [(9, "text-only footer row")]
+    assert main(["summarize", str(f), "--group", "Term", "--min-group", "1", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["respondents"] == 4 and [(i["n"], i["missing"]) for i in out["items"]] == [(4, 0), (4, 0)]
+    assert out["dropped"] == [{"row": 9, "reason": "text-only footer row"}]
+    assert {g["group"]: g["respondents"] for g in out["groups"]["groups"]} == {"F": 2, "S": 2}
