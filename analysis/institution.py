@@ -660,11 +660,17 @@ def _not_utf8(path: Path) -> "tuple[int, str] | None":
 
 def _refuse_header_rows(con, src: str, path: Path, header: list[str]) -> None:
     """Refuse an export with header rows below the first (Qualtrics' question text and
-    import ids, SurveyMonkey's statements): DuckDB would count them as answers."""
+    import ids, SurveyMonkey's statements): DuckDB would count them as answers; and a Canvas
+    quiz export, whose attempts and points columns only the in-memory route reads."""
     first = [["" if v is None else str(v) for v in r]
              for r in con.execute(f"SELECT * FROM {src} LIMIT 3").fetchall()]
     peek = [header] + first
     shape = platforms.detect(header, peek)
+    if shape == "canvas":
+        raise SurveyInputError(
+            "a Canvas quiz export: --by does not read its layout (a points column after each "
+            "question, a row per attempt of which the latest counts): summarize it without --by, "
+            "with --group section", str(path), 1)
     extra = platforms.header_rows(shape, header, peek) if shape else 0
     if extra:
         rows = "rows 2-3 are header rows" if extra == 2 else "row 2 is a header row"

@@ -468,3 +468,21 @@ def test_rows_of_empty_cells_are_not_respondents_on_either_route(tmp_path, capsy
     assert out["respondents"] == 4 and [(i["n"], i["missing"]) for i in out["items"]] == [(4, 0), (4, 0)]
     assert out["dropped"] == [{"row": 9, "reason": "text-only footer row"}]
     assert {g["group"]: g["respondents"] for g in out["groups"]["groups"]} == {"F": 2, "S": 2}
+
+
+def test_by_refuses_a_canvas_export_with_what_to_do(tmp_path, capsys):
+    """Regression: --by on a Canvas quiz export said "columns 10 and 12 are both named '1.0';
+    rename one" (its points columns repeat by design) while --group reads the file, keeping
+    each student's latest attempt. --by now says it does not read the layout and what does."""
+    f = tmp_path / "canvas.csv"
+    f.write_text("name,id,sis_id,section,section_id,section_sis_id,submitted,attempt,"
+                 "11111: I understand it,1.0,11112: FBDs are easier,1.0,n correct,n incorrect,score\n"
+                 "Ann,1,s1,Sec 1,10,,2024-03-01 10:00:00 UTC,1,Agree,0,Disagree,0,0,0,0\n"
+                 "Ann,1,s1,Sec 1,10,,2024-03-02 10:00:00 UTC,2,Strongly Agree,0,Agree,0,0,0,0\n"
+                 "Bob,2,s2,Sec 1,10,,2024-03-01 10:00:00 UTC,1,Disagree,0,Disagree,0,0,0,0\n")
+    assert main(["summarize", str(f), "--by", "section"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith(f"error: {f}: row 1: a Canvas quiz export: --by does "
+                                                   "not read its layout"), err
+    assert main(["summarize", str(f), "--group", "section", "--min-group", "1", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["respondents"] == 2  # Ann's latest attempt, and Bob
