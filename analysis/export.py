@@ -17,7 +17,7 @@ from pathlib import Path
 
 from ._io import atomic_write, spreadsheet_safe
 
-__all__ = ["TABLE_FORMATS", "summary_frame", "reversal_columns", "write_table", "neutralise"]
+__all__ = ["TABLE_FORMATS", "summary_frame", "item_columns", "reversal_columns", "write_table", "neutralise"]
 
 #: Table file formats, chosen by the output file's suffix.
 TABLE_FORMATS = ("csv", "xlsx")
@@ -33,20 +33,26 @@ def summary_frame(summary):
     """One row per item of a :class:`~analysis.likert.SurveySummary` (a pandas DataFrame)."""
     import pandas as pd
     labels = list(summary.scale.labels)
-    rows = []
-    for it in summary.items:
-        row = {"item": it.item, "stem": it.stem, **reversal_columns(it), "n": it.n,
-               "missing": it.missing, "excluded": it.excluded}
-        row.update({f"{lab} (count)": it.counts[lab] for lab in labels})
-        row.update({f"{lab} (%)": it.percent[lab] for lab in labels})
-        row.update({"agree (%)": None if it.agree.share is None else 100 * it.agree.share,
-                    "agree CI low (%)": None if it.agree.share is None else 100 * it.agree.ci[0],
-                    "agree CI high (%)": None if it.agree.share is None else 100 * it.agree.ci[1],
-                    "disagree (%)": (None if it.disagree.share is None
-                                     else 100 * it.disagree.share),
-                    "median": it.median, "IQR": it.iqr, "mean": it.mean, "SD": it.sd})
-        rows.append(row)
-    return pd.DataFrame(rows)
+    return pd.DataFrame([{"item": it.item, "stem": it.stem, **item_columns(it, labels)}
+                         for it in summary.items])
+
+
+def item_columns(it, labels) -> dict:
+    """The columns every summary table gives an item (:class:`~analysis.likert.ItemSummary`),
+    in one order and with one set of names, whichever route made it (``--table`` alone, with
+    ``--group`` or with ``--by``): reversal, n, missing, excluded, the count and percent of each
+    label, the agreement percent with its interval, the disagreement percent, and the median,
+    IQR, mean and SD of the codes."""
+    def pct(x):
+        return None if it.agree.share is None or x is None else 100 * x
+    row = {**reversal_columns(it), "n": it.n, "missing": it.missing, "excluded": it.excluded}
+    row.update({f"{lab} (count)": it.counts[lab] for lab in labels})
+    row.update({f"{lab} (%)": it.percent[lab] for lab in labels})
+    row.update({"agree (%)": pct(it.agree.share), "agree CI low (%)": pct(it.agree.ci[0]),
+                "agree CI high (%)": pct(it.agree.ci[1]),
+                "disagree (%)": None if it.disagree.share is None else 100 * it.disagree.share,
+                "median": it.median, "IQR": it.iqr, "mean": it.mean, "SD": it.sd})
+    return row
 
 
 def reversal_columns(it) -> dict:

@@ -184,19 +184,17 @@ class GroupComparison:
                 "items": [i.to_dict() for i in self.items]}
 
     def distribution_frame(self):
-        """Per item and shown group: counts, percent, n and the statistics (pandas)."""
+        """Per shown group and item (pandas): the group, named by its column as ``--by`` names
+        it, the item, the columns of every summary table (:func:`analysis.export.item_columns`),
+        then the item's test across the groups."""
         import pandas as pd
+        from .export import item_columns
         rows = []
-        for it in self.items:
-            for g, d in it.per_group.items():
-                row = {"item": it.item, "group": g, "reversed": it.reverse,
-                       "statistics on reversed codes": ", ".join(
-                           REVERSED_STATISTICS if it.reverse else ()),
-                       "n": d["n"], "missing": d["missing"], "excluded": d["excluded"]}
-                row.update({f"{lab} (count)": d["counts"][lab] for lab in self.labels})
-                row.update({f"{lab} (%)": d["percent"][lab] for lab in self.labels})
-                row.update({k: d[k] for k in ("agree_share", "median", "iqr", "mean", "sd")})
-                row.update(test=it.test, p_value=it.p_value, p_holm=it.p_holm)
+        for j, it in enumerate(self.items):
+            for g in it.per_group:
+                row = {self.column: g, "item": it.item,
+                       **item_columns(self.summaries[g].items[j], self.labels)}
+                row.update({"test": it.test, "p": it.p_value, "p (Holm)": it.p_holm})
                 rows.append(row)
         return pd.DataFrame(rows)
 

@@ -807,7 +807,9 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
     notes = list(raw.notes)
     extra = platforms.header_rows(shape, raw.header, peek) if raw.nrows else 0
     if raw.nrows <= extra and shape != "long":
-        raise SurveyInputError(f"no responses below the {extra + 1} header rows", raw.source)
+        rows = "the header row" if not extra else f"the {extra + 1} header rows"
+        raise SurveyInputError(f"no responses below {rows} (an empty row, or one of empty cells, "
+                               f"is not a response)", raw.source)
     if shape == "long":
         return _build_long(raw, scale, items, unknown, group, reverse, respondents)
     keep = np.arange(extra, raw.nrows)

@@ -174,10 +174,25 @@ class GroupedSummary:
         return out
 
     def to_frame(self):
-        """:meth:`rows` as a pandas DataFrame; counts stay whole numbers (nullable ``Int64``,
-        blank in a suppressed group's row, where a float column would print ``36.0``)."""
+        """One row per (group, item), institution-wide first, with the columns of every summary
+        table (:func:`analysis.export.item_columns`) after the grouping columns, the item and
+        its respondents; a suppressed group is one row saying why. Counts stay whole numbers
+        (nullable ``Int64``, blank in a suppressed group's row, where a float column would
+        print ``36.0``)."""
         import pandas as pd
-        frame = pd.DataFrame(self.rows())
+        from .export import item_columns
+        rows = []
+        withheld = self.suppression()
+        for g in [None] + list(range(len(self.groups))):
+            key = dict(zip(self.by, ["(all)"] * len(self.by) if g is None else self.group_names(g)))
+            if g is not None and withheld.withheld(g):
+                rows.append({**key, "item": "", "respondents": int(self.respondents[g]),
+                             "suppressed": self._why(g)})
+                continue
+            for it in (self.overall() if g is None else self.group_summaries(g)):
+                rows.append({**key, "item": it.item, "respondents": it.respondents,
+                             **item_columns(it, it.labels)})
+        frame = pd.DataFrame(rows)
         counts = [c for c in frame.columns if c in ("respondents", "n", "missing", "excluded")
                   or str(c).endswith(" (count)")]
         return frame.astype({c: "Int64" for c in counts})
