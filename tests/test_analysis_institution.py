@@ -486,3 +486,35 @@ def test_by_refuses_a_canvas_export_with_what_to_do(tmp_path, capsys):
                                                    "not read its layout"), err
     assert main(["summarize", str(f), "--group", "section", "--min-group", "1", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["respondents"] == 2  # Ann's latest attempt, and Bob
+
+
+def test_every_route_writes_the_same_table_columns(tmp_path, capsys):
+    """Regression: --table wrote three schemas: percentages but no interval with --group, an
+    interval but no percentages with --by (as agree_share/agree_ci_low, iqr, sd), both alone.
+    Now the item columns are one list in one order; --by's institution-wide row equals the
+    plain table's row; --group's and --by's rows of a group agree (the same respondents)."""
+    import pandas as pd
+    f = tmp_path / "s.csv"
+    rows = [["sid", "Section", "Q1", "Q2"]] + [
+        [f"s{i}", "AB"[i % 2], ["Agree", "Disagree", "Strongly agree"][i % 3],
+         ["Neutral", "Agree"][i % 2]] for i in range(12)]
+    with open(f, "w", newline="") as fh:
+        csv.writer(fh).writerows(rows)
+    tables = {}
+    for name, extra in (("plain", []), ("group", ["--group", "Section"]), ("by", ["--by", "Section"])):
+        out = tmp_path / f"{name}.csv"
+        assert main(["summarize", str(f), *extra, "--table", str(out)]) == 0
+        tables[name] = pd.read_csv(out, encoding="utf-8-sig")
+    capsys.readouterr()
+    plain, group, by = tables["plain"], tables["group"], tables["by"]
+    columns = list(plain.columns[2:])                       # after item and stem
+    assert columns[:3] == ["reversed", "statistics on reversed codes", "n"]
+    assert list(group.columns[:2]) == ["Section", "item"] and list(group.columns[2:-3]) == columns
+    assert list(by.columns[:3]) == ["Section", "item", "respondents"] and list(by.columns[3:]) == columns
+    numbers = [c for c in columns if c not in ("reversed", "statistics on reversed codes")]
+    everyone = by[by["Section"] == "(all)"].reset_index(drop=True)
+    pd.testing.assert_frame_equal(everyone[numbers], plain[numbers], check_dtype=False)
+    for section in ("A", "B"):
+        a = group[group["Section"] == section].reset_index(drop=True)[numbers]
+        b = by[by["Section"] == section].reset_index(drop=True)[numbers]
+        pd.testing.assert_frame_equal(a, b, check_dtype=False)
