@@ -625,3 +625,66 @@ def test_animation_frames_name_a_pin_once(tmp_path, monkeypatch):
     for texts, kinds in frames:
         assert texts.count("O") == 1, texts
         assert {"spring", "damper"} <= kinds
+
+
+# The measured layout against matplotlib's own measure of each panel after drawing (Axes.get_tightbbox
+# for layouts: tick labels, axis labels across their axis, title, legends; as in matplotlib's
+# constrained layout, an axis label longer than its panel may run past the panel's ends). 1 px: the layout and the check round text extents
+# alike but place the axis labels by two routes (sums of sizes here, matplotlib's positions there).
+LAYOUT_TOL_PX = 1.0
+
+
+def _awkward_figure(rows: int, cols: int):
+    """Texts of every kind the report's figures have, made long: wide tick labels, a two-line axis
+    label, a legend anchored above its panel, a suptitle and a figure legend at the bottom edge."""
+    from matplotlib.figure import Figure
+
+    from solver.drawing.layout import MeasuredLayout
+
+    fig = Figure(figsize=(7.0, 4.5), layout=MeasuredLayout())
+    axes = fig.subplots(rows, cols, squeeze=False, sharex=cols == 1).ravel()
+    for k, ax in enumerate(axes):
+        x = np.linspace(0.0, 10.0 ** (k + 1), 50)
+        ax.plot(x, -123456.0 * np.sin(x / x[-1] * 6) * (k + 1), label=f"curve {k}")
+        ax.set_ylabel(f"reaction of panel {k}\n[lbf·ft/s²]")
+        ax.set_title(f"panel {k}: a title of some length")
+    axes[0].legend(loc="lower center", bbox_to_anchor=(0.5, 1.1), ncol=2)
+    axes[-1].set_xlabel("release angle theta [deg] (from rest)\nsecond line of the label")
+    fig.suptitle("A suptitle above every panel", fontsize=12)
+    fig.legend(["figure legend at the bottom edge"], loc="outside lower center")
+    return fig, list(axes)
+
+
+@pytest.mark.parametrize("rows, cols", [(2, 1), (1, 2), (3, 1)])
+def test_measured_layout_fits_every_text_and_wastes_no_room(rows, cols):
+    """Every panel's texts (matplotlib's tight box of the panel, as drawn) lie inside the figure,
+    clear of the other panels, of the suptitle and of the figure legend; and the layout leaves no
+    more than its clearance between the outermost texts and the figure's edges."""
+    from matplotlib.transforms import Bbox
+
+    from solver.drawing.layout import LAYOUT_PAD, agg_renderer
+
+    fig, axes = _awkward_figure(rows, cols)
+    renderer = agg_renderer(fig)
+    fig.draw(renderer)  # the layout engine runs, then every text is placed as saved
+    frame = fig.bbox
+    # a title is given its whole width (so that two panels' titles cannot meet)
+    boxes = [Bbox.union([ax.get_tightbbox(renderer, for_layout_only=True), ax.title.get_window_extent(renderer)])
+             for ax in axes]
+    figure_texts = [t.get_window_extent(renderer) for t in fig.texts] + \
+                   [leg.get_window_extent(renderer) for leg in fig.legends]
+    for k, box in enumerate(boxes):
+        assert frame.x0 - LAYOUT_TOL_PX <= box.x0 and box.x1 <= frame.x1 + LAYOUT_TOL_PX, f"panel {k} cut off"
+        assert frame.y0 - LAYOUT_TOL_PX <= box.y0 and box.y1 <= frame.y1 + LAYOUT_TOL_PX, f"panel {k} cut off"
+        for other in boxes[:k] + figure_texts:
+            wide = min(box.x1, other.x1) - max(box.x0, other.x0)
+            high = min(box.y1, other.y1) - max(box.y0, other.y0)
+            assert wide <= LAYOUT_TOL_PX or high <= LAYOUT_TOL_PX, f"panel {k} overlaps {other.extents}"
+    pad = LAYOUT_PAD * fig.dpi / 72.0
+    used = [min(b.x0 for b in boxes), min(b.y0 for b in boxes), max(b.x1 for b in boxes), max(b.y1 for b in boxes)]
+    # the room left at each edge: the clearance, plus the figure legend (bottom) and suptitle (top)
+    bottom = max(b.y1 for b in figure_texts[1:])
+    top = frame.y1 - figure_texts[0].y0
+    for edge, room in zip(("left", "bottom", "right", "top"),
+                          (used[0] - frame.x0, used[1] - bottom, frame.x1 - used[2], frame.y1 - top - used[3])):
+        assert room <= pad + LAYOUT_TOL_PX, f"{edge}: {room:.1f} px left unused"

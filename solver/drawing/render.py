@@ -21,7 +21,7 @@ from matplotlib.collections import LineCollection  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 from matplotlib.patches import Circle, FancyArrowPatch, Polygon, Rectangle, Wedge  # noqa: E402
 
-from .layout import fix_layout  # noqa: E402
+from .layout import MeasuredLayout, agg_renderer, fix_layout  # noqa: E402
 from .model import CONVENTION, DrawnItem  # noqa: E402
 
 __all__ = ["new_figure", "render_scene", "render_fbd", "place_labels", "label_boxes", "fix_layout", "RC",
@@ -39,7 +39,7 @@ def new_figure(panels: int = 1, size: float = 4.2) -> tuple[Figure, list]:
     """A figure with ``panels`` square axes side by side (at most 3 a row)."""
     cols = min(panels, 3)
     rows = math.ceil(panels / cols)
-    fig = Figure(figsize=(size * cols, size * rows), layout="constrained")
+    fig = Figure(figsize=(size * cols, size * rows), layout=MeasuredLayout())
     axes = fig.subplots(rows, cols, squeeze=False).ravel().tolist()
     for ax in axes[panels:]:
         ax.set_visible(False)
@@ -479,18 +479,9 @@ _STEPS = (0.0, 5.0, 9.0, 13.0, 18.0, 24.0, 31.0, 40.0, 50.0)
 """Distances [points] a label may move from where it was put, tried nearest first."""
 
 
-def _renderer(fig):
-    canvas = fig.canvas
-    if not hasattr(canvas, "get_renderer"):
-        from matplotlib.backends.backend_agg import FigureCanvasAgg
-
-        canvas = FigureCanvasAgg(fig)
-    return canvas.get_renderer()
-
-
 def label_boxes(ax, renderer=None) -> list:
     """The display-space bounding boxes (matplotlib Bbox) of the visible labels drawn on ``ax``."""
-    renderer = renderer or _renderer(ax.figure)
+    renderer = renderer or agg_renderer(ax.figure)
     return [t.get_window_extent(renderer) for t in ax.texts if t.get_visible() and t.get_text()]
 
 
@@ -543,7 +534,7 @@ def place_labels(fig, axes) -> None:
     may run past its panel, which has no background), covering no arrow if it can, then as few
     drawn points as possible.
     Text extents come from the renderer after the layout is fixed (labels are taken out of the
-    constrained layout so that moving them cannot move the axes). A label's offset is in points,
+    layout so that moving them cannot move the axes). A label's offset is in points,
     so each candidate box is its measured box moved by the offset (measured once, not per try).
     """
     texts = {id(ax): [t for t in ax.texts if t.get_visible() and t.get_text() and hasattr(t, "xyann")]
@@ -551,7 +542,7 @@ def place_labels(fig, axes) -> None:
     for group in texts.values():
         for t in group:
             t.set_in_layout(False)
-    renderer = _renderer(fig)
+    renderer = agg_renderer(fig)
     _final_layout(fig, axes)
     directions = [(math.cos(a), math.sin(a)) for a in np.linspace(0, 2 * math.pi, 8, endpoint=False)]
     offsets = np.array([(0.0, 0.0)] + [(step * d[0], step * d[1]) for step in _STEPS[1:] for d in directions])
