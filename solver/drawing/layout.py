@@ -177,17 +177,12 @@ def _decorations(ax, renderer) -> tuple[float, float, float, float]:
 
 
 def _tick_labels(axis) -> list:
-    """The tick labels matplotlib draws on ``axis``: of the major and minor ticks inside the view
-    interval (the locators also give ticks beyond it, which are not drawn), visible, not empty."""
-    axis.get_ticklabels()  # updates the major and minor ticks to the axis's current size and limits
-    lo, hi = sorted(axis.get_view_interval())
-    close = 1e-10 * (hi - lo)  # a tick at an end of the interval, to round-off, is drawn
-    labels = []
-    for locs, ticks in ((axis.get_majorticklocs(), axis.get_major_ticks), (axis.get_minorticklocs(),
-                                                                           axis.get_minor_ticks)):
-        labels += [tick.label1 for tick, loc in zip(ticks(len(locs)), locs)
-                   if lo - close <= loc <= hi + close and tick.label1.get_visible() and tick.label1.get_text()]
-    return labels
+    """The tick labels matplotlib draws on ``axis`` (visible, not empty), with the ticks updated to
+    the axis's current size and limits. ``Axis._update_ticks`` is the step matplotlib's own
+    drawing and tight boxes take: the major and minor ticks inside the view interval, each
+    placed and labelled (the public ``get_ticklabels`` also lists the ticks the locators give
+    beyond the interval, which are not drawn)."""
+    return [t.label1 for t in axis._update_ticks() if t.label1.get_visible() and t.label1.get_text()]
 
 
 def _place(fig, cells, room, nrows, ncols, grid, px, top_edge, bottom_edge) -> None:
