@@ -440,7 +440,8 @@ def _build(root: Path, out: Path | None, pdf: str, log) -> dict:
         examples["ex1"]["explained"] = paper.explained(ex1_system, derivations[ex1_key].point, at_rest=True)
         ex2_ranked = paper.ranked_points(ex2_system)  # one ranking for both workings of Example 2
         examples["ex2"]["explained"] = paper.explained(ex2_system, derivations[ex2_key].point, at_rest=False,
-                                                     shows_alternative=True, ranked=ex2_ranked)  # shown below, when it differs
+                                                     shows_alternative=True,  # shown below, when it differs
+                                                     ranked=ex2_ranked)
         best = examples["ex2"]["explained"]["advisor_best"]
         if best != derivations[ex2_key].point:  # the one-step alternative the advisor finds (about C)
             examples["ex2"]["alternative"] = paper.explained(ex2_system, best, at_rest=False, ranked=ex2_ranked)

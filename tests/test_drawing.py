@@ -629,8 +629,9 @@ def test_animation_frames_name_a_pin_once(tmp_path, monkeypatch):
 
 # The measured layout against matplotlib's own measure of each panel after drawing (Axes.get_tightbbox
 # for layouts: tick labels, axis labels across their axis, title, legends; as in matplotlib's
-# constrained layout, an axis label longer than its panel may run past the panel's ends). 1 px: the layout and the check round text extents
-# alike but place the axis labels by two routes (sums of sizes here, matplotlib's positions there).
+# constrained layout, an axis label longer than its panel may run past the panel's ends). 1 px: the
+# layout and the check round text extents alike but place the axis labels by two routes (sums of
+# sizes in the layout, matplotlib's positions in the check).
 LAYOUT_TOL_PX = 1.0
 
 

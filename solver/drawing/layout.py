@@ -9,6 +9,8 @@ its result, whichever engine it is.
 """
 from __future__ import annotations
 
+import warnings
+
 from matplotlib import rc_context
 from matplotlib.layout_engine import LayoutEngine
 
@@ -152,6 +154,7 @@ def _decorations(ax, renderer) -> tuple[float, float, float, float]:
             continue
         ticks[name] = [t.get_window_extent(renderer) for t in _tick_labels(axis)]
         boxes += ticks[name]
+    # a title's three places (centre, left, right), read as matplotlib's own layouts read them
     for title in (ax.title, ax._left_title, ax._right_title):
         if title.get_visible() and title.get_text():
             boxes.append(title.get_window_extent(renderer))
@@ -197,8 +200,10 @@ def _place(fig, cells, room, nrows, ncols, grid, px, top_edge, bottom_edge) -> N
     h_ratios = grid.get_height_ratios() or [1.0] * nrows
     free_w = width - (ncols + 1) * px - sum(lefts) - sum(rights)
     free_h = height - top_edge - bottom_edge - (nrows + 1) * px - sum(tops) - sum(bottoms)
-    if free_w <= 0 or free_h <= 0:
-        raise ValueError(f"the figure ({fig.get_size_inches()} in) is too small for its texts")
+    if free_w < 0.1 * width or free_h < 0.1 * height:  # as matplotlib's layouts: a warning, a cramped figure
+        warnings.warn(f"measured_layout: the figure ({fig.get_size_inches()} in) is too small for its texts; "
+                      "they may overlap", stacklevel=2)
+        free_w, free_h = max(free_w, 0.1 * width), max(free_h, 0.1 * height)
     x, xs = px, []
     for c in range(ncols):
         w = free_w * w_ratios[c] / sum(w_ratios)
