@@ -243,7 +243,7 @@ PAPER_SCENE_FIGURES = (
 
 
 def scene_figure(path, name: str, number: int, body: str | None = None, point: str | None = None,
-                 system=None) -> FigureResult:
+                 system=None, solution=None) -> FigureResult:
     """A paper figure drawn from a scene file: the configuration, and one body's free-body diagram.
 
     Parameters
@@ -261,6 +261,9 @@ def scene_figure(path, name: str, number: int, body: str | None = None, point: s
     system : solver.model.system.System, optional
         The scene's System when the caller has it already (its cached derivation is reused);
         default: loaded from ``path``.
+    solution : solver.analyses.instant.InstantSolution, optional
+        The System's solution at the scene's state about ``point`` when the caller has it already
+        (the report's examples); the figure is drawn at its state. Default: solved here.
     """
     from pathlib import Path
 
@@ -271,13 +274,14 @@ def scene_figure(path, name: str, number: int, body: str | None = None, point: s
     from solver.io.scenes import load_system
 
     system = load_system(path) if system is None else system
-    state = assemble(system)
+    state = assemble(system) if solution is None else solution.state
     body = body or next(iter(system.bodies))
     with rc_context(RC):
         fig = Figure(figsize=(9.0, 3.8), layout=MeasuredLayout())
         ax_scene, ax_fbd = fig.subplots(1, 2)
         draw_system(system, state, ax=ax_scene, arrange_labels=False)
-        fbd = draw_system(system, state, ax=[ax_fbd], fbd=True, point=point, bodies=[body], arrange_labels=False)
+        fbd = draw_system(system, state, ax=[ax_fbd], fbd=True, point=point, bodies=[body], arrange_labels=False,
+                          solution=solution)
         place_labels(fig, [ax_scene, ax_fbd])  # once, in the layout of the whole figure
     items = fbd.on(body)
     P = fbd.point[body]

@@ -689,3 +689,21 @@ def test_measured_layout_fits_every_text_and_wastes_no_room(rows, cols):
     for edge, room in zip(("left", "bottom", "right", "top"),
                           (used[0] - frame.x0, used[1] - bottom, frame.x1 - used[2], frame.y1 - top - used[3])):
         assert room <= pad + LAYOUT_TOL_PX, f"{edge}: {room:.1f} px left unused"
+
+
+def test_a_given_solution_is_drawn_as_the_one_solved_here():
+    """draw_system takes the caller's instant solution (the report's, shared by its checks and
+    Figure 2) and draws exactly what it draws when it solves the state itself; a state other
+    than the solution's is refused."""
+    from matplotlib.figure import Figure
+
+    system = load_system(ROOT / "data" / "scenes" / "sliding_bar.toml")
+    solution = solve_instant(system)
+    drawn = []
+    for given in (None, solution):
+        axes = Figure().subplots(1, 1, squeeze=False).ravel().tolist()
+        fbd = draw_system(system, None if given else solution.state, ax=axes, fbd=True, solution=given)
+        drawn.append([(i.kind, i.label, i.anchor, i.direction) for i in fbd.items])
+    assert drawn[0] == drawn[1] and len(drawn[0]) > 3
+    with pytest.raises(ValueError, match="one state"):
+        draw_system(system, start_state(system), ax=[Figure().add_subplot()], fbd=True, solution=solution)
