@@ -635,9 +635,10 @@ def test_animation_frames_name_a_pin_once(tmp_path, monkeypatch):
 LAYOUT_TOL_PX = 1.0
 
 
-def _awkward_figure(rows: int, cols: int):
+def _awkward_figure(rows: int, cols: int, aspect: bool = False):
     """Texts of every kind the report's figures have, made long: wide tick labels, a two-line axis
-    label, a legend anchored above its panel, a suptitle and a figure legend at the bottom edge."""
+    label, a legend anchored above its panel, a suptitle and a figure legend at the bottom edge;
+    with ``aspect``, square panels (as the scene drawings) under a legend wider than its panel."""
     from matplotlib.figure import Figure
 
     from solver.drawing.layout import MeasuredLayout
@@ -647,20 +648,27 @@ def _awkward_figure(rows: int, cols: int):
     for k, ax in enumerate(axes):
         x = np.linspace(0.0, 10.0 ** (k + 1), 50)
         ax.plot(x, -123456.0 * np.sin(x / x[-1] * 6) * (k + 1), label=f"curve {k}")
-        ax.set_ylabel(f"reaction of panel {k}\n[lbf·ft/s²]")
-        ax.set_title(f"panel {k}: a title of some length")
+        ax.set_ylabel(f"R_{k}\n[lbf·ft/s²]")
+        ax.set_title(f"panel {k}: its title")
     axes[0].legend(loc="lower center", bbox_to_anchor=(0.5, 1.1), ncol=2)
     axes[-1].set_xlabel("release angle theta [deg] (from rest)\nsecond line of the label")
+    if aspect:
+        for ax in axes:
+            ax.set_aspect("equal", adjustable="box")
+            ax.set_ylim(-0.5 * ax.get_xlim()[1], 0.5 * ax.get_xlim()[1])
+        axes[0].set_xlabel("Arrows and arcs: each force and couple in its actual sense at this state; |X| = "
+                           "its size.\nDashed: the inertial terms at G (Eq. 10), a legend wider than its panel")
     fig.suptitle("A suptitle above every panel", fontsize=12)
     fig.legend(["figure legend at the bottom edge"], loc="outside lower center")
     return fig, list(axes)
 
 
-@pytest.mark.parametrize("rows, cols", [(2, 1), (1, 2), (3, 1)])
-def test_measured_layout_fits_every_text_and_wastes_no_room(rows, cols):
-    """Every panel's texts (matplotlib's tight box of the panel, as drawn) lie inside the figure,
-    clear of the other panels, of the suptitle and of the figure legend; and the layout leaves no
-    more than its clearance between the outermost texts and the figure's edges."""
+@pytest.mark.parametrize("rows, cols, aspect", [(2, 1, False), (1, 2, False), (3, 1, False), (1, 2, True)])
+def test_measured_layout_fits_every_text_and_wastes_no_room(rows, cols, aspect):
+    """Every panel's texts (matplotlib's tight box of the panel, as drawn, and its axis labels) lie
+    inside the figure, clear of the other panels, of the suptitle and of the figure legend; and the
+    layout leaves no more than its clearance between the outermost texts and the figure's edges
+    (square panels excepted: their aspect leaves room free on two sides)."""
     from matplotlib.transforms import Bbox
 
     from solver.drawing.layout import LAYOUT_PAD, agg_renderer
@@ -669,8 +677,11 @@ def test_measured_layout_fits_every_text_and_wastes_no_room(rows, cols):
     renderer = agg_renderer(fig)
     fig.draw(renderer)  # the layout engine runs, then every text is placed as saved
     frame = fig.bbox
-    # a title is given its whole width (so that two panels' titles cannot meet)
-    boxes = [Bbox.union([ax.get_tightbbox(renderer, for_layout_only=True), ax.title.get_window_extent(renderer)])
+    # a title and the axis labels are given their whole size (so that two panels' titles cannot meet and
+    # a legend under a square panel is not cut off)
+    boxes = [Bbox.union([ax.get_tightbbox(renderer, for_layout_only=True),
+                         *(t.get_window_extent(renderer) for t in (ax.title, ax.xaxis.label, ax.yaxis.label)
+                           if t.get_text())])
              for ax in axes]
     figure_texts = [t.get_window_extent(renderer) for t in fig.texts] + \
                    [leg.get_window_extent(renderer) for leg in fig.legends]
@@ -681,6 +692,8 @@ def test_measured_layout_fits_every_text_and_wastes_no_room(rows, cols):
             wide = min(box.x1, other.x1) - max(box.x0, other.x0)
             high = min(box.y1, other.y1) - max(box.y0, other.y0)
             assert wide <= LAYOUT_TOL_PX or high <= LAYOUT_TOL_PX, f"panel {k} overlaps {other.extents}"
+    if aspect:
+        return
     pad = LAYOUT_PAD * fig.dpi / 72.0
     used = [min(b.x0 for b in boxes), min(b.y0 for b in boxes), max(b.x1 for b in boxes), max(b.y1 for b in boxes)]
     # the room left at each edge: the clearance, plus the figure legend (bottom) and suptitle (top)

@@ -138,14 +138,18 @@ def _figure_margins(fig, renderer) -> tuple[float, float]:
     return top, bottom
 
 
-def _decorations(ax, renderer) -> tuple[float, float, float, float]:
-    """Room [pixels] the axes' texts take beyond its box: (left, bottom, right, top).
+def _decorations(ax, renderer) -> tuple[float, ...]:
+    """Room [pixels] the axes' texts take beyond its cell (its box before the aspect shrinks it):
+    (left, bottom, right, top), and the least width and height of the cell (of its centred title
+    and axis labels: a cell narrower than such a text would leave it running past both ends).
 
     Tick labels, the title, a legend anchored outside and the axes' own texts are measured where
     they stand (each placed relative to the box); the axis labels, which matplotlib places when it
-    draws, by their size beyond the tick labels, as matplotlib places them.
+    draws, by their size beyond the tick labels and centred along the axis, as matplotlib places
+    them.
     """
-    box = ax.get_position().transformed(ax.figure.transFigure)
+    box = ax.get_position().transformed(ax.figure.transFigure)  # as drawn: shrunk to its aspect in its cell
+    cell = ax.get_position(original=True).transformed(ax.figure.transFigure)
     boxes = []
     ticks = {}
     for name, axis in (("x", ax.xaxis), ("y", ax.yaxis)):
@@ -154,10 +158,16 @@ def _decorations(ax, renderer) -> tuple[float, float, float, float]:
             continue
         ticks[name] = [t.get_window_extent(renderer) for t in _tick_labels(axis)]
         boxes += ticks[name]
-    # a title's three places (centre, left, right), read as matplotlib's own layouts read them
+    # a title's three places (centre, left, right), read as matplotlib's own layouts read them; the
+    # centred one's width is one the cell must have (below), its height room above
+    wide = tall = 0.0
     for title in (ax.title, ax._left_title, ax._right_title):
         if title.get_visible() and title.get_text():
-            boxes.append(title.get_window_extent(renderer))
+            extent = title.get_window_extent(renderer)
+            if title is ax.title:
+                wide = extent.width
+                extent = extent.from_extents(box.x0, extent.y0, box.x0, extent.y1)
+            boxes.append(extent)
     legend = ax.get_legend()
     if legend is not None and legend.get_visible() and legend.get_bbox_to_anchor() is not ax.bbox:
         boxes.append(legend.get_window_extent(renderer))  # anchored elsewhere: may stand outside
@@ -171,12 +181,18 @@ def _decorations(ax, renderer) -> tuple[float, float, float, float]:
     label = ax.yaxis.label
     if ax.axison and ax.yaxis.get_visible() and label.get_visible() and label.get_text():
         beyond = max([box.x0 - b.x0 for b in ticks["y"]] + [0.0])
-        left = max(left, beyond + ax.yaxis.labelpad * to_pixels + label.get_window_extent(renderer).width)
+        size = label.get_window_extent(renderer)
+        left = max(left, beyond + ax.yaxis.labelpad * to_pixels + size.width)
+        tall = size.height  # centred beside the axes: its cell at least as tall, or it runs past both ends
     label = ax.xaxis.label
     if ax.axison and ax.xaxis.get_visible() and label.get_visible() and label.get_text():
         beyond = max([box.y0 - b.y0 for b in ticks["x"]] + [0.0])
-        bottom = max(bottom, beyond + ax.xaxis.labelpad * to_pixels + label.get_window_extent(renderer).height)
-    return max(left, 0.0), max(bottom, 0.0), max(right, 0.0), max(top, 0.0)
+        size = label.get_window_extent(renderer)
+        bottom = max(bottom, beyond + ax.xaxis.labelpad * to_pixels + size.height)
+        wide = max(wide, size.width)  # centred under the axes (a free-body diagram's legend): the cell as wide
+    # beyond the cell: an axes shrunk to its aspect leaves part of its cell free around it
+    slack = (box.x0 - cell.x0, box.y0 - cell.y0, cell.x1 - box.x1, cell.y1 - box.y1)
+    return (*(max(room - free, 0.0) for room, free in zip((left, bottom, right, top), slack)), wide, tall)
 
 
 def _tick_labels(axis) -> list:
@@ -198,22 +214,35 @@ def _place(fig, cells, room, nrows, ncols, grid, px, top_edge, bottom_edge) -> N
     tops = [max((room[k][3] for k in cells if k[0] == r), default=0.0) for r in range(nrows)]
     w_ratios = grid.get_width_ratios() or [1.0] * ncols
     h_ratios = grid.get_height_ratios() or [1.0] * nrows
+    least_w = [max((room[k][4] for k in cells if k[1] == c), default=0.0) for c in range(ncols)]
+    least_h = [max((room[k][5] for k in cells if k[0] == r), default=0.0) for r in range(nrows)]
     free_w = width - (ncols + 1) * px - sum(lefts) - sum(rights)
     free_h = height - top_edge - bottom_edge - (nrows + 1) * px - sum(tops) - sum(bottoms)
-    if free_w < 0.1 * width or free_h < 0.1 * height:  # as matplotlib's layouts: a warning, a cramped figure
+    if (free_w < max(0.1 * width, sum(least_w)) or free_h < max(0.1 * height, sum(least_h))):
+        # as matplotlib's layouts: a warning, and a cramped figure
         warnings.warn(f"measured_layout: the figure ({fig.get_size_inches()} in) is too small for its texts; "
-                      "they may overlap", stacklevel=2)
+                      "they may overlap", stacklevel=3)
         free_w, free_h = max(free_w, 0.1 * width), max(free_h, 0.1 * height)
     x, xs = px, []
-    for c in range(ncols):
-        w = free_w * w_ratios[c] / sum(w_ratios)
+    for c, w in enumerate(_shares(free_w, w_ratios, least_w)):
         xs.append((x + lefts[c], w))
         x += lefts[c] + w + rights[c] + px
     y, ys = height - top_edge - px, []
-    for r in range(nrows):  # row 0 at the top
-        h = free_h * h_ratios[r] / sum(h_ratios)
+    for r, h in enumerate(_shares(free_h, h_ratios, least_h)):  # row 0 at the top
         ys.append((y - tops[r] - h, h))
         y -= tops[r] + h + bottoms[r] + px
     for (r, c), ax in cells.items():
         (x0, w), (y0, h) = xs[c], ys[r]
         ax.set_position((x0 / width, y0 / height, w / width, h / height))
+
+
+def _shares(free: float, ratios, least) -> list[float]:
+    """``free`` shared by ``ratios``, each share at least its ``least`` when there is room for it:
+    the shares below their least get it, the others share the rest by their ratios."""
+    shares = [free * r / sum(ratios) for r in ratios]
+    short = [k for k, (s, m) in enumerate(zip(shares, least)) if s < m]
+    rest = free - sum(least[k] for k in short)
+    others = [k for k in range(len(ratios)) if k not in short]
+    if not short or not others or rest <= 0:
+        return shares
+    return [least[k] if k in short else rest * ratios[k] / sum(ratios[j] for j in others) for k in range(len(ratios))]
