@@ -26,7 +26,7 @@ from matplotlib import rc_context
 from matplotlib.colors import to_hex
 from matplotlib.figure import Figure
 from matplotlib.patches import Patch
-from solver.drawing.layout import fix_layout  # matplotlib only (no sympy): the one layout step
+from solver.drawing.layout import MeasuredLayout, fix_layout  # matplotlib only (no sympy): the one layout step
 
 from .errors import SurveyInputError
 from .likert import SurveySummary
@@ -173,7 +173,7 @@ def diverging_bar(summary: SurveySummary, order: str = "questionnaire",
     items = list(summary.items)
     if order == "agree":
         items.sort(key=lambda it: -(it.agree.share or 0.0))
-    fig = Figure(figsize=(8.5, 1.6 + 0.55 * len(items)), layout="constrained")
+    fig = Figure(figsize=(8.5, 1.6 + 0.55 * len(items)), layout=MeasuredLayout())
     ax = fig.add_subplot()
     rows = _draw_bars(ax, [(it.item, it.counts, it.n) for it in items], summary.scale, wrap)
     fig.set_size_inches(8.5, 1.6 + 0.55 * rows)      # taller rows for long labels

@@ -25,6 +25,7 @@ from matplotlib.figure import Figure  # noqa: E402
 from scipy.integrate import solve_ivp  # noqa: E402
 
 from reports.vector_pair import svg_and_pdf  # noqa: E402
+from solver.drawing.layout import MeasuredLayout  # noqa: E402
 from solver.units import Q_  # noqa: E402
 
 __all__ = ["FigureResult", "svg_text", "example1_release_sweep", "example2_free_motion", "likert_chart",
@@ -83,9 +84,9 @@ def svg_text(fig: Figure) -> str:
 
 
 def _result(name: str, fig: Figure, caption: str, facts: dict) -> FigureResult:
-    """Both renderings of ``fig``, in one layout and one drawing: the layout engine (constrained
-    layout, a solver over every text's extent) runs once, and matplotlib draws the figure once for
-    both files (:func:`reports.vector_pair.svg_and_pdf`)."""
+    """Both renderings of ``fig``, in one layout and one drawing: the layout engine
+    (:class:`solver.drawing.layout.MeasuredLayout`, every axes placed from its texts' sizes) runs
+    once, and matplotlib draws the figure once for both files (:func:`reports.vector_pair.svg_and_pdf`)."""
     with rc_context(RC):  # (Figures 1-3: the layout already fixed when their labels were placed)
         svg, pdf = svg_and_pdf(fig, _SVG_METADATA, _PDF_METADATA)
     return FigureResult(name=name, caption=caption, svg=_without_prolog(svg), pdf=pdf, facts=facts)
@@ -113,7 +114,7 @@ def example1_release_sweep(scene, deriv, n: int = 400) -> FigureResult:
         reactions = [r for r in scene.reaction_names()]
         released = math.degrees(scene.state_si()[0])
         at = model.solve(np.array([scene.state_si()[0]]), np.array([0.0]))
-        fig = Figure(figsize=(7.0, 4.6), layout="constrained")
+        fig = Figure(figsize=(7.0, 4.6), layout=MeasuredLayout())
         ax_r, ax_a = fig.subplots(2, 1, sharex=True)
         deg = np.degrees(theta)
         facts = {"released_deg": released, "force_unit": force_unit}
@@ -200,7 +201,7 @@ def example2_free_motion(scene, deriv, amplitude: float, omega_n: float, periods
     exact_period = float(stops[0]) if stops else float("nan")
     linear_period = 2 * math.pi / omega_n
     with rc_context(RC):
-        fig = Figure(figsize=(7.0, 4.4), layout="constrained")
+        fig = Figure(figsize=(7.0, 4.4), layout=MeasuredLayout())
         ax, ax_d = fig.subplots(2, 1, sharex=True, height_ratios=[2, 1])
         ax.plot(t, np.degrees(exact), label="nonlinear equation of motion (solve_ivp)")
         ax.plot(t, np.degrees(linear), linestyle="--", label="linear model (Eq. 46)")
@@ -242,7 +243,7 @@ PAPER_SCENE_FIGURES = (
 
 
 def scene_figure(path, name: str, number: int, body: str | None = None, point: str | None = None,
-                 system=None) -> FigureResult:
+                 system=None, solution=None) -> FigureResult:
     """A paper figure drawn from a scene file: the configuration, and one body's free-body diagram.
 
     Parameters
@@ -260,6 +261,9 @@ def scene_figure(path, name: str, number: int, body: str | None = None, point: s
     system : solver.model.system.System, optional
         The scene's System when the caller has it already (its cached derivation is reused);
         default: loaded from ``path``.
+    solution : solver.analyses.instant.InstantSolution, optional
+        The System's solution at the scene's state about ``point`` when the caller has it already
+        (the report's examples); the figure is drawn at its state. Default: solved here.
     """
     from pathlib import Path
 
@@ -270,13 +274,14 @@ def scene_figure(path, name: str, number: int, body: str | None = None, point: s
     from solver.io.scenes import load_system
 
     system = load_system(path) if system is None else system
-    state = assemble(system)
+    state = assemble(system) if solution is None else solution.state
     body = body or next(iter(system.bodies))
     with rc_context(RC):
-        fig = Figure(figsize=(9.0, 3.8), layout="constrained")
+        fig = Figure(figsize=(9.0, 3.8), layout=MeasuredLayout())
         ax_scene, ax_fbd = fig.subplots(1, 2)
         draw_system(system, state, ax=ax_scene, arrange_labels=False)
-        fbd = draw_system(system, state, ax=[ax_fbd], fbd=True, point=point, bodies=[body], arrange_labels=False)
+        fbd = draw_system(system, state, ax=[ax_fbd], fbd=True, point=point, bodies=[body], arrange_labels=False,
+                          solution=solution)
         place_labels(fig, [ax_scene, ax_fbd])  # once, in the layout of the whole figure
     items = fbd.on(body)
     P = fbd.point[body]
@@ -316,7 +321,7 @@ def benchmark_figure(series: dict[str, list[tuple[float, float]]], title: str, x
                      ylabel: str) -> FigureResult:
     """A log-log work-precision style plot from benchmark JSON series (name -> [(x, y), ...])."""
     with rc_context(RC):
-        fig = Figure(figsize=(7.0, 4.2), layout="constrained")
+        fig = Figure(figsize=(7.0, 4.2), layout=MeasuredLayout())
         ax = fig.subplots()
         for name, points in sorted(series.items()):
             pts = [(x, y) for x, y in points if x and y and x > 0 and y > 0]

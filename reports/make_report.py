@@ -354,10 +354,11 @@ def _build(root: Path, out: Path | None, pdf: str, log) -> dict:
         system = next(iter(eqset.systems.values()), None)
         ex1_key = system["scene"] if system else None
         values_path = root / "data" / "published" / "example1.toml"
+        # Example 1's solution at its state: one for the value checks, the paper's results and Figure 2
+        ex1_solution = solve_instant(scenes[ex1_key]) if ex1_key else None
         if ex1_key and values_path.exists():
-            solution = solve_instant(scenes[ex1_key])
             rows += checks_mod.example1_value_checks(values_path, eqset, scenes[ex1_key],
-                                                     derivations[ex1_key], solution)
+                                                     derivations[ex1_key], ex1_solution)
         else:
             rows.append(checks_mod.not_checkable("eq30-alpha", "value", None,
                                                  "data/published/example1.toml or [systems] missing"))
@@ -386,9 +387,12 @@ def _build(root: Path, out: Path | None, pdf: str, log) -> dict:
         omega_n = float(freq.omega_n.to("rad/s").magnitude)
         figs["example2"] = figures.example2_free_motion(scenes[ex2_key], derivations[ex2_key], amplitude, omega_n,
                                                         one_dof=ex2_one_dof)
+        ex2_solution = solve_instant(scenes[ex2_key])  # at the scene's state: the paper's results and Figure 3
+        solved = {as_system(scenes[ex1_key]): ex1_solution, as_system(scenes[ex2_key]): ex2_solution}
         for name, scene_file, body, number in figures.PAPER_SCENE_FIGURES:  # the paper's Figures 1-3
             path = root / "data" / "scenes" / scene_file
-            figs[name] = figures.scene_figure(path, name, number, body, system=system_of(path))
+            drawn = system_of(path)
+            figs[name] = figures.scene_figure(path, name, number, body, system=drawn, solution=solved.get(drawn))
         if survey is not None:
             figs["likert"] = figures.likert_chart(survey.summary)
         bench = _benchmarks(root / "reports" / "build" / "bench")
@@ -421,7 +425,7 @@ def _build(root: Path, out: Path | None, pdf: str, log) -> dict:
                 "point": derivations[ex1_key].point,
                 "parameters": paper.parameter_rows(scenes[ex1_key]),
                 "steps": paper.example_steps(scenes[ex1_key], derivations[ex1_key], at_rest=True),
-                "solution": solve_instant(scenes[ex1_key]),
+                "solution": ex1_solution,
             },
             "ex2": {
                 "scene": scenes[ex2_key],
@@ -437,15 +441,17 @@ def _build(root: Path, out: Path | None, pdf: str, log) -> dict:
         }
         ex1_system, ex2_system = system_of(eqset.scenes[ex1_key]), system_of(eqset.scenes[ex2_key])
         examples["ex1"]["explained"] = paper.explained(ex1_system, derivations[ex1_key].point, at_rest=True)
+        ex2_ranked = paper.ranked_points(ex2_system)  # one ranking for both workings of Example 2
         examples["ex2"]["explained"] = paper.explained(ex2_system, derivations[ex2_key].point, at_rest=False,
-                                                     shows_alternative=True)  # shown below, when it differs
+                                                     shows_alternative=True,  # shown below, when it differs
+                                                     ranked=ex2_ranked)
         best = examples["ex2"]["explained"]["advisor_best"]
         if best != derivations[ex2_key].point:  # the one-step alternative the advisor finds (about C)
-            examples["ex2"]["alternative"] = paper.explained(ex2_system, best, at_rest=False)
+            examples["ex2"]["alternative"] = paper.explained(ex2_system, best, at_rest=False, ranked=ex2_ranked)
         conversion = paper.unit_conversion(scenes[ex1_key])  # lbm*ft/s^2 to lbf (g_c), from pint
         examples["ex1"]["conversion"] = conversion
         examples["ex1"]["results"] = paper.result_rows(examples["ex1"]["solution"], scenes[ex1_key], conversion)
-        examples["ex2"]["solution"] = solve_instant(scenes[ex2_key])  # at the scene's state
+        examples["ex2"]["solution"] = ex2_solution
         examples["ex2"]["results"] = paper.result_rows(examples["ex2"]["solution"], scenes[ex2_key])
         timings["paper"] = time.perf_counter() - t0
 

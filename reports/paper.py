@@ -424,12 +424,22 @@ def _mathml_body(expr):
     return body(expr)
 
 
-def explained(system, point: str, at_rest: bool, shows_alternative: bool = False) -> dict:
+def ranked_points(system) -> dict:
+    """The point advisor's candidates for the (first) body at the scene's state, by name
+    (:func:`solver.explain.rank_points`)."""
+    from solver.analyses.instant import assemble
+    from solver.explain import rank_points
+
+    body = next(iter(system.bodies))
+    return {c.name: c for c in rank_points(system, body, assemble(system))}
+
+
+def explained(system, point: str, at_rest: bool, shows_alternative: bool = False, ranked: dict | None = None) -> dict:
     """Newton by component, I_P per element and the generalized Euler equation about ``point`` with the
     inertial term apart, the unknowns that drop out, and why this point (the advisor's reason);
-    ``shows_alternative``: the paper shows the advisor's point too, after the equation of motion."""
-    from solver.analyses.instant import assemble
-    from solver.explain import explain, rank_points
+    ``shows_alternative``: the paper shows the advisor's point too, after the equation of motion;
+    ``ranked``: :func:`ranked_points` of the system when the caller has it (default: ranked here)."""
+    from solver.explain import explain
 
     # the per-body steps are what the paper shows (its kinematics are example_steps')
     expl = explain(system, point, advice=False, solution=False, kinematics=False)
@@ -448,7 +458,7 @@ def explained(system, point: str, at_rest: bool, shows_alternative: bool = False
 
     newton = [at(e) for e in section.step("newton").equations]
     euler_step = section.step("euler")
-    ranked = {c.name: c for c in rank_points(system, body, assemble(system))}
+    ranked = ranked_points(system) if ranked is None else ranked
     best = min(ranked.values(), key=lambda c: c.key)
     return {
         "newton": newton,

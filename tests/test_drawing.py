@@ -649,3 +649,98 @@ def test_torsional_springs_and_dampers_are_drawn_about_their_pin():
     turned = np.sum(np.diff(np.unwrap(np.arctan2(xy[:, 1], xy[:, 0]))))
     assert turned == pytest.approx(4 * math.pi, rel=1e-9)  # two turns, counter-clockwise
     assert arcs[0][0] > spirals[0][-1]  # the damper outside the spring
+
+
+# The measured layout against matplotlib's own measure of each panel after drawing (Axes.get_tightbbox
+# for layouts: tick labels, axis labels across their axis, title, legends; as in matplotlib's
+# constrained layout, an axis label longer than its panel may run past the panel's ends). 1 px: the
+# layout and the check round text extents alike but place the axis labels by two routes (sums of
+# sizes in the layout, matplotlib's positions in the check).
+LAYOUT_TOL_PX = 1.0
+
+
+def _awkward_figure(rows: int, cols: int, aspect: bool = False):
+    """Texts of every kind the report's figures have, made long: wide tick labels, a two-line axis
+    label, a legend anchored above its panel, a suptitle and a figure legend at the bottom edge;
+    with ``aspect``, square panels (as the scene drawings) under a legend wider than its panel."""
+    from matplotlib.figure import Figure
+
+    from solver.drawing.layout import MeasuredLayout
+
+    fig = Figure(figsize=(7.0, 4.5), layout=MeasuredLayout())
+    axes = fig.subplots(rows, cols, squeeze=False, sharex=cols == 1).ravel()
+    for k, ax in enumerate(axes):
+        x = np.linspace(0.0, 10.0 ** (k + 1), 50)
+        ax.plot(x, -123456.0 * np.sin(x / x[-1] * 6) * (k + 1), label=f"curve {k}")
+        ax.set_ylabel(f"R_{k}\n[lbf·ft/s²]")
+        ax.set_title(f"panel {k}: its title")
+    axes[0].legend(loc="lower center", bbox_to_anchor=(0.5, 1.1), ncol=2)
+    axes[-1].set_xlabel("release angle theta [deg] (from rest)\nsecond line of the label")
+    if aspect:
+        for ax in axes:
+            ax.set_aspect("equal", adjustable="box")
+            ax.set_ylim(-0.5 * ax.get_xlim()[1], 0.5 * ax.get_xlim()[1])
+        axes[0].set_xlabel("Arrows and arcs: each force and couple in its actual sense at this state; |X| = "
+                           "its size.\nDashed: the inertial terms at G (Eq. 10), a legend wider than its panel")
+    fig.suptitle("A suptitle above every panel", fontsize=12)
+    fig.legend(["figure legend at the bottom edge"], loc="outside lower center")
+    return fig, list(axes)
+
+
+@pytest.mark.parametrize("rows, cols, aspect", [(2, 1, False), (1, 2, False), (3, 1, False), (1, 2, True)])
+def test_measured_layout_fits_every_text_and_wastes_no_room(rows, cols, aspect):
+    """Every panel's texts (matplotlib's tight box of the panel, as drawn, and its axis labels) lie
+    inside the figure, clear of the other panels, of the suptitle and of the figure legend; and the
+    layout leaves no more than its clearance between the outermost texts and the figure's edges
+    (square panels excepted: their aspect leaves room free on two sides)."""
+    from matplotlib.transforms import Bbox
+
+    from solver.drawing.layout import LAYOUT_PAD, agg_renderer
+
+    fig, axes = _awkward_figure(rows, cols)
+    renderer = agg_renderer(fig)
+    fig.draw(renderer)  # the layout engine runs, then every text is placed as saved
+    frame = fig.bbox
+    # a title and the axis labels are given their whole size (so that two panels' titles cannot meet and
+    # a legend under a square panel is not cut off)
+    boxes = [Bbox.union([ax.get_tightbbox(renderer, for_layout_only=True),
+                         *(t.get_window_extent(renderer) for t in (ax.title, ax.xaxis.label, ax.yaxis.label)
+                           if t.get_text())])
+             for ax in axes]
+    figure_texts = [t.get_window_extent(renderer) for t in fig.texts] + \
+                   [leg.get_window_extent(renderer) for leg in fig.legends]
+    for k, box in enumerate(boxes):
+        assert frame.x0 - LAYOUT_TOL_PX <= box.x0 and box.x1 <= frame.x1 + LAYOUT_TOL_PX, f"panel {k} cut off"
+        assert frame.y0 - LAYOUT_TOL_PX <= box.y0 and box.y1 <= frame.y1 + LAYOUT_TOL_PX, f"panel {k} cut off"
+        for other in boxes[:k] + figure_texts:
+            wide = min(box.x1, other.x1) - max(box.x0, other.x0)
+            high = min(box.y1, other.y1) - max(box.y0, other.y0)
+            assert wide <= LAYOUT_TOL_PX or high <= LAYOUT_TOL_PX, f"panel {k} overlaps {other.extents}"
+    if aspect:
+        return
+    pad = LAYOUT_PAD * fig.dpi / 72.0
+    used = [min(b.x0 for b in boxes), min(b.y0 for b in boxes), max(b.x1 for b in boxes), max(b.y1 for b in boxes)]
+    # the room left at each edge: the clearance, plus the figure legend (bottom) and suptitle (top)
+    bottom = max(b.y1 for b in figure_texts[1:])
+    top = frame.y1 - figure_texts[0].y0
+    for edge, room in zip(("left", "bottom", "right", "top"),
+                          (used[0] - frame.x0, used[1] - bottom, frame.x1 - used[2], frame.y1 - top - used[3])):
+        assert room <= pad + LAYOUT_TOL_PX, f"{edge}: {room:.1f} px left unused"
+
+
+def test_a_given_solution_is_drawn_as_the_one_solved_here():
+    """draw_system takes the caller's instant solution (the report's, shared by its checks and
+    Figure 2) and draws exactly what it draws when it solves the state itself; a state other
+    than the solution's is refused."""
+    from matplotlib.figure import Figure
+
+    system = load_system(ROOT / "data" / "scenes" / "sliding_bar.toml")
+    solution = solve_instant(system)
+    drawn = []
+    for given in (None, solution):
+        axes = Figure().subplots(1, 1, squeeze=False).ravel().tolist()
+        fbd = draw_system(system, None if given else solution.state, ax=axes, fbd=True, solution=given)
+        drawn.append([(i.kind, i.label, i.anchor, i.direction) for i in fbd.items])
+    assert drawn[0] == drawn[1] and len(drawn[0]) > 3
+    with pytest.raises(ValueError, match="one state"):
+        draw_system(system, start_state(system), ax=[Figure().add_subplot()], fbd=True, solution=solution)

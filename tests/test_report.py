@@ -699,7 +699,7 @@ def test_figures_titled_by_content_and_the_motion_legend_clear_of_the_curves(bui
 
     fig = captured["fig"]
     renderer = FigureCanvasAgg(fig).get_renderer()
-    fig.draw(renderer)  # runs the constrained layout
+    fig.draw(renderer)  # runs the figure's layout engine
     top = fig.axes[0]
     legend_box = top.get_legend().get_window_extent(renderer)
     assert legend_box.y0 >= top.get_window_extent(renderer).y1 - 1  # 1 px: rounding of the layout

@@ -71,7 +71,7 @@ def test_one_drawing_gives_savefig_svg_and_pdf():
     with rc_context(RC):
         fig = _figure()
         svg, pdf = svg_and_pdf(fig, SVG_META, PDF_META)
-        # (the pair first: it fixes the constrained layout, which savefig then finds done)
+        # (the pair first: it fixes the layout, which savefig then finds done)
         alone_svg, alone_pdf = _saved(fig, "svg", SVG_META), _saved(fig, "pdf", PDF_META)
     assert svg == alone_svg
     ours, theirs = _pdf_tokens(pdf), _pdf_tokens(alone_pdf)

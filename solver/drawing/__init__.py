@@ -46,7 +46,7 @@ def check_format(path, allowed, flag: str) -> str:
 
 
 def draw_system(system, state=None, ax=None, fbd: bool = False, point: str | None = None, bodies=None,
-                arrange_labels: bool = True):
+                arrange_labels: bool = True, solution=None):
     """Draw a scene at its state (or ``state``), or its free-body diagrams.
 
     Parameters
@@ -70,6 +70,9 @@ def draw_system(system, state=None, ax=None, fbd: bool = False, point: str | Non
         Move the labels off each other now (:func:`solver.drawing.render.place_labels`). False
         when the caller draws more on the same figure first and places every panel's labels
         once, in the figure's final layout.
+    solution : solver.analyses.instant.InstantSolution, optional
+        For ``fbd``: the system's solution about ``point`` when the caller has it already
+        (:func:`solver.analyses.instant.solve_instant`); drawn at its state. Default: solved here.
 
     Returns
     -------
@@ -88,6 +91,10 @@ def draw_system(system, state=None, ax=None, fbd: bool = False, point: str | Non
     from .model import Drawing, free_body_items, scene_items
 
     points = resolve_points(system, point)  # a bad --point is refused before any work
+    if solution is not None:
+        if state is not None and state is not solution.state:
+            raise ValueError("`state` and `solution` must be of one state: give one of them")
+        state = solution.state
     state = start_state(system) if state is None else state
     scene = scene_items(system, state)
     panels = list(system.bodies) if bodies is None else list(bodies)
@@ -106,7 +113,7 @@ def draw_system(system, state=None, ax=None, fbd: bool = False, point: str | Non
             if arrange_labels:
                 render.place_labels(ax.figure, [ax])
             return Drawing(system.name, scene, figure=figure)
-        solution = solve_instant(system, point, state=state)
+        solution = solve_instant(system, point, state=state) if solution is None else solution
         from ..analyses.regimes import with_every_contact_force  # contacts: the regime's forces, each drawn alone
 
         forces = free_body_items(with_every_contact_force(system), state, solution, points)
