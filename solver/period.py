@@ -860,10 +860,12 @@ def _fold(expr: sp.Expr, variables: tuple, coefficients: dict) -> sp.Expr:
     parameters made a symbol (``coefficients``: that part -> its symbol): a number per
     parameter values instead of array operations per call (A + B cos q rather than four
     terms added to an array)."""
-    if not expr.args or expr.is_number:
+    if expr.is_number:
         return expr
-    if not expr.has(*variables):
+    if not expr.has(*variables):  # a lone parameter too (k in k q): lambdify is given no parameters
         return coefficients.setdefault(expr, sp.Symbol(f"__c{len(coefficients)}"))  # not Dummy: see _HALF
+    if not expr.args:
+        return expr
     if isinstance(expr, (sp.Add, sp.Mul)):
         free, dep = expr.as_independent(*variables, as_Add=isinstance(expr, sp.Add))
         return expr.func(_fold(free, variables, coefficients),
@@ -880,6 +882,10 @@ def _bound(system: OneDofSystem, key, expr: Callable[[], Any], args: tuple = ())
         body, variables = expr(), (system.q, *args)
         body = tuple(_fold(sp.sympify(e), variables, coefficients) for e in body) if isinstance(body, tuple) \
             else _fold(sp.sympify(body), variables, coefficients)
+        unbound = sp.Tuple(*(body if isinstance(body, tuple) else (body,))).free_symbols \
+            - set(variables) - set(coefficients.values())
+        if unbound:  # would be evaluated as sympy objects, node by node (slow, then a TypeError)
+            raise RuntimeError(f"_bound: {sorted(map(str, unbound))} left unfolded in {key!r}")
         return (lambdify((*coefficients.values(), system.q, *args), body, "numpy", cse=True),
                 lambdify(system.params, list(coefficients), "numpy", cse=True))
 
