@@ -237,16 +237,18 @@ def _descend(g, u, scales, system):
     maximum: pseudo-transient continuation (Kelley and Keyes 1998), linearly implicit Euler
     steps u += (I / h - J)^-1 g(u). h doubles each step, so that the steps become Newton's
     where no direction is unstable; where one is (an eigenvalue of J with real part mu > 0),
-    h <= 1 / (2 mu) keeps the step going down the slope, away from the saddle. Each step moves
-    at most a quarter of a coordinate's scale. Newton's method (:func:`_newton`) finishes once
-    no direction is unstable and the steps are under 1e-3 of the scales.
+    h <= 1 / (2 mu) keeps the step going down the slope, away from the saddle; started on the
+    saddle (or a maximum) itself, where g is round-off (steps under 1e-10 of the scales), a
+    step of 1e-3 of the scales leaves it along the fastest unstable direction. Each step moves at most a quarter of a
+    coordinate's scale. Newton's method (:func:`_newton`) finishes once no direction is
+    unstable and the steps are under 1e-3 of the scales.
     """
     n = len(u)
     h = None
     for _ in range(_DESCENT):
         r = g(u)
         J = _jacobian(g, u, scales)
-        mu = np.linalg.eigvals(J)
+        mu, ways = np.linalg.eig(J)
         size = float(np.max(np.abs(mu)))
         if not (size > 0 and np.all(np.isfinite(r))):
             break
@@ -255,6 +257,9 @@ def _descend(g, u, scales, system):
         if fastest > 1e-9 * size:
             h = min(h, 0.5 / fastest)
         step = np.linalg.solve(np.eye(n) / h - J, r)
+        if fastest > 1e-9 * size and np.max(np.abs(step) / scales) < 1e-10:  # on a saddle or a maximum
+            way = ways[:, int(np.argmax(mu.real))].real  # (g round-off there): off it the fastest way down
+            step = 1e-3 * scales * way / np.max(np.abs(way))
         step *= min(1.0, 0.25 / float(np.max(np.abs(step) / scales)))
         u = u + step
         if fastest <= 1e-9 * size and np.max(np.abs(step) / scales) < 1e-3:
