@@ -610,11 +610,12 @@ def two_bar_small_oscillations() -> tuple[np.ndarray, np.ndarray]:
 
 
 @pytest.mark.parametrize("th1, th2", [("20 deg", "-40 deg"), ("20 deg", "-60 deg"), ("20 deg", "-90 deg"),
-                                      ("180 deg", "180 deg")])
+                                      ("20 deg", "-170 deg"), ("180 deg", "180 deg")])
 def test_frequency_about_the_nearest_stable_equilibrium(solver_cli, th1, th2):
     """QA round 9 item 3: from (20, th2) deg Newton's method on the accelerations at rest reached
     the unstable (0, -180) deg (141 deg or more away) and `frequency` refused; the stable (0, 0) is
-    at most 92 deg away. Released on the maximum of the potential itself, (180, 180) deg, every
+    at most 92 deg away; from (20, -170) deg it is (0, 0), 171 deg away, not (0, -360), 191 deg
+    away, where the descent ends. Released on the maximum of the potential itself, (180, 180) deg, every
     hanging position is as near (the equilibrium is checked modulo a turn). The modes must be
     those about the hanging position: 1e-10 relative, as the other frequency tests (a 2x2
     eigenproblem, eigenvalues 6 apart; the linearisation's error ~1e-11); the equilibrium to
@@ -632,6 +633,17 @@ def test_frequency_about_the_nearest_stable_equilibrium(solver_cli, th1, th2):
     for k, mode in enumerate(payload["modes"]):  # the shapes too: they tell a mode about (0, 0) from others
         got = [mode["shape"][c]["value"] for c in ("th1", "th2")]
         assert got == pytest.approx(shapes[:, k], rel=1e-8, abs=1e-10)  # eigenvectors: ~1e-11 from J's differences
+
+
+def test_frequency_keeps_a_free_cart_where_it_is(solver_cli):
+    """The cart pendulum released nearly upright (theta = 179 deg, x = 0.5 m): every x is an
+    equilibrium with the bar hanging, and the nearest is x = 0.5 m, theta = 0 (the descent to it
+    moves the cart; taken back along that neutral direction). 1e-9 m and rad: found to round-off."""
+    code, out, err = solver_cli("frequency", str(SCENES / "cart_pendulum.toml"), "--set", "theta=179 deg",
+                                "--set", "x=0.5 m", "--json")
+    assert code == 0, err
+    found = json.loads(out)["equilibrium"]
+    assert [found["x"]["value"], found["theta"]["value"]] == pytest.approx([0.5, 0.0], abs=1e-9)
 
 
 def test_crank_angle_as_a_prescribed_coordinate(solver_cli, tmp_path):
