@@ -13,10 +13,10 @@ J is taken by fourth-order central differences of g (step 1e-3 of each
 coordinate's scale), whose truncation error, h^4 g^(5) / 30 ~ 1e-13 relative,
 and round-off, eps |g| / h ~ 1e-13, keep the frequencies to about 1e-11.
 
-With several coordinates the equilibrium is the stable one nearer the state of two
-searches from it: Newton's method on g, and a descent of the potential energy to the
-bottom of the well the state lies in (:func:`_nearest_stable`); Newton alone may end at a
-saddle or a maximum. For one coordinate without closure equations the equilibrium comes from
+With several coordinates the equilibrium is the stable one nearest the state among those
+found by Newton's method on g and by a descent of the potential energy to the bottom of the
+well the state lies in, each also with its angles moved by whole turns towards the state
+(:func:`_nearest_stable`); Newton alone may end at a saddle or a maximum. For one coordinate without closure equations the equilibrium comes from
 :func:`solver.period.find_equilibrium` (a scan of the effective potential,
 robust to any starting state), so ``frequency`` and ``period`` agree.
 """
