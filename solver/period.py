@@ -179,6 +179,9 @@ class OneDofSystem:
         Conditions g(q) >= 0 for the model to hold, each with a description: a
         semicircular disk rolls on its curved rim only while the contact point
         lies on the rim (``Rolling.limits``).
+    kind : str
+        The coordinate's kind, ``"angle"`` or ``"length"`` (for messages: a restoring
+        moment or force, rad or m).
     """
 
     q: sp.Symbol
@@ -201,6 +204,7 @@ class OneDofSystem:
     values: tuple[float, ...] = ()
     name: str = "system"
     limits: tuple[tuple[str, sp.Expr], ...] = ()
+    kind: str = "angle"
     _cache: dict = field(default_factory=dict, repr=False, compare=False)
 
     # -- construction ---------------------------------------------------------
@@ -255,6 +259,7 @@ class OneDofSystem:
             values=values,
             name=system.label,
             limits=tuple(system.limits()),
+            kind=system.free[0].kind if len(system.free) == 1 else "angle",
         )
 
     def with_values(self, **changes: float) -> "OneDofSystem":
@@ -268,6 +273,12 @@ class OneDofSystem:
                 )
             values[names.index(key)] = float(val)
         return replace(self, values=tuple(values), _cache=self._cache)
+
+    @property
+    def restoring(self) -> tuple[str, str]:
+        """What restores the coordinate and its SI unit, for messages: ("moment", "rad") for an
+        angle, ("force", "m") for a length."""
+        return ("force", "m") if self.kind == "length" else ("moment", "rad")
 
     def value_of(self, name: str) -> float:
         names = [p.name for p in self.params]
@@ -609,10 +620,11 @@ def find_equilibrium(system: OneDofSystem, near: float = 0.0, span: float = 2.0 
     flat = system._memo(("flat", system.values), lambda: (
         not V_expr.has(system.q)
         or sp.diff(V_expr, system.q).xreplace(dict(zip(system.params, system.values))) == 0))
+    what, unit = system.restoring
     if flat:
         raise NoRestoringError(
             f"{system.name}: the potential energy does not depend on {system.q} "
-            "(no restoring moment: no oscillation, no period)"
+            f"(no restoring {what}: no oscillation, no period)"
         )
     dV = system.potential_fn(1)
     d2V = system.potential_fn(2)
@@ -621,7 +633,7 @@ def find_equilibrium(system: OneDofSystem, near: float = 0.0, span: float = 2.0 
         d = dV(grid)
     scale = float(np.nanmax(np.abs(d))) if np.any(np.isfinite(d)) else 0.0
     if not scale > 0:
-        raise NoRestoringError(f"{system.name}: no restoring moment near {system.q} = {near:g} rad")
+        raise NoRestoringError(f"{system.name}: no restoring {what} near {system.q} = {near:g} {unit}")
     candidates: list[float] = []
     for i in range(len(grid) - 1):
         a, b = d[i], d[i + 1]
@@ -648,7 +660,7 @@ def find_equilibrium(system: OneDofSystem, near: float = 0.0, span: float = 2.0 
     if not stable:
         raise NoRestoringError(
             f"{system.name}: no stable equilibrium (minimum of the potential with positive stiffness) "
-            f"within {span:g} rad of {system.q} = {near:g} rad"
+            f"within {span:g} {unit} of {system.q} = {near:g} {unit}"
         )
     return min(stable, key=lambda e: (abs(e.q - near), e.q))
 
@@ -860,10 +872,12 @@ def _fold(expr: sp.Expr, variables: tuple, coefficients: dict) -> sp.Expr:
     parameters made a symbol (``coefficients``: that part -> its symbol): a number per
     parameter values instead of array operations per call (A + B cos q rather than four
     terms added to an array)."""
-    if not expr.args or expr.is_number:
+    if expr.is_number:
         return expr
-    if not expr.has(*variables):
+    if not expr.has(*variables):  # a lone parameter too (k in k q): lambdify is given no parameters
         return coefficients.setdefault(expr, sp.Symbol(f"__c{len(coefficients)}"))  # not Dummy: see _HALF
+    if not expr.args:
+        return expr
     if isinstance(expr, (sp.Add, sp.Mul)):
         free, dep = expr.as_independent(*variables, as_Add=isinstance(expr, sp.Add))
         return expr.func(_fold(free, variables, coefficients),
@@ -880,6 +894,10 @@ def _bound(system: OneDofSystem, key, expr: Callable[[], Any], args: tuple = ())
         body, variables = expr(), (system.q, *args)
         body = tuple(_fold(sp.sympify(e), variables, coefficients) for e in body) if isinstance(body, tuple) \
             else _fold(sp.sympify(body), variables, coefficients)
+        unbound = sp.Tuple(*(body if isinstance(body, tuple) else (body,))).free_symbols \
+            - set(variables) - set(coefficients.values())
+        if unbound:  # would be evaluated as sympy objects, node by node (slow, then a TypeError)
+            raise RuntimeError(f"_bound: {sorted(map(str, unbound))} left unfolded in {key!r}")
         return (lambdify((*coefficients.values(), system.q, *args), body, "numpy", cse=True),
                 lambdify(system.params, list(coefficients), "numpy", cse=True))
 

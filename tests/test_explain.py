@@ -784,6 +784,49 @@ def test_a_joint_place_is_named_after_its_joint_and_accepted_by_point(scene, bod
     assert all(float(row[4]) < 1e-9 for row in check), check
 
 
+def test_a_crossing_the_advisor_lists_is_accepted_by_point(solver_cli, tmp_path):
+    """QA round 9 item 13: the advisor lists I(O_x,A_y), the place where two reactions' lines of
+    action cross, and --point BODY:I(O_x,A_y) takes moments about it, explained in the advisor's
+    words. Reference by hand for the upper bar of the double pendulum (O = (0, 0), A = L1 (sin th1,
+    -cos th1)): O_x acts along x through O and A_y along y through A, so they cross at
+    (L1 sin th1, 0), where the moment equation holds th1_ddot, O_y and A_x; O_y and A_x cross at
+    (0, -L1 cos th1), leaving th1_ddot, O_x and A_y. Positions to 1e-12 m (a 2x2 solve of numbers
+    below 1: round-off ~1e-16); the answers about the crossing agree with the mass-centre form to
+    1e-9 relative, as in the test above."""
+    import math
+
+    from solver.analyses.instant import assemble
+    from solver.explain import rank_points
+
+    scene = ROOT / "tests" / "data" / "multibody" / "two_bar.toml"
+    th1, L1 = math.radians(20.0), 0.6
+    expected = {("O_x", "A_y"): ((L1 * math.sin(th1), 0.0), {"th1_ddot", "O_y", "A_x"}),
+                ("O_y", "A_x"): ((0.0, -L1 * math.cos(th1)), {"th1_ddot", "O_x", "A_y"})}
+    system = load_system(scene)
+    ranked = {c.name: c for c in rank_points(system, "upper", assemble(system))}
+    for (first, second), (at, held) in expected.items():
+        name = f"I({first},{second})"
+        assert ranked[name].origin == f"intersection of the lines of action of {first} and {second}"
+        assert ranked[name].position == pytest.approx(at, abs=1e-12)
+        assert set(ranked[name].unknowns) == held
+        expl = explain(load_system(scene), f"upper:{name}")
+        assert expl.points["upper"] == name
+        kinematics = " ".join(expl.section("upper").step("kinematics").text)
+        assert (f"{name} is the point of upper (the body extended) where the lines of action of {first} and "
+                f"{second} cross at this instant") in kinematics
+        euler = _euler_column(expl.section("upper").step("dropped"))
+        assert {r for r, v in euler.items() if v == "yes"} == held - {"th1_ddot"}
+        check = expl.sections[-1].step("check").table.rows
+        assert all(float(row[4]) < 1e-9 for row in check), check
+    # the page with its drawings (an instant point of the body is drawn where it is at the state)
+    code, _, err = solver_cli("explain", str(scene), "--point", "upper:I(O_x,A_y)", "-o", str(tmp_path / "w.html"))
+    assert code == 0, err
+    # two lines of action that do not cross: one line naming the flag, exit 2
+    code, out, err = solver_cli("explain", str(scene), "--point", "upper:I(O_x,A_x)")
+    assert code == 2 and not out and err.count("\n") == 1
+    assert "--point upper:I(O_x,A_x): the lines of action of O_x and A_x are parallel" in err
+
+
 def test_no_negative_zero_in_the_results(every_scene):
     """A zero prints as 0, never -0 (the crate at rest: x_ddot, theta_ddot; the guide's moment of
     drum_and_block; solve prints 0 too): every table cell of every shipped scene's explanation."""

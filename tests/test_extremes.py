@@ -198,6 +198,14 @@ def test_massless_bar_on_the_command_line(solver_cli, command):
     assert "nan" not in err.lower() or "finite" in err.lower()
 
 
+def test_no_restoring_force_for_a_length(solver_cli):
+    """QA round 9 item 14: a block free on an arm turning in a horizontal plane has no potential in
+    its coordinate r, a length: what is missing is a restoring force, not a moment (one line, exit 2)."""
+    code, _, err = solver_cli("frequency", "tests/data/multibody/arm_block.toml")
+    assert code == 2 and err.count("\n") == 1
+    assert "does not depend on r (no restoring force" in err and "moment" not in err
+
+
 def test_period_input_errors_are_one_line():
     with pytest.raises(InputError, match="separatrix"):
         period_to_tolerance(system(DISK), math.radians(181), tol=1e-6)

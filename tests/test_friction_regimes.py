@@ -559,3 +559,17 @@ def test_friction_json_names_the_units_of_times_and_forces(solver_cli, tmp_path)
     assert abs(check["friction_force"]["value"]) == pytest.approx(m * g * math.sin(beta) / 3 / lbf, rel=REL)
     text = solver_cli("friction", str(scene), "--set", "mu=10", "--over", "0.5")[1]
     assert "to t = 500 ms" in text
+
+
+def test_sliding_friction_is_written_with_the_scene_s_names(solver_cli):
+    """QA round 9 item 14: the sliding contact's line read `friction = -s mu_k N`, s being the
+    slip's sign, in a scene whose coordinate is named s. It writes the sign out and the reaction
+    names: F = -mu_k N for a slip in +, with N = m g cos(beta) (2 kg, 30 deg, g = 9.81 m/s^2,
+    mu_k = 0.4 as the scene gives them; 6 figures printed, so 1e-5 relative)."""
+    code, out, err = solver_cli("solve", "tests/data/multibody/block_incline.toml")
+    assert code == 0, err
+    line = next(x for x in out.splitlines() if x.strip().startswith("ramp:"))
+    assert "-s mu_k" not in line
+    value = re.search(r"friction F = -mu_k N = (\S+) N", line)
+    assert value, line
+    assert float(value[1]) == pytest.approx(-0.4 * 2.0 * 9.81 * math.cos(math.radians(30.0)), rel=1e-5)

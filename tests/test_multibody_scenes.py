@@ -593,6 +593,59 @@ def test_double_pendulum_normal_mode_frequencies(solver_cli):
         assert any(abs(v - w) <= 1e-10 * w for v in found), f"omega = {w} rad/s not in {out}"
 
 
+def two_bar_small_oscillations() -> tuple[np.ndarray, np.ndarray]:
+    """(omega [rad/s], shapes as columns, largest component 1) of tests/data/multibody/two_bar.toml
+    about (0, 0), typed by hand: slender bars m1 = 2 kg, L1 = 0.6 m and m2 = 1 kg, L2 = 0.4 m,
+    angles from the downward vertical. Linearised, T = q'^T M q' / 2 with
+    M = [[m1 L1^2 / 3 + m2 L1^2, m2 L1 L2 / 2], [m2 L1 L2 / 2, m2 L2^2 / 3]] and
+    V = -g ((m1 / 2 + m2) L1 cos th1 + m2 L2 / 2 cos th2), so K = diag(g (m1 / 2 + m2) L1, g m2 L2 / 2);
+    omega^2 are the eigenvalues of K v = omega^2 M v (scipy.linalg.eigh)."""
+    from scipy.linalg import eigh
+
+    m1, m2, L1, L2, g = 2.0, 1.0, 0.6, 0.4, 9.81
+    M = np.array([[m1 * L1**2 / 3 + m2 * L1**2, m2 * L1 * L2 / 2], [m2 * L1 * L2 / 2, m2 * L2**2 / 3]])
+    K = np.diag([g * (m1 / 2 + m2) * L1, g * m2 * L2 / 2])
+    w2, shapes = eigh(K, M)
+    return np.sqrt(w2), shapes / shapes[np.argmax(np.abs(shapes), axis=0), [0, 1]]
+
+
+@pytest.mark.parametrize("th1, th2", [("20 deg", "-40 deg"), ("20 deg", "-60 deg"), ("20 deg", "-90 deg"),
+                                      ("20 deg", "-170 deg"), ("180 deg", "180 deg")])
+def test_frequency_about_the_nearest_stable_equilibrium(solver_cli, th1, th2):
+    """QA round 9 item 3: from (20, th2) deg Newton's method on the accelerations at rest reached
+    the unstable (0, -180) deg (141 deg or more away) and `frequency` refused; the stable (0, 0) is
+    at most 92 deg away; from (20, -170) deg it is (0, 0), 171 deg away, not (0, -360), 191 deg
+    away, where the descent ends. Released on the maximum of the potential itself, (180, 180) deg, every
+    hanging position is as near (the equilibrium is checked modulo a turn). The modes must be
+    those about the hanging position: 1e-10 relative, as the other frequency tests (a 2x2
+    eigenproblem, eigenvalues 6 apart; the linearisation's error ~1e-11); the equilibrium to
+    1e-9 rad (it is found to round-off)."""
+    scene = Path(__file__).parent / "data" / "multibody" / "two_bar.toml"
+    code, out, err = solver_cli("frequency", str(scene), "--set", f"th1={th1}", "--set", f"th2={th2}", "--json")
+    assert code == 0, err
+    payload = json.loads(out)
+    found = [payload["equilibrium"][c]["value"] for c in ("th1", "th2")]
+    if th1 == "180 deg":
+        found = [math.remainder(x, 2 * math.pi) for x in found]
+    assert found == pytest.approx([0.0, 0.0], abs=1e-9)
+    omega, shapes = two_bar_small_oscillations()
+    assert [m["omega_n"]["value"] for m in payload["modes"]] == pytest.approx(omega, rel=1e-10)
+    for k, mode in enumerate(payload["modes"]):  # the shapes too: they tell a mode about (0, 0) from others
+        got = [mode["shape"][c]["value"] for c in ("th1", "th2")]
+        assert got == pytest.approx(shapes[:, k], rel=1e-8, abs=1e-10)  # eigenvectors: ~1e-11 from J's differences
+
+
+def test_frequency_keeps_a_free_cart_where_it_is(solver_cli):
+    """The cart pendulum released nearly upright (theta = 179 deg, x = 0.5 m): every x is an
+    equilibrium with the bar hanging, and the nearest is x = 0.5 m, theta = 0 (the descent to it
+    moves the cart; taken back along that neutral direction). 1e-9 m and rad: found to round-off."""
+    code, out, err = solver_cli("frequency", str(SCENES / "cart_pendulum.toml"), "--set", "theta=179 deg",
+                                "--set", "x=0.5 m", "--json")
+    assert code == 0, err
+    found = json.loads(out)["equilibrium"]
+    assert [found["x"]["value"], found["theta"]["value"]] == pytest.approx([0.5, 0.0], abs=1e-9)
+
+
 def test_crank_angle_as_a_prescribed_coordinate(solver_cli, tmp_path):
     """The slider-crank written with theta = { motion = "omega*t" } as the crank's orientation and a
     motor without its own angle (it drives what the coordinate prescribes): the same answers."""

@@ -405,3 +405,50 @@ def test_potential_difference_keeps_its_relative_accuracy(expr):
         f = sp.lambdify(q, expr, "mpmath")
         exact = float(f(mpmath.mpf(x) + 2 * mpmath.mpf(H)) - f(mpmath.mpf(x)))
     assert abs(value - exact) <= 16 * np.finfo(float).eps * size
+
+
+TORSION_PENDULUM = "tests/data/multibody/torsion_pendulum.toml"
+
+
+def torsion_pendulum_reference(a: float) -> float:
+    """Period [s] of tests/data/multibody/torsion_pendulum.toml released from rest at ``a``,
+    by scipy.integrate.quad of the energy integral, typed from the scene by hand.
+
+    M = m L^2 / 3 (slender bar about its end), V = -m g L / 2 cos q + kt q^2 / 2, and
+    T = 4 int_0^a sqrt(M / (2 (V(a) - V(q)))) dq. With q = a sin u the end point's
+    1/sqrt singularity goes: dq = a cos u du and V(a) - V(q) = cos^2 u h(u), where
+    h = m g L sin(a (1 + s) / 2) sin(a c^2 / (2 (1 + s))) / c^2 + kt a^2 / 2 (s = sin u,
+    c = cos u; cos q - cos a as a product, 1 - s = c^2 / (1 + s), no cancellation).
+    """
+    from scipy.integrate import quad
+
+    mass, length, gravity, kt = 2.0, 0.8, 9.81, 10.0
+    inertia = mass * length**2 / 3
+
+    def h(u):
+        s, c = math.sin(u), math.cos(u)
+        gravity_part = mass * gravity * length * math.sin(a * (1 + s) / 2) * math.sin(a * c * c / (2 * (1 + s)))
+        return gravity_part / (c * c) + kt * a * a / 2
+
+    value, error = quad(lambda u: math.sqrt(inertia / (2 * h(u))), 0.0, math.pi / 2, epsabs=0.0, epsrel=1e-13)
+    assert error < 1e-12 * value  # the integrand is smooth: quad's own estimate is far below the test's tolerance
+    return 4 * a * value
+
+
+@pytest.mark.parametrize("deg", [30.0, 90.0])
+def test_period_of_a_pendulum_with_a_torsional_spring(solver_cli, deg):
+    # QA round 9 item 4: a lone parameter factor (kt in V' = ... + kt q) was left symbolic in
+    # the compiled potential, so the well scan computed with sympy objects (over 20 s of CPU,
+    # then "cannot determine truth value of Relational", exit 1).
+    code, out, err = solver_cli("period", TORSION_PENDULUM, "--amplitude", f"{deg} deg", "--tol", "1e-12", "--json")
+    assert code == 0, err
+    res = json.loads(out)
+    assert res["model"] == "quadrature"  # kt q^2 / 2 is not affine in cos q and sin q: no closed form
+    ref = torsion_pendulum_reference(math.radians(deg))
+    # 1e-12 requested; twice that for the reference (quad to ~1e-14) and the printing of JSON floats
+    assert res["period"]["value"] == pytest.approx(ref, rel=2e-12)
+    # the linearized period: 2 pi sqrt(M / V''(0)), V''(0) = m g L / 2 + kt (exact arithmetic)
+    T0 = 2 * math.pi * math.sqrt((2.0 * 0.8**2 / 3) / (2.0 * 9.81 * 0.8 / 2 + 10.0))
+    assert res["period_linear"]["value"] == pytest.approx(T0, rel=1e-14)  # a few roundings of the same formula
+    if deg == 90.0:
+        assert round(ref, 5) == 1.03736  # the QA tester's own quadrature at 90 deg, to the 6 figures reported

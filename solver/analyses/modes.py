@@ -13,7 +13,10 @@ J is taken by fourth-order central differences of g (step 1e-3 of each
 coordinate's scale), whose truncation error, h^4 g^(5) / 30 ~ 1e-13 relative,
 and round-off, eps |g| / h ~ 1e-13, keep the frequencies to about 1e-11.
 
-For one coordinate without closure equations the equilibrium comes from
+With several coordinates the equilibrium is the stable one nearest the state among those
+found by Newton's method on g and by a descent of the potential energy to the bottom of the
+well the state lies in, each also with its angles moved by whole turns towards the state
+(:func:`_nearest_stable`); Newton alone may end at a saddle or a maximum. For one coordinate without closure equations the equilibrium comes from
 :func:`solver.period.find_equilibrium` (a scan of the effective potential,
 robust to any starting state), so ``frequency`` and ``period`` agree.
 """
@@ -32,6 +35,7 @@ __all__ = ["Mode", "ModesResult", "modes"]
 
 _STEP = 1e-3
 _NEWTON = 50
+_DESCENT = 200  # steps of _descend (each a Jacobian: 4 n + 1 evaluations of u'')
 
 
 @dataclass
@@ -154,7 +158,7 @@ def modes(system, method: str = "generalized_euler") -> ModesResult:
     elif len(ind) == 1 and ind[0].kind == "angle":
         u = np.array([_scan_one_angle(g, u[0], system)])
     else:
-        u = _newton(g, u, scales, system)
+        u = _nearest_stable(g, u, scales, system, np.array([c.kind == "angle" for c in ind]))
     J = _jacobian(g, u, scales)
     lam, vec = np.linalg.eig(-J)
     tries = 0
@@ -196,6 +200,104 @@ def modes(system, method: str = "generalized_euler") -> ModesResult:
     # an equilibrium at round-off distance from 0 is 0
     eq = {c.name: (0.0 if abs(x) < 1e-12 * sc else float(x)) for c, x, sc in zip(ind, u, scales)}
     return ModesResult(eq, out, {c.name: c.unit for c in ind})
+
+
+def _unstable(J) -> bool:
+    """True when u'' = J (u - u_e) has a direction that runs away: an eigenvalue of -J (omega^2)
+    below -1e-9 of the largest in size (the test :func:`modes` applies to the equilibrium it keeps)."""
+    lam = np.linalg.eigvals(-J)
+    return bool(np.any(lam.real < -1e-9 * max(1.0, float(np.max(np.abs(lam))))))
+
+
+def _nearest_stable(g, u0, scales, system, angles):
+    """The stable equilibrium nearest ``u0`` of several coordinates, among Newton's root from u0,
+    the bottom of the well u0 lies in (:func:`_descend`) and Newton's roots from these two with
+    their angles (``angles``, a mask) moved by whole turns towards u0 (the same configuration
+    where the loads repeat over a turn): the nearest stable one (in coordinate scales), or
+    Newton's root when none is stable (:func:`modes` steps off it).
+
+    Newton alone converges to whichever equilibrium its steps reach, a saddle or a maximum as
+    readily as a minimum (a double pendulum from (20, -40) deg reached (0, -180) deg).
+    """
+    found = []
+    for search in (_newton, _descend):
+        try:
+            found.append(search(g, np.array(u0, dtype=float), scales, system))
+        except NoRestoringError:
+            continue
+    if not found:
+        raise NoRestoringError(f"{system.label}: no equilibrium found near the scene's state")
+    for u in list(found):
+        turns = np.where(angles, np.round((u0 - u) / (2 * math.pi)), 0.0)
+        if np.any(turns):
+            try:
+                found.append(_newton(g, u + 2 * math.pi * turns, scales, system))
+            except NoRestoringError:
+                continue
+    stable = [u for u in found if not _unstable(_jacobian(g, u, scales))]
+    return min(stable or found[:1], key=lambda u: float(np.linalg.norm((u - u0) / scales)))
+
+
+def _descend(g, u0, scales, system):
+    """The bottom of the potential well that ``u0`` lies in.
+
+    Follows u' = g(u), the motion from rest under a damping that swamps inertia, along which
+    the potential energy only falls, so that it ends in a minimum, not at a saddle or a
+    maximum: pseudo-transient continuation (Kelley and Keyes 1998), linearly implicit Euler
+    steps u += (I / h - J)^-1 g(u). h doubles after each step, so that the steps become
+    Newton's where no direction is unstable, and halves after a step too long to trust (over a
+    quarter of a coordinate's scale, then cut to that). Where a direction is unstable (an
+    eigenvalue of J with real part mu > 0), h <= 1 / (2 mu) keeps the step going down the
+    slope, away from the saddle; started on the saddle (or a maximum) itself, where g is
+    round-off (steps under 1e-10 of the scales), a step of 1e-3 of the scales leaves it along
+    the fastest unstable direction. Newton's method (:func:`_newton`) finishes once no
+    direction is unstable and the steps are under 1e-3 of the scales, and the equilibrium is
+    taken back along its neutral directions (:func:`_back_along_neutral`).
+    """
+    n, u = len(u0), u0
+    h = None
+    for _ in range(_DESCENT):
+        r = g(u)
+        J = _jacobian(g, u, scales)
+        mu, ways = np.linalg.eig(J)
+        size = float(np.max(np.abs(mu)))
+        if not (size > 0 and np.all(np.isfinite(r))):
+            break
+        h = 0.1 / size if h is None else h
+        fastest = float(np.max(mu.real))
+        if fastest > 1e-9 * size:
+            h = min(h, 0.5 / fastest)
+        step = np.linalg.solve(np.eye(n) / h - J, r)
+        if fastest > 1e-9 * size and np.max(np.abs(step) / scales) < 1e-10:  # on a saddle or a maximum
+            way = ways[:, int(np.argmax(mu.real))].real  # (g round-off there): off it the fastest way down
+            step = 1e-3 * scales * way / np.max(np.abs(way))
+        longest = float(np.max(np.abs(step) / scales))
+        if longest > 0.25:
+            step, h = step * (0.25 / longest), 0.5 * h
+        else:
+            h = 2.0 * h
+        u = u + step
+        if fastest <= 1e-9 * size and longest < 1e-3:
+            return _back_along_neutral(g, _newton(g, u, scales, system), u0, scales, system)
+    raise NoRestoringError(f"{system.label}: no equilibrium found near the scene's state")
+
+
+def _back_along_neutral(g, u, u0, scales, system):
+    """The equilibrium ``u`` moved along its neutral directions (those J does not change g
+    along: a free cart's position) to the point nearest ``u0`` (in coordinate scales), then
+    Newton's; ``u`` itself if Newton fails there. The descent drifts along them as the
+    coordinates it falls in pull them (the cart moves as the pendulum falls), though every
+    point along them is as much an equilibrium."""
+    J = _jacobian(g, u, scales) * scales[np.newaxis, :]  # d g / d (u / scales)
+    _, sigma, vt = np.linalg.svd(J)
+    neutral = vt[sigma <= 1e-9 * max(float(sigma[0]), 1e-300)]
+    if not len(neutral):
+        return u
+    back = u + scales * (neutral.T @ (neutral @ ((u0 - u) / scales)))
+    try:
+        return _newton(g, back, scales, system)
+    except NoRestoringError:
+        return u
 
 
 def _newton(g, u, scales, system):

@@ -508,8 +508,10 @@ def _check(variant, regimes, q, qd, qdd, t, values, strict_direction=True):
             values[F.name] = f
         if strict_direction and s and s * at < -TOL * ascale and abs(vt) <= TOL * vscale:
             return [], f"{j.name} slipping {'+' if s > 0 else '-'} would accelerate the other way"
-        why = ("slides without friction" if j.friction is None else
-               f"slides ({'+' if s > 0 else '-'} along its line): friction = -s mu_k N = {f:.6g} N")
+        friction = f"{F.name} = " if F is not None else "= "  # the slip's sign written out, not as s
+        why = ("slides without friction" if j.friction is None else  # (a scene may name a coordinate s)
+               f"slides ({'+' if s > 0 else '-'} along its line): friction {friction}{'-' if s > 0 else ''}"
+               f"mu_k {N.name} = {f:.6g} N")
         checks.append(ContactCheck(j.name, r, why, n, f))
     return checks, None
 

@@ -212,7 +212,7 @@ def rank_points(system, body: str, state, f=None, parts=None) -> list[Candidate]
     """The candidate points of ``body`` at ``state``, best first (see the module docstring);
     ``parts``: the body's (points, forces) when the worked solution has built them already."""
     from ..formulations import formulate
-    from .build import _Points, _forces_on
+    from .build import _Points, _forces_on, crossing_name, crossing_words
 
     f = f or formulate(system, "generalized_euler", None)
     body_rows = _BodyRows(system, f, body, state)
@@ -235,7 +235,7 @@ def rank_points(system, body: str, state, f=None, parts=None) -> list[Candidate]
     b = system.bodies[body]
     for name, r in points.named.items():
         origin = ("mass centre" if name == "G" else "element centre" if name.startswith("G_")
-                  else "point of its joint" if name in points.about else "named point")
+                  else points.origin.get(name, "named point"))
         add(name, np.array([_numeric(x, subs) for x in r]), origin)
     lines = []
     for fc in forces:
@@ -253,7 +253,7 @@ def rank_points(system, body: str, state, f=None, parts=None) -> list[Candidate]
             if abs(np.linalg.det(M)) < 1e-9:
                 continue
             s, _ = np.linalg.solve(M, p2 - p1)
-            add(f"I({n1},{n2})", p1 + s * d1, f"intersection of the lines of action of {n1} and {n2}")
+            add(crossing_name(n1, n2), p1 + s * d1, crossing_words(n1, n2))
     for c in cands:
         row = body_rows.moment_row(c.position)
         c.unknowns = body_rows.unknowns_about(c.position)

@@ -21,6 +21,7 @@ form (Eqs. 1-2).
 from __future__ import annotations
 
 import math
+import re
 
 import sympy as sp
 
@@ -81,16 +82,28 @@ class _Points:
                 if not any(_zero(r[0] - q[0]) and _zero(r[1] - q[1]) for q in self.named.values()):
                     self.named[key] = r
         self.extra = 0
-        self.about: dict[str, str] = {}  # a point named after its joint -> what it is, in words
+        self.about: dict[str, str] = {}  # a point named after its joint or two reactions -> what it is
+        self.origin: dict[str, str] = {}  # the same, in the advisor's words
         for j in system.joints:  # one that --point asked for is a point of the body already
             name = f"C_{j.name}"
             if name in b.points and b.points[name].is_instant:
                 self.about[name] = self.describe(name, j)
+        for name in b.points:
+            crossed = _CROSSING.fullmatch(name)
+            if crossed and b.points[name].is_instant:
+                self.about[name] = self.describe_crossing(name, *crossed.groups())
 
     def describe(self, name: str, joint) -> str:
+        self.origin[name] = "point of its joint"
         return (f"{name} is the point of {self.body} where joint {joint.name} acts at this instant "
                 f"({_joint_place(joint)}); the scene names no point there, so it is named after its joint, "
                 f"and --point {name} takes moments about it")
+
+    def describe_crossing(self, name: str, first: str, second: str) -> str:
+        self.origin[name] = crossing_words(first, second)
+        return (f"{name} is the point of {self.body} (the body extended) where the lines of action of "
+                f"{first} and {second} cross at this instant; the scene names no point there, so it is "
+                f"named after them, and --point {name} takes moments about it")
 
     def name_of(self, at, joint=None) -> str:
         """The name of the place ``at``: a named point there, else ``C_<joint>`` for the place where
@@ -111,25 +124,73 @@ class _Points:
 
 def add_joint_point(system, point: str | None) -> None:
     """Make the point ``--point`` names a point of its body when it is one the worked solution and
-    the advisor name after a joint (``C_<joint>``, :meth:`_Points.name_of`): an instant point at
-    the place where the joint acts, so that the moment equation can be taken about it. Other
-    names are left to the formulation to accept or refuse."""
+    the advisor name after a joint (``C_<joint>``, :meth:`_Points.name_of`) or after two reactions
+    (``I(R1,R2)``, :func:`crossing_name`): an instant point at the place where the joint acts or
+    the lines of action cross, so that the moment equation can be taken about it. Other names are
+    left to the formulation to accept or refuse.
+
+    The point's offset from its body's reference point is that of the scene's state, a constant
+    (with the coordinates' values there) as an instant point's is: the drawing places the point
+    by it, and at the state it is the same place.
+    """
+    from ..analyses.instant import assemble
     from ..model.bodies import Point
 
     if point is None:
         return
     body, _, name = point.rpartition(":")
+    state = None
     for b in ([system.bodies[body]] if body in system.bodies else [] if body else system.bodies.values()):
         if name in b.point_names():
             continue
         points = _Points(system, b.name)
-        at = next((f.at for f in _forces_on(system, b.name, points) if f.point == name), None)
+        forces = _forces_on(system, b.name, points)
+        at = next((f.at for f in forces if f.point == name), None)
+        state = state or assemble(system)
         if at is None or name not in points.about:
+            at = _crossing(system, forces, name, point, _state_subs(system, state))
+        if at is None:
             continue
         ref = next((n for n, p in b.points.items() if not p.is_instant), "G")
-        offset = sp.Matrix(at) - system.point_position(b.name, ref)
+        coordinates = {**dict(zip(system.q, map(sp.Float, state.q))), system.t: sp.Float(state.t)}
+        offset = (sp.Matrix(at) - system.point_position(b.name, ref)).xreplace(coordinates)
         b.points[name] = Point(name, _vec(offset), frame="instant", relative_to=ref)
         system.reset()
+
+
+_CROSSING = re.compile(r"I\(([^,()]+),([^,()]+)\)")
+"""``I(R1,R2)``, the advisor's name of the place where two reactions' lines of action cross."""
+
+
+def crossing_name(first: str, second: str) -> str:
+    """``I(R1,R2)``: the advisor's name of the place where the lines of action of the reactions
+    ``first`` and ``second`` cross (:data:`_CROSSING` reads it back for ``--point``)."""
+    return f"I({first},{second})"
+
+
+def crossing_words(first: str, second: str) -> str:
+    """What the point :func:`crossing_name` names is, in the advisor's words."""
+    return f"intersection of the lines of action of {first} and {second}"
+
+
+def _crossing(system, forces, name: str, point: str, subs: dict):
+    """The place (2x1, in the coordinates) where the lines of action of the two reactions the name
+    ``I(R1,R2)`` gives cross, or None when ``name`` is not such a name of two reactions on the body
+    among ``forces``. Lines parallel at the state ``subs`` are refused naming ``--point`` (the
+    advisor lists no such point)."""
+    from ..errors import SceneError
+
+    crossed = _CROSSING.fullmatch(name)
+    lines = {f.name: (sp.Matrix(f.at), f.force.xreplace({f.unknown: 1}))
+             for f in forces if f.reaction is not None and f.force is not None}
+    if crossed is None or not all(n in lines for n in crossed.groups()):
+        return None
+    (p1, d1), (p2, d2) = (lines[n] for n in crossed.groups())
+    det, gap = cross_k(d1, d2), p2 - p1
+    if not abs(_value(det, subs)) > 1e-9 * _value(d1.norm() * d2.norm(), subs):  # as the advisor's test
+        raise SceneError(f"{system.label}: --point {point}: the lines of action of {crossed[1]} and "
+                         f"{crossed[2]} are parallel at the scene's state: they do not cross")
+    return p1 + d1 * cross_k(gap, d2) / det  # p1 + s d1 = p2 + t d2, s by Cramer's rule
 
 
 def joint_point_name(joint, taken=()) -> str:
