@@ -27,6 +27,7 @@ import sympy as sp
 from ..model.joints import cross_k, k_cross, vec
 from .content import Equation, Explanation, Section, Step, Table, Term
 from ..display import is_identically_zero, tidy, tidy_linear
+from ..strprint import FastStrPrinter, sstr
 
 __all__ = ["explain", "latex_names", "system_in_regime"]
 
@@ -53,11 +54,15 @@ def _zero(expr) -> bool:
 
 
 def _state_subs(system, state) -> dict:
-    vals = dict(system.si_values())
-    vals.update(zip(system.q, state.q))
-    vals.update(zip(system.qd, state.qd))
-    vals[system.t] = state.t
-    return {k: sp.Float(v) for k, v in vals.items()}
+    """Symbol -> sympy Float: the parameters, the coordinates and rates at ``state``, and t (for
+    ``xreplace``); remembered by the system for that state (several steps evaluate there). Read only."""
+    def build():
+        vals = dict(system.si_values())
+        vals.update(zip(system.q, state.q))
+        vals.update(zip(system.qd, state.qd))
+        vals[system.t] = state.t
+        return {k: sp.Float(v) for k, v in vals.items()}
+    return system._memo(("state_subs", tuple(state.q), tuple(state.qd), state.t), build)
 
 
 def _value(expr, subs) -> float:
@@ -230,8 +235,8 @@ def _data_step(system, body: str) -> Step:
     b = system.bodies[body]
     rows = []
     for e in b.elements:
-        rows.append((e.name, e.kind or type(e).__name__, sp.sstr(e.mass), sp.sstr(tidy(e.I_G))))
-    text = [f"Body {body}: {counted(len(b.elements), 'element')}, total mass m = {sp.sstr(b.total_mass)}."]
+        rows.append((e.name, e.kind or type(e).__name__, sstr(e.mass), sstr(tidy(e.I_G))))
+    text = [f"Body {body}: {counted(len(b.elements), 'element')}, total mass m = {sstr(b.total_mass)}."]
     if len(b.elements) > 1:
         text.append("A composite body (Eqs. 11-14): each element keeps its own mass centre and centroidal inertia.")
     return Step("data", f"Data of {body}", text, table=Table(("element", "kind", "mass m_k", "I_G,k"), tuple(rows)))
@@ -324,12 +329,12 @@ def _fbd_step(system, body: str, forces: list[_Force]) -> Step:
     for f in forces:
         what = "unknown (reaction)" if f.reaction is not None else "known (applied)"
         if f.force is not None:
-            shown = f"({sp.sstr(tidy(f.force[0]))}, {sp.sstr(tidy(f.force[1]))})"
+            shown = f"({sstr(tidy(f.force[0]))}, {sstr(tidy(f.force[1]))})"
             if len(shown) > MAX_CELL:
                 shown = f"the vector {f.name.replace('gravity:', 'W_')} above"
             rows.append((f.name, f.kind, f.point, shown, what))
         else:
-            shown = f"couple {sp.sstr(tidy(f.couple))}"
+            shown = f"couple {sstr(tidy(f.couple))}"
             rows.append((f.name, f.kind, "-", shown if len(shown) <= MAX_CELL else "a couple (too long to show here)", what))
     step = Step("fbd", f"Free-body diagram of {body}",
                 [f"The forces and couples on {body}, fixed-frame components (x right, y up)."],
@@ -420,7 +425,8 @@ def _euler_step(system, body: str, P: str, forces: list[_Force]) -> tuple[Step, 
         text.append(f"The inertial term vanishes here: r_G/{P} x a_{P} = 0 ({P} is the mass centre, or a_{P} "
                     f"is parallel to r_G/{P} or zero).")
     collected = _collected_equation(system, body, P, euler)
-    if collected is not None and _length(collected) > _length(euler):
+    printer = FastStrPrinter()  # the two forms share their subexpressions: each printed once
+    if collected is not None and _length(collected, printer) > _length(euler, printer):
         collected = None  # collecting spreads the terms over the unknowns' coefficients: no help to read
         text.append(f"The equation is not shown collected by unknown: that form is longer than the equation "
                     f"above.")
@@ -431,9 +437,10 @@ def _euler_step(system, body: str, P: str, forces: list[_Force]) -> tuple[Step, 
                  [inertia, euler] + ([collected] if collected is not None else [])), dropped)
 
 
-def _length(eq: Equation) -> int:
-    """Characters of an equation's terms as printed (to compare two forms of it)."""
-    return sum(len(sp.sstr(t.expr)) for t in (*eq.lhs, *eq.rhs))
+def _length(eq: Equation, printer: FastStrPrinter | None = None) -> int:
+    """Characters of an equation's terms as printed (to compare two forms of it); ``printer``, one
+    shared by the forms compared (:func:`solver.strprint.sstr`)."""
+    return sum(len(sstr(t.expr, printer)) for t in (*eq.lhs, *eq.rhs))
 
 
 ALPHA = sp.Symbol("alpha", real=True)
@@ -460,8 +467,8 @@ def say_what_alpha_is(system, expl: Explanation) -> None:
     (q_ddot, (alpha, k)), = form.items()
     body = next(iter(system.bodies))
     for step in expl.steps():
-        if any(alpha in sp.sympify(t.expr).free_symbols for e in step.equations for t in (*e.lhs, *e.rhs)):
-            step.text.append(f"Here alpha = {sp.sstr(k * q_ddot)}, the angular acceleration of {body} (k component, "
+        if any(sp.sympify(t.expr).has(alpha) for e in step.equations for t in (*e.lhs, *e.rhs)):
+            step.text.append(f"Here alpha = {sstr(k * q_ddot)}, the angular acceleration of {body} (k component, "
                              f"counter-clockwise positive): from here on the equations write the unknown {q_ddot} "
                              "as alpha.")
             return
@@ -484,7 +491,7 @@ def _collected_equation(system, body: str, P: str, euler: Equation) -> Equation 
         k = sp.sympify(min(sp.sympify(t.as_powers_dict().get(p, 0)) for t in terms))
         if k.is_Integer and k > 0:
             common *= p**k
-            divided.append(sp.sstr(p**k))
+            divided.append(sstr(p**k))
     rest = sp.expand(e - sp.Add(*[c * u for u, c in coefs.items()]))
     rhs = tidy(sp.expand(-rest / common))
     reactions = [c for u, c in coefs.items() if u not in system.qdd]
@@ -537,7 +544,7 @@ def _dropped_step(system, body: str, P: str, forces, dropped, newton: Step, eule
         elif u in in_euler:
             cells.append("no, at this state")
             why = (f"{'its line of action passes through ' + P if line else 'its moment about ' + P + ' is zero'} "
-                   f"at this state only (its coefficient {sp.sstr(tidy(residual.coeff(u)))} vanishes here, "
+                   f"at this state only (its coefficient {sstr(tidy(residual.coeff(u)))} vanishes here, "
                    "not identically)")
         else:
             cells.append("no")
@@ -550,7 +557,7 @@ def _dropped_step(system, body: str, P: str, forces, dropped, newton: Step, eule
     for u in in_euler:  # an acceleration whose coefficient vanishes at the state
         if u not in here and u in system.qdd:
             text.append(f"{u} drops out of the moment equation at this state only (its coefficient "
-                        f"{sp.sstr(tidy(residual.coeff(u)))} vanishes here, not identically).")
+                        f"{sstr(tidy(residual.coeff(u)))} vanishes here, not identically).")
     names = ", ".join(str(u) for u in here)
     if len(here) == len(in_euler):
         text.insert(0, f"The moment equation about {P} contains {counted(len(here), 'unknown')}: {names}.")
@@ -981,7 +988,7 @@ def _small_motion_rules(system, eom: Equation) -> list[Equation]:
     e = sp.expand(eom.residual.xreplace(zero))
     rules = []
     functions = sorted((f for f in e.atoms(sp.Function) if f.has(c.q) and not f.has(c.qd, c.qdd)),
-                       key=lambda f: (type(f).__name__ != "sin", type(f).__name__ != "cos", sp.sstr(f)))
+                       key=lambda f: (type(f).__name__ != "sin", type(f).__name__ != "cos", sstr(f)))
     for f in functions:
         rules.append((f, f.xreplace({c.q: 0}) + sp.diff(f, c.q).xreplace({c.q: 0}) * c.q))
     for term in sp.Add.make_args(e):
