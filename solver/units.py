@@ -349,7 +349,7 @@ def check_angle(value_rad: float, where: str, text: Any = None) -> float:
 
 def is_angle_unit(quantity: pint.Quantity) -> bool:
     """True for a dimensionless quantity with a unit (``deg``, ``rad``, ``turn``): an angle."""
-    return quantity.dimensionless and str(quantity.units) not in ("", "dimensionless")
+    return quantity.dimensionless and quantity.units != ureg.dimensionless  # (its text is not "dimensionless")
 
 
 def parse_angle(text: Any, where: str, bare_unit: str = "deg") -> float:

@@ -193,6 +193,13 @@ class _BodyRows:
         return [n for n, v in zip(self.names, row) if abs(v) > _REL_ZERO * self.scale]
 
 
+def _body_rows(system, f, body: str, state) -> _BodyRows:
+    """The :class:`_BodyRows` of ``body`` in formulation ``f`` at ``state``, remembered by the system
+    (the worked solution's steps and the advisor ask it for the same body and state; read only)."""
+    key = ("body_rows", f.method, tuple(sorted(f.points.items())), body, tuple(state.q), tuple(state.qd), state.t)
+    return system._memo(key, lambda: _BodyRows(system, f, body, state))
+
+
 def unknowns_at_state(system, f, body: str, P: str, state) -> list[str]:
     """The unknowns the moment equation of ``body`` about its point ``P`` holds at ``state``: the
     same decision as the advisor's count for P (:class:`_BodyRows`)."""
@@ -203,7 +210,7 @@ def unknowns_in_equations(system, f, body: str, P: str, state) -> dict[str, list
     """The unknowns each equation of ``body`` holds at ``state`` (tags ``euler``, the moment equation
     about ``P``, ``newton_x``, ``newton_y``), by the one decision of :class:`_BodyRows`: the step on
     the dropped unknowns, the advisor and the equations with the data entered all ask it."""
-    rows = _BodyRows(system, f, body, state)
+    rows = _body_rows(system, f, body, state)
     return {"euler": rows.unknowns_about(rows.position(system.point_position(body, P))),
             "newton_x": rows.held(rows.rows["x"]), "newton_y": rows.held(rows.rows["y"])}
 
@@ -215,7 +222,7 @@ def rank_points(system, body: str, state, f=None, parts=None) -> list[Candidate]
     from .build import _Points, _forces_on
 
     f = f or formulate(system, "generalized_euler", None)
-    body_rows = _BodyRows(system, f, body, state)
+    body_rows = _body_rows(system, f, body, state)
     subs, rows, scale = body_rows.subs, body_rows.rows, body_rows.scale
 
     if parts is None:
