@@ -231,12 +231,12 @@ def _moment(f: _Force, r_P) -> sp.Expr:
 # -- per body ------------------------------------------------------------------------------------
 
 
-def _data_step(system, body: str) -> Step:
+def _data_step(system, body: str, printer: FastStrPrinter | None = None) -> Step:
     b = system.bodies[body]
     rows = []
     for e in b.elements:
-        rows.append((e.name, e.kind or type(e).__name__, sstr(e.mass), sstr(tidy(e.I_G))))
-    text = [f"Body {body}: {counted(len(b.elements), 'element')}, total mass m = {sstr(b.total_mass)}."]
+        rows.append((e.name, e.kind or type(e).__name__, sstr(e.mass, printer), sstr(tidy(e.I_G), printer)))
+    text = [f"Body {body}: {counted(len(b.elements), 'element')}, total mass m = {sstr(b.total_mass, printer)}."]
     if len(b.elements) > 1:
         text.append("A composite body (Eqs. 11-14): each element keeps its own mass centre and centroidal inertia.")
     return Step("data", f"Data of {body}", text, table=Table(("element", "kind", "mass m_k", "I_G,k"), tuple(rows)))
@@ -324,17 +324,17 @@ MAX_CELL = 60
 """Most characters of a free-body table cell; a longer force is shown by its vector equation only."""
 
 
-def _fbd_step(system, body: str, forces: list[_Force]) -> Step:
+def _fbd_step(system, body: str, forces: list[_Force], printer: FastStrPrinter | None = None) -> Step:
     rows = []
     for f in forces:
         what = "unknown (reaction)" if f.reaction is not None else "known (applied)"
         if f.force is not None:
-            shown = f"({sstr(tidy(f.force[0]))}, {sstr(tidy(f.force[1]))})"
+            shown = f"({sstr(tidy(f.force[0]), printer)}, {sstr(tidy(f.force[1]), printer)})"
             if len(shown) > MAX_CELL:
                 shown = f"the vector {f.name.replace('gravity:', 'W_')} above"
             rows.append((f.name, f.kind, f.point, shown, what))
         else:
-            shown = f"couple {sstr(tidy(f.couple))}"
+            shown = f"couple {sstr(tidy(f.couple), printer)}"
             rows.append((f.name, f.kind, "-", shown if len(shown) <= MAX_CELL else "a couple (too long to show here)", what))
     step = Step("fbd", f"Free-body diagram of {body}",
                 [f"The forces and couples on {body}, fixed-frame components (x right, y up)."],
@@ -398,7 +398,8 @@ def _inertia_equation(system, body: str, P: str) -> Equation:
                     "Eq. (12)", tag="inertia", name=f"I_{P}")
 
 
-def _euler_step(system, body: str, P: str, forces: list[_Force]) -> tuple[Step, list[_Force]]:
+def _euler_step(system, body: str, P: str, forces: list[_Force],
+                printer: FastStrPrinter | None = None) -> tuple[Step, list[_Force]]:
     r_P = system.point_position(body, P)
     a_P = system.point_kinematics(body, P)[2]
     al = system.alpha(body)
@@ -425,7 +426,7 @@ def _euler_step(system, body: str, P: str, forces: list[_Force]) -> tuple[Step, 
         text.append(f"The inertial term vanishes here: r_G/{P} x a_{P} = 0 ({P} is the mass centre, or a_{P} "
                     f"is parallel to r_G/{P} or zero).")
     collected = _collected_equation(system, body, P, euler)
-    printer = FastStrPrinter()  # the two forms share their subexpressions: each printed once
+    printer = printer or FastStrPrinter()  # the two forms share their subexpressions: each printed once
     if collected is not None and _length(collected, printer) > _length(euler, printer):
         collected = None  # collecting spreads the terms over the unknowns' coefficients: no help to read
         text.append(f"The equation is not shown collected by unknown: that form is longer than the equation "
@@ -518,7 +519,7 @@ def counted(n: int, noun: str) -> str:
 
 
 def _dropped_step(system, body: str, P: str, forces, dropped, newton: Step, euler: Step,
-                  at_state: list[str] | None = None) -> Step:
+                  at_state: list[str] | None = None, printer: FastStrPrinter | None = None) -> Step:
     """Which unknowns the moment equation about P holds, and why the others drop out.
 
     ``at_state``: the names of the unknowns it holds at the state, as the point advisor counts them
@@ -529,6 +530,7 @@ def _dropped_step(system, body: str, P: str, forces, dropped, newton: Step, eule
     residual = sp.expand(euler.equation("euler").residual)
     in_euler = _unknowns_in(residual, unknowns)
     here = [u for u in in_euler if at_state is None or str(u) in at_state]
+    newton_rows = {tag: sp.expand(newton.equation(tag).residual) for tag in ("newton_x", "newton_y")}
     rows, text = [], []
     for f in forces:
         if f.reaction is None:
@@ -536,7 +538,7 @@ def _dropped_step(system, body: str, P: str, forces, dropped, newton: Step, eule
         u = f.unknown
         cells = [f.name]
         for tag in ("newton_x", "newton_y"):
-            cells.append("yes" if u in _unknowns_in(newton.equation(tag).residual, [u]) else "no")
+            cells.append("yes" if u in _unknowns_in(newton_rows[tag], [u]) else "no")
         line = f.force is not None and _zero(f.couple)
         if u in here:
             cells.append("yes")
@@ -544,7 +546,7 @@ def _dropped_step(system, body: str, P: str, forces, dropped, newton: Step, eule
         elif u in in_euler:
             cells.append("no, at this state")
             why = (f"{'its line of action passes through ' + P if line else 'its moment about ' + P + ' is zero'} "
-                   f"at this state only (its coefficient {sstr(tidy(residual.coeff(u)))} vanishes here, "
+                   f"at this state only (its coefficient {sstr(tidy(residual.coeff(u)), printer)} vanishes here, "
                    "not identically)")
         else:
             cells.append("no")
@@ -557,7 +559,7 @@ def _dropped_step(system, body: str, P: str, forces, dropped, newton: Step, eule
     for u in in_euler:  # an acceleration whose coefficient vanishes at the state
         if u not in here and u in system.qdd:
             text.append(f"{u} drops out of the moment equation at this state only (its coefficient "
-                        f"{sstr(tidy(residual.coeff(u)))} vanishes here, not identically).")
+                        f"{sstr(tidy(residual.coeff(u)), printer)} vanishes here, not identically).")
     names = ", ".join(str(u) for u in here)
     if len(here) == len(in_euler):
         text.insert(0, f"The moment equation about {P} contains {counted(len(here), 'unknown')}: {names}.")
@@ -619,7 +621,7 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
         expl.sections[-1].steps.append(_regime_step(scene, regime, warning))
     parts: dict = {}
     for body, P in f.points.items():
-        expl.sections.append(_body_section(system, body, P, parts, (f, state), kinematics))
+        expl.sections.append(_body_section(system, body, P, parts, (f, state), kinematics, expl.printer))
     if not solution:
         say_what_alpha_is(system, expl)
         return expl
@@ -697,10 +699,11 @@ def _regime_step(scene, regime, warning) -> Step:
 
 
 def _body_section(system, body: str, P: str, parts: dict | None = None, at=None,
-                  kinematics: bool = True) -> Section:
+                  kinematics: bool = True, printer: FastStrPrinter | None = None) -> Section:
     """The steps of one body; ``parts`` (body -> (points, forces)) receives what the point advisor
     needs again (no later step names new points); ``at``: (formulation, state), to say which
-    unknowns the moment equation holds at the state; ``kinematics``: with the kinematics step."""
+    unknowns the moment equation holds at the state; ``kinematics``: with the kinematics step;
+    ``printer``: the explanation's (:attr:`Explanation.printer`), for the texts the steps hold."""
     points = _Points(system, body)
     forces = _forces_on(system, body, points)
     if parts is not None:
@@ -713,20 +716,20 @@ def _body_section(system, body: str, P: str, parts: dict | None = None, at=None,
         if f.force is not None and f.point not in used:
             used.append(f.point)
     section = Section(f"Body {body}", body)
-    section.steps.append(_data_step(system, body))
+    section.steps.append(_data_step(system, body, printer))
     if kinematics:
         section.steps.append(_kinematics_step(system, body, P, used, points))
-    section.steps.append(_fbd_step(system, body, forces))
+    section.steps.append(_fbd_step(system, body, forces, printer))
     newton = _newton_step(system, body, P, forces)
     section.steps.append(newton)
-    euler, dropped = _euler_step(system, body, P, forces)
+    euler, dropped = _euler_step(system, body, P, forces, printer)
     section.steps.append(euler)
     at_state = None
     if at is not None:
         from .advisor import unknowns_at_state
 
         at_state = unknowns_at_state(system, at[0], body, P, at[1])
-    section.steps.append(_dropped_step(system, body, P, forces, dropped, newton, euler, at_state))
+    section.steps.append(_dropped_step(system, body, P, forces, dropped, newton, euler, at_state, printer))
     return section
 
 
@@ -1105,11 +1108,14 @@ def _collected_unit(system, collected: Equation) -> str:
 
 
 def _per_si(system, unit: str) -> tuple[float, str]:
-    """(value of one SI ``unit`` in the scene's output unit, that unit)."""
+    """(value of one SI ``unit`` in the scene's output unit, that unit), remembered by the system
+    (the equations with the data entered ask it for every unknown and row)."""
     from ..cli_common import to_output_units
 
-    entry = to_output_units({"value": 1.0, "unit": unit}, system.output_units)
-    return float(entry["value"]), entry["unit"]
+    def build():
+        entry = to_output_units({"value": 1.0, "unit": unit}, system.output_units)
+        return float(entry["value"]), entry["unit"]
+    return system._memo(("per_si", unit, tuple(sorted(system.output_units.items()))), build)
 
 
 def _out(system, name: str, qty):

@@ -10,6 +10,8 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
+from ..strprint import FastStrPrinter
+
 __all__ = ["Term", "Equation", "Table", "Step", "Section", "Explanation"]
 
 
@@ -159,6 +161,10 @@ class Explanation:
     sections : list of Section
     symbol_latex : dict[sympy.Symbol, str]
         LaTeX names of the symbols (dotted rates, Greek letters).
+    printer : solver.strprint.FastStrPrinter
+        The sympy text of the expressions, each printed once for the whole explanation: the steps
+        that put an expression's text in a table or compare two forms' lengths, and the text
+        renderings, all print the same expressions.
     """
 
     title: str
@@ -166,6 +172,7 @@ class Explanation:
     points: dict[str, str]
     sections: list[Section] = field(default_factory=list)
     symbol_latex: dict = field(default_factory=dict)
+    printer: FastStrPrinter = field(default_factory=FastStrPrinter, repr=False, compare=False)
 
     def section(self, body: str | None) -> Section:
         for s in self.sections:

@@ -41,7 +41,7 @@ def render(expl: Explanation, fmt: str = "text") -> str:
 class _Renderer:
     def __init__(self, expl: Explanation):
         self.expl = expl
-        self.printed = FastStrPrinter()  # each expression's text once per rendering (a point's v_P shows often)
+        self.printed = expl.printer  # each expression's text once (a point's v_P shows often)
 
     def document(self) -> str:
         out = [self.title(self.expl.title)]
