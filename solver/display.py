@@ -312,10 +312,21 @@ def is_identically_zero(expr: sp.Expr) -> bool | None:
     return numerator_reduces_to_zero(expr)
 
 
+def _powers(term: sp.Expr) -> dict:
+    """``term.as_powers_dict()`` (base -> exponent, the exponents of a repeated base added), in a
+    plain dict built factor by factor: Mul's own goes through a defaultdict per factor and adds
+    each exponent to a 0, the cost of the display's passes over the terms."""
+    out: dict = {}
+    for f in sp.Mul.make_args(term):
+        base, exp = f.as_base_exp()
+        out[base] = out[base] + exp if base in out else exp
+    return out
+
+
 def _plain_polynomial(p: sp.Expr) -> bool:
     """A sum of monomials: products of non-sum factors with positive integer exponents."""
     for t in sp.Add.make_args(p):
-        for base, exp in t.as_powers_dict().items():
+        for base, exp in _powers(t).items():
             if base.is_Add or base.is_Mul or not (exp.is_Integer and exp > 0):
                 return False
     return True
@@ -333,15 +344,16 @@ def _gathered_sum(terms) -> sp.Expr | None:
     """
     if len(terms) < 2:
         return None
-    coeffs, powers = [], []
+    coeffs, powers = [], []  # the exponents as Python ints (sympy Integer arithmetic is the cost here)
     for t in terms:
         c, rest = t.as_coeff_Mul()
         if not c.is_Rational:
             return None
         d = {}
-        for base, exp in rest.as_powers_dict().items():
+        for base, exp in _powers(rest).items():
             if base.is_Mul or base.is_number or not exp.is_Integer:
                 return None
+            exp = int(exp)
             if base.is_Add:  # a denominator: its rational content joins the coefficient (as gcd_terms)
                 if exp > 0 or not _plain_polynomial(base):
                     return None  # (sums as factors, nested fractions: gcd_terms' own forms)
@@ -352,7 +364,7 @@ def _gathered_sum(terms) -> sp.Expr | None:
         powers.append(d)
     common = {}
     for base in set().union(*powers):
-        low = min(d.get(base, sp.S.Zero) for d in powers)
+        low = min(d.get(base, 0) for d in powers)
         if low != 0:
             common[base] = low
     content = reduce(lambda a, b: a.gcd(b), coeffs)
@@ -431,7 +443,7 @@ def _single_term_fraction(e: sp.Expr) -> tuple[sp.Expr, sp.Expr] | None:
         return None
     den = sp.expand(sp.Mul(sp.Integer(coef.q), *bottom, *sums))
     terms = sp.Add.make_args(den)
-    powers = [t.as_powers_dict() for t in terms]
+    powers = [_powers(t) for t in terms]
     if any(all(d.get(g, 0) for d in powers) for g in top_gens):  # a monomial factor in common
         return None
     g = reduce(igcd, [int(t.as_coeff_Mul()[0]) for t in terms], abs(coef.p))
@@ -529,7 +541,7 @@ def _common_factor(p: sp.Expr) -> sp.Expr:
         return p
     content, prim = p.primitive()
     terms = sp.Add.make_args(prim)
-    powers = [t.as_powers_dict() for t in terms]
+    powers = [_powers(t) for t in terms]
     common = {}
     for base, exp in powers[0].items():
         if base.is_number or not (exp.is_Integer and exp > 0):
@@ -632,7 +644,7 @@ def factor_monomial_terms(p: sp.Expr) -> sp.Expr:
     args = list(prim.args)
     if all(a.as_coeff_Mul()[0].is_negative for a in args):  # factor_terms takes a common -1 out
         content, args = -content, [-a for a in args]
-    coeffs, powers = zip(*[(c, rest.as_powers_dict()) for c, rest in (a.as_coeff_Mul() for a in args)])
+    coeffs, powers = zip(*[(c, _powers(rest)) for c, rest in (a.as_coeff_Mul() for a in args)])
     common = {b: min(d.get(b, 0) for d in powers) for b in powers[0]}
     common = {b: x for b, x in common.items() if x}
     g = reduce(lambda a, b: a.gcd(b), coeffs)
