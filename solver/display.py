@@ -23,7 +23,7 @@ from sympy.core.mul import _keep_coeff
 from .tree_value import DOUBLE, NotEvaluable, tree_value
 
 __all__ = ["reduce_trig", "numerator_reduces_to_zero", "constant_value", "tidy", "tidy_fraction", "tidy_linear",
-           "is_identically_zero", "tree_size", "MAX_TIDY_NODES"]
+           "is_identically_zero", "tree_size", "term_powers", "MAX_TIDY_NODES"]
 
 MAX_CANCEL_NODES = 120
 """Above this size a single fraction of polynomials is not passed through ``cancel`` (the common
@@ -312,7 +312,7 @@ def is_identically_zero(expr: sp.Expr) -> bool | None:
     return numerator_reduces_to_zero(expr)
 
 
-def _powers(term: sp.Expr) -> dict:
+def term_powers(term: sp.Expr) -> dict:
     """``term.as_powers_dict()`` (base -> exponent, the exponents of a repeated base added), in a
     plain dict built factor by factor: Mul's own goes through a defaultdict per factor and adds
     each exponent to a 0, the cost of the display's passes over the terms."""
@@ -326,7 +326,7 @@ def _powers(term: sp.Expr) -> dict:
 def _plain_polynomial(p: sp.Expr) -> bool:
     """A sum of monomials: products of non-sum factors with positive integer exponents."""
     for t in sp.Add.make_args(p):
-        for base, exp in _powers(t).items():
+        for base, exp in term_powers(t).items():
             if base.is_Add or base.is_Mul or not (exp.is_Integer and exp > 0):
                 return False
     return True
@@ -350,7 +350,7 @@ def _gathered_sum(terms) -> sp.Expr | None:
         if not c.is_Rational:
             return None
         d = {}
-        for base, exp in _powers(rest).items():
+        for base, exp in term_powers(rest).items():
             if base.is_Mul or base.is_number or not exp.is_Integer:
                 return None
             exp = int(exp)
@@ -443,7 +443,7 @@ def _single_term_fraction(e: sp.Expr) -> tuple[sp.Expr, sp.Expr] | None:
         return None
     den = sp.expand(sp.Mul(sp.Integer(coef.q), *bottom, *sums))
     terms = sp.Add.make_args(den)
-    powers = [_powers(t) for t in terms]
+    powers = [term_powers(t) for t in terms]
     if any(all(d.get(g, 0) for d in powers) for g in top_gens):  # a monomial factor in common
         return None
     g = reduce(igcd, [int(t.as_coeff_Mul()[0]) for t in terms], abs(coef.p))
@@ -541,7 +541,7 @@ def _common_factor(p: sp.Expr) -> sp.Expr:
         return p
     content, prim = p.primitive()
     terms = sp.Add.make_args(prim)
-    powers = [_powers(t) for t in terms]
+    powers = [term_powers(t) for t in terms]
     common = {}
     for base, exp in powers[0].items():
         if base.is_number or not (exp.is_Integer and exp > 0):
@@ -644,7 +644,7 @@ def factor_monomial_terms(p: sp.Expr) -> sp.Expr:
     args = list(prim.args)
     if all(a.as_coeff_Mul()[0].is_negative for a in args):  # factor_terms takes a common -1 out
         content, args = -content, [-a for a in args]
-    coeffs, powers = zip(*[(c, _powers(rest)) for c, rest in (a.as_coeff_Mul() for a in args)])
+    coeffs, powers = zip(*[(c, term_powers(rest)) for c, rest in (a.as_coeff_Mul() for a in args)])
     common = {b: min(d.get(b, 0) for d in powers) for b in powers[0]}
     common = {b: x for b, x in common.items() if x}
     g = reduce(lambda a, b: a.gcd(b), coeffs)

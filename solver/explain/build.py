@@ -24,9 +24,9 @@ import math
 
 import sympy as sp
 
-from ..model.joints import cross_k, k_cross, vec
+from ..model.joints import copy_vec, cross_k, k_cross, vec
 from .content import Equation, Explanation, Section, Step, Table, Term
-from ..display import is_identically_zero, tidy, tidy_linear
+from ..display import is_identically_zero, term_powers, tidy, tidy_linear
 from ..strprint import FastStrPrinter, sstr
 
 __all__ = ["explain", "latex_names", "system_in_regime"]
@@ -101,8 +101,7 @@ class _Points:
         """The name of the place ``at``: a named point there, else ``C_<joint>`` for the place where
         ``joint`` acts (:func:`joint_point_name`), else ``X1``, ``X2`` ..."""
         for name, r in self.named.items():
-            d = r - at
-            if _zero(d[0]) and _zero(d[1]):
+            if _zero(r[0] - at[0]) and _zero(r[1] - at[1]):  # by components: Matrix arithmetic is slow
                 return name
         if joint is not None:
             name = joint_point_name(joint, self.named)
@@ -110,7 +109,7 @@ class _Points:
         else:
             self.extra += 1
             name = f"X{self.extra}"
-        self.named[name] = sp.Matrix(at)
+        self.named[name] = copy_vec(at)
         return name
 
 
@@ -166,7 +165,7 @@ class _Force:
 
     def __init__(self, name, kind, force, at, couple, reaction=None, point=""):
         self.name, self.kind = name, kind
-        self.force = None if force is None else sp.Matrix(force)
+        self.force = None if force is None else copy_vec(force)
         self.at = at
         self.couple = sp.sympify(couple)
         self.reaction = reaction
@@ -468,11 +467,18 @@ def say_what_alpha_is(system, expl: Explanation) -> None:
     (q_ddot, (alpha, k)), = form.items()
     body = next(iter(system.bodies))
     for step in expl.steps():
-        if any(sp.sympify(t.expr).has(alpha) for e in step.equations for t in (*e.lhs, *e.rhs)):
+        if any(_has(t.expr, alpha) for e in step.equations for t in (*e.lhs, *e.rhs)):
             step.text.append(f"Here alpha = {sstr(k * q_ddot)}, the angular acceleration of {body} (k component, "
                              f"counter-clockwise positive): from here on the equations write the unknown {q_ddot} "
                              "as alpha.")
             return
+
+
+def _has(expr, symbol) -> bool:
+    """Whether ``symbol`` appears in ``expr`` (an expression, a 2-vector Matrix or a number)."""
+    if isinstance(expr, (sp.Basic, sp.MatrixBase)):
+        return expr.has(symbol)  # (no sympify: it would copy a Matrix into an immutable one)
+    return sp.sympify(expr).has(symbol)
 
 
 def _collected_equation(system, body: str, P: str, euler: Equation) -> Equation | None:
@@ -488,8 +494,9 @@ def _collected_equation(system, body: str, P: str, euler: Equation) -> Equation 
     if not terms or not coefs:
         return None
     common, divided = sp.Integer(1), []
+    powers = [term_powers(t) for t in terms]
     for p in system.symbols.values():
-        k = sp.sympify(min(sp.sympify(t.as_powers_dict().get(p, 0)) for t in terms))
+        k = sp.sympify(min(sp.sympify(d.get(p, 0)) for d in powers))
         if k.is_Integer and k > 0:
             common *= p**k
             divided.append(sstr(p**k))

@@ -14,7 +14,7 @@ import sympy as sp
 from ..model.contacts import Friction
 from ..model.bodies import GROUND, Point, RigidBody
 from ..model.elements import ELEMENT_CLASSES
-from ..model.joints import Pin, Rail, Reaction, Rolling
+from ..model.joints import Pin, Rail, Reaction, Rolling, copy_vec
 from ..model.loads import Couple, Force, Gravity
 from ..model.system import Coordinate, System
 
@@ -40,10 +40,10 @@ def _build(scene) -> System:
     coordinate = Coordinate(scene.coordinate, "angle", value, rate,
                             given=(scene.state[scene.coordinate], scene.state[scene.coordinate + "_dot"]))
     elements = tuple(
-        ELEMENT_CLASSES[e.kind](e.name, sp.sympify(e.mass), sp.Matrix(e.center), sp.sympify(e.angle), dict(e.dims))
+        ELEMENT_CLASSES[e.kind](e.name, sp.sympify(e.mass), copy_vec(e.center), sp.sympify(e.angle), dict(e.dims))
         for e in scene.elements
     )
-    points = {n: Point(n, sp.Matrix(p.coords), p.frame, p.relative_to) for n, p in scene.points.items()}
+    points = {n: Point(n, copy_vec(p.coords), p.frame, p.relative_to) for n, p in scene.points.items()}
     body = RigidBody(BODY, elements, points, sp.sympify(scene.orientation), scene.position, scene.default_point)
     by_name = {e.name: e for e in elements}
     joints = []

@@ -36,7 +36,7 @@ import sympy as sp
 from ..errors import SceneError
 from ..tree_value import NotEvaluable, real_value, tree_value
 from .bodies import GROUND, Ground, RigidBody
-from .joints import Actuator, Contact, Joint, Motor, Pin, k_cross, rotation, vec
+from .joints import Actuator, Contact, Joint, Motor, Pin, copy_vec, k_cross, rotation, vec
 from .loads import Load
 
 __all__ = ["Coordinate", "System", "ClosureRow", "RedundantConstraints"]
@@ -503,7 +503,7 @@ class System:
     def body_point(self, body: str, coords: sp.Matrix) -> sp.Matrix:
         """Fixed-frame position of the body point with body-frame ``coords``."""
         if body == GROUND:
-            return sp.Matrix(coords)
+            return copy_vec(coords)
         o, phi = self.origin(body), self.angle(body)
         c, s = sp.cos(phi), sp.sin(phi)
         x, y = coords[0], coords[1]
@@ -524,8 +524,8 @@ class System:
         if point in holder.points:
             p = holder.points[point]
             if p.is_instant:
-                return "instant", (p.relative_to, sp.Matrix(p.coords))
-            return "body", sp.Matrix(p.coords)
+                return "instant", (p.relative_to, copy_vec(p.coords))
+            return "body", copy_vec(p.coords)
         if point == "G" and body != GROUND:
             return "body", holder.mass_center()
         names = holder.point_names()
