@@ -166,12 +166,12 @@ class FastStrPrinter(_FastOrdering, StrPrinter):
         prec = self._precedence(expr)
         c, rest = (args[0], args[1:]) if args[0].is_Number else (sp.S.One, args)
         sign = ""
-        if c < 0:
+        if _negative(c):
             c, sign = -c, "-"
         factors = sorted(rest if c is sp.S.One else (c, *rest), key=self._sort_key)
         a, b, pow_paren = [], [], []  # numerator, denominator, bases of x**-1 with a compound base
         for item in factors:
-            if item.is_Pow and bool(item.exp.as_coeff_Mul()[0] < 0):
+            if item.is_Pow and _negative(item.exp.as_coeff_Mul()[0]):
                 if item.exp is not sp.S.NegativeOne:
                     b.append(_inverted_power(item))
                 else:
@@ -196,6 +196,12 @@ class FastStrPrinter(_FastOrdering, StrPrinter):
             return sign + "*".join(a_str) + "/" + b_str[0]
         return sign + "*".join(a_str) + "/(%s)" % "*".join(b_str)
 
+
+
+def _negative(number) -> bool:
+    """``bool(number < 0)`` of a sympy number; a rational's sign read from its numerator (sympy's
+    comparison sympifies the 0 first)."""
+    return number.p < 0 if number.is_Rational else bool(number < 0)
 
 
 def _precedence_of(item) -> int:

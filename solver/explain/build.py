@@ -301,7 +301,7 @@ def _pivot_text(system, body: str, P: str, r_P, shown) -> tuple[str, str] | None
 def _midpoints(system, body: str, points: _Points, eqs: list[Equation]) -> list[Equation]:
     """a_C = (a_X + a_Y)/2 for a slender bar whose centre C and ends X, Y are named points whose
     accelerations are shown (r_C = (r_X + r_Y)/2 differentiated twice: the paper's Eq. 16)."""
-    shown = {e.tag.split(":", 1)[1]: e.left for e in eqs if e.tag.startswith("accel:")}
+    shown = {e.tag.split(":", 1)[1]: e for e in eqs if e.tag.startswith("accel:")}  # .left: the acceleration
     out = []
     for e in system.bodies[body].elements:
         if e.kind != "slender_bar":
@@ -313,7 +313,8 @@ def _midpoints(system, body: str, points: _Points, eqs: list[Equation]) -> list[
         if None in names:
             continue
         C, X, Y = names
-        out.append(Equation((Term(shown[C]),), (Term(_vec(shown[X] / 2), f"a_{X}/2"), Term(_vec(shown[Y] / 2), f"a_{Y}/2")),
+        a = {n: shown[n].left for n in names}
+        out.append(Equation((Term(a[C]),), (Term(_vec(a[X] / 2), f"a_{X}/2"), Term(_vec(a[Y] / 2), f"a_{Y}/2")),
                             f"{C} is the midpoint of the bar {X}{Y}: r_{C} = (r_{X} + r_{Y})/2, differentiated twice",
                             "Eq. (16)", tag=f"midpoint:{C}", name=f"a_{C}", vector=True))
     return out
@@ -448,13 +449,16 @@ ALPHA = sp.Symbol("alpha", real=True)
 
 
 def _alpha_form(system) -> dict:
-    """{q'': (alpha, k)} when the only body's alpha = k q'' (k = +-1): the unknown written as alpha."""
-    if len(system.bodies) != 1 or len(system.free) != 1:
-        return {}
-    c = system.free[0]
-    al = system.alpha(next(iter(system.bodies)))
-    k = sp.diff(al, c.qdd)
-    return {c.qdd: (ALPHA, k)} if k in (1, -1) and _zero(al - k * c.qdd) else {}
+    """{q'': (alpha, k)} when the only body's alpha = k q'' (k = +-1): the unknown written as alpha
+    (remembered by the system: several steps ask; read only)."""
+    def build():
+        if len(system.bodies) != 1 or len(system.free) != 1:
+            return {}
+        c = system.free[0]
+        al = system.alpha(next(iter(system.bodies)))
+        k = sp.diff(al, c.qdd)
+        return {c.qdd: (ALPHA, k)} if k in (1, -1) and _zero(al - k * c.qdd) else {}
+    return system._memo("explain_alpha_form", build)
 
 
 def say_what_alpha_is(system, expl: Explanation) -> None:
