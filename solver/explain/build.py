@@ -25,6 +25,7 @@ import math
 import sympy as sp
 
 from ..model.joints import copy_vec, cross_k, k_cross, vec
+from ..model.system import derivative
 from .content import Equation, Explanation, Section, Step, Table, Term
 from ..display import is_identically_zero, term_powers, tidy, tidy_linear
 from ..strprint import FastStrPrinter, sstr
@@ -456,7 +457,7 @@ def _alpha_form(system) -> dict:
             return {}
         c = system.free[0]
         al = system.alpha(next(iter(system.bodies)))
-        k = sp.diff(al, c.qdd)
+        k = derivative(al, c.qdd)
         return {c.qdd: (ALPHA, k)} if k in (1, -1) and _zero(al - k * c.qdd) else {}
     return system._memo("explain_alpha_form", build)
 
@@ -849,7 +850,7 @@ def _projected(system, f) -> list[sp.Expr]:
         terms = []
         for body, (nx, ny, eu) in per_body.items():
             v, w = system.point_velocity(body, f.points[body]), system.omega(body)
-            terms += [sp.diff(v[0], c.qd) * nx, sp.diff(v[1], c.qd) * ny, sp.diff(w, c.qd) * eu]
+            terms += [derivative(v[0], c.qd) * nx, derivative(v[1], c.qd) * ny, derivative(w, c.qd) * eu]
         e = sp.expand(-sp.Add(*terms))
         for r in system.reactions:
             coef = e.coeff(r.symbol)
@@ -1004,7 +1005,7 @@ def _small_motion_rules(system, eom: Equation) -> list[Equation]:
     functions = sorted((f for f in e.atoms(sp.Function) if f.has(c.q) and not f.has(c.qd, c.qdd)),
                        key=lambda f: (type(f).__name__ != "sin", type(f).__name__ != "cos", sstr(f)))
     for f in functions:
-        rules.append((f, f.xreplace({c.q: 0}) + sp.diff(f, c.q).xreplace({c.q: 0}) * c.q))
+        rules.append((f, f.xreplace({c.q: 0}) + derivative(f, c.q).xreplace({c.q: 0}) * c.q))
     for term in sp.Add.make_args(e):
         if term.has(c.qd):
             factor = term.as_independent(c.q, c.qd, as_Add=False)[1]
@@ -1034,7 +1035,7 @@ def _small_oscillations(system, eom: Equation) -> Equation | None:
     if not _zero(rest.xreplace(at)):
         return None
     mass = tidy(e.coeff(c.qdd).xreplace(at))
-    stiffness = tidy(sp.diff(rest, c.q).xreplace(at))
+    stiffness = tidy(derivative(rest, c.q).xreplace(at))
     values = {k: sp.Float(v) for k, v in system.si_values().items()}
     ratio = stiffness / mass
     try:
