@@ -14,6 +14,7 @@ from __future__ import annotations
 import cmath
 import math
 from functools import lru_cache, reduce
+from typing import NamedTuple
 from math import gcd as igcd
 
 import sympy as sp
@@ -44,10 +45,34 @@ def _nodes(e: sp.Basic, kinds) -> set:
     return out
 
 
-def _angles_ok(expr: sp.Expr) -> bool:
+class _Shape(NamedTuple):
+    """What :func:`tidy` asks of an expression's tree, found in one walk: its number of nodes
+    (:func:`tree_size`), its powers and its sin/cos calls (:func:`_nodes` of each)."""
+
+    size: int
+    pows: set
+    trig: set
+
+
+def _shape(e: sp.Basic) -> _Shape:
+    size, pows, trig, stack = 0, set(), set(), [e]
+    while stack:
+        x = stack.pop()
+        size += 1
+        if isinstance(x, sp.Pow):
+            pows.add(x)
+        elif isinstance(x, (sp.sin, sp.cos)):
+            trig.add(x)
+        stack.extend(x.args)
+    return _Shape(size, pows, trig)
+
+
+def _angles_ok(expr: sp.Expr, trig: set | None = None) -> bool:
     """Whether every sin/cos argument is free of sin/cos itself (then the arguments are
-    independent generators: sin(a)**2 + cos(a)**2 = 1 per argument a, after expand_trig)."""
-    return all(not f.args[0].has(sp.sin, sp.cos, sp.tan) for f in _nodes(expr, (sp.sin, sp.cos)))
+    independent generators: sin(a)**2 + cos(a)**2 = 1 per argument a, after expand_trig).
+    ``trig``: the sin/cos calls of ``expr`` when the caller has them."""
+    trig = _nodes(expr, (sp.sin, sp.cos)) if trig is None else trig
+    return all(not f.args[0].has(sp.sin, sp.cos, sp.tan) for f in trig)
 
 
 def _is_sine_square(x) -> bool:
@@ -59,22 +84,23 @@ def _lower_sine(x):
     return sp.sin(a) ** (int(x.exp) % 2) * (1 - sp.cos(a) ** 2) ** (int(x.exp) // 2)
 
 
-def _reduce_poly(poly: sp.Expr) -> sp.Expr:
+def _reduce_poly(poly: sp.Expr, pows: set | None = None) -> sp.Expr:
     """A polynomial in sin/cos, reduced modulo sin(a)**2 + cos(a)**2 - 1 for every argument a:
     each sin(a)**n, n >= 2, becomes sin(a)**(n mod 2) (1 - cos(a)**2)**(n // 2), then expanded.
     This is the remainder of the division by the Groebner basis {sin**2 + cos**2 - 1} with
-    sin ahead of cos, a canonical form: an identically zero polynomial reduces to 0."""
+    sin ahead of cos, a canonical form: an identically zero polynomial reduces to 0. ``pows``:
+    the powers of ``poly`` when the caller has them."""
     p = sp.expand(poly)
-    reduced = _replace_powers(p, _is_sine_square, _lower_sine)
+    reduced = _replace_powers(p, _is_sine_square, _lower_sine, pows if p is poly else None)
     return p if reduced is p else sp.expand(reduced)
 
 
-def _replace_powers(e: sp.Expr, match, rewrite) -> sp.Expr:
+def _replace_powers(e: sp.Expr, match, rewrite, pows: set | None = None) -> sp.Expr:
     """``e.replace(match, rewrite)`` for a ``match`` that only powers satisfy, in one ``xreplace``
     of the matching powers when none lies inside another (each is then rewritten where it stands,
     as ``replace`` does); else by ``replace`` itself, whose bottom-up order then matters. ``e``
-    itself when nothing matches."""
-    found = [x for x in _nodes(e, sp.Pow) if match(x)]
+    itself when nothing matches. ``pows``: the powers of ``e`` when the caller has them."""
+    found = [x for x in (_nodes(e, sp.Pow) if pows is None else pows) if match(x)]
     if not found:
         return e
     if any(match(y) for x in found for a in x.args for y in _nodes(a, sp.Pow)):
@@ -488,11 +514,12 @@ def _is_trig_denominator(x) -> bool:
     return x.is_Pow and x.exp.is_negative and x.base.is_Add and x.base.has(sp.sin, sp.cos)
 
 
-def _reduce_denominators(e: sp.Expr) -> sp.Expr:
+def _reduce_denominators(e: sp.Expr, pows: set | None = None) -> sp.Expr:
     """Every denominator that is a polynomial in sin/cos reduced modulo sin**2 + cos**2 = 1
     (``(sin(g)**2 + cos(g)**2)**2`` becomes 1): the cheap structural step that removes a
-    printed denominator equal to a constant."""
-    return _replace_powers(e, _is_trig_denominator, lambda x: _reduce_poly(x.base) ** x.exp)
+    printed denominator equal to a constant; ``e`` itself when there is none. ``pows``: the
+    powers of ``e`` when the caller has them."""
+    return _replace_powers(e, _is_trig_denominator, lambda x: _reduce_poly(x.base) ** x.exp, pows)
 
 
 def tree_size(e: sp.Expr) -> int:
@@ -509,8 +536,8 @@ def _monomial_denominators(e: sp.Expr) -> bool:
     return all(_monomial_powers(sp.fraction(t)[1]) is not None for t in sp.Add.make_args(e))
 
 
-def _has_denominator(e: sp.Expr) -> bool:
-    return any(x.exp.is_negative for x in _nodes(e, sp.Pow))
+def _has_denominator(e: sp.Expr, pows: set | None = None) -> bool:
+    return any(x.exp.is_negative for x in (_nodes(e, sp.Pow) if pows is None else pows))
 
 
 def _denominator_free(p: sp.Expr) -> bool:
@@ -518,16 +545,19 @@ def _denominator_free(p: sp.Expr) -> bool:
     return not any(x.exp.is_negative for x in _nodes(p, sp.Pow))
 
 
-def _has_square(p: sp.Expr) -> bool:
-    """Whether some sin(a)**n with n >= 2 appears (only then can the reduction change anything)."""
-    return any(isinstance(x.base, sp.sin) and x.exp.is_Integer and x.exp >= 2 for x in _nodes(p, sp.Pow))
+def _has_square(p: sp.Expr, pows: set | None = None) -> bool:
+    """Whether some sin(a)**n with n >= 2 appears (only then can the reduction change anything).
+    ``pows``: the powers of ``p`` when the caller has them."""
+    pows = _nodes(p, sp.Pow) if pows is None else pows
+    return any(isinstance(x.base, sp.sin) and x.exp.is_Integer and x.exp >= 2 for x in pows)
 
 
 def _tidy_polynomial(p: sp.Expr) -> sp.Expr:
     """Expanded, reduced modulo sin**2 + cos**2 = 1 when that leaves fewer terms, common factors out."""
     p = sp.expand(p)
-    if _has_square(p):
-        reduced = _reduce_poly(p)
+    pows = _nodes(p, sp.Pow)  # (one walk for both questions)
+    if _has_square(p, pows):
+        reduced = _reduce_poly(p, pows)
         if len(sp.Add.make_args(reduced)) < len(sp.Add.make_args(p)):
             p = reduced
     return _common_factor(p)
@@ -568,9 +598,10 @@ def tidy(expr: sp.Expr) -> sp.Expr:
     nested trigonometric arguments with only common factors pulled out.
     """
     e = sp.sympify(expr)
-    if e.is_number or _plain_monomial(e) or tree_size(e) > MAX_TIDY_NODES:
+    if e.is_number or _plain_monomial(e):
         return e
-    return _tidy_general(e)
+    shape = _shape(e)
+    return e if shape.size > MAX_TIDY_NODES else _tidy_general(e, shape)
 
 
 def _plain_factor(f) -> bool:
@@ -587,19 +618,24 @@ def _plain_monomial(e: sp.Expr) -> bool:
     return all(f.is_Rational or _plain_factor(f) for f in sp.Mul.make_args(e)) and not e.is_Rational
 
 
-def _tidy_general(e: sp.Expr) -> sp.Expr:
-    """:func:`tidy` of an expression that is not a number (nor a plain monomial)."""
-    e = _reduce_denominators(e)
+def _tidy_general(e: sp.Expr, shape: _Shape | None = None) -> sp.Expr:
+    """:func:`tidy` of an expression that is not a number (nor a plain monomial); ``shape``: its
+    :func:`_shape` when the caller has it."""
+    shape = _shape(e) if shape is None else shape
+    reduced = _reduce_denominators(e, shape.pows)
+    if reduced is not e:
+        e, shape = reduced, _shape(reduced)
     if e.has(sp.tan, sp.cot):
         e = e.replace(sp.tan, lambda a: sp.sin(a) / sp.cos(a)).replace(sp.cot, lambda a: sp.cos(a) / sp.sin(a))
-    if not _angles_ok(e):
+        shape = _shape(e)
+    if not _angles_ok(e, shape.trig):
         return sp.factor_terms(e)
     monomial = _monomial_denominators(e)
-    small = tree_size(e) <= MAX_CANCEL_NODES
+    small = shape.size <= MAX_CANCEL_NODES
     if not monomial and small:  # common factors out (cheap when small)
         num, den = _single_term_fraction(e) or sp.fraction(sp.cancel(_together(e)))
     else:
-        num, den = _over_common_denominator(e) if _has_denominator(e) else (e, sp.Integer(1))
+        num, den = _over_common_denominator(e) if _has_denominator(e, shape.pows) else (e, sp.Integer(1))
         if not monomial and not (_denominator_free(num) and _denominator_free(den)):
             num, den = _single_term_fraction(e) or sp.fraction(sp.cancel(_together(e)))
     # (over monomial denominators the common monomial of the numerator cancels by itself below)

@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
+from ..model.joints import copy_vec
 from ..strprint import FastStrPrinter
 
 __all__ = ["Term", "Equation", "Table", "Step", "Section", "Explanation"]
@@ -82,8 +83,13 @@ class Equation:
 
 
 def _sum(terms, vector: bool):
-    if vector:
-        return sum((sp.Matrix(t.expr) for t in terms), sp.zeros(2, 1))
+    if vector:  # the same matrix as sum(terms, zeros(2, 1)), without adding the zeros (unifying
+        if not terms:  # their domain with the terms' costs more than the sum)
+            return sp.zeros(2, 1)
+        total = copy_vec(terms[0].expr)
+        for t in terms[1:]:
+            total = total + copy_vec(t.expr)
+        return total
     return sp.Add(*[t.expr for t in terms])
 
 
