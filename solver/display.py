@@ -76,7 +76,7 @@ def _angles_ok(expr: sp.Expr, trig: set | None = None) -> bool:
 
 
 def _is_sine_square(x) -> bool:
-    return x.is_Pow and isinstance(x.base, sp.sin) and x.exp.is_Integer and x.exp >= 2
+    return x.is_Pow and isinstance(x.base, sp.sin) and x.exp.is_Integer and x.exp.p >= 2
 
 
 def _lower_sine(x):
@@ -353,7 +353,7 @@ def _plain_polynomial(p: sp.Expr) -> bool:
     """A sum of monomials: products of non-sum factors with positive integer exponents."""
     for t in sp.Add.make_args(p):
         for base, exp in term_powers(t).items():
-            if base.is_Add or base.is_Mul or not (exp.is_Integer and exp > 0):
+            if base.is_Add or base.is_Mul or not (exp.is_Integer and exp.p > 0):
                 return False
     return True
 
@@ -429,7 +429,7 @@ def _positive_integer_sum(x) -> bool:
     """A sum whose every term is a positive integer times generators to positive integer powers."""
     for term in x.args:
         coef, rest = term.as_coeff_Mul()
-        if not (coef.is_Integer and coef > 0):
+        if not (coef.is_Integer and coef.p > 0):
             return False
         for f in sp.Mul.make_args(rest):
             gp = _generator_power(f) if f != 1 else (None, 1)
@@ -453,7 +453,7 @@ def _single_term_fraction(e: sp.Expr) -> tuple[sp.Expr, sp.Expr] | None:
     top, bottom, sums, top_gens = [], [], [], set()
     for f in sp.Mul.make_args(rest):
         if f.is_Pow and f.base.is_Add:
-            if not (f.exp.is_Integer and f.exp < 0 and _positive_integer_sum(f.base)):
+            if not (f.exp.is_Integer and f.exp.p < 0 and _positive_integer_sum(f.base)):
                 return None
             sums.append(f.base ** -f.exp)
             continue
@@ -481,11 +481,11 @@ def _monomial_powers(d: sp.Expr) -> dict | None:
     out = {}
     for f in sp.Mul.make_args(d):
         base, exp = f.as_base_exp()
-        if base.is_Add or not exp.is_Integer or exp < 0:
+        if base.is_Add or not exp.is_Integer or exp.p < 0:
             return None
         if base.is_number:
             base, exp = f, sp.Integer(1)
-        out[base] = out.get(base, 0) + exp
+        out[base] = out.get(base, 0) + int(exp)  # (Python ints: sympy's compare each with a sympified 0)
     return out
 
 
@@ -549,7 +549,7 @@ def _has_square(p: sp.Expr, pows: set | None = None) -> bool:
     """Whether some sin(a)**n with n >= 2 appears (only then can the reduction change anything).
     ``pows``: the powers of ``p`` when the caller has them."""
     pows = _nodes(p, sp.Pow) if pows is None else pows
-    return any(isinstance(x.base, sp.sin) and x.exp.is_Integer and x.exp >= 2 for x in pows)
+    return any(isinstance(x.base, sp.sin) and x.exp.is_Integer and x.exp.p >= 2 for x in pows)
 
 
 def _tidy_polynomial(p: sp.Expr) -> sp.Expr:
@@ -563,6 +563,11 @@ def _tidy_polynomial(p: sp.Expr) -> sp.Expr:
     return _common_factor(p)
 
 
+def _integer(x) -> int:
+    """A sympy Integer as a Python int (a key for ``min``: comparing sympy Integers sympifies)."""
+    return x.p
+
+
 def _common_factor(p: sp.Expr) -> sp.Expr:
     """``p`` with the monomial common to all its terms (symbols, sin/cos powers, the rational
     content) written in front: what ``factor_terms`` does for a sum of monomials, in one pass."""
@@ -574,10 +579,11 @@ def _common_factor(p: sp.Expr) -> sp.Expr:
     powers = [term_powers(t) for t in terms]
     common = {}
     for base, exp in powers[0].items():
-        if base.is_number or not (exp.is_Integer and exp > 0):
+        if base.is_number or not (exp.is_Integer and exp.p > 0):
             continue
-        low = min(d.get(base, sp.Integer(0)) for d in powers)
-        if low.is_Integer and low > 0:
+        exps = [d.get(base, sp.S.Zero) for d in powers]
+        low = min(exps, key=_integer) if all(x.is_Integer for x in exps) else min(exps)
+        if low.is_Integer and low.p > 0:
             common[base] = low
     if not common:
         return content * prim if content != 1 else p
@@ -607,7 +613,7 @@ def tidy(expr: sp.Expr) -> sp.Expr:
 def _plain_factor(f) -> bool:
     """A symbol, or sin/cos of a symbol, possibly to a positive integer power."""
     if f.is_Pow:
-        f = f.base if f.exp.is_Integer and f.exp > 0 else None
+        f = f.base if f.exp.is_Integer and f.exp.p > 0 else None
     return f is not None and (f.is_Symbol or isinstance(f, (sp.sin, sp.cos)) and f.args[0].is_Symbol)
 
 
@@ -656,7 +662,7 @@ def _monomial_term(t) -> bool:
         if f.is_Rational:
             continue
         if f.is_Pow:
-            if not (f.exp.is_Integer and f.exp > 0):
+            if not (f.exp.is_Integer and f.exp.p > 0):
                 return False
             f = f.base
         if not _plain_generator(f):
