@@ -24,7 +24,7 @@ from sympy.core.mul import _keep_coeff
 from .tree_value import DOUBLE, NotEvaluable, tree_value
 
 __all__ = ["reduce_trig", "numerator_reduces_to_zero", "constant_value", "tidy", "tidy_fraction", "tidy_linear",
-           "is_identically_zero", "tree_size", "term_powers", "MAX_TIDY_NODES"]
+           "is_identically_zero", "tree_size", "term_powers", "could_extract_minus_sign", "MAX_TIDY_NODES"]
 
 MAX_CANCEL_NODES = 120
 """Above this size a single fraction of polynomials is not passed through ``cancel`` (the common
@@ -563,6 +563,15 @@ def _tidy_polynomial(p: sp.Expr) -> sp.Expr:
     return _common_factor(p)
 
 
+def could_extract_minus_sign(e: sp.Expr) -> bool:
+    """``e.could_extract_minus_sign()``; for a product with a rational coefficient, the sign of
+    the coefficient (sympy first compares the product with its negative, which differs from it
+    whenever the coefficient is a finite nonzero number)."""
+    if type(e) is sp.Mul and e.args[0].is_Rational:
+        return e.args[0].p < 0
+    return e.could_extract_minus_sign()
+
+
 def _integer(x) -> int:
     """A sympy Integer as a Python int (a key for ``min``: comparing sympy Integers sympifies)."""
     return x.p
@@ -589,7 +598,7 @@ def _common_factor(p: sp.Expr) -> sp.Expr:
         return content * prim if content != 1 else p
     monomial = sp.Mul(*[b**e for b, e in common.items()])
     rest = [t / monomial for t in terms]
-    if all(t.could_extract_minus_sign() for t in rest):  # -(a + b) rather than (-a - b)
+    if all(could_extract_minus_sign(t) for t in rest):  # -(a + b) rather than (-a - b)
         content, rest = -content, [-t for t in rest]
     return content * monomial * sp.Add(*rest)
 

@@ -27,7 +27,7 @@ import sympy as sp
 from ..model.joints import copy_vec, cross_k, k_cross, vec
 from ..model.system import derivative
 from .content import Equation, Explanation, Section, Step, Table, Term
-from ..display import is_identically_zero, term_powers, tidy, tidy_linear
+from ..display import could_extract_minus_sign, is_identically_zero, term_powers, tidy, tidy_linear
 from ..strprint import FastStrPrinter, sstr
 
 __all__ = ["explain", "latex_names", "system_in_regime"]
@@ -509,7 +509,7 @@ def _collected_equation(system, body: str, P: str, euler: Equation) -> Equation 
     rhs = tidy(sp.expand(-rest / common))
     reactions = [c for u, c in coefs.items() if u not in system.qdd]
     lead = reactions[0] if reactions else -rhs  # the first reaction's coefficient reads positive (Eq. 28)
-    sign = -1 if sp.sympify(lead).could_extract_minus_sign() else 1
+    sign = -1 if could_extract_minus_sign(sp.sympify(lead)) else 1
     rename = _alpha_form(system)
     lhs = []
     for u, c in coefs.items():
