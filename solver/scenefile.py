@@ -621,7 +621,7 @@ class _SceneLoader:
         self.dims = {params[n]: quantity.dimensionality for n, quantity in self.parameters.items()}
         self.dims.update({q: DIMENSIONLESS, qd: RATE, t: TIME})
         self.si_values = {
-            params[n]: float(quantity.to_base_units().magnitude) for n, quantity in self.parameters.items()
+            params[n]: units.si_magnitude(quantity) for n, quantity in self.parameters.items()
         }
         self.coordinate = coordinate
         self.q = q

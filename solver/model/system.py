@@ -35,6 +35,7 @@ import sympy as sp
 
 from ..errors import SceneError
 from ..tree_value import NotEvaluable, real_value, tree_value
+from ..units import si_magnitude
 from .bodies import GROUND, Ground, RigidBody
 from .joints import Actuator, Contact, Joint, Motor, Pin, copy_vec, k_cross, rotation, vec
 from .loads import Load
@@ -208,7 +209,7 @@ class System:
     def si_values(self) -> dict[sp.Symbol, float]:
         """Parameter symbol -> SI value (angles in rad)."""
         return self._memo("si", lambda: {
-            sp.Symbol(n, real=True): float(q.to_base_units().magnitude) for n, q in self.parameters.items()
+            sp.Symbol(n, real=True): si_magnitude(q) for n, q in self.parameters.items()
         })
 
     @property
