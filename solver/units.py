@@ -361,7 +361,8 @@ def check_angle(value_rad: float, where: str, text: Any = None) -> float:
 
 def is_angle_unit(quantity: pint.Quantity) -> bool:
     """True for a dimensionless quantity with a unit (``deg``, ``rad``, ``turn``): an angle."""
-    return quantity.dimensionless and quantity.units != ureg.dimensionless  # (its text is not "dimensionless")
+    # not quantity.dimensionality: pint's .dimensionless, without converting to the root units first
+    return not quantity.dimensionality and quantity.units != ureg.dimensionless  # (its text is not "dimensionless")
 
 
 def parse_angle(text: Any, where: str, bare_unit: str = "deg") -> float:
