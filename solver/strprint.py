@@ -47,25 +47,33 @@ def _complex(number) -> complex:
     return complex(number)
 
 
+def _coeff_factors(term) -> tuple:
+    """(c, factors): ``c, rest = term.as_coeff_Mul()`` and the factors of ``rest`` (none when it is
+    1), without building ``rest`` (a new product for every term of every sum printed)."""
+    if term.is_Mul:
+        c = term.args[0]
+        return (c, term.args[1:]) if c.is_Number else (sp.S.One, term.args)
+    return (term, ()) if term.is_Number else (sp.S.One, (term,))
+
+
 def _terms_with_keys(expr, sort_key) -> list:
     """``Expr.as_terms`` of a sum: (term, (coefficient, exponents of the sorted generators, ()))."""
     gens, terms = set(), []
     for term in sp.Add.make_args(expr):
-        coeff, rest = term.as_coeff_Mul()
+        coeff, factors = _coeff_factors(term)
         coeff = _complex(coeff)
         powers = {}
-        if rest is not sp.S.One:
-            for factor in sp.Mul.make_args(rest):
-                if factor.is_number:
-                    try:
-                        coeff *= _complex(factor)
-                    except (TypeError, ValueError):
-                        pass
-                    else:
-                        continue
-                base, exp = decompose_power(factor)
-                powers[base] = exp
-                gens.add(base)
+        for factor in factors:
+            if factor.is_number:
+                try:
+                    coeff *= _complex(factor)
+                except (TypeError, ValueError):
+                    pass
+                else:
+                    continue
+            base, exp = decompose_power(factor)
+            powers[base] = exp
+            gens.add(base)
         terms.append((term, (coeff.real, coeff.imag), powers))
     index = {g: i for i, g in enumerate(sorted(gens, key=sort_key))}
     out = []
