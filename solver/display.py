@@ -358,6 +358,12 @@ def _plain_polynomial(p: sp.Expr) -> bool:
     return True
 
 
+def _power(base: sp.Expr, k: int) -> sp.Expr:
+    """``base**k`` for a Python int ``k``: 1 and ``base`` themselves for k = 0 and 1 (sympy's
+    answers too, without a power built and its exponent sympified)."""
+    return sp.S.One if k == 0 else base if k == 1 else base**k
+
+
 def _gathered_sum(terms) -> sp.Expr | None:
     """``sympy.gcd_terms(terms)`` for a sum of monomials with monomial denominators, in one pass:
     the positive rational content times the monomial common to the terms (negative exponents: the
@@ -394,8 +400,8 @@ def _gathered_sum(terms) -> sp.Expr | None:
         if low != 0:
             common[base] = low
     content = reduce(lambda a, b: a.gcd(b), coeffs)
-    rest = sp.Add(*[(c / content) * sp.Mul(*[b**(d.get(b, 0) - low) for b, low in common.items()],
-                                           *[b**x for b, x in d.items() if b not in common])
+    rest = sp.Add(*[(c / content) * sp.Mul(*[_power(b, d.get(b, 0) - low) for b, low in common.items()],
+                                           *[_power(b, x) for b, x in d.items() if b not in common])
                     for c, d in zip(coeffs, powers)])
     if rest.is_Add:  # a number distributed over a sum factor can leave content (as in gcd_terms)
         more, rest = rest.primitive()
@@ -722,6 +728,15 @@ def _fraction_of_ratio(num: sp.Expr, den: sp.Expr, once=None) -> tuple[sp.Expr, 
     return sp.fraction(top / bottom)
 
 
+def _reduced_with_powers(e: sp.Expr) -> tuple[sp.Expr, set | None]:
+    """(``_reduce_denominators(expand(e))``, its powers when it is the expanded ``e`` itself, else
+    None): one walk of the tree for both."""
+    e = sp.expand(e)
+    pows = _nodes(e, sp.Pow)
+    reduced = _reduce_denominators(e, pows)
+    return (e, pows) if reduced is e else (reduced, None)
+
+
 def tidy_fraction(num: sp.Expr, den: sp.Expr, memo: dict | None = None) -> sp.Expr:
     """Display form of num/den when both are known polynomials in sin/cos (no ``together``,
     no ``cancel``): each part reduced and factored on its own.
@@ -735,11 +750,12 @@ def tidy_fraction(num: sp.Expr, den: sp.Expr, memo: dict | None = None) -> sp.Ex
             memo[key] = build()
         return memo[key]
 
-    num = _reduce_denominators(sp.expand(num))
-    den = once(("reduced", den), lambda: _reduce_denominators(sp.expand(den)))
-    if _has_denominator(den):
+    num, num_pows = _reduced_with_powers(num)
+    den, den_pows = once(("reduced", den), lambda: _reduced_with_powers(den))
+    if _has_denominator(den, den_pows):
         num, den = _fraction_of_ratio(num, den, once)
-    if _has_denominator(num) and _monomial_denominators(num):
+        num_pows = None
+    if _has_denominator(num, num_pows) and _monomial_denominators(num):
         num, extra = _over_common_denominator(num)
         den = den * extra
     return _tidy_polynomial(num) / once(("polynomial", den), lambda: _tidy_polynomial(den))
