@@ -234,10 +234,12 @@ def rank_points(system, body: str, state, f=None, parts=None) -> list[Candidate]
     cands: list[Candidate] = []
 
     def add(name, pos, origin):
-        for c in cands:
-            if np.allclose(c.position, pos, atol=1e-9 * (1 + np.max(np.abs(pos)))):
+        pos = tuple(float(x) for x in pos)
+        atol = 1e-9 * (1 + max(abs(x) for x in pos))
+        for c in cands:  # numpy.allclose (rtol 1e-5) of two finite points, without its array machinery
+            if all(abs(p - q) <= atol + 1e-05 * abs(q) for p, q in zip(c.position, pos)):
                 return
-        cands.append(Candidate(body, name, tuple(float(x) for x in pos), origin))
+        cands.append(Candidate(body, name, pos, origin))
 
     b = system.bodies[body]
     for name, r in points.named.items():

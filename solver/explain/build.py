@@ -481,7 +481,9 @@ def say_what_alpha_is(system, expl: Explanation) -> None:
 
 def _has(expr, symbol) -> bool:
     """Whether ``symbol`` appears in ``expr`` (an expression, a 2-vector Matrix or a number)."""
-    if isinstance(expr, (sp.Basic, sp.MatrixBase)):
+    if isinstance(expr, sp.MatrixBase):  # entry by entry (Basic.has is cached; Matrix.has is not)
+        return any(x.has(symbol) for x in expr.flat())
+    if isinstance(expr, sp.Basic):
         return expr.has(symbol)  # (no sympify: it would copy a Matrix into an immutable one)
     return sp.sympify(expr).has(symbol)
 
