@@ -1133,10 +1133,19 @@ def _per_si(system, unit: str) -> tuple[float, str]:
 
 
 def _out(system, name: str, qty):
-    from ..cli_common import quantity_entry, to_output_units
+    """(value, unit) of a quantity in the scene's output units, as ``to_output_units`` of its
+    ``quantity_entry`` gives them: the value times its unit's factor (:func:`_per_si`, the same
+    product), the factor and the unit's text found once per unit (the solution and its check
+    convert every unknown)."""
+    from ..cli_common import quantity_entry
+    from ..units import Q_
 
-    entry = to_output_units(quantity_entry(qty), system.output_units)
-    return entry["value"], entry["unit"].replace(" / ", "/").replace(" ** ", "**").replace(" * ", "*")
+    def build():
+        factor, unit = _per_si(system, quantity_entry(Q_(1.0, qty.units))["unit"])
+        return factor, unit.replace(" / ", "/").replace(" ** ", "**").replace(" * ", "*")
+    factor, unit = system._memo(("output_unit", qty.units, tuple(sorted(system.output_units.items()))), build)
+    value = float(qty.magnitude)
+    return (value if factor == 1.0 else value * factor), unit
 
 
 def _condition_number(A) -> float | None:
