@@ -54,17 +54,17 @@ def _build(scene) -> System:
             friction = {} if mu is None else {"friction": Friction(mu, mu),
                                               "pair": (Reaction(c.friction_reaction, c.name), reactions[0])}
             joints.append(Rail(c.name, GROUND, BODY, reactions, point=points[c.point].coords,
-                               through=sp.Matrix(c.origin), angle=sp.sympify(c.angle), **friction))
+                               through=copy_vec(c.origin), angle=sp.sympify(c.angle), **friction))
         elif c.kind == "pivot":
-            joints.append(Pin(c.name, GROUND, BODY, reactions, at_first=sp.Matrix(c.origin),
+            joints.append(Pin(c.name, GROUND, BODY, reactions, at_first=copy_vec(c.origin),
                               at_second=points[c.point].coords))
         else:
             e = by_name[c.element]
             friction, normal = reactions
             joints.append(Rolling(
                 c.name, GROUND, BODY, (Reaction(friction.name, c.name), Reaction(normal.name, c.name, "N", True)),
-                element=e.name, center=sp.Matrix(e.center), radius=e.dims["radius"],
-                through=sp.Matrix(c.origin), angle=sp.sympify(c.angle),
+                element=e.name, center=copy_vec(e.center), radius=e.dims["radius"],
+                through=copy_vec(c.origin), angle=sp.sympify(c.angle),
                 s_ref=sp.sympify(c.contact_at_zero), phi_ref=sp.sympify(scene.orientation).subs(q, 0),
                 friction=None if c.friction_coefficient is None else Friction(c.friction_coefficient, c.friction_coefficient),
                 semicircle_axis=e.angle if e.kind == "semicircular_disk" else None,
