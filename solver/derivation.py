@@ -30,7 +30,7 @@ from .analyses.instant import solve_instant as _solve_system
 from .errors import InputError, NoRestoringError, SceneError, SingularConfigurationError
 from .formulations import METHODS, NamedEquation, formulate
 from .io.convert import system_from_scene
-from .model.system import System
+from .model.system import System, derivative
 from .scene import Scene
 from .strprint import lambdify
 from .units import Q_
@@ -266,7 +266,7 @@ class Derivation:
             from .analyses.eom import equations_of_motion
 
             raw = equations_of_motion(self.formulation)[0]
-            c = sp.diff(raw, self.qdd)
+            c = derivative(raw, self.qdd)
             rest = raw.xreplace({self.qdd: 0})
             return _tidy(c) * self.qdd + _tidy_by_rate(rest, self.qd)
         return self._memo("eom", build)

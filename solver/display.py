@@ -14,6 +14,7 @@ from __future__ import annotations
 import cmath
 import math
 from functools import lru_cache, reduce
+from typing import NamedTuple
 from math import gcd as igcd
 
 import sympy as sp
@@ -23,7 +24,7 @@ from sympy.core.mul import _keep_coeff
 from .tree_value import DOUBLE, NotEvaluable, tree_value
 
 __all__ = ["reduce_trig", "numerator_reduces_to_zero", "constant_value", "tidy", "tidy_fraction", "tidy_linear",
-           "is_identically_zero", "tree_size", "MAX_TIDY_NODES"]
+           "is_identically_zero", "tree_size", "term_powers", "could_extract_minus_sign", "MAX_TIDY_NODES"]
 
 MAX_CANCEL_NODES = 120
 """Above this size a single fraction of polynomials is not passed through ``cancel`` (the common
@@ -44,14 +45,38 @@ def _nodes(e: sp.Basic, kinds) -> set:
     return out
 
 
-def _angles_ok(expr: sp.Expr) -> bool:
+class _Shape(NamedTuple):
+    """What :func:`tidy` asks of an expression's tree, found in one walk: its number of nodes
+    (:func:`tree_size`), its powers and its sin/cos calls (:func:`_nodes` of each)."""
+
+    size: int
+    pows: set
+    trig: set
+
+
+def _shape(e: sp.Basic) -> _Shape:
+    size, pows, trig, stack = 0, set(), set(), [e]
+    while stack:
+        x = stack.pop()
+        size += 1
+        if isinstance(x, sp.Pow):
+            pows.add(x)
+        elif isinstance(x, (sp.sin, sp.cos)):
+            trig.add(x)
+        stack.extend(x.args)
+    return _Shape(size, pows, trig)
+
+
+def _angles_ok(expr: sp.Expr, trig: set | None = None) -> bool:
     """Whether every sin/cos argument is free of sin/cos itself (then the arguments are
-    independent generators: sin(a)**2 + cos(a)**2 = 1 per argument a, after expand_trig)."""
-    return all(not f.args[0].has(sp.sin, sp.cos, sp.tan) for f in _nodes(expr, (sp.sin, sp.cos)))
+    independent generators: sin(a)**2 + cos(a)**2 = 1 per argument a, after expand_trig).
+    ``trig``: the sin/cos calls of ``expr`` when the caller has them."""
+    trig = _nodes(expr, (sp.sin, sp.cos)) if trig is None else trig
+    return all(not f.args[0].has(sp.sin, sp.cos, sp.tan) for f in trig)
 
 
 def _is_sine_square(x) -> bool:
-    return x.is_Pow and isinstance(x.base, sp.sin) and x.exp.is_Integer and x.exp >= 2
+    return x.is_Pow and isinstance(x.base, sp.sin) and x.exp.is_Integer and x.exp.p >= 2
 
 
 def _lower_sine(x):
@@ -59,22 +84,23 @@ def _lower_sine(x):
     return sp.sin(a) ** (int(x.exp) % 2) * (1 - sp.cos(a) ** 2) ** (int(x.exp) // 2)
 
 
-def _reduce_poly(poly: sp.Expr) -> sp.Expr:
+def _reduce_poly(poly: sp.Expr, pows: set | None = None) -> sp.Expr:
     """A polynomial in sin/cos, reduced modulo sin(a)**2 + cos(a)**2 - 1 for every argument a:
     each sin(a)**n, n >= 2, becomes sin(a)**(n mod 2) (1 - cos(a)**2)**(n // 2), then expanded.
     This is the remainder of the division by the Groebner basis {sin**2 + cos**2 - 1} with
-    sin ahead of cos, a canonical form: an identically zero polynomial reduces to 0."""
+    sin ahead of cos, a canonical form: an identically zero polynomial reduces to 0. ``pows``:
+    the powers of ``poly`` when the caller has them."""
     p = sp.expand(poly)
-    reduced = _replace_powers(p, _is_sine_square, _lower_sine)
+    reduced = _replace_powers(p, _is_sine_square, _lower_sine, pows if p is poly else None)
     return p if reduced is p else sp.expand(reduced)
 
 
-def _replace_powers(e: sp.Expr, match, rewrite) -> sp.Expr:
+def _replace_powers(e: sp.Expr, match, rewrite, pows: set | None = None) -> sp.Expr:
     """``e.replace(match, rewrite)`` for a ``match`` that only powers satisfy, in one ``xreplace``
     of the matching powers when none lies inside another (each is then rewritten where it stands,
     as ``replace`` does); else by ``replace`` itself, whose bottom-up order then matters. ``e``
-    itself when nothing matches."""
-    found = [x for x in _nodes(e, sp.Pow) if match(x)]
+    itself when nothing matches. ``pows``: the powers of ``e`` when the caller has them."""
+    found = [x for x in (_nodes(e, sp.Pow) if pows is None else pows) if match(x)]
     if not found:
         return e
     if any(match(y) for x in found for a in x.args for y in _nodes(a, sp.Pow)):
@@ -312,13 +338,30 @@ def is_identically_zero(expr: sp.Expr) -> bool | None:
     return numerator_reduces_to_zero(expr)
 
 
+def term_powers(term: sp.Expr) -> dict:
+    """``term.as_powers_dict()`` (base -> exponent, the exponents of a repeated base added), in a
+    plain dict built factor by factor: Mul's own goes through a defaultdict per factor and adds
+    each exponent to a 0, the cost of the display's passes over the terms."""
+    out: dict = {}
+    for f in sp.Mul.make_args(term):
+        base, exp = f.as_base_exp()
+        out[base] = out[base] + exp if base in out else exp
+    return out
+
+
 def _plain_polynomial(p: sp.Expr) -> bool:
     """A sum of monomials: products of non-sum factors with positive integer exponents."""
     for t in sp.Add.make_args(p):
-        for base, exp in t.as_powers_dict().items():
-            if base.is_Add or base.is_Mul or not (exp.is_Integer and exp > 0):
+        for base, exp in term_powers(t).items():
+            if base.is_Add or base.is_Mul or not (exp.is_Integer and exp.p > 0):
                 return False
     return True
+
+
+def _power(base: sp.Expr, k: int) -> sp.Expr:
+    """``base**k`` for a Python int ``k``: 1 and ``base`` themselves for k = 0 and 1 (sympy's
+    answers too, without a power built and its exponent sympified)."""
+    return sp.S.One if k == 0 else base if k == 1 else base**k
 
 
 def _gathered_sum(terms) -> sp.Expr | None:
@@ -333,15 +376,16 @@ def _gathered_sum(terms) -> sp.Expr | None:
     """
     if len(terms) < 2:
         return None
-    coeffs, powers = [], []
+    coeffs, powers = [], []  # the exponents as Python ints (sympy Integer arithmetic is the cost here)
     for t in terms:
         c, rest = t.as_coeff_Mul()
         if not c.is_Rational:
             return None
         d = {}
-        for base, exp in rest.as_powers_dict().items():
+        for base, exp in term_powers(rest).items():
             if base.is_Mul or base.is_number or not exp.is_Integer:
                 return None
+            exp = int(exp)
             if base.is_Add:  # a denominator: its rational content joins the coefficient (as gcd_terms)
                 if exp > 0 or not _plain_polynomial(base):
                     return None  # (sums as factors, nested fractions: gcd_terms' own forms)
@@ -352,12 +396,12 @@ def _gathered_sum(terms) -> sp.Expr | None:
         powers.append(d)
     common = {}
     for base in set().union(*powers):
-        low = min(d.get(base, sp.S.Zero) for d in powers)
+        low = min(d.get(base, 0) for d in powers)
         if low != 0:
             common[base] = low
     content = reduce(lambda a, b: a.gcd(b), coeffs)
-    rest = sp.Add(*[(c / content) * sp.Mul(*[b**(d.get(b, 0) - low) for b, low in common.items()],
-                                           *[b**x for b, x in d.items() if b not in common])
+    rest = sp.Add(*[(c / content) * sp.Mul(*[_power(b, d.get(b, 0) - low) for b, low in common.items()],
+                                           *[_power(b, x) for b, x in d.items() if b not in common])
                     for c, d in zip(coeffs, powers)])
     if rest.is_Add:  # a number distributed over a sum factor can leave content (as in gcd_terms)
         more, rest = rest.primitive()
@@ -391,7 +435,7 @@ def _positive_integer_sum(x) -> bool:
     """A sum whose every term is a positive integer times generators to positive integer powers."""
     for term in x.args:
         coef, rest = term.as_coeff_Mul()
-        if not (coef.is_Integer and coef > 0):
+        if not (coef.is_Integer and coef.p > 0):
             return False
         for f in sp.Mul.make_args(rest):
             gp = _generator_power(f) if f != 1 else (None, 1)
@@ -415,7 +459,7 @@ def _single_term_fraction(e: sp.Expr) -> tuple[sp.Expr, sp.Expr] | None:
     top, bottom, sums, top_gens = [], [], [], set()
     for f in sp.Mul.make_args(rest):
         if f.is_Pow and f.base.is_Add:
-            if not (f.exp.is_Integer and f.exp < 0 and _positive_integer_sum(f.base)):
+            if not (f.exp.is_Integer and f.exp.p < 0 and _positive_integer_sum(f.base)):
                 return None
             sums.append(f.base ** -f.exp)
             continue
@@ -431,7 +475,7 @@ def _single_term_fraction(e: sp.Expr) -> tuple[sp.Expr, sp.Expr] | None:
         return None
     den = sp.expand(sp.Mul(sp.Integer(coef.q), *bottom, *sums))
     terms = sp.Add.make_args(den)
-    powers = [t.as_powers_dict() for t in terms]
+    powers = [term_powers(t) for t in terms]
     if any(all(d.get(g, 0) for d in powers) for g in top_gens):  # a monomial factor in common
         return None
     g = reduce(igcd, [int(t.as_coeff_Mul()[0]) for t in terms], abs(coef.p))
@@ -443,11 +487,11 @@ def _monomial_powers(d: sp.Expr) -> dict | None:
     out = {}
     for f in sp.Mul.make_args(d):
         base, exp = f.as_base_exp()
-        if base.is_Add or not exp.is_Integer or exp < 0:
+        if base.is_Add or not exp.is_Integer or exp.p < 0:
             return None
         if base.is_number:
             base, exp = f, sp.Integer(1)
-        out[base] = out.get(base, 0) + exp
+        out[base] = out.get(base, 0) + int(exp)  # (Python ints: sympy's compare each with a sympified 0)
     return out
 
 
@@ -476,11 +520,12 @@ def _is_trig_denominator(x) -> bool:
     return x.is_Pow and x.exp.is_negative and x.base.is_Add and x.base.has(sp.sin, sp.cos)
 
 
-def _reduce_denominators(e: sp.Expr) -> sp.Expr:
+def _reduce_denominators(e: sp.Expr, pows: set | None = None) -> sp.Expr:
     """Every denominator that is a polynomial in sin/cos reduced modulo sin**2 + cos**2 = 1
     (``(sin(g)**2 + cos(g)**2)**2`` becomes 1): the cheap structural step that removes a
-    printed denominator equal to a constant."""
-    return _replace_powers(e, _is_trig_denominator, lambda x: _reduce_poly(x.base) ** x.exp)
+    printed denominator equal to a constant; ``e`` itself when there is none. ``pows``: the
+    powers of ``e`` when the caller has them."""
+    return _replace_powers(e, _is_trig_denominator, lambda x: _reduce_poly(x.base) ** x.exp, pows)
 
 
 def tree_size(e: sp.Expr) -> int:
@@ -497,8 +542,8 @@ def _monomial_denominators(e: sp.Expr) -> bool:
     return all(_monomial_powers(sp.fraction(t)[1]) is not None for t in sp.Add.make_args(e))
 
 
-def _has_denominator(e: sp.Expr) -> bool:
-    return any(x.exp.is_negative for x in _nodes(e, sp.Pow))
+def _has_denominator(e: sp.Expr, pows: set | None = None) -> bool:
+    return any(x.exp.is_negative for x in (_nodes(e, sp.Pow) if pows is None else pows))
 
 
 def _denominator_free(p: sp.Expr) -> bool:
@@ -506,19 +551,36 @@ def _denominator_free(p: sp.Expr) -> bool:
     return not any(x.exp.is_negative for x in _nodes(p, sp.Pow))
 
 
-def _has_square(p: sp.Expr) -> bool:
-    """Whether some sin(a)**n with n >= 2 appears (only then can the reduction change anything)."""
-    return any(isinstance(x.base, sp.sin) and x.exp.is_Integer and x.exp >= 2 for x in _nodes(p, sp.Pow))
+def _has_square(p: sp.Expr, pows: set | None = None) -> bool:
+    """Whether some sin(a)**n with n >= 2 appears (only then can the reduction change anything).
+    ``pows``: the powers of ``p`` when the caller has them."""
+    pows = _nodes(p, sp.Pow) if pows is None else pows
+    return any(isinstance(x.base, sp.sin) and x.exp.is_Integer and x.exp.p >= 2 for x in pows)
 
 
 def _tidy_polynomial(p: sp.Expr) -> sp.Expr:
     """Expanded, reduced modulo sin**2 + cos**2 = 1 when that leaves fewer terms, common factors out."""
     p = sp.expand(p)
-    if _has_square(p):
-        reduced = _reduce_poly(p)
+    pows = _nodes(p, sp.Pow)  # (one walk for both questions)
+    if _has_square(p, pows):
+        reduced = _reduce_poly(p, pows)
         if len(sp.Add.make_args(reduced)) < len(sp.Add.make_args(p)):
             p = reduced
     return _common_factor(p)
+
+
+def could_extract_minus_sign(e: sp.Expr) -> bool:
+    """``e.could_extract_minus_sign()``; for a product with a rational coefficient, the sign of
+    the coefficient (sympy first compares the product with its negative, which differs from it
+    whenever the coefficient is a finite nonzero number)."""
+    if type(e) is sp.Mul and e.args[0].is_Rational:
+        return e.args[0].p < 0
+    return e.could_extract_minus_sign()
+
+
+def _integer(x) -> int:
+    """A sympy Integer as a Python int (a key for ``min``: comparing sympy Integers sympifies)."""
+    return x.p
 
 
 def _common_factor(p: sp.Expr) -> sp.Expr:
@@ -529,19 +591,20 @@ def _common_factor(p: sp.Expr) -> sp.Expr:
         return p
     content, prim = p.primitive()
     terms = sp.Add.make_args(prim)
-    powers = [t.as_powers_dict() for t in terms]
+    powers = [term_powers(t) for t in terms]
     common = {}
     for base, exp in powers[0].items():
-        if base.is_number or not (exp.is_Integer and exp > 0):
+        if base.is_number or not (exp.is_Integer and exp.p > 0):
             continue
-        low = min(d.get(base, sp.Integer(0)) for d in powers)
-        if low.is_Integer and low > 0:
+        exps = [d.get(base, sp.S.Zero) for d in powers]
+        low = min(exps, key=_integer) if all(x.is_Integer for x in exps) else min(exps)
+        if low.is_Integer and low.p > 0:
             common[base] = low
     if not common:
         return content * prim if content != 1 else p
     monomial = sp.Mul(*[b**e for b, e in common.items()])
     rest = [t / monomial for t in terms]
-    if all(t.could_extract_minus_sign() for t in rest):  # -(a + b) rather than (-a - b)
+    if all(could_extract_minus_sign(t) for t in rest):  # -(a + b) rather than (-a - b)
         content, rest = -content, [-t for t in rest]
     return content * monomial * sp.Add(*rest)
 
@@ -556,15 +619,16 @@ def tidy(expr: sp.Expr) -> sp.Expr:
     nested trigonometric arguments with only common factors pulled out.
     """
     e = sp.sympify(expr)
-    if e.is_number or _plain_monomial(e) or tree_size(e) > MAX_TIDY_NODES:
+    if e.is_number or _plain_monomial(e):
         return e
-    return _tidy_general(e)
+    shape = _shape(e)
+    return e if shape.size > MAX_TIDY_NODES else _tidy_general(e, shape)
 
 
 def _plain_factor(f) -> bool:
     """A symbol, or sin/cos of a symbol, possibly to a positive integer power."""
     if f.is_Pow:
-        f = f.base if f.exp.is_Integer and f.exp > 0 else None
+        f = f.base if f.exp.is_Integer and f.exp.p > 0 else None
     return f is not None and (f.is_Symbol or isinstance(f, (sp.sin, sp.cos)) and f.args[0].is_Symbol)
 
 
@@ -575,19 +639,24 @@ def _plain_monomial(e: sp.Expr) -> bool:
     return all(f.is_Rational or _plain_factor(f) for f in sp.Mul.make_args(e)) and not e.is_Rational
 
 
-def _tidy_general(e: sp.Expr) -> sp.Expr:
-    """:func:`tidy` of an expression that is not a number (nor a plain monomial)."""
-    e = _reduce_denominators(e)
+def _tidy_general(e: sp.Expr, shape: _Shape | None = None) -> sp.Expr:
+    """:func:`tidy` of an expression that is not a number (nor a plain monomial); ``shape``: its
+    :func:`_shape` when the caller has it."""
+    shape = _shape(e) if shape is None else shape
+    reduced = _reduce_denominators(e, shape.pows)
+    if reduced is not e:
+        e, shape = reduced, _shape(reduced)
     if e.has(sp.tan, sp.cot):
         e = e.replace(sp.tan, lambda a: sp.sin(a) / sp.cos(a)).replace(sp.cot, lambda a: sp.cos(a) / sp.sin(a))
-    if not _angles_ok(e):
+        shape = _shape(e)
+    if not _angles_ok(e, shape.trig):
         return sp.factor_terms(e)
     monomial = _monomial_denominators(e)
-    small = tree_size(e) <= MAX_CANCEL_NODES
+    small = shape.size <= MAX_CANCEL_NODES
     if not monomial and small:  # common factors out (cheap when small)
         num, den = _single_term_fraction(e) or sp.fraction(sp.cancel(_together(e)))
     else:
-        num, den = _over_common_denominator(e) if _has_denominator(e) else (e, sp.Integer(1))
+        num, den = _over_common_denominator(e) if _has_denominator(e, shape.pows) else (e, sp.Integer(1))
         if not monomial and not (_denominator_free(num) and _denominator_free(den)):
             num, den = _single_term_fraction(e) or sp.fraction(sp.cancel(_together(e)))
     # (over monomial denominators the common monomial of the numerator cancels by itself below)
@@ -608,7 +677,7 @@ def _monomial_term(t) -> bool:
         if f.is_Rational:
             continue
         if f.is_Pow:
-            if not (f.exp.is_Integer and f.exp > 0):
+            if not (f.exp.is_Integer and f.exp.p > 0):
                 return False
             f = f.base
         if not _plain_generator(f):
@@ -632,7 +701,7 @@ def factor_monomial_terms(p: sp.Expr) -> sp.Expr:
     args = list(prim.args)
     if all(a.as_coeff_Mul()[0].is_negative for a in args):  # factor_terms takes a common -1 out
         content, args = -content, [-a for a in args]
-    coeffs, powers = zip(*[(c, rest.as_powers_dict()) for c, rest in (a.as_coeff_Mul() for a in args)])
+    coeffs, powers = zip(*[(c, term_powers(rest)) for c, rest in (a.as_coeff_Mul() for a in args)])
     common = {b: min(d.get(b, 0) for d in powers) for b in powers[0]}
     common = {b: x for b, x in common.items() if x}
     g = reduce(lambda a, b: a.gcd(b), coeffs)
@@ -659,6 +728,15 @@ def _fraction_of_ratio(num: sp.Expr, den: sp.Expr, once=None) -> tuple[sp.Expr, 
     return sp.fraction(top / bottom)
 
 
+def _reduced_with_powers(e: sp.Expr) -> tuple[sp.Expr, set | None]:
+    """(``_reduce_denominators(expand(e))``, its powers when it is the expanded ``e`` itself, else
+    None): one walk of the tree for both."""
+    e = sp.expand(e)
+    pows = _nodes(e, sp.Pow)
+    reduced = _reduce_denominators(e, pows)
+    return (e, pows) if reduced is e else (reduced, None)
+
+
 def tidy_fraction(num: sp.Expr, den: sp.Expr, memo: dict | None = None) -> sp.Expr:
     """Display form of num/den when both are known polynomials in sin/cos (no ``together``,
     no ``cancel``): each part reduced and factored on its own.
@@ -672,11 +750,12 @@ def tidy_fraction(num: sp.Expr, den: sp.Expr, memo: dict | None = None) -> sp.Ex
             memo[key] = build()
         return memo[key]
 
-    num = _reduce_denominators(sp.expand(num))
-    den = once(("reduced", den), lambda: _reduce_denominators(sp.expand(den)))
-    if _has_denominator(den):
+    num, num_pows = _reduced_with_powers(num)
+    den, den_pows = once(("reduced", den), lambda: _reduced_with_powers(den))
+    if _has_denominator(den, den_pows):
         num, den = _fraction_of_ratio(num, den, once)
-    if _has_denominator(num) and _monomial_denominators(num):
+        num_pows = None
+    if _has_denominator(num, num_pows) and _monomial_denominators(num):
         num, extra = _over_common_denominator(num)
         den = den * extra
     return _tidy_polynomial(num) / once(("polynomial", den), lambda: _tidy_polynomial(den))

@@ -24,6 +24,7 @@ Accepted
 from __future__ import annotations
 
 import ast
+import keyword
 import math
 from collections.abc import Callable, Mapping
 from fractions import Fraction
@@ -150,6 +151,9 @@ def parse_expression(text: str, names: Mapping[str, sp.Symbol], where: str) -> s
     7*l_b/12
     """
     _validate_parse_expression(text, names, where)
+    plain = _plain_atom(text.strip(), names)
+    if plain is not None:
+        return plain
     source = text.replace("^", "**")
     try:
         tree = ast.parse(source.strip(), mode="eval")
@@ -168,6 +172,20 @@ def parse_expression(text: str, names: Mapping[str, sp.Symbol], where: str) -> s
             f"function outside its domain) in {text!r}"
         )
     return expr
+
+
+def _plain_atom(text: str, names: Mapping[str, sp.Symbol]) -> sp.Expr | None:
+    """What the parser makes of a bare known name (``"m_b"``) or an unsigned integer (``"0"``),
+    about half the expressions of a scene, without parsing: ``names[text]``, ``Integer(text)``.
+    None for anything else, including what the parser would refuse or read differently (a
+    keyword, a non-ASCII name, which Python normalizes, an integer with a leading zero)."""
+    if not text.isascii():
+        return None
+    if text in names and text.isidentifier() and not keyword.iskeyword(text):
+        return names[text]
+    if text.isdigit() and (text == "0" or text[0] != "0"):
+        return sp.Integer(int(text))
+    return None
 
 
 def _validate_parse_expression(text: object, names: Mapping[str, sp.Symbol], where: str) -> None:

@@ -30,6 +30,8 @@ from pathlib import Path
 import pint
 import sympy as sp
 
+from solver.units import si_magnitude
+
 ELEMENT_KINDS = (
     "slender_bar",
     "uniform_disk",
@@ -225,7 +227,7 @@ class Scene:
     def si_values(self) -> dict[sp.Symbol, float]:
         """Parameter symbol -> value in SI base units (angles in rad)."""
         return {
-            sp.Symbol(n, real=True): float(q.to_base_units().magnitude)
+            sp.Symbol(n, real=True): si_magnitude(q)
             for n, q in self.parameters.items()
         }
 

@@ -622,7 +622,7 @@ class _SceneLoader:
         self.dims = {params[n]: quantity.dimensionality for n, quantity in self.parameters.items()}
         self.dims.update({q: DIMENSIONLESS, qd: RATE, t: TIME})
         self.si_values = {
-            params[n]: float(quantity.to_base_units().magnitude) for n, quantity in self.parameters.items()
+            params[n]: units.si_magnitude(quantity) for n, quantity in self.parameters.items()
         }
         self.coordinate = coordinate
         self.q = q
@@ -687,11 +687,12 @@ class _SceneLoader:
         total = sp.Add(*[e.mass for e in elements])
         if not self.si(total, where) > 0:
             return  # no mass centre to compare with (a massless body is refused where its elements are read)
-        centre = sum((e.mass * _mass_centre(e) for e in elements), sp.zeros(2, 1)) / total
-        given = sp.Matrix(points["G"].coords)
-        values = [(self.si(centre[i], where), self.si(given[i], where)) for i in range(2)]
+        centres = [_mass_centre(e) for e in elements]  # component by component: 2-vector Matrix arithmetic is slow
+        centre = [sp.Add(*[e.mass * c[i] for e, c in zip(elements, centres)]) / total for i in range(2)]
+        given = points["G"].coords
+        values = [(self.si(centre[i], where), self.si(sp.sympify(given[i]), where)) for i in range(2)]
         size = max([1e-300] + [abs(x) for pair in values for x in pair]
-                   + [abs(self.si(sp.Matrix(p.coords)[i], where)) for p in points.values() if p.frame == "body"
+                   + [abs(self.si(sp.sympify(p.coords[i]), where)) for p in points.values() if p.frame == "body"
                       for i in range(2)])
         # the same place to round-off of the parameter arithmetic (~1e-16 relative to the body's size)
         if all(abs(c - g) <= 1e-9 * size for c, g in values):

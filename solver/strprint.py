@@ -47,25 +47,33 @@ def _complex(number) -> complex:
     return complex(number)
 
 
+def _coeff_factors(term) -> tuple:
+    """(c, factors): ``c, rest = term.as_coeff_Mul()`` and the factors of ``rest`` (none when it is
+    1), without building ``rest`` (a new product for every term of every sum printed)."""
+    if term.is_Mul:
+        c = term.args[0]
+        return (c, term.args[1:]) if c.is_Number else (sp.S.One, term.args)
+    return (term, ()) if term.is_Number else (sp.S.One, (term,))
+
+
 def _terms_with_keys(expr, sort_key) -> list:
     """``Expr.as_terms`` of a sum: (term, (coefficient, exponents of the sorted generators, ()))."""
     gens, terms = set(), []
     for term in sp.Add.make_args(expr):
-        coeff, rest = term.as_coeff_Mul()
+        coeff, factors = _coeff_factors(term)
         coeff = _complex(coeff)
         powers = {}
-        if rest is not sp.S.One:
-            for factor in sp.Mul.make_args(rest):
-                if factor.is_number:
-                    try:
-                        coeff *= _complex(factor)
-                    except (TypeError, ValueError):
-                        pass
-                    else:
-                        continue
-                base, exp = decompose_power(factor)
-                powers[base] = exp
-                gens.add(base)
+        for factor in factors:
+            if factor.is_number:
+                try:
+                    coeff *= _complex(factor)
+                except (TypeError, ValueError):
+                    pass
+                else:
+                    continue
+            base, exp = decompose_power(factor)
+            powers[base] = exp
+            gens.add(base)
         terms.append((term, (coeff.real, coeff.imag), powers))
     index = {g: i for i, g in enumerate(sorted(gens, key=sort_key))}
     out = []
@@ -166,12 +174,12 @@ class FastStrPrinter(_FastOrdering, StrPrinter):
         prec = self._precedence(expr)
         c, rest = (args[0], args[1:]) if args[0].is_Number else (sp.S.One, args)
         sign = ""
-        if c < 0:
+        if _negative(c):
             c, sign = -c, "-"
         factors = sorted(rest if c is sp.S.One else (c, *rest), key=self._sort_key)
         a, b, pow_paren = [], [], []  # numerator, denominator, bases of x**-1 with a compound base
         for item in factors:
-            if item.is_Pow and bool(item.exp.as_coeff_Mul()[0] < 0):
+            if item.is_Pow and _negative(item.exp.as_coeff_Mul()[0]):
                 if item.exp is not sp.S.NegativeOne:
                     b.append(_inverted_power(item))
                 else:
@@ -196,6 +204,12 @@ class FastStrPrinter(_FastOrdering, StrPrinter):
             return sign + "*".join(a_str) + "/" + b_str[0]
         return sign + "*".join(a_str) + "/(%s)" % "*".join(b_str)
 
+
+
+def _negative(number) -> bool:
+    """``bool(number < 0)`` of a sympy number; a rational's sign read from its numerator (sympy's
+    comparison sympifies the 0 first)."""
+    return number.p < 0 if number.is_Rational else bool(number < 0)
 
 
 def _precedence_of(item) -> int:

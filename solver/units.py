@@ -201,7 +201,7 @@ def parse_unit(text: str, where: str) -> pint.Unit:
     if any(p > MAX_UNIT_EXPONENT for p in exponents):
         raise InputError(f"{where}: unit {text!r} has an exponent larger than {MAX_UNIT_EXPONENT}")
     try:
-        factor = float(Q_(1.0, unit).to_base_units().magnitude)
+        factor = si_magnitude(Q_(1.0, unit))
     except Exception as err:  # noqa: BLE001 - overflow or pint trouble: refuse the unit
         raise InputError(f"{where}: unit {text!r} cannot be converted to SI ({_short(err)})") from None
     if not (math.isfinite(factor) and 1 / MAX_MAGNITUDE <= abs(factor) <= MAX_MAGNITUDE):
@@ -296,6 +296,18 @@ A 1e200 ft bar would overflow its own moment of inertia; a 1e-150 kg, 1e-150 m b
 m l**2 = 1e-450, which underflows to 0 (its answers came out 0.5 % off, then "singular")."""
 
 
+def si_magnitude(quantity: pint.Quantity) -> float:
+    """``float(quantity.to_base_units().magnitude)``, the value in SI base units, without building
+    the converted quantity: for a unit without an offset, the magnitude times the unit's factor
+    to the base units (:meth:`pint.UnitRegistry.get_base_units`, which pint keeps), the product
+    pint's own conversion forms (so the same float to the last bit); a unit with an offset (degC)
+    takes pint's conversion. A scene is read with a dozen of these, about 12 us each by pint."""
+    if not quantity._ok_for_muldiv():  # noqa: SLF001 - pint's own test for an offset unit
+        return float(quantity.to_base_units().magnitude)
+    factor, _ = ureg.get_base_units(quantity.units)
+    return float(quantity.magnitude * factor)
+
+
 def check_si_magnitude(quantity: pint.Quantity, where: str) -> pint.Quantity:
     """``quantity`` if its SI magnitude is 0 or between 1/:data:`MAX_SI_MAGNITUDE` and
     :data:`MAX_SI_MAGNITUDE` in size; else an :class:`InputError` naming ``where`` and the limit.
@@ -311,7 +323,7 @@ def check_si_magnitude(quantity: pint.Quantity, where: str) -> pint.Quantity:
     ...
     solver.errors.InputError: parameters.m_b: 1e-150 lbm is 4.536e-151 in SI units; a value that is not 0 must be at least 1e-100 in size (smaller ones underflow in products such as m*l**2)
     """
-    value = float(quantity.to_base_units().magnitude)
+    value = si_magnitude(quantity)
     if not abs(value) <= MAX_SI_MAGNITUDE:
         raise InputError(
             f"{where}: {quantity.magnitude:g} {quantity.units:~} is {value:.4g} in SI units; the limit is "
@@ -349,7 +361,8 @@ def check_angle(value_rad: float, where: str, text: Any = None) -> float:
 
 def is_angle_unit(quantity: pint.Quantity) -> bool:
     """True for a dimensionless quantity with a unit (``deg``, ``rad``, ``turn``): an angle."""
-    return quantity.dimensionless and str(quantity.units) not in ("", "dimensionless")
+    # not quantity.dimensionality: pint's .dimensionless, without converting to the root units first
+    return not quantity.dimensionality and quantity.units != ureg.dimensionless  # (its text is not "dimensionless")
 
 
 def parse_angle(text: Any, where: str, bare_unit: str = "deg") -> float:
@@ -395,7 +408,7 @@ def _short(err: Exception, limit: int = 120) -> str:
 
 
 __all__ = [
-    "ureg", "Q_", "check_unit_text", "parse_unit", "parse_quantity", "parse_angle", "parse_time",
+    "ureg", "Q_", "check_unit_text", "parse_unit", "parse_quantity", "parse_angle", "parse_time", "si_magnitude",
     "check_magnitude", "check_angle", "check_si_magnitude", "MAX_SI_MAGNITUDE", "is_angle_unit", "DIMENSIONLESS_UNITS",
     "MAX_QUANTITY_LENGTH", "MAX_UNIT_LENGTH", "MAX_UNIT_EXPONENT", "MAX_UNIT_NESTING",
     "MAX_MAGNITUDE", "MAX_ANGLE_TURNS", "MAX_ANGLE_RAD",

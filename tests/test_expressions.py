@@ -231,3 +231,17 @@ def test_an_undefined_node_is_refused_even_where_its_parent_hides_it(text):
     # parsed to 0 instead of being refused as a division by zero.
     with pytest.raises(ExpressionError, match="undefined"):
         parse(text)
+
+
+@pytest.mark.parametrize("text", ["x", " y ", "0", "7", "12345678901234567890", "pi"])
+def test_bare_names_and_integers_read_as_the_parser_reads_them(text: str) -> None:
+    # a bare known name or unsigned integer skips the syntax tree: the reference is the same text
+    # in parentheses, which the parser itself reads
+    assert sp.srepr(parse(text)) == sp.srepr(parse(f"({text})"))
+
+
+@pytest.mark.parametrize(("text", "words"), [("007", "syntax error"), ("z", "unknown name 'z'"),
+                                             ("lambda", "syntax error")])
+def test_atoms_the_parser_refuses_are_refused(text: str, words: str) -> None:
+    with pytest.raises(ExpressionError, match=words):
+        parse(text)

@@ -22,8 +22,20 @@ from solver.units import (
     parse_quantity,
     parse_time,
     parse_unit,
+    si_magnitude,
     ureg,
 )
+
+
+@settings(max_examples=300, deadline=None)  # 300 draws: well under a second
+@given(st.sampled_from(["lbm", "ft", "deg", "ft/s^2", "lbf", "ft*lbf", "rad/s", "in", "turn", "rpm", "g", "percent",
+                        "degC", "degF", "kelvin"]),
+       st.floats(min_value=-1e6, max_value=1e6, allow_nan=False))
+def test_si_magnitude_is_pints_conversion_to_the_bit(unit: str, value: float) -> None:
+    # the reference is pint's own conversion (the path si_magnitude shortens), for units with an
+    # offset (degC, degF) too: the same float, not only a close one
+    q = ureg.Quantity(value, parse_unit(unit, "here"))
+    assert si_magnitude(q) == float(q.to_base_units().magnitude)
 
 
 @pytest.mark.parametrize(

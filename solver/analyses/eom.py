@@ -18,6 +18,8 @@ from __future__ import annotations
 
 import sympy as sp
 
+from ..model.system import derivative
+
 __all__ = ["equations_of_motion", "reduced_equations_of_motion", "projection", "Projection"]
 
 
@@ -51,7 +53,7 @@ def equations_of_motion(formulation) -> list[sp.Expr]:
             for body, (nx, ny, eu) in per_body.items():
                 v = _reference_velocity(formulation, body)
                 w = s.omega(body)
-                terms += [sp.diff(v[0], c.qd) * nx, sp.diff(v[1], c.qd) * ny, sp.diff(w, c.qd) * eu]
+                terms += [derivative(v[0], c.qd) * nx, derivative(v[1], c.qd) * ny, derivative(w, c.qd) * eu]
             out.append(-sp.Add(*terms).xreplace(zero))
         return out
 

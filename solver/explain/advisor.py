@@ -193,6 +193,13 @@ class _BodyRows:
         return [n for n, v in zip(self.names, row) if abs(v) > _REL_ZERO * self.scale]
 
 
+def _body_rows(system, f, body: str, state) -> _BodyRows:
+    """The :class:`_BodyRows` of ``body`` in formulation ``f`` at ``state``, remembered by the system
+    (the worked solution's steps and the advisor ask it for the same body and state; read only)."""
+    key = ("body_rows", f.method, tuple(sorted(f.points.items())), body, tuple(state.q), tuple(state.qd), state.t)
+    return system._memo(key, lambda: _BodyRows(system, f, body, state))
+
+
 def unknowns_at_state(system, f, body: str, P: str, state) -> list[str]:
     """The unknowns the moment equation of ``body`` about its point ``P`` holds at ``state``: the
     same decision as the advisor's count for P (:class:`_BodyRows`)."""
@@ -203,7 +210,7 @@ def unknowns_in_equations(system, f, body: str, P: str, state) -> dict[str, list
     """The unknowns each equation of ``body`` holds at ``state`` (tags ``euler``, the moment equation
     about ``P``, ``newton_x``, ``newton_y``), by the one decision of :class:`_BodyRows`: the step on
     the dropped unknowns, the advisor and the equations with the data entered all ask it."""
-    rows = _BodyRows(system, f, body, state)
+    rows = _body_rows(system, f, body, state)
     return {"euler": rows.unknowns_about(rows.position(system.point_position(body, P))),
             "newton_x": rows.held(rows.rows["x"]), "newton_y": rows.held(rows.rows["y"])}
 
@@ -215,7 +222,7 @@ def rank_points(system, body: str, state, f=None, parts=None) -> list[Candidate]
     from .build import _Points, _forces_on, crossing_name, crossing_words
 
     f = f or formulate(system, "generalized_euler", None)
-    body_rows = _BodyRows(system, f, body, state)
+    body_rows = _body_rows(system, f, body, state)
     subs, rows, scale = body_rows.subs, body_rows.rows, body_rows.scale
 
     if parts is None:
@@ -227,10 +234,12 @@ def rank_points(system, body: str, state, f=None, parts=None) -> list[Candidate]
     cands: list[Candidate] = []
 
     def add(name, pos, origin):
-        for c in cands:
-            if np.allclose(c.position, pos, atol=1e-9 * (1 + np.max(np.abs(pos)))):
+        pos = tuple(float(x) for x in pos)
+        atol = 1e-9 * (1 + max(abs(x) for x in pos))
+        for c in cands:  # numpy.allclose (rtol 1e-5) of two finite points, without its array machinery
+            if all(abs(p - q) <= atol + 1e-05 * abs(q) for p, q in zip(c.position, pos)):
                 return
-        cands.append(Candidate(body, name, tuple(float(x) for x in pos), origin))
+        cands.append(Candidate(body, name, pos, origin))
 
     b = system.bodies[body]
     for name, r in points.named.items():

@@ -25,9 +25,11 @@ import re
 
 import sympy as sp
 
-from ..model.joints import cross_k, k_cross, vec
+from ..model.joints import copy_vec, cross_k, k_cross, vec
+from ..model.system import derivative
 from .content import Equation, Explanation, Section, Step, Table, Term
-from ..display import is_identically_zero, tidy, tidy_linear
+from ..display import could_extract_minus_sign, is_identically_zero, term_powers, tidy, tidy_linear
+from ..strprint import FastStrPrinter, sstr
 
 __all__ = ["explain", "latex_names", "system_in_regime"]
 
@@ -54,11 +56,15 @@ def _zero(expr) -> bool:
 
 
 def _state_subs(system, state) -> dict:
-    vals = dict(system.si_values())
-    vals.update(zip(system.q, state.q))
-    vals.update(zip(system.qd, state.qd))
-    vals[system.t] = state.t
-    return {k: sp.Float(v) for k, v in vals.items()}
+    """Symbol -> sympy Float: the parameters, the coordinates and rates at ``state``, and t (for
+    ``xreplace``); remembered by the system for that state (several steps evaluate there). Read only."""
+    def build():
+        vals = dict(system.si_values())
+        vals.update(zip(system.q, state.q))
+        vals.update(zip(system.qd, state.qd))
+        vals[system.t] = state.t
+        return {k: sp.Float(v) for k, v in vals.items()}
+    return system._memo(("state_subs", tuple(state.q), tuple(state.qd), state.t), build)
 
 
 def _value(expr, subs) -> float:
@@ -109,8 +115,7 @@ class _Points:
         """The name of the place ``at``: a named point there, else ``C_<joint>`` for the place where
         ``joint`` acts (:func:`joint_point_name`), else ``X1``, ``X2`` ..."""
         for name, r in self.named.items():
-            d = r - at
-            if _zero(d[0]) and _zero(d[1]):
+            if _zero(r[0] - at[0]) and _zero(r[1] - at[1]):  # by components: Matrix arithmetic is slow
                 return name
         if joint is not None:
             name = joint_point_name(joint, self.named)
@@ -118,7 +123,7 @@ class _Points:
         else:
             self.extra += 1
             name = f"X{self.extra}"
-        self.named[name] = sp.Matrix(at)
+        self.named[name] = copy_vec(at)
         return name
 
 
@@ -222,7 +227,7 @@ class _Force:
 
     def __init__(self, name, kind, force, at, couple, reaction=None, point=""):
         self.name, self.kind = name, kind
-        self.force = None if force is None else sp.Matrix(force)
+        self.force = None if force is None else copy_vec(force)
         self.at = at
         self.couple = sp.sympify(couple)
         self.reaction = reaction
@@ -287,12 +292,12 @@ def _moment(f: _Force, r_P) -> sp.Expr:
 # -- per body ------------------------------------------------------------------------------------
 
 
-def _data_step(system, body: str) -> Step:
+def _data_step(system, body: str, printer: FastStrPrinter | None = None) -> Step:
     b = system.bodies[body]
     rows = []
     for e in b.elements:
-        rows.append((e.name, e.kind or type(e).__name__, sp.sstr(e.mass), sp.sstr(tidy(e.I_G))))
-    text = [f"Body {body}: {counted(len(b.elements), 'element')}, total mass m = {sp.sstr(b.total_mass)}."]
+        rows.append((e.name, e.kind or type(e).__name__, sstr(e.mass, printer), sstr(tidy(e.I_G), printer)))
+    text = [f"Body {body}: {counted(len(b.elements), 'element')}, total mass m = {sstr(b.total_mass, printer)}."]
     if len(b.elements) > 1:
         text.append("A composite body (Eqs. 11-14): each element keeps its own mass centre and centroidal inertia.")
     return Step("data", f"Data of {body}", text, table=Table(("element", "kind", "mass m_k", "I_G,k"), tuple(rows)))
@@ -358,7 +363,7 @@ def _pivot_text(system, body: str, P: str, r_P, shown) -> tuple[str, str] | None
 def _midpoints(system, body: str, points: _Points, eqs: list[Equation]) -> list[Equation]:
     """a_C = (a_X + a_Y)/2 for a slender bar whose centre C and ends X, Y are named points whose
     accelerations are shown (r_C = (r_X + r_Y)/2 differentiated twice: the paper's Eq. 16)."""
-    shown = {e.tag.split(":", 1)[1]: e.left for e in eqs if e.tag.startswith("accel:")}
+    shown = {e.tag.split(":", 1)[1]: e for e in eqs if e.tag.startswith("accel:")}  # .left: the acceleration
     out = []
     for e in system.bodies[body].elements:
         if e.kind != "slender_bar":
@@ -370,7 +375,8 @@ def _midpoints(system, body: str, points: _Points, eqs: list[Equation]) -> list[
         if None in names:
             continue
         C, X, Y = names
-        out.append(Equation((Term(shown[C]),), (Term(_vec(shown[X] / 2), f"a_{X}/2"), Term(_vec(shown[Y] / 2), f"a_{Y}/2")),
+        a = {n: shown[n].left for n in names}
+        out.append(Equation((Term(a[C]),), (Term(_vec(a[X] / 2), f"a_{X}/2"), Term(_vec(a[Y] / 2), f"a_{Y}/2")),
                             f"{C} is the midpoint of the bar {X}{Y}: r_{C} = (r_{X} + r_{Y})/2, differentiated twice",
                             "Eq. (16)", tag=f"midpoint:{C}", name=f"a_{C}", vector=True))
     return out
@@ -380,17 +386,17 @@ MAX_CELL = 60
 """Most characters of a free-body table cell; a longer force is shown by its vector equation only."""
 
 
-def _fbd_step(system, body: str, forces: list[_Force]) -> Step:
+def _fbd_step(system, body: str, forces: list[_Force], printer: FastStrPrinter | None = None) -> Step:
     rows = []
     for f in forces:
         what = "unknown (reaction)" if f.reaction is not None else "known (applied)"
         if f.force is not None:
-            shown = f"({sp.sstr(tidy(f.force[0]))}, {sp.sstr(tidy(f.force[1]))})"
+            shown = f"({sstr(tidy(f.force[0]), printer)}, {sstr(tidy(f.force[1]), printer)})"
             if len(shown) > MAX_CELL:
                 shown = f"the vector {f.name.replace('gravity:', 'W_')} above"
             rows.append((f.name, f.kind, f.point, shown, what))
         else:
-            shown = f"couple {sp.sstr(tidy(f.couple))}"
+            shown = f"couple {sstr(tidy(f.couple), printer)}"
             rows.append((f.name, f.kind, "-", shown if len(shown) <= MAX_CELL else "a couple (too long to show here)", what))
     step = Step("fbd", f"Free-body diagram of {body}",
                 [f"The forces and couples on {body}, fixed-frame components (x right, y up)."],
@@ -454,7 +460,8 @@ def _inertia_equation(system, body: str, P: str) -> Equation:
                     "Eq. (12)", tag="inertia", name=f"I_{P}")
 
 
-def _euler_step(system, body: str, P: str, forces: list[_Force]) -> tuple[Step, list[_Force]]:
+def _euler_step(system, body: str, P: str, forces: list[_Force],
+                printer: FastStrPrinter | None = None) -> tuple[Step, list[_Force]]:
     r_P = system.point_position(body, P)
     a_P = system.point_kinematics(body, P)[2]
     al = system.alpha(body)
@@ -481,7 +488,8 @@ def _euler_step(system, body: str, P: str, forces: list[_Force]) -> tuple[Step, 
         text.append(f"The inertial term vanishes here: r_G/{P} x a_{P} = 0 ({P} is the mass centre, or a_{P} "
                     f"is parallel to r_G/{P} or zero).")
     collected = _collected_equation(system, body, P, euler)
-    if collected is not None and _length(collected) > _length(euler):
+    printer = printer or FastStrPrinter()  # the two forms share their subexpressions: each printed once
+    if collected is not None and _length(collected, printer) > _length(euler, printer):
         collected = None  # collecting spreads the terms over the unknowns' coefficients: no help to read
         text.append(f"The equation is not shown collected by unknown: that form is longer than the equation "
                     f"above.")
@@ -492,9 +500,10 @@ def _euler_step(system, body: str, P: str, forces: list[_Force]) -> tuple[Step, 
                  [inertia, euler] + ([collected] if collected is not None else [])), dropped)
 
 
-def _length(eq: Equation) -> int:
-    """Characters of an equation's terms as printed (to compare two forms of it)."""
-    return sum(len(sp.sstr(t.expr)) for t in (*eq.lhs, *eq.rhs))
+def _length(eq: Equation, printer: FastStrPrinter | None = None) -> int:
+    """Characters of an equation's terms as printed (to compare two forms of it); ``printer``, one
+    shared by the forms compared (:func:`solver.strprint.sstr`)."""
+    return sum(len(sstr(t.expr, printer)) for t in (*eq.lhs, *eq.rhs))
 
 
 ALPHA = sp.Symbol("alpha", real=True)
@@ -502,13 +511,16 @@ ALPHA = sp.Symbol("alpha", real=True)
 
 
 def _alpha_form(system) -> dict:
-    """{q'': (alpha, k)} when the only body's alpha = k q'' (k = +-1): the unknown written as alpha."""
-    if len(system.bodies) != 1 or len(system.free) != 1:
-        return {}
-    c = system.free[0]
-    al = system.alpha(next(iter(system.bodies)))
-    k = sp.diff(al, c.qdd)
-    return {c.qdd: (ALPHA, k)} if k in (1, -1) and _zero(al - k * c.qdd) else {}
+    """{q'': (alpha, k)} when the only body's alpha = k q'' (k = +-1): the unknown written as alpha
+    (remembered by the system: several steps ask; read only)."""
+    def build():
+        if len(system.bodies) != 1 or len(system.free) != 1:
+            return {}
+        c = system.free[0]
+        al = system.alpha(next(iter(system.bodies)))
+        k = derivative(al, c.qdd)
+        return {c.qdd: (ALPHA, k)} if k in (1, -1) and _zero(al - k * c.qdd) else {}
+    return system._memo("explain_alpha_form", build)
 
 
 def say_what_alpha_is(system, expl: Explanation) -> None:
@@ -521,11 +533,20 @@ def say_what_alpha_is(system, expl: Explanation) -> None:
     (q_ddot, (alpha, k)), = form.items()
     body = next(iter(system.bodies))
     for step in expl.steps():
-        if any(alpha in sp.sympify(t.expr).free_symbols for e in step.equations for t in (*e.lhs, *e.rhs)):
-            step.text.append(f"Here alpha = {sp.sstr(k * q_ddot)}, the angular acceleration of {body} (k component, "
+        if any(_has(t.expr, alpha) for e in step.equations for t in (*e.lhs, *e.rhs)):
+            step.text.append(f"Here alpha = {sstr(k * q_ddot)}, the angular acceleration of {body} (k component, "
                              f"counter-clockwise positive): from here on the equations write the unknown {q_ddot} "
                              "as alpha.")
             return
+
+
+def _has(expr, symbol) -> bool:
+    """Whether ``symbol`` appears in ``expr`` (an expression, a 2-vector Matrix or a number)."""
+    if isinstance(expr, sp.MatrixBase):  # entry by entry (Basic.has is cached; Matrix.has is not)
+        return any(x.has(symbol) for x in expr.flat())
+    if isinstance(expr, sp.Basic):
+        return expr.has(symbol)  # (no sympify: it would copy a Matrix into an immutable one)
+    return sp.sympify(expr).has(symbol)
 
 
 def _collected_equation(system, body: str, P: str, euler: Equation) -> Equation | None:
@@ -541,16 +562,17 @@ def _collected_equation(system, body: str, P: str, euler: Equation) -> Equation 
     if not terms or not coefs:
         return None
     common, divided = sp.Integer(1), []
+    powers = [term_powers(t) for t in terms]
     for p in system.symbols.values():
-        k = sp.sympify(min(sp.sympify(t.as_powers_dict().get(p, 0)) for t in terms))
+        k = sp.sympify(min(sp.sympify(d.get(p, 0)) for d in powers))
         if k.is_Integer and k > 0:
             common *= p**k
-            divided.append(sp.sstr(p**k))
+            divided.append(sstr(p**k))
     rest = sp.expand(e - sp.Add(*[c * u for u, c in coefs.items()]))
     rhs = tidy(sp.expand(-rest / common))
     reactions = [c for u, c in coefs.items() if u not in system.qdd]
     lead = reactions[0] if reactions else -rhs  # the first reaction's coefficient reads positive (Eq. 28)
-    sign = -1 if sp.sympify(lead).could_extract_minus_sign() else 1
+    sign = -1 if could_extract_minus_sign(sp.sympify(lead)) else 1
     rename = _alpha_form(system)
     lhs = []
     for u, c in coefs.items():
@@ -572,7 +594,7 @@ def counted(n: int, noun: str) -> str:
 
 
 def _dropped_step(system, body: str, P: str, forces, dropped, newton: Step, euler: Step,
-                  at_state: list[str] | None = None) -> Step:
+                  at_state: list[str] | None = None, printer: FastStrPrinter | None = None) -> Step:
     """Which unknowns the moment equation about P holds, and why the others drop out.
 
     ``at_state``: the names of the unknowns it holds at the state, as the point advisor counts them
@@ -583,6 +605,7 @@ def _dropped_step(system, body: str, P: str, forces, dropped, newton: Step, eule
     residual = sp.expand(euler.equation("euler").residual)
     in_euler = _unknowns_in(residual, unknowns)
     here = [u for u in in_euler if at_state is None or str(u) in at_state]
+    newton_rows = {tag: sp.expand(newton.equation(tag).residual) for tag in ("newton_x", "newton_y")}
     rows, text = [], []
     for f in forces:
         if f.reaction is None:
@@ -590,7 +613,7 @@ def _dropped_step(system, body: str, P: str, forces, dropped, newton: Step, eule
         u = f.unknown
         cells = [f.name]
         for tag in ("newton_x", "newton_y"):
-            cells.append("yes" if u in _unknowns_in(newton.equation(tag).residual, [u]) else "no")
+            cells.append("yes" if u in _unknowns_in(newton_rows[tag], [u]) else "no")
         line = f.force is not None and _zero(f.couple)
         if u in here:
             cells.append("yes")
@@ -598,7 +621,7 @@ def _dropped_step(system, body: str, P: str, forces, dropped, newton: Step, eule
         elif u in in_euler:
             cells.append("no, at this state")
             why = (f"{'its line of action passes through ' + P if line else 'its moment about ' + P + ' is zero'} "
-                   f"at this state only (its coefficient {sp.sstr(tidy(residual.coeff(u)))} vanishes here, "
+                   f"at this state only (its coefficient {sstr(tidy(residual.coeff(u)), printer)} vanishes here, "
                    "not identically)")
         else:
             cells.append("no")
@@ -611,7 +634,7 @@ def _dropped_step(system, body: str, P: str, forces, dropped, newton: Step, eule
     for u in in_euler:  # an acceleration whose coefficient vanishes at the state
         if u not in here and u in system.qdd:
             text.append(f"{u} drops out of the moment equation at this state only (its coefficient "
-                        f"{sp.sstr(tidy(residual.coeff(u)))} vanishes here, not identically).")
+                        f"{sstr(tidy(residual.coeff(u)), printer)} vanishes here, not identically).")
     names = ", ".join(str(u) for u in here)
     if len(here) == len(in_euler):
         text.insert(0, f"The moment equation about {P} contains {counted(len(here), 'unknown')}: {names}.")
@@ -673,7 +696,7 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
         expl.sections[-1].steps.append(_regime_step(scene, regime, warning))
     parts: dict = {}
     for body, P in f.points.items():
-        expl.sections.append(_body_section(system, body, P, parts, (f, state), kinematics))
+        expl.sections.append(_body_section(system, body, P, parts, (f, state), kinematics, expl.printer))
     if not solution:
         say_what_alpha_is(system, expl)
         return expl
@@ -751,10 +774,11 @@ def _regime_step(scene, regime, warning) -> Step:
 
 
 def _body_section(system, body: str, P: str, parts: dict | None = None, at=None,
-                  kinematics: bool = True) -> Section:
+                  kinematics: bool = True, printer: FastStrPrinter | None = None) -> Section:
     """The steps of one body; ``parts`` (body -> (points, forces)) receives what the point advisor
     needs again (no later step names new points); ``at``: (formulation, state), to say which
-    unknowns the moment equation holds at the state; ``kinematics``: with the kinematics step."""
+    unknowns the moment equation holds at the state; ``kinematics``: with the kinematics step;
+    ``printer``: the explanation's (:attr:`Explanation.printer`), for the texts the steps hold."""
     points = _Points(system, body)
     forces = _forces_on(system, body, points)
     if parts is not None:
@@ -767,20 +791,20 @@ def _body_section(system, body: str, P: str, parts: dict | None = None, at=None,
         if f.force is not None and f.point not in used:
             used.append(f.point)
     section = Section(f"Body {body}", body)
-    section.steps.append(_data_step(system, body))
+    section.steps.append(_data_step(system, body, printer))
     if kinematics:
         section.steps.append(_kinematics_step(system, body, P, used, points))
-    section.steps.append(_fbd_step(system, body, forces))
+    section.steps.append(_fbd_step(system, body, forces, printer))
     newton = _newton_step(system, body, P, forces)
     section.steps.append(newton)
-    euler, dropped = _euler_step(system, body, P, forces)
+    euler, dropped = _euler_step(system, body, P, forces, printer)
     section.steps.append(euler)
     at_state = None
     if at is not None:
         from .advisor import unknowns_at_state
 
         at_state = unknowns_at_state(system, at[0], body, P, at[1])
-    section.steps.append(_dropped_step(system, body, P, forces, dropped, newton, euler, at_state))
+    section.steps.append(_dropped_step(system, body, P, forces, dropped, newton, euler, at_state, printer))
     return section
 
 
@@ -889,7 +913,7 @@ def _projected(system, f) -> list[sp.Expr]:
         terms = []
         for body, (nx, ny, eu) in per_body.items():
             v, w = system.point_velocity(body, f.points[body]), system.omega(body)
-            terms += [sp.diff(v[0], c.qd) * nx, sp.diff(v[1], c.qd) * ny, sp.diff(w, c.qd) * eu]
+            terms += [derivative(v[0], c.qd) * nx, derivative(v[1], c.qd) * ny, derivative(w, c.qd) * eu]
         e = sp.expand(-sp.Add(*terms))
         for r in system.reactions:
             coef = e.coeff(r.symbol)
@@ -1042,9 +1066,9 @@ def _small_motion_rules(system, eom: Equation) -> list[Equation]:
     e = sp.expand(eom.residual.xreplace(zero))
     rules = []
     functions = sorted((f for f in e.atoms(sp.Function) if f.has(c.q) and not f.has(c.qd, c.qdd)),
-                       key=lambda f: (type(f).__name__ != "sin", type(f).__name__ != "cos", sp.sstr(f)))
+                       key=lambda f: (type(f).__name__ != "sin", type(f).__name__ != "cos", sstr(f)))
     for f in functions:
-        rules.append((f, f.xreplace({c.q: 0}) + sp.diff(f, c.q).xreplace({c.q: 0}) * c.q))
+        rules.append((f, f.xreplace({c.q: 0}) + derivative(f, c.q).xreplace({c.q: 0}) * c.q))
     for term in sp.Add.make_args(e):
         if term.has(c.qd):
             factor = term.as_independent(c.q, c.qd, as_Add=False)[1]
@@ -1074,7 +1098,7 @@ def _small_oscillations(system, eom: Equation) -> Equation | None:
     if not _zero(rest.xreplace(at)):
         return None
     mass = tidy(e.coeff(c.qdd).xreplace(at))
-    stiffness = tidy(sp.diff(rest, c.q).xreplace(at))
+    stiffness = tidy(derivative(rest, c.q).xreplace(at))
     values = {k: sp.Float(v) for k, v in system.si_values().items()}
     ratio = stiffness / mass
     try:
@@ -1159,18 +1183,30 @@ def _collected_unit(system, collected: Equation) -> str:
 
 
 def _per_si(system, unit: str) -> tuple[float, str]:
-    """(value of one SI ``unit`` in the scene's output unit, that unit)."""
+    """(value of one SI ``unit`` in the scene's output unit, that unit), remembered by the system
+    (the equations with the data entered ask it for every unknown and row)."""
     from ..cli_common import to_output_units
 
-    entry = to_output_units({"value": 1.0, "unit": unit}, system.output_units)
-    return float(entry["value"]), entry["unit"]
+    def build():
+        entry = to_output_units({"value": 1.0, "unit": unit}, system.output_units)
+        return float(entry["value"]), entry["unit"]
+    return system._memo(("per_si", unit, tuple(sorted(system.output_units.items()))), build)
 
 
 def _out(system, name: str, qty):
-    from ..cli_common import quantity_entry, to_output_units
+    """(value, unit) of a quantity in the scene's output units, as ``to_output_units`` of its
+    ``quantity_entry`` gives them: the value times its unit's factor (:func:`_per_si`, the same
+    product), the factor and the unit's text found once per unit (the solution and its check
+    convert every unknown)."""
+    from ..cli_common import quantity_entry
+    from ..units import Q_
 
-    entry = to_output_units(quantity_entry(qty), system.output_units)
-    return entry["value"], entry["unit"].replace(" / ", "/").replace(" ** ", "**").replace(" * ", "*")
+    def build():
+        factor, unit = _per_si(system, quantity_entry(Q_(1.0, qty.units))["unit"])
+        return factor, unit.replace(" / ", "/").replace(" ** ", "**").replace(" * ", "*")
+    factor, unit = system._memo(("output_unit", qty.units, tuple(sorted(system.output_units.items()))), build)
+    value = float(qty.magnitude)
+    return (value if factor == 1.0 else value * factor), unit
 
 
 def _condition_number(A) -> float | None:

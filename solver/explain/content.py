@@ -10,6 +10,9 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
+from ..model.joints import copy_vec
+from ..strprint import FastStrPrinter
+
 __all__ = ["Term", "Equation", "Table", "Step", "Section", "Explanation"]
 
 
@@ -80,8 +83,13 @@ class Equation:
 
 
 def _sum(terms, vector: bool):
-    if vector:
-        return sum((sp.Matrix(t.expr) for t in terms), sp.zeros(2, 1))
+    if vector:  # the same matrix as sum(terms, zeros(2, 1)), without adding the zeros (unifying
+        if not terms:  # their domain with the terms' costs more than the sum)
+            return sp.zeros(2, 1)
+        total = copy_vec(terms[0].expr)
+        for t in terms[1:]:
+            total = total + copy_vec(t.expr)
+        return total
     return sp.Add(*[t.expr for t in terms])
 
 
@@ -159,6 +167,10 @@ class Explanation:
     sections : list of Section
     symbol_latex : dict[sympy.Symbol, str]
         LaTeX names of the symbols (dotted rates, Greek letters).
+    printer : solver.strprint.FastStrPrinter
+        The sympy text of the expressions, each printed once for the whole explanation: the steps
+        that put an expression's text in a table or compare two forms' lengths, and the text
+        renderings, all print the same expressions.
     """
 
     title: str
@@ -166,6 +178,7 @@ class Explanation:
     points: dict[str, str]
     sections: list[Section] = field(default_factory=list)
     symbol_latex: dict = field(default_factory=dict)
+    printer: FastStrPrinter = field(default_factory=FastStrPrinter, repr=False, compare=False)
 
     def section(self, body: str | None) -> Section:
         for s in self.sections:

@@ -16,6 +16,7 @@ import re
 
 import sympy as sp
 
+from ..display import could_extract_minus_sign
 from ..strprint import FastStrPrinter, sstr
 from .content import Equation, Explanation, Step, Table, Term
 from .latex_prose import LatexProse, latex_escape, unit_latex
@@ -41,7 +42,7 @@ def render(expl: Explanation, fmt: str = "text") -> str:
 class _Renderer:
     def __init__(self, expl: Explanation):
         self.expl = expl
-        self.printed = FastStrPrinter()  # each expression's text once per rendering (a point's v_P shows often)
+        self.printed = expl.printer  # each expression's text once (a point's v_P shows often)
 
     def document(self) -> str:
         out = [self.title(self.expl.title)]
@@ -162,7 +163,7 @@ class _LatexMath:
         out = ""
         for i, t in enumerate(terms):
             expr = t.expr
-            negative = i > 0 and not isinstance(expr, sp.MatrixBase) and sp.sympify(expr).could_extract_minus_sign()
+            negative = i > 0 and not isinstance(expr, sp.MatrixBase) and could_extract_minus_sign(sp.sympify(expr))
             s = self.expr(-expr if negative else expr)
             if notes and t.note and len(terms) > 1:
                 s = rf"\underbrace{{{s}}}_{{\text{{{self.note(t.note)}}}}}"
@@ -347,7 +348,7 @@ def _math(body: str) -> str:
 
 
 def _negative(expr) -> bool:
-    return not isinstance(expr, sp.MatrixBase) and sp.sympify(expr).could_extract_minus_sign()
+    return not isinstance(expr, sp.MatrixBase) and could_extract_minus_sign(sp.sympify(expr))
 
 
 def _term_mathml(expr, name: str = "") -> str:

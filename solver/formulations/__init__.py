@@ -133,8 +133,9 @@ class Formulation:
             zero = {u: sp.Integer(0) for u in self.unknowns}
             rows_A, rows_b = [], []
             for e in self.equations:
-                rows_b.append(-e.expr.xreplace(zero))
-                rows_A.append(_coefficients(e.expr, self.unknowns, zero))
+                coefficients, rest = _affine_parts(e.expr, self.unknowns, zero)
+                rows_b.append(-rest)
+                rows_A.append(coefficients)
             self._system_matrices = (sp.Matrix(rows_A), sp.Matrix(rows_b))
         return self._system_matrices
 
@@ -151,16 +152,26 @@ class Formulation:
 
 
 def _coefficients(expr, unknowns, zero) -> list:
-    """The coefficient of each unknown in ``expr``, which is affine in them.
+    """The coefficient of each unknown in ``expr``, which is affine in them (:func:`_affine_parts`)."""
+    return _affine_parts(expr, unknowns, zero)[0]
+
+
+def _affine_parts(expr, unknowns, zero) -> tuple[list, sp.Expr]:
+    """(the coefficient of each unknown, ``expr.xreplace(zero)``) of ``expr``, which is affine in
+    the unknowns (``zero``: each unknown -> 0).
 
     Term by term: a term that is a product with the unknown as a plain factor
     (and no other unknown) contributes the product of its other factors; any
     other term t contributes t(u = 1, others = 0) - t(all = 0), exact for an
-    affine term and cheaper than substituting into the whole expression."""
+    affine term and cheaper than substituting into the whole expression. The
+    rest is the sum of the terms with the unknowns set to 0, in their order: the
+    sum ``xreplace`` rebuilds, without a second walk over the terms free of them."""
     coef: dict = {u: [] for u in unknowns}
+    rest = []
     for term in sp.Add.make_args(expr):
         present = [u for u in unknowns if term.has(u)]
         if not present:
+            rest.append(term)
             continue
         if len(present) == 1 and term.is_Mul and present[0] in term.args:
             u = present[0]
@@ -168,11 +179,13 @@ def _coefficients(expr, unknowns, zero) -> list:
             factors.remove(u)
             if not any(f.has(u) for f in factors):
                 coef[u].append(sp.Mul(*factors))
+                rest.append(sp.Integer(0))  # (the product with a factor 0)
                 continue
         t0 = term.xreplace(zero)
+        rest.append(t0)
         for u in present:
             coef[u].append(term.xreplace({**zero, u: sp.Integer(1)}) - t0)
-    return [sp.Add(*coef[u]) for u in unknowns]
+    return [sp.Add(*coef[u]) for u in unknowns], sp.Add(*rest)
 
 
 def formulate(system, method: str = "generalized_euler", point: str | None = None) -> Formulation:

@@ -14,7 +14,7 @@ import sympy as sp
 from ..model.contacts import Friction
 from ..model.bodies import GROUND, Point, RigidBody
 from ..model.elements import ELEMENT_CLASSES
-from ..model.joints import Pin, Rail, Reaction, Rolling
+from ..model.joints import Pin, Rail, Reaction, Rolling, copy_vec
 from ..model.loads import Couple, Force, Gravity
 from ..model.system import Coordinate, System
 
@@ -40,10 +40,10 @@ def _build(scene) -> System:
     coordinate = Coordinate(scene.coordinate, "angle", value, rate,
                             given=(scene.state[scene.coordinate], scene.state[scene.coordinate + "_dot"]))
     elements = tuple(
-        ELEMENT_CLASSES[e.kind](e.name, sp.sympify(e.mass), sp.Matrix(e.center), sp.sympify(e.angle), dict(e.dims))
+        ELEMENT_CLASSES[e.kind](e.name, sp.sympify(e.mass), copy_vec(e.center), sp.sympify(e.angle), dict(e.dims))
         for e in scene.elements
     )
-    points = {n: Point(n, sp.Matrix(p.coords), p.frame, p.relative_to) for n, p in scene.points.items()}
+    points = {n: Point(n, copy_vec(p.coords), p.frame, p.relative_to) for n, p in scene.points.items()}
     body = RigidBody(BODY, elements, points, sp.sympify(scene.orientation), scene.position, scene.default_point)
     by_name = {e.name: e for e in elements}
     joints = []
@@ -54,17 +54,17 @@ def _build(scene) -> System:
             friction = {} if mu is None else {"friction": Friction(mu, mu),
                                               "pair": (Reaction(c.friction_reaction, c.name), reactions[0])}
             joints.append(Rail(c.name, GROUND, BODY, reactions, point=points[c.point].coords,
-                               through=sp.Matrix(c.origin), angle=sp.sympify(c.angle), **friction))
+                               through=copy_vec(c.origin), angle=sp.sympify(c.angle), **friction))
         elif c.kind == "pivot":
-            joints.append(Pin(c.name, GROUND, BODY, reactions, at_first=sp.Matrix(c.origin),
+            joints.append(Pin(c.name, GROUND, BODY, reactions, at_first=copy_vec(c.origin),
                               at_second=points[c.point].coords))
         else:
             e = by_name[c.element]
             friction, normal = reactions
             joints.append(Rolling(
                 c.name, GROUND, BODY, (Reaction(friction.name, c.name), Reaction(normal.name, c.name, "N", True)),
-                element=e.name, center=sp.Matrix(e.center), radius=e.dims["radius"],
-                through=sp.Matrix(c.origin), angle=sp.sympify(c.angle),
+                element=e.name, center=copy_vec(e.center), radius=e.dims["radius"],
+                through=copy_vec(c.origin), angle=sp.sympify(c.angle),
                 s_ref=sp.sympify(c.contact_at_zero), phi_ref=sp.sympify(scene.orientation).subs(q, 0),
                 friction=None if c.friction_coefficient is None else Friction(c.friction_coefficient, c.friction_coefficient),
                 semicircle_axis=e.angle if e.kind == "semicircular_disk" else None,

@@ -13,6 +13,7 @@ from typing import Any, Mapping
 
 import sympy as sp
 
+from .. import units
 from ..errors import ExpressionError, SceneError
 from ..expressions import RESERVED_NAMES, SOLVER_NAMES
 from ..model.bodies import GROUND, Ground, Point, RigidBody
@@ -180,7 +181,7 @@ class _MultibodyReader:
         self.with_t = {**params, "t": t}
         L.dims = {params[n]: q.dimensionality for n, q in L.parameters.items()}
         L.dims[t] = TIME
-        L.si_values = {params[n]: float(q.to_base_units().magnitude) for n, q in L.parameters.items()}
+        L.si_values = {params[n]: units.si_magnitude(q) for n, q in L.parameters.items()}
         L.coordinate = "coordinates"
         # the one-body loader's angle bounds evaluate at its coordinate's state: here element and
         # line angles hold parameters only, so no coordinate takes part

@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 import sympy as sp
 
 from .elements import Element
+from .joints import copy_vec
 
 __all__ = ["Point", "RigidBody", "Ground", "GROUND"]
 
@@ -75,7 +76,7 @@ class RigidBody:
 
     def first_moment_about(self, point: sp.Matrix) -> sp.Matrix:
         """sum_k m_k (r-bar_k - r_P), body frame: the bracket of Eq. (11). [kg m]"""
-        point = sp.Matrix(point)
+        point = copy_vec(point)
         return sum((e.mass * (e.mass_center - point) for e in self.elements), sp.zeros(2, 1))
 
     def mass_center(self) -> sp.Matrix:
@@ -84,7 +85,7 @@ class RigidBody:
 
     def inertia_about(self, point: sp.Matrix) -> sp.Expr:
         """I_P = sum_k [I-bar_k + m_k d_k^2], d_k = |r-bar_k - r_P| (Eq. 12). [kg m^2]"""
-        point = sp.Matrix(point)
+        point = copy_vec(point)
         terms = []
         for e in self.elements:
             d = e.mass_center - point
@@ -112,7 +113,7 @@ class RigidBody:
             p = self.points[name]
             if p.is_instant:
                 raise ValueError(f"{name!r} is an instant point")
-            return sp.Matrix(p.coords)
+            return copy_vec(p.coords)
         if name == "G":
             return self.mass_center()
         raise KeyError(name)
@@ -139,4 +140,4 @@ class Ground:
         return list(self.points)
 
     def body_coords(self, name: str) -> sp.Matrix:
-        return sp.Matrix(self.points[name].coords)
+        return copy_vec(self.points[name].coords)

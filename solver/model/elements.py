@@ -53,7 +53,9 @@ class Element:
     @property
     def mass_center(self) -> sp.Matrix:
         """r-bar_k: body-frame position of the element's mass centre. [m]"""
-        return sp.Matrix(self.center)
+        from .joints import copy_vec
+
+        return copy_vec(self.center)
 
     @property
     def I_G(self) -> sp.Expr:

@@ -61,6 +61,13 @@ def vec(x, y) -> sp.Matrix:
     return sp.MutableDenseMatrix._fromrep(rep)
 
 
+def copy_vec(v) -> sp.Matrix:
+    """``sp.Matrix(v)``: a new mutable matrix with the entries of ``v``; for a mutable sympy matrix
+    its copy (the same entries and domain, about 2 us; the generic constructor parses its input
+    again, about 12 us, and the model copies its points and mass centres tens of times a command)."""
+    return v.copy() if type(v) is sp.MutableDenseMatrix else sp.Matrix(v)
+
+
 def rotation(phi: sp.Expr) -> sp.Matrix:
     """R(phi): body frame -> fixed frame."""
     c, s = sp.cos(phi), sp.sin(phi)
@@ -75,7 +82,10 @@ def _sum_of_products(row, v) -> sp.Expr:
 
 def rotate(phi: sp.Expr, v) -> sp.Matrix:
     """R(phi) v for a 2-vector v: the same expressions as ``rotation(phi) * v``, by components
-    (2x2 Matrix products cost ~0.1 ms each in sympy)."""
+    (2x2 Matrix products cost ~0.1 ms each in sympy); for phi = 0 (the ground's frame) ``v``'s
+    entries as they are, what the sums reduce to there."""
+    if phi is sp.S.Zero:  # (an exact 0: a float 0.0 would make 1.0*x)
+        return vec(v[0], v[1])
     c, s = sp.cos(phi), sp.sin(phi)
     return vec(_sum_of_products((c, -s), v), _sum_of_products((s, c), v))
 

@@ -15,12 +15,12 @@ sympy's own cache serves both sides alike. Median of repeated runs, each with th
 garbage collector off as ``timeit`` does, in CPU time of this process (the machine is shared: wall time would measure the neighbours). Target
 (issue 11/12): ours at most half of KanesMethod (ratio <= 0.5).
 
-Last figures (this file on 2026-11-25, evening, main): sliding_bar KanesMethod 20 ms, eom 10 ms
-(0.51x), explain 31 ms (1.5x); disk_bar KanesMethod 24 ms, eom 9 ms (0.37x), explain 31 ms (1.3x).
-explain grew from 23-29 ms that morning as it gained content (the unknowns each moment equation
-holds at the state, the exact condition number, the contact point named after its joint); the
-display's factor_terms in one pass took about 1.5 ms off disk_bar. Under the neighbours' load
-every figure moves by up to a half.
+Last figures (2026-11-25, night, branch spd_explain, 2 cores shared at load 2-5; main measured
+alongside in the same minutes): sliding_bar KanesMethod 19-22 ms, eom 7-9 ms (0.32-0.45x; main
+0.46-0.63x), explain 21-26 ms (1.07-1.27x; main 1.48-1.67x); disk_bar KanesMethod 23-26 ms, eom
+6-8 ms (0.25-0.36x), explain 21-25 ms (0.92-1.03x; main 1.20-1.37x). The cost left is diffuse
+(tidying each displayed coefficient, printing, the scene file, the placement); explain does about
+twice the symbolic work of eom. Under the neighbours' load every figure moves by up to a half.
 
 Writes reports/build/bench/explain.json.
 """
