@@ -296,6 +296,16 @@ A 1e200 ft bar would overflow its own moment of inertia; a 1e-150 kg, 1e-150 m b
 m l**2 = 1e-450, which underflows to 0 (its answers came out 0.5 % off, then "singular")."""
 
 
+def unit_text(unit) -> str:
+    """A unit in short ASCII, its factors in the order the scene wrote them (``N*m``, ``m/s**2``,
+    ``ft*lbf/rad``): pint's own formats sort them by name (``m * N``).
+
+    >>> unit_text(parse_quantity("10 N*m", "x").units), unit_text(parse_quantity("9.81 m/s^2", "x").units)
+    ('N*m', 'm/s**2')
+    """
+    return ureg.formatter.format_unit(unit, "~C", sort_func=lambda factors, registry: factors)
+
+
 def si_magnitude(quantity: pint.Quantity) -> float:
     """``float(quantity.to_base_units().magnitude)``, the value in SI base units, without building
     the converted quantity: for a unit without an offset, the magnitude times the unit's factor
@@ -409,7 +419,7 @@ def _short(err: Exception, limit: int = 120) -> str:
 
 __all__ = [
     "ureg", "Q_", "check_unit_text", "parse_unit", "parse_quantity", "parse_angle", "parse_time", "si_magnitude",
-    "check_magnitude", "check_angle", "check_si_magnitude", "MAX_SI_MAGNITUDE", "is_angle_unit", "DIMENSIONLESS_UNITS",
+    "check_magnitude", "check_angle", "unit_text", "check_si_magnitude", "MAX_SI_MAGNITUDE", "is_angle_unit", "DIMENSIONLESS_UNITS",
     "MAX_QUANTITY_LENGTH", "MAX_UNIT_LENGTH", "MAX_UNIT_EXPONENT", "MAX_UNIT_NESTING",
     "MAX_MAGNITUDE", "MAX_ANGLE_TURNS", "MAX_ANGLE_RAD",
 ]

@@ -1031,3 +1031,15 @@ def test_data_entered_and_dropped_unknowns_make_one_decision(tmp_path):
     numbers = expl.sections[-1].step("numbers")
     assert {t.note for t in numbers.equation("numbers:bar:euler").lhs} == {"alpha", "O_x"}
     assert "O_y" in {t.note for t in numbers.equation("numbers:bar:newton_y").lhs}
+
+
+def test_the_data_table_writes_each_unit_as_the_scene_does():
+    """Regression: the parameters were printed by pint's default format, its factors sorted by
+    name and spaced: ``kt 4.0 m * N``, ``g 9.81 m / s ** 2`` for the scene's "4 N*m" and
+    "9.81 m/s^2". The text table now writes ``4 N*m`` and ``9.81 m/s**2``, as the solution's
+    own units are written (rad/s**2)."""
+    text = render(explain(load_system(ROOT / "tests/data/multibody/pendulum_loads.toml"), advice=False), "text")
+    rows = {line.split()[0]: " ".join(line.split()[1:]) for line in
+            text.split("Data and state", 1)[1].split("State", 1)[0].splitlines()[3:] if line.strip()}
+    assert rows["kt"] == "4 N*m" and rows["ct"] == "0.5 N*m*s" and rows["g"] == "9.81 m/s**2"
+    assert rows["c"] == "3 N*s/m" and rows["m"] == "2 kg"

@@ -812,8 +812,11 @@ def _body_section(system, body: str, P: str, parts: dict | None = None, at=None,
 
 
 def _system_data_section(system, state) -> Section:
-    rows = tuple((name, f"{q:~}" if hasattr(q, "units") else str(q)) for name, q in system.parameters.items())
     from ..cli_common import format_number, in_output_units
+    from ..units import unit_text
+
+    rows = tuple((name, f"{format_number(float(q.magnitude))} {unit_text(q.units)}".strip() if hasattr(q, "units")
+                  else str(q)) for name, q in system.parameters.items())
 
     def shown(value: float, unit: str) -> str:  # in the scene's output units
         value, unit = in_output_units(value, unit, system.output_units)
