@@ -1043,3 +1043,15 @@ def test_the_data_table_writes_each_unit_as_the_scene_does():
             text.split("Data and state", 1)[1].split("State", 1)[0].splitlines()[3:] if line.strip()}
     assert rows["kt"] == "4 N*m" and rows["ct"] == "0.5 N*m*s" and rows["g"] == "9.81 m/s**2"
     assert rows["c"] == "3 N*s/m" and rows["m"] == "2 kg"
+
+
+def test_a_flag_in_the_prose_is_text_to_type_and_a_long_name_keeps_its_space():
+    """New-user report: the sentence naming the contact point's flag was typeset as maths, ``--point``
+    then C with the subscript "contact" (not text a user can type), and ``v_{C contact}`` lost its
+    space (LaTeX's maths drops it: "Ccontact") beside a note's ``r_{C\\_contact/P}``."""
+    system = load_system(ROOT / "data" / "scenes" / "incline_disk.toml")
+    expl = explain(system)
+    latex, page = render(expl, "latex"), render(expl, "html")
+    assert r"\texttt{--point C\_incline}" in latex and "<code>--point C_incline</code>" in page
+    assert r"v_{C\ incline}" in latex and r"r_{C\ incline/C}" in latex
+    assert r"C\_incline/" not in latex.replace(r"\texttt{--point C\_incline}", "")

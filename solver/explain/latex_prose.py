@@ -20,10 +20,21 @@ import re
 
 import sympy as sp
 
-__all__ = ["LatexProse", "latex_escape", "unit_latex"]
+__all__ = ["LatexProse", "latex_escape", "unit_latex", "subscripted"]
 
 _LATEX_SPECIAL = {"\\": r"\textbackslash{}", "&": r"\&", "%": r"\%", "$": r"\$", "#": r"\#", "_": r"\_",
                   "{": r"\{", "}": r"\}", "~": r"\textasciitilde{}", "^": r"\textasciicircum{}"}
+
+
+def subscripted(head: str, tail: str) -> str:
+    r"""``head`` with the subscript ``tail``, whose underscores join the words of one name
+    (``C_contact``, ``rectangular_plate_1``): a visible space between them, as LaTeX's maths
+    drops a plain one (``Ccontact``) and ``\\_`` would read as code.
+
+    >>> subscripted("v", "C_contact"), subscripted("r", "C_incline/P")
+    ('v_{C\\ contact}', 'r_{C\\ incline/P}')
+    """
+    return head + "_{" + tail.replace("_", r"\ ") + "}"
 
 
 def latex_escape(text: str) -> str:
@@ -39,7 +50,8 @@ _FUNCTIONS = {"sin": r"\sin", "cos": r"\cos", "tan": r"\tan", "exp": r"\exp", "l
 _RELATIONS = {">=": r"\geq", "<=": r"\leq", "=": "=", "~": r"\approx"}
 
 _TOKEN = re.compile(r"""
-    (?P<name>[A-Za-z][A-Za-z0-9]*
+    (?P<flag>--point[ ][A-Za-z0-9_:(),]*[A-Za-z0-9_)]|--[a-z][a-z-]*[a-z])
+  | (?P<name>[A-Za-z][A-Za-z0-9]*
              (?:(?:_[A-Za-z0-9]+)+(?:,[a-z](?![A-Za-z0-9]))?(?:/[A-Za-z][A-Za-z0-9]*(?![A-Za-z0-9(]))?)?
              (?:\([A-Za-z0-9_,]+\)(?=[\s,.;:)]|$))?'*)
   | (?P<num>\d+(?:\.\d+)?(?:e[-+]?\d+)?)
@@ -48,6 +60,8 @@ _TOKEN = re.compile(r"""
   | (?P<space>[ ]+)
   | (?P<other>.)
 """, re.VERBOSE | re.DOTALL)
+CODE = "code"
+"""The kind of a prose segment that is a command-line flag as typed (:meth:`LatexProse.segments`)."""
 _ONE_LETTER_SUB = re.compile(r"[A-Za-z](?:_[A-Za-z0-9]+)+(?:,[a-z])?(?:/[A-Za-z][A-Za-z0-9]*)?")
 _SUBSCRIPTED = re.compile(r"[A-Za-z][0-9]*(?:_[A-Za-z0-9]+)+")
 _RATE = re.compile(r"(?P<base>[A-Za-z][A-Za-z0-9]*)_(?P<dots>d?dot)")
@@ -118,7 +132,7 @@ class LatexProse:
         if head in _GREEK or _SUBSCRIPTED.fullmatch(word):  # as sympy writes the symbol (O2_x: O_{2 x})
             return sp.latex(sp.Symbol(word))
         if _ONE_LETTER_SUB.fullmatch(word):
-            return head + "_{" + tail.replace("_", r"\_") + "}"
+            return subscripted(head, tail)
         if len(word) == 1 or word == "dt":  # one letter; dt of d^2 Phi/dt^2
             return word
         return None
@@ -136,16 +150,26 @@ class LatexProse:
     def text(self, text: str, letters: bool = False) -> str:
         """Prose as LaTeX text with inline maths for its names and formulae (``letters``: see
         :meth:`_strong`)."""
-        return "".join("$" + self._maths(part) + "$" if maths else latex_escape(part)
+        return "".join("$" + self._maths(part) + "$" if maths is True else
+                       r"\texttt{" + latex_escape(part) + "}" if maths == CODE else latex_escape(part)
                        for maths, part in self.segments(text, letters))
 
     def segments(self, text: str, letters: bool = False):
         """The prose split into words and formulae: ``(False, text)`` for text, ``(True, tokens)`` for a
-        formula (its ``(kind, value)`` tokens). The one decision of what is maths in the worked
-        solution's prose, for LaTeX (:meth:`text`) and for HTML's MathML (:mod:`.mathml_prose`)."""
+        formula (its ``(kind, value)`` tokens), ``(CODE, text)`` for a command-line flag as typed
+        (``--point C_contact``: text a user types, never maths). The one decision of what is maths
+        in the worked solution's prose, for LaTeX (:meth:`text`) and for HTML's MathML
+        (:mod:`.mathml_prose`)."""
         tokens = [(m.lastgroup, m.group()) for m in _TOKEN.finditer(str(text))]
         i, words = 0, ""
         while i < len(tokens):
+            if tokens[i][0] == "flag":
+                if words:
+                    yield False, words
+                    words = ""
+                yield CODE, tokens[i][1]
+                i += 1
+                continue
             end = self._formula_end(tokens, i, letters)
             if end > i:
                 if words:

@@ -15,7 +15,7 @@ import re
 import sympy as sp
 
 from ..mathml import mathml_body, wrap
-from .latex_prose import _FUNCTIONS, _NUMBER_UNIT, _UNIT, LatexProse
+from .latex_prose import _FUNCTIONS, _NUMBER_UNIT, _UNIT, CODE, LatexProse
 
 __all__ = ["MathmlProse", "unit_html", "name_mathml", "number_mathml"]
 
@@ -70,7 +70,8 @@ class MathmlProse:
 
     def text(self, text: str, letters: bool = False) -> str:
         """Prose as escaped HTML with an inline ``<math>`` for each name and formula."""
-        return "".join(wrap(self._maths(part), "inline") if maths else _h(part)
+        return "".join(wrap(self._maths(part), "inline") if maths is True else
+                       f"<code>{_h(part)}</code>" if maths == CODE else _h(part)
                        for maths, part in self.decide.segments(text, letters))
 
     def cell(self, text: str, unit: bool = False) -> str:

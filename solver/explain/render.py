@@ -19,7 +19,7 @@ import sympy as sp
 from ..display import could_extract_minus_sign
 from ..strprint import FastStrPrinter, sstr
 from .content import Equation, Explanation, Step, Table, Term
-from .latex_prose import LatexProse, latex_escape, unit_latex
+from .latex_prose import LatexProse, latex_escape, subscripted, unit_latex
 
 __all__ = ["FORMATS", "render"]
 
@@ -138,11 +138,12 @@ class _Text(_Renderer):
 # -- LaTeX-based (Markdown and LaTeX) -------------------------------------------------------------
 
 def _name_latex(name: str) -> str:
-    """``a_G,x`` -> ``a_{G,x}``; names are letters, digits, _ , / and ``G_bar`` style."""
+    """``a_G,x`` -> ``a_{G,x}``, ``v_C_contact`` -> ``v_{C\\ contact}``; names are letters, digits,
+    _ , / and ``G_bar`` style."""
     safe = re.sub(r"[^A-Za-z0-9_,/()]", "", name)
     head, _, tail = safe.partition("_")
     head = {"omega": r"\omega", "alpha": r"\alpha"}.get(head, head)
-    return head + (f"_{{{tail.replace('_', ' ')}}}" if tail else "")
+    return subscripted(head, tail) if tail else head
 
 
 class _LatexMath:
