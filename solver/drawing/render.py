@@ -7,7 +7,10 @@ Guides are lines or circles hatched on the side of the ground; linear springs ar
 dampers dashpots (a cylinder and a piston) between their two points; torsional springs are
 spirals and torsional dampers rotary dashpots about the pin joining their bodies. Forces are
 arrows of one length starting at their point of application (the label gives
-the size), couples curved arrows; the inertial terms are dashed.
+the size), couples curved arrows; the inertial terms are dashed. A couple's arc is drawn clear of
+the force arrows (:func:`_couple_places`). Labels are placed last (:func:`place_labels`): off each
+other, the arrows and the lines (a bar's stroke with its width), and each nearer the arrow or arc it
+names than any other.
 """
 from __future__ import annotations
 
