@@ -674,22 +674,34 @@ def place_labels(fig, axes) -> None:
             if own is not None:
                 moves = np.vstack([moves, _beside(box, own[0], OWNER_GAP + own[1])])
             boxes = box + np.tile(moves, 2)
-            clash = _overlaps(boxes, placed, LABEL_PAD)
-            none = np.zeros(len(boxes), dtype=int)
-            on_arrows, crossed, on_marks = (sum((_covered(boxes, pts, pad) for pts, pad in groups[kind]), none)
-                                            for kind in ("arrow", "stroke", "mark"))
-            covered = on_arrows + crossed + on_marks
-            cut = _cut_off(boxes, fig.bbox.extents)
-            stray, rank = np.zeros(len(boxes), dtype=bool), np.concatenate([steps, np.zeros(len(boxes) - len(steps))])
-            if own is not None:
-                near = _box_distance(boxes, own[0])
-                for k, other in owners.items():
-                    if k != id(t):
-                        stray |= _box_distance(boxes, other[0]) < near + STRAY_MARGIN
-                rank = np.floor(near / OBSTACLE_STEP)  # nearer its own arrow or arc, in steps of a few pixels
-            best = np.lexsort((covered, rank, on_marks > 0, stray, crossed > 0, on_arrows > 0, clash, cut))[0]
+            others = [o[0] for k, o in owners.items() if k != id(t)]
+            rank = np.concatenate([steps, np.zeros(len(boxes) - len(steps))])
+            best = _best_place(boxes, placed, groups, None if own is None else own[0], others, rank,
+                               fig.bbox.extents)
             t.xyann = tuple(base + moves[best] / to_pixels)
             placed = np.vstack([placed, boxes[best]])  # (its measured box, moved by the offset chosen)
+
+
+def _best_place(boxes, placed, groups: dict, own, others: list, rank, frame) -> int:
+    """The index of the box a label takes, by the order of :func:`place_labels`.
+
+    ``boxes``: the places tried (rows x0, y0, x1, y1) [display pixels]; ``placed``: the labels'
+    boxes so far; ``groups``: the drawn points and pads by kind (:func:`_drawn_points`); ``own``: the
+    points of the arrow or arc the label names (None: it names none), ``others`` those of the other
+    labels'; ``rank``: each try's step from the label's own place; ``frame``: the figure's extents."""
+    clash = _overlaps(boxes, placed, LABEL_PAD)
+    none = np.zeros(len(boxes), dtype=int)
+    on_arrows, crossed, on_marks = (sum((_covered(boxes, pts, pad) for pts, pad in groups[kind]), none)
+                                    for kind in ("arrow", "stroke", "mark"))
+    stray = np.zeros(len(boxes), dtype=bool)
+    if own is not None:
+        near = _box_distance(boxes, own)
+        for other in others:
+            stray |= _box_distance(boxes, other) < near + STRAY_MARGIN
+        rank = np.floor(near / OBSTACLE_STEP)  # nearer its own arrow or arc, in steps of a few pixels
+    covered = on_arrows + crossed + on_marks
+    cut = _cut_off(boxes, frame)
+    return int(np.lexsort((covered, rank, on_marks > 0, stray, crossed > 0, on_arrows > 0, clash, cut))[0])
 
 
 def _box_distance(boxes: np.ndarray, points: np.ndarray) -> np.ndarray:
