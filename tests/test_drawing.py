@@ -167,6 +167,7 @@ def test_drawing_matches_the_scene(path):
     _assert_arrows_apart(fbd.figure, path.name)
     _assert_couples_apart(fbd.figure, path.name)
     _assert_labels_off_arrows(fbd.figure, path.name)
+    _assert_labels_by_what_they_name(fbd, scene.items, path.name)
 
 
 def _assert_sizes_in_labels(fbd, where):
@@ -299,6 +300,79 @@ def _assert_labels_apart(figure, where):
             high = min(a.y1, b.y1) - max(a.y0, b.y0)
             assert wide <= LABEL_OVERLAP_TOL or high <= LABEL_OVERLAP_TOL, \
                 f"{where}: labels {texts[i]!r} and {texts[j]!r} overlap ({wide:.1f} x {high:.1f} px)"
+
+
+# A bar is drawn 5 pt wide (solver.drawing.render._element): a label must clear its centre line by
+# half that, less LABEL_OVERLAP_TOL, or the stroke runs through the text.
+BAR_HALF_WIDTH_PT = 2.5
+
+
+def _sample(a, b, n=200):
+    return a + np.linspace(0, 1, n)[:, None] * (b - a)
+
+
+def _to_box(box, pts) -> float:
+    """Least distance [display pixels] from a label's box to the points ``pts`` (0 inside)."""
+    dx = np.maximum(np.maximum(box.x0 - pts[:, 0], pts[:, 0] - box.x1), 0.0)
+    dy = np.maximum(np.maximum(box.y0 - pts[:, 1], pts[:, 1] - box.y1), 0.0)
+    return float(np.min(np.hypot(dx, dy)))
+
+
+def _assert_labels_by_what_they_name(fbd, scene, where):
+    """On every free-body diagram, no label is crossed by its body's bars or frame (QA9 item 11: a
+    couple's label lay across the bar), and each label of a drawn force or couple is nearer an arrow
+    or arc of that force or couple than any other (the weight's label sat by A's reaction at A): the
+    nearest arrow must point along the force and lie on its line of action through its point; the
+    nearest arc must turn its way, dashed for the inertial couple; no two labels share the nearest.
+    ``scene``: the scene's drawn items (solver.drawing.model.scene_items), which give the bars."""
+    from matplotlib.patches import FancyArrowPatch
+
+    from solver.drawing.render import label_boxes
+
+    if fbd.figure.stale:  # the layout as saved (not drawn again when an earlier check drew it)
+        fbd.figure.canvas.draw()
+    shown = [ax for ax in fbd.figure.axes if ax.get_visible()]
+    for ax, body in zip(shown, fbd.panels):
+        to = ax.transData.transform
+        bars = [_sample(*(to(np.array(e, float)) for e in i.shape["ends"])) for i in scene
+                if i.body == body and i.kind == "element" and i.shape["type"] == "bar"]
+        bars += [_sample(to(np.array(p, float)), to(np.array(q, float))) for i in scene
+                 if i.body == body and i.kind == "link" for p, q in zip(i.shape["points"][:-1], i.shape["points"][1:])]
+        ends = [tuple(np.array(q, float) for q in p._posA_posB) for p in ax.patches if isinstance(p, FancyArrowPatch)]
+        longest = max((np.linalg.norm(b - a) for a, b in ends), default=0.0)
+        arrows = [(a, b) for a, b in ends if np.linalg.norm(b - a) > 0.5 * longest]  # not an arc's head
+        arcs = [line for line in ax.lines if len(line.get_xdata()) == 39]  # as in _assert_couples_apart
+        drawn = [_sample(to(a), to(b)) for a, b in arrows] + [to(np.column_stack(a.get_data()).astype(float))
+                                                               for a in arcs]
+
+        def names(k, item):  # whether drawn thing k may be the arrow or arc of item
+            if k < len(arrows):
+                a, b = arrows[k]
+                u = (b - a) / np.linalg.norm(b - a)
+                r = np.array(item.anchor) - a
+                return item.direction is not None and np.allclose(u, item.direction, atol=DIRECTION_TOL) and \
+                    abs(r[0] * u[1] - r[1] * u[0]) <= 0.5 * longest and \
+                    min(np.linalg.norm(r), np.linalg.norm(np.array(item.anchor) - b)) <= 0.5 * longest
+            xy = np.column_stack(arcs[k - len(arrows)].get_data()).astype(float)
+            c = xy.mean(axis=0)  # inside the 270 deg arc: the sense from the turn of its first step
+            (x0, y0), (x1, y1) = xy[0] - c, xy[1] - xy[0]
+            turn = np.sign(x0 * y1 - y0 * x1)
+            dashed = arcs[k - len(arrows)].get_linestyle() == "--"
+            return item.turn == turn and dashed == (item.kind == "inertial_couple")
+
+        items = {i.label: i for i in fbd.on(body) if i.direction is not None or i.turn != 0}
+        nearest = {}
+        texts = [t.get_text() for t in ax.texts if t.get_visible() and t.get_text()]
+        for text, box in zip(texts, label_boxes(ax)):
+            what = f"{where}: label {text!r} in {ax.get_title()!r}"
+            grown = BAR_HALF_WIDTH_PT * fbd.figure.dpi / 72 - LABEL_OVERLAP_TOL
+            assert all(_to_box(box, pts) >= grown for pts in bars), f"{what} is crossed by the body"
+            if text in items:
+                gaps = [_to_box(box, pts) for pts in drawn]
+                k = int(np.argmin(gaps))
+                assert names(k, items[text]), f"{what} is nearer another arrow or arc than its own"
+                assert k not in nearest, f"{what} and {nearest.get(k)!r} are by one arrow or arc"
+                nearest[k] = text
 
 
 def _assert_no_moment_about_P(fbd, P, body, where):
@@ -601,6 +675,21 @@ def test_free_body_diagrams_keep_arrows_couples_and_labels_apart(scene, point, r
     _assert_couples_apart(fbd.figure, scene)
     _assert_labels_apart(fbd.figure, scene)
     _assert_labels_off_arrows(fbd.figure, scene)
+
+
+def test_labels_stay_off_the_bars_and_by_what_they_name():
+    """QA9 item 11: on the upper bar the damper's couple label lay across the bar and the weight's
+    arrow, the weight's label sat by A (nearer A's reaction than the weight), and on the lower bar the
+    damper's label lay under B, away from both arcs. (Every shipped scene is checked alike in
+    test_drawing_matches_the_scene.)"""
+    system = load_system(ROOT / "tests" / "data" / "multibody" / "two_bar_springs.toml")
+    state = start_state(system)
+    fbd = draw_system(system, state, fbd=True)
+    _assert_labels_off_arrows(fbd.figure, "two_bar_springs")
+    _assert_labels_apart(fbd.figure, "two_bar_springs")
+    from solver.drawing.model import scene_items
+
+    _assert_labels_by_what_they_name(fbd, scene_items(system, state), "two_bar_springs")
 
 
 def test_animation_frames_name_a_pin_once(tmp_path, monkeypatch):

@@ -7,7 +7,10 @@ Guides are lines or circles hatched on the side of the ground; linear springs ar
 dampers dashpots (a cylinder and a piston) between their two points; torsional springs are
 spirals and torsional dampers rotary dashpots about the pin joining their bodies. Forces are
 arrows of one length starting at their point of application (the label gives
-the size), couples curved arrows; the inertial terms are dashed.
+the size), couples curved arrows; the inertial terms are dashed. A couple's arc is drawn clear of
+the force arrows (:func:`_couple_places`). Labels are placed last (:func:`place_labels`): off each
+other, the arrows and the lines (a bar's stroke with its width), and each nearer the arrow or arc it
+names than any other.
 """
 from __future__ import annotations
 
@@ -153,15 +156,18 @@ def _arc(ax, centre, radius, start, end, colour, label, dashed=False, arrow=True
     ts = np.linspace(start, end, 40)
     xs = centre[0] + radius * np.cos(ts)
     ys = centre[1] + radius * np.sin(ts)
-    ax.plot(xs[:-1], ys[:-1], color=colour, linewidth=1.2, linestyle="--" if dashed else "-", zorder=4)
+    drawn = ax.plot(xs[:-1], ys[:-1], color=colour, linewidth=1.2, linestyle="--" if dashed else "-", zorder=4)
     if arrow:
-        _add_patch(ax, FancyArrowPatch((xs[-3], ys[-3]), (xs[-1], ys[-1]), arrowstyle="-|>", mutation_scale=10,
-                                     color=colour, linewidth=1.2, zorder=4))
+        head = FancyArrowPatch((xs[-3], ys[-3]), (xs[-1], ys[-1]), arrowstyle="-|>", mutation_scale=10,
+                               color=colour, linewidth=1.2, zorder=4)
+        _add_patch(ax, head)
+        drawn.append(head)
     mid = 0.5 * (start + end)
     out = 1.2 if abs(end - start) > 0.6 else 1.6  # a short arc: its label further out, clear of the lines
-    ax.annotate(label, (centre[0] + out * radius * math.cos(mid), centre[1] + out * radius * math.sin(mid)),
-                xytext=(0, 0), textcoords="offset points", fontsize=7, color=colour, ha="center", va="center",
-                zorder=6)
+    text = ax.annotate(label, (centre[0] + out * radius * math.cos(mid), centre[1] + out * radius * math.sin(mid)),
+                       xytext=(0, 0), textcoords="offset points", fontsize=7, color=colour, ha="center",
+                       va="center", zorder=6)
+    _label_of(text, drawn)
 
 
 CONNECTOR_WIDTH = 0.03
@@ -342,7 +348,8 @@ at its point are taken (about 12 pixels on a 4.6 inch panel: a clear gap between
 
 
 def _segment_gap(a0, a1, b0, b1) -> float:
-    """The least distance between segments a0-a1 and b0-b1 (0 when they cross)."""
+    """The least distance between segments a0-a1 and b0-b1 (0 when they cross); either may be a
+    point (its two ends equal)."""
     def side(p, q, r):
         return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0])
 
@@ -351,7 +358,7 @@ def _segment_gap(a0, a1, b0, b1) -> float:
 
     def to_segment(p, q0, q1):
         d = q1 - q0
-        t = min(1.0, max(0.0, float((p - q0) @ d) / float(d @ d)))
+        t = min(1.0, max(0.0, float((p - q0) @ d) / float(d @ d))) if float(d @ d) > 0 else 0.0
         return float(np.linalg.norm(p - (q0 + t * d)))
 
     return min(to_segment(a0, b0, b1), to_segment(a1, b0, b1), to_segment(b0, a0, a1), to_segment(b1, a0, a1))
@@ -422,16 +429,18 @@ def _force_arrow(ax, item: DrawnItem, length, colour, dashed, tips, centre=None,
     pushing = centre is not None and (centre[0] - x) * direction[0] + (centre[1] - y) * direction[1] > \
         0.5 * math.dist(centre, (x, y)) + 1e-9 * length
     tail, tip, moved = _arrow_place((x, y), direction, length, pushing, [] if segments is None else segments)
-    _add_patch(ax, FancyArrowPatch(tail, tip, arrowstyle="-|>", mutation_scale=11, color=colour,
-                                 linewidth=1.6, linestyle="--" if dashed else "-", zorder=7))
+    arrow = FancyArrowPatch(tail, tip, arrowstyle="-|>", mutation_scale=11, color=colour,
+                            linewidth=1.6, linestyle="--" if dashed else "-", zorder=7)
+    _add_patch(ax, arrow)
     leaves = math.dist(tail, (x, y)) <= math.dist(tip, (x, y))  # the label goes at the free end of the arrow
     label_at = tip if leaves else tail
     tips.append(label_at)
     right = (1 if leaves else -1) * direction[0] >= 0
     if moved is not None and abs(moved[0]) > 0.3:  # moved aside: the label on that side, off the other arrow
         right = moved[0] > 0
-    ax.annotate(item.label, label_at, xytext=(3 if right else -3, 3 - 9 * _crowd(tips, label_at, span)),
-                textcoords="offset points", fontsize=7, color=colour, ha="left" if right else "right", zorder=8)
+    text = ax.annotate(item.label, label_at, xytext=(3 if right else -3, 3 - 9 * _crowd(tips, label_at, span)),
+                       textcoords="offset points", fontsize=7, color=colour, ha="left" if right else "right", zorder=8)
+    _label_of(text, [arrow])
 
 
 def render_fbd(ax, scene_items: list[DrawnItem], forces: list[DrawnItem], body: str, bodies: list[str],
@@ -445,13 +454,16 @@ def render_fbd(ax, scene_items: list[DrawnItem], forces: list[DrawnItem], body: 
     centre = next((i.anchor for i in own if i.kind == "point" and i.name == "G"), None)
     tips: list = []
     segments: list = []  # the arrows drawn so far, (tail, tip)
-    arcs = _couple_places(forces, own, span)
-    for item in forces:
+    for item in forces:  # the arrows first: the couples' arcs are placed clear of them
         if item.kind in ("force", "inertial"):
             colour = INERTIAL_COLOUR if item.kind == "inertial" else FORCE_COLOUR
             _force_arrow(ax, item, length, colour, dashed=item.kind == "inertial", tips=tips, centre=centre,
                          segments=segments)
-        elif item.turn == 0:  # a zero couple: its label only
+    arcs = _couple_places(forces, own, span, segments)
+    for item in forces:
+        if item.kind in ("force", "inertial"):
+            continue
+        if item.turn == 0:  # a zero couple: its label only
             colour = INERTIAL_COLOUR if item.kind == "inertial_couple" else FORCE_COLOUR
             tips.append(item.anchor)
             ax.annotate(item.label, item.anchor, xytext=(6, -12 - 9 * _crowd(tips, item.anchor, span)),
@@ -474,26 +486,37 @@ COUPLE_RADIUS = 0.1
 """A couple's arc radius, as a fraction of the body's span; arcs at one place grow by 0.04 each."""
 
 
-def _couple_places(forces: list[DrawnItem], own: list[DrawnItem], span: float) -> dict:
+def _couple_places(forces: list[DrawnItem], own: list[DrawnItem], span: float, arrows=()) -> dict:
     """Where each couple's arc is drawn: id(item) -> (centre, radius, start angle).
 
     A couple is a free vector: its moment is the same about every point, so its arc may be
-    drawn anywhere on the body. Each takes its own place, the nearest to its anchor that is at
-    least 2.5 radii from every arc drawn before: its anchor, a named point of the body, or a
-    point halfway between G and a named point. The inertial couple -I_P alpha is placed first and
-    keeps G, beside -m a_P. Only when every place is taken do arcs share one, with growing radii.
+    drawn anywhere on the body or beside it. Each takes its own place, the nearest to its anchor
+    that is at least 2.5 radii from every arc drawn before and :data:`ARC_CLEARANCE` radii from every
+    force arrow in ``arrows`` ((tail, tip) pairs: an arrow through an arc leaves no room for the
+    labels of either): its anchor, a named point of the body, a point halfway between G and a named
+    point, or one of these moved 2.5 radii up, down, left or right. When none is clear of the arrows,
+    the nearest clear of the arcs. The inertial couple -I_P alpha is placed first and keeps G, beside
+    -m a_P. Only when every place is taken do arcs share one, with growing radii.
     """
     r = COUPLE_RADIUS * span
     named = [np.asarray(i.anchor, float) for i in own if i.kind == "point"]
     G = next((np.asarray(i.anchor, float) for i in own if i.kind == "point" and i.name == "G"), None)
     halfway = [(G + p) / 2 for p in named] if G is not None else []
+    moved = [p + 2.5 * r * np.array(d) for p in named + halfway for d in ((1, 0), (0, 1), (-1, 0), (0, -1))]
     turning = sorted((i for i in forces if i.kind in ("couple", "inertial_couple") and i.turn != 0),
                      key=lambda i: i.kind != "inertial_couple")  # stable: the inertial couple first
     taken: list = []  # [centre, arcs there]
+
+    def clear_of_arrows(p):
+        return all(_segment_gap(p, p, np.asarray(a, float), np.asarray(b, float)) >= ARC_CLEARANCE * r
+                   for a, b in arrows)
+
     out = {}
     for k, item in enumerate(turning):
         anchor = np.asarray(item.anchor, float)
         places = sorted([anchor, *named, *halfway], key=lambda p: float(np.linalg.norm(p - anchor)))
+        if item.kind != "inertial_couple":
+            places = sorted(places + moved, key=lambda p: (not clear_of_arrows(p), float(np.linalg.norm(p - anchor))))
         free = next((p for p in places if all(np.linalg.norm(p - c) >= 2.5 * r for c, _ in taken)), None)
         if free is None:  # no room: around the least used place, a larger arc
             spot = min(taken, key=lambda t: t[1])
@@ -504,6 +527,11 @@ def _couple_places(forces: list[DrawnItem], own: list[DrawnItem], span: float) -
             centre, radius = free, r
         out[id(item)] = (tuple(centre.tolist()), radius, math.radians(30 + 100 * k))
     return out
+
+
+ARC_CLEARANCE = 1.6
+"""Least distance from a couple's arc's centre to a force arrow, in arc radii, where a place is
+free: the arc (1 radius) and its label's line beside it."""
 
 
 def fbd_legend(forces: list[DrawnItem]) -> str:
@@ -543,45 +571,83 @@ def _head(tail, tip, scale: float) -> np.ndarray:
     return tip + s.reshape(-1, 1) * back + (w * (1 - s / (0.4 * scale))).reshape(-1, 1) * across
 
 
-def _obstacles(ax) -> tuple[np.ndarray, np.ndarray]:
-    """Display points along what is drawn, labels avoid covering them: (along the arrows, along
-    everything else: bodies, links, arcs, guides)."""
+def _drawn_points(ax) -> list:
+    """Display points along what is drawn on ``ax``, which labels avoid covering: one
+    ``(artist, points, pad, kind)`` per line or patch, ``pad`` [pixels] half its stroke's width
+    (a bar is 5 points wide: a label clear of its centre line may still lie on its stroke), ``kind``
+    ``arrow`` (a force's or an arc's), ``stroke`` (a line: a bar, a body's frame, an arc, a guide) or
+    ``mark`` (a point's dot, a patch's outline)."""
     def along(a, b):  # a point every OBSTACLE_STEP pixels: no label slips between two of them
         n = max(2, int(np.linalg.norm(b - a) / OBSTACLE_STEP) + 1)
         return a + np.linspace(0, 1, n)[:, None] * (b - a)
 
-    pts, arrows = [], []
+    to_pixels = ax.figure.dpi / 72.0
+    out = []
     for line in ax.lines:
         xy = line.get_transform().transform(np.column_stack(line.get_data()).astype(float))
-        pts.append(xy)
-        for a, b in zip(xy[:-1], xy[1:]):
-            pts.append(along(a, b))
+        pts = np.vstack([xy] + [along(a, b) for a, b in zip(xy[:-1], xy[1:])])
+        out.append((line, pts, 0.5 * line.get_linewidth() * to_pixels, "stroke" if len(xy) > 1 else "mark"))
     for patch in ax.patches:
         if isinstance(patch, FancyArrowPatch) and getattr(patch, "_posA_posB", None):
             a, b = (ax.transData.transform(np.array(p, float)) for p in patch._posA_posB)
-            arrows.append(along(a, b))
-            arrows.append(_head(a, b, patch.get_mutation_scale() * ax.figure.dpi / 72.0))
+            pts = np.vstack([along(a, b), _head(a, b, patch.get_mutation_scale() * to_pixels)])
+            out.append((patch, pts, 0.5 * patch.get_linewidth() * to_pixels, "arrow"))
         else:
             verts = patch.get_verts()
             if len(verts):
-                pts.append(verts)
-    return tuple(np.vstack(group) if group else np.zeros((0, 2)) for group in (arrows, pts))
+                out.append((patch, np.asarray(verts, float), 0.0, "mark"))
+    return out
+
+
+def _label_of(text, artists) -> None:
+    """Record on the label ``text`` the artists it names (a force's arrow; a couple's arc and its
+    head): :func:`place_labels` keeps it nearer them than any other label's arrow or arc."""
+    text.alt_euler_names = list(artists)
+
+
+STRAY_MARGIN = 6.0
+"""A label is read as naming the arrow or arc nearest to it: it is kept at least this much [display
+pixels] nearer its own than any other label's (the width of a stroke and a half)."""
+
+OWNER_GAP = 3.0
+"""Gap [display pixels] between a label and its own arrow or arc, beyond the stroke's half width,
+for the places tried beside them."""
+
+
+def _beside(box, owner: np.ndarray, gap: float) -> np.ndarray:
+    """Moves [display pixels] that put the measured ``box`` (x0, y0, x1, y1) beside its owner's
+    drawn ``owner`` points: at nine places along them, on each of 8 sides, ``gap`` clear and
+    ``gap`` + 6 pixels clear."""
+    w, h = box[2] - box[0], box[3] - box[1]
+    centre = np.array([box[0] + box[2], box[1] + box[3]]) / 2
+    picks = owner[np.linspace(0, len(owner) - 1, 9).round().astype(int)]
+    sides = np.array([(math.cos(a), math.sin(a)) for a in np.linspace(0, 2 * math.pi, 8, endpoint=False)])
+    sides = np.sign(sides.round(6))  # right, up-right, up ...: the box's edge or corner towards the point
+    reach = np.vstack([sides * np.array([w / 2 + g, h / 2 + g]) for g in (gap, gap + 6.0)])
+    return (picks[:, None, :] + reach[None, :, :] - centre).reshape(-1, 2)
 
 
 def place_labels(fig, axes) -> None:
     """Move the labels of ``axes`` off each other, and off the drawn shapes where possible.
 
-    Greedy, in drawing order: each label keeps its place when that is clear, else takes the
-    nearest offset (8 directions, :data:`_STEPS` points away) that stays inside the figure and
-    overlaps no label placed before it on any of ``axes`` (with :data:`LABEL_PAD` clearance: a label
-    may run past its panel, which has no background), covering no arrow if it can, then as few
-    drawn points as possible.
+    Greedy, in drawing order. The places tried: each label's own, the offsets in 8 directions
+    :data:`_STEPS` points away from it, and for a label naming an arrow or arc (:func:`_label_of`)
+    the places beside that arrow or arc (:func:`_beside`). Of these it takes the first least in order:
+    cut off by the figure's edge; overlapping a label placed before it on any of ``axes`` (with
+    :data:`LABEL_PAD` clearance: a label may run past its panel, which has no background); lying on
+    an arrow (its shaft or head); crossed by a line (a bar's or an arc's stroke, with its width); not
+    at least :data:`STRAY_MARGIN` nearer its own arrow or arc than any other label's (so that it
+    cannot be read as naming another); covering a point's dot or a patch's outline; then the nearest
+    to its own arrow or arc (the nearest to its own place for other labels), and covering the fewest
+    drawn points.
     Text extents come from the renderer after the layout is fixed (labels are taken out of the
     layout so that moving them cannot move the axes). A label's offset is in points,
     so each candidate box is its measured box moved by the offset (measured once, not per try).
     """
     texts = {id(ax): [t for t in ax.texts if t.get_visible() and t.get_text() and hasattr(t, "xyann")]
              for ax in axes}
+    for k, group in texts.items():  # first the labels naming an arrow or arc: they have less room
+        texts[k] = sorted(group, key=lambda t: not hasattr(t, "alt_euler_names"))
     for group in texts.values():
         for t in group:
             t.set_in_layout(False)
@@ -589,23 +655,61 @@ def place_labels(fig, axes) -> None:
     _final_layout(fig, axes)
     directions = [(math.cos(a), math.sin(a)) for a in np.linspace(0, 2 * math.pi, 8, endpoint=False)]
     offsets = np.array([(0.0, 0.0)] + [(step * d[0], step * d[1]) for step in _STEPS[1:] for d in directions])
-    rank = np.array([0] + [k for k in range(1, len(_STEPS)) for _ in directions])  # the step of each offset
+    steps = np.array([0] + [k for k in range(1, len(_STEPS)) for _ in directions])  # the step of each offset
     to_pixels = fig.dpi / 72.0
     placed = np.zeros((0, 4))  # x0, y0, x1, y1 of the labels placed so far, on every panel (they may cross)
     for ax in axes:
-        arrows, others = _obstacles(ax)
+        drawn = _drawn_points(ax)
+        where = {id(artist): (pts, pad) for artist, pts, pad, _ in drawn}
+        groups = {kind: [(pts, pad) for _, pts, pad, k in drawn if k == kind] for kind in ("arrow", "stroke", "mark")}
+        owners = {id(t): [where[id(a)] for a in getattr(t, "alt_euler_names", ()) if id(a) in where]
+                  for t in texts[id(ax)]}
+        owners = {k: (np.vstack([p for p, _ in v]), max(pad for _, pad in v)) for k, v in owners.items() if v}
         for t in texts[id(ax)]:
             base = np.array(t.xyann, float)
             b = t.get_window_extent(renderer)
-            boxes = np.array([b.x0, b.y0, b.x1, b.y1]) + np.tile(offsets * to_pixels, 2)
-            clash = _overlaps(boxes, placed, LABEL_PAD)
-            on_arrows = _covered(boxes, arrows)
-            covered = on_arrows + _covered(boxes, others)
-            cut = _cut_off(boxes, fig.bbox.extents)
-            # the first least (cut off, clash, covers an arrow, covers any, step, count covered)
-            best = np.lexsort((covered, rank, covered > 0, on_arrows > 0, clash, cut))[0]
-            t.xyann = tuple(base + offsets[best])
+            box = np.array([b.x0, b.y0, b.x1, b.y1])
+            moves = offsets * to_pixels
+            own = owners.get(id(t))
+            if own is not None:
+                moves = np.vstack([moves, _beside(box, own[0], OWNER_GAP + own[1])])
+            boxes = box + np.tile(moves, 2)
+            others = [o[0] for k, o in owners.items() if k != id(t)]
+            rank = np.concatenate([steps, np.zeros(len(boxes) - len(steps))])
+            best = _best_place(boxes, placed, groups, None if own is None else own[0], others, rank,
+                               fig.bbox.extents)
+            t.xyann = tuple(base + moves[best] / to_pixels)
             placed = np.vstack([placed, boxes[best]])  # (its measured box, moved by the offset chosen)
+
+
+def _best_place(boxes, placed, groups: dict, own, others: list, rank, frame) -> int:
+    """The index of the box a label takes, by the order of :func:`place_labels`.
+
+    ``boxes``: the places tried (rows x0, y0, x1, y1) [display pixels]; ``placed``: the labels'
+    boxes so far; ``groups``: the drawn points and pads by kind (:func:`_drawn_points`); ``own``: the
+    points of the arrow or arc the label names (None: it names none), ``others`` those of the other
+    labels'; ``rank``: each try's step from the label's own place; ``frame``: the figure's extents."""
+    clash = _overlaps(boxes, placed, LABEL_PAD)
+    none = np.zeros(len(boxes), dtype=int)
+    on_arrows, crossed, on_marks = (sum((_covered(boxes, pts, pad) for pts, pad in groups[kind]), none)
+                                    for kind in ("arrow", "stroke", "mark"))
+    stray = np.zeros(len(boxes), dtype=bool)
+    if own is not None:
+        near = _box_distance(boxes, own)
+        for other in others:
+            stray |= _box_distance(boxes, other) < near + STRAY_MARGIN
+        rank = np.floor(near / OBSTACLE_STEP)  # nearer its own arrow or arc, in steps of a few pixels
+    covered = on_arrows + crossed + on_marks
+    cut = _cut_off(boxes, frame)
+    return int(np.lexsort((covered, rank, on_marks > 0, stray, crossed > 0, on_arrows > 0, clash, cut))[0])
+
+
+def _box_distance(boxes: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """For each box (rows x0, y0, x1, y1), the distance from it to the nearest of ``points`` (0 inside)."""
+    x, y = points[None, :, 0], points[None, :, 1]
+    dx = np.maximum(np.maximum(boxes[:, 0:1] - x, x - boxes[:, 2:3]), 0.0)
+    dy = np.maximum(np.maximum(boxes[:, 1:2] - y, y - boxes[:, 3:4]), 0.0)
+    return np.hypot(dx, dy).min(axis=1)
 
 
 def _final_layout(fig, axes) -> None:
@@ -631,10 +735,12 @@ def _cut_off(boxes: np.ndarray, frame) -> np.ndarray:
     return (boxes[:, 0] < x0) | (boxes[:, 1] < y0) | (boxes[:, 2] > x1) | (boxes[:, 3] > y1)
 
 
-def _covered(boxes: np.ndarray, points: np.ndarray) -> np.ndarray:
-    """For each box, how many of the drawn ``points`` lie strictly inside it."""
+def _covered(boxes: np.ndarray, points: np.ndarray, pad: float = 0.0) -> np.ndarray:
+    """For each box, how many of the drawn ``points`` lie strictly inside it grown by ``pad`` [pixels]
+    on every side (a stroke's half width: the stroke of a line through such a point touches the box)."""
     if not len(points):
         return np.zeros(len(boxes), dtype=int)
     x, y = points[None, :, 0], points[None, :, 1]
-    inside = (x > boxes[:, 0:1]) & (x < boxes[:, 2:3]) & (y > boxes[:, 1:2]) & (y < boxes[:, 3:4])
+    inside = (x > boxes[:, 0:1] - pad) & (x < boxes[:, 2:3] + pad) & (y > boxes[:, 1:2] - pad) & \
+        (y < boxes[:, 3:4] + pad)
     return inside.sum(axis=1)
