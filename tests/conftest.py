@@ -139,6 +139,30 @@ def solver_cli(capsys):
 
 
 @pytest.fixture
+def one_load_per_scene(monkeypatch):
+    """Within the test, ``python -m solver`` run in process loads each scene file (with the same
+    ``--set`` values) once: its commands read one System, and a derivation the first command
+    cached on it (formulation, reactions) serves the next ones, as within one command. Each
+    command still parses its arguments, solves, formats and prints its own output. For tests whose
+    commands only read the scene: ``explain`` may add a named place to a body, so it is not one.
+    Returns the loaded systems by (resolved file, sorted --set items)."""
+    from pathlib import Path
+
+    from solver.io import scenes
+
+    load, loaded = scenes.load_system, {}
+
+    def once(path, overrides=None):
+        key = (str(Path(path).resolve()), tuple(sorted(dict(overrides or {}).items())))
+        if key not in loaded:
+            loaded[key] = load(path, overrides)
+        return loaded[key]
+
+    monkeypatch.setattr(scenes, "load_system", once)
+    return loaded
+
+
+@pytest.fixture
 def analysis_cli(capsys):
     """Run ``python -m analysis ARGV...`` in process: returns (exit code, stdout, stderr)."""
     from analysis.__main__ import main
