@@ -1,4 +1,5 @@
 """Shared test configuration."""
+import atexit
 import gc
 import os
 import sys
@@ -45,7 +46,7 @@ HEAVY_FIRST = ("report-build", "tests/test_explain.py", "tests/test_routes.py", 
 # of what survived it, so later collections walk only what later files create. The permanent
 # generation holds only objects that were alive when frozen; a frozen object that dies is still
 # freed by reference counting, and only a cycle formed later among frozen objects stays until the
-# session ends (a test process, not the product). No test's result depends on when the collector runs.
+# process ends (a test process, not the product). No test's result depends on when the collector runs.
 def _test_process(config) -> bool:
     """True in a process that runs tests (an xdist worker, or pytest without workers)."""
     return hasattr(config, "workerinput") or not getattr(config.option, "numprocesses", None)
@@ -82,6 +83,10 @@ def pytest_collection_finish(session):
         gc.enable()
         gc.collect()
         gc.freeze()
+        # Back to one generation for the interpreter's shutdown (after pytest's own last
+        # collections, which then stay cheap): frozen objects are not collected at exit, and an
+        # extension module's objects kept alive that way are reported as leaks (nanobind).
+        atexit.register(gc.unfreeze)
 
 
 @pytest.hookimpl(trylast=True)
@@ -90,12 +95,6 @@ def pytest_runtest_teardown(item, nextitem):
     if nextitem is None or nextitem.path != item.path:
         gc.collect()
         gc.freeze()
-
-
-def pytest_unconfigure(config):
-    """Back to one generation for the interpreter's shutdown: frozen objects are not collected at
-    exit, and an extension module's objects kept alive that way are reported as leaks (nanobind)."""
-    gc.unfreeze()
 
 
 @pytest.hookimpl(optionalhook=True)
