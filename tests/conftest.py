@@ -43,10 +43,13 @@ HEAVY_FIRST = ("report-build", "tests/test_explain.py", "tests/test_routes.py", 
 # So, as ``reports.cli.cyclic_gc_paused`` does for the report build: no collection while the
 # modules are imported (nothing there is garbage); then after collection, and again after each
 # test file (its module fixtures torn down), one collection of what is new and a ``gc.freeze()``
-# of what survived it, so later collections walk only what later files create. The permanent
-# generation holds only objects that were alive when frozen; a frozen object that dies is still
-# freed by reference counting, and only a cycle formed later among frozen objects stays until the
-# process ends (a test process, not the product). No test's result depends on when the collector runs.
+# of what survived it, so later collections walk only what later files create; and young
+# collections every 10,000 new objects rather than 700 (test_explain, test_multibody_scenes and
+# test_routes: 0.78 s in the collector instead of 1.11 s, 4 full collections instead of 11).
+# The permanent generation holds only objects that were alive when frozen; a frozen object that
+# dies is still freed by reference counting, and only a cycle formed later among frozen objects
+# stays until the process ends (a test process, not the product). No test's result depends on
+# when the collector runs.
 def _test_process(config) -> bool:
     """True in a process that runs tests (an xdist worker, or pytest without workers)."""
     return hasattr(config, "workerinput") or not getattr(config.option, "numprocesses", None)
@@ -83,6 +86,7 @@ def pytest_collection_finish(session):
         gc.enable()
         gc.collect()
         gc.freeze()
+        gc.set_threshold(10_000, 10, 10)  # a young collection per 10,000 new objects, not 700
         # Back to one generation for the interpreter's shutdown (after pytest's own last
         # collections, which then stay cheap): frozen objects are not collected at exit, and an
         # extension module's objects kept alive that way are reported as leaks (nanobind).
