@@ -1,5 +1,8 @@
 """Shared test configuration."""
+import atexit
+import gc
 import os
+import sys
 
 import pytest
 
@@ -30,6 +33,72 @@ HEAVY_FIRST = ("report-build", "tests/test_explain.py", "tests/test_routes.py", 
                "tests/test_friction_regimes.py", "tests/test_analysis_tables.py", "tests/test_analysis_report.py",
                "tests/test_period.py", "tests/test_fuzz_solver.py", "tests/test_multibody_joints.py",
                "tests/test_cli_solver.py")
+
+
+# The cyclic garbage collector in a test process. Its full collections walk every live object,
+# and a worker's heap is large and mostly long-lived: the imported modules (sympy, scipy,
+# matplotlib, the project) and the caches that grow test after test. Measured with
+# ``gc.callbacks`` over ``make test`` (25 November 2026): 36 full collections and some 6,000
+# younger ones cost about 8.7 s of CPU in the two workers together, 8 % of the suite.
+# So, as ``reports.cli.cyclic_gc_paused`` does for the report build: no collection while the
+# modules are imported (nothing there is garbage); then after collection, and again after each
+# test file (its module fixtures torn down), one collection of what is new and a ``gc.freeze()``
+# of what survived it, so later collections walk only what later files create; and young
+# collections every 10,000 new objects rather than 700 (test_explain, test_multibody_scenes and
+# test_routes: 0.78 s in the collector instead of 1.11 s, 4 full collections instead of 11).
+# The permanent generation holds only objects that were alive when frozen; a frozen object that
+# dies is still freed by reference counting, and only a cycle formed later among frozen objects
+# stays until the process ends (a test process, not the product). No test's result depends on
+# when the collector runs.
+def _test_process(config) -> bool:
+    """True in a process that runs tests (an xdist worker, or pytest without workers)."""
+    return hasattr(config, "workerinput") or not getattr(config.option, "numprocesses", None)
+
+
+# SymPy's caches (``sympy.core.cache``) hold 1,000 results per cached function unless
+# SYMPY_CACHE_SIZE says otherwise when sympy is imported. A test process derives many scenes one
+# after another and kept evicting what the next test asked for again: with 20,000, test_explain,
+# test_multibody_scenes and test_multibody_joints together took 18.0 s of CPU instead of 20.0 s
+# (least of 3 runs each, 25 November 2026), for 15 MB more memory. A cache hit returns what the call
+# would compute, so no result changes. The variable is set only for that import: the programs the
+# tests start (the real command line) run with the environment they were given.
+SYMPY_CACHE_SIZE = "20000"
+
+
+def _import_sympy_with_larger_caches() -> None:
+    if "sympy" in sys.modules or "SYMPY_CACHE_SIZE" in os.environ:
+        return  # already imported, or the caller chose a size
+    os.environ["SYMPY_CACHE_SIZE"] = SYMPY_CACHE_SIZE
+    try:
+        import sympy  # noqa: F401  (reads the variable once, here)
+    finally:
+        del os.environ["SYMPY_CACHE_SIZE"]
+
+
+def pytest_configure(config):
+    if _test_process(config):
+        gc.disable()
+        _import_sympy_with_larger_caches()
+
+
+def pytest_collection_finish(session):
+    if _test_process(session.config):
+        gc.enable()
+        gc.collect()
+        gc.freeze()
+        gc.set_threshold(10_000, 10, 10)  # a young collection per 10,000 new objects, not 700
+        # Back to one generation for the interpreter's shutdown (after pytest's own last
+        # collections, which then stay cheap): frozen objects are not collected at exit, and an
+        # extension module's objects kept alive that way are reported as leaks (nanobind).
+        atexit.register(gc.unfreeze)
+
+
+@pytest.hookimpl(trylast=True)
+def pytest_runtest_teardown(item, nextitem):
+    """After a file's last test (and its module fixtures' teardown): collect, then freeze."""
+    if nextitem is None or nextitem.path != item.path:
+        gc.collect()
+        gc.freeze()
 
 
 @pytest.hookimpl(optionalhook=True)
@@ -70,6 +139,30 @@ def solver_cli(capsys):
         return exc.value.code, out.out, out.err
 
     return run
+
+
+@pytest.fixture
+def one_load_per_scene(monkeypatch):
+    """Within the test, ``python -m solver`` run in process loads each scene file (with the same
+    ``--set`` values) once: its commands read one System, and a derivation the first command
+    cached on it (formulation, reactions) serves the next ones, as within one command. Each
+    command still parses its arguments, solves, formats and prints its own output. For tests whose
+    commands only read the scene: ``explain`` may add a named place to a body, so it is not one.
+    Returns the loaded systems by (resolved file, sorted --set items)."""
+    from pathlib import Path
+
+    from solver.io import scenes
+
+    load, loaded = scenes.load_system, {}
+
+    def once(path, overrides=None):
+        key = (str(Path(path).resolve()), tuple(sorted(dict(overrides or {}).items())))
+        if key not in loaded:
+            loaded[key] = load(path, overrides)
+        return loaded[key]
+
+    monkeypatch.setattr(scenes, "load_system", once)
+    return loaded
 
 
 @pytest.fixture

@@ -118,11 +118,12 @@ def test_solve_any_point_and_method_matches_published(
 
 
 @pytest.mark.parametrize("method", ["mass_center", "lagrange"])
-def test_a_route_without_reference_point_does_not_echo_point(capsys: pytest.CaptureFixture[str], method: str) -> None:
+def test_a_route_without_reference_point_does_not_echo_point(capsys: pytest.CaptureFixture[str], method: str,
+                                                            one_load_per_scene) -> None:
     """`--point` with a route that takes no moments about P (mass_center: about each G; lagrange: no
     moment equation) is checked but not used: every output that names the point says null with the
     route's note, in JSON and text alike (solve, eom of a one- and a two-freedom scene, precision),
-    and a point the body does not have is still refused."""
+    and a point the body does not have is still refused. (The commands read each scene once.)"""
     double = str(ROOT / "data" / "scenes" / "double_pendulum.toml")
     for argv in (["solve", str(SLIDING_BAR), "--point", "B"], ["eom", str(SLIDING_BAR), "--point", "B"],
                  ["eom", double, "--point", "lower:A"], ["precision", str(SLIDING_BAR), "--point", "B"]):

@@ -445,7 +445,18 @@ def every_scene(paper):
     return out
 
 
-def test_every_shipped_scene_explains_in_every_format(every_scene):
+FORMATS = ("text", "markdown", "html", "latex")
+
+
+@pytest.fixture(scope="module")
+def every_rendering(every_scene):
+    """Each shipped scene's explanation rendered in each format, once per module: (scene, format)
+    -> document. Four tests read these pages (about 1.7 s of CPU to render them all); rendering is
+    a pure function of the explanation, so each reads what ``render`` gives."""
+    return {(name, fmt): render(expl, fmt) for name, (_, expl) in every_scene.items() for fmt in FORMATS}
+
+
+def test_every_shipped_scene_explains_in_every_format(every_scene, every_rendering):
     """Contacts in whichever regime holds (slipping, sticking, separated, held redundantly) and
     loop closures included: a section per body, an equation of motion when anything moves freely,
     and each format renders."""
@@ -456,8 +467,8 @@ def test_every_shipped_scene_explains_in_every_format(every_scene):
             assert final.step("motion").equations, name
         if system.contacts:
             assert expl.section(None).step("regime").table is not None, name
-        for fmt in ("text", "markdown", "html", "latex"):
-            out = render(expl, fmt)
+        for fmt in FORMATS:
+            out = every_rendering[name, fmt]
             assert "Equation of motion" in out or not system.free, (name, fmt)
             if fmt == "latex":
                 assert out.count(r"\begin{") == out.count(r"\end{"), name
@@ -677,29 +688,29 @@ def _latex_maths(doc: str) -> list[str]:
     return out
 
 
-def test_latex_writes_names_units_and_formulae_as_latex(every_scene):
+def test_latex_writes_names_units_and_formulae_as_latex(every_scene, every_rendering):
     """New-user report: units were code (``ft / s ** 2``), names were code (``theta_ddot``), notes in
     \\text{} held code, and the unknowns were theta_ddot in the text but alpha in the equations. The
     LaTeX now has no ``**`` or ``_ddot`` anywhere, no ``*`` in maths, balanced braces, units upright,
     and one sentence saying what alpha stands for."""
-    for name, (_, expl) in every_scene.items():
-        doc = render(expl, "latex")
+    for name in every_scene:
+        doc = every_rendering[name, "latex"]
         assert "**" not in doc and "_ddot" not in doc and "_dot" not in doc, name
         unescaped = re.sub(r"\\[{}$]", "", doc)
         assert unescaped.count("{") == unescaped.count("}"), name
         code = [m for m in _latex_maths(doc) if "*" in m or r"\_" in m or "textasciicircum" in m]
         assert not code, (name, code[:2])
-    example1 = render(every_scene["sliding_bar"][1], "latex")
+    example1 = every_rendering["sliding_bar", "latex"]
     assert r"$g$ & $32.174\,\mathrm{ft/s^{2}}$" in example1  # the data table: 32.174 ft/s^2
     assert r"contains 2 unknowns: $\ddot{\theta}$, $R_{B}$." in example1
     assert r"$\alpha$ & $2.29693$ & $\mathrm{rad/s^{2}}$" in example1  # Eq. 30's alpha, unit upright
     assert example1.count(r"Here $\alpha = -\ddot{\theta}$") == 1  # said once, where alpha first stands in
     assert r"\underbrace{- 0.05081 \alpha}_{\text{$\alpha$}}" in example1
     assert r"_{\text{rate terms $\dot{\theta}^{2}$}}" in example1
-    example2 = render(every_scene["disk_bar"][1], "latex")
+    example2 = every_rendering["disk_bar", "latex"]
     assert r"$m_{d}$ & $m_{d}\,r_{d}^{2}/2$" in example2  # I_G of the disk, no * or **
     assert r"[$\mathrm{N\,m}$]" in example2
-    slipping = render(every_scene["disk_backspin"][1], "latex")  # words stay words, formulae become maths
+    slipping = every_rendering["disk_backspin", "latex"]  # words stay words, formulae become maths
     assert r"known force $-s \mu_{k} N$ along the contact line (s the sign of the sliding velocity)" in slipping
 PENDULUM = """name = "pendulum"
 [parameters]
@@ -897,7 +908,7 @@ def test_no_collected_form_longer_than_its_equation_and_short_table_cells(tmp_pa
     assert {row[0]: row[3] for row in table.rows}["spring_2"] == "the vector spring_2 above"
 
 
-def test_wording_citations_and_grammar(paper, every_scene):
+def test_wording_citations_and_grammar(paper, every_scene, every_rendering):
     """The kinematics cite the paper's numbering: its Eq. (6) is the acceleration relation
     a_G = a_P + alpha x r - omega^2 r and its Eq. (15) the same for an element's mass centre; it
     prints no velocity relation, and a_P from the placement is no equation of it. A one-body
@@ -916,8 +927,8 @@ def test_wording_citations_and_grammar(paper, every_scene):
     eom = every_scene["disk_backspin"][1].sections[-1].step("motion")
     notes = {t.note: sp.sstr(t.expr) for e in eom.equations if e.tag.startswith("eom:") for t in e.lhs}
     assert "mu" in notes["friction terms (slipping: -s mu_k N)"] and "configuration terms" not in notes
-    for name, (_, expl) in every_scene.items():
-        out = render(expl, "text")
+    for name in every_scene:
+        out = every_rendering[name, "text"]
         assert "(s)" not in out, (name, out[out.index("(s)") - 80:out.index("(s)") + 20])
     assert "(s)" not in render(advice_explanation(load_system(ROOT / "data/scenes/sliding_bar.toml")), "text")
 
@@ -948,19 +959,19 @@ def test_html_joins_a_negative_term_with_minus_and_keeps_labels(paper):
     assert "[known]" in text  # the text shows the same labels
 
 
-def test_html_typesets_every_equation_name_and_formula_as_mathml(every_scene):
+def test_html_typesets_every_equation_name_and_formula_as_mathml(every_scene, every_rendering):
     """New-user report: the HTML printed the equations as code (``l_b**2*m_b/12``, ``theta_ddot``)
     while Markdown and LaTeX typeset them. Now, for every shipped scene, the page's visible text
     (outside the MathML, the style sheet and the drawings) has no ``**``, no ``a*b`` and no
     ``_dot``/``_ddot`` name, and each equation block is MathML with the rates as accents."""
-    for name, (_, expl) in every_scene.items():
-        page = render(expl, "html")
+    for name in every_scene:
+        page = every_rendering[name, "html"]
         body = re.sub(r"<style>.*?</style>|<svg.*?</svg>|<math.*?</math>", "", page, flags=re.S)
         text = re.sub(r"<[^>]+>", " ", body)
         assert not re.search(r"\*\*|\w\*\w|_d?dot\b", text), (name, re.findall(r"\S*(?:\*|_d?dot)\S*", text)[:5])
         blocks = re.findall(r'<div class="eq">(.*?)</div>', page, flags=re.S)
         assert blocks and all(b.startswith(("<math", '<table class="terms">')) for b in blocks), name
-    page = render(every_scene["sliding_bar"][1], "html")
+    page = every_rendering["sliding_bar", "html"]
     assert '<mover accent="true"><mi>&#952;</mi><mo>&#168;</mo></mover>' in page  # theta with two dots
     # a table cell: a number in e-notation as 1.5 x 10^-3, its unit after it unescaped, words escaped
     from solver.explain.mathml_prose import MathmlProse

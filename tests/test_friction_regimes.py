@@ -135,7 +135,7 @@ def test_disk_with_backspin_slips_then_rolls(solver_cli, tmp_path):
 
 
 @pytest.mark.parametrize("beta", [15.0, 30.0, 50.0])
-def test_least_mu_on_an_incline(solver_cli, beta):
+def test_least_mu_on_an_incline(solver_cli, one_load_per_scene, beta):
     t = math.tan(math.radians(beta))
     for body, expected in (("disk", t / 3), ("ring", t / 2)):
         out = _json(solver_cli, "friction", f"data/scenes/incline_{body}.toml", "--set", f"beta={beta} deg", "--json")
@@ -539,9 +539,10 @@ def test_critical_value_of_a_pure_number_prints_no_unit(solver_cli):
     assert re.search(r"^  mu_A = [0-9.]+: ", text, flags=re.M)
 
 
-def test_friction_json_names_the_units_of_times_and_forces(solver_cli, tmp_path):
+def test_friction_json_names_the_units_of_times_and_forces(solver_cli, one_load_per_scene, tmp_path):
     """`friction --over --json` gives every time and force as {value, unit} in the scene's output
-    units, as its text does: the incline disk with [output_units] time in ms and force in lbf.
+    units, as its text does (both commands read the scene once): the incline disk with
+    [output_units] time in ms and force in lbf.
     Reference, rolling from rest on the incline (beta = 30 deg): N = m g cos(beta) and
     |F| = m g sin(beta) / 3 (a solid disk), in lbf by its definition (4.4482216152605 N exactly)."""
     scene = tmp_path / "incline_disk_us.toml"

@@ -194,10 +194,11 @@ def test_four_bar_eom_text_is_the_projection_in_parts(solver_cli, monkeypatch):
         assert values[sp.Symbol(v, real=True)] == pytest.approx(solved["unknowns"][v]["value"], rel=1e-9)
 
 
-def test_eom_does_not_print_a_closed_form_nobody_can_read(solver_cli):
+def test_eom_does_not_print_a_closed_form_nobody_can_read(solver_cli, one_load_per_scene):
     """The plate on two links: its reactions' closed forms (Cramer's rule over eight unknowns) run to
     100,000 characters each; the text output names their size and prints their values, and --json
-    still carries the expressions."""
+    still carries the expressions. (Both commands read one loaded scene: Cramer's rule, about half a
+    second, is formed once.)"""
     import json
 
     scene = str(Path(__file__).parents[1] / "data" / "scenes" / "parallel_link_plate.toml")

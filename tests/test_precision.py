@@ -148,13 +148,14 @@ SCENES = sorted(Path("data/scenes").glob("*.toml"))
 
 
 @pytest.mark.parametrize("scene", SCENES, ids=[s.stem for s in SCENES])
-def test_precision_runs_on_every_shipped_scene_solve_solves(solver_cli, scene: Path) -> None:
+def test_precision_runs_on_every_shipped_scene_solve_solves(solver_cli, one_load_per_scene, scene: Path) -> None:
     # Regression: four_bar, double_pendulum, cart_pendulum ended in an internal error (lambdify
     # was given None for the coordinate of a one-coordinate system), slider_crank in a false
     # "singular configuration" (sin of the dependent angle's rational value has no closed form),
     # ladder_leaves_wall in "joints not satisfied" (the contact regime solve finds was not used).
     # Precision answers wherever `solve` gives a unique answer; where the forces have no unique
     # value (statically indeterminate sticking contacts, as `solve` says) it refuses in one line.
+    # (`precision` runs first, on the freshly loaded scene; `solve` then reads the same one.)
     status, out, err = solver_cli("precision", str(scene), "--dps", "20")  # every arithmetic
     solved, solve_out, _ = solver_cli("solve", str(scene), "--json")
     assert solved == 0
