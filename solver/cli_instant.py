@@ -320,7 +320,7 @@ def _eom_multi(args, system) -> int:
         from solver.analyses.eom import reduced_equations_of_motion
 
         eqs, coords = reduced_equations_of_motion(f)
-        shown = [e if sp.count_ops(e) > DISPLAY_MAX_OPS else _tidy_multi(e, system) for e in eqs]
+        shown = [e if _over_display_ops(e) else _tidy_multi(e, system) for e in eqs]
     else:
         eqs, coords = equations_of_motion(f), list(system.free)
         shown = [_tidy_multi(e, system) for e in eqs]
@@ -415,6 +415,17 @@ DISPLAY_BUDGET_S = 4.0
 """Most CPU time spent tidying one expression for display [s]."""
 DISPLAY_MAX_OPS = 200
 """Expressions larger than this are printed as derived (cancel gets slow)."""
+
+
+def _over_display_ops(expr) -> bool:
+    """Whether ``expr`` has more than :data:`DISPLAY_MAX_OPS` operations (``sympy.count_ops``).
+    A tree of more than ten nodes an operation is taken as over without counting: count_ops
+    walks the whole tree (about 1 s for a 100,000-node reaction of the plate on two links), and
+    an operation of these equations holds a few nodes at most (``x - y``: five)."""
+    from .display import tree_size
+
+    cap = 10 * DISPLAY_MAX_OPS
+    return tree_size(expr, cap) > cap or sp.count_ops(expr) > DISPLAY_MAX_OPS
 DISPLAY_MAX_NODES = 1500
 """A reaction's closed form with more expression-tree nodes than this is not printed in the text
 output (the paper scenes' have under 100; a plate on two links, solved by Cramer's rule, has
@@ -483,9 +494,9 @@ def _display_form(expr: sp.Expr, tidy_with=None) -> sp.Expr:
     derived form is printed unchanged.
     """
     tidy_with = sp.cancel if tidy_with is None else tidy_with
-    ops = sp.count_ops(expr)
-    if ops > DISPLAY_MAX_OPS:
+    if _over_display_ops(expr):
         return expr
+    ops = sp.count_ops(expr)
     timed = hasattr(signal, "SIGPROF") and threading.current_thread() is threading.main_thread()
     if timed:
         def _alarm(signum, frame):

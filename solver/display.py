@@ -528,12 +528,15 @@ def _reduce_denominators(e: sp.Expr, pows: set | None = None) -> sp.Expr:
     return _replace_powers(e, _is_trig_denominator, lambda x: _reduce_poly(x.base) ** x.exp, pows)
 
 
-def tree_size(e: sp.Expr) -> int:
+def tree_size(e: sp.Expr, cap: "int | None" = None) -> int:
     """Number of nodes of the expression tree (a cheap stand-in for ``count_ops``; the count of
-    ``sympy.preorder_traversal``, by a walk with a list for a stack)."""
+    ``sympy.preorder_traversal``, by a walk with a list for a stack). With ``cap``, the walk stops
+    once the count passes it (a result above ``cap`` means "larger than cap")."""
     n, stack = 0, [e]
     while stack:
         n += 1
+        if cap is not None and n > cap:
+            return n
         stack.extend(stack.pop().args)
     return n
 

@@ -225,7 +225,11 @@ def test_the_tree_walks_are_sympys():
         e = e / (1 + rng.choice(pieces)) if rng.random() < 0.5 else e
         assert _nodes(e, sp.Pow) == e.atoms(sp.Pow)
         assert _nodes(e, (sp.sin, sp.cos)) == e.atoms(sp.sin, sp.cos)
-        assert tree_size(e) == sum(1 for _ in sp.preorder_traversal(e))
+        size = sum(1 for _ in sp.preorder_traversal(e))
+        assert tree_size(e) == size
+        # capped: the same count up to the cap, past it only "more than the cap"
+        for cap in (size - 1, size, size + 1):
+            assert (tree_size(e, cap) > cap) == (size > cap) and min(tree_size(e, cap), cap) == min(size, cap)
 
 
 def test_terms_by_power_of_the_rate_as_collect():
