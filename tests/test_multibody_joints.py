@@ -16,6 +16,7 @@ from functools import lru_cache
 from pathlib import Path
 
 import pytest
+import sympy as sp
 
 from solver.analyses.instant import solve_instant
 from solver.io.scenes import load_system
@@ -210,3 +211,24 @@ def test_eom_does_not_print_a_closed_form_nobody_can_read(solver_cli, one_load_p
     assert len(re.findall(r"^      = \S+ N at the state$", out, flags=re.M)) == 8
     payload = json.loads(solver_cli("eom", scene, "--json")[1])
     assert len(payload["reactions"]) == 8 and min(len(e) for e in payload["reactions"].values()) > 1500
+
+
+def test_a_disk_rolling_in_a_bowl_has_its_closed_forms_in_R_minus_r(solver_cli):
+    """New-user report: the disk rolling in a circular track printed its equation of motion, mass and
+    friction in sqrt(R**2 - 2*R*r + r**2) (the centre's distance from the bowl's centre, which the
+    placement makes R - r), e.g. F = g*m*(-R + r)*cos(psi)/(-2*R + 2*r - sqrt(R**2 - 2*R*r + r**2)).
+    By hand (beta = psi + pi/2 from the bottom, rolling inside): M = 3 m (R - r)**2 / 2 and the
+    friction m g sin(beta) / 3 = m g cos(psi) / 3, the textbook result; no square root is left."""
+    code, out, err = solver_cli("eom", str(DATA / "disk_in_bowl.toml"))
+    assert code == 0, err
+    assert "sqrt" not in out
+    lines = {line.split("=")[0].strip(): line.split("=", 1)[1].strip() for line in out.splitlines()
+             if line.strip().startswith(("M =", "F_bowl ="))}
+    R, r, m, g, psi = sp.symbols("R r m g psi", real=True)
+    names = {"R": R, "r": r, "m": m, "g": g, "psi": psi}
+    from solver.expressions import parse_expression
+
+    M = parse_expression(lines["M"], names, where="M")
+    F = parse_expression(lines["F_bowl"], names, where="F_bowl")
+    assert sp.expand(M - sp.Rational(3, 2) * m * (R - r) ** 2) == 0
+    assert sp.simplify(F - m * g * sp.cos(psi) / 3) == 0

@@ -626,9 +626,17 @@ class RollingOnCircle(Contact, Joint):
         c = _at(pose, self.second, self.center)
         O = _at(pose, self.first, self.circle_center)
         rel = c - O
-        dist = sp.sqrt(rel[0] ** 2 + rel[1] ** 2)
-        e = rel / dist
-        return c, O, rel, dist, e
+        return c, O, rel, self._distance(rel), rel / self._distance(rel)
+
+    def _distance(self, rel):
+        """|rel|, the distance of the element's centre from the circle's. The radius of the centre's
+        path R +- r itself when the centre is placed on that path (the scene's position angle):
+        ``sqrt(R**2 - 2*R*r + r**2)`` carried through the worked solution hid that an inertial term
+        is zero. R +- r is positive: the scene refuses an inside circle not larger than the element."""
+        d2 = rel[0] ** 2 + rel[1] ** 2
+        from ..display import is_identically_zero
+
+        return self._Rc if is_identically_zero(d2 - self._Rc ** 2) else sp.sqrt(d2)
 
     def contact_rows(self, pose):
         c, O, rel, dist, e = self._geometry(pose)
