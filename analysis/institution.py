@@ -276,8 +276,11 @@ def _csv_sql(path: Path, header: bool = True) -> str:
 
 
 def _source_sql(path: Path) -> str:
+    """The file as a table of text, as a CSV is read: a Parquet file's typed columns (an integer
+    id, numeric codes) cast to VARCHAR, so that ids, items and answers are matched as texts on
+    both formats (a trim of an integer column failed the whole count)."""
     if path.suffix.lower() == ".parquet":
-        return f"read_parquet({_literal(path)})"
+        return f"(SELECT COLUMNS(*)::VARCHAR FROM read_parquet({_literal(path)}))"
     return _csv_sql(path)
 
 

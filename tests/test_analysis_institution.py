@@ -518,3 +518,22 @@ def test_every_route_writes_the_same_table_columns(tmp_path, capsys):
         a = group[group["Section"] == section].reset_index(drop=True)[numbers]
         b = by[by["Section"] == section].reset_index(drop=True)[numbers]
         pd.testing.assert_frame_equal(a, b, check_dtype=False)
+
+
+def test_a_parquet_file_with_typed_columns_is_counted_as_its_csv(tmp_path):
+    """Regression: a Parquet export whose id and term columns are integers failed the whole count
+    ("counting failed (Binder Error: No function matches ... trim(INTEGER ...") since ids are
+    matched trimmed as texts. The file is now read as text, as a CSV is: the same groups, counts
+    and respondents as the CSV of the same rows."""
+    import duckdb
+    csv_file, pq = tmp_path / "t.csv", tmp_path / "t.parquet"
+    csv_file.write_text("id,term,Q1,Q2\n1,2023,Agree,Disagree\n2,2023,Disagree,Agree\n"
+                        "3,2024,Agree,Agree\n4,2024,,Disagree\n")
+    duckdb.sql(f"COPY (SELECT id::INTEGER AS id, term::INTEGER AS term, Q1, Q2 FROM "
+               f"read_csv('{csv_file}', all_varchar = true)) TO '{pq}' (FORMAT parquet)")
+    assert [t for (t,) in duckdb.sql(f"SELECT column_type FROM (DESCRIBE SELECT * FROM '{pq}')").fetchall()][:2] \
+        == ["INTEGER", "INTEGER"]
+    a, b = summarize_by(csv_file, ["term"], min_group=1), summarize_by(pq, ["term"], min_group=1)
+    assert a.groups == b.groups == [("2023",), ("2024",)]
+    assert a.respondents.tolist() == b.respondents.tolist() == [2, 2]
+    assert (a.tallies == b.tallies).all()
