@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 from .scales import BUILTIN_SCALES, DEFAULT_NOT_APPLICABLE, normalize_answer
 
-__all__ = ["DROP_WHY", "DroppedRow", "FOOTER", "is_footer_note", "is_na_text"]
+__all__ = ["DROP_WHY", "DroppedRow", "FOOTER", "is_footer_note", "is_integer_text", "is_na_text"]
 
 #: The reason of a text-only note below the answers (:func:`is_footer_note`).
 FOOTER = "text-only footer row"
@@ -44,7 +44,8 @@ def is_na_text(text: str) -> bool:
     return normalize_answer(text) in {normalize_answer(x) for x in DEFAULT_NOT_APPLICABLE}
 
 
-def _is_int(text: str) -> bool:
+def is_integer_text(text: str) -> bool:
+    """Whether ``text`` reads as a whole number (``int(text)`` takes it: " 12", "+3")."""
     try:
         int(text)
     except ValueError:
@@ -67,6 +68,6 @@ def is_footer_note(cells) -> bool:
     if len(cells) < 2 or not cells[0] or any(cells[1:]):
         return False
     first = cells[0]
-    if _is_int(first) or is_na_text(first):
+    if is_integer_text(first) or is_na_text(first):
         return False
     return not any(s.match(first, accept_codes=False) is not None for s in BUILTIN_SCALES.values())

@@ -64,7 +64,8 @@ import pandas as pd
 from . import platforms
 from .platforms import CODES_HINT
 from ._io import is_regular_file, read_bytes, sniff_delimiter
-from .dropped import DROP_WHY, FOOTER, DroppedRow, is_footer_note, is_na_text as _is_na_text
+from .dropped import (DROP_WHY, FOOTER, DroppedRow, is_footer_note, is_integer_text,
+                      is_na_text as _is_na_text)
 from .errors import SurveyInputError
 from .scales import (BLANK, BUILTIN_SCALES, NOT_APPLICABLE, UNKNOWN,
                      Scale, code_key, get_scale, normalize_answer,
@@ -953,8 +954,8 @@ def _drop_qualtrics_tests(raw: _Raw, keep: np.ndarray, text_row: list[str]):
         return keep, []
     col = raw.columns[status]
     vals = np.array([normalize_answer(x) for x in col.cats], dtype=object)[col.codes[keep]]
-    numeric = all(_isint(v) for v in set(vals) if v != "")
-    drop = np.array([v in _QUALTRICS_NOT_RESPONDENTS and (numeric or not _isint(v))
+    numeric = all(is_integer_text(v) for v in set(vals) if v != "")
+    drop = np.array([v in _QUALTRICS_NOT_RESPONDENTS and (numeric or not is_integer_text(v))
                      for v in vals], dtype=bool)
     dropped = [DroppedRow(int(raw.row_of(keep[i])),
                           f"{_QUALTRICS_NOT_RESPONDENTS[vals[i]]} response")
@@ -987,7 +988,7 @@ def _drop_earlier_attempts(raw: _Raw, keep: np.ndarray):
     for key, idx in rows_of.items():
         if len(idx) < 2:
             continue
-        bad = [i for i in idx if not _isint(text[at][i])]
+        bad = [i for i in idx if not is_integer_text(text[at][i])]
         if bad:
             raise SurveyInputError(f"row {raw.row_of(keep[bad[0]])}, column "
                                    f"{raw.header[at]!r}: attempt {text[at][bad[0]]!r} is "
@@ -1078,7 +1079,7 @@ def _mostly_codes_of(col: _Column, keys: list[str], m: dict) -> bool:
             continue
         if k in m:
             inside += int(cnt)
-        elif _isint(k):
+        elif is_integer_text(k):
             outside += int(cnt)
         else:
             return False                 # text that is no code: not a coded column
@@ -1165,14 +1166,6 @@ def _warn_unused_labels(scale: Scale, answers: np.ndarray, notes: list) -> None:
                          f"exactly; give --scale {other.name} if that is the questionnaire's "
                          f"scale (medians and codes depend on it)")
             return
-
-
-def _isint(s: str) -> bool:
-    try:
-        int(s)
-        return True
-    except ValueError:
-        return False
 
 
 name_matches = platforms.name_matches
