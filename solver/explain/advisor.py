@@ -95,11 +95,14 @@ class Candidate:
 
 
 class _State(dict):
-    """The state as symbol -> sympy Float (for ``xreplace``), with ``floats``: the same as Python floats."""
+    """The state as symbol -> sympy Float (for ``xreplace``), with ``floats``: the same as Python floats,
+    and ``values``: the value of each subtree evaluated there so far (a body's coefficients and
+    positions share their kinematics: :func:`solver.tree_value.tree_value`'s ``memo``)."""
 
     def __init__(self, subs):
         super().__init__(subs)
         self.floats = {k: float(v) for k, v in subs.items()}
+        self.values: dict = {}
 
 
 def _numeric(expr, subs: _State) -> float:
@@ -109,7 +112,7 @@ def _numeric(expr, subs: _State) -> float:
 
     expr = sp.sympify(expr)
     try:
-        value = tree_value(expr, subs.floats)
+        value = tree_value(expr, subs.floats, memo=subs.values)
     except (NotEvaluable, KeyError, ZeroDivisionError, OverflowError):
         value = None
     if value is None or value.imag != 0:
@@ -127,7 +130,7 @@ def _rows(system, f, body, subs):
 
     P0 = f.points[body]
     a_P, placed = system.point_kinematics(body, P0)[2], system.point_acceleration(body, P0)
-    if any(sp.expand(x - y) != 0 for x, y in zip(a_P, placed)):
+    if a_P is not placed and any(sp.expand(x - y) != 0 for x, y in zip(a_P, placed)):
         zero = {u: sp.Integer(0) for u in f.unknowns}
         eqs = dict(zip("xyE", body_equations(system, body, P0, a_P)))
         return {k: np.array([_numeric(a, subs) for a in _coefficients(e.expr, f.unknowns, zero)])

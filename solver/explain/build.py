@@ -67,6 +67,17 @@ def _state_subs(system, state) -> dict:
     return system._memo(("state_subs", tuple(state.q), tuple(state.qd), state.t), build)
 
 
+def _at_state(system, expr, state):
+    """``expr.xreplace(_state_subs(system, state))``: the same tree, so the same Floats to the last
+    bit (:func:`solver.tree_value.substitute`), each subtree substituted once per state. The system
+    remembers the substituted subtrees for that state: the equations shown, the formulations'
+    matrices and the equations with the data entered share the bodies' kinematics."""
+    from ..tree_value import substitute
+
+    memo = system._memo(("at_state", tuple(state.q), tuple(state.qd), state.t), dict)
+    return substitute(expr, _state_subs(system, state), memo)
+
+
 def _value(expr, subs) -> float:
     return float(sp.sympify(expr).xreplace(subs).xreplace(subs))
 
@@ -309,13 +320,14 @@ def _kinematics_step(system, body: str, P: str, used: list[str], points: _Points
     shown, v_P, a_P = system.point_kinematics(body, P)
     pivot = _pivot_text(system, body, P, r_P, shown)
     source = pivot[0] if pivot else "from the placement (the joints)"
+    v_shown, a_shown = _vec(v_P), _vec(a_P)  # shown again in every other point's relation
     eqs = [
         Equation((Term(w),), (Term(tidy(w)),), "angular velocity (k component)", tag="omega", name="omega"),
         Equation((Term(al),), (Term(tidy(al)),), "angular acceleration (k component)", tag="alpha", name="alpha"),
         Equation((Term(shown),), (Term(_vec(shown)),), f"position of {P}", tag=f"pos:{P}", name=f"r_{P}", vector=True),
-        Equation((Term(v_P),), (Term(_vec(v_P)),), f"velocity of {P}, {source}",
+        Equation((Term(v_P),), (Term(v_shown),), f"velocity of {P}, {source}",
                  tag=f"vel:{P}", name=f"v_{P}", vector=True),
-        Equation((Term(a_P),), (Term(_vec(a_P)),), f"acceleration of {P}, {source}",
+        Equation((Term(a_P),), (Term(a_shown),), f"acceleration of {P}, {source}",
                  tag=f"accel:{P}", name=f"a_{P}", vector=True),
     ]
     for X in used:
@@ -325,10 +337,10 @@ def _kinematics_step(system, body: str, P: str, used: list[str], points: _Points
         wr, ar, cr = k_cross(w, r), k_cross(al, r), -w**2 * r
         eqs.append(Equation((Term(r),), (Term(_vec(r)),), f"position of {X} relative to {P}",
                             tag=f"rel:{X}", name=f"r_{X}/{P}", vector=True))
-        eqs.append(Equation((Term(v_P + wr),), (Term(_vec(v_P), f"v_{P}"), Term(_vec(wr), f"omega x r_{X}/{P}")),
+        eqs.append(Equation((Term(v_P + wr),), (Term(v_shown, f"v_{P}"), Term(_vec(wr), f"omega x r_{X}/{P}")),
                             f"velocity of {X}", tag=f"vel:{X}", name=f"v_{X}", vector=True))
         eqs.append(Equation((Term(a_P + ar + cr),),
-                            (Term(_vec(a_P), f"a_{P}"), Term(_vec(ar), f"alpha x r_{X}/{P}"),
+                            (Term(a_shown, f"a_{P}"), Term(_vec(ar), f"alpha x r_{X}/{P}"),
                              Term(_vec(cr), f"-omega^2 r_{X}/{P}")),
                             f"acceleration of {X}", "Eq. (15)" if X.startswith("G_") else "Eq. (6)",
                             tag=f"accel:{X}", name=f"a_{X}", vector=True))
@@ -1131,7 +1143,6 @@ def _numbers_step(system, f, expl, state) -> Step | None:
     unknowns += [(r.symbol, r.name, r.unit) for r in system.reactions]
     rename = _alpha_form(system)  # q'' = alpha / k
     per = {u: _per_si(system, unit)[0] for u, name, unit in unknowns}  # output units per SI unit
-    subs = _state_subs(system, state)
     rows = []
     for section in expl.sections:
         if section.body is None:
@@ -1149,7 +1160,7 @@ def _numbers_step(system, f, expl, state) -> Step | None:
                     eq = collected
                     residual = sp.sympify(collected.residual).xreplace({ALPHA: system.alpha(section.body)})
                     unit = _collected_unit(system, collected)
-            row = sp.expand(residual.xreplace(subs))
+            row = sp.expand(_at_state(system, residual, state))
             scale, row_unit = _per_si(system, unit)
             terms = []
             for u, name, _ in unknowns:
@@ -1242,13 +1253,9 @@ def _numeric_system(system, f, state):
     """(A, b) of a formulation evaluated at the state by substitution (one state: cheaper than lambdify)."""
     import numpy as np
 
-    from ..tree_value import substitute
-
     A, b = f.linear_system()
-    subs = _state_subs(system, state)
-    memo: dict = {}  # the entries share subtrees (the kinematics of each body)
-    An = np.array([[float(substitute(x, subs, memo)) for x in A.row(i)] for i in range(A.shape[0])])
-    bn = np.array([float(substitute(x, subs, memo)) for x in b])
+    An = np.array([[float(_at_state(system, x, state)) for x in A.row(i)] for i in range(A.shape[0])])
+    bn = np.array([float(_at_state(system, x, state)) for x in b])
     return An, bn
 
 
