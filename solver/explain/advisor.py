@@ -253,7 +253,7 @@ def rank_points(system, body: str, state, f=None, parts=None) -> list[Candidate]
     for fc in forces:
         if fc.reaction is not None and fc.force is not None:
             at = np.array([_numeric(x, subs) for x in fc.at])
-            d = np.array([_numeric(x, subs) for x in fc.force.xreplace({fc.unknown: 1})])
+            d = np.array([_numeric(x.xreplace({fc.unknown: 1}), subs) for x in fc.force])
             if np.linalg.norm(d) > 0:
                 lines.append((fc.name, at, d / np.linalg.norm(d)))
     for i in range(len(lines)):

@@ -25,7 +25,7 @@ import re
 
 import sympy as sp
 
-from ..model.joints import copy_vec, cross_k, k_cross, vec
+from ..model.joints import copy_vec, cross_k, k_cross, vadd, vec, vscale, vsub
 from ..model.system import derivative
 from .content import Equation, Explanation, Section, Step, Table, Term
 from ..display import could_extract_minus_sign, is_identically_zero, term_powers, tidy, tidy_linear
@@ -262,7 +262,7 @@ def _forces_on(system, body: str, points: _Points) -> list[_Force]:
         if jl.body != body:
             continue
         sym = jl.reaction.symbol
-        force = None if jl.force is None else sym * jl.force
+        force = None if jl.force is None else vscale(sym, jl.force)
         point = points.name_of(jl.at, joints.get(jl.reaction.joint)) if jl.force is not None else ""
         contact = slipping.get(jl.reaction.name)
         if contact is not None and force is not None:  # N n, and the friction -s mu_k N d apart
@@ -296,7 +296,7 @@ def _slipping_contacts(system) -> dict:
 def _moment(f: _Force, r_P) -> sp.Expr:
     m = f.couple
     if f.force is not None:
-        m = m + cross_k(f.at - r_P, f.force)
+        m = m + cross_k(vsub(f.at, r_P), f.force)
     return m
 
 
@@ -333,13 +333,13 @@ def _kinematics_step(system, body: str, P: str, used: list[str], points: _Points
     for X in used:
         if X == P:
             continue
-        r = points.named[X] - r_P
-        wr, ar, cr = k_cross(w, r), k_cross(al, r), -w**2 * r
+        r = vsub(points.named[X], r_P)
+        wr, ar, cr = k_cross(w, r), k_cross(al, r), vscale(-w**2, r)
         eqs.append(Equation((Term(r),), (Term(_vec(r)),), f"position of {X} relative to {P}",
                             tag=f"rel:{X}", name=f"r_{X}/{P}", vector=True))
-        eqs.append(Equation((Term(v_P + wr),), (Term(v_shown, f"v_{P}"), Term(_vec(wr), f"omega x r_{X}/{P}")),
+        eqs.append(Equation((Term(vadd(v_P, wr)),), (Term(v_shown, f"v_{P}"), Term(_vec(wr), f"omega x r_{X}/{P}")),
                             f"velocity of {X}", tag=f"vel:{X}", name=f"v_{X}", vector=True))
-        eqs.append(Equation((Term(a_P + ar + cr),),
+        eqs.append(Equation((Term(vadd(a_P, ar, cr)),),
                             (Term(a_shown, f"a_{P}"), Term(_vec(ar), f"alpha x r_{X}/{P}"),
                              Term(_vec(cr), f"-omega^2 r_{X}/{P}")),
                             f"acceleration of {X}", "Eq. (15)" if X.startswith("G_") else "Eq. (6)",
@@ -380,15 +380,16 @@ def _midpoints(system, body: str, points: _Points, eqs: list[Equation]) -> list[
     for e in system.bodies[body].elements:
         if e.kind != "slender_bar":
             continue
-        half = e.dims["length"] / 2 * sp.Matrix([sp.cos(e.angle), sp.sin(e.angle)])
+        half = vscale(e.dims["length"] / 2, vec(sp.cos(e.angle), sp.sin(e.angle)))
         names = [next((n for n, r in points.named.items() if n in shown and _zero(r[0] - at[0]) and _zero(r[1] - at[1])),
-                      None) for at in (system.body_point(body, c) for c in (e.mass_center, e.mass_center - half,
-                                                                           e.mass_center + half))]
+                      None) for at in (system.body_point(body, c) for c in (e.mass_center, vsub(e.mass_center, half),
+                                                                           vadd(e.mass_center, half)))]
         if None in names:
             continue
         C, X, Y = names
         a = {n: shown[n].left for n in names}
-        out.append(Equation((Term(a[C]),), (Term(_vec(a[X] / 2), f"a_{X}/2"), Term(_vec(a[Y] / 2), f"a_{Y}/2")),
+        out.append(Equation((Term(a[C]),), (Term(_vec(vscale(sp.S.Half, a[X])), f"a_{X}/2"),
+                                                  Term(_vec(vscale(sp.S.Half, a[Y])), f"a_{Y}/2")),
                             f"{C} is the midpoint of the bar {X}{Y}: r_{C} = (r_{X} + r_{Y})/2, differentiated twice",
                             "Eq. (16)", tag=f"midpoint:{C}", name=f"a_{C}", vector=True))
     return out
@@ -427,14 +428,14 @@ def _force_vectors(forces: list[_Force]) -> list[Equation]:
 def _element_offsets(system, body: str, P: str):
     """(element, m_k, r_k/P) per element."""
     r_P = system.point_position(body, P)
-    return [(e, e.mass, system.body_point(body, e.mass_center) - r_P) for e in system.bodies[body].elements]
+    return [(e, e.mass, vsub(system.body_point(body, e.mass_center), r_P)) for e in system.bodies[body].elements]
 
 
 def _element_accelerations(system, body: str, P: str):
     """(element, m_k, r_k/P, a_k) per element, a_k by Eq. 15 from P."""
     a_P = system.point_kinematics(body, P)[2]
     w, al = system.omega(body), system.alpha(body)
-    return [(e, m, r, a_P + k_cross(al, r) - w**2 * r) for e, m, r in _element_offsets(system, body, P)]
+    return [(e, m, r, vsub(vadd(a_P, k_cross(al, r)), vscale(w**2, r))) for e, m, r in _element_offsets(system, body, P)]
 
 
 def _newton_step(system, body: str, P: str, forces: list[_Force]) -> Step:
@@ -462,7 +463,7 @@ def _inertia_equation(system, body: str, P: str) -> Equation:
     terms = []
     r_P = system.point_position(body, P)
     for e in system.bodies[body].elements:
-        d = system.body_point(body, e.mass_center) - r_P
+        d = vsub(system.body_point(body, e.mass_center), r_P)
         terms.append(Term(tidy(e.I_G), f"I_G of {e.name}"))
         d2 = tidy(sp.expand(d[0] ** 2 + d[1] ** 2))
         if d2 != 0:
@@ -485,7 +486,7 @@ def _euler_step(system, body: str, P: str, forces: list[_Force],
             dropped.append(f)
             continue
         lhs.append(Term(tidy(m), f"moment of {f.name} about {P}"))
-    S = sum(((m_k * r) for _, m_k, r in _element_offsets(system, body, P)), sp.zeros(2, 1))
+    S = vadd(vec(0, 0), *[vscale(m_k, r) for _, m_k, r in _element_offsets(system, body, P)])
     inertial = -cross_k(S, a_P)
     if not _zero(inertial):
         lhs.append(Term(tidy_linear(inertial, rates), f"inertial term -r_G/{P} x m a_{P}"))
@@ -535,6 +536,11 @@ def _alpha_form(system) -> dict:
     return system._memo("explain_alpha_form", build)
 
 
+_WRITES_ALPHA = ("euler", "numbers")
+"""The kinds of step whose equations write the unknown q'' as alpha (:func:`_alpha_form`): the
+collected moment equation's (:func:`_collected_equation`) and the equations with the data entered."""
+
+
 def say_what_alpha_is(system, expl: Explanation) -> None:
     """Say once, in the text of the first step whose equations write the unknown q'' as alpha
     (:func:`_alpha_form`: the collected moment equation, else the equations with the data entered, as
@@ -544,7 +550,11 @@ def say_what_alpha_is(system, expl: Explanation) -> None:
         return
     (q_ddot, (alpha, k)), = form.items()
     body = next(iter(system.bodies))
+    names = {*system.parameters, *(r.name for r in system.reactions),
+             *(str(x) for c in system.coordinates for x in (c.q, c.qd, c.qdd))}
     for step in expl.steps():
+        if step.kind not in _WRITES_ALPHA and alpha.name not in names:
+            continue  # no other step writes it, unless the scene names a symbol alpha itself
         if any(_has(t.expr, alpha) for e in step.equations for t in (*e.lhs, *e.rhs)):
             step.text.append(f"Here alpha = {sstr(k * q_ddot)}, the angular acceleration of {body} (k component, "
                              f"counter-clockwise positive): from here on the equations write the unknown {q_ddot} "

@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 import sympy as sp
 
 from .elements import Element
-from .joints import copy_vec
+from .joints import copy_vec, vadd, vec, vscale, vsub
 
 __all__ = ["Point", "RigidBody", "Ground", "GROUND"]
 
@@ -77,18 +77,18 @@ class RigidBody:
     def first_moment_about(self, point: sp.Matrix) -> sp.Matrix:
         """sum_k m_k (r-bar_k - r_P), body frame: the bracket of Eq. (11). [kg m]"""
         point = copy_vec(point)
-        return sum((e.mass * (e.mass_center - point) for e in self.elements), sp.zeros(2, 1))
+        return vadd(vec(0, 0), *[vscale(e.mass, vsub(e.mass_center, point)) for e in self.elements])
 
     def mass_center(self) -> sp.Matrix:
         """r_G = sum m_k r-bar_k / m, body frame (Eq. 13). [m]"""
-        return self.first_moment_about(sp.zeros(2, 1)) / self.total_mass
+        return vscale(sp.S.One / self.total_mass, self.first_moment_about(vec(0, 0)))
 
     def inertia_about(self, point: sp.Matrix) -> sp.Expr:
         """I_P = sum_k [I-bar_k + m_k d_k^2], d_k = |r-bar_k - r_P| (Eq. 12). [kg m^2]"""
         point = copy_vec(point)
         terms = []
         for e in self.elements:
-            d = e.mass_center - point
+            d = vsub(e.mass_center, point)
             terms.append(e.I_G + e.mass * (d[0] ** 2 + d[1] ** 2))
         return sp.Add(*terms)
 

@@ -36,7 +36,7 @@ from .contacts import SLIDING, STICK, Friction, Regime
 __all__ = [
     "Reaction", "JointLoad", "Joint", "Pin", "Rail", "PinInSlot", "Slider", "Rolling",
     "RollingOnCircle", "GearMesh", "Cord", "Motor", "Actuator", "JOINT_CLASSES",
-    "vec", "rotation", "cross_k", "k_cross", "Contact",
+    "vec", "vadd", "vsub", "vscale", "rotation", "cross_k", "k_cross", "Contact",
 ]
 
 Pose = Callable[[str], tuple[sp.Matrix, sp.Expr]]
@@ -66,6 +66,25 @@ def copy_vec(v) -> sp.Matrix:
     its copy (the same entries and domain, about 2 us; the generic constructor parses its input
     again, about 12 us, and the model copies its points and mass centres tens of times a command)."""
     return v.copy() if type(v) is sp.MutableDenseMatrix else sp.Matrix(v)
+
+
+def vadd(a, *rest) -> sp.Matrix:
+    """a + b + ... of 2-vectors, added left to right by components: the entries of sympy's Matrix
+    sum (each such sum costs tens of microseconds in sympy's matrix machinery)."""
+    x, y = a[0], a[1]
+    for v in rest:
+        x, y = x + v[0], y + v[1]
+    return vec(x, y)
+
+
+def vsub(a, b) -> sp.Matrix:
+    """a - b of 2-vectors by components (the entries of sympy's Matrix difference)."""
+    return vec(a[0] - b[0], a[1] - b[1])
+
+
+def vscale(k, v) -> sp.Matrix:
+    """k v for a scalar k and a 2-vector v by components (the entries of sympy's ``k * v``)."""
+    return vec(k * v[0], k * v[1])
 
 
 def rotation(phi: sp.Expr) -> sp.Matrix:
@@ -217,7 +236,7 @@ class Joint:
             for body, sign in ((self.second, 1), (self.first, -1)):
                 out.append(JointLoad(
                     reaction, body,
-                    None if force is None else sign * force,
+                    None if force is None else vscale(sign, force),
                     at if body == self.second or on_first is None else on_first,
                     sign * couple,
                 ))
@@ -354,7 +373,7 @@ class Contact:
         if r.keeps_tangential:
             return [(d, at, 0), (n, at, 0)]
         mu = 0 if self.friction is None or not r.friction_direction() else r.coefficient(self.friction)
-        return [(n - r.friction_direction() * mu * d, at, 0)]
+        return [(vsub(n, vscale(r.friction_direction() * mu, d)), at, 0)]
 
     @property
     def friction_pair(self):
@@ -427,7 +446,7 @@ class Rail(Contact, Joint):
 
     def contact_rows(self, pose):
         d, n = _line(pose, self.first, self.angle)
-        rel = _at(pose, self.second, self.point) - _at(pose, self.first, self.through)
+        rel = vsub(_at(pose, self.second, self.point), _at(pose, self.first, self.through))
         return dot(d, rel), dot(n, rel)
 
     def contact_frame(self, pose):

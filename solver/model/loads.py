@@ -13,6 +13,8 @@ from typing import ClassVar, TYPE_CHECKING
 
 import sympy as sp
 
+from .joints import vscale
+
 if TYPE_CHECKING:  # pragma: no cover
     from .system import System
 
@@ -81,7 +83,7 @@ class Gravity(Load):
                 at = system.body_point(body.name, e.mass_center)
                 out.append(AppliedLoad(f"{self.name}:{e.name}" if len(system.bodies) == 1 else
                                        f"{self.name}:{body.name}.{e.name}",
-                                       self.kind, body.name, e.mass * self.g * self.direction, at))
+                                       self.kind, body.name, vscale(e.mass * self.g, self.direction), at))
         return out
 
     def potential(self, system):

@@ -267,7 +267,9 @@ class System:
     # -- time derivative ---------------------------------------------------------------------
     def D(self, expr):
         """d/dt of an expression (or Matrix) in (q, q_dot, t) with prescribed motion substituted."""
-        if isinstance(expr, sp.MatrixBase):
+        if isinstance(expr, sp.MatrixBase):  # a mutable 2-vector by components (vec: no matrix machinery)
+            if type(expr) is sp.MutableDenseMatrix and expr.shape == (2, 1):
+                return vec(self.D(expr[0]), self.D(expr[1]))
             return expr.applyfunc(self.D)
         expr = sp.sympify(expr)
         present = expr.free_symbols
@@ -721,7 +723,7 @@ class System:
                 for a in load.applied(self):
                     out.append(type(a)(
                         a.name, a.kind, a.body,
-                        None if a.force is None else self.prescribe(sp.Matrix(a.force)),
+                        None if a.force is None else self.prescribe(copy_vec(a.force)),
                         a.at, self.prescribe(sp.sympify(a.couple)), a.point,
                     ))
             return out
