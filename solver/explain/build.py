@@ -909,9 +909,10 @@ def _motion_step(system, f, expl) -> Step | None:
     Q = system.generalized_forces()
     for c, e, q in zip(system.free, equations_of_motion(f), Q):
         eqs.append(_structured_eom(system, c, e, q, (), "reactions eliminated"))
-    small = _small_oscillations(system, eqs[-1]) if len(system.free) == 1 else None
+    linear = _zero_parameters_set(system, eqs[-1]) if len(system.free) == 1 else None
+    small = _small_oscillations(system, linear) if linear is not None else None
     if small is not None:
-        eqs.extend(_small_motion_rules(system, eqs[-1]))  # Eq. 45
+        eqs.extend(_small_motion_rules(system, linear))  # Eq. 45
         eqs.append(_linearised(system, small))           # Eq. 46, first part
         eqs.append(small)                                 # Eq. 46, omega_n
         text.append(f"Small oscillations about {system.free[0].name} = 0 (an equilibrium with the scene's "
@@ -1082,13 +1083,19 @@ def _constrained_motion_step(system, f, expl) -> Step:
     return Step("motion", "Equation of motion", text, eqs)
 
 
-def _small_motion_rules(system, eom: Equation) -> list[Equation]:
+def _zero_parameters_set(system, eom: Equation) -> sp.Expr:
+    """The residual of the equation of motion ``eom``, expanded, with the parameters that are zero
+    in the scene set to zero: what the small-oscillation steps linearise (Eqs. 45-46)."""
+    zero = {sp.Symbol(n, real=True): 0 for n, q in system.parameters.items() if q.magnitude == 0}
+    return sp.expand(eom.residual.xreplace(zero))
+
+
+def _small_motion_rules(system, e: sp.Expr) -> list[Equation]:
     """The rules that linearise the equation of motion about q = 0 (the paper's Eq. 45): each
     function of q by its first-order value (sin q ~ q, cos q ~ 1), then each rate term's
-    state-dependent factor ~ 0 (of second order or higher). Tags ``approx:1``, ``approx:2`` ..."""
+    state-dependent factor ~ 0 (of second order or higher). Tags ``approx:1``, ``approx:2`` ...
+    ``e``: the equation's residual as :func:`_zero_parameters_set` gives it."""
     c = system.free[0]
-    zero = {sp.Symbol(n, real=True): 0 for n, q in system.parameters.items() if q.magnitude == 0}
-    e = sp.expand(eom.residual.xreplace(zero))
     rules = []
     functions = sorted((f for f in e.atoms(sp.Function) if f.has(c.q) and not f.has(c.qd, c.qdd)),
                        key=lambda f: (type(f).__name__ != "sin", type(f).__name__ != "cos", sstr(f)))
@@ -1110,12 +1117,11 @@ def _linearised(system, omega_n: Equation) -> Equation:
                     "linearised equation of motion (divided by M(0))", tag="linearised")
 
 
-def _small_oscillations(system, eom: Equation) -> Equation | None:
+def _small_oscillations(system, e: sp.Expr) -> Equation | None:
     """omega_n of the equation of motion linearised about q = 0 when that is an equilibrium
-    (Eq. 45-46 for Example 2); None otherwise (no equilibrium there, or not stable)."""
+    (Eq. 45-46 for Example 2); None otherwise (no equilibrium there, or not stable). ``e``: the
+    equation's residual as :func:`_zero_parameters_set` gives it."""
     c = system.free[0]
-    zero = {sp.Symbol(n, real=True): 0 for n, q in system.parameters.items() if q.magnitude == 0}
-    e = sp.expand(eom.residual.xreplace(zero))
     if e.has(system.t):
         return None
     at = {c.q: 0, c.qd: 0}
