@@ -401,7 +401,7 @@ class Pin(Joint):
 
     def _unit_loads(self, pose, t):
         at = _at(pose, self.second, self.at_second)
-        return [(sp.Matrix([1, 0]), at, 0), (sp.Matrix([0, 1]), at, 0)]
+        return [(vec(1, 0), at, 0), (vec(0, 1), at, 0)]
 
     def _first_body_point(self, pose):
         """The first body's own pin point: its reactions' moment about that point is then zero in

@@ -37,7 +37,7 @@ from ..errors import SceneError
 from ..tree_value import NotEvaluable, real_value, tree_value
 from ..units import si_magnitude
 from .bodies import GROUND, Ground, RigidBody
-from .joints import Actuator, Contact, Joint, Motor, Pin, copy_vec, k_cross, rotation, vec
+from .joints import Actuator, Contact, Joint, Motor, Pin, copy_vec, dot, k_cross, rotation, vec
 from .loads import Load
 
 __all__ = ["Coordinate", "System", "ClosureRow", "RedundantConstraints", "derivative"]
@@ -376,7 +376,7 @@ class System:
                     if origin is not None:
                         used.update(rows_used)
                 if origin is not None:
-                    poses[name] = (sp.Matrix(origin), phi)
+                    poses[name] = (copy_vec(origin), phi)
                     pending.remove(name)
                     progress = True
             if not progress:
@@ -614,7 +614,7 @@ class System:
                     b = self.bodies[body]
                     name = next((n for n, p in b.points.items() if not p.is_instant
                                  and all(sp.expand(x - y) == 0 for x, y in zip(p.coords, coords))), None)
-                    return j, name, sp.Matrix(coords), sp.Matrix(place)
+                    return j, name, copy_vec(coords), copy_vec(place)
             return None
         return self._memo(("fixed", body), build)
 
@@ -771,7 +771,7 @@ class System:
                                 v = self.point_velocity(*a.point)
                             else:
                                 raise self.fail(f"load {a.name!r}: no point to take its velocity")
-                            terms.append((sp.Matrix(a.force).T * sp.diff(v, c.qd))[0])
+                            terms.append(dot(a.force, (derivative(v[0], c.qd), derivative(v[1], c.qd))))
                         if a.couple != 0:
                             terms.append(a.couple * derivative(self.omega(a.body), c.qd))
                 out.append(self.prescribe(sp.Add(*terms)))
