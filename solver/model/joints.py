@@ -30,13 +30,14 @@ from sympy.polys.domains import EXRAW as _EXRAW
 from sympy.polys.domains import QQ as _QQ
 from sympy.polys.domains import ZZ as _ZZ
 from sympy.polys.matrices import DomainMatrix as _DomainMatrix
+from sympy.polys.matrices.sdm import SDM as _SDM
 
 from .contacts import SLIDING, STICK, Friction, Regime
 
 __all__ = [
     "Reaction", "JointLoad", "Joint", "Pin", "Rail", "PinInSlot", "Slider", "Rolling",
     "RollingOnCircle", "GearMesh", "Cord", "Motor", "Actuator", "JOINT_CLASSES",
-    "vec", "vadd", "vsub", "vscale", "rotation", "cross_k", "k_cross", "Contact",
+    "vec", "xy", "vadd", "vsub", "vscale", "rotation", "cross_k", "k_cross", "Contact",
 ]
 
 Pose = Callable[[str], tuple[sp.Matrix, sp.Expr]]
@@ -51,14 +52,33 @@ def vec(x, y) -> sp.Matrix:
     if not (isinstance(x, sp.Expr) and isinstance(y, sp.Expr)):
         return sp.Matrix([x, y])  # sympy's deprecation warning for non-expressions
     rows = {}
-    if x != 0:
+    if _nonzero(x):
         rows[0] = {0: x}
-    if y != 0:
+    if _nonzero(y):
         rows[1] = {0: y}
-    rep = _DomainMatrix(rows, (2, 1), _EXRAW)
     if x.is_Rational and y.is_Rational:  # sympy's domain for numbers: integers ZZ, rationals QQ
-        rep = rep.convert_to(_ZZ if x.is_Integer and y.is_Integer else _QQ)
+        rep = _DomainMatrix(rows, (2, 1), _EXRAW).convert_to(_ZZ if x.is_Integer and y.is_Integer else _QQ)
+    else:  # expressions: the sparse representation sympy's DomainMatrix would hold, made directly
+        rep = _DomainMatrix.from_rep(_SDM(rows, (2, 1), _EXRAW))
     return sp.MutableDenseMatrix._fromrep(rep)
+
+
+def _nonzero(x) -> bool:
+    """``x != 0``: compared only for a number (about 0.7 us each); any other expression differs
+    from the number 0 (sympy's equality is structural)."""
+    return x != 0 if not isinstance(x, sp.Expr) or x.is_Number else True
+
+
+def xy(v) -> tuple:
+    """``(v[0], v[1])`` of a 2-vector (a column Matrix or a pair): read from a mutable matrix's
+    sparse representation directly when its entries are expressions (sympy's indexing costs about
+    1 us an entry, and the model reads hundreds of them per command)."""
+    if type(v) is sp.MutableDenseMatrix:
+        rep = v._rep
+        if rep.domain is _EXRAW and type(rep.rep) is _SDM and rep.shape == (2, 1):
+            r0, r1 = rep.rep.get(0), rep.rep.get(1)
+            return (r0[0] if r0 else sp.S.Zero), (r1[0] if r1 else sp.S.Zero)
+    return v[0], v[1]
 
 
 def copy_vec(v) -> sp.Matrix:
@@ -71,20 +91,23 @@ def copy_vec(v) -> sp.Matrix:
 def vadd(a, *rest) -> sp.Matrix:
     """a + b + ... of 2-vectors, added left to right by components: the entries of sympy's Matrix
     sum (each such sum costs tens of microseconds in sympy's matrix machinery)."""
-    x, y = a[0], a[1]
+    x, y = xy(a)
     for v in rest:
-        x, y = x + v[0], y + v[1]
+        vx, vy = xy(v)
+        x, y = x + vx, y + vy
     return vec(x, y)
 
 
 def vsub(a, b) -> sp.Matrix:
     """a - b of 2-vectors by components (the entries of sympy's Matrix difference)."""
-    return vec(a[0] - b[0], a[1] - b[1])
+    (ax, ay), (bx, by) = xy(a), xy(b)
+    return vec(ax - bx, ay - by)
 
 
 def vscale(k, v) -> sp.Matrix:
     """k v for a scalar k and a 2-vector v by components (the entries of sympy's ``k * v``)."""
-    return vec(k * v[0], k * v[1])
+    x, y = xy(v)
+    return vec(k * x, k * y)
 
 
 def rotation(phi: sp.Expr) -> sp.Matrix:
@@ -96,7 +119,7 @@ def rotation(phi: sp.Expr) -> sp.Matrix:
 def _sum_of_products(row, v) -> sp.Expr:
     """sum_k row_k v_k over the pairs with both nonzero: an entry of sympy's Matrix product (its
     sparse product adds exactly those with ``Add``), without the matrix machinery (for finite entries)."""
-    return sp.Add(*[a * b for a, b in zip(row, v) if a != 0 and b != 0])
+    return sp.Add(*[a * b for a, b in zip(xy(row), xy(v)) if _nonzero(a) and _nonzero(b)])
 
 
 def rotate(phi: sp.Expr, v) -> sp.Matrix:
@@ -104,7 +127,7 @@ def rotate(phi: sp.Expr, v) -> sp.Matrix:
     (2x2 Matrix products cost ~0.1 ms each in sympy); for phi = 0 (the ground's frame) ``v``'s
     entries as they are, what the sums reduce to there."""
     if phi is sp.S.Zero:  # (an exact 0: a float 0.0 would make 1.0*x)
-        return vec(v[0], v[1])
+        return vec(*xy(v))
     c, s = sp.cos(phi), sp.sin(phi)
     return vec(_sum_of_products((c, -s), v), _sum_of_products((s, c), v))
 
@@ -116,12 +139,14 @@ def dot(a, b) -> sp.Expr:
 
 def cross_k(a: sp.Matrix, b: sp.Matrix) -> sp.Expr:
     """k-component of a x b for in-plane vectors."""
-    return a[0] * b[1] - a[1] * b[0]
+    (ax, ay), (bx, by) = xy(a), xy(b)
+    return ax * by - ay * bx
 
 
 def k_cross(w: sp.Expr, r: sp.Matrix) -> sp.Matrix:
     """(w k) x r for an in-plane vector r."""
-    return vec(-w * r[1], w * r[0])
+    x, y = xy(r)
+    return vec(-w * y, w * x)
 
 
 def _unit(angle: sp.Expr) -> sp.Matrix:
@@ -140,8 +165,7 @@ def _line(pose: Pose, body: str, angle: sp.Expr) -> tuple[sp.Matrix, sp.Matrix]:
 
 def _at(pose: Pose, body: str, coords: sp.Matrix) -> sp.Matrix:
     origin, phi = pose(body)
-    r = rotate(phi, coords)
-    return vec(origin[0] + r[0], origin[1] + r[1])
+    return vadd(origin, rotate(phi, coords))
 
 
 @dataclass(frozen=True)

@@ -37,7 +37,7 @@ from ..errors import SceneError
 from ..tree_value import NotEvaluable, real_value, tree_value
 from ..units import si_magnitude
 from .bodies import GROUND, Ground, RigidBody
-from .joints import Actuator, Contact, Joint, Motor, Pin, copy_vec, dot, k_cross, rotation, vec
+from .joints import Actuator, Contact, Joint, Motor, Pin, copy_vec, dot, k_cross, rotation, vec, xy
 from .loads import Load
 
 __all__ = ["Coordinate", "System", "ClosureRow", "RedundantConstraints", "derivative"]
@@ -269,7 +269,7 @@ class System:
         """d/dt of an expression (or Matrix) in (q, q_dot, t) with prescribed motion substituted."""
         if isinstance(expr, sp.MatrixBase):  # a mutable 2-vector by components (vec: no matrix machinery)
             if type(expr) is sp.MutableDenseMatrix and expr.shape == (2, 1):
-                return vec(self.D(expr[0]), self.D(expr[1]))
+                return vec(*(self.D(x) for x in xy(expr)))
             return expr.applyfunc(self.D)
         expr = sp.sympify(expr)
         present = expr.free_symbols
@@ -528,11 +528,11 @@ class System:
         """Fixed-frame position of the body point with body-frame ``coords``."""
         if body == GROUND:
             return copy_vec(coords)
-        o, phi = self.origin(body), self.angle(body)
+        (ox, oy), phi = xy(self.origin(body)), self.angle(body)
         c, s = sp.cos(phi), sp.sin(phi)
-        x, y = coords[0], coords[1]
+        x, y = xy(coords)
         # o + R(phi) (x, y), by components (2-vector Matrix arithmetic is slow in sympy)
-        return vec(o[0] + c * x - s * y, o[1] + s * x + c * y)
+        return vec(ox + c * x - s * y, oy + s * x + c * y)
 
     def _origin_velocity(self, body):
         return self._memo(("v0", body), lambda: self.D(self.origin(body)))
@@ -570,9 +570,9 @@ class System:
         def build():
             if body == GROUND:
                 return sp.zeros(2, 1)
-            r, o = self.point_position(body, point), self.origin(body)
-            v0, w = self._origin_velocity(body), self.omega(body)
-            return vec(v0[0] - w * (r[1] - o[1]), v0[1] + w * (r[0] - o[0]))
+            (rx, ry), (ox, oy) = xy(self.point_position(body, point)), xy(self.origin(body))
+            (vx, vy), w = xy(self._origin_velocity(body)), self.omega(body)
+            return vec(vx - w * (ry - oy), vy + w * (rx - ox))
         return self._memo(("vel", body, point), build)
 
     def point_acceleration(self, body: str, point: str) -> sp.Matrix:
@@ -587,10 +587,10 @@ class System:
 
     def material_acceleration(self, body: str, r: sp.Matrix) -> sp.Matrix:
         """Acceleration of the body's material point at fixed-frame position r (Eq. 15)."""
-        o = self.origin(body)
-        rx, ry = r[0] - o[0], r[1] - o[1]
-        a0, al, w2 = self._origin_acceleration(body), self.alpha(body), self.omega(body) ** 2
-        return vec(a0[0] - al * ry - w2 * rx, a0[1] + al * rx - w2 * ry)
+        (px, py), (ox, oy) = xy(r), xy(self.origin(body))
+        rx, ry = px - ox, py - oy
+        (ax, ay), al, w2 = xy(self._origin_acceleration(body)), self.alpha(body), self.omega(body) ** 2
+        return vec(ax - al * ry - w2 * rx, ay + al * rx - w2 * ry)
 
     def is_body_point(self, body: str, point: str) -> bool:
         return self._resolve(body, point)[0] == "body"
