@@ -28,6 +28,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
+from ..model.joints import xy
 from .content import Step, Table
 
 __all__ = ["Candidate", "rank_points", "advice_step", "unknowns_at_state", "unknowns_in_equations",
@@ -147,7 +148,8 @@ def _rows(system, f, body, subs):
             idx["y"] = i
         elif tail.startswith("Euler"):
             idx["E"] = i
-    return {k: np.array([_numeric(a, subs) for a in A.row(i)]) for k, i in idx.items()}
+    rows = A.tolist()  # (a Matrix row costs tens of microseconds)
+    return {k: np.array([_numeric(a, subs) for a in rows[i]]) for k, i in idx.items()}
 
 
 def _known_points(system, body, forces_at):
@@ -175,11 +177,11 @@ class _BodyRows:
         self.rows = _rows(system, f, body, self.subs)
         self.names = [str(u) for u in f.unknowns]
         self.scale = max(float(np.max(np.abs(r))) for r in self.rows.values()) or 1.0
-        self.r0 = np.array([_numeric(x, self.subs) for x in system.point_position(body, f.points[body])])
+        self.r0 = np.array([_numeric(x, self.subs) for x in xy(system.point_position(body, f.points[body]))])
 
     def position(self, r) -> np.ndarray:
         """A symbolic position at the state [m]."""
-        return np.array([_numeric(x, self.subs) for x in r])
+        return np.array([_numeric(x, self.subs) for x in xy(r)])
 
     def moment_row(self, at) -> np.ndarray:
         """Coefficients of the unknowns in the moment equation about the place ``at`` (Eq. 3)."""
@@ -248,12 +250,12 @@ def rank_points(system, body: str, state, f=None, parts=None) -> list[Candidate]
     for name, r in points.named.items():
         origin = ("mass centre" if name == "G" else "element centre" if name.startswith("G_")
                   else points.origin.get(name, "named point"))
-        add(name, np.array([_numeric(x, subs) for x in r]), origin)
+        add(name, np.array([_numeric(x, subs) for x in xy(r)]), origin)
     lines = []
     for fc in forces:
         if fc.reaction is not None and fc.force is not None:
-            at = np.array([_numeric(x, subs) for x in fc.at])
-            d = np.array([_numeric(x.xreplace({fc.unknown: 1}), subs) for x in fc.force])
+            at = np.array([_numeric(x, subs) for x in xy(fc.at)])
+            d = np.array([_numeric(x.xreplace({fc.unknown: 1}), subs) for x in xy(fc.force)])
             if np.linalg.norm(d) > 0:
                 lines.append((fc.name, at, d / np.linalg.norm(d)))
     for i in range(len(lines)):
@@ -289,7 +291,8 @@ def _fixed(system, body, name) -> bool:
     from .build import _zero
 
     a = system.point_kinematics(body, name)[2]
-    return _zero(a[0]) and _zero(a[1])
+    x, y = xy(a)
+    return _zero(x) and _zero(y)
 
 
 def _group(row, rows, scale):

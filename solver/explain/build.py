@@ -25,7 +25,7 @@ import re
 
 import sympy as sp
 
-from ..model.joints import copy_vec, cross_k, k_cross, vadd, vec, vscale, vsub
+from ..model.joints import copy_vec, cross_k, k_cross, vadd, vec, vscale, vsub, xy
 from ..model.system import derivative
 from .content import Equation, Explanation, Section, Step, Table, Term
 from ..display import could_extract_minus_sign, is_identically_zero, term_powers, tidy, tidy_linear
@@ -45,7 +45,14 @@ def latex_names(system) -> dict:
 
 
 def _vec(v) -> sp.Matrix:
-    return vec(tidy(v[0]), tidy(v[1]))
+    x, y = xy(v)
+    return vec(tidy(x), tidy(y))
+
+
+def _same_place(r, at) -> bool:
+    """Whether the positions ``r`` and ``at`` (2-vectors) are identically the same place, by components."""
+    (rx, ry), (ax, ay) = xy(r), xy(at)
+    return _zero(rx - ax) and _zero(ry - ay)
 
 
 def _zero(expr) -> bool:
@@ -96,7 +103,7 @@ class _Points:
             key = f"G_{e.name}"
             if len(b.elements) > 1 and key not in self.named:
                 r = system.body_point(body, e.mass_center)
-                if not any(_zero(r[0] - q[0]) and _zero(r[1] - q[1]) for q in self.named.values()):
+                if not any(_same_place(r, q) for q in self.named.values()):
                     self.named[key] = r
         self.extra = 0
         self.about: dict[str, str] = {}  # a point named after its joint or two reactions -> what it is
@@ -126,7 +133,7 @@ class _Points:
         """The name of the place ``at``: a named point there, else ``C_<joint>`` for the place where
         ``joint`` acts (:func:`joint_point_name`), else ``X1``, ``X2`` ..."""
         for name, r in self.named.items():
-            if _zero(r[0] - at[0]) and _zero(r[1] - at[1]):  # by components: Matrix arithmetic is slow
+            if _same_place(r, at):
                 return name
         if joint is not None:
             name = joint_point_name(joint, self.named)
@@ -357,7 +364,7 @@ def _pivot_text(system, body: str, P: str, r_P, shown) -> tuple[str, str] | None
     """(label, sentence) saying where P's motion comes from when a pin to the ground holds the body
     and its placement reaches it through other bodies (:meth:`System.point_kinematics`); None
     when P's kinematics are the placement's."""
-    if _zero(r_P[0] - shown[0]) and _zero(r_P[1] - shown[1]):
+    if _same_place(r_P, shown):
         return None
     joint, F, _, _ = system.fixed_point(body)
     F = F or "the pivot"
@@ -381,7 +388,7 @@ def _midpoints(system, body: str, points: _Points, eqs: list[Equation]) -> list[
         if e.kind != "slender_bar":
             continue
         half = vscale(e.dims["length"] / 2, vec(sp.cos(e.angle), sp.sin(e.angle)))
-        names = [next((n for n, r in points.named.items() if n in shown and _zero(r[0] - at[0]) and _zero(r[1] - at[1])),
+        names = [next((n for n, r in points.named.items() if n in shown and _same_place(r, at)),
                       None) for at in (system.body_point(body, c) for c in (e.mass_center, vsub(e.mass_center, half),
                                                                            vadd(e.mass_center, half)))]
         if None in names:
@@ -404,7 +411,8 @@ def _fbd_step(system, body: str, forces: list[_Force], printer: FastStrPrinter |
     for f in forces:
         what = "unknown (reaction)" if f.reaction is not None else "known (applied)"
         if f.force is not None:
-            shown = f"({sstr(tidy(f.force[0]), printer)}, {sstr(tidy(f.force[1]), printer)})"
+            fx, fy = xy(f.force)
+            shown = f"({sstr(tidy(fx), printer)}, {sstr(tidy(fy), printer)})"
             if len(shown) > MAX_CELL:
                 shown = f"the vector {f.name.replace('gravity:', 'W_')} above"
             rows.append((f.name, f.kind, f.point, shown, what))
@@ -465,7 +473,8 @@ def _inertia_equation(system, body: str, P: str) -> Equation:
     for e in system.bodies[body].elements:
         d = vsub(system.body_point(body, e.mass_center), r_P)
         terms.append(Term(tidy(e.I_G), f"I_G of {e.name}"))
-        d2 = tidy(sp.expand(d[0] ** 2 + d[1] ** 2))
+        dx, dy = xy(d)
+        d2 = tidy(sp.expand(dx ** 2 + dy ** 2))
         if d2 != 0:
             terms.append(Term(tidy(e.mass * d2), f"m d^2 of {e.name}"))
     total = sp.Add(*[t.expr for t in terms])
@@ -1270,7 +1279,7 @@ def _numeric_system(system, f, state):
     import numpy as np
 
     A, b = f.linear_system()
-    An = np.array([[float(_at_state(system, x, state)) for x in A.row(i)] for i in range(A.shape[0])])
+    An = np.array([[float(_at_state(system, x, state)) for x in row] for row in A.tolist()])
     bn = np.array([float(_at_state(system, x, state)) for x in b])
     return An, bn
 

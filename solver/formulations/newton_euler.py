@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
+from ..model.joints import xy
 
 __all__ = [
     "NamedEquation", "body_equations", "generalized_euler_equations", "mass_center_equations", "closure_equations",
@@ -62,7 +63,7 @@ def _loads_on(system, body: str):
         if a.body != body:
             continue
         if a.force is not None:
-            forces.append(((a.force[0], a.force[1]), (a.at[0], a.at[1])))
+            forces.append((xy(a.force), xy(a.at)))
         if a.couple != 0:
             couples.append(a.couple)
     for jl in system.joint_loads():
@@ -70,7 +71,8 @@ def _loads_on(system, body: str):
             continue
         sym = jl.reaction.symbol
         if jl.force is not None:
-            forces.append(((sym * jl.force[0], sym * jl.force[1]), (jl.at[0], jl.at[1])))
+            fx, fy = xy(jl.force)
+            forces.append(((sym * fx, sym * fy), xy(jl.at)))
         if jl.couple != 0:
             couples.append(sym * jl.couple)
     return forces, couples
@@ -82,7 +84,8 @@ def _resultant(forces) -> tuple:
 
 def _moment_about(forces, couples, r_P) -> sp.Expr:
     """M_P: k-component of sum (r_i - r_P) x F_i, plus the couples."""
-    return sp.Add(*[(at[0] - r_P[0]) * f[1] - (at[1] - r_P[1]) * f[0] for f, at in forces], *couples)
+    x, y = xy(r_P)
+    return sp.Add(*[(at[0] - x) * f[1] - (at[1] - y) * f[0] for f, at in forces], *couples)
 
 
 def generalized_euler_equations(system, points: dict[str, str]) -> list[NamedEquation]:
@@ -111,10 +114,10 @@ def body_equations(system, name: str, P: str, a_P=None) -> list[NamedEquation]:
     (:meth:`System.point_acceleration`)."""
     body = system.bodies[name]
     composite = len(body.elements) > 1
-    r_P = system.point_position(name, P)
-    a_P = system.point_acceleration(name, P) if a_P is None else a_P
+    r_P = xy(system.point_position(name, P))  # components: a Matrix index costs about 1 us
+    a_P = xy(system.point_acceleration(name, P) if a_P is None else a_P)
     w, al = system.omega(name), system.alpha(name)
-    centers = [system.body_point(name, e.mass_center) for e in body.elements]
+    centers = [xy(system.body_point(name, e.mass_center)) for e in body.elements]
     S = [sp.Add(*[e.mass * (c[k] - r_P[k]) for e, c in zip(body.elements, centers)]) for k in (0, 1)]
     if system.is_body_point(name, P):
         I_P = body.inertia_about(body.body_coords(P))
@@ -154,7 +157,8 @@ def mass_center_equations(system) -> list[NamedEquation]:
         forces, couples = _loads_on(system, name)
         m = body.total_mass
         F = _resultant(forces)
-        newton = (F[0] - m * a_G[0], F[1] - m * a_G[1])
+        a_x, a_y = xy(a_G)
+        newton = (F[0] - m * a_x, F[1] - m * a_y)
         euler = _moment_about(forces, couples, r_G) - body.centroidal_inertia() * al
         out += [
             NamedEquation(_label(system, name, "Newton x"), newton[0], "Eq. (1)", name),

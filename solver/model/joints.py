@@ -75,9 +75,10 @@ def xy(v) -> tuple:
     1 us an entry, and the model reads hundreds of them per command)."""
     if type(v) is sp.MutableDenseMatrix:
         rep = v._rep
-        if rep.domain is _EXRAW and type(rep.rep) is _SDM and rep.shape == (2, 1):
-            r0, r1 = rep.rep.get(0), rep.rep.get(1)
-            return (r0[0] if r0 else sp.S.Zero), (r1[0] if r1 else sp.S.Zero)
+        if type(rep.rep) is _SDM and rep.shape == (2, 1):
+            domain, r0, r1 = rep.domain, rep.rep.get(0), rep.rep.get(1)
+            x, y = (r0[0] if r0 else domain.zero), (r1[0] if r1 else domain.zero)
+            return (x, y) if domain is _EXRAW else (domain.to_sympy(x), domain.to_sympy(y))
     return v[0], v[1]
 
 
