@@ -140,8 +140,10 @@ class SemicircularDisk(Element):
 
     @property
     def mass_center(self):
+        from .joints import vadd, vec, vscale
+
         offset = 4 * self.dims["radius"] / (3 * sp.pi)
-        return sp.Matrix(self.center) + offset * sp.Matrix([sp.cos(self.angle), sp.sin(self.angle)])
+        return vadd(self.center, vscale(offset, vec(sp.cos(self.angle), sp.sin(self.angle))))
 
     @property
     def I_G(self):

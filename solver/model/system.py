@@ -37,7 +37,7 @@ from ..errors import SceneError
 from ..tree_value import NotEvaluable, real_value, tree_value
 from ..units import si_magnitude
 from .bodies import GROUND, Ground, RigidBody
-from .joints import Actuator, Contact, Joint, Motor, Pin, copy_vec, dot, k_cross, rotation, vec, xy
+from .joints import Actuator, Contact, Joint, Motor, Pin, copy_vec, dot, k_cross, rotation, vadd, vec, xy
 from .loads import Load
 
 __all__ = ["Coordinate", "System", "ClosureRow", "RedundantConstraints", "derivative"]
@@ -561,7 +561,7 @@ class System:
             kind, data = self._resolve(body, point)
             if kind == "instant":
                 ref, offset = data
-                return self.point_position(body, ref) + offset
+                return vadd(self.point_position(body, ref), offset)
             return self.body_point(body, data)
         return self._memo(("pos", body, point), build)
 
