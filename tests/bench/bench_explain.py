@@ -15,12 +15,16 @@ sympy's own cache serves both sides alike. Median of repeated runs, each with th
 garbage collector off as ``timeit`` does, in CPU time of this process (the machine is shared: wall time would measure the neighbours). Target
 (issue 11/12): ours at most half of KanesMethod (ratio <= 0.5).
 
-Last figures (2026-11-25, night, branch spd_explain, 2 cores shared at load 2-5; main measured
-alongside in the same minutes): sliding_bar KanesMethod 19-22 ms, eom 7-9 ms (0.32-0.45x; main
-0.46-0.63x), explain 21-26 ms (1.07-1.27x; main 1.48-1.67x); disk_bar KanesMethod 23-26 ms, eom
-6-8 ms (0.25-0.36x), explain 21-25 ms (0.92-1.03x; main 1.20-1.37x). The cost left is diffuse
-(tidying each displayed coefficient, printing, the scene file, the placement); explain does about
-twice the symbolic work of eom. Under the neighbours' load every figure moves by up to a half.
+Last figures (2026-11-25, 23:40 UTC, branch xpd_build, 2 cores shared at load 2-4; main measured
+alongside in the same minutes, three runs each): sliding_bar KanesMethod 19-23 ms, eom 6-7 ms
+(0.3-0.4x), explain 18-20 ms (0.8-0.9x; main 20-27 ms, 0.9-1.2x); disk_bar KanesMethod 23-25 ms, eom
+5-9 ms (0.2-0.4x), explain 22-24 ms (0.9-1.0x; main 23-28 ms, 1.0x). Where explain's time goes
+(sliding_bar, wall time per run): tidying and printing the displayed forms about 7 ms; the scene file,
+the placement and the two formulations about 5 ms (eom pays most of them too); the numbers at the
+state (the equations with the data entered, both formulations' matrices, the advisor) about 3 ms.
+disk_bar's contact adds the regime search twice (generalized Euler, then the mass-centre check),
+about 7 ms, most of it compiling the contact kinematics and the numeric models. Under the neighbours'
+load every figure moves by up to a half.
 
 Writes reports/build/bench/explain.json.
 """
