@@ -1,5 +1,6 @@
-"""solver.model.joints.rotate and dot build the same expressions as sympy's Matrix products, and
-vec the same matrices as sympy's Matrix constructor.
+"""solver.model.joints.rotate and dot build the same expressions as sympy's Matrix products, vec
+the same matrices as sympy's Matrix constructor, vadd, vsub and vscale the same as sympy's Matrix
+sum, difference and scalar product, and xy reads the entries sympy's indexing reads.
 
 The joints' equations are written with them instead of 2x2 Matrix products (which
 cost ~0.1 ms each); every later display is built from these expressions, so
@@ -12,7 +13,7 @@ import itertools
 
 import sympy as sp
 
-from solver.model.joints import dot, rotate, rotation, vec
+from solver.model.joints import dot, rotate, rotation, vadd, vec, vscale, vsub, xy
 
 x, y, th, beta, l_b = sp.symbols("x y theta beta l_b", real=True)
 # entries of the kinds the scenes hold: zeros and ones (dropped by the sparse product), rationals,
@@ -39,3 +40,23 @@ def test_vec_is_the_matrix_sympy_builds():
         assert [sp.srepr(e) for e in ours] == [sp.srepr(e) for e in theirs]
         assert ours._rep.domain == theirs._rep.domain
         assert ours._rep.rep == theirs._rep.rep  # the same sparse dict of the same entries
+
+
+def test_xy_reads_what_indexing_reads():
+    """Every internal domain (ZZ, QQ, EXRAW) and both the sparse matrices vec builds and the ones
+    sympy's constructor and arithmetic build; a pair is read as it is."""
+    for a, b in itertools.product(ENTRIES, repeat=2):
+        for v in (vec(a, b), sp.Matrix([a, b]), sp.Matrix([a, b]) + sp.Matrix([b, a]), sp.zeros(2, 1)):
+            assert [sp.srepr(e) for e in xy(v)] == [sp.srepr(v[0]), sp.srepr(v[1])]
+    assert xy((x, y)) == (x, y)
+
+
+def test_vector_sum_difference_and_scaling_same_trees_as_matrix_arithmetic():
+    for a, b in itertools.product(ENTRIES, repeat=2):
+        v, w = sp.Matrix([a, b]), sp.Matrix([b, a])
+        assert [sp.srepr(e) for e in vadd(v, w, v)] == [sp.srepr(e) for e in v + w + v]
+        assert [sp.srepr(e) for e in vsub(v, w)] == [sp.srepr(e) for e in v - w]
+        for k in (a, -th**2, sp.S.Half, -1):
+            assert [sp.srepr(e) for e in vscale(k, w)] == [sp.srepr(e) for e in k * w]
+        for d in (2, l_b + x):  # a division: the mass centre over the total mass, a midpoint's half
+            assert [sp.srepr(e) for e in vscale(sp.S.One / d, w)] == [sp.srepr(e) for e in w / d]
