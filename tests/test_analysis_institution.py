@@ -537,3 +537,53 @@ def test_a_parquet_file_with_typed_columns_is_counted_as_its_csv(tmp_path):
     assert a.groups == b.groups == [("2023",), ("2024",)]
     assert a.respondents.tolist() == b.respondents.tolist() == [2, 2]
     assert (a.tallies == b.tallies).all()
+
+
+def test_both_routes_read_quoted_line_breaks_alike(tmp_path, capsys):
+    """Regression: --by refused a Google Forms export with a two-line comment ("counting
+    failed (CSV Error on Line: 10)": DuckDB's parallel scanner cannot pad short rows around
+    a quoted line break) and one with a line break in a quoted header cell, Excel style
+    (LF in the cell, CRLF between rows: "Error when sniffing file"). The reference is a
+    ``Counter`` of the answers written; both routes must give it, under one item name."""
+    rng = random.Random(7)
+    header = ["Timestamp", "Section", "The lectures\nwere clear", "Q2", "Comments"]
+    rows = []
+    for r in range(40):
+        q1 = rng.choice(AGREE5 + ["", "N/A"])
+        comment = "Line1\nLine2" if r % 9 == 3 else "ok"
+        rows.append([f"2024/09/{r % 28 + 1:02d} 10:00:00 AM EST", rng.choice("AB"), q1,
+                     rng.choice(AGREE5), comment])
+    f = tmp_path / "google.csv"
+    with open(f, "w", newline="", encoding="utf-8") as fh:    # csv's own CRLF rows
+        csv.writer(fh).writerows([header] + rows)
+    assert b"\nwere clear" in f.read_bytes() and b"Line1\nLine2" in f.read_bytes()
+    want = [Counter(r[j] for r in rows) for j in (2, 3)]
+    assert main(["summarize", str(f), "--json"]) == 0
+    small = json.loads(capsys.readouterr().out)["items"]
+    assert main(["summarize", str(f), "--by", "Section", "--json"]) == 0
+    big = json.loads(capsys.readouterr().out)
+    names = ["The lectures were clear", "Q2"]
+    for route in (small, big["overall"]):
+        assert [it["item"] for it in route] == names
+        for it, cells in zip(route, want):
+            assert it["counts"] == {lab: cells.get(lab, 0) for lab in AGREE5}
+            assert (it["missing"], it["excluded"]) == (cells.get("", 0), cells.get("N/A", 0))
+    assert big["respondents"] == 40 and big["overall"] == small
+    # two threads: DuckDB's parallel scanner refuses the file and the serial one reads it
+    two = summarize_by(f, ["Section"], threads=2)
+    assert (two.tallies == summarize_by(f, ["Section"]).tallies).all()
+
+
+def test_by_reads_a_quote_first_met_after_row_20480(tmp_path):
+    """Regression: DuckDB's sniffer saw no quote in its 20,480-row sample, read the file
+    as unquoted, and split the row with "Strongly\\nagree" in two (a blank respondent id
+    was refused). The quote is now given. Reference: a ``Counter`` of the answers."""
+    rows = [["C1", f"r{r}", "Q1", AGREE5[r % 5]] for r in range(21000)]
+    rows[-1][3] = "Strongly\nagree"                   # read as "Strongly agree"
+    f = tmp_path / "late.csv"
+    with open(f, "w", newline="") as fh:
+        csv.writer(fh, lineterminator="\n").writerows(
+            [["course", "respondent", "item", "answer"]] + rows)
+    cells = Counter(" ".join(r[3].split()) for r in rows)
+    it, = summarize_by(f, ["course"]).overall()
+    assert it.counts == {lab: cells[lab] for lab in AGREE5} and it.respondents == 21000
