@@ -564,6 +564,8 @@ def _count(p, by, scale, items, min_group, memory_limit, threads,
             idcol = header[pid] if pid is not None and header[pid] not in gcols else None
             rows = _count_wide(con, src, gcols, cand, idcol)
             repeats = [r for r in rows if r[len(gcols) + 2] == 2]
+            spelled = (_id_spellings(con, src, idcol, [r[len(gcols) + 1] for r in repeats[:3]])
+                       if repeats and p.stat().st_size > _MAX_REREAD else {})
             rows = _merge_spellings([r for r in rows if r[len(gcols) + 2] == 0],
                                     len(gcols), cand[0])
     except duckdb.OutOfMemoryException:
@@ -579,7 +581,7 @@ def _count(p, by, scale, items, min_group, memory_limit, threads,
                     cand if shape == "wide" else None, locate)
     res.dropped, res.notes = dropped, footer_notes + res.notes
     if shape == "wide" and idcol is not None:
-        note = _repeated_ids(p, gcols, idcol, repeats)
+        note = _repeated_ids(p, gcols, idcol, repeats, spelled)
         res.notes += [note] if note else []
     if shape == "wide":                            # in the file's column order
         res.not_items = {_spaced(h): left_out.get(h) or res.not_items[h] for h in header
@@ -850,9 +852,19 @@ def _count_wide(con, src, gcols, cand, idcol=None):
     return con.execute(sql).fetchall()
 
 
-def _repeated_ids(path: Path, gcols, idcol: str, repeats: list) -> "str | None":
+def _id_spellings(con, src: str, idcol: str, keys: list) -> dict:
+    """``{id trimmed and in lower case: the id as the file writes it}`` for ``keys`` (one scan;
+    of several spellings of one id, the least as text)."""
+    c = f"trim({_quote(idcol)}, {_WS})"
+    return dict(con.execute(f"SELECT lower({c}), min({c}) FROM {src} WHERE lower({c}) IN "
+                            f"({', '.join(['?'] * len(keys))}) GROUP BY 1", keys).fetchall())
+
+
+def _repeated_ids(path: Path, gcols, idcol: str, repeats: list, spelled: dict) -> "str | None":
     """The note of :func:`analysis.ingest.repeated_ids_note` on the kind-2 rows of
-    :func:`_count_wide`, the rows of the first three ids found by reading the file again."""
+    :func:`_count_wide` (ids matched in lower case), naming the first three ids as the file
+    writes them (on their first row, as ``read_survey`` does) with their rows, found by reading
+    the file again; a file too long for that gives the rows' number and the ``spelled`` ids."""
     from .ingest import repeated_ids_note
     if not repeats:
         return None
@@ -860,13 +872,16 @@ def _repeated_ids(path: Path, gcols, idcol: str, repeats: list) -> "str | None":
     first = {(_raw_key(r[:ng]), str(r[ng + 1])): [] for r in repeats[:3]}
     if path.stat().st_size > _MAX_REREAD:      # too long to read again in Python: counts
         return repeated_ids_note(str(path), idcol, list(gcols), len(repeats),
-                                 [(str(r[ng + 1]), int(r[ng + 3])) for r in repeats[:3]])
+                                 [(spelled.get(r[ng + 1], str(r[ng + 1])), int(r[ng + 3]))
+                                  for r in repeats[:3]])
+    written = {}
     for row, cells in _records(path, list(gcols) + [idcol]):
         key = (tuple(cells[:ng]), cells[ng].strip().lower())
         if key in first:
             first[key].append(row)
+            written.setdefault(key, cells[ng].strip())
     return repeated_ids_note(str(path), idcol, list(gcols), len(repeats),
-                             [(k[1], rows) for k, rows in first.items()])
+                             [(written.get(k, k[1]), rows) for k, rows in first.items()])
 
 
 def _merge_spellings(rows, ng: int, first_item) -> list:

@@ -398,8 +398,24 @@ def test_both_routes_note_an_id_on_two_rows_of_a_group_alike(tmp_path, capsys, m
     # a file too large to read again for the rows: how many rows, not which
     import analysis.institution as institution
     monkeypatch.setattr(institution, "_MAX_REREAD", 0)
-    notes = summarize_by(f, ["Section"]).notes
-    assert any("('a@x.edu' on 2 rows); each row is counted" in n for n in notes), notes
+    notes = summarize_by(f, ["Section"]).notes          # of the spellings, the least as text
+    assert any("('A@x.edu' on 2 rows); each row is counted" in n for n in notes), notes
+
+
+def test_by_names_a_repeated_id_as_the_file_writes_it(tmp_path, monkeypatch):
+    """Regression: --by matched ids in lower case and named them so ('s1' in rows 2, 4)
+    where the file, and --group's note, have 'S1'. Reference: the ids as written below."""
+    f = tmp_path / "dup.csv"
+    f.write_text("student_id,Term,Q1\nS1,Fall,Agree\nS2,Fall,Agree\nS1,Fall,Disagree\n"
+                 "Ab7,Fall,Agree\n ab7 ,Fall,Agree\n")
+    want = "('S1' in rows 2, 4; 'Ab7' in rows 5, 6)"
+    from analysis.ingest import read_survey
+    assert any(want in n for n in read_survey(f, group="Term").notes)
+    assert any(want in n for n in summarize_by(f, ["Term"], min_group=1).notes)
+    import analysis.institution as institution
+    monkeypatch.setattr(institution, "_MAX_REREAD", 0)        # counted by DuckDB only
+    notes = summarize_by(f, ["Term"], min_group=1).notes
+    assert any("('S1' on 2 rows; 'Ab7' on 2 rows)" in n for n in notes), notes
 
 
 def test_both_routes_drop_a_footer_row_alike(tmp_path, capsys):
