@@ -403,6 +403,27 @@ def _given_header(con, path: Path, header: list[str]) -> list[str]:
     return names if len(names) == len(header) else header
 
 
+#: File signatures of formats --by does not read (the first bytes), with their names.
+_OTHER_FORMATS = ((b"PK\x03\x04", "a zip container (an .xlsx workbook?)"),
+                  (b"\xd0\xcf\x11\xe0", "an old Office file (.xls)"),
+                  (b"\x1f\x8b", "gzip-compressed data"), (b"%PDF", "a PDF document"),
+                  (b"PAR1", "a Parquet file named other than .parquet"))
+_WORKBOOKS = (".xlsx", ".xlsm", ".xls", ".ods")
+
+
+def _not_csv_or_parquet(path: Path) -> "str | None":
+    """What a file named as a workbook, or starting with a known binary signature, is;
+    None for a ``.parquet`` file and for anything else (read as CSV text)."""
+    suffix = path.suffix.lower()
+    if suffix == ".parquet":
+        return None
+    if suffix in _WORKBOOKS:
+        return f"{suffix} (a workbook)"
+    with open(path, "rb") as f:
+        head = f.read(4)
+    return next((what for magic, what in _OTHER_FORMATS if head.startswith(magic)), None)
+
+
 def _validate_by(path, by, min_group, respondents=None, confidence_level=0.95,
                  method="wilson"):
     p = Path(path)
@@ -411,6 +432,10 @@ def _validate_by(path, by, min_group, respondents=None, confidence_level=0.95,
     if not is_regular_file(p):            # a FIFO would block DuckDB, /dev/zero never end
         raise SurveyInputError("not a regular file (a folder, pipe or device is not read)",
                                str(p))
+    other = _not_csv_or_parquet(p)
+    if other:
+        raise SurveyInputError(f"--by reads CSV or Parquet, not {other}: summarize it without "
+                               f"--by, or save it as CSV UTF-8", str(p))
     if not by or len(by) > _MAX_GROUP_COLUMNS:
         raise ValueError(f"--by needs 1..{_MAX_GROUP_COLUMNS} grouping columns, got {by!r}")
     if not isinstance(min_group, int) or min_group < 1:

@@ -603,3 +603,18 @@ def test_by_reads_a_quote_first_met_after_row_20480(tmp_path):
     cells = Counter(" ".join(r[3].split()) for r in rows)
     it, = summarize_by(f, ["course"]).overall()
     assert it.counts == {lab: cells[lab] for lab in AGREE5} and it.respondents == 21000
+
+
+def test_by_refuses_a_workbook_in_one_line(tmp_path, capsys):
+    """Regression: --by read an .xlsx as CSV text and said "byte 0xba at offset 11 is not
+    UTF-8". It now names the format it reads, for a workbook by name or by content."""
+    from tests.xlsx_factory import workbook
+    data = workbook([["id", "Term", "Q1"], ["s1", "Fall", "Agree"]])
+    for name, what in (("w.xlsx", ".xlsx (a workbook)"),
+                       ("w.csv", "a zip container (an .xlsx workbook?)")):
+        f = tmp_path / name
+        f.write_bytes(data)
+        assert main(["summarize", str(f), "--by", "Term"]) == 2
+        err = capsys.readouterr().err
+        assert err == (f"error: {f}: --by reads CSV or Parquet, not {what}: summarize it "
+                       f"without --by, or save it as CSV UTF-8\n"), err
