@@ -437,8 +437,9 @@ def _cmd_verify(args) -> int:
 
 
 def _cmd_report(args) -> int:
-    from .report import build_report
+    from .report import build_report, report_path
     check_output(args.output, "-o/--output")
+    report_path(args.output)
     data = _read(args)
     _check_chart_size(data, "report")
     _notes(data)

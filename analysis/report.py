@@ -116,7 +116,19 @@ def render_report(data: SurveyData, claims=None, group: str | None = None, min_g
         comments=data.comments, pairing_unknown=pairing_unknown)
 
 
+def report_path(path: "str | Path") -> Path:
+    """The report's output path, refused (ValueError naming ``-o``) unless it ends in
+    ``.html``: the report is HTML, and a ``.pdf`` holding HTML would open as a broken PDF."""
+    p = Path(str(path))
+    if p.suffix.lower() != ".html":
+        raise ValueError(f"-o {str(path)!r}: the file name must end in .html (the report "
+                         f"is an HTML page)")
+    return p
+
+
 def build_report(data: SurveyData, out_path: "str | Path", **kwargs) -> Path:
-    """Render the report (see :func:`render_report`) and write it atomically to ``out_path``."""
+    """Render the report (see :func:`render_report`) and write it atomically to ``out_path``
+    (a name ending in ``.html``, :func:`report_path`)."""
+    report_path(out_path)
     html = render_report(data, **kwargs)
     return atomic_write(out_path, html)

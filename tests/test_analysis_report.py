@@ -73,6 +73,21 @@ def test_report_cli_end_to_end(tmp_path):
     assert 'src="http' not in html and "<link" not in html        # self-contained
 
 
+@pytest.mark.parametrize("name", ["r.pdf", "r.htm.txt", "report"])
+def test_report_refuses_a_name_not_ending_in_html(tmp_path, capsys, name):
+    """Regression: ``report -o r.pdf`` wrote HTML into a .pdf and exited 0. Like --table and
+    --chart, -o is refused by its suffix, in one line naming it, before any work; nothing is
+    written."""
+    data = tmp_path / "t1.csv"
+    assert main(["rebuild-table1", str(data)]) == 0
+    capsys.readouterr()
+    out = tmp_path / name
+    assert main(["report", str(data), "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err == f"error: -o {str(out)!r}: the file name must end in .html (the report is an HTML page)\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["t1.csv"]
+
+
 def test_bad_input_has_no_traceback(tmp_path):
     f = tmp_path / "x.csv"
     f.write_bytes(b"\xff\xfe\x00garbage")
