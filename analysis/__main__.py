@@ -21,7 +21,9 @@ Commands
     with the row, among ``cell_not_attainable``, ``sum_off``, ``counts_do_not_add_up``;
     ``sum_ok``: the printed sum is one rounding of the printed cells allows). Without N, the range 1..1000 (or ``--n-range``) is
     searched: ``n`` is then the smallest N that makes the whole table attainable (or the
-    N attaining the most cells), and ``"n_range"`` and ``"feasible_n"`` are added.
+    N attaining the most cells), and ``"n_range"`` and ``"feasible_n"`` are added, and
+    per row ``"feasible_n"`` (the first 50 N making that row attainable) and
+    ``"feasible_n_count"``.
 ``report FILE -o OUT.html [--claims CLAIMS]``
     Self-contained HTML report of a survey export.
 ``rebuild-table1 OUT.csv``
