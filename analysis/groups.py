@@ -52,6 +52,7 @@ from .disclosure import BLANK_GROUP, suppress_groups
 from .errors import SurveyInputError
 from .ingest import SurveyData
 from .likert import REVERSE_MARK, REVERSE_NOTE, REVERSED_STATISTICS
+from .rounding import number_text, significant_text
 from .scales import group_names, normalize_answer
 
 __all__ = ["GroupInfo", "ItemComparison", "GroupComparison", "compare_groups", "cliffs_delta",
@@ -222,16 +223,18 @@ class GroupComparison:
             if it.test == "none":
                 out.append(f"  {name}: no test ({it.note})")
             else:
-                holm = "" if it.p_holm is None else f", Holm p = {it.p_holm:.4g}"
+                holm = "" if it.p_holm is None else f", Holm p = {significant_text(it.p_holm)}"
                 pairs = f" on {it.pairs} pairs" if it.pairs else ""
-                out.append(f"  {name}: {it.test}{pairs} statistic {it.statistic:.4g}, "
-                           f"p = {it.p_value:.4g}{holm}, {it.effect_name} = {it.effect:.3f}")
+                out.append(f"  {name}: {it.test}{pairs} statistic {significant_text(it.statistic)}, "
+                           f"p = {significant_text(it.p_value)}{holm}, "
+                           f"{it.effect_name} = {number_text(it.effect, 3)}")
                 out.append(f"    direction: {it.direction}")
                 if it.note:
                     out.append(f"    note: {it.note}")
             if it.trend:
                 out.append(f"    trend over {' -> '.join(it.trend['groups'])}: Spearman rho = "
-                           f"{it.trend['rho']:.3f}, p = {it.trend['p_value']:.4g}")
+                           f"{number_text(it.trend['rho'], 3)}, "
+                           f"p = {significant_text(it.trend['p_value'])}")
             for g, d in it.per_group.items():
                 pp, agree = self.printed(j, g, decimals, method)
                 dist = " ".join(f"{lab} {pp[lab]:.{decimals}f}%" for lab in self.labels)
@@ -245,7 +248,7 @@ class GroupComparison:
 
 
 def _num(x, decimals: int = 1) -> str:
-    return "-" if x is None else f"{x:.{decimals}f}"
+    return number_text(x, decimals)          # half away from zero, as percentages
 
 
 def _validate_groups(data, column, min_size, order):

@@ -25,7 +25,7 @@ from .claims import evaluate_claims
 from .ingest import SurveyData
 from .likert import PERCENT_METHODS, REVERSE_NOTE, summarize
 from .respondents import PAIRING_UNKNOWN
-from .rounding import share_percent_text
+from .rounding import number_text, share_percent_text, significant_text
 
 __all__ = ["render_report", "build_report", "template_environment"]
 
@@ -37,11 +37,13 @@ def template_environment() -> Environment:
     env = Environment(loader=FileSystemLoader(str(_TEMPLATES)), autoescape=True,
                       undefined=StrictUndefined, trim_blocks=False, lstrip_blocks=False)
     env.filters["percent"] = share_percent_text  # a share 0..1 in percent by the one rounding rule
+    env.filters["num"] = number_text             # a statistic to N places, by the same rule
+    env.filters["sig"] = significant_text        # to N significant digits, by the same rule
     return env
 
 
 def _fmt(x, digits: int = 1) -> str:
-    return "–" if x is None else f"{x:.{digits}f}"
+    return number_text(x, digits, none="–")   # half away from zero, as percentages
 
 
 def _validate_report(data, decimals, percent_method):
