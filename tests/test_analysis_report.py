@@ -132,3 +132,24 @@ def test_report_interval_bounds_follow_the_one_rule(monkeypatch):
     monkeypatch.setattr(report_module, "summarize", tied)
     data = survey_from_frame(pd.DataFrame({"q": ["Definitely Agree"] * 13 + ["Neutral"] * 3}))
     assert "81.3% [6.3, 81.3]" in report_module.render_report(data)
+
+
+def test_group_chart_keeps_a_long_group_label_inside_the_png(tmp_path, capsys):
+    """Regression: the layout measured the labels at 100 dpi and the PNG was drawn at 150, where
+    the text is wider: the first character of '=HYPERLINK("http://e","x")' fell off the left
+    edge. Reference: the PNG's own pixels; the layout keeps 3 pt (6 px at 150 dpi) clear of
+    the edge, so the first 3 pixel columns must be background (white)."""
+    from matplotlib.image import imread
+    f = tmp_path / "g.csv"
+    groups = ["-MATH", "@SUM(1)", '=HYPERLINK("http://e","x")', "<b>ENGR</b> &amp;"]
+    f.write_text("course,Q1,Q2\n" + "".join(
+        f'"{g.replace(chr(34), chr(34) * 2)}",{a},{b}\n' for g in groups
+        for a, b in [("Agree", "Disagree"), ("Strongly agree", "Agree"),
+                     ("Disagree", "Disagree"), ("Agree", "Agree"), ("Neutral", "Agree")]))
+    png = tmp_path / "hg.png"
+    assert main(["summarize", str(f), "--scale", "agree5", "--group", "course",
+                 "--chart", str(png)]) == 0
+    capsys.readouterr()
+    pixels = imread(png)
+    assert pixels.shape[1] == 1275                  # 8.5 in at 150 dpi
+    assert (pixels[:, :3, :3] == 1.0).all(), "something is drawn at the left edge"
