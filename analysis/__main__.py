@@ -294,7 +294,7 @@ def _notes(data) -> None:
 #: their defaults: any other value is refused, never ignored.
 _NOT_WITH_BY = (("--group", "group", None), ("--chart", "chart", None),
                 ("--reliability", "reliability", None), ("--codes", "codes", None),
-                ("--group-order", "group_order", None), ("--shape", "shape", "auto"),
+                ("--shape", "shape", "auto"),
                 ("--encoding", "encoding", None),
                 ("--unknown-as-missing", "unknown_as_missing", False),
                 ("--percent-method", "percent_method", "round"))
@@ -311,7 +311,7 @@ def _cmd_summarize_by(args) -> int:
     res = summarize_by(args.file, args.by, scale=args.scale, items=args.items,
                        min_group=args.min_group, reverse=args.reverse,
                        respondents=args.respondents, confidence_level=args.confidence,
-                       method=args.ci)
+                       method=args.ci, group_order=args.group_order)
     if args.table:
         from .export import write_table
         write_table(res.to_frame(), args.table)

@@ -53,7 +53,7 @@ from .errors import SurveyInputError
 from .ingest import SurveyData
 from .likert import REVERSE_MARK, REVERSE_NOTE, REVERSED_STATISTICS
 from .rounding import number_text, significant_text
-from .scales import group_names, normalize_answer
+from .scales import group_names, normalize_answer, order_groups, validate_group_order
 
 __all__ = ["GroupInfo", "ItemComparison", "GroupComparison", "compare_groups", "cliffs_delta",
            "rank_biserial_paired"]
@@ -256,8 +256,7 @@ def _validate_groups(data, column, min_size, order):
         raise TypeError(f"`data` must be SurveyData, got {type(data).__name__}")
     if not isinstance(min_size, int) or min_size < 1:
         raise ValueError(f"`min_size` must be a positive integer, got {min_size!r}")
-    if order is not None and (isinstance(order, str) or not all(isinstance(o, str) for o in order)):
-        raise ValueError(f"`order` must be a list of group names, got {order!r}")
+    validate_group_order(order)
     for name in data.groups:
         if normalize_answer(name) == normalize_answer(column):
             return name
@@ -280,17 +279,7 @@ def _group_values(texts: list[str], order, source):
     for i, k in enumerate(keys):
         first.setdefault(k, i)
     name_of = {k: nm for k, nm in named.values()}
-    ranked = sorted(first, key=first.get)
-    if order:
-        want = list(dict.fromkeys(normalize_answer(o) for o in order))   # a repeat once
-        missing = [o for o in order if normalize_answer(o) not in first]
-        if missing:
-            shown = [name_of[k] for k in ranked[:20]]
-            more = f" and {len(ranked) - 20} more" if len(ranked) > 20 else ""
-            raise SurveyInputError(f"--group-order names {missing[0]!r}, which is not a value of "
-                                   f"the grouping column; values are {shown}{more}", source)
-        wanted = set(want)
-        ranked = want + [k for k in ranked if k not in wanted]
+    ranked, = order_groups([(sorted(first, key=first.get), name_of)], order, source)
     index = {k: g for g, k in enumerate(ranked)}
     inverse = np.array([index[k] for k in keys], dtype=np.int64)
     names = [BLANK_GROUP if k == "" else name_of[k] for k in ranked]

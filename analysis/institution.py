@@ -45,7 +45,8 @@ from .export import reversal_columns
 from .likert import (REVERSE_MARK, REVERSE_NOTE, _num, _validate_ci, absent_respondents,
                      interval_label, not_items_text)
 from .rounding import share_percent_text
-from .scales import Scale, group_names, normalize_answer, two_groups_message
+from .scales import (Scale, group_names, normalize_answer, order_groups, two_groups_message,
+                     validate_group_order)
 
 __all__ = ["GroupedSummary", "summarize_by", "DEFAULT_MEMORY_LIMIT"]
 
@@ -78,7 +79,7 @@ class GroupedSummary:
     scale : Scale
     items : list of str
     groups : list of tuple of str
-        Grouping values, sorted as text (a blank value is "" here; outputs name it
+        Grouping values, sorted as text or by ``group_order`` (a blank value is "" here; outputs name it
         :data:`~analysis.disclosure.BLANK_GROUP`, see :meth:`group_names`).
     respondents : numpy.ndarray of int, shape (groups,)
     tallies : numpy.ndarray of int, shape (groups, items, k + 3)
@@ -425,7 +426,7 @@ def _not_csv_or_parquet(path: Path) -> "str | None":
 
 
 def _validate_by(path, by, min_group, respondents=None, confidence_level=0.95,
-                 method="wilson"):
+                 method="wilson", group_order=None):
     p = Path(path)
     if not p.exists():
         raise SurveyInputError("no such file", str(p))
@@ -443,13 +444,15 @@ def _validate_by(path, by, min_group, respondents=None, confidence_level=0.95,
     if respondents is not None and (not isinstance(respondents, int) or respondents < 1):
         raise ValueError(f"`respondents` must be a positive integer or None, got {respondents!r}")
     _validate_ci(method, confidence_level)
+    validate_group_order(group_order)
     return p
 
 
 def summarize_by(path: "str | Path", by: "list[str]", scale=None, items=None,
                  min_group: int = 5, memory_limit: str = DEFAULT_MEMORY_LIMIT,
                  threads: int = 1, reverse=None, respondents: "int | None" = None,
-                 confidence_level: float = 0.95, method: str = "wilson") -> GroupedSummary:
+                 confidence_level: float = 0.95, method: str = "wilson",
+                 group_order: "list[str] | None" = None) -> GroupedSummary:
     """Count a large survey file by grouping columns, out of core.
 
     Parameters
@@ -477,13 +480,17 @@ def summarize_by(path: "str | Path", by: "list[str]", scale=None, items=None,
     confidence_level : float
     method : {"wilson", "beta"}
         Interval of the agreement shares (as :func:`analysis.likert.summarize`).
+    group_order : list of str, optional
+        Grouping values to list first, in this order (``--group-order``, the rule of
+        ``--group``: :func:`analysis.scales.order_groups`); a value may be of any grouping
+        column, and the groups sort column by column. Otherwise the values sort as text.
 
     Returns
     -------
     GroupedSummary
     """
     import duckdb
-    p = _validate_by(path, by, min_group, respondents, confidence_level, method)
+    p = _validate_by(path, by, min_group, respondents, confidence_level, method, group_order)
     size, unit = _split_limit(memory_limit)
     for factor in _RETRY_FACTORS:
         limit = f"{size * factor}{unit}"
@@ -501,7 +508,26 @@ def summarize_by(path: "str | Path", by: "list[str]", scale=None, items=None,
     res.reverse = platforms.resolve_reverse(res.source, res.items, reverse)
     res.ci_method, res.confidence_level = method, confidence_level
     _declare(res, respondents)
+    _order(res, group_order)
     return res
+
+
+def _order(res: GroupedSummary, order) -> None:
+    """Put the groups in the order ``order`` asks (:func:`analysis.scales.order_groups`, as
+    ``--group`` does; the groups' values are already one spelling each)."""
+    if not order:
+        return
+    columns = []
+    for c in range(len(res.by)):
+        values = list(dict.fromkeys(key[c] for key in res.groups))
+        columns.append(([normalize_answer(v) for v in values],
+                        {normalize_answer(v): v for v in values}))
+    ranked = order_groups(columns, order, res.source)
+    rank = [{k: i for i, k in enumerate(r)} for r in ranked]
+    new = sorted(range(len(res.groups)), key=lambda g: [
+        rank[c][normalize_answer(v)] for c, v in enumerate(res.groups[g])])
+    res.groups = [res.groups[g] for g in new]
+    res.respondents, res.tallies = res.respondents[new], res.tallies[new]
 
 
 def _declare(res: GroupedSummary, respondents: "int | None") -> None:

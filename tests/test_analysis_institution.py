@@ -618,3 +618,29 @@ def test_by_refuses_a_workbook_in_one_line(tmp_path, capsys):
         err = capsys.readouterr().err
         assert err == (f"error: {f}: --by reads CSV or Parquet, not {what}: summarize it "
                        f"without --by, or save it as CSV UTF-8\n"), err
+
+
+def test_by_takes_group_order_as_group_does(tmp_path, capsys):
+    """Regression: --by refused --group-order and listed the groups alphabetically. It now
+    orders them as asked (matched as --group matches, ' spring  2024' is 'Spring 2024'),
+    the others after in text order, and refuses a value no group has in the same words as
+    --group. Reference: the order written below."""
+    f = tmp_path / "terms.csv"
+    f.write_text("id,Term,Q1\n" + "".join(
+        f"s{k}{t[0]},{t},Agree\n" for t in ["Fall 2023", "Spring 2024", "Summer 2024"]
+        for k in range(5)))
+    order = [" spring  2024", "Fall 2023"]
+    res = summarize_by(f, ["Term"], group_order=order)
+    assert res.groups == [("Spring 2024",), ("Fall 2023",), ("Summer 2024",)]
+    assert res.respondents.tolist() == [5, 5, 5]
+    assert main(["summarize", str(f), "--by", "Term", "--group-order", *order, "--json"]) == 0
+    rows = json.loads(capsys.readouterr().out)["rows"]
+    assert list(dict.fromkeys(r["Term"] for r in rows)) == ["(all)", "Spring 2024", "Fall 2023",
+                                                            "Summer 2024"]
+    errors = []
+    for route in (["--by", "Term"], ["--group", "Term"]):
+        assert main(["summarize", str(f), *route, "--group-order", "Winter"]) == 2
+        errors.append(capsys.readouterr().err.splitlines(keepends=True)[-1])   # notes aside
+    assert errors[0] == errors[1] == (
+        f"error: {f}: --group-order names 'Winter', which is not a value of the grouping "
+        f"column; values are ['Fall 2023', 'Spring 2024', 'Summer 2024']\n"), errors
