@@ -165,7 +165,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="count a large CSV/Parquet file out of core (DuckDB) by these columns "
                         "(e.g. course term section), with institution-wide totals")
     s.add_argument("--group-order", nargs="+", metavar="VALUE",
-                   help="order of the groups, e.g. terms (default: as they first appear)")
+                   help="order of the groups, e.g. terms (default: as they first appear; "
+                        "with --by, sorted as text)")
     s.add_argument("--table", metavar="OUT.csv",
                    help="also write the summary table (.csv or .xlsx by suffix; with --group "
                         "one row per item and group)")
