@@ -225,8 +225,8 @@ class GroupComparison:
             else:
                 holm = "" if it.p_holm is None else f", Holm p = {significant_text(it.p_holm)}"
                 pairs = f" on {it.pairs} pairs" if it.pairs else ""
-                out.append(f"  {name}: {it.test}{pairs} statistic {significant_text(it.statistic)}, "
-                           f"p = {significant_text(it.p_value)}{holm}, "
+                out.append(f"  {name}: {it.test}{pairs} statistic "
+                           f"{significant_text(it.statistic)}, p = {significant_text(it.p_value)}{holm}, "
                            f"{it.effect_name} = {number_text(it.effect, 3)}")
                 out.append(f"    direction: {it.direction}")
                 if it.note:

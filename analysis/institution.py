@@ -79,8 +79,8 @@ class GroupedSummary:
     scale : Scale
     items : list of str
     groups : list of tuple of str
-        Grouping values, sorted as text or by ``group_order`` (a blank value is "" here; outputs name it
-        :data:`~analysis.disclosure.BLANK_GROUP`, see :meth:`group_names`).
+        Grouping values, sorted as text or by ``group_order`` (a blank value is "" here;
+        outputs name it :data:`~analysis.disclosure.BLANK_GROUP`, see :meth:`group_names`).
     respondents : numpy.ndarray of int, shape (groups,)
     tallies : numpy.ndarray of int, shape (groups, items, k + 3)
         Per group and item: unknown (0), not applicable (1), blank/absent (2), then

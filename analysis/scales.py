@@ -139,8 +139,8 @@ def order_groups(columns: list, order, source: str) -> list:
         return [list(ranked) for ranked, _ in columns]
     for o in order:
         if not any(normalize_answer(o) in name_of for _, name_of in columns):
-            ranked, name_of = columns[0] if len(columns) == 1 else (
-                [k for r, _ in columns for k in r], {k: v for _, n in columns for k, v in n.items()})
+            ranked = [k for r, _ in columns for k in r]          # every column's values
+            name_of = {k: v for _, names in columns for k, v in names.items()}
             shown = [name_of[k] for k in ranked[:20]]
             more = f" and {len(ranked) - 20} more" if len(ranked) > 20 else ""
             which = "the grouping column" if len(columns) == 1 else "any grouping column"

@@ -84,7 +84,8 @@ def test_report_refuses_a_name_not_ending_in_html(tmp_path, capsys, name):
     out = tmp_path / name
     assert main(["report", str(data), "-o", str(out)]) == 2
     err = capsys.readouterr().err
-    assert err == f"error: -o {str(out)!r}: the file name must end in .html (the report is an HTML page)\n"
+    assert err == (f"error: -o {str(out)!r}: the file name must end in .html (the report is "
+                   f"an HTML page)\n")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["t1.csv"]
 
 
