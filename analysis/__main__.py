@@ -21,7 +21,9 @@ Commands
     with the row, among ``cell_not_attainable``, ``sum_off``, ``counts_do_not_add_up``;
     ``sum_ok``: the printed sum is one rounding of the printed cells allows). Without N, the range 1..1000 (or ``--n-range``) is
     searched: ``n`` is then the smallest N that makes the whole table attainable (or the
-    N attaining the most cells), and ``"n_range"`` and ``"feasible_n"`` are added.
+    N attaining the most cells), and ``"n_range"`` and ``"feasible_n"`` are added, and
+    per row ``"feasible_n"`` (the first 50 N making that row attainable) and
+    ``"feasible_n_count"``.
 ``report FILE -o OUT.html [--claims CLAIMS]``
     Self-contained HTML report of a survey export.
 ``rebuild-table1 OUT.csv``
@@ -163,7 +165,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="count a large CSV/Parquet file out of core (DuckDB) by these columns "
                         "(e.g. course term section), with institution-wide totals")
     s.add_argument("--group-order", nargs="+", metavar="VALUE",
-                   help="order of the groups, e.g. terms (default: as they first appear)")
+                   help="order of the groups, e.g. terms (default: as they first appear; "
+                        "with --by, sorted as text)")
     s.add_argument("--table", metavar="OUT.csv",
                    help="also write the summary table (.csv or .xlsx by suffix; with --group "
                         "one row per item and group)")
@@ -292,7 +295,7 @@ def _notes(data) -> None:
 #: their defaults: any other value is refused, never ignored.
 _NOT_WITH_BY = (("--group", "group", None), ("--chart", "chart", None),
                 ("--reliability", "reliability", None), ("--codes", "codes", None),
-                ("--group-order", "group_order", None), ("--shape", "shape", "auto"),
+                ("--shape", "shape", "auto"),
                 ("--encoding", "encoding", None),
                 ("--unknown-as-missing", "unknown_as_missing", False),
                 ("--percent-method", "percent_method", "round"))
@@ -309,7 +312,7 @@ def _cmd_summarize_by(args) -> int:
     res = summarize_by(args.file, args.by, scale=args.scale, items=args.items,
                        min_group=args.min_group, reverse=args.reverse,
                        respondents=args.respondents, confidence_level=args.confidence,
-                       method=args.ci)
+                       method=args.ci, group_order=args.group_order)
     if args.table:
         from .export import write_table
         write_table(res.to_frame(), args.table)
@@ -437,8 +440,9 @@ def _cmd_verify(args) -> int:
 
 
 def _cmd_report(args) -> int:
-    from .report import build_report
+    from .report import build_report, report_path
     check_output(args.output, "-o/--output")
+    report_path(args.output)
     data = _read(args)
     _check_chart_size(data, "report")
     _notes(data)

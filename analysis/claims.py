@@ -48,7 +48,7 @@ from pathlib import Path
 from ._io import read_toml
 from .errors import SurveyInputError
 from .likert import CI_METHODS, Proportion, SurveySummary, interval_label, proportion
-from .rounding import share_percent_text
+from .rounding import number_text, share_percent_text, significant_text
 from .scales import normalize_answer
 
 __all__ = ["COMPARISONS", "VERDICTS", "Claim", "ClaimResult", "ClaimsReport", "load_claims",
@@ -311,17 +311,20 @@ def evaluate_claim(claim: Claim, summary: SurveySummary, confidence_level: float
                   f"applicable): there is no share to compare with the threshold")
     elif not _satisfies(p.share, claim.comparison, claim.threshold):
         code = "does_not_hold"
-        reason = f"observed share {p.share:.4f} is not {claim.comparison} {claim.threshold:g}"
+        reason = (f"observed share {number_text(p.share, 4)} is not {claim.comparison} "
+                  f"{significant_text(claim.threshold, 6)}")
     else:
         bound = p.ci[0] if claim.comparison in (">", ">=") else p.ci[1]
         side = "lower" if claim.comparison in (">", ">=") else "upper"
         if _satisfies(bound, claim.comparison, claim.threshold):
             code = "holds"
-            reason = f"the interval's {side} bound {bound:.4f} clears {claim.threshold:.4g}"
+            reason = (f"the interval's {side} bound {number_text(bound, 4)} clears "
+                      f"{significant_text(claim.threshold)}")
         else:
             code = "sample_only"
-            reason = (f"observed share {p.share:.4f} {claim.comparison} {claim.threshold:.4g}, "
-                      f"but the interval's {side} bound {bound:.4f} does not clear it")
+            reason = (f"observed share {number_text(p.share, 4)} {claim.comparison} "
+                      f"{significant_text(claim.threshold)}, but the interval's {side} bound "
+                      f"{number_text(bound, 4)} does not clear it")
     return ClaimResult(claim=claim, item=it.item, proportion=p, verdict_code=code,
                        verdict=VERDICTS[code], reason=reason)
 

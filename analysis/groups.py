@@ -52,7 +52,8 @@ from .disclosure import BLANK_GROUP, suppress_groups
 from .errors import SurveyInputError
 from .ingest import SurveyData
 from .likert import REVERSE_MARK, REVERSE_NOTE, REVERSED_STATISTICS
-from .scales import group_names, normalize_answer
+from .rounding import number_text, significant_text
+from .scales import group_names, normalize_answer, order_groups, validate_group_order
 
 __all__ = ["GroupInfo", "ItemComparison", "GroupComparison", "compare_groups", "cliffs_delta",
            "rank_biserial_paired"]
@@ -222,16 +223,18 @@ class GroupComparison:
             if it.test == "none":
                 out.append(f"  {name}: no test ({it.note})")
             else:
-                holm = "" if it.p_holm is None else f", Holm p = {it.p_holm:.4g}"
+                holm = "" if it.p_holm is None else f", Holm p = {significant_text(it.p_holm)}"
                 pairs = f" on {it.pairs} pairs" if it.pairs else ""
-                out.append(f"  {name}: {it.test}{pairs} statistic {it.statistic:.4g}, "
-                           f"p = {it.p_value:.4g}{holm}, {it.effect_name} = {it.effect:.3f}")
+                out.append(f"  {name}: {it.test}{pairs} statistic "
+                           f"{significant_text(it.statistic)}, p = {significant_text(it.p_value)}{holm}, "
+                           f"{it.effect_name} = {number_text(it.effect, 3)}")
                 out.append(f"    direction: {it.direction}")
                 if it.note:
                     out.append(f"    note: {it.note}")
             if it.trend:
                 out.append(f"    trend over {' -> '.join(it.trend['groups'])}: Spearman rho = "
-                           f"{it.trend['rho']:.3f}, p = {it.trend['p_value']:.4g}")
+                           f"{number_text(it.trend['rho'], 3)}, "
+                           f"p = {significant_text(it.trend['p_value'])}")
             for g, d in it.per_group.items():
                 pp, agree = self.printed(j, g, decimals, method)
                 dist = " ".join(f"{lab} {pp[lab]:.{decimals}f}%" for lab in self.labels)
@@ -245,7 +248,7 @@ class GroupComparison:
 
 
 def _num(x, decimals: int = 1) -> str:
-    return "-" if x is None else f"{x:.{decimals}f}"
+    return number_text(x, decimals)          # half away from zero, as percentages
 
 
 def _validate_groups(data, column, min_size, order):
@@ -253,8 +256,7 @@ def _validate_groups(data, column, min_size, order):
         raise TypeError(f"`data` must be SurveyData, got {type(data).__name__}")
     if not isinstance(min_size, int) or min_size < 1:
         raise ValueError(f"`min_size` must be a positive integer, got {min_size!r}")
-    if order is not None and (isinstance(order, str) or not all(isinstance(o, str) for o in order)):
-        raise ValueError(f"`order` must be a list of group names, got {order!r}")
+    validate_group_order(order)
     for name in data.groups:
         if normalize_answer(name) == normalize_answer(column):
             return name
@@ -277,17 +279,7 @@ def _group_values(texts: list[str], order, source):
     for i, k in enumerate(keys):
         first.setdefault(k, i)
     name_of = {k: nm for k, nm in named.values()}
-    ranked = sorted(first, key=first.get)
-    if order:
-        want = list(dict.fromkeys(normalize_answer(o) for o in order))   # a repeat once
-        missing = [o for o in order if normalize_answer(o) not in first]
-        if missing:
-            shown = [name_of[k] for k in ranked[:20]]
-            more = f" and {len(ranked) - 20} more" if len(ranked) > 20 else ""
-            raise SurveyInputError(f"--group-order names {missing[0]!r}, which is not a value of "
-                                   f"the grouping column; values are {shown}{more}", source)
-        wanted = set(want)
-        ranked = want + [k for k in ranked if k not in wanted]
+    ranked, = order_groups([(sorted(first, key=first.get), name_of)], order, source)
     index = {k: g for g, k in enumerate(ranked)}
     inverse = np.array([index[k] for k in keys], dtype=np.int64)
     names = [BLANK_GROUP if k == "" else name_of[k] for k in ranked]

@@ -45,7 +45,8 @@ from .export import reversal_columns
 from .likert import (REVERSE_MARK, REVERSE_NOTE, _num, _validate_ci, absent_respondents,
                      interval_label, not_items_text)
 from .rounding import share_percent_text
-from .scales import Scale, group_names, normalize_answer, two_groups_message
+from .scales import (Scale, group_names, normalize_answer, order_groups, two_groups_message,
+                     validate_group_order)
 
 __all__ = ["GroupedSummary", "summarize_by", "DEFAULT_MEMORY_LIMIT"]
 
@@ -78,8 +79,8 @@ class GroupedSummary:
     scale : Scale
     items : list of str
     groups : list of tuple of str
-        Grouping values, sorted as text (a blank value is "" here; outputs name it
-        :data:`~analysis.disclosure.BLANK_GROUP`, see :meth:`group_names`).
+        Grouping values, sorted as text or by ``group_order`` (a blank value is "" here;
+        outputs name it :data:`~analysis.disclosure.BLANK_GROUP`, see :meth:`group_names`).
     respondents : numpy.ndarray of int, shape (groups,)
     tallies : numpy.ndarray of int, shape (groups, items, k + 3)
         Per group and item: unknown (0), not applicable (1), blank/absent (2), then
@@ -257,31 +258,72 @@ def _quote(name: str) -> str:
     return '"' + name.replace('"', '""') + '"'
 
 
+def _head(path: Path) -> str:
+    """The first 256 KiB of a CSV file as text (a byte-order mark removed)."""
+    with open(path, "rb") as f:
+        return f.read(262144).decode("utf-8", errors="replace").lstrip("\ufeff")
+
+
 def _delimiter(path: Path) -> str:
     """The CSV file's delimiter by the in-memory route's rule (:func:`analysis._io.sniff_delimiter`),
     from its first 256 KiB: DuckDB's own sniffer took a footer line with no comma as the sign of
     a one-column file."""
-    with open(path, "rb") as f:
-        head = f.read(262144).decode("utf-8", errors="replace").lstrip("\ufeff")
-    return sniff_delimiter(head)[0]
+    return sniff_delimiter(_head(path))[0]
 
 
-def _csv_sql(path: Path, header: bool = True) -> str:
-    """``read_csv(...)`` of a CSV file as text: its delimiter given, short rows padded with
-    blanks (as pandas reads them), small read buffers (DuckDB's default is 32 MB per buffer),
-    so that memory stays bounded."""
+def _header_newline(head: str) -> "str | None":
+    """The line break ending the first record (``"\\r\\n"``, ``"\\n"`` or ``"\\r"``), line breaks
+    inside quotes skipped; None when the text holds no complete record.
+
+    DuckDB's sniffer could not settle on one when a quoted header cell holds a line break
+    other than the one between records (Excel writes ``\\n`` in a cell, ``\\r\\n`` between
+    rows): given the header's, it reads such a file as Python's csv module does.
+    """
+    quoted = False
+    for j, ch in enumerate(head):
+        if ch == '"':
+            quoted = not quoted
+        elif not quoted and ch in "\r\n":
+            if ch == "\r" and head[j + 1:j + 2] == "\n":
+                return "\r\n"
+            return ch if j + 1 < len(head) or ch == "\n" else None
+    return None
+
+
+def _csv_sql(path: Path, header: bool = True, parallel: bool = True) -> str:
+    """``read_csv(...)`` of a CSV file as text: its delimiter and line break given, the quote
+    ``"`` (doubled inside quotes) as Python's csv module reads it, short rows padded with blanks
+    (as pandas reads them), small read buffers (DuckDB's default is 32 MB per buffer), so that
+    memory stays bounded. DuckDB's sniffer, left to itself, reads a file with no quote in its
+    first 20,480 rows as one with no quoting: a later quoted line break split a row in two.
+
+    ``parallel=False`` turns DuckDB's parallel scanner off: it cannot pad short rows in a file
+    with quoted line breaks (a comment on two lines) and refuses such a file
+    (:class:`_SerialScanNeeded`). The serial scanner reads it, at the same CPU time on one
+    thread (``summarize_by`` of 1,000,000 long rows: 1.07 s, parallel 1.11 s), so one thread
+    reads serially and more threads fall back to it when refused.
+    """
+    head = _head(path)
+    newline = _header_newline(head)
+    line = "" if newline is None else f"new_line = {_literal(repr(newline)[1:-1])}, "
     return (f"read_csv({_literal(path)}, all_varchar = true, header = {str(header).lower()}, "
-            f"delim = {_literal(_delimiter(path))}, null_padding = true, "
+            f"delim = {_literal(sniff_delimiter(head)[0])}, quote = '\"', escape = '\"', {line}"
+            f"null_padding = true, "
+            f"parallel = {str(parallel).lower()}, "
             f"buffer_size = {_BUFFER}, max_line_size = {_MAX_LINE})")
 
 
-def _source_sql(path: Path) -> str:
+class _SerialScanNeeded(Exception):
+    """DuckDB's parallel CSV scanner met a quoted line break it cannot pad rows around."""
+
+
+def _source_sql(path: Path, parallel: bool = True) -> str:
     """The file as a table of text, as a CSV is read: a Parquet file's typed columns (an integer
     id, numeric codes) cast to VARCHAR, so that ids, items and answers are matched as texts on
     both formats (a trim of an integer column failed the whole count)."""
     if path.suffix.lower() == ".parquet":
         return f"(SELECT COLUMNS(*)::VARCHAR FROM read_parquet({_literal(path)}))"
-    return _csv_sql(path)
+    return _csv_sql(path, parallel=parallel)
 
 
 def _empty(line: str) -> bool:
@@ -356,19 +398,45 @@ def _given_header(con, path: Path, header: list[str]) -> list[str]:
                 left += (rows[i][1] or 0) - 1
                 i += 1
     else:
-        first = con.execute(f"SELECT * FROM {_csv_sql(path, header=False)} LIMIT 1").fetchone()
+        first = con.execute(f"SELECT * FROM {_csv_sql(path, header=False, parallel=False)} "
+                            "LIMIT 1").fetchone()
         names = ["" if v is None else str(v) for v in (first or ())]
     return names if len(names) == len(header) else header
 
 
+#: File signatures of formats --by does not read (the first bytes), with their names.
+_OTHER_FORMATS = ((b"PK\x03\x04", "a zip container (an .xlsx workbook?)"),
+                  (b"\xd0\xcf\x11\xe0", "an old Office file (.xls)"),
+                  (b"\x1f\x8b", "gzip-compressed data"), (b"%PDF", "a PDF document"),
+                  (b"PAR1", "a Parquet file named other than .parquet"))
+_WORKBOOKS = (".xlsx", ".xlsm", ".xls", ".ods")
+
+
+def _not_csv_or_parquet(path: Path) -> "str | None":
+    """What a file named as a workbook, or starting with a known binary signature, is;
+    None for a ``.parquet`` file and for anything else (read as CSV text)."""
+    suffix = path.suffix.lower()
+    if suffix == ".parquet":
+        return None
+    if suffix in _WORKBOOKS:
+        return f"{suffix} (a workbook)"
+    with open(path, "rb") as f:
+        head = f.read(4)
+    return next((what for magic, what in _OTHER_FORMATS if head.startswith(magic)), None)
+
+
 def _validate_by(path, by, min_group, respondents=None, confidence_level=0.95,
-                 method="wilson"):
+                 method="wilson", group_order=None):
     p = Path(path)
     if not p.exists():
         raise SurveyInputError("no such file", str(p))
     if not is_regular_file(p):            # a FIFO would block DuckDB, /dev/zero never end
         raise SurveyInputError("not a regular file (a folder, pipe or device is not read)",
                                str(p))
+    other = _not_csv_or_parquet(p)
+    if other:
+        raise SurveyInputError(f"--by reads CSV or Parquet, not {other}: summarize it without "
+                               f"--by, or save it as CSV UTF-8", str(p))
     if not by or len(by) > _MAX_GROUP_COLUMNS:
         raise ValueError(f"--by needs 1..{_MAX_GROUP_COLUMNS} grouping columns, got {by!r}")
     if not isinstance(min_group, int) or min_group < 1:
@@ -376,13 +444,15 @@ def _validate_by(path, by, min_group, respondents=None, confidence_level=0.95,
     if respondents is not None and (not isinstance(respondents, int) or respondents < 1):
         raise ValueError(f"`respondents` must be a positive integer or None, got {respondents!r}")
     _validate_ci(method, confidence_level)
+    validate_group_order(group_order)
     return p
 
 
 def summarize_by(path: "str | Path", by: "list[str]", scale=None, items=None,
                  min_group: int = 5, memory_limit: str = DEFAULT_MEMORY_LIMIT,
                  threads: int = 1, reverse=None, respondents: "int | None" = None,
-                 confidence_level: float = 0.95, method: str = "wilson") -> GroupedSummary:
+                 confidence_level: float = 0.95, method: str = "wilson",
+                 group_order: "list[str] | None" = None) -> GroupedSummary:
     """Count a large survey file by grouping columns, out of core.
 
     Parameters
@@ -410,17 +480,25 @@ def summarize_by(path: "str | Path", by: "list[str]", scale=None, items=None,
     confidence_level : float
     method : {"wilson", "beta"}
         Interval of the agreement shares (as :func:`analysis.likert.summarize`).
+    group_order : list of str, optional
+        Grouping values to list first, in this order (``--group-order``, the rule of
+        ``--group``: :func:`analysis.scales.order_groups`); a value may be of any grouping
+        column, and the groups sort column by column. Otherwise the values sort as text.
 
     Returns
     -------
     GroupedSummary
     """
     import duckdb
-    p = _validate_by(path, by, min_group, respondents, confidence_level, method)
+    p = _validate_by(path, by, min_group, respondents, confidence_level, method, group_order)
     size, unit = _split_limit(memory_limit)
     for factor in _RETRY_FACTORS:
+        limit = f"{size * factor}{unit}"
         try:
-            res = _count(p, by, scale, items, min_group, f"{size * factor}{unit}", threads)
+            try:          # one thread: the serial scanner, as fast and never refused
+                res = _count(p, by, scale, items, min_group, limit, threads, threads > 1)
+            except _SerialScanNeeded:           # quoted line breaks: the serial scanner
+                res = _count(p, by, scale, items, min_group, limit, threads, parallel=False)
             break
         except duckdb.OutOfMemoryException:
             continue
@@ -430,7 +508,26 @@ def summarize_by(path: "str | Path", by: "list[str]", scale=None, items=None,
     res.reverse = platforms.resolve_reverse(res.source, res.items, reverse)
     res.ci_method, res.confidence_level = method, confidence_level
     _declare(res, respondents)
+    _order(res, group_order)
     return res
+
+
+def _order(res: GroupedSummary, order) -> None:
+    """Put the groups in the order ``order`` asks (:func:`analysis.scales.order_groups`, as
+    ``--group`` does; the groups' values are already one spelling each)."""
+    if not order:
+        return
+    columns = []
+    for c in range(len(res.by)):
+        values = list(dict.fromkeys(key[c] for key in res.groups))
+        columns.append(([normalize_answer(v) for v in values],
+                        {normalize_answer(v): v for v in values}))
+    ranked = order_groups(columns, order, res.source)
+    rank = [{k: i for i, k in enumerate(r)} for r in ranked]
+    new = sorted(range(len(res.groups)), key=lambda g: [
+        rank[c][normalize_answer(v)] for c, v in enumerate(res.groups[g])])
+    res.groups = [res.groups[g] for g in new]
+    res.respondents, res.tallies = res.respondents[new], res.tallies[new]
 
 
 def _declare(res: GroupedSummary, respondents: "int | None") -> None:
@@ -460,7 +557,8 @@ def _split_limit(limit: str) -> tuple[int, str]:
     return int(m.group(1)), m.group(2)
 
 
-def _count(p, by, scale, items, min_group, memory_limit, threads) -> GroupedSummary:
+def _count(p, by, scale, items, min_group, memory_limit, threads,
+           parallel: bool = True) -> GroupedSummary:
     import duckdb
     import tempfile
     spill = tempfile.TemporaryDirectory(prefix="analysis-duckdb-")
@@ -468,12 +566,13 @@ def _count(p, by, scale, items, min_group, memory_limit, threads) -> GroupedSumm
                                  "preserve_insertion_order": False,
                                  "temp_directory": spill.name})
     try:
-        src = _source_sql(p)
+        src = _source_sql(p, parallel)
         try:
             header = [r[0] for r in con.execute(f"DESCRIBE SELECT * FROM {src}").fetchall()]
         except duckdb.OutOfMemoryException:
             raise
         except duckdb.Error as e:
+            _check_serial(e, parallel)
             bad = _not_utf8(p)
             if bad is not None:
                 raise SurveyInputError(bad[1], str(p), bad[0]) from None
@@ -516,11 +615,14 @@ def _count(p, by, scale, items, min_group, memory_limit, threads) -> GroupedSumm
             idcol = header[pid] if pid is not None and header[pid] not in gcols else None
             rows = _count_wide(con, src, gcols, cand, idcol)
             repeats = [r for r in rows if r[len(gcols) + 2] == 2]
+            spelled = (_id_spellings(con, src, idcol, [r[len(gcols) + 1] for r in repeats[:3]])
+                       if repeats and p.stat().st_size > _MAX_REREAD else {})
             rows = _merge_spellings([r for r in rows if r[len(gcols) + 2] == 0],
                                     len(gcols), cand[0])
     except duckdb.OutOfMemoryException:
         raise
     except duckdb.Error as e:
+        _check_serial(e, parallel)
         raise SurveyInputError(f"counting failed ({str(e).splitlines()[0]})", str(p)) from None
     finally:
         con.close()
@@ -530,12 +632,26 @@ def _count(p, by, scale, items, min_group, memory_limit, threads) -> GroupedSumm
                     cand if shape == "wide" else None, locate)
     res.dropped, res.notes = dropped, footer_notes + res.notes
     if shape == "wide" and idcol is not None:
-        note = _repeated_ids(p, gcols, idcol, repeats)
+        note = _repeated_ids(p, gcols, idcol, repeats, spelled)
         res.notes += [note] if note else []
     if shape == "wide":                            # in the file's column order
-        res.not_items = {h: left_out.get(h) or res.not_items[h] for h in header
+        res.not_items = {_spaced(h): left_out.get(h) or res.not_items[h] for h in header
                          if h in left_out or h in res.not_items}
+        res.items = [_spaced(n) for n in res.items]
     return res
+
+
+def _spaced(name: str) -> str:
+    """A column name as ``read_survey`` names it: runs of white space (a line break in a
+    quoted header cell) as one space."""
+    return " ".join(str(name).split()) or name
+
+
+def _check_serial(error: Exception, parallel: bool) -> None:
+    """Raise :class:`_SerialScanNeeded` when ``error`` is DuckDB's parallel scanner asking for
+    the serial one (its message names ``parallel=false``)."""
+    if parallel and "parallel=false" in str(error).replace(" ", ""):
+        raise _SerialScanNeeded from None
 
 
 def _locator(path: Path, long_columns: "tuple[str, str] | None"):
@@ -787,9 +903,19 @@ def _count_wide(con, src, gcols, cand, idcol=None):
     return con.execute(sql).fetchall()
 
 
-def _repeated_ids(path: Path, gcols, idcol: str, repeats: list) -> "str | None":
+def _id_spellings(con, src: str, idcol: str, keys: list) -> dict:
+    """``{id trimmed and in lower case: the id as the file writes it}`` for ``keys`` (one scan;
+    of several spellings of one id, the least as text)."""
+    c = f"trim({_quote(idcol)}, {_WS})"
+    return dict(con.execute(f"SELECT lower({c}), min({c}) FROM {src} WHERE lower({c}) IN "
+                            f"({', '.join(['?'] * len(keys))}) GROUP BY 1", keys).fetchall())
+
+
+def _repeated_ids(path: Path, gcols, idcol: str, repeats: list, spelled: dict) -> "str | None":
     """The note of :func:`analysis.ingest.repeated_ids_note` on the kind-2 rows of
-    :func:`_count_wide`, the rows of the first three ids found by reading the file again."""
+    :func:`_count_wide` (ids matched in lower case), naming the first three ids as the file
+    writes them (on their first row, as ``read_survey`` does) with their rows, found by reading
+    the file again; a file too long for that gives the rows' number and the ``spelled`` ids."""
     from .ingest import repeated_ids_note
     if not repeats:
         return None
@@ -797,13 +923,16 @@ def _repeated_ids(path: Path, gcols, idcol: str, repeats: list) -> "str | None":
     first = {(_raw_key(r[:ng]), str(r[ng + 1])): [] for r in repeats[:3]}
     if path.stat().st_size > _MAX_REREAD:      # too long to read again in Python: counts
         return repeated_ids_note(str(path), idcol, list(gcols), len(repeats),
-                                 [(str(r[ng + 1]), int(r[ng + 3])) for r in repeats[:3]])
+                                 [(spelled.get(r[ng + 1], str(r[ng + 1])), int(r[ng + 3]))
+                                  for r in repeats[:3]])
+    written = {}
     for row, cells in _records(path, list(gcols) + [idcol]):
         key = (tuple(cells[:ng]), cells[ng].strip().lower())
         if key in first:
             first[key].append(row)
+            written.setdefault(key, cells[ng].strip())
     return repeated_ids_note(str(path), idcol, list(gcols), len(repeats),
-                             [(k[1], rows) for k, rows in first.items()])
+                             [(written.get(k, k[1]), rows) for k, rows in first.items()])
 
 
 def _merge_spellings(rows, ng: int, first_item) -> list:

@@ -42,7 +42,7 @@ from fractions import Fraction
 
 import numpy as np
 
-from .rounding import (largest_remainder, largest_remainder_tie, percent_text, round_fraction,
+from .rounding import (largest_remainder, largest_remainder_tie, number_text, percent_text, round_fraction,
                        share_percent_text)
 
 __all__ = ["CI_METHODS", "PERCENT_METHODS", "absent_respondents", "Proportion", "ItemSummary", "SurveySummary",
@@ -452,7 +452,7 @@ def _name(it: ItemSummary) -> str:
 
 def _num(x, decimals: int = 1) -> str:
     """A statistic as printed ("-" when there is none)."""
-    return "-" if x is None else f"{x:.{decimals}f}"
+    return number_text(x, decimals)          # half away from zero, as percentages
 
 
 def _validate_summarize(data, confidence_level, method):

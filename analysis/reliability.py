@@ -38,6 +38,7 @@ from .errors import SurveyInputError
 from .ingest import SurveyData
 from .platforms import item_matches
 from .respondents import PAIRING_UNKNOWN
+from .rounding import number_text
 
 __all__ = ["ReliabilityResult", "cronbach_alpha", "cronbach_alpha_for"]
 
@@ -78,8 +79,9 @@ class ReliabilityResult:
     def format_text(self) -> str:
         if self.alpha is None:
             return f"Cronbach's alpha ({', '.join(self.items)}): undefined: {self.note}"
-        return (f"Cronbach's alpha ({', '.join(self.items)}): {self.alpha:.3f} "
-                f"[{self.ci[0]:.3f}, {self.ci[1]:.3f}] ({self.confidence_level:.0%} Feldt), "
+        a, lo, hi = (number_text(x, 3) for x in (self.alpha, *self.ci))
+        return (f"Cronbach's alpha ({', '.join(self.items)}): {a} "
+                f"[{lo}, {hi}] ({self.confidence_level:.0%} Feldt), "
                 f"n = {self.n}, left out {self.left_out}" + (f"; {self.note}" if self.note else ""))
 
     def __repr__(self):

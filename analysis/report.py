@@ -25,7 +25,7 @@ from .claims import evaluate_claims
 from .ingest import SurveyData
 from .likert import PERCENT_METHODS, REVERSE_NOTE, summarize
 from .respondents import PAIRING_UNKNOWN
-from .rounding import share_percent_text
+from .rounding import number_text, share_percent_text, significant_text
 
 __all__ = ["render_report", "build_report", "template_environment"]
 
@@ -37,11 +37,13 @@ def template_environment() -> Environment:
     env = Environment(loader=FileSystemLoader(str(_TEMPLATES)), autoescape=True,
                       undefined=StrictUndefined, trim_blocks=False, lstrip_blocks=False)
     env.filters["percent"] = share_percent_text  # a share 0..1 in percent by the one rounding rule
+    env.filters["num"] = number_text             # a statistic to N places, by the same rule
+    env.filters["sig"] = significant_text        # to N significant digits, by the same rule
     return env
 
 
 def _fmt(x, digits: int = 1) -> str:
-    return "–" if x is None else f"{x:.{digits}f}"
+    return number_text(x, digits, none="–")   # half away from zero, as percentages
 
 
 def _validate_report(data, decimals, percent_method):
@@ -116,7 +118,19 @@ def render_report(data: SurveyData, claims=None, group: str | None = None, min_g
         comments=data.comments, pairing_unknown=pairing_unknown)
 
 
+def report_path(path: "str | Path") -> Path:
+    """The report's output path, refused (ValueError naming ``-o``) unless it ends in
+    ``.html``: the report is HTML, and a ``.pdf`` holding HTML would open as a broken PDF."""
+    p = Path(str(path))
+    if p.suffix.lower() != ".html":
+        raise ValueError(f"-o {str(path)!r}: the file name must end in .html (the report "
+                         f"is an HTML page)")
+    return p
+
+
 def build_report(data: SurveyData, out_path: "str | Path", **kwargs) -> Path:
-    """Render the report (see :func:`render_report`) and write it atomically to ``out_path``."""
+    """Render the report (see :func:`render_report`) and write it atomically to ``out_path``
+    (a name ending in ``.html``, :func:`report_path`)."""
+    report_path(out_path)
     html = render_report(data, **kwargs)
     return atomic_write(out_path, html)

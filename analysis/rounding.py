@@ -10,6 +10,10 @@ between two printed values is recognised as such (binary floats cannot).
   printed share, percentage and chart label goes through it.
 - :func:`share_percent_text` -- a share that is not a count ratio (an interval bound)
   in percent by the same rule.
+- :func:`number_text`, :func:`significant_text` -- any other printed statistic (median,
+  IQR, mean, SD, an effect size; a p-value to significant digits) by the same rule, on
+  the decimal value Python writes for the float (``repr``: 2.675, not the binary
+  2.67499999...).
 - :func:`rounding_interval` -- every exact percentage that prints as a given
   value: the tolerance a printed precision implies.
 - :func:`largest_remainder` -- Hamilton's method: percentages of counts that
@@ -22,7 +26,8 @@ import math
 from fractions import Fraction
 
 __all__ = ["ROUNDING_RULES", "round_fraction", "percent_text", "share_percent_text",
-           "rounding_interval", "largest_remainder", "largest_remainder_tie"]
+           "number_text", "significant_text", "rounding_interval", "largest_remainder",
+           "largest_remainder_tie"]
 
 #: Valid values of the ``rule`` argument.
 ROUNDING_RULES = ("half_away", "half_even", "truncate", "ceil")
@@ -36,7 +41,7 @@ def round_fraction(x: Fraction, decimals: int, rule: str = "half_away") -> Fract
     x : Fraction
         Value to round (here a percentage ``100 k / N``).
     decimals : int
-        Places after the decimal point (0 or more).
+        Places after the decimal point (negative: to tens, hundreds ...).
     rule : {"half_away", "half_even", "truncate", "ceil"}
         Tie handling / direction. ``half_away`` rounds halves away from zero.
 
@@ -46,7 +51,7 @@ def round_fraction(x: Fraction, decimals: int, rule: str = "half_away") -> Fract
         The rounded value, exactly.
     """
     _validate_rule(rule)
-    scale = 10 ** decimals
+    scale = Fraction(10) ** decimals
     y = Fraction(x) * scale
     sign = -1 if y < 0 else 1
     a = abs(y)
@@ -95,6 +100,63 @@ def share_percent_text(share: float, decimals: int = 1) -> str:
     ('6.3', '81')
     """
     return f"{float(round_fraction(Fraction(share) * 100, decimals)):.{decimals}f}"
+
+
+def _decimal_value(x: float) -> Fraction:
+    """The decimal value Python writes for ``x`` (``repr``, the shortest text that reads
+    back as ``x``), exactly: a mean of 107/40 is the float 2.67499999..., written 2.675."""
+    return Fraction(repr(float(x)))
+
+
+def number_text(x, decimals: int = 1, none: str = "-") -> str:
+    """A statistic (median, IQR, mean, SD, an effect size) to ``decimals`` places, half away
+    from zero on its decimal value (:func:`_decimal_value`), as every percentage is printed;
+    ``none`` when there is no value, ``nan``/``inf`` as Python writes them.
+
+    Examples
+    --------
+    >>> number_text(3.25), number_text(0.25), number_text(2.625, 2), number_text(-0.0625, 3)
+    ('3.3', '0.3', '2.63', '-0.063')
+    """
+    if x is None:
+        return none
+    if not math.isfinite(x):
+        return str(float(x))
+    return f"{float(round_fraction(_decimal_value(x), decimals)):.{decimals}f}"
+
+
+def significant_text(x, digits: int = 4) -> str:
+    """``x`` to ``digits`` significant digits by the rule of :func:`number_text`, written as
+    ``f"{x:.4g}"`` writes it (trailing zeros dropped; ``1e-05`` form below 1e-4 and from
+    10**digits), where ``.4g`` rounds the binary value half to even.
+
+    Examples
+    --------
+    >>> significant_text(0.015625), significant_text(1 / 64, 3), significant_text(2.5e-7, 1)
+    ('0.01563', '0.0156', '3e-07')
+    """
+    if x is None or not math.isfinite(x) or x == 0:
+        return f"{x:.{digits}g}" if x is not None else "-"
+    exact = _decimal_value(x)
+    e = _exponent(exact)
+    r = round_fraction(exact, digits - 1 - e)
+    e = _exponent(r)                          # 9.9996 -> 10.00: one place more
+    if -4 <= e < digits:
+        return _strip(f"{float(r):.{max(digits - 1 - e, 0)}f}")
+    mant = _strip(f"{float(r / Fraction(10) ** e):.{digits - 1}f}")
+    return f"{mant}e{e:+03d}"
+
+
+def _exponent(q: Fraction) -> int:
+    """The power of ten of the leading digit of ``q`` (non-zero), exactly."""
+    a = abs(q)
+    e = len(str(a.numerator)) - len(str(a.denominator))
+    return e if a >= Fraction(10) ** e else e - 1
+
+
+def _strip(text: str) -> str:
+    """Trailing zeros (and a bare point) dropped, as ``%g`` drops them."""
+    return text.rstrip("0").rstrip(".") if "." in text else text
 
 
 def _validate_rule(rule: str) -> None:

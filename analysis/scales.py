@@ -105,6 +105,56 @@ def group_names(spellings: dict) -> dict:
     return {sp: (key(sp), name[key(sp)]) for sp in spellings}
 
 
+def validate_group_order(order) -> None:
+    """Refuse an ``order`` (``--group-order``) that is not a list of texts."""
+    if order is not None and (isinstance(order, str) or not all(isinstance(o, str) for o in order)):
+        raise ValueError(f"`order` must be a list of group names, got {order!r}")
+
+
+def order_groups(columns: list, order, source: str) -> list:
+    """Each grouping column's values in the order ``--group-order`` asks, for both routes.
+
+    Parameters
+    ----------
+    columns : list of (list, dict)
+        Per grouping column: its values' keys (:func:`normalize_answer`) in the default
+        order, and ``{key: name}`` to list them by in a refusal.
+    order : list of str or None
+        Values to put first, in this order (matched as answers are; a repeat counts once);
+        the others follow in the default order.
+    source : str
+        File named in a refusal.
+
+    Returns
+    -------
+    list of list
+        Per column, the keys in the order asked.
+
+    Raises
+    ------
+    SurveyInputError
+        A value of ``order`` that is no grouping column's value (the values are listed).
+    """
+    if not order:
+        return [list(ranked) for ranked, _ in columns]
+    for o in order:
+        if not any(normalize_answer(o) in name_of for _, name_of in columns):
+            ranked = [k for r, _ in columns for k in r]          # every column's values
+            name_of = {k: v for _, names in columns for k, v in names.items()}
+            shown = [name_of[k] for k in ranked[:20]]
+            more = f" and {len(ranked) - 20} more" if len(ranked) > 20 else ""
+            which = "the grouping column" if len(columns) == 1 else "any grouping column"
+            raise SurveyInputError(f"--group-order names {o!r}, which is not a value of "
+                                   f"{which}; values are {shown}{more}", source)
+    want = list(dict.fromkeys(normalize_answer(o) for o in order))
+    out = []
+    for ranked, name_of in columns:
+        first = [k for k in want if k in name_of]
+        chosen = set(first)
+        out.append(first + [k for k in ranked if k not in chosen])
+    return out
+
+
 def two_groups_message(respondent: str, column: str, first: str, other: str) -> str:
     """The one refusal of both routes when a long file's rows of one respondent give two
     groups (values that are not spellings of one value, :func:`group_names`): the file

@@ -409,6 +409,38 @@ class RowCheck:
         return d
 
 
+#: N values listed per row (text and JSON) when a range was searched; the rest are counted.
+SHOWN_N = 50
+
+
+@dataclass
+class RowRange:
+    """The N of a searched range that make one row attainable (every cell attainable and
+    counts adding up to N).
+
+    Attributes
+    ----------
+    first : list of int
+        The smallest of them, at most :data:`SHOWN_N`.
+    count : int
+        How many N of the range do.
+    counts : list of int or None
+        Counts of the row at the smallest such N (None when there is none).
+    """
+
+    first: list[int]
+    count: int
+    counts: list[int] | None
+
+    def text(self) -> str:
+        """``17 (counts 7,5,5), 34, 51``; ``none``; past :data:`SHOWN_N`, ``... (K in all)``."""
+        if not self.first:
+            return "none"
+        head = f"{self.first[0]} (counts {','.join(map(str, self.counts or []))})"
+        more = f", ... ({self.count} in all)" if self.count > len(self.first) else ""
+        return ", ".join([head] + [str(n) for n in self.first[1:]]) + more
+
+
 @dataclass
 class TableCheck:
     """A published table checked against a number of respondents.
@@ -428,6 +460,11 @@ class TableCheck:
         The range searched, when N was not stated.
     feasible_n : list of int or None
         With a range: every N that makes the whole table attainable.
+    row_ranges : list of RowRange or None
+        With a range: per row (in order), the N that make that row attainable.
+    best_cells : int or None
+        With a range: the most cells attainable at one N (at :attr:`n` when no N makes
+        the whole table attainable).
     """
 
     n: int
@@ -437,6 +474,8 @@ class TableCheck:
     n_range: tuple[int, int] | None = None
     feasible_n: list[int] | None = None
     labels: list[str] = field(default_factory=list)
+    row_ranges: list[RowRange] | None = None
+    best_cells: int | None = None
 
     @property
     def all_attainable(self) -> bool:
@@ -456,12 +495,16 @@ class TableCheck:
         """The command line's ``--json`` shape: ``{"n": int, "rows": [...]}``.
 
         When N was searched in a range, ``"n_range": [lo, hi]`` and ``"feasible_n"``
-        (every N making the whole table attainable) are added.
+        (every N making the whole table attainable) are added, and to each row
+        ``"feasible_n"`` (the first :data:`SHOWN_N` N making that row attainable) and
+        ``"feasible_n_count"`` (how many N in the range do).
         """
         out = {"n": self.n, "rows": [r.to_dict() for r in self.rows]}
         if self.n_range is not None:
             out["n_range"] = list(self.n_range)
             out["feasible_n"] = list(self.feasible_n or [])
+            for row, rr in zip(out["rows"], self.row_ranges or []):
+                row.update(feasible_n=list(rr.first), feasible_n_count=rr.count)
         return out
 
     def to_full_dict(self) -> dict:
@@ -474,14 +517,12 @@ class TableCheck:
                 "rows": [r.to_full_dict() for r in self.rows]}
 
     def format_text(self) -> str:
-        """Human-readable report (one line per cell that is not attainable)."""
+        """Human-readable report (one line per cell that is not attainable). With a range
+        of N: the N making the whole table attainable; when there is none, the N making
+        each row attainable and why the rows are checked against the N they are."""
         out = [f"{self.source}: checked against N = {self.n} (rounding: {self.rule})"]
         if self.n_range is not None:
-            lo, hi = self.n_range
-            fn = self.feasible_n or []
-            shown = ", ".join(map(str, fn[:50])) + (" ..." if len(fn) > 50 else "")
-            out.append(f"N in {lo}..{hi} making the whole table attainable: "
-                       + (shown if fn else "none"))
+            out = self._range_text()
         for r in self.rows:
             rec = "" if r.reconstructed is None else "; counts " + ",".join(map(str, r.reconstructed))
             d = max(c.decimals for c in r.cells)
@@ -494,6 +535,26 @@ class TableCheck:
         total = sum(len(r.cells) for r in self.rows)
         out.append(f"{total - bad} of {total} cells attainable")
         return "\n".join(out)
+
+    def _range_text(self) -> list[str]:
+        """The head of :meth:`format_text` when N was searched in :attr:`n_range`."""
+        lo, hi = self.n_range
+        fn = self.feasible_n or []
+        if fn:
+            shown = ", ".join(map(str, fn[:SHOWN_N])) + (" ..." if len(fn) > SHOWN_N else "")
+            return [f"{self.source}: checked against N = {self.n}, the smallest N in {lo}..{hi} "
+                    f"making the whole table attainable (rounding: {self.rule})",
+                    f"N in {lo}..{hi} making the whole table attainable: {shown}"]
+        total = sum(len(r.cells) for r in self.rows)
+        out = [f"{self.source}: N not stated; searched {lo}..{hi} (rounding: {self.rule})",
+               f"N in {lo}..{hi} making the whole table attainable: none; N making each row "
+               f"attainable (the counts at the smallest):"]
+        out += [f"  {r.item}: {rr.text()}" + ("" if rr.count or r.sum_ok else
+                                             " (SUM OFF whatever N: see below)")
+                for r, rr in zip(self.rows, self.row_ranges or [])]
+        out.append(f"checked against N = {self.n}, the smallest N in {lo}..{hi} at which the "
+                   f"most cells are attainable ({self.best_cells} of {total}):")
+        return out
 
     def __repr__(self):
         return (f"TableCheck(n={self.n}, rows={len(self.rows)}, "
@@ -771,12 +832,20 @@ def verify_table(table: PublishedTable, n: int | None = None,
         return TableCheck(n=n, rows=_check_rows(table, n, rule, decimals), rule=rule,
                           source=table.source, labels=labels)
     lo, hi = n_range
-    score, ok = _scan_n(table, lo, hi, rule, decimals)
+    score, row_ok = _scan_n(table, lo, hi, rule, decimals)
+    ok = np.logical_and.reduce(row_ok) if row_ok else np.ones(score.size, dtype=bool)
     feasible = [int(x) for x in np.flatnonzero(ok) + lo]
     best_n = int(np.argmax(score)) + lo           # first N attaining the most cells
     shown = feasible[0] if feasible else best_n
+    ranges = []
+    for i, row in enumerate(row_ok):
+        ns = np.flatnonzero(row)
+        first = [int(x) + lo for x in ns[:SHOWN_N]]
+        counts = _check_row(table, i, first[0], rule, decimals).reconstructed if first else None
+        ranges.append(RowRange(first=first, count=int(ns.size), counts=counts))
     return TableCheck(n=shown, rows=_check_rows(table, shown, rule, decimals), rule=rule,
-                      source=table.source, n_range=(lo, hi), feasible_n=feasible, labels=labels)
+                      source=table.source, n_range=(lo, hi), feasible_n=feasible, labels=labels,
+                      row_ranges=ranges, best_cells=int(score[shown - lo]))
 
 
 def _count_bounds(value: Fraction, dec: int, n: "np.ndarray", rule: str):
@@ -811,7 +880,7 @@ def _count_bounds(value: Fraction, dec: int, n: "np.ndarray", rule: str):
 
 
 def _scan_n(table, lo_n: int, hi_n: int, rule: str, decimals) -> tuple:
-    """For every N in lo_n..hi_n at once: (attainable cells, whole table consistent).
+    """For every N in lo_n..hi_n at once: (attainable cells, [row consistent, per row]).
 
     A row is consistent when each cell has a count and the sum of the smallest counts
     <= N <= the sum of the largest (every sum in between is reachable, the sets being
@@ -820,8 +889,9 @@ def _scan_n(table, lo_n: int, hi_n: int, rule: str, decimals) -> tuple:
     """
     n = np.arange(lo_n, hi_n + 1, dtype=np.int64)
     score = np.zeros(n.size, dtype=np.int64)
-    ok = np.ones(n.size, dtype=bool)
+    rows = []
     for i in range(len(table.items)):
+        ok = np.ones(n.size, dtype=bool)
         sum_lo = np.zeros(n.size, dtype=np.int64)
         sum_hi = np.zeros(n.size, dtype=np.int64)
         for j in range(len(table.labels)):
@@ -832,8 +902,8 @@ def _scan_n(table, lo_n: int, hi_n: int, rule: str, decimals) -> tuple:
             ok &= have
             sum_lo += klo
             sum_hi += khi
-        ok &= (sum_lo <= n) & (n <= sum_hi)
-    return score, ok
+        rows.append(ok & (sum_lo <= n) & (n <= sum_hi))
+    return score, rows
 
 
 # ---------------------------------------------------------------------------

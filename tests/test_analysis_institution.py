@@ -398,8 +398,24 @@ def test_both_routes_note_an_id_on_two_rows_of_a_group_alike(tmp_path, capsys, m
     # a file too large to read again for the rows: how many rows, not which
     import analysis.institution as institution
     monkeypatch.setattr(institution, "_MAX_REREAD", 0)
-    notes = summarize_by(f, ["Section"]).notes
-    assert any("('a@x.edu' on 2 rows); each row is counted" in n for n in notes), notes
+    notes = summarize_by(f, ["Section"]).notes          # of the spellings, the least as text
+    assert any("('A@x.edu' on 2 rows); each row is counted" in n for n in notes), notes
+
+
+def test_by_names_a_repeated_id_as_the_file_writes_it(tmp_path, monkeypatch):
+    """Regression: --by matched ids in lower case and named them so ('s1' in rows 2, 4)
+    where the file, and --group's note, have 'S1'. Reference: the ids as written below."""
+    f = tmp_path / "dup.csv"
+    f.write_text("student_id,Term,Q1\nS1,Fall,Agree\nS2,Fall,Agree\nS1,Fall,Disagree\n"
+                 "Ab7,Fall,Agree\n ab7 ,Fall,Agree\n")
+    want = "('S1' in rows 2, 4; 'Ab7' in rows 5, 6)"
+    from analysis.ingest import read_survey
+    assert any(want in n for n in read_survey(f, group="Term").notes)
+    assert any(want in n for n in summarize_by(f, ["Term"], min_group=1).notes)
+    import analysis.institution as institution
+    monkeypatch.setattr(institution, "_MAX_REREAD", 0)        # counted by DuckDB only
+    notes = summarize_by(f, ["Term"], min_group=1).notes
+    assert any("('S1' on 2 rows; 'Ab7' on 2 rows)" in n for n in notes), notes
 
 
 def test_both_routes_drop_a_footer_row_alike(tmp_path, capsys):
@@ -537,3 +553,94 @@ def test_a_parquet_file_with_typed_columns_is_counted_as_its_csv(tmp_path):
     assert a.groups == b.groups == [("2023",), ("2024",)]
     assert a.respondents.tolist() == b.respondents.tolist() == [2, 2]
     assert (a.tallies == b.tallies).all()
+
+
+def test_both_routes_read_quoted_line_breaks_alike(tmp_path, capsys):
+    """Regression: --by refused a Google Forms export with a two-line comment ("counting
+    failed (CSV Error on Line: 10)": DuckDB's parallel scanner cannot pad short rows around
+    a quoted line break) and one with a line break in a quoted header cell, Excel style
+    (LF in the cell, CRLF between rows: "Error when sniffing file"). The reference is a
+    ``Counter`` of the answers written; both routes must give it, under one item name."""
+    rng = random.Random(7)
+    header = ["Timestamp", "Section", "The lectures\nwere clear", "Q2", "Comments"]
+    rows = []
+    for r in range(40):
+        q1 = rng.choice(AGREE5 + ["", "N/A"])
+        comment = "Line1\nLine2" if r % 9 == 3 else "ok"
+        rows.append([f"2024/09/{r % 28 + 1:02d} 10:00:00 AM EST", rng.choice("AB"), q1,
+                     rng.choice(AGREE5), comment])
+    f = tmp_path / "google.csv"
+    with open(f, "w", newline="", encoding="utf-8") as fh:    # csv's own CRLF rows
+        csv.writer(fh).writerows([header] + rows)
+    assert b"\nwere clear" in f.read_bytes() and b"Line1\nLine2" in f.read_bytes()
+    want = [Counter(r[j] for r in rows) for j in (2, 3)]
+    assert main(["summarize", str(f), "--json"]) == 0
+    small = json.loads(capsys.readouterr().out)["items"]
+    assert main(["summarize", str(f), "--by", "Section", "--json"]) == 0
+    big = json.loads(capsys.readouterr().out)
+    names = ["The lectures were clear", "Q2"]
+    for route in (small, big["overall"]):
+        assert [it["item"] for it in route] == names
+        for it, cells in zip(route, want):
+            assert it["counts"] == {lab: cells.get(lab, 0) for lab in AGREE5}
+            assert (it["missing"], it["excluded"]) == (cells.get("", 0), cells.get("N/A", 0))
+    assert big["respondents"] == 40 and big["overall"] == small
+    # two threads: DuckDB's parallel scanner refuses the file and the serial one reads it
+    two = summarize_by(f, ["Section"], threads=2)
+    assert (two.tallies == summarize_by(f, ["Section"]).tallies).all()
+
+
+def test_by_reads_a_quote_first_met_after_row_20480(tmp_path):
+    """Regression: DuckDB's sniffer saw no quote in its 20,480-row sample, read the file
+    as unquoted, and split the row with "Strongly\\nagree" in two (a blank respondent id
+    was refused). The quote is now given. Reference: a ``Counter`` of the answers."""
+    rows = [["C1", f"r{r}", "Q1", AGREE5[r % 5]] for r in range(21000)]
+    rows[-1][3] = "Strongly\nagree"                   # read as "Strongly agree"
+    f = tmp_path / "late.csv"
+    with open(f, "w", newline="") as fh:
+        csv.writer(fh, lineterminator="\n").writerows(
+            [["course", "respondent", "item", "answer"]] + rows)
+    cells = Counter(" ".join(r[3].split()) for r in rows)
+    it, = summarize_by(f, ["course"]).overall()
+    assert it.counts == {lab: cells[lab] for lab in AGREE5} and it.respondents == 21000
+
+
+def test_by_refuses_a_workbook_in_one_line(tmp_path, capsys):
+    """Regression: --by read an .xlsx as CSV text and said "byte 0xba at offset 11 is not
+    UTF-8". It now names the format it reads, for a workbook by name or by content."""
+    from tests.xlsx_factory import workbook
+    data = workbook([["id", "Term", "Q1"], ["s1", "Fall", "Agree"]])
+    for name, what in (("w.xlsx", ".xlsx (a workbook)"),
+                       ("w.csv", "a zip container (an .xlsx workbook?)")):
+        f = tmp_path / name
+        f.write_bytes(data)
+        assert main(["summarize", str(f), "--by", "Term"]) == 2
+        err = capsys.readouterr().err
+        assert err == (f"error: {f}: --by reads CSV or Parquet, not {what}: summarize it "
+                       f"without --by, or save it as CSV UTF-8\n"), err
+
+
+def test_by_takes_group_order_as_group_does(tmp_path, capsys):
+    """Regression: --by refused --group-order and listed the groups alphabetically. It now
+    orders them as asked (matched as --group matches, ' spring  2024' is 'Spring 2024'),
+    the others after in text order, and refuses a value no group has in the same words as
+    --group. Reference: the order written below."""
+    f = tmp_path / "terms.csv"
+    f.write_text("id,Term,Q1\n" + "".join(
+        f"s{k}{t[0]},{t},Agree\n" for t in ["Fall 2023", "Spring 2024", "Summer 2024"]
+        for k in range(5)))
+    order = [" spring  2024", "Fall 2023"]
+    res = summarize_by(f, ["Term"], group_order=order)
+    assert res.groups == [("Spring 2024",), ("Fall 2023",), ("Summer 2024",)]
+    assert res.respondents.tolist() == [5, 5, 5]
+    assert main(["summarize", str(f), "--by", "Term", "--group-order", *order, "--json"]) == 0
+    rows = json.loads(capsys.readouterr().out)["rows"]
+    assert list(dict.fromkeys(r["Term"] for r in rows)) == ["(all)", "Spring 2024", "Fall 2023",
+                                                            "Summer 2024"]
+    errors = []
+    for route in (["--by", "Term"], ["--group", "Term"]):
+        assert main(["summarize", str(f), *route, "--group-order", "Winter"]) == 2
+        errors.append(capsys.readouterr().err.splitlines(keepends=True)[-1])   # notes aside
+    assert errors[0] == errors[1] == (
+        f"error: {f}: --group-order names 'Winter', which is not a value of the grouping "
+        f"column; values are ['Fall 2023', 'Spring 2024', 'Summer 2024']\n"), errors

@@ -219,3 +219,38 @@ def test_count_columns_stay_aligned_with_ten_million_respondents(tmp_path):
         end = head.index(f" {name} ") + 1 + len(name)
         assert row[end - len(value):end] == value and row[end - len(value) - 1] == " ", (
             name, head, row)
+
+
+def test_every_printed_statistic_rounds_half_away_from_zero(tmp_path, capsys):
+    """Regression: mean and IQR were printed half to even (IQR 2.25 as "2.2", mean 2.625 as
+    "2.62") while percentages round half away from zero. The values below are exact in
+    binary, so a tie is a tie. References: Q1 codes 1,1,2,2,3,4,4,4 (twice, in sections A
+    and B): mean 21/8 = 2.625, IQR by numpy.percentile 2.25; Q2 codes 3 x 6, 4 x 2: IQR 0.25.
+    Printed half away from zero: 2.63, 2.3, 0.3 on every route (text, --group, --by, HTML)."""
+    labels = ["Strongly disagree", "Disagree", "Neither agree nor disagree", "Agree",
+              "Strongly agree"]
+    q1, q2 = [1, 1, 2, 2, 3, 4, 4, 4], [3, 3, 3, 3, 3, 3, 4, 4]
+    assert np.mean(q1) == 2.625
+    iqr = [float(np.subtract(*np.percentile(q, [75, 25]))) for q in (q1, q2)]
+    assert iqr == [2.25, 0.25]
+    f = tmp_path / "ties.csv"
+    f.write_text("id,Section,Q1,Q2\n" + "".join(
+        f"{s}{k},{s},{labels[a - 1]},{labels[b - 1]}\n"
+        for s in "AB" for k, (a, b) in enumerate(zip(q1, q2))))
+    assert main(["summarize", str(f)]) == 0
+    rows = capsys.readouterr().out.splitlines()
+    assert rows[2].split()[-7:-4] == ["2.5", "2.3", "2.63"], rows[2]   # median IQR mean
+    assert rows[3].split()[-7:-4] == ["3.0", "0.3", "3.25"], rows[3]
+    for extra in (["--group", "Section"], ["--by", "Section"]):
+        assert main(["summarize", str(f), *extra, "--min-group", "1"]) == 0
+        out = capsys.readouterr().out
+        assert "IQR 2.3 mean 2.63" in out and "IQR 0.3 mean 3.25" in out, out
+        assert "2.62" not in out and "IQR 2.2 " not in out and "IQR 0.2 " not in out
+    html = tmp_path / "r.html"
+    assert main(["report", str(f), "-o", str(html)]) == 0
+    text = html.read_text()
+    assert "<td>2.3 (1.8&ndash;4.0)</td>" in text and "<td>2.63</td>" in text, text
+    # the one rule beyond two places and in significant digits (1/64, 1/32 exact in binary)
+    from analysis.rounding import number_text, significant_text
+    assert (number_text(1 / 32, 4), number_text(-0.0625, 3)) == ("0.0313", "-0.063")
+    assert (significant_text(1 / 64), significant_text(0.03125, 3)) == ("0.01563", "0.0313")

@@ -73,6 +73,22 @@ def test_report_cli_end_to_end(tmp_path):
     assert 'src="http' not in html and "<link" not in html        # self-contained
 
 
+@pytest.mark.parametrize("name", ["r.pdf", "r.htm.txt", "report"])
+def test_report_refuses_a_name_not_ending_in_html(tmp_path, capsys, name):
+    """Regression: ``report -o r.pdf`` wrote HTML into a .pdf and exited 0. Like --table and
+    --chart, -o is refused by its suffix, in one line naming it, before any work; nothing is
+    written."""
+    data = tmp_path / "t1.csv"
+    assert main(["rebuild-table1", str(data)]) == 0
+    capsys.readouterr()
+    out = tmp_path / name
+    assert main(["report", str(data), "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err == (f"error: -o {str(out)!r}: the file name must end in .html (the report is "
+                   f"an HTML page)\n")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["t1.csv"]
+
+
 def test_bad_input_has_no_traceback(tmp_path):
     f = tmp_path / "x.csv"
     f.write_bytes(b"\xff\xfe\x00garbage")
@@ -117,3 +133,24 @@ def test_report_interval_bounds_follow_the_one_rule(monkeypatch):
     monkeypatch.setattr(report_module, "summarize", tied)
     data = survey_from_frame(pd.DataFrame({"q": ["Definitely Agree"] * 13 + ["Neutral"] * 3}))
     assert "81.3% [6.3, 81.3]" in report_module.render_report(data)
+
+
+def test_group_chart_keeps_a_long_group_label_inside_the_png(tmp_path, capsys):
+    """Regression: the layout measured the labels at 100 dpi and the PNG was drawn at 150, where
+    the text is wider: the first character of '=HYPERLINK("http://e","x")' fell off the left
+    edge. Reference: the PNG's own pixels; the layout keeps 3 pt (6 px at 150 dpi) clear of
+    the edge, so the first 3 pixel columns must be background (white)."""
+    from matplotlib.image import imread
+    f = tmp_path / "g.csv"
+    groups = ["-MATH", "@SUM(1)", '=HYPERLINK("http://e","x")', "<b>ENGR</b> &amp;"]
+    f.write_text("course,Q1,Q2\n" + "".join(
+        f'"{g.replace(chr(34), chr(34) * 2)}",{a},{b}\n' for g in groups
+        for a, b in [("Agree", "Disagree"), ("Strongly agree", "Agree"),
+                     ("Disagree", "Disagree"), ("Agree", "Agree"), ("Neutral", "Agree")]))
+    png = tmp_path / "hg.png"
+    assert main(["summarize", str(f), "--scale", "agree5", "--group", "course",
+                 "--chart", str(png)]) == 0
+    capsys.readouterr()
+    pixels = imread(png)
+    assert pixels.shape[1] == 1275                  # 8.5 in at 150 dpi
+    assert (pixels[:, :3, :3] == 1.0).all(), "something is drawn at the left edge"

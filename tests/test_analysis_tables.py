@@ -449,3 +449,29 @@ def test_largest_remainder_tie_of_table1_item4_is_stated(tmp_path, capsys):
     facts = load_table1()[1]
     sentence = rounding_ties(SimpleNamespace(summary=summarize(read_survey(path)), facts=facts))
     assert sentence == f"In the published table, row #4 (12, 7, 2, 1, 0 of 22) is what largest-remainder rounding prints, with a tie: {tie}."
+
+
+def test_range_with_no_feasible_n_explains_the_n_checked_and_each_rows_n(tmp_path, capsys):
+    """Regression: with no N making the whole table attainable the text said "checked against
+    N = 60" with no reason, and hid that Q3 (41.2/29.4/29.4) is 7/5/5 of 17. References by
+    hand: 7/17 = 41.18%, 5/17 = 29.41%, so Q3 fits N = 17, 34, 51, 68, 85 (the rounded
+    shares of 17k recur; no other N up to 100 gives 41.2 and 29.4 at once); Q1's thirds fit
+    multiples of 3; Q2 prints 105.0 (off at any N). At 60, Q1 and =cmd (10/20/70 = 6/12/42)
+    are attainable and Q2's cells (30/15/18): 9 of 12 cells, more than at any smaller N
+    (which would need Q3, attainable only at multiples of 17, with Q1 at multiples of 3)."""
+    f = tmp_path / "pub.csv"
+    f.write_text("item,Agree,Neutral,Disagree\nQ1,33.3,33.3,33.3\nQ2,50.0,25.0,30.0\n"
+                 "Q3,41.2,29.4,29.4\n=cmd,10,20,70\n")
+    assert main(["verify-table", str(f), "--n-range", "1", "100"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[1].startswith("N in 1..100 making the whole table attainable: none")
+    assert "  Q3: 17 (counts 7,5,5), 34, 51, 68, 85" in lines
+    assert "  Q1: 3 (counts 1,1,1), " + ", ".join(str(n) for n in range(6, 100, 3)) in lines
+    assert "  Q2: none (SUM OFF whatever N: see below)" in lines
+    assert ("checked against N = 60, the smallest N in 1..100 at which the most cells are "
+            "attainable (9 of 12):") in lines
+    assert main(["verify-table", str(f), "--n-range", "1", "100", "--json"]) == 0
+    rows = json.loads(capsys.readouterr().out)["rows"]
+    assert [(r["item"], r["feasible_n_count"]) for r in rows][:3] == [("Q1", 33), ("Q2", 0),
+                                                                    ("Q3", 5)]
+    assert rows[2]["feasible_n"] == [17, 34, 51, 68, 85]
