@@ -1066,3 +1066,18 @@ def test_a_flag_in_the_prose_is_text_to_type_and_a_long_name_keeps_its_space():
     assert r"\texttt{--point C\_incline}" in latex and "<code>--point C_incline</code>" in page
     assert r"v_{C\ incline}" in latex and r"r_{C\ incline/C}" in latex
     assert r"C\_incline/" not in latex.replace(r"\texttt{--point C\_incline}", "")
+
+
+def test_an_unknown_that_drops_out_for_the_parameter_values_is_not_said_to_at_this_state_only(tmp_path):
+    """A bar pinned at its end O, moments about K at c = 2L/3 from O (its centre of percussion:
+    I_K = m L^2/9 and the inertial term's alpha part -r_G/K x m (alpha k x r_K/O) = +m L^2/9 alpha
+    cancel). With c a parameter of its own, theta_ddot's coefficient vanishes for the scene's values
+    and at every state, not identically and not because of the state: the text says which."""
+    text = PENDULUM.replace("THETA", "30 deg").replace('L = "0.8 m"', 'L = "0.9 m"\nc = "0.6 m"')
+    text = text.replace('E = ["L", "0"] }', 'E = ["L", "0"], K = ["c", "0"] }')
+    path = tmp_path / "percussion.toml"
+    path.write_text(text, encoding="utf-8")
+    step = explain(load_system(path), "K").section("bar").step("dropped")
+    said = [t for t in step.text if t.startswith("theta_ddot drops out")]
+    assert len(said) == 1 and "for the scene's parameter values, at every state" in said[0], step.text
+    assert "at this state only" not in said[0]

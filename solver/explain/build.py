@@ -624,6 +624,18 @@ def counted(n: int, noun: str) -> str:
     return f"{n} {noun}" if n == 1 else f"{n} {noun}s"
 
 
+def _where_it_vanishes(system, coefficient, printer) -> tuple[str, str]:
+    """(table cell, phrase) for an unknown's coefficient that is not identically zero but is zero
+    at the state: at this state only when it depends on the coordinates, their rates or time; for
+    the scene's parameter values (at every state) when it holds none of them, as
+    ``L*m*(6*a - L)/12`` at L = 6a, a bar pinned at its centre of percussion."""
+    shown = sstr(tidy(coefficient), printer)
+    if coefficient.free_symbols & {*system.q, *system.qd, system.t}:
+        return "at this state", f"at this state only (its coefficient {shown} vanishes here, not identically)"
+    return ("for these values", f"for the scene's parameter values, at every state (its coefficient {shown} "
+            "is zero for these values, not identically)")
+
+
 def _dropped_step(system, body: str, P: str, forces, dropped, newton: Step, euler: Step,
                   at_state: list[str] | None = None, printer: FastStrPrinter | None = None) -> Step:
     """Which unknowns the moment equation about P holds, and why the others drop out.
@@ -650,10 +662,9 @@ def _dropped_step(system, body: str, P: str, forces, dropped, newton: Step, eule
             cells.append("yes")
             why = ""
         elif u in in_euler:
-            cells.append("no, at this state")
-            why = (f"{'its line of action passes through ' + P if line else 'its moment about ' + P + ' is zero'} "
-                   f"at this state only (its coefficient {sstr(tidy(residual.coeff(u)), printer)} vanishes here, "
-                   "not identically)")
+            where, note = _where_it_vanishes(system, residual.coeff(u), printer)
+            cells.append(f"no, {where}")
+            why = f"{'its line of action passes through ' + P if line else 'its moment about ' + P + ' is zero'} {note}"
         else:
             cells.append("no")
             why = (f"its line of action passes through {P}" if f in dropped and line
@@ -664,8 +675,7 @@ def _dropped_step(system, body: str, P: str, forces, dropped, newton: Step, eule
             text.append(f"{f.name} drops out of the moment equation: {why}.")
     for u in in_euler:  # an acceleration whose coefficient vanishes at the state
         if u not in here and u in system.qdd:
-            text.append(f"{u} drops out of the moment equation at this state only (its coefficient "
-                        f"{sstr(tidy(residual.coeff(u)), printer)} vanishes here, not identically).")
+            text.append(f"{u} drops out of the moment equation {_where_it_vanishes(system, residual.coeff(u), printer)[1]}.")
     names = ", ".join(str(u) for u in here)
     if len(here) == len(in_euler):
         text.insert(0, f"The moment equation about {P} contains {counted(len(here), 'unknown')}: {names}.")
