@@ -30,7 +30,7 @@ from ..errors import InputError, SingularConfigurationError
 from .instant import assemble
 from ..strprint import lambdify
 
-__all__ = ["MotionResult", "simulate_system", "MAX_SAMPLES", "MAX_EVALUATIONS"]
+__all__ = ["MotionResult", "simulate_system", "mu_contacts", "MAX_SAMPLES", "MAX_EVALUATIONS"]
 
 MAX_SAMPLES = 200001
 """Most output samples of one run."""
@@ -136,8 +136,26 @@ def simulate_system(system, t_end: float, method: str = "DOP853", rtol: float = 
     return res
 
 
+def mu_contacts(system) -> list[str]:
+    """The contacts ``--mu`` sets: the rolling ones (on a line or a circle), by name.
+
+    Raises
+    ------
+    InputError
+        The scene has none (a rail's coefficient is a parameter of the scene, set by ``--set``).
+    """
+    from ..model.joints import Rolling, RollingOnCircle
+
+    names = [j.name for j in system.joints if isinstance(j, (Rolling, RollingOnCircle))]
+    if not names:
+        raise InputError(f"{system.label}: --mu: the scene has no rolling contact, and --mu sets the friction "
+                         "coefficient of rolling contacts only (a rail's friction_coefficient is the scene's: "
+                         "change its parameter with --set)")
+    return names
+
+
 def _with_mu(system, mu):
-    """``--mu``: every friction coefficient of the contacts replaced by ``mu``."""
+    """``--mu``: the friction coefficient of every rolling contact replaced by ``mu``."""
     from dataclasses import replace
 
     from ..model.contacts import Friction
@@ -145,7 +163,7 @@ def _with_mu(system, mu):
     if not (math.isfinite(mu) and mu >= 0):
         raise InputError(f"--mu must be a finite number >= 0, got {mu!r}")
     value = sp.Float(mu)
-    contacts = {j.name for j in system.contacts}
+    contacts = set(mu_contacts(system))
     return system.copy(joints=[replace(j, friction=Friction(value, value)) if j.name in contacts else j
                                for j in system.joints])
 
