@@ -217,10 +217,12 @@ def modes(system, method: str = "generalized_euler") -> ModesResult:
     lam = lam.real
     vec = vec.real
     tol = 1e-9 * max(1.0, float(np.max(np.abs(lam))))
+    # an equilibrium at round-off distance from 0 is 0
+    eq = {c.name: (0.0 if abs(x) < 1e-12 * sc else float(x)) for c, x, sc in zip(ind, u, scales)}
     if np.any(lam < -tol):
         raise NoRestoringError(
             f"{system.label}: the equilibrium found near the state ("
-            + ", ".join(f"{c.name} = {v:.6g}" for c, v in zip(ind, u))
+            + ", ".join(f"{name} = {v:.6g}" for name, v in eq.items())
             + ") is unstable: no small oscillations about it")
     if np.all(np.abs(lam) <= tol):
         raise NoRestoringError(f"{system.label}: no restoring force in any coordinate: no small oscillations")
@@ -232,8 +234,6 @@ def modes(system, method: str = "generalized_euler") -> ModesResult:
         v = np.where(np.abs(v) < 1e-12, 0.0, v)  # round-off of an uncoupled direction
         omega = math.sqrt(max(lam[k], 0.0)) if abs(lam[k]) > tol else 0.0
         out.append(Mode(omega, {c.name: float(x) for c, x in zip(ind, v)}))
-    # an equilibrium at round-off distance from 0 is 0
-    eq = {c.name: (0.0 if abs(x) < 1e-12 * sc else float(x)) for c, x, sc in zip(ind, u, scales)}
     return ModesResult(eq, out, {c.name: c.unit for c in ind})
 
 
