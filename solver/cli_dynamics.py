@@ -253,7 +253,7 @@ def _simulate_multibody(args, system, t_end) -> int:
     from solver.analyses.motion import simulate_system, write_motion_csv
 
     res = simulate_system(system, t_end, method=args.ivp_method, rtol=args.rtol, atol=args.atol, mu=args.mu,
-                          samples=args.samples)
+                          samples=args.samples, point=args.point)
     if args.out is not None:
         write_motion_csv(res, args.out, system.output_units)
     if args.animate is not None:

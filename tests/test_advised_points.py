@@ -237,13 +237,30 @@ def test_explain_and_the_free_body_diagrams_take_every_point_the_advisor_names(t
         plt.close(drawing.figure)
 
 
-def test_a_bad_point_on_a_contact_scene_is_one_plain_line(tmp_path: Path, capsys) -> None:
+@pytest.mark.parametrize("command", [("solve",), ("explain",), ("draw", "--fbd", "-o", "fbd.svg"), ("precision",),
+                                     ("simulate", "--t-end", "0.1"), ("friction",)])
+def test_a_bad_point_on_a_contact_scene_is_one_plain_line(tmp_path: Path, capsys, command) -> None:
+    # simulate and friction took any --point and went on (the answers do not depend on P, but a
+    # typo must not pass for a point)
     path, _ = _scene(tmp_path, "disk_slips")
+    extra = [str(tmp_path / a) if a.endswith(".svg") else a for a in command[1:]]
     try:
-        status = main(["solve", path, "--point", "Z"])
+        status = main([command[0], path, *extra, "--point", "Z"])
     except SystemExit as stop:
         status = stop.code
     out, err = capsys.readouterr()
     assert status == 2 and out == ""
     assert err.count("\n") == 1 and "--point Z" in err and err.count("'Z'") == 1
     assert "regime" not in err and "Painlev" not in err
+
+
+def test_simulate_about_an_advised_point_gives_the_default_motion(tmp_path: Path) -> None:
+    from solver.analyses.motion import simulate_system
+
+    # 1e-8: both runs integrate the same equations to rtol 1e-9 (they differ by round-off in each
+    # step, which the integrator's step choice can amplify to about its tolerance)
+    for key, point in (("disk_slips", "C_incline"), ("dbar", "upper:I(O_x,A_y)")):
+        path, sets = _scene(tmp_path, key)
+        runs = [simulate_system(load_system(path, sets), 0.3, samples=3, point=p) for p in (None, point)]
+        for name, (column, _unit) in runs[0].columns.items():
+            assert list(runs[1].columns[name][0]) == pytest.approx(list(column), rel=1e-8, abs=1e-10), (key, name)

@@ -99,8 +99,10 @@ def _conservative(system) -> bool:
 
 
 def simulate_system(system, t_end: float, method: str = "DOP853", rtol: float = 1e-9, atol: float = 1e-12,
-                    mu: float | None = None, samples: int | None = None, route: str = "generalized_euler") -> MotionResult:
-    """Integrate ``system`` from its state over [t0, t0 + t_end], switching contact regimes.
+                    mu: float | None = None, samples: int | None = None, route: str = "generalized_euler",
+                    point: str | None = None) -> MotionResult:
+    """Integrate ``system`` from its state over [t0, t0 + t_end], switching contact regimes, with
+    each body's moment equation about ``point`` (``--point``; the motion does not depend on it).
 
     A run is a chain of *segments*, each in one regime of the contacts
     (:mod:`solver.analyses.regimes`). A segment ends at an event: a sticking
@@ -126,7 +128,10 @@ def simulate_system(system, t_end: float, method: str = "DOP853", rtol: float = 
 
     t0 = system.time
     start = start_state(system)
-    run = _Run(system, route, method, rtol, atol)
+    from ..formulations import resolve_points
+
+    resolve_points(system, point)  # a bad --point is refused before the run
+    run = _Run(system, route, method, rtol, atol, point)
     segments, status, reason = run.go(start, t0, t0 + t_end)
     n = int(samples) if samples is not None else 1001
     t_final = segments[-1].t1
@@ -200,8 +205,9 @@ class _Segment:
 class _Run:
     """The chain of segments of one run (see :func:`simulate_system`)."""
 
-    def __init__(self, base, route, method, rtol, atol):
+    def __init__(self, base, route, method, rtol, atol, point=None):
         self.base, self.route, self.method, self.rtol, self.atol = base, route, method, rtol, atol
+        self.point = point
         self.nfev = 0
         self.switches: list[dict] = []
         self.contacts = [j.name for j in base.contacts]
@@ -236,7 +242,7 @@ class _Run:
         if not self.contacts:
             return None
         try:
-            return find_regime(self.base, start.q, start.qd, start.t)
+            return find_regime(self.base, start.q, start.qd, start.t, self.point)
         except NoConsistentRegime as err:
             raise InputError(f"{self.base.label}: at the start already: {str(err).split(': ', 1)[-1]}") from None
 
@@ -247,7 +253,7 @@ class _Run:
 
         te, old = state.t, regimes[what]
         try:  # the regime left holds at the event only with equality: ruled out (a stop may reverse)
-            found = find_regime(self.base, state.q, state.qd, te, exclude={what: old} if kind != "stick" else None)
+            found = find_regime(self.base, state.q, state.qd, te, self.point, exclude={what: old} if kind != "stick" else None)
         except SceneError as err:
             return None, (f"at t = {te:.6g} s: {_describe(kind, what)}; the motion after it: "
                           f"{str(err).split(': ', 1)[-1]}")
@@ -273,7 +279,7 @@ class _Run:
     def _segment(self, system, regimes, state, work, t1):
         from ..formulations import formulate
 
-        model = formulate(system, self.route).numeric()
+        model = formulate(system, self.route, self.point).numeric()
         free = system.free
         ind = [i for i, c in enumerate(free) if not c.dependent]
         t0 = state.t
