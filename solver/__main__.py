@@ -86,7 +86,11 @@ def _parser() -> OneLineArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Parse ``argv`` and run the command; returns the exit status."""
-    args = _parser().parse_args(argv)
+    parser = _parser()
+    args, extra = parser.parse_known_args(argv)
+    if extra:  # named by the command that did not take them ("python -m solver frequency: ..."), not the top
+        command = parser._subparsers._group_actions[0].choices[args.command]  # noqa: SLF001 - argparse has no API
+        command.error(f"unrecognized arguments: {' '.join(extra)}")
     return run_handler(args.handler, args)
 
 

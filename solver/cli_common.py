@@ -113,7 +113,8 @@ def add_point_option(parser: argparse.ArgumentParser) -> None:
         metavar="BODY:POINT",
         default=None,
         help="reference point P of a body's moment equation: BODY:POINT, or a point name (every body "
-        "that has it; for a one-body scene any point or G); default: each body's reference_point",
+        "that has it; for a one-body scene any point or G), or a point the advisor names (C_<joint>, "
+        "BODY:I(R1,R2)); default: each body's reference_point",
     )
 
 

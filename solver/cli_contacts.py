@@ -32,6 +32,9 @@ def contact_friction(args: argparse.Namespace, system) -> int:
                              "this scene is answered from its contacts (--critical, --between, --over)")
     if (args.critical is None) != (args.between is None):
         raise InputError("--critical and --between go together: --critical NAME --between LOW HIGH")
+    from solver.formulations import resolve_points
+
+    resolve_points(system, getattr(args, "point", None))  # checked: regimes and least mu do not depend on P
     payload = {"scene": system.name, "mode": "contacts"}
     units = system.output_units  # times and forces as the text prints them (--critical picks its own unit)
     payload["at_state"] = to_output_units(_at_state(system), units)

@@ -86,9 +86,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--atol", type=float_in(1e-300, 1.0), default=1e-12,
                    help="absolute tolerance, 1e-300 to 1 (default 1e-12)")
     p.add_argument("--out", metavar="FILE.csv", default=None,
-                   help="write the samples to a CSV file (atomically; the place is checked before the run)")
+                   help="write the samples to a CSV file, named .csv (atomically; the place and the suffix are checked "
+                   "before the run)")
     p.add_argument("--mu", type=float_in(0.0, 1e6), default=None,
-                   help="friction coefficient of every rolling contact, 0 to 1e6 (default: the scene's, if any)")
+                   help="friction coefficient of every rolling contact (rolling only: a rail's is a scene parameter, "
+                   "--set), 0 to 1e6 (default: the scene's, if any)")
     p.add_argument("--samples", type=int_in(2, MAX_SAMPLES), default=None,
                    help=f"number of output samples, 2 to {MAX_SAMPLES} (default: 20 per period, at least 1001)")
     p.add_argument("--animate", metavar="FILE.gif", default=None,
@@ -180,10 +182,18 @@ def _system(args, reactions: bool = True):
 
     scene = load_scene_from_args(args)
     if len(scene.free) != 1 or scene.closure or scene.time_dependent or scene.free[0].kind != "angle":
+        independent = [c for c in scene.free if not c.dependent]
+        if not independent:  # `frequency` refuses it too: nothing moves freely
+            advice = "every motion is prescribed, so nothing oscillates: `solve` and `simulate` give its reactions " \
+                     "and driving forces"
+        elif scene.time_dependent and len(independent) > 1:  # beyond `frequency` (solver.analyses.modes)
+            advice = "use `simulate` for its motion"
+        else:
+            advice = "use `frequency` for its natural modes or `simulate` for its motion"
         raise InputError(
             f"{scene.label}: {args.command} needs one degree of freedom given by an angle (one free angle "
             f"coordinate, no closure constraints, no prescribed motion); this scene has {freedom_words(scene)}: "
-            "use `frequency` for its natural modes or `simulate` for its motion"
+            f"{advice}"
         )
     d = derive(scene, getattr(args, "point", None), getattr(args, "method", "generalized_euler"))
     return scene, d, OneDofSystem.from_derivation(d, reactions=reactions)
@@ -243,7 +253,7 @@ def _simulate_multibody(args, system, t_end) -> int:
     from solver.analyses.motion import simulate_system, write_motion_csv
 
     res = simulate_system(system, t_end, method=args.ivp_method, rtol=args.rtol, atol=args.atol, mu=args.mu,
-                          samples=args.samples)
+                          samples=args.samples, point=args.point)
     if args.out is not None:
         write_motion_csv(res, args.out, system.output_units)
     if args.animate is not None:
@@ -287,13 +297,20 @@ def simulate_command(args: argparse.Namespace) -> int:
     if not 0 < t_end <= MAX_T_END:
         raise InputError(f"--t-end must be a positive time of at most {MAX_T_END:g} s, got {args.t_end!r}")
     if args.out is not None:
+        from solver.drawing import check_format
+
         check_output_path(args.out, "--out")  # before the run, not after it
+        check_format(args.out, (".csv",), "--out")  # CSV text only: not under another format's name
     if args.animate is not None:
         from solver.drawing import check_animation_path
 
         check_output_path(args.animate, "--animate")  # the place first: a folder is said to be one
         check_animation_path(args.animate, "--animate")  # suffix, ffmpeg for .mp4, the place
     loaded = load_scene_from_args(args)
+    if args.mu is not None:
+        from solver.analyses.motion import mu_contacts
+
+        mu_contacts(loaded)  # refuses a scene with no rolling contact, which --mu would not change
     if len(loaded.free) != 1 or loaded.closure or len(loaded.bodies) != 1 or loaded.free[0].kind != "angle" \
             or loaded.time_dependent or any(j.friction is not None for j in loaded.contacts):
         # --t-end is the end time; the run starts at the scene's own time (`time`, 0 unless given)

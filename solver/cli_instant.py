@@ -527,7 +527,7 @@ def _latex_names(system) -> dict[sp.Symbol, str]:
 
 def frequency_command(args: argparse.Namespace) -> int:
     scene = load_scene_from_args(args)
-    if len(scene.free) != 1 or scene.closure:
+    if len(scene.free) != 1 or scene.closure or scene.time_dependent:
         return _modes_command(args, scene)
     if args.point is not None:
         derivation.derive(scene, args.point, args.method)  # checks the point (SceneError)
@@ -578,6 +578,8 @@ def _modes_command(args, system) -> int:
         mode = payload["modes"][0]
         payload = {"omega_n": mode["omega_n"], "frequency": mode["frequency"], "period": mode["period"],
                    **payload, "equilibrium": to_output_units({"value": value, "unit": result.units[name]}, units)}
+    if system.time_dependent:
+        payload["equilibrium_relative_to_prescribed_motion"] = True
     if args.json:
         print_json({"scene": system.name, "method": args.method, **payload})
         return 0
@@ -586,6 +588,8 @@ def _modes_command(args, system) -> int:
         (k, in_output_units(math.degrees(v), "deg", units) if result.units[k] == "rad" else in_output_units(v, result.units[k], units))
         for k, v in result.equilibrium.items()))
     print(f"small oscillations about the stable equilibrium {eq}")
+    if system.time_dependent:
+        print("(relative to the prescribed motion: in its frame the equations do not depend on time)")
     print()
     omega_unit, period_unit = output_unit("rad/s", units), output_unit("s", units)
     rows = []

@@ -572,30 +572,47 @@ class _SceneLoader:
                         f"{text!r} is {describe_dimension(quantity.dimensionality)}, but {name} is "
                         f"{describe_dimension(old.dimensionality)} (in the scene: {old:~P})",
                     )
+                if units.is_angle_unit(old):
+                    self.set_angle(quantity, text, name)
                 self.parameters[name] = quantity
                 self.overridden.add(name)
             elif name in state:
                 need = DIMENSIONLESS if name == coordinate else RATE
                 self._check_state_dimension(quantity, need, key, "an angle" if need == DIMENSIONLESS else "an angular velocity")
+                if name == coordinate:
+                    self.set_angle(quantity, text, name)
                 state[name] = quantity
             else:
                 valid = ", ".join([*self.parameters, *state])
                 raise self.fail(key, f"unknown name {name!r} (parameters and state: {valid})")
 
+    def set_angle(self, quantity: pint.Quantity, text: str, name: str) -> None:
+        """``--set NAME`` of an angle: refused without its unit (:func:`solver.units.check_set_angle`)."""
+        try:
+            units.check_set_angle(quantity, text, f"{self.label}: --set {name}", name)
+        except InputError as err:
+            raise SceneError(str(err)) from None
+
     def _check_angles(self, coordinate: str, state: dict[str, pint.Quantity], overrides: Mapping[str, str]) -> None:
         """Every parameter and state value must lie within :data:`solver.units.MAX_SI_MAGNITUDE`
         (SI), and the coordinate's value and every parameter given with an angle unit within
         :data:`solver.units.MAX_ANGLE_TURNS` turns (beyond it float64 sines are meaningless)."""
-        angles = {coordinate: (state[coordinate], "coordinate.value")}
-        angles.update({n: (q, f"parameters.{n}") for n, q in self.parameters.items() if units.is_angle_unit(q)})
+        self.check_angle_sizes({coordinate: (state[coordinate], "coordinate.value")}, overrides)
+        keys = {name: "coordinate.value" if name == coordinate else "coordinate.rate" for name in state}
+        self.check_magnitudes({**self.parameters, **state}, overrides, keys)
+
+    def check_angle_sizes(self, angles: Mapping[str, tuple[pint.Quantity, str]], overrides: Mapping[str, str]) -> None:
+        """The cap on angles, for both scene formats: each of ``angles`` (name -> (quantity, its key
+        in the file)) and every parameter given with an angle unit within
+        :data:`solver.units.MAX_ANGLE_TURNS` turns, named ``--set NAME`` when overridden."""
+        angles = {**angles, **{n: (q, f"parameters.{n}") for n, q in self.parameters.items()
+                               if units.is_angle_unit(q) and n not in angles}}
         for name, (quantity, key) in angles.items():
             key = f"--set {name}" if name in overrides else key
             try:
                 units.check_angle(float(quantity.to("rad").magnitude), f"{self.label}: {key}", f"{quantity.magnitude:g} {quantity.units:~}")
             except InputError as err:
                 raise SceneError(str(err)) from None
-        keys = {name: "coordinate.value" if name == coordinate else "coordinate.rate" for name in state}
-        self.check_magnitudes({**self.parameters, **state}, overrides, keys)
 
     def check_magnitudes(self, quantities: Mapping[str, pint.Quantity], overrides: Mapping[str, str],
                          keys: Mapping[str, str] | None = None) -> None:

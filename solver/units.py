@@ -360,13 +360,37 @@ def check_angle(value_rad: float, where: str, text: Any = None) -> float:
     ...
     solver.errors.InputError: coordinate.value: the angle '1e300 deg' is too large (at most 1000 turns, 360000 deg, in size)
     """
-    if not (math.isfinite(value_rad) and abs(value_rad) <= MAX_ANGLE_RAD):
+    if not (math.isfinite(value_rad) and abs(value_rad) <= MAX_ANGLE_RAD * (1 + 1e-15)):  # (1000 turns' rounding)
         shown = text if text is not None else f"{value_rad} rad"
         raise InputError(
             f"{where}: the angle {shown!r} is too large (at most {MAX_ANGLE_TURNS} turns, "
             f"{360 * MAX_ANGLE_TURNS} deg, in size)"
         )
     return value_rad
+
+
+def check_set_angle(quantity: pint.Quantity, text: Any, where: str, name: str) -> None:
+    """``--set``'s rule for an angle (a coordinate's value, or a parameter the scene gives in an
+    angle unit): it needs its unit, since a bare number would be read as radians here while
+    ``--amplitude`` reads one as degrees; 0 is 0 in any unit and passes.
+
+    Raises
+    ------
+    InputError
+        ``"<where>: '45' has no unit, but theta is an angle: ..."``.
+
+    Examples
+    --------
+    >>> check_set_angle(Q_(0), "0", "--set theta", "theta")
+    >>> check_set_angle(Q_(45), "45", "--set theta", "theta")
+    Traceback (most recent call last):
+    ...
+    solver.errors.InputError: --set theta: '45' has no unit, but theta is an angle: give "45 deg" or "45 rad"
+    """
+    if not is_angle_unit(quantity) and not quantity.dimensionality and quantity.magnitude != 0:
+        number = f"{quantity.magnitude:g}"
+        raise InputError(f"{where}: {str(text)!r} has no unit, but {name} is an angle: give \"{number} deg\" or "
+                         f"\"{number} rad\"")
 
 
 def is_angle_unit(quantity: pint.Quantity) -> bool:
@@ -419,7 +443,7 @@ def _short(err: Exception, limit: int = 120) -> str:
 
 __all__ = [
     "ureg", "Q_", "check_unit_text", "parse_unit", "parse_quantity", "parse_angle", "parse_time", "si_magnitude",
-    "check_magnitude", "check_angle", "unit_text", "check_si_magnitude", "MAX_SI_MAGNITUDE", "is_angle_unit", "DIMENSIONLESS_UNITS",
+    "check_magnitude", "check_angle", "check_set_angle", "unit_text", "check_si_magnitude", "MAX_SI_MAGNITUDE", "is_angle_unit", "DIMENSIONLESS_UNITS",
     "MAX_QUANTITY_LENGTH", "MAX_UNIT_LENGTH", "MAX_UNIT_EXPONENT", "MAX_UNIT_NESTING",
     "MAX_MAGNITUDE", "MAX_ANGLE_TURNS", "MAX_ANGLE_RAD",
 ]

@@ -199,11 +199,13 @@ def test_massless_bar_on_the_command_line(solver_cli, command):
 
 
 def test_no_restoring_force_for_a_length(solver_cli):
-    """QA round 9 item 14: a block free on an arm turning in a horizontal plane has no potential in
-    its coordinate r, a length: what is missing is a restoring force, not a moment (one line, exit 2)."""
+    """QA round 9 item 14: a block free on an arm turning at omega in a horizontal plane has no
+    potential in its coordinate r, a length. Relative to the arm (QA round 10 item 1) r'' = omega^2 r:
+    r = 0 is an equilibrium, unstable, with nothing restoring it; said of r, not as a moment (one
+    line, exit 2)."""
     code, _, err = solver_cli("frequency", "tests/data/multibody/arm_block.toml")
     assert code == 2 and err.count("\n") == 1
-    assert "does not depend on r (no restoring force" in err and "moment" not in err
+    assert "(r = 0) is unstable" in err and "moment" not in err
 
 
 def test_period_input_errors_are_one_line():

@@ -7,7 +7,12 @@ u'' = J (u - u_e) with J = dg/du, and the natural frequencies are
 omega_i = sqrt(lambda_i) for the eigenvalues lambda_i of -J (= M^-1 K), the
 mode shapes its eigenvectors. Every load that depends on position only is
 included (gravity, springs, constant forces and couples); dampers vanish at
-rest; loads that depend on time have no equilibrium and are refused.
+rest; loads that depend on time have no equilibrium and are refused. With a
+motion prescribed in time (an arm turned at a constant rate) and one free
+coordinate, the equilibrium is relative to that motion: it is accepted when
+it is one at every time, the equations in the moving frame being free of t
+(a collar on a turning arm with a spring to the hub: r_e = k L0 / (k - m W^2),
+omega_n^2 = k/m - W^2); otherwise refused, saying why.
 
 J is taken by fourth-order central differences of g (step 1e-3 of each
 coordinate's scale), whose truncation error, h^4 g^(5) / 30 ~ 1e-13 relative,
@@ -90,15 +95,15 @@ class ModesResult:
         }
 
 
-def _accelerations(system, method):
-    """g(u): independent accelerations at rest, u -> u''."""
+def _accelerations(system, method, t=None):
+    """g(u): independent accelerations at rest at time ``t`` (the scene's by default), u -> u''."""
     from ..formulations import formulate
 
     model = formulate(system, method).numeric()
     free = system.free
     ind = [i for i, c in enumerate(free) if not c.dependent]
     names = [str(free[i].qdd) for i in ind]
-    t = system.time
+    t = system.time if t is None else t
 
     last = [c.value for c in free]  # continuation: dependent coordinates start from the last solution
 
@@ -125,14 +130,42 @@ def _jacobian(g, u, scales):
 
 
 def _check_time_independent(system):
+    """Refuse a load that depends on time; with motion prescribed in time, where every load moves
+    with it, :func:`_check_autonomous` decides instead (one free coordinate only)."""
     t = system.t
-    for a in system.applied_loads:
+    for a in ([] if system.time_dependent else system.applied_loads):
         exprs = [a.couple] + ([] if a.force is None else list(a.force))
         if any(sp.sympify(e).has(t) for e in exprs):
             raise InputError(f"{system.label}: load {a.name!r} depends on time, so there is no equilibrium to "
                              "oscillate about (set it to zero with --set)")
-    if any(any(sp.sympify(x).has(t) for x in (*origin, phi)) for origin, phi in system.poses.values()):
-        raise InputError(f"{system.label}: the motion is prescribed as a function of time: no free oscillation")
+    if system.time_dependent and len([c for c in system.free if not c.dependent]) > 1:
+        raise InputError(f"{system.label}: the motion is prescribed as a function of time, and the rates of "
+                         "several free coordinates couple through it (Coriolis terms): `frequency` gives "
+                         "small oscillations relative to a prescribed motion for one free coordinate only")
+
+
+_LATER = (0.7071, 1.7321, 3.1416)
+"""Time offsets [s] at which a relative equilibrium is tested again (:func:`_check_autonomous`):
+three unrelated ones, so that no prescribed motion of a plausible rate repeats at all three."""
+
+
+def _check_autonomous(system, method, u, J, scales):
+    """Refuse an equilibrium ``u`` (Jacobian ``J``) of a system with motion prescribed in time
+    unless it is one at every time: the accelerations at rest vanish there and ``J`` is the same
+    at each offset of :data:`_LATER`. Then the equations relative to the prescribed motion do not
+    depend on time (an arm turned at a constant rate, with nothing fixed in the ground acting
+    on what it carries) and the small oscillations about ``u`` are exact in that frame.
+
+    The tolerances: g(u) of an equilibrium is round-off of the instantaneous solve (about 1e-12
+    of the accelerations' scale |J| x scale), and ``J`` by differences is good to about 1e-11
+    (module docstring); 1e-7 is far above both and far below any real time dependence."""
+    size = float(np.max(np.abs(J) * scales[np.newaxis, :])) or 1.0
+    for dt in _LATER:
+        g, _ = _accelerations(system, method, system.time + dt)
+        if np.max(np.abs(g(u))) > 1e-7 * size or np.max(np.abs(_jacobian(g, u, scales) - J)) > 1e-7 * np.max(np.abs(J)):
+            raise InputError(f"{system.label}: the prescribed motion makes the equations of motion depend on "
+                             "time (the loads or the geometry change along it, not only its rate): there is no "
+                             "equilibrium, even relative to it, to oscillate about (`simulate` gives the motion)")
 
 
 def modes(system, method: str = "generalized_euler") -> ModesResult:
@@ -153,7 +186,7 @@ def modes(system, method: str = "generalized_euler") -> ModesResult:
     g, idx = _accelerations(system, method)
     scales = np.array([1.0 if c.kind == "angle" else max(abs(c.value), 0.1) for c in ind])
     u = np.array([c.value for c in ind], dtype=float)
-    if len(ind) == 1 and not system.closure:
+    if len(ind) == 1 and not system.closure and not system.time_dependent:
         u = np.array([_one_dof_equilibrium(system, method, u[0])])
     elif len(ind) == 1 and ind[0].kind == "angle":
         u = np.array([_scan_one_angle(g, u[0], system)])
@@ -176,16 +209,20 @@ def modes(system, method: str = "generalized_euler") -> ModesResult:
         J = _jacobian(g, u, scales)
         lam, vec = np.linalg.eig(-J)
         tries += 1
+    if system.time_dependent:  # an equilibrium relative to the prescribed motion, if the motion allows one
+        _check_autonomous(system, method, u, J, scales)
     if np.max(np.abs(lam.imag)) > 1e-6 * max(1.0, np.max(np.abs(lam.real))):
         raise NoRestoringError(f"{system.label}: the linearised motion about the equilibrium is not oscillatory "
                                "(complex eigenvalues)")
     lam = lam.real
     vec = vec.real
     tol = 1e-9 * max(1.0, float(np.max(np.abs(lam))))
+    # an equilibrium at round-off distance from 0 is 0
+    eq = {c.name: (0.0 if abs(x) < 1e-12 * sc else float(x)) for c, x, sc in zip(ind, u, scales)}
     if np.any(lam < -tol):
         raise NoRestoringError(
             f"{system.label}: the equilibrium found near the state ("
-            + ", ".join(f"{c.name} = {v:.6g}" for c, v in zip(ind, u))
+            + ", ".join(f"{name} = {v:.6g}" for name, v in eq.items())
             + ") is unstable: no small oscillations about it")
     if np.all(np.abs(lam) <= tol):
         raise NoRestoringError(f"{system.label}: no restoring force in any coordinate: no small oscillations")
@@ -197,8 +234,6 @@ def modes(system, method: str = "generalized_euler") -> ModesResult:
         v = np.where(np.abs(v) < 1e-12, 0.0, v)  # round-off of an uncoupled direction
         omega = math.sqrt(max(lam[k], 0.0)) if abs(lam[k]) > tol else 0.0
         out.append(Mode(omega, {c.name: float(x) for c, x in zip(ind, v)}))
-    # an equilibrium at round-off distance from 0 is 0
-    eq = {c.name: (0.0 if abs(x) < 1e-12 * sc else float(x)) for c, x, sc in zip(ind, u, scales)}
     return ModesResult(eq, out, {c.name: c.unit for c in ind})
 
 

@@ -30,7 +30,7 @@ from ..errors import InputError, SingularConfigurationError
 from .instant import assemble
 from ..strprint import lambdify
 
-__all__ = ["MotionResult", "simulate_system", "MAX_SAMPLES", "MAX_EVALUATIONS"]
+__all__ = ["MotionResult", "simulate_system", "mu_contacts", "MAX_SAMPLES", "MAX_EVALUATIONS"]
 
 MAX_SAMPLES = 200001
 """Most output samples of one run."""
@@ -99,8 +99,10 @@ def _conservative(system) -> bool:
 
 
 def simulate_system(system, t_end: float, method: str = "DOP853", rtol: float = 1e-9, atol: float = 1e-12,
-                    mu: float | None = None, samples: int | None = None, route: str = "generalized_euler") -> MotionResult:
-    """Integrate ``system`` from its state over [t0, t0 + t_end], switching contact regimes.
+                    mu: float | None = None, samples: int | None = None, route: str = "generalized_euler",
+                    point: str | None = None) -> MotionResult:
+    """Integrate ``system`` from its state over [t0, t0 + t_end], switching contact regimes, with
+    each body's moment equation about ``point`` (``--point``; the motion does not depend on it).
 
     A run is a chain of *segments*, each in one regime of the contacts
     (:mod:`solver.analyses.regimes`). A segment ends at an event: a sticking
@@ -126,7 +128,10 @@ def simulate_system(system, t_end: float, method: str = "DOP853", rtol: float = 
 
     t0 = system.time
     start = start_state(system)
-    run = _Run(system, route, method, rtol, atol)
+    from ..formulations import resolve_points
+
+    resolve_points(system, point)  # a bad --point is refused before the run
+    run = _Run(system, route, method, rtol, atol, point)
     segments, status, reason = run.go(start, t0, t0 + t_end)
     n = int(samples) if samples is not None else 1001
     t_final = segments[-1].t1
@@ -136,8 +141,26 @@ def simulate_system(system, t_end: float, method: str = "DOP853", rtol: float = 
     return res
 
 
+def mu_contacts(system) -> list[str]:
+    """The contacts ``--mu`` sets: the rolling ones (on a line or a circle), by name.
+
+    Raises
+    ------
+    InputError
+        The scene has none (a rail's coefficient is a parameter of the scene, set by ``--set``).
+    """
+    from ..model.joints import Rolling, RollingOnCircle
+
+    names = [j.name for j in system.joints if isinstance(j, (Rolling, RollingOnCircle))]
+    if not names:
+        raise InputError(f"{system.label}: --mu: the scene has no rolling contact, and --mu sets the friction "
+                         "coefficient of rolling contacts only (a rail's friction_coefficient is the scene's: "
+                         "change its parameter with --set)")
+    return names
+
+
 def _with_mu(system, mu):
-    """``--mu``: every friction coefficient of the contacts replaced by ``mu``."""
+    """``--mu``: the friction coefficient of every rolling contact replaced by ``mu``."""
     from dataclasses import replace
 
     from ..model.contacts import Friction
@@ -145,7 +168,7 @@ def _with_mu(system, mu):
     if not (math.isfinite(mu) and mu >= 0):
         raise InputError(f"--mu must be a finite number >= 0, got {mu!r}")
     value = sp.Float(mu)
-    contacts = {j.name for j in system.contacts}
+    contacts = set(mu_contacts(system))
     return system.copy(joints=[replace(j, friction=Friction(value, value)) if j.name in contacts else j
                                for j in system.joints])
 
@@ -182,8 +205,9 @@ class _Segment:
 class _Run:
     """The chain of segments of one run (see :func:`simulate_system`)."""
 
-    def __init__(self, base, route, method, rtol, atol):
+    def __init__(self, base, route, method, rtol, atol, point=None):
         self.base, self.route, self.method, self.rtol, self.atol = base, route, method, rtol, atol
+        self.point = point
         self.nfev = 0
         self.switches: list[dict] = []
         self.contacts = [j.name for j in base.contacts]
@@ -218,7 +242,7 @@ class _Run:
         if not self.contacts:
             return None
         try:
-            return find_regime(self.base, start.q, start.qd, start.t)
+            return find_regime(self.base, start.q, start.qd, start.t, self.point)
         except NoConsistentRegime as err:
             raise InputError(f"{self.base.label}: at the start already: {str(err).split(': ', 1)[-1]}") from None
 
@@ -229,7 +253,7 @@ class _Run:
 
         te, old = state.t, regimes[what]
         try:  # the regime left holds at the event only with equality: ruled out (a stop may reverse)
-            found = find_regime(self.base, state.q, state.qd, te, exclude={what: old} if kind != "stick" else None)
+            found = find_regime(self.base, state.q, state.qd, te, self.point, exclude={what: old} if kind != "stick" else None)
         except SceneError as err:
             return None, (f"at t = {te:.6g} s: {_describe(kind, what)}; the motion after it: "
                           f"{str(err).split(': ', 1)[-1]}")
@@ -255,7 +279,7 @@ class _Run:
     def _segment(self, system, regimes, state, work, t1):
         from ..formulations import formulate
 
-        model = formulate(system, self.route).numeric()
+        model = formulate(system, self.route, self.point).numeric()
         free = system.free
         ind = [i for i, c in enumerate(free) if not c.dependent]
         t0 = state.t

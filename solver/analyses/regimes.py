@@ -211,6 +211,9 @@ def find_regime(system, q=None, qd=None, t=None, point=None, method="generalized
     if len(system.contacts) > MAX_CONTACTS:
         raise InputError(f"{system.label}: {len(system.contacts)} contacts can change regime; at most "
                          f"{MAX_CONTACTS} are searched")
+    from ..formulations import resolve_points
+
+    resolve_points(system, point)  # a bad --point: its own one line, not once per regime tried
     if q is None:
         st = start_state(system)
         q, qd, t = st.q, st.qd, st.t

@@ -156,7 +156,7 @@ def add_joint_point(system, point: str | None) -> None:
     (with the coordinates' values there) as an instant point's is: the drawing places the point
     by it, and at the state it is the same place.
     """
-    from ..analyses.instant import assemble
+    from ..analyses.regimes import start_state
     from ..model.bodies import Point
 
     if point is None:
@@ -169,7 +169,7 @@ def add_joint_point(system, point: str | None) -> None:
         points = _Points(system, b.name)
         forces = _forces_on(system, b.name, points)
         at = next((f.at for f in forces if f.point == name), None)
-        state = state or assemble(system)
+        state = state or start_state(system)  # (a contact may be open there)
         if at is None or name not in points.about:
             at = _crossing(system, forces, name, point, _state_subs(system, state))
         if at is None:

@@ -67,11 +67,18 @@ def resolve_points(system, point: str | None) -> dict[str, str]:
     ``point`` is ``None`` (each body's default), ``BODY:POINT`` (that body's
     point; the others keep their defaults), or a bare ``POINT`` (a point name:
     for a one-body system, that body's point; otherwise every body that has a
-    point of that name uses it).
+    point of that name uses it). A name the point advisor gives to a place where no named point
+    is (``C_<joint>``, ``BODY:I(R1,R2)``) becomes an instant point of its body first, by the
+    worked solution's own rule (:func:`solver.explain.build.add_joint_point`).
     """
     points = {name: body.default_point for name, body in system.bodies.items()}
     if point is None:
         return points
+    owner, _, wanted = point.rpartition(":")
+    if not any(wanted in b.point_names() for n, b in system.bodies.items() if n == owner or not owner):
+        from ..explain.build import add_joint_point  # the advisor's C_<joint> and BODY:I(R1,R2), as explain
+
+        add_joint_point(system, point)
     if ":" in point:
         body, name = point.split(":", 1)
         if body not in system.bodies:

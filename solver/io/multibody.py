@@ -24,7 +24,7 @@ from ..model.joints import (Actuator, Cord, GearMesh, Motor, Pin, PinInSlot, Rai
 from ..model.loads import Couple, Damper, Force, Gravity, Spring, TorsionalDamper, TorsionalSpring
 from ..model.system import Coordinate, System
 from ..scenefile import (ACCELERATION, DIMENSIONLESS, ELEMENT_KEYS, FORCE, LENGTH, MASS, MOMENT, RATE, TIME,
-                         _Names, _SceneLoader)
+                         _Names, _SceneLoader, describe_dimension)
 
 __all__ = ["is_multibody", "load_multibody"]
 
@@ -167,8 +167,11 @@ class _MultibodyReader:
                 q = self._quantity(text, f"--set {oname}")
                 if q.dimensionality != L.parameters[oname].dimensionality:
                     raise self.fail(f"--set {oname}", f"{text!r} has the wrong dimension for {oname}")
+                if units.is_angle_unit(L.parameters[oname]):
+                    L.set_angle(q, text, oname)
                 L.parameters[oname] = q
         L.check_magnitudes(L.parameters, self.overrides)
+        L.check_angle_sizes({}, self.overrides)
 
     def _setup_symbols(self):
         L = self.L
@@ -196,17 +199,24 @@ class _MultibodyReader:
                 self.kinds[cname] = ("motion", expr)
             else:
                 key = "value" if "value" in spec else "guess"
-                text = self.overrides.get(cname, spec[key])
-                q = self._quantity(text, f"coordinates.{cname}.{key}" if cname not in self.overrides else f"--set {cname}")
-                self.given_values[cname] = q
-                if q.dimensionality == DIMENSIONLESS:
-                    kind = "angle"
-                    v = float(q.to("rad").magnitude)
-                elif q.dimensionality == LENGTH:
-                    kind = "length"
-                    v = float(q.to("m").magnitude)
-                else:
+                q = self._quantity(spec[key], f"coordinates.{cname}.{key}")
+                if q.dimensionality not in (DIMENSIONLESS, LENGTH):
                     raise self.fail(f"coordinates.{cname}.{key}", f"{q:~P} is neither an angle nor a length")
+                kind = "angle" if q.dimensionality == DIMENSIONLESS else "length"
+                if cname in self.overrides:  # the scene's value decides the kind; --set gives one of it
+                    text = self.overrides[cname]
+                    q = self._quantity(text, f"--set {cname}")
+                    if q.dimensionality != (DIMENSIONLESS if kind == "angle" else LENGTH):
+                        what = "an angle" if units.is_angle_unit(q) else describe_dimension(q.dimensionality)
+                        raise self.fail(f"--set {cname}", f"{text!r} is {what}, but "
+                                        f"{cname} is {'an angle' if kind == 'angle' else 'a length'} "
+                                        f"(in the scene: {spec[key]!r})")
+                    if kind == "angle":
+                        L.set_angle(q, text, cname)
+                self.given_values[cname] = q
+                v = float(q.to("rad" if kind == "angle" else "m").magnitude)
+                if kind == "angle":  # the cap on angles, as for the one-body format and --amplitude
+                    L.check_angle_sizes({cname: (q, f"coordinates.{cname}.{key}")}, self.overrides)
                 self.kinds[cname] = (kind, v)
             sym = coords[cname]
             kind = self.kinds[cname][0]
@@ -252,10 +262,11 @@ class _MultibodyReader:
             if not dependent:
                 rkey = f"{cname}_dot"
                 text = self.overrides.get(rkey, L.require(spec, "rate", f"coordinates.{cname}", "its rate, e.g. \"0 rad/s\""))
-                q = self._quantity(text, f"coordinates.{cname}.rate" if rkey not in self.overrides else f"--set {rkey}")
+                where = f"coordinates.{cname}.rate" if rkey not in self.overrides else f"--set {rkey}"
+                q = self._quantity(text, where)
                 need = RATE if kind == "angle" else LENGTH / TIME
                 if q.dimensionality != need:
-                    raise self.fail(f"coordinates.{cname}.rate", f"{q:~P} is not {'an angular velocity' if kind == 'angle' else 'a speed'}")
+                    raise self.fail(where, f"{q:~P} is not {'an angular velocity' if kind == 'angle' else 'a speed'}")
                 rate = float(q.to_base_units().magnitude)
             elif "rate" in spec:
                 raise self.fail(f"coordinates.{cname}.rate", "a dependent coordinate's rate is solved, not given")

@@ -1,0 +1,166 @@
+"""Command-line options that are refused, or apply, as their help and the READMEs say
+(solver/cli_dynamics.py, solver/__main__.py, the --set rules of solver/units.py read by both scene
+loaders). Each refusal is one ``error:`` line on stderr, exit status 2, naming the flag or the
+``--set`` name and the file where one is involved, with nothing written.
+
+Reference values are closed forms: a disk sliding down a 30 deg incline from rest has
+s'' = g (sin(beta) - mu cos(beta)) (Coulomb friction mu N, N = m g cos(beta)).
+"""
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import pytest
+
+from solver.__main__ import main
+
+ROOT = Path(__file__).resolve().parents[1]
+SCENES = ROOT / "data" / "scenes"
+
+TABLE_ROD = """
+name = "table_rod"
+[parameters]
+m = "3 kg"
+L = "1.2 m"
+a = "0.2 m"
+g = "9.81 m/s^2"
+[coordinates]
+theta = { value = "0 deg", rate = "0 rad/s" }
+[ground.points]
+O = ["0", "0"]
+[[bodies]]
+name = "rod"
+orientation = "theta"
+reference_point = "O"
+points = { O = ["0", "0"], A = ["-L/2 + a", "0"], B = ["L/2 + a", "0"] }
+elements = [{ kind = "slender_bar", mass = "m", from = "A", to = "B" }]
+[[joints]]
+kind = "pin"
+name = "O"
+connects = ["ground:O", "rod:O"]
+[[loads]]
+kind = "gravity"
+g = "g"
+"""
+
+
+def _run(capsys, *args: str) -> tuple[int, str, str]:
+    try:
+        status = main(list(args))
+    except SystemExit as stop:
+        status = stop.code
+    return (status, *capsys.readouterr())
+
+
+def _one_line(status: int, out: str, err: str) -> str:
+    assert status == 2 and out == "", err
+    assert err.startswith("error: ") and err.count("\n") == 1 and "Traceback" not in err
+    return err
+
+
+@pytest.fixture()
+def table_rod(tmp_path: Path) -> str:
+    path = tmp_path / "table_rod.toml"
+    path.write_text(TABLE_ROD)
+    return str(path)
+
+
+# -- simulate --mu: rolling contacts only --------------------------------------------------------
+
+@pytest.mark.parametrize("scene", ["ladder_leaves_wall.toml", "compound_pendulum.toml"])
+def test_simulate_mu_on_a_scene_without_rolling_contact_is_refused_naming_the_file(capsys, scene: str) -> None:
+    # rails only (the old message named no file); no contact at all (--mu was ignored silently)
+    err = _one_line(*_run(capsys, "simulate", str(SCENES / scene), "--t-end", "0.2", "--mu", "0.2"))
+    assert str(SCENES / scene) in err and "--mu" in err and "no rolling contact" in err
+
+
+def test_simulate_mu_still_sets_a_rolling_contact(capsys) -> None:
+    mu, beta, g = 0.05, math.radians(30), 9.80665  # incline_disk.toml: 30 deg, g = 9.80665 m/s^2
+    status, out, err = _run(capsys, "simulate", str(SCENES / "incline_disk.toml"), "--t-end", "0.5", "--mu", str(mu),
+                            "--samples", "3", "--json")
+    assert status == 0, err
+    # it needs tan(30 deg)/3 = 0.19 to roll: with 0.05 it slides. 1e-9: the integrator's rtol is 1e-9
+    # and s'' is constant along the slide
+    assert json.loads(out)["final"]["s_ddot"]["value"] == pytest.approx(g * (math.sin(beta) - mu * math.cos(beta)),
+                                                                       rel=1e-9)
+
+
+# -- simulate --out: CSV only --------------------------------------------------------------------
+
+def test_simulate_out_with_another_suffix_is_refused_before_the_run(capsys, tmp_path: Path) -> None:
+    target = tmp_path / "run.xlsx"
+    err = _one_line(*_run(capsys, "simulate", str(SCENES / "compound_pendulum.toml"), "--t-end", "0.1",
+                          "--out", str(target)))
+    assert "--out" in err and ".xlsx" in err and ".csv" in err
+    assert not any(tmp_path.iterdir())  # nothing written, not even a temporary file
+
+
+# -- --set: the angle rules, one-body and multibody formats alike ---------------------------------
+
+@pytest.mark.parametrize("fmt", ["multibody", "one-body"])
+def test_set_an_angle_with_a_length_blames_set_and_says_what_each_is(capsys, table_rod: str, fmt: str) -> None:
+    scene = table_rod if fmt == "multibody" else str(SCENES / "sliding_bar.toml")
+    err = _one_line(*_run(capsys, "solve", scene, "--set", "theta=45 m"))
+    assert "--set theta" in err and "a length" in err and "angle" in err and ".rate" not in err
+
+
+def test_set_a_length_with_an_angle_blames_set(capsys) -> None:
+    err = _one_line(*_run(capsys, "solve", str(SCENES / "cart_pendulum.toml"), "--set", "x=10 deg"))
+    assert "--set x:" in err and "is an angle, but x is a length" in err
+
+
+@pytest.mark.parametrize("setting", ["theta=45", "beta=90"])
+def test_set_a_bare_number_for_an_angle_asks_for_its_unit(capsys, table_rod: str, setting: str) -> None:
+    name, _, number = setting.partition("=")
+    scene = table_rod if name == "theta" else str(SCENES / "sliding_bar.toml")  # a coordinate; a deg parameter
+    err = _one_line(*_run(capsys, "solve", scene, "--set", setting))
+    assert f"--set {name}" in err and "no unit" in err and f'"{number} deg"' in err
+
+
+def test_set_zero_and_an_angle_with_its_unit_are_taken(capsys, table_rod: str) -> None:
+    m, L, a, g = 3.0, 1.2, 0.2, 9.81  # the rod on the table edge, from rest: I_O theta'' = -m g a cos(theta)
+    for setting, degrees in (("theta=0", 0.0), ("theta=45 deg", 45.0), ("theta=0.125 turn", 45.0)):
+        status, out, err = _run(capsys, "solve", table_rod, "--set", setting, "--json")
+        assert status == 0, err
+        expected = -m * g * a * math.cos(math.radians(degrees)) / (m * L**2 / 12 + m * a**2)
+        # 1e-12: one small linear solve, round-off only
+        assert json.loads(out)["unknowns"]["theta_ddot"]["value"] == pytest.approx(expected, rel=1e-12)
+
+
+@pytest.mark.parametrize("where", ["file", "set"])
+def test_the_angle_cap_holds_for_multibody_coordinates(capsys, tmp_path: Path, table_rod: str, where: str) -> None:
+    if where == "file":
+        scene = tmp_path / "big.toml"
+        scene.write_text(TABLE_ROD.replace('value = "0 deg"', 'value = "1e7 deg"'))
+        err = _one_line(*_run(capsys, "solve", str(scene)))
+        assert "coordinates.theta.value" in err
+    else:
+        err = _one_line(*_run(capsys, "solve", table_rod, "--set", "theta=1e7 deg"))
+        assert "--set theta" in err
+    assert "1000 turns" in err
+
+
+def test_the_angle_cap_lets_1000_turns_pass(capsys, table_rod: str) -> None:
+    for text in ("360000 deg", "-1000 turn"):  # the cap itself, whatever its rounding in radians
+        status, _, err = _run(capsys, "solve", table_rod, "--set", f"theta={text}")
+        assert status == 0, err
+
+
+# -- period on a fully driven scene; unknown flags named by their command -------------------------
+
+def test_period_of_a_fully_driven_scene_does_not_send_to_frequency(capsys) -> None:
+    scene = str(SCENES / "slider_crank.toml")
+    err = _one_line(*_run(capsys, "period", scene, "--amplitude", "10 deg"))
+    assert "`frequency`" not in err and "prescribed" in err
+    _one_line(*_run(capsys, "frequency", scene))  # which would refuse it too
+
+
+@pytest.mark.parametrize("command, required", [("frequency", ()), ("solve", ()), ("period", ("--amplitude", "10")),
+                                               ("simulate", ("--t-end", "0.1")), ("draw", ("-o", "x.svg")),
+                                               ("explain", ())])
+def test_an_unknown_flag_is_named_with_its_command(capsys, command: str, required: tuple[str, ...]) -> None:
+    err = _one_line(*_run(capsys, command, str(SCENES / "compound_pendulum.toml"), *required, "--mu", "0.3", "--bogus"))
+    unknown = "--bogus" if command == "simulate" else "--mu 0.3 --bogus"  # --mu is one of simulate's
+    assert f"python -m solver {command}: unrecognized arguments: {unknown} " in err

@@ -1,0 +1,99 @@
+"""``frequency`` with a motion prescribed in time (solver/analyses/modes.py).
+
+Reference: a collar of mass m slides on an arm turned at the constant rate W in a
+horizontal plane, a spring (k, free length L0) pulling it to the hub. In the turning frame
+m r'' = m W^2 r - k (r - L0), free of t, so the relative equilibrium and the small
+oscillations about it are exact closed forms (any dynamics text, rotating frames):
+r_e = k L0 / (k - m W^2), omega_n^2 = k/m - W^2. With gravity in the plane of the arm the
+collar's equation holds g sin(W t): time stays explicit and there is nothing to oscillate
+about, which must be refused in one line.
+"""
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import pytest
+
+from solver.__main__ import main
+
+ROT_ARM = """
+name = "rot_arm"
+[parameters]
+m = "0.5 kg"
+M = "2 kg"
+L = "1 m"
+k = "40 N/m"
+L0 = "0.3 m"
+W = "4 rad/s"
+g = "9.81 m/s^2"
+[coordinates]
+theta = { motion = "W*t" }
+r = { value = "0.4 m", rate = "0.5 m/s" }
+[ground.points]
+O = ["0", "0"]
+[[bodies]]
+name = "arm"
+points = { O = ["0", "0"], E = ["L", "0"] }
+elements = [{ kind = "slender_bar", mass = "M", from = "O", to = "E" }]
+[[bodies]]
+name = "collar"
+position = { point = "C", at = ["r*cos(theta)", "r*sin(theta)"] }
+points = { C = ["0", "0"] }
+elements = [{ kind = "point_mass", mass = "m", at = ["0", "0"] }]
+[[joints]]
+kind = "pin"
+name = "O"
+connects = ["ground:O", "arm:O"]
+[[joints]]
+kind = "motor"
+name = "drive"
+bodies = ["ground", "arm"]
+angle = "W*t"
+torque = "T"
+[[joints]]
+kind = "slider"
+name = "sl"
+on = "arm"
+point = "collar:C"
+reactions = ["N", "Mc"]
+[[loads]]
+kind = "spring"
+between = ["arm:O", "collar:C"]
+stiffness = "k"
+free_length = "L0"
+"""
+
+GRAVITY = '\n[[loads]]\nkind = "gravity"\ng = "g"\n'
+
+
+def _run(capsys, *args):
+    try:
+        status = main(list(args))
+    except SystemExit as stop:
+        status = stop.code
+    return (status, *capsys.readouterr())
+
+
+@pytest.mark.parametrize("W", [4.0, 0.0, 7.5])
+def test_turning_arm_relative_equilibrium_is_the_closed_form(tmp_path: Path, capsys, W: float) -> None:
+    scene = tmp_path / "rot_arm.toml"
+    scene.write_text(ROT_ARM)
+    m, k, L0 = 0.5, 40.0, 0.3
+    status, out, err = _run(capsys, "frequency", str(scene), "--set", f"W={W} rad/s", "--json")
+    assert status == 0, err
+    payload = json.loads(out)
+    # 1e-9: the equilibrium is Newton's to round-off and omega_n^2 comes from a fourth-order
+    # central difference, good to ~1e-11 relative (solver/analyses/modes.py)
+    assert payload["equilibrium"]["value"] == pytest.approx(k * L0 / (k - m * W**2), rel=1e-9)
+    assert payload["omega_n"]["value"] == pytest.approx(math.sqrt(k / m - W**2), rel=1e-9)
+    assert payload["equilibrium_relative_to_prescribed_motion"] is True
+
+
+def test_turning_arm_with_gravity_in_its_plane_is_refused_in_one_line(tmp_path: Path, capsys) -> None:
+    scene = tmp_path / "rot_arm_g.toml"
+    scene.write_text(ROT_ARM + GRAVITY)
+    status, out, err = _run(capsys, "frequency", str(scene))
+    assert status == 2 and out == ""
+    assert err.count("\n") == 1 and str(scene) in err and "depend on time" in err
