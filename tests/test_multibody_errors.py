@@ -172,3 +172,43 @@ def test_setting_a_prescribed_coordinate_is_refused(solver_cli, tmp_path, overri
     code, out, err = solver_cli("solve", str(prescribed_crank(tmp_path)), "--set", override, "--json")
     assert code == 2 and out == "" and len(err.strip().splitlines()) == 1, (code, out[:200], err)
     assert f"--set {override.split('=')[0]}" in err
+
+
+# -- scene-file messages (QA round 10, item 14) ---------------------------------------------------
+
+SPRING_K = ('omega   = "100 rad/s"', 'omega   = "100 rad/s"\nk = "200 N/m"\nc = "3 N*s/m"')
+
+
+def spring(ends: str, stiffness: str = "k", kind: str = "spring", key: str = "stiffness") -> str:
+    return f'\n[[loads]]\nkind = "{kind}"\nbetween = [{ends}]\n{key} = "{stiffness}"\n'
+
+
+@pytest.mark.parametrize("text", ["", 'name = "x"\n[parameters]\nm = "1 kg"\n'])
+def test_a_file_in_neither_format_says_so(solver_cli, tmp_path, text):
+    # Regression: "parameters: missing key 'parameters'" (empty file) and "coordinate: missing key
+    # 'coordinate'" (only [parameters]): the one-body format was assumed.
+    path = tmp_path / "neither.toml"
+    path.write_text(text)
+    line = one_line_error(solver_cli, path)
+    assert "neither the multibody format ([coordinates] and [[bodies]])" in line
+    assert "nor the one-body format ([coordinate] and [body])" in line
+
+
+def test_a_stiffness_of_the_wrong_dimension_names_the_quantity(solver_cli, tmp_path):
+    # Regression: "... is a force, but [mass] / [time] ** 2 is needed here".
+    path = variant(tmp_path, [('omega   = "100 rad/s"', 'omega   = "100 rad/s"\nk = "200 N"')],
+                   spring('"ground:O", "piston:B"'))
+    line = one_line_error(solver_cli, path)
+    assert "loads[1].stiffness" in line and "a stiffness (force per length, e.g. N/m) is needed" in line
+
+
+@pytest.mark.parametrize(("extra", "key", "words"), [
+    (spring('"ground:O", "piston:B"', "-k"), "loads[1].stiffness", "a stiffness must not be negative"),
+    (spring('"ground:O", "piston:B"', "-c", "damper", "coefficient"),
+     "loads[1].coefficient", "a damping coefficient must not be negative"),
+    (spring('"piston:B", "piston:B"'), "loads[1].between", "both ends are piston:B"),
+])
+def test_a_negative_spring_or_one_from_a_point_to_itself_is_refused(solver_cli, tmp_path, extra, key, words):
+    # Regression: both were accepted silently (a spring of zero length has no direction).
+    line = one_line_error(solver_cli, variant(tmp_path, [SPRING_K], extra))
+    assert f": {key}: {words}" in line
