@@ -242,6 +242,8 @@ def eom_command(args: argparse.Namespace) -> int:
 
         about = f"about {shown}, " if shown is not None else ""
         print(f"% {system.name}: equation of motion ({about}{d.method}); reactions eliminated")
+        if _regime_line(args):
+            print(f"% {_regime_line(args)}")
         print(f"{latex(eom)} = 0")
         print(f"% generalized mass M({q})")
         print(f"M = {latex(mass)}")
@@ -251,6 +253,8 @@ def eom_command(args: argparse.Namespace) -> int:
         return 0
     print(f"scene   {system.name}  ({_where(system)})")
     print(f"method  {d.method}   point  {point_text(d.method, shown)}")
+    if _regime_line(args):
+        print(_regime_line(args))
     print()
     print(f"equation of motion ({q}_ddot is the second derivative of {q}):")
     print(f"  {text(eom)} = 0")
@@ -297,11 +301,16 @@ def _in_regime_at_state(system, args):
                          f"{', '.join(map(repr, rubbing))} slides with friction -mu_k N, a force set by a reaction "
                          "that eom's elimination of the reactions does not carry: `explain` writes the equations of "
                          "motion in this regime, `solve` and `simulate` solve them")
-    if not args.json:
-        mark = "% " if args.latex else ""
-        print(f"{mark}in the contact regime that holds at the state (as `solve` finds it): {held}; "
-              "the equations hold while it lasts")
     return variant
+
+
+def _regime_line(args) -> str | None:
+    """The line saying in which contact regime the equations are written (None: the scene's own)."""
+    if not args.regimes:
+        return None
+    held = ", ".join(f"{j}: {r}" for j, r in args.regimes.items())
+    return (f"contacts  in the regime that holds at the state (as `solve` finds it): {held}; the equations "
+            "hold while it lasts")
 
 
 def _as_written(system) -> bool:
@@ -390,12 +399,16 @@ def _eom_multi(args, system) -> int:
             names[c.qd] = rf"\dot{{{base}}}"
             names[c.qdd] = rf"\ddot{{{base}}}"
         print(f"% {system.name}: equations of motion ({f.method}); reactions eliminated")
+        if _regime_line(args):
+            print(f"% {_regime_line(args)}")
         for c, e in zip(coords, shown):
             print(f"% for {c.name}")
             print(f"{sp.latex(e, symbol_names=names)} = 0")
         return 0
     print(f"scene   {system.name}  ({_where(system)})")
     print(f"method  {f.method}   {len(coords)} degree(s) of freedom: {', '.join(c.name for c in coords)}")
+    if _regime_line(args):
+        print(_regime_line(args))
     if system.dependent:
         print(f"dependent coordinates {', '.join(c.name for c in system.dependent)} follow from the closure "
               "equations (their values and rates appear as symbols)")

@@ -590,8 +590,8 @@ def test_eom_is_written_in_the_regime_that_holds_at_the_state(solver_cli):
     m, g, beta, s_ddot = names.values()
     assert sp.simplify(eom - (sp.Rational(3, 2) * m * s_ddot - m * g * sp.sin(beta))) == 0
     code, out, err = solver_cli("eom", "data/scenes/incline_disk.toml")
-    assert code == 0 and out.startswith("in the contact regime that holds at the state (as `solve` finds it): "
-                                        "incline: stick"), err
+    assert code == 0, err
+    assert "contacts  in the regime that holds at the state (as `solve` finds it): incline: stick" in out
 
 
 @pytest.mark.parametrize(("scene", "why"), [
