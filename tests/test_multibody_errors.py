@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 from pathlib import Path
 
 import pytest
@@ -305,3 +306,20 @@ def test_a_dependent_angle_is_reported_in_the_turn_of_its_guess(solver_cli, tmp_
     gap = (0.1 * math.cos(th2) + 0.4 * math.cos(th3) - 0.35 - 0.3 * math.cos(th4),
            0.1 * math.sin(th2) + 0.4 * math.sin(th3) - 0.3 * math.sin(th4))
     assert max(map(abs, gap)) <= 1e-12
+
+
+def test_a_loop_that_closes_away_from_the_guesses_names_where(solver_cli, tmp_path):
+    # From th3 = 180 deg, th4 = 90 deg Newton's method does not reach the loop's closure; the
+    # starts around the circles do, and the message names that configuration. Reference: the
+    # loop a e(th2) + b e(th3) = (d, 0) + c e(th4) at th2 = 60 deg, at the printed angles (6
+    # digits: 5e-4 deg, under 4e-6 m on the 0.4 m coupler; 1e-5 m allows it).
+    path = tmp_path / "fourbar.toml"
+    path.write_text(FOUR_BAR.format(b="0.4 m"))
+    code, out, err = solver_cli("solve", str(path), "--set", "th3=180 deg", "--set", "th4=90 deg")
+    assert code == 2 and out == "" and len(err.strip().splitlines()) == 1, err
+    found = re.search(r"but one does at th3 = (\S+) deg, th4 = (\S+) deg: give guesses near it", err)
+    assert found, err
+    th2, th3, th4 = math.radians(60.0), *(math.radians(float(v)) for v in found.groups())
+    gap = (0.1 * math.cos(th2) + 0.4 * math.cos(th3) - 0.35 - 0.3 * math.cos(th4),
+           0.1 * math.sin(th2) + 0.4 * math.sin(th3) - 0.3 * math.sin(th4))
+    assert max(map(abs, gap)) <= 1e-5
