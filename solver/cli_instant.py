@@ -215,7 +215,7 @@ def kinematics_command(args: argparse.Namespace) -> int:
 def eom_command(args: argparse.Namespace) -> int:
     from solver.formulations import point_text, shown_point
 
-    system = load_scene_from_args(args)
+    system = _in_regime_at_state(load_scene_from_args(args), args)
     if len(system.free) != 1 or system.closure:
         return _eom_multi(args, system)
     d = derivation.derive(system, args.point, args.method)
@@ -232,7 +232,7 @@ def eom_command(args: argparse.Namespace) -> int:
     shown = shown_point(system, d.method, args.point)
     if args.json:
         print_json(_eom_payload(system, d.method, shown, [q], [eom], [[mass]], d.kinetic_energy, d.potential_energy,
-                                {q: d.generalized_force}, reactions, at_state, text))
+                                {q: d.generalized_force}, reactions, at_state, text, args.regimes))
         return 0
     if args.latex:
         names = _latex_names(system)
@@ -242,6 +242,8 @@ def eom_command(args: argparse.Namespace) -> int:
 
         about = f"about {shown}, " if shown is not None else ""
         print(f"% {system.name}: equation of motion ({about}{d.method}); reactions eliminated")
+        if _regime_line(args):
+            print(f"% {_regime_line(args)}")
         print(f"{latex(eom)} = 0")
         print(f"% generalized mass M({q})")
         print(f"M = {latex(mass)}")
@@ -251,6 +253,8 @@ def eom_command(args: argparse.Namespace) -> int:
         return 0
     print(f"scene   {system.name}  ({_where(system)})")
     print(f"method  {d.method}   point  {point_text(d.method, shown)}")
+    if _regime_line(args):
+        print(_regime_line(args))
     print()
     print(f"equation of motion ({q}_ddot is the second derivative of {q}):")
     print(f"  {text(eom)} = 0")
@@ -272,8 +276,56 @@ def eom_command(args: argparse.Namespace) -> int:
     return 0
 
 
+def _in_regime_at_state(system, args):
+    """``system``, or with contacts that can stick, slip or separate the system in the regime that
+    holds at the state, as `solve` and `explain` find it (:func:`solver.explain.build.system_in_regime`),
+    the regime printed first (text and LaTeX) or kept for the JSON (``args.regimes``)."""
+    args.regimes = {}
+    if not system.contacts:
+        return system
+    from solver.explain.build import system_in_regime
+
+    variant, found, warning, _ = system_in_regime(system, args.point)
+    if found is None or (all(found.regimes[j.name] == j.current_regime for j in system.contacts)
+                         and _as_written(system)):
+        return system  # the scene as written (rolling as it rolls): nothing to say
+    args.regimes = {name: r.label for name, r in found.regimes.items()}
+    held = ", ".join(f"{j}: {r}" for j, r in args.regimes.items())
+    if found.indeterminate:
+        raise InputError(f"{system.label}: eom: in the contact regime that holds at the state ({held}) sticking "
+                         "contacts hold the bodies redundantly (statically indeterminate); eom needs a regime whose "
+                         "equations determine every reaction: `solve` gives the motion and one admissible split")
+    rubbing = [j.name for j in system.contacts if j.friction is not None and found.regimes[j.name].friction_direction()]
+    if rubbing:  # the friction -s mu_k N is a multiple of a reaction, which the elimination does not carry
+        raise InputError(f"{system.label}: eom: in the contact regime that holds at the state ({held}) "
+                         f"{', '.join(map(repr, rubbing))} slides with friction -mu_k N, a force set by a reaction "
+                         "that eom's elimination of the reactions does not carry: `explain` writes the equations of "
+                         "motion in this regime, `solve` and `simulate` solve them")
+    return variant
+
+
+def _regime_line(args) -> str | None:
+    """The line saying in which contact regime the equations are written (None: the scene's own)."""
+    if not args.regimes:
+        return None
+    held = ", ".join(f"{j}: {r}" for j, r in args.regimes.items())
+    return (f"contacts  in the regime that holds at the state (as `solve` finds it): {held}; the equations "
+            "hold while it lasts")
+
+
+def _as_written(system) -> bool:
+    """Whether the scene's equations hold as written (no coordinate kept for a slip or a gap)."""
+    from solver.errors import SceneError
+
+    try:
+        system.validate()
+    except SceneError:
+        return False
+    return True
+
+
 def _eom_payload(system, method, point, coordinates, eqs, mass, kinetic, potential, forces, reactions, at_state,
-                 text) -> dict:
+                 text, regimes=None) -> dict:
     """The one schema of ``eom --json``, whatever the number of freedoms: ``eom`` (one expression
     == 0 per independent coordinate, in the order of ``coordinates``), ``mass`` (the matrix of
     their coefficients of the independent accelerations: the generalized mass), the energies,
@@ -295,6 +347,7 @@ def _eom_payload(system, method, point, coordinates, eqs, mass, kinetic, potenti
         "reactions": None if reactions is None else {name: text(expr) for name, expr in reactions.items()},
         "reaction_units": {name: entry["unit"] for name, entry in at_state.items()},
         "reactions_at_state": at_state,
+        **({"regime": regimes} if regimes else {}),  # the contacts' regime at the state, when eom is written in it
     }
 
 
@@ -337,7 +390,7 @@ def _eom_multi(args, system) -> int:
         forces = dict(zip((c.name for c in system.free), system.generalized_forces()))
         print_json(_eom_payload(system, f.method, shown_point(system, f.method, args.point), [c.name for c in coords],
                                 shown, mass, system.kinetic_energy(), system.potential_energy(), forces, None,
-                                at_state, text))
+                                at_state, text, args.regimes))
         return 0
     if args.latex:
         names = {}
@@ -346,12 +399,16 @@ def _eom_multi(args, system) -> int:
             names[c.qd] = rf"\dot{{{base}}}"
             names[c.qdd] = rf"\ddot{{{base}}}"
         print(f"% {system.name}: equations of motion ({f.method}); reactions eliminated")
+        if _regime_line(args):
+            print(f"% {_regime_line(args)}")
         for c, e in zip(coords, shown):
             print(f"% for {c.name}")
             print(f"{sp.latex(e, symbol_names=names)} = 0")
         return 0
     print(f"scene   {system.name}  ({_where(system)})")
     print(f"method  {f.method}   {len(coords)} degree(s) of freedom: {', '.join(c.name for c in coords)}")
+    if _regime_line(args):
+        print(_regime_line(args))
     if system.dependent:
         print(f"dependent coordinates {', '.join(c.name for c in system.dependent)} follow from the closure "
               "equations (their values and rates appear as symbols)")

@@ -28,6 +28,7 @@ _OUTPUT_UNIT_RULES = {
     "m/s": "{velocity|{length|m}/s}", "m/s**2": "{acceleration|{length|m}/s**2}",
     "N*m/rad": "{moment|N*m}/rad", "N/m": "{force|N}/{length|m}", "kg*m**2": "{mass|kg}*{length|m}**2",
     "N*m*s/rad": "{moment|N*m}*s/rad", "N*s/m": "{force|N}*s/{length|m}",
+    "J": "{length|m}*{force|N}",  # work (friction's): a force times a length, ft*lbf in US units
 }
 # A rule used instead of the one above when the scene names these keys and not the first
 # rule's own: a moment of inertia with no mass unit given but a moment unit (ft*lbf) prints in

@@ -34,6 +34,7 @@ import pint
 import sympy as sp
 
 from .analyses.instant import condition_numbers
+from .display import tidy
 from .errors import InputError, SingularConfigurationError
 from .strprint import lambdify
 
@@ -288,9 +289,11 @@ def solve_precise(derivation: Any, precision: str = "float64", dps: int = 50,
         # digits, enter as those exact decimals, and so do the sines and cosines of them.
         solved = {k: subs[k] for c in system.free if c.dependent for k in (c.q, c.qd)}
         A, b = _as_rationals(A.xreplace(solved)), _as_rationals(b.xreplace(solved))
-        positions = {c.q for c in system.free} | {system.t}
+        # the state (coordinates, rates, t) stays symbolic too, so that the exact forms read as
+        # formulas in it and the "at ..." line lists every value they need
+        state = {c.q for c in system.free} | {c.qd for c in system.free} | {system.t}
         rational = {k: v for k, v in subs.items()
-                    if k not in solved and sp.sympify(v).is_Rational and k not in positions}
+                    if k not in solved and sp.sympify(v).is_Rational and k not in state}
         kept = {k: v for k, v in subs.items() if k not in rational and k not in solved}
         x = _exact_solve(A.xreplace(rational), b.xreplace(rational), kept, where)
         sym = {n: x[i] for i, n in enumerate(names)}
@@ -301,7 +304,7 @@ def solve_precise(derivation: Any, precision: str = "float64", dps: int = 50,
         err = {n: _relerr(fl[n], _evalf(v, kept, dps + 5)) for n, v in sym.items()}
         at = ", ".join(f"{k} = {v}" for k, v in kept.items() if _uses(sym, k))
         # with dependent coordinates the closed form holds their many-digit values: not shown
-        exact_form = {} if solved else {n: str(v) + (f"   at {at}" if at else "") for n, v in sym.items()}
+        exact_form = {} if solved else {n: str(tidy(v)) + (f"   at {at}" if at else "") for n, v in sym.items()}
         return PreciseSolution("exact", dps, vals, text, cond, err, units, exact_form, _note(system, dps))
 
     # mpmath ----------------------------------------------------------------

@@ -117,6 +117,9 @@ _DIMENSION_WORDS = {
     ACCELERATION: "an acceleration",
     FORCE: "a force",
     MOMENT: "a moment (force x length)",
+    FORCE / LENGTH: "a stiffness (force per length, e.g. N/m)",
+    FORCE * TIME / LENGTH: "a damping coefficient (force per speed, e.g. N*s/m)",
+    MOMENT * TIME: "a torsional damping coefficient (moment per angular velocity, e.g. N*m*s/rad)",
 }
 
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
@@ -448,11 +451,22 @@ class _SceneLoader:
             raise self.fail(key, f"{what} must be positive, got {sp.sstr(expr)} = {value:.6g} (SI)")
         return expr
 
+    def nonnegative(self, expr: sp.Expr, key: str, what: str) -> sp.Expr:
+        """``expr``, refused when its value is negative (a spring's stiffness, a damper's coefficient:
+        a negative one would push the ends apart the more they part, or feed energy in)."""
+        value = self.si(expr, key)
+        if not value >= 0:
+            raise self.fail(key, f"{what} must not be negative, got {sp.sstr(expr)} = {value:.6g} (SI)")
+        return expr
+
     # -- the whole file ----------------------------------------------------------------
     def load(self, overrides: dict[str, str], data: dict[str, Any] | None = None) -> Scene:
         """The Scene of the file (``data``: its parsed TOML when the caller has read it already)."""
         data = self._read_toml() if data is None else data
         self.check_keys(data, TOP_KEYS, "", "a scene file")
+        if "coordinate" not in data and "body" not in data:  # nor [coordinates]/[[bodies]]: not multibody
+            raise self.fail("", "not a scene: neither the multibody format ([coordinates] and [[bodies]]) nor "
+                                "the one-body format ([coordinate] and [body]) was found (data/scenes/README.md)")
         name = self.text(data.get("name", self.path.stem), "name")
         description = self.text(data.get("description", ""), "description")
         for key, text, limit in (("name", name, MAX_NAME_LENGTH), ("description", description, MAX_DESCRIPTION_LENGTH)):

@@ -94,10 +94,18 @@ def test_drawing_matches_the_scene(path):
     for p in system.ground.points:
         assert (GROUND, p) in points, f"{path.name}: ground point {p} not labelled"
     labels = {i.label for i in scene.items}
-    assert {(i.body, i.name) for i in scene.of_kind("point")} <= {(i.body, i.name) for i in scene.items if i.label == i.name}
-    # every free coordinate marked, every line guide drawn
+    # each point labelled by its name; with several bodies a mass centre by its body's (G_rod): no
+    # two mass centres share a label (other names are the scene's: parallel_link_plate has two O)
+    named = {(i.body, i.name) for i in scene.items
+             if i.label == (f"G_{i.body}" if i.name == "G" and len(system.bodies) > 1 else i.name)}
+    assert {(i.body, i.name) for i in scene.of_kind("point")} <= named
+    places = {}
+    for i in (i for i in scene.of_kind("point") if i.name == "G"):
+        assert np.allclose(places.setdefault(i.label, i.anchor), i.anchor, atol=POSITION_TOL), \
+            f"{path.name}: two places labelled {i.label!r}"
+    # every coordinate marked (a prescribed one too), every line guide drawn
     marked = {i.name for i in scene.of_kind("coordinate")}
-    assert marked == {c.name for c in system.free}, f"{path.name}: coordinates marked {marked}"
+    assert marked == {c.name for c in system.coordinates}, f"{path.name}: coordinates marked {marked}"
     for i in scene.of_kind("coordinate"):
         assert i.name in i.label
     guides = {i.name for i in scene.of_kind("guide", "support")}
@@ -833,3 +841,82 @@ def test_a_given_solution_is_drawn_as_the_one_solved_here():
     assert drawn[0] == drawn[1] and len(drawn[0]) > 3
     with pytest.raises(ValueError, match="one state"):
         draw_system(system, start_state(system), ax=[Figure().add_subplot()], fbd=True, solution=solution)
+
+
+MULTIBODY = ROOT / "tests" / "data" / "multibody"
+
+
+def test_a_prescribed_coordinate_is_marked_and_said_to_be_prescribed():
+    """QA10 item 12: the four-bar's driven crank angle th2 (motion = pi/3 + W t) was not marked,
+    th3 and th4 were. Every coordinate is marked; th2's arc sweeps pi/3 at t = 0 from the fixed
+    frame's x axis to the crank (its value by the motion, computed here), labelled as prescribed."""
+    system = load_system(MULTIBODY / "driven_four_bar.toml")
+    scene = draw_system(system, start_state(system))
+    marks = {i.name: i for i in scene.of_kind("coordinate")}
+    assert set(marks) == {"th2", "th3", "th4"}
+    th2 = marks["th2"]
+    assert th2.label == "th2 (prescribed)" and "prescribed" not in marks["th3"].label
+    assert th2.shape["end"] - th2.shape["start"] == pytest.approx(math.pi / 3, abs=DIRECTION_TOL)
+    assert th2.body == "crank"
+
+
+def test_each_mass_centre_is_named_by_its_body():
+    """QA10 item 12: rot_arm's collar (its C and G at one place) and the arm's G read "C, G G".
+    With several bodies each G is named after its body, so that no two places share a label."""
+    for path in (MULTIBODY / "rot_arm.toml", ROOT / "data" / "scenes" / "slider_crank.toml"):
+        system = load_system(path)
+        scene = draw_system(system, start_state(system))
+        centres = {i.body: i.label for i in scene.of_kind("point") if i.name == "G"}
+        assert centres == {body: f"G_{body}" for body in system.bodies}, path.name
+    system = load_system(ROOT / "data" / "scenes" / "sliding_bar.toml")  # one body: its G is G
+    assert {i.label for i in draw_system(system, start_state(system)).of_kind("point") if i.name == "G"} == {"G"}
+
+
+def _assert_scene_labels_clear(ax, items, where):
+    """On a scene drawing (or an animation frame) drawn from ``items``: no two labels overlap and
+    no label is crossed by a bar (BAR_HALF_WIDTH_PT from its centre line, as on the diagrams)."""
+    from solver.drawing.render import label_boxes
+
+    _assert_labels_apart(ax.figure, where)
+    to = ax.transData.transform
+    bars = [_sample(*(to(np.array(e, float)) for e in i.shape["ends"])) for i in items
+            if i.kind == "element" and i.shape["type"] == "bar"]
+    grown = BAR_HALF_WIDTH_PT * ax.figure.dpi / 72 - LABEL_OVERLAP_TOL
+    texts = [t.get_text() for t in ax.texts if t.get_visible() and t.get_text()]
+    for text, box in zip(texts, label_boxes(ax)):
+        assert all(_to_box(box, pts) >= grown for pts in bars), f"{where}: label {text!r} is crossed by a bar"
+
+
+@pytest.mark.parametrize(("scene", "t_end"), [
+    ("cart_spring.toml", "1.206 s"),  # frame 100 of 3 s: "theta" lay under the bar and on the G label
+    ("rot_arm.toml", "1 s"),  # the last frame: "r = 0.3114 m" and "spring_1" lay on the arm
+])
+def test_animation_frames_keep_labels_off_each_other_and_the_bars(scene, t_end, tmp_path, monkeypatch):
+    """QA10 item 12: the rule that keeps labels off each other and off the bars on the still drawing
+    holds in every animation frame (two frames here: the start and the state the QA round saw)."""
+    from solver.drawing import render
+
+    system = load_system(MULTIBODY / scene)
+    still = draw_system(system, start_state(system))
+    _assert_scene_labels_clear(still.figure.axes[0], still.items, scene)
+    frames, checked, keep_render = [], [], render.render_scene
+
+    def check(event):  # each frame as written to the file: after its draw(k), when the canvas draws
+        if event.canvas.figure.alt_euler_checking:
+            return  # the check's own draw
+        event.canvas.figure.alt_euler_checking = True
+        _assert_scene_labels_clear(event.canvas.figure.axes[0], frames[-1], f"{scene} frame {len(checked)}")
+        event.canvas.figure.alt_euler_checking = False
+        checked.append(len(frames))
+
+    def record(ax, items, *a, **k):
+        keep_render(ax, items, *a, **k)
+        frames.append(items)
+        if not hasattr(ax.figure, "alt_euler_checking"):
+            ax.figure.alt_euler_checking = False
+            ax.figure.canvas.mpl_connect("draw_event", check)
+
+    monkeypatch.setattr(render, "render_scene", record)
+    out = tmp_path / "run.gif"
+    assert main(["simulate", str(MULTIBODY / scene), "--t-end", t_end, "--samples", "2", "--animate", str(out)]) == 0
+    assert checked == [2, 3]  # each of the two frames, drawn after what never changes

@@ -574,3 +574,31 @@ def test_sliding_friction_is_written_with_the_scene_s_names(solver_cli):
     value = re.search(r"friction F = -mu_k N = (\S+) N", line)
     assert value, line
     assert float(value[1]) == pytest.approx(-0.4 * 2.0 * 9.81 * math.cos(math.radians(30.0)), rel=1e-5)
+
+
+def test_eom_is_written_in_the_regime_that_holds_at_the_state(solver_cli):
+    """Regression: `eom` refused every scene whose contacts can slip although `explain` writes
+    the equations in the regime at the state. incline_disk.toml rolls at its state (mu = 0.25 >
+    tan(30 deg)/3): the solid disk rolling down an incline, (3/2) m s_ddot - m g sin(beta) = 0,
+    must be the equation, identically (symbolic, so no tolerance)."""
+    import sympy as sp
+
+    payload = _json(solver_cli, "eom", "data/scenes/incline_disk.toml", "--json")
+    assert payload["regime"] == {"incline": "stick"} and payload["coordinates"] == ["s"]
+    names = {n: sp.Symbol(n) for n in ("m", "g", "beta", "s_ddot")}  # beta a symbol, not sympy's beta()
+    eom = sp.sympify(payload["eom"][0], locals=names)
+    m, g, beta, s_ddot = names.values()
+    assert sp.simplify(eom - (sp.Rational(3, 2) * m * s_ddot - m * g * sp.sin(beta))) == 0
+    code, out, err = solver_cli("eom", "data/scenes/incline_disk.toml")
+    assert code == 0, err
+    assert "contacts  in the regime that holds at the state (as `solve` finds it): incline: stick" in out
+
+
+@pytest.mark.parametrize(("scene", "why"), [
+    ("incline_ring.toml", "'incline' slides with friction -mu_k N"),  # a ring slips: mu < tan(beta)/2
+    ("ladder_friction.toml", "sticking contacts hold the bodies redundantly"),
+])
+def test_eom_refuses_a_regime_it_cannot_write_saying_why(solver_cli, scene, why):
+    code, out, err = solver_cli("eom", f"data/scenes/{scene}")
+    assert code == 2 and out == "" and len(err.strip().splitlines()) == 1
+    assert why in err and "in the contact regime that holds at the state" in err

@@ -7,6 +7,9 @@ each variation is a textual edit of the shipped file, checked to have applied.
 """
 from __future__ import annotations
 
+import json
+import math
+import re
 from pathlib import Path
 
 import pytest
@@ -172,3 +175,151 @@ def test_setting_a_prescribed_coordinate_is_refused(solver_cli, tmp_path, overri
     code, out, err = solver_cli("solve", str(prescribed_crank(tmp_path)), "--set", override, "--json")
     assert code == 2 and out == "" and len(err.strip().splitlines()) == 1, (code, out[:200], err)
     assert f"--set {override.split('=')[0]}" in err
+
+
+# -- scene-file messages (QA round 10, item 14) ---------------------------------------------------
+
+SPRING_K = ('omega   = "100 rad/s"', 'omega   = "100 rad/s"\nk = "200 N/m"\nc = "3 N*s/m"')
+
+
+def spring(ends: str, stiffness: str = "k", kind: str = "spring", key: str = "stiffness") -> str:
+    return f'\n[[loads]]\nkind = "{kind}"\nbetween = [{ends}]\n{key} = "{stiffness}"\n'
+
+
+@pytest.mark.parametrize("text", ["", 'name = "x"\n[parameters]\nm = "1 kg"\n'])
+def test_a_file_in_neither_format_says_so(solver_cli, tmp_path, text):
+    # Regression: "parameters: missing key 'parameters'" (empty file) and "coordinate: missing key
+    # 'coordinate'" (only [parameters]): the one-body format was assumed.
+    path = tmp_path / "neither.toml"
+    path.write_text(text)
+    line = one_line_error(solver_cli, path)
+    assert "neither the multibody format ([coordinates] and [[bodies]])" in line
+    assert "nor the one-body format ([coordinate] and [body])" in line
+
+
+def test_a_stiffness_of_the_wrong_dimension_names_the_quantity(solver_cli, tmp_path):
+    # Regression: "... is a force, but [mass] / [time] ** 2 is needed here".
+    path = variant(tmp_path, [('omega   = "100 rad/s"', 'omega   = "100 rad/s"\nk = "200 N"')],
+                   spring('"ground:O", "piston:B"'))
+    line = one_line_error(solver_cli, path)
+    assert "loads[1].stiffness" in line and "a stiffness (force per length, e.g. N/m) is needed" in line
+
+
+@pytest.mark.parametrize(("extra", "key", "words"), [
+    (spring('"ground:O", "piston:B"', "-k"), "loads[1].stiffness", "a stiffness must not be negative"),
+    (spring('"ground:O", "piston:B"', "-c", "damper", "coefficient"),
+     "loads[1].coefficient", "a damping coefficient must not be negative"),
+    (spring('"piston:B", "piston:B"'), "loads[1].between", "both ends are piston:B"),
+])
+def test_a_negative_spring_or_one_from_a_point_to_itself_is_refused(solver_cli, tmp_path, extra, key, words):
+    # Regression: both were accepted silently (a spring of zero length has no direction).
+    line = one_line_error(solver_cli, variant(tmp_path, [SPRING_K], extra))
+    assert f": {key}: {words}" in line
+
+
+# -- loop closure (QA round 10, item 15) ------------------------------------------------------------
+
+FOUR_BAR = """
+name = "fourbar"
+[parameters]
+a = "0.1 m"
+b = "{b}"
+c = "0.3 m"
+d = "0.35 m"
+m2 = "1 kg"
+m3 = "2 kg"
+m4 = "1.5 kg"
+W = "10 rad/s"
+g = "9.81 m/s^2"
+[coordinates]
+th2 = {{ motion = "pi/3 + W*t" }}
+th3 = {{ guess = "20 deg" }}
+th4 = {{ guess = "80 deg" }}
+[ground.points]
+O2 = ["0", "0"]
+O4 = ["d", "0"]
+[[bodies]]
+name = "crank"
+orientation = "th2"
+points = {{ O2 = ["0", "0"], A = ["a", "0"] }}
+elements = [{{ kind = "slender_bar", mass = "m2", from = "O2", to = "A" }}]
+[[bodies]]
+name = "coupler"
+orientation = "th3"
+points = {{ A = ["0", "0"], B = ["b", "0"] }}
+elements = [{{ kind = "slender_bar", mass = "m3", from = "A", to = "B" }}]
+[[bodies]]
+name = "rocker"
+orientation = "th4"
+points = {{ O4 = ["0", "0"], B = ["c", "0"] }}
+elements = [{{ kind = "slender_bar", mass = "m4", from = "O4", to = "B" }}]
+[[joints]]
+kind = "pin"
+name = "O2"
+connects = ["ground:O2", "crank:O2"]
+[[joints]]
+kind = "motor"
+name = "drive"
+bodies = ["ground", "crank"]
+torque = "T"
+[[joints]]
+kind = "pin"
+name = "A"
+connects = ["crank:A", "coupler:A"]
+[[joints]]
+kind = "pin"
+name = "B"
+connects = ["coupler:B", "rocker:B"]
+[[joints]]
+kind = "pin"
+name = "O4"
+connects = ["ground:O4", "rocker:O4"]
+[[loads]]
+kind = "gravity"
+g = "g"
+"""
+
+
+def test_a_loop_that_can_never_close_is_said_to(solver_cli, tmp_path):
+    # Regression: a 5 mm coupler (the crank pin A is 0.312 m from O4 at th2 = 60 deg, beyond the
+    # coupler plus rocker's 0.305 m) was reported as "no configuration near the dependent
+    # coordinates' guesses satisfies it; check the prescribed motion and the guesses".
+    path = tmp_path / "fb_noclose.toml"
+    path.write_text(FOUR_BAR.format(b="0.005 m"))
+    line = one_line_error(solver_cli, path)
+    assert "the loop cannot close there, the geometry does not allow it" in line
+    assert "near the dependent coordinates' guesses" not in line
+
+
+def test_a_dependent_angle_is_reported_in_the_turn_of_its_guess(solver_cli, tmp_path):
+    # Regression: --set th3="200 deg" gave th3 = 656.006 deg, 1.3 turns from the guess. Reference:
+    # the loop itself, a e(th2) + b e(th3) = (d, 0) + c e(th4) with th2 = 60 deg, checked at the
+    # printed state to 1e-12 m (the closure is solved to ~1e-13 of the lengths' size); each
+    # reported angle lies within half a turn of its guess (th4's guess stays 80 deg).
+    path = tmp_path / "fourbar.toml"
+    path.write_text(FOUR_BAR.format(b="0.4 m"))
+    code, out, err = solver_cli("solve", str(path), "--set", "th3=200 deg", "--json")
+    assert code == 0, err
+    state = json.loads(out)["state"]
+    th2, th3, th4 = math.radians(60.0), state["th3"]["value"], state["th4"]["value"]
+    assert abs(th3 - math.radians(200.0)) <= math.pi and abs(th4 - math.radians(80.0)) <= math.pi
+    gap = (0.1 * math.cos(th2) + 0.4 * math.cos(th3) - 0.35 - 0.3 * math.cos(th4),
+           0.1 * math.sin(th2) + 0.4 * math.sin(th3) - 0.3 * math.sin(th4))
+    assert max(map(abs, gap)) <= 1e-12
+
+
+def test_a_loop_that_closes_away_from_the_guesses_names_where(solver_cli, tmp_path):
+    # From th3 = 180 deg, th4 = 90 deg Newton's method does not reach the loop's closure; the
+    # starts around the circles do, and the message names that configuration. Reference: the
+    # loop a e(th2) + b e(th3) = (d, 0) + c e(th4) at th2 = 60 deg, at the printed angles (6
+    # digits: 5e-4 deg, under 4e-6 m on the 0.4 m coupler; 1e-5 m allows it).
+    path = tmp_path / "fourbar.toml"
+    path.write_text(FOUR_BAR.format(b="0.4 m"))
+    code, out, err = solver_cli("solve", str(path), "--set", "th3=180 deg", "--set", "th4=90 deg")
+    assert code == 2 and out == "" and len(err.strip().splitlines()) == 1, err
+    found = re.search(r"but one does at th3 = (\S+) deg, th4 = (\S+) deg: give guesses near it", err)
+    assert found, err
+    th2, th3, th4 = math.radians(60.0), *(math.radians(float(v)) for v in found.groups())
+    gap = (0.1 * math.cos(th2) + 0.4 * math.cos(th3) - 0.35 - 0.3 * math.cos(th4),
+           0.1 * math.sin(th2) + 0.4 * math.sin(th3) - 0.3 * math.sin(th4))
+    assert max(map(abs, gap)) <= 1e-5

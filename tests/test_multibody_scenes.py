@@ -646,6 +646,59 @@ def test_frequency_keeps_a_free_cart_where_it_is(solver_cli):
     assert [found["x"]["value"], found["theta"]["value"]] == pytest.approx([0.5, 0.0], abs=1e-9)
 
 
+DISK_PENDULUM = """
+name = "disk_pend"
+[parameters]
+md = "4 kg"
+r = "0.25 m"
+mb = "1.5 kg"
+l = "0.9 m"
+g = "9.81 m/s^2"
+[coordinates]
+x = { value = "0 m", rate = "0.5 m/s" }
+th = { value = "40 deg", rate = "1.5 rad/s" }
+[[bodies]]
+name = "disk"
+orientation = "-x/r"
+position = { point = "C", at = ["x", "r"] }
+points = { C = ["0", "0"] }
+elements = [{ name = "rim", kind = "uniform_disk", mass = "md", center = "C", radius = "r" }]
+[[bodies]]
+name = "bar"
+orientation = "th - pi/2"
+points = { C = ["0", "0"], E = ["l", "0"] }
+elements = [{ kind = "slender_bar", mass = "mb", from = "C", to = "E" }]
+[[joints]]
+kind = "rolling"
+name = "floor"
+element = "disk:rim"
+friction = "F"
+normal = "N"
+[[joints]]
+kind = "pin"
+name = "C"
+connects = ["disk:C", "bar:C"]
+[[loads]]
+kind = "gravity"
+g = "g"
+"""
+
+
+def test_frequency_prints_a_neutral_coordinate_at_the_states_value(solver_cli, tmp_path):
+    """A disk rolling on the floor with a bar hanging from its centre: every x is an equilibrium
+    (nothing depends on it), so the equilibrium about which the modes are taken is x = 0, the
+    state's. Regression: "stable equilibrium x = -3.71687e-13 m", where Newton's round-off had
+    left x. 1e-15 m: the state's value to the round-off of one move along the neutral direction,
+    far below that noise."""
+    scene = tmp_path / "disk_pend.toml"
+    scene.write_text(DISK_PENDULUM)
+    code, out, err = solver_cli("frequency", str(scene))
+    assert code == 0, err
+    assert "stable equilibrium x = 0 m, th = 0 deg" in out
+    code, out, err = solver_cli("frequency", str(scene), "--json")
+    assert abs(json.loads(out)["equilibrium"]["x"]["value"]) <= 1e-15
+
+
 def test_crank_angle_as_a_prescribed_coordinate(solver_cli, tmp_path):
     """The slider-crank written with theta = { motion = "omega*t" } as the crank's orientation and a
     motor without its own angle (it drives what the coordinate prescribes): the same answers."""

@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 from pathlib import Path
 
 import pytest
@@ -251,3 +252,80 @@ def test_frequency_of_a_length_coordinate(tmp_path: Path, capsys: pytest.Capture
     # the equilibrium x = 0 comes from a root search that stops within ~1e-15 m of it
     assert payload["equilibrium"] == {"value": pytest.approx(0.0, abs=1e-12), "unit": "ft"}
     assert payload["omega_n"]["value"] == pytest.approx(math.sqrt(200.0 / 2.0), rel=REL)
+
+
+# A ladder of mass m, length L: end A on a rough floor (mu_s = mu_k = MU), end B on a smooth
+# wall; theta is its angle with the floor. Sticking at rest: N_A = m g, and moments about A give
+# the wall's N_B = m g cot(theta) / 2 = |F_A|. Over a run the only force that works apart from
+# gravity is the floor's friction, so its work is the change of T + V with
+# T = m L**2 theta_dot**2 / 6 (G at mid-length, I_G = m L**2 / 12) and V = m g L sin(theta) / 2.
+LADDER_M, LADDER_L, MU = 15.0, 3.0, 0.4
+LADDER_US = f"""
+name = "ladder_us"
+[parameters]
+m = "{LADDER_M} kg"
+L = "{LADDER_L} m"
+mu = "{MU}"
+g = "{G} m/s^2"
+[coordinates]
+theta = {{ value = "60 deg", rate = "0 rad/s" }}
+[[bodies]]
+name = "ladder"
+orientation = "pi - theta"
+reference_point = "A"
+points = {{ A = ["0", "0"], B = ["L", "0"] }}
+elements = [{{ kind = "slender_bar", mass = "m", from = "A", to = "B" }}]
+[[joints]]
+kind = "rail"
+name = "floor"
+point = "ladder:A"
+angle = "0"
+reaction = "N_A"
+one_sided = true
+friction = "F_A"
+friction_coefficient = "mu"
+[[joints]]
+kind = "rail"
+name = "wall"
+point = "ladder:B"
+angle = "-pi/2"
+reaction = "N_B"
+one_sided = true
+[[loads]]
+kind = "gravity"
+g = "g"
+[output_units]
+force = "lbf"
+length = "ft"
+moment = "ft*lbf"
+"""
+
+
+def test_contact_sentences_and_friction_work_print_in_the_scenes_units(tmp_path: Path,
+                                                                        capsys: pytest.CaptureFixture[str]) -> None:
+    # Regression: the contacts' sentences said "friction F_A = -mu_k N_A = -52.5536 N" beside a
+    # table in lbf, and simulate printed friction_work_floor in J beside v_slip in ft/s.
+    scene = tmp_path / "ladder_us.toml"
+    scene.write_text(LADDER_US)
+    weight = LADDER_M * G
+
+    def needs(theta_deg: float) -> str:  # |F_A| and mu_s N_A of the sticking ladder, in lbf
+        f = weight / math.tan(math.radians(theta_deg)) / 2
+        return f"|F_A| = {f / LBF:.6g} lbf", f"mu_s N_A = {MU * weight / LBF:.6g} lbf"
+
+    holds = _run(capsys, "solve", str(scene))
+    assert "sticks: {} <= {}".format(*needs(60.0)) in holds
+    rejected = _run(capsys, "explain", str(scene), "--set", "theta=45 deg")
+    assert "floor sticking needs {} > {}".format(*needs(45.0)) in rejected
+    for text in (holds, rejected, _run(capsys, "solve", str(scene), "--set", "theta=45 deg")):
+        assert not re.search(r"\d N\b", text)  # no force left in newtons
+
+    run = json.loads(_run(capsys, "simulate", str(scene), "--set", "theta=45 deg", "--t-end", "0.5", "--json"))
+    last = run["final"]
+    assert last["theta"]["unit"] == "rad" and last["friction_work_floor"]["unit"] == "ft*lbf"
+    theta, rate = last["theta"]["value"], last["theta_dot"]["value"]
+    work = (LADDER_M * LADDER_L**2 * rate**2 / 6
+            + weight * LADDER_L / 2 * (math.sin(theta) - math.sin(math.radians(45.0))))
+    # the work is integrated with the motion (rtol 1e-9 by default): 1e-6 leaves room for its
+    # error and still catches J for ft*lbf (a factor 1.36)
+    assert last["friction_work_floor"]["value"] == pytest.approx(work / FT_LBF, rel=1e-6)

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import tomllib
 from functools import lru_cache
 from pathlib import Path
@@ -236,3 +237,112 @@ def test_condition_number_one_concept_named_by_kind(capsys):
     assert "condition number estimate" in capsys.readouterr().out
     assert main(["explain", BAR]) == 0
     assert f"(condition number {exact:.3g})" in capsys.readouterr().out
+
+
+TABLE_ROD = """
+name = "table_rod"
+[parameters]
+m = "3 kg"
+L = "1.2 m"
+a = "0.2 m"
+g = "9.81 m/s^2"
+[coordinates]
+theta = { value = "0 deg", rate = "2 rad/s" }
+[ground.points]
+O = ["0", "0"]
+[[bodies]]
+name = "rod"
+orientation = "theta"
+reference_point = "O"
+points = { O = ["0", "0"], A = ["-L/2 + a", "0"], B = ["L/2 + a", "0"] }
+elements = [{ kind = "slender_bar", mass = "m", from = "A", to = "B" }]
+[[joints]]
+kind = "pin"
+name = "O"
+connects = ["ground:O", "rod:O"]
+[[loads]]
+kind = "gravity"
+g = "g"
+"""
+DISK_SLIP = """
+name = "disk_slip"
+[parameters]
+m = "4 kg"
+r = "0.2 m"
+beta = "30 deg"
+mu = "0.1"
+g = "9.81 m/s^2"
+[coordinates]
+s = { value = "0 m", rate = "0 m/s" }
+phi = { value = "0 rad", rate = "0 rad/s" }
+[[bodies]]
+name = "disk"
+orientation = "phi"
+position = { point = "C", at = ["s*cos(beta)", "-s*sin(beta) + r/cos(beta)"] }
+points = { C = ["0", "0"] }
+elements = [{ name = "rim", kind = "uniform_disk", mass = "m", center = "C", radius = "r" }]
+[[joints]]
+kind = "rolling"
+name = "incline"
+element = "disk:rim"
+angle = "-beta"
+friction = "F"
+normal = "N"
+friction_coefficient = "mu"
+[[loads]]
+kind = "gravity"
+g = "g"
+"""
+
+
+def _exact_forms(capsys, path: Path) -> dict[str, tuple[sp.Expr, dict]]:
+    """name -> (exact form, the values its "at ..." line lists), from `precision --json`."""
+    from solver.__main__ import main
+
+    assert main(["precision", str(path), "--precision", "exact", "--json"]) == 0
+    forms = json.loads(capsys.readouterr().out)["solutions"]["exact"]["exact"]
+    out = {}
+    for name, text in forms.items():
+        form, _, at = text.partition("   at ")
+        values = dict(part.split(" = ") for part in at.split(", ")) if at else {}
+        names = {n: sp.Symbol(n) for n in re.findall(r"[A-Za-z_]\w*", form)
+                 if n not in ("sin", "cos", "sqrt", "Abs", "pi")}  # beta a symbol, not sympy's beta()
+        out[name] = (sp.sympify(form, locals=names), {k: sp.sympify(v) for k, v in values.items()})
+    return out
+
+
+def test_exact_forms_keep_the_rates_and_list_every_value_they_need(tmp_path, capsys):
+    # Regression: the rates were substituted into the exact forms without being listed, so
+    # that O_x read "2943*sin(theta)*cos(theta)/400 - 12*cos(theta)/5   at theta = 0" (the
+    # -12/5 is -m a theta_dot**2 with theta_dot = 2, nowhere said). Reference: the rod pinned
+    # at O with its centre G at a from O: I_O = m L**2/12 + m a**2, theta_ddot =
+    # -m g a cos(theta)/I_O, and Newton along x: O_x = m a_Gx = -m a (theta_ddot sin(theta) +
+    # theta_dot**2 cos(theta)). Exact data, so the forms must agree identically.
+    path = tmp_path / "table_rod.toml"
+    path.write_text(TABLE_ROD)
+    forms = _exact_forms(capsys, path)
+    th, thd = sp.symbols("theta theta_dot")
+    m, L, a, g = 3, sp.Rational(6, 5), sp.Rational(1, 5), sp.Rational(981, 100)
+    thdd = -m * g * a * sp.cos(th) / (m * L**2 / 12 + m * a**2)
+    expected = {"theta_ddot": thdd, "O_x": -m * a * (thdd * sp.sin(th) + thd**2 * sp.cos(th))}
+    for name, closed in expected.items():
+        form, at = forms[name]
+        assert sp.simplify(form - closed) == 0
+        # every symbol of the form is given its value, and these are the state's
+        assert {str(s) for s in form.free_symbols} <= set(at)
+    assert forms["O_x"][1] == {"theta": 0, "theta_dot": 2}
+
+
+def test_exact_forms_are_tidied(tmp_path, capsys):
+    # Regression: "s_ddot = (9810*sin(beta) - 981*cos(beta))/(1000*sin(beta)**2 +
+    # 1000*cos(beta)**2)". The slipping disk (mu_k = 0.1): N = m g cos(beta), and
+    # m s_ddot = m g sin(beta) - mu N, so s_ddot = g (sin(beta) - mu cos(beta)).
+    path = tmp_path / "disk_slip.toml"
+    path.write_text(DISK_SLIP)
+    forms = _exact_forms(capsys, path)
+    beta = sp.Symbol("beta")
+    g, mu = sp.Rational(981, 100), sp.Rational(1, 10)
+    expected = {"s_ddot": g * (sp.sin(beta) - mu * sp.cos(beta)), "N": 4 * g * sp.cos(beta)}
+    for name, closed in expected.items():
+        form = forms[name][0]
+        assert sp.expand(form - closed) == 0  # equal as written: no sin**2 + cos**2 left to reduce

@@ -14,6 +14,7 @@ from their velocity form.
 """
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass, field
 from typing import Mapping
@@ -372,27 +373,15 @@ def assemble(system, q=None, qd=None, t=None) -> State:
     n = len(free)
     dep = [i for i, c in enumerate(free) if c.dependent]
     ind = [i for i, c in enumerate(free) if not c.dependent]
-    for _ in range(_NEWTON_STEPS):
-        res = np.array(fPhi(*q, t, *pv), dtype=float)
-        J = np.array(fJ(*q, t, *pv), dtype=float).reshape(m, n)
-        if np.all(np.abs(res) < 1e-13 * (1 + np.abs(q).max())):
-            break
-        if not dep:
-            break
-        step, *_ = np.linalg.lstsq(J[:, dep], -res, rcond=None)
-        q[dep] += step
-        if not np.all(np.isfinite(q)):
-            break
-    res = np.array(fPhi(*q, t, *pv), dtype=float)
-    if not np.all(np.abs(res) < 1e-9 * (1 + np.abs(q).max())):
-        worst = int(np.argmax(np.abs(res)))
-        row = system.closure[worst]
-        what = ("no configuration near the dependent coordinates' guesses satisfies it"
-                if dep else "no coordinate is marked dependent (give one a `guess` instead of a `value`)")
-        raise InputError(
-            f"{system.label}: joint {row.joint.name!r} ({row.joint.kind}) cannot be satisfied at the "
-            f"state (residual {res[worst]:.3g}): {what}; check the prescribed motion and the guesses"
-        )
+    guesses = q.copy()
+    q, res = _newton_closure(funcs, q, t, dep)
+    if not _closes(res, q):
+        _refuse_unclosed(system, funcs, guesses, t, dep, res)
+    turns = [i for i in dep if free[i].kind == "angle"]  # each angle in the turn of its guess
+    near = q.copy()
+    near[turns] -= 2 * math.pi * np.round((q[turns] - guesses[turns]) / (2 * math.pi))
+    if _closes(np.array(fPhi(*near, t, *pv), dtype=float), near):
+        q = near
     J = np.array(fJ(*q, t, *pv), dtype=float).reshape(m, n)
     Pt = np.array(fPt(*q, t, *pv), dtype=float)
     if dep:
@@ -401,6 +390,68 @@ def assemble(system, q=None, qd=None, t=None) -> State:
         sol, *_ = np.linalg.lstsq(J[:, dep], rhs, rcond=None)
         qd[dep] = sol
     return State(tuple(q), tuple(qd), t)
+
+
+def _newton_closure(funcs, q, t, dep):
+    """(q, residual): Newton's method (Gauss-Newton where the rows outnumber ``dep``) on the
+    closure equations in the dependent coordinates ``dep`` (indices), from ``q``."""
+    fPhi, fJ, _, pv, m, _ = funcs
+    q = np.array(q, dtype=float)
+    for _ in range(_NEWTON_STEPS):
+        res = np.array(fPhi(*q, t, *pv), dtype=float)
+        if _closes(res, q, 1e-13) or not dep:
+            break
+        J = np.array(fJ(*q, t, *pv), dtype=float).reshape(m, len(q))
+        step, *_ = np.linalg.lstsq(J[:, dep], -res, rcond=None)
+        q[dep] += step
+        if not np.all(np.isfinite(q)):
+            break
+    return q, np.array(fPhi(*q, t, *pv), dtype=float)
+
+
+def _closes(res, q, tol=1e-9) -> bool:
+    """Whether the closure residual ``res`` is zero to ``tol`` of the coordinates' size."""
+    return bool(np.all(np.abs(res) < tol * (1 + np.abs(q).max())))
+
+
+_CLOSURE_STARTS = 81
+"""At most this many starts when the guesses do not close the loop: each dependent angle
+at evenly spaced places on its circle (8 for one angle, 4 each for three)."""
+
+
+def _refuse_unclosed(system, funcs, guesses, t, dep, res) -> None:
+    """Raise the one-line error for a loop that does not close from the guesses, saying whether
+    it closes elsewhere (where: other guesses) or from no start spread over the dependent
+    angles' circles (the geometry cannot close there), and by how much it misses."""
+    worst = int(np.argmax(np.abs(res)))
+    row = system.closure[worst]
+    head = f"{system.label}: joint {row.joint.name!r} ({row.joint.kind}) cannot be satisfied at the state"
+    if not dep:
+        raise InputError(f"{head} (residual {res[worst]:.3g}): no coordinate is marked dependent (give one a "
+                         "`guess` instead of a `value`); check the prescribed motion and the guesses")
+    free = system.free
+    angles = [i for i in dep if free[i].kind == "angle"]
+    per = max(2, min(8, int(_CLOSURE_STARTS ** (1 / len(angles))))) if angles else 1
+    least = float(np.max(np.abs(res)))
+    for k, spots in enumerate(itertools.product(range(per), repeat=len(angles))):
+        if k >= _CLOSURE_STARTS:
+            break
+        start = np.array(guesses, dtype=float)
+        start[angles] += 2 * math.pi * np.array(spots) / per
+        q, r = _newton_closure(funcs, start, t, dep)
+        if _closes(r, q):
+            found = ", ".join(f"{free[i].name} = {math.degrees(q[i]) if free[i].kind == 'angle' else q[i]:.6g}"
+                              f" {'deg' if free[i].kind == 'angle' else 'm'}" for i in dep)
+            raise InputError(f"{head} (residual {res[worst]:.3g}): no configuration near the dependent "
+                             f"coordinates' guesses satisfies it, but one does at {found}: give guesses near it")
+        least = min(least, float(np.max(np.abs(r))))
+    searched = f"from the guesses and {min(per ** len(angles), _CLOSURE_STARTS)} starts around the dependent angles' circles"
+    if len(angles) == len(dep):
+        raise InputError(f"{head}: the loop cannot close there, the geometry does not allow it (no value of the "
+                         f"dependent angles satisfies it, {searched}; the residual stays at least {least:.3g}): "
+                         "check the lengths and the prescribed motion")
+    raise InputError(f"{head}: no configuration found {searched} (the residual stays at least {least:.3g}): "
+                     "the loop may not close there; check the lengths, the prescribed motion and the guesses")
 
 
 CLOSURE_CONDITION_LIMIT = 1e6

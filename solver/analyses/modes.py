@@ -216,6 +216,9 @@ def modes(system, method: str = "generalized_euler") -> ModesResult:
                                "(complex eigenvalues)")
     lam = lam.real
     vec = vec.real
+    # along a neutral direction (a free cart's x) every point is an equilibrium: the state's
+    # own value, not where Newton's round-off left it (x = -3.7e-13 m for x = 0)
+    u = _back_along_neutral(g, u, np.array([c.value for c in ind], dtype=float), scales, system)
     tol = 1e-9 * max(1.0, float(np.max(np.abs(lam))))
     # an equilibrium at round-off distance from 0 is 0
     eq = {c.name: (0.0 if abs(x) < 1e-12 * sc else float(x)) for c, x, sc in zip(ind, u, scales)}

@@ -32,6 +32,7 @@ import sympy as sp
 from ..errors import InputError, SceneError
 from ..model.contacts import SEPARATED, STICK, Regime, Slip
 from ..model.system import RedundantConstraints
+from ..output_units import in_output_units
 from ..strprint import lambdify
 
 __all__ = ["RegimeResult", "ContactCheck", "find_regime", "contact_kinematics", "MAX_CONTACTS",
@@ -488,19 +489,19 @@ def _check(variant, regimes, q, qd, qdd, t, values, strict_direction=True):
             if closed and an < -TOL * ascale:
                 return [], f"{j.name} separated would penetrate (gap acceleration {an:.6g})"
             checks.append(ContactCheck(j.name, r, f"the gap opens (gap acceleration {an:.6g} >= 0)" if closed
-                                       else f"apart (gap {gap:.6g} m, opening at {vgap:.6g} m/s)"))
+                                       else f"apart (gap {_shown(gap, 'm', variant)}, opening at {_shown(vgap, 'm/s', variant)})"))
             continue
         n = values[N.name]
         if N.one_sided and n < -TOL * fscale:
-            return [], f"{j.name} would pull ({N.name} = {n:.6g} N < 0)"
+            return [], f"{j.name} would pull ({N.name} = {_shown(n, 'N', variant)} < 0)"
         if r.keeps_tangential:
             f = values[F.name]
             mu_s = math.inf if j.friction is None else float(sp.sympify(j.friction.static).xreplace(pv))
             need = abs(f) / n if n > 0 else (0.0 if f == 0 else math.inf)
             if abs(f) > mu_s * n + TOL * fscale:
-                return [], (f"{j.name} sticking needs |{F.name}| = {abs(f):.6g} N > mu_s {N.name} = "
-                            f"{mu_s * n:.6g} N (least mu {need:.6g})")
-            why = (f"sticks: |{F.name}| = {abs(f):.6g} N <= mu_s {N.name} = {mu_s * n:.6g} N"
+                return [], (f"{j.name} sticking needs |{F.name}| = {_shown(abs(f), 'N', variant)} > mu_s {N.name} = "
+                            f"{_shown(mu_s * n, 'N', variant)} (least mu {need:.6g})")
+            why = (f"sticks: |{F.name}| = {_shown(abs(f), 'N', variant)} <= mu_s {N.name} = {_shown(mu_s * n, 'N', variant)}"
                    if math.isfinite(mu_s) else "rolls without slip (no friction limit given)")
             checks.append(ContactCheck(j.name, r, why, n, f, need))
             continue
@@ -514,9 +515,16 @@ def _check(variant, regimes, q, qd, qdd, t, values, strict_direction=True):
         friction = f"{F.name} = " if F is not None else "= "  # the slip's sign written out, not as s
         why = ("slides without friction" if j.friction is None else  # (a scene may name a coordinate s)
                f"slides ({'+' if s > 0 else '-'} along its line): friction {friction}{'-' if s > 0 else ''}"
-               f"mu_k {N.name} = {f:.6g} N")
+               f"mu_k {N.name} = {_shown(f, 'N', variant)}")
         checks.append(ContactCheck(j.name, r, why, n, f))
     return checks, None
+
+
+def _shown(value: float, unit: str, system) -> str:
+    """``value`` (in the SI ``unit``) as the commands print it, in the scene's ``[output_units]``
+    (:func:`solver.output_units.in_output_units`): ``52.5536 N``, or ``11.8145 lbf``."""
+    value, unit = in_output_units(value, unit, system.output_units)
+    return f"{value:.6g} {unit}"
 
 
 def _redundant_stick(system, regimes, q, qd, t, point=None, method="generalized_euler"):
@@ -608,10 +616,10 @@ def _ratio_entry(joint, f, n, system) -> dict:
     """The least-mu entry of a sticking (rolling) contact: |F|/N, with a note on how it was found."""
     F, N = (r.name for r in joint.pair)
     if not n > 0:
-        return {"value": math.inf, "note": f"{N} = {n:.6g} N pulls"}
+        return {"value": math.inf, "note": f"{N} = {_shown(n, 'N', system)} pulls"}
     given = ("no coefficient given: it rolls by assumption" if joint.friction is None else
              f"the scene's mu_s = {float(sp.sympify(joint.friction.static).xreplace(system.si_values())):g}")
-    return {"value": abs(f) / n, "note": f"|{F}|/{N} with {F} = {f:.6g} N, {N} = {n:.6g} N ({given})"}
+    return {"value": abs(f) / n, "note": f"|{F}|/{N} with {F} = {_shown(f, 'N', system)}, {N} = {_shown(n, 'N', system)} ({given})"}
 
 
 def holding(system):

@@ -20,8 +20,9 @@ FORMATS = (".svg", ".png", ".pdf")
 ANIMATION_FORMATS = (".gif", ".mp4")
 MAX_FRAMES = 250
 """Most frames an animation has (10 s at :data:`FRAME_RATE`): a longer run is sampled evenly
-down to this many. Each frame costs some 30 ms of CPU, so this keeps an animation well inside
-the command's CPU budget."""
+down to this many. Each frame costs some 30 to 45 ms of CPU (its labels placed as on the still
+drawing: about 15 ms of it), so this keeps an animation inside the command's CPU budget (about
+11 s for slider_crank.toml's 250 frames)."""
 FRAME_RATE = 25
 """Frames per second of an animation."""
 DPI = 100
@@ -233,6 +234,7 @@ def animate(system, times, states, path, flag: str = "--animate") -> Path:
                 artist.remove()
             before = set(ax.get_children())
             render.render_scene(ax, [i for i in frames[k] if i not in fixed], bodies, limits=(low, high, span))
+            render.place_labels(figure, [ax])  # as on the scene drawing: off each other and off the bars
             previous[:] = [a for a in ax.get_children() if a not in before]
             title.set_text(f"{name}   t = {times[keep[k]]:.3f} s")
             return []

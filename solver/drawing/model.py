@@ -317,7 +317,7 @@ def scene_items(system, state, poses=None, shapes=None) -> list[DrawnItem]:
     for name, shape in shapes.items():
         for p in list(shape.points) + list(shape.instant):
             pos = shape.position(p, poses[name])
-            items.append(DrawnItem("point", p, tuple(pos.tolist()), body=name, name=p))
+            items.append(DrawnItem("point", point_label(p, name, shapes), tuple(pos.tolist()), body=name, name=p))
     for p in system.ground.points:
         items.append(DrawnItem("point", p, tuple(_ground_point(system, p, state.t)), body=GROUND, name=p))
     low, high = _scale(system, shapes, poses, state.t)
@@ -325,6 +325,12 @@ def scene_items(system, state, poses=None, shapes=None) -> list[DrawnItem]:
     items += _connectors(system, shapes, poses, state.t)
     items += _coordinates(system, state, shapes, poses, float(np.max(high - low)) or 1.0)
     return items
+
+
+def point_label(point: str, body: str, shapes) -> str:
+    """A point's label on the scene drawing: its name, but a mass centre's ``G_<body>`` when there
+    are several bodies (each has its G; two "G" side by side do not say whose is whose)."""
+    return f"G_{body}" if point == "G" and len(shapes) > 1 else point
 
 
 def _pose_of(poses, body):
@@ -436,23 +442,39 @@ def _sym_pose(system, poses, body):
 def _coordinates(system, state, shapes, poses, span) -> list[DrawnItem]:
     """An arc for each free angle coordinate, a dimension line for each length coordinate."""
     items = []
-    for c, value in zip(system.free, state.q):
+    si = _si(system, state.t)
+    driven = [(c, _constant(c.motion, si)) for c in system.coordinates if c.prescribed]
+    for c, value in [*zip(system.free, state.q), *driven]:
         item = (_angle_mark(system, c, value, shapes, poses, span) if c.kind == "angle"
                 else _length_mark(system, c, value, shapes, poses))
         if item is None:  # no body turns (or moves) with it alone: its value is written instead
             body = next(iter(shapes))
             where = shapes[body].position("G", poses[body]) if "G" in shapes[body].points else poses[body][0]
             shown = f"{math.degrees(value):.4g} deg" if c.kind == "angle" else f"{value:.4g} m"
-            item = DrawnItem("coordinate", f"{c.name} = {shown}", tuple(where.tolist()), name=c.name,
+            item = DrawnItem("coordinate", f"{_mark_name(c)} = {shown}", tuple(where.tolist()), name=c.name,
                              value=math.degrees(value) if c.kind == "angle" else value,
                              unit="deg" if c.kind == "angle" else "m", shape={"type": "text"})
         items.append(item)
     return items
 
 
+def _mark_name(c) -> str:
+    """A coordinate's label: its name, said to be prescribed when it is (a motor drives it)."""
+    return f"{c.name} (prescribed)" if c.prescribed else c.name
+
+
+def _turns_with(system, body: str, c):
+    """d phi_body / d c: +-1 when the body turns with the coordinate alone (for a prescribed one,
+    when its angle changes as the motion does), else something else."""
+    if not c.prescribed:
+        return sp.diff(system.angle(body), c.q)
+    speed = sp.diff(c.motion, system.t)
+    return sp.cancel(sp.diff(system.angle(body), system.t) / speed) if speed != 0 else sp.nan
+
+
 def _angle_mark(system, c, value, shapes, poses, span):
     for name, body in system.bodies.items():
-        rate = sp.diff(system.angle(name), c.q)
+        rate = _turns_with(system, name, c)
         if rate not in (1, -1):
             continue
         shape = shapes[name]
@@ -469,7 +491,7 @@ def _angle_mark(system, c, value, shapes, poses, span):
             axis = 0.0
         end = phi + axis
         start = end - int(rate) * value
-        return DrawnItem("coordinate", c.name, tuple(centre.tolist()), turn=1 if end >= start else -1, body=name,
+        return DrawnItem("coordinate", _mark_name(c), tuple(centre.tolist()), turn=1 if end >= start else -1, body=name,
                          name=c.name, value=math.degrees(value), unit="deg",
                          shape={"type": "arc", "centre": centre.tolist(), "radius": 0.16 * span,
                                 "start": start, "end": end})

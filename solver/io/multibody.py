@@ -623,12 +623,15 @@ class _MultibodyReader:
                 raise self.fail(f"{key}.between", "expected two points")
             a = self._load_point(pair[0], f"{key}.between[0]")[:2]
             b = self._load_point(pair[1], f"{key}.between[1]")[:2]
+            if a == b:
+                raise self.fail(f"{key}.between", f"both ends are {':'.join(a)}: a {kind} joins two different points")
             if kind == "spring":
                 k = L.expr(L.require(spec, "stiffness", key, "k"), f"{key}.stiffness", L.names.params, STIFFNESS)
+                L.nonnegative(k, f"{key}.stiffness", "a stiffness")
                 free = L.expr(spec.get("free_length", 0), f"{key}.free_length", L.names.params, LENGTH)
                 return Spring(name, a, b, k, free)
             c = L.expr(L.require(spec, "coefficient", key, "c"), f"{key}.coefficient", L.names.params, DAMPING)
-            return Damper(name, a, b, c)
+            return Damper(name, a, b, L.nonnegative(c, f"{key}.coefficient", "a damping coefficient"))
         pair = L.require(spec, "bodies", key, "[\"FIRST\", \"SECOND\"]")
         if not isinstance(pair, list) or len(pair) != 2:
             raise self.fail(f"{key}.bodies", "expected two body names")
@@ -636,10 +639,11 @@ class _MultibodyReader:
         b2 = self.body_name(pair[1], f"{key}.bodies[1]")
         if kind == "torsional_spring":
             k = L.expr(L.require(spec, "stiffness", key, "k"), f"{key}.stiffness", L.names.params, TORSION_STIFFNESS)
+            L.nonnegative(k, f"{key}.stiffness", "a stiffness")
             free = L.expr(spec.get("free_angle", 0), f"{key}.free_angle", L.names.params, DIMENSIONLESS)
             return TorsionalSpring(name, b1, b2, k, free)
         c = L.expr(L.require(spec, "coefficient", key, "c"), f"{key}.coefficient", L.names.params, TORSION_DAMPING)
-        return TorsionalDamper(name, b1, b2, c)
+        return TorsionalDamper(name, b1, b2, L.nonnegative(c, f"{key}.coefficient", "a damping coefficient"))
 
     def _load_point(self, value, key):
         """'body:point' of a load (instant points allowed) -> (body, point, None)."""
