@@ -219,3 +219,33 @@ def test_count_columns_stay_aligned_with_ten_million_respondents(tmp_path):
         end = head.index(f" {name} ") + 1 + len(name)
         assert row[end - len(value):end] == value and row[end - len(value) - 1] == " ", (
             name, head, row)
+
+
+def test_no_percentage_of_nobody_in_any_output(tmp_path, capsys):
+    """QA 10 item 3: an item with n = 0 (Q2 all blank, Q3 all N/A) printed 0.0 for every label
+    in JSON, and a group with n = 0 printed 0.0% per label in --group's text. A share of no
+    answers does not exist: every percentage is null in JSON, blank in --table (as agree (%)),
+    "-" in the text of both tables and absent from the HTML group table. Q1 (3 answers) keeps
+    its percentages (by hand: 1 of 3 = 33.3%). No tolerance: counts and nulls are exact."""
+    f = tmp_path / "e.csv"
+    f.write_text("id,Sec,Q1,Q2,Q3\n1,A,Agree,,N/A\n2,A,Disagree,,N/A\n3,A,Strongly agree,,N/A\n")
+    assert main(["summarize", str(f), "--json"]) == 0
+    items = {it["item"]: it for it in json.loads(capsys.readouterr().out)["items"]}
+    assert items["Q1"]["percent"]["Disagree"] == pytest.approx(100 / 3)   # float division
+    for q in ("Q2", "Q3"):
+        assert items[q]["n"] == 0 and set(items[q]["percent"].values()) == {None}, items[q]
+    table = tmp_path / "t.csv"
+    assert main(["summarize", str(f), "--table", str(table)]) == 0
+    rows = {r["item"]: r for r in pd.read_csv(table, encoding="utf-8-sig").to_dict("records")}
+    assert all(np.isnan(rows["Q2"][f"{lab} (%)"]) for lab in ("Disagree", "Agree"))
+    # --respondents 5 puts 2 declared respondents in the (blank) group: n = 0 there
+    assert main(["summarize", str(f), "--group", "Sec", "--respondents", "5",
+                 "--min-group", "1"]) == 0
+    blank = [ln for ln in capsys.readouterr().out.splitlines() if "(blank) n=0" in ln]
+    assert len(blank) == 3 and all("%" not in ln for ln in blank), blank
+    html = tmp_path / "r.html"
+    assert main(["report", str(f), "-o", str(html), "--group", "Sec", "--respondents", "5",
+                 "--min-group", "1"]) == 0
+    cells = [ln for ln in html.read_text().split("<td>(blank)</td>")[1:]]
+    assert len(cells) == 3 and all(c.split("</tr>")[0].count("<td>&ndash; (0)</td>") == 4
+                                   for c in cells), cells
