@@ -67,7 +67,7 @@ from ._io import is_regular_file, read_bytes, sniff_delimiter
 from .dropped import (DROP_WHY, FOOTER, DroppedRow, is_footer_note, is_integer_text,
                       is_na_text as _is_na_text)
 from .errors import SurveyInputError
-from .scales import (BLANK, BUILTIN_SCALES, NOT_APPLICABLE, UNKNOWN,
+from .scales import (BLANK, BUILTIN_SCALES, DECLINED, NOT_APPLICABLE, SHORT_NOT_APPLICABLE, UNKNOWN,
                      Scale, code_key, get_scale, normalize_answer,
                      two_groups_message)
 
@@ -1357,7 +1357,34 @@ def _choose_items(source: str, names: list[str], cols, exclude, scale, items,
                     None if long else 1, None if long else c.name)
     if not long:
         chosen = _unanswered_items(source, chosen, candidates, stats, notes)
+    _note_other_not_applicable(source, chosen, scale_obj, notes)
     return scale_obj, chosen
+
+
+def _note_other_not_applicable(source: str, chosen, scale: Scale, notes: "list | None") -> None:
+    """Say which answers besides "N/A" itself were counted under n/a: a decline ("Prefer not
+    to say") or a short mark ("NA", "-"), with how many in which item. Both routes come
+    here (:func:`_choose_items`), so both say it alike."""
+    if notes is None:
+        return
+    said = {normalize_answer(t): t for t in SHORT_NOT_APPLICABLE + DECLINED
+            if scale.match(t, accept_codes=False) == Scale.NOT_APPLICABLE}
+    found: dict = {}
+    for _, c in chosen:
+        for text, cnt in zip(c.cats, c.counts()):
+            key = normalize_answer(text)
+            if cnt and key in said:
+                found.setdefault(key, {}).setdefault(c.name, 0)
+                found[key][c.name] += int(cnt)
+    if not found:
+        return
+    parts = []
+    for key, per in found.items():
+        where = ", ".join(f"{n} in {name!r}" for name, n in per.items())
+        why = "declined to answer" if said[key] in DECLINED else "a mark for not applicable"
+        parts.append(f"{said[key]!r} ({why}): {where}")
+    notes.append(f"{source}: counted under n/a (excluded from n, as 'N/A' is): "
+                 + "; ".join(parts))
 
 
 def choose_items_from_counts(source: str, columns, scale=None, items=None,

@@ -548,3 +548,30 @@ def test_narrow_scale_note_names_the_missing_label_in_both_layouts(tmp_path):
     for f, shape in ((wide, "wide"), (long, "long")):
         data = read_survey(f)
         assert data.shape == shape and want in data.notes, (shape, data.notes)
+
+
+def test_declines_and_short_na_marks_are_excluded_alike_on_both_routes(tmp_path, capsys):
+    """QA 10 item 9: "Prefer not to say" stopped seven.csv as an answer not on the scale, and
+    "NA" and "-" stopped variants.csv. They take no position on the scale: counted under n/a
+    (excluded from n) with "N/A", by the in-memory route and by --by alike, and one note
+    names them with the reason. By hand, Q2 below: 'Agree' once -> n = 1; a blank cell ->
+    missing 1; 'Prefer not to say', 'prefer not to answer ', 'NA', '-', 'N/A' -> n/a 5
+    (1 + 1 + 5 = 7 respondents). Counts are exact: no tolerance."""
+    f = tmp_path / "declined.csv"
+    f.write_text("id,Sec,Q1,Q2\n1,A,Agree,Agree\n2,A,Disagree,Prefer not to say\n"
+                 "3,A,Agree,prefer not to answer \n4,B,Strongly agree,NA\n5,B,Agree,-\n"
+                 "6,B,Disagree,N/A\n7,B,Agree,\n")
+    got, notes = {}, {}
+    for route, extra, key in (("memory", [], "items"),
+                              ("by", ["--by", "Sec", "--min-group", "1"], "overall")):
+        assert main(["summarize", str(f), "--json", *extra]) == 0, route
+        out = capsys.readouterr()
+        got[route] = {it["item"]: (it["n"], it["missing"], it["excluded"])
+                      for it in json.loads(out.out)[key]}
+        notes[route] = [ln for ln in out.err.splitlines() + json.loads(out.out).get("notes", [])
+                        if "counted under n/a" in ln]
+    assert got["memory"] == got["by"] == {"Q1": (7, 0, 0), "Q2": (1, 1, 5)}
+    for note in notes.values():
+        assert len(note) == 1, notes
+        assert "'Prefer not to say' (declined to answer): 1 in 'Q2'" in note[0], note
+        assert "'NA' (a mark for not applicable): 1 in 'Q2'" in note[0], note
