@@ -784,7 +784,11 @@ def _without_empty_records(raw: _Raw) -> _Raw:
         filled |= np.array([bool(str(x).strip()) for x in c.cats] or [False], dtype=bool)[c.codes]
     if filled.all():
         return raw
-    keep = np.flatnonzero(filled)
+    return _take_records(raw, np.flatnonzero(filled))
+
+
+def _take_records(raw: _Raw, keep: np.ndarray) -> _Raw:
+    """The records ``keep`` (indices, in order) of ``raw``, each keeping its file row."""
     rows = raw.row_of(keep)
     return replace(raw, columns=[replace(c, codes=c.codes[keep]) for c in raw.columns], nrows=len(keep),
                    row_map=rows, first_row=int(rows[0]) if len(rows) else raw.first_row)
@@ -811,8 +815,12 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
         rows = "the header row" if not extra else f"the {extra + 1} header rows"
         raise SurveyInputError(f"no responses below {rows} (an empty row, or one of empty cells, "
                                f"is not a response)", raw.source)
-    if shape == "long":
-        return _build_long(raw, scale, items, unknown, group, reverse, respondents)
+    if shape == "long":           # a footer note is dropped by the rule of a wide file
+        keep, footer = _drop_footer(raw, np.arange(raw.nrows))
+        data = _build_long(_take_records(raw, keep) if footer else raw, scale, items, unknown,
+                           group, reverse, respondents)
+        data.dropped = footer + list(data.dropped)
+        return data
     keep = np.arange(extra, raw.nrows)
     dropped: list[DroppedRow] = []
     text_row = ([c.cats[c.codes[0]] for c in raw.columns] if shape == "qualtrics" and extra

@@ -575,3 +575,24 @@ def test_declines_and_short_na_marks_are_excluded_alike_on_both_routes(tmp_path,
         assert len(note) == 1, notes
         assert "'Prefer not to say' (declined to answer): 1 in 'Q2'" in note[0], note
         assert "'NA' (a mark for not applicable): 1 in 'Q2'" in note[0], note
+
+
+def test_a_long_file_drops_its_footer_as_by_does(tmp_path, capsys):
+    """QA 10 item 5: a long file ending, below an empty row, in "Exported by ..." in its first
+    cell stopped the in-memory route ("blank respondent id" on the note's row), while --by
+    dropped it as a footer. Both drop it now, naming row 9 (header 1, answers rows 2-7,
+    ',,,' row 8). By hand: Q1 answered by a1, a2 (a3 has no Q1 row: missing 1), Q2 by a1,
+    a2 and 'N/A' from a3 -> Q1 (2, 1, 0), Q2 (2, 0, 1) as (n, missing, n/a); exact counts."""
+    f = tmp_path / "long_footer.csv"
+    f.write_text("course,respondent,item,answer\nE1,a1,Q1,Agree\nE1,a1,Q2,Disagree\n"
+                 "E1,a2,Q1,Strongly agree\nE1,a2,Q2,Agree\nE1,a3,Q2,N/A\nE1,a3,Q3,\n,,,\n"
+                 "Exported by Canvas 2024-01-01,,,\n")
+    got = {}
+    for route, extra, key in (("memory", [], "items"),
+                              ("by", ["--by", "course", "--min-group", "1"], "overall")):
+        assert main(["summarize", str(f), "--json", "--items", "Q1", "Q2", *extra]) == 0, route
+        out = json.loads(capsys.readouterr().out)
+        got[route] = {it["item"]: (it["n"], it["missing"], it["excluded"]) for it in out[key]}
+        assert [(d["row"], d["reason"]) for d in out["dropped"]] == [
+            (9, "text-only footer row")], out["dropped"]
+    assert got["memory"] == got["by"] == {"Q1": (2, 1, 0), "Q2": (2, 0, 1)}
