@@ -929,15 +929,22 @@ def _other_columns(raw: _Raw, shape: str, names: list[str], item_idx: set, why) 
     return out
 
 
-#: Columns that identify a person across surveys (pre/post pairing), best first.
+#: Columns that identify a person, best first: the one rule of both routes for the note on an
+#: id on several rows and of pre/post pairing. Every name :data:`_ID_LIKE` leaves out of the
+#: items as an identifier is here, but the row numbers (``record``, ``row``, ``#``) and
+#: ``response id`` (one per response: it names no person to pair).
 _PERSON_ID = ("student id", "student_id", "studentid", "sis_id", "sis user id", "sis id",
               "externalreference", "external reference", "externaldatareference",
-              "participant id", "participant_id", "respondent id", "respondent_id", "id",
-              "username", "user", "email address", "email", "recipientemail")
+              "participant id", "participant_id", "participantid", "respondent id",
+              "respondent_id", "respondentid", "id", "username", "user", "user_id", "userid",
+              "email address", "email", "recipientemail", "student", "participant", "respondent")
 
 
 def person_id_column(header: list[str]) -> "int | None":
-    """Index of the column that identifies a person (student id, e-mail ...), or None."""
+    """Index of the column that identifies a person (student id, e-mail ...), or None.
+
+    Both routes take the note on repeated ids from it (:func:`read_survey` and
+    :func:`analysis.institution.summarize_by`), and ``--group`` its pre/post pairs."""
     return _find(header, _PERSON_ID)
 
 
