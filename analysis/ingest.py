@@ -17,7 +17,8 @@ Supported shapes (:data:`SHAPES`), detected from the file unless named:
     Qualtrics export: three header rows (field ids, question text, ``{"ImportId": ...}``);
     responses whose ``Status`` is ``Survey Preview`` are dropped and reported.
 
-CSV files and ``.xlsx`` workbooks (first sheet, read with openpyxl) are accepted;
+CSV files and ``.xlsx`` workbooks (the first sheet, or ``sheet=``; read with openpyxl) are
+accepted, a note naming any other sheet that holds data;
 ``shape="xlsx"`` reads a workbook whatever its file name and detects its layout.
 Leading lines that start with ``#`` in a CSV are comments (a header whose first
 field is ``#``, such as ``#,Q1,Q2``, is not). The delimiter (comma, semicolon or
@@ -39,7 +40,7 @@ Row numbers count records as a spreadsheet shows them: the (first) header row is
 row 1, comment lines count too.
 
 Workbooks are parsed through defusedxml (external entities and entity expansion are
-refused) and every cell of the first sheet is read, whatever its ``<dimension>`` record
+refused) and every cell of the sheet read is read, whatever its ``<dimension>`` record
 says. Caps, each refused with one line: :data:`MAX_COLUMNS` columns (or distinct items
 of a long file), :data:`MAX_ITEMS` item columns, :data:`MAX_CELLS` cells,
 :data:`MAX_XLSX_BYTES` unpacked and :data:`XLSX_MAX_ROWS` rows per workbook.
@@ -543,8 +544,9 @@ def _xlsx_error(e: Exception, source: str, row: "int | None" = None) -> SurveyIn
     return SurveyInputError(f"not a readable .xlsx workbook: {what}", source, row)
 
 
-def _xlsx_rows(content: bytes, source: str) -> list[list[str]]:
-    """Cell texts of the first sheet, row by row, every cell read.
+def _xlsx_rows(content: bytes, source: str, sheet: "str | None" = None):
+    """Cell texts of one sheet (the first, or the one named ``sheet``), row by row, every
+    cell read; with the sheet's name and the names of the other sheets holding a cell.
 
     The sheet's ``<dimension>`` record is not trusted (a writer may understate it and
     openpyxl would then drop rows and columns silently). The XML is parsed through
@@ -568,7 +570,7 @@ def _xlsx_rows(content: bytes, source: str) -> list[list[str]]:
         raise _xlsx_error(e, source) from None
     rows, width = [], 0
     try:
-        ws = wb.worksheets[0]
+        ws = _worksheet(wb, sheet, source)
         ws.reset_dimensions()             # read the real extent, not the <dimension> record
         for r in ws.iter_rows(values_only=True):
             _check_width(source, len(r))
@@ -578,26 +580,66 @@ def _xlsx_rows(content: bytes, source: str) -> list[list[str]]:
                                        source, len(rows) + 1)
             if (len(rows) + 1) * max(width, 1) > MAX_CELLS:   # rows are padded to the width
                 raise SurveyInputError(f"more than {MAX_CELLS} cells (rows x columns) in the "
-                                       f"first sheet", source, len(rows) + 1)
+                                       f"sheet", source, len(rows) + 1)
             rows.append([_cell_text(v) for v in r])
+        others = [w.title for w in wb.worksheets if w is not ws and _holds_a_cell(w)]
     except SurveyInputError:
         raise
     except Exception as e:  # noqa: BLE001 - ParseError, EntitiesForbidden, ValueError ... in the sheet
         raise _xlsx_error(e, source, len(rows) + 1) from None
     finally:
         wb.close()
-    return rows
+    return rows, ws.title, others
 
 
-def _read_xlsx_raw(path: Path) -> tuple[_Raw, list[list[str]]]:
+def _worksheet(wb, sheet: "str | None", source: str):
+    """The worksheet named ``sheet`` (exactly, else ignoring case and outer spaces), or the
+    first; a name the workbook lacks is refused, listing its sheets."""
+    sheets = list(wb.worksheets)
+    if sheet is None:
+        return sheets[0]
+    for same in (lambda t: t == sheet, lambda t: t.strip().casefold() == sheet.strip().casefold()):
+        hits = [w for w in sheets if same(w.title)]
+        if len(hits) == 1:
+            return hits[0]
+    raise SurveyInputError(f"no sheet {sheet!r} (--sheet); the workbook's sheets are "
+                           f"{', '.join(repr(w.title) for w in sheets)}", source)
+
+
+def _holds_a_cell(ws) -> bool:
+    """Whether a worksheet holds a cell that is not blank (the first one found ends the scan)."""
+    ws.reset_dimensions()
+    for i, r in enumerate(ws.iter_rows(values_only=True)):
+        if i >= XLSX_MAX_ROWS:
+            return False
+        if any(_cell_text(v).strip() for v in r):
+            return True
+    return False
+
+
+def _sheets_hint(read: str, others: list[str]) -> str:
+    """Words naming the sheets of a workbook not read (``""`` when none holds a cell)."""
+    if not others:
+        return ""
+    names = ", ".join(map(repr, others))
+    held = "holds" if len(others) == 1 else "hold"
+    return (f"read the first sheet, {read!r}; sheet{'s' if len(others) > 1 else ''} {names} "
+            f"also {held} data, not read: give --sheet NAME to read another")
+
+
+def _read_xlsx_raw(path: Path, sheet: "str | None" = None) -> tuple[_Raw, list[list[str]], str]:
+    """The sheet read as a table, its first rows (to detect the layout), and when the first
+    sheet was read by default and others hold data, the words naming them (also a note)."""
     source = str(path)
     # from the bytes: openpyxl refuses a workbook whose name does not end in .xlsx
-    rows = _xlsx_rows(read_bytes(path), source)
+    rows, name, others = _xlsx_rows(read_bytes(path), source, sheet)
+    hint = _sheets_hint(name, others) if sheet is None else ""
     first = 0
     while first < len(rows) and not any(c.strip() for c in rows[first]):
         first += 1
     if first >= len(rows):
-        raise SurveyInputError("empty file (no cells in the first sheet)", source)
+        raise SurveyInputError(f"empty file (no cells in sheet {name!r})"
+                               + (f"; {hint}" if hint else ""), source)
     rows = rows[first:]
     while rows and not any(c.strip() for c in rows[-1]):
         rows.pop()
@@ -612,7 +654,9 @@ def _read_xlsx_raw(path: Path) -> tuple[_Raw, list[list[str]]]:
     df = pd.DataFrame(body, columns=header, dtype=object) if body else pd.DataFrame(
         columns=header)
     peek = [header] + [r for r in body if any(c.strip() for c in r)][:3]
-    return _Raw(source, header, _frame_to_columns(df), first + 2, len(body), given=given), peek
+    raw = _Raw(source, header, _frame_to_columns(df), first + 2, len(body), given=given,
+               notes=[f"{source}: {hint}"] if hint else [])
+    return raw, peek, hint
 
 
 def _distinct(header: list[str]) -> list[str]:
@@ -685,7 +729,8 @@ def read_survey(path: "str | Path", scale: "str | Scale | None" = None,
                 items: "list[str] | None" = None, shape: str = "auto",
                 unknown: str = "error", encoding: "str | None" = None,
                 group: "str | list[str] | None" = None, reverse: "list[str] | None" = None,
-                respondents: int | None = None, codes=None) -> SurveyData:
+                respondents: int | None = None, codes=None,
+                sheet: "str | None" = None) -> SurveyData:
     """Read a survey export.
 
     Parameters
@@ -714,6 +759,9 @@ def read_survey(path: "str | Path", scale: "str | Scale | None" = None,
         ``.lss`` or a ``.toml`` code map (:mod:`analysis.codebook`). Without it,
         numeric answers are refused unless ``scale`` is a scale file (whose codes are
         stated).
+    sheet : str, optional
+        The worksheet of a workbook to read (default: the first; a note names any other
+        sheet holding data). A name the workbook lacks, or a sheet for a CSV, is an error.
 
     Returns
     -------
@@ -730,18 +778,26 @@ def read_survey(path: "str | Path", scale: "str | Scale | None" = None,
         Bad option strings (the message lists the valid ones).
     """
     _validate_read(shape, unknown, respondents)
-    p = Path(path)
+    p, hint = Path(path), ""
     if shape == "xlsx" or p.suffix.lower() in (".xlsx", ".xlsm") or _is_zip(p):
-        raw, peek = _read_xlsx_raw(p)
+        raw, peek, hint = _read_xlsx_raw(p, sheet)
         if shape == "xlsx":            # a workbook of any layout; a named layout is kept
             shape = "auto"
     elif p.suffix.lower() == ".xls":
         raise SurveyInputError("old .xls workbooks are not supported; save as .xlsx or CSV",
                                str(p))
+    elif sheet is not None:
+        raise SurveyInputError(f"--sheet {sheet!r}: only a workbook (.xlsx) has sheets",
+                               str(p))
     else:
         raw, peek = _read_csv_raw(p, encoding)
-    return _build(raw, peek, scale, items, shape, unknown, group, reverse, respondents,
-                  _codebook(codes))
+    try:
+        return _build(raw, peek, scale, items, shape, unknown, group, reverse, respondents,
+                      _codebook(codes))
+    except SurveyInputError as e:      # the first sheet read by default: name the others
+        if not hint:
+            raise
+        raise SurveyInputError(f"{e.message} ({hint})", e.file, e.row, e.column) from None
 
 
 def _codebook(codes):

@@ -596,3 +596,49 @@ def test_a_long_file_drops_its_footer_as_by_does(tmp_path, capsys):
         assert [(d["row"], d["reason"]) for d in out["dropped"]] == [
             (9, "text-only footer row")], out["dropped"]
     assert got["memory"] == got["by"] == {"Q1": (2, 1, 0), "Q2": (2, 0, 1)}
+
+
+def _two_sheet_workbook(path, sheets: dict) -> None:
+    """A workbook of the named sheets, in order, each holding its rows."""
+    wb = openpyxl.Workbook()
+    wb.remove(wb.active)
+    for name, rows in sheets.items():
+        ws = wb.create_sheet(name)
+        for r in rows:
+            ws.append(r)
+    wb.save(path)
+
+
+def test_a_workbook_names_the_sheets_it_did_not_read(tmp_path, capsys):
+    """QA 10 item 1: two_terms.xlsx ("Fall 2023" 2 respondents here, "Spring 2024" 3) was
+    summarized from its first sheet with no word of the second; multi.xlsx (an "Info" sheet
+    before the answers) failed with "no item columns" naming no sheet. By hand: the first
+    sheet has 2 rows of answers, the second 3. Exact counts: no tolerance."""
+    f = tmp_path / "two_terms.xlsx"
+    _two_sheet_workbook(f, {"Fall 2023": [["id", "Q1"], ["a", "Agree"], ["b", "Disagree"]],
+                            "Spring 2024": [["id", "Q1"], ["c", "Agree"], ["d", "Agree"],
+                                            ["e", "Disagree"]],
+                            "Empty": []})
+    assert main(["summarize", str(f), "--json"]) == 0
+    out = capsys.readouterr()
+    assert json.loads(out.out)["respondents"] == 2
+    assert ("read the first sheet, 'Fall 2023'; sheet 'Spring 2024' also holds data, not read: "
+            "give --sheet NAME") in out.err                    # 'Empty' holds nothing
+    assert main(["summarize", str(f), "--json", "--sheet", "Spring 2024"]) == 0
+    out = capsys.readouterr()
+    assert json.loads(out.out)["respondents"] == 3 and "--sheet" not in out.err
+    assert main(["summarize", str(f), "--sheet", "Summer"]) == 2
+    err = capsys.readouterr().err
+    assert err == (f"error: {f}: no sheet 'Summer' (--sheet); the workbook's sheets are "
+                   f"'Fall 2023', 'Spring 2024', 'Empty'\n")
+    g = tmp_path / "multi.xlsx"
+    _two_sheet_workbook(g, {"Info": [["Course survey"], ["exported 2024-01-01"]],
+                            "Responses": [["id", "Q1"], ["a", "Agree"]]})
+    assert main(["summarize", str(g)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith(f"error: {g}: no item columns"), err
+    assert "(read the first sheet, 'Info'; sheet 'Responses' also holds data" in err, err
+    c = tmp_path / "s.csv"
+    c.write_text("Q1\nAgree\n")
+    assert main(["summarize", str(c), "--sheet", "Responses"]) == 2
+    assert "--sheet 'Responses': only a workbook (.xlsx) has sheets" in capsys.readouterr().err
