@@ -394,6 +394,7 @@ def _cmd_summarize(args) -> int:
         write_table(frame, args.table)
     if args.json:
         out = summary.to_dict()
+        out["notes"] = list(data.notes)    # as --by's JSON: stderr is not all a reader keeps
         out.update({k: v.to_dict() for k, v in extra.items()})
         print(_json(out))
     else:

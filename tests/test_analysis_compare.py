@@ -424,6 +424,8 @@ def test_an_id_repeated_in_any_identifier_column_is_noted(tmp_path, capsys, colu
     want = f"column {column!r}: 1 id on more than one row ('S1' in rows 2, 4)"
     assert main(["summarize", str(f)]) == 0
     assert want in capsys.readouterr().err
+    assert main(["summarize", str(f), "--json"]) == 0          # in the JSON too, as --by's
+    assert any(want in n for n in json.loads(capsys.readouterr().out)["notes"])
     assert main(["summarize", str(f), "--by", "Q2", "--min-group", "1"]) == 0
     assert f"column {column!r}: 1 id on more than one row with the same 'Q2'" in capsys.readouterr().out
     spellings = ["respondent", "respondent id", "respondent_id", "respondentid", "id", "student",

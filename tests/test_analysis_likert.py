@@ -64,7 +64,7 @@ def test_summarize_json_shape(rebuilt, capsys):
     assert main(["summarize", str(rebuilt), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert set(out) == {"respondents", "ci_method", "confidence_level", "reverse_note", "items",
-                        "not_items", "not_item_reasons", "dropped", "unknown_answers"}
+                        "not_items", "not_item_reasons", "dropped", "unknown_answers", "notes"}
     # the rebuilt file's id column is left out of the table, and said so, with why
     assert out["not_items"] == ["respondent"] and out["dropped"] == out["unknown_answers"] == []
     assert set(out["not_item_reasons"]) == {"respondent"} and out["not_item_reasons"]["respondent"]
@@ -73,6 +73,7 @@ def test_summarize_json_shape(rebuilt, capsys):
         assert set(item["agree"]) == {"share", "ci"} and len(item["agree"]["ci"]) == 2
         assert 0 <= item["agree"]["ci"][0] <= item["agree"]["share"] <= item["agree"]["ci"][1] <= 1
         assert sum(item["percent"].values()) == pytest.approx(100, abs=1e-9)  # float sum
+    assert out["notes"] == []
 
 
 def test_round_half_away_is_not_bankers():
