@@ -134,6 +134,9 @@ def _reading_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--shape", choices=SHAPES, default="auto", help="input shape (default: detect)")
     p.add_argument("--unknown-as-missing", action="store_true",
                    help="count answers that match no label as missing (each one is reported)")
+    p.add_argument("--sheet", metavar="NAME",
+                   help="the sheet of an .xlsx workbook to read (default: the first; a note "
+                        "names other sheets holding data)")
     p.add_argument("--encoding", type=_encoding, default=None,
                    help="text encoding of a CSV file (default: UTF-8, else Windows-1252 "
                         "with a note)")
@@ -226,7 +229,8 @@ def _read(args):
     return read_survey(args.file, scale=args.scale, items=args.items, shape=args.shape,
                        unknown="missing" if args.unknown_as_missing else "error",
                        encoding=args.encoding, group=getattr(args, "group", None),
-                       reverse=args.reverse, respondents=args.respondents, codes=args.codes)
+                       reverse=args.reverse, respondents=args.respondents, codes=args.codes,
+                       sheet=args.sheet)
 
 
 def _positionals_from_lists(args, argv) -> "str | None":
@@ -296,7 +300,7 @@ def _notes(data) -> None:
 _NOT_WITH_BY = (("--group", "group", None), ("--chart", "chart", None),
                 ("--reliability", "reliability", None), ("--codes", "codes", None),
                 ("--shape", "shape", "auto"),
-                ("--encoding", "encoding", None),
+                ("--encoding", "encoding", None), ("--sheet", "sheet", None),
                 ("--unknown-as-missing", "unknown_as_missing", False),
                 ("--percent-method", "percent_method", "round"))
 
@@ -393,6 +397,7 @@ def _cmd_summarize(args) -> int:
         write_table(frame, args.table)
     if args.json:
         out = summary.to_dict()
+        out["notes"] = list(data.notes)    # as --by's JSON: stderr is not all a reader keeps
         out.update({k: v.to_dict() for k, v in extra.items()})
         print(_json(out))
     else:

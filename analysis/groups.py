@@ -237,7 +237,8 @@ class GroupComparison:
                            f"p = {significant_text(it.trend['p_value'])}")
             for g, d in it.per_group.items():
                 pp, agree = self.printed(j, g, decimals, method)
-                dist = " ".join(f"{lab} {pp[lab]:.{decimals}f}%" for lab in self.labels)
+                dist = " ".join(f"{lab} " + ("-" if pp[lab] is None else f"{pp[lab]:.{decimals}f}%")
+                                for lab in self.labels)          # no percent of nobody
                 agree = "-" if agree == "-" else f"{agree}%"
                 out.append(f"    {g:<{width}} n={d['n']:<4} agree {agree:>4} | {dist} | "
                            f"median {_num(d['median'])} IQR {_num(d['iqr'])} "

@@ -17,7 +17,8 @@ Supported shapes (:data:`SHAPES`), detected from the file unless named:
     Qualtrics export: three header rows (field ids, question text, ``{"ImportId": ...}``);
     responses whose ``Status`` is ``Survey Preview`` are dropped and reported.
 
-CSV files and ``.xlsx`` workbooks (first sheet, read with openpyxl) are accepted;
+CSV files and ``.xlsx`` workbooks (the first sheet, or ``sheet=``; read with openpyxl) are
+accepted, a note naming any other sheet that holds data;
 ``shape="xlsx"`` reads a workbook whatever its file name and detects its layout.
 Leading lines that start with ``#`` in a CSV are comments (a header whose first
 field is ``#``, such as ``#,Q1,Q2``, is not). The delimiter (comma, semicolon or
@@ -39,7 +40,7 @@ Row numbers count records as a spreadsheet shows them: the (first) header row is
 row 1, comment lines count too.
 
 Workbooks are parsed through defusedxml (external entities and entity expansion are
-refused) and every cell of the first sheet is read, whatever its ``<dimension>`` record
+refused) and every cell of the sheet read is read, whatever its ``<dimension>`` record
 says. Caps, each refused with one line: :data:`MAX_COLUMNS` columns (or distinct items
 of a long file), :data:`MAX_ITEMS` item columns, :data:`MAX_CELLS` cells,
 :data:`MAX_XLSX_BYTES` unpacked and :data:`XLSX_MAX_ROWS` rows per workbook.
@@ -67,7 +68,7 @@ from ._io import is_regular_file, read_bytes, sniff_delimiter
 from .dropped import (DROP_WHY, FOOTER, DroppedRow, is_footer_note, is_integer_text,
                       is_na_text as _is_na_text)
 from .errors import SurveyInputError
-from .scales import (BLANK, BUILTIN_SCALES, NOT_APPLICABLE, UNKNOWN,
+from .scales import (BLANK, BUILTIN_SCALES, DECLINED, NOT_APPLICABLE, SHORT_NOT_APPLICABLE, UNKNOWN,
                      Scale, code_key, get_scale, normalize_answer,
                      two_groups_message)
 
@@ -543,8 +544,9 @@ def _xlsx_error(e: Exception, source: str, row: "int | None" = None) -> SurveyIn
     return SurveyInputError(f"not a readable .xlsx workbook: {what}", source, row)
 
 
-def _xlsx_rows(content: bytes, source: str) -> list[list[str]]:
-    """Cell texts of the first sheet, row by row, every cell read.
+def _xlsx_rows(content: bytes, source: str, sheet: "str | None" = None):
+    """Cell texts of one sheet (the first, or the one named ``sheet``), row by row, every
+    cell read; with the sheet's name and the names of the other sheets holding a cell.
 
     The sheet's ``<dimension>`` record is not trusted (a writer may understate it and
     openpyxl would then drop rows and columns silently). The XML is parsed through
@@ -568,7 +570,7 @@ def _xlsx_rows(content: bytes, source: str) -> list[list[str]]:
         raise _xlsx_error(e, source) from None
     rows, width = [], 0
     try:
-        ws = wb.worksheets[0]
+        ws = _worksheet(wb, sheet, source)
         ws.reset_dimensions()             # read the real extent, not the <dimension> record
         for r in ws.iter_rows(values_only=True):
             _check_width(source, len(r))
@@ -578,26 +580,66 @@ def _xlsx_rows(content: bytes, source: str) -> list[list[str]]:
                                        source, len(rows) + 1)
             if (len(rows) + 1) * max(width, 1) > MAX_CELLS:   # rows are padded to the width
                 raise SurveyInputError(f"more than {MAX_CELLS} cells (rows x columns) in the "
-                                       f"first sheet", source, len(rows) + 1)
+                                       f"sheet", source, len(rows) + 1)
             rows.append([_cell_text(v) for v in r])
+        others = [w.title for w in wb.worksheets if w is not ws and _holds_a_cell(w)]
     except SurveyInputError:
         raise
     except Exception as e:  # noqa: BLE001 - ParseError, EntitiesForbidden, ValueError ... in the sheet
         raise _xlsx_error(e, source, len(rows) + 1) from None
     finally:
         wb.close()
-    return rows
+    return rows, ws.title, others
 
 
-def _read_xlsx_raw(path: Path) -> tuple[_Raw, list[list[str]]]:
+def _worksheet(wb, sheet: "str | None", source: str):
+    """The worksheet named ``sheet`` (exactly, else ignoring case and outer spaces), or the
+    first; a name the workbook lacks is refused, listing its sheets."""
+    sheets = list(wb.worksheets)
+    if sheet is None:
+        return sheets[0]
+    for same in (lambda t: t == sheet, lambda t: t.strip().casefold() == sheet.strip().casefold()):
+        hits = [w for w in sheets if same(w.title)]
+        if len(hits) == 1:
+            return hits[0]
+    raise SurveyInputError(f"no sheet {sheet!r} (--sheet); the workbook's sheets are "
+                           f"{', '.join(repr(w.title) for w in sheets)}", source)
+
+
+def _holds_a_cell(ws) -> bool:
+    """Whether a worksheet holds a cell that is not blank (the first one found ends the scan)."""
+    ws.reset_dimensions()
+    for i, r in enumerate(ws.iter_rows(values_only=True)):
+        if i >= XLSX_MAX_ROWS:
+            return False
+        if any(_cell_text(v).strip() for v in r):
+            return True
+    return False
+
+
+def _sheets_hint(read: str, others: list[str]) -> str:
+    """Words naming the sheets of a workbook not read (``""`` when none holds a cell)."""
+    if not others:
+        return ""
+    names = ", ".join(map(repr, others))
+    held = "holds" if len(others) == 1 else "hold"
+    return (f"read the first sheet, {read!r}; sheet{'s' if len(others) > 1 else ''} {names} "
+            f"also {held} data, not read: give --sheet NAME to read another")
+
+
+def _read_xlsx_raw(path: Path, sheet: "str | None" = None) -> tuple[_Raw, list[list[str]], str]:
+    """The sheet read as a table, its first rows (to detect the layout), and when the first
+    sheet was read by default and others hold data, the words naming them (also a note)."""
     source = str(path)
     # from the bytes: openpyxl refuses a workbook whose name does not end in .xlsx
-    rows = _xlsx_rows(read_bytes(path), source)
+    rows, name, others = _xlsx_rows(read_bytes(path), source, sheet)
+    hint = _sheets_hint(name, others) if sheet is None else ""
     first = 0
     while first < len(rows) and not any(c.strip() for c in rows[first]):
         first += 1
     if first >= len(rows):
-        raise SurveyInputError("empty file (no cells in the first sheet)", source)
+        raise SurveyInputError(f"empty file (no cells in sheet {name!r})"
+                               + (f"; {hint}" if hint else ""), source)
     rows = rows[first:]
     while rows and not any(c.strip() for c in rows[-1]):
         rows.pop()
@@ -612,7 +654,9 @@ def _read_xlsx_raw(path: Path) -> tuple[_Raw, list[list[str]]]:
     df = pd.DataFrame(body, columns=header, dtype=object) if body else pd.DataFrame(
         columns=header)
     peek = [header] + [r for r in body if any(c.strip() for c in r)][:3]
-    return _Raw(source, header, _frame_to_columns(df), first + 2, len(body), given=given), peek
+    raw = _Raw(source, header, _frame_to_columns(df), first + 2, len(body), given=given,
+               notes=[f"{source}: {hint}"] if hint else [])
+    return raw, peek, hint
 
 
 def _distinct(header: list[str]) -> list[str]:
@@ -685,7 +729,8 @@ def read_survey(path: "str | Path", scale: "str | Scale | None" = None,
                 items: "list[str] | None" = None, shape: str = "auto",
                 unknown: str = "error", encoding: "str | None" = None,
                 group: "str | list[str] | None" = None, reverse: "list[str] | None" = None,
-                respondents: int | None = None, codes=None) -> SurveyData:
+                respondents: int | None = None, codes=None,
+                sheet: "str | None" = None) -> SurveyData:
     """Read a survey export.
 
     Parameters
@@ -714,6 +759,9 @@ def read_survey(path: "str | Path", scale: "str | Scale | None" = None,
         ``.lss`` or a ``.toml`` code map (:mod:`analysis.codebook`). Without it,
         numeric answers are refused unless ``scale`` is a scale file (whose codes are
         stated).
+    sheet : str, optional
+        The worksheet of a workbook to read (default: the first; a note names any other
+        sheet holding data). A name the workbook lacks, or a sheet for a CSV, is an error.
 
     Returns
     -------
@@ -730,18 +778,26 @@ def read_survey(path: "str | Path", scale: "str | Scale | None" = None,
         Bad option strings (the message lists the valid ones).
     """
     _validate_read(shape, unknown, respondents)
-    p = Path(path)
+    p, hint = Path(path), ""
     if shape == "xlsx" or p.suffix.lower() in (".xlsx", ".xlsm") or _is_zip(p):
-        raw, peek = _read_xlsx_raw(p)
+        raw, peek, hint = _read_xlsx_raw(p, sheet)
         if shape == "xlsx":            # a workbook of any layout; a named layout is kept
             shape = "auto"
     elif p.suffix.lower() == ".xls":
         raise SurveyInputError("old .xls workbooks are not supported; save as .xlsx or CSV",
                                str(p))
+    elif sheet is not None:
+        raise SurveyInputError(f"--sheet {sheet!r}: only a workbook (.xlsx) has sheets",
+                               str(p))
     else:
         raw, peek = _read_csv_raw(p, encoding)
-    return _build(raw, peek, scale, items, shape, unknown, group, reverse, respondents,
-                  _codebook(codes))
+    try:
+        return _build(raw, peek, scale, items, shape, unknown, group, reverse, respondents,
+                      _codebook(codes))
+    except SurveyInputError as e:      # the first sheet read by default: name the others
+        if not hint:
+            raise
+        raise SurveyInputError(f"{e.message} ({hint})", e.file, e.row, e.column) from None
 
 
 def _codebook(codes):
@@ -784,7 +840,11 @@ def _without_empty_records(raw: _Raw) -> _Raw:
         filled |= np.array([bool(str(x).strip()) for x in c.cats] or [False], dtype=bool)[c.codes]
     if filled.all():
         return raw
-    keep = np.flatnonzero(filled)
+    return _take_records(raw, np.flatnonzero(filled))
+
+
+def _take_records(raw: _Raw, keep: np.ndarray) -> _Raw:
+    """The records ``keep`` (indices, in order) of ``raw``, each keeping its file row."""
     rows = raw.row_of(keep)
     return replace(raw, columns=[replace(c, codes=c.codes[keep]) for c in raw.columns], nrows=len(keep),
                    row_map=rows, first_row=int(rows[0]) if len(rows) else raw.first_row)
@@ -811,8 +871,12 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
         rows = "the header row" if not extra else f"the {extra + 1} header rows"
         raise SurveyInputError(f"no responses below {rows} (an empty row, or one of empty cells, "
                                f"is not a response)", raw.source)
-    if shape == "long":
-        return _build_long(raw, scale, items, unknown, group, reverse, respondents)
+    if shape == "long":           # a footer note is dropped by the rule of a wide file
+        keep, footer = _drop_footer(raw, np.arange(raw.nrows))
+        data = _build_long(_take_records(raw, keep) if footer else raw, scale, items, unknown,
+                           group, reverse, respondents)
+        data.dropped = footer + list(data.dropped)
+        return data
     keep = np.arange(extra, raw.nrows)
     dropped: list[DroppedRow] = []
     text_row = ([c.cats[c.codes[0]] for c in raw.columns] if shape == "qualtrics" and extra
@@ -921,15 +985,22 @@ def _other_columns(raw: _Raw, shape: str, names: list[str], item_idx: set, why) 
     return out
 
 
-#: Columns that identify a person across surveys (pre/post pairing), best first.
+#: Columns that identify a person, best first: the one rule of both routes for the note on an
+#: id on several rows and of pre/post pairing. Every name :data:`_ID_LIKE` leaves out of the
+#: items as an identifier is here, but the row numbers (``record``, ``row``, ``#``) and
+#: ``response id`` (one per response: it names no person to pair).
 _PERSON_ID = ("student id", "student_id", "studentid", "sis_id", "sis user id", "sis id",
               "externalreference", "external reference", "externaldatareference",
-              "participant id", "participant_id", "respondent id", "respondent_id", "id",
-              "username", "user", "email address", "email", "recipientemail")
+              "participant id", "participant_id", "participantid", "respondent id",
+              "respondent_id", "respondentid", "id", "username", "user", "user_id", "userid",
+              "email address", "email", "recipientemail", "student", "participant", "respondent")
 
 
 def person_id_column(header: list[str]) -> "int | None":
-    """Index of the column that identifies a person (student id, e-mail ...), or None."""
+    """Index of the column that identifies a person (student id, e-mail ...), or None.
+
+    Both routes take the note on repeated ids from it (:func:`read_survey` and
+    :func:`analysis.institution.summarize_by`), and ``--group`` its pre/post pairs."""
     return _find(header, _PERSON_ID)
 
 
@@ -1357,7 +1428,34 @@ def _choose_items(source: str, names: list[str], cols, exclude, scale, items,
                     None if long else 1, None if long else c.name)
     if not long:
         chosen = _unanswered_items(source, chosen, candidates, stats, notes)
+    _note_other_not_applicable(source, chosen, scale_obj, notes)
     return scale_obj, chosen
+
+
+def _note_other_not_applicable(source: str, chosen, scale: Scale, notes: "list | None") -> None:
+    """Say which answers besides "N/A" itself were counted under n/a: a decline ("Prefer not
+    to say") or a short mark ("NA", "-"), with how many in which item. Both routes come
+    here (:func:`_choose_items`), so both say it alike."""
+    if notes is None:
+        return
+    said = {normalize_answer(t): t for t in SHORT_NOT_APPLICABLE + DECLINED
+            if scale.match(t, accept_codes=False) == Scale.NOT_APPLICABLE}
+    found: dict = {}
+    for _, c in chosen:
+        for text, cnt in zip(c.cats, c.counts()):
+            key = normalize_answer(text)
+            if cnt and key in said:
+                found.setdefault(key, {}).setdefault(c.name, 0)
+                found[key][c.name] += int(cnt)
+    if not found:
+        return
+    parts = []
+    for key, per in found.items():
+        where = ", ".join(f"{n} in {name!r}" for name, n in per.items())
+        why = "declined to answer" if said[key] in DECLINED else "a mark for not applicable"
+        parts.append(f"{said[key]!r} ({why}): {where}")
+    notes.append(f"{source}: counted under n/a (excluded from n, as 'N/A' is): "
+                 + "; ".join(parts))
 
 
 def choose_items_from_counts(source: str, columns, scale=None, items=None,

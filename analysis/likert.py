@@ -223,7 +223,8 @@ class ItemSummary:
         Not-applicable answers.
     respondents : int
     percent : dict of str to float
-        Exact ``100 * count / n`` (0-100); NaN-free: empty dict values are 0 when n == 0.
+        Exact ``100 * count / n`` (0-100); None for every label when n == 0 (no percent
+        of nobody: JSON ``null``, printed "-", as the agreement share).
     agree, neutral, disagree : Proportion
         Shares of n answering a positive / neutral / negative label.
     median, q1, q3 : float or None
@@ -246,7 +247,7 @@ class ItemSummary:
     missing: int
     excluded: int
     respondents: int
-    percent: dict[str, float]
+    percent: dict[str, "float | None"]
     agree: Proportion
     neutral: Proportion
     disagree: Proportion
@@ -265,8 +266,8 @@ class ItemSummary:
         """Interquartile range of the codes, q3 - q1."""
         return None if self.q1 is None else self.q3 - self.q1
 
-    def printed_percent(self, decimals: int = 1, method: str = "round") -> dict[str, float]:
-        """Percentages as they would be printed.
+    def printed_percent(self, decimals: int = 1, method: str = "round") -> dict:
+        """Percentages as they would be printed (None for every label when n == 0).
 
         Parameters
         ----------
@@ -281,7 +282,7 @@ class ItemSummary:
             raise ValueError(f"`decimals` must be an integer 0..6, got {decimals!r}")
         cs = [self.counts[lab] for lab in self.labels]
         if self.n == 0:
-            return {lab: 0.0 for lab in self.labels}
+            return {lab: None for lab in self.labels}
         if method == "round":
             vals = [round_fraction(Fraction(100 * c, self.n), decimals, "half_away") for c in cs]
         else:
@@ -536,7 +537,7 @@ def summarize_tally(tally, scale, name: str, text: str = "", respondents: "int |
     cnt = tally[3:3 + k]
     n = int(cnt.sum())
     counts = {lab: int(c) for lab, c in zip(labels, cnt)}
-    percent = {lab: (100.0 * int(c) / n if n else 0.0) for lab, c in zip(labels, cnt)}
+    percent = {lab: (100.0 * int(c) / n if n else None) for lab, c in zip(labels, cnt)}
     rev = reverse
     codes = np.array(scale.reversed_codes() if rev else scale.codes, dtype=float)
     median = _weighted_quantile(codes, cnt, 0.5)

@@ -42,7 +42,7 @@ from ._io import read_toml
 from .errors import SurveyInputError
 
 __all__ = ["Scale", "BUILTIN_SCALES", "get_scale", "load_scale", "normalize_answer",
-           "DEFAULT_NOT_APPLICABLE"]
+           "DEFAULT_NOT_APPLICABLE", "DECLINED", "SHORT_NOT_APPLICABLE"]
 
 #: Cell codes of an answer matrix besides label positions 0..k-1 (see
 #: :attr:`analysis.ingest.SurveyData.answers`): blank, not applicable, and an unknown
@@ -54,8 +54,18 @@ UNKNOWN = -3
 #: Most labels a scale may have (answers are stored as small integers).
 MAX_LABELS = 100
 
-#: Answers treated as "not applicable" unless a scale names its own.
-DEFAULT_NOT_APPLICABLE = ("Not applicable", "N/A", "Does not apply")
+#: Answers that decline the question: no position on the scale, so counted, like "N/A",
+#: under n/a (excluded from n), never as an answer and never as a blank.
+DECLINED = ("Prefer not to say", "Prefer not to answer")
+
+#: Short marks a spreadsheet holds for "not applicable" (they match as answers do, so "na"
+#: and "n/a " too); a cell left empty is a blank (missing), not one of these.
+SHORT_NOT_APPLICABLE = ("NA", "-")
+
+#: Answers treated as "not applicable" (the n/a count) unless a scale names its own: the
+#: one list both routes (``read_survey`` and ``summarize_by``) match answers against.
+DEFAULT_NOT_APPLICABLE = ("Not applicable", "N/A", "Does not apply") + SHORT_NOT_APPLICABLE \
+    + DECLINED
 
 _SPACE = re.compile(r"\s+")
 

@@ -409,3 +409,36 @@ def test_long_item_labels_do_not_overlap_in_the_chart(tmp_path):
     assert len(boxes) == 12
     for (lo0, hi0), (lo1, hi1) in zip(boxes, boxes[1:]):
         assert hi0 <= lo1, boxes
+
+
+@pytest.mark.parametrize("column", ["respondent", "Student", "participant", "RespondentID"])
+def test_an_id_repeated_in_any_identifier_column_is_noted(tmp_path, capsys, column):
+    """QA 10 item 2: dupresp.csv's id column `respondent` was listed as an identifier column,
+    yet its repeated S1 (rows 2 and 4: header row 1) got no note, on both routes: the note
+    looked only for the pairing names (student id, email ...). Every name the reader leaves
+    out of the items as an identifier, but row numbers, is a person id now: one list."""
+    from analysis.ingest import _ID_LIKE, person_id_column
+    f = tmp_path / "dupresp.csv"
+    f.write_text(f"{column},Q1,Q2\nS1,Agree,Agree\nS2,Disagree,Agree\nS1,Agree,Agree\n"
+                 "S3,Agree,Disagree\n")
+    want = f"column {column!r}: 1 id on more than one row ('S1' in rows 2, 4)"
+    assert main(["summarize", str(f)]) == 0
+    assert want in capsys.readouterr().err
+    assert main(["summarize", str(f), "--json"]) == 0          # in the JSON too, as --by's
+    assert any(want in n for n in json.loads(capsys.readouterr().out)["notes"])
+    assert main(["summarize", str(f), "--by", "Q2", "--min-group", "1"]) == 0
+    assert f"column {column!r}: 1 id on more than one row with the same 'Q2'" in capsys.readouterr().out
+    spellings = ["respondent", "respondent id", "respondent_id", "respondentid", "id", "student",
+                 "student id", "student_id", "participant", "participant id", "participantid"]
+    assert all(_ID_LIKE.match(s) and person_id_column([s]) == 0 for s in spellings)
+
+
+def test_a_long_file_read_as_wide_notes_its_repeated_respondents(tmp_path, capsys):
+    """QA 10 item 2: long.csv forced wide (--shape wide) counted 2 rows per student as 2
+    respondents with no note. By hand: s0 on rows 2-3, s1 on rows 4-5."""
+    f = tmp_path / "long.csv"
+    f.write_text("respondent,item,answer\ns0,Q1,Agree\ns0,Q2,Disagree\ns1,Q1,Agree\n"
+                 "s1,Q2,Agree\n")
+    assert main(["summarize", str(f), "--shape", "wide"]) == 0
+    assert ("column 'respondent': 2 ids on more than one row ('s0' in rows 2, 3; 's1' in rows "
+            "4, 5)") in capsys.readouterr().err

@@ -548,3 +548,96 @@ def test_narrow_scale_note_names_the_missing_label_in_both_layouts(tmp_path):
     for f, shape in ((wide, "wide"), (long, "long")):
         data = read_survey(f)
         assert data.shape == shape and want in data.notes, (shape, data.notes)
+
+
+def test_declines_and_short_na_marks_are_excluded_alike_on_both_routes(tmp_path, capsys):
+    """QA 10 item 9: "Prefer not to say" stopped seven.csv as an answer not on the scale, and
+    "NA" and "-" stopped variants.csv. They take no position on the scale: counted under n/a
+    (excluded from n) with "N/A", by the in-memory route and by --by alike, and one note
+    names them with the reason. By hand, Q2 below: 'Agree' once -> n = 1; a blank cell ->
+    missing 1; 'Prefer not to say', 'prefer not to answer ', 'NA', '-', 'N/A' -> n/a 5
+    (1 + 1 + 5 = 7 respondents). Counts are exact: no tolerance."""
+    f = tmp_path / "declined.csv"
+    f.write_text("id,Sec,Q1,Q2\n1,A,Agree,Agree\n2,A,Disagree,Prefer not to say\n"
+                 "3,A,Agree,prefer not to answer \n4,B,Strongly agree,NA\n5,B,Agree,-\n"
+                 "6,B,Disagree,N/A\n7,B,Agree,\n")
+    got, notes = {}, {}
+    for route, extra, key in (("memory", [], "items"),
+                              ("by", ["--by", "Sec", "--min-group", "1"], "overall")):
+        assert main(["summarize", str(f), "--json", *extra]) == 0, route
+        out = capsys.readouterr()
+        got[route] = {it["item"]: (it["n"], it["missing"], it["excluded"])
+                      for it in json.loads(out.out)[key]}
+        notes[route] = [ln for ln in json.loads(out.out)["notes"] if "counted under n/a" in ln]
+    assert got["memory"] == got["by"] == {"Q1": (7, 0, 0), "Q2": (1, 1, 5)}
+    for note in notes.values():
+        assert len(note) == 1, notes
+        assert "'Prefer not to say' (declined to answer): 1 in 'Q2'" in note[0], note
+        assert "'NA' (a mark for not applicable): 1 in 'Q2'" in note[0], note
+
+
+def test_a_long_file_drops_its_footer_as_by_does(tmp_path, capsys):
+    """QA 10 item 5: a long file ending, below an empty row, in "Exported by ..." in its first
+    cell stopped the in-memory route ("blank respondent id" on the note's row), while --by
+    dropped it as a footer. Both drop it now, naming row 9 (header 1, answers rows 2-7,
+    ',,,' row 8). By hand: Q1 answered by a1, a2 (a3 has no Q1 row: missing 1), Q2 by a1,
+    a2 and 'N/A' from a3 -> Q1 (2, 1, 0), Q2 (2, 0, 1) as (n, missing, n/a); exact counts."""
+    f = tmp_path / "long_footer.csv"
+    f.write_text("course,respondent,item,answer\nE1,a1,Q1,Agree\nE1,a1,Q2,Disagree\n"
+                 "E1,a2,Q1,Strongly agree\nE1,a2,Q2,Agree\nE1,a3,Q2,N/A\nE1,a3,Q3,\n,,,\n"
+                 "Exported by Canvas 2024-01-01,,,\n")
+    got = {}
+    for route, extra, key in (("memory", [], "items"),
+                              ("by", ["--by", "course", "--min-group", "1"], "overall")):
+        assert main(["summarize", str(f), "--json", "--items", "Q1", "Q2", *extra]) == 0, route
+        out = json.loads(capsys.readouterr().out)
+        got[route] = {it["item"]: (it["n"], it["missing"], it["excluded"]) for it in out[key]}
+        assert [(d["row"], d["reason"]) for d in out["dropped"]] == [
+            (9, "text-only footer row")], out["dropped"]
+    assert got["memory"] == got["by"] == {"Q1": (2, 1, 0), "Q2": (2, 0, 1)}
+
+
+def _two_sheet_workbook(path, sheets: dict) -> None:
+    """A workbook of the named sheets, in order, each holding its rows."""
+    wb = openpyxl.Workbook()
+    wb.remove(wb.active)
+    for name, rows in sheets.items():
+        ws = wb.create_sheet(name)
+        for r in rows:
+            ws.append(r)
+    wb.save(path)
+
+
+def test_a_workbook_names_the_sheets_it_did_not_read(tmp_path, capsys):
+    """QA 10 item 1: two_terms.xlsx ("Fall 2023" 2 respondents here, "Spring 2024" 3) was
+    summarized from its first sheet with no word of the second; multi.xlsx (an "Info" sheet
+    before the answers) failed with "no item columns" naming no sheet. By hand: the first
+    sheet has 2 rows of answers, the second 3. Exact counts: no tolerance."""
+    f = tmp_path / "two_terms.xlsx"
+    _two_sheet_workbook(f, {"Fall 2023": [["id", "Q1"], ["a", "Agree"], ["b", "Disagree"]],
+                            "Spring 2024": [["id", "Q1"], ["c", "Agree"], ["d", "Agree"],
+                                            ["e", "Disagree"]],
+                            "Empty": []})
+    assert main(["summarize", str(f), "--json"]) == 0
+    out = capsys.readouterr()
+    assert json.loads(out.out)["respondents"] == 2
+    assert ("read the first sheet, 'Fall 2023'; sheet 'Spring 2024' also holds data, not read: "
+            "give --sheet NAME") in out.err                    # 'Empty' holds nothing
+    assert main(["summarize", str(f), "--json", "--sheet", "Spring 2024"]) == 0
+    out = capsys.readouterr()
+    assert json.loads(out.out)["respondents"] == 3 and "--sheet" not in out.err
+    assert main(["summarize", str(f), "--sheet", "Summer"]) == 2
+    err = capsys.readouterr().err
+    assert err == (f"error: {f}: no sheet 'Summer' (--sheet); the workbook's sheets are "
+                   f"'Fall 2023', 'Spring 2024', 'Empty'\n")
+    g = tmp_path / "multi.xlsx"
+    _two_sheet_workbook(g, {"Info": [["Course survey"], ["exported 2024-01-01"]],
+                            "Responses": [["id", "Q1"], ["a", "Agree"]]})
+    assert main(["summarize", str(g)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith(f"error: {g}: no item columns"), err
+    assert "(read the first sheet, 'Info'; sheet 'Responses' also holds data" in err, err
+    c = tmp_path / "s.csv"
+    c.write_text("Q1\nAgree\n")
+    assert main(["summarize", str(c), "--sheet", "Responses"]) == 2
+    assert "--sheet 'Responses': only a workbook (.xlsx) has sheets" in capsys.readouterr().err

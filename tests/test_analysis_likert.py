@@ -64,7 +64,7 @@ def test_summarize_json_shape(rebuilt, capsys):
     assert main(["summarize", str(rebuilt), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert set(out) == {"respondents", "ci_method", "confidence_level", "reverse_note", "items",
-                        "not_items", "not_item_reasons", "dropped", "unknown_answers"}
+                        "not_items", "not_item_reasons", "dropped", "unknown_answers", "notes"}
     # the rebuilt file's id column is left out of the table, and said so, with why
     assert out["not_items"] == ["respondent"] and out["dropped"] == out["unknown_answers"] == []
     assert set(out["not_item_reasons"]) == {"respondent"} and out["not_item_reasons"]["respondent"]
@@ -73,6 +73,7 @@ def test_summarize_json_shape(rebuilt, capsys):
         assert set(item["agree"]) == {"share", "ci"} and len(item["agree"]["ci"]) == 2
         assert 0 <= item["agree"]["ci"][0] <= item["agree"]["share"] <= item["agree"]["ci"][1] <= 1
         assert sum(item["percent"].values()) == pytest.approx(100, abs=1e-9)  # float sum
+    assert out["notes"] == []
 
 
 def test_round_half_away_is_not_bankers():
@@ -254,3 +255,33 @@ def test_every_printed_statistic_rounds_half_away_from_zero(tmp_path, capsys):
     from analysis.rounding import number_text, significant_text
     assert (number_text(1 / 32, 4), number_text(-0.0625, 3)) == ("0.0313", "-0.063")
     assert (significant_text(1 / 64), significant_text(0.03125, 3)) == ("0.01563", "0.0313")
+
+
+def test_no_percentage_of_nobody_in_any_output(tmp_path, capsys):
+    """QA 10 item 3: an item with n = 0 (Q2 all blank, Q3 all N/A) printed 0.0 for every label
+    in JSON, and a group with n = 0 printed 0.0% per label in --group's text. A share of no
+    answers does not exist: every percentage is null in JSON, blank in --table (as agree (%)),
+    "-" in the text of both tables and absent from the HTML group table. Q1 (3 answers) keeps
+    its percentages (by hand: 1 of 3 = 33.3%). No tolerance: counts and nulls are exact."""
+    f = tmp_path / "e.csv"
+    f.write_text("id,Sec,Q1,Q2,Q3\n1,A,Agree,,N/A\n2,A,Disagree,,N/A\n3,A,Strongly agree,,N/A\n")
+    assert main(["summarize", str(f), "--json"]) == 0
+    items = {it["item"]: it for it in json.loads(capsys.readouterr().out)["items"]}
+    assert items["Q1"]["percent"]["Disagree"] == pytest.approx(100 / 3)   # float division
+    for q in ("Q2", "Q3"):
+        assert items[q]["n"] == 0 and set(items[q]["percent"].values()) == {None}, items[q]
+    table = tmp_path / "t.csv"
+    assert main(["summarize", str(f), "--table", str(table)]) == 0
+    rows = {r["item"]: r for r in pd.read_csv(table, encoding="utf-8-sig").to_dict("records")}
+    assert all(np.isnan(rows["Q2"][f"{lab} (%)"]) for lab in ("Disagree", "Agree"))
+    # --respondents 5 puts 2 declared respondents in the (blank) group: n = 0 there
+    assert main(["summarize", str(f), "--group", "Sec", "--respondents", "5",
+                 "--min-group", "1"]) == 0
+    blank = [ln for ln in capsys.readouterr().out.splitlines() if "(blank) n=0" in ln]
+    assert len(blank) == 3 and all("%" not in ln for ln in blank), blank
+    html = tmp_path / "r.html"
+    assert main(["report", str(f), "-o", str(html), "--group", "Sec", "--respondents", "5",
+                 "--min-group", "1"]) == 0
+    cells = [ln for ln in html.read_text().split("<td>(blank)</td>")[1:]]
+    assert len(cells) == 3 and all(c.split("</tr>")[0].count("<td>&ndash; (0)</td>") == 4
+                                   for c in cells), cells
