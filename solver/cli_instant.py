@@ -393,11 +393,9 @@ def _eom_multi(args, system) -> int:
                                 at_state, text, args.regimes))
         return 0
     if args.latex:
-        names = {}
-        for c in system.free:
-            base = sp.latex(c.q)
-            names[c.qd] = rf"\dot{{{base}}}"
-            names[c.qdd] = rf"\ddot{{{base}}}"
+        from .notation import rate_latex_names
+
+        names = rate_latex_names(system.free)
         print(f"% {system.name}: equations of motion ({f.method}); reactions eliminated")
         if _regime_line(args):
             print(f"% {_regime_line(args)}")
@@ -573,10 +571,10 @@ def _display_form(expr: sp.Expr, tidy_with=None) -> sp.Expr:
 
 
 def _latex_names(system) -> dict[sp.Symbol, str]:
-    """theta_dot -> \\dot{\\theta}, theta_ddot -> \\ddot{\\theta}."""
-    c = system.free[0]
-    base = sp.latex(c.q)
-    return {c.qd: rf"\dot{{{base}}}", c.qdd: rf"\ddot{{{base}}}"}
+    """theta_dot -> \\dot{\\theta}, theta_ddot -> \\ddot{\\theta} (:func:`solver.notation.rate_latex_names`)."""
+    from .notation import rate_latex_names
+
+    return rate_latex_names(system.free[:1])
 
 
 # -- frequency -------------------------------------------------------------------------------

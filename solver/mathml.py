@@ -23,20 +23,28 @@ _DOTS = (("_ddot", "\u00a8"), ("_dot", "\u02d9"))
 
 
 class _Printer(MathMLPresentationPrinter):
-    """sympy's presentation printer with dotted time derivatives."""
+    """sympy's presentation printer with dotted time derivatives: the dots over the name's nucleus,
+    below which its subscript stays (th1_dot: th dotted, subscript 1), as
+    :func:`solver.notation.dotted_latex` writes them in LaTeX."""
 
     def _print_Symbol(self, sym, style="plain"):  # noqa: N802 (sympy's naming)
         for suffix, accent in _DOTS:
             if sym.name.endswith(suffix):
-                base = sp.Symbol(sym.name[: -len(suffix)])
-                over = self.dom.createElement("mover")
-                over.setAttribute("accent", "true")
-                over.appendChild(super()._print_Symbol(base, style))
-                mo = self.dom.createElement("mo")
-                mo.appendChild(self.dom.createTextNode(accent))
-                over.appendChild(mo)
-                return over
+                name = super()._print_Symbol(sp.Symbol(sym.name[: -len(suffix)]), style)
+                if name.tagName in ("msub", "msubsup"):  # dot the nucleus, keep the subscript
+                    name.replaceChild(self._dotted(name.firstChild, accent), name.firstChild)
+                    return name
+                return self._dotted(name, accent)
         return super()._print_Symbol(sym, style)
+
+    def _dotted(self, node, accent: str):
+        over = self.dom.createElement("mover")
+        over.setAttribute("accent", "true")
+        mo = self.dom.createElement("mo")
+        mo.appendChild(self.dom.createTextNode(accent))
+        over.appendChild(node.cloneNode(True))
+        over.appendChild(mo)
+        return over
 
 
 MINUS = "\u2212"

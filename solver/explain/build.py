@@ -35,13 +35,10 @@ __all__ = ["explain", "latex_names", "system_in_regime"]
 
 
 def latex_names(system) -> dict:
-    """LaTeX names: dotted rates of the coordinates."""
-    names = {}
-    for c in system.coordinates:
-        base = sp.latex(c.q)
-        names[c.qd] = rf"\dot{{{base}}}"
-        names[c.qdd] = rf"\ddot{{{base}}}"
-    return names
+    """LaTeX names: dotted rates of the coordinates (:func:`solver.notation.rate_latex_names`)."""
+    from ..notation import rate_latex_names
+
+    return rate_latex_names(system.coordinates)
 
 
 def _vec(v) -> sp.Matrix:
