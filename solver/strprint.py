@@ -28,9 +28,10 @@ from __future__ import annotations
 
 import sympy as sp
 from sympy.core.exprtools import decompose_power
+from sympy.core.function import AppliedUndef, UndefinedFunction
 from sympy.core.sorting import default_sort_key
 from sympy.printing.numpy import NumPyPrinter
-from sympy.printing.precedence import PRECEDENCE, precedence
+from sympy.printing.precedence import PRECEDENCE, PRECEDENCE_FUNCTIONS, PRECEDENCE_VALUES, precedence
 from sympy.printing.pycode import PythonCodePrinter
 from sympy.printing.str import StrPrinter
 
@@ -115,8 +116,10 @@ class FastStrPrinter(_FastOrdering, StrPrinter):
     def __init__(self):
         super().__init__()
         self._texts: dict = {}
-        self._precedences: dict = {}
+        self._precedences: dict = {}  # node -> its precedence, where the class alone does not say it
+        self._class_precedences: dict = {}  # class -> the precedence of all its nodes, or None
         self._sort_keys: dict = {}
+        self._methods: dict = {}  # class -> its printing method (unbound), or _GENERIC
 
     def _sort_key(self, item):
         key = self._sort_keys.get(item)
@@ -129,12 +132,33 @@ class FastStrPrinter(_FastOrdering, StrPrinter):
             return super()._print(expr, **kwargs)  # all its digits alone, shortest inside an expression
         text = self._texts.get(expr)
         if text is None:
-            text = self._texts[expr] = super()._print(expr)
+            text = self._texts[expr] = self._print_new(expr)
         return text
+
+    def _print_new(self, expr) -> str:
+        """``Printer._print`` of a Basic: the printing method of its class, found once per class (sympy
+        walks the class's method resolution order at every node); the printing level kept as there."""
+        method = self._methods.get(type(expr))
+        if method is None:
+            method = self._methods[type(expr)] = _method_of(self, type(expr))
+        if method is _GENERIC:
+            return super()._print(expr)
+        self._print_level += 1
+        try:
+            return method(self, expr)
+        finally:
+            self._print_level -= 1
 
     def _precedence(self, item) -> int:
         if not isinstance(item, sp.Basic):
             return precedence(item)
+        value = self._class_precedences.get(type(item), _UNSET)
+        if value is _UNSET:
+            value = self._class_precedences[type(item)] = _class_precedence(type(item))
+        if value is not None:
+            return value
+        if item.is_Rational:  # precedence_Integer, precedence_Rational
+            return _ADD if item.p < 0 else _ATOM if item.q == 1 else _MUL
         value = self._precedences.get(item)
         if value is None:
             value = self._precedences[item] = _precedence_of(item)
@@ -206,10 +230,54 @@ class FastStrPrinter(_FastOrdering, StrPrinter):
 
 
 
+_GENERIC = object()
+"""The mark of a class whose nodes go through ``Printer._print`` itself."""
+
+
+def _method_of(printer, cls):
+    """The unbound ``_print_<Class>`` method ``Printer._print`` picks for the nodes of ``cls`` (the same
+    classes tried in the same order: an undefined function from its base, a subclass of a named
+    function skipped); :data:`_GENERIC` for a class that prints itself (``_sympystr``) or one no
+    method serves (the empty printer)."""
+    if hasattr(cls, printer.printmethod):
+        return _GENERIC
+    classes = cls.__mro__
+    for base in (AppliedUndef, UndefinedFunction):
+        if base in classes:
+            classes = classes[classes.index(base):]
+    if sp.Function in classes:
+        i = classes.index(sp.Function)
+        classes = tuple(c for c in classes[:i] if c.__name__ == classes[0].__name__
+                        or c.__name__.endswith("Base")) + classes[i:]
+    for c in classes:
+        method = getattr(type(printer), "_print_" + c.__name__, None)
+        if method is not None:
+            return method
+    return _GENERIC
+
+
 def _negative(number) -> bool:
     """``bool(number < 0)`` of a sympy number; a rational's sign read from its numerator (sympy's
     comparison sympifies the 0 first)."""
     return number.p < 0 if number.is_Rational else bool(number < 0)
+
+
+_UNSET = object()
+_ADD, _MUL, _ATOM = PRECEDENCE["Add"], PRECEDENCE["Mul"], PRECEDENCE["Atom"]
+
+
+def _class_precedence(cls) -> int | None:
+    """The precedence sympy's ``precedence`` gives every node of class ``cls`` (the first class of its
+    method resolution order with a fixed value, else an atom's); None when it depends on the node
+    (a rule of ``PRECEDENCE_FUNCTIONS``, or a ``precedence`` attribute)."""
+    if hasattr(cls, "precedence"):
+        return None
+    for c in cls.__mro__:
+        if c.__name__ in PRECEDENCE_FUNCTIONS:
+            return None
+        if c.__name__ in PRECEDENCE_VALUES:
+            return PRECEDENCE_VALUES[c.__name__]
+    return _ATOM
 
 
 def _precedence_of(item) -> int:
