@@ -562,8 +562,12 @@ def _has_square(p: sp.Expr, pows: set | None = None) -> bool:
 
 
 def _tidy_polynomial(p: sp.Expr) -> sp.Expr:
-    """Expanded, reduced modulo sin**2 + cos**2 = 1 when that leaves fewer terms, common factors out."""
+    """Expanded, reduced modulo sin**2 + cos**2 = 1 when that leaves fewer terms, common factors out.
+    A single term is only expanded (its reduction has at least one term; it has no other to share
+    a factor with)."""
     p = sp.expand(p)
+    if not p.is_Add:
+        return p
     pows = _nodes(p, sp.Pow)  # (one walk for both questions)
     if _has_square(p, pows):
         reduced = _reduce_poly(p, pows)
@@ -586,15 +590,9 @@ def _integer(x) -> int:
     return x.p
 
 
-def _common_factor(p: sp.Expr) -> sp.Expr:
-    """``p`` with the monomial common to all its terms (symbols, sin/cos powers, the rational
-    content) written in front: what ``factor_terms`` does for a sum of monomials, in one pass."""
-    terms = sp.Add.make_args(p)
-    if len(terms) < 2:
-        return p
-    content, prim = p.primitive()
-    terms = sp.Add.make_args(prim)
-    powers = [term_powers(t) for t in terms]
+def _common_monomial(powers: list) -> dict:
+    """{base: least exponent} of the non-number bases with a positive integer exponent in every one
+    of ``powers`` (the :func:`term_powers` of the terms of a sum)."""
     common = {}
     for base, exp in powers[0].items():
         if base.is_number or not (exp.is_Integer and exp.p > 0):
@@ -603,10 +601,25 @@ def _common_factor(p: sp.Expr) -> sp.Expr:
         low = min(exps, key=_integer) if all(x.is_Integer for x in exps) else min(exps)
         if low.is_Integer and low.p > 0:
             common[base] = low
+    return common
+
+
+def _common_factor(p: sp.Expr) -> sp.Expr:
+    """``p`` with the monomial common to all its terms (symbols, sin/cos powers, the rational
+    content) written in front: what ``factor_terms`` does for a sum of monomials, in one pass.
+    Without a common monomial a sum with rational coefficients is returned as it is (its content
+    times its primitive part is the same sum again) and only the content is taken out."""
+    terms = sp.Add.make_args(p)
+    if len(terms) < 2:
+        return p
+    common = _common_monomial([term_powers(t) for t in terms])  # (the content's factor changes no base)
+    if not common and all(t.as_coeff_Mul()[0].is_Rational for t in terms):
+        return p
+    content, prim = p.primitive()
     if not common:
         return content * prim if content != 1 else p
     monomial = sp.Mul(*[b**e for b, e in common.items()])
-    rest = [t / monomial for t in terms]
+    rest = [t / monomial for t in sp.Add.make_args(prim)]
     if all(could_extract_minus_sign(t) for t in rest):  # -(a + b) rather than (-a - b)
         content, rest = -content, [-t for t in rest]
     return content * monomial * sp.Add(*rest)
