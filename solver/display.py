@@ -495,10 +495,49 @@ def _monomial_powers(d: sp.Expr) -> dict | None:
     return out
 
 
+def _simple_term(t: sp.Expr) -> tuple | None:
+    """(rational coefficient, numerator factors, {denominator base: Python int exponent}) of a term
+    built from a rational and other commutative factors, each possibly to an integer power whose
+    base, when the power is negative, is neither a product nor a number: the split
+    ``sympy.fraction`` makes of such a term, read off its factors. None for any other term."""
+    coeff, top, bottom = sp.S.One, [], {}
+    for f in sp.Mul.make_args(t):
+        if f.is_Rational:
+            coeff = coeff * f
+        elif not f.is_commutative or isinstance(f, sp.exp):
+            return None
+        elif f.is_Pow and f.exp.is_negative:
+            if not f.exp.is_Integer or f.base.is_Mul or f.base.is_number:
+                return None
+            bottom[f.base] = -f.exp.p
+        elif f.is_Pow and not f.exp.is_Integer:
+            return None
+        else:
+            top.append(f)
+    return coeff, top, bottom
+
+
 def _over_common_denominator(e: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
     """(numerator, denominator) of ``e``: when every term's denominator is a monomial, over their
-    least common multiple (one pass, no recursion); otherwise sympy's ``together``."""
+    least common multiple (one pass, no recursion); otherwise sympy's ``together``. Terms read by
+    :func:`_simple_term` are put over it directly (the same products, built once)."""
     e = sp.expand(e)
+    parts = [_simple_term(t) for t in sp.Add.make_args(e)]
+    if any(p is None or any(b.is_Add for b in p[2]) for p in parts):
+        return _over_common_denominator_of_fractions(e)
+    lcm: dict = {}
+    for _, _, bottom in parts:
+        for base, exp in bottom.items():
+            lcm[base] = max(lcm.get(base, 0), exp)
+    scale = reduce(math.lcm, [c.q for c, _, _ in parts], 1)
+    den = sp.Integer(scale) * sp.Mul(*[b**x for b, x in lcm.items()])
+    num = sp.Add(*[sp.Mul(sp.Integer(c.p * (scale // c.q)), *top,
+                          *[_power(b, x - bottom.get(b, 0)) for b, x in lcm.items()]) for c, top, bottom in parts])
+    return sp.expand(num), den
+
+
+def _over_common_denominator_of_fractions(e: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
+    """:func:`_over_common_denominator` of an expanded ``e`` by ``sympy.fraction`` of each term."""
     parts = [sp.fraction(t) for t in sp.Add.make_args(e)]
     powers = [_monomial_powers(d) for _, d in parts]
     if any(p is None for p in powers):
@@ -542,7 +581,13 @@ def tree_size(e: sp.Expr, cap: "int | None" = None) -> int:
 
 
 def _monomial_denominators(e: sp.Expr) -> bool:
-    return all(_monomial_powers(sp.fraction(t)[1]) is not None for t in sp.Add.make_args(e))
+    """Whether every term's denominator is a monomial (read off the term by :func:`_simple_term`,
+    else by ``sympy.fraction``)."""
+    for t in sp.Add.make_args(e):
+        parts = _simple_term(t)
+        if any(b.is_Add for b in parts[2]) if parts else _monomial_powers(sp.fraction(t)[1]) is None:
+            return False
+    return True
 
 
 def _has_denominator(e: sp.Expr, pows: set | None = None) -> bool:
