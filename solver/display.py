@@ -622,11 +622,16 @@ def _tidy_polynomial(p: sp.Expr) -> sp.Expr:
 
 
 def could_extract_minus_sign(e: sp.Expr) -> bool:
-    """``e.could_extract_minus_sign()``; for a product with a rational coefficient, the sign of
-    the coefficient (sympy first compares the product with its negative, which differs from it
-    whenever the coefficient is a finite nonzero number)."""
-    if type(e) is sp.Mul and e.args[0].is_Rational:
-        return e.args[0].p < 0
+    """``e.could_extract_minus_sign()``; for a product whose first factor is a rational, the sign of
+    that coefficient, and False when the first factor is not a number (sympy first compares the
+    product with its negative, which differs from it whenever the coefficient is a finite nonzero
+    number, and then answers from a numeric first factor only)."""
+    if type(e) is sp.Mul:
+        c = e.args[0]
+        if c.is_Rational:
+            return c.p < 0
+        if not c.is_Number:
+            return False
     return e.could_extract_minus_sign()
 
 

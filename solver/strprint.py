@@ -35,6 +35,8 @@ from sympy.printing.precedence import PRECEDENCE, PRECEDENCE_FUNCTIONS, PRECEDEN
 from sympy.printing.pycode import PythonCodePrinter
 from sympy.printing.str import StrPrinter
 
+from .display import could_extract_minus_sign
+
 __all__ = ["FastStrPrinter", "sstr", "lambdify"]
 
 _EXACT = 2 ** 53
@@ -281,12 +283,10 @@ def _class_precedence(cls) -> int | None:
 
 
 def _precedence_of(item) -> int:
-    """sympy's ``precedence``; for a product with a rational coefficient, its minus sign read from the
-    coefficient (``could_extract_minus_sign`` would first compare the product with its negative,
-    which differs from it whenever the coefficient is a finite nonzero number)."""
-    if type(item) is sp.Mul and item.args[0].is_Rational and not any(
-            hasattr(a, "precedence") and isinstance(a, sp.Function) for a in item.args):
-        return PRECEDENCE["Add"] if item.args[0].p < 0 else PRECEDENCE["Mul"]
+    """sympy's ``precedence``; for a product, its minus sign found by
+    :func:`solver.display.could_extract_minus_sign` (without building the product's negative)."""
+    if type(item) is sp.Mul and not any(hasattr(a, "precedence") and isinstance(a, sp.Function) for a in item.args):
+        return _ADD if could_extract_minus_sign(item) else _MUL
     return precedence(item)
 
 

@@ -344,3 +344,20 @@ def test_other_modules_use_only_the_public_names_of_display():
                 found += [(path.name, a.name) for a in node.names]
     assert found, "no module imports from solver.display: the scan is broken"
     assert [(f, n) for f, n in found if n not in display.__all__] == []
+
+
+def test_the_fast_minus_sign_is_sympys():
+    """display.could_extract_minus_sign answers a product from its first factor (the printers ask it
+    of every product they print): the same answer as sympy's ``could_extract_minus_sign`` for
+    products led by a rational, by no number at all, by a float, and by the infinities sympy treats
+    apart (``zoo*x`` equals its negative)."""
+    from solver.display import could_extract_minus_sign
+
+    x = sp.Symbol("x", real=True)
+    rest = [x, g * m, s**2 * sp.cos(beta), 1 / (x + g), sp.sqrt(2) * x, (g - m) * x]
+    leads = [sp.Integer(3), sp.Integer(-2), sp.Rational(-1, 2), sp.Float(-1.5), sp.Float(2.5), sp.pi, -sp.pi,
+             sp.oo, -sp.oo, sp.zoo, sp.I, -sp.I, sp.S.One, g, -g]
+    products = [lead * r for lead in leads for r in rest]
+    assert sum(type(e) is sp.Mul for e in products) > 60
+    for e in products:
+        assert could_extract_minus_sign(e) == e.could_extract_minus_sign(), e
