@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import cmath
 import math
+from fractions import Fraction
 from functools import lru_cache, reduce
 from typing import NamedTuple
 from math import gcd as igcd
@@ -756,30 +757,44 @@ def factor_monomial_terms(p: sp.Expr) -> sp.Expr:
     monomials in plain generators (:func:`_monomial_term`). The steps ``factor_terms`` composes
     there (its default ``clear=False``): the rational content, a common negative sign, the greatest
     common monomial of the terms, a denominator kept inside the sum when some term's coefficient
-    is then an integer (``x/2 + y`` stays as it is), in one pass over the terms (about 3x faster:
-    ``factor_terms`` builds its ``Factors`` per term at every level). Any other expression goes to
-    ``factor_terms`` itself."""
+    is then an integer (``x/2 + y`` stays as it is), in one pass over the terms with the
+    coefficients as Python fractions (:func:`_primitive_coefficients`); only the result is built in
+    sympy (about 3x faster than ``factor_terms``, which builds its ``Factors`` per term at every
+    level). Any other expression goes to ``factor_terms`` itself."""
     if not p.is_Add or not all(_monomial_term(t) for t in p.args):
         return sp.factor_terms(p)
-    content, prim = p.as_content_primitive(clear=False)
-    if not prim.is_Add:
-        return sp.factor_terms(p)
-    args = list(prim.args)
-    if all(a.as_coeff_Mul()[0].is_negative for a in args):  # factor_terms takes a common -1 out
-        content, args = -content, [-a for a in args]
-    coeffs, powers = zip(*[(c, term_powers(rest)) for c, rest in (a.as_coeff_Mul() for a in args)])
+    split = [t.as_coeff_Mul() for t in p.args]
+    content, coeffs = _primitive_coefficients([Fraction(c.p, c.q) for c, _ in split])
+    if all(k < 0 for k in coeffs):  # factor_terms takes a common -1 out
+        content, coeffs = -content, [-k for k in coeffs]
+    powers = [term_powers(rest) for _, rest in split]
     common = {b: min(d.get(b, 0) for d in powers) for b in powers[0]}
     common = {b: x for b, x in common.items() if x}
-    g = reduce(lambda a, b: a.gcd(b), coeffs)
-    sums = sp.Add(*[(c / g) * sp.Mul(*[b**(x - common.get(b, 0)) for b, x in d.items()])
-                    for c, d in zip(coeffs, powers)])
-    if not g.is_Integer and sums.is_Add:  # gcd_terms(clear=False): a denominator stays inside
-        n, den = g.as_numer_denom()
-        inside = sums / den
-        if any(a.as_coeff_Mul()[0].is_Integer for a in inside.args):
-            sums, g = inside, n
-    inner = _keep_coeff(g, sp.Mul(*[b**x for b, x in common.items()], sums), clear=False)
-    return _keep_coeff(content, inner, clear=False, sign=True)
+    g = Fraction(reduce(math.gcd, [k.numerator for k in coeffs]), reduce(math.lcm, [k.denominator for k in coeffs]))
+    coeffs = [k / g for k in coeffs]
+    if g.denominator != 1 and any((k / g.denominator).denominator == 1 for k in coeffs):
+        coeffs, g = [k / g.denominator for k in coeffs], Fraction(g.numerator)  # (gcd_terms, clear=False)
+    sums = sp.Add(*[_rational(k) * sp.Mul(*[b**(x - common.get(b, 0)) for b, x in d.items()])
+                    for k, d in zip(coeffs, powers)])
+    inner = _keep_coeff(_rational(g), sp.Mul(*[b**x for b, x in common.items()], sums), clear=False)
+    return _keep_coeff(_rational(content), inner, clear=False, sign=True)
+
+
+def _primitive_coefficients(coeffs: list) -> tuple:
+    """(content, coefficients of the primitive part) of a sum of terms with these rational
+    coefficients, as ``Add.as_content_primitive(clear=False)`` finds them: the positive gcd of the
+    numerators over the lcm of the denominators, except that the denominator stays with the terms
+    when one of them then has an integer coefficient."""
+    top = reduce(math.gcd, [c.numerator for c in coeffs], 0)
+    bottom = reduce(math.lcm, [c.denominator for c in coeffs], 1)
+    prim = [c * bottom / top for c in coeffs]
+    if bottom != 1 and any(k.numerator % bottom == 0 for k in prim):
+        return Fraction(top), [k / bottom for k in prim]
+    return Fraction(top, bottom), prim
+
+
+def _rational(x: Fraction) -> sp.Rational:
+    return sp.Rational(x.numerator, x.denominator)
 
 
 def _fraction_of_ratio(num: sp.Expr, den: sp.Expr, once=None) -> tuple[sp.Expr, sp.Expr]:
