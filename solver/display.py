@@ -663,9 +663,14 @@ def _common_factor(p: sp.Expr) -> sp.Expr:
     terms = sp.Add.make_args(p)
     if len(terms) < 2:
         return p
-    common = _common_monomial([term_powers(t) for t in terms])  # (the content's factor changes no base)
-    if not common and all(t.as_coeff_Mul()[0].is_Rational for t in terms):
+    split = [t.as_coeff_Mul() for t in terms]
+    powers = [term_powers(rest) for _, rest in split]
+    common = _common_monomial(powers)  # (number bases are left out: the coefficients change none)
+    rational = all(c.is_Rational for c, _ in split)
+    if not common and rational:
         return p
+    if common and rational and all(_monomial_of_generators(d) for d in powers):
+        return _monomial_out(split, powers, common)
     content, prim = p.primitive()
     if not common:
         return content * prim if content != 1 else p
@@ -674,6 +679,30 @@ def _common_factor(p: sp.Expr) -> sp.Expr:
     if all(could_extract_minus_sign(t) for t in rest):  # -(a + b) rather than (-a - b)
         content, rest = -content, [-t for t in rest]
     return content * monomial * sp.Add(*rest)
+
+
+def _monomial_of_generators(powers: dict) -> bool:
+    """Whether {base: exponent} is a monomial: integer exponents of bases that are neither numbers
+    nor sums."""
+    return all(e.is_Integer and not (b.is_Add or b.is_number) for b, e in powers.items())
+
+
+def _monomial_out(split: list, powers: list, common: dict) -> sp.Expr:
+    """:func:`_common_factor` of a sum of terms ``c * rest`` (``split``, c rational, each rest a
+    monomial with those ``powers``) with the ``common`` monomial: content and signs in Python ints
+    (``Add.primitive``'s gcd of the numerators over the lcm of the denominators), each term divided
+    by the monomial by subtracting exponents; the same sympy expression, without the primitive part
+    and the quotients built on the way."""
+    top = reduce(math.gcd, [c.p for c, _ in split], 0)
+    bottom = reduce(math.lcm, [c.q for c, _ in split], 1)
+    ks = [(c.p // top) * (bottom // c.q) for c, _ in split]
+    content = Fraction(top, bottom)
+    if all(k < 0 for k in ks):  # -(a + b) rather than (-a - b)
+        content, ks = -content, [-k for k in ks]
+    monomial = sp.Mul(*[b**e for b, e in common.items()])
+    rest = [sp.Integer(k) * sp.Mul(*[_power(b, int(e) - int(common.get(b, 0))) for b, e in d.items()])
+            for k, d in zip(ks, powers)]
+    return _rational(content) * monomial * sp.Add(*rest)
 
 
 @lru_cache(maxsize=4096)
