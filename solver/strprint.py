@@ -203,7 +203,7 @@ class FastStrPrinter(_FastOrdering, StrPrinter):
         if _negative(c):
             c, sign = -c, "-"
         factors = sorted(rest if c is sp.S.One else (c, *rest), key=self._sort_key)
-        a, b, pow_paren = [], [], []  # numerator, denominator, bases of x**-1 with a compound base
+        a_str, b, b_str, pow_paren = [], [], [], []  # numerator, denominator, bases of x**-1 with a compound base
         for item in factors:
             if item.is_Pow and _negative(item.exp.as_coeff_Mul()[0]):
                 if item.exp is not sp.S.NegativeOne:
@@ -212,15 +212,16 @@ class FastStrPrinter(_FastOrdering, StrPrinter):
                     if len(item.args[0].args) != 1 and isinstance(item.base, (sp.Mul, sp.Pow)):
                         pow_paren.append(item)
                     b.append(item.base)
-            elif item.is_Rational:
+                b_str.append(self.parenthesize(b[-1], prec, strict=False))
+            elif item.is_Rational:  # positive here: its numerator and denominator print as integers
                 if item.p != 1:
-                    a.append(sp.Rational(item.p))
+                    a_str.append(str(item.p))
                 if item.q != 1:
-                    b.append(sp.Rational(item.q))
+                    b.append(None)
+                    b_str.append(str(item.q))
             else:
-                a.append(item)
-        a_str = [self.parenthesize(x, prec, strict=False) for x in a or [sp.S.One]]
-        b_str = [self.parenthesize(x, prec, strict=False) for x in b]
+                a_str.append(self.parenthesize(item, prec, strict=False))
+        a_str = a_str or ["1"]
         for item in pow_paren:
             if item.base in b:
                 b_str[b.index(item.base)] = "(%s)" % b_str[b.index(item.base)]
