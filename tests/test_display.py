@@ -361,3 +361,18 @@ def test_the_fast_minus_sign_is_sympys():
     assert sum(type(e) is sp.Mul for e in products) > 60
     for e in products:
         assert could_extract_minus_sign(e) == e.could_extract_minus_sign(), e
+
+
+def test_the_walked_free_symbols_are_sympys():
+    """The zero test's probe point is built from the free symbols, found by a plain walk of the tree
+    where nothing binds a symbol: sympy's own set, also for trees where something does (a
+    derivative, an integral, a substitution, whose bound symbol is not free)."""
+    from solver.display import _free_symbols
+
+    x = sp.Symbol("x", real=True)
+    f = sp.Function("f")(t)
+    exprs = [g * m * s**2 / (x + sp.cos(beta)), sp.sqrt(2) * sp.pi * x**-3, f * sp.sin(f) + W,
+             sp.Derivative(f, t) * x, sp.Integral(x * t, (t, 0, 1)) + g, sp.Subs(t * x, t, 1) * m,
+             sp.Piecewise((x, x > 0), (g, True)), sp.Integer(3)]
+    for e in exprs:
+        assert _free_symbols(e) == e.free_symbols, e
