@@ -900,12 +900,44 @@ def tidy_linear(expr: sp.Expr, variables) -> sp.Expr:
     e = sp.expand(sp.sympify(expr))
     parts = []
     rest = e
+    symbols = {u for u in variables if u.is_Symbol}
     for v in variables:
-        coef = rest.coeff(v) if v.is_Symbol or v.is_Pow else sp.Integer(0)
-        if coef != 0 and not coef.has(*[u for u in variables if u.is_Symbol]):
+        if not (v.is_Symbol or v.is_Pow):
+            continue
+        coef, others = _coefficient_and_rest(rest, v)
+        if coef != 0 and not _mentions(coef, symbols):
             parts.append(tidy(coef) * v)
-            rest = _without_factor(rest, v)
+            rest = others
     return sp.Add(*parts, tidy(rest))
+
+
+def _coefficient_and_rest(rest: sp.Expr, v: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
+    """(``rest.coeff(v)``, :func:`_without_factor` of ``rest`` and ``v``) of an expanded sum, in one
+    pass over its terms when both are commutative: ``coeff`` collects, from each term holding ``v``
+    as a factor, the product of its other factors."""
+    if not (rest.is_commutative and v.is_commutative):
+        return rest.coeff(v), _without_factor(rest, v)
+    holding, others = [], []
+    for t in sp.Add.make_args(rest):
+        factors = sp.Mul.make_args(t)
+        if v in factors:
+            factors = list(factors)
+            factors.remove(v)
+            holding.append(sp.Mul(*factors))
+        else:
+            others.append(t)
+    return sp.Add(*holding), sp.Add(*others)
+
+
+def _mentions(e: sp.Expr, symbols: set) -> bool:
+    """``e.has(*symbols)`` for symbols: whether a node of the tree is one of them (one walk)."""
+    stack = [e]
+    while stack:
+        x = stack.pop()
+        if x in symbols:
+            return True
+        stack.extend(x.args)
+    return False
 
 
 def _without_factor(rest: sp.Expr, v: sp.Expr) -> sp.Expr:
