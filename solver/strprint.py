@@ -195,7 +195,7 @@ class FastStrPrinter(_FastOrdering, StrPrinter):
         the other factors sorted by ``sort_key``."""
         args = expr.args
         if not expr.is_commutative or args[0] is sp.S.One or self.order not in (None, "lex") or any(
-                isinstance(a, sp.Number) or a.is_Pow and all(ai.is_Integer for ai in a.args) for a in args[1:]):
+                isinstance(a, sp.Number) or a.is_Pow and a.base.is_Integer and a.exp.is_Integer for a in args[1:]):
             return super()._print_Mul(expr)
         prec = self._precedence(expr)
         c, rest = (args[0], args[1:]) if args[0].is_Number else (sp.S.One, args)
@@ -286,7 +286,7 @@ def _class_precedence(cls) -> int | None:
 def _precedence_of(item) -> int:
     """sympy's ``precedence``; for a product, its minus sign found by
     :func:`solver.display.could_extract_minus_sign` (without building the product's negative)."""
-    if type(item) is sp.Mul and not any(hasattr(a, "precedence") and isinstance(a, sp.Function) for a in item.args):
+    if type(item) is sp.Mul and not any(isinstance(a, sp.Function) and hasattr(a, "precedence") for a in item.args):
         return _ADD if could_extract_minus_sign(item) else _MUL
     return precedence(item)
 
