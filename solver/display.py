@@ -514,20 +514,24 @@ def _monomial_powers(d: sp.Expr) -> dict | None:
 
 def _simple_term(t: sp.Expr) -> tuple | None:
     """(rational coefficient, numerator factors, {denominator base: Python int exponent}) of a term
-    built from a rational and other commutative factors, each possibly to an integer power whose
-    base, when the power is negative, is neither a product nor a number: the split
+    built from a rational and other commutative factors (no exponential), each possibly to an integer
+    power whose base, when the power is negative, is neither a product nor a number: the split
     ``sympy.fraction`` makes of such a term, read off its factors. None for any other term."""
     coeff, top, bottom = sp.S.One, [], {}
     for f in sp.Mul.make_args(t):
-        if f.is_Rational:
-            coeff = coeff * f
-        elif not f.is_commutative or isinstance(f, sp.exp):
-            return None
-        elif f.is_Pow and f.exp.is_negative:
-            if not f.exp.is_Integer or f.base.is_Mul or f.base.is_number:
+        if f.is_Pow:
+            base, exp = f.args
+            if not exp.is_Integer or base is sp.E or not f.is_commutative:
                 return None
-            bottom[f.base] = -f.exp.p
-        elif f.is_Pow and not f.exp.is_Integer:
+            if exp.p > 0:
+                top.append(f)
+            elif base.is_Mul or base.is_number:
+                return None
+            else:
+                bottom[base] = -exp.p
+        elif f.is_Rational:
+            coeff = coeff * f
+        elif not f.is_commutative or sp.exp in type(f).__mro__:
             return None
         else:
             top.append(f)
