@@ -816,14 +816,14 @@ def factor_monomial_terms(p: sp.Expr) -> sp.Expr:
     content, coeffs = _primitive_coefficients([Fraction(c.p, c.q) for c, _ in split])
     if all(k < 0 for k in coeffs):  # factor_terms takes a common -1 out
         content, coeffs = -content, [-k for k in coeffs]
-    powers = [term_powers(rest) for _, rest in split]
+    powers = [{b: int(x) for b, x in term_powers(rest).items()} for _, rest in split]  # (positive integers)
     common = {b: min(d.get(b, 0) for d in powers) for b in powers[0]}
     common = {b: x for b, x in common.items() if x}
     g = Fraction(reduce(math.gcd, [k.numerator for k in coeffs]), reduce(math.lcm, [k.denominator for k in coeffs]))
     coeffs = [k / g for k in coeffs]
     if g.denominator != 1 and any((k / g.denominator).denominator == 1 for k in coeffs):
         coeffs, g = [k / g.denominator for k in coeffs], Fraction(g.numerator)  # (gcd_terms, clear=False)
-    sums = sp.Add(*[_rational(k) * sp.Mul(*[b**(x - common.get(b, 0)) for b, x in d.items()])
+    sums = sp.Add(*[_rational(k) * sp.Mul(*[_power(b, x - common.get(b, 0)) for b, x in d.items()])
                     for k, d in zip(coeffs, powers)])
     inner = _keep_coeff(_rational(g), sp.Mul(*[b**x for b, x in common.items()], sums), clear=False)
     return _keep_coeff(_rational(content), inner, clear=False, sign=True)
