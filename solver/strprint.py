@@ -189,6 +189,14 @@ class FastStrPrinter(_FastOrdering, StrPrinter):
         sign = parts.pop(0)
         return ("" if sign == "+" else sign) + " ".join(parts)
 
+    def _ordered_factors(self, c, rest) -> tuple:
+        """``c`` and ``rest`` sorted by ``sort_key``. A number's key, (class key (1, 0, 'Number'),
+        (0, ()), ...), is below that of any factor that is not a number: every other class key is
+        larger, and a power of a number, whose key is its base's, follows with (1, (base,)). So
+        ``c`` comes first, and one factor needs no sorting."""
+        rest = rest if len(rest) < 2 else sorted(rest, key=self._sort_key)
+        return rest if c is sp.S.One else (c, *rest)
+
     def _print_Mul(self, expr):
         """StrPrinter._print_Mul; for an evaluated commutative product its factors are ordered
         directly: sympy's ``_keep_coeff(-c, rest).as_ordered_factors()`` is the coefficient and
@@ -202,7 +210,7 @@ class FastStrPrinter(_FastOrdering, StrPrinter):
         sign = ""
         if _negative(c):
             c, sign = -c, "-"
-        factors = sorted(rest if c is sp.S.One else (c, *rest), key=self._sort_key)
+        factors = self._ordered_factors(c, rest)
         a_str, b, b_str, pow_paren = [], [], [], []  # numerator, denominator, bases of x**-1 with a compound base
         for item in factors:
             if item.is_Pow and _negative(item.exp.as_coeff_Mul()[0]):
