@@ -720,9 +720,9 @@ def _monomial_out(split: list, powers: list, common: dict) -> sp.Expr:
     if all(k < 0 for k in ks):  # -(a + b) rather than (-a - b)
         content, ks = -content, [-k for k in ks]
     monomial = sp.Mul(*[b**e for b, e in common.items()])
-    rest = [sp.Integer(k) * sp.Mul(*[_power(b, int(e) - int(common.get(b, 0))) for b, e in d.items()])
-            for k, d in zip(ks, powers)]
-    return _rational(content) * monomial * sp.Add(*rest)
+    rest = [sp.Mul(sp.Integer(k), *[_power(b, int(e) - int(common.get(b, 0))) for b, e in d.items()])
+            for k, d in zip(ks, powers)]  # (one product per term: no base is a sum, nothing distributes)
+    return sp.Mul(_rational(content), monomial, sp.Add(*rest))
 
 
 @lru_cache(maxsize=4096)
