@@ -823,8 +823,8 @@ def factor_monomial_terms(p: sp.Expr) -> sp.Expr:
     coeffs = [k / g for k in coeffs]
     if g.denominator != 1 and any((k / g.denominator).denominator == 1 for k in coeffs):
         coeffs, g = [k / g.denominator for k in coeffs], Fraction(g.numerator)  # (gcd_terms, clear=False)
-    sums = sp.Add(*[_rational(k) * sp.Mul(*[_power(b, x - common.get(b, 0)) for b, x in d.items()])
-                    for k, d in zip(coeffs, powers)])
+    sums = sp.Add(*[sp.Mul(_rational(k), *[_power(b, x - common.get(b, 0)) for b, x in d.items()])
+                    for k, d in zip(coeffs, powers)])  # (one product per term: no factor is a sum)
     inner = _keep_coeff(_rational(g), sp.Mul(*[b**x for b, x in common.items()], sums), clear=False)
     return _keep_coeff(_rational(content), inner, clear=False, sign=True)
 
