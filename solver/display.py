@@ -938,7 +938,7 @@ def _mentions(e: sp.Expr, symbols: set) -> bool:
     stack = [e]
     while stack:
         x = stack.pop()
-        if x in symbols:
+        if x.is_Symbol and x in symbols:
             return True
         stack.extend(x.args)
     return False
