@@ -15,7 +15,11 @@ changes only how the work is done:
   never equal to an Integer or Rational, so ``2.0*x`` and ``2*x`` stay apart),
   except a Float itself, whose text depends on where it stands (``1.50000000000000``
   printed alone, ``1.5`` inside ``sin(1.5*theta)``: sympy's ``full_prec="auto"``);
-* the precedence of a node is found once per printer;
+* the precedence of a node is found once per printer (once per class where the class alone
+  decides it), and so is the printing method of each class (sympy walks the class's method
+  resolution order at every node);
+* a product's coefficient is put in front of its other factors without a sort key (a number's
+  key is below every other factor's);
 * a sum's terms are ordered by the same key as ``as_ordered_terms`` (lex order
   of the exponents of the sorted generators, then the coefficient), with a
   rational coefficient made complex by exact integer division (correctly
