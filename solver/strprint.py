@@ -15,7 +15,11 @@ changes only how the work is done:
   never equal to an Integer or Rational, so ``2.0*x`` and ``2*x`` stay apart),
   except a Float itself, whose text depends on where it stands (``1.50000000000000``
   printed alone, ``1.5`` inside ``sin(1.5*theta)``: sympy's ``full_prec="auto"``);
-* the precedence of a node is found once per printer;
+* the precedence of a node is found once per printer (once per class where the class alone
+  decides it), and so is the printing method of each class (sympy walks the class's method
+  resolution order at every node);
+* a product's coefficient is put in front of its other factors without a sort key (a number's
+  key is below every other factor's);
 * a sum's terms are ordered by the same key as ``as_ordered_terms`` (lex order
   of the exponents of the sorted generators, then the coefficient), with a
   rational coefficient made complex by exact integer division (correctly
@@ -28,11 +32,14 @@ from __future__ import annotations
 
 import sympy as sp
 from sympy.core.exprtools import decompose_power
+from sympy.core.function import AppliedUndef, UndefinedFunction
 from sympy.core.sorting import default_sort_key
 from sympy.printing.numpy import NumPyPrinter
-from sympy.printing.precedence import PRECEDENCE, precedence
+from sympy.printing.precedence import PRECEDENCE, PRECEDENCE_FUNCTIONS, PRECEDENCE_VALUES, precedence
 from sympy.printing.pycode import PythonCodePrinter
 from sympy.printing.str import StrPrinter
+
+from .display import could_extract_minus_sign
 
 __all__ = ["FastStrPrinter", "sstr", "lambdify"]
 
@@ -115,8 +122,10 @@ class FastStrPrinter(_FastOrdering, StrPrinter):
     def __init__(self):
         super().__init__()
         self._texts: dict = {}
-        self._precedences: dict = {}
+        self._precedences: dict = {}  # node -> its precedence, where the class alone does not say it
+        self._class_precedences: dict = {}  # class -> the precedence of all its nodes, or None
         self._sort_keys: dict = {}
+        self._methods: dict = {}  # class -> its printing method (unbound), or _GENERIC
 
     def _sort_key(self, item):
         key = self._sort_keys.get(item)
@@ -129,12 +138,33 @@ class FastStrPrinter(_FastOrdering, StrPrinter):
             return super()._print(expr, **kwargs)  # all its digits alone, shortest inside an expression
         text = self._texts.get(expr)
         if text is None:
-            text = self._texts[expr] = super()._print(expr)
+            text = self._texts[expr] = self._print_new(expr)
         return text
+
+    def _print_new(self, expr) -> str:
+        """``Printer._print`` of a Basic: the printing method of its class, found once per class (sympy
+        walks the class's method resolution order at every node); the printing level kept as there."""
+        method = self._methods.get(type(expr))
+        if method is None:
+            method = self._methods[type(expr)] = _method_of(self, type(expr))
+        if method is _GENERIC:
+            return super()._print(expr)
+        self._print_level += 1
+        try:
+            return method(self, expr)
+        finally:
+            self._print_level -= 1
 
     def _precedence(self, item) -> int:
         if not isinstance(item, sp.Basic):
             return precedence(item)
+        value = self._class_precedences.get(type(item), _UNSET)
+        if value is _UNSET:
+            value = self._class_precedences[type(item)] = _class_precedence(type(item))
+        if value is not None:
+            return value
+        if item.is_Rational:  # precedence_Integer, precedence_Rational
+            return _ADD if item.p < 0 else _ATOM if item.q == 1 else _MUL
         value = self._precedences.get(item)
         if value is None:
             value = self._precedences[item] = _precedence_of(item)
@@ -163,21 +193,29 @@ class FastStrPrinter(_FastOrdering, StrPrinter):
         sign = parts.pop(0)
         return ("" if sign == "+" else sign) + " ".join(parts)
 
+    def _ordered_factors(self, c, rest) -> tuple:
+        """``c`` and ``rest`` sorted by ``sort_key``. A number's key, (class key (1, 0, 'Number'),
+        (0, ()), ...), is below that of any factor that is not a number: every other class key is
+        larger, and a power of a number, whose key is its base's, follows with (1, (base,)). So
+        ``c`` comes first, and one factor needs no sorting."""
+        rest = rest if len(rest) < 2 else sorted(rest, key=self._sort_key)
+        return rest if c is sp.S.One else (c, *rest)
+
     def _print_Mul(self, expr):
         """StrPrinter._print_Mul; for an evaluated commutative product its factors are ordered
         directly: sympy's ``_keep_coeff(-c, rest).as_ordered_factors()`` is the coefficient and
         the other factors sorted by ``sort_key``."""
         args = expr.args
         if not expr.is_commutative or args[0] is sp.S.One or self.order not in (None, "lex") or any(
-                isinstance(a, sp.Number) or a.is_Pow and all(ai.is_Integer for ai in a.args) for a in args[1:]):
+                isinstance(a, sp.Number) or a.is_Pow and a.base.is_Integer and a.exp.is_Integer for a in args[1:]):
             return super()._print_Mul(expr)
         prec = self._precedence(expr)
         c, rest = (args[0], args[1:]) if args[0].is_Number else (sp.S.One, args)
         sign = ""
         if _negative(c):
             c, sign = -c, "-"
-        factors = sorted(rest if c is sp.S.One else (c, *rest), key=self._sort_key)
-        a, b, pow_paren = [], [], []  # numerator, denominator, bases of x**-1 with a compound base
+        factors = self._ordered_factors(c, rest)
+        a_str, b, b_str, pow_paren = [], [], [], []  # numerator, denominator, bases of x**-1 with a compound base
         for item in factors:
             if item.is_Pow and _negative(item.exp.as_coeff_Mul()[0]):
                 if item.exp is not sp.S.NegativeOne:
@@ -186,15 +224,16 @@ class FastStrPrinter(_FastOrdering, StrPrinter):
                     if len(item.args[0].args) != 1 and isinstance(item.base, (sp.Mul, sp.Pow)):
                         pow_paren.append(item)
                     b.append(item.base)
-            elif item.is_Rational:
+                b_str.append(self.parenthesize(b[-1], prec, strict=False))
+            elif item.is_Rational:  # positive here: its numerator and denominator print as integers
                 if item.p != 1:
-                    a.append(sp.Rational(item.p))
+                    a_str.append(str(item.p))
                 if item.q != 1:
-                    b.append(sp.Rational(item.q))
+                    b.append(None)
+                    b_str.append(str(item.q))
             else:
-                a.append(item)
-        a_str = [self.parenthesize(x, prec, strict=False) for x in a or [sp.S.One]]
-        b_str = [self.parenthesize(x, prec, strict=False) for x in b]
+                a_str.append(self.parenthesize(item, prec, strict=False))
+        a_str = a_str or ["1"]
         for item in pow_paren:
             if item.base in b:
                 b_str[b.index(item.base)] = "(%s)" % b_str[b.index(item.base)]
@@ -206,19 +245,61 @@ class FastStrPrinter(_FastOrdering, StrPrinter):
 
 
 
+_GENERIC = object()
+"""The mark of a class whose nodes go through ``Printer._print`` itself."""
+
+
+def _method_of(printer, cls):
+    """The unbound ``_print_<Class>`` method ``Printer._print`` picks for the nodes of ``cls`` (the same
+    classes tried in the same order: an undefined function from its base, a subclass of a named
+    function skipped); :data:`_GENERIC` for a class that prints itself (``_sympystr``) or one no
+    method serves (the empty printer)."""
+    if hasattr(cls, printer.printmethod):
+        return _GENERIC
+    classes = cls.__mro__
+    for base in (AppliedUndef, UndefinedFunction):
+        if base in classes:
+            classes = classes[classes.index(base):]
+    if sp.Function in classes:
+        i = classes.index(sp.Function)
+        classes = tuple(c for c in classes[:i] if c.__name__ == classes[0].__name__
+                        or c.__name__.endswith("Base")) + classes[i:]
+    for c in classes:
+        method = getattr(type(printer), "_print_" + c.__name__, None)
+        if method is not None:
+            return method
+    return _GENERIC
+
+
 def _negative(number) -> bool:
     """``bool(number < 0)`` of a sympy number; a rational's sign read from its numerator (sympy's
     comparison sympifies the 0 first)."""
     return number.p < 0 if number.is_Rational else bool(number < 0)
 
 
+_UNSET = object()
+_ADD, _MUL, _ATOM = PRECEDENCE["Add"], PRECEDENCE["Mul"], PRECEDENCE["Atom"]
+
+
+def _class_precedence(cls) -> int | None:
+    """The precedence sympy's ``precedence`` gives every node of class ``cls`` (the first class of its
+    method resolution order with a fixed value, else an atom's); None when it depends on the node
+    (a rule of ``PRECEDENCE_FUNCTIONS``, or a ``precedence`` attribute)."""
+    if hasattr(cls, "precedence"):
+        return None
+    for c in cls.__mro__:
+        if c.__name__ in PRECEDENCE_FUNCTIONS:
+            return None
+        if c.__name__ in PRECEDENCE_VALUES:
+            return PRECEDENCE_VALUES[c.__name__]
+    return _ATOM
+
+
 def _precedence_of(item) -> int:
-    """sympy's ``precedence``; for a product with a rational coefficient, its minus sign read from the
-    coefficient (``could_extract_minus_sign`` would first compare the product with its negative,
-    which differs from it whenever the coefficient is a finite nonzero number)."""
-    if type(item) is sp.Mul and item.args[0].is_Rational and not any(
-            hasattr(a, "precedence") and isinstance(a, sp.Function) for a in item.args):
-        return PRECEDENCE["Add"] if item.args[0].p < 0 else PRECEDENCE["Mul"]
+    """sympy's ``precedence``; for a product, its minus sign found by
+    :func:`solver.display.could_extract_minus_sign` (without building the product's negative)."""
+    if type(item) is sp.Mul and not any(isinstance(a, sp.Function) and hasattr(a, "precedence") for a in item.args):
+        return _ADD if could_extract_minus_sign(item) else _MUL
     return precedence(item)
 
 

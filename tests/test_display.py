@@ -344,3 +344,35 @@ def test_other_modules_use_only_the_public_names_of_display():
                 found += [(path.name, a.name) for a in node.names]
     assert found, "no module imports from solver.display: the scan is broken"
     assert [(f, n) for f, n in found if n not in display.__all__] == []
+
+
+def test_the_fast_minus_sign_is_sympys():
+    """display.could_extract_minus_sign answers a product from its first factor (the printers ask it
+    of every product they print): the same answer as sympy's ``could_extract_minus_sign`` for
+    products led by a rational, by no number at all, by a float, and by the infinities sympy treats
+    apart (``zoo*x`` equals its negative)."""
+    from solver.display import could_extract_minus_sign
+
+    x = sp.Symbol("x", real=True)
+    rest = [x, g * m, s**2 * sp.cos(beta), 1 / (x + g), sp.sqrt(2) * x, (g - m) * x]
+    leads = [sp.Integer(3), sp.Integer(-2), sp.Rational(-1, 2), sp.Float(-1.5), sp.Float(2.5), sp.pi, -sp.pi,
+             sp.oo, -sp.oo, sp.zoo, sp.I, -sp.I, sp.S.One, g, -g]
+    products = [lead * r for lead in leads for r in rest]
+    assert sum(type(e) is sp.Mul for e in products) > 60
+    for e in products:
+        assert could_extract_minus_sign(e) == e.could_extract_minus_sign(), e
+
+
+def test_the_walked_free_symbols_are_sympys():
+    """The zero test's probe point is built from the free symbols, found by a plain walk of the tree
+    where nothing binds a symbol: sympy's own set, also for trees where something does (a
+    derivative, an integral, a substitution, whose bound symbol is not free)."""
+    from solver.display import _free_symbols
+
+    x = sp.Symbol("x", real=True)
+    f = sp.Function("f")(t)
+    exprs = [g * m * s**2 / (x + sp.cos(beta)), sp.sqrt(2) * sp.pi * x**-3, f * sp.sin(f) + W,
+             sp.Derivative(f, t) * x, sp.Integral(x * t, (t, 0, 1)) + g, sp.Subs(t * x, t, 1) * m,
+             sp.Piecewise((x, x > 0), (g, True)), sp.Integer(3)]
+    for e in exprs:
+        assert _free_symbols(e) == e.free_symbols, e

@@ -109,6 +109,22 @@ def test_float_and_integer_kept_apart():
         "2*x", "2.0*x", "x/2", "0.5*x"]
 
 
+def test_coefficient_among_powers_of_numbers():
+    # The printer puts a product's coefficient first without sorting it among the factors: its sort
+    # key is below every other factor's, also below a power of a number's (sqrt(2), 2**x, (1/2)**x:
+    # the same class key as a number's, then (1, (base,)) after the number's (0, ())). Every product
+    # of two such factors, symbols, functions, pi, I and E, with each kind of coefficient.
+    x, y = sp.symbols("x y")
+    factors = [x, y**2, sp.sin(x), sp.pi, sp.I, sp.E, sp.sqrt(2), sp.sqrt(3) * x, 2**x, sp.Rational(1, 2)**x,
+               sp.exp(x), 1 / (x + y), sp.GoldenRatio]
+    coefficients = [1, -1, 5, sp.Rational(-3, 2), sp.Float(-2.5), sp.Rational(2, 7)]
+    for i, a in enumerate(factors):
+        for b in factors[i:]:
+            for c in coefficients:
+                e = c * a * b
+                assert sstr(e) == sp.sstr(e), e
+
+
 def test_display_of_the_paper_scenes():
     # The equation of motion and reactions eom prints, on both paper scenes, about every named point.
     from solver import derivation
