@@ -202,7 +202,9 @@ def _meaning_value(meaning, quantities: DerivedQuantities, tr: Transcription, li
         if _exact_zero(u.dot(u) - 1) is not True:
             raise ReportInputError(f"{where}.along: must be a unit vector, got {list(meaning.along)}")
         vector = _vector_quantity(meaning, quantities, where)
-        return sp.Add(*[v * w for v, w in zip(vector, u)])  # the component along u (vector . u)
+        # the component along u (vector . u); a zero component of u adds nothing (v * 0 is 0 for a finite v,
+        # which sympy would ask of the whole expression v to be sure)
+        return sp.Add(*[v * w for v, w in zip(vector, u) if w != 0])
     if quantity == "element_inertia":
         return _element_inertia(deriv, meaning, where)
     if quantity == "reaction":
