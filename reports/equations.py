@@ -296,7 +296,16 @@ def _random_point(symbols, seed: int) -> dict:
     rng = random.Random(seed)
     # Positive values of moderate size: masses, lengths, angles and rates alike; evaluation is at
     # _DIGITS digits.
-    return {s: mpmath.mpf(rng.randint(23, 181)) / 97 for s in sorted(symbols, key=lambda s: s.name)}
+    values = _ninety_sevenths(mpmath.mp.prec)
+    return {s: values[rng.randint(23, 181)] for s in sorted(symbols, key=lambda s: s.name)}
+
+
+@lru_cache(maxsize=4)
+def _ninety_sevenths(prec: int) -> tuple:
+    """n / 97 as mpmath numbers at the precision ``prec`` [bits], for n = 0 ... 181 (a number is
+    made once, not once per symbol of every point)."""
+    with mpmath.workprec(prec):
+        return tuple(mpmath.mpf(n) / 97 for n in range(182))
 
 
 def _evaluator(ordered: list, exprs: list):
