@@ -307,6 +307,22 @@ def test_example_steps_builds_the_steps_asked_as_the_full_set_has_them(equations
         example_steps(scenes[key], derivs[key], at_rest=False, parts=("eom", "nonsense"))
 
 
+def test_provenance_versions_are_the_installed_distributions():
+    # Read from the metadata's header block alone; the reference is importlib.metadata's full parse.
+    from importlib import metadata
+
+    from reports.provenance import PACKAGES, _version
+
+    for name in PACKAGES:
+        try:
+            expected = metadata.version(name)
+        except metadata.PackageNotFoundError:
+            continue
+        assert _version(name) == expected, name
+    with pytest.raises(metadata.PackageNotFoundError):
+        _version("no-such-distribution-alt-euler")
+
+
 def test_half_unit_follows_printed_digits():
     assert half_unit("12.34") == pytest.approx(0.005)
     assert half_unit("0.04560") == pytest.approx(0.000005)
