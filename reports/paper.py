@@ -81,7 +81,7 @@ def _grouped(expr: sp.Expr, keys) -> sp.Expr:
 
 
 def method_equations() -> dict[str, Shown]:
-    """Eq. 10 (single body) and Eq. 11 (composite body) in planar scalar form, derived by sympy.
+    """Eq. 10 (single body), Eq. 11 (composite body) and Eq. 14 in planar scalar form, derived by sympy.
 
     The k-component of r x (m a_P) is computed from the cross product of
     planar vectors, so the displayed forms are produced, not typed.
@@ -101,7 +101,7 @@ def method_equations() -> dict[str, Shown]:
                 "Newton's law for the composite body, x component", "Eq. (14)", "14")
     eq1y = shown(sp.Symbol("F_y"), sp.Sum(mk[k] * sp.Indexed(sp.IndexedBase("a_y"), k), (k, 1, n)),
                  "Newton's law for the composite body, y component", "Eq. (14)", "14")
-    return {"eq10": eq10, "eq11": eq11, "eq14": eq1, "eq14y": eq1y, "inertial_term": inline(inertial)}
+    return {"eq10": eq10, "eq11": eq11, "eq14": eq1, "eq14y": eq1y}
 
 
 def linearisation(deriv, about: dict, assume: dict | None = None):
