@@ -21,15 +21,22 @@ __all__ = ["Shown", "shown", "method_equations", "example_steps", "STEP_PARTS", 
 
 @dataclass
 class Shown:
-    """An equation ready for both outputs."""
+    """An equation ready for both outputs (and as plain text, :attr:`text`, made when asked: no
+    output shows it, and sympy's printer is not free)."""
 
     mathml: str
     latex: str
-    text: str
+    sides: tuple = field(repr=False)
+    """The left and the right side, each a sympy expression or its text."""
     label: str = ""
     ref: str = ""
     number: str = ""
     """The article's equation number the display carries in both renderings ("" for none)."""
+
+    @property
+    def text(self) -> str:
+        """``lhs = rhs`` in sympy's plain text."""
+        return " = ".join(side if isinstance(side, str) else sp.sstr(side) for side in self.sides)
 
 
 def shown(lhs, rhs, label: str = "", ref: str = "", number: str = "") -> Shown:
@@ -37,7 +44,7 @@ def shown(lhs, rhs, label: str = "", ref: str = "", number: str = "") -> Shown:
     return Shown(
         mathml=equation_mathml(lhs, rhs),
         latex=equation_latex(lhs, rhs),
-        text=f"{sp.sstr(lhs)} = {sp.sstr(rhs)}",
+        sides=(lhs, rhs),
         label=label,
         ref=ref,
         number=number,
@@ -45,8 +52,8 @@ def shown(lhs, rhs, label: str = "", ref: str = "", number: str = "") -> Shown:
 
 
 def inline(expr) -> dict:
-    """An expression for inline use in both outputs."""
-    return {"mathml": to_mathml(expr), "latex": to_latex(expr), "text": sp.sstr(expr)}
+    """An expression for inline use in both outputs (``mathml``, ``latex``)."""
+    return {"mathml": to_mathml(expr), "latex": to_latex(expr)}
 
 
 def quantity_text(q, digits: int = 4, keep_zeros: bool = False) -> str:
@@ -439,7 +446,7 @@ def terms_shown(eq) -> Shown:
     rhs_m, rhs_x = _term_parts(eq.rhs)
     mathml = _wrap(f"<mrow>{head_m}<mo>=</mo>{rhs_m}</mrow>", "block")
     return Shown(mathml=Markup(mathml), latex=f"{head_x} = {rhs_x}",
-                 text=f"{eq.name or sp.sstr(eq.left)} = {sp.sstr(eq.right)}", label=eq.label, ref=eq.ref)
+                 sides=(eq.name or eq.left, eq.right), label=eq.label, ref=eq.ref)
 
 
 def _mathml_body(expr):
