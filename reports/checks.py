@@ -33,7 +33,7 @@ from pathlib import Path
 
 import sympy as sp
 
-from reports.equations import EquationOutcome, check_equation
+from reports.equations import DerivedQuantities, EquationOutcome, check_equation
 from reports.published import EquationSet, ReportInputError, read_toml
 from reports.rounding import eq30_tolerances, half_unit
 from solver.expressions import parse_expression
@@ -162,8 +162,9 @@ def equation_checks(eqset: EquationSet, scenes: dict, derivations: dict) -> list
     """
     rows: list[Check] = []
     outcomes: dict[str, EquationOutcome] = {}
+    quantities = {key: DerivedQuantities(scenes[key], derivations[key]) for key in derivations}
     for tr in eqset.equations:
-        outcome = check_equation(tr, scenes[tr.scene], derivations[tr.scene])
+        outcome = check_equation(tr, scenes[tr.scene], derivations[tr.scene], quantities[tr.scene])
         outcomes[tr.id] = outcome
         computed = "0" if outcome.residual == 0 else sp.sstr(outcome.residual)
         rows.append(

@@ -31,8 +31,8 @@ from __future__ import annotations
 
 import random
 import zlib
-from dataclasses import dataclass, field
-from functools import lru_cache
+from dataclasses import dataclass, field, replace
+from functools import cached_property, lru_cache
 
 import mpmath
 import sympy as sp
@@ -42,7 +42,7 @@ from reports.published import ReportInputError, Transcription
 from solver.expressions import parse_expression
 from solver.tree_value import NotEvaluable, mpmath_arithmetic, tree_value
 
-__all__ = ["EquationOutcome", "check_equation", "is_zero"]
+__all__ = ["EquationOutcome", "DerivedQuantities", "check_equation", "is_zero"]
 
 _RANDOM_POINTS = 4
 """Random points at which a residual is evaluated."""
@@ -145,7 +145,41 @@ def _linearisation(deriv, assume: dict, about: dict):
     return mass, stiffness, damping, offset
 
 
-def _meaning_value(meaning, scene, deriv, tr: Transcription, lin) -> sp.Expr:
+class DerivedQuantities:
+    """The derived quantities the printed symbols of one example stand for, each computed once.
+
+    The printed equations of an example share most meanings (the acceleration of B along the
+    rail is a symbol of five of them, under other names): :meth:`value` keeps each value by what
+    the symbol means, its name aside, for as long as this object lives (one report build).
+
+    Parameters
+    ----------
+    scene : solver.scene.Scene
+    deriv : solver.derivation.Derivation
+        The scene's derivation, about the point the printed equations are written about.
+    """
+
+    def __init__(self, scene, deriv):
+        self.scene, self.deriv = scene, deriv
+        self._values: dict = {}
+
+    def value(self, meaning, tr: Transcription, lin) -> sp.Expr:
+        """The value of a printed symbol of ``tr`` (``lin``: the equation's linearisation, or None)."""
+        if meaning.quantity == "natural_frequency":  # of this equation's own linearisation
+            return _meaning_value(meaning, self, tr, lin)
+        key = replace(meaning, symbol="")
+        if key not in self._values:
+            self._values[key] = _meaning_value(meaning, self, tr, lin)
+        return self._values[key]
+
+    @cached_property
+    def forces(self) -> dict[str, sp.Matrix]:
+        """Every force on the (single) body by name (:func:`_forces`)."""
+        return _forces(self.deriv)
+
+
+def _meaning_value(meaning, quantities: DerivedQuantities, tr: Transcription, lin) -> sp.Expr:
+    scene, deriv = quantities.scene, quantities.deriv
     where = f"{tr.where}.symbols.{meaning.symbol}"
     quantity = meaning.quantity
     if quantity == "alpha":
@@ -167,8 +201,10 @@ def _meaning_value(meaning, scene, deriv, tr: Transcription, lin) -> sp.Expr:
         u = sp.Matrix([parse_expression(x, base, where=f"{where}.along") for x in meaning.along])
         if _exact_zero(u.dot(u) - 1) is not True:
             raise ReportInputError(f"{where}.along: must be a unit vector, got {list(meaning.along)}")
-        vector = _vector_quantity(meaning, deriv, where)
-        return sp.Add(*[v * w for v, w in zip(vector, u)])  # the component along u (vector . u)
+        vector = _vector_quantity(meaning, quantities, where)
+        # the component along u (vector . u); a zero component of u adds nothing (v * 0 is 0 for a finite v,
+        # which sympy would ask of the whole expression v to be sure)
+        return sp.Add(*[v * w for v, w in zip(vector, u) if w != 0])
     if quantity == "element_inertia":
         return _element_inertia(deriv, meaning, where)
     if quantity == "reaction":
@@ -188,9 +224,9 @@ def _meaning_value(meaning, scene, deriv, tr: Transcription, lin) -> sp.Expr:
     raise ReportInputError(f"{where}.quantity: unsupported quantity {quantity!r}")  # pragma: no cover
 
 
-def _vector_quantity(meaning, deriv, where: str) -> sp.Matrix:
+def _vector_quantity(meaning, quantities: DerivedQuantities, where: str) -> sp.Matrix:
     """The fixed-frame vector a printed component reads (position, velocity, acceleration, force)."""
-    quantity = meaning.quantity
+    quantity, deriv = meaning.quantity, quantities.deriv
     if quantity == "acceleration":
         return deriv.acceleration(meaning.point)
     if quantity == "velocity":
@@ -199,7 +235,7 @@ def _vector_quantity(meaning, deriv, where: str) -> sp.Matrix:
         return deriv.position(meaning.point)
     if quantity == "relative_position":
         return deriv.position(meaning.point) - deriv.position(meaning.relative_to)
-    forces = _forces(deriv)
+    forces = quantities.forces
     if quantity == "resultant":
         return sum(forces.values(), sp.zeros(2, 1))
     if quantity == "force":
@@ -260,7 +296,16 @@ def _random_point(symbols, seed: int) -> dict:
     rng = random.Random(seed)
     # Positive values of moderate size: masses, lengths, angles and rates alike; evaluation is at
     # _DIGITS digits.
-    return {s: mpmath.mpf(rng.randint(23, 181)) / 97 for s in sorted(symbols, key=lambda s: s.name)}
+    values = _ninety_sevenths(mpmath.mp.prec)
+    return {s: values[rng.randint(23, 181)] for s in sorted(symbols, key=lambda s: s.name)}
+
+
+@lru_cache(maxsize=4)
+def _ninety_sevenths(prec: int) -> tuple:
+    """n / 97 as mpmath numbers at the precision ``prec`` [bits], for n = 0 ... 181 (a number is
+    made once, not once per symbol of every point)."""
+    with mpmath.workprec(prec):
+        return tuple(mpmath.mpf(n) / 97 for n in range(182))
 
 
 def _evaluator(ordered: list, exprs: list):
@@ -440,7 +485,8 @@ def _qdd_solution(eom: sp.Expr, qdd: sp.Symbol) -> sp.Expr:
     return -eom.xreplace({qdd: 0}) / sp.diff(eom, qdd)
 
 
-def check_equation(tr: Transcription, scene, deriv) -> EquationOutcome:
+def check_equation(tr: Transcription, scene, deriv,
+                   quantities: DerivedQuantities | None = None) -> EquationOutcome:
     """Compare one printed equation with the solver's derivation.
 
     Parameters
@@ -451,6 +497,8 @@ def check_equation(tr: Transcription, scene, deriv) -> EquationOutcome:
         The scene of the example it belongs to.
     deriv : solver.derivation.Derivation
         The derivation of that scene about the paper's reference point.
+    quantities : DerivedQuantities, optional
+        Of ``scene`` and ``deriv``, shared by the equations of one example (default: a new one).
 
     Returns
     -------
@@ -467,7 +515,8 @@ def check_equation(tr: Transcription, scene, deriv) -> EquationOutcome:
     assume = _state_subs(tr.assume, scene, deriv, tr, "assume")
     about = _state_subs(tr.about, scene, deriv, tr, "about")
     lin = _linearisation(deriv, assume, about) if tr.kind == "frequency" else None
-    meanings = {names[s]: _meaning_value(m, scene, deriv, tr, lin) for s, m in tr.symbols.items()}
+    quantities = DerivedQuantities(scene, deriv) if quantities is None else quantities
+    meanings = {names[s]: quantities.value(m, tr, lin) for s, m in tr.symbols.items()}
     seed = zlib.crc32(tr.id.encode())
 
     q, qd, qdd = deriv.q, deriv.qd, deriv.qdd

@@ -46,6 +46,12 @@ LATEX_ENGINES = ("tectonic", "lualatex", "pdflatex", "xelatex")
 """LaTeX engines tried, in order, for paper.pdf."""
 
 
+EX1_STEPS = ("accelerations", "omega", "alpha", "inertia", "alpha_solution", "reactions")
+EX2_STEPS = ("omega", "inertia", "eom", "reactions")
+"""The worked steps the paper shows of each example (``ex1.steps`` and ``ex2.steps`` in the templates;
+:func:`reports.paper.example_steps` builds only these)."""
+
+
 # --------------------------------------------------------------------------- environments
 _JINJA_OPTIMIZER = False
 """Jinja's compile-time optimizer (constant folding in the generated code) is off: each template is
@@ -424,14 +430,14 @@ def _build(root: Path, out: Path | None, pdf: str, log) -> dict:
                 "scene": scenes[ex1_key],
                 "point": derivations[ex1_key].point,
                 "parameters": paper.parameter_rows(scenes[ex1_key]),
-                "steps": paper.example_steps(scenes[ex1_key], derivations[ex1_key], at_rest=True),
+                "steps": paper.example_steps(scenes[ex1_key], derivations[ex1_key], at_rest=True, parts=EX1_STEPS),
                 "solution": ex1_solution,
             },
             "ex2": {
                 "scene": scenes[ex2_key],
                 "point": derivations[ex2_key].point,
                 "parameters": paper.parameter_rows(scenes[ex2_key]),
-                "steps": paper.example_steps(scenes[ex2_key], derivations[ex2_key], at_rest=False),
+                "steps": paper.example_steps(scenes[ex2_key], derivations[ex2_key], at_rest=False, parts=EX2_STEPS),
                 "frequency": freq,
                 "omega_n_formula": paper.shown(sp.Symbol("omega_n") ** 2, lin_w2, "Linearised", ""),
                 "amplitude_deg": math.degrees(amplitude),

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import ast
 import re
+from functools import lru_cache
 
 import sympy as sp
 from markupsafe import escape
@@ -77,9 +78,16 @@ def transcription_mathml(lhs: str, rhs: str, display: str = "block") -> Markup:
     ValueError
         A construct outside the whitelist syntax.
     """
+    return _wrap(_transcription_row(lhs, rhs), display)
+
+
+@lru_cache(maxsize=512)
+def _transcription_row(lhs: str, rhs: str) -> str:
+    """The ``<mrow>`` of :func:`transcription_mathml`, drawn once per transcription (the report shows
+    each printed equation in a block and inline)."""
     sides = [_drawn(ast.parse(t.replace("^", "**").strip(), mode="eval").body, t.replace("^", "**").strip())
              for t in (lhs, rhs)]
-    return _wrap(f"<mrow>{sides[0]}<mo>=</mo>{sides[1]}</mrow>", display)
+    return f"<mrow>{sides[0]}<mo>=</mo>{sides[1]}</mrow>"
 
 
 def _rank(node: ast.AST) -> int:

@@ -15,21 +15,28 @@ import sympy as sp
 
 from reports.mathml import equation_latex, equation_mathml, name_text, to_latex, to_mathml
 
-__all__ = ["Shown", "shown", "method_equations", "example_steps", "quantity_text", "linearisation",
+__all__ = ["Shown", "shown", "method_equations", "example_steps", "STEP_PARTS", "quantity_text", "linearisation",
            "unit_conversion", "result_rows"]
 
 
 @dataclass
 class Shown:
-    """An equation ready for both outputs."""
+    """An equation ready for both outputs (and as plain text, :attr:`text`, made when asked: no
+    output shows it, and sympy's printer is not free)."""
 
     mathml: str
     latex: str
-    text: str
+    sides: tuple = field(repr=False)
+    """The left and the right side, each a sympy expression or its text."""
     label: str = ""
     ref: str = ""
     number: str = ""
     """The article's equation number the display carries in both renderings ("" for none)."""
+
+    @property
+    def text(self) -> str:
+        """``lhs = rhs`` in sympy's plain text."""
+        return " = ".join(side if isinstance(side, str) else sp.sstr(side) for side in self.sides)
 
 
 def shown(lhs, rhs, label: str = "", ref: str = "", number: str = "") -> Shown:
@@ -37,7 +44,7 @@ def shown(lhs, rhs, label: str = "", ref: str = "", number: str = "") -> Shown:
     return Shown(
         mathml=equation_mathml(lhs, rhs),
         latex=equation_latex(lhs, rhs),
-        text=f"{sp.sstr(lhs)} = {sp.sstr(rhs)}",
+        sides=(lhs, rhs),
         label=label,
         ref=ref,
         number=number,
@@ -45,8 +52,8 @@ def shown(lhs, rhs, label: str = "", ref: str = "", number: str = "") -> Shown:
 
 
 def inline(expr) -> dict:
-    """An expression for inline use in both outputs."""
-    return {"mathml": to_mathml(expr), "latex": to_latex(expr), "text": sp.sstr(expr)}
+    """An expression for inline use in both outputs (``mathml``, ``latex``)."""
+    return {"mathml": to_mathml(expr), "latex": to_latex(expr)}
 
 
 def quantity_text(q, digits: int = 4, keep_zeros: bool = False) -> str:
@@ -81,7 +88,7 @@ def _grouped(expr: sp.Expr, keys) -> sp.Expr:
 
 
 def method_equations() -> dict[str, Shown]:
-    """Eq. 10 (single body) and Eq. 11 (composite body) in planar scalar form, derived by sympy.
+    """Eq. 10 (single body), Eq. 11 (composite body) and Eq. 14 in planar scalar form, derived by sympy.
 
     The k-component of r x (m a_P) is computed from the cross product of
     planar vectors, so the displayed forms are produced, not typed.
@@ -101,7 +108,7 @@ def method_equations() -> dict[str, Shown]:
                 "Newton's law for the composite body, x component", "Eq. (14)", "14")
     eq1y = shown(sp.Symbol("F_y"), sp.Sum(mk[k] * sp.Indexed(sp.IndexedBase("a_y"), k), (k, 1, n)),
                  "Newton's law for the composite body, y component", "Eq. (14)", "14")
-    return {"eq10": eq10, "eq11": eq11, "eq14": eq1, "eq14y": eq1y, "inertial_term": inline(inertial)}
+    return {"eq10": eq10, "eq11": eq11, "eq14": eq1, "eq14y": eq1y}
 
 
 def linearisation(deriv, about: dict, assume: dict | None = None):
@@ -116,7 +123,11 @@ def linearisation(deriv, about: dict, assume: dict | None = None):
     return mass, stiffness, _upright(tidy(stiffness / mass))
 
 
-def example_steps(scene, deriv, at_rest: bool) -> dict:
+STEP_PARTS = ("accelerations", "omega", "alpha", "inertia", "eom", "qdd_solution", "alpha_solution", "reactions")
+""":func:`example_steps`' steps, in order."""
+
+
+def example_steps(scene, deriv, at_rest: bool, parts=STEP_PARTS) -> dict:
     """The derivation of one example, step by step, for the paper.
 
     Parameters
@@ -126,13 +137,21 @@ def example_steps(scene, deriv, at_rest: bool) -> dict:
         About the paper's reference point.
     at_rest : bool
         Show the equations at theta_dot = 0 (Example 1 is released from rest).
+    parts : iterable of str
+        The steps wanted (names of :data:`STEP_PARTS`; default all): each is tidied and rendered
+        for both outputs, so a step the paper does not show is not built.
 
     Returns
     -------
     dict
-        ``accelerations`` (x, y of every named point), ``omega``, ``alpha``, ``inertia``,
-        ``eom``, ``qdd_solution``, ``alpha_solution`` and ``reactions`` (from the Newton rows,
-        theta_ddot kept).
+        Of the steps wanted: ``accelerations`` (x, y of every named point), ``omega``, ``alpha``,
+        ``inertia``, ``eom``, ``qdd_solution``, ``alpha_solution`` and ``reactions`` (from the
+        Newton rows, theta_ddot kept).
+
+    Raises
+    ------
+    ValueError
+        A name in ``parts`` that is not a step.
 
     Notes
     -----
@@ -141,42 +160,54 @@ def example_steps(scene, deriv, at_rest: bool) -> dict:
     each coefficient tidied by :mod:`solver.display` (reduction modulo sin**2 + cos**2 = 1,
     common factors out), never by a generic ``simplify``.
     """
+    want = set(parts)
+    unknown = sorted(want - set(STEP_PARTS))
+    if unknown:
+        raise ValueError(f"`parts` must name steps of {', '.join(STEP_PARTS)}, got {', '.join(unknown)}")
     qd, qdd = deriv.qd, deriv.qdd
     rest = {qd: 0} if at_rest else {}
     steps = {}
-    # kinematics of every named point (the rigid-body relation, tidied from its structure)
-    points = {}
-    for name in scene.points:
-        acc = deriv.acceleration(name).xreplace(rest)
-        points[name] = {"x": inline(_shown_tidy(acc[0])), "y": inline(_shown_tidy(acc[1]))}
-    steps["accelerations"] = points
-    steps["omega"] = inline(deriv.omega)
-    steps["alpha"] = inline(deriv.alpha)
-    inertia = sp.expand(deriv.inertia_about(deriv.point))
-    steps["inertia"] = inline(inertia if not inertia.has(sp.sin, sp.cos) else _shown_tidy(inertia))
-    # equation of motion M qdd + f = Q, from the derivation's (already structured) form
-    Q = deriv.generalized_force.xreplace(rest)
-    eom = sp.expand(deriv.eom.xreplace(rest))
-    steps["eom"] = shown(_grouped(eom + Q, [qdd, qd**2]), _shown_tidy(Q), "Equation of motion", "")
-    # closed-form theta_ddot = -f / M and alpha (affine in theta_ddot: a1 qdd + a0 = (a0 M - a1 f) / M)
-    mass = eom.coeff(qdd)
-    rest_terms = sp.expand(eom - mass * qdd)
-    steps["qdd_solution"] = shown(qdd, _shown_tidy(-rest_terms / mass), "Angular acceleration", "")
-    alpha = sp.expand(deriv.alpha)
-    a1 = alpha.coeff(qdd)
-    a0 = sp.expand(alpha - a1 * qdd)
-    steps["alpha_solution"] = shown(sp.Symbol("alpha"), _shown_tidy((a0 * mass - a1 * rest_terms) / mass),
-                                    "alpha", "")
-    # reactions from the Newton components, theta_ddot left symbolic (cf. Eqs. 24-25, 39-40): a linear
-    # system in the reactions, solved by elimination
-    symbols = [sp.Symbol(r, real=True) for r in scene.reaction_names()]
-    newton = [sp.expand(e.expr.xreplace(rest)) for e in deriv.equations if "Newton" in e.name]
-    reactions = []
-    A, b = sp.linear_eq_to_matrix(newton, symbols)
-    if A.shape[0] == A.shape[1] and A.det() != 0:
-        for s, value in zip(symbols, A.LUsolve(b)):
-            reactions.append(shown(s, _grouped(value, [qdd, qd**2]), f"Reaction {s}", ""))
-    steps["reactions"] = reactions
+    if "accelerations" in want:  # kinematics of every named point (the rigid-body relation, tidied from its structure)
+        points = {}
+        for name in scene.points:
+            acc = deriv.acceleration(name).xreplace(rest)
+            points[name] = {"x": inline(_shown_tidy(acc[0])), "y": inline(_shown_tidy(acc[1]))}
+        steps["accelerations"] = points
+    if "omega" in want:
+        steps["omega"] = inline(deriv.omega)
+    if "alpha" in want:
+        steps["alpha"] = inline(deriv.alpha)
+    if "inertia" in want:
+        inertia = sp.expand(deriv.inertia_about(deriv.point))
+        steps["inertia"] = inline(inertia if not inertia.has(sp.sin, sp.cos) else _shown_tidy(inertia))
+    if want & {"eom", "qdd_solution", "alpha_solution"}:
+        # equation of motion M qdd + f = Q, from the derivation's (already structured) form
+        eom = sp.expand(deriv.eom.xreplace(rest))
+        if "eom" in want:
+            Q = deriv.generalized_force.xreplace(rest)
+            steps["eom"] = shown(_grouped(eom + Q, [qdd, qd**2]), _shown_tidy(Q), "Equation of motion", "")
+        # closed-form theta_ddot = -f / M and alpha (affine in theta_ddot: a1 qdd + a0 = (a0 M - a1 f) / M)
+        mass = eom.coeff(qdd)
+        rest_terms = sp.expand(eom - mass * qdd)
+        if "qdd_solution" in want:
+            steps["qdd_solution"] = shown(qdd, _shown_tidy(-rest_terms / mass), "Angular acceleration", "")
+        if "alpha_solution" in want:
+            alpha = sp.expand(deriv.alpha)
+            a1 = alpha.coeff(qdd)
+            a0 = sp.expand(alpha - a1 * qdd)
+            steps["alpha_solution"] = shown(sp.Symbol("alpha"), _shown_tidy((a0 * mass - a1 * rest_terms) / mass),
+                                            "alpha", "")
+    if "reactions" in want:
+        # reactions from the Newton components, theta_ddot left symbolic (cf. Eqs. 24-25, 39-40): a linear
+        # system in the reactions, solved by elimination
+        symbols = [sp.Symbol(r, real=True) for r in scene.reaction_names()]
+        newton = [sp.expand(e.expr.xreplace(rest)) for e in deriv.equations if "Newton" in e.name]
+        reactions = []
+        A, b = sp.linear_eq_to_matrix(newton, symbols)
+        if A.shape[0] == A.shape[1] and A.det() != 0:
+            for s, value in zip(symbols, A.LUsolve(b)):
+                reactions.append(shown(s, _grouped(value, [qdd, qd**2]), f"Reaction {s}", ""))
+        steps["reactions"] = reactions
     return steps
 
 
@@ -415,7 +446,7 @@ def terms_shown(eq) -> Shown:
     rhs_m, rhs_x = _term_parts(eq.rhs)
     mathml = _wrap(f"<mrow>{head_m}<mo>=</mo>{rhs_m}</mrow>", "block")
     return Shown(mathml=Markup(mathml), latex=f"{head_x} = {rhs_x}",
-                 text=f"{eq.name or sp.sstr(eq.left)} = {sp.sstr(eq.right)}", label=eq.label, ref=eq.ref)
+                 sides=(eq.name or eq.left, eq.right), label=eq.label, ref=eq.ref)
 
 
 def _mathml_body(expr):

@@ -616,6 +616,14 @@ def find_equilibrium(system: OneDofSystem, near: float = 0.0, span: float = 2.0 
         disk: V is constant, no restoring moment).
     """
     _validate_find_equilibrium(system, near, span)
+    # one search per model, place and parameter values (a report asks it for the frequency, the
+    # period and the friction of one example)
+    return system._memo(("equilibrium", near, span, system.values),
+                        lambda: _find_equilibrium(system, near, span))
+
+
+def _find_equilibrium(system: OneDofSystem, near: float, span: float) -> Equilibrium:
+    """:func:`find_equilibrium`, searched."""
     V_expr = system.effective_potential()
     flat = system._memo(("flat", system.values), lambda: (
         not V_expr.has(system.q)
@@ -635,17 +643,13 @@ def find_equilibrium(system: OneDofSystem, near: float = 0.0, span: float = 2.0 
     if not scale > 0:
         raise NoRestoringError(f"{system.name}: no restoring {what} near {system.q} = {near:g} {unit}")
     candidates: list[float] = []
-    for i in range(len(grid) - 1):
-        a, b = d[i], d[i + 1]
-        if not (np.isfinite(a) and np.isfinite(b)):
-            continue
-        if a < 0 <= b or (a == 0 and i > 0 and d[i - 1] < 0 < b):
-            if b == 0:
-                root = grid[i + 1]
-            else:
-                root = brentq(lambda x: float(dV(x)), grid[i], grid[i + 1], xtol=1e-300, rtol=4 * _EPS, maxiter=200,
-                              disp=False)  # a very flat root (V' ~ x^5): keep the last bracket
-            candidates.append(float(root))
+    for i in _rising_through_zero(d):
+        if d[i + 1] == 0:
+            root = grid[i + 1]
+        else:
+            root = brentq(lambda x: float(dV(x)), grid[i], grid[i + 1], xtol=1e-300, rtol=4 * _EPS, maxiter=200,
+                          disp=False)  # a very flat root (V' ~ x^5): keep the last bracket
+        candidates.append(float(root))
     stable = []
     with np.errstate(all="ignore"):
         h = np.abs(np.asarray(d2V(grid), dtype=float))
@@ -663,6 +667,15 @@ def find_equilibrium(system: OneDofSystem, near: float = 0.0, span: float = 2.0 
             f"within {span:g} {unit} of {system.q} = {near:g} {unit}"
         )
     return min(stable, key=lambda e: (abs(e.q - near), e.q))
+
+
+def _rising_through_zero(d: np.ndarray) -> np.ndarray:
+    """The indices i, in order, where the samples ``d`` of V' rise through zero from d[i] to d[i+1]
+    (both finite): d[i] < 0 <= d[i+1], or d[i] = 0 between d[i-1] < 0 and d[i+1] > 0."""
+    a, b = d[:-1], d[1:]
+    before = np.concatenate(([np.nan], d[:-2]))  # d[i-1]; none before the first sample
+    rising = (a < 0) & (0 <= b) | (a == 0) & (before < 0) & (0 < b)
+    return np.flatnonzero(rising & np.isfinite(a) & np.isfinite(b))
 
 
 def linear_period(system: OneDofSystem, equilibrium: Equilibrium | None = None) -> float:

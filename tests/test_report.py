@@ -34,7 +34,7 @@ import sympy as sp
 from reports.checks import KINDS, VERDICTS, example1_value_checks, half_unit
 from reports.equations import check_equation, is_zero
 from reports.make_report import ROOT, build_cached, html_environment, latex_environment, latex_escape, main
-from reports.paper import survey_table
+from reports.paper import example_steps, survey_table
 from reports.published import ReportInputError, load_equations
 from solver.derivation import derive, solve_instant
 from solver.scenefile import load_scene
@@ -292,6 +292,35 @@ def test_a_changed_published_value_disagrees(equations, tmp_path):
     rows = {r.id: r for r in example1_value_checks(path, eqset, scene, derivs["sliding_bar"], solve_instant(scene))}
     assert rows["eq30-R_B"].verdict == "disagrees"
     assert rows["eq30-R_A"].verdict == "agrees"
+
+
+def test_example_steps_builds_the_steps_asked_as_the_full_set_has_them(equations):
+    # The build asks each example for the steps its paper shows (EX1_STEPS, EX2_STEPS): those must
+    # be the very renderings of the full set, and a name that is no step is refused.
+    eqset, scenes, derivs = equations
+    key = list(eqset.scenes)[1]  # Example 2
+    full = example_steps(scenes[key], derivs[key], at_rest=False)
+    some = example_steps(scenes[key], derivs[key], at_rest=False, parts=("omega", "eom"))
+    assert set(some) == {"omega", "eom"}
+    assert some["omega"] == full["omega"] and some["eom"] == full["eom"]
+    with pytest.raises(ValueError, match="`parts` must name steps of .*, got nonsense"):
+        example_steps(scenes[key], derivs[key], at_rest=False, parts=("eom", "nonsense"))
+
+
+def test_provenance_versions_are_the_installed_distributions():
+    # Read from the metadata's header block alone; the reference is importlib.metadata's full parse.
+    from importlib import metadata
+
+    from reports.provenance import PACKAGES, _version
+
+    for name in PACKAGES:
+        try:
+            expected = metadata.version(name)
+        except metadata.PackageNotFoundError:
+            continue
+        assert _version(name) == expected, name
+    with pytest.raises(metadata.PackageNotFoundError):
+        _version("no-such-distribution-alt-euler")
 
 
 def test_half_unit_follows_printed_digits():

@@ -661,7 +661,8 @@ def place_labels(fig, axes) -> None:
     for ax in axes:
         drawn = _drawn_points(ax)
         where = {id(artist): (pts, pad) for artist, pts, pad, _ in drawn}
-        groups = {kind: [(pts, pad) for _, pts, pad, k in drawn if k == kind] for kind in ("arrow", "stroke", "mark")}
+        groups = {kind: _pooled([(pts, pad) for _, pts, pad, k in drawn if k == kind])
+                  for kind in ("arrow", "stroke", "mark")}
         owners = {id(t): [where[id(a)] for a in getattr(t, "alt_euler_names", ()) if id(a) in where]
                   for t in texts[id(ax)]}
         owners = {k: (np.vstack([p for p, _ in v]), max(pad for _, pad in v)) for k, v in owners.items() if v}
@@ -686,30 +687,72 @@ def _best_place(boxes, placed, groups: dict, own, others: list, rank, frame) -> 
     """The index of the box a label takes, by the order of :func:`place_labels`.
 
     ``boxes``: the places tried (rows x0, y0, x1, y1) [display pixels]; ``placed``: the labels'
-    boxes so far; ``groups``: the drawn points and pads by kind (:func:`_drawn_points`); ``own``: the
-    points of the arrow or arc the label names (None: it names none), ``others`` those of the other
-    labels'; ``rank``: each try's step from the label's own place; ``frame``: the figure's extents."""
-    clash = _overlaps(boxes, placed, LABEL_PAD)
-    none = np.zeros(len(boxes), dtype=int)
-    on_arrows, crossed, on_marks = (sum((_covered(boxes, pts, pad) for pts, pad in groups[kind]), none)
-                                    for kind in ("arrow", "stroke", "mark"))
-    stray = np.zeros(len(boxes), dtype=bool)
-    if own is not None:
-        near = _box_distance(boxes, own)
+    boxes so far; ``groups``: the drawn points and their pads by kind (:func:`_drawn_points`,
+    :func:`_pooled`); ``own``: the points of the arrow or arc the label names (None: it names none),
+    ``others`` those of the other labels'; ``rank``: each try's step from the label's own place;
+    ``frame``: the figure's extents.
+
+    The order's criteria are applied one at a time, each to the places the ones before left tied,
+    and whether a place strays (the costliest test) is asked of the places in the order of the
+    criteria after it, until one does not: the first place in the order, each test computed only
+    for the places it can still decide between."""
+    at = np.arange(len(boxes))  # the places still in the running
+    at = at[_least(_cut_off(boxes, frame))]
+    at = at[_least(_overlaps(boxes[at], placed, LABEL_PAD))]
+    on_arrows = _covered(boxes[at], *groups["arrow"])
+    keep = _least(on_arrows > 0)
+    at, on_arrows = at[keep], on_arrows[keep]
+    crossed = _covered(boxes[at], *groups["stroke"])
+    keep = _least(crossed > 0)
+    at, on_arrows, crossed = at[keep], on_arrows[keep], crossed[keep]
+    chosen = boxes[at]
+    on_marks = _covered(chosen, *groups["mark"])
+    if own is None:
+        return int(at[np.lexsort((on_arrows + crossed + on_marks, rank[at], on_marks > 0))[0]])
+    near = _box_distance(chosen, own)
+    order = np.lexsort((on_arrows + crossed + on_marks, np.floor(near / OBSTACLE_STEP), on_marks > 0))
+    for start in range(0, len(order), _STRAY_BATCH):  # the first place in this order that does not stray
+        batch = order[start:start + _STRAY_BATCH]
+        reach = near[batch] + STRAY_MARGIN
+        stray = np.zeros(len(batch), dtype=bool)
         for other in others:
-            stray |= _box_distance(boxes, other) < near + STRAY_MARGIN
-        rank = np.floor(near / OBSTACLE_STEP)  # nearer its own arrow or arc, in steps of a few pixels
-    covered = on_arrows + crossed + on_marks
-    cut = _cut_off(boxes, frame)
-    return int(np.lexsort((covered, rank, on_marks > 0, stray, crossed > 0, on_arrows > 0, clash, cut))[0])
+            stray |= _box_distance(chosen[batch], other) < reach
+        if not stray.all():
+            return int(at[batch[np.argmin(stray)]])
+    return int(at[order[0]])  # every place strays
+
+
+_STRAY_BATCH = 8
+"""Places asked at a time whether they stray (:func:`_best_place`): the first few usually settle it."""
+
+
+def _least(values: np.ndarray) -> np.ndarray:
+    """Where ``values`` take their least value (a mask)."""
+    return values == values.min()
+
+
+def _pooled(drawn: list) -> tuple[np.ndarray, np.ndarray]:
+    """The drawn points of several lines or patches (pairs of points and pad) as one array of points
+    and one of their pads."""
+    if not drawn:
+        return np.zeros((0, 2)), np.zeros(0)
+    return (np.vstack([pts for pts, _ in drawn]),
+            np.concatenate([np.full(len(pts), pad, dtype=float) for pts, pad in drawn]))
 
 
 def _box_distance(boxes: np.ndarray, points: np.ndarray) -> np.ndarray:
-    """For each box (rows x0, y0, x1, y1), the distance from it to the nearest of ``points`` (0 inside)."""
+    """For each box (rows x0, y0, x1, y1), the distance from it to the nearest of ``points`` (0 inside;
+    infinite when there are none)."""
+    if not len(points):
+        return np.full(len(boxes), np.inf)
     x, y = points[None, :, 0], points[None, :, 1]
-    dx = np.maximum(np.maximum(boxes[:, 0:1] - x, x - boxes[:, 2:3]), 0.0)
-    dy = np.maximum(np.maximum(boxes[:, 1:2] - y, y - boxes[:, 3:4]), 0.0)
-    return np.hypot(dx, dy).min(axis=1)
+    dx = boxes[:, 0:1] - x
+    np.maximum(dx, x - boxes[:, 2:3], out=dx)
+    np.maximum(dx, 0.0, out=dx)
+    dy = boxes[:, 1:2] - y
+    np.maximum(dy, y - boxes[:, 3:4], out=dy)
+    np.maximum(dy, 0.0, out=dy)
+    return np.hypot(dx, dy, out=dx).min(axis=1)
 
 
 def _final_layout(fig, axes) -> None:
@@ -735,12 +778,14 @@ def _cut_off(boxes: np.ndarray, frame) -> np.ndarray:
     return (boxes[:, 0] < x0) | (boxes[:, 1] < y0) | (boxes[:, 2] > x1) | (boxes[:, 3] > y1)
 
 
-def _covered(boxes: np.ndarray, points: np.ndarray, pad: float = 0.0) -> np.ndarray:
+def _covered(boxes: np.ndarray, points: np.ndarray, pad=0.0) -> np.ndarray:
     """For each box, how many of the drawn ``points`` lie strictly inside it grown by ``pad`` [pixels]
-    on every side (a stroke's half width: the stroke of a line through such a point touches the box)."""
+    on every side (a stroke's half width: the stroke of a line through such a point touches the box);
+    ``pad`` one number, or one per point."""
     if not len(points):
         return np.zeros(len(boxes), dtype=int)
     x, y = points[None, :, 0], points[None, :, 1]
+    pad = np.asarray(pad, dtype=float)[None, ...]
     inside = (x > boxes[:, 0:1] - pad) & (x < boxes[:, 2:3] + pad) & (y > boxes[:, 1:2] - pad) & \
         (y < boxes[:, 3:4] + pad)
-    return inside.sum(axis=1)
+    return np.count_nonzero(inside, axis=1)
