@@ -574,13 +574,11 @@ def _precision_system(scene, point, method):
     """
     if not scene.contacts:
         return scene, None
-    from solver.analyses.regimes import regime_at_state
+    from solver.analyses.regimes import system_in_regime
 
-    regime, _, state = regime_at_state(scene, None, point, method)
-    if regime is None:
-        return scene, state
-    if regime.indeterminate:
+    variant, regime, _, state = system_in_regime(scene, point, method)
+    if regime is not None and regime.indeterminate:
         raise InputError(f"{scene.label}: precision: the sticking contacts hold the bodies redundantly "
                          "(statically indeterminate), so the forces have no unique value to compute precisely; "
                          "`solve` gives the accelerations and one admissible split")
-    return regime.system.with_regimes(regime.regimes, state.q, state.qd, state.t), state
+    return variant, state

@@ -278,12 +278,12 @@ def eom_command(args: argparse.Namespace) -> int:
 
 def _in_regime_at_state(system, args):
     """``system``, or with contacts that can stick, slip or separate the system in the regime that
-    holds at the state, as `solve` and `explain` find it (:func:`solver.explain.build.system_in_regime`),
+    holds at the state, as `solve` and `explain` find it (:func:`solver.analyses.regimes.system_in_regime`),
     the regime printed first (text and LaTeX) or kept for the JSON (``args.regimes``)."""
     args.regimes = {}
     if not system.contacts:
         return system
-    from solver.explain.build import system_in_regime
+    from solver.analyses.regimes import system_in_regime
 
     variant, found, warning, _ = system_in_regime(system, args.point)
     if found is None or (all(found.regimes[j.name] == j.current_regime for j in system.contacts)

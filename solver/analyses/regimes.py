@@ -278,6 +278,24 @@ def regime_at_state(system, state=None, point=None, method="generalized_euler"):
         return None, "the scene as written is solved, but " + str(err).split(": ", 1)[-1], state
 
 
+def system_in_regime(system, point=None, method="generalized_euler"):
+    """The system in the contact regime that holds at the scene's state, as ``solve`` finds it:
+    (that system, :class:`RegimeResult` or None, warning or None, state). None and the system itself
+    when no regime is consistent but the scene as written solves (:func:`regime_at_state`); a regime
+    whose sticking contacts hold the bodies redundantly keeps every contact row (its forces' split
+    open: ``RegimeResult.indeterminate``)."""
+    from ..model.system import RedundantConstraints
+
+    res, warning, state = regime_at_state(system, None, point, method)
+    if res is None:
+        return system, None, warning, state
+    try:
+        variant = regime_system(system, res.regimes, state.q, state.qd, state.t)
+    except RedundantConstraints:  # held redundantly: every contact row kept, the forces' split open
+        variant = system.with_regimes(res.regimes, state.q, state.qd, state.t, redundant_ok=True)
+    return variant, res, warning, state
+
+
 def _now_sliding(system, res, q, qd, t, point, method):
     """An impending slip that holds starts: the same regime with kinetic friction."""
     if not any(getattr(r, "impending", False) for r in res.regimes.values()):

@@ -334,7 +334,8 @@ def advice_explanation(system):
     contacts), then :func:`advice_step`. Contacts that hold a body redundantly leave its contact
     forces statically indeterminate: then no point is ranked, and the step says why."""
     from ..analyses.instant import assemble
-    from .build import _regime_step, latex_names, system_in_regime
+    from ..analyses.regimes import system_in_regime
+    from .build import _regime_step, latex_names
     from .content import Explanation, Section
 
     scene, section = system, Section("Choosing the point P", None)

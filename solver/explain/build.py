@@ -31,7 +31,7 @@ from .content import Equation, Explanation, Section, Step, Table, Term
 from ..display import could_extract_minus_sign, is_identically_zero, term_powers, tidy, tidy_linear
 from ..strprint import FastStrPrinter, sstr
 
-__all__ = ["explain", "latex_names", "system_in_regime"]
+__all__ = ["explain", "latex_names"]
 
 
 def latex_names(system) -> dict:
@@ -717,6 +717,8 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
     add_joint_point(system, point)
     scene, regime, warning = system, None, None
     if system.contacts:  # the contact regime that holds at the state decides the equations
+        from ..analyses.regimes import system_in_regime
+
         system, regime, warning, state = system_in_regime(system, point)
         found = (regime, warning, state)  # as solve_instant would find it (the same search)
     if regime is not None and regime.indeterminate:  # every contact row kept: it does not validate
@@ -769,21 +771,6 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
     expl.sections.append(final)
     say_what_alpha_is(system, expl)
     return expl
-
-
-def system_in_regime(system, point):
-    """(the system in the regime that holds at the state, RegimeResult or None, warning, state)."""
-    from ..analyses.regimes import regime_at_state, regime_system
-    from ..model.system import RedundantConstraints
-
-    res, warning, state = regime_at_state(system, None, point)
-    if res is None:
-        return system, None, warning, state
-    try:
-        variant = regime_system(system, res.regimes, state.q, state.qd, state.t)
-    except RedundantConstraints:  # held redundantly: every contact row kept, the forces' split open
-        variant = system.with_regimes(res.regimes, state.q, state.qd, state.t, redundant_ok=True)
-    return variant, res, warning, state
 
 
 def _regime_step(scene, regime, warning) -> Step:
