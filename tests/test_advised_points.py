@@ -20,7 +20,8 @@ from solver.__main__ import main
 from solver.analyses.instant import solve_instant
 from solver.analyses.regimes import start_state
 from solver.explain.advisor import rank_points
-from solver.explain.build import explain, system_in_regime
+from solver.analyses.regimes import system_in_regime
+from solver.explain.build import explain
 from solver.io.scenes import load_system
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -115,7 +115,7 @@ def test_one_state_walk_equals_the_compiled_matrices(scene):
     to round-off, a few ulps of the largest term it sums (relative 1e-12 of the matrix's scale
     leaves room for cancellations of up to ~1e3 in an entry). The model is not compiled for it."""
     from solver.analyses.instant import assemble
-    from solver.explain.build import system_in_regime
+    from solver.analyses.regimes import system_in_regime
     from solver.formulations import Formulation, resolve_points
 
     system = load_system(ROOT / "data" / "scenes" / f"{scene}.toml")
