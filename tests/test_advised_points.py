@@ -65,42 +65,7 @@ kind = "gravity"
 g = "g"
 """
 
-DISK_PEND = """
-name = "disk_pend"
-[parameters]
-md = "4 kg"
-r = "0.25 m"
-mb = "1.5 kg"
-l = "0.9 m"
-g = "9.81 m/s^2"
-[coordinates]
-x = { value = "0 m", rate = "0.5 m/s" }
-th = { value = "40 deg", rate = "1.5 rad/s" }
-[[bodies]]
-name = "disk"
-orientation = "-x/r"
-position = { point = "C", at = ["x", "r"] }
-points = { C = ["0", "0"] }
-elements = [{ name = "rim", kind = "uniform_disk", mass = "md", center = "C", radius = "r" }]
-[[bodies]]
-name = "bar"
-orientation = "th - pi/2"
-points = { C = ["0", "0"], E = ["l", "0"] }
-elements = [{ kind = "slender_bar", mass = "mb", from = "C", to = "E" }]
-[[joints]]
-kind = "rolling"
-name = "floor"
-element = "disk:rim"
-friction = "F"
-normal = "N"
-[[joints]]
-kind = "pin"
-name = "C"
-connects = ["disk:C", "bar:C"]
-[[loads]]
-kind = "gravity"
-g = "g"
-"""
+DISK_PEND = (Path(__file__).parent / "data" / "multibody" / "disk_pend.toml").read_text(encoding="utf-8")
 
 DBAR = """
 name = "dbar"
@@ -140,35 +105,7 @@ g = "g"
 
 # a disk on a 30 deg incline whose rolling closure does not hold at the state as written (its
 # centre is placed off the contact at zero): a contact the regime search opens to start
-DISK_SLIP = """
-name = "disk_slip"
-[parameters]
-m = "4 kg"
-r = "0.2 m"
-beta = "30 deg"
-mu = "0.1"
-g = "9.81 m/s^2"
-[coordinates]
-s = { value = "0 m", rate = "0 m/s" }
-phi = { value = "0 rad", rate = "0 rad/s" }
-[[bodies]]
-name = "disk"
-orientation = "phi"
-position = { point = "C", at = ["s*cos(beta)", "-s*sin(beta) + r/cos(beta)"] }
-points = { C = ["0", "0"] }
-elements = [{ name = "rim", kind = "uniform_disk", mass = "m", center = "C", radius = "r" }]
-[[joints]]
-kind = "rolling"
-name = "incline"
-element = "disk:rim"
-angle = "-beta"
-friction = "F"
-normal = "N"
-friction_coefficient = "mu"
-[[loads]]
-kind = "gravity"
-g = "g"
-"""
+DISK_SLIP = (Path(__file__).parent / "data" / "multibody" / "disk_slip.toml").read_text(encoding="utf-8")
 
 SCENES = {"ring_mass": (RING_MASS, {}), "disk_pend": (DISK_PEND, {}), "dbar": (DBAR, {}),
           "incline_disk": (None, {}), "disk_slips": (DISK_SLIP, {}), "disk_rolls": (DISK_SLIP, {"mu": "0.5"})}

@@ -646,42 +646,7 @@ def test_frequency_keeps_a_free_cart_where_it_is(solver_cli):
     assert [found["x"]["value"], found["theta"]["value"]] == pytest.approx([0.5, 0.0], abs=1e-9)
 
 
-DISK_PENDULUM = """
-name = "disk_pend"
-[parameters]
-md = "4 kg"
-r = "0.25 m"
-mb = "1.5 kg"
-l = "0.9 m"
-g = "9.81 m/s^2"
-[coordinates]
-x = { value = "0 m", rate = "0.5 m/s" }
-th = { value = "40 deg", rate = "1.5 rad/s" }
-[[bodies]]
-name = "disk"
-orientation = "-x/r"
-position = { point = "C", at = ["x", "r"] }
-points = { C = ["0", "0"] }
-elements = [{ name = "rim", kind = "uniform_disk", mass = "md", center = "C", radius = "r" }]
-[[bodies]]
-name = "bar"
-orientation = "th - pi/2"
-points = { C = ["0", "0"], E = ["l", "0"] }
-elements = [{ kind = "slender_bar", mass = "mb", from = "C", to = "E" }]
-[[joints]]
-kind = "rolling"
-name = "floor"
-element = "disk:rim"
-friction = "F"
-normal = "N"
-[[joints]]
-kind = "pin"
-name = "C"
-connects = ["disk:C", "bar:C"]
-[[loads]]
-kind = "gravity"
-g = "g"
-"""
+DISK_PENDULUM = (Path(__file__).parent / "data" / "multibody" / "disk_pend.toml").read_text(encoding="utf-8")
 
 
 def test_frequency_prints_a_neutral_coordinate_at_the_states_value(solver_cli, tmp_path):

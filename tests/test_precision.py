@@ -264,35 +264,7 @@ connects = ["ground:O", "rod:O"]
 kind = "gravity"
 g = "g"
 """
-DISK_SLIP = """
-name = "disk_slip"
-[parameters]
-m = "4 kg"
-r = "0.2 m"
-beta = "30 deg"
-mu = "0.1"
-g = "9.81 m/s^2"
-[coordinates]
-s = { value = "0 m", rate = "0 m/s" }
-phi = { value = "0 rad", rate = "0 rad/s" }
-[[bodies]]
-name = "disk"
-orientation = "phi"
-position = { point = "C", at = ["s*cos(beta)", "-s*sin(beta) + r/cos(beta)"] }
-points = { C = ["0", "0"] }
-elements = [{ name = "rim", kind = "uniform_disk", mass = "m", center = "C", radius = "r" }]
-[[joints]]
-kind = "rolling"
-name = "incline"
-element = "disk:rim"
-angle = "-beta"
-friction = "F"
-normal = "N"
-friction_coefficient = "mu"
-[[loads]]
-kind = "gravity"
-g = "g"
-"""
+DISK_SLIP = (Path(__file__).parent / "data" / "multibody" / "disk_slip.toml").read_text(encoding="utf-8")
 
 
 def _exact_forms(capsys, path: Path) -> dict[str, tuple[sp.Expr, dict]]:
