@@ -19,31 +19,7 @@ from solver.__main__ import main
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = ROOT / "data" / "scenes"
 
-TABLE_ROD = """
-name = "table_rod"
-[parameters]
-m = "3 kg"
-L = "1.2 m"
-a = "0.2 m"
-g = "9.81 m/s^2"
-[coordinates]
-theta = { value = "0 deg", rate = "0 rad/s" }
-[ground.points]
-O = ["0", "0"]
-[[bodies]]
-name = "rod"
-orientation = "theta"
-reference_point = "O"
-points = { O = ["0", "0"], A = ["-L/2 + a", "0"], B = ["L/2 + a", "0"] }
-elements = [{ kind = "slender_bar", mass = "m", from = "A", to = "B" }]
-[[joints]]
-kind = "pin"
-name = "O"
-connects = ["ground:O", "rod:O"]
-[[loads]]
-kind = "gravity"
-g = "g"
-"""
+TABLE_ROD = (Path(__file__).parent / "data" / "multibody" / "table_rod.toml").read_text(encoding="utf-8")
 
 
 def _run(capsys, *args: str) -> tuple[int, str, str]:

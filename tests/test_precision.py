@@ -239,31 +239,9 @@ def test_condition_number_one_concept_named_by_kind(capsys):
     assert f"(condition number {exact:.3g})" in capsys.readouterr().out
 
 
-TABLE_ROD = """
-name = "table_rod"
-[parameters]
-m = "3 kg"
-L = "1.2 m"
-a = "0.2 m"
-g = "9.81 m/s^2"
-[coordinates]
-theta = { value = "0 deg", rate = "2 rad/s" }
-[ground.points]
-O = ["0", "0"]
-[[bodies]]
-name = "rod"
-orientation = "theta"
-reference_point = "O"
-points = { O = ["0", "0"], A = ["-L/2 + a", "0"], B = ["L/2 + a", "0"] }
-elements = [{ kind = "slender_bar", mass = "m", from = "A", to = "B" }]
-[[joints]]
-kind = "pin"
-name = "O"
-connects = ["ground:O", "rod:O"]
-[[loads]]
-kind = "gravity"
-g = "g"
-"""
+# the rod on a table edge, turning at 2 rad/s at the state
+TABLE_ROD = (Path(__file__).parent / "data" / "multibody" / "table_rod.toml").read_text(
+    encoding="utf-8").replace('rate = "0 rad/s"', 'rate = "2 rad/s"')
 DISK_SLIP = (Path(__file__).parent / "data" / "multibody" / "disk_slip.toml").read_text(encoding="utf-8")
 
 
