@@ -51,6 +51,9 @@ __all__ = [
 
 VERDICTS = ("agrees", "disagrees", "not-checkable")
 KINDS = ("value", "unit", "equation", "table-cell", "claim")
+RELATION = {"approximation": "\u2248"}
+"""The sign the paper prints between the sides of a transcribed equation, by its kind, when not "=":
+a small-motion rule (Eq. 45) is printed with \u2248."""
 _EXACT_RTOL = 2e-5
 """Relative tolerance for numbers the paper states as exact. They are exact in the paper's own
 arithmetic (m_b in slug is the mass in lbm divided by the printed g, so m_b g is the weight in lbf
@@ -150,6 +153,24 @@ def _unit_label(unit) -> str:
     return f"{unit:~P}" if unit != ureg.dimensionless else "1"
 
 
+def _gc_note(unit, magnitude: float, scene) -> str:
+    """For a number in lbf (or lbf-based units) computed from a mass in lbm: how it was converted, and
+    what the paper's own conversion gives. The project converts by the exact definition (pint: 1 lbf
+    is 1 lbm under standard gravity, 32.17405 lbm*ft/s^2); the paper takes 1 lbf = g lbm*ft/s^2 with
+    its printed g (32.174 ft/s^2), so each such number of the paper's arithmetic is the project's times
+    (exact factor / g). Empty when the unit holds no lbf or the scene has no lbm mass and g."""
+    if unit is None or "force_pound" not in str(unit):
+        return ""
+    g = scene.parameters.get("g")
+    if g is None or not any(q.check("[mass]") and q.units == ureg.Unit("lbm") for q in scene.parameters.values()):
+        return ""
+    exact = float(Q_(1, "lbf").to("lbm*ft/s**2").magnitude)
+    g_c = float(g.to("ft/s**2").magnitude)
+    return (f"; converted by the exact definition 1 lbf = {exact:.7g} lbm·ft/s² (standard gravity); with "
+            f"the paper's 1 lbf = {g_c:.7g} lbm·ft/s² (its g) it is {magnitude * exact / g_c:.8g}, a relative "
+            f"difference of {abs(exact / g_c - 1):.2g}")
+
+
 # --------------------------------------------------------------------------- equations
 def equation_checks(eqset: EquationSet, scenes: dict, derivations: dict) -> list[Check]:
     """One ``equation`` row per transcribed printed equation.
@@ -171,7 +192,7 @@ def equation_checks(eqset: EquationSet, scenes: dict, derivations: dict) -> list
             Check(
                 id=tr.id,
                 kind="equation",
-                published=f"{tr.lhs} = {tr.rhs}",
+                published=f"{tr.lhs} {RELATION.get(tr.kind, '=')} {tr.rhs}",
                 computed=f"residual {computed}",
                 verdict=outcome.verdict,
                 detail=outcome.detail,
@@ -355,6 +376,7 @@ def example1_value_checks(values_path: Path, eqset: EquationSet, scene, deriv, s
                         f"{entry.get('meaning', '')}; computed from {source_eq} (printed form, checked "
                         f"symbolically in row {source_eq}) with the problem data; |difference| = "
                         f"{abs(magnitude - value):.2g}, tolerance {tol:.2g} {how}"
+                        + _gc_note(unit, magnitude, scene)
                     ),
                     label=f"Eq. (29) row {row[1:]}: " + ("right side" if column == "rhs" else f"coefficient of {column}"),
                     section="example1",
@@ -405,6 +427,7 @@ def example1_value_checks(values_path: Path, eqset: EquationSet, scene, deriv, s
             f"|difference| = {diff:.2g}; tolerance {tol:.2g} = half unit of the last printed digit ({h:.2g})"
             f" + first-order effect of the paper's 4-significant-figure rounding in Eq. 29, of the rounded data"
             f" it computed with and of the results it substituted back ({tol - h:.2g})"
+            + _gc_note(compare_unit, magnitude, scene)
         )
         if ok and not within_half:
             detail += "; outside the half-unit band alone, inside once the paper's intermediate rounding is allowed for"
@@ -497,6 +520,7 @@ def example1_value_checks(values_path: Path, eqset: EquationSet, scene, deriv, s
                 detail=(
                     f"{entry.get('meaning', '')}; scene value {target:~P} = {magnitude:.6g} {_unit_label(unit)}; "
                     + ("exact number" if not h else f"tolerance {tol:.2g} (half a unit in the last printed digit)")
+                    + _gc_note(unit, magnitude, scene)
                 ),
                 label=f"Problem data: {name}",
                 section="example1",

@@ -481,10 +481,11 @@ def _build(root: Path, out: Path | None, pdf: str, log) -> dict:
         for r in rows:
             if r.outcome is not None:
                 o = r.outcome
+                sign = checks_mod.RELATION.get(o.transcription.kind, "=")  # Eq. 45 is printed with ≈
                 equation_views[r.id] = {
                     # as transcribed: drawn from the text, not from sympy's evaluated form
-                    "printed": transcription_mathml(o.transcription.lhs, o.transcription.rhs),
-                    "printed_inline": transcription_mathml(o.transcription.lhs, o.transcription.rhs, "inline"),
+                    "printed": transcription_mathml(o.transcription.lhs, o.transcription.rhs, relation=sign),
+                    "printed_inline": transcription_mathml(o.transcription.lhs, o.transcription.rhs, "inline", sign),
                     "residual": to_mathml(o.residual) if o.residual is not None else Markup(""),
                     "derived": (equation_mathml(o.derived_lhs, o.derived_rhs)
                                 if o.derived_lhs is not None and r.kind == "equation" and

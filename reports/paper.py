@@ -265,10 +265,13 @@ def unit_conversion(scene) -> dict | None:
     if math.isclose(factor, 1.0, rel_tol=1e-12):
         return None
     c_text, f_text = f"{consistent:~P}", f"{ureg.Unit(force):~P}"
+    g_value = float(g.to(ureg.Unit(force) / mass.units).magnitude)  # the article's g_c: its g, as a number
     sentence = (f"The equations above hold in any consistent set of units. With the mass in {mass.units:~P} and "
                 f"g in {g.units:~P}, a force comes out in {c_text}; it is given in {f_text} by dividing by "
-                f"g_c = {factor:.5g} ({c_text})/{f_text}, since 1 {f_text} = {factor:.5g} {c_text}. "
-                f"The table shows each force both ways.")
+                f"g_c = {factor:.7g} ({c_text})/{f_text}, the exact definition (1 {f_text} is the weight of 1 "
+                f"{mass.units:~P} under standard gravity). The article divides by its g instead, "
+                f"{g_value * factor:.7g}; the two differ by {abs(factor / (g_value * factor) - 1):.2g} in relative "
+                f"terms, far below the precision of its results. The table shows each force both ways.")
     return {"consistent": consistent, "force": force, "factor": factor, "sentence": sentence,
             "consistent_text": c_text}
 

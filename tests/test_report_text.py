@@ -1,0 +1,76 @@
+"""The report's and the paper's words and notation (QA round 10, reader: items 1-4, 7-14).
+
+Reference facts are taken from the paper (/work/shared/paper.md, data/published/) and from hand
+arithmetic written out in each test, never from the build's own output:
+
+* Eq. 45 is printed with "≈" (sin θ ≈ θ, cos θ ≈ 1, sin θ θ̇² ≈ 0).
+* 1 lbf is, by definition, 0.45359237 kg x 9.80665 m/s², i.e. 9.80665/0.3048 = 32.17404856 lbm·ft/s²;
+  the paper divides by its g, 32.174. A force computed from 50 lbm therefore is, in the paper's
+  arithmetic, the project's value times 32.17404856/32.174.
+"""
+from __future__ import annotations
+
+import html
+import json
+import re
+from pathlib import Path
+
+import pytest
+
+from reports.make_report import ROOT, build_cached, latex_escape
+
+EXACT_LBF = 9.80665 / 0.3048  # lbm·ft/s² in 1 lbf: standard gravity in ft/s² (definitions of lbf and ft)
+PAPER_G = 32.174  # the paper's g and its divisor (paper, Example 1 data: m_b = 50/32.174)
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory) -> dict:
+    """The session's build (shared with tests/test_report.py through build_cached)."""
+    return build_cached(tmp_path_factory.getbasetemp() / "report_build", ROOT)
+
+
+@pytest.fixture(scope="module")
+def rows(built) -> dict:
+    data = json.loads((Path(built["out"]) / "verification.json").read_text(encoding="utf-8"))
+    return {r["id"]: r for r in data["checks"]}
+
+
+def _page(built, name: str) -> str:
+    return (Path(built["out"]) / name).read_text(encoding="utf-8")
+
+
+def _visible(text: str) -> str:
+    """HTML as read: tags dropped, entities decoded, white space collapsed."""
+    return re.sub(r"\s+", " ", html.unescape(re.sub(r"<[^>]+>", " ", text)))
+
+
+def test_eq45_is_printed_with_approximately_equal(built, rows):
+    """QA 1: Eq. 45's rules were shown as equalities; the paper prints ≈."""
+    for eq_id, text in (("eq45-sin", "sin(theta) ≈ theta"), ("eq45-cos", "cos(theta) ≈ 1"),
+                        ("eq45-rate", "sin(theta)*theta_dot^2 ≈ 0")):
+        assert rows[eq_id]["published"] == text
+        cell = re.search(rf'<tr id="row-{eq_id}">(.*?)</tr>', _page(built, "report.html"), flags=re.S).group(1)
+        printed = re.findall(r"<td[^>]*>(.*?)</td>", cell, flags=re.S)[2]
+        assert "<mo>\u2248</mo>" in printed and "<mo>=</mo>" not in printed, eq_id
+    assert rows["eq44"]["published"].count(" = ") == 1  # an equation stays an equation
+
+
+def test_one_lbf_conversion_stated_with_the_papers_arithmetic_beside_it(built, rows):
+    """QA 2: the words said "50 lbm under standard gravity is exactly 50 lbf" and "50/32.174" beside
+    numbers converted by the exact lbf (49.9999 lbf, 1.5540475 slug). The project keeps the exact
+    definition and says so; each lbf number also gives what the paper's 1 lbf = 32.174 lbm·ft/s² makes
+    of it. By hand: 50 lbm x 32.174 ft/s² / 32.174 = 50 lbf; 50/32.174 = 1.5540499 slug."""
+    assert "exactly 50 lbf" not in json.dumps(rows, ensure_ascii=False)
+    for row_id, papers in (("eq29-r3-rhs", 50.0), ("data-m_b-slug", 50 / PAPER_G)):
+        detail = rows[row_id]["detail"]
+        assert "exact definition 1 lbf = 32.17405 lbm·ft/s²" in detail, row_id
+        stated = float(re.search(r"\(its g\) it is (-?[0-9.]+)", detail).group(1))
+        assert stated == pytest.approx(papers, rel=1e-7), row_id  # printed to 8 significant figures
+        assert rows[row_id]["computed"] == pytest.approx(papers * PAPER_G / EXACT_LBF, rel=1e-6), row_id
+    for row_id in ("eq30-R_A", "eq30-R_B"):  # the paper's arithmetic: the project's value x 32.17405/32.174
+        stated = float(re.search(r"\(its g\) it is (-?[0-9.]+)", rows[row_id]["detail"]).group(1))
+        assert stated == pytest.approx(rows[row_id]["computed"] * EXACT_LBF / PAPER_G, rel=1e-6), row_id
+    sentence = _visible(re.search(r'<p id="units-gc">(.*?)</p>', _page(built, "paper.html"), flags=re.S).group(1))
+    assert "g_c = 32.17405 (ft·lbm/s²)/lbf, the exact definition" in sentence
+    assert "The article divides by its g instead, 32.174" in sentence
+    assert latex_escape(sentence.strip()) in re.sub(r"\s+", " ", _page(built, "paper.tex"))
