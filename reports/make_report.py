@@ -47,7 +47,7 @@ LATEX_ENGINES = ("tectonic", "lualatex", "pdflatex", "xelatex")
 
 
 EX1_STEPS = ("accelerations", "omega", "alpha", "inertia", "alpha_solution", "reactions")
-EX2_STEPS = ("omega", "inertia", "eom", "reactions")
+EX2_STEPS = ("omega", "alpha", "inertia", "eom", "reactions")
 """The worked steps the paper shows of each example (``ex1.steps`` and ``ex2.steps`` in the templates;
 :func:`reports.paper.example_steps` builds only these)."""
 
@@ -418,8 +418,7 @@ def _build(root: Path, out: Path | None, pdf: str, log) -> dict:
         period_cross = {"period": result.period, "linear": result.period_linear, "ratio": result.ratio,
                         "model": result.model}
         least = least_friction(ex2_one_dof, amplitude)
-        friction = {"mu_min": least.mu_min, "theta_deg": math.degrees(least.theta_at_max),
-                    "lifts_off": least.lifts_off}
+        friction = paper.friction_peak(ex2_one_dof, least)
         lin_mass, lin_stiff, lin_w2 = paper.linearisation(
             derivations[ex2_key],
             about={},
@@ -446,11 +445,15 @@ def _build(root: Path, out: Path | None, pdf: str, log) -> dict:
             },
         }
         ex1_system, ex2_system = system_of(eqset.scenes[ex1_key]), system_of(eqset.scenes[ex2_key])
-        examples["ex1"]["explained"] = paper.explained(ex1_system, derivations[ex1_key].point, at_rest=True)
+        examples["ex1"]["explained"] = paper.explained(
+            ex1_system, derivations[ex1_key].point, at_rest=True,
+            inertia_number=paper.printed_number(eqset, ex1_key, "inertia_about", derivations[ex1_key].point))
         ex2_ranked = paper.ranked_points(ex2_system)  # one ranking for both workings of Example 2
         examples["ex2"]["explained"] = paper.explained(ex2_system, derivations[ex2_key].point, at_rest=False,
                                                      shows_alternative=True,  # shown below, when it differs
-                                                     ranked=ex2_ranked)
+                                                     ranked=ex2_ranked, inertia_number=paper.printed_number(
+                                                         eqset, ex2_key, "inertia_about", derivations[ex2_key].point))
+        examples["ex2"]["alpha_number"] = paper.printed_number(eqset, ex2_key, "alpha")  # alpha = -theta_ddot
         best = examples["ex2"]["explained"]["advisor_best"]
         if best != derivations[ex2_key].point:  # the one-step alternative the advisor finds (about C)
             examples["ex2"]["alternative"] = paper.explained(ex2_system, best, at_rest=False, ranked=ex2_ranked)

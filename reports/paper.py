@@ -176,7 +176,8 @@ def example_steps(scene, deriv, at_rest: bool, parts=STEP_PARTS) -> dict:
     if "omega" in want:
         steps["omega"] = inline(deriv.omega)
     if "alpha" in want:
-        steps["alpha"] = inline(deriv.alpha)
+        # opposite: alpha is -theta_ddot (the coordinate turns clockwise), so their numbers differ in sign
+        steps["alpha"] = {**inline(deriv.alpha), "opposite": sp.expand(deriv.alpha + deriv.qdd) == 0}
     if "inertia" in want:
         inertia = sp.expand(deriv.inertia_about(deriv.point))
         steps["inertia"] = inline(inertia if not inertia.has(sp.sin, sp.cos) else _shown_tidy(inertia))
@@ -293,6 +294,51 @@ def result_rows(solution, scene, conversion: dict | None = None) -> list[dict]:
     return rows
 
 
+def friction_peak(one_dof, least, rtol: float = 1e-9) -> dict:
+    """Where the friction ratio |F_f|/F_n of a free swing peaks, for the paper's sentence.
+
+    Parameters
+    ----------
+    one_dof : solver.period.OneDofSystem
+        The model :func:`solver.friction.least_friction` ran on.
+    least : solver.friction.FrictionResult
+        Its result.
+    rtol : float
+        Relative agreement with the peak for a turning point to count as one (the ratio there is
+        evaluated in closed form, at zero rate, to rounding error).
+
+    Returns
+    -------
+    dict
+        ``mu_min``, ``lifts_off``, ``angles_deg`` (the turning points where the ratio reaches the peak,
+        or the one angle of the peak when it lies inside the swing) and ``sentence`` (one text for
+        paper.html and paper.tex).
+    """
+    import numpy as np
+
+    pair = one_dof.friction_pairs[0]
+    reactions = one_dof.reactions_fn()
+    at_turn = []
+    for q in least.turning_points:  # at rest there: theta_dot = 0
+        r = reactions(np.array([q]), np.array([0.0]), 0.0)
+        ratio = abs(float(r[pair.friction][0])) / float(r[pair.normal][0])
+        if math.isclose(ratio, least.mu_min, rel_tol=rtol):
+            at_turn.append(math.degrees(q))
+    angles = at_turn or [math.degrees(least.theta_at_max)]
+    if len(at_turn) == 2 and math.isclose(at_turn[0], -at_turn[1], rel_tol=rtol):
+        where = f"equally at both turning points, \u00b1{abs(at_turn[0]):.3g} deg"
+    elif at_turn:
+        where = "at the turning point" + ("s " if len(at_turn) > 1 else " ") + ", ".join(f"{a:.3g}" for a in at_turn) + " deg"
+    else:
+        where = f"at an angle of {angles[0]:.3g} deg"
+    sentence = ("The analysis assumes the disk rolls without slipping. Over that same swing the friction force "
+                f"needed, divided by the normal force, peaks at {least.mu_min:.3g} ({where})"
+                + (", and the disk would leave the floor" if least.lifts_off else "")
+                + ": a floor with a smaller coefficient of friction would let the disk slip, and the equations "
+                "above would no longer apply.")
+    return {"mu_min": least.mu_min, "lifts_off": least.lifts_off, "angles_deg": angles, "sentence": sentence}
+
+
 # -- worked steps from solver.explain (one source for paper.html and paper.tex) ------------------------
 
 def unreachable_cells(findings, respondents: int) -> str:
@@ -382,6 +428,7 @@ PROSE = {
     "ex1_numbers_heading": "Numbers at release",
     "ex2_numbers_heading": "Numbers at the chosen state",
     "oscillations_heading": "Small oscillations",
+    "alpha_opposite": "so \u03b1 and \u03b8\u0308 carry opposite signs in the numbers below",
     "ex1_solve": "The moment equation about {point} holds only the reaction at the other end and the angular "
                  "acceleration; together with the horizontal force balance it fixes both, and the vertical "
                  "balance then gives the remaining reaction. Solving the system:",
@@ -458,6 +505,17 @@ def _mathml_body(expr):
     return body(expr)
 
 
+def printed_number(eqset, scene_key: str, quantity: str, point: str | None = None) -> str:
+    """The article's number of the first printed equation of a scene that gives ``quantity`` (at
+    ``point``) on its left-hand side, as data/published/equations.toml transcribes it ("" for none):
+    Example 1's I_A is Eq. 21, Example 2's I_P Eq. 35 and its alpha Eq. 33."""
+    for tr in eqset.equations:
+        meaning = tr.symbols.get(tr.lhs.strip()) if tr.scene == scene_key else None
+        if meaning is not None and meaning.quantity == quantity and (point is None or meaning.point == point):
+            return tr.number
+    return ""
+
+
 def ranked_points(system) -> dict:
     """The point advisor's candidates for the (first) body at the scene's state, by name
     (:func:`solver.explain.rank_points`)."""
@@ -468,11 +526,14 @@ def ranked_points(system) -> dict:
     return {c.name: c for c in rank_points(system, body, assemble(system))}
 
 
-def explained(system, point: str, at_rest: bool, shows_alternative: bool = False, ranked: dict | None = None) -> dict:
+def explained(system, point: str, at_rest: bool, shows_alternative: bool = False, ranked: dict | None = None,
+              inertia_number: str = "") -> dict:
     """Newton by component, I_P per element and the generalized Euler equation about ``point`` with the
     inertial term apart, the unknowns that drop out, and why this point (the advisor's reason);
     ``shows_alternative``: the paper shows the advisor's point too, after the equation of motion;
-    ``ranked``: :func:`ranked_points` of the system when the caller has it (default: ranked here)."""
+    ``ranked``: :func:`ranked_points` of the system when the caller has it (default: ranked here);
+    ``inertia_number``: the article's equation for this I_P (:func:`printed_number`), cited beside
+    Eq. (12), the parallel-axis rule each term follows."""
     from solver.explain import explain
 
     # the per-body steps are what the paper shows (its kinematics are example_steps')
@@ -496,11 +557,18 @@ def explained(system, point: str, at_rest: bool, shows_alternative: bool = False
     best = min(ranked.values(), key=lambda c: c.key)
     return {
         "newton": newton,
-        "inertia": terms_shown(euler_step.equation("inertia")),
+        "inertia": _cited(terms_shown(euler_step.equation("inertia")), inertia_number),
         "euler": at(euler_step.equation("euler")),
         "dropped": [name_text(t) for t in section.step("dropped").text],
         **point_choice(ranked, point, best, shows_alternative),
     }
+
+
+def _cited(eq: Shown, number: str) -> Shown:
+    """The per-element I_P display citing the article's own equation for it, then Eq. (12)."""
+    if number and number != "12":
+        eq.ref = f"Eq. ({number}); each term by {eq.ref}" if eq.ref else f"Eq. ({number})"
+    return eq
 
 
 def point_choice(ranked: dict, point: str, best, shows_alternative: bool = False) -> dict:

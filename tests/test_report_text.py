@@ -74,3 +74,38 @@ def test_one_lbf_conversion_stated_with_the_papers_arithmetic_beside_it(built, r
     assert "g_c = 32.17405 (ft·lbm/s²)/lbf, the exact definition" in sentence
     assert "The article divides by its g instead, 32.174" in sentence
     assert latex_escape(sentence.strip()) in re.sub(r"\s+", " ", _page(built, "paper.tex"))
+
+
+def test_friction_ratio_peaks_at_both_turning_points(built):
+    """QA 7: the paper said the friction ratio peaks "at an angle of -30 deg"; |F_f|/F_n at rest at
+    ±θ0 is the same by the symmetry of Eqs. 39-40 with θ̇ = 0 (F_f and the sin θ terms change sign,
+    F_n does not), so it peaks at both turning points, θ0 = π/6 = 30 deg (paper, Eq. 45's range)."""
+    page = _visible(_page(built, "paper.html"))
+    assert "(equally at both turning points, ±30 deg)" in page
+    assert "at an angle of" not in page
+    assert "(equally at both turning points, \\ensuremath{\\pm}30 deg)" in _page(built, "paper.tex")
+
+
+def test_inertia_displays_cite_the_papers_own_equations(built):
+    """QA 8: Example 1's I_A display cited Eq. (12) only; the paper's equation for the bar's I_A is
+    Eq. (21), and for the disk-bar body's I_P Eq. (35) (paper.md), each term following Eq. (12)."""
+    page = _visible(_page(built, "paper.html"))
+    tex = re.sub(r"\s+", " ", _page(built, "paper.tex"))
+    for point, number in (("A", "21"), ("P", "35")):
+        text = f"moment of inertia about {point}, per element (parallel axes) (Eq. ({number}); each term by Eq. (12)):"
+        assert text in page, text
+        assert latex_escape(text) in tex, text
+
+
+def test_example2_says_alpha_is_minus_theta_ddot(built):
+    """QA 9: Example 2 gave only the angular velocity, and its numbers table listed α and θ̈ with
+    opposite signs unexplained. The paper's Eq. (33) prints α = −θ̈ k: the kinematics now say so, and
+    the table's two numbers are opposite (by hand, both shown to the same 4 significant figures)."""
+    page = _visible(_page(built, "paper.html"))
+    assert "(k-components, Eq. (33)), so α and θ̈ carry opposite signs in the numbers below" in page
+    tex = _page(built, "paper.tex")
+    assert ("(k-components, Eq. (33)), so \\ensuremath{\\alpha} and \\ensuremath{\\ddot{\\theta}} carry opposite "
+            "signs") in tex
+    body = re.search(r'<table id="ex2-results">(.*?)</table>', _page(built, "paper.html"), flags=re.S).group(1)
+    cells = dict(re.findall(r'<tr data-unknown="([^"]+)">.*?<td class="num">([^<]*)</td>', body, flags=re.S))
+    assert float(cells["alpha"].split()[0]) == -float(cells["theta_ddot"].split()[0])
