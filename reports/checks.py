@@ -51,6 +51,8 @@ __all__ = [
 
 VERDICTS = ("agrees", "disagrees", "not-checkable")
 KINDS = ("value", "unit", "equation", "table-cell", "claim")
+_SAME_DIMENSION = "same dimension"
+"""The tolerance of a printed unit: it agrees when it has the computed quantity's dimension."""
 RELATION = {"approximation": "\u2248"}
 """The sign the paper prints between the sides of a transcribed equation, by its kind, when not "=":
 a small-motion rule (Eq. 45) is printed with \u2248."""
@@ -469,6 +471,7 @@ def example1_value_checks(values_path: Path, eqset: EquationSet, scene, deriv, s
                     section="example1",
                     published_unit=entry["unit"],
                     computed_unit=expected,
+                    tolerance=_SAME_DIMENSION,
                     explanation="" if unit_ok else (
                         f"Eq. ({results_prefix[2:]}) prints the unit of {u} as {entry['unit']} (dimension "
                         f"{(1 * printed_unit).dimensionality:P}), but {u} is computed with dimension "
@@ -536,7 +539,7 @@ def example1_value_checks(values_path: Path, eqset: EquationSet, scene, deriv, s
                 Check(f"{key}-unit", "unit", entry["unit"], _unit_label(unit), "agrees" if unit_ok else "disagrees",
                       f"printed unit {entry['unit']} has the dimension of the quantity ({dict(target.dimensionality)})",
                       label=f"Problem data: unit of {name}", section="example1", published_unit=entry["unit"],
-                      computed_unit=_unit_label(unit))
+                      computed_unit=_unit_label(unit), tolerance=_SAME_DIMENSION)
             )
     return rows
 
@@ -631,7 +634,7 @@ def survey_checks(dataset_path: Path) -> tuple[list[Check], SurveyResults]:
                     section="survey",
                     published_unit="%",
                     computed_unit="%",
-                    tolerance="attainable at N" if ok else "",
+                    tolerance=f"attainable at N = {item.n}",  # the test, met or not
                     explanation=explanation,
                 )
             )

@@ -185,8 +185,11 @@ def same_decimals(value, printed: str) -> str:
 
 
 def _unit_shown(unit) -> str:
-    """A unit as a table shows it after a number: none for a dimensionless quantity (pint's "1")."""
-    return "" if unit in (None, "1", "dimensionless") else str(unit)
+    """A unit as a table shows it after a number: none for a dimensionless quantity (pint's "1"), a
+    power as a superscript (a printed "(lbf·s^2)/ft" as "(lbf·s²)/ft", like pint's "ft/s²" beside it)."""
+    if unit in (None, "1", "dimensionless"):
+        return ""
+    return re.sub(r"\^(-?\d+)", lambda m: m.group(1).translate(_SUPERSCRIPT), str(unit))
 
 
 def _share_percent(share: float, decimals: int = 1) -> str:

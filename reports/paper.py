@@ -350,7 +350,8 @@ def unreachable_cells(findings, respondents: int) -> str:
         return ""
     listed = "; ".join(f"{r.label.removeprefix('Table 1, ')} printed {r.published_text or r.published} %, "
                        f"shown {r.computed} %" for r in cells)
-    return (f"{len(cells)} cell(s) of the published table print a percentage that no whole count out of "
+    verb = "prints" if len(cells) == 1 else "print"
+    return (f"{_count(cells, 'cell')} of the published table {verb} a percentage that no whole count out of "
             f"{respondents} gives; the table shows the percentage of the nearest count: {listed} "
             f"(section 5 says why).")
 
