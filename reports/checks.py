@@ -612,14 +612,16 @@ def survey_checks(dataset_path: Path) -> tuple[list[Check], SurveyResults]:
                 explanation = (
                     f"Row {row.item}: {row.reason}. "
                     f"The rebuilt dataset has {item.counts[cell.label]}/{item.n} = {float(exact_row[j]):.2f}%, "
-                    f"printed correctly as {computed:.{facts.decimals}f}%"
+                    f"which rounds to {computed:.{facts.decimals}f}%, not the printed {cell.printed}%"
                     + (
-                        "; a largest-remainder rounding would also print "
-                        f"{lr_row[j]:.{facts.decimals}f}% here"
+                        f"; a largest-remainder rounding (rows forced to 100%) would print "
+                        f"{lr_row[j]:.{facts.decimals}f}% too, so only the rule above explains the printed digit"
                         if lr_row[j] != cell.published
-                        else "; a largest-remainder rounding (rows forced to 100%) does print this value"
+                        else "; a largest-remainder rounding (rows forced to 100%) prints it too"
                     )
-                    + "."
+                    + ". A rounding that forces the row to 100% explains the printed digit but makes the cell "
+                    "misstate its own share; the article states no such rule, so the cell is listed as a "
+                    "difference, not as an agreement with a caveat."
                 )
             rows.append(
                 Check(

@@ -134,3 +134,18 @@ def test_cosmetics_plural_units_and_tolerances(built, rows):
         if rows[row_id]["verdict"] == "disagrees":
             assert texts[4], row_id  # the tolerance the verdict was judged by
     assert cells["data-m_b-slug-unit"][2] == "(lbf·s²)/ft"
+
+
+def test_table_cells_rounding_explains_are_findings_said_as_such(built):
+    """QA 11: item #4's cell was listed as a finding while its words said largest-remainder rounding
+    "does print this value", and items #2, #3 were explained by another rule. All three cells
+    (59.2, 63.7, 54.6; by hand 13/22, 14/22, 12/22 round to 59.1, 63.6, 54.5) now say the same thing
+    in their finding: the row-to-100 rule explains the digit, and why that keeps them findings."""
+    page = _visible(_page(built, "report.html"))
+    findings = page[page.index("Findings that differ from the paper"):page.index("How the checks work")]
+    for item, printed, rounded in (("2", "59.2", "59.1"), ("3", "63.7", "63.6"), ("4", "54.6", "54.5")):
+        block = findings[findings.index(f"(table1-item{item}-definitely-agree)"):]
+        block = block[:block.index("Evidence:")]
+        assert f"which rounds to {rounded}%, not the printed {printed}%" in block, item
+        assert "so the cell is listed as a difference, not as an agreement with a caveat" in block, item
+        assert "does print this value" not in block, item
