@@ -380,6 +380,61 @@ def survey_table(survey) -> dict:
             "statements": [{"id": i, "text": t} for i, t in zip(facts.item_ids, facts.item_texts)]}
 
 
+def claim_readings(survey, path=None) -> dict:
+    """The other reading of a claim that ``[[readings]]`` of data/published/survey.toml names: its share
+    taken among the respondents of another claim's group, bounded by the marginals alone (which answers
+    go together is unknown). By inclusion-exclusion, of the g in the group at least k - (n - g) and at most
+    min(k, g) are among the k of the claim.
+
+    Returns
+    -------
+    dict
+        Claim id -> the sentence (one text for report.html, paper.html and paper.tex).
+
+    Raises
+    ------
+    ReportInputError
+        A reading naming a claim that is not evaluated, or missing a key (file and place named).
+    """
+    from fractions import Fraction
+
+    from analysis.rounding import share_percent_text
+    from analysis.tables import published_dir
+    from reports.published import ReportInputError, read_toml
+
+    path = path or published_dir() / "survey.toml"
+    by_id = {r.claim.id: r for r in survey.claims.results}
+    words = {">": "over", ">=": "at least", "<": "under", "<=": "at most"}
+    out = {}
+    for i, reading in enumerate(read_toml(path).get("readings", [])):
+        where = f"{path}: readings[{i}]"
+        for key in ("claim", "group", "printed"):
+            if key not in reading:
+                raise ReportInputError(f"{where}: key '{key}' is missing")
+        for key in ("claim", "group"):
+            if reading[key] not in by_id:
+                raise ReportInputError(f"{where}.{key}: no evaluated claim {reading[key]!r}; "
+                                       f"claims: {', '.join(by_id)}")
+        it, grp = by_id[reading["claim"]], by_id[reading["group"]]
+        n, k, g = it.n, it.k, grp.k
+        low, high = max(0, k - (n - g)), min(k, g)
+        lo, hi = Fraction(low, g), Fraction(high, g)
+        c = it.claim
+        threshold = Fraction(c.threshold).limit_denominator(10**6)
+        meets = {">": lo > threshold, ">=": lo >= threshold, "<": hi < threshold, "<=": hi <= threshold}[c.comparison]
+        group_item = grp.claim.item if isinstance(grp.claim.item, int) else grp.claim.table_item or grp.claim.item
+        low_text, high_text = share_percent_text(float(lo)), share_percent_text(float(hi))
+        out[c.id] = (
+            f"Read as \u201c{reading['printed']}\u201d, that is among the {g} respondents who agreed with item "
+            f"{group_item}, the share is not in the table, since which answers go together is unknown: the counts "
+            f"allow from {low}/{g} = {low_text}% to {high}/{g} = {high_text}%, "
+            + (f"{words[c.comparison]} {100 * c.threshold:g}% whatever the pairing." if meets else
+               f"so on this reading the share is at least {low_text}% but not certainly "
+               f"{words[c.comparison]} {100 * c.threshold:g}%.")
+        )
+    return out
+
+
 def claim_texts(rows, survey) -> dict:
     """Each claim check's id -> ``{"statement", "explanation"}``: the claim as stated and its verdict
     explained by :meth:`analysis.claims.ClaimResult.explanation`, the one text report.html shows for a
@@ -392,7 +447,10 @@ def claim_texts(rows, survey) -> dict:
     if len(rows) != len(results) or any(r.published != (c.claim.printed or c.claim.statement)
                                         for r, c in zip(rows, results)):
         raise ValueError("the claim checks do not match the evaluated claims one to one")
-    return {r.id: {"statement": c.claim.statement, "explanation": c.explanation()} for r, c in zip(rows, results)}
+    readings = claim_readings(survey)
+    return {r.id: {"statement": c.claim.statement,
+                   "explanation": " ".join(filter(None, (c.explanation(), readings.get(c.claim.id, ""))))}
+            for r, c in zip(rows, results)}
 
 
 def rounding_ties(survey) -> str:

@@ -149,3 +149,28 @@ def test_table_cells_rounding_explains_are_findings_said_as_such(built):
         assert f"which rounds to {rounded}%, not the printed {printed}%" in block, item
         assert "so the cell is listed as a difference, not as an agreement with a caveat" in block, item
         assert "does print this value" not in block, item
+
+
+def test_claim3_read_among_the_item2_group_is_bounded_by_the_marginals(built):
+    """QA 13: "upwards of 85% of this same group" may mean among the 20 who agreed with item 2. By
+    hand from Table 1 (20 and 19 of 22 agree with items 2 and 3): at most 22 - 20 = 2 of item 3's 19
+    are outside the group, so at least 17 of the 20 (85.0%), at most 19/20 = 95.0%; 85.0% is not over 85%."""
+    sentence = ("that is among the 20 respondents who agreed with item 2, the share is not in the table, since "
+                "which answers go together is unknown: the counts allow from 17/20 = 85.0% to 19/20 = 95.0%, "
+                "so on this reading the share is at least 85.0% but not certainly over 85%.")
+    assert _visible(_page(built, "paper.html")).count(sentence) == 1
+    assert _visible(_page(built, "report.html")).count(sentence) == 2  # the caveat and its row
+    assert latex_escape(sentence) in re.sub(r"\s+", " ", _page(built, "paper.tex"))
+
+
+def test_a_reading_naming_no_claim_is_one_line(built, tmp_path):
+    """Bad input: a [[readings]] entry naming a claim that is not evaluated is refused naming the file
+    and the place."""
+    from reports.paper import claim_readings
+    from reports.published import ReportInputError
+
+    survey = built["context"]["survey"]
+    bad = tmp_path / "survey.toml"
+    bad.write_text('[[readings]]\nclaim = "item9"\ngroup = "item2-usefulness"\nprinted = "x"\n', encoding="utf-8")
+    with pytest.raises(ReportInputError, match=r"survey\.toml: readings\[0\]\.claim: no evaluated claim 'item9'"):
+        claim_readings(survey, bad)
