@@ -96,6 +96,12 @@ _LATEX_SPECIAL = {
     "²": r"\textsuperscript{2}",
     "·": r"\ensuremath{\cdot}",
     "±": r"\ensuremath{\pm}",
+    "\u2212": r"\ensuremath{-}",  # minus sign
+    "×": r"\ensuremath{\times}",
+    "\u2248": r"\ensuremath{\approx}",
+    "°": r"\ensuremath{^\circ}",
+    "\u2264": r"\ensuremath{\leq}",
+    "\u2265": r"\ensuremath{\geq}",
 }
 
 
@@ -509,6 +515,7 @@ def _build(root: Path, out: Path | None, pdf: str, log) -> dict:
             "figures": figs,
             "provenance": prov,
             "method": paper.method_equations(),
+            "method_prose": paper.method_prose(),  # the words around Eqs. 10, 11, 14, shared by both renderings
             "examples": examples,
             "prose": paper.PROSE,
             "survey": survey,

@@ -15,7 +15,7 @@ import sympy as sp
 
 from reports.mathml import equation_latex, equation_mathml, name_text, to_latex, to_mathml
 
-__all__ = ["Shown", "shown", "method_equations", "example_steps", "STEP_PARTS", "quantity_text", "linearisation",
+__all__ = ["Shown", "shown", "method_equations", "method_prose", "example_steps", "STEP_PARTS", "quantity_text", "linearisation",
            "unit_conversion", "result_rows"]
 
 
@@ -109,6 +109,46 @@ def method_equations() -> dict[str, Shown]:
     eq1y = shown(sp.Symbol("F_y"), sp.Sum(mk[k] * sp.Indexed(sp.IndexedBase("a_y"), k), (k, 1, n)),
                  "Newton's law for the composite body, y component", "Eq. (14)", "14")
     return {"eq10": eq10, "eq11": eq11, "eq14": eq1, "eq14y": eq1y}
+
+
+def rich_text(template: str, maths: dict) -> list[tuple[str, dict | None]]:
+    """A sentence with inline maths for both renderings: ``{name}`` in ``template`` is the expression
+    ``maths[name]``. Returns (text, None) and ("", :func:`inline`) parts in order; the templates escape
+    the text and insert each expression's MathML or LaTeX."""
+    parts = []
+    for i, piece in enumerate(re.split(r"\{(\w+)\}", template)):
+        parts.append(("", inline(maths[piece])) if i % 2 else (piece, None))
+    return [p for p in parts if p != ("", None)]
+
+
+def method_prose() -> dict[str, list]:
+    """The sentences around Eqs. 10, 11 and 14 (section 1 of the paper), one content for paper.html and
+    paper.tex (:func:`rich_text` parts), every symbol the displays of :func:`method_equations` use."""
+    P, m, aP, rGP, MP, IP, n, k = sp.symbols("P m a_P r_G/P M_P I_P n k", real=True)
+    mk, xk, yk, Ik = (sp.IndexedBase(s) for s in ("m", "x", "y", "I_P"))
+    ax, ay = sp.IndexedBase("a_x"), sp.IndexedBase("a_y")
+    maths = {"P": P, "m": m, "a_P": aP, "r_GP": rGP, "M_P": MP, "I_P": IP, "n": n, "k": k, "alpha": sp.Symbol("alpha"),
+             "m_k": mk[k], "x_k": xk[k], "y_k": yk[k], "I_Pk": Ik[k], "ax_k": ax[k], "ay_k": ay[k]}
+    texts = {
+        "idea": "For a rigid body moving in a plane, the rotational equation is usually written about the mass "
+                "centre or about a fixed pivot. Both are special cases of one relation that holds about any "
+                "point {P} of the body, provided one more moment is counted: that of the inertial force "
+                "\u2212{m} {a_P} applied at the mass centre, the whole mass {m} times the acceleration of {P}, "
+                "reversed in direction. The planar cross product of the mass centre's offset {r_GP} from {P} with "
+                "{m} {a_P} gives the scalar form, in which {alpha} is the k-component of the body's angular "
+                "acceleration (each example writes it in terms of its own coordinate in its kinematics):",
+        "terms": "Here {M_P} is the moment of the external forces about {P} and {I_P} the moment of inertia about "
+                 "{P}. When {P} is the mass centre the extra term vanishes because the offset is zero; when {P} is "
+                 "fixed it vanishes because its acceleration is zero. For a body built from {n} rigid elements, "
+                 "applying the relation to each element and adding gives the composite form, in which only the "
+                 "element masses and their own mass centres appear, so the overall mass centre never has to be "
+                 "located. In it {m_k} is the mass of element {k}, {x_k} and {y_k} the components of the offset "
+                 "of its mass centre from {P}, and {I_Pk} its moment of inertia about {P} (Eq. 12):",
+        "newton": "Newton's law completes the system. For the composite body the resultant external force is the "
+                  "sum of the element masses times the accelerations of their mass centres, whose components are "
+                  "{ax_k} and {ay_k}:",
+    }
+    return {key: rich_text(text, maths) for key, text in texts.items()}
 
 
 def linearisation(deriv, about: dict, assume: dict | None = None):
@@ -477,8 +517,6 @@ def rounding_ties(survey) -> str:
 
 
 PROSE = {
-    "alpha": "alpha is the k-component of the body's angular acceleration; each example gives it in terms "
-             "of its own coordinate in its kinematics",
     "separate": "The moment equation is written as the paper writes it: the moments of the actual forces "
                 "about P, then the inertial term -r_G/P x m a_P as a term of its own, equal to I_P alpha with "
                 "I_P built element by element by the parallel-axis theorem (Eq. 12).",
@@ -496,6 +534,21 @@ PROSE = {
     "ex2_eom": "Eliminating the friction force between the horizontal balance and the moment equation gives the "
                "equation of motion:",
     "ex2_findings": "The article's printed versions of this step differ from the derivation:",
+    "solver": "The solver writes these equations for a scene file (geometry, elements, constraints, loads), adds "
+              "the constraint acceleration equations, solves the linear system for the angular acceleration and "
+              "the reactions, and eliminates the reactions to obtain the equation of motion. Its results are "
+              "confirmed in the test suite by two independent routes: Newton-Euler about the mass centre, and "
+              "Lagrange's equations built with sympy.physics.mechanics.",
+    "oscillations": "Without the applied force, linearising the equation of motion about the hanging equilibrium "
+                    "gives a harmonic oscillator with",
+    "survey_intro": "{respondents} of {enrolled} enrolled students answered five statements on a five-point scale. "
+                    "The published table gives percentages only; the counts behind them were reconstructed (each "
+                    "cell's percentage must come from a whole number of the {respondents} respondents) and a "
+                    "respondent-level file was rebuilt from them, then summarised by the same code an instructor "
+                    "would run on their own export. Agreement is the share answering either agreeing option, with "
+                    "a 95% Wilson interval.",
+    "claims_lead": "Claims made about these answers:",
+    "statements_lead": "The statements, as worded on the survey:",
 }
 """Sentences and headings shared word for word by paper.html and paper.tex."""
 
@@ -536,9 +589,11 @@ def note_text(note: str) -> str:
 
 
 def _latex_text(text: str) -> str:
-    special = {"\\": r"\textbackslash{}", "&": r"\&", "%": r"\%", "$": r"\$", "#": r"\#", "_": r"\_",
-               "{": r"\{", "}": r"\}", "~": r"\textasciitilde{}", "^": r"\textasciicircum{}"}
-    return "".join(special.get(ch, ch) for ch in str(text))
+    """Text for ``\\text{}`` in a display: the paper.tex escape (:func:`reports.make_report.latex_escape`:
+    LaTeX's special characters, and −, ×, ² as pdflatex can set them)."""
+    from reports.make_report import latex_escape
+
+    return latex_escape(text)
 
 
 def terms_shown(eq) -> Shown:

@@ -174,3 +174,43 @@ def test_a_reading_naming_no_claim_is_one_line(built, tmp_path):
     bad.write_text('[[readings]]\nclaim = "item9"\ngroup = "item2-usefulness"\nprinted = "x"\n', encoding="utf-8")
     with pytest.raises(ReportInputError, match=r"survey\.toml: readings\[0\]\.claim: no evaluated claim 'item9'"):
         claim_readings(survey, bad)
+
+
+def _idea(text: str, start: str, end: str) -> str:
+    return re.sub(r"\s+", " ", text[text.index(start):text.index(end)])
+
+
+def test_eq11_symbols_defined_and_the_inertial_force_reversed(built):
+    """QA 3 and 4: Eq. 11's x_k, y_k and (I_P)_k were never defined (paper, below Eq. 11: element k's mass
+    centre r̄_k - r_P and its inertia about P by Eq. 12); the inertial force "moving with the acceleration
+    of P" is -m a_P, opposite to it; the prose wrote "alpha" where the displays write α. Checked in
+    paper.tex, whose symbols are the displays' own LaTeX, and in paper.html's visible text."""
+    tex = _idea(_page(built, "paper.tex"), "\\section{The idea}", "\\begin{figure}")
+    eq11 = tex[tex.index("\\tag{10}"):tex.index("\\tag{11}")]
+    for symbol in ("{x}_{k}", "{y}_{k}", "{I_{P}}_{k}", "{m}_{k}"):
+        assert symbol in eq11.split("\\begin{equation*}")[1], symbol  # the display uses it ...
+    assert ("${m}_{k}$ is the mass of element $k$, ${x}_{k}$ and ${y}_{k}$ the components of the offset of its "
+            "mass centre from $P$, and ${I_{P}}_{k}$ its moment of inertia about $P$ (Eq. 12)") in tex  # ... defined
+    assert "inertial force \\ensuremath{-}$m$ $a_{P}$ applied at the mass centre" in tex
+    assert "reversed in direction" in tex and "$\\alpha$ is the k-component" in tex
+    page = _idea(_visible(_page(built, "paper.html")), "1. The idea", "Figure 1")
+    for text in (tex, page):
+        assert "moving with the acceleration" not in text and "alpha is" not in text
+
+
+def test_paper_tex_says_what_the_html_says_and_sets_under_pdflatex(built):
+    """QA 12: paper.tex lacked "Here M_P is the moment of the external forces about P ...", the lead-in
+    "Claims made about these answers:" and how the counts were reconstructed; and it held Unicode −, ×, ²
+    in \\text{} and lists, which pdflatex cannot set. Every character outside ASCII left must be one
+    inputenc's utf8 maps under T1 (en dash, curly quotes)."""
+    page = _visible(_page(built, "paper.html"))
+    tex = re.sub(r"\s+", " ", _page(built, "paper.tex"))
+    for sentence in ("is the moment of the external forces about", "Claims made about these answers:",
+                     "the counts behind them were reconstructed (each cell's percentage must come from a whole "
+                     "number of the 22 respondents)", "The statements, as worded on the survey:",
+                     "Lagrange's equations built with sympy.physics.mechanics",
+                     "linearising the equation of motion about the hanging equilibrium gives a harmonic oscillator"):
+        assert sentence in page, sentence
+        assert latex_escape(sentence) in tex, sentence
+    assert "$M_{P}$ is the moment of the external forces about $P$" in tex
+    assert set(ch for ch in tex if ord(ch) > 127) <= {"\u2013", "\u201c", "\u201d"}
