@@ -1,8 +1,9 @@
 """Every published number and equation of the paper, checked against computed results.
 
 One :class:`Check` per printed item, in the shape of ``verification.json``:
-``{"id", "kind", "published", "computed", "verdict", "detail"}``, plus what the
-HTML report shows beside it (units, tolerance, MathML).
+``{"id", "kind", "published", "published_text", "published_unit", "computed", "computed_unit",
+"tolerance", "verdict", "detail"}`` (:meth:`Check.to_json`), plus what the HTML report shows beside
+it (MathML, the explanation of a finding).
 
 Tolerances (documented once, applied everywhere)
 ------------------------------------------------
@@ -110,12 +111,22 @@ class Check:
             raise ValueError(f"`verdict` must be one of {VERDICTS}, got {self.verdict!r}")
 
     def to_json(self) -> dict:
-        """The exact ``verification.json`` row."""
+        """The exact ``verification.json`` row: the fields above, and what the HTML shows beside them:
+        ``published_text`` (the published value as printed, digits and trailing zeros kept: ``"-0.05080"``
+        beside the float -0.0508), ``published_unit`` and ``computed_unit`` (as printed; pint's), and
+        ``tolerance`` (the test the verdict applied: ``"±0.0005"``, ``"exact zero"``, ``"attainable at
+        N = 22"``, ``"same dimension"``; empty for a claim, whose test is its detail)."""
+        printed = self.published_text or (self.published if isinstance(self.published, str) else
+                                           None if self.published is None else str(self.published))
         return {
             "id": self.id,
             "kind": self.kind,
             "published": self.published,
+            "published_text": printed,
+            "published_unit": self.published_unit,
             "computed": self.computed,
+            "computed_unit": self.computed_unit,
+            "tolerance": self.tolerance,
             "verdict": self.verdict,
             "detail": self.detail,
         }
@@ -199,6 +210,7 @@ def equation_checks(eqset: EquationSet, scenes: dict, derivations: dict) -> list
                 verdict=outcome.verdict,
                 detail=outcome.detail,
                 label=f"Eq. ({tr.number})" + (f" {tr.id.split('-', 1)[1]}" if "-" in tr.id else ""),
+                tolerance="exact zero",  # the residual of the two sides, tested for zero symbolically
                 section="example1" if scenes[tr.scene].name == "sliding_bar" else "example2",
                 outcome=outcome,
             )
@@ -693,7 +705,7 @@ def survey_checks(dataset_path: Path) -> tuple[list[Check], SurveyResults]:
                 verdict=("not-checkable" if result.verdict_code == "no_answers"
                          else "agrees" if holds else "disagrees"),
                 detail=f"{c.statement} Verdict: {result.verdict}; {result.reason} "
-                f"({result.k}/{result.n}, 95% {result.method} interval {ci}).",
+                f"({result.k}/{result.n}, 95% {result.method.title()} interval {ci}).",
                 label=f"Claim about item {item_no}",
                 section="survey",
                 explanation=("" if holds else f"No valid answers: {result.reason}."

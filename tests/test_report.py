@@ -144,7 +144,8 @@ def test_verification_json_schema_and_required_rows(verification):
     ids = [row["id"] for row in verification]
     assert len(ids) == len(set(ids)), "duplicate ids"
     for row in verification:
-        assert set(row) == {"id", "kind", "published", "computed", "verdict", "detail"}, row
+        assert set(row) == {"id", "kind", "published", "published_text", "published_unit", "computed",
+                            "computed_unit", "tolerance", "verdict", "detail"}, row
         assert row["kind"] in KINDS and row["verdict"] in VERDICTS, row
         assert isinstance(row["detail"], str) and row["detail"], row
     present = set(ids)

@@ -214,3 +214,19 @@ def test_paper_tex_says_what_the_html_says_and_sets_under_pdflatex(built):
         assert latex_escape(sentence) in tex, sentence
     assert "$M_{P}$ is the moment of the external forces about $P$" in tex
     assert set(ch for ch in tex if ord(ch) > 127) <= {"\u2013", "\u201c", "\u201d"}
+
+
+def test_verification_json_keeps_the_printed_text_units_and_tolerance(built, rows):
+    """QA 10: verification.json stored printed numbers as floats only (-0.0508 for the printed 0.05080
+    with its minus between terms, 50.0 for 50), without the units and the tolerance the HTML shows.
+    By hand from example1.toml and table1.csv: the texts below; the half unit of 32.174 is 0.0005."""
+    assert rows["eq29-r1-alpha"]["published_text"] == "-0.05080" and rows["eq29-r1-alpha"]["published"] == -0.0508
+    assert rows["data-m_b"]["published_text"] == "50" and rows["data-m_b"]["published_unit"] == "lbm"
+    assert rows["data-g"]["tolerance"] == "±0.0005"
+    assert rows["table1-item1-definitely-agree"]["published_text"] == "50.0"
+    assert rows["eq30-alpha-unit"]["tolerance"] == "same dimension"
+    assert rows["eq44"]["tolerance"] == "exact zero"
+    assert "wilson" not in rows["claim-item3"]["detail"]  # "Wilson", as the HTML writes it
+    cells = _all_checks_cells(_page(built, "report.html"))
+    for row_id, row in rows.items():  # the HTML's tolerance column is the JSON's field
+        assert cells[row_id][4] == row["tolerance"], row_id
