@@ -127,14 +127,16 @@ def method_prose() -> dict[str, list]:
     P, m, aP, rGP, MP, IP, n, k = sp.symbols("P m a_P r_G/P M_P I_P n k", real=True)
     mk, xk, yk, Ik = (sp.IndexedBase(s) for s in ("m", "x", "y", "I_P"))
     ax, ay = sp.IndexedBase("a_x"), sp.IndexedBase("a_y")
-    maths = {"P": P, "m": m, "a_P": aP, "r_GP": rGP, "M_P": MP, "I_P": IP, "n": n, "k": k, "alpha": sp.Symbol("alpha"),
+    maths = {"P": P, "m": m, "a_P": aP, "r_GP": rGP, "x_GP": sp.Symbol("x_G/P", real=True),
+             "y_GP": sp.Symbol("y_G/P", real=True), "M_P": MP, "I_P": IP, "n": n, "k": k, "alpha": sp.Symbol("alpha"),
              "m_k": mk[k], "x_k": xk[k], "y_k": yk[k], "I_Pk": Ik[k], "ax_k": ax[k], "ay_k": ay[k]}
     texts = {
         "idea": "For a rigid body moving in a plane, the rotational equation is usually written about the mass "
                 "centre or about a fixed pivot. Both are special cases of one relation that holds about any "
                 "point {P} of the body, provided one more moment is counted: that of the inertial force "
                 "\u2212{m} {a_P} applied at the mass centre, the whole mass {m} times the acceleration of {P}, "
-                "reversed in direction. The planar cross product of the mass centre's offset {r_GP} from {P} with "
+                "reversed in direction. The planar cross product of the mass centre's offset {r_GP} from {P} (components "
+                "{x_GP}, {y_GP}) with "
                 "{m} {a_P} gives the scalar form, in which {alpha} is the k-component of the body's angular "
                 "acceleration (each example writes it in terms of its own coordinate in its kinematics):",
         "terms": "Here {M_P} is the moment of the external forces about {P} and {I_P} the moment of inertia about "
