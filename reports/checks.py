@@ -1,8 +1,9 @@
 """Every published number and equation of the paper, checked against computed results.
 
 One :class:`Check` per printed item, in the shape of ``verification.json``:
-``{"id", "kind", "published", "computed", "verdict", "detail"}``, plus what the
-HTML report shows beside it (units, tolerance, MathML).
+``{"id", "kind", "published", "published_text", "published_unit", "computed", "computed_unit",
+"tolerance", "verdict", "detail"}`` (:meth:`Check.to_json`), plus what the HTML report shows beside
+it (MathML, the explanation of a finding).
 
 Tolerances (documented once, applied everywhere)
 ------------------------------------------------
@@ -51,6 +52,11 @@ __all__ = [
 
 VERDICTS = ("agrees", "disagrees", "not-checkable")
 KINDS = ("value", "unit", "equation", "table-cell", "claim")
+_SAME_DIMENSION = "same dimension"
+"""The tolerance of a printed unit: it agrees when it has the computed quantity's dimension."""
+RELATION = {"approximation": "\u2248"}
+"""The sign the paper prints between the sides of a transcribed equation, by its kind, when not "=":
+a small-motion rule (Eq. 45) is printed with \u2248."""
 _EXACT_RTOL = 2e-5
 """Relative tolerance for numbers the paper states as exact. They are exact in the paper's own
 arithmetic (m_b in slug is the mass in lbm divided by the printed g, so m_b g is the weight in lbf
@@ -105,12 +111,22 @@ class Check:
             raise ValueError(f"`verdict` must be one of {VERDICTS}, got {self.verdict!r}")
 
     def to_json(self) -> dict:
-        """The exact ``verification.json`` row."""
+        """The exact ``verification.json`` row: the fields above, and what the HTML shows beside them:
+        ``published_text`` (the published value as printed, digits and trailing zeros kept: ``"-0.05080"``
+        beside the float -0.0508), ``published_unit`` and ``computed_unit`` (as printed; pint's), and
+        ``tolerance`` (the test the verdict applied: ``"±0.0005"``, ``"exact zero"``, ``"attainable at
+        N = 22"``, ``"same dimension"``; empty for a claim, whose test is its detail)."""
+        printed = self.published_text or (self.published if isinstance(self.published, str) else
+                                           None if self.published is None else str(self.published))
         return {
             "id": self.id,
             "kind": self.kind,
             "published": self.published,
+            "published_text": printed,
+            "published_unit": self.published_unit,
             "computed": self.computed,
+            "computed_unit": self.computed_unit,
+            "tolerance": self.tolerance,
             "verdict": self.verdict,
             "detail": self.detail,
         }
@@ -150,6 +166,24 @@ def _unit_label(unit) -> str:
     return f"{unit:~P}" if unit != ureg.dimensionless else "1"
 
 
+def _gc_note(unit, magnitude: float, scene) -> str:
+    """For a number in lbf (or lbf-based units) computed from a mass in lbm: how it was converted, and
+    what the paper's own conversion gives. The project converts by the exact definition (pint: 1 lbf
+    is 1 lbm under standard gravity, 32.17405 lbm*ft/s^2); the paper takes 1 lbf = g lbm*ft/s^2 with
+    its printed g (32.174 ft/s^2), so each such number of the paper's arithmetic is the project's times
+    (exact factor / g). Empty when the unit holds no lbf or the scene has no lbm mass and g."""
+    if unit is None or "force_pound" not in str(unit):
+        return ""
+    g = scene.parameters.get("g")
+    if g is None or not any(q.check("[mass]") and q.units == ureg.Unit("lbm") for q in scene.parameters.values()):
+        return ""
+    exact = float(Q_(1, "lbf").to("lbm*ft/s**2").magnitude)
+    g_c = float(g.to("ft/s**2").magnitude)
+    return (f"; converted by the exact definition 1 lbf = {exact:.7g} lbm·ft/s² (standard gravity); with "
+            f"the paper's 1 lbf = {g_c:.7g} lbm·ft/s² (its g) it is {magnitude * exact / g_c:.8g}, a relative "
+            f"difference of {abs(exact / g_c - 1):.2g}")
+
+
 # --------------------------------------------------------------------------- equations
 def equation_checks(eqset: EquationSet, scenes: dict, derivations: dict) -> list[Check]:
     """One ``equation`` row per transcribed printed equation.
@@ -171,11 +205,12 @@ def equation_checks(eqset: EquationSet, scenes: dict, derivations: dict) -> list
             Check(
                 id=tr.id,
                 kind="equation",
-                published=f"{tr.lhs} = {tr.rhs}",
+                published=f"{tr.lhs} {RELATION.get(tr.kind, '=')} {tr.rhs}",
                 computed=f"residual {computed}",
                 verdict=outcome.verdict,
                 detail=outcome.detail,
                 label=f"Eq. ({tr.number})" + (f" {tr.id.split('-', 1)[1]}" if "-" in tr.id else ""),
+                tolerance="exact zero",  # the residual of the two sides, tested for zero symbolically
                 section="example1" if scenes[tr.scene].name == "sliding_bar" else "example2",
                 outcome=outcome,
             )
@@ -355,6 +390,7 @@ def example1_value_checks(values_path: Path, eqset: EquationSet, scene, deriv, s
                         f"{entry.get('meaning', '')}; computed from {source_eq} (printed form, checked "
                         f"symbolically in row {source_eq}) with the problem data; |difference| = "
                         f"{abs(magnitude - value):.2g}, tolerance {tol:.2g} {how}"
+                        + _gc_note(unit, magnitude, scene)
                     ),
                     label=f"Eq. (29) row {row[1:]}: " + ("right side" if column == "rhs" else f"coefficient of {column}"),
                     section="example1",
@@ -405,6 +441,7 @@ def example1_value_checks(values_path: Path, eqset: EquationSet, scene, deriv, s
             f"|difference| = {diff:.2g}; tolerance {tol:.2g} = half unit of the last printed digit ({h:.2g})"
             f" + first-order effect of the paper's 4-significant-figure rounding in Eq. 29, of the rounded data"
             f" it computed with and of the results it substituted back ({tol - h:.2g})"
+            + _gc_note(compare_unit, magnitude, scene)
         )
         if ok and not within_half:
             detail += "; outside the half-unit band alone, inside once the paper's intermediate rounding is allowed for"
@@ -446,6 +483,7 @@ def example1_value_checks(values_path: Path, eqset: EquationSet, scene, deriv, s
                     section="example1",
                     published_unit=entry["unit"],
                     computed_unit=expected,
+                    tolerance=_SAME_DIMENSION,
                     explanation="" if unit_ok else (
                         f"Eq. ({results_prefix[2:]}) prints the unit of {u} as {entry['unit']} (dimension "
                         f"{(1 * printed_unit).dimensionality:P}), but {u} is computed with dimension "
@@ -497,6 +535,7 @@ def example1_value_checks(values_path: Path, eqset: EquationSet, scene, deriv, s
                 detail=(
                     f"{entry.get('meaning', '')}; scene value {target:~P} = {magnitude:.6g} {_unit_label(unit)}; "
                     + ("exact number" if not h else f"tolerance {tol:.2g} (half a unit in the last printed digit)")
+                    + _gc_note(unit, magnitude, scene)
                 ),
                 label=f"Problem data: {name}",
                 section="example1",
@@ -512,7 +551,7 @@ def example1_value_checks(values_path: Path, eqset: EquationSet, scene, deriv, s
                 Check(f"{key}-unit", "unit", entry["unit"], _unit_label(unit), "agrees" if unit_ok else "disagrees",
                       f"printed unit {entry['unit']} has the dimension of the quantity ({dict(target.dimensionality)})",
                       label=f"Problem data: unit of {name}", section="example1", published_unit=entry["unit"],
-                      computed_unit=_unit_label(unit))
+                      computed_unit=_unit_label(unit), tolerance=_SAME_DIMENSION)
             )
     return rows
 
@@ -585,14 +624,16 @@ def survey_checks(dataset_path: Path) -> tuple[list[Check], SurveyResults]:
                 explanation = (
                     f"Row {row.item}: {row.reason}. "
                     f"The rebuilt dataset has {item.counts[cell.label]}/{item.n} = {float(exact_row[j]):.2f}%, "
-                    f"printed correctly as {computed:.{facts.decimals}f}%"
+                    f"which rounds to {computed:.{facts.decimals}f}%, not the printed {cell.printed}%"
                     + (
-                        "; a largest-remainder rounding would also print "
-                        f"{lr_row[j]:.{facts.decimals}f}% here"
+                        f"; a largest-remainder rounding (rows forced to 100%) would print "
+                        f"{lr_row[j]:.{facts.decimals}f}% too, so only the rule above explains the printed digit"
                         if lr_row[j] != cell.published
-                        else "; a largest-remainder rounding (rows forced to 100%) does print this value"
+                        else "; a largest-remainder rounding (rows forced to 100%) prints it too"
                     )
-                    + "."
+                    + ". A rounding that forces the row to 100% explains the printed digit but makes the cell "
+                    "misstate its own share; the article states no such rule, so the cell is listed as a "
+                    "difference, not as an agreement with a caveat."
                 )
             rows.append(
                 Check(
@@ -607,7 +648,7 @@ def survey_checks(dataset_path: Path) -> tuple[list[Check], SurveyResults]:
                     section="survey",
                     published_unit="%",
                     computed_unit="%",
-                    tolerance="attainable at N" if ok else "",
+                    tolerance=f"attainable at N = {item.n}",  # the test, met or not
                     explanation=explanation,
                 )
             )
@@ -664,7 +705,7 @@ def survey_checks(dataset_path: Path) -> tuple[list[Check], SurveyResults]:
                 verdict=("not-checkable" if result.verdict_code == "no_answers"
                          else "agrees" if holds else "disagrees"),
                 detail=f"{c.statement} Verdict: {result.verdict}; {result.reason} "
-                f"({result.k}/{result.n}, 95% {result.method} interval {ci}).",
+                f"({result.k}/{result.n}, 95% {result.method.title()} interval {ci}).",
                 label=f"Claim about item {item_no}",
                 section="survey",
                 explanation=("" if holds else f"No valid answers: {result.reason}."

@@ -47,7 +47,7 @@ LATEX_ENGINES = ("tectonic", "lualatex", "pdflatex", "xelatex")
 
 
 EX1_STEPS = ("accelerations", "omega", "alpha", "inertia", "alpha_solution", "reactions")
-EX2_STEPS = ("omega", "inertia", "eom", "reactions")
+EX2_STEPS = ("omega", "alpha", "inertia", "eom", "reactions")
 """The worked steps the paper shows of each example (``ex1.steps`` and ``ex2.steps`` in the templates;
 :func:`reports.paper.example_steps` builds only these)."""
 
@@ -96,6 +96,12 @@ _LATEX_SPECIAL = {
     "²": r"\textsuperscript{2}",
     "·": r"\ensuremath{\cdot}",
     "±": r"\ensuremath{\pm}",
+    "\u2212": r"\ensuremath{-}",  # minus sign
+    "×": r"\ensuremath{\times}",
+    "\u2248": r"\ensuremath{\approx}",
+    "°": r"\ensuremath{^\circ}",
+    "\u2264": r"\ensuremath{\leq}",
+    "\u2265": r"\ensuremath{\geq}",
 }
 
 
@@ -185,8 +191,11 @@ def same_decimals(value, printed: str) -> str:
 
 
 def _unit_shown(unit) -> str:
-    """A unit as a table shows it after a number: none for a dimensionless quantity (pint's "1")."""
-    return "" if unit in (None, "1", "dimensionless") else str(unit)
+    """A unit as a table shows it after a number: none for a dimensionless quantity (pint's "1"), a
+    power as a superscript (a printed "(lbf·s^2)/ft" as "(lbf·s²)/ft", like pint's "ft/s²" beside it)."""
+    if unit in (None, "1", "dimensionless"):
+        return ""
+    return re.sub(r"\^(-?\d+)", lambda m: m.group(1).translate(_SUPERSCRIPT), str(unit))
 
 
 def _share_percent(share: float, decimals: int = 1) -> str:
@@ -418,8 +427,7 @@ def _build(root: Path, out: Path | None, pdf: str, log) -> dict:
         period_cross = {"period": result.period, "linear": result.period_linear, "ratio": result.ratio,
                         "model": result.model}
         least = least_friction(ex2_one_dof, amplitude)
-        friction = {"mu_min": least.mu_min, "theta_deg": math.degrees(least.theta_at_max),
-                    "lifts_off": least.lifts_off}
+        friction = paper.friction_peak(ex2_one_dof, least)
         lin_mass, lin_stiff, lin_w2 = paper.linearisation(
             derivations[ex2_key],
             about={},
@@ -446,11 +454,15 @@ def _build(root: Path, out: Path | None, pdf: str, log) -> dict:
             },
         }
         ex1_system, ex2_system = system_of(eqset.scenes[ex1_key]), system_of(eqset.scenes[ex2_key])
-        examples["ex1"]["explained"] = paper.explained(ex1_system, derivations[ex1_key].point, at_rest=True)
+        examples["ex1"]["explained"] = paper.explained(
+            ex1_system, derivations[ex1_key].point, at_rest=True,
+            inertia_number=paper.printed_number(eqset, ex1_key, "inertia_about", derivations[ex1_key].point))
         ex2_ranked = paper.ranked_points(ex2_system)  # one ranking for both workings of Example 2
         examples["ex2"]["explained"] = paper.explained(ex2_system, derivations[ex2_key].point, at_rest=False,
                                                      shows_alternative=True,  # shown below, when it differs
-                                                     ranked=ex2_ranked)
+                                                     ranked=ex2_ranked, inertia_number=paper.printed_number(
+                                                         eqset, ex2_key, "inertia_about", derivations[ex2_key].point))
+        examples["ex2"]["alpha_number"] = paper.printed_number(eqset, ex2_key, "alpha")  # alpha = -theta_ddot
         best = examples["ex2"]["explained"]["advisor_best"]
         if best != derivations[ex2_key].point:  # the one-step alternative the advisor finds (about C)
             examples["ex2"]["alternative"] = paper.explained(ex2_system, best, at_rest=False, ranked=ex2_ranked)
@@ -481,10 +493,11 @@ def _build(root: Path, out: Path | None, pdf: str, log) -> dict:
         for r in rows:
             if r.outcome is not None:
                 o = r.outcome
+                sign = checks_mod.RELATION.get(o.transcription.kind, "=")  # Eq. 45 is printed with ≈
                 equation_views[r.id] = {
                     # as transcribed: drawn from the text, not from sympy's evaluated form
-                    "printed": transcription_mathml(o.transcription.lhs, o.transcription.rhs),
-                    "printed_inline": transcription_mathml(o.transcription.lhs, o.transcription.rhs, "inline"),
+                    "printed": transcription_mathml(o.transcription.lhs, o.transcription.rhs, relation=sign),
+                    "printed_inline": transcription_mathml(o.transcription.lhs, o.transcription.rhs, "inline", sign),
                     "residual": to_mathml(o.residual) if o.residual is not None else Markup(""),
                     "derived": (equation_mathml(o.derived_lhs, o.derived_rhs)
                                 if o.derived_lhs is not None and r.kind == "equation" and
@@ -502,6 +515,7 @@ def _build(root: Path, out: Path | None, pdf: str, log) -> dict:
             "figures": figs,
             "provenance": prov,
             "method": paper.method_equations(),
+            "method_prose": paper.method_prose(),  # the words around Eqs. 10, 11, 14, shared by both renderings
             "examples": examples,
             "prose": paper.PROSE,
             "survey": survey,

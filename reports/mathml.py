@@ -56,7 +56,7 @@ _PRECEDENCE = {ast.Add: 1, ast.Sub: 1, ast.Mult: 2, ast.Pow: 4, ast.Div: 4.5}  #
 _OPERATOR = {ast.Add: "+", ast.Sub: "\u2212", ast.Mult: "&InvisibleTimes;"}
 
 
-def transcription_mathml(lhs: str, rhs: str, display: str = "block") -> Markup:
+def transcription_mathml(lhs: str, rhs: str, display: str = "block", relation: str = "=") -> Markup:
     """``lhs = rhs`` as MathML, each side drawn from its transcribed text as written: terms and
     factors in the order of the text, numbers with their printed digits, nothing evaluated
     (sympy's parser would reorder terms and merge factors).
@@ -67,6 +67,8 @@ def transcription_mathml(lhs: str, rhs: str, display: str = "block") -> Markup:
         The two sides in the whitelist expression syntax (:mod:`solver.expressions`), already
         accepted by its parser (this function only draws the syntax tree; it runs nothing).
     display : {"inline", "block"}
+    relation : str
+        The sign printed between the sides: "=" or, for a small-motion rule, "\u2248".
 
     Returns
     -------
@@ -78,16 +80,16 @@ def transcription_mathml(lhs: str, rhs: str, display: str = "block") -> Markup:
     ValueError
         A construct outside the whitelist syntax.
     """
-    return _wrap(_transcription_row(lhs, rhs), display)
+    return _wrap(_transcription_row(lhs, rhs, relation), display)
 
 
 @lru_cache(maxsize=512)
-def _transcription_row(lhs: str, rhs: str) -> str:
+def _transcription_row(lhs: str, rhs: str, relation: str = "=") -> str:
     """The ``<mrow>`` of :func:`transcription_mathml`, drawn once per transcription (the report shows
     each printed equation in a block and inline)."""
     sides = [_drawn(ast.parse(t.replace("^", "**").strip(), mode="eval").body, t.replace("^", "**").strip())
              for t in (lhs, rhs)]
-    return f"<mrow>{sides[0]}<mo>=</mo>{sides[1]}</mrow>"
+    return f"<mrow>{sides[0]}<mo>{relation}</mo>{sides[1]}</mrow>"
 
 
 def _rank(node: ast.AST) -> int:

@@ -15,7 +15,7 @@ import sympy as sp
 
 from reports.mathml import equation_latex, equation_mathml, name_text, to_latex, to_mathml
 
-__all__ = ["Shown", "shown", "method_equations", "example_steps", "STEP_PARTS", "quantity_text", "linearisation",
+__all__ = ["Shown", "shown", "method_equations", "method_prose", "example_steps", "STEP_PARTS", "quantity_text", "linearisation",
            "unit_conversion", "result_rows"]
 
 
@@ -111,6 +111,48 @@ def method_equations() -> dict[str, Shown]:
     return {"eq10": eq10, "eq11": eq11, "eq14": eq1, "eq14y": eq1y}
 
 
+def rich_text(template: str, maths: dict) -> list[tuple[str, dict | None]]:
+    """A sentence with inline maths for both renderings: ``{name}`` in ``template`` is the expression
+    ``maths[name]``. Returns (text, None) and ("", :func:`inline`) parts in order; the templates escape
+    the text and insert each expression's MathML or LaTeX."""
+    parts = []
+    for i, piece in enumerate(re.split(r"\{(\w+)\}", template)):
+        parts.append(("", inline(maths[piece])) if i % 2 else (piece, None))
+    return [p for p in parts if p != ("", None)]
+
+
+def method_prose() -> dict[str, list]:
+    """The sentences around Eqs. 10, 11 and 14 (section 1 of the paper), one content for paper.html and
+    paper.tex (:func:`rich_text` parts), every symbol the displays of :func:`method_equations` use."""
+    P, m, aP, rGP, MP, IP, n, k = sp.symbols("P m a_P r_G/P M_P I_P n k", real=True)
+    mk, xk, yk, Ik = (sp.IndexedBase(s) for s in ("m", "x", "y", "I_P"))
+    ax, ay = sp.IndexedBase("a_x"), sp.IndexedBase("a_y")
+    maths = {"P": P, "m": m, "a_P": aP, "r_GP": rGP, "x_GP": sp.Symbol("x_G/P", real=True),
+             "y_GP": sp.Symbol("y_G/P", real=True), "M_P": MP, "I_P": IP, "n": n, "k": k, "alpha": sp.Symbol("alpha"),
+             "m_k": mk[k], "x_k": xk[k], "y_k": yk[k], "I_Pk": Ik[k], "ax_k": ax[k], "ay_k": ay[k]}
+    texts = {
+        "idea": "For a rigid body moving in a plane, the rotational equation is usually written about the mass "
+                "centre or about a fixed pivot. Both are special cases of one relation that holds about any "
+                "point {P} of the body, provided one more moment is counted: that of the inertial force "
+                "\u2212{m} {a_P} applied at the mass centre, the whole mass {m} times the acceleration of {P}, "
+                "reversed in direction. The planar cross product of the mass centre's offset {r_GP} from {P} (components "
+                "{x_GP}, {y_GP}) with "
+                "{m} {a_P} gives the scalar form, in which {alpha} is the k-component of the body's angular "
+                "acceleration (each example writes it in terms of its own coordinate in its kinematics):",
+        "terms": "Here {M_P} is the moment of the external forces about {P} and {I_P} the moment of inertia about "
+                 "{P}. When {P} is the mass centre the extra term vanishes because the offset is zero; when {P} is "
+                 "fixed it vanishes because its acceleration is zero. For a body built from {n} rigid elements, "
+                 "applying the relation to each element and adding gives the composite form, in which only the "
+                 "element masses and their own mass centres appear, so the overall mass centre never has to be "
+                 "located. In it {m_k} is the mass of element {k}, {x_k} and {y_k} the components of the offset "
+                 "of its mass centre from {P}, and {I_Pk} its moment of inertia about {P} (Eq. 12):",
+        "newton": "Newton's law completes the system. For the composite body the resultant external force is the "
+                  "sum of the element masses times the accelerations of their mass centres, whose components are "
+                  "{ax_k} and {ay_k}:",
+    }
+    return {key: rich_text(text, maths) for key, text in texts.items()}
+
+
 def linearisation(deriv, about: dict, assume: dict | None = None):
     """(mass M0, stiffness K, omega_n^2 = K/M0) of the derived eom about a state."""
     from solver.display import tidy
@@ -176,7 +218,8 @@ def example_steps(scene, deriv, at_rest: bool, parts=STEP_PARTS) -> dict:
     if "omega" in want:
         steps["omega"] = inline(deriv.omega)
     if "alpha" in want:
-        steps["alpha"] = inline(deriv.alpha)
+        # opposite: alpha is -theta_ddot (the coordinate turns clockwise), so their numbers differ in sign
+        steps["alpha"] = {**inline(deriv.alpha), "opposite": sp.expand(deriv.alpha + deriv.qdd) == 0}
     if "inertia" in want:
         inertia = sp.expand(deriv.inertia_about(deriv.point))
         steps["inertia"] = inline(inertia if not inertia.has(sp.sin, sp.cos) else _shown_tidy(inertia))
@@ -265,10 +308,13 @@ def unit_conversion(scene) -> dict | None:
     if math.isclose(factor, 1.0, rel_tol=1e-12):
         return None
     c_text, f_text = f"{consistent:~P}", f"{ureg.Unit(force):~P}"
+    g_value = float(g.to(ureg.Unit(force) / mass.units).magnitude)  # the article's g_c: its g, as a number
     sentence = (f"The equations above hold in any consistent set of units. With the mass in {mass.units:~P} and "
                 f"g in {g.units:~P}, a force comes out in {c_text}; it is given in {f_text} by dividing by "
-                f"g_c = {factor:.5g} ({c_text})/{f_text}, since 1 {f_text} = {factor:.5g} {c_text}. "
-                f"The table shows each force both ways.")
+                f"g_c = {factor:.7g} ({c_text})/{f_text}, the exact definition (1 {f_text} is the weight of 1 "
+                f"{mass.units:~P} under standard gravity). The article divides by its g instead, "
+                f"{g_value * factor:.7g}; the two differ by {abs(factor / (g_value * factor) - 1):.2g} in relative "
+                f"terms, far below the precision of its results. The table shows each force both ways.")
     return {"consistent": consistent, "force": force, "factor": factor, "sentence": sentence,
             "consistent_text": c_text}
 
@@ -290,6 +336,51 @@ def result_rows(solution, scene, conversion: dict | None = None) -> list[dict]:
     return rows
 
 
+def friction_peak(one_dof, least, rtol: float = 1e-9) -> dict:
+    """Where the friction ratio |F_f|/F_n of a free swing peaks, for the paper's sentence.
+
+    Parameters
+    ----------
+    one_dof : solver.period.OneDofSystem
+        The model :func:`solver.friction.least_friction` ran on.
+    least : solver.friction.FrictionResult
+        Its result.
+    rtol : float
+        Relative agreement with the peak for a turning point to count as one (the ratio there is
+        evaluated in closed form, at zero rate, to rounding error).
+
+    Returns
+    -------
+    dict
+        ``mu_min``, ``lifts_off``, ``angles_deg`` (the turning points where the ratio reaches the peak,
+        or the one angle of the peak when it lies inside the swing) and ``sentence`` (one text for
+        paper.html and paper.tex).
+    """
+    import numpy as np
+
+    pair = one_dof.friction_pairs[0]
+    reactions = one_dof.reactions_fn()
+    at_turn = []
+    for q in least.turning_points:  # at rest there: theta_dot = 0
+        r = reactions(np.array([q]), np.array([0.0]), 0.0)
+        ratio = abs(float(r[pair.friction][0])) / float(r[pair.normal][0])
+        if math.isclose(ratio, least.mu_min, rel_tol=rtol):
+            at_turn.append(math.degrees(q))
+    angles = at_turn or [math.degrees(least.theta_at_max)]
+    if len(at_turn) == 2 and math.isclose(at_turn[0], -at_turn[1], rel_tol=rtol):
+        where = f"equally at both turning points, \u00b1{abs(at_turn[0]):.3g} deg"
+    elif at_turn:
+        where = "at the turning point" + ("s " if len(at_turn) > 1 else " ") + ", ".join(f"{a:.3g}" for a in at_turn) + " deg"
+    else:
+        where = f"at an angle of {angles[0]:.3g} deg"
+    sentence = ("The analysis assumes the disk rolls without slipping. Over that same swing the friction force "
+                f"needed, divided by the normal force, peaks at {least.mu_min:.3g} ({where})"
+                + (", and the disk would leave the floor" if least.lifts_off else "")
+                + ": a floor with a smaller coefficient of friction would let the disk slip, and the equations "
+                "above would no longer apply.")
+    return {"mu_min": least.mu_min, "lifts_off": least.lifts_off, "angles_deg": angles, "sentence": sentence}
+
+
 # -- worked steps from solver.explain (one source for paper.html and paper.tex) ------------------------
 
 def unreachable_cells(findings, respondents: int) -> str:
@@ -301,7 +392,8 @@ def unreachable_cells(findings, respondents: int) -> str:
         return ""
     listed = "; ".join(f"{r.label.removeprefix('Table 1, ')} printed {r.published_text or r.published} %, "
                        f"shown {r.computed} %" for r in cells)
-    return (f"{len(cells)} cell(s) of the published table print a percentage that no whole count out of "
+    verb = "prints" if len(cells) == 1 else "print"
+    return (f"{_count(cells, 'cell')} of the published table {verb} a percentage that no whole count out of "
             f"{respondents} gives; the table shows the percentage of the nearest count: {listed} "
             f"(section 5 says why).")
 
@@ -330,6 +422,61 @@ def survey_table(survey) -> dict:
             "statements": [{"id": i, "text": t} for i, t in zip(facts.item_ids, facts.item_texts)]}
 
 
+def claim_readings(survey, path=None) -> dict:
+    """The other reading of a claim that ``[[readings]]`` of data/published/survey.toml names: its share
+    taken among the respondents of another claim's group, bounded by the marginals alone (which answers
+    go together is unknown). By inclusion-exclusion, of the g in the group at least k - (n - g) and at most
+    min(k, g) are among the k of the claim.
+
+    Returns
+    -------
+    dict
+        Claim id -> the sentence (one text for report.html, paper.html and paper.tex).
+
+    Raises
+    ------
+    ReportInputError
+        A reading naming a claim that is not evaluated, or missing a key (file and place named).
+    """
+    from fractions import Fraction
+
+    from analysis.rounding import share_percent_text
+    from analysis.tables import published_dir
+    from reports.published import ReportInputError, read_toml
+
+    path = path or published_dir() / "survey.toml"
+    by_id = {r.claim.id: r for r in survey.claims.results}
+    words = {">": "over", ">=": "at least", "<": "under", "<=": "at most"}
+    out = {}
+    for i, reading in enumerate(read_toml(path).get("readings", [])):
+        where = f"{path}: readings[{i}]"
+        for key in ("claim", "group", "printed"):
+            if key not in reading:
+                raise ReportInputError(f"{where}: key '{key}' is missing")
+        for key in ("claim", "group"):
+            if reading[key] not in by_id:
+                raise ReportInputError(f"{where}.{key}: no evaluated claim {reading[key]!r}; "
+                                       f"claims: {', '.join(by_id)}")
+        it, grp = by_id[reading["claim"]], by_id[reading["group"]]
+        n, k, g = it.n, it.k, grp.k
+        low, high = max(0, k - (n - g)), min(k, g)
+        lo, hi = Fraction(low, g), Fraction(high, g)
+        c = it.claim
+        threshold = Fraction(c.threshold).limit_denominator(10**6)
+        meets = {">": lo > threshold, ">=": lo >= threshold, "<": hi < threshold, "<=": hi <= threshold}[c.comparison]
+        group_item = grp.claim.item if isinstance(grp.claim.item, int) else grp.claim.table_item or grp.claim.item
+        low_text, high_text = share_percent_text(float(lo)), share_percent_text(float(hi))
+        out[c.id] = (
+            f"Read as \u201c{reading['printed']}\u201d, that is among the {g} respondents who agreed with item "
+            f"{group_item}, the share is not in the table, since which answers go together is unknown: the counts "
+            f"allow from {low}/{g} = {low_text}% to {high}/{g} = {high_text}%, "
+            + (f"{words[c.comparison]} {100 * c.threshold:g}% whatever the pairing." if meets else
+               f"so on this reading the share is at least {low_text}% but not certainly "
+               f"{words[c.comparison]} {100 * c.threshold:g}%.")
+        )
+    return out
+
+
 def claim_texts(rows, survey) -> dict:
     """Each claim check's id -> ``{"statement", "explanation"}``: the claim as stated and its verdict
     explained by :meth:`analysis.claims.ClaimResult.explanation`, the one text report.html shows for a
@@ -342,7 +489,10 @@ def claim_texts(rows, survey) -> dict:
     if len(rows) != len(results) or any(r.published != (c.claim.printed or c.claim.statement)
                                         for r, c in zip(rows, results)):
         raise ValueError("the claim checks do not match the evaluated claims one to one")
-    return {r.id: {"statement": c.claim.statement, "explanation": c.explanation()} for r, c in zip(rows, results)}
+    readings = claim_readings(survey)
+    return {r.id: {"statement": c.claim.statement,
+                   "explanation": " ".join(filter(None, (c.explanation(), readings.get(c.claim.id, ""))))}
+            for r, c in zip(rows, results)}
 
 
 def rounding_ties(survey) -> str:
@@ -369,8 +519,6 @@ def rounding_ties(survey) -> str:
 
 
 PROSE = {
-    "alpha": "alpha is the k-component of the body's angular acceleration; each example gives it in terms "
-             "of its own coordinate in its kinematics",
     "separate": "The moment equation is written as the paper writes it: the moments of the actual forces "
                 "about P, then the inertial term -r_G/P x m a_P as a term of its own, equal to I_P alpha with "
                 "I_P built element by element by the parallel-axis theorem (Eq. 12).",
@@ -379,6 +527,7 @@ PROSE = {
     "ex1_numbers_heading": "Numbers at release",
     "ex2_numbers_heading": "Numbers at the chosen state",
     "oscillations_heading": "Small oscillations",
+    "alpha_opposite": "so \u03b1 and \u03b8\u0308 carry opposite signs in the numbers below",
     "ex1_solve": "The moment equation about {point} holds only the reaction at the other end and the angular "
                  "acceleration; together with the horizontal force balance it fixes both, and the vertical "
                  "balance then gives the remaining reaction. Solving the system:",
@@ -387,6 +536,21 @@ PROSE = {
     "ex2_eom": "Eliminating the friction force between the horizontal balance and the moment equation gives the "
                "equation of motion:",
     "ex2_findings": "The article's printed versions of this step differ from the derivation:",
+    "solver": "The solver writes these equations for a scene file (geometry, elements, constraints, loads), adds "
+              "the constraint acceleration equations, solves the linear system for the angular acceleration and "
+              "the reactions, and eliminates the reactions to obtain the equation of motion. Its results are "
+              "confirmed in the test suite by two independent routes: Newton-Euler about the mass centre, and "
+              "Lagrange's equations built with sympy.physics.mechanics.",
+    "oscillations": "Without the applied force, linearising the equation of motion about the hanging equilibrium "
+                    "gives a harmonic oscillator with",
+    "survey_intro": "{respondents} of {enrolled} enrolled students answered five statements on a five-point scale. "
+                    "The published table gives percentages only; the counts behind them were reconstructed (each "
+                    "cell's percentage must come from a whole number of the {respondents} respondents) and a "
+                    "respondent-level file was rebuilt from them, then summarised by the same code an instructor "
+                    "would run on their own export. Agreement is the share answering either agreeing option, with "
+                    "a 95% Wilson interval.",
+    "claims_lead": "Claims made about these answers:",
+    "statements_lead": "The statements, as worded on the survey:",
 }
 """Sentences and headings shared word for word by paper.html and paper.tex."""
 
@@ -427,9 +591,11 @@ def note_text(note: str) -> str:
 
 
 def _latex_text(text: str) -> str:
-    special = {"\\": r"\textbackslash{}", "&": r"\&", "%": r"\%", "$": r"\$", "#": r"\#", "_": r"\_",
-               "{": r"\{", "}": r"\}", "~": r"\textasciitilde{}", "^": r"\textasciicircum{}"}
-    return "".join(special.get(ch, ch) for ch in str(text))
+    """Text for ``\\text{}`` in a display: the paper.tex escape (:func:`reports.make_report.latex_escape`:
+    LaTeX's special characters, and −, ×, ² as pdflatex can set them)."""
+    from reports.make_report import latex_escape
+
+    return latex_escape(text)
 
 
 def terms_shown(eq) -> Shown:
@@ -455,6 +621,17 @@ def _mathml_body(expr):
     return body(expr)
 
 
+def printed_number(eqset, scene_key: str, quantity: str, point: str | None = None) -> str:
+    """The article's number of the first printed equation of a scene that gives ``quantity`` (at
+    ``point``) on its left-hand side, as data/published/equations.toml transcribes it ("" for none):
+    Example 1's I_A is Eq. 21, Example 2's I_P Eq. 35 and its alpha Eq. 33."""
+    for tr in eqset.equations:
+        meaning = tr.symbols.get(tr.lhs.strip()) if tr.scene == scene_key else None
+        if meaning is not None and meaning.quantity == quantity and (point is None or meaning.point == point):
+            return tr.number
+    return ""
+
+
 def ranked_points(system) -> dict:
     """The point advisor's candidates for the (first) body at the scene's state, by name
     (:func:`solver.explain.rank_points`)."""
@@ -465,11 +642,14 @@ def ranked_points(system) -> dict:
     return {c.name: c for c in rank_points(system, body, assemble(system))}
 
 
-def explained(system, point: str, at_rest: bool, shows_alternative: bool = False, ranked: dict | None = None) -> dict:
+def explained(system, point: str, at_rest: bool, shows_alternative: bool = False, ranked: dict | None = None,
+              inertia_number: str = "") -> dict:
     """Newton by component, I_P per element and the generalized Euler equation about ``point`` with the
     inertial term apart, the unknowns that drop out, and why this point (the advisor's reason);
     ``shows_alternative``: the paper shows the advisor's point too, after the equation of motion;
-    ``ranked``: :func:`ranked_points` of the system when the caller has it (default: ranked here)."""
+    ``ranked``: :func:`ranked_points` of the system when the caller has it (default: ranked here);
+    ``inertia_number``: the article's equation for this I_P (:func:`printed_number`), cited beside
+    Eq. (12), the parallel-axis rule each term follows."""
     from solver.explain import explain
 
     # the per-body steps are what the paper shows (its kinematics are example_steps')
@@ -493,11 +673,18 @@ def explained(system, point: str, at_rest: bool, shows_alternative: bool = False
     best = min(ranked.values(), key=lambda c: c.key)
     return {
         "newton": newton,
-        "inertia": terms_shown(euler_step.equation("inertia")),
+        "inertia": _cited(terms_shown(euler_step.equation("inertia")), inertia_number),
         "euler": at(euler_step.equation("euler")),
         "dropped": [name_text(t) for t in section.step("dropped").text],
         **point_choice(ranked, point, best, shows_alternative),
     }
+
+
+def _cited(eq: Shown, number: str) -> Shown:
+    """The per-element I_P display citing the article's own equation for it, then Eq. (12)."""
+    if number and number != "12":
+        eq.ref = f"Eq. ({number}); each term by {eq.ref}" if eq.ref else f"Eq. ({number})"
+    return eq
 
 
 def point_choice(ranked: dict, point: str, best, shows_alternative: bool = False) -> dict:

@@ -20,7 +20,8 @@ settings.load_profile("ci" if os.environ.get("CI") else "default")
 # The files whose tests read the report build (``reports.make_report.build_cached``: one build per
 # process, about 15 s of CPU). Under ``--dist loadfile`` (make test) they go to one worker as one
 # unit, so the session builds the report once instead of once per worker.
-REPORT_BUILD_FILES = frozenset({"tests/test_report.py", "tests/test_browser.py", "tests/test_drawing.py"})
+REPORT_BUILD_FILES = frozenset({"tests/test_report.py", "tests/test_browser.py", "tests/test_drawing.py",
+                                "tests/test_report_text.py"})
 # The costliest units first (CPU seconds of each file, measured serially with a per-test
 # process-time hook, 23 November 2026: report build group ~22 (browser 8, drawing 8, report 6),
 # explain ~16, routes ~15, extremes ~10, display ~10, multibody scenes ~9, multibody properties ~8,

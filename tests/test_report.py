@@ -144,7 +144,8 @@ def test_verification_json_schema_and_required_rows(verification):
     ids = [row["id"] for row in verification]
     assert len(ids) == len(set(ids)), "duplicate ids"
     for row in verification:
-        assert set(row) == {"id", "kind", "published", "computed", "verdict", "detail"}, row
+        assert set(row) == {"id", "kind", "published", "published_text", "published_unit", "computed",
+                            "computed_unit", "tolerance", "verdict", "detail"}, row
         assert row["kind"] in KINDS and row["verdict"] in VERDICTS, row
         assert isinstance(row["detail"], str) and row["detail"], row
     present = set(ids)
@@ -433,7 +434,8 @@ def test_paper_shows_the_inertial_term_apart_in_both_outputs(built):
     tex = (out / "paper.tex").read_text(encoding="utf-8")
     for text in (html_text, tex):
         # the labels under the terms, with a minus sign (not a hyphen): Example 1 about A, Example 2 about P and C
-        assert text.count("inertial term \u2212r") >= 3
+        # (paper.tex writes the minus sign as pdflatex sets it: \ensuremath{-})
+        assert text.count("inertial term \u2212r") + text.count("inertial term \\ensuremath{-}r") >= 3
         assert "I_G of disk" in text or r"I\_G of disk" in text
         assert "one-step alternative about C" in text
         assert "y component" in text and "x component" in text
