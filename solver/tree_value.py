@@ -7,7 +7,9 @@ the point advisor), in double-precision complex arithmetic, and the report's
 numeric equation checks (:mod:`reports.equations`), in mpmath at the working
 precision. One walk serves both; an :class:`Arithmetic` says how numbers of
 each kind are made, added, multiplied and raised, and which functions it
-knows. Shared subtrees are evaluated once (``memo``).
+knows. Shared subtrees are evaluated once (``memo``). The same expressions at
+many points (the report's zero test) are walked once into a program
+(:func:`tree_program`), which then costs only the arithmetic per point.
 
 A node the walk does not know raises :class:`NotEvaluable`; the caller then
 falls back to sympy (``evalf``, or ``lambdify``).
