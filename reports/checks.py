@@ -262,17 +262,18 @@ def _scene_quantity(scene, name: str):
     return None
 
 
-def _lambdify_units(expr: sp.Expr, scene, extra: dict):
-    """Evaluate a parameter expression with pint quantities (units follow)."""
+def _lambdify_units(exprs: list, scene, extra: dict) -> list:
+    """Evaluate parameter expressions with pint quantities (units follow), all in one generated
+    function (each expression's arithmetic as when generated alone)."""
     values = {sp.Symbol(n, real=True): q for n, q in scene.parameters.items()}
     values.update(extra)
-    symbols = sorted(expr.free_symbols, key=lambda s: s.name)
-    missing = [s for s in symbols if s not in values]
-    if missing:
-        raise ReportInputError(f"cannot evaluate {sp.sstr(expr)}: no value for {', '.join(map(str, missing))}")
-    fn = sp.lambdify(symbols, expr, modules="numpy")
-    result = fn(*[values[s] for s in symbols])
-    return result if isinstance(result, ureg.Quantity) else Q_(float(result), "")
+    symbols = sorted(set().union(*(e.free_symbols for e in exprs)), key=lambda s: s.name)
+    for expr in exprs:
+        missing = sorted((s for s in expr.free_symbols if s not in values), key=lambda s: s.name)
+        if missing:
+            raise ReportInputError(f"cannot evaluate {sp.sstr(expr)}: no value for {', '.join(map(str, missing))}")
+    fn = sp.lambdify(symbols, list(exprs), modules="numpy")
+    return [r if isinstance(r, ureg.Quantity) else Q_(float(r), "") for r in fn(*[values[s] for s in symbols])]
 
 
 def _system_values(eqset: EquationSet, key: str, scene, deriv) -> tuple[dict, dict]:
@@ -336,21 +337,31 @@ def example1_value_checks(values_path: Path, eqset: EquationSet, scene, deriv, s
     prefix = system_key or "eq29"
     unknowns = list(system.get("unknowns", []))
     row_names = list(system.get("rows", {}))
+    # every printed coefficient's exact value, and its derivative by each rounded datum it holds
+    needed = {}
+    for row in row_names:
+        for column in unknowns + ["rhs"]:
+            if f"{prefix}-{row}-{column}" in published:
+                expression = coefficients[(row, column)]
+                needed[(row, column)] = expression
+                for name in rounded_data:
+                    symbol = sp.Symbol(name, real=True)
+                    if expression.has(symbol):
+                        needed[(row, column, name)] = sp.diff(expression, symbol)
+    with_units = dict(zip(needed, _lambdify_units(list(needed.values()), scene, state))) if needed else {}
     for row in row_names:
         for column in unknowns + ["rhs"]:
             key = f"{prefix}-{row}-{column}"
             entry = published.get(key)
             if entry is None:
                 continue
-            expression = coefficients[(row, column)]
-            computed_q = _lambdify_units(expression, scene, state)
+            computed_q = with_units[(row, column)]
             unit = _unit(entry.get("implied_unit") or entry["unit"])
             data_effect = 0.0
             data_used = []
             for name, (h_q, data_key) in rounded_data.items():
-                symbol = sp.Symbol(name, real=True)
-                if expression.has(symbol):
-                    effect = _lambdify_units(sp.diff(expression, symbol), scene, state) * h_q
+                if (row, column, name) in with_units:
+                    effect = with_units[(row, column, name)] * h_q
                     try:
                         data_effect += abs(float(effect.to(unit).magnitude))
                         data_used.append(data_key)

@@ -40,7 +40,7 @@ import sympy as sp
 from reports.mathml import expr_text
 from reports.published import ReportInputError, Transcription
 from solver.expressions import parse_expression
-from solver.tree_value import NotEvaluable, mpmath_arithmetic, tree_value
+from solver.tree_value import NotEvaluable, mpmath_arithmetic, tree_program
 
 __all__ = ["EquationOutcome", "DerivedQuantities", "check_equation", "is_zero"]
 
@@ -308,22 +308,18 @@ def _ninety_sevenths(prec: int) -> tuple:
         return tuple(mpmath.mpf(n) / 97 for n in range(182))
 
 
-def _evaluator(ordered: list, exprs: list):
-    """f(*args) -> [mpmath values of exprs] at args (mpf, in the order of ``ordered``): the tree
-    walked directly (:func:`solver.tree_value.tree_value` in mpmath), or through lambdify once a
-    node turns out not to be one the walk knows."""
-    fallback: list = []
-    arithmetic = mpmath_arithmetic()
-
-    def evaluate(*args):
-        if not fallback:
-            point, memo = dict(zip(ordered, args)), {}
-            try:
-                return [tree_value(e, point, arithmetic, memo) for e in exprs]
-            except NotEvaluable:
-                fallback.append(sp.lambdify(ordered, exprs, modules="mpmath"))
-        return fallback[0](*args)
-    return evaluate
+def _evaluator(exprs: list) -> tuple:
+    """(f, ordered): f(*args) -> [mpmath values of exprs] at args (mpf, one per symbol of ``ordered``,
+    the expressions' free symbols by name): the trees walked once into a program
+    (:func:`solver.tree_value.tree_program` in mpmath) run at each point, or lambdify where a node
+    is not one the walk knows."""
+    try:
+        program, symbols = tree_program(exprs, mpmath_arithmetic())
+    except NotEvaluable:
+        ordered = sorted(set().union(*(e.free_symbols for e in exprs)), key=lambda s: s.name)
+        return sp.lambdify(ordered, exprs, modules="mpmath"), ordered
+    ordered = sorted(symbols, key=lambda s: s.name)
+    return (lambda *args: program(dict(zip(ordered, args)))), ordered
 
 
 def is_zero(expr: sp.Expr, scale_terms=(), seed: int = 0) -> tuple[bool, float]:
@@ -344,13 +340,9 @@ def is_zero(expr: sp.Expr, scale_terms=(), seed: int = 0) -> tuple[bool, float]:
     """
     expr = sp.sympify(expr)
     scale_terms = [sp.sympify(t) for t in scale_terms]
-    symbols = set(expr.free_symbols)
-    for term in scale_terms:
-        symbols |= term.free_symbols
-    ordered = sorted(symbols, key=lambda s: s.name)
     # mpmath at _DIGITS digits, the (already parsed) sympy tree evaluated directly: one walk gives the
     # residual and the scale terms.
-    fn = _evaluator(ordered, [expr, *(scale_terms or [sp.Integer(1)])])
+    fn, ordered = _evaluator([expr, *(scale_terms or [sp.Integer(1)])])
     worst = 0.0
     tried = attempt = 0
     with mpmath.workdps(_DIGITS):
@@ -430,10 +422,9 @@ def _varies(expr: sp.Expr, seed: int = 0) -> bool:
     """True when ``expr`` takes clearly different values at two random points (so it is not a
     constant and sympy's slow ``simplify`` need not be asked); False when it may be constant
     or could not be evaluated."""
-    symbols = sorted(expr.free_symbols, key=lambda s: s.name)
+    fn, symbols = _evaluator([expr])
     if not symbols:
         return False
-    fn = _evaluator(symbols, [expr])
     values = []
     with mpmath.workdps(_DIGITS):
         for attempt in range(4):

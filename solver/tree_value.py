@@ -7,7 +7,9 @@ the point advisor), in double-precision complex arithmetic, and the report's
 numeric equation checks (:mod:`reports.equations`), in mpmath at the working
 precision. One walk serves both; an :class:`Arithmetic` says how numbers of
 each kind are made, added, multiplied and raised, and which functions it
-knows. Shared subtrees are evaluated once (``memo``).
+knows. Shared subtrees are evaluated once (``memo``). The same expressions at
+many points (the report's zero test) are walked once into a program
+(:func:`tree_program`), which then costs only the arithmetic per point.
 
 A node the walk does not know raises :class:`NotEvaluable`; the caller then
 falls back to sympy (``evalf``, or ``lambdify``).
@@ -18,9 +20,11 @@ import cmath
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
+import mpmath
 import sympy as sp
 
-__all__ = ["Arithmetic", "DOUBLE", "mpmath_arithmetic", "NotEvaluable", "real_value", "substitute", "tree_value"]
+__all__ = ["Arithmetic", "DOUBLE", "mpmath_arithmetic", "NotEvaluable", "real_value", "substitute", "tree_value",
+           "tree_program"]
 
 
 class NotEvaluable(Exception):
@@ -141,6 +145,85 @@ def tree_value(expr: sp.Expr, point: dict, arithmetic: Arithmetic = DOUBLE, memo
     memo[expr] = value
     return value
 
+
+
+def tree_program(exprs: list, arithmetic: Arithmetic = DOUBLE) -> tuple[Callable[[dict], list], set]:
+    """(f, symbols): f(point) -> the values of ``exprs`` at ``point`` as :func:`tree_value` gives them (the same
+    operations on the same values in the same order), for evaluating the same expressions at many
+    points: the trees are walked once here, each distinct subtree given a slot, so that each point
+    costs only the arithmetic (no sympy hashing or dispatch per node and point).
+
+    The numbers of the trees are made by the arithmetic at the first call (at the working precision
+    then, as :func:`tree_value` makes them at each call; made again should it change). ``symbols``: the
+    symbols of the trees, which ``point`` must give (their free symbols: the trees the walk knows bind
+    none).
+
+    Raises
+    ------
+    NotEvaluable
+        As :func:`tree_value`, here and not at the call.
+    """
+    slots: dict = {}  # subtree -> its slot
+    steps: list = []  # per slot: (kind, what, argument slots)
+
+    def slot(expr) -> int:
+        found = slots.get(expr)
+        if found is not None:
+            return found
+        if expr.is_Symbol:
+            step = ("symbol", expr, ())
+        elif expr.is_Number:
+            step = ("number", expr, ())
+        elif expr.is_Add or expr.is_Mul:
+            step = ("total" if expr.is_Add else "product", None, tuple(slot(a) for a in expr.args))
+        elif expr.is_Pow:
+            base, exp = slot(expr.base), expr.exp
+            if exp.is_Integer:
+                step = ("integer power", int(exp), (base,))
+            elif exp == sp.S.Half:
+                step = ("sqrt", None, (base,))
+            else:
+                step = ("power", None, (base, slot(exp)))
+        elif type(expr) in arithmetic.functions and len(expr.args) == 1:
+            step = ("function", arithmetic.functions[type(expr)], (slot(expr.args[0]),))
+        elif expr.is_number and not expr.free_symbols:
+            step = ("number", expr, ())
+        else:
+            raise NotEvaluable(type(expr).__name__)
+        steps.append(step)
+        slots[expr] = len(steps) - 1
+        return slots[expr]
+
+    outputs = [slot(e) for e in exprs]
+    numbers: dict = {}  # working precision -> the numbers' values
+    total, product, sqrt, power = arithmetic.total, arithmetic.product, arithmetic.sqrt, arithmetic.power
+
+    def run(point: dict) -> list:
+        made = numbers.get(mpmath.mp.prec)
+        if made is None:
+            made = numbers[mpmath.mp.prec] = {k: arithmetic.number(what) for k, (kind, what, _) in enumerate(steps)
+                                               if kind == "number"}
+        values: list = []
+        for k, (kind, what, args) in enumerate(steps):
+            if kind == "symbol":
+                value = point[what]
+            elif kind == "number":
+                value = made[k]
+            elif kind == "total":
+                value = total(values[a] for a in args)
+            elif kind == "product":
+                value = product(values[a] for a in args)
+            elif kind == "integer power":
+                value = values[args[0]] ** what
+            elif kind == "sqrt":
+                value = sqrt(values[args[0]])
+            elif kind == "power":
+                value = power(values[args[0]], values[args[1]])
+            else:
+                value = what(values[args[0]])
+            values.append(value)
+        return [values[k] for k in outputs]
+    return run, {what for kind, what, _ in steps if kind == "symbol"}
 
 
 def real_value(value) -> float:

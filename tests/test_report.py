@@ -268,6 +268,33 @@ def test_the_tree_walk_evaluates_as_sympy_does():
     assert not is_zero(sp.sin(a) ** 2 + sp.cos(a) ** 2 - 1 + sp.Rational(1, 10**15), [sp.Integer(1)])[0]
 
 
+def test_the_compiled_tree_walk_gives_the_walks_numbers():
+    """solver.tree_value.tree_program (the zero test's trees walked once, run at each point) gives
+    tree_value's numbers to the last bit at every point, with shared subtrees and a precision change
+    between calls (its numbers made again), the trees' free symbols, and NotEvaluable for a node the
+    walk does not know (the zero test then falls back to lambdify). tree_value itself is held
+    against sympy's evalf above."""
+    import mpmath
+
+    from solver.tree_value import NotEvaluable, mpmath_arithmetic, tree_program, tree_value
+
+    a, b, c = sp.symbols("a b c", real=True)
+    shared = sp.sin(a - b) ** 2 / (c + sp.Rational(1, 3))
+    exprs = [shared * sp.cos(a) - sp.sqrt(c) * shared + sp.pi * a ** sp.Rational(3, 2),
+             sp.exp(-c) * sp.Abs(a - 2 * b) + shared ** 3 - sp.log(c) / 7, sp.Integer(5) / 3]
+    program, symbols = tree_program(exprs, mpmath_arithmetic())
+    assert symbols == {a, b, c}
+    for digits in (30, 45, 30):
+        with mpmath.workdps(digits):
+            for n in (1, 2, 3):
+                point = {a: mpmath.mpf(5 * n) / 7, b: mpmath.mpf(11) / (13 * n), c: mpmath.mpf(17) / 19 + n}
+                got = program(point)
+                want = [tree_value(e, point, mpmath_arithmetic(), {}) for e in exprs]
+                assert [mpmath.mpf(x)._mpf_ for x in got] == [mpmath.mpf(x)._mpf_ for x in want]
+    with pytest.raises(NotEvaluable):
+        tree_program([sp.besselj(a, b) + a], mpmath_arithmetic())
+
+
 def test_correcting_the_sign_of_F_a_makes_eq44_agree(equations):
     eqset, scenes, derivs = equations
     tr = next(e for e in eqset.equations if e.id == "eq44")
