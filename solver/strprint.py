@@ -207,7 +207,8 @@ class FastStrPrinter(_FastOrdering, StrPrinter):
         the other factors sorted by ``sort_key``."""
         args = expr.args
         if not expr.is_commutative or args[0] is sp.S.One or self.order not in (None, "lex") or any(
-                isinstance(a, sp.Number) or a.is_Pow and a.base.is_Integer and a.exp.is_Integer for a in args[1:]):
+                isinstance(a, sp.Number) or a.is_Mul or a.is_Pow and a.base.is_Integer and a.exp.is_Integer
+                for a in args[1:]):  # a product inside a product: sympy left it unflattened (-I**(3/2))
             return super()._print_Mul(expr)
         prec = self._precedence(expr)
         c, rest = (args[0], args[1:]) if args[0].is_Number else (sp.S.One, args)

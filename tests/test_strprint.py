@@ -109,6 +109,14 @@ def test_float_and_integer_kept_apart():
         "2*x", "2.0*x", "x/2", "0.5*x"]
 
 
+def test_product_left_inside_a_product():
+    # Found by the property above: sympy keeps -I**(3/2) as a product of its own inside another
+    # (-0.78*(-I**(3/2)) evaluated as built by a strategy's negation); its printer writes the
+    # factors of both as one list, and so must this one.
+    e = sp.Mul(sp.Float(-0.75), sp.Mul(-1, sp.I ** sp.Rational(3, 2), evaluate=False), evaluate=False)
+    assert sstr(e) == sp.sstr(e) == "-(-1)*0.75*I**(3/2)"
+
+
 def test_coefficient_among_powers_of_numbers():
     # The printer puts a product's coefficient first without sorting it among the factors: its sort
     # key is below every other factor's, also below a power of a number's (sqrt(2), 2**x, (1/2)**x:
