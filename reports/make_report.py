@@ -96,6 +96,7 @@ _LATEX_SPECIAL = {
     "²": r"\textsuperscript{2}",
     "·": r"\ensuremath{\cdot}",
     "±": r"\ensuremath{\pm}",
+    "\u2212": r"\ensuremath{-}",  # the minus sign of captions (solver.notation.typeset_text)
 }
 
 
