@@ -680,8 +680,8 @@ def place_labels(fig, axes) -> None:
     cut off by the figure's edge; overlapping a label placed before it on any of ``axes`` (with
     :data:`LABEL_PAD` clearance: a label may run past its panel, which has no background); lying on
     an arrow (its shaft or head); crossed by a line (a bar's or an arc's stroke, with its width); for
-    a point's label, further than :data:`NEXT_TO` from its dot (unless no place clear of the arrows
-    and lines is so near: then the nearest of those); not at least :data:`STRAY_MARGIN` nearer its own
+    a point's label, crossed by a ring, then further than :data:`NEXT_TO` from its dot (each only
+    when a place is not: the nearest place otherwise); not at least :data:`STRAY_MARGIN` nearer its own
     arrow or arc (dot) than any other label's (so that it cannot be read as naming another); crossed
     by a ring's outline; covering a point's dot or a filled shape's edge; then the nearest to its own
     arrow or arc (the nearest to its own place for other labels), and covering the fewest drawn points.
@@ -745,8 +745,8 @@ def _best_place(boxes, placed, groups: dict, own, others: list, rank, frame, nex
     :func:`_pooled`); ``own``: the points of the arrow or arc the label names (None: it names none),
     ``others`` those of the other labels'; ``rank``: each try's step from the label's own place;
     ``frame``: the figure's extents; ``next_to``: for a point's label (``own`` its dot), the farthest
-    from it [display pixels] a place is taken when one clear of the arrows and lines is so near (else
-    the nearest of those clear of them): a point's label is not put where another's would be.
+    from it [display pixels] a place is taken before farther ones, when one clear of the arrows,
+    lines and rings that does not stray is so near.
 
     The order's criteria are applied one at a time, each to the places the ones before left tied,
     and whether a place strays (the costliest test) is asked of the places in the order of the
@@ -761,9 +761,8 @@ def _best_place(boxes, placed, groups: dict, own, others: list, rank, frame, nex
     crossed = _covered(boxes[at], *groups["stroke"])
     keep = _least(crossed > 0)
     at, on_arrows, crossed = at[keep], on_arrows[keep], crossed[keep]
-    if next_to is not None:
-        near = _box_distance(boxes[at], own)
-        keep = near <= max(next_to, near.min())
+    if next_to is not None:  # a point's label: off the rings first (one around the point: outside it)
+        keep = _least(_covered(boxes[at], *groups["ring"]) > 0)
         at, on_arrows, crossed = at[keep], on_arrows[keep], crossed[keep]
     chosen = boxes[at]
     on_marks = _covered(chosen, *groups["mark"])
@@ -771,11 +770,13 @@ def _best_place(boxes, placed, groups: dict, own, others: list, rank, frame, nex
     if own is None:
         return int(at[np.lexsort((on_arrows + crossed + on_marks, rank[at], on_marks > 0, on_rings))[0]])
     near = _box_distance(chosen, own)
-    order = np.lexsort((on_arrows + crossed + on_marks, np.floor(near / OBSTACLE_STEP), on_marks > 0, on_rings))
+    far = near > max(next_to, near.min()) if next_to is not None else np.zeros(len(at), dtype=bool)
+    order = np.lexsort((on_arrows + crossed + on_marks, np.floor(near / OBSTACLE_STEP), on_marks > 0, far, on_rings))
     clear = order[~on_rings[order]]
     # the first place in this order that does not stray; off the rings, one nearer its own by half the
-    # margin is taken before one on a ring
-    for places, margin in ((clear, STRAY_MARGIN), (clear, STRAY_MARGIN / 2), (order, STRAY_MARGIN)):
+    # margin is taken before one on a ring; when every place strays, the first merely nearer its own
+    passes = [(clear, STRAY_MARGIN), (clear, STRAY_MARGIN / 2)] if len(clear) < len(order) else []
+    for places, margin in passes + [(order, STRAY_MARGIN), (order, 0.0)]:
         for start in range(0, len(places), _STRAY_BATCH):
             batch = places[start:start + _STRAY_BATCH]
             reach = near[batch] + margin
@@ -784,8 +785,6 @@ def _best_place(boxes, placed, groups: dict, own, others: list, rank, frame, nex
                 stray |= _box_distance(chosen[batch], other) < reach
             if not stray.all():
                 return int(at[batch[np.argmin(stray)]])
-        if len(places) == len(order):
-            break
     return int(at[order[0]])  # every place strays
 
 
