@@ -475,6 +475,10 @@ def _turns_with(system, body: str, c):
     return sp.cancel(sp.diff(system.angle(body), system.t) / speed) if speed != 0 else sp.nan
 
 
+ARC_LENGTH = 0.08
+"""Least length of a coordinate's arc, as a fraction of the scene's span (about 3 arrowheads)."""
+
+
 def _angle_mark(system, c, value, shapes, poses, span):
     for name, body in system.bodies.items():
         rate = _turns_with(system, name, c)
@@ -494,9 +498,13 @@ def _angle_mark(system, c, value, shapes, poses, span):
             axis = 0.0
         end = phi + axis
         start = end - int(rate) * value
+        # a small angle's arc drawn further out, so that it is longer than its arrowhead (QA10: theta's
+        # 10 deg arc at 0.16 span was all head, on the bar), within the bar and 0.4 span
+        longest = min(0.4 * span, 0.9 * dims["length"]) if bar is not None else 0.4 * span
+        radius = min(max(0.16 * span, ARC_LENGTH * span / max(abs(end - start), 1e-9)), max(longest, 0.16 * span))
         return DrawnItem("coordinate", _mark_name(c), tuple(centre.tolist()), turn=1 if end >= start else -1, body=name,
                          name=c.name, value=math.degrees(value), unit="deg",
-                         shape={"type": "arc", "centre": centre.tolist(), "radius": 0.16 * span,
+                         shape={"type": "arc", "centre": centre.tolist(), "radius": radius,
                                 "start": start, "end": end})
     return None
 

@@ -310,7 +310,8 @@ def render_scene(ax, items: list[DrawnItem], bodies: list[str], title: str = "",
                 _arc(ax, s["centre"], s["radius"], s["start"], s["end"], "0.15", i.label, arrow=abs(s["end"] - s["start"]) > 0.05)
                 ref = s["start"]
                 c = np.array(s["centre"])
-                ax.plot([c[0], c[0] + 1.6 * s["radius"] * math.cos(ref)], [c[1], c[1] + 1.6 * s["radius"] * math.sin(ref)],
+                out = min(1.6 * s["radius"], s["radius"] + 0.1 * span)  # the reference line, just past the arc
+                ax.plot([c[0], c[0] + out * math.cos(ref)], [c[1], c[1] + out * math.sin(ref)],
                         color="0.4", linewidth=0.7, linestyle=":", zorder=3)
             elif s["type"] == "dimension":
                 a, b = np.array(s["ends"][0]), np.array(s["ends"][1])
@@ -611,7 +612,8 @@ def _drawn_points(ax) -> list:
     """Display points along what is drawn on ``ax``, which labels avoid covering: one
     ``(artist, points, pad, kind)`` per line or patch, ``pad`` [pixels] half its stroke's width
     (a bar is 5 points wide: a label clear of its centre line may still lie on its stroke), ``kind``
-    ``arrow`` (a force's or an arc's), ``stroke`` (a line: a bar, a body's frame, an arc, a guide),
+    ``arrow`` (a force's or an arc's), ``stroke`` (a line: a bar, a body's frame, an arc, a guide and
+    its hatching),
     ``ring`` (a circle's outline, not filled: a ring, a rim, a circular guide) or ``mark`` (a point's
     dot, pad its radius; a filled shape's edge)."""
     def along(a, b):  # a point every OBSTACLE_STEP pixels: no label slips between two of them
@@ -627,6 +629,11 @@ def _drawn_points(ax) -> list:
             out.append((line, pts, 0.5 * line.get_linewidth() * to_pixels, "stroke"))
         else:  # a dot: its marker's radius
             out.append((line, pts, 0.5 * max(line.get_markersize(), line.get_linewidth()) * to_pixels, "mark"))
+    for lines in ax.collections:  # a guide's hatching
+        if isinstance(lines, LineCollection) and len(lines.get_segments()):
+            xy = [lines.get_transform().transform(np.asarray(seg, float)) for seg in lines.get_segments()]
+            pts = np.vstack([along(a, b) for seg in xy for a, b in zip(seg[:-1], seg[1:])])
+            out.append((lines, pts, 0.5 * float(np.max(lines.get_linewidths())) * to_pixels, "stroke"))
     for patch in ax.patches:
         if isinstance(patch, FancyArrowPatch) and getattr(patch, "_posA_posB", None):
             a, b = (ax.transData.transform(np.array(p, float)) for p in patch._posA_posB)
