@@ -1046,3 +1046,23 @@ def test_paper_figures_titles_heads_and_notation(name, scene_file, body, number,
     for ascii_name in ("theta", "alpha", "phi", "-m a_", "-I_"):
         assert ascii_name not in words, f"{name}: {ascii_name!r} written in ASCII"
     assert f"\u2212m a_{point}" in result.caption and f"\u2212I_{point} \u03b1" in result.caption
+
+
+# A coordinate's arc ends in a "-|>" head at mutation scale 10 pt: 4 pt long. Its drawn line must be
+# at least 1.5 heads long, or the mark is all head (QA10: Figure 3's 10 deg theta arc was 5.2 px at
+# 100 dpi under a 5.6 px head, on the bar; Figure 1's phi 4.0 px).
+COORDINATE_HEAD_PT = 4.0
+
+
+@pytest.mark.parametrize("name, scene_file, body, number", PAPER_SCENE_FIGURES)
+def test_paper_figures_coordinate_arcs_are_more_than_their_heads(name, scene_file, body, number, monkeypatch):
+    from matplotlib.colors import to_hex
+
+    figure, _ = _paper_figure(scene_file, name, number, body, monkeypatch)
+    ax = [a for a in figure.axes if a.get_visible()][0]
+    arcs = [line for line in ax.lines if len(line.get_xdata()) == 39 and to_hex(line.get_color()) == to_hex("0.15")]
+    assert arcs, f"{name}: no coordinate arc drawn"
+    for line in arcs:
+        xy = ax.transData.transform(np.column_stack(line.get_data()).astype(float))
+        length = float(np.sum(np.linalg.norm(np.diff(xy, axis=0), axis=1)))
+        assert length >= 1.5 * COORDINATE_HEAD_PT * figure.dpi / 72, f"{name}: a coordinate's arc {length:.1f} px"
