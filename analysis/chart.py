@@ -137,7 +137,10 @@ def _draw_bars(ax, bars, scale, wrap: int) -> float:
             ax.text(hi + 1.5, yi, f"{a}%", ha="left", va="center", fontsize=7,
                     color=_POS[0], fontweight="bold")
     ax.set_yticks(y, names, fontsize=8)
-    ax.axvline(0, color="black", linewidth=0.8)
+    # the grid and the centre line behind the bars: drawn over them they ran through the count
+    # labels (the 0 % line through every neutral count, a grid line through every count)
+    ax.set_axisbelow(True)
+    ax.axvline(0, color="black", linewidth=0.8, zorder=0.9)
     ax.set_xlim(-115, 115)
     ticks = np.arange(-100, 101, 25)
     ax.set_xticks(ticks, [f"{abs(t):.0f}%" for t in ticks], fontsize=8)

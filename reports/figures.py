@@ -26,6 +26,7 @@ from scipy.integrate import solve_ivp  # noqa: E402
 
 from reports.vector_pair import svg_and_pdf  # noqa: E402
 from solver.drawing.layout import MeasuredLayout  # noqa: E402
+from solver.notation import typeset_text  # noqa: E402
 from solver.units import Q_  # noqa: E402
 
 __all__ = ["FigureResult", "svg_text", "example1_release_sweep", "example2_free_motion", "likert_chart",
@@ -129,14 +130,14 @@ def example1_release_sweep(scene, deriv, n: int = 400) -> FigureResult:
         ax_r.set_ylabel(f"reaction [{force_unit}]")
         ax_r.legend(loc="best", fontsize=8)
         alpha = result["alpha"]
-        ax_a.plot(deg, alpha, color="tab:red", label="alpha")
+        ax_a.plot(deg, alpha, color="tab:red", label="α")
         ax_a.axvline(released, color="grey", linestyle="--", linewidth=0.8)
-        ax_a.set_ylabel("alpha [rad/s²]")
-        ax_a.set_xlabel("release angle theta [deg] (from rest)")
+        ax_a.set_ylabel("α [rad/s²]")
+        ax_a.set_xlabel("release angle θ [deg] (from rest)")
         facts["alpha_at_release"] = float(at["alpha"][0])
         fig.suptitle("Example 1: reactions and angular acceleration at release", fontsize=10)
     caption = (
-        f"Example 1, released from rest: reactions (in {force_unit}) and the angular acceleration alpha "
+        f"Example 1, released from rest: reactions (in {force_unit}) and the angular acceleration α "
         f"against the release angle, computed by the solver about A. The dashed line marks the paper's "
         f"release angle, {released:.0f} deg."
     )
@@ -205,14 +206,14 @@ def example2_free_motion(scene, deriv, amplitude: float, omega_n: float, periods
         ax, ax_d = fig.subplots(2, 1, sharex=True, height_ratios=[2, 1])
         ax.plot(t, np.degrees(exact), label="nonlinear equation of motion (solve_ivp)")
         ax.plot(t, np.degrees(linear), linestyle="--", label="linear model (Eq. 46)")
-        ax.set_ylabel("theta [deg]")
+        ax.set_ylabel("θ [deg]")
         # above the axes, not over them: the curves reach their maxima at every period, so no corner is free
         ax.legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=2, fontsize=8, frameon=False)
         ax_d.plot(t, np.degrees(exact - linear), color="tab:purple")
         ax_d.set_ylabel("difference [deg]")
         ax_d.set_xlabel("time t [s]")
         fig.suptitle(
-            f"Example 2: free motion from rest at theta_0 = {math.degrees(amplitude):.0f} deg", fontsize=10
+            f"Example 2: free motion from rest at θ₀ = {math.degrees(amplitude):.0f} deg", fontsize=10
         )
     facts = {
         "amplitude_deg": math.degrees(amplitude),
@@ -240,6 +241,14 @@ PAPER_SCENE_FIGURES = (
     ("figure3_disk_bar", "disk_bar.toml", None, 3),
 )
 """The paper's Figures 1-3, each redrawn from its scene with a free-body diagram."""
+
+PAPER_SCENE_TITLES = {
+    1: "Slider-crank: crank OA, connecting rod AB, piston B",
+    2: "Example 1: bar AB sliding on two rails",
+    3: "Example 2: rolling disk with a bar hung from its centre",
+}
+"""The configuration panel's title of each of the paper's Figures 1-3, by number (the scene's
+description, long, is in the caption)."""
 
 
 def scene_figure(path, name: str, number: int, body: str | None = None, point: str | None = None,
@@ -279,7 +288,7 @@ def scene_figure(path, name: str, number: int, body: str | None = None, point: s
     with rc_context(RC):
         fig = Figure(figsize=(9.0, 3.8), layout=MeasuredLayout())
         ax_scene, ax_fbd = fig.subplots(1, 2)
-        draw_system(system, state, ax=ax_scene, arrange_labels=False)
+        draw_system(system, state, ax=ax_scene, arrange_labels=False, title=PAPER_SCENE_TITLES.get(number))
         fbd = draw_system(system, state, ax=[ax_fbd], fbd=True, point=point, bodies=[body], arrange_labels=False,
                           solution=solution)
         place_labels(fig, [ax_scene, ax_fbd])  # once, in the layout of the whole figure
@@ -289,7 +298,7 @@ def scene_figure(path, name: str, number: int, body: str | None = None, point: s
     elements = [e.name for e in system.bodies[body].elements]
     composite = (f"a composite of {len(elements)} elements ({', '.join(elements)})" if len(elements) > 1
                  else f"its element {elements[0]}")
-    caption = (
+    caption = typeset_text(
         f"Figure {number}, redrawn from data/scenes/{Path(path).name}: {system.description}, at "
         f"{state_text(system, state)}. Left, the configuration with its named points, guides and coordinates. "
         f"Right, the free-body diagram of {'the body' if len(system.bodies) == 1 else body}, {composite}, with the forces at this state: {'; '.join(real)}. "

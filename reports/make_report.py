@@ -96,7 +96,7 @@ _LATEX_SPECIAL = {
     "²": r"\textsuperscript{2}",
     "·": r"\ensuremath{\cdot}",
     "±": r"\ensuremath{\pm}",
-    "\u2212": r"\ensuremath{-}",  # minus sign
+    "\u2212": r"\ensuremath{-}",  # minus sign (also of captions: solver.notation.typeset_text)
     "×": r"\ensuremath{\times}",
     "\u2248": r"\ensuremath{\approx}",
     "°": r"\ensuremath{^\circ}",

@@ -16,6 +16,7 @@ from markupsafe import escape
 from sympy.printing.latex import LatexPrinter
 
 from solver.mathml import equation_mathml, mathml_text, to_mathml
+from solver.notation import name_text  # noqa: F401 (the one rule for Greek names in text and on figures)
 from solver.mathml import mathml_body as _mathml_body  # noqa: F401 (reports.paper prints term by term)
 from solver.mathml import wrap as _wrap
 from markupsafe import Markup
@@ -240,17 +241,6 @@ def latex_display(body: str, width: int = LINE_WIDTH) -> str:
 
 
 # -- an expression in running text ---------------------------------------------------------------
-_GREEK = {"alpha": "\u03b1", "beta": "\u03b2", "theta": "\u03b8", "phi": "\u03c6", "omega": "\u03c9", "psi": "\u03c8"}
-_ACCENT = {"_ddot": "\u0308", "_dot": "\u0307"}
-_NAME = re.compile(r"\b(alpha|beta|theta|phi|omega|psi)(_ddot|_dot)?\b")
-
-
-def name_text(text: str) -> str:
-    """Symbol names of the solver in a sentence as the paper writes them: ``theta_ddot`` as θ̈
-    (theta with a combining diaeresis), ``omega`` as ω; other names unchanged."""
-    return _NAME.sub(lambda m: _GREEK[m.group(1)] + _ACCENT.get(m.group(2) or "", ""), text)
-
-
 def expr_text(expr: sp.Basic) -> str:
     """An expression for running text, in the paper's notation rather than code: products with a
     middle dot, squares as ², a minus sign −, Greek letters and dotted rates (:func:`name_text`)."""

@@ -8,7 +8,7 @@ import re
 
 import sympy as sp
 
-__all__ = ["rate_latex_names", "dotted_latex"]
+__all__ = ["rate_latex_names", "dotted_latex", "name_text", "typeset_text"]
 
 _SUBSCRIPTED = re.compile(r"(?P<nucleus>\\?[A-Za-z]+)(?P<sub>_\{.*\})")
 
@@ -35,3 +35,26 @@ def rate_latex_names(coordinates) -> dict:
         names[c.qd] = dotted_latex(c.q, "dot")
         names[c.qdd] = dotted_latex(c.q, "ddot")
     return names
+
+
+# -- names in running text and on figures ---------------------------------------------------------
+_GREEK = {"alpha": "\u03b1", "beta": "\u03b2", "theta": "\u03b8", "phi": "\u03c6", "omega": "\u03c9", "psi": "\u03c8"}
+_ACCENT = {"_ddot": "\u0308", "_dot": "\u0307"}
+_NAME = re.compile(r"\b(alpha|beta|theta|phi|omega|psi)(_ddot|_dot)?\b")
+
+
+def name_text(text: str) -> str:
+    """Symbol names of the solver in a sentence as the paper writes them: ``theta_ddot`` as θ̈
+    (theta with a combining diaeresis), ``omega`` as ω; other names unchanged."""
+    return _NAME.sub(lambda m: _GREEK[m.group(1)] + _ACCENT.get(m.group(2) or "", ""), text)
+
+
+def typeset_text(text: str) -> str:
+    """A caption's or a figure label's text in the paper's notation: the names as :func:`name_text`
+    writes them, and a minus sign (U+2212) for a hyphen that starts a term or a number (``-m a_A``,
+    ``|-I_A alpha|``, ``= -5.6 deg``), not one inside a word (``free-body``).
+
+    >>> typeset_text("|-I_A alpha| = 1 N, phi_dot = -2 rad/s, free-body")
+    '|\u2212I_A \u03b1| = 1 N, \u03c6\u0307 = \u22122 rad/s, free-body'
+    """
+    return name_text(re.sub(r"(^|[\s(|])-(?=[\w.])", "\\1\u2212", text))

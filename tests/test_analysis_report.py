@@ -154,3 +154,44 @@ def test_group_chart_keeps_a_long_group_label_inside_the_png(tmp_path, capsys):
     pixels = imread(png)
     assert pixels.shape[1] == 1275                  # 8.5 in at 150 dpi
     assert (pixels[:, :3, :3] == 1.0).all(), "something is drawn at the left edge"
+
+
+def test_count_labels_are_not_crossed_by_the_centre_line_or_the_grid():
+    """QA10 item 5: the 0 % line ran through the neutral counts ("14", "9", "9", "27") and, with the
+    report's grid, a grid line through every count. Drawn with the texts hidden, each count label's
+    box must hold nothing but its segment's fill: every pixel within 2 of that colour (antialiasing
+    touches only edges, and the box is shrunk by 1 pixel, the renderer's rounding)."""
+    import numpy as np
+    from matplotlib import rc_context
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.colors import to_rgba
+
+    answers = (["Neutral"] * 3 + ["Partially Agree"] * 6 + ["Definitely Agree"] * 11
+               + ["Partially Disagree"] * 2)
+    df = pd.DataFrame({"item1": answers, "item2": answers[::-1]})
+    with rc_context({"axes.grid": True, "grid.alpha": 0.3}):  # the report's grid (reports.figures.RC)
+        fig = diverging_bar(summarize(survey_from_frame(df)))
+        canvas = FigureCanvasAgg(fig)
+        canvas.draw()
+        ax = fig.axes[0]
+        renderer = canvas.get_renderer()
+        bars = [p for p in ax.patches if p.get_width() > 0]
+        counts = []
+        for t in ax.texts:
+            x, y = t.get_position()
+            under = [b for b in bars if b.get_x() < x < b.get_x() + b.get_width()
+                     and b.get_y() < y < b.get_y() + b.get_height()]
+            if under:  # a count inside its segment (the totals stand outside the bars)
+                counts.append((t.get_window_extent(renderer), under[0].get_facecolor()))
+        assert len(counts) >= 6  # three segments of two items, the neutral ones among them
+        for t in ax.texts:
+            t.set_visible(False)
+        canvas.draw()
+        image = np.asarray(canvas.buffer_rgba()).astype(int)
+    height = image.shape[0]
+    for box, colour in counts:
+        x0, x1 = int(np.ceil(box.x0)) + 1, int(np.floor(box.x1)) - 1
+        top, bottom = height - int(np.floor(box.y1)) + 1, height - int(np.ceil(box.y0)) - 1
+        fill = np.round(np.array(to_rgba(colour)[:3]) * 255)
+        patch = image[top:bottom, x0:x1, :3]
+        assert patch.size and np.abs(patch - fill).max() <= 2, f"a line crosses the count at {box.extents}"

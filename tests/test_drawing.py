@@ -11,6 +11,7 @@ times the sign of the solved value, reversed on the joint's first body.
 from __future__ import annotations
 
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -34,6 +35,10 @@ SCENES = sorted((ROOT / "data" / "scenes").glob("*.toml"))
 DIRECTION_TOL = 1e-9
 # Positions [m] likewise; the scenes are 0.01 m to 2 m across.
 POSITION_TOL = 1e-9
+# The coordinate names the drawings write as Greek letters, as the paper prints them
+GREEK = {"theta": "\u03b8", "phi": "\u03c6", "alpha": "\u03b1", "beta": "\u03b2", "psi": "\u03c8",
+         "omega": "\u03c9"}
+MINUS = "\u2212"
 
 
 def _value(expr, system, state) -> float:
@@ -106,8 +111,8 @@ def test_drawing_matches_the_scene(path):
     # every coordinate marked (a prescribed one too), every line guide drawn
     marked = {i.name for i in scene.of_kind("coordinate")}
     assert marked == {c.name for c in system.coordinates}, f"{path.name}: coordinates marked {marked}"
-    for i in scene.of_kind("coordinate"):
-        assert i.name in i.label
+    for i in scene.of_kind("coordinate"):  # by its name, a Greek one as the paper writes it (QA10 item 6)
+        assert GREEK.get(i.name, i.name) in i.label and not set(GREEK) & set(i.label.split()), i.label
     guides = {i.name for i in scene.of_kind("guide", "support")}
     for j in system.joints:
         if j.kind in ("rail", "slider", "pin_in_slot", "rolling", "rolling_on_circle", "cord") or \
@@ -168,7 +173,7 @@ def test_drawing_matches_the_scene(path):
     # the inertial force of Eq. 10, dashed, on every body
     for body in system.bodies:
         inertial = [i for i in fbd.on(body) if i.kind == "inertial"]
-        assert len(inertial) == 1 and inertial[0].label.startswith(f"|-m a_{fbd.point[body]}| = ")
+        assert len(inertial) == 1 and inertial[0].label.startswith(f"|{MINUS}m a_{fbd.point[body]}| = ")
         _assert_no_moment_about_P(fbd, points[(body, fbd.point[body])], body, path.name)
     _assert_sizes_in_labels(fbd, path.name)
     _assert_labels_apart(fbd.figure, path.name)
@@ -178,12 +183,32 @@ def test_drawing_matches_the_scene(path):
     _assert_labels_by_what_they_name(fbd, scene.items, path.name)
 
 
+def _four_figures(text: str, value: float) -> bool:
+    """Whether ``text`` writes ``value`` to 4 significant figures, its trailing zeros kept as the
+    other labels keep theirs (QA10: "|-m a_A| = 19.5 lbf" beside "|R_A| = 27.88 lbf"): 4 digits from
+    the first non-zero one, and within half a unit of the 4th figure of ``value`` (0 as "0")."""
+    if value == 0:
+        return text == "0"
+    digits = text.split("e")[0].replace(".", "").lstrip("0")
+    unit = 10.0 ** (math.floor(math.log10(abs(value))) - 3)
+    return len(digits) == 4 and digits.isdigit() and abs(float(text) - value) <= 0.5 * unit * (1 + 1e-12)
+
+
+def _size_of(label: str, name: str, unit: str) -> str:
+    """The size a label ``|name| = size unit`` writes (None when the label is not of that form)."""
+    import re
+
+    m = re.fullmatch(rf"(?:.*: )?\|{re.escape(name)}\| = (\S+) {re.escape(_written(unit))}", label)
+    return m and m.group(1)
+
+
 def _assert_sizes_in_labels(fbd, where):
     """The convention of the diagrams, stated under each of them: arrows (arcs) in the actual sense,
     labels ``|X| = size``: no label carries a sign, each gives the size of the value its item holds."""
     for item in fbd.items:
         if item.kind in ("force", "couple", "inertial", "inertial_couple"):
-            assert item.label.endswith(f"| = {abs(item.value):.4g} {_written(item.unit)}") and "= -" not in item.label, \
+            size = re.search(rf"\| = (\S+) {re.escape(_written(item.unit))}$", item.label)
+            assert size and _four_figures(size.group(1), abs(item.value)) and "= -" not in item.label, \
                 f"{where}: {item.label!r} (value {item.value})"
     for ax in fbd.figure.axes:
         if ax.get_visible():
@@ -505,9 +530,18 @@ def test_paper_figures_1_to_3_are_drawn_from_the_scenes(tmp_path_factory):
         figure = re.search(rf'<figure id="figure{n}">(.*?)</figure>', html, re.S)
         assert figure and "<svg" in figure.group(1), f"Figure {n} missing from paper.html"
         assert f"figures/{stem}.pdf" in tex and (out / "figures" / f"{stem}.pdf").stat().st_size > 1000
+    # the captions in the paper's notation in both outputs (QA10 item 6): θ (φ) and −m a_P in the HTML, as
+    # maths in the TeX (pdflatex knows no Unicode minus or Greek letter in text)
+    captions = re.findall(r"<figcaption>(Figure \d.*?)</figcaption>", html, re.S)
+    assert len(captions) == 3 and all(("\u03b8" in c or "\u03c6" in c) and "\u2212m a_" in c
+                                       and "theta" not in c and "phi" not in c for c in captions)
+    tex_captions = [line for line in tex.splitlines() if line.startswith("\\par\\medskip{\\small Figure")]
+    assert len(tex_captions) == 3 and all(("\\ensuremath{\\theta}" in c or "\\ensuremath{\\phi}" in c) and "\\ensuremath{-}m a" in c
+                                          and "\u2212" not in c and "theta =" not in c for c in tex_captions)
     rod = re.search(r'<figure id="figure1">(.*?)</figure>', html, re.S).group(1)
     for name in ("A_x", "A_y", "B_x", "B_y"):  # on the rod, sizes to 4 significant figures (the arrows give the sense)
-        assert f"|{name}| = {abs(solution.unknowns[name].magnitude):.4g} N" in rod
+        size = re.search(rf"\|{name}\| = (\S+) N", rod)
+        assert size and _four_figures(size.group(1), abs(solution.unknowns[name].magnitude)), name
 
 
 @pytest.mark.parametrize("name, scene_file, body, number", PAPER_SCENE_FIGURES)
@@ -615,7 +649,7 @@ def test_labels_give_sizes_and_arrows_the_sense_for_reactions_and_loads_alike():
     o_x = float(fbd.solution.unknowns["O_x"].to("N").magnitude)
     assert o_x < 0
     (item,) = [i for i in fbd.items if i.name == "O_x"]
-    assert item.label == f"|O_x| = {-o_x:.4g} N"
+    assert _four_figures(_size_of(item.label, "O_x", "N"), -o_x), item.label
     np.testing.assert_allclose(item.direction, [-1.0, 0.0], atol=DIRECTION_TOL)  # O_x < 0 on the bar: to the left
 
     # the damper by hand: E = L (sin th, -cos th), v_E = L th' (cos th, sin th), tension c u.(v_E - 0), u from S to E
@@ -625,7 +659,7 @@ def test_labels_give_sizes_and_arrows_the_sense_for_reactions_and_loads_alike():
     tension = c * float(u @ (L * th_dot * np.array([math.cos(th), math.sin(th)])))
     assert tension < 0  # the damper is being shortened: it pushes E away from S
     (item,) = [i for i in fbd.items if i.name == "damper_3"]
-    assert item.label == f"|damper_3| = {-tension:.4g} N"
+    assert _four_figures(_size_of(item.label, "damper_3", "N"), -tension), item.label
     np.testing.assert_allclose(item.direction, u, atol=DIRECTION_TOL)
     legend = fbd.figure.axes[0].get_xlabel()
     assert legend.startswith("Arrows and arcs: each force and couple in its actual sense at this state; |X| = its size.")
@@ -920,3 +954,115 @@ def test_animation_frames_keep_labels_off_each_other_and_the_bars(scene, t_end, 
     out = tmp_path / "run.gif"
     assert main(["simulate", str(MULTIBODY / scene), "--t-end", t_end, "--samples", "2", "--animate", str(out)]) == 0
     assert checked == [2, 3]  # each of the two frames, drawn after what never changes
+
+
+def _paper_figure(scene_file, name, number, body, monkeypatch):
+    """The matplotlib figure of one of the paper's Figures 1-3, as the report saves it."""
+    from reports import figures
+
+    drawn = []
+    keep = figures._result
+    monkeypatch.setattr(figures, "_result", lambda n, fig, *rest: drawn.append(fig) or keep(n, fig, *rest))
+    result = figures.scene_figure(ROOT / "data" / "scenes" / scene_file, name, number, body)
+    (figure,) = drawn
+    figure.canvas.draw()
+    return figure, result
+
+
+def _ring_outlines(ax):
+    """Each unfilled circle drawn on ``ax`` (a ring, a rim, a circular guide) as display points 1 pixel
+    apart or closer, with its stroke's half width [pixels] (the test's own route: centre and radius)."""
+    from matplotlib.patches import Circle
+
+    out = []
+    for p in ax.patches:
+        if isinstance(p, Circle) and not (p.get_fill() and p.get_facecolor()[3] > 0) and p.get_edgecolor()[3] > 0:
+            a = np.linspace(0, 2 * math.pi, 2000)
+            xy = np.column_stack([p.center[0] + p.radius * np.cos(a), p.center[1] + p.radius * np.sin(a)])
+            out.append((ax.transData.transform(xy), 0.5 * p.get_linewidth() * ax.figure.dpi / 72))
+    return out
+
+
+@pytest.mark.parametrize("name, scene_file, body, number", PAPER_SCENE_FIGURES)
+def test_paper_figures_labels_clear_rings_and_by_their_dots(name, scene_file, body, number, monkeypatch):
+    """QA10 item 5. No label is crossed by a ring's outline (Figure 1's "|-I_A alpha| = 10.03 N·m" lay
+    across the big-end ring at A: the stroke must clear the box by its half width, less the 1 pixel of
+    LABEL_OVERLAP_TOL); a point's label is nearer its own dot than any other point's ("G_crank" stood
+    above the ring at A, nearer A's dot than its own on OA), and no farther than 3 label heights."""
+    from solver.drawing.render import label_boxes
+
+    figure, _ = _paper_figure(scene_file, name, number, body, monkeypatch)
+    for ax in (a for a in figure.axes if a.get_visible()):
+        rings = _ring_outlines(ax)
+        dots = [ax.transData.transform(np.column_stack(line.get_data()).astype(float))[0] for line in ax.lines
+                if len(line.get_xdata()) == 1 and line.get_marker() == "o" and line.get_color() == "black"]
+        texts = [t for t in ax.texts if t.get_visible() and t.get_text()]
+        for t, box in zip(texts, label_boxes(ax)):
+            for pts, half in rings:
+                assert _to_box(box, pts) >= half - LABEL_OVERLAP_TOL, f"{name}: {t.get_text()!r} crossed by a ring"
+            if hasattr(t, "xy") and t.get_text() and t.get_fontsize() == 8:  # a point's name (8 pt, at its dot)
+                own = ax.transData.transform(np.array(t.xy, float))
+                gaps = [_to_box(box, d[None, :]) for d in dots]
+                mine = _to_box(box, own[None, :])
+                assert mine <= min(gaps) + 1e-9, f"{name}: {t.get_text()!r} is nearer another point's dot"
+                assert mine <= 3 * box.height, f"{name}: {t.get_text()!r} is {mine:.0f} px from its dot"
+
+
+# The head of a force arrow ("-|>" at mutation scale 11 pt) is 4.4 pt long and 2.2 pt wide each side;
+# a point's dot (marker 2.5 pt) has a radius of 1.25 pt. The arrow's end, its head and as much shaft
+# again, must clear every dot not at its tip by the two together, or the head sits on that dot.
+HEAD_LENGTH_PT = 4.4
+HEAD_CLEAR_PT = 2.2 + 1.25
+
+
+@pytest.mark.parametrize("name, scene_file, body, number", PAPER_SCENE_FIGURES)
+def test_paper_figures_titles_heads_and_notation(name, scene_file, body, number, monkeypatch):
+    """QA10 items 5 and 6. Panel titles are not the scene's file name ("disk_bar") nor
+    "free-body diagram (P = P)" but say which point the moments are taken about; no force arrow's
+    head ends on the dot of a point other than one at its tip (Figure 3's weight, drawn arriving at G,
+    ended on P's dot); the labels and the caption write θ, α, −m a_P, −I_P α, not theta, alpha, -m a_P."""
+    figure, result = _paper_figure(scene_file, name, number, body, monkeypatch)
+    system = load_system(ROOT / "data" / "scenes" / scene_file)
+    scene_ax, fbd_ax = [a for a in figure.axes if a.get_visible()]
+    assert scene_ax.get_title() not in (system.name, Path(scene_file).stem) and scene_ax.get_title()
+    point = result.facts["point"]
+    assert fbd_ax.get_title().lower().endswith(f"free-body diagram, moments about {point.lower()}"), fbd_ax.get_title()
+    from matplotlib.patches import FancyArrowPatch
+
+    dots = [fbd_ax.transData.transform(np.column_stack(line.get_data()).astype(float))[0] for line in fbd_ax.lines
+            if len(line.get_xdata()) == 1 and line.get_marker() == "o"]
+    ends = [tuple(fbd_ax.transData.transform(np.array(q, float)) for q in p._posA_posB)
+            for p in fbd_ax.patches if isinstance(p, FancyArrowPatch)]
+    longest = max(np.linalg.norm(b - a) for a, b in ends)
+    pixels = figure.dpi / 72
+    for a, b in ((a, b) for a, b in ends if np.linalg.norm(b - a) > 0.5 * longest):  # not an arc's head
+        end = _sample(b + 2 * HEAD_LENGTH_PT * pixels * (a - b) / np.linalg.norm(a - b), b)
+        for d in dots:
+            if np.linalg.norm(b - d) < 1e-6:
+                continue  # the arrow's own point, at its tip (a push)
+            gap = float(np.min(np.linalg.norm(end - d, axis=1)))
+            assert gap >= HEAD_CLEAR_PT * pixels, f"{name}: an arrow's head ends on a point's dot ({gap:.1f} px)"
+    words = " ".join(t.get_text() for ax in (scene_ax, fbd_ax) for t in ax.texts) + " " + result.caption
+    for ascii_name in ("theta", "alpha", "phi", "-m a_", "-I_"):
+        assert ascii_name not in words, f"{name}: {ascii_name!r} written in ASCII"
+    assert f"\u2212m a_{point}" in result.caption and f"\u2212I_{point} \u03b1" in result.caption
+
+
+# A coordinate's arc ends in a "-|>" head at mutation scale 10 pt: 4 pt long. Its drawn line must be
+# at least 1.5 heads long, or the mark is all head (QA10: Figure 3's 10 deg theta arc was 5.2 px at
+# 100 dpi under a 5.6 px head, on the bar; Figure 1's phi 4.0 px).
+COORDINATE_HEAD_PT = 4.0
+
+
+@pytest.mark.parametrize("name, scene_file, body, number", PAPER_SCENE_FIGURES)
+def test_paper_figures_coordinate_arcs_are_more_than_their_heads(name, scene_file, body, number, monkeypatch):
+    from matplotlib.colors import to_hex
+
+    figure, _ = _paper_figure(scene_file, name, number, body, monkeypatch)
+    ax = [a for a in figure.axes if a.get_visible()][0]
+    arcs = [line for line in ax.lines if len(line.get_xdata()) == 39 and to_hex(line.get_color()) == to_hex("0.15")]
+    assert arcs, f"{name}: no coordinate arc drawn"
+    for line in arcs:
+        xy = ax.transData.transform(np.column_stack(line.get_data()).astype(float))
+        length = float(np.sum(np.linalg.norm(np.diff(xy, axis=0), axis=1)))
+        assert length >= 1.5 * COORDINATE_HEAD_PT * figure.dpi / 72, f"{name}: a coordinate's arc {length:.1f} px"

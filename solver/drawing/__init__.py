@@ -13,7 +13,7 @@ import io
 import shutil
 from pathlib import Path
 
-__all__ = ["draw_system", "save_figure", "animate", "frame_indices", "check_animation_path", "FORMATS", "ANIMATION_FORMATS", "MAX_FRAMES", "check_format"]
+__all__ = ["draw_system", "scene_title", "fbd_title", "save_figure", "animate", "frame_indices", "check_animation_path", "FORMATS", "ANIMATION_FORMATS", "MAX_FRAMES", "check_format"]
 
 FORMATS = (".svg", ".png", ".pdf")
 """File formats of ``draw``, chosen by the output file's suffix."""
@@ -47,7 +47,7 @@ def check_format(path, allowed, flag: str) -> str:
 
 
 def draw_system(system, state=None, ax=None, fbd: bool = False, point: str | None = None, bodies=None,
-                arrange_labels: bool = True, solution=None):
+                arrange_labels: bool = True, solution=None, title: str | None = None):
     """Draw a scene at its state (or ``state``), or its free-body diagrams.
 
     Parameters
@@ -74,6 +74,9 @@ def draw_system(system, state=None, ax=None, fbd: bool = False, point: str | Non
     solution : solver.analyses.instant.InstantSolution, optional
         For ``fbd``: the system's solution about ``point`` when the caller has it already
         (:func:`solver.analyses.instant.solve_instant`); drawn at its state. Default: solved here.
+    title : str, optional
+        The scene drawing's title (default: the scene's description, wrapped, or its name when it
+        has none). A free-body diagram is titled by its body and point P (:func:`fbd_title`).
 
     Returns
     -------
@@ -110,7 +113,7 @@ def draw_system(system, state=None, ax=None, fbd: bool = False, point: str | Non
         if not fbd:
             if ax is None:
                 figure, (ax,) = render.new_figure(1, size=5.0)
-            render.render_scene(ax, scene, bodies, title=system.name)
+            render.render_scene(ax, scene, bodies, title=scene_title(system) if title is None else title)
             if arrange_labels:
                 render.place_labels(ax.figure, [ax])
             return Drawing(system.name, scene, figure=figure)
@@ -127,11 +130,25 @@ def draw_system(system, state=None, ax=None, fbd: bool = False, point: str | Non
             raise ValueError(f"`ax` must hold one Axes per body drawn ({len(panels)}), got {len(axes)}")
         for a, body in zip(axes, panels):
             render.render_fbd(a, scene, [f for f in forces if f.body == body], body, bodies,
-                              title=f"{body}: free-body diagram (P = {points[body]})")
+                              title=fbd_title(body, points[body], len(bodies)))
         if arrange_labels:
             render.place_labels(axes[0].figure, axes)  # labels off each other and off the bodies
     forces = [f for f in forces if f.body in panels]
     return Drawing(system.name, forces, fbd=True, panels=panels, point=points, figure=figure, solution=solution)
+
+
+def scene_title(system) -> str:
+    """A scene drawing's title: the scene's description (wrapped at 60 characters), else its name."""
+    import textwrap
+
+    return "\n".join(textwrap.wrap(system.description, 60)) if system.description else system.name
+
+
+def fbd_title(body: str, point: str, bodies: int) -> str:
+    """A free-body diagram's title: the moments' point P, and the body's name when the scene has
+    several (``rod: free-body diagram, moments about A``)."""
+    what = f"free-body diagram, moments about {point}"
+    return f"{body}: {what}" if bodies > 1 else what[0].upper() + what[1:]
 
 
 def figure_bytes(figure, suffix: str, dpi: int = DPI) -> bytes:

@@ -23,11 +23,12 @@ import numpy as np
 import sympy as sp
 
 from ..model.bodies import GROUND
+from ..notation import typeset_text
 from ..strprint import lambdify
 from ..tree_value import DOUBLE, NotEvaluable, real_value, tree_value
 
 __all__ = ["DrawnItem", "Drawing", "BodyShape", "scene_items", "free_body_items", "PoseFunction",
-           "body_shapes", "ZERO_FORCE", "CONVENTION", "size_label"]
+           "body_shapes", "ZERO_FORCE", "CONVENTION", "size_label", "figures_text"]
 
 CONVENTION = "Arrows and arcs: each force and couple in its actual sense at this state; |X| = its size."
 """The free-body diagrams' sign convention, written under every diagram: an arrow (a couple's arc)
@@ -450,8 +451,8 @@ def _coordinates(system, state, shapes, poses, span) -> list[DrawnItem]:
         if item is None:  # no body turns (or moves) with it alone: its value is written instead
             body = next(iter(shapes))
             where = shapes[body].position("G", poses[body]) if "G" in shapes[body].points else poses[body][0]
-            shown = f"{math.degrees(value):.4g} deg" if c.kind == "angle" else f"{value:.4g} m"
-            item = DrawnItem("coordinate", f"{_mark_name(c)} = {shown}", tuple(where.tolist()), name=c.name,
+            shown = f"{figures_text(math.degrees(value))} deg" if c.kind == "angle" else f"{figures_text(value)} m"
+            item = DrawnItem("coordinate", typeset_text(f"{_mark_name(c)} = {shown}"), tuple(where.tolist()), name=c.name,
                              value=math.degrees(value) if c.kind == "angle" else value,
                              unit="deg" if c.kind == "angle" else "m", shape={"type": "text"})
         items.append(item)
@@ -459,8 +460,10 @@ def _coordinates(system, state, shapes, poses, span) -> list[DrawnItem]:
 
 
 def _mark_name(c) -> str:
-    """A coordinate's label: its name, said to be prescribed when it is (a motor drives it)."""
-    return f"{c.name} (prescribed)" if c.prescribed else c.name
+    """A coordinate's label: its name as the paper writes it (theta as θ), said to be prescribed
+    when it is (a motor drives it)."""
+    name = typeset_text(c.name)
+    return f"{name} (prescribed)" if c.prescribed else name
 
 
 def _turns_with(system, body: str, c):
@@ -470,6 +473,10 @@ def _turns_with(system, body: str, c):
         return sp.diff(system.angle(body), c.q)
     speed = sp.diff(c.motion, system.t)
     return sp.cancel(sp.diff(system.angle(body), system.t) / speed) if speed != 0 else sp.nan
+
+
+ARC_LENGTH = 0.08
+"""Least length of a coordinate's arc, as a fraction of the scene's span (about 3 arrowheads)."""
 
 
 def _angle_mark(system, c, value, shapes, poses, span):
@@ -491,9 +498,13 @@ def _angle_mark(system, c, value, shapes, poses, span):
             axis = 0.0
         end = phi + axis
         start = end - int(rate) * value
+        # a small angle's arc drawn further out, so that it is longer than its arrowhead (QA10: theta's
+        # 10 deg arc at 0.16 span was all head, on the bar), within the bar and 0.4 span
+        longest = min(0.4 * span, 0.9 * dims["length"]) if bar is not None else 0.4 * span
+        radius = min(max(0.16 * span, ARC_LENGTH * span / max(abs(end - start), 1e-9)), max(longest, 0.16 * span))
         return DrawnItem("coordinate", _mark_name(c), tuple(centre.tolist()), turn=1 if end >= start else -1, body=name,
                          name=c.name, value=math.degrees(value), unit="deg",
-                         shape={"type": "arc", "centre": centre.tolist(), "radius": 0.16 * span,
+                         shape={"type": "arc", "centre": centre.tolist(), "radius": radius,
                                 "start": start, "end": end})
     return None
 
@@ -686,7 +697,9 @@ def _couple(kind, label, at, moment, body, name, value, unit) -> DrawnItem:
 
 
 def size_label(name: str, value: float, unit: str) -> str:
-    """The label of a drawn force or couple under :data:`CONVENTION`: ``|name| = size unit``.
+    """The label of a drawn force or couple under :data:`CONVENTION`: ``|name| = size unit``, the
+    size to 4 significant figures (:func:`figures_text`), in the paper's notation
+    (:func:`solver.notation.typeset_text`: -I_A alpha as −I_A α).
 
     Examples
     --------
@@ -695,11 +708,27 @@ def size_label(name: str, value: float, unit: str) -> str:
     >>> size_label("gravity: m g", 19.62, "N")
     'gravity: |m g| = 19.62 N'
     >>> size_label("M", 2.5, "N*m")
-    '|M| = 2.5 N\u00b7m'
+    '|M| = 2.500 N\u00b7m'
+    >>> size_label("-I_A alpha", -19.5, "N*m") == "|\u2212I_A \u03b1| = 19.50 N\u00b7m"
+    True
     """
     head, sep, symbol = name.rpartition(": ")
     unit = unit.replace("*", "\u00b7")  # a product of units as N·m, not code's N*m
-    return f"{head}{sep}|{symbol}| = {abs(value):.4g} {unit}"
+    return typeset_text(f"{head}{sep}|{symbol}| = {figures_text(abs(value))} {unit}")
+
+
+def figures_text(value: float, digits: int = 4) -> str:
+    """``value`` to ``digits`` significant figures with its trailing zeros: 19.50, not the 19.5 of
+    ``f"{value:.4g}"`` (the ``g`` format drops them, so one label showed 3 figures beside others'
+    4); a whole number without a trailing point (1235, not 1235.); zero as 0.
+
+    >>> figures_text(19.5), figures_text(1234.5), figures_text(0.0), figures_text(123456.0)
+    ('19.50', '1234', '0', '1.235e+05')
+    """
+    if value == 0:
+        return "0"
+    mantissa, e, exponent = f"{value:#.{digits}g}".partition("e")
+    return mantissa.rstrip(".") + e + exponent
 
 
 def _mark_zeros(items: list[DrawnItem]) -> list[DrawnItem]:

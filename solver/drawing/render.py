@@ -26,6 +26,7 @@ from matplotlib.figure import Figure  # noqa: E402
 from matplotlib.patches import Circle, FancyArrowPatch, Polygon, Rectangle, Wedge  # noqa: E402
 
 from .layout import MeasuredLayout, agg_renderer, fix_layout  # noqa: E402
+from ..notation import typeset_text  # noqa: E402
 from .model import CONVENTION, DrawnItem  # noqa: E402
 
 __all__ = ["new_figure", "render_scene", "render_fbd", "place_labels", "label_boxes", "fix_layout", "RC",
@@ -267,14 +268,15 @@ def _points(ax, items, bodies, span):
     for i in items:
         if i.kind != "point":
             continue
-        ax.plot(*i.anchor, "o", color="black", markersize=2.5, zorder=5)
+        (dot,) = ax.plot(*i.anchor, "o", color="black", markersize=2.5, zorder=5)
         here = next((p for p in places if math.dist(p[0], i.anchor) < 1e-3 * span), None)
         if here is None:
-            places.append([i.anchor, [i.label]])
+            places.append([i.anchor, [i.label], dot])
         elif i.label not in here[1]:
             here[1].append(i.label)
-    for anchor, names in places:
-        ax.annotate(", ".join(names), anchor, xytext=(4, 4), textcoords="offset points", fontsize=8, zorder=6)
+    for anchor, names, dot in places:
+        text = ax.annotate(", ".join(names), anchor, xytext=(4, 4), textcoords="offset points", fontsize=8, zorder=6)
+        text.alt_euler_dot = dot  # placed next to it (place_labels)
 
 
 def render_scene(ax, items: list[DrawnItem], bodies: list[str], title: str = "", faint: bool = False,
@@ -308,7 +310,8 @@ def render_scene(ax, items: list[DrawnItem], bodies: list[str], title: str = "",
                 _arc(ax, s["centre"], s["radius"], s["start"], s["end"], "0.15", i.label, arrow=abs(s["end"] - s["start"]) > 0.05)
                 ref = s["start"]
                 c = np.array(s["centre"])
-                ax.plot([c[0], c[0] + 1.6 * s["radius"] * math.cos(ref)], [c[1], c[1] + 1.6 * s["radius"] * math.sin(ref)],
+                out = min(1.6 * s["radius"], s["radius"] + 0.1 * span)  # the reference line, just past the arc
+                ax.plot([c[0], c[0] + out * math.cos(ref)], [c[1], c[1] + out * math.sin(ref)],
                         color="0.4", linewidth=0.7, linestyle=":", zorder=3)
             elif s["type"] == "dimension":
                 a, b = np.array(s["ends"][0]), np.array(s["ends"][1])
@@ -388,7 +391,20 @@ def _reads_as_one(seg, other, length) -> bool:
     return not (opposite and math.dist(a0, b0) <= TOUCH * length)
 
 
-def _arrow_place(at, direction, length, pushing, segments):
+def _head_on_dot(tail, tip, at, dots, length, segments=()) -> bool:
+    """Whether the head of arrow ``tail``-``tip`` (its last :data:`TOUCH` arrow lengths) ends on the
+    dot of a point other than the arrow's own point ``at``, or, moved off ``at``, on another arrow of
+    ``segments`` (within :data:`TOUCH` arrow lengths): it would read as acting there (disk_bar's
+    weight, drawn arriving at G, ended on P's dot; moved aside, on the shaft of -m a_P)."""
+    tail, tip = np.asarray(tail, float), np.asarray(tip, float)
+    back = tip + TOUCH * (tail - tip) / (float(np.linalg.norm(tail - tip)) or 1.0) * length
+    ends = [(np.asarray(d, float),) * 2 for d in dots if math.dist(d, at) > 1e-9 * length]
+    if math.dist(tip, at) > 1e-9 * length:  # (arriving at its own point it may meet an arrow leaving it)
+        ends += [tuple(np.asarray(p, float) for p in seg) for seg in segments]
+    return any(_segment_gap(back, tip, a, b) < TOUCH * length for a, b in ends)
+
+
+def _arrow_place(at, direction, length, pushing, segments, dots=()):
     """Where to draw a force's arrow: (tail, tip, sideways normal or None); recorded in ``segments``.
 
     Tried in order, the first that no earlier arrow would be read with (:func:`_reads_as_one`) wins:
@@ -409,13 +425,14 @@ def _arrow_place(at, direction, length, pushing, segments):
                 shift = side * step * SIDE_STEP * length * normal
                 tries.append(((tuple(np.add(way[0], shift)), tuple(np.add(way[1], shift))), side * normal))
     for (tail, tip), moved in tries:
-        if not any(_reads_as_one((tail, tip), other, length) for other in segments):
+        if not any(_reads_as_one((tail, tip), other, length) for other in segments) and \
+                not _head_on_dot(tail, tip, (x, y), dots, length, segments):
             break
     segments.append((tail, tip))
     return tail, tip, moved
 
 
-def _force_arrow(ax, item: DrawnItem, length, colour, dashed, tips, centre=None, segments=None):
+def _force_arrow(ax, item: DrawnItem, length, colour, dashed, tips, centre=None, segments=None, dots=()):
     direction = item.direction
     x, y = item.anchor
     span = length / 0.45
@@ -428,7 +445,7 @@ def _force_arrow(ax, item: DrawnItem, length, colour, dashed, tips, centre=None,
     # a force pushing towards the body's mass centre (within 60 deg): drawn ending at its point, from outside
     pushing = centre is not None and (centre[0] - x) * direction[0] + (centre[1] - y) * direction[1] > \
         0.5 * math.dist(centre, (x, y)) + 1e-9 * length
-    tail, tip, moved = _arrow_place((x, y), direction, length, pushing, [] if segments is None else segments)
+    tail, tip, moved = _arrow_place((x, y), direction, length, pushing, [] if segments is None else segments, dots)
     arrow = FancyArrowPatch(tail, tip, arrowstyle="-|>", mutation_scale=11, color=colour,
                             linewidth=1.6, linestyle="--" if dashed else "-", zorder=7)
     _add_patch(ax, arrow)
@@ -454,11 +471,13 @@ def render_fbd(ax, scene_items: list[DrawnItem], forces: list[DrawnItem], body: 
     centre = next((i.anchor for i in own if i.kind == "point" and i.name == "G"), None)
     tips: list = []
     segments: list = []  # the arrows drawn so far, (tail, tip)
-    for item in forces:  # the arrows first: the couples' arcs are placed clear of them
+    # the arrows first: the couples' arcs are placed clear of them; -m a_P first of all, leaving G as
+    # Eq. 10 draws it, so that no other arrow's head lands on it (disk_bar's weight did)
+    for item in sorted(forces, key=lambda i: i.kind != "inertial"):
         if item.kind in ("force", "inertial"):
             colour = INERTIAL_COLOUR if item.kind == "inertial" else FORCE_COLOUR
             _force_arrow(ax, item, length, colour, dashed=item.kind == "inertial", tips=tips, centre=centre,
-                         segments=segments)
+                         segments=segments, dots=[i.anchor for i in own if i.kind == "point"])
     arcs = _couple_places(forces, own, span, segments)
     for item in forces:
         if item.kind in ("force", "inertial"):
@@ -525,8 +544,26 @@ def _couple_places(forces: list[DrawnItem], own: list[DrawnItem], span: float, a
         else:
             taken.append([free, 1])
             centre, radius = free, r
-        out[id(item)] = (tuple(centre.tolist()), radius, math.radians(30 + 100 * k))
+        start = math.radians(30 + 100 * k)
+        ending = [(np.asarray(a, float), np.asarray(b, float)) for a, b in arrows]
+        inside = [(a, b) for a, b in ending if 1e-9 * span < np.linalg.norm(b - centre) < 1.5 * radius]
+        if inside:  # an arrow's head inside the arc: the arc's 90 degree gap turned to where its shaft
+            # comes in, the arc's tail beside it (its head, a quarter turn on, clear of the arrow's head)
+            enter = _entry(*inside[0], centre, radius)
+            start = math.atan2(*(enter - centre)[::-1]) + item.turn * math.pi / 8
+        out[id(item)] = (tuple(centre.tolist()), radius, start)
     return out
+
+
+def _entry(tail, tip, centre, radius) -> np.ndarray:
+    """Where segment ``tail``-``tip`` (its tip inside the circle) crosses the circle, nearest the tail
+    (the tail itself when it is inside too)."""
+    d, f = tip - tail, tail - centre
+    a, b, c = float(d @ d), 2 * float(f @ d), float(f @ f) - radius**2
+    disc = b * b - 4 * a * c
+    if a == 0 or disc < 0 or c <= 0:
+        return tail
+    return tail + (-b - math.sqrt(disc)) / (2 * a) * d
 
 
 ARC_CLEARANCE = 1.6
@@ -536,7 +573,7 @@ free: the arc (1 radius) and its label's line beside it."""
 
 def fbd_legend(forces: list[DrawnItem]) -> str:
     """The text under a free-body diagram: the sign convention of its labels and what is dashed."""
-    inertial = [i.name for i in forces if i.kind in ("inertial", "inertial_couple")]
+    inertial = [typeset_text(i.name) for i in forces if i.kind in ("inertial", "inertial_couple")]
     dashed = f"\nDashed: the inertial terms {' and '.join(inertial)} at G (Eq. 10)." if inertial else ""
     return CONVENTION.replace("$", r"\$") + dashed
 
@@ -575,8 +612,10 @@ def _drawn_points(ax) -> list:
     """Display points along what is drawn on ``ax``, which labels avoid covering: one
     ``(artist, points, pad, kind)`` per line or patch, ``pad`` [pixels] half its stroke's width
     (a bar is 5 points wide: a label clear of its centre line may still lie on its stroke), ``kind``
-    ``arrow`` (a force's or an arc's), ``stroke`` (a line: a bar, a body's frame, an arc, a guide) or
-    ``mark`` (a point's dot, a patch's outline)."""
+    ``arrow`` (a force's or an arc's), ``stroke`` (a line: a bar, a body's frame, an arc, a guide and
+    its hatching),
+    ``ring`` (a circle's outline, not filled: a ring, a rim, a circular guide) or ``mark`` (a point's
+    dot, pad its radius; a filled shape's edge)."""
     def along(a, b):  # a point every OBSTACLE_STEP pixels: no label slips between two of them
         n = max(2, int(np.linalg.norm(b - a) / OBSTACLE_STEP) + 1)
         return a + np.linspace(0, 1, n)[:, None] * (b - a)
@@ -586,16 +625,28 @@ def _drawn_points(ax) -> list:
     for line in ax.lines:
         xy = line.get_transform().transform(np.column_stack(line.get_data()).astype(float))
         pts = np.vstack([xy] + [along(a, b) for a, b in zip(xy[:-1], xy[1:])])
-        out.append((line, pts, 0.5 * line.get_linewidth() * to_pixels, "stroke" if len(xy) > 1 else "mark"))
+        if len(xy) > 1:
+            out.append((line, pts, 0.5 * line.get_linewidth() * to_pixels, "stroke"))
+        else:  # a dot: its marker's radius
+            out.append((line, pts, 0.5 * max(line.get_markersize(), line.get_linewidth()) * to_pixels, "mark"))
+    for lines in ax.collections:  # a guide's hatching
+        if isinstance(lines, LineCollection) and len(lines.get_segments()):
+            xy = [lines.get_transform().transform(np.asarray(seg, float)) for seg in lines.get_segments()]
+            pts = np.vstack([along(a, b) for seg in xy for a, b in zip(seg[:-1], seg[1:])])
+            out.append((lines, pts, 0.5 * float(np.max(lines.get_linewidths())) * to_pixels, "stroke"))
     for patch in ax.patches:
         if isinstance(patch, FancyArrowPatch) and getattr(patch, "_posA_posB", None):
             a, b = (ax.transData.transform(np.array(p, float)) for p in patch._posA_posB)
             pts = np.vstack([along(a, b), _head(a, b, patch.get_mutation_scale() * to_pixels)])
             out.append((patch, pts, 0.5 * patch.get_linewidth() * to_pixels, "arrow"))
-        else:
-            verts = patch.get_verts()
-            if len(verts):
-                out.append((patch, np.asarray(verts, float), 0.0, "mark"))
+        else:  # a ring's or circle's outline (not filled): a label keeps off it (QA10: the big-end ring
+            # at A ran through the label of -I_A alpha); a filled shape's edge (a disk, a plate) bounds
+            # a pale area a label may lie on: a mark
+            verts = np.asarray(patch.get_verts(), float)
+            if len(verts) > 1 and patch.get_edgecolor()[3] > 0 and patch.get_linewidth() > 0:
+                pts = np.vstack([along(a, b) for a, b in zip(verts[:-1], verts[1:])])
+                filled = patch.get_fill() and patch.get_facecolor()[3] > 0
+                out.append((patch, pts, 0.5 * patch.get_linewidth() * to_pixels, "mark" if filled else "ring"))
     return out
 
 
@@ -617,13 +668,13 @@ for the places tried beside them."""
 def _beside(box, owner: np.ndarray, gap: float) -> np.ndarray:
     """Moves [display pixels] that put the measured ``box`` (x0, y0, x1, y1) beside its owner's
     drawn ``owner`` points: at nine places along them, on each of 8 sides, ``gap`` clear and
-    ``gap`` + 6 pixels clear."""
+    ``gap`` + 6 and ``gap`` + 12 pixels clear (the last clears a ring beside the arc or arrow)."""
     w, h = box[2] - box[0], box[3] - box[1]
     centre = np.array([box[0] + box[2], box[1] + box[3]]) / 2
     picks = owner[np.linspace(0, len(owner) - 1, 9).round().astype(int)]
     sides = np.array([(math.cos(a), math.sin(a)) for a in np.linspace(0, 2 * math.pi, 8, endpoint=False)])
     sides = np.sign(sides.round(6))  # right, up-right, up ...: the box's edge or corner towards the point
-    reach = np.vstack([sides * np.array([w / 2 + g, h / 2 + g]) for g in (gap, gap + 6.0)])
+    reach = np.vstack([sides * np.array([w / 2 + g, h / 2 + g]) for g in (gap, gap + 6.0, gap + 12.0)])
     return (picks[:, None, :] + reach[None, :, :] - centre).reshape(-1, 2)
 
 
@@ -635,11 +686,12 @@ def place_labels(fig, axes) -> None:
     the places beside that arrow or arc (:func:`_beside`). Of these it takes the first least in order:
     cut off by the figure's edge; overlapping a label placed before it on any of ``axes`` (with
     :data:`LABEL_PAD` clearance: a label may run past its panel, which has no background); lying on
-    an arrow (its shaft or head); crossed by a line (a bar's or an arc's stroke, with its width); not
-    at least :data:`STRAY_MARGIN` nearer its own arrow or arc than any other label's (so that it
-    cannot be read as naming another); covering a point's dot or a patch's outline; then the nearest
-    to its own arrow or arc (the nearest to its own place for other labels), and covering the fewest
-    drawn points.
+    an arrow (its shaft or head); crossed by a line (a bar's or an arc's stroke, with its width); for
+    a point's label, crossed by a ring, then further than :data:`NEXT_TO` from its dot (each only
+    when a place is not: the nearest place otherwise); not at least :data:`STRAY_MARGIN` nearer its own
+    arrow or arc (dot) than any other label's (so that it cannot be read as naming another); crossed
+    by a ring's outline; covering a point's dot or a filled shape's edge; then the nearest to its own
+    arrow or arc (the nearest to its own place for other labels), and covering the fewest drawn points.
     Text extents come from the renderer after the layout is fixed (labels are taken out of the
     layout so that moving them cannot move the axes). A label's offset is in points,
     so each candidate box is its measured box moved by the offset (measured once, not per try).
@@ -662,35 +714,46 @@ def place_labels(fig, axes) -> None:
         drawn = _drawn_points(ax)
         where = {id(artist): (pts, pad) for artist, pts, pad, _ in drawn}
         groups = {kind: _pooled([(pts, pad) for _, pts, pad, k in drawn if k == kind])
-                  for kind in ("arrow", "stroke", "mark")}
+                  for kind in ("arrow", "stroke", "ring", "mark")}
         owners = {id(t): [where[id(a)] for a in getattr(t, "alt_euler_names", ()) if id(a) in where]
                   for t in texts[id(ax)]}
         owners = {k: (np.vstack([p for p, _ in v]), max(pad for _, pad in v)) for k, v in owners.items() if v}
+        dots = {id(t): where[id(t.alt_euler_dot)] for t in texts[id(ax)]
+                if id(getattr(t, "alt_euler_dot", None)) in where}  # a point's label: its dot
         for t in texts[id(ax)]:
             base = np.array(t.xyann, float)
             b = t.get_window_extent(renderer)
             box = np.array([b.x0, b.y0, b.x1, b.y1])
             moves = offsets * to_pixels
-            own = owners.get(id(t))
+            own, mates = (dots, dots) if id(t) in dots else (owners, owners)  # a point's label: among dots
+            own = own.get(id(t))
             if own is not None:
                 moves = np.vstack([moves, _beside(box, own[0], OWNER_GAP + own[1])])
             boxes = box + np.tile(moves, 2)
-            others = [o[0] for k, o in owners.items() if k != id(t)]
+            others = [o[0] for k, o in mates.items() if k != id(t)]
             rank = np.concatenate([steps, np.zeros(len(boxes) - len(steps))])
             best = _best_place(boxes, placed, groups, None if own is None else own[0], others, rank,
-                               fig.bbox.extents)
+                               fig.bbox.extents, NEXT_TO + own[1] if id(t) in dots else None)
             t.xyann = tuple(base + moves[best] / to_pixels)
             placed = np.vstack([placed, boxes[best]])  # (its measured box, moved by the offset chosen)
 
 
-def _best_place(boxes, placed, groups: dict, own, others: list, rank, frame) -> int:
+NEXT_TO = 12.0
+"""Farthest [display pixels, beyond the dot's radius] a point's label is put from its dot (QA10:
+"G_crank" stood above the ring at A, away from its dot on OA): it may cross a line rather than
+move further (a 7-point label is about 10 pixels high at 100 dpi)."""
+
+
+def _best_place(boxes, placed, groups: dict, own, others: list, rank, frame, next_to=None) -> int:
     """The index of the box a label takes, by the order of :func:`place_labels`.
 
     ``boxes``: the places tried (rows x0, y0, x1, y1) [display pixels]; ``placed``: the labels'
     boxes so far; ``groups``: the drawn points and their pads by kind (:func:`_drawn_points`,
     :func:`_pooled`); ``own``: the points of the arrow or arc the label names (None: it names none),
     ``others`` those of the other labels'; ``rank``: each try's step from the label's own place;
-    ``frame``: the figure's extents.
+    ``frame``: the figure's extents; ``next_to``: for a point's label (``own`` its dot), the farthest
+    from it [display pixels] a place is taken before farther ones, when one clear of the arrows,
+    lines and rings that does not stray is so near.
 
     The order's criteria are applied one at a time, each to the places the ones before left tied,
     and whether a place strays (the costliest test) is asked of the places in the order of the
@@ -705,20 +768,30 @@ def _best_place(boxes, placed, groups: dict, own, others: list, rank, frame) -> 
     crossed = _covered(boxes[at], *groups["stroke"])
     keep = _least(crossed > 0)
     at, on_arrows, crossed = at[keep], on_arrows[keep], crossed[keep]
+    if next_to is not None:  # a point's label: off the rings first (one around the point: outside it)
+        keep = _least(_covered(boxes[at], *groups["ring"]) > 0)
+        at, on_arrows, crossed = at[keep], on_arrows[keep], crossed[keep]
     chosen = boxes[at]
     on_marks = _covered(chosen, *groups["mark"])
+    on_rings = _covered(chosen, *groups["ring"]) > 0
     if own is None:
-        return int(at[np.lexsort((on_arrows + crossed + on_marks, rank[at], on_marks > 0))[0]])
+        return int(at[np.lexsort((on_arrows + crossed + on_marks, rank[at], on_marks > 0, on_rings))[0]])
     near = _box_distance(chosen, own)
-    order = np.lexsort((on_arrows + crossed + on_marks, np.floor(near / OBSTACLE_STEP), on_marks > 0))
-    for start in range(0, len(order), _STRAY_BATCH):  # the first place in this order that does not stray
-        batch = order[start:start + _STRAY_BATCH]
-        reach = near[batch] + STRAY_MARGIN
-        stray = np.zeros(len(batch), dtype=bool)
-        for other in others:
-            stray |= _box_distance(chosen[batch], other) < reach
-        if not stray.all():
-            return int(at[batch[np.argmin(stray)]])
+    far = near > max(next_to, near.min()) if next_to is not None else np.zeros(len(at), dtype=bool)
+    order = np.lexsort((on_arrows + crossed + on_marks, np.floor(near / OBSTACLE_STEP), on_marks > 0, far, on_rings))
+    clear = order[~on_rings[order]]
+    # the first place in this order that does not stray; off the rings, one nearer its own by half the
+    # margin is taken before one on a ring; when every place strays, the first merely nearer its own
+    passes = [(clear, STRAY_MARGIN), (clear, STRAY_MARGIN / 2)] if len(clear) < len(order) else []
+    for places, margin in passes + [(order, STRAY_MARGIN), (order, 0.0)]:
+        for start in range(0, len(places), _STRAY_BATCH):
+            batch = places[start:start + _STRAY_BATCH]
+            reach = near[batch] + margin
+            stray = np.zeros(len(batch), dtype=bool)
+            for other in others:
+                stray |= _box_distance(chosen[batch], other) < reach
+            if not stray.all():
+                return int(at[batch[np.argmin(stray)]])
     return int(at[order[0]])  # every place strays
 
 
