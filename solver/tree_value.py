@@ -147,22 +147,9 @@ def tree_value(expr: sp.Expr, point: dict, arithmetic: Arithmetic = DOUBLE, memo
 
 
 
-def tree_program(exprs: list, arithmetic: Arithmetic = DOUBLE) -> tuple[Callable[[dict], list], set]:
-    """(f, symbols): f(point) -> the values of ``exprs`` at ``point`` as :func:`tree_value` gives them (the same
-    operations on the same values in the same order), for evaluating the same expressions at many
-    points: the trees are walked once here, each distinct subtree given a slot, so that each point
-    costs only the arithmetic (no sympy hashing or dispatch per node and point).
-
-    The numbers of the trees are made by the arithmetic at the first call (at the working precision
-    then, as :func:`tree_value` makes them at each call; made again should it change). ``symbols``: the
-    symbols of the trees, which ``point`` must give (their free symbols: the trees the walk knows bind
-    none).
-
-    Raises
-    ------
-    NotEvaluable
-        As :func:`tree_value`, here and not at the call.
-    """
+def _program_steps(exprs: list, arithmetic: Arithmetic) -> tuple[list, list]:
+    """(steps, outputs) of :func:`tree_program`: each distinct subtree of ``exprs`` once, its
+    arguments before it, as (kind, what, argument slots); ``outputs`` the slot of each expression."""
     slots: dict = {}  # subtree -> its slot
     steps: list = []  # per slot: (kind, what, argument slots)
 
@@ -195,6 +182,26 @@ def tree_program(exprs: list, arithmetic: Arithmetic = DOUBLE) -> tuple[Callable
         return slots[expr]
 
     outputs = [slot(e) for e in exprs]
+    return steps, outputs
+
+
+def tree_program(exprs: list, arithmetic: Arithmetic = DOUBLE) -> tuple[Callable[[dict], list], set]:
+    """(f, symbols): f(point) -> the values of ``exprs`` at ``point`` as :func:`tree_value` gives them (the same
+    operations on the same values in the same order), for evaluating the same expressions at many
+    points: the trees are walked once here, each distinct subtree given a slot, so that each point
+    costs only the arithmetic (no sympy hashing or dispatch per node and point).
+
+    The numbers of the trees are made by the arithmetic at the first call (at the working precision
+    then, as :func:`tree_value` makes them at each call; made again should it change). ``symbols``: the
+    symbols of the trees, which ``point`` must give (their free symbols: the trees the walk knows bind
+    none).
+
+    Raises
+    ------
+    NotEvaluable
+        As :func:`tree_value`, here and not at the call.
+    """
+    steps, outputs = _program_steps(exprs, arithmetic)
     numbers: dict = {}  # working precision -> the numbers' values
     total, product, sqrt, power = arithmetic.total, arithmetic.product, arithmetic.sqrt, arithmetic.power
 
