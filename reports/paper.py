@@ -206,7 +206,7 @@ def example_steps(scene, deriv, at_rest: bool, parts=STEP_PARTS) -> dict:
     unknown = sorted(want - set(STEP_PARTS))
     if unknown:
         raise ValueError(f"`parts` must name steps of {', '.join(STEP_PARTS)}, got {', '.join(unknown)}")
-    qd, qdd = deriv.qd, deriv.qdd
+    qd = deriv.qd
     rest = {qd: 0} if at_rest else {}
     steps = {}
     if "accelerations" in want:  # kinematics of every named point (the rigid-body relation, tidied from its structure)
@@ -224,34 +224,49 @@ def example_steps(scene, deriv, at_rest: bool, parts=STEP_PARTS) -> dict:
         inertia = sp.expand(deriv.inertia_about(deriv.point))
         steps["inertia"] = inline(inertia if not inertia.has(sp.sin, sp.cos) else _shown_tidy(inertia))
     if want & {"eom", "qdd_solution", "alpha_solution"}:
-        # equation of motion M qdd + f = Q, from the derivation's (already structured) form
-        eom = sp.expand(deriv.eom.xreplace(rest))
-        if "eom" in want:
-            Q = deriv.generalized_force.xreplace(rest)
-            steps["eom"] = shown(_grouped(eom + Q, [qdd, qd**2]), _shown_tidy(Q), "Equation of motion", "")
-        # closed-form theta_ddot = -f / M and alpha (affine in theta_ddot: a1 qdd + a0 = (a0 M - a1 f) / M)
-        mass = eom.coeff(qdd)
-        rest_terms = sp.expand(eom - mass * qdd)
-        if "qdd_solution" in want:
-            steps["qdd_solution"] = shown(qdd, _shown_tidy(-rest_terms / mass), "Angular acceleration", "")
-        if "alpha_solution" in want:
-            alpha = sp.expand(deriv.alpha)
-            a1 = alpha.coeff(qdd)
-            a0 = sp.expand(alpha - a1 * qdd)
-            steps["alpha_solution"] = shown(sp.Symbol("alpha"), _shown_tidy((a0 * mass - a1 * rest_terms) / mass),
-                                            "alpha", "")
+        steps.update(_motion_steps(deriv, rest, want))
     if "reactions" in want:
-        # reactions from the Newton components, theta_ddot left symbolic (cf. Eqs. 24-25, 39-40): a linear
-        # system in the reactions, solved by elimination
-        symbols = [sp.Symbol(r, real=True) for r in scene.reaction_names()]
-        newton = [sp.expand(e.expr.xreplace(rest)) for e in deriv.equations if "Newton" in e.name]
-        reactions = []
-        A, b = sp.linear_eq_to_matrix(newton, symbols)
-        if A.shape[0] == A.shape[1] and A.det() != 0:
-            for s, value in zip(symbols, A.LUsolve(b)):
-                reactions.append(shown(s, _grouped(value, [qdd, qd**2]), f"Reaction {s}", ""))
-        steps["reactions"] = reactions
+        steps["reactions"] = _reaction_steps(scene, deriv, rest)
     return steps
+
+
+def _motion_steps(deriv, rest: dict, want: set) -> dict:
+    """The steps of :func:`example_steps` from the equation of motion: ``eom``, ``qdd_solution``,
+    ``alpha_solution`` (those in ``want``)."""
+    qd, qdd = deriv.qd, deriv.qdd
+    out = {}
+    # equation of motion M qdd + f = Q, from the derivation's (already structured) form
+    eom = sp.expand(deriv.eom.xreplace(rest))
+    if "eom" in want:
+        Q = deriv.generalized_force.xreplace(rest)
+        out["eom"] = shown(_grouped(eom + Q, [qdd, qd**2]), _shown_tidy(Q), "Equation of motion", "")
+    # closed-form theta_ddot = -f / M and alpha (affine in theta_ddot: a1 qdd + a0 = (a0 M - a1 f) / M)
+    mass = eom.coeff(qdd)
+    rest_terms = sp.expand(eom - mass * qdd)
+    if "qdd_solution" in want:
+        out["qdd_solution"] = shown(qdd, _shown_tidy(-rest_terms / mass), "Angular acceleration", "")
+    if "alpha_solution" in want:
+        alpha = sp.expand(deriv.alpha)
+        a1 = alpha.coeff(qdd)
+        a0 = sp.expand(alpha - a1 * qdd)
+        out["alpha_solution"] = shown(sp.Symbol("alpha"), _shown_tidy((a0 * mass - a1 * rest_terms) / mass),
+                                      "alpha", "")
+    return out
+
+
+def _reaction_steps(scene, deriv, rest: dict) -> list:
+    """The ``reactions`` step of :func:`example_steps`: each reaction from the Newton rows."""
+    qd, qdd = deriv.qd, deriv.qdd
+    # reactions from the Newton components, theta_ddot left symbolic (cf. Eqs. 24-25, 39-40): a linear
+    # system in the reactions, solved by elimination
+    symbols = [sp.Symbol(r, real=True) for r in scene.reaction_names()]
+    newton = [sp.expand(e.expr.xreplace(rest)) for e in deriv.equations if "Newton" in e.name]
+    reactions = []
+    A, b = sp.linear_eq_to_matrix(newton, symbols)
+    if A.shape[0] == A.shape[1] and A.det() != 0:
+        for s, value in zip(symbols, A.LUsolve(b)):
+            reactions.append(shown(s, _grouped(value, [qdd, qd**2]), f"Reaction {s}", ""))
+    return reactions
 
 
 def degrees(x: float) -> float:
