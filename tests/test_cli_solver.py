@@ -577,28 +577,3 @@ def test_a_multibody_point_error_names_its_full_place(capsys: pytest.CaptureFixt
     status, out, err = run_main(capsys, "solve", str(path))
     assert status == 2 and out == ""
     assert err.startswith(f"error: {path}: bodies[0].points.A: expected a pair"), err
-
-
-@pytest.mark.parametrize("scene,textbook", [
-    # a cart on a spring (anchor at x = -d, free length d) carrying a bar pinned at its centre:
-    # (M+m) x'' + (m L/2) cos(th) th'' - (m L/2) th'^2 sin(th) + k x = 0, by Lagrange by hand
-    ("cart_spring", ["(M + m)*x_ddot + m*L/2*cos(theta)*theta_ddot - m*L/2*theta_dot**2*sin(theta) + k*x",
-                     "m*L**2/3*theta_ddot + m*L/2*cos(theta)*x_ddot + m*g*L/2*sin(theta)"]),
-    # a collar at r on an arm turned at W, spring to the hub: m r'' - m W^2 r + k (r - L0) = 0
-    ("rot_arm", ["m*r_ddot - m*W**2*r + k*(r - L0)"]),
-])
-def test_a_spring_along_a_line_reads_as_a_textbook_writes_it(capsys, scene, textbook):
-    """QA 10 item 13: a spring whose ends move along one line (or whose length is r by sin^2 +
-    cos^2 = 1) has length |e|; eom printed k (|d + x| - d) (d + x)/|d + x| with Abs, unreadable.
-    The length is e times its sign at the state (it cannot pass through zero, where the spring's
-    direction is undefined), so eom prints the textbook's polynomial: equal to it exactly (expand),
-    with no Abs left."""
-    status, out, err = run_main(capsys, "eom", str(ROOT / "tests/data/multibody" / f"{scene}.toml"), "--json")
-    assert status == 0, err
-    printed = json.loads(out)["eom"]
-    names = {n: sp.Symbol(n, real=True) for n in ("M", "m", "L", "k", "g", "x", "theta", "x_ddot", "x_dot",
-                                                  "theta_ddot", "theta_dot", "r", "r_ddot", "W", "L0")}
-    for got, want in zip(printed, textbook, strict=True):
-        assert "Abs" not in got, got
-        diff = parse_expression(got, names, "eom") - parse_expression(want, names, "textbook")
-        assert sp.expand(diff) == 0, (got, want)

@@ -127,31 +127,8 @@ def _segment(system, a, b):
     ra = system.point_position(*a)
     rb = system.point_position(*b)
     d = rb - ra
-    return ra, rb, d, _length(system, d[0] ** 2 + d[1] ** 2)
-
-
-def _length(system, squared):
-    """The distance sqrt(``squared``), with a square root of a square, |e| (ends moving along one
-    line, or sin^2 + cos^2 reduced by :func:`solver.display.tidy`), written s e, s the sign of e at
-    the scene's state. Exact for every motion from that state: the length cannot pass through
-    zero, where the line's direction (d / L) is undefined; a spring along x then reads k x, not
-    k (|d + x| - d) (d + x)/|d + x|."""
-    from ..display import tidy
-
-    length = sp.sqrt(squared)
-    if not length.has(sp.Abs) and squared.has(sp.sin, sp.cos):  # a square once sin^2 + cos^2 = 1
-        length = sp.sqrt(tidy(squared))
-    if not length.has(sp.Abs):
-        return length
-    values = dict(system.si_values())
-    values.update({c.q: c.value for c in system.coordinates})
-    values[system.t] = system.time
-    values = {k: sp.Float(v) for k, v in values.items()}
-
-    def signed(e):
-        at = e.xreplace(values)
-        return sp.sign(at) * e if at.is_number and at != 0 else sp.Abs(e)
-    return length.replace(sp.Abs, signed)
+    length = sp.sqrt(d[0] ** 2 + d[1] ** 2)
+    return ra, rb, d, length
 
 
 @dataclass(eq=False)
