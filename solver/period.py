@@ -367,7 +367,9 @@ class OneDofSystem:
         for root finding) or ``"mpmath"``.
         """
         def expr():
-            return sp.diff(self.effective_potential(), self.q, derivative)
+            # a spring's length |e| differentiates to sign(e) and then to 2 DiracDelta(e): zero wherever
+            # e != 0, and at e = 0 the spring's line, so its force, is undefined anyway
+            return sp.diff(self.effective_potential(), self.q, derivative).replace(sp.DiracDelta, lambda *a: sp.S.Zero)
 
         key = (f"V{derivative}", self._zero_parameters())  # V_eff depends on which loads are switched off
         if precision == "mpmath":

@@ -97,3 +97,16 @@ def test_turning_arm_with_gravity_in_its_plane_is_refused_in_one_line(tmp_path: 
     status, out, err = _run(capsys, "frequency", str(scene))
     assert status == 2 and out == ""
     assert err.count("\n") == 1 and str(scene) in err and "depend on time" in err
+
+
+def test_a_spring_that_must_pass_its_anchor_to_reach_equilibrium(capsys):
+    """QA 11: a 5 kg block on a vertical slider hung from a spring to S (k = 200 N/m, free length
+    0.1 m), starting 0.05 m above S. The spring's length is |x|; below S, k (-x - 0.1) = m g gives the
+    equilibrium x = -(0.1 + 5 * 9.81 / 200) = -0.34525 m, omega_n = sqrt(200 / 5) rad/s. The
+    stiffness differentiates |x| twice (a DiracDelta at x = 0) and failed with an internal NameError.
+    Tolerance 1e-9: Newton's round-off on numbers of order 1."""
+    path = Path(__file__).parent / "data" / "multibody" / "vertical_spring.toml"
+    assert main(["frequency", str(path), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["equilibrium"]["value"] == pytest.approx(-(0.1 + 5 * 9.81 / 200), abs=1e-9)
+    assert out["omega_n"]["value"] == pytest.approx(math.sqrt(200 / 5), rel=1e-9)
