@@ -112,10 +112,11 @@ class Check:
 
     def to_json(self) -> dict:
         """The exact ``verification.json`` row: the fields above, and what the HTML shows beside them:
-        ``published_text`` (the published value as printed, digits and trailing zeros kept: ``"-0.05080"``
-        beside the float -0.0508), ``published_unit`` and ``computed_unit`` (as printed; pint's), and
-        ``tolerance`` (the test the verdict applied: ``"±0.0005"``, ``"exact zero"``, ``"attainable at
-        N = 22"``, ``"same dimension"``; empty for a claim, whose test is its detail)."""
+        ``published_text`` (the published value as printed, digits and trailing zeros kept: ``"1.50"``
+        beside the float 1.5), ``published_unit`` and ``computed_unit`` (as printed; pint's), and
+        ``tolerance`` (the test the verdict applied: a half unit of the last printed digit, ``"exact
+        zero"``, attainable at the respondents' N, ``"same dimension"``; empty for a claim, whose test
+        is its detail)."""
         printed = self.published_text or (self.published if isinstance(self.published, str) else
                                            None if self.published is None else str(self.published))
         return {
