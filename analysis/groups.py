@@ -241,15 +241,11 @@ class GroupComparison:
                                 for lab in self.labels)          # no percent of nobody
                 agree = "-" if agree == "-" else f"{agree}%"
                 out.append(f"    {g:<{width}} n={d['n']:<4} agree {agree:>4} | {dist} | "
-                           f"median {_num(d['median'])} IQR {_num(d['iqr'])} "
-                           f"mean {_num(d['mean'], 2)} SD {_num(d['sd'], 2)}")
+                           f"median {number_text(d['median'])} IQR {number_text(d['iqr'])} "
+                           f"mean {number_text(d['mean'], 2)} SD {number_text(d['sd'], 2)}")
         if any(it.reverse for it in self.items):
             out.append(f"  {REVERSE_NOTE}")
         return "\n".join(out)
-
-
-def _num(x, decimals: int = 1) -> str:
-    return number_text(x, decimals)          # half away from zero, as percentages
 
 
 def _validate_groups(data, column, min_size, order):

@@ -42,9 +42,9 @@ from .disclosure import BLANK_GROUP, suppress_groups
 from .dropped import FOOTER, DroppedRow, is_footer_note
 from .errors import SurveyInputError
 from .export import reversal_columns
-from .likert import (REVERSE_MARK, REVERSE_NOTE, _num, _validate_ci, absent_respondents,
+from .likert import (REVERSE_MARK, REVERSE_NOTE, _validate_ci, absent_respondents,
                      interval_label, not_items_text)
-from .rounding import share_percent_text
+from .rounding import number_text, share_percent_text
 from .scales import (Scale, group_names, normalize_answer, order_groups, two_groups_message,
                      validate_group_order)
 
@@ -237,7 +237,7 @@ class GroupedSummary:
                 ag = it.agree
                 agree = ("-" if ag.share is None else f"{ag.percent_text(decimals)}% "
                          f"[{share_percent_text(ag.ci[0], decimals)}%, {share_percent_text(ag.ci[1], decimals)}%]")
-                stats = " ".join(f"{k} {_num(v, d)}" for k, v, d in (
+                stats = " ".join(f"{k} {number_text(v, d)}" for k, v, d in (
                     ("median", it.median, 1), ("IQR", it.iqr, 1), ("mean", it.mean, 2),
                     ("SD", it.sd, 2)))
                 mark = REVERSE_MARK if it.reverse else ""

@@ -425,8 +425,8 @@ class SurveySummary:
                      f"{ag.percent_text(decimals)}% [{share_percent_text(ag.ci[0], decimals)}%, "
                      f"{share_percent_text(ag.ci[1], decimals)}%]")
             out.append(f"{_name(it):<{width}}  {cells}  {it.n:>{nw}} {it.missing:>{nw}} "
-                       f"{it.excluded:>{nw}}  {_num(it.median):>6} {_num(it.iqr):>5} "
-                       f"{_num(it.mean, 2):>5} {_num(it.sd, 2):>5}  {agree}")
+                       f"{it.excluded:>{nw}}  {number_text(it.median):>6} {number_text(it.iqr):>5} "
+                       f"{number_text(it.mean, 2):>5} {number_text(it.sd, 2):>5}  {agree}")
         if any(it.reverse for it in self.items):
             out.append(REVERSE_NOTE)
         if method == "largest_remainder":  # a tie the rounded row depends on is stated
@@ -449,11 +449,6 @@ def not_items_text(reasons: dict) -> str:
 def _name(it: ItemSummary) -> str:
     """An item's name as printed, marked when reverse-keyed."""
     return it.item + (REVERSE_MARK if it.reverse else "")
-
-
-def _num(x, decimals: int = 1) -> str:
-    """A statistic as printed ("-" when there is none)."""
-    return number_text(x, decimals)          # half away from zero, as percentages
 
 
 def _validate_summarize(data, confidence_level, method):
