@@ -33,7 +33,7 @@ import numpy as np
 import pint
 import sympy as sp
 
-from .analyses.instant import condition_numbers
+from .analyses.instant import condition_numbers, refuse_zero_length
 from .display import tidy
 from .errors import InputError, SingularConfigurationError
 from .strprint import lambdify
@@ -270,6 +270,10 @@ def solve_precise(derivation: Any, precision: str = "float64", dps: int = 50,
     cond = float(condition_numbers(Af[None])[0])  # the exact one, as `solve` estimates it
     if not math.isfinite(cond) or cond > 1e16:
         raise SingularConfigurationError(f"{where} (condition number {cond:.3g})")
+    if not np.all(np.isfinite(bf)):  # a force without a direction (a spring of zero length)
+        n = len(system.free)
+        refuse_zero_length(system, fvals[:n], fvals[n:2 * n], fvals[2 * n])
+        raise SingularConfigurationError(f"{where}: the equations' right-hand side is not finite there")
     xf = np.linalg.solve(Af, bf)
     fl = {n: float(x) for n, x in zip(names, xf)}
     if alpha_expr is not None:

@@ -323,3 +323,25 @@ def test_a_loop_that_closes_away_from_the_guesses_names_where(solver_cli, tmp_pa
     gap = (0.1 * math.cos(th2) + 0.4 * math.cos(th3) - 0.35 - 0.3 * math.cos(th4),
            0.1 * math.sin(th2) + 0.4 * math.sin(th3) - 0.3 * math.sin(th4))
     assert max(map(abs, gap)) <= 1e-5
+
+
+# --------------------------------------------------------------------------- a spring of zero length
+MULTIBODY = Path(__file__).resolve().parent / "data" / "multibody"
+
+
+@pytest.mark.parametrize("argv", [
+    ("solve", "cart_spring.toml", "x=-1 m"),  # anchor S at x = -d = -1 m: length |d + x| = 0
+    ("precision", "cart_spring.toml", "x=-1 m"),
+    ("explain", "cart_spring.toml", "x=-1 m"),
+    ("frequency", "rot_arm.toml", "r=0 m"),  # the collar on the hub, where the spring is anchored
+])
+def test_a_spring_of_zero_length_is_named_not_the_joints(solver_cli, argv):
+    """QA 11: where a spring's two points coincide its direction d/|d| is 0/0, so the right-hand
+    side is undefined, not the matrix: the message named the joints the matrix's (meaningless)
+    null vector involved (the pin 'P', the motor 'drive'). It must name the spring instead."""
+    command, scene, setting = argv
+    path = MULTIBODY / scene
+    code, out, err = solver_cli(command, str(path), "--set", setting)
+    assert code == 2 and out == "", (code, out[:300])
+    assert err.count("\n") == 1 and err.startswith(f"error: {path}: singular configuration at "), err
+    assert "spring 'spring_1' has zero length there" in err and "joint" not in err, err

@@ -27,7 +27,7 @@ from ..errors import InputError, SingularConfigurationError
 from ..strprint import lambdify
 from ..units import Q_
 
-__all__ = ["CONDITION_LIMIT", "NumericModel", "InstantSolution", "State", "assemble", "solve_instant",
+__all__ = ["CONDITION_LIMIT", "NumericModel", "refuse_zero_length", "InstantSolution", "State", "assemble", "solve_instant",
            "condition_numbers", "solve_with_estimate"]
 
 CONDITION_LIMIT = 1e12
@@ -278,6 +278,7 @@ class NumericModel:
     def singular(self, q, qd, t, A, cond):
         """Raise SingularConfigurationError for the worst state, naming what the null vector involves."""
         idx = np.unravel_index(int(np.argmax(cond)), cond.shape) if cond.ndim else ()
+        refuse_zero_length(self.system, q, qd, t, idx)
         M = A[idx]
         c = float(condition_numbers(M[None])[0]) if np.all(np.isfinite(M)) else math.inf
         c = max(c, float(cond[idx]))
@@ -303,13 +304,41 @@ class NumericModel:
         )
 
 
+def _at(v, idx) -> float:
+    """The float of one state ``idx`` of a state array (or of a scalar)."""
+    return float(np.asarray(v, dtype=float)[idx] if np.ndim(v) else v)
+
+
+def refuse_zero_length(system, q, qd, t, idx=()) -> None:
+    """Raise SingularConfigurationError when a spring's or a damper's two points coincide at
+    the state (state ``idx`` of arrays q, qd, t; or scalars): there its line, and so its force,
+    has no direction (0/0 in the equations' right-hand side), whatever the joints do.
+
+    A length under 1e-12 m counts as zero (a picometre: far below any scene's scale, far above
+    the round-off of a position of metres)."""
+    values = dict(system.si_values())
+    values.update({s: _at(v, idx) for s, v in zip((*system.q, *system.qd), (*q, *qd))})
+    values[system.t] = _at(t, idx)
+    zero = []
+    for load in system.loads:
+        length = load.line_length(system)
+        if length is not None and abs(system._num(system.prescribe(length), values)) <= 1e-12:  # nan: no
+            zero.append(f"{load.kind} {load.name!r}")
+    if zero:
+        one = len(zero) == 1
+        raise SingularConfigurationError(
+            f"{system.label}: singular configuration at {_state_text(system, q, qd, t, idx)}: "
+            f"{' and '.join(zero)} {'has' if one else 'have'} zero length there, so the direction of "
+            f"{'its' if one else 'their'} force is undefined")
+
+
 def _state_text(system, q, qd, t, idx) -> str:
     parts = []
     for c, v in zip(system.free, q):
-        val = float(np.asarray(v, dtype=float)[idx] if np.ndim(v) else v)
+        val = _at(v, idx)
         parts.append(f"{c.name} = {math.degrees(val):.6g} deg" if c.kind == "angle" else f"{c.name} = {val:.6g} m")
     if system.motion_subs:
-        tv = float(np.asarray(t, dtype=float)[idx] if np.ndim(t) else t)
+        tv = _at(t, idx)
         parts.append(f"t = {tv:.6g} s")
     return ", ".join(parts) or "the state"
 

@@ -1280,8 +1280,8 @@ def _numeric_system(system, f, state):
 
 def _solve_at_state(system, f, point, state, numeric, cond):
     """The InstantSolution at the state from the substituted system ``numeric`` (A, b) whose exact
-    condition number is ``cond``, or None when that is not comfortably regular (then
-    :func:`solve_instant` decides and names the singularity)."""
+    condition number is ``cond``, or None when that is not comfortably regular or ``b`` is not
+    finite (then :func:`solve_instant` decides and names the singularity)."""
     import numpy as np
 
     from ..analyses.instant import CONDITION_LIMIT, InstantSolution
@@ -1290,7 +1290,7 @@ def _solve_at_state(system, f, point, state, numeric, cond):
     if system.limits():  # a joint with a model limit: solve_instant checks it
         return None
     An, bn = numeric
-    if cond is None or not np.isfinite(cond) or cond > CONDITION_LIMIT:
+    if cond is None or not np.isfinite(cond) or cond > CONDITION_LIMIT or not np.all(np.isfinite(bn)):
         return None
     x = dict(zip((str(u) for u in f.unknowns), np.linalg.solve(An, bn)))
     unknowns = {}

@@ -66,6 +66,12 @@ class Load:
         """Potential energy V [J] of a conservative load, else None."""
         return None
 
+    def line_length(self, system: "System") -> sp.Expr | None:
+        """The distance between the two points a spring or damper joins [m], else None.
+
+        Where it is zero the load's line of action, and so its force, is undefined."""
+        return None
+
 
 @dataclass(eq=False)
 class Gravity(Load):
@@ -157,6 +163,9 @@ class Spring(Load):
         _, _, _, length = _segment(system, self.a, self.b)
         return self.stiffness * (length - self.free_length) ** 2 / 2
 
+    def line_length(self, system):
+        return _segment(system, self.a, self.b)[3]
+
 
 @dataclass(eq=False)
 class Damper(Load):
@@ -180,6 +189,9 @@ class Damper(Load):
             if body in system.bodies:
                 out.append(AppliedLoad(self.name, self.kind, body, sign * tension * u, at, point=(body, point)))
         return out
+
+    def line_length(self, system):
+        return _segment(system, self.a, self.b)[3]
 
 
 def _relative_angle(system, first, second):
