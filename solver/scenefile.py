@@ -569,9 +569,13 @@ class _SceneLoader:
         self._check_state_dimension(rate, RATE, "coordinate.rate", "an angular velocity such as \"0 rad/s\"")
         return coordinate, {coordinate: value, coordinate + "_dot": rate}
 
-    def _check_state_dimension(self, quantity: pint.Quantity, need: UnitsContainer, key: str, what: str) -> None:
+    def _check_state_dimension(self, quantity: pint.Quantity, need: UnitsContainer, key: str, what: str,
+                               text: str | None = None) -> None:
+        """Refuse ``quantity`` unless it has dimension ``need`` (``what`` in words); the message
+        shows ``text``, the value as the user typed it, when given."""
         if quantity.dimensionality != need:
-            raise self.fail(key, f"{quantity:~P} is {describe_dimension(quantity.dimensionality)}, but {what} is needed")
+            shown = f"{quantity:~P}" if text is None else repr(text)
+            raise self.fail(key, f"{shown} is {describe_dimension(quantity.dimensionality)}, but {what} is needed")
 
     def _apply_overrides(self, overrides: dict[str, str], coordinate: str, state: dict[str, pint.Quantity]) -> None:
         self.overridden: set[str] = set()
@@ -580,6 +584,7 @@ class _SceneLoader:
             quantity = parse_quantity(text, f"{self.label}: {key}")
             if name in self.parameters:
                 old = self.parameters[name]
+                quantity = units.zero_in(quantity, old.units)
                 if quantity.dimensionality != old.dimensionality:
                     raise self.fail(
                         key,
@@ -592,7 +597,9 @@ class _SceneLoader:
                 self.overridden.add(name)
             elif name in state:
                 need = DIMENSIONLESS if name == coordinate else RATE
-                self._check_state_dimension(quantity, need, key, "an angle" if need == DIMENSIONLESS else "an angular velocity")
+                quantity = units.zero_in(quantity, "rad" if need == DIMENSIONLESS else "rad/s")
+                self._check_state_dimension(quantity, need, key, "an angle" if need == DIMENSIONLESS else "an angular velocity",
+                                            text)
                 if name == coordinate:
                     self.set_angle(quantity, text, name)
                 state[name] = quantity

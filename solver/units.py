@@ -393,6 +393,22 @@ def check_set_angle(quantity: pint.Quantity, text: Any, where: str, name: str) -
                          f"\"{number} rad\"")
 
 
+def zero_in(quantity: pint.Quantity, unit) -> pint.Quantity:
+    """``--set``'s rule for a bare zero: ``quantity`` written as a number without a unit and
+    equal to 0 (``"0"``, ``"0.0"``, ``"-0"``) is 0 in ``unit``, since zero is zero in every unit;
+    any other quantity is returned as it is (a nonzero bare number stays a pure number, which
+    the caller's dimension check refuses where a dimension is needed).
+
+    Examples
+    --------
+    >>> zero_in(Q_(0), "rad/s"), zero_in(Q_(2), "rad/s")
+    (<Quantity(0.0, 'radian / second')>, <Quantity(2, 'dimensionless')>)
+    """
+    if quantity.units == ureg.dimensionless and quantity.magnitude == 0:
+        return Q_(0.0, unit)
+    return quantity
+
+
 def is_angle_unit(quantity: pint.Quantity) -> bool:
     """True for a dimensionless quantity with a unit (``deg``, ``rad``, ``turn``): an angle."""
     # not quantity.dimensionality: pint's .dimensionless, without converting to the root units first
@@ -443,7 +459,7 @@ def _short(err: Exception, limit: int = 120) -> str:
 
 __all__ = [
     "ureg", "Q_", "check_unit_text", "parse_unit", "parse_quantity", "parse_angle", "parse_time", "si_magnitude",
-    "check_magnitude", "check_angle", "check_set_angle", "unit_text", "check_si_magnitude", "MAX_SI_MAGNITUDE", "is_angle_unit", "DIMENSIONLESS_UNITS",
+    "check_magnitude", "check_angle", "check_set_angle", "zero_in", "unit_text", "check_si_magnitude", "MAX_SI_MAGNITUDE", "is_angle_unit", "DIMENSIONLESS_UNITS",
     "MAX_QUANTITY_LENGTH", "MAX_UNIT_LENGTH", "MAX_UNIT_EXPONENT", "MAX_UNIT_NESTING",
     "MAX_MAGNITUDE", "MAX_ANGLE_TURNS", "MAX_ANGLE_RAD",
 ]

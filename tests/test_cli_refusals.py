@@ -105,6 +105,38 @@ def test_set_zero_and_an_angle_with_its_unit_are_taken(capsys, table_rod: str) -
         assert json.loads(out)["unknowns"]["theta_ddot"]["value"] == pytest.approx(expected, rel=1e-12)
 
 
+def test_set_a_bare_zero_is_taken_for_any_quantity(capsys) -> None:
+    """QA 11: --set theta_dot=0 was refused ("0.0 is an angle or pure number, but an angular velocity
+    is needed") while --set theta=0 was taken; zero is zero in every unit. References, from rest:
+    the compound pendulum (one-body format) I_O theta'' = -(m_p a/2 + m_t a) g sin(theta) with
+    I_O = m_p (a^2 + b^2)/12 + m_p (a/2)^2 + m_t a^2 (its file: 2 kg, 0.6 m, 0.1 m, 0.5 kg); the block
+    on the vertical slider with its spring's stiffness set to 0 falls freely, x'' = -g (9.81 m/s^2).
+    Tolerance 1e-12: one small linear solve, round-off only."""
+    m_p, a, b, m_t, g, theta = 2.0, 0.6, 0.1, 0.5, 9.80665, math.radians(20)
+    I_O = m_p * (a**2 + b**2) / 12 + m_p * (a / 2) ** 2 + m_t * a**2
+    status, out, err = _run(capsys, "solve", str(SCENES / "compound_pendulum.toml"), "--set", "theta_dot=0", "--json")
+    assert status == 0, err
+    expected = -(m_p * a / 2 + m_t * a) * g * math.sin(theta) / I_O
+    assert json.loads(out)["unknowns"]["theta_ddot"]["value"] == pytest.approx(expected, rel=1e-12)
+    block = str(Path(__file__).parent / "data" / "multibody" / "vertical_spring.toml")
+    status, out, err = _run(capsys, "solve", block, "--set", "k=0", "--set", "x_dot=0.0", "--json")
+    assert status == 0, err
+    assert json.loads(out)["unknowns"]["x_ddot"]["value"] == pytest.approx(-9.81, rel=1e-12)
+
+
+@pytest.mark.parametrize(("scene", "setting", "needed"), [
+    ("compound_pendulum.toml", "theta_dot=2", "an angular velocity is needed"),
+    ("cart_pendulum.toml", "x_dot=1.50", "is not a speed"),
+    ("cart_pendulum.toml", "theta_dot=3", "is not an angular velocity"),
+])
+def test_set_a_bare_nonzero_rate_is_refused_as_typed(capsys, scene: str, setting: str, needed: str) -> None:
+    """A nonzero number without its unit keeps the rule (refused); the message shows it as typed
+    ('1.50', not 1.5)."""
+    name, _, typed = setting.partition("=")
+    err = _one_line(*_run(capsys, "solve", str(SCENES / scene), "--set", setting))
+    assert f"--set {name}: {typed!r} " in err and needed in err
+
+
 @pytest.mark.parametrize("where", ["file", "set"])
 def test_the_angle_cap_holds_for_multibody_coordinates(capsys, tmp_path: Path, table_rod: str, where: str) -> None:
     if where == "file":

@@ -164,7 +164,7 @@ class _MultibodyReader:
         # parameters overridden
         for oname, text in overrides.items():
             if oname in L.parameters:
-                q = self._quantity(text, f"--set {oname}")
+                q = units.zero_in(self._quantity(text, f"--set {oname}"), L.parameters[oname].units)
                 if q.dimensionality != L.parameters[oname].dimensionality:
                     raise self.fail(f"--set {oname}", f"{text!r} has the wrong dimension for {oname}")
                 if units.is_angle_unit(L.parameters[oname]):
@@ -205,7 +205,7 @@ class _MultibodyReader:
                 kind = "angle" if q.dimensionality == DIMENSIONLESS else "length"
                 if cname in self.overrides:  # the scene's value decides the kind; --set gives one of it
                     text = self.overrides[cname]
-                    q = self._quantity(text, f"--set {cname}")
+                    q = units.zero_in(self._quantity(text, f"--set {cname}"), "rad" if kind == "angle" else "m")
                     if q.dimensionality != (DIMENSIONLESS if kind == "angle" else LENGTH):
                         what = "an angle" if units.is_angle_unit(q) else describe_dimension(q.dimensionality)
                         raise self.fail(f"--set {cname}", f"{text!r} is {what}, but "
@@ -264,9 +264,12 @@ class _MultibodyReader:
                 text = self.overrides.get(rkey, L.require(spec, "rate", f"coordinates.{cname}", "its rate, e.g. \"0 rad/s\""))
                 where = f"coordinates.{cname}.rate" if rkey not in self.overrides else f"--set {rkey}"
                 q = self._quantity(text, where)
+                if rkey in self.overrides:
+                    q = units.zero_in(q, "rad/s" if kind == "angle" else "m/s")
                 need = RATE if kind == "angle" else LENGTH / TIME
                 if q.dimensionality != need:
-                    raise self.fail(where, f"{q:~P} is not {'an angular velocity' if kind == 'angle' else 'a speed'}")
+                    shown = repr(text) if rkey in self.overrides else f"{q:~P}"
+                    raise self.fail(where, f"{shown} is not {'an angular velocity' if kind == 'angle' else 'a speed'}")
                 rate = float(q.to_base_units().magnitude)
             elif "rate" in spec:
                 raise self.fail(f"coordinates.{cname}.rate", "a dependent coordinate's rate is solved, not given")
