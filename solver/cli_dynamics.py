@@ -286,6 +286,8 @@ def _simulate_multibody(args, system, t_end) -> int:
     if args.out is not None:
         units = ", ".join(f"{n} [{u}]" for n, u in res.to_dict(system.output_units)["columns"].items())
         print(f"\ntime history written to {args.out} (columns in the scene's output units: {units})")
+    if args.animate is not None:
+        print(f"animation written to {args.animate}")
     return 0
 
 
@@ -357,6 +359,8 @@ def simulate_command(args: argparse.Namespace) -> int:
     if args.out is not None:
         units = ", ".join(f"{n} [{u}]" for n, u in res.to_dict(scene.output_units)["columns"].items())
         print(f"wrote {args.out} (columns in the scene's output units: {units})")
+    if args.animate is not None:
+        print(f"animation written to {args.animate}")
     return 0
 
 
@@ -367,9 +371,7 @@ def _animate(args, system, times, q_columns, qd_columns) -> None:
 
     states = [State(tuple(float(c[k]) for c in q_columns), tuple(float(c[k]) for c in qd_columns), float(times[k]))
               for k in range(len(times))]
-    animate(system, times, states, args.animate)
-    if not args.json:
-        print(f"animation written to {args.animate}")
+    animate(system, times, states, args.animate)  # the line saying so comes last, after the summary
 
 
 # -- friction ----------------------------------------------------------------------------------

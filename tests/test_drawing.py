@@ -494,6 +494,18 @@ def test_simulate_animates_the_trajectory(tmp_path, capsys):
         assert gif.format == "GIF" and gif.n_frames == 4
 
 
+@pytest.mark.parametrize("scene", ["slider_crank.toml", "disk_bar.toml"])  # the multibody route; the one-body one
+def test_simulate_says_once_and_last_that_the_animation_was_written(tmp_path, capsys, scene):
+    """QA 11: the line saying the animation was written came first, before the run's summary (or
+    not at all): like the other outputs' lines it comes once, after the file is written."""
+    out = tmp_path / "run.gif"
+    assert main(["simulate", str(ROOT / "data" / "scenes" / scene), "--t-end", "0.01 s", "--samples", "2",
+                 "--animate", str(out)]) == 0
+    lines = capsys.readouterr().out.strip().splitlines()
+    assert out.stat().st_size > 0
+    assert lines[-1] == f"animation written to {out}" and sum("animation" in line for line in lines) == 1, lines
+
+
 def test_animation_frames_are_capped_and_spread():
     from solver.drawing import MAX_FRAMES, frame_indices
 
