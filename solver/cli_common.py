@@ -107,10 +107,18 @@ def add_set_option(parser: argparse.ArgumentParser) -> None:
     )
 
 
+def _point_value(text: str) -> str:
+    """``--point``'s text, spaces inside an ``I(R1, R2)`` taken out (solver.explain.build.read_point_name)."""
+    from solver.explain.build import read_point_name
+
+    return read_point_name(text)
+
+
 def add_point_option(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--point",
         metavar="BODY:POINT",
+        type=_point_value,
         default=None,
         help="reference point P of a body's moment equation: BODY:POINT, or a point name (every body "
         "that has it; for a one-body scene any point or G), or a point the advisor names (C_<joint>, "

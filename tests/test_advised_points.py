@@ -202,3 +202,34 @@ def test_simulate_about_an_advised_point_gives_the_default_motion(tmp_path: Path
         runs = [simulate_system(load_system(path, sets), 0.3, samples=3, point=p) for p in (None, point)]
         for name, (column, _unit) in runs[0].columns.items():
             assert list(runs[1].columns[name][0]) == pytest.approx(list(column), rel=1e-8, abs=1e-10), (key, name)
+
+
+def test_a_crossing_point_with_spaces_gives_the_mass_centre_answers(capsys) -> None:
+    """QA 11: --point "crank:I(O_x, A_y)" (a space after the comma, as one writes it) was refused as
+    not a point of the crank. Spaces inside I(...) are taken out; the answers are the mass-centre
+    route's (its own reference point: none)."""
+    import json
+
+    path = str(ROOT / "data" / "scenes" / "slider_crank.toml")
+    reference = _reference(path, {})
+    assert main(["solve", path, "--point", "crank:I( O_x ,  A_y)", "--json"]) == 0
+    got = json.loads(capsys.readouterr().out)
+    assert got["point"] == "crank:I(O_x,A_y)"
+    for name, value in reference.items():
+        assert got["unknowns"][name]["value"] == pytest.approx(value, rel=1e-9, abs=1e-9), name
+
+
+@pytest.mark.parametrize(("point", "why"), [
+    ("crank:I(O2_x, A_y)", "'O2_x' is not a reaction"),  # no such reaction
+    ("crank:I(O_x)", "'I(O_x)' is not of the form I(R1,R2)"),  # one reaction only
+    ("I(O_x, B_y)", "O_x and B_y do not both act on one body"),  # on the crank and on the rod
+])
+def test_a_bad_crossing_point_names_the_form_expected(capsys, point: str, why: str) -> None:
+    path = str(ROOT / "data" / "scenes" / "slider_crank.toml")
+    try:
+        status = main(["solve", path, "--point", point])
+    except SystemExit as stop:
+        status = stop.code
+    out, err = capsys.readouterr()
+    assert status == 2 and out == "" and err.count("\n") == 1 and err.startswith(f"error: {path}: --point ")
+    assert why in err and "expected BODY:I(R1,R2)" in err and "crank: O_x, O_y, A_x, A_y" in err, err

@@ -160,8 +160,11 @@ def add_joint_point(system, point: str | None) -> None:
         return
     body, _, name = point.rpartition(":")
     state = None
-    for b in ([system.bodies[body]] if body in system.bodies else [] if body else system.bodies.values()):
+    candidates = [system.bodies[body]] if body in system.bodies else [] if body else list(system.bodies.values())
+    placed = False
+    for b in candidates:
         if name in b.point_names():
+            placed = True
             continue
         points = _Points(system, b.name)
         forces = _forces_on(system, b.name, points)
@@ -176,10 +179,42 @@ def add_joint_point(system, point: str | None) -> None:
         offset = (sp.Matrix(at) - system.point_position(b.name, ref)).xreplace(coordinates)
         b.points[name] = Point(name, _vec(offset), frame="instant", relative_to=ref)
         system.reset()
+        placed = True
+    if not placed and candidates and name.startswith("I("):
+        raise _not_a_crossing(system, point, name, candidates)
+
+
+def _not_a_crossing(system, point: str, name: str, bodies):
+    """The SceneError for a ``--point`` ``I(...)`` that names no crossing on ``bodies``: the form
+    expected, and each body's reactions that have a line of action."""
+    from ..errors import SceneError
+
+    lines = {b.name: [f.name for f in _forces_on(system, b.name, _Points(system, b.name))
+                      if f.reaction is not None and f.force is not None] for b in bodies}
+    crossed = _CROSSING.fullmatch(name)
+    if crossed is None:
+        why = f"{name!r} is not of the form I(R1,R2)"
+    else:
+        unknown = [r for r in crossed.groups() if not any(r in names for names in lines.values())]
+        why = (f"{' and '.join(map(repr, unknown))} {'is not a reaction' if len(unknown) == 1 else 'are not reactions'}"
+               f" with a line of action on {'the body' if len(bodies) == 1 else 'any body'}") if unknown else \
+            f"{crossed[1]} and {crossed[2]} do not both act on one body"
+    listed = "; ".join(f"{b}: {', '.join(n) or 'none'}" for b, n in lines.items())
+    return SceneError(f"{system.label}: --point {point}: {why}; expected BODY:I(R1,R2), the crossing of the lines "
+                      f"of action of two reactions R1, R2 on the body (reactions: {listed})")
 
 
 _CROSSING = re.compile(r"I\(([^,()]+),([^,()]+)\)")
 """``I(R1,R2)``, the advisor's name of the place where two reactions' lines of action cross."""
+
+
+def read_point_name(text: str) -> str:
+    """A ``--point`` value with the spaces inside an ``I(...)`` taken out (``crank:I(O_x, A_y)`` is
+    ``crank:I(O_x,A_y)``, the name :func:`crossing_name` gives); any other value as it is."""
+    body, colon, name = text.rpartition(":")
+    if name.startswith("I(") and name.endswith(")"):
+        return f"{body}{colon}I({''.join(name[2:-1].split())})"
+    return text
 
 
 def crossing_name(first: str, second: str) -> str:
