@@ -382,8 +382,8 @@ def _eom_multi(args, system) -> int:
         from solver.analyses.instant import solve_instant
         from solver.formulations import shown_point
 
-        tidied = (lambda m: m) if system.closure else (lambda m: _display_form(m, _tidy_display))  # as `shown`
-        mass = [[tidied(sp.diff(e, u.qdd)) for u in coords] for e in eqs]
+        # tidied as `shown` is: by the display tidy, a mass too large for it printed as derived
+        mass = [[_display_form(sp.diff(e, u.qdd), _tidy_display) for u in coords] for e in eqs]
         solution = solve_instant(system, args.point, args.method)
         at_state = {r.name: to_output_units(quantity_entry(solution.unknowns[r.name]), system.output_units)
                     for r in system.reactions}
@@ -429,6 +429,7 @@ def _print_projection(f, text) -> None:
     of characters)."""
     from solver.analyses.eom import projection
     from solver.display import tidy, tidy_linear
+    from solver.strprint import join_sum
 
     p = projection(f)
     system = f.system
@@ -450,8 +451,9 @@ def _print_projection(f, text) -> None:
             print(f"  k_{v.name}_{u.name} = {text(tidy(p.ratios[j, k]))}")
     print("and the dependent accelerations, from the closure equations differentiated twice:")
     for j, (v, a) in enumerate(zip(p.dependent, p.dependent_rate_terms)):
-        lead = " + ".join(f"k_{v.name}_{u.name}*{u.name}_ddot" for u in p.independent)
-        print(f"  {v.name}_ddot = {lead} + {text(tidy_linear(a, rates))}")
+        rest = tidy_linear(a, rates)
+        terms = [f"k_{v.name}_{u.name}*{u.name}_ddot" for u in p.independent] + ([] if rest == 0 else [text(rest)])
+        print(f"  {v.name}_ddot = {join_sum(terms)}")
     print()
 
 

@@ -41,7 +41,7 @@ from sympy.printing.str import StrPrinter
 
 from .display import could_extract_minus_sign
 
-__all__ = ["FastStrPrinter", "sstr", "lambdify"]
+__all__ = ["FastStrPrinter", "sstr", "join_sum", "lambdify"]
 
 _EXACT = 2 ** 53
 """Numerators and denominators below this are exact doubles, so p/q is one correctly rounded division."""
@@ -337,6 +337,19 @@ def sstr(expr, printer: FastStrPrinter | None = None) -> str:
     True
     """
     return (printer or FastStrPrinter()).doprint(expr)
+
+
+def join_sum(texts) -> str:
+    """Printed terms joined into the text of their sum as sympy prints one: a term printed with a
+    leading minus follows as ``a - b``, not ``a + -b``.
+
+    >>> join_sum(["k*s_ddot", "-L*theta_dot**2*cos(theta)", "x"])
+    'k*s_ddot - L*theta_dot**2*cos(theta) + x'
+    """
+    out = ""
+    for i, s in enumerate(texts):
+        out += (s if i == 0 else f" - {s[1:]}" if s.startswith("-") else f" + {s}")
+    return out
 
 
 class _FastNumPyPrinter(_FastOrdering, NumPyPrinter):

@@ -376,3 +376,26 @@ def test_the_walked_free_symbols_are_sympys():
              sp.Piecewise((x, x > 0), (g, True)), sp.Integer(3)]
     for e in exprs:
         assert _free_symbols(e) == e.free_symbols, e
+
+
+def test_eom_text_and_json_of_rolling_and_sliding_contacts_are_tidy(capsys):
+    """QA 11: eom printed "x_ddot = k_x_theta*theta_ddot + -L*theta_dot**2*cos(theta)" (the ladder
+    whose foot x = L cos(theta) slides; twice differentiated: x'' = -L sin(theta) theta'' - L cos(theta)
+    theta'^2) and "psi_ddot = k_psi_s*s_ddot + 0" (the disk rolling down the incline, psi = -s/r);
+    eom --json left the disk's generalized mass as m (sin^2 + cos^2)^2/2 + m sin^2 + m cos^2, which is
+    m + I/r^2 = 3 m/2 (a uniform disk, I = m r^2/2)."""
+    import json
+
+    from solver.__main__ import main
+
+    assert main(["eom", "data/scenes/ladder_leaves_wall.toml"]) == 0
+    ladder = capsys.readouterr().out
+    assert "  k_x_theta = -L*sin(theta)\n" in ladder
+    assert "  x_ddot = k_x_theta*theta_ddot - L*theta_dot**2*cos(theta)\n" in ladder
+    assert main(["eom", "data/scenes/incline_disk.toml"]) == 0
+    disk = capsys.readouterr().out
+    assert "  k_psi_s = -1/r\n" in disk and "  psi_ddot = k_psi_s*s_ddot\n" in disk
+    for text in (ladder, disk):
+        assert "+ -" not in text and not any(line.endswith(" + 0") for line in text.splitlines())
+    assert main(["eom", "data/scenes/incline_disk.toml", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["mass"] == [["3*m/2"]]

@@ -17,7 +17,7 @@ import re
 import sympy as sp
 
 from ..display import could_extract_minus_sign
-from ..strprint import FastStrPrinter, sstr
+from ..strprint import FastStrPrinter, join_sum, sstr
 from .content import Equation, Explanation, Step, Table, Term
 from .latex_prose import LatexProse, latex_escape, subscripted, unit_latex
 
@@ -91,14 +91,7 @@ def _sstr(expr, printed: FastStrPrinter | None = None) -> str:
 
 
 def _join_text(terms, printed: FastStrPrinter | None = None) -> str:
-    out = ""
-    for i, t in enumerate(terms):
-        s = _sstr(t.expr, printed)
-        if i and s.startswith("-") and not isinstance(t.expr, sp.MatrixBase):
-            out += " - " + s[1:]
-        else:
-            out += (" + " if i else "") + s
-    return out
+    return join_sum(_sstr(t.expr, printed) for t in terms)  # a 2-vector prints "(x, y)": never "-..."
 
 
 class _Text(_Renderer):
