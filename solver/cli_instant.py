@@ -267,9 +267,9 @@ def eom_command(args: argparse.Namespace) -> int:
 
     for name, expr in reactions.items():
         entry = at_state[name]
-        nodes = tree_size(expr)
-        if nodes > DISPLAY_MAX_NODES:  # thousands of characters: a screenful nobody reads
-            print(f"  {name} = (a closed form of {nodes} nodes, too long to read here; --json and --latex print it)")
+        if _too_long_to_read(expr, tidied=d.reaction_fractions is not None):
+            print(f"  {name} = (a closed form of {tree_size(expr)} nodes, too long to read here; --json and --latex "
+                  "print it)")
         else:
             print(f"  {name} = {text(expr)}")
         print(f"      = {format_number(entry['value'])} {entry['unit']} at the state")
@@ -487,6 +487,17 @@ DISPLAY_MAX_NODES = 1500
 """A reaction's closed form with more expression-tree nodes than this is not printed in the text
 output (the paper scenes' have under 100; a plate on two links, solved by Cramer's rule, has
 tens of thousands): its value at the state is, and --json and --latex give the expression."""
+
+
+def _too_long_to_read(expr, tidied: bool) -> bool:
+    """The one rule by which ``eom``'s text leaves out a reaction's closed form (each reaction
+    alike): more than :data:`DISPLAY_MAX_NODES` nodes, or, when it was not tidied by the
+    numerator-over-mass route (``tidied``), more than :data:`DISPLAY_MAX_OPS` operations, where the
+    display tidy (:func:`_display_form`) leaves an expression as derived: printed, it would be
+    hundreds of operations that nothing reduced (sin**2 + cos**2 left in)."""
+    from solver.display import tree_size
+
+    return tree_size(expr, DISPLAY_MAX_NODES) > DISPLAY_MAX_NODES or (not tidied and _over_display_ops(expr))
 
 
 class _OutOfTime(Exception):
