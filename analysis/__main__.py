@@ -290,9 +290,8 @@ def _notes(data) -> None:
         k = len(rows)
         sys.stderr.write(f"note: {data.source}: {k} {reason}{'s' if k != 1 else ''} dropped "
                          f"in all: {rows[0].why}\n")
-    for note in getattr(data, "notes", []):
-        sys.stderr.write(note if note.startswith("warning:") else f"note: {note}")
-        sys.stderr.write("\n")
+    for line in data.note_lines():
+        sys.stderr.write(line + "\n")
 
 
 #: Options of the in-memory route that the out-of-core count (--by) cannot honour, with

@@ -209,6 +209,11 @@ class SurveyData:
                 return j
         raise ValueError(f"no item {item!r}; items are {self.items!r}")
 
+    def note_lines(self) -> list[str]:
+        """:attr:`notes` as every output shows them to the reader (the command line on stderr,
+        the HTML report): ``note: ...``, or a warning as it is written (``warning: ...``)."""
+        return [n if n.startswith("warning:") else f"note: {n}" for n in self.notes]
+
     def labels_frame(self) -> pd.DataFrame:
         """Answers as label text (blank -> ``""``, N/A -> ``"N/A"``, unknown -> ``""``)."""
         lut = np.array(list(self.scale.labels) + ["", "N/A", ""], dtype=object)

@@ -2,8 +2,9 @@
 
 The page holds the per-item table (percent and count per label, n, missing, not
 applicable), the agreement / neutral / disagreement shares with intervals, the
-median and IQR of the codes, the diverging bar chart as inline SVG, and, when
-asked, claims, Cronbach's alpha and group comparisons. It is rendered with Jinja2
+median and IQR of the codes, the diverging bar chart as inline SVG, the notes reading
+the file made (the same lines the command line prints), and, when asked, claims,
+Cronbach's alpha and group comparisons. It is rendered with Jinja2
 (``analysis/templates/survey_report.html.j2``) with autoescaping on, so every
 text that came from the input (headers, question text, labels of custom scales,
 group names, unknown answers) is escaped; only the SVG produced by matplotlib
@@ -115,7 +116,7 @@ def render_report(data: SurveyData, claims=None, group: str | None = None, min_g
         ci_name={"wilson": "Wilson", "beta": "Clopper-Pearson"}[method],
         fmt=_fmt, svg=Markup(svg), claims=claims_rep, groups=groups, group_svg=group_svg,
         reliability=rel,
-        comments=data.comments, pairing_unknown=pairing_unknown)
+        comments=data.comments, notes=data.note_lines(), pairing_unknown=pairing_unknown)
 
 
 def report_path(path: "str | Path") -> Path:

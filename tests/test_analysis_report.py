@@ -195,3 +195,33 @@ def test_count_labels_are_not_crossed_by_the_centre_line_or_the_grid():
         fill = np.round(np.array(to_rgba(colour)[:3]) * 255)
         patch = image[top:bottom, x0:x1, :3]
         assert patch.size and np.abs(patch - fill).max() <= 2, f"a line crosses the count at {box.extents}"
+
+
+def test_report_shows_the_reading_notes_the_text_output_prints(tmp_path, capsys):
+    """QA 11: the HTML report left out the notes reading made, which summarize prints (stderr) and
+    its JSON carries: here, which sheet was read and which other sheet holds data, and an answer
+    counted under n/a with its reason. The page shows the very lines the command line prints
+    (escaped: the empty column is named <x-evil>, and a note names it)."""
+    import openpyxl
+    from markupsafe import escape
+
+    path = tmp_path / "terms.xlsx"
+    wb = openpyxl.Workbook()
+    wb.remove(wb.active)
+    for name, rows in {"Fall": [["id", "Q1", "Q2", "<x-evil>"], ["a", "Agree", "Prefer not to say", None],
+                                ["b", "Disagree", "Agree", None], ["c", "Agree", "Agree", None]],
+                       "Spring": [["id", "Q1"], ["d", "Agree"]]}.items():
+        ws = wb.create_sheet(name)
+        for r in rows:
+            ws.append(r)
+    wb.save(path)
+    out = tmp_path / "report.html"
+    assert main(["report", str(path), "-o", str(out)]) == 0
+    lines = [x for x in capsys.readouterr().err.splitlines() if x.startswith(("note:", "warning:"))]
+    assert any("sheet 'Spring' also holds data" in x for x in lines)
+    assert any("'Prefer not to say' (declined to answer): 1 in 'Q2'" in x for x in lines)
+    assert any("<x-evil>" in x for x in lines)
+    html = out.read_text(encoding="utf-8")
+    assert "<x-evil>" not in html
+    for line in lines:
+        assert f"<li>{escape(line)}</li>" in html, line
