@@ -1181,15 +1181,16 @@ def _numbers_step(system, f, expl, state) -> Step | None:
                     unit = _collected_unit(system, collected)
             row = sp.expand(_at_state(system, residual, state))
             scale, row_unit = _per_si(system, unit)
+            coefficients, known = _numeric_row(row, [u for u, _, _ in unknowns])
             terms = []
             for u, name, _ in unknowns:
-                coef = float(row.coeff(u)) * scale / per[u]
+                coef = float(coefficients[u]) * scale / per[u]
                 if name in held[tag]:
                     shown, k = rename.get(u, (u, 1))
                     value = sp.Float(coef / k, NUMBER_DIGITS)
                     unit = abs(float(f"{coef / k:.{NUMBER_DIGITS}g}")) == 1.0  # written as R_A, not 1.000 R_A
                     terms.append(Term(sp.sign(value) * shown if unit else value * shown, str(shown)))
-            rhs = -float(row.xreplace({u: 0 for u, _, _ in unknowns})) * scale
+            rhs = -float(known) * scale
             rows.append((len(terms), Equation(tuple(terms) or (Term(sp.Integer(0)),),
                                               (Term(sp.Float(rhs, NUMBER_DIGITS), "known"),),
                                               f"{section.body}: {eq.label} [{row_unit}]", tag=f"numbers:{section.body}:{tag}")))
@@ -1201,6 +1202,23 @@ def _numbers_step(system, f, expl, state) -> Step | None:
     if system.closure:
         text.append("The closure rows of the joints (acceleration level) complete the system; they are not shown.")
     return Step("numbers", "The equations with the data entered", text, [e for _, e in rows])
+
+
+def _numeric_row(row: sp.Expr, unknowns: list) -> tuple[dict, sp.Expr]:
+    """({unknown: ``row.coeff(unknown)``}, ``row.xreplace({unknowns: 0})``) of an equation at the
+    state, expanded: a sum of at most one number and one term ``c*u`` per unknown (a sum collects
+    like terms and adds its numbers), read in one pass over its terms; the same sympy numbers as
+    ``coeff`` and ``xreplace`` give, which pick these very terms. Any other shape goes to them."""
+    coefficients, known, wanted = {u: sp.S.Zero for u in unknowns}, sp.S.Zero, set(unknowns)
+    for term in sp.Add.make_args(row):
+        if term.is_Number:
+            known = term
+            continue
+        c, u = term.as_coeff_Mul()
+        if u not in wanted or coefficients[u] != 0:
+            return {u: row.coeff(u) for u in unknowns}, row.xreplace({u: 0 for u in unknowns})
+        coefficients[u] = c
+    return coefficients, known
 
 
 def _collected_unit(system, collected: Equation) -> str:
