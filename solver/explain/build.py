@@ -585,8 +585,7 @@ def _collected_equation(system, body: str, P: str, euler: Equation) -> Equation 
     unknowns = list(system.qdd) + [r.symbol for r in system.reactions]
     e = sp.expand(euler.residual)
     terms = [t for t in sp.Add.make_args(e) if t != 0]
-    coefs = {u: e.coeff(u) for u in unknowns}
-    coefs = {u: c for u, c in coefs.items() if c != 0 and not _zero(c)}
+    coefs = {u: c for u, (c, zero) in _coefficients(system, e, unknowns).items() if not zero}
     if not terms or not coefs:
         return None
     common, divided = sp.Integer(1), []
@@ -611,9 +610,24 @@ def _collected_equation(system, body: str, P: str, euler: Equation) -> Equation 
                     tag="collected")
 
 
-def _unknowns_in(expr, unknowns) -> list:
+def _coefficients(system, expr, unknowns) -> dict:
+    """{u: (``expand(expr).coeff(u)``, whether it is identically zero)} for each of ``unknowns``,
+    remembered by the system (the moment equation's are asked by the collected form, the step on
+    the dropped unknowns and the equation of motion; read only)."""
     e = sp.expand(expr)
-    return [u for u in unknowns if not _zero(e.coeff(u))]
+
+    def build():
+        out = {}
+        for u in unknowns:
+            c = e.coeff(u)
+            out[u] = (c, c == 0 or _zero(c))
+        return out
+    return system._memo(("coefficients", e, tuple(unknowns)), build)
+
+
+def _unknowns_in(system, expr, unknowns) -> list:
+    """The ``unknowns`` whose coefficient in ``expr`` is not identically zero."""
+    return [u for u, (_, zero) in _coefficients(system, expr, unknowns).items() if not zero]
 
 
 def counted(n: int, noun: str) -> str:
@@ -643,9 +657,11 @@ def _dropped_step(system, body: str, P: str, forces, dropped, newton: Step, eule
     """
     unknowns = list(system.qdd) + [r.symbol for r in system.reactions]
     residual = sp.expand(euler.equation("euler").residual)
-    in_euler = _unknowns_in(residual, unknowns)
+    coefficients = _coefficients(system, residual, unknowns)
+    in_euler = _unknowns_in(system, residual, unknowns)
     here = [u for u in in_euler if at_state is None or str(u) in at_state]
     newton_rows = {tag: sp.expand(newton.equation(tag).residual) for tag in ("newton_x", "newton_y")}
+    reactions = [r.symbol for r in system.reactions]
     rows, text = [], []
     for f in forces:
         if f.reaction is None:
@@ -653,13 +669,13 @@ def _dropped_step(system, body: str, P: str, forces, dropped, newton: Step, eule
         u = f.unknown
         cells = [f.name]
         for tag in ("newton_x", "newton_y"):
-            cells.append("yes" if u in _unknowns_in(newton_rows[tag], [u]) else "no")
+            cells.append("yes" if u in _unknowns_in(system, newton_rows[tag], reactions) else "no")
         line = f.force is not None and _zero(f.couple)
         if u in here:
             cells.append("yes")
             why = ""
         elif u in in_euler:
-            where, note = _where_it_vanishes(system, residual.coeff(u), printer)
+            where, note = _where_it_vanishes(system, coefficients[u][0], printer)
             cells.append(f"no, {where}")
             why = f"{'its line of action passes through ' + P if line else 'its moment about ' + P + ' is zero'} {note}"
         else:
@@ -672,7 +688,7 @@ def _dropped_step(system, body: str, P: str, forces, dropped, newton: Step, eule
             text.append(f"{f.name} drops out of the moment equation: {why}.")
     for u in in_euler:  # an acceleration whose coefficient vanishes at the state
         if u not in here and u in system.qdd:
-            text.append(f"{u} drops out of the moment equation {_where_it_vanishes(system, residual.coeff(u), printer)[1]}.")
+            text.append(f"{u} drops out of the moment equation {_where_it_vanishes(system, coefficients[u][0], printer)[1]}.")
     names = ", ".join(str(u) for u in here)
     if len(here) == len(in_euler):
         text.insert(0, f"The moment equation about {P} contains {counted(len(here), 'unknown')}: {names}.")
@@ -868,13 +884,13 @@ def _single_reaction_substitution(system, f, body: str):
     eqs = {e.name.split(": ")[-1]: e.expr for e in f.equations if e.body == body}
     euler = next(v for k, v in eqs.items() if k.startswith("Euler"))
     reactions = [r.symbol for r in system.reactions]
-    left = [r for r in reactions if not _zero(sp.expand(euler).coeff(r))]
+    left = _unknowns_in(system, euler, reactions)
     subs, used = {}, []
     for r in left:
         for axis in ("Newton x", "Newton y"):
             e = sp.expand(eqs[axis])
-            others = [x for x in reactions if x != r and not _zero(e.coeff(x))]
-            if not others and not _zero(e.coeff(r)) and axis not in used:
+            held = _unknowns_in(system, e, reactions)
+            if held == [r] and axis not in used:
                 subs[r] = -e.xreplace({r: 0}) / e.coeff(r)  # linear in r
                 used.append(axis)
                 break
