@@ -25,7 +25,7 @@ from sympy.core.mul import _keep_coeff
 from .tree_value import DOUBLE, NotEvaluable, tree_value
 
 __all__ = ["reduce_trig", "numerator_reduces_to_zero", "constant_value", "tidy", "tidy_fraction", "tidy_linear",
-           "is_identically_zero", "clearly_nonzero", "free_symbols_of", "tree_size", "term_powers", "could_extract_minus_sign", "MAX_TIDY_NODES"]
+           "is_identically_zero", "free_symbols_of", "tree_size", "term_powers", "could_extract_minus_sign", "MAX_TIDY_NODES"]
 
 MAX_CANCEL_NODES = 120
 """Above this size a single fraction of polynomials is not passed through ``cancel`` (the common
@@ -346,10 +346,9 @@ def free_symbols_of(exprs) -> set:
     return out
 
 
-def _numerically_nonzero(expr: sp.Expr, rel: float = 1e-12) -> bool:
+def _numerically_nonzero(expr: sp.Expr) -> bool:
     """True when ``expr`` is clearly nonzero at a random point (a cheap first test:
-    a nonzero value far above round-off proves it nonzero; zero is then decided exactly).
-    ``rel``: the least value that counts, relative to the largest term's."""
+    a nonzero value far above round-off proves it nonzero; zero is then decided exactly)."""
     symbols = sorted(_free_symbols(expr), key=lambda s: s.name)
     for k in range(_PROBES):
         point = {s: 0.3 + 0.137 * ((i + 3 * k) % 7) + 0.01 * i for i, s in enumerate(symbols)}
@@ -362,19 +361,9 @@ def _numerically_nonzero(expr: sp.Expr, rel: float = 1e-12) -> bool:
         # Double precision: the round-off of a sum of n terms of products is ~n 1e-16 of the scale,
         # so 1e-12 of it is far above round-off for any expression we tidy (at most
         # MAX_TIDY_NODES nodes) and a smaller value is left to the exact test.
-        if not cmath.isnan(value) and abs(value) > rel * scale:
+        if not cmath.isnan(value) and abs(value) > 1e-12 * scale:
             return True
     return False
-
-
-def clearly_nonzero(expr: sp.Expr) -> bool:
-    """True when ``expr``, as it is written (not expanded), is nonzero at a random point by far more
-    than round-off, which proves that it is not identically zero; False says nothing. A first test
-    that spares the expansion an exact test starts with. The value counts from 1e-9 of the largest
-    term's: a term of a sum not expanded may cancel inside (``(a - b)*c``), and its round-off is
-    ~1e-16 of its parts' size, so that only a cancellation by 1e7 inside one term, which the
-    model's expressions at these O(1) points do not reach, could pass it."""
-    return _numerically_nonzero(expr, 1e-9)
 
 
 @lru_cache(maxsize=4096)

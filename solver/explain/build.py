@@ -28,7 +28,7 @@ import sympy as sp
 from ..model.joints import copy_vec, cross_k, k_cross, vadd, vec, vscale, vsub, xy
 from ..model.system import derivative
 from .content import Equation, Explanation, Section, Step, Table, Term
-from ..display import clearly_nonzero, could_extract_minus_sign, is_identically_zero, term_powers, tidy, tidy_linear
+from ..display import could_extract_minus_sign, is_identically_zero, term_powers, tidy, tidy_linear
 from ..strprint import FastStrPrinter, sstr
 
 __all__ = ["explain", "latex_names"]
@@ -53,14 +53,6 @@ def _same_place(r, at) -> bool:
 
 
 def _zero(expr) -> bool:
-    """Whether ``expr`` is identically zero (expanded, then :func:`is_identically_zero`); an
-    expression clearly nonzero where it is evaluated as written is not (:func:`clearly_nonzero`),
-    without its expansion."""
-    expr = sp.sympify(expr)
-    if expr == 0:
-        return True
-    if clearly_nonzero(expr):
-        return False
     expr = sp.expand(expr)
     if expr == 0:
         return True
