@@ -25,7 +25,7 @@ from sympy.core.mul import _keep_coeff
 from .tree_value import DOUBLE, NotEvaluable, tree_value
 
 __all__ = ["reduce_trig", "numerator_reduces_to_zero", "constant_value", "tidy", "tidy_fraction", "tidy_linear",
-           "is_identically_zero", "tree_size", "term_powers", "could_extract_minus_sign", "MAX_TIDY_NODES"]
+           "is_identically_zero", "free_symbols_of", "tree_size", "term_powers", "could_extract_minus_sign", "MAX_TIDY_NODES"]
 
 MAX_CANCEL_NODES = 120
 """Above this size a single fraction of polynomials is not passed through ``cancel`` (the common
@@ -322,6 +322,27 @@ def _free_symbols(expr: sp.Expr) -> set:
             stack.extend(x.args)
         elif not (x.is_Atom and not x.args):
             return expr.free_symbols
+    return out
+
+
+def free_symbols_of(exprs) -> set:
+    """The union of the ``free_symbols`` of ``exprs``, each distinct subtree visited once (the
+    entries of a formulation's matrices share most of theirs, which sympy's ``free_symbols``
+    walks again for every occurrence). Sums, products, powers and function calls bind no symbol:
+    their free symbols are their arguments'; any other node with arguments (a derivative, an
+    integral) answers by sympy's own ``free_symbols``."""
+    out, seen, stack = set(), set(), list(exprs)
+    while stack:
+        x = stack.pop()
+        if x in seen:
+            continue
+        seen.add(x)
+        if x.is_Symbol:
+            out.add(x)
+        elif x.is_Add or x.is_Mul or x.is_Pow or x.is_Function:
+            stack.extend(x.args)
+        elif not (x.is_Atom and not x.args):
+            out |= x.free_symbols
     return out
 
 

@@ -23,6 +23,7 @@ import numpy as np
 import pint
 import sympy as sp
 
+from ..display import free_symbols_of
 from ..errors import InputError, SingularConfigurationError
 from ..strprint import lambdify
 from ..units import Q_
@@ -139,7 +140,7 @@ class NumericModel:
         self._param_values = tuple(values[p] for p in params)
         self.args = (*sysm.q, *sysm.qd, sysm.t)
         entries = [sp.sympify(e) for e in list(A) + list(b)]
-        stray = set().union(*[e.free_symbols for e in entries]) - set(self.args) - set(params)
+        stray = free_symbols_of(entries) - set(self.args) - set(params)
         if stray:
             raise InputError(f"{self.label}: undefined name(s) {', '.join(sorted(map(str, stray)))} in the scene's expressions")
         self._entries, self._params = entries, tuple(params)

@@ -620,8 +620,7 @@ def _collected_equation(system, body: str, P: str, euler: Equation) -> Equation 
     unknowns = list(system.qdd) + [r.symbol for r in system.reactions]
     e = sp.expand(euler.residual)
     terms = [t for t in sp.Add.make_args(e) if t != 0]
-    coefs = {u: e.coeff(u) for u in unknowns}
-    coefs = {u: c for u, c in coefs.items() if c != 0 and not _zero(c)}
+    coefs = {u: c for u, (c, zero) in _coefficients(system, e, unknowns).items() if not zero}
     if not terms or not coefs:
         return None
     common, divided = sp.Integer(1), []
@@ -646,9 +645,24 @@ def _collected_equation(system, body: str, P: str, euler: Equation) -> Equation 
                     tag="collected")
 
 
-def _unknowns_in(expr, unknowns) -> list:
+def _coefficients(system, expr, unknowns) -> dict:
+    """{u: (``expand(expr).coeff(u)``, whether it is identically zero)} for each of ``unknowns``,
+    remembered by the system (the moment equation's are asked by the collected form, the step on
+    the dropped unknowns and the equation of motion; read only)."""
     e = sp.expand(expr)
-    return [u for u in unknowns if not _zero(e.coeff(u))]
+
+    def build():
+        out = {}
+        for u in unknowns:
+            c = e.coeff(u)
+            out[u] = (c, c == 0 or _zero(c))
+        return out
+    return system._memo(("coefficients", e, tuple(unknowns)), build)
+
+
+def _unknowns_in(system, expr, unknowns) -> list:
+    """The ``unknowns`` whose coefficient in ``expr`` is not identically zero."""
+    return [u for u, (_, zero) in _coefficients(system, expr, unknowns).items() if not zero]
 
 
 def counted(n: int, noun: str) -> str:
@@ -678,9 +692,11 @@ def _dropped_step(system, body: str, P: str, forces, dropped, newton: Step, eule
     """
     unknowns = list(system.qdd) + [r.symbol for r in system.reactions]
     residual = sp.expand(euler.equation("euler").residual)
-    in_euler = _unknowns_in(residual, unknowns)
+    coefficients = _coefficients(system, residual, unknowns)
+    in_euler = _unknowns_in(system, residual, unknowns)
     here = [u for u in in_euler if at_state is None or str(u) in at_state]
     newton_rows = {tag: sp.expand(newton.equation(tag).residual) for tag in ("newton_x", "newton_y")}
+    reactions = [r.symbol for r in system.reactions]
     rows, text = [], []
     for f in forces:
         if f.reaction is None:
@@ -688,13 +704,13 @@ def _dropped_step(system, body: str, P: str, forces, dropped, newton: Step, eule
         u = f.unknown
         cells = [f.name]
         for tag in ("newton_x", "newton_y"):
-            cells.append("yes" if u in _unknowns_in(newton_rows[tag], [u]) else "no")
+            cells.append("yes" if u in _unknowns_in(system, newton_rows[tag], reactions) else "no")
         line = f.force is not None and _zero(f.couple)
         if u in here:
             cells.append("yes")
             why = ""
         elif u in in_euler:
-            where, note = _where_it_vanishes(system, residual.coeff(u), printer)
+            where, note = _where_it_vanishes(system, coefficients[u][0], printer)
             cells.append(f"no, {where}")
             why = f"{'its line of action passes through ' + P if line else 'its moment about ' + P + ' is zero'} {note}"
         else:
@@ -707,7 +723,7 @@ def _dropped_step(system, body: str, P: str, forces, dropped, newton: Step, eule
             text.append(f"{f.name} drops out of the moment equation: {why}.")
     for u in in_euler:  # an acceleration whose coefficient vanishes at the state
         if u not in here and u in system.qdd:
-            text.append(f"{u} drops out of the moment equation {_where_it_vanishes(system, residual.coeff(u), printer)[1]}.")
+            text.append(f"{u} drops out of the moment equation {_where_it_vanishes(system, coefficients[u][0], printer)[1]}.")
     names = ", ".join(str(u) for u in here)
     if len(here) == len(in_euler):
         text.insert(0, f"The moment equation about {P} contains {counted(len(here), 'unknown')}: {names}.")
@@ -903,13 +919,13 @@ def _single_reaction_substitution(system, f, body: str):
     eqs = {e.name.split(": ")[-1]: e.expr for e in f.equations if e.body == body}
     euler = next(v for k, v in eqs.items() if k.startswith("Euler"))
     reactions = [r.symbol for r in system.reactions]
-    left = [r for r in reactions if not _zero(sp.expand(euler).coeff(r))]
+    left = _unknowns_in(system, euler, reactions)
     subs, used = {}, []
     for r in left:
         for axis in ("Newton x", "Newton y"):
             e = sp.expand(eqs[axis])
-            others = [x for x in reactions if x != r and not _zero(e.coeff(x))]
-            if not others and not _zero(e.coeff(r)) and axis not in used:
+            held = _unknowns_in(system, e, reactions)
+            if held == [r] and axis not in used:
                 subs[r] = -e.xreplace({r: 0}) / e.coeff(r)  # linear in r
                 used.append(axis)
                 break
@@ -1216,15 +1232,16 @@ def _numbers_step(system, f, expl, state) -> Step | None:
                     unit = _collected_unit(system, collected)
             row = sp.expand(_at_state(system, residual, state))
             scale, row_unit = _per_si(system, unit)
+            coefficients, known = _numeric_row(row, [u for u, _, _ in unknowns])
             terms = []
             for u, name, _ in unknowns:
-                coef = float(row.coeff(u)) * scale / per[u]
+                coef = float(coefficients[u]) * scale / per[u]
                 if name in held[tag]:
                     shown, k = rename.get(u, (u, 1))
                     value = sp.Float(coef / k, NUMBER_DIGITS)
                     unit = abs(float(f"{coef / k:.{NUMBER_DIGITS}g}")) == 1.0  # written as R_A, not 1.000 R_A
                     terms.append(Term(sp.sign(value) * shown if unit else value * shown, str(shown)))
-            rhs = -float(row.xreplace({u: 0 for u, _, _ in unknowns})) * scale
+            rhs = -float(known) * scale
             rows.append((len(terms), Equation(tuple(terms) or (Term(sp.Integer(0)),),
                                               (Term(sp.Float(rhs, NUMBER_DIGITS), "known"),),
                                               f"{section.body}: {eq.label} [{row_unit}]", tag=f"numbers:{section.body}:{tag}")))
@@ -1236,6 +1253,23 @@ def _numbers_step(system, f, expl, state) -> Step | None:
     if system.closure:
         text.append("The closure rows of the joints (acceleration level) complete the system; they are not shown.")
     return Step("numbers", "The equations with the data entered", text, [e for _, e in rows])
+
+
+def _numeric_row(row: sp.Expr, unknowns: list) -> tuple[dict, sp.Expr]:
+    """({unknown: ``row.coeff(unknown)``}, ``row.xreplace({unknowns: 0})``) of an equation at the
+    state, expanded: a sum of at most one number and one term ``c*u`` per unknown (a sum collects
+    like terms and adds its numbers), read in one pass over its terms; the same sympy numbers as
+    ``coeff`` and ``xreplace`` give, which pick these very terms. Any other shape goes to them."""
+    coefficients, known, wanted = {u: sp.S.Zero for u in unknowns}, sp.S.Zero, set(unknowns)
+    for term in sp.Add.make_args(row):
+        if term.is_Number:
+            known = term
+            continue
+        c, u = term.as_coeff_Mul()
+        if u not in wanted or coefficients[u] != 0:
+            return {u: row.coeff(u) for u in unknowns}, row.xreplace({u: 0 for u in unknowns})
+        coefficients[u] = c
+    return coefficients, known
 
 
 def _collected_unit(system, collected: Equation) -> str:
