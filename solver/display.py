@@ -597,6 +597,47 @@ def _over_common_denominator_of_fractions(e: sp.Expr) -> tuple[sp.Expr, sp.Expr]
     return sp.expand(num), den
 
 
+def _over_factored_denominators(e: sp.Expr) -> sp.Expr | None:
+    """``e`` over the least common multiple of its terms' denominators, each factored, with the
+    numerator divided by every non-monomial factor that divides it: ``num / den`` with ``den`` left
+    as a product of powers (``12*(m_b + m_d)**3``); None when a denominator holds sin/cos or
+    none has a factor that is a sum.
+
+    The case ``sympy.cancel`` is too slow for on large expressions (tens of ms): moments about a
+    composite's mass centre G, whose position carries 1/(m_b + m_d), otherwise print as degree-7
+    polynomials over degree-6 ones. Each distinct denominator is factored once (they are small);
+    the numerator is reduced modulo sin**2 + cos**2 = 1 first (only then may a factor divide it),
+    and divided by ``sympy.div`` (exact division by a known factor, no gcd search).
+    """
+    e = sp.expand(e)
+    parts = [sp.fraction(t) for t in sp.Add.make_args(e)]
+    factored = {}
+    for _, d in parts:
+        if d not in factored:
+            if d.has(sp.sin, sp.cos):
+                return None
+            factored[d] = sp.factor_list(d)
+    lcm: dict = {}
+    for _, pieces in factored.values():
+        for base, k in pieces:
+            lcm[base] = max(lcm.get(base, 0), k)
+    sums = [b for b in lcm if b.is_Add]
+    if not sums:
+        return None
+    num = sp.expand(sp.Add(*[n / factored[d][0] * sp.Mul(*[b**(x - dict(factored[d][1]).get(b, 0))
+                                                        for b, x in lcm.items()]) for n, d in parts]))
+    if num.is_Add and _has_square(num):
+        reduced = _reduce_poly(num)
+        num = reduced if len(sp.Add.make_args(reduced)) < len(num.args) else num
+    for base in sums:
+        while lcm[base] > 0:
+            quotient, remainder = sp.div(num, base)
+            if remainder != 0:
+                break
+            num, lcm[base] = quotient, lcm[base] - 1
+    return _tidy_polynomial(num) / sp.Mul(*[b**x for b, x in lcm.items()])
+
+
 def _is_trig_denominator(x) -> bool:
     return x.is_Pow and x.exp.is_negative and x.base.is_Add and x.base.has(sp.sin, sp.cos)
 
@@ -793,6 +834,9 @@ def _tidy_general(e: sp.Expr, shape: _Shape | None = None) -> sp.Expr:
     if not monomial and small:  # common factors out (cheap when small)
         num, den = _single_term_fraction(e) or sp.fraction(sp.cancel(_together(e)))
     else:
+        factored = None if monomial else _over_factored_denominators(e)
+        if factored is not None:
+            return factored
         num, den = _over_common_denominator(e) if _has_denominator(e, shape.pows) else (e, sp.Integer(1))
         if not monomial and not (_denominator_free(num) and _denominator_free(den)):
             num, den = _single_term_fraction(e) or sp.fraction(sp.cancel(_together(e)))
