@@ -1081,3 +1081,21 @@ def test_an_unknown_that_drops_out_for_the_parameter_values_is_not_said_to_at_th
     said = [t for t in step.text if t.startswith("theta_ddot drops out")]
     assert len(said) == 1 and "for the scene's parameter values, at every state" in said[0], step.text
     assert "at this state only" not in said[0]
+
+
+@pytest.mark.parametrize("scene,point", [("sliding_bar", "G"), ("slider_crank", "G"), ("incline_disk", None)])
+def test_configuration_terms_hold_neither_accelerations_nor_a_zero(scene, point, capsys):
+    """The equation of motion's configuration terms are what is left once the acceleration (and
+    kept reaction) terms are taken out. They were left with the difference between an acceleration
+    coefficient and its tidy form (sin**2 + cos**2 - 1 times it), printed phi_ddot among the
+    configuration terms (slider_crank about G), an unreduced (1 - cos(beta)**2)/sin(beta)**2
+    (sliding_bar about G) and '+ 0' (incline_disk)."""
+    from solver.__main__ import main
+
+    assert main(["explain", f"data/scenes/{scene}.toml"] + (["--point", point] if point else [])) == 0
+    rows = [x.strip() for x in capsys.readouterr().out.splitlines() if x.endswith("[configuration terms]")]
+    assert rows
+    for row in rows:
+        assert "_ddot" not in row and row != "+ 0    [configuration terms]"
+    if scene == "sliding_bar":  # gravity's moment alone: g m_b (l_b/2) cos(theta), as about A (Eq. 29)
+        assert rows == ["+ g*l_b*m_b*cos(theta)/2    [configuration terms]"]

@@ -1054,16 +1054,13 @@ def _structured_eom(system, c, e, q, keep, ref: str = "projected on the partial 
     (``e + q``: the equation with the generalized force ``q`` moved to the right)."""
     rates = [a * b for i, a in enumerate(system.qd) for b in system.qd[i:]]
     e = sp.expand(e + q)
-    lhs = []
-    for x in system.qdd:
+    lhs, taken = [], []
+    for x, label in [(x, "M") for x in system.qdd] + [(lam, "reaction term") for lam in keep]:
         coef = e.coeff(x)
         if coef != 0:
-            lhs.append(Term(tidy(coef) * x, f"M {x}"))
-    for lam in keep:
-        coef = e.coeff(lam)
-        if coef != 0:
-            lhs.append(Term(tidy(coef) * lam, f"reaction term {lam}"))
-    rest = sp.expand(e - sp.Add(*[t.expr for t in lhs]))
+            lhs.append(Term(tidy(coef) * x, f"{label} {x}"))
+            taken.append(coef * x)  # (the coefficient as it is: its tidy form differs by sin**2 + cos**2 - 1)
+    rest = sp.expand(e - sp.Add(*taken))
     for x in rates:
         coef = rest.coeff(x)
         if coef != 0 and not coef.has(*system.qd):
