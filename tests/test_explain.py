@@ -1081,3 +1081,28 @@ def test_an_unknown_that_drops_out_for_the_parameter_values_is_not_said_to_at_th
     said = [t for t in step.text if t.startswith("theta_ddot drops out")]
     assert len(said) == 1 and "for the scene's parameter values, at every state" in said[0], step.text
     assert "at this state only" not in said[0]
+
+
+@pytest.mark.parametrize("length, per_metre", [(None, 1.0), ("ft", 1 / 0.3048)])
+def test_a_moment_equation_divided_by_a_mass_times_a_length_is_an_acceleration(tmp_path, length, per_metre):
+    """QA 12 #5. The double pendulum's lower link about its pin A (bob m2 at B, A to B = l2):
+    m2 l2 (l1 cos(th1 - th2) th1'' + l2 th2'') = -m2 g l2 sin th2. Divided by m2 l2 it reads
+    l1 cos(th1 - th2) th1'' + l2 th2'' = -g sin th2, an acceleration: m/s**2, or ft/s**2 when the
+    scene prints lengths in feet (it was labelled N*m). Reference: that closed form at the scene's
+    th1 = 30 deg, th2 = 10 deg, l1 = l2 = 1 m, g = 9.80665 m/s**2; the numbers are printed to 4
+    significant figures, hence rtol 5e-4."""
+    import math
+
+    text = (ROOT / "data" / "scenes" / "double_pendulum.toml").read_text(encoding="utf-8")
+    if length:
+        text += f'\n[output_units]\nlength = "{length}"\n'
+    path = tmp_path / "double_pendulum.toml"
+    path.write_text(text, encoding="utf-8")
+    expl = explain(load_system(path), advice=False)
+    row = expl.sections[-1].step("numbers").equation("numbers:lower:euler")
+    assert "divided by m2 l2" in row.label
+    assert row.label.endswith(f"[{length or 'm'}/s**2]")
+    rhs = float(sum(t.expr for t in row.rhs))
+    assert rhs == pytest.approx(-9.80665 * math.sin(math.radians(10)) * per_metre, rel=5e-4)
+    lhs = {t.note: float(t.expr.as_coeff_Mul()[0]) for t in row.lhs}
+    assert lhs["theta1_ddot"] == pytest.approx(math.cos(math.radians(20)) * per_metre, rel=5e-4)

@@ -1239,15 +1239,19 @@ def _numbers_step(system, f, expl, state) -> Step | None:
 
 
 def _collected_unit(system, collected: Equation) -> str:
-    """The unit of the collected moment equation: N*m, or N when it was divided by one length
-    parameter (Eq. 28 is Eq. 27 divided by l_b)."""
+    """The unit of the collected moment equation: the moment's, N*m, divided by the units of the
+    parameters it was divided by (Eq. 28 is Eq. 27 divided by l_b: N; divided by m L: m/s**2), in
+    SI, spelled as the output units spell it (:data:`solver.output_units._OUTPUT_UNIT_RULES`)."""
+    from ..output_units import si_unit_of
+    from ..units import ureg
+
     divided = collected.label.split("divided by ", 1)
+    unit = ureg.Unit("N*m")
     if len(divided) == 2:
-        names = divided[1].split(" and collected")[0].split()
-        if len(names) == 1 and names[0] in system.parameters:
-            if system.parameters[names[0]].dimensionality == {"[length]": 1}:
-                return "N"
-    return "N*m"
+        for token in divided[1].split(" and collected")[0].split():  # m, L, r**2 (sstr of p**k)
+            name, _, power = token.partition("**")
+            unit /= (1.0 * system.parameters[name]).units ** int(power or 1)
+    return si_unit_of(unit)
 
 
 def _per_si(system, unit: str) -> tuple[float, str]:
