@@ -144,8 +144,9 @@ class _Points:
 
 def add_joint_point(system, point: str | None) -> None:
     """Make the point ``--point`` names a point of its body when it is one the worked solution and
-    the advisor name after a joint (``C_<joint>``, :meth:`_Points.name_of`) or after two reactions
-    (``I(R1,R2)``, :func:`crossing_name`): an instant point at the place where the joint acts or
+    the advisor name after an element (``G_<element>``, its mass centre, a point of the body, as
+    :class:`_Points` names it), after a joint (``C_<joint>``, :meth:`_Points.name_of`) or after two
+    reactions (``I(R1,R2)``, :func:`crossing_name`): for the last two an instant point at the place where the joint acts or
     the lines of action cross, so that the moment equation can be taken about it. Other names are
     left to the formulation to accept or refuse.
 
@@ -167,6 +168,12 @@ def add_joint_point(system, point: str | None) -> None:
             placed = True
             continue
         points = _Points(system, b.name)
+        centre = next((e for e in b.elements if f"G_{e.name}" == name and name in points.named), None)
+        if centre is not None:  # an element's mass centre, as the advisor lists it: a point of the body
+            b.points[name] = Point(name, copy_vec(centre.mass_center))
+            system.reset()
+            placed = True
+            continue
         forces = _forces_on(system, b.name, points)
         at = next((f.at for f in forces if f.point == name), None)
         state = state or start_state(system)  # (a contact may be open there)
