@@ -56,7 +56,9 @@ def explain_command(args: argparse.Namespace) -> int:
     system = load_scene_from_args(args)
     if args.suggest_point:  # the advisor alone, in the same formats
         from solver.explain.advisor import advice_explanation
+        from solver.formulations import resolve_points
 
+        resolve_points(system, args.point)  # a bad --point is refused here too, in the same line
         text = render(advice_explanation(system), fmt)
     else:
         explanation = explain(system, args.point)

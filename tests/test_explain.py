@@ -1106,3 +1106,20 @@ def test_a_moment_equation_divided_by_a_mass_times_a_length_is_an_acceleration(t
     assert rhs == pytest.approx(-9.80665 * math.sin(math.radians(10)) * per_metre, rel=5e-4)
     lhs = {t.note: float(t.expr.as_coeff_Mul()[0]) for t in row.lhs}
     assert lhs["theta1_ddot"] == pytest.approx(math.cos(math.radians(20)) * per_metre, rel=5e-4)
+
+
+def test_suggest_point_refuses_a_bad_point_as_explain_does(solver_cli, tmp_path):
+    """QA 12 #11: ``--suggest-point --point Z`` printed the advice and exited 0, while ``--point Z``
+    alone is refused. Both now give the same one line naming --point (the bar's points are A, B, G
+    in the scene file), exit 2, nothing on standard output and no file written; a good point
+    still gives the advice."""
+    scene = "data/scenes/sliding_bar.toml"
+    lines = []
+    for extra in ((), ("--suggest-point",), ("--suggest-point", "-o", str(tmp_path / "advice.txt"))):
+        code, out, err = solver_cli("explain", scene, *extra, "--point", "Z")
+        assert code == 2 and out == "" and err.count("\n") == 1, extra
+        lines.append(err)
+    assert len(set(lines)) == 1 and "--point Z" in lines[0] and "(points: A, B, G)" in lines[0]
+    assert not (tmp_path / "advice.txt").exists()
+    code, out, _ = solver_cli("explain", scene, "--suggest-point", "--point", "body:B")
+    assert code == 0 and "Best point" in out
