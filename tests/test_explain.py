@@ -1123,3 +1123,25 @@ def test_suggest_point_refuses_a_bad_point_as_explain_does(solver_cli, tmp_path)
     assert not (tmp_path / "advice.txt").exists()
     code, out, _ = solver_cli("explain", scene, "--suggest-point", "--point", "body:B")
     assert code == 0 and "Best point" in out
+
+
+def test_the_output_format_follows_the_o_suffix_and_a_contradiction_is_refused(solver_cli, tmp_path):
+    """QA 12 #7: ``-o x.docx`` wrote text into a .docx and ``--format html -o x.tex`` HTML into a
+    .tex. The format now follows the suffix (.txt text, .md markdown, .html html, .tex latex); a
+    suffix that is no format's, or another format's than --format, is one line naming -o, exit 2,
+    nothing written. References: each format's own first line (the LaTeX preamble, the HTML
+    doctype, the Markdown heading)."""
+    scene = "data/scenes/sliding_bar.toml"
+    for args, name in ((("-o",), "x.docx"), (("-o",), "x"), (("--format", "html", "-o"), "x.tex"),
+                       (("--format", "markdown", "-o"), "x.html"), (("--suggest-point", "-o"), "x.docx")):
+        code, out, err = solver_cli("explain", scene, *args, str(tmp_path / name))
+        assert code == 2 and out == "" and err.count("\n") == 1, (args, name, err)
+        assert err.startswith(f"error: -o {tmp_path / name}: "), err
+        assert not (tmp_path / name).exists()
+    starts = {"w.tex": "\\documentclass", "w.html": "<!DOCTYPE html>", "w.md": "# Worked solution",
+              "w.txt": "Worked solution"}
+    for name, start in starts.items():
+        code, _, _ = solver_cli("explain", scene, "-o", str(tmp_path / name))
+        assert code == 0 and (tmp_path / name).read_text(encoding="utf-8").startswith(start), name
+    code, _, _ = solver_cli("explain", scene, "--format", "latex", "-o", str(tmp_path / "v.tex"))
+    assert code == 0 and (tmp_path / "v.tex").read_text(encoding="utf-8").startswith("\\documentclass")
