@@ -1017,8 +1017,9 @@ def test_what_alpha_stands_for_is_said_once_by_the_content(paper):
     expl = paper[2]["sliding_bar"]
     said = [(s.kind, t) for s in expl.steps() for t in s.text if t.startswith("Here alpha")]
     assert said == [("euler", "Here alpha = -theta_ddot, the angular acceleration of body (k component, "
-                              "counter-clockwise positive): from here on the equations write the unknown "
-                              "theta_ddot as alpha.")]
+                              "counter-clockwise positive): the moment equation collected below and the "
+                              "equations with the data entered write the unknown theta_ddot as alpha; the "
+                              "other equations keep theta_ddot.")]
     assert render(expl, "text").count(said[0][1]) == 1
     assert render(expl, "latex").count(r"Here $\alpha = -\ddot{\theta}$, the angular acceleration") == 1
     assert render(expl, "markdown").count(r"Here alpha = -theta\_ddot, the angular acceleration") == 1
@@ -1145,3 +1146,28 @@ def test_the_output_format_follows_the_o_suffix_and_a_contradiction_is_refused(s
         assert code == 0 and (tmp_path / name).read_text(encoding="utf-8").startswith(start), name
     code, _, _ = solver_cli("explain", scene, "--format", "latex", "-o", str(tmp_path / "v.tex"))
     assert code == 0 and (tmp_path / "v.tex").read_text(encoding="utf-8").startswith("\\documentclass")
+
+
+@pytest.mark.parametrize("scene", ["sliding_bar", "disk_bar"])
+def test_the_sentence_on_alpha_names_the_equations_that_write_it(paper, scene):
+    """QA 12 #12: "from here on the equations write theta_ddot as alpha" was followed at once by the
+    generalized Euler equation in theta_ddot (Eq. 27's form: I_A alpha with alpha = -theta_ddot) and
+    later by the equation of motion in theta_ddot. The paper writes alpha in Eqs. 28-29 only: the
+    collected moment equation and the equations with the data entered. The sentence names exactly
+    those, and every other equation holds theta_ddot, never alpha."""
+    alpha, theta_ddot = sp.Symbol("alpha", real=True), sp.Symbol("theta_ddot", real=True)
+    expl = paper[2][scene]
+    said = [t for s in expl.steps() for t in s.text if t.startswith("Here alpha")]
+    assert len(said) == 1
+    assert ": the moment equation collected below and the equations with the data entered write the unknown " \
+           "theta_ddot as alpha; the other equations keep theta_ddot." in said[0]
+    writes = set()
+    for step in expl.steps():
+        for eq in step.equations:
+            symbols = set().union(*(sp.sympify(t.expr).free_symbols for t in (*eq.lhs, *eq.rhs)))
+            if alpha in symbols:
+                writes.add("numbers" if step.kind == "numbers" else eq.tag)
+                assert theta_ddot not in symbols, (step.kind, eq.tag)
+    assert writes == {"collected", "numbers"}
+    euler = next(s for s in expl.steps() if s.kind == "euler").equation("euler")
+    assert theta_ddot in set().union(*(sp.sympify(t.expr).free_symbols for t in (*euler.lhs, *euler.rhs)))

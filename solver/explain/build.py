@@ -600,14 +600,15 @@ def say_what_alpha_is(system, expl: Explanation) -> None:
     body = next(iter(system.bodies))
     names = {*system.parameters, *(r.name for r in system.reactions),
              *(str(x) for c in system.coordinates for x in (c.q, c.qd, c.qdd))}
-    for step in expl.steps():
-        if step.kind not in _WRITES_ALPHA and alpha.name not in names:
-            continue  # no other step writes it, unless the scene names a symbol alpha itself
-        if any(_has(t.expr, alpha) for e in step.equations for t in (*e.lhs, *e.rhs)):
-            step.text.append(f"Here alpha = {sstr(k * q_ddot)}, the angular acceleration of {body} (k component, "
-                             f"counter-clockwise positive): from here on the equations write the unknown {q_ddot} "
-                             "as alpha.")
-            return
+    writing = [step for step in expl.steps() if (step.kind in _WRITES_ALPHA or alpha.name in names)
+               and any(_has(t.expr, alpha) for e in step.equations for t in (*e.lhs, *e.rhs))]
+    if not writing:  # (no other step writes it, unless the scene names a symbol alpha itself)
+        return
+    which = {"euler": "the moment equation collected below", "numbers": "the equations with the data entered"}
+    where = " and ".join(dict.fromkeys(which.get(s.kind, f"the equations of '{s.title}'") for s in writing))
+    writing[0].text.append(f"Here alpha = {sstr(k * q_ddot)}, the angular acceleration of {body} (k component, "
+                           f"counter-clockwise positive): {where} write the unknown {q_ddot} as alpha; the "
+                           f"other equations keep {q_ddot}.")
 
 
 def _has(expr, symbol) -> bool:
