@@ -75,6 +75,10 @@ def explain_command(args: argparse.Namespace) -> int:
             from solver.explain.figures import attach_figures
 
             attach_figures(explanation, system, args.point)
+        else:  # and say the command that draws them
+            from solver.explain.figures import attach_drawing_commands
+
+            attach_drawing_commands(explanation, args.scene, args.point, args.overrides)
         text = render(explanation, fmt)
     if args.output is None:
         print(text, end="" if text.endswith("\n") else "\n")

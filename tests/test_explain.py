@@ -1171,3 +1171,34 @@ def test_the_sentence_on_alpha_names_the_equations_that_write_it(paper, scene):
     assert writes == {"collected", "numbers"}
     euler = next(s for s in expl.steps() if s.kind == "euler").equation("euler")
     assert theta_ddot in set().union(*(sp.sympify(t.expr).free_symbols for t in (*euler.lhs, *euler.rhs)))
+
+
+def test_formats_without_the_drawing_give_the_command_that_draws_it(solver_cli, tmp_path, monkeypatch):
+    """QA 12 #6: text, Markdown and LaTeX list the forces but had no free-body drawing and did not
+    say where to get one. Each free-body step now gives, in one line, the ``draw --fbd`` command
+    for the same scene, --point and --set (quoted for a shell); run as given, it draws the diagram.
+    HTML embeds the drawing instead. Reference: the command line written out by hand."""
+    import shlex
+
+    scene = str(ROOT / "data" / "scenes" / "slider_crank.toml")
+    expected = ["python", "-m", "solver", "draw", scene, "--fbd", "--point", "crank:I(O_x,A_y)",
+                "-o", "fbd.svg"]
+    for fmt, quote in (("text", ("", "")), ("markdown", ("`", "`")), ("latex", ("\\texttt{", "}"))):
+        code, out, _ = solver_cli("explain", scene, "--format", fmt, "--point", "crank:I(O_x, A_y)")
+        lines = [line for line in out.splitlines() if "The free-body diagram as a drawing:" in line]
+        assert code == 0 and len(lines) == 3, fmt  # one per body: crank, rod, piston
+        command = lines[0].split("as a drawing: ", 1)[1]
+        assert command.startswith(quote[0]) and command.endswith(quote[1]), fmt
+        if fmt == "text":
+            assert shlex.split(command) == expected
+    code, page, _ = solver_cli("explain", scene, "--format", "html")
+    assert code == 0 and "as a drawing" not in page and page.count("<svg") == 3
+    # a --set value with a space is quoted, and the command runs as written
+    disk = str(ROOT / "data" / "scenes" / "disk_bar.toml")
+    code, out, _ = solver_cli("explain", disk, "--set", "theta_dot=2 rad/s")
+    line = next(x for x in out.splitlines() if "as a drawing:" in x)
+    argv = shlex.split(line.split("as a drawing: ", 1)[1])
+    assert argv == ["python", "-m", "solver", "draw", disk, "--fbd", "--set", "theta_dot=2 rad/s", "-o", "fbd.svg"]
+    monkeypatch.chdir(tmp_path)
+    code, _, _ = solver_cli(*argv[3:])
+    assert code == 0 and (tmp_path / "fbd.svg").read_text(encoding="utf-8").count("F_f") >= 1
