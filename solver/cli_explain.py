@@ -31,7 +31,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     add_scene_argument(p)
     add_point_option(p)
     p.add_argument("--format", choices=FORMATS, default=None,
-                   help="output format (default: from the -o suffix .txt/.md/.html/.tex, else text)")
+                   help="output format (default: text; with -o, the suffix's: .txt text, .md markdown, .html html, "
+                   ".tex latex); an -o suffix that is none of these, or another format's, is refused")
     p.add_argument("-o", "--output", metavar="FILE", default=None,
                    help="write to FILE (replaced whole, never half-written) instead of standard output")
     p.add_argument("--suggest-point", action="store_true",
@@ -41,11 +42,19 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def _format(args) -> str:
-    if args.format is not None:
-        return args.format
-    if args.output is not None:
-        return _SUFFIX_FORMAT.get(Path(args.output).suffix.lower(), "text")
-    return "text"
+    """The output format: --format, else the -o suffix's, else text. An -o suffix that is no
+    format's, or that is another format's than --format, is refused naming -o (nothing written)."""
+    if args.output is None:
+        return args.format or "text"
+    from solver.drawing import check_format
+    from solver.errors import InputError
+
+    implied = _SUFFIX_FORMAT[check_format(args.output, tuple(_SUFFIX_FORMAT), "-o")]
+    if args.format is not None and args.format != implied:
+        wanted = " or ".join(k for k, v in _SUFFIX_FORMAT.items() if v == args.format)
+        raise InputError(f"-o {args.output}: the suffix is {implied}'s, not {args.format}'s (--format "
+                         f"{args.format}); give a {wanted} file or leave out --format")
+    return implied
 
 
 def explain_command(args: argparse.Namespace) -> int:
@@ -56,7 +65,9 @@ def explain_command(args: argparse.Namespace) -> int:
     system = load_scene_from_args(args)
     if args.suggest_point:  # the advisor alone, in the same formats
         from solver.explain.advisor import advice_explanation
+        from solver.formulations import resolve_points
 
+        resolve_points(system, args.point)  # a bad --point is refused here too, in the same line
         text = render(advice_explanation(system), fmt)
     else:
         explanation = explain(system, args.point)
@@ -64,6 +75,10 @@ def explain_command(args: argparse.Namespace) -> int:
             from solver.explain.figures import attach_figures
 
             attach_figures(explanation, system, args.point)
+        else:  # and say the command that draws them
+            from solver.explain.figures import attach_drawing_commands
+
+            attach_drawing_commands(explanation, args.scene, args.point, args.overrides)
         text = render(explanation, fmt)
     if args.output is None:
         print(text, end="" if text.endswith("\n") else "\n")

@@ -101,6 +101,23 @@ def output_unit(unit: str, units: Mapping[str, str] | None) -> str:
     return text if used else found[0]
 
 
+def si_unit_of(unit) -> str:
+    """The SI unit of :data:`_OUTPUT_UNIT_RULES` of the dimension of the pint ``unit`` (the first
+    in the table's order: ``N*m`` before ``J``, ``rad/s**2`` for 1/s**2; an angle's for no
+    dimension never), or the SI base units when the table has none (``m**2/s**2``).
+
+    >>> from solver.units import ureg
+    >>> si_unit_of(ureg.Unit("N*m/(kg*ft)")), si_unit_of(ureg.Unit("N*m/in")), si_unit_of(ureg.Unit("N*m/kg"))
+    ('m/s**2', 'N', 'm**2/s**2')
+    """
+    from solver.units import ureg
+
+    for si in _OUTPUT_UNIT_RULES:
+        if si not in ("rad", "deg") and ureg.Unit(si).dimensionality == unit.dimensionality:
+            return si
+    return f"{(1.0 * unit).to_base_units().units:~C}" or "1"
+
+
 def to_output_units(payload: Any, units: Mapping[str, str] | None) -> Any:
     """``payload`` with every ``{"value": ..., "unit": u}`` entry converted to the unit
     :func:`output_unit` gives for ``u`` (values may be numbers or lists of numbers, or lists
@@ -141,4 +158,4 @@ def columns_in_output_units(columns: Mapping[str, tuple[Any, str]], units: Mappi
     return {name: in_output_units(values, unit, units) for name, (values, unit) in columns.items()}
 
 
-__all__ = ["output_unit", "to_output_units", "in_output_units", "columns_in_output_units"]
+__all__ = ["output_unit", "si_unit_of", "to_output_units", "in_output_units", "columns_in_output_units"]

@@ -233,3 +233,35 @@ def test_a_bad_crossing_point_names_the_form_expected(capsys, point: str, why: s
     out, err = capsys.readouterr()
     assert status == 2 and out == "" and err.count("\n") == 1 and err.startswith(f"error: {path}: --point ")
     assert why in err and "expected BODY:I(R1,R2)" in err and "crank: O_x, O_y, A_x, A_y" in err, err
+
+
+def test_an_element_centre_the_advisor_lists_is_accepted_by_every_command(tmp_path: Path, capsys) -> None:
+    """QA 12 #4: the advisor lists the slider-crank rod's element centre ``rod G_shank`` (the
+    shank's mass centre, a point of the rod the scene does not name), yet ``--point rod:G_shank``
+    was refused as not a point of the rod by solve, explain and draw --fbd. Each takes it now, with
+    the mass-centre route's answers (solve: JSON to round-off, 1e-9 as above; explain's table and
+    the diagram's labels to their printed digits)."""
+    import json
+
+    from solver.drawing import draw_system
+
+    path = str(ROOT / "data" / "scenes" / "slider_crank.toml")
+    reference = _reference(path, {})
+    centres = [p for p in _advised(path, {}) if re.search(r":G_", p)]
+    assert centres == ["rod:G_shank"]
+    for point in centres:
+        assert main(["solve", path, "--point", point, "--json"]) == 0
+        got = json.loads(capsys.readouterr().out)["unknowns"]
+        for name, value in reference.items():
+            assert got[name]["value"] == pytest.approx(value, rel=1e-9, abs=1e-9), (point, name)
+        expl = explain(load_system(path), point)
+        step = next(s for sec in expl.sections for s in sec.steps if s.kind == "solution")
+        for name, value, _unit in step.table.rows:  # 6 significant figures
+            assert float(value) == pytest.approx(reference[name], rel=5e-6, abs=1e-9), (point, name)
+        assert main(["draw", path, "--fbd", "--point", point, "-o", str(tmp_path / "fbd.svg")]) == 0
+        drawing = draw_system(load_system(path), fbd=True, point=point)
+        body, _, name = point.partition(":")
+        assert drawing.point[body] == name
+        import matplotlib.pyplot as plt
+
+        plt.close(drawing.figure)

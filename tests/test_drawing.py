@@ -1078,3 +1078,23 @@ def test_paper_figures_coordinate_arcs_are_more_than_their_heads(name, scene_fil
         xy = ax.transData.transform(np.column_stack(line.get_data()).astype(float))
         length = float(np.sum(np.linalg.norm(np.diff(xy, axis=0), axis=1)))
         assert length >= 1.5 * COORDINATE_HEAD_PT * figure.dpi / 72, f"{name}: a coordinate's arc {length:.1f} px"
+
+
+def test_a_given_load_keeps_its_size_and_arrow_beside_huge_forces(tmp_path):
+    """QA 12 #10: at theta_dot = 1e50 rad/s the disk_bar contact force is about 1e99 N, and the
+    weight was labelled ``|m g| = 0 N`` with no arrow: the zero rule (1e-9 of the largest force,
+    for the solve's round-off) took it for round-off. A load the scene gives is exact: its label
+    prints its size, (m_d + m_b) g = 5.5 kg x 9.80665 m/s**2 = 53.94 N from the scene file (4
+    significant figures as every label), and it is drawn downwards, every arrow being of one length."""
+    system = load_system(ROOT / "data" / "scenes" / "disk_bar.toml", {"theta_dot": "1e50 rad/s"})
+    fbd = draw_system(system, fbd=True)
+    weight = next(i for i in fbd.items if i.kind == "force" and i.label.startswith("gravity"))
+    assert weight.label == f"gravity: |m g| = {(4 + 1.5) * 9.80665:.2f} N"
+    assert weight.direction == pytest.approx((0.0, -1.0), abs=1e-12)
+    assert max(i.value for i in fbd.items if i.kind == "force") > 1e98  # the huge forces beside it
+    import matplotlib.pyplot as plt
+
+    plt.close(fbd.figure)
+    assert main(["draw", str(ROOT / "data" / "scenes" / "disk_bar.toml"), "--fbd", "--set", "theta_dot=1e50 rad/s",
+                 "-o", str(tmp_path / "fast.svg")]) == 0
+    assert "53.94" in (tmp_path / "fast.svg").read_text(encoding="utf-8")

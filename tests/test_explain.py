@@ -1017,8 +1017,9 @@ def test_what_alpha_stands_for_is_said_once_by_the_content(paper):
     expl = paper[2]["sliding_bar"]
     said = [(s.kind, t) for s in expl.steps() for t in s.text if t.startswith("Here alpha")]
     assert said == [("euler", "Here alpha = -theta_ddot, the angular acceleration of body (k component, "
-                              "counter-clockwise positive): from here on the equations write the unknown "
-                              "theta_ddot as alpha.")]
+                              "counter-clockwise positive): the moment equation collected below and the "
+                              "equations with the data entered write the unknown theta_ddot as alpha; the "
+                              "other equations keep theta_ddot.")]
     assert render(expl, "text").count(said[0][1]) == 1
     assert render(expl, "latex").count(r"Here $\alpha = -\ddot{\theta}$, the angular acceleration") == 1
     assert render(expl, "markdown").count(r"Here alpha = -theta\_ddot, the angular acceleration") == 1
@@ -1099,3 +1100,123 @@ def test_configuration_terms_hold_neither_accelerations_nor_a_zero(scene, point,
         assert "_ddot" not in row and row != "+ 0    [configuration terms]"
     if scene == "sliding_bar":  # gravity's moment alone: g m_b (l_b/2) cos(theta), as about A (Eq. 29)
         assert rows == ["+ g*l_b*m_b*cos(theta)/2    [configuration terms]"]
+
+
+@pytest.mark.parametrize("length, per_metre", [(None, 1.0), ("ft", 1 / 0.3048)])
+def test_a_moment_equation_divided_by_a_mass_times_a_length_is_an_acceleration(tmp_path, length, per_metre):
+    """QA 12 #5. The double pendulum's lower link about its pin A (bob m2 at B, A to B = l2):
+    m2 l2 (l1 cos(th1 - th2) th1'' + l2 th2'') = -m2 g l2 sin th2. Divided by m2 l2 it reads
+    l1 cos(th1 - th2) th1'' + l2 th2'' = -g sin th2, an acceleration: m/s**2, or ft/s**2 when the
+    scene prints lengths in feet (it was labelled N*m). Reference: that closed form at the scene's
+    th1 = 30 deg, th2 = 10 deg, l1 = l2 = 1 m, g = 9.80665 m/s**2; the numbers are printed to 4
+    significant figures, hence rtol 5e-4."""
+    import math
+
+    text = (ROOT / "data" / "scenes" / "double_pendulum.toml").read_text(encoding="utf-8")
+    if length:
+        text += f'\n[output_units]\nlength = "{length}"\n'
+    path = tmp_path / "double_pendulum.toml"
+    path.write_text(text, encoding="utf-8")
+    expl = explain(load_system(path), advice=False)
+    row = expl.sections[-1].step("numbers").equation("numbers:lower:euler")
+    assert "divided by m2 l2" in row.label
+    assert row.label.endswith(f"[{length or 'm'}/s**2]")
+    rhs = float(sum(t.expr for t in row.rhs))
+    assert rhs == pytest.approx(-9.80665 * math.sin(math.radians(10)) * per_metre, rel=5e-4)
+    lhs = {t.note: float(t.expr.as_coeff_Mul()[0]) for t in row.lhs}
+    assert lhs["theta1_ddot"] == pytest.approx(math.cos(math.radians(20)) * per_metre, rel=5e-4)
+
+
+def test_suggest_point_refuses_a_bad_point_as_explain_does(solver_cli, tmp_path):
+    """QA 12 #11: ``--suggest-point --point Z`` printed the advice and exited 0, while ``--point Z``
+    alone is refused. Both now give the same one line naming --point (the bar's points are A, B, G
+    in the scene file), exit 2, nothing on standard output and no file written; a good point
+    still gives the advice."""
+    scene = "data/scenes/sliding_bar.toml"
+    lines = []
+    for extra in ((), ("--suggest-point",), ("--suggest-point", "-o", str(tmp_path / "advice.txt"))):
+        code, out, err = solver_cli("explain", scene, *extra, "--point", "Z")
+        assert code == 2 and out == "" and err.count("\n") == 1, extra
+        lines.append(err)
+    assert len(set(lines)) == 1 and "--point Z" in lines[0] and "(points: A, B, G)" in lines[0]
+    assert not (tmp_path / "advice.txt").exists()
+    code, out, _ = solver_cli("explain", scene, "--suggest-point", "--point", "body:B")
+    assert code == 0 and "Best point" in out
+
+
+def test_the_output_format_follows_the_o_suffix_and_a_contradiction_is_refused(solver_cli, tmp_path):
+    """QA 12 #7: ``-o x.docx`` wrote text into a .docx and ``--format html -o x.tex`` HTML into a
+    .tex. The format now follows the suffix (.txt text, .md markdown, .html html, .tex latex); a
+    suffix that is no format's, or another format's than --format, is one line naming -o, exit 2,
+    nothing written. References: each format's own first line (the LaTeX preamble, the HTML
+    doctype, the Markdown heading)."""
+    scene = "data/scenes/sliding_bar.toml"
+    for args, name in ((("-o",), "x.docx"), (("-o",), "x"), (("--format", "html", "-o"), "x.tex"),
+                       (("--format", "markdown", "-o"), "x.html"), (("--suggest-point", "-o"), "x.docx")):
+        code, out, err = solver_cli("explain", scene, *args, str(tmp_path / name))
+        assert code == 2 and out == "" and err.count("\n") == 1, (args, name, err)
+        assert err.startswith(f"error: -o {tmp_path / name}: "), err
+        assert not (tmp_path / name).exists()
+    starts = {"w.tex": "\\documentclass", "w.html": "<!DOCTYPE html>", "w.md": "# Worked solution",
+              "w.txt": "Worked solution"}
+    for name, start in starts.items():
+        code, _, _ = solver_cli("explain", scene, "-o", str(tmp_path / name))
+        assert code == 0 and (tmp_path / name).read_text(encoding="utf-8").startswith(start), name
+    code, _, _ = solver_cli("explain", scene, "--format", "latex", "-o", str(tmp_path / "v.tex"))
+    assert code == 0 and (tmp_path / "v.tex").read_text(encoding="utf-8").startswith("\\documentclass")
+
+
+@pytest.mark.parametrize("scene", ["sliding_bar", "disk_bar"])
+def test_the_sentence_on_alpha_names_the_equations_that_write_it(paper, scene):
+    """QA 12 #12: "from here on the equations write theta_ddot as alpha" was followed at once by the
+    generalized Euler equation in theta_ddot (Eq. 27's form: I_A alpha with alpha = -theta_ddot) and
+    later by the equation of motion in theta_ddot. The paper writes alpha in Eqs. 28-29 only: the
+    collected moment equation and the equations with the data entered. The sentence names exactly
+    those, and every other equation holds theta_ddot, never alpha."""
+    alpha, theta_ddot = sp.Symbol("alpha", real=True), sp.Symbol("theta_ddot", real=True)
+    expl = paper[2][scene]
+    said = [t for s in expl.steps() for t in s.text if t.startswith("Here alpha")]
+    assert len(said) == 1
+    assert ": the moment equation collected below and the equations with the data entered write the unknown " \
+           "theta_ddot as alpha; the other equations keep theta_ddot." in said[0]
+    writes = set()
+    for step in expl.steps():
+        for eq in step.equations:
+            symbols = set().union(*(sp.sympify(t.expr).free_symbols for t in (*eq.lhs, *eq.rhs)))
+            if alpha in symbols:
+                writes.add("numbers" if step.kind == "numbers" else eq.tag)
+                assert theta_ddot not in symbols, (step.kind, eq.tag)
+    assert writes == {"collected", "numbers"}
+    euler = next(s for s in expl.steps() if s.kind == "euler").equation("euler")
+    assert theta_ddot in set().union(*(sp.sympify(t.expr).free_symbols for t in (*euler.lhs, *euler.rhs)))
+
+
+def test_formats_without_the_drawing_give_the_command_that_draws_it(solver_cli, tmp_path, monkeypatch):
+    """QA 12 #6: text, Markdown and LaTeX list the forces but had no free-body drawing and did not
+    say where to get one. Each free-body step now gives, in one line, the ``draw --fbd`` command
+    for the same scene, --point and --set (quoted for a shell); run as given, it draws the diagram.
+    HTML embeds the drawing instead. Reference: the command line written out by hand."""
+    import shlex
+
+    scene = str(ROOT / "data" / "scenes" / "slider_crank.toml")
+    expected = ["python", "-m", "solver", "draw", scene, "--fbd", "--point", "crank:I(O_x,A_y)",
+                "-o", "fbd.svg"]
+    for fmt, quote in (("text", ("", "")), ("markdown", ("`", "`")), ("latex", ("\\texttt{", "}"))):
+        code, out, _ = solver_cli("explain", scene, "--format", fmt, "--point", "crank:I(O_x, A_y)")
+        lines = [line for line in out.splitlines() if "The free-body diagram as a drawing:" in line]
+        assert code == 0 and len(lines) == 3, fmt  # one per body: crank, rod, piston
+        command = lines[0].split("as a drawing: ", 1)[1]
+        assert command.startswith(quote[0]) and command.endswith(quote[1]), fmt
+        if fmt == "text":
+            assert shlex.split(command) == expected
+    code, page, _ = solver_cli("explain", scene, "--format", "html")
+    assert code == 0 and "as a drawing" not in page and page.count("<svg") == 3
+    # a --set value with a space is quoted, and the command runs as written
+    disk = str(ROOT / "data" / "scenes" / "disk_bar.toml")
+    code, out, _ = solver_cli("explain", disk, "--set", "theta_dot=2 rad/s")
+    line = next(x for x in out.splitlines() if "as a drawing:" in x)
+    argv = shlex.split(line.split("as a drawing: ", 1)[1])
+    assert argv == ["python", "-m", "solver", "draw", disk, "--fbd", "--set", "theta_dot=2 rad/s", "-o", "fbd.svg"]
+    monkeypatch.chdir(tmp_path)
+    code, _, _ = solver_cli(*argv[3:])
+    assert code == 0 and (tmp_path / "fbd.svg").read_text(encoding="utf-8").count("F_f") >= 1

@@ -761,3 +761,20 @@ def test_figures_titled_by_content_and_the_motion_legend_clear_of_the_curves(bui
     top = fig.axes[0]
     legend_box = top.get_legend().get_window_extent(renderer)
     assert legend_box.y0 >= top.get_window_extent(renderer).y1 - 1  # 1 px: rounding of the layout
+
+
+def test_the_errors_of_eqs_43_44_sit_under_the_elimination_they_print(built):
+    """QA 12 #13: the list of the article's errors in Eqs. 43-44 (the friction force eliminated
+    between the horizontal balance and the moment equation about P, giving the equation of motion)
+    stood under the heading "The one-step alternative about C", which is not that step. In both
+    paper.html and paper.tex it now follows the elimination and its equation of motion, under
+    "Equations", before "Numbers at the chosen state" and the alternative about C."""
+    out = Path(built["out"])
+    for name in ("paper.html", "paper.tex"):
+        text = html.unescape((out / name).read_text(encoding="utf-8"))  # paper.html writes ' as &#39;
+        section = text[text.index("A disk rolling with a rigidly attached bar"):]
+        found = section.index("The article's printed versions of this step differ")
+        assert section.index("Eliminating the friction force") < found < section.index("Numbers at the chosen state"), name
+        assert found < section.index("The one-step alternative about C"), name  # its heading
+        listed = section[found:section.index("Numbers at the chosen state")]
+        assert "43" in listed and "44" in listed, name

@@ -654,7 +654,8 @@ def _load_items(fb: _FreeBodies, applied) -> list[DrawnItem]:
     for (body, name), vec in weights.items():
         items.append(_force("force", f"{name}: m g", fb.mass_centre(body), vec, None, body, name,
                             fb.force(float(np.hypot(*vec))), fb.force_unit))
-    return items
+    return [DrawnItem(i.kind, i.label, i.anchor, i.direction, i.turn, i.body, i.name, i.value, i.unit,
+                      {**i.shape, "given": True}) for i in items]  # exact: no round-off for _mark_zeros to clear
 
 
 def _inertial_items(fb: _FreeBodies, inertial, points) -> list[DrawnItem]:
@@ -732,13 +733,17 @@ def figures_text(value: float, digits: int = 4) -> str:
 
 
 def _mark_zeros(items: list[DrawnItem]) -> list[DrawnItem]:
-    """Forces (couples) below ZERO_FORCE of the largest force (couple) on the same body lose their direction."""
+    """Solved forces (couples) below ZERO_FORCE of the largest force (couple) on the same body lose
+    their direction: round-off of the solve. A load the scene gives (a weight, an applied force, a
+    spring's) is exact: it keeps its size and its arrow, of the one length every arrow has, however
+    large the others (disk_bar's weight, 53.94 N, beside 1e99 N at theta_dot = 1e50 rad/s)."""
     out = []
     for item in items:
         group = ("couple", "inertial_couple") if item.kind in ("couple", "inertial_couple") else ("force", "inertial")
         same = [i.shape["size"] for i in items if i.body == item.body and i.kind in group]
         biggest = max(same) if same else 0.0
-        zero = item.shape.get("size", 0.0) <= ZERO_FORCE * biggest
+        size = item.shape.get("size", 0.0)
+        zero = size == 0 if item.shape.get("given") else size <= ZERO_FORCE * biggest
         value = 0.0 if zero else item.value
         label = size_label(item.label, value, item.unit)
         out.append(DrawnItem(item.kind, label, item.anchor, None if zero else item.direction, 0 if zero else item.turn,

@@ -144,8 +144,9 @@ class _Points:
 
 def add_joint_point(system, point: str | None) -> None:
     """Make the point ``--point`` names a point of its body when it is one the worked solution and
-    the advisor name after a joint (``C_<joint>``, :meth:`_Points.name_of`) or after two reactions
-    (``I(R1,R2)``, :func:`crossing_name`): an instant point at the place where the joint acts or
+    the advisor name after an element (``G_<element>``, its mass centre, a point of the body, as
+    :class:`_Points` names it), after a joint (``C_<joint>``, :meth:`_Points.name_of`) or after two
+    reactions (``I(R1,R2)``, :func:`crossing_name`): for the last two an instant point at the place where the joint acts or
     the lines of action cross, so that the moment equation can be taken about it. Other names are
     left to the formulation to accept or refuse.
 
@@ -167,6 +168,12 @@ def add_joint_point(system, point: str | None) -> None:
             placed = True
             continue
         points = _Points(system, b.name)
+        centre = next((e for e in b.elements if f"G_{e.name}" == name and name in points.named), None)
+        if centre is not None:  # an element's mass centre, as the advisor lists it: a point of the body
+            b.points[name] = Point(name, copy_vec(centre.mass_center))
+            system.reset()
+            placed = True
+            continue
         forces = _forces_on(system, b.name, points)
         at = next((f.at for f in forces if f.point == name), None)
         state = state or start_state(system)  # (a contact may be open there)
@@ -593,14 +600,15 @@ def say_what_alpha_is(system, expl: Explanation) -> None:
     body = next(iter(system.bodies))
     names = {*system.parameters, *(r.name for r in system.reactions),
              *(str(x) for c in system.coordinates for x in (c.q, c.qd, c.qdd))}
-    for step in expl.steps():
-        if step.kind not in _WRITES_ALPHA and alpha.name not in names:
-            continue  # no other step writes it, unless the scene names a symbol alpha itself
-        if any(_has(t.expr, alpha) for e in step.equations for t in (*e.lhs, *e.rhs)):
-            step.text.append(f"Here alpha = {sstr(k * q_ddot)}, the angular acceleration of {body} (k component, "
-                             f"counter-clockwise positive): from here on the equations write the unknown {q_ddot} "
-                             "as alpha.")
-            return
+    writing = [step for step in expl.steps() if (step.kind in _WRITES_ALPHA or alpha.name in names)
+               and any(_has(t.expr, alpha) for e in step.equations for t in (*e.lhs, *e.rhs))]
+    if not writing:  # (no other step writes it, unless the scene names a symbol alpha itself)
+        return
+    which = {"euler": "the moment equation collected below", "numbers": "the equations with the data entered"}
+    where = " and ".join(dict.fromkeys(which.get(s.kind, f"the equations of '{s.title}'") for s in writing))
+    writing[0].text.append(f"Here alpha = {sstr(k * q_ddot)}, the angular acceleration of {body} (k component, "
+                           f"counter-clockwise positive): {where} write the unknown {q_ddot} as alpha; the "
+                           f"other equations keep {q_ddot}.")
 
 
 def _has(expr, symbol) -> bool:
@@ -1270,15 +1278,19 @@ def _numeric_row(row: sp.Expr, unknowns: list) -> tuple[dict, sp.Expr]:
 
 
 def _collected_unit(system, collected: Equation) -> str:
-    """The unit of the collected moment equation: N*m, or N when it was divided by one length
-    parameter (Eq. 28 is Eq. 27 divided by l_b)."""
+    """The unit of the collected moment equation: the moment's, N*m, divided by the units of the
+    parameters it was divided by (Eq. 28 is Eq. 27 divided by l_b: N; divided by m L: m/s**2), in
+    SI, spelled as the output units spell it (:data:`solver.output_units._OUTPUT_UNIT_RULES`)."""
+    from ..output_units import si_unit_of
+    from ..units import ureg
+
     divided = collected.label.split("divided by ", 1)
+    unit = ureg.Unit("N*m")
     if len(divided) == 2:
-        names = divided[1].split(" and collected")[0].split()
-        if len(names) == 1 and names[0] in system.parameters:
-            if system.parameters[names[0]].dimensionality == {"[length]": 1}:
-                return "N"
-    return "N*m"
+        for token in divided[1].split(" and collected")[0].split():  # m, L, r**2 (sstr of p**k)
+            name, _, power = token.partition("**")
+            unit /= (1.0 * system.parameters[name]).units ** int(power or 1)
+    return si_unit_of(unit)
 
 
 def _per_si(system, unit: str) -> tuple[float, str]:

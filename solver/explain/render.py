@@ -62,6 +62,8 @@ class _Renderer:
             out.append(self.figure(step.figure))
         if step.figure_svg is not None:
             out.append(self.drawing(step.figure_svg))
+        elif (step.figure_request or {}).get("command"):  # not drawn here: where to get the drawing
+            out.append(self.command("The free-body diagram as a drawing:", step.figure_request["command"]))
         for eq in step.equations:
             out.append(self.equation(eq))
         if step.table is not None:
@@ -77,6 +79,10 @@ class _Renderer:
     def drawing(self, svg: str) -> str:
         """A drawn free-body diagram: only HTML shows it (the forces are listed in every format)."""
         return ""
+
+    def command(self, intro: str, command: str) -> str:
+        """One line: the prose ``intro``, then a command line to type, written as it is."""
+        return f"{intro} {command}"
 
 
 # -- text ------------------------------------------------------------------------------------------
@@ -184,6 +190,9 @@ class _Markdown(_Renderer):
     def paragraph(self, text):
         return _md(text) + "\n"
 
+    def command(self, intro, command):
+        return f"{_md(intro)} `{command}`\n"
+
     def equation(self, eq):
         head = _md(eq.label) + (f" ({_md(eq.ref)})" if eq.ref else "")
         return f"{head}:\n\n$$\n{self.math.equation(eq)}\n$$\n"
@@ -222,6 +231,9 @@ class _Latex(_Renderer):
 
     def paragraph(self, text):
         return self.prose.text(text) + "\n"
+
+    def command(self, intro, command):
+        return f"{self.prose.text(intro)} \\texttt{{{latex_escape(command)}}}\n"
 
     def equation(self, eq):
         label, unit = eq.label, ""
@@ -282,6 +294,9 @@ class _Html(_Renderer):
 
     def paragraph(self, text):
         return f"<p>{self.prose.text(text)}</p>"
+
+    def command(self, intro, command):
+        return f"<p>{self.prose.text(intro)} <code>{html.escape(command)}</code></p>"
 
     def equation(self, eq):
         label, unit = eq.label, ""
