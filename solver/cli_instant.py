@@ -340,8 +340,8 @@ def _eom_payload(system, method, point, coordinates, eqs, mass, kinetic, potenti
         "coordinates": list(coordinates), "dependent": [c.name for c in system.dependent],
         "eom": [text(e) for e in eqs],
         "mass": [[text(m) for m in row] for row in mass],
-        "kinetic_energy": text(kinetic), "potential_energy": text(potential),
-        "generalized_forces": {name: text(q) for name, q in forces.items()},
+        "kinetic_energy": text(_energy_display(kinetic, system)), "potential_energy": text(_energy_display(potential, system)),
+        "generalized_forces": {name: text(_energy_display(q, system)) for name, q in forces.items()},
         "expression_units": "SI: the expressions give SI values from SI values of the parameters, "
                             "coordinates and rates",
         "reactions": None if reactions is None else {name: text(expr) for name, expr in reactions.items()},
@@ -349,6 +349,16 @@ def _eom_payload(system, method, point, coordinates, eqs, mass, kinetic, potenti
         "reactions_at_state": at_state,
         **({"regime": regimes} if regimes else {}),  # the contacts' regime at the state, when eom is written in it
     }
+
+
+def _energy_display(energy: sp.Expr, system) -> sp.Expr:
+    """The display form of an energy or a generalized force: by the powers of the rates (a kinetic
+    energy is quadratic in them), each coefficient by the display tidy (sin(u)**2 + cos(u)**2 = 1
+    for any angle u)."""
+    from solver.derivation import _tidy, _tidy_by_rate
+
+    rates = [c.qd for c in system.free]
+    return _tidy_by_rate(energy, *rates) if rates else _tidy(energy)
 
 
 def _printer():
