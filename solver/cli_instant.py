@@ -216,6 +216,7 @@ def eom_command(args: argparse.Namespace) -> int:
     from solver.formulations import point_text, shown_point
 
     system = _in_regime_at_state(load_scene_from_args(args), args)
+    _refuse_zero_length_at_state(system)
     if len(system.free) != 1 or system.closure:
         return _eom_multi(args, system)
     d = derivation.derive(system, args.point, args.method)
@@ -302,6 +303,21 @@ def _in_regime_at_state(system, args):
                          "that eom's elimination of the reactions does not carry: `explain` writes the equations of "
                          "motion in this regime, `solve` and `simulate` solve them")
     return variant
+
+
+def _refuse_zero_length_at_state(system) -> None:
+    """Refuse, as ``solve`` does, a state where a spring or damper has zero length: its force has no
+    direction there, and the equations printed would be undefined (a term over Abs(d + x) = 0).
+    A state that does not assemble is left to the commands that solve at it."""
+    if all(load.line_length(system) is None for load in system.loads):
+        return
+    from solver.analyses.instant import assemble, refuse_zero_length
+
+    try:
+        state = assemble(system)
+    except InputError:
+        return
+    refuse_zero_length(system, state.q, state.qd, state.t)
 
 
 def _regime_line(args) -> str | None:
