@@ -486,6 +486,7 @@ def _print_projection(f, text) -> None:
 def _tidy_multi(expr, system):
     from solver.derivation import _tidy_by_rate
 
+    expr = sp.expand(expr)  # (terms that cancel go: a spring's coefficient of s_ddot, built as A - A, is 0)
     parts = []
     for c in system.free:
         coef = expr.xreplace({x.qdd: (1 if x is c else 0) for x in system.free}) - expr.xreplace({x.qdd: 0 for x in system.free})
