@@ -356,7 +356,8 @@ def _eom_payload(system, method, point, coordinates, eqs, mass, kinetic, potenti
         "coordinates": list(coordinates), "dependent": [c.name for c in system.dependent],
         "eom": [text(e) for e in eqs],
         "mass": [[text(m) for m in row] for row in mass],
-        "kinetic_energy": text(_energy_display(kinetic, system)), "potential_energy": text(_energy_display(potential, system)),
+        "kinetic_energy": text(_energy_display(kinetic, system)),
+        "potential_energy": text(_energy_display(potential, system)),
         "generalized_forces": {name: text(_energy_display(q, system)) for name, q in forces.items()},
         "expression_units": "SI: the expressions give SI values from SI values of the parameters, "
                             "coordinates and rates",
