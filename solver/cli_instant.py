@@ -216,6 +216,7 @@ def eom_command(args: argparse.Namespace) -> int:
     from solver.formulations import point_text, shown_point
 
     system = _in_regime_at_state(load_scene_from_args(args), args)
+    _refuse_zero_length_at_state(system)
     if len(system.free) != 1 or system.closure:
         return _eom_multi(args, system)
     d = derivation.derive(system, args.point, args.method)
@@ -304,6 +305,21 @@ def _in_regime_at_state(system, args):
     return variant
 
 
+def _refuse_zero_length_at_state(system) -> None:
+    """Refuse, as ``solve`` does, a state where a spring or damper has zero length: its force has no
+    direction there, and the equations printed would be undefined (a term over Abs(d + x) = 0).
+    A state that does not assemble is left to the commands that solve at it."""
+    if all(load.line_length(system) is None for load in system.loads):
+        return
+    from solver.analyses.instant import assemble, refuse_zero_length
+
+    try:
+        state = assemble(system)
+    except InputError:
+        return
+    refuse_zero_length(system, state.q, state.qd, state.t)
+
+
 def _regime_line(args) -> str | None:
     """The line saying in which contact regime the equations are written (None: the scene's own)."""
     if not args.regimes:
@@ -340,8 +356,9 @@ def _eom_payload(system, method, point, coordinates, eqs, mass, kinetic, potenti
         "coordinates": list(coordinates), "dependent": [c.name for c in system.dependent],
         "eom": [text(e) for e in eqs],
         "mass": [[text(m) for m in row] for row in mass],
-        "kinetic_energy": text(kinetic), "potential_energy": text(potential),
-        "generalized_forces": {name: text(q) for name, q in forces.items()},
+        "kinetic_energy": text(_energy_display(kinetic, system)),
+        "potential_energy": text(_energy_display(potential, system)),
+        "generalized_forces": {name: text(_energy_display(q, system)) for name, q in forces.items()},
         "expression_units": "SI: the expressions give SI values from SI values of the parameters, "
                             "coordinates and rates",
         "reactions": None if reactions is None else {name: text(expr) for name, expr in reactions.items()},
@@ -349,6 +366,16 @@ def _eom_payload(system, method, point, coordinates, eqs, mass, kinetic, potenti
         "reactions_at_state": at_state,
         **({"regime": regimes} if regimes else {}),  # the contacts' regime at the state, when eom is written in it
     }
+
+
+def _energy_display(energy: sp.Expr, system) -> sp.Expr:
+    """The display form of an energy or a generalized force: by the powers of the rates (a kinetic
+    energy is quadratic in them), each coefficient by the display tidy (sin(u)**2 + cos(u)**2 = 1
+    for any angle u)."""
+    from solver.derivation import _tidy, _tidy_by_rate
+
+    rates = [c.qd for c in system.free]
+    return _tidy_by_rate(energy, *rates) if rates else _tidy(energy)
 
 
 def _printer():
@@ -460,6 +487,7 @@ def _print_projection(f, text) -> None:
 def _tidy_multi(expr, system):
     from solver.derivation import _tidy_by_rate
 
+    expr = sp.expand(expr)  # (terms that cancel go: a spring's coefficient of s_ddot, built as A - A, is 0)
     parts = []
     for c in system.free:
         coef = expr.xreplace({x.qdd: (1 if x is c else 0) for x in system.free}) - expr.xreplace({x.qdd: 0 for x in system.free})

@@ -425,10 +425,13 @@ def _tidy(expr: sp.Expr) -> sp.Expr:
     return tidy(expr)
 
 
-def _tidy_by_rate(expr: sp.Expr, qd: sp.Symbol) -> sp.Expr:
-    """Display form term by term in powers of theta_dot, each coefficient tidied on its own."""
+def _tidy_by_rate(expr: sp.Expr, qd: sp.Symbol, *more: sp.Symbol) -> sp.Expr:
+    """Display form term by term in powers of theta_dot, each coefficient tidied on its own; with
+    ``more`` rates, by the powers of each in turn (a kinetic energy: by qd1**2, qd1*qd2, ...)."""
     try:
-        parts = _by_powers(sp.expand(expr), qd)
+        parts = {sp.S.One: sp.expand(expr)}
+        for x in (qd, *more):
+            parts = {k * k2: v2 for k, v in parts.items() for k2, v2 in _by_powers(v, x).items()}
         return sp.Add(*[_tidy(v) * k for k, v in parts.items()])
     except (sp.PolynomialError, ValueError):  # pragma: no cover - defensive
         return _tidy(expr)

@@ -650,6 +650,19 @@ def _reduce_denominators(e: sp.Expr, pows: set | None = None) -> sp.Expr:
     return _replace_powers(e, _is_trig_denominator, lambda x: _reduce_poly(x.base) ** x.exp, pows)
 
 
+def _is_trig_radicand(x) -> bool:
+    return x.is_Pow and not x.exp.is_Integer and x.base.is_Add and x.base.has(sp.sin, sp.cos)
+
+
+def _reduce_radicands(e: sp.Expr, pows: set | None = None) -> sp.Expr:
+    """Every sum under a root (a spring's length ``sqrt(r**2*sin(u)**2 + r**2*cos(u)**2)``) that
+    holds sin/cos tidied as a polynomial (:func:`_tidy_polynomial`: reduced modulo
+    sin**2 + cos**2 = 1 when that leaves fewer terms): the terms of the expression around it do not
+    change in number, so the reduction of the whole would not be taken for it. ``e`` itself when
+    there is none; ``pows``: the powers of ``e`` when the caller has them."""
+    return _replace_powers(e, _is_trig_radicand, lambda x: _tidy_polynomial(x.base) ** x.exp, pows)
+
+
 def tree_size(e: sp.Expr, cap: "int | None" = None) -> int:
     """Number of nodes of the expression tree (a cheap stand-in for ``count_ops``; the count of
     ``sympy.preorder_traversal``, by a walk with a list for a stack). With ``cap``, the walk stops
@@ -699,9 +712,32 @@ def _tidy_polynomial(p: sp.Expr) -> sp.Expr:
     pows = _nodes(p, sp.Pow)  # (one walk for both questions)
     if _has_square(p, pows):
         reduced = _reduce_poly(p, pows)
-        if len(sp.Add.make_args(reduced)) < len(sp.Add.make_args(p)):
-            p = reduced
+        p = reduced if len(sp.Add.make_args(reduced)) < len(sp.Add.make_args(p)) else _merge_pairs(p)
     return _common_factor(p)
+
+
+def _merge_pairs(p: sp.Expr) -> sp.Expr:
+    """``p`` (an expanded sum) with each pair of terms X*sin(u)**2 and X*cos(u)**2 (the same X,
+    coefficient included) written X, until none is left; ``p`` itself when there is none. What the
+    reader sees as sin**2 + cos**2 goes even where the remainder of :func:`_reduce_poly` (sin**2
+    written 1 - cos**2 everywhere) has as many terms as ``p``: ``-c*sin**2 - c*cos**2 + b*sin**2``."""
+    terms, merged = set(sp.Add.make_args(p)), False
+    for t in list(terms):
+        if t not in terms:
+            continue
+        for f in sp.Mul.make_args(t):
+            if not (f.is_Pow and isinstance(f.base, sp.sin) and f.exp.is_Integer and f.exp.p >= 2):
+                continue
+            rest = t / f.base**2
+            partner = rest * sp.cos(f.base.args[0]) ** 2
+            if partner in terms and partner != t:
+                terms -= {t, partner}
+                terms.add(rest)  # (an equal term already there doubles: Add below adds them)
+                merged = True
+                break
+    if not merged:
+        return p
+    return _merge_pairs(sp.Add(*terms))
 
 
 def could_extract_minus_sign(e: sp.Expr) -> bool:
@@ -793,8 +829,9 @@ def tidy(expr: sp.Expr) -> sp.Expr:
     denominator are each reduced modulo sin**2 + cos**2 = 1 (when that shortens them) with their
     common factors pulled out; ``cancel`` only on small expressions.
 
-    Expressions larger than :data:`MAX_TIDY_NODES` are returned as they are; expressions with
-    nested trigonometric arguments with only common factors pulled out.
+    Expressions larger than :data:`MAX_TIDY_NODES` are returned as they are; an angle that holds
+    sin/cos itself (a prescribed ``W*t + 3*sin(W*t)/10``) is reduced as a plain angle is
+    (:func:`_mask_nested_angles`).
     """
     e = sp.sympify(expr)
     if e.is_number or _plain_monomial(e):
@@ -822,13 +859,15 @@ def _tidy_general(e: sp.Expr, shape: _Shape | None = None) -> sp.Expr:
     :func:`_shape` when the caller has it."""
     shape = _shape(e) if shape is None else shape
     reduced = _reduce_denominators(e, shape.pows)
+    reduced = _reduce_radicands(reduced, shape.pows if reduced is e else None)
     if reduced is not e:
         e, shape = reduced, _shape(reduced)
     if e.has(sp.tan, sp.cot):
         e = e.replace(sp.tan, lambda a: sp.sin(a) / sp.cos(a)).replace(sp.cot, lambda a: sp.cos(a) / sp.sin(a))
         shape = _shape(e)
     if not _angles_ok(e, shape.trig):
-        return sp.factor_terms(e)
+        masked, back = _mask_nested_angles(e, shape.trig)
+        return _tidy_general(masked).xreplace(back)
     monomial = _monomial_denominators(e)
     small = shape.size <= MAX_CANCEL_NODES
     if not monomial and small:  # common factors out (cheap when small)
@@ -845,6 +884,18 @@ def _tidy_general(e: sp.Expr, shape: _Shape | None = None) -> sp.Expr:
     if den.is_number and den != 0 and num.is_Add:
         return factor_monomial_terms(sp.expand(num / den))
     return num / den
+
+
+def _mask_nested_angles(e: sp.Expr, trig: set) -> tuple[sp.Expr, dict]:
+    """(``e`` with each angle that holds sin/cos/tan itself, ``W*t + 3*sin(W*t)/10``, replaced under
+    its sin and cos by a dummy symbol of its own, {dummy: angle}). sin(u)**2 + cos(u)**2 = 1 for any
+    u, so the display tidy reduces the masked form as it reduces a plain angle; the angles then come
+    back by ``xreplace``. (Taking each masked angle for an independent one is sound: it loses
+    only identities between an angle and what it holds, which the display does not look for.)"""
+    angles = {f.args[0] for f in trig if f.args[0].has(sp.sin, sp.cos, sp.tan)}
+    dummies = {u: sp.Dummy("u") for u in angles}
+    masked = e.xreplace({f(u): f(d) for u, d in dummies.items() for f in (sp.sin, sp.cos)})
+    return masked, {d: u for u, d in dummies.items()}
 
 
 def _plain_generator(f) -> bool:

@@ -557,15 +557,14 @@ class _SceneLoader:
                 raise self.fail(f"parameters.{name}", f"{name!r} is the coordinate or its rate and cannot also be a parameter")
         if coordinate in RESERVED_NAMES or coordinate in SOLVER_NAMES:
             raise self.fail("coordinate.name", f"{coordinate!r} is reserved; use e.g. \"theta\"")
-        value = parse_quantity(
-            self.require(table, "value", "coordinate", "the coordinate's value, e.g. \"30 deg\""),
-            f"{self.label}: coordinate.value",
-        )
+        value_text = self.require(table, "value", "coordinate", "the coordinate's value, e.g. \"30 deg\"")
+        value = parse_quantity(value_text, f"{self.label}: coordinate.value")
         rate = parse_quantity(
             self.require(table, "rate", "coordinate", "the coordinate's rate, e.g. \"0 rad/s\""),
             f"{self.label}: coordinate.rate",
         )
         self._check_state_dimension(value, DIMENSIONLESS, "coordinate.value", "an angle")
+        self.set_angle(value, value_text, coordinate, "coordinate.value")
         self._check_state_dimension(rate, RATE, "coordinate.rate", "an angular velocity such as \"0 rad/s\"")
         return coordinate, {coordinate: value, coordinate + "_dot": rate}
 
@@ -607,10 +606,11 @@ class _SceneLoader:
                 valid = ", ".join([*self.parameters, *state])
                 raise self.fail(key, f"unknown name {name!r} (parameters and state: {valid})")
 
-    def set_angle(self, quantity: pint.Quantity, text: str, name: str) -> None:
-        """``--set NAME`` of an angle: refused without its unit (:func:`solver.units.check_set_angle`)."""
+    def set_angle(self, quantity: pint.Quantity, text: str, name: str, key: str | None = None) -> None:
+        """An angle, given by ``--set NAME`` or in the file at ``key`` (``coordinate.value``): refused
+        without its unit (:func:`solver.units.check_angle_unit`)."""
         try:
-            units.check_set_angle(quantity, text, f"{self.label}: --set {name}", name)
+            units.check_angle_unit(quantity, text, f"{self.label}: {key or '--set ' + name}", name)
         except InputError as err:
             raise SceneError(str(err)) from None
 

@@ -369,10 +369,11 @@ def check_angle(value_rad: float, where: str, text: Any = None) -> float:
     return value_rad
 
 
-def check_set_angle(quantity: pint.Quantity, text: Any, where: str, name: str) -> None:
-    """``--set``'s rule for an angle (a coordinate's value, or a parameter the scene gives in an
-    angle unit): it needs its unit, since a bare number would be read as radians here while
-    ``--amplitude`` reads one as degrees; 0 is 0 in any unit and passes.
+def check_angle_unit(quantity: pint.Quantity, text: Any, where: str, name: str) -> None:
+    """The one rule for an angle given as a quantity, in a scene file (a coordinate's value or
+    guess) and by ``--set`` (a coordinate, or a parameter the scene gives in an angle unit): it
+    needs its unit, since a bare number would be read as radians here while ``--amplitude`` reads
+    one as degrees; 0 is 0 in any unit and passes.
 
     Raises
     ------
@@ -381,8 +382,8 @@ def check_set_angle(quantity: pint.Quantity, text: Any, where: str, name: str) -
 
     Examples
     --------
-    >>> check_set_angle(Q_(0), "0", "--set theta", "theta")
-    >>> check_set_angle(Q_(45), "45", "--set theta", "theta")
+    >>> check_angle_unit(Q_(0), "0", "--set theta", "theta")
+    >>> check_angle_unit(Q_(45), "45", "--set theta", "theta")
     Traceback (most recent call last):
     ...
     solver.errors.InputError: --set theta: '45' has no unit, but theta is an angle: give "45 deg" or "45 rad"
@@ -459,7 +460,7 @@ def _short(err: Exception, limit: int = 120) -> str:
 
 __all__ = [
     "ureg", "Q_", "check_unit_text", "parse_unit", "parse_quantity", "parse_angle", "parse_time", "si_magnitude",
-    "check_magnitude", "check_angle", "check_set_angle", "zero_in", "unit_text", "check_si_magnitude", "MAX_SI_MAGNITUDE", "is_angle_unit", "DIMENSIONLESS_UNITS",
+    "check_magnitude", "check_angle", "check_angle_unit", "zero_in", "unit_text", "check_si_magnitude", "MAX_SI_MAGNITUDE", "is_angle_unit", "DIMENSIONLESS_UNITS",
     "MAX_QUANTITY_LENGTH", "MAX_UNIT_LENGTH", "MAX_UNIT_EXPONENT", "MAX_UNIT_NESTING",
     "MAX_MAGNITUDE", "MAX_ANGLE_TURNS", "MAX_ANGLE_RAD",
 ]

@@ -203,6 +203,8 @@ class _MultibodyReader:
                 if q.dimensionality not in (DIMENSIONLESS, LENGTH):
                     raise self.fail(f"coordinates.{cname}.{key}", f"{q:~P} is neither an angle nor a length")
                 kind = "angle" if q.dimensionality == DIMENSIONLESS else "length"
+                if kind == "angle":  # a bare number refused as --set refuses it (a bare 0 passes)
+                    L.set_angle(q, spec[key], cname, f"coordinates.{cname}.{key}")
                 if cname in self.overrides:  # the scene's value decides the kind; --set gives one of it
                     text = self.overrides[cname]
                     q = units.zero_in(self._quantity(text, f"--set {cname}"), "rad" if kind == "angle" else "m")
