@@ -1066,3 +1066,21 @@ def test_paper_figures_coordinate_arcs_are_more_than_their_heads(name, scene_fil
         xy = ax.transData.transform(np.column_stack(line.get_data()).astype(float))
         length = float(np.sum(np.linalg.norm(np.diff(xy, axis=0), axis=1)))
         assert length >= 1.5 * COORDINATE_HEAD_PT * figure.dpi / 72, f"{name}: a coordinate's arc {length:.1f} px"
+
+
+def test_covered_counts_the_points_strictly_inside_each_grown_box():
+    """render._covered (which leaves out the points far from every box before testing) counts as a plain
+    loop over every point does: strictly inside the box grown by the point's pad, whatever the pads."""
+    from solver.drawing.render import _covered
+
+    rng = np.random.default_rng(7)
+    boxes = np.sort(rng.uniform(0, 40, (30, 2, 2)), axis=1).transpose(0, 2, 1).reshape(30, 4)[:, [0, 2, 1, 3]]
+    points = rng.uniform(-200, 240, (500, 2))
+    points[:50] = boxes[rng.integers(0, 30, 50)][:, :2]  # on a corner: not strictly inside unless padded
+    pads = rng.uniform(0, 5, 500)
+    for pad in (0.0, 2.5, pads):
+        each = np.broadcast_to(pad, (500,))
+        expected = [sum(1 for (x, y), p in zip(points, each) if x0 - p < x < x1 + p and y0 - p < y < y1 + p)
+                    for x0, y0, x1, y1 in boxes]
+        assert _covered(boxes, points, pad).tolist() == expected
+    assert _covered(boxes, points[:0]).tolist() == [0] * 30

@@ -855,10 +855,17 @@ def _covered(boxes: np.ndarray, points: np.ndarray, pad=0.0) -> np.ndarray:
     """For each box, how many of the drawn ``points`` lie strictly inside it grown by ``pad`` [pixels]
     on every side (a stroke's half width: the stroke of a line through such a point touches the box);
     ``pad`` one number, or one per point."""
-    if not len(points):
+    if not len(points) or not len(boxes):
         return np.zeros(len(boxes), dtype=int)
+    pad = np.broadcast_to(np.asarray(pad, dtype=float), (len(points),))
+    # Only the points near the boxes can be inside one: a point more than the largest pad (and a
+    # pixel, against rounding) beyond every box is left out before the exact test (the places tried
+    # for a label lie around it, the drawn points over the whole panel)
+    reach = float(pad.max()) + 1.0
+    near = ((points[:, 0] > boxes[:, 0].min() - reach) & (points[:, 0] < boxes[:, 2].max() + reach) &
+            (points[:, 1] > boxes[:, 1].min() - reach) & (points[:, 1] < boxes[:, 3].max() + reach))
+    points, pad = points[near], pad[near][None, :]
     x, y = points[None, :, 0], points[None, :, 1]
-    pad = np.asarray(pad, dtype=float)[None, ...]
     inside = (x > boxes[:, 0:1] - pad) & (x < boxes[:, 2:3] + pad) & (y > boxes[:, 1:2] - pad) & \
         (y < boxes[:, 3:4] + pad)
     return np.count_nonzero(inside, axis=1)
