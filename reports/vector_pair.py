@@ -21,7 +21,7 @@ from matplotlib.backends.backend_svg import RendererSVG
 from matplotlib.font_manager import FontPath
 from matplotlib.ft2font import LoadFlags
 
-from solver.drawing.layout import fix_layout
+from solver.drawing.layout import FontHeights, fix_layout
 
 __all__ = ["svg_and_pdf"]
 
@@ -44,6 +44,7 @@ class _BothRenderers:
     def __init__(self, svg, pdf):
         self._svg, self._pdf = svg, pdf
         self._height = svg.get_canvas_width_height()[1]
+        self._get_font_height_metrics = FontHeights(72)  # the fonts' heights read once (both at 72 dpi)
         for name in _DRAWING_CALLS:
             setattr(self, name, self._both(name))
 

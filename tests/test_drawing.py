@@ -1084,3 +1084,27 @@ def test_covered_counts_the_points_strictly_inside_each_grown_box():
                     for x0, y0, x1, y1 in boxes]
         assert _covered(boxes, points, pad).tolist() == expected
     assert _covered(boxes, points[:0]).tolist() == [0] * 30
+
+
+@pytest.mark.parametrize("dpi", [72, 100, 150])
+def test_font_heights_give_matplotlibs_own_text_boxes(dpi):
+    """A renderer given layout.FontHeights (each font's heights read once) lays texts out exactly as
+    matplotlib does reading the font's tables every time: the same boxes, to the last bit, for
+    one- and two-line texts at several sizes, weights and dpi (with linespacing "normal", the line gap
+    counts)."""
+    from matplotlib.backends.backend_agg import RendererAgg
+    from matplotlib.figure import Figure
+
+    from solver.drawing.layout import FontHeights
+
+    fig = Figure(figsize=(4, 3), dpi=dpi)
+    texts = [fig.text(0.1, 0.1 + 0.1 * k, s, fontsize=size, fontweight=weight, linespacing=spacing)
+             for k, (s, size, weight, spacing) in enumerate([
+                 ("A", 8, "normal", 1.2), ("Ag\nlp", 9, "bold", 1.2), ("−m a_P (n = 22)", 7, "normal", 1.2),
+                 ("two\nlines", 10, "normal", 2.0), ("θ̈ = 19.50", 11.5, "normal", 1.2),
+                 ("gap\nkept", 9, "normal", "normal")])]
+    plain = RendererAgg(400, 300, dpi)
+    hooked = RendererAgg(400, 300, dpi)
+    hooked._get_font_height_metrics = FontHeights(dpi)
+    for t in texts:
+        assert t.get_window_extent(hooked).bounds == t.get_window_extent(plain).bounds, t.get_text()
