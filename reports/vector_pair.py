@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import io
 import itertools
+import logging
 import math
 
 import matplotlib as mpl
@@ -18,10 +19,10 @@ from matplotlib.backend_bases import FigureCanvasBase
 from matplotlib.backends.backend_mixed import MixedModeRenderer
 from matplotlib.backends.backend_pdf import Op, PdfFile, RendererPdf
 from matplotlib.backends.backend_svg import RendererSVG
-from matplotlib.font_manager import FontPath
+from matplotlib.font_manager import FontPath, fontManager, get_font
 from matplotlib.ft2font import LoadFlags
 
-from solver.drawing.layout import FontHeights, fix_layout
+from solver.drawing.layout import FontHeights, fix_layout, font_key
 
 __all__ = ["svg_and_pdf"]
 
@@ -79,7 +80,44 @@ class _PdfRenderer(RendererPdf):
     positions and kerns, which the layout itself gives (the glyphs embedded in the file are loaded
     again when the fonts are written, as before). Skipping the loads halves the cost of the PDF's
     texts; the operators written are the same, in the same order. Mathematical text, the core
-    fonts and texts with a link go through matplotlib's own method."""
+    fonts and texts with a link go through matplotlib's own method.
+
+    The renderer also remembers, for the one file it writes, the fonts found for each set of font
+    properties and each glyph's place in the file's font subsets (the file's character tracker
+    gives the same answer for the same glyph every time it is asked): a figure's texts repeat
+    both many times."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._found_fonts: dict = {}  # font_key(prop) -> the font files matplotlib finds for it
+        self._glyph_codes: dict = {}  # (font file, face, characters, glyph) -> (subset, character code)
+
+    def _get_font_ttf(self, prop):
+        """The font of ``prop`` at its size, as matplotlib's ``_get_font_ttf`` gives it (cleared and set
+        to the size at 72 dpi), its files found once per set of properties."""
+        key = font_key(prop)
+        files = self._found_fonts.get(key)
+        if files is None:
+            files = self._found_fonts[key] = fontManager._find_fonts_by_props(prop)
+        try:
+            font = get_font(files)
+            font.clear()
+            font.set_size(prop.get_size_in_points(), 72)
+            return font
+        except RuntimeError:  # as matplotlib says it
+            logging.getLogger(RendererPdf._get_font_ttf.__module__).warning(
+                "The PostScript/PDF backend does not currently support the selected font (%s).", files)
+            raise
+
+    def _track(self, item):
+        """(subset, character code) of a laid-out glyph in this file (the character tracker's
+        ``track_glyph``, asked once per glyph)."""
+        key = (item.ft_object.fname, item.ft_object.face_index, item.char, item.glyph_index)
+        found = self._glyph_codes.get(key)
+        if found is None:
+            found = self._glyph_codes[key] = self.file._character_tracker.track_glyph(
+                item.ft_object, item.char, item.glyph_index)
+        return found
 
     def draw_text(self, gc, x, y, s, prop, angle, ismath=False, mtext=None):
         if ismath or mpl.rcParams["pdf.use14corefonts"] or gc.get_url() is not None:
@@ -104,8 +142,7 @@ class _PdfRenderer(RendererPdf):
         self.file.output(Op.begin_text)
         prev_font, prev_start_x = None, 0
         for item in font._layout(s, LoadFlags.NO_HINTING, features=features, language=language):
-            subset, charcode = self.file._character_tracker.track_glyph(item.ft_object, item.char,
-                                                                         item.glyph_index)
+            subset, charcode = self._track(item)
             if (item.ft_object, subset) != prev_font:
                 flush()
                 name = self.file.fontName(FontPath(item.ft_object.fname, item.ft_object.face_index), subset)

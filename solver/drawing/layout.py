@@ -14,7 +14,7 @@ import warnings
 from matplotlib import rc_context
 from matplotlib.layout_engine import LayoutEngine
 
-__all__ = ["fix_layout", "MeasuredLayout", "measured_layout", "agg_renderer", "FontHeights", "LAYOUT_PAD"]
+__all__ = ["fix_layout", "MeasuredLayout", "measured_layout", "agg_renderer", "FontHeights", "font_key", "LAYOUT_PAD"]
 
 LAYOUT_PAD = 3.0
 """Clearance around every panel's texts and between the texts and the figure's edge [points]
@@ -81,6 +81,15 @@ _HEIGHT_TABLES = (("OS/2", "sTypoLineGap", "sTypoAscender", "sTypoDescender"), (
 """Where matplotlib's text layout reads a font's heights, in its order (``Text._get_layout``)."""
 
 
+def font_key(prop) -> tuple:
+    """What a ``FontProperties`` holds, as a key for what depends on it alone while the settings stay
+    (the fonts matplotlib finds for it, their heights): its family, style, variant, weight,
+    stretch, size, file and mathematical family. (A ``FontProperties`` can change after it is
+    used as a key; this tuple cannot.)"""
+    return (tuple(prop.get_family()), prop.get_style(), prop.get_variant(), prop.get_weight(), prop.get_stretch(),
+            prop.get_size_in_points(), prop.get_file(), prop.get_math_fontfamily())
+
+
 class FontHeights:
     """A font's ascent, descent and line gap [pixels at ``dpi``], as matplotlib's text layout reads
     them from the font's tables, read once per font and size for one renderer.
@@ -97,8 +106,7 @@ class FontHeights:
         self._known: dict = {}
 
     def __call__(self, prop) -> tuple:
-        key = (tuple(prop.get_family()), prop.get_style(), prop.get_variant(), prop.get_weight(),
-               prop.get_stretch(), prop.get_size_in_points(), prop.get_file(), prop.get_math_fontfamily())
+        key = font_key(prop)
         if key not in self._known:
             self._known[key] = self._read(prop)
         return self._known[key]
