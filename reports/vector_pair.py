@@ -13,9 +13,11 @@ import io
 import itertools
 import logging
 import math
+from contextlib import contextmanager
 
 import matplotlib as mpl
 from matplotlib.backend_bases import FigureCanvasBase
+from matplotlib.backends import backend_pdf
 from matplotlib.backends.backend_mixed import MixedModeRenderer
 from matplotlib.backends.backend_pdf import Op, PdfFile, RendererPdf
 from matplotlib.backends.backend_svg import RendererSVG
@@ -163,6 +165,40 @@ class _PdfRenderer(RendererPdf):
         self.file.output(Op.grestore)
 
 
+_GLYPH_PROCEDURES: dict = {}
+"""(font file, glyph index) -> (glyph name, the PDF procedure that draws it), for every PDF this
+process writes (:func:`_glyph_procedures`)."""
+
+
+def _glyph_procedures(font_path, glyph_indices) -> dict:
+    """``matplotlib.backends.backend_pdf._get_pdf_charprocs``, each glyph's procedure made once per
+    process: the glyph's name -> its procedure, in the order of ``glyph_indices``, as that function
+    gives them. Every figure's PDF embeds the glyphs it uses (a Type 3 font subset); the report's
+    figures share most of them, and making one loads the glyph's outline and writes its path."""
+    for glyph in glyph_indices:
+        if (font_path, glyph) not in _GLYPH_PROCEDURES:
+            (name, procedure), = _MAKE_PROCEDURES(font_path, [glyph]).items()
+            _GLYPH_PROCEDURES[font_path, glyph] = (name, procedure)
+    return dict(_GLYPH_PROCEDURES[font_path, glyph] for glyph in glyph_indices)
+
+
+_MAKE_PROCEDURES = getattr(backend_pdf, "_get_pdf_charprocs", None)
+
+
+@contextmanager
+def _procedures_made_once():
+    """While the block runs, matplotlib's PDF backend makes glyph procedures through
+    :func:`_glyph_procedures` (nothing changes where matplotlib has no such function)."""
+    if _MAKE_PROCEDURES is None:
+        yield
+        return
+    backend_pdf._get_pdf_charprocs = _glyph_procedures
+    try:
+        yield
+    finally:
+        backend_pdf._get_pdf_charprocs = _MAKE_PROCEDURES
+
+
 class _PairCanvas(FigureCanvasBase):
     """A canvas whose one output format, ``svgpdf``, is the pair of files (see :func:`svg_and_pdf`)."""
 
@@ -190,7 +226,8 @@ class _PairCanvas(FigureCanvasBase):
             self.figure.draw(_BothRenderers(svg, pdf))
             svg.finalize()
             pdf.finalize()
-            pdf_file.finalize()
+            with _procedures_made_once():  # the fonts are embedded here
+                pdf_file.finalize()
         finally:
             pdf_file.close()
         sink["svg"], sink["pdf"] = svg_out.getvalue(), pdf_out.getvalue()
