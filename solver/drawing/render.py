@@ -15,6 +15,7 @@ names than any other.
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import matplotlib
 
@@ -608,6 +609,15 @@ def _head(tail, tip, scale: float) -> np.ndarray:
     return tip + s.reshape(-1, 1) * back + (w * (1 - s / (0.4 * scale))).reshape(-1, 1) * across
 
 
+@lru_cache(maxsize=256)
+def _fractions(n: int) -> np.ndarray:
+    """``np.linspace(0, 1, n)`` as a column, made once per ``n`` (:func:`_drawn_points` asks for a few
+    sizes hundreds of times); read only."""
+    column = np.linspace(0, 1, n)[:, None]
+    column.flags.writeable = False
+    return column
+
+
 def _drawn_points(ax) -> list:
     """Display points along what is drawn on ``ax``, which labels avoid covering: one
     ``(artist, points, pad, kind)`` per line or patch, ``pad`` [pixels] half its stroke's width
@@ -618,7 +628,7 @@ def _drawn_points(ax) -> list:
     dot, pad its radius; a filled shape's edge)."""
     def along(a, b):  # a point every OBSTACLE_STEP pixels: no label slips between two of them
         n = max(2, int(np.linalg.norm(b - a) / OBSTACLE_STEP) + 1)
-        return a + np.linspace(0, 1, n)[:, None] * (b - a)
+        return a + _fractions(n) * (b - a)
 
     to_pixels = ax.figure.dpi / 72.0
     out = []
