@@ -14,6 +14,7 @@ import itertools
 import logging
 import math
 from contextlib import contextmanager
+from functools import lru_cache
 
 import matplotlib as mpl
 from matplotlib.backend_bases import FigureCanvasBase
@@ -72,6 +73,21 @@ class _BothRenderers:
     def draw_tex(self, gc, x, y, s, prop, angle, *, mtext=None):
         self._svg.draw_tex(gc, x, y, s, prop, angle, mtext=mtext)
         self._pdf.draw_tex(gc, x, self._height - y, s, prop, angle, mtext=mtext)
+
+
+@lru_cache(maxsize=1024)
+def _laid_out(font, size: float, s: str, features, language) -> tuple:
+    """``font._layout(s)`` (unhinted, as the PDF renderer lays a text out) of ``font`` set to ``size``
+    [points at 72 dpi] by the caller, made once per process for each text: the figures repeat
+    tick labels, legends and captions."""
+    return tuple(font._layout(s, LoadFlags.NO_HINTING, features=features, language=language))
+
+
+def _frozen(value):
+    """A text's font features or language as a key (lists as tuples)."""
+    if isinstance(value, list):
+        return tuple(_frozen(v) for v in value)
+    return value
 
 
 class _PdfRenderer(RendererPdf):
@@ -143,7 +159,7 @@ class _PdfRenderer(RendererPdf):
         self.file.output(math.cos(a), math.sin(a), -math.sin(a), math.cos(a), x, y, Op.concat_matrix)
         self.file.output(Op.begin_text)
         prev_font, prev_start_x = None, 0
-        for item in font._layout(s, LoadFlags.NO_HINTING, features=features, language=language):
+        for item in _laid_out(font, fontsize, s, _frozen(features), _frozen(language)):
             subset, charcode = self._track(item)
             if (item.ft_object, subset) != prev_font:
                 flush()
