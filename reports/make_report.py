@@ -16,18 +16,22 @@ Bad input ends the build with one line naming the file and place, exit status 2.
 """
 from __future__ import annotations
 
+import hashlib
 import json
 import math
 import os
 import re
 import shutil
 import subprocess
+import sys
 import tempfile
 import time
 from pathlib import Path
 
+import jinja2
 import sympy as sp
-from jinja2 import Environment, FileSystemLoader, StrictUndefined, select_autoescape
+from jinja2 import Environment, FileSystemBytecodeCache, FileSystemLoader, StrictUndefined, select_autoescape
+from jinja2.bccache import Bucket
 from markupsafe import Markup
 
 from reports import checks as checks_mod
@@ -38,10 +42,14 @@ from reports.published import ReportInputError, load_equations
 from solver.errors import InputError
 from solver.expressions import parse_expression
 
-__all__ = ["build", "build_cached", "main", "html_environment", "latex_environment", "latex_escape", "LATEX_ENGINES"]
+__all__ = ["build", "build_cached", "main", "html_environment", "latex_environment", "latex_escape", "LATEX_ENGINES",
+           "TemplateCache", "write_template_cache"]
 
 ROOT = Path(__file__).resolve().parent.parent
 TEMPLATES = Path(__file__).resolve().parent / "templates"
+TEMPLATE_CACHE = Path(__file__).resolve().parent / "__pycache__" / "templates"
+"""Where the templates' compiled code is kept (:class:`TemplateCache`): git-ignored, beside the
+package's Python bytecode."""
 LATEX_ENGINES = ("tectonic", "lualatex", "pdflatex", "xelatex")
 """LaTeX engines tried, in order, for paper.pdf."""
 
@@ -54,15 +62,92 @@ EX2_STEPS = ("omega", "alpha", "inertia", "eom", "reactions")
 
 # --------------------------------------------------------------------------- environments
 _JINJA_OPTIMIZER = False
-"""Jinja's compile-time optimizer (constant folding in the generated code) is off: each template is
-compiled once per build and rendered once, so the pass costs more than it saves (about 15 % of
-compiling the three templates); the output is the same."""
+"""Jinja's compile-time optimizer (constant folding in the generated code) is off: a template is
+compiled at most once per build (not at all when :class:`TemplateCache` holds its code) and rendered
+once, so the pass costs more than it saves (about 15 % of compiling the three templates); the output
+is the same."""
+
+
+class TemplateCache(FileSystemBytecodeCache):
+    """The compiled code of the templates, kept on disk: the templates' analogue of Python's bytecode.
+
+    Jinja compiles a template into Python code each time a new environment loads it (about 70 ms
+    of a build for the three templates); with this cache a build loads the code compiled by an
+    earlier one. A file is used only while the template's text and everything in the environment
+    that shapes the compiled code (:func:`_compile_signature`) are the same as when it was written;
+    otherwise the template is compiled again and the file replaced. Like Python's bytecode, the
+    files are not written when ``sys.dont_write_bytecode`` is set (``PYTHONDONTWRITEBYTECODE``),
+    unless ``write`` says so, and a folder that cannot be written leaves the build compiling its
+    templates as before.
+
+    Parameters
+    ----------
+    directory : pathlib.Path
+        Folder of the files (default :data:`TEMPLATE_CACHE`).
+    write : bool, optional
+        Write the compiled code: always (True), never (False), or as Python writes bytecode (None).
+    """
+
+    def __init__(self, directory: Path = TEMPLATE_CACHE, write: bool | None = None):
+        super().__init__(str(directory), "%s.jinja")
+        self.write = write
+
+    def get_bucket(self, environment: Environment, name: str, filename: str | None, source: str) -> Bucket:
+        """The bucket of a template, keyed by its name, its file and the environment's compile settings."""
+        key = hashlib.sha1(f"{name}|{filename}|{_compile_signature(environment, name)}".encode()).hexdigest()
+        bucket = Bucket(environment, key, self.get_source_checksum(source))
+        self.load_bytecode(bucket)
+        return bucket
+
+    def dump_bytecode(self, bucket: Bucket) -> None:
+        """Write a template's compiled code (atomically, as jinja does), when writing is on."""
+        if not (not sys.dont_write_bytecode if self.write is None else self.write):
+            return
+        try:
+            os.makedirs(self.directory, exist_ok=True)
+            super().dump_bytecode(bucket)
+        except OSError:  # a read-only checkout: the next build compiles the template again
+            return
+
+
+def _compile_signature(environment: Environment, name: str) -> str:
+    """Everything in ``environment`` that shapes the code jinja compiles template ``name`` into: the
+    jinja version, the lexer's settings (the key of ``jinja2.lexer.get_lexer``), the extensions, the
+    optimizer, async mode, autoescaping as decided for this template, finalize, the code generator."""
+    env = environment
+    autoescape = env.autoescape(name) if callable(env.autoescape) else env.autoescape
+    parts = (jinja2.__version__, env.block_start_string, env.block_end_string, env.variable_start_string,
+             env.variable_end_string, env.comment_start_string, env.comment_end_string, env.line_statement_prefix,
+             env.line_comment_prefix, env.trim_blocks, env.lstrip_blocks, env.newline_sequence,
+             env.keep_trailing_newline, sorted(env.extensions), env.optimized, env.is_async, autoescape,
+             None if env.finalize is None else getattr(env.finalize, "__qualname__", repr(env.finalize)),
+             env.code_generator_class.__qualname__)
+    return repr(parts)
+
+
+def _template_cache(templates: Path) -> TemplateCache | None:
+    """The cache of the package's own templates; none for another folder's (a test's own templates)."""
+    return TemplateCache() if Path(templates).resolve() == TEMPLATES else None
+
+
+def write_template_cache() -> list[str]:
+    """Compile every template of :data:`TEMPLATES` in its environment and write the compiled code
+    (:class:`TemplateCache`), whatever ``sys.dont_write_bytecode`` says, as ``compileall`` writes
+    Python's bytecode. Returns the templates' names."""
+    html, latex = html_environment(), latex_environment()
+    html.bytecode_cache = latex.bytecode_cache = TemplateCache(write=True)
+    names = sorted(path.name for path in TEMPLATES.glob("*.j2"))
+    for name in names:
+        (latex if name.endswith(".tex.j2") else html).get_template(name)
+    return names
 
 
 def html_environment(templates: Path = TEMPLATES) -> Environment:
-    """Jinja2 environment for ``*.html.j2``: autoescaped, StrictUndefined."""
+    """Jinja2 environment for ``*.html.j2``: autoescaped, StrictUndefined; the package's own templates
+    are compiled once and kept (:class:`TemplateCache`)."""
     env = Environment(
         loader=FileSystemLoader(str(templates)),
+        bytecode_cache=_template_cache(templates),
         undefined=StrictUndefined,
         autoescape=select_autoescape(["html", "html.j2"]),
         trim_blocks=True,
@@ -131,10 +216,12 @@ def latex_environment(templates: Path = TEMPLATES) -> Environment:
 
     ``\VAR{...}`` for values, ``\BLOCK{...}`` for statements, ``\#{...}`` for
     comments; values pass through the ``latex`` escape filter explicitly, and
-    math produced by sympy's LaTeX printer is inserted as is.
+    math produced by sympy's LaTeX printer is inserted as is. The package's own templates are
+    compiled once and kept (:class:`TemplateCache`).
     """
     env = Environment(
         loader=FileSystemLoader(str(templates)),
+        bytecode_cache=_template_cache(templates),
         undefined=StrictUndefined,
         autoescape=False,
         block_start_string=r"\BLOCK{",

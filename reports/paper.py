@@ -667,8 +667,9 @@ def explained(system, point: str, at_rest: bool, shows_alternative: bool = False
     Eq. (12), the parallel-axis rule each term follows."""
     from solver.explain import explain
 
-    # the per-body steps are what the paper shows (its kinematics are example_steps')
-    expl = explain(system, point, advice=False, solution=False, kinematics=False)
+    # the per-body steps are what the paper shows (its kinematics are example_steps'; it shows the moment
+    # equation as written, not collected by unknown)
+    expl = explain(system, point, advice=False, solution=False, kinematics=False, collected=False)
     body = next(iter(system.bodies))
     section = expl.section(body)
     rest = {c.qd: 0 for c in system.coordinates} if at_rest else {}

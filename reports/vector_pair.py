@@ -11,17 +11,21 @@ from __future__ import annotations
 
 import io
 import itertools
+import logging
 import math
+from contextlib import contextmanager
+from functools import lru_cache
 
 import matplotlib as mpl
 from matplotlib.backend_bases import FigureCanvasBase
+from matplotlib.backends import backend_pdf
 from matplotlib.backends.backend_mixed import MixedModeRenderer
 from matplotlib.backends.backend_pdf import Op, PdfFile, RendererPdf
 from matplotlib.backends.backend_svg import RendererSVG
-from matplotlib.font_manager import FontPath
+from matplotlib.font_manager import FontPath, fontManager, get_font
 from matplotlib.ft2font import LoadFlags
 
-from solver.drawing.layout import fix_layout
+from solver.drawing.layout import FontHeights, fix_layout, font_key
 
 __all__ = ["svg_and_pdf"]
 
@@ -44,6 +48,7 @@ class _BothRenderers:
     def __init__(self, svg, pdf):
         self._svg, self._pdf = svg, pdf
         self._height = svg.get_canvas_width_height()[1]
+        self._get_font_height_metrics = FontHeights(72)  # the fonts' heights read once (both at 72 dpi)
         for name in _DRAWING_CALLS:
             setattr(self, name, self._both(name))
 
@@ -70,6 +75,21 @@ class _BothRenderers:
         self._pdf.draw_tex(gc, x, self._height - y, s, prop, angle, mtext=mtext)
 
 
+@lru_cache(maxsize=1024)
+def _laid_out(font, size: float, s: str, features, language) -> tuple:
+    """``font._layout(s)`` (unhinted, as the PDF renderer lays a text out) of ``font`` set to ``size``
+    [points at 72 dpi] by the caller, made once per process for each text: the figures repeat
+    tick labels, legends and captions."""
+    return tuple(font._layout(s, LoadFlags.NO_HINTING, features=features, language=language))
+
+
+def _frozen(value):
+    """A text's font features or language as a key (lists as tuples)."""
+    if isinstance(value, list):
+        return tuple(_frozen(v) for v in value)
+    return value
+
+
 class _PdfRenderer(RendererPdf):
     """matplotlib's PDF renderer, writing plain text without loading each glyph's outline.
 
@@ -78,7 +98,44 @@ class _PdfRenderer(RendererPdf):
     positions and kerns, which the layout itself gives (the glyphs embedded in the file are loaded
     again when the fonts are written, as before). Skipping the loads halves the cost of the PDF's
     texts; the operators written are the same, in the same order. Mathematical text, the core
-    fonts and texts with a link go through matplotlib's own method."""
+    fonts and texts with a link go through matplotlib's own method.
+
+    The renderer also remembers, for the one file it writes, the fonts found for each set of font
+    properties and each glyph's place in the file's font subsets (the file's character tracker
+    gives the same answer for the same glyph every time it is asked): a figure's texts repeat
+    both many times."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._found_fonts: dict = {}  # font_key(prop) -> the font files matplotlib finds for it
+        self._glyph_codes: dict = {}  # (font file, face, characters, glyph) -> (subset, character code)
+
+    def _get_font_ttf(self, prop):
+        """The font of ``prop`` at its size, as matplotlib's ``_get_font_ttf`` gives it (cleared and set
+        to the size at 72 dpi), its files found once per set of properties."""
+        key = font_key(prop)
+        files = self._found_fonts.get(key)
+        if files is None:
+            files = self._found_fonts[key] = fontManager._find_fonts_by_props(prop)
+        try:
+            font = get_font(files)
+            font.clear()
+            font.set_size(prop.get_size_in_points(), 72)
+            return font
+        except RuntimeError:  # as matplotlib says it
+            logging.getLogger(RendererPdf._get_font_ttf.__module__).warning(
+                "The PostScript/PDF backend does not currently support the selected font (%s).", files)
+            raise
+
+    def _track(self, item):
+        """(subset, character code) of a laid-out glyph in this file (the character tracker's
+        ``track_glyph``, asked once per glyph)."""
+        key = (item.ft_object.fname, item.ft_object.face_index, item.char, item.glyph_index)
+        found = self._glyph_codes.get(key)
+        if found is None:
+            found = self._glyph_codes[key] = self.file._character_tracker.track_glyph(
+                item.ft_object, item.char, item.glyph_index)
+        return found
 
     def draw_text(self, gc, x, y, s, prop, angle, ismath=False, mtext=None):
         if ismath or mpl.rcParams["pdf.use14corefonts"] or gc.get_url() is not None:
@@ -102,9 +159,8 @@ class _PdfRenderer(RendererPdf):
         self.file.output(math.cos(a), math.sin(a), -math.sin(a), math.cos(a), x, y, Op.concat_matrix)
         self.file.output(Op.begin_text)
         prev_font, prev_start_x = None, 0
-        for item in font._layout(s, LoadFlags.NO_HINTING, features=features, language=language):
-            subset, charcode = self.file._character_tracker.track_glyph(item.ft_object, item.char,
-                                                                         item.glyph_index)
+        for item in _laid_out(font, fontsize, s, _frozen(features), _frozen(language)):
+            subset, charcode = self._track(item)
             if (item.ft_object, subset) != prev_font:
                 flush()
                 name = self.file.fontName(FontPath(item.ft_object.fname, item.ft_object.face_index), subset)
@@ -123,6 +179,40 @@ class _PdfRenderer(RendererPdf):
         flush()
         self.file.output(Op.end_text)
         self.file.output(Op.grestore)
+
+
+_GLYPH_PROCEDURES: dict = {}
+"""(font file, glyph index) -> (glyph name, the PDF procedure that draws it), for every PDF this
+process writes (:func:`_glyph_procedures`)."""
+
+
+def _glyph_procedures(font_path, glyph_indices) -> dict:
+    """``matplotlib.backends.backend_pdf._get_pdf_charprocs``, each glyph's procedure made once per
+    process: the glyph's name -> its procedure, in the order of ``glyph_indices``, as that function
+    gives them. Every figure's PDF embeds the glyphs it uses (a Type 3 font subset); the report's
+    figures share most of them, and making one loads the glyph's outline and writes its path."""
+    for glyph in glyph_indices:
+        if (font_path, glyph) not in _GLYPH_PROCEDURES:
+            (name, procedure), = _MAKE_PROCEDURES(font_path, [glyph]).items()
+            _GLYPH_PROCEDURES[font_path, glyph] = (name, procedure)
+    return dict(_GLYPH_PROCEDURES[font_path, glyph] for glyph in glyph_indices)
+
+
+_MAKE_PROCEDURES = getattr(backend_pdf, "_get_pdf_charprocs", None)
+
+
+@contextmanager
+def _procedures_made_once():
+    """While the block runs, matplotlib's PDF backend makes glyph procedures through
+    :func:`_glyph_procedures` (nothing changes where matplotlib has no such function)."""
+    if _MAKE_PROCEDURES is None:
+        yield
+        return
+    backend_pdf._get_pdf_charprocs = _glyph_procedures
+    try:
+        yield
+    finally:
+        backend_pdf._get_pdf_charprocs = _MAKE_PROCEDURES
 
 
 class _PairCanvas(FigureCanvasBase):
@@ -152,7 +242,8 @@ class _PairCanvas(FigureCanvasBase):
             self.figure.draw(_BothRenderers(svg, pdf))
             svg.finalize()
             pdf.finalize()
-            pdf_file.finalize()
+            with _procedures_made_once():  # the fonts are embedded here
+                pdf_file.finalize()
         finally:
             pdf_file.close()
         sink["svg"], sink["pdf"] = svg_out.getvalue(), pdf_out.getvalue()

@@ -1098,3 +1098,45 @@ def test_a_given_load_keeps_its_size_and_arrow_beside_huge_forces(tmp_path):
     assert main(["draw", str(ROOT / "data" / "scenes" / "disk_bar.toml"), "--fbd", "--set", "theta_dot=1e50 rad/s",
                  "-o", str(tmp_path / "fast.svg")]) == 0
     assert "53.94" in (tmp_path / "fast.svg").read_text(encoding="utf-8")
+
+
+def test_covered_counts_the_points_strictly_inside_each_grown_box():
+    """render._covered (which leaves out the points far from every box before testing) counts as a plain
+    loop over every point does: strictly inside the box grown by the point's pad, whatever the pads."""
+    from solver.drawing.render import _covered
+
+    rng = np.random.default_rng(7)
+    boxes = np.sort(rng.uniform(0, 40, (30, 2, 2)), axis=1).transpose(0, 2, 1).reshape(30, 4)[:, [0, 2, 1, 3]]
+    points = rng.uniform(-200, 240, (500, 2))
+    points[:50] = boxes[rng.integers(0, 30, 50)][:, :2]  # on a corner: not strictly inside unless padded
+    pads = rng.uniform(0, 5, 500)
+    for pad in (0.0, 2.5, pads):
+        each = np.broadcast_to(pad, (500,))
+        expected = [sum(1 for (x, y), p in zip(points, each) if x0 - p < x < x1 + p and y0 - p < y < y1 + p)
+                    for x0, y0, x1, y1 in boxes]
+        assert _covered(boxes, points, pad).tolist() == expected
+    assert _covered(boxes, points[:0]).tolist() == [0] * 30
+
+
+@pytest.mark.parametrize("dpi", [72, 100, 150])
+def test_font_heights_give_matplotlibs_own_text_boxes(dpi):
+    """A renderer given layout.FontHeights (each font's heights read once) lays texts out exactly as
+    matplotlib does reading the font's tables every time: the same boxes, to the last bit, for
+    one- and two-line texts at several sizes, weights and dpi (with linespacing "normal", the line gap
+    counts)."""
+    from matplotlib.backends.backend_agg import RendererAgg
+    from matplotlib.figure import Figure
+
+    from solver.drawing.layout import FontHeights
+
+    fig = Figure(figsize=(4, 3), dpi=dpi)
+    texts = [fig.text(0.1, 0.1 + 0.1 * k, s, fontsize=size, fontweight=weight, linespacing=spacing)
+             for k, (s, size, weight, spacing) in enumerate([
+                 ("A", 8, "normal", 1.2), ("Ag\nlp", 9, "bold", 1.2), ("−m a_P (n = 22)", 7, "normal", 1.2),
+                 ("two\nlines", 10, "normal", 2.0), ("θ̈ = 19.50", 11.5, "normal", 1.2),
+                 ("gap\nkept", 9, "normal", "normal")])]
+    plain = RendererAgg(400, 300, dpi)
+    hooked = RendererAgg(400, 300, dpi)
+    hooked._get_font_height_metrics = FontHeights(dpi)
+    for t in texts:
+        assert t.get_window_extent(hooked).bounds == t.get_window_extent(plain).bounds, t.get_text()

@@ -33,7 +33,8 @@ import sympy as sp
 
 from reports.checks import KINDS, VERDICTS, example1_value_checks, half_unit
 from reports.equations import check_equation, is_zero
-from reports.make_report import ROOT, build_cached, html_environment, latex_environment, latex_escape, main
+from reports.make_report import (ROOT, TEMPLATES, TemplateCache, build_cached, html_environment, latex_environment,
+                                 latex_escape, main, write_template_cache)
 from reports.paper import example_steps, survey_table
 from reports.published import ReportInputError, load_equations
 from solver.derivation import derive, solve_instant
@@ -368,6 +369,42 @@ def test_strict_undefined_fails_on_a_missing_value(built):
         env.get_template("report.html.j2").render(**context)
     with pytest.raises(jinja2.UndefinedError):
         latex_environment().get_template("paper.tex.j2").render()
+
+
+def test_template_cache_serves_code_only_under_the_settings_it_was_compiled_with(tmp_path, monkeypatch):
+    """The templates' compiled code kept on disk (TemplateCache) is used again by a new environment with
+    the same settings, not by one whose settings compile the template differently, and is not written
+    while Python writes no bytecode (PYTHONDONTWRITEBYTECODE)."""
+    folder, cache = tmp_path / "templates", tmp_path / "cache"
+    folder.mkdir()
+    (folder / "t.j2").write_text("{% if x %}\n<b>{{ x }}</b>\n{% endif %}\n", encoding="utf-8")
+
+    def environment(**options):
+        return jinja2.Environment(loader=jinja2.FileSystemLoader(str(folder)), bytecode_cache=TemplateCache(cache),
+                                  **options)
+
+    # jinja's defaults: the newline after each tag kept, no escaping, the file's last newline dropped
+    plain = "\n<b><</b>\n"
+    monkeypatch.setattr(sys, "dont_write_bytecode", True)
+    assert environment().get_template("t.j2").render(x="<") == plain
+    assert not cache.exists()
+    monkeypatch.setattr(sys, "dont_write_bytecode", False)
+    assert environment().get_template("t.j2").render(x="<") == plain
+    assert len(list(cache.iterdir())) == 1
+
+    def no_compiling(*_args, **_kwargs):
+        raise AssertionError("compiled again")
+    again = environment()
+    monkeypatch.setattr(again, "compile", no_compiling)
+    assert again.get_template("t.j2").render(x="<") == plain
+    # trim_blocks drops the newline after a tag, autoescape escapes "<": compiled anew, into a file of its own
+    assert environment(trim_blocks=True, autoescape=True).get_template("t.j2").render(x="<") == "<b>&lt;</b>\n"
+    assert len(list(cache.iterdir())) == 2
+    # the project's own templates: write_template_cache compiles each, and the build's environments load them
+    assert write_template_cache() == sorted(p.name for p in TEMPLATES.glob("*.j2"))
+    for env, name in ((html_environment(), "report.html.j2"), (latex_environment(), "paper.tex.j2")):
+        monkeypatch.setattr(env, "compile", no_compiling)
+        env.get_template(name)
 
 
 def test_text_from_input_is_escaped(built):

@@ -95,3 +95,22 @@ def test_canvas_is_given_back_and_figure_saves_again():
     assert fig.canvas is canvas
     assert fig.dpi == 100  # the 72 points to the inch of the vector files do not stay behind
     assert _saved(fig, "svg", SVG_META).startswith("<?xml")
+
+
+def test_glyph_procedures_made_once_are_matplotlibs():
+    """vector_pair._glyph_procedures (each glyph's PDF procedure made once per process) gives what
+    matplotlib's own _get_pdf_charprocs gives, names and order, whatever was asked before."""
+    from matplotlib.backends import backend_pdf
+    from matplotlib.font_manager import FontPath, findfont, get_font
+
+    from reports import vector_pair
+
+    path = FontPath(findfont("DejaVu Sans"), 0)
+    font = get_font(path)
+    glyphs = [font.get_char_index(ord(c)) for c in "θ̈ = 19.50 N·m, −m a_P"]
+    make = backend_pdf._get_pdf_charprocs  # matplotlib's own (the pair puts it back after each file)
+    assert make is not vector_pair._glyph_procedures
+    for asked in (glyphs[:5], glyphs, glyphs[::-1], glyphs[3:9]):
+        ours = vector_pair._glyph_procedures(path, asked)
+        theirs = make(path, asked)
+        assert list(ours.items()) == list(theirs.items())

@@ -14,7 +14,7 @@ import warnings
 from matplotlib import rc_context
 from matplotlib.layout_engine import LayoutEngine
 
-__all__ = ["fix_layout", "MeasuredLayout", "measured_layout", "agg_renderer", "LAYOUT_PAD"]
+__all__ = ["fix_layout", "MeasuredLayout", "measured_layout", "agg_renderer", "FontHeights", "font_key", "LAYOUT_PAD"]
 
 LAYOUT_PAD = 3.0
 """Clearance around every panel's texts and between the texts and the figure's edge [points]
@@ -64,13 +64,64 @@ class MeasuredLayout(LayoutEngine):
 
 def agg_renderer(fig):
     """The renderer that measures the figure's texts: its canvas's, or an Agg canvas's (a figure
-    made without pyplot has a canvas that cannot render)."""
+    made without pyplot has a canvas that cannot render), reading each font's heights once
+    (:class:`FontHeights`)."""
     canvas = fig.canvas
     if not hasattr(canvas, "get_renderer"):
         from matplotlib.backends.backend_agg import FigureCanvasAgg
 
         canvas = FigureCanvasAgg(fig)
-    return canvas.get_renderer()
+    renderer = canvas.get_renderer()
+    if not hasattr(renderer, "_get_font_height_metrics"):
+        renderer._get_font_height_metrics = FontHeights(renderer.dpi)
+    return renderer
+
+
+_HEIGHT_TABLES = (("OS/2", "sTypoLineGap", "sTypoAscender", "sTypoDescender"), ("hhea", "lineGap", "ascent", "descent"))
+"""Where matplotlib's text layout reads a font's heights, in its order (``Text._get_layout``)."""
+
+
+def font_key(prop) -> tuple:
+    """What a ``FontProperties`` holds, as a key for what depends on it alone while the settings stay
+    (the fonts matplotlib finds for it, their heights): its family, style, variant, weight,
+    stretch, size, file and mathematical family. (A ``FontProperties`` can change after it is
+    used as a key; this tuple cannot.)"""
+    return (tuple(prop.get_family()), prop.get_style(), prop.get_variant(), prop.get_weight(), prop.get_stretch(),
+            prop.get_size_in_points(), prop.get_file(), prop.get_math_fontfamily())
+
+
+class FontHeights:
+    """A font's ascent, descent and line gap [pixels at ``dpi``], as matplotlib's text layout reads
+    them from the font's tables, read once per font and size for one renderer.
+
+    ``Text._get_layout`` finds the font and reads two of its tables each time it lays a text out
+    (every measure and every draw of every text) unless the renderer answers
+    ``_get_font_height_metrics(prop)`` (matplotlib's PDF and PostScript renderers do, for their
+    core fonts); a renderer given this object answers with the same numbers, computed by the same
+    arithmetic, once per font properties. ``dpi`` must be the figure's while the renderer draws or
+    measures (a renderer is made for one dpi)."""
+
+    def __init__(self, dpi: float):
+        self.dpi = dpi
+        self._known: dict = {}
+
+    def __call__(self, prop) -> tuple:
+        key = font_key(prop)
+        if key not in self._known:
+            self._known[key] = self._read(prop)
+        return self._known[key]
+
+    def _read(self, prop) -> tuple:
+        from matplotlib.font_manager import fontManager, get_font
+
+        font = get_font(fontManager._find_fonts_by_props(prop))
+        for table_name, gap_key, ascent_key, descent_key in _HEIGHT_TABLES:
+            table = font.get_sfnt_table(table_name)
+            if table is None:
+                continue
+            scale = 1 / font.get_sfnt_table("head")["unitsPerEm"] * prop.get_size_in_points() * self.dpi / 72
+            return table[ascent_key] * scale, -table[descent_key] * scale, table[gap_key] * scale
+        return None, None, None  # matplotlib measures "lp" instead
 
 
 def measured_layout(fig, pad: float = LAYOUT_PAD) -> None:

@@ -15,6 +15,7 @@ names than any other.
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import matplotlib
 
@@ -608,6 +609,15 @@ def _head(tail, tip, scale: float) -> np.ndarray:
     return tip + s.reshape(-1, 1) * back + (w * (1 - s / (0.4 * scale))).reshape(-1, 1) * across
 
 
+@lru_cache(maxsize=256)
+def _fractions(n: int) -> np.ndarray:
+    """``np.linspace(0, 1, n)`` as a column, made once per ``n`` (:func:`_drawn_points` asks for a few
+    sizes hundreds of times); read only."""
+    column = np.linspace(0, 1, n)[:, None]
+    column.flags.writeable = False
+    return column
+
+
 def _drawn_points(ax) -> list:
     """Display points along what is drawn on ``ax``, which labels avoid covering: one
     ``(artist, points, pad, kind)`` per line or patch, ``pad`` [pixels] half its stroke's width
@@ -618,7 +628,7 @@ def _drawn_points(ax) -> list:
     dot, pad its radius; a filled shape's edge)."""
     def along(a, b):  # a point every OBSTACLE_STEP pixels: no label slips between two of them
         n = max(2, int(np.linalg.norm(b - a) / OBSTACLE_STEP) + 1)
-        return a + np.linspace(0, 1, n)[:, None] * (b - a)
+        return a + _fractions(n) * (b - a)
 
     to_pixels = ax.figure.dpi / 72.0
     out = []
@@ -855,10 +865,17 @@ def _covered(boxes: np.ndarray, points: np.ndarray, pad=0.0) -> np.ndarray:
     """For each box, how many of the drawn ``points`` lie strictly inside it grown by ``pad`` [pixels]
     on every side (a stroke's half width: the stroke of a line through such a point touches the box);
     ``pad`` one number, or one per point."""
-    if not len(points):
+    if not len(points) or not len(boxes):
         return np.zeros(len(boxes), dtype=int)
+    pad = np.broadcast_to(np.asarray(pad, dtype=float), (len(points),))
+    # Only the points near the boxes can be inside one: a point more than the largest pad (and a
+    # pixel, against rounding) beyond every box is left out before the exact test (the places tried
+    # for a label lie around it, the drawn points over the whole panel)
+    reach = float(pad.max()) + 1.0
+    near = ((points[:, 0] > boxes[:, 0].min() - reach) & (points[:, 0] < boxes[:, 2].max() + reach) &
+            (points[:, 1] > boxes[:, 1].min() - reach) & (points[:, 1] < boxes[:, 3].max() + reach))
+    points, pad = points[near], pad[near][None, :]
     x, y = points[None, :, 0], points[None, :, 1]
-    pad = np.asarray(pad, dtype=float)[None, ...]
     inside = (x > boxes[:, 0:1] - pad) & (x < boxes[:, 2:3] + pad) & (y > boxes[:, 1:2] - pad) & \
         (y < boxes[:, 3:4] + pad)
     return np.count_nonzero(inside, axis=1)

@@ -522,7 +522,9 @@ def _inertia_equation(system, body: str, P: str) -> Equation:
 
 
 def _euler_step(system, body: str, P: str, forces: list[_Force],
-                printer: FastStrPrinter | None = None) -> tuple[Step, list[_Force]]:
+                printer: FastStrPrinter | None = None, collect: bool = True) -> tuple[Step, list[_Force]]:
+    """The generalized Euler equation about P (and I_P per element); ``collect``: with the equation
+    collected by unknown when that form is not longer. Also returns the forces whose moment is zero."""
     r_P = system.point_position(body, P)
     a_P = system.point_kinematics(body, P)[2]
     al = system.alpha(body)
@@ -548,7 +550,7 @@ def _euler_step(system, body: str, P: str, forces: list[_Force],
     if _zero(inertial):
         text.append(f"The inertial term vanishes here: r_G/{P} x a_{P} = 0 ({P} is the mass centre, or a_{P} "
                     f"is parallel to r_G/{P} or zero).")
-    collected = _collected_equation(system, body, P, euler)
+    collected = _collected_equation(system, body, P, euler) if collect else None
     printer = printer or FastStrPrinter()  # the two forms share their subexpressions: each printed once
     if collected is not None and _length(collected, printer) > _length(euler, printer):
         collected = None  # collecting spreads the terms over the unknowns' coefficients: no help to read
@@ -744,7 +746,7 @@ def _dropped_step(system, body: str, P: str, forces, dropped, newton: Step, eule
 
 
 def explain(system, point: str | None = None, *, advice: bool = True, solution: bool = True,
-            kinematics: bool = True) -> Explanation:
+            kinematics: bool = True, collected: bool = True) -> Explanation:
     """The worked solution of ``system`` at its state about ``point`` (``--point``).
 
     Parameters
@@ -760,6 +762,10 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
     kinematics : bool
         Include each body's kinematics step (False: a reader that shows its own kinematics, as
         the paper's examples do, skips its cost, a third of the per-body work).
+    collected : bool
+        Include, in each body's Euler step, the moment equation collected by unknown (as the paper's
+        Eq. 28 writes Eq. 27) where that form is not longer (False: a reader that shows the equation
+        as written only, as the paper's examples do, skips its cost).
 
     Returns
     -------
@@ -795,7 +801,8 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
         expl.sections[-1].steps.append(_regime_step(scene, regime, warning))
     parts: dict = {}
     for body, P in f.points.items():
-        expl.sections.append(_body_section(system, body, P, parts, (f, state), kinematics, expl.printer))
+        expl.sections.append(_body_section(system, body, P, parts, (f, state), kinematics, expl.printer,
+                                           collected))
     if not solution:
         say_what_alpha_is(system, expl)
         return expl
@@ -858,11 +865,13 @@ def _regime_step(scene, regime, warning) -> Step:
 
 
 def _body_section(system, body: str, P: str, parts: dict | None = None, at=None,
-                  kinematics: bool = True, printer: FastStrPrinter | None = None) -> Section:
+                  kinematics: bool = True, printer: FastStrPrinter | None = None,
+                  collected: bool = True) -> Section:
     """The steps of one body; ``parts`` (body -> (points, forces)) receives what the point advisor
     needs again (no later step names new points); ``at``: (formulation, state), to say which
     unknowns the moment equation holds at the state; ``kinematics``: with the kinematics step;
-    ``printer``: the explanation's (:attr:`Explanation.printer`), for the texts the steps hold."""
+    ``printer``: the explanation's (:attr:`Explanation.printer`), for the texts the steps hold;
+    ``collected``: with the moment equation collected by unknown (:func:`_euler_step`)."""
     points = _Points(system, body)
     forces = _forces_on(system, body, points)
     if parts is not None:
@@ -881,7 +890,7 @@ def _body_section(system, body: str, P: str, parts: dict | None = None, at=None,
     section.steps.append(_fbd_step(system, body, forces, printer))
     newton = _newton_step(system, body, P, forces)
     section.steps.append(newton)
-    euler, dropped = _euler_step(system, body, P, forces, printer)
+    euler, dropped = _euler_step(system, body, P, forces, printer, collected)
     section.steps.append(euler)
     at_state = None
     if at is not None:
