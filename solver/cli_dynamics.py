@@ -576,11 +576,11 @@ def _precision_system(scene, point, method):
     """
     if not scene.contacts:
         return scene, None
-    from solver.analyses.regimes import system_in_regime
+    from solver.analyses.regimes import SPLIT_NAME, system_in_regime
 
     variant, regime, _, state = system_in_regime(scene, point, method)
     if regime is not None and regime.indeterminate:
         raise InputError(f"{scene.label}: precision: the sticking contacts hold the bodies redundantly "
                          "(statically indeterminate), so the forces have no unique value to compute precisely; "
-                         "`solve` gives the accelerations and one admissible split")
+                         f"`solve` gives the accelerations and {SPLIT_NAME} of the forces")
     return variant, state

@@ -284,7 +284,7 @@ def _in_regime_at_state(system, args):
     args.regimes = {}
     if not system.contacts:
         return system
-    from solver.analyses.regimes import system_in_regime
+    from solver.analyses.regimes import SPLIT_NAME, system_in_regime
 
     variant, found, warning, _ = system_in_regime(system, args.point)
     if found is None or (all(found.regimes[j.name] == j.current_regime for j in system.contacts)
@@ -295,7 +295,7 @@ def _in_regime_at_state(system, args):
     if found.indeterminate:
         raise InputError(f"{system.label}: eom: in the contact regime that holds at the state ({held}) sticking "
                          "contacts hold the bodies redundantly (statically indeterminate); eom needs a regime whose "
-                         "equations determine every reaction: `solve` gives the motion and one admissible split")
+                         f"equations determine every reaction: `solve` gives the motion and {SPLIT_NAME} of the forces")
     rubbing = [j.name for j in system.contacts if j.friction is not None and found.regimes[j.name].friction_direction()]
     if rubbing:  # the friction -s mu_k N is a multiple of a reaction, which the elimination does not carry
         raise InputError(f"{system.label}: eom: in the contact regime that holds at the state ({held}) "

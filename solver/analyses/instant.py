@@ -588,8 +588,9 @@ def solution_in_regime(system, regime, warning: str | None, state: State | None,
         res = regime.values
         extra["regime"] = {c.joint: c.to_dict() for c in regime.checks}
         if regime.indeterminate:
-            extra["indeterminate"] = ("the sticking contacts hold the bodies redundantly: the accelerations are "
-                                      "determined, the split of their forces is not (one admissible split shown)")
+            from .regimes import INDETERMINATE_NOTE
+
+            extra["indeterminate"] = INDETERMINATE_NOTE
     else:
         f = formulate(system, method, point)
         state = assemble(system) if state is None else state

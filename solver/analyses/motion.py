@@ -273,8 +273,10 @@ class _Run:
         if self.base.time_dependent:
             return segments, "failed", ("the contacts hold the bodies at rest redundantly (statically "
                                         "indeterminate) under loads that change with time: not followed")
-        return segments, "completed", (f"reached t = {t1:g} s at rest: the sticking contacts hold "
-                                       "(statically indeterminate; one admissible split of their forces shown)")
+        from .regimes import SPLIT_SHOWN
+
+        return segments, "completed", (f"reached t = {t1:g} s at rest: the sticking contacts hold, statically "
+                                       f"indeterminate; {SPLIT_SHOWN}")
 
     def _segment(self, system, regimes, state, work, t1):
         from ..formulations import formulate

@@ -16,9 +16,9 @@ way it slides (s d2Phi_t/dt2 >= 0); a separating contact does not penetrate
 sticking to slipping and contact to separation; when several remain that no
 rule orders, or none is consistent (Painlevé's paradox), the solver says so
 instead of choosing. A redundant stick (a body held by more contacts than it
-has freedoms, as a ladder resting against a wall) is checked by a linear
-programme: does any distribution of the indeterminate forces keep every
-contact inside its cone?
+has freedoms, as a ladder resting against a wall) holds when some split of
+the indeterminate forces keeps every contact inside its cone; the split shown
+is the least-squeeze one (:data:`SPLIT_SHOWN`), which the physics alone fixes.
 """
 from __future__ import annotations
 
@@ -37,7 +37,8 @@ from ..strprint import lambdify
 
 __all__ = ["RegimeResult", "ContactCheck", "find_regime", "contact_kinematics", "MAX_CONTACTS",
            "NoConsistentRegime", "AmbiguousRegime", "regime_system", "solve_in_regime", "start_state",
-           "regime_at_state", "least_friction", "holding", "with_every_contact_force"]
+           "regime_at_state", "least_friction", "holding", "with_every_contact_force", "SPLIT_NAME", "SPLIT_SHOWN",
+           "INDETERMINATE_NOTE"]
 
 MAX_CONTACTS = 4
 """Most contacts that can change regime in one scene (at most 4**4 = 256 combinations are tried)."""
@@ -46,6 +47,23 @@ TOL = 1e-9
 """Relative tolerance of the sign tests (forces against the largest force; rates and
 accelerations against the largest of the state's): round-off of the solve is ~1e-13,
 so 1e-9 separates a zero from a sign without accepting real violations."""
+
+SPLIT_MARGIN = 1e-3
+"""How far inside its friction cone the shown split of a redundant stick keeps each contact
+(N >= d, |F| <= mu_s N - d), d this fraction of the largest force of the least-norm solution
+(which does not depend on P): the split shown is then visibly sticking, not slipping."""
+
+SPLIT_NAME = "the least-squeeze split"
+"""The name of the split of statically indeterminate forces every command shows."""
+
+SPLIT_SHOWN = (f"{SPLIT_NAME} is shown: of the splits that keep every sticking contact inside its friction "
+               f"cone by at least {SPLIT_MARGIN:g} of the largest force, the one of least norm (the smallest sum "
+               "of squared forces, in SI units), which no choice of P or method changes")
+"""Which split of statically indeterminate forces every command shows (:func:`_redundant_stick`)."""
+
+INDETERMINATE_NOTE = ("the sticking contacts hold the bodies redundantly: the accelerations are determined, "
+                      "the split of their forces is not; " + SPLIT_SHOWN)
+"""The one wording of a redundant stick's note (``solve``, ``explain``, ``simulate``)."""
 
 GAP_TOL = 1e-6
 """A gap (or a closing speed) below this, relative to the largest coordinate (rate), counts
@@ -96,7 +114,7 @@ class RegimeResult:
     indeterminate : bool
         True when sticking contacts hold a body redundantly: the motion is
         determined, the split of their forces is not (``values`` then holds
-        one admissible split).
+        the least-squeeze split, :data:`SPLIT_SHOWN`).
     rejected : list of str
         The other combinations tried and why each fails.
     """
@@ -546,47 +564,121 @@ def _shown(value: float, unit: str, system) -> str:
 
 
 def _redundant_stick(system, regimes, q, qd, t, point=None, method="generalized_euler"):
-    """A redundant stick: is there a split of the indeterminate forces inside every cone?
-    A linear programme maximising the smallest margin (scipy.optimize.linprog, HiGHS)."""
-    from scipy.optimize import linprog
+    """A redundant stick: the least-squeeze split of the indeterminate forces (:data:`SPLIT_SHOWN`),
+    or a string saying why no split keeps every contact inside its cone.
 
+    Notes
+    -----
+    The equations about any point P (and the mass-centre form) are row combinations of
+    one another, so A x = b has the same solutions x = x0 + Z y whichever P wrote them:
+    x0 of least norm (SI), Z an orthonormal basis of the forces' free directions. Of
+    the y keeping every contact :data:`SPLIT_MARGIN` of the largest force of x0 inside its
+    cone (N >= d, |F| <= mu_s N - d), the one of least norm is taken (:func:`_least_norm_point`);
+    when no y does, of those inside with no margin. |x|^2 = |x0|^2 + |y|^2, so this is the
+    split of least norm among the admissible ones: unique (a strictly convex function on a
+    convex set) and set by the physics alone, neither by P nor by how the rows are written.
+    """
     aug = _augmented(system, point, "generalized_euler" if method == "lagrange" else method)
     A, b, names = aug.system_of(regimes, q, qd, t)
-    n = len(names)
+    family = _solution_family(A, b, [names.index(c) for c in aug.qdd])
+    if isinstance(family, str):
+        return family
+    x0, Z = family
+    G = _cone_rows(aug, regimes, names)
+    forces = [abs(x0[i]) for i, n in enumerate(names) if n not in aug.qdd]
+    fscale = max(forces, default=0.0)
+    for margin in (SPLIT_MARGIN * fscale, 0.0):  # inside by the margin, else inside at all
+        y = _least_norm_point(G @ Z, -margin - G @ x0, TOL * fscale)
+        if y is not None:
+            break
+    else:
+        return "no split of the indeterminate contact forces stays inside every friction cone"
+    values = dict(zip(names, map(float, x0 + Z @ y)))
+    checks = [ContactCheck(j.name, regimes.get(j.name, j.current_regime),
+                           "sticks (statically indeterminate: splits of the forces inside every cone exist)",
+                           values[j.pair[1].name], values[j.pair[0].name] if j.pair[0] else 0.0)
+              for j in aug.variant.contacts if regimes.get(j.name) is not SEPARATED]
+    return RegimeResult(dict(regimes), system, values, checks, indeterminate=True)
+
+
+def _solution_family(A, b, accelerations):
+    """(x0, Z): every solution of the singular A x = b is x0 + Z y, x0 the one of least
+    (SI) norm and Z's columns orthonormal; or a string when A x = b has no solution or
+    leaves an acceleration (a column in ``accelerations``) undetermined.
+
+    The rank is the solver's singularity decision on the equilibrated matrix (singular
+    values under 1 / :data:`~solver.analyses.instant.CONDITION_LIMIT` of the largest are
+    zero); x0 and Z are then taken in SI, with no column scaling, which would change the norm.
+    """
+    from .instant import CONDITION_LIMIT, _equilibrate
+
+    As, row, col = _equilibrate(A)
+    bs = b / row
+    U, s, Vt = np.linalg.svd(As)
+    rank = int(np.sum(s > s[0] / CONDITION_LIMIT)) if s.size and s[0] > 0 else 0
+    ys = Vt[:rank].T @ ((U[:, :rank].T @ bs) / s[:rank])
+    if np.abs(As @ ys - bs).max(initial=0.0) > TOL * (np.abs(As) @ np.abs(ys) + np.abs(bs)).max(initial=0.0):
+        return "no set of forces satisfies the equations (inconsistent)"
+    Z, _ = np.linalg.qr(Vt[rank:].T / col[:, None])  # A (v / col) = 0 when As v = 0
+    x = ys / col
+    x0 = x - Z @ (Z.T @ x)  # the particular solution's free part taken out: the least norm
+    if Z.size and np.abs(Z[accelerations]).max(initial=0.0) > TOL:
+        return "the sticking contacts leave the accelerations undetermined"
+    # round-off of the SVD (1e-16 where a body is held at rest) kept out of the accelerations:
+    # the free directions move forces only, and an acceleration under TOL of the largest unknown
+    # (equilibrated; the sign tests' threshold) is zero
+    Z[accelerations] = 0.0
+    small = np.abs(x0 * col) <= TOL * np.abs(x0 * col).max(initial=0.0)
+    x0[accelerations] = np.where(small[accelerations], 0.0, x0[accelerations])
+    return x0, Z
+
+
+def _cone_rows(aug, regimes, names):
+    """G with G x <= -d for every contact at least d inside its cone: a one-sided
+    N >= d (-N <= -d); a sticking contact with friction +-F - mu_s N <= -d."""
     pv = aug.variant.si_values()
-    scale = float(np.abs(b).max()) + 1.0
-    A_ub, b_ub = [], []  # variables: the unknowns, then the margin m (maximised)
+    rows = []
     for j in aug.variant.contacts:
         r = regimes.get(j.name, j.current_regime)
         if not r.keeps_normal:
             continue
         F, N = j.pair
         iN = names.index(N.name)
-        row = np.zeros(n + 1)
-        row[iN], row[-1] = -1.0, scale * 1e-3  # N >= m
-        A_ub.append(row), b_ub.append(0.0)
+        if N.one_sided:
+            rows.append(np.zeros(len(names)))
+            rows[-1][iN] = -1.0
         if r.keeps_tangential and j.friction is not None:
             mu = float(sp.sympify(j.friction.static).xreplace(pv))
-            iF = names.index(F.name)
-            for sgn in (1, -1):  # +-F <= mu N - m
-                row = np.zeros(n + 1)
-                row[iF], row[iN], row[-1] = sgn, -mu, scale * 1e-3
-                A_ub.append(row), b_ub.append(0.0)
-    c = np.zeros(n + 1)
-    c[-1] = -1.0
-    bounds = [(None, None)] * n + [(None, 1.0)]
-    lp = linprog(c, A_ub=np.array(A_ub) if A_ub else None, b_ub=np.array(b_ub) if b_ub else None,
-                 A_eq=np.hstack([A, np.zeros((A.shape[0], 1))]), b_eq=b, bounds=bounds, method="highs")
-    if lp.status != 0:
-        return "no set of forces satisfies the equations (inconsistent)"
-    if lp.x[-1] < -TOL:
-        return "no split of the indeterminate contact forces stays inside every friction cone"
-    values = dict(zip(names, map(float, lp.x[:n])))
-    checks = [ContactCheck(j.name, regimes.get(j.name, j.current_regime),
-                           "sticks (statically indeterminate: an admissible split of the forces exists)",
-                           values[j.pair[1].name], values[j.pair[0].name] if j.pair[0] else 0.0)
-              for j in aug.variant.contacts if regimes.get(j.name) is not SEPARATED]
-    return RegimeResult(dict(regimes), system, values, checks, indeterminate=True)
+            for sgn in (1.0, -1.0):
+                rows.append(np.zeros(len(names)))
+                rows[-1][[names.index(F.name), iN]] = sgn, -mu
+    return np.array(rows).reshape(len(rows), len(names))
+
+
+def _least_norm_point(C, d, tol):
+    """The y of least Euclidean norm with C y <= d (each row to ``tol``), or None when none has.
+
+    At the optimum y = -C_S^T lam (lam >= 0) for a set S of active rows (KKT), which may be
+    taken linearly independent (at most len(y) rows): y is then the least-norm solution of
+    C_S y = d_S. Every such set is tried and the feasible solution of least norm kept (few
+    rows and free directions: at most 3 rows per contact, :data:`MAX_CONTACTS` contacts).
+    """
+    m, k = C.shape
+    size = np.linalg.norm(C, axis=1)
+    free = size <= 1e-12 * max(size.max(initial=0.0), 1.0)  # rows y does not enter: 0 <= d
+    if np.any(d[free] < -tol):
+        return None
+    Cn, dn = C / np.where(free, 1.0, size)[:, None], d / np.where(free, 1.0, size)
+    best = None
+    for n in range(min(k, m) + 1):
+        for S in itertools.combinations(np.flatnonzero(~free), n):
+            CS = Cn[list(S)]
+            if n and np.linalg.matrix_rank(CS, tol=1e-9) < n:
+                continue
+            y = CS.T @ np.linalg.solve(CS @ CS.T, dn[list(S)]) if n else np.zeros(k)
+            if np.all(C @ y <= d + tol) and (best is None or y @ y < best @ best):
+                best = y
+    return best
 
 
 def least_friction(system, state) -> dict:

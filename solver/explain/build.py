@@ -831,9 +831,11 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
     final.steps.append(_solution_step(system, solution, cond))
     final.steps.append(_check_step(system, solution, check))
     if regime is not None and regime.indeterminate:
-        final.steps[-1].text.append("The contact forces are statically indeterminate: each route picks one "
-                                    "admissible split of them, so they may differ; the accelerations are "
-                                    "determined and must agree.")
+        from ..analyses.regimes import SPLIT_NAME
+
+        final.steps[-1].text.append(f"The contact forces are statically indeterminate: both routes show {SPLIT_NAME}, "
+                                    "which one rule chooses (see the contact regime), so they agree, as the "
+                                    "accelerations (which are determined) must.")
     expl.sections.append(final)
     say_what_alpha_is(system, expl)
     return expl
@@ -856,8 +858,9 @@ def _regime_step(scene, regime, warning) -> Step:
                         "-s mu_k N along the contact line (s the sign of the sliding velocity), so only N is; "
                         "the free-body diagram shows N and the friction apart.")
         if regime.indeterminate:
-            text.append("The sticking contacts hold the body redundantly: the accelerations are determined, the "
-                        "split of their forces is not (the solution shows one admissible split).")
+            from ..analyses.regimes import INDETERMINATE_NOTE
+
+            text.append(INDETERMINATE_NOTE[0].upper() + INDETERMINATE_NOTE[1:] + ".")
         for reason in regime.rejected[:6]:
             text.append(f"Rejected: {reason}.")
     return Step("regime", "Contact regime at the state", text,
