@@ -90,6 +90,108 @@ def test_ladder_sticks_above_and_slips_below_the_critical_angle(solver_cli):
     assert u["theta_ddot"]["value"] < 0  # the ladder falls
 
 
+# Statically indeterminate sticking (a body held by more contacts than it has freedoms). The
+# shown split must be the physics' one: the equations about any point P, and the mass-centre form,
+# have the same solutions, so one rule (the least-squeeze split: least SI norm among the splits
+# inside every cone by SPLIT_MARGIN of the largest force) gives one answer. Before, a linear
+# programme's vertex depended on how the rows were written: N_A 111.722 N about A, 111.695 N about G.
+# Tolerance 1e-9 relative: the split comes from an SVD and a few 1-by-1 or 2-by-2 solves of
+# well-conditioned equations (round-off ~1e-14); the defect moved the forces by 2e-4 to 4e-3.
+SPLIT_REL = 1e-9
+SPLIT_MARGIN = 1e-3  # the rule's margin, as solver.analyses.regimes.SPLIT_MARGIN states it
+
+
+@pytest.mark.parametrize("scene, runs", [
+    ("ladder_friction", [("--point", "A"), ("--point", "B"), ("--point", "G"), ("--point", "ladder:I(N_A,N_B)"),
+                         ("--method", "mass_center"), ("--method", "lagrange")]),
+    ("crate_tipping", [("--point", "A"), ("--point", "B"), ("--point", "G"), ("--point", "Q"),
+                       ("--method", "mass_center")]),
+])
+def test_indeterminate_split_is_the_same_about_every_point(solver_cli, scene, runs):
+    path = f"data/scenes/{scene}.toml"
+    shown = [_json(solver_cli, "solve", path, *run, "--json") for run in runs]
+    assert all("indeterminate" in s for s in shown)
+    first = shown[0]["unknowns"]
+    for run, s in zip(runs[1:], shown[1:]):
+        for name, entry in s["unknowns"].items():
+            assert entry["value"] == pytest.approx(first[name]["value"], rel=SPLIT_REL, abs=0.0), (run, name)
+    # simulate (a run that stays at rest) shows the same split, about another point
+    final = _json(solver_cli, "simulate", path, "--t-end", "0.1", "--samples", "3", "--point", runs[2][1],
+                  "--json")["final"]
+    for name in ("N_A", "N_B", "F_A", "F_B"):
+        assert final[name]["value"] == pytest.approx(first[name]["value"], rel=SPLIT_REL), name
+
+
+def _least_norm_split(E, e, cones, margin_of):
+    """By hand, for one free direction: x = x0 + p z (x0 = pinv(E) e, z spans E's null space);
+    ``cones`` the rows g of g.x <= -margin; the least |x| is the least |p| in the interval the
+    rows allow, since x0 is orthogonal to z. Returns x0 and the split."""
+    x0 = np.linalg.pinv(E) @ e
+    z = np.linalg.svd(E)[2][-1]
+    assert np.allclose(E @ z, 0.0, atol=1e-12)  # one free direction
+    margin = margin_of(x0)
+    lo, hi = -math.inf, math.inf
+    for g in cones:  # g.(x0 + p z) <= -margin
+        gz, rest = g @ z, -margin - g @ x0
+        assert gz != 0 or rest >= 0
+        if gz > 0:
+            hi = min(hi, rest / gz)
+        else:
+            lo = max(lo, rest / gz)
+    assert lo <= hi
+    return x0, x0 + min(max(0.0, lo), hi) * z
+
+
+def test_ladder_at_rest_shows_the_least_norm_split_inside_the_cones(solver_cli):
+    """The ladder of ladder_friction.toml at 60 deg, its equilibrium written here. Unknowns
+    (N_A, F_A, N_B, F_B) with the scene's directions: N_A up and F_A along +x at the foot A
+    (the origin), N_B along +x and F_B along -y at the top B = (-L cos, L sin):
+        x:             F_A + N_B = 0
+        y:             N_A - F_B = m g
+        moments at A:  L cos F_B - L sin N_B = -m g L cos / 2
+    Least norm of this one-parameter family, by hand: F_B = p, N_A = m g + p, N_B = -F_A =
+    cot (p + m g / 2), and d|x|^2/dp = 0 gives p = -m g / 2: N_A = m g / 2, F_B = -m g / 2,
+    N_B = F_A = 0, outside the wall's cone (|F_B| > mu_B N_B = 0). So the rule takes the least
+    norm among the splits inside every cone by d = SPLIT_MARGIN * m g / 2 (the largest force of
+    the least-norm split): the wall's lower bound binds, -F_B = mu_B N_B - d, which gives
+        F_B = (d - mu_B cot m g / 2) / (1 + mu_B cot)."""
+    m, L, mu_a, mu_b, th = 12.0, 5.0, 0.3, 0.2, math.radians(60.0)
+    c, s, W = math.cos(th), math.sin(th), m * G
+    E = np.array([[0.0, 1.0, 1.0, 0.0], [1.0, 0.0, 0.0, -1.0], [0.0, 0.0, -L * s, L * c]])
+    e = np.array([0.0, W, -W * L * c / 2])
+    cones = [np.array(g, float) for g in (  # G x <= -d: N >= d, +-F - mu N <= -d
+        [-1, 0, 0, 0], [0, 0, -1, 0], [-mu_a, 1, 0, 0], [-mu_a, -1, 0, 0], [0, 0, -mu_b, 1], [0, 0, -mu_b, -1])]
+    x0, split = _least_norm_split(E, e, cones, lambda x0: SPLIT_MARGIN * np.abs(x0).max())
+    np.testing.assert_allclose(x0, [W / 2, 0.0, 0.0, -W / 2], atol=1e-12 * W)  # the hand result
+    d, cot = SPLIT_MARGIN * W / 2, c / s
+    assert split[3] == pytest.approx((d - mu_b * cot * W / 2) / (1 + mu_b * cot), rel=1e-12)
+    out = _json(solver_cli, "solve", "data/scenes/ladder_friction.toml", "--point", "G", "--json")["unknowns"]
+    x = np.array([out[n]["value"] for n in ("N_A", "F_A", "N_B", "F_B")])
+    np.testing.assert_allclose(x, split, rtol=SPLIT_REL)
+    np.testing.assert_allclose(E @ x, e, rtol=0, atol=1e-12 * W)  # the equations hold (round-off)
+    assert all(g @ x <= -d * (1 - 1e-9) for g in cones)  # every cone, by the margin
+
+
+def test_crate_at_rest_shows_the_least_norm_split_when_it_is_inside_the_cones(solver_cli):
+    """The crate of crate_tipping.toml pushed by P = 50 N (it holds below 174 N), equilibrium
+    written here with (N_A, F_A, N_B, F_B), corners A = (0, 0), B = (w, 0), push at (0, h):
+        x:            F_A + F_B = -P
+        y:            N_A + N_B = m g
+        moments at A: w N_B = m g w / 2 + P h
+    Least norm: the normal forces are determined, the frictions share the push equally,
+    F_A = F_B = -P / 2; inside both cones by far (mu_s N_A = 70 N against 25 N), so it is shown."""
+    m, w, h, P, mu = 40.0, 0.8, 0.9, 50.0, 0.5
+    W = m * G
+    E = np.array([[0.0, 1.0, 0.0, 1.0], [1.0, 0.0, 1.0, 0.0], [0.0, 0.0, w, 0.0]])
+    e = np.array([-P, W, W * w / 2 + P * h])
+    expected = [W / 2 - P * h / w, -P / 2, W / 2 + P * h / w, -P / 2]
+    np.testing.assert_allclose(np.linalg.pinv(E) @ e, expected, rtol=1e-12)  # the hand result
+    for point in ("A", "G", "Q"):
+        out = _json(solver_cli, "solve", "data/scenes/crate_tipping.toml", "--set", "P=50 N", "--point", point,
+                    "--json")["unknowns"]
+        np.testing.assert_allclose([out[n]["value"] for n in ("N_A", "F_A", "N_B", "F_B")], expected, rtol=SPLIT_REL)
+
+
 @pytest.mark.parametrize("h, kind", [(0.9, "tip"), (1.1, "tip"), (0.5, "slide"), (0.3, "slide")])
 def test_crate_thresholds(solver_cli, h, kind):
     m, w, mu_s = 40.0, 0.8, 0.5
