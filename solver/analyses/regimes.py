@@ -665,7 +665,7 @@ def _least_norm_point(C, d, tol):
     """
     m, k = C.shape
     size = np.linalg.norm(C, axis=1)
-    free = size <= 1e-12 * max(size.max(initial=0.0), 1.0)  # rows y does not enter: 0 <= d
+    free = size <= 1e-12 * size.max(initial=0.0)  # rows y does not enter: 0 <= d
     if np.any(d[free] < -tol):
         return None
     Cn, dn = C / np.where(free, 1.0, size)[:, None], d / np.where(free, 1.0, size)
