@@ -40,8 +40,22 @@ def display_symbols(expr: sp.Basic) -> dict[sp.Symbol, str]:
 
 
 def to_latex(expr: sp.Basic) -> str:
-    """LaTeX of one expression (math mode content, without delimiters)."""
+    """LaTeX of one expression (math mode content, without delimiters), printed once per process
+    however often it is shown (paper.tex shows an equation in its example and in the findings)."""
     expr = sp.sympify(expr)
+    try:
+        return _printed_latex(expr)
+    except TypeError:  # an unhashable expression (a mutable Matrix): printed each time
+        return _latex(expr)
+
+
+@lru_cache(maxsize=2048)
+def _printed_latex(expr: sp.Basic) -> str:
+    # sympy's == is structural (2.0 and 2 differ), so equal expressions print alike
+    return _latex(expr)
+
+
+def _latex(expr: sp.Basic) -> str:
     return LatexPrinter({"symbol_names": display_symbols(expr)}).doprint(expr)
 
 

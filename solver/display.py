@@ -25,7 +25,7 @@ from sympy.core.mul import _keep_coeff
 from .tree_value import DOUBLE, NotEvaluable, tree_value
 
 __all__ = ["reduce_trig", "numerator_reduces_to_zero", "constant_value", "tidy", "tidy_fraction", "tidy_linear",
-           "is_identically_zero", "free_symbols_of", "tree_size", "term_powers", "could_extract_minus_sign", "MAX_TIDY_NODES"]
+           "expand_polynomial", "is_identically_zero", "free_symbols_of", "tree_size", "term_powers", "could_extract_minus_sign", "MAX_TIDY_NODES"]
 
 MAX_CANCEL_NODES = 120
 """Above this size a single fraction of polynomials is not passed through ``cancel`` (the common
@@ -119,12 +119,35 @@ def reduce_trig(expr: sp.Expr) -> sp.Expr | None:
     plain symbol after expansion (e.g. ``sin(t**2)``).
     """
     e = sp.sympify(expr)
+    polynomial = _ring_polynomial(e)
+    if polynomial is not None:
+        return sp.cancel(polynomial)
     e = e.replace(sp.tan, lambda a: sp.sin(a) / sp.cos(a)).replace(sp.cot, lambda a: sp.cos(a) / sp.sin(a))
     e = sp.expand_trig(e)
     if not _angles_ok(e):
         return None
     num, den = sp.fraction(sp.cancel(_together(e)))
     return sp.cancel(_reduce_poly(num) / _reduce_poly(den))
+
+
+def _ring_polynomial(e: sp.Expr) -> sp.Expr | None:
+    """The remainder of ``e`` modulo the sin**2 + cos**2 - 1 as an expanded polynomial, when ``e`` is
+    a rational function of symbols and sin/cos/tan/cot of symbols whose denominator's remainder
+    is a number (:func:`_ring_remainders`); else None.
+
+    :func:`reduce_trig` then gives ``cancel`` of this polynomial, without its own two ``cancel``
+    of the whole expression: the denominator d that route reduces divides, times some g, the
+    product of denominators met here, whose remainder is a number; so g d is a unit modulo the
+    (prime, rational) ideal, where the units are the numbers, and the remainder of d is a number
+    too. The two routes then reduce the same class to normal forms that differ by a constant
+    factor, the same rational function for ``cancel``, which writes it one way."""
+    remainders = _ring_remainders(e, generators=True)
+    if remainders is None:
+        return None
+    num, den, gens = remainders
+    if len(den) != 1 or any(next(iter(den))):
+        return None
+    return _polynomial_expr(num, next(iter(den.values())), gens)
 
 
 def numerator_reduces_to_zero(expr: sp.Expr) -> bool | None:
@@ -216,10 +239,31 @@ def constant_value(e: sp.Expr) -> sp.Rational | None:
     return k if all(num[m] * k.q == den[m] * k.p for m in den) else None
 
 
-def _ring_remainders(e: sp.Expr) -> tuple[dict, dict] | None:
+def _ring_remainders(e: sp.Expr, generators: bool = False) -> tuple | None:
     """The terms of the remainders of ``e``'s numerator and denominator in sympy's sparse integer
     polynomials (see :func:`_ring_numerator_zero`); None outside that form, or when the
-    denominator's remainder is 0."""
+    denominator's remainder is 0. ``generators``: the generators' expressions too, a third item,
+    in the order of the terms' exponents."""
+    fractions = _ring_fraction(e)
+    if fractions is None:
+        return None
+    num, den, gens, angles = fractions
+    if not gens:
+        out = (dict(num), dict(den))  # a rational number
+        return (*out, []) if generators else out
+    den = _circle_remainder(den, angles)
+    if not den:
+        return None
+    out = (_circle_remainder(num, angles), den)
+    return (*out, gens) if generators else out
+
+
+def _ring_fraction(e: sp.Expr) -> tuple | None:
+    """(numerator, denominator, generators, number of angles) of ``e`` in sympy's sparse integer
+    polynomials in sin(a), cos(a) for each angle a and the other symbols (the denominator the
+    product of those met, no gcd); None when ``e`` holds anything else (:func:`_ring_generators`).
+    A rational number has no generators: its numerator and denominator are ``{(): p}`` (``{}`` for
+    0) and ``{(): q}``."""
     from sympy.polys.domains import ZZ
     from sympy.polys.rings import ring
 
@@ -229,7 +273,7 @@ def _ring_remainders(e: sp.Expr) -> tuple[dict, dict] | None:
         return None
     trig = [f(a) for a in angles for f in (sp.sin, sp.cos)]
     if not trig + symbols:
-        return ({(): e.p} if e.p else {}, {(): e.q})  # a rational number
+        return ({(): e.p} if e.p else {}), {(): e.q}, [], 0
     R, *gens = ring(trig + symbols, ZZ)  # sin(a) > cos(a) > the next angle's > ... > the symbols
     at = dict(zip(trig + symbols, gens))
     for a in angles:  # (an angle's own symbol, when it also stands alone, is a generator of its own)
@@ -265,8 +309,34 @@ def _ring_remainders(e: sp.Expr) -> tuple[dict, dict] | None:
         return out
 
     num, den = fraction(e)
-    den = _circle_remainder(den, len(angles))
-    return (_circle_remainder(num, len(angles)), den) if den else None
+    return num, den, trig + symbols, len(angles)
+
+
+def expand_polynomial(e: sp.Expr) -> sp.Expr:
+    """``sympy.expand(e)``, written out in sympy's sparse polynomials when ``e`` is a polynomial
+    with rational coefficients in symbols and sin/cos of symbols, over a monomial denominator (a
+    parameter such as 1/l_b) (its terms are then built once each, not from every product of the
+    factors' terms); ``sympy.expand`` itself otherwise (tan and cot included).
+
+    The same expression: the expansion of such an expression is the sum of its terms, each a
+    rational times integer powers of the generators (every power of one base merged), which
+    sympy writes one way whatever builds it."""
+    fractions = None if e.has(sp.tan, sp.cot) else _ring_fraction(e)  # (the ring writes tan as sin/cos)
+    if fractions is None:
+        return sp.expand(e)
+    num, den, gens, _ = fractions
+    if len(den) != 1:
+        return sp.expand(e)
+    (under, scale), = den.items()
+    return _polynomial_expr(num, scale, gens, under)
+
+
+def _polynomial_expr(terms, scale, gens, under=None) -> sp.Expr:
+    """The sum of ``terms`` ({exponents: integer coefficient}) over the number ``scale`` (and the
+    monomial of exponents ``under``), each term a rational times powers of ``gens``."""
+    under = under or (0,) * len(gens)
+    return sp.Add(*[sp.Mul(sp.Rational(coeff, scale), *[g**(k - j) for g, k, j in zip(gens, mon, under) if k != j])
+                    for mon, coeff in terms.items()])
 
 
 def _circle_remainder(p, angles: int) -> dict:

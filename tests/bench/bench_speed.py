@@ -27,8 +27,9 @@ the tool a user would otherwise pick, measured in the same run.
    written by :func:`reports.make_report.write_template_cache` into the git-ignored
    reports/__pycache__/templates/) at most 1.5x the CPU time of
    importing the build's third-party dependencies (every third-party module the build
-   loads, listed by the build itself; the two timed in turns, the least of three runs
-   each); a second ``make report`` does nothing, in under 0.1 s.
+   loads, listed by the build itself; the two timed in turns, the least of five runs
+   each: on a shared machine a ratio from three moved by about 0.1); a second
+   ``make report`` does nothing, in under 0.1 s.
 4. ``make test``: the whole suite on 2 workers (``pytest -n 2 --dist loadfile``, as ``make test``) in
    under 60 s of wall time (also reported: its CPU time). ``BENCH_SKIP_TESTS=1`` skips it.
 
@@ -67,6 +68,7 @@ STARTUP = [  # (name, argv after python, limit as a multiple of the floor)
     ("eom disk_bar", ["-m", "solver", "eom", str(SCENES / "disk_bar.toml")], 6.0),
 ]
 REPEATS = 3
+REPORT_ROUNDS = 5  # floor and cold build in turns (3. make report)
 PERIOD_TOL = 1e-12
 ELLIPTIC_LIMIT_US = 20.0
 PERIOD_RATIO_LIMIT = 3.0
@@ -287,9 +289,9 @@ def report() -> dict:
     packages alone would leave out e.g. scipy.integrate and matplotlib's backends, which
     ``import scipy`` and ``import matplotlib`` do not load).
 
-    The floor and the build are timed in turns (floor, build, floor, build, ...), and each is
-    the least of its runs, as :func:`cpu_per_call` takes (the neighbours' load only ever adds
-    CPU time: cache and core sharing). On this shared machine a floor timed apart from the
+    The floor and the build are timed in turns (floor, build, floor, build, ...,
+    :data:`REPORT_ROUNDS` rounds), and each is the least of its runs, as :func:`cpu_per_call`
+    takes (the neighbours' load only ever adds CPU time: cache and core sharing). On this shared machine a floor timed apart from the
     builds, with medians, moved the ratio by a third between runs.
 
     The floor is the whole ``python -c "import ..."`` process, as the issue times its floors and
@@ -306,7 +308,7 @@ def report() -> dict:
     bare_argv = [PY, "-c", _IMPORT_ALL + "import os\nos._exit(0)\n", json.dumps(deps)]
     run_cpu(floor_argv)  # warm, as median_cpu does
     floors, bare, cold = [], [], []
-    for _ in range(REPEATS):
+    for _ in range(REPORT_ROUNDS):
         floors.append(run_cpu(floor_argv)[0])
         bare.append(run_cpu(bare_argv)[0])
         with tempfile.TemporaryDirectory(prefix="bench-speed-") as tmp:
