@@ -10,6 +10,7 @@ Both are computed without any code from ``solver``:
 """
 from __future__ import annotations
 
+import functools
 import math
 
 import mpmath
@@ -25,7 +26,17 @@ def elliptic_period(amplitude: float, length: float, gravity: float) -> float:
 
 
 def ex2_reference_period(amplitude: float, p=EX2) -> float:
-    """Eq. 44 (F_a = 0): T = 2 int sqrt(M / (2 (V(a) - V))) by mpmath tanh-sinh at 30 digits."""
+    """Eq. 44 (F_a = 0): T = 2 int sqrt(M / (2 (V(a) - V))) by mpmath tanh-sinh at 30 digits.
+
+    Computed once per process for each amplitude and set of values (about 0.09 s of CPU a
+    quadrature; test_period asks for the same amplitudes in several tests)."""
+    return _ex2_reference_period(float(amplitude), tuple(sorted(p.items())))
+
+
+@functools.lru_cache(maxsize=None)
+def _ex2_reference_period(amplitude: float, values: tuple) -> float:
+    """:func:`ex2_reference_period` for ``values``, the items of its ``p``."""
+    p = dict(values)
     with mpmath.workdps(30):
         md, rd, mb, lb, gg = (mpmath.mpf(repr(p[k])) for k in ("m_d", "r_d", "m_b", "l_b", "g"))
         a = mpmath.mpf(amplitude)

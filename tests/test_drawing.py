@@ -176,11 +176,11 @@ def test_drawing_matches_the_scene(path):
         assert len(inertial) == 1 and inertial[0].label.startswith(f"|{MINUS}m a_{fbd.point[body]}| = ")
         _assert_no_moment_about_P(fbd, points[(body, fbd.point[body])], body, path.name)
     _assert_sizes_in_labels(fbd, path.name)
-    _assert_labels_apart(fbd.figure, path.name)
+    _assert_labels_apart(fbd.figure, path.name)  # draws the diagrams: the later checks read that drawing
     _assert_arrows_apart(fbd.figure, path.name)
     _assert_couples_apart(fbd.figure, path.name)
-    _assert_labels_off_arrows(fbd.figure, path.name)
-    _assert_labels_by_what_they_name(fbd, scene.items, path.name)
+    _assert_labels_off_arrows(fbd.figure, path.name, drawn=True)
+    _assert_labels_by_what_they_name(fbd, scene.items, path.name, drawn=True)
 
 
 def _four_figures(text: str, value: float) -> bool:
@@ -263,16 +263,17 @@ def _assert_arrows_apart(figure, where):
                 assert _gap(a0, a1, b0, b1) >= TOUCHING * length, f"{what} touch"
 
 
-def _assert_labels_off_arrows(figure, where):
+def _assert_labels_off_arrows(figure, where, drawn=False):
     """No label lies across a force arrow, its shaft or its head (drum_and_block's "-m a_P" had its
     minus sign under the head of the T arrow). The head: the segment across the tip as wide as the
     head drawn ("-|>" at mutation scale 11 pt: 2.2 pt each side). A box's outer pixel is allowed
-    (LABEL_OVERLAP_TOL: the renderer's rounding)."""
+    (LABEL_OVERLAP_TOL: the renderer's rounding). ``drawn``: see :func:`_assert_labels_apart`."""
     from matplotlib.patches import FancyArrowPatch
 
     from solver.drawing.render import label_boxes
 
-    figure.canvas.draw()
+    if not drawn:
+        figure.canvas.draw()
     for ax in (a for a in figure.axes if a.get_visible()):
         ends = [tuple(ax.transData.transform(np.array(q, float)) for q in p._posA_posB)
                 for p in ax.patches if isinstance(p, FancyArrowPatch)]
@@ -310,10 +311,17 @@ def _assert_couples_apart(figure, where):
                 assert np.linalg.norm(c - c2) >= r + r2, f"{where}: couple arcs overlap in {ax.get_title()!r}"
 
 
-def _assert_labels_apart(figure, where):
+def _assert_labels_apart(figure, where, drawn=False):
+    """No two labels overlap, and none is cut off by the figure's edge, in the final layout.
+
+    ``drawn``: the figure was drawn for an earlier check of the same test and not changed since, so
+    its layout is the final one (matplotlib leaves a figure ``stale`` after drawing it: the label
+    placer moves texts while drawing; drawing it again gives the same boxes, and costs 0.04-0.12 s
+    of CPU a diagram). By default the figure is drawn here."""
     from solver.drawing.render import label_boxes
 
-    figure.canvas.draw()  # the final layout, as saved
+    if not drawn:
+        figure.canvas.draw()  # the final layout, as saved
     shown = [ax for ax in figure.axes if ax.get_visible()]
     # a panel's background would hide the end of a neighbour's label that runs into it (slider_crank's
     # "-A_x = 751.9 N" lost its " N" under the rod's panel): no panel has one, and the labels of all
@@ -351,18 +359,19 @@ def _to_box(box, pts) -> float:
     return float(np.min(np.hypot(dx, dy)))
 
 
-def _assert_labels_by_what_they_name(fbd, scene, where):
+def _assert_labels_by_what_they_name(fbd, scene, where, drawn=False):
     """On every free-body diagram, no label is crossed by its body's bars or frame (QA9 item 11: a
     couple's label lay across the bar), and each label of a drawn force or couple is nearer an arrow
     or arc of that force or couple than any other (the weight's label sat by A's reaction at A): the
     nearest arrow must point along the force and lie on its line of action through its point; the
     nearest arc must turn its way, dashed for the inertial couple; no two labels share the nearest.
-    ``scene``: the scene's drawn items (solver.drawing.model.scene_items), which give the bars."""
+    ``scene``: the scene's drawn items (solver.drawing.model.scene_items), which give the bars;
+    ``drawn``: see :func:`_assert_labels_apart`."""
     from matplotlib.patches import FancyArrowPatch
 
     from solver.drawing.render import label_boxes
 
-    if fbd.figure.stale:  # the layout as saved (not drawn again when an earlier check drew it)
+    if not drawn:  # the layout as saved
         fbd.figure.canvas.draw()
     shown = [ax for ax in fbd.figure.axes if ax.get_visible()]
     for ax, body in zip(shown, fbd.panels):
@@ -557,16 +566,10 @@ def test_paper_figures_1_to_3_are_drawn_from_the_scenes(tmp_path_factory):
 
 
 @pytest.mark.parametrize("name, scene_file, body, number", PAPER_SCENE_FIGURES)
-def test_paper_figures_keep_their_labels_apart(name, scene_file, body, number, monkeypatch):
+def test_paper_figures_keep_their_labels_apart(name, scene_file, body, number, paper_figure):
     """Figures 1-3 place both panels' labels once, in the whole figure's layout (the scene is
     drawn with arrange_labels=False): as saved, no two labels overlap in either panel."""
-    from reports import figures
-
-    drawn = []
-    keep = figures._result
-    monkeypatch.setattr(figures, "_result", lambda n, fig, *rest: drawn.append(fig) or keep(n, fig, *rest))
-    figures.scene_figure(ROOT / "data" / "scenes" / scene_file, name, number, body)
-    (figure,) = drawn
+    figure, _ = paper_figure(scene_file, name, number, body)
     assert sum(len(ax.texts) for ax in figure.axes) > 4  # both panels carry labels
     _assert_labels_apart(figure, name)
 
@@ -728,7 +731,7 @@ def test_free_body_diagrams_keep_arrows_couples_and_labels_apart(scene, point, r
     _assert_arrows_apart(fbd.figure, scene)
     _assert_couples_apart(fbd.figure, scene)
     _assert_labels_apart(fbd.figure, scene)
-    _assert_labels_off_arrows(fbd.figure, scene)
+    _assert_labels_off_arrows(fbd.figure, scene, drawn=True)
 
 
 def test_labels_stay_off_the_bars_and_by_what_they_name():
@@ -740,10 +743,10 @@ def test_labels_stay_off_the_bars_and_by_what_they_name():
     state = start_state(system)
     fbd = draw_system(system, state, fbd=True)
     _assert_labels_off_arrows(fbd.figure, "two_bar_springs")
-    _assert_labels_apart(fbd.figure, "two_bar_springs")
+    _assert_labels_apart(fbd.figure, "two_bar_springs", drawn=True)
     from solver.drawing.model import scene_items
 
-    _assert_labels_by_what_they_name(fbd, scene_items(system, state), "two_bar_springs")
+    _assert_labels_by_what_they_name(fbd, scene_items(system, state), "two_bar_springs", drawn=True)
 
 
 def test_animation_frames_name_a_pin_once(tmp_path, monkeypatch):
@@ -968,17 +971,29 @@ def test_animation_frames_keep_labels_off_each_other_and_the_bars(scene, t_end, 
     assert checked == [2, 3]  # each of the two frames, drawn after what never changes
 
 
-def _paper_figure(scene_file, name, number, body, monkeypatch):
-    """The matplotlib figure of one of the paper's Figures 1-3, as the report saves it."""
+@pytest.fixture(scope="module")
+def paper_figure():
+    """``paper_figure(scene_file, name, number, body)``: (the matplotlib figure of one of the paper's
+    Figures 1-3 as the report saves it, drawn; the figure's result). Each figure is drawn once per
+    module, when a test first asks for it (about 0.2 s of CPU a figure): the four tests of the paper's
+    figures only read it (no test changes a figure; each check that measures labels draws it again)."""
     from reports import figures
 
-    drawn = []
-    keep = figures._result
-    monkeypatch.setattr(figures, "_result", lambda n, fig, *rest: drawn.append(fig) or keep(n, fig, *rest))
-    result = figures.scene_figure(ROOT / "data" / "scenes" / scene_file, name, number, body)
-    (figure,) = drawn
-    figure.canvas.draw()
-    return figure, result
+    done = {}
+
+    def get(scene_file, name, number, body):
+        if name not in done:
+            drawn = []
+            keep = figures._result
+            with pytest.MonkeyPatch.context() as patch:
+                patch.setattr(figures, "_result", lambda n, fig, *rest: drawn.append(fig) or keep(n, fig, *rest))
+                result = figures.scene_figure(ROOT / "data" / "scenes" / scene_file, name, number, body)
+            (figure,) = drawn
+            figure.canvas.draw()
+            done[name] = figure, result
+        return done[name]
+
+    return get
 
 
 def _ring_outlines(ax):
@@ -996,14 +1011,14 @@ def _ring_outlines(ax):
 
 
 @pytest.mark.parametrize("name, scene_file, body, number", PAPER_SCENE_FIGURES)
-def test_paper_figures_labels_clear_rings_and_by_their_dots(name, scene_file, body, number, monkeypatch):
+def test_paper_figures_labels_clear_rings_and_by_their_dots(name, scene_file, body, number, paper_figure):
     """QA10 item 5. No label is crossed by a ring's outline (Figure 1's "|-I_A alpha| = 10.03 N·m" lay
     across the big-end ring at A: the stroke must clear the box by its half width, less the 1 pixel of
     LABEL_OVERLAP_TOL); a point's label is nearer its own dot than any other point's ("G_crank" stood
     above the ring at A, nearer A's dot than its own on OA), and no farther than 3 label heights."""
     from solver.drawing.render import label_boxes
 
-    figure, _ = _paper_figure(scene_file, name, number, body, monkeypatch)
+    figure, _ = paper_figure(scene_file, name, number, body)
     for ax in (a for a in figure.axes if a.get_visible()):
         rings = _ring_outlines(ax)
         dots = [ax.transData.transform(np.column_stack(line.get_data()).astype(float))[0] for line in ax.lines
@@ -1028,12 +1043,12 @@ HEAD_CLEAR_PT = 2.2 + 1.25
 
 
 @pytest.mark.parametrize("name, scene_file, body, number", PAPER_SCENE_FIGURES)
-def test_paper_figures_titles_heads_and_notation(name, scene_file, body, number, monkeypatch):
+def test_paper_figures_titles_heads_and_notation(name, scene_file, body, number, paper_figure):
     """QA10 items 5 and 6. Panel titles are not the scene's file name ("disk_bar") nor
     "free-body diagram (P = P)" but say which point the moments are taken about; no force arrow's
     head ends on the dot of a point other than one at its tip (Figure 3's weight, drawn arriving at G,
     ended on P's dot); the labels and the caption write θ, α, −m a_P, −I_P α, not theta, alpha, -m a_P."""
-    figure, result = _paper_figure(scene_file, name, number, body, monkeypatch)
+    figure, result = paper_figure(scene_file, name, number, body)
     system = load_system(ROOT / "data" / "scenes" / scene_file)
     scene_ax, fbd_ax = [a for a in figure.axes if a.get_visible()]
     assert scene_ax.get_title() not in (system.name, Path(scene_file).stem) and scene_ax.get_title()
@@ -1067,10 +1082,10 @@ COORDINATE_HEAD_PT = 4.0
 
 
 @pytest.mark.parametrize("name, scene_file, body, number", PAPER_SCENE_FIGURES)
-def test_paper_figures_coordinate_arcs_are_more_than_their_heads(name, scene_file, body, number, monkeypatch):
+def test_paper_figures_coordinate_arcs_are_more_than_their_heads(name, scene_file, body, number, paper_figure):
     from matplotlib.colors import to_hex
 
-    figure, _ = _paper_figure(scene_file, name, number, body, monkeypatch)
+    figure, _ = paper_figure(scene_file, name, number, body)
     ax = [a for a in figure.axes if a.get_visible()][0]
     arcs = [line for line in ax.lines if len(line.get_xdata()) == 39 and to_hex(line.get_color()) == to_hex("0.15")]
     assert arcs, f"{name}: no coordinate arc drawn"
