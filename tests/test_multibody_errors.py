@@ -348,3 +348,14 @@ def test_a_spring_of_zero_length_is_named_not_the_joints(solver_cli, argv):
     assert code == 2 and out == "", (code, out[:300])
     assert err.count("\n") == 1 and err.startswith(f"error: {path}: singular configuration at "), err
     assert "spring 'spring_1' has zero length there" in err and "joint" not in err, err
+
+
+def test_eom_answers_a_picometre_from_zero_length_as_solve_does(solver_cli):
+    """eom refuses only where its printed forms are undefined, the exact zero length; at r = 1e-13 m
+    (QA 13) it refused while solve answered. The collar's equation of motion holds r/|r| (the
+    spring's direction from the hub), defined at every r but 0, so eom prints it."""
+    code, out, err = solver_cli("eom", str(MULTIBODY / "rot_arm.toml"), "--set", "r=1e-13 m")
+    assert code == 0 and err == "", err
+    assert "equation of motion" in out and "r_ddot" in out
+    code, _, _ = solver_cli("solve", str(MULTIBODY / "rot_arm.toml"), "--set", "r=1e-13 m")
+    assert code == 0

@@ -310,20 +310,22 @@ def _at(v, idx) -> float:
     return float(np.asarray(v, dtype=float)[idx] if np.ndim(v) else v)
 
 
-def refuse_zero_length(system, q, qd, t, idx=()) -> None:
+def refuse_zero_length(system, q, qd, t, idx=(), within: float = 1e-12) -> None:
     """Raise SingularConfigurationError when a spring's or a damper's two points coincide at
     the state (state ``idx`` of arrays q, qd, t; or scalars): there its line, and so its force,
     has no direction (0/0 in the equations' right-hand side), whatever the joints do.
 
-    A length under 1e-12 m counts as zero (a picometre: far below any scene's scale, far above
-    the round-off of a position of metres)."""
+    A length of at most ``within`` [m] counts as zero. The default, 1e-12 m (a picometre: far
+    below any scene's scale, far above the round-off of a position of metres), names the cause of
+    a system found singular; a caller that asks before any solve (``eom``, whose expressions are
+    defined at every length but zero) passes 0."""
     values = dict(system.si_values())
     values.update({s: _at(v, idx) for s, v in zip((*system.q, *system.qd), (*q, *qd))})
     values[system.t] = _at(t, idx)
     zero = []
     for load in system.loads:
         length = load.line_length(system)
-        if length is not None and abs(system._num(system.prescribe(length), values)) <= 1e-12:  # nan: no
+        if length is not None and abs(system._num(system.prescribe(length), values)) <= within:  # nan: no
             zero.append(f"{load.kind} {load.name!r}")
     if zero:
         one = len(zero) == 1
