@@ -1220,3 +1220,16 @@ def test_formats_without_the_drawing_give_the_command_that_draws_it(solver_cli, 
     monkeypatch.chdir(tmp_path)
     code, _, _ = solver_cli(*argv[3:])
     assert code == 0 and (tmp_path / "fbd.svg").read_text(encoding="utf-8").count("F_f") >= 1
+
+
+@pytest.mark.parametrize("command", ["explain", "draw"])
+def test_o_naming_a_folder_says_so_not_its_suffix(solver_cli, tmp_path, command):
+    """QA 13 #4: once -o's suffix chose explain's format, a folder or a name ending in a slash was
+    refused as "unknown file type '(none)'"; the reason is that it names no file (as before)."""
+    folder = tmp_path / "out"
+    folder.mkdir()
+    for name, reason in ((str(folder), "it is a folder"), (str(tmp_path / "new") + "/", "it ends with a slash")):
+        code, out, err = solver_cli(command, "data/scenes/sliding_bar.toml", "-o", name)
+        assert code == 2 and out == "" and err.count("\n") == 1, err
+        assert err.startswith(f"error: -o {name}: ") and reason in err, err
+    assert list(folder.iterdir()) == []

@@ -10,6 +10,7 @@ line starts without it.
 from __future__ import annotations
 
 import io
+import os
 import shutil
 from pathlib import Path
 
@@ -30,7 +31,8 @@ DPI = 100
 
 
 def check_format(path, allowed, flag: str) -> str:
-    """The lower-case suffix of ``path`` if it is one of ``allowed``.
+    """The lower-case suffix of ``path`` if it is one of ``allowed``; a folder or a name ending in a
+    slash is refused as :func:`solver.files.check_output_path` refuses it.
 
     Raises
     ------
@@ -38,8 +40,12 @@ def check_format(path, allowed, flag: str) -> str:
         Naming ``flag`` and listing the allowed suffixes.
     """
     from ..errors import InputError
+    from ..files import check_output_path
 
-    suffix = Path(str(path)).suffix.lower()
+    text = str(path)
+    if text.endswith(("/", os.sep)) or Path(text).is_dir():  # not a file at all: say that, not its suffix
+        check_output_path(path, flag)
+    suffix = Path(text).suffix.lower()
     if suffix not in allowed:
         raise InputError(f"{flag} {path}: unknown file type {suffix or '(none)'!r}; use one of "
                          f"{', '.join(allowed)} (the format follows the suffix)")
