@@ -1233,3 +1233,23 @@ def test_o_naming_a_folder_says_so_not_its_suffix(solver_cli, tmp_path, command)
         assert code == 2 and out == "" and err.count("\n") == 1, err
         assert err.startswith(f"error: -o {name}: ") and reason in err, err
     assert list(folder.iterdir()) == []
+
+
+def test_the_markdown_draw_command_survives_a_backtick_in_the_path(solver_cli, tmp_path):
+    """QA 13 #9: the Markdown line fenced the command in single backticks, so a scene path holding
+    one broke the code span. The span's content, read by CommonMark's rule (the fence is the
+    opening run of backticks; one space of padding on each side is dropped), must be the command,
+    which names the file as written."""
+    import shlex
+    import shutil
+
+    scene = tmp_path / "bar`s.toml"
+    shutil.copy("data/scenes/sliding_bar.toml", scene)
+    code, out, err = solver_cli("explain", str(scene), "--format", "markdown")
+    assert code == 0, err
+    line = next(x for x in out.splitlines() if "as a drawing" in x)
+    fence = re.search(r"(`+)", line).group(1)
+    content = line.split(fence, 1)[1].rsplit(fence, 1)[0]
+    content = content[1:-1] if content.startswith(" ") and content.endswith(" ") else content
+    words = shlex.split(content)
+    assert words[:4] == ["python", "-m", "solver", "draw"] and words[4] == str(scene), words

@@ -191,7 +191,7 @@ class _Markdown(_Renderer):
         return _md(text) + "\n"
 
     def command(self, intro, command):
-        return f"{_md(intro)} `{command}`\n"
+        return f"{_md(intro)} {_code_span(command)}\n"
 
     def equation(self, eq):
         head = _md(eq.label) + (f" ({_md(eq.ref)})" if eq.ref else "")
@@ -200,6 +200,15 @@ class _Markdown(_Renderer):
     def table(self, table):
         rows = [table.header, tuple("---" for _ in table.header), *table.rows]
         return "\n".join("| " + " | ".join(_md(c).replace("|", r"\|") for c in r) + " |" for r in rows) + "\n"
+
+
+def _code_span(text: str) -> str:
+    """A Markdown code span holding ``text`` as it is: fenced by one backtick more than its longest
+    run of backticks (CommonMark), padded by a space where it starts or ends with one."""
+    longest = max((len(run) for run in re.findall(r"`+", text)), default=0)
+    fence = "`" * (longest + 1)
+    pad = " " if text.startswith("`") or text.endswith("`") else ""
+    return f"{fence}{pad}{text}{pad}{fence}"
 
 
 def _md(text: str) -> str:
