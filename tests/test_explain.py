@@ -1249,7 +1249,9 @@ def test_the_markdown_draw_command_survives_a_backtick_in_the_path(solver_cli, t
     assert code == 0, err
     line = next(x for x in out.splitlines() if "as a drawing" in x)
     fence = re.search(r"(`+)", line).group(1)
-    content = line.split(fence, 1)[1].rsplit(fence, 1)[0]
+    rest = line.split(fence, 1)[1]
+    close = re.search(r"(?<!`)" + fence + r"(?!`)", rest)  # the first run of the same length closes it
+    content = rest[:close.start()]
     content = content[1:-1] if content.startswith(" ") and content.endswith(" ") else content
     words = shlex.split(content)
     assert words[:4] == ["python", "-m", "solver", "draw"] and words[4] == str(scene), words
