@@ -59,9 +59,12 @@ REPORT_INPUTS := $(filter-out $(DATA_DIRS),$(DATA_ANY)) $(PY_SOURCES) \
 	$(wildcard analysis/templates/* reports/templates/* solver/fonts/*) \
 	$(filter-out $(BUILD)/bench/report.json,$(wildcard $(BUILD)/bench/*.json))
 
+# As `make test`, bytecode is written even where PYTHONDONTWRITEBYTECODE is set: the project's
+# modules and the templates' compiled code (reports/__pycache__/templates/), into git-ignored
+# folders, so that a later build (after a data file changed) loads them instead of compiling.
 $(REPORT_STAMP): $(STAMP) $(REPORT_INPUTS)
 	@mkdir -p $(BUILD)
-	$(PY) -m reports --out $(BUILD)
+	PYTHONDONTWRITEBYTECODE= $(PY) -m reports --out $(BUILD)
 	@touch $@ && touch $(REPORT_OUTPUTS)
 
 # An output deleted by hand is rebuilt (the outputs are never older than the stamp otherwise).

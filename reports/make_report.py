@@ -99,6 +99,14 @@ class TemplateCache(FileSystemBytecodeCache):
         self.load_bytecode(bucket)
         return bucket
 
+    def load_bytecode(self, bucket: Bucket) -> None:
+        """Read a template's compiled code when a readable file holds it; anything else (no file,
+        the cache's folder replaced by a file, no permission) leaves the template to be compiled."""
+        try:
+            super().load_bytecode(bucket)
+        except OSError:
+            bucket.reset()
+
     def dump_bytecode(self, bucket: Bucket) -> None:
         """Write a template's compiled code (atomically, as jinja does), when writing is on."""
         if not (not sys.dont_write_bytecode if self.write is None else self.write):

@@ -815,3 +815,15 @@ def test_the_errors_of_eqs_43_44_sit_under_the_elimination_they_print(built):
         assert found < section.index("The one-step alternative about C"), name  # its heading
         listed = section[found:section.index("Numbers at the chosen state")]
         assert "43" in listed and "44" in listed, name
+
+
+def test_a_cache_folder_that_is_a_file_leaves_the_templates_to_be_compiled(tmp_path):
+    """QA 13 #5: with reports/__pycache__/templates replaced by a file, reading the cache raised
+    NotADirectoryError out of the build. An unreadable cache only costs the compiling."""
+    folder, cache = tmp_path / "templates", tmp_path / "cache"
+    folder.mkdir()
+    (folder / "t.j2").write_text("<b>{{ x }}</b>", encoding="utf-8")
+    cache.write_text("not a folder", encoding="utf-8")
+    env = jinja2.Environment(loader=jinja2.FileSystemLoader(str(folder)), bytecode_cache=TemplateCache(cache, write=True))
+    assert env.get_template("t.j2").render(x=1) == "<b>1</b>"
+    assert cache.read_text(encoding="utf-8") == "not a folder"

@@ -267,7 +267,8 @@ for name in json.loads(sys.argv[1]):
 
 def _compile_sources() -> None:
     """Write the bytecode of the project's own modules and of the report's templates, as a user's
-    first ``make report`` does.
+    first ``make report`` does (``make report`` writes both even where PYTHONDONTWRITEBYTECODE is
+    set, as ``make test`` does).
 
     A cold build means a fresh output folder, not uncompiled sources: with
     PYTHONDONTWRITEBYTECODE set (as in some shells) every timed build would compile
