@@ -121,8 +121,8 @@ def add_point_option(parser: argparse.ArgumentParser) -> None:
         type=_point_value,
         default=None,
         help="reference point P of a body's moment equation: BODY:POINT, or a point name (every body "
-        "that has it; for a one-body scene any point or G), or a point the advisor names (C_<joint>, "
-        "BODY:I(R1,R2)); default: each body's reference_point",
+        "that has it; for a one-body scene any point or G), or a point the advisor names (G_<element>, "
+        "C_<joint>, BODY:I(R1,R2); `explain --suggest-point` lists them); default: each body's reference_point",
     )
 
 

@@ -1138,7 +1138,8 @@ def test_suggest_point_refuses_a_bad_point_as_explain_does(solver_cli, tmp_path)
         code, out, err = solver_cli("explain", scene, *extra, "--point", "Z")
         assert code == 2 and out == "" and err.count("\n") == 1, extra
         lines.append(err)
-    assert len(set(lines)) == 1 and "--point Z" in lines[0] and "(points: A, B, G)" in lines[0]
+    assert len(set(lines)) == 1 and "--point Z" in lines[0] and "(points: A, B, G;" in lines[0]
+    assert "G_<element>, C_<joint>, I(R1,R2)" in lines[0]  # QA 13 #8: the advisor's points named too
     assert not (tmp_path / "advice.txt").exists()
     code, out, _ = solver_cli("explain", scene, "--suggest-point", "--point", "body:B")
     assert code == 0 and "Best point" in out

@@ -61,6 +61,10 @@ def point_text(method: str, shown: str | None) -> str:
     return str(shown)
 
 
+ADVISED_POINTS = "; or one the advisor names, as explain --suggest-point lists them: G_<element>, C_<joint>, I(R1,R2)"
+"""The places a --point may also name besides a body's named points (:func:`resolve_points`)."""
+
+
 def resolve_points(system, point: str | None) -> dict[str, str]:
     """The reference point of every body from a ``--point`` value.
 
@@ -91,16 +95,16 @@ def resolve_points(system, point: str | None) -> dict[str, str]:
         if not targets and len(system.bodies) == 1:
             body = next(iter(system.bodies.values()))
             raise SceneError(f"{system.label}: --point {point}: point {name!r} is not a point of the body "
-                             f"{body.name!r} (points: {', '.join(body.point_names())})")
+                             f"{body.name!r} (points: {', '.join(body.point_names())}{ADVISED_POINTS})")
         if not targets:
             every = sorted({f"{b}:{p}" for b, body in system.bodies.items() for p in body.point_names()})
             raise SceneError(f"{system.label}: --point {point}: no body has a point {name!r} "
-                             f"(points: {', '.join(every)})")
+                             f"(points: {', '.join(every)}{ADVISED_POINTS})")
     for body in targets:
         if name not in system.bodies[body].point_names():
             raise SceneError(
                 f"{system.label}: --point {point}: point {name!r} is not a point of the body {body!r} "
-                f"(points: {', '.join(system.bodies[body].point_names())})"
+                f"(points: {', '.join(system.bodies[body].point_names())}{ADVISED_POINTS})"
             )
         points[body] = name
     return points
