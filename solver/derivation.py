@@ -307,8 +307,6 @@ class Derivation:
         """
         if self.q is None or self.system.closure or A.shape[0] != A.shape[1]:
             return None
-        from .display import expand_polynomial  # sympy's expand, in sparse polynomials
-
         state = {self.q, self.qd, self.t}
         n = A.shape[1]
         found: dict[int, sp.Expr] = {}  # column -> expression in qdd and earlier reactions
@@ -326,20 +324,20 @@ class Derivation:
                 if pivot.free_symbols & state:
                     continue
                 rest = b[i] - A[i, 0] * self.qdd - sp.Add(*[A[i, k] * found[k] for k in found])
-                found[j] = expand_polynomial(rest / pivot)
+                found[j] = sp.expand(rest / pivot)
                 used.add(i)
                 progress = True
             if not progress:
                 return None
         raw = self._raw_eom()
         M = raw.coeff(self.qdd)
-        f = expand_polynomial(raw - M * self.qdd)
+        f = sp.expand(raw - M * self.qdd)
         out = {str(self.qdd): -f / M}
         parts = {}
         for j in range(1, n):
             c1 = found[j].coeff(self.qdd)
-            c0 = expand_polynomial(found[j] - c1 * self.qdd)
-            num = expand_polynomial(c0 * M - c1 * f)
+            c0 = sp.expand(found[j] - c1 * self.qdd)
+            num = sp.expand(c0 * M - c1 * f)
             out[str(self.unknowns[j])] = num / M
             parts[str(self.unknowns[j])] = (num, M)
         self._cache["reaction_parts"] = parts

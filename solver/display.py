@@ -25,7 +25,7 @@ from sympy.core.mul import _keep_coeff
 from .tree_value import DOUBLE, NotEvaluable, tree_value
 
 __all__ = ["reduce_trig", "numerator_reduces_to_zero", "constant_value", "tidy", "tidy_fraction", "tidy_linear",
-           "expand_polynomial", "is_identically_zero", "free_symbols_of", "tree_size", "term_powers", "could_extract_minus_sign", "MAX_TIDY_NODES"]
+           "is_identically_zero", "free_symbols_of", "tree_size", "term_powers", "could_extract_minus_sign", "MAX_TIDY_NODES"]
 
 MAX_CANCEL_NODES = 120
 """Above this size a single fraction of polynomials is not passed through ``cancel`` (the common
@@ -310,25 +310,6 @@ def _ring_fraction(e: sp.Expr) -> tuple | None:
 
     num, den = fraction(e)
     return num, den, trig + symbols, len(angles)
-
-
-def expand_polynomial(e: sp.Expr) -> sp.Expr:
-    """``sympy.expand(e)``, written out in sympy's sparse polynomials when ``e`` is a polynomial
-    with rational coefficients in symbols and sin/cos of symbols, over a monomial denominator (a
-    parameter such as 1/l_b) (its terms are then built once each, not from every product of the
-    factors' terms); ``sympy.expand`` itself otherwise (tan and cot included).
-
-    The same expression: the expansion of such an expression is the sum of its terms, each a
-    rational times integer powers of the generators (every power of one base merged), which
-    sympy writes one way whatever builds it."""
-    fractions = None if e.has(sp.tan, sp.cot) else _ring_fraction(e)  # (the ring writes tan as sin/cos)
-    if fractions is None:
-        return sp.expand(e)
-    num, den, gens, _ = fractions
-    if len(den) != 1:
-        return sp.expand(e)
-    (under, scale), = den.items()
-    return _polynomial_expr(num, scale, gens, under)
 
 
 def _polynomial_expr(terms, scale, gens, under=None) -> sp.Expr:

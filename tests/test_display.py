@@ -6,7 +6,7 @@ import random
 
 import sympy as sp
 
-from solver.display import expand_polynomial, is_identically_zero, numerator_reduces_to_zero, reduce_trig, tidy
+from solver.display import is_identically_zero, numerator_reduces_to_zero, reduce_trig, tidy
 
 phi, beta, g, m, t, W = sp.symbols("phi beta g m t Omega", real=True)
 s, c = sp.sin(phi), sp.cos(phi)
@@ -568,22 +568,6 @@ def test_eom_of_several_freedoms_is_tidied_after_its_terms_cancel(capsys):
     assert len(shown) == 2 and all("sqrt" not in x for x in shown), shown
     for text, reference in zip(shown, closed):
         assert sp.expand(sp.sympify(text, locals=names) - reference) == 0, text
-
-
-def test_expand_polynomial_is_sympys_expand():
-    """expand_polynomial writes out in sparse polynomials what sympy.expand writes out: the same
-    expression, term for term (srepr), for polynomials in symbols and sin/cos with rational
-    coefficients, over a monomial denominator, and (through sympy itself) for anything else."""
-    rng = random.Random(3)
-    pieces = [s, c, sp.sin(beta), sp.cos(beta), g, m, phi, sp.Rational(-3, 4), sp.Integer(2)]
-    exprs = [(s * g + c / 2) * (m - s * c), (g * s - m / (3 * g)) * (c**2 + m * phi) / (2 * m * s),
-             sp.sqrt(g) * (s + c) ** 2, (s + 1) / (c + 1) * (g + m), sp.tan(phi) * (s + g)]
-    for _ in range(30):
-        factors = [sum(rng.choice([-2, 1, 3]) * rng.choice(pieces) * rng.choice(pieces) for _ in range(3))
-                   for _ in range(rng.randint(1, 3))]
-        exprs.append(sp.Mul(*factors) / rng.choice([1, 6, m, g * s**2]))
-    for expr in exprs:
-        assert sp.srepr(expand_polynomial(expr)) == sp.srepr(sp.expand(expr)), expr
 
 
 def test_reduce_trig_of_a_polynomial_residual():
