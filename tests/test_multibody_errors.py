@@ -348,3 +348,31 @@ def test_a_spring_of_zero_length_is_named_not_the_joints(solver_cli, argv):
     assert code == 2 and out == "", (code, out[:300])
     assert err.count("\n") == 1 and err.startswith(f"error: {path}: singular configuration at "), err
     assert "spring 'spring_1' has zero length there" in err and "joint" not in err, err
+
+
+SCENES = Path(__file__).resolve().parent.parent / "data" / "scenes"
+
+
+def edited(tmp_path: Path, scene: str, old: str, new: str) -> Path:
+    """``data/scenes/<scene>.toml`` with ``old`` replaced once by ``new``, written to tmp_path."""
+    text = (SCENES / f"{scene}.toml").read_text()
+    assert text.count(old) == 1, old
+    path = tmp_path / f"{scene}.toml"
+    path.write_text(text.replace(old, new))
+    return path
+
+
+def test_a_bare_zero_coordinate_value_needs_its_kind(solver_cli, tmp_path):
+    """QA 13 #6: a bare "0" cannot tell a length from an angle. Without a rate that tells it, the
+    value's (or guess's) own key is named and a unit asked for; with `rate = "0.5 m/s"` the
+    coordinate is the length x = 0 m."""
+    ladder = edited(tmp_path, "ladder_leaves_wall", 'x     = { guess = "1.4 m" }', 'x     = { guess = "0" }')
+    line = one_line_error(solver_cli, ladder)
+    assert "coordinates.x.guess: a bare 0" in line and '"0 m"' in line and '"0 deg"' in line
+    cart = edited(tmp_path, "cart_pendulum", 'x     = { value = "0 m", rate = "0.5 m/s" }',
+                  'x     = { value = "0", rate = "0" }')
+    line = one_line_error(solver_cli, cart)
+    assert "coordinates.x.value: a bare 0" in line
+    cart.write_text(cart.read_text().replace('rate = "0" }', 'rate = "0.5 m/s" }'))
+    code, out, err = solver_cli("solve", str(cart))
+    assert code == 0 and "state   x = 0 m, x_dot = 0.5 m/s," in out, err
