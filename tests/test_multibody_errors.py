@@ -376,3 +376,18 @@ def test_a_bare_zero_coordinate_value_needs_its_kind(solver_cli, tmp_path):
     cart.write_text(cart.read_text().replace('rate = "0" }', 'rate = "0.5 m/s" }'))
     code, out, err = solver_cli("solve", str(cart))
     assert code == 0 and "state   x = 0 m, x_dot = 0.5 m/s," in out, err
+
+
+def test_a_bare_zero_rate_in_the_file_is_taken_as_on_set(solver_cli, tmp_path):
+    """QA 13 #7: `rate = "0"` in either format is 0 rad/s, as `--set theta_dot=0` is (zero is
+    zero in every unit); a bare nonzero rate is refused and echoed as typed ('2', not 2.0)."""
+    cases = [("sliding_bar", 'rate  = "0 rad/s"', 'rate  = "{}"', "coordinate.rate"),
+             ("cart_pendulum", 'theta = { value = "20 deg", rate = "0 rad/s" }',
+              'theta = {{ value = "20 deg", rate = "{}" }}', "coordinates.theta.rate")]
+    for scene, old, new, key in cases:
+        path = edited(tmp_path, scene, old, new.format("0"))
+        code, out, err = solver_cli("solve", str(path))
+        assert code == 0 and "theta_dot = 0 rad/s" in out.splitlines()[1], err
+        path = edited(tmp_path, scene, old, new.format("2"))
+        line = one_line_error(solver_cli, path)
+        assert f"{key}: '2' is" in line

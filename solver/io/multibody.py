@@ -286,13 +286,10 @@ class _MultibodyReader:
                 rkey = f"{cname}_dot"
                 text = self.overrides.get(rkey, L.require(spec, "rate", f"coordinates.{cname}", "its rate, e.g. \"0 rad/s\""))
                 where = f"coordinates.{cname}.rate" if rkey not in self.overrides else f"--set {rkey}"
-                q = self._quantity(text, where)
-                if rkey in self.overrides:
-                    q = units.zero_in(q, "rad/s" if kind == "angle" else "m/s")
+                q = units.zero_in(self._quantity(text, where), "rad/s" if kind == "angle" else "m/s")
                 need = RATE if kind == "angle" else LENGTH / TIME
-                if q.dimensionality != need:
-                    shown = repr(text) if rkey in self.overrides else f"{q:~P}"
-                    raise self.fail(where, f"{shown} is not {'an angular velocity' if kind == 'angle' else 'a speed'}")
+                if q.dimensionality != need:  # (shown as typed, in the file as on --set)
+                    raise self.fail(where, f"{text!r} is not {'an angular velocity' if kind == 'angle' else 'a speed'}")
                 rate = float(q.to_base_units().magnitude)
             elif "rate" in spec:
                 raise self.fail(f"coordinates.{cname}.rate", "a dependent coordinate's rate is solved, not given")
