@@ -916,12 +916,13 @@ def _monomial_out(split: list, powers: list, common: dict) -> sp.Expr:
 
 
 @lru_cache(maxsize=4096)
-def tidy(expr: sp.Expr) -> sp.Expr:
+def tidy(expr: sp.Expr, max_nodes: int = MAX_TIDY_NODES) -> sp.Expr:
     """A short display form built from the structure of ``expr``: one fraction whose numerator and
     denominator are each reduced modulo sin**2 + cos**2 = 1 (when that shortens them) with their
     common factors pulled out; ``cancel`` only on small expressions.
 
-    Expressions larger than :data:`MAX_TIDY_NODES` are returned as they are; an angle that holds
+    Expressions larger than ``max_nodes`` (:data:`MAX_TIDY_NODES`; a caller that bounds the time
+    itself may allow more) are returned as they are; an angle that holds
     sin/cos itself (a prescribed ``W*t + 3*sin(W*t)/10``) is reduced as a plain angle is
     (:func:`_mask_nested_angles`).
     """
@@ -929,7 +930,7 @@ def tidy(expr: sp.Expr) -> sp.Expr:
     if e.is_number or _plain_monomial(e):
         return e
     shape = _shape(e)
-    return e if shape.size > MAX_TIDY_NODES else _tidy_general(e, shape)
+    return e if shape.size > max_nodes else _tidy_general(e, shape)
 
 
 def _plain_factor(f) -> bool:
