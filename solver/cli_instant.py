@@ -226,7 +226,7 @@ def eom_command(args: argparse.Namespace) -> int:
     mass = eom.coeff(d.qdd)
     # Display form only: cancel common factors (removes removable 0/0 points
     # such as a sin(theta) in both numerator and denominator).
-    reactions = _reactions_display(d)
+    reactions, untidied = _reactions_display(d)
     at_state = _reactions_at_state(system, d)
     q = system.free[0].name
     text = _printer()
@@ -264,15 +264,10 @@ def eom_command(args: argparse.Namespace) -> int:
     print(f"  M = {text(mass)}")
     print()
     print("reactions as functions of the state (SI parameters give SI values), and their values at the state:")
-    from solver.display import tree_size
-
     for name, expr in reactions.items():
         entry = at_state[name]
-        if _too_long_to_read(expr, tidied=d.reaction_fractions is not None):
-            print(f"  {name} = (a closed form of {tree_size(expr)} nodes, too long to read here; --json and --latex "
-                  "print it)")
-        else:
-            print(f"  {name} = {text(expr)}")
+        left_out = _why_left_out(expr, untidied.get(name))
+        print(f"  {name} = ({left_out}; --json and --latex print it)" if left_out else f"  {name} = {text(expr)}")
         print(f"      = {format_number(entry['value'])} {entry['unit']} at the state")
     return 0
 
@@ -518,15 +513,27 @@ output (the paper scenes' have under 100; a plate on two links, solved by Cramer
 tens of thousands): its value at the state is, and --json and --latex give the expression."""
 
 
-def _too_long_to_read(expr, tidied: bool) -> bool:
-    """The one rule by which ``eom``'s text leaves out a reaction's closed form (each reaction
-    alike): more than :data:`DISPLAY_MAX_NODES` nodes, or, when it was not tidied by the
-    numerator-over-mass route (``tidied``), more than :data:`DISPLAY_MAX_OPS` operations, where the
-    display tidy (:func:`_display_form`) leaves an expression as derived: printed, it would be
-    hundreds of operations that nothing reduced (sin**2 + cos**2 left in)."""
+REACTION_TIDY_MAX_NODES = 10000
+"""A reaction's closed form (from the general solve) with more nodes than this is not given to the
+display tidy (rot_arm's T has 6092 and tidies in 0.17 s of CPU to 6 nodes; the plate on two
+links, solved by Cramer's rule, has 19,000 to 26,000 a reaction, about 0.7 s each to tidy)."""
+
+
+def _why_left_out(expr, untidied: str | None) -> str | None:
+    """Why ``eom``'s text leaves out a reaction's closed form (the words in place of it), or None
+    when it is printed. The one rule, after the display tidy (:func:`_reactions_display`): a form
+    of more than :data:`DISPLAY_MAX_NODES` nodes, or one the tidy did not reach (``untidied``, the
+    reason) of more than :data:`DISPLAY_MAX_OPS` operations (printed, hundreds of operations that
+    nothing reduced)."""
     from solver.display import tree_size
 
-    return tree_size(expr, DISPLAY_MAX_NODES) > DISPLAY_MAX_NODES or (not tidied and _over_display_ops(expr))
+    size = tree_size(expr, DISPLAY_MAX_NODES)
+    if size > DISPLAY_MAX_NODES:
+        done = untidied or "after the display tidy"
+        return f"a closed form of {tree_size(expr)} nodes {done}, too long to read here"
+    if untidied is not None and _over_display_ops(expr):
+        return f"a closed form of {sp.count_ops(expr)} operations {untidied}, left as derived"
+    return None
 
 
 class _OutOfTime(Exception):
@@ -546,16 +553,28 @@ def _tidy_display(expr: sp.Expr) -> sp.Expr:
     return tidy(expr)
 
 
-def _reactions_display(d) -> dict:
+def _reactions_display(d) -> tuple[dict, dict]:
     """Display forms of the reactions: numerator over the generalized mass from the structured
-    solve (each part tidied on its own), else the tidied closed form."""
-    from solver.display import tidy_fraction
+    solve (each part tidied on its own), else the closed form by the display tidy
+    (:func:`solver.display.tidy`, up to :data:`REACTION_TIDY_MAX_NODES` nodes and within
+    :data:`DISPLAY_BUDGET_S`). Returns (forms by name, {name: why the tidy did not reach it})."""
+    from solver.display import tidy, tidy_fraction, tree_size
 
     parts = d.reaction_fractions
-    if parts is None:
-        return {name: _display_form(expr, _tidy_display) for name, expr in d.reactions.items()}
-    memo: dict = {}  # the reactions share their denominator (the generalized mass)
-    return {name: tidy_fraction(num, den, memo) for name, (num, den) in parts.items()}
+    if parts is not None:
+        memo: dict = {}  # the reactions share their denominator (the generalized mass)
+        return {name: tidy_fraction(num, den, memo) for name, (num, den) in parts.items()}, {}
+    forms, untidied = {}, {}
+    for name, expr in d.reactions.items():
+        shown = None
+        if tree_size(expr, REACTION_TIDY_MAX_NODES) > REACTION_TIDY_MAX_NODES:
+            untidied[name] = f"(over the {REACTION_TIDY_MAX_NODES} the display tidy takes on)"
+        else:
+            shown = _within_budget(lambda e: tidy(e, REACTION_TIDY_MAX_NODES), expr)
+            if shown is None:
+                untidied[name] = f"(the display tidy did not finish within {DISPLAY_BUDGET_S:g} s)"
+        forms[name] = expr if shown is None else shown
+    return forms, untidied
 
 
 def _reactions_at_state(system, d) -> dict:
@@ -593,7 +612,13 @@ def _display_form(expr: sp.Expr, tidy_with=None) -> sp.Expr:
     tidy_with = sp.cancel if tidy_with is None else tidy_with
     if _over_display_ops(expr):
         return expr
-    ops = sp.count_ops(expr)
+    tidy = _within_budget(tidy_with, expr)
+    return tidy if tidy is not None and sp.count_ops(tidy) <= sp.count_ops(expr) else expr
+
+
+def _within_budget(tidy_with, expr: sp.Expr) -> sp.Expr | None:
+    """``tidy_with(expr)``, or None when it takes more than :data:`DISPLAY_BUDGET_S` of CPU time
+    (timed on the main thread of a POSIX system) or sympy gives up on it."""
     timed = hasattr(signal, "SIGPROF") and threading.current_thread() is threading.main_thread()
     if timed:
         def _alarm(signum, frame):
@@ -602,14 +627,13 @@ def _display_form(expr: sp.Expr, tidy_with=None) -> sp.Expr:
         previous = signal.signal(signal.SIGPROF, _alarm)
         signal.setitimer(signal.ITIMER_PROF, DISPLAY_BUDGET_S)
     try:
-        tidy = tidy_with(expr)
+        return tidy_with(expr)
     except (_OutOfTime, sp.PolynomialError, ValueError, TypeError):
-        return expr
+        return None
     finally:
         if timed:
             signal.setitimer(signal.ITIMER_PROF, 0)
             signal.signal(signal.SIGPROF, previous)
-    return tidy if sp.count_ops(tidy) <= ops else expr
 
 
 def _latex_names(system) -> dict[sp.Symbol, str]:

@@ -763,8 +763,9 @@ def _tidy_polynomial(p: sp.Expr) -> sp.Expr:
     pows = _nodes(p, sp.Pow)  # (one walk for both questions)
     if _has_square(p, pows):
         reduced = _reduce_poly(p, pows)
-        p = reduced if len(sp.Add.make_args(reduced)) < len(sp.Add.make_args(p)) else _merge_pairs(p)
-    return _common_factor(p)
+        shown = reduced if len(sp.Add.make_args(reduced)) < len(sp.Add.make_args(p)) else _merge_pairs(p)
+        p, pows = shown, (pows if shown is p else None)
+    return _common_factor(_merge_complements(p, pows))
 
 
 def _merge_pairs(p: sp.Expr) -> sp.Expr:
@@ -789,6 +790,27 @@ def _merge_pairs(p: sp.Expr) -> sp.Expr:
     if not merged:
         return p
     return _merge_pairs(sp.Add(*terms))
+
+
+def _merge_complements(p: sp.Expr, pows: set | None = None) -> sp.Expr:
+    """``p`` (an expanded sum, reduced by :func:`_reduce_poly`) with each pair of terms X and
+    -X*cos(u)**2 written X*sin(u)**2, until none is left; ``p`` itself when there is none. The
+    reduction writes sin**2 as 1 - cos**2 everywhere; where both terms of that difference are left
+    in the sum, the reader sees ``1 - cos(u)**2``, which the sine squared says in one term.
+    ``pows``: the powers of ``p`` when the caller has them: without
+    a cos(u)**n, n >= 2, among them nothing is looked at."""
+    pows = _nodes(p, sp.Pow) if pows is None else pows
+    if not p.is_Add or not any(isinstance(x.base, sp.cos) and x.exp.is_Integer and x.exp.p >= 2 for x in pows):
+        return p
+    terms = set(sp.Add.make_args(p))
+    for t in terms:
+        for f in sp.Mul.make_args(t):
+            if not (f.is_Pow and isinstance(f.base, sp.cos) and f.exp.is_Integer and f.exp.p >= 2):
+                continue
+            rest = t / f.base**2  # (-X)
+            if -rest in terms and -rest != t:
+                return _merge_complements(sp.Add(*(terms - {t, -rest}), -rest * sp.sin(f.base.args[0]) ** 2), None)
+    return p
 
 
 def could_extract_minus_sign(e: sp.Expr) -> bool:
@@ -875,12 +897,13 @@ def _monomial_out(split: list, powers: list, common: dict) -> sp.Expr:
 
 
 @lru_cache(maxsize=4096)
-def tidy(expr: sp.Expr) -> sp.Expr:
+def tidy(expr: sp.Expr, max_nodes: int = MAX_TIDY_NODES) -> sp.Expr:
     """A short display form built from the structure of ``expr``: one fraction whose numerator and
     denominator are each reduced modulo sin**2 + cos**2 = 1 (when that shortens them) with their
     common factors pulled out; ``cancel`` only on small expressions.
 
-    Expressions larger than :data:`MAX_TIDY_NODES` are returned as they are; an angle that holds
+    Expressions larger than ``max_nodes`` (:data:`MAX_TIDY_NODES`; a caller that bounds the time
+    itself may allow more) are returned as they are; an angle that holds
     sin/cos itself (a prescribed ``W*t + 3*sin(W*t)/10``) is reduced as a plain angle is
     (:func:`_mask_nested_angles`).
     """
@@ -888,7 +911,7 @@ def tidy(expr: sp.Expr) -> sp.Expr:
     if e.is_number or _plain_monomial(e):
         return e
     shape = _shape(e)
-    return e if shape.size > MAX_TIDY_NODES else _tidy_general(e, shape)
+    return e if shape.size > max_nodes else _tidy_general(e, shape)
 
 
 def _plain_factor(f) -> bool:

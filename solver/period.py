@@ -63,6 +63,7 @@ import sympy as sp
 from scipy.optimize import brentq
 
 from .errors import InputError, NoRestoringError
+from .display import tidy
 from .strprint import lambdify
 
 __all__ = [
@@ -322,7 +323,7 @@ class OneDofSystem:
             if not self.is_conservative:
                 raise InputError(
                     f"{self.name}: the loads' generalized force depends on the rate or on time "
-                    f"(Q = {Q}); free oscillation needs them constant or position-dependent "
+                    f"(Q = {tidy(Q)}); free oscillation needs them constant or position-dependent "
                     "(set them to zero with --set)"
                 )
             V = _drop_constants(sp.sympify(self.potential), self.q)
@@ -331,7 +332,7 @@ class OneDofSystem:
             s = sp.Dummy("s", real=True)
             work = sp.integrate(Q.subs(self.q, s), (s, 0, self.q))
             if work.has(sp.Integral):
-                raise InputError(f"{self.name}: cannot integrate the generalized force Q = {Q} into a potential")
+                raise InputError(f"{self.name}: cannot integrate the generalized force Q = {tidy(Q)} into a potential")
             return V - work
 
         return self._memo(("V_eff", zeros), build)

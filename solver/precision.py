@@ -390,7 +390,8 @@ def _exact_value(expr: sp.Expr, kept: Mapping) -> sp.Expr:
 def _exact_solve(A: sp.Matrix, b: sp.Matrix, kept: Mapping, where: str) -> sp.Matrix:
     """Solve A x = b exactly; A and b hold rationals and the ``kept`` symbols (exact angles).
 
-    Every function of the kept symbols (sin(theta), cos(beta - theta), ...) is
+    Every function of the kept symbols (sin(theta), cos(beta - theta), ...), and
+    every irrational number (sqrt(3), pi), is
     replaced by a fresh symbol, and the system is solved over the field of
     rational functions in those symbols and the kept symbols (sympy
     DomainMatrix: fraction-free, exact, fast). By Cramer's rule the solution
@@ -402,12 +403,12 @@ def _exact_solve(A: sp.Matrix, b: sp.Matrix, kept: Mapping, where: str) -> sp.Ma
 
     exprs = [sp.sympify(e) for e in list(A) + list(b)]
     atoms: set = set()
-    for e in exprs:
-        atoms |= {a for a in e.atoms(sp.Function) if a.free_symbols}
-        atoms |= {a for a in e.atoms(sp.Pow) if a.free_symbols and not a.exp.is_Integer}
+    for e in exprs:  # (numbers too: an advisor point's coordinate may be sqrt(3)/20)
+        atoms |= {a for a in e.atoms(sp.Function) if a.free_symbols or not a.is_Rational}
+        atoms |= {a for a in e.atoms(sp.Pow) if not a.exp.is_Integer and (a.free_symbols or not a.is_Rational)}
     ordered = sorted(atoms, key=lambda a: -sp.count_ops(a))
-    if any(e.has(sp.pi) for e in exprs):  # pi outside the functions: one more generator of the field
-        ordered.append(sp.pi)
+    # pi, E, ... outside the functions: more generators of the field
+    ordered += sorted({c for e in exprs for c in e.atoms(sp.NumberSymbol)}, key=str)
     syms = sp.symbols(f"_atom0:{len(ordered)}")
     rep = dict(zip(ordered, syms))
     back = dict(zip(syms, ordered))

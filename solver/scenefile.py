@@ -559,13 +559,11 @@ class _SceneLoader:
             raise self.fail("coordinate.name", f"{coordinate!r} is reserved; use e.g. \"theta\"")
         value_text = self.require(table, "value", "coordinate", "the coordinate's value, e.g. \"30 deg\"")
         value = parse_quantity(value_text, f"{self.label}: coordinate.value")
-        rate = parse_quantity(
-            self.require(table, "rate", "coordinate", "the coordinate's rate, e.g. \"0 rad/s\""),
-            f"{self.label}: coordinate.rate",
-        )
-        self._check_state_dimension(value, DIMENSIONLESS, "coordinate.value", "an angle")
+        rate_text = self.require(table, "rate", "coordinate", "the coordinate's rate, e.g. \"0 rad/s\"")
+        rate = units.zero_in(parse_quantity(rate_text, f"{self.label}: coordinate.rate"), "rad/s")  # (as --set)
+        self._check_state_dimension(value, DIMENSIONLESS, "coordinate.value", "an angle", value_text)
         self.set_angle(value, value_text, coordinate, "coordinate.value")
-        self._check_state_dimension(rate, RATE, "coordinate.rate", "an angular velocity such as \"0 rad/s\"")
+        self._check_state_dimension(rate, RATE, "coordinate.rate", "an angular velocity such as \"0 rad/s\"", rate_text)
         return coordinate, {coordinate: value, coordinate + "_dot": rate}
 
     def _check_state_dimension(self, quantity: pint.Quantity, need: UnitsContainer, key: str, what: str,

@@ -405,9 +405,20 @@ def zero_in(quantity: pint.Quantity, unit) -> pint.Quantity:
     >>> zero_in(Q_(0), "rad/s"), zero_in(Q_(2), "rad/s")
     (<Quantity(0.0, 'radian / second')>, <Quantity(2, 'dimensionless')>)
     """
-    if quantity.units == ureg.dimensionless and quantity.magnitude == 0:
+    if is_bare_zero(quantity):
         return Q_(0.0, unit)
     return quantity
+
+
+def is_bare_zero(quantity: pint.Quantity) -> bool:
+    """A zero written without a unit (``"0"``, ``"-0"``, ``0.0``): it says nothing of its kind.
+
+    Examples
+    --------
+    >>> is_bare_zero(Q_(0)), is_bare_zero(Q_(0, "m")), is_bare_zero(Q_(1))
+    (True, False, False)
+    """
+    return quantity.units == ureg.dimensionless and quantity.magnitude == 0
 
 
 def is_angle_unit(quantity: pint.Quantity) -> bool:

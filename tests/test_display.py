@@ -536,7 +536,10 @@ def test_eom_of_a_collar_on_an_arm_turned_by_a_varying_motion(tmp_path, capsys):
         assert sp.expand(sp.sympify(text, locals=names) - closed[key]) == 0, key  # (Abs: sympy's own text)
     assert main(["eom", str(path)]) == 0
     out = capsys.readouterr().out
-    assert "  M = m\n" in out and "sin(W*t + 3*sin(W*t)/10)" not in out
+    equations, reactions = out.split("reactions as functions of the state")
+    # (the pin's reactions O_x, O_y, now printed tidied (QA 13 #3), hold the arm's direction itself)
+    assert "  M = m\n" in out and "sin(W*t + 3*sin(W*t)/10)" not in equations
+    assert "sin(W*t + 3*sin(W*t)/10)**2" not in reactions and "cos(W*t + 3*sin(W*t)/10)**2" not in reactions
 
 
 def test_eom_json_energies_are_tidied(capsys):
@@ -576,3 +579,24 @@ def test_reduce_trig_of_a_polynomial_residual():
     residual = (g * m * (s**2 + c**2) - m * g * c**2 + 3 * g * s**2 * m) / (2 * s**2 + 2 * c**2)
     assert reduce_trig(residual) == sp.expand(2 * g * m * (1 - c**2))  # sin**2 written as 1 - cos**2
     assert reduce_trig(g / (2 - 2 * c**2)) == -g / (2 * c**2 - 2)
+
+
+def test_one_minus_cos_squared_is_shown_as_the_sine_squared():
+    """QA 13 #10: the reduced numerator keeps X - X*cos(u)**2 as X*sin(u)**2 (sliding_bar's
+    mass coefficient about G, written by hand: (l/sin b)^2 m (sin^2 b + 3 sin b cos b sin th cos th
+    + 3 cos^2 b cos^2 th) / 3)."""
+    l, th = sp.symbols("l_b theta", real=True)
+    sb, cb, st, ct = sp.sin(beta), sp.cos(beta), sp.sin(th), sp.cos(th)
+    given = l**2 * m * (3 * sb * cb * st * ct + 3 * cb**2 * ct**2 - cb**2 + 1) / (3 * sb**2)
+    assert tidy(given) == l**2 * m * (sb**2 + 3 * sb * cb * st * ct + 3 * cb**2 * ct**2) / (3 * sb**2)
+
+
+def test_explain_mass_coefficient_and_frequency_refusal_are_tidied(solver_cli):
+    """QA 13 #10: what the reader meets in explain (the M term about G) and in frequency's refusal
+    (wheel_on_incline's Q, by hand F_0 r cos(Omega t): the rolling hoop's force at its centre
+    along the incline times r) shows no 1 - cos**2 and no denominator equal to -1."""
+    code, out, _ = solver_cli("explain", "data/scenes/sliding_bar.toml", "--point", "G")
+    line = next(x for x in out.splitlines() if x.rstrip().endswith("[M theta_ddot]"))
+    assert code == 0 and "cos(beta)**2 + 1" not in line and "sin(beta)**2 +" in line
+    code, _, err = solver_cli("frequency", "data/scenes/wheel_on_incline.toml")
+    assert code == 2 and "(Q = F_0*r*cos(Omega*t));" in err

@@ -359,3 +359,46 @@ def test_eom_answers_a_picometre_from_zero_length_as_solve_does(solver_cli):
     assert "equation of motion" in out and "r_ddot" in out
     code, _, _ = solver_cli("solve", str(MULTIBODY / "rot_arm.toml"), "--set", "r=1e-13 m")
     assert code == 0
+
+
+SCENES = Path(__file__).resolve().parent.parent / "data" / "scenes"
+
+
+def edited(tmp_path: Path, scene: str, old: str, new: str) -> Path:
+    """``data/scenes/<scene>.toml`` with ``old`` replaced once by ``new``, written to tmp_path."""
+    text = (SCENES / f"{scene}.toml").read_text()
+    assert text.count(old) == 1, old
+    path = tmp_path / f"{scene}.toml"
+    path.write_text(text.replace(old, new))
+    return path
+
+
+def test_a_bare_zero_coordinate_value_needs_its_kind(solver_cli, tmp_path):
+    """QA 13 #6: a bare "0" cannot tell a length from an angle. Without a rate that tells it, the
+    value's (or guess's) own key is named and a unit asked for; with `rate = "0.5 m/s"` the
+    coordinate is the length x = 0 m."""
+    ladder = edited(tmp_path, "ladder_leaves_wall", 'x     = { guess = "1.4 m" }', 'x     = { guess = "0" }')
+    line = one_line_error(solver_cli, ladder)
+    assert "coordinates.x.guess: a bare 0" in line and '"0 m"' in line and '"0 deg"' in line
+    cart = edited(tmp_path, "cart_pendulum", 'x     = { value = "0 m", rate = "0.5 m/s" }',
+                  'x     = { value = "0", rate = "0" }')
+    line = one_line_error(solver_cli, cart)
+    assert "coordinates.x.value: a bare 0" in line
+    cart.write_text(cart.read_text().replace('rate = "0" }', 'rate = "0.5 m/s" }'))
+    code, out, err = solver_cli("solve", str(cart))
+    assert code == 0 and "state   x = 0 m, x_dot = 0.5 m/s," in out, err
+
+
+def test_a_bare_zero_rate_in_the_file_is_taken_as_on_set(solver_cli, tmp_path):
+    """QA 13 #7: `rate = "0"` in either format is 0 rad/s, as `--set theta_dot=0` is (zero is
+    zero in every unit); a bare nonzero rate is refused and echoed as typed ('2', not 2.0)."""
+    cases = [("sliding_bar", 'rate  = "0 rad/s"', 'rate  = "{}"', "coordinate.rate"),
+             ("cart_pendulum", 'theta = { value = "20 deg", rate = "0 rad/s" }',
+              'theta = {{ value = "20 deg", rate = "{}" }}', "coordinates.theta.rate")]
+    for scene, old, new, key in cases:
+        path = edited(tmp_path, scene, old, new.format("0"))
+        code, out, err = solver_cli("solve", str(path))
+        assert code == 0 and "theta_dot = 0 rad/s" in out.splitlines()[1], err
+        path = edited(tmp_path, scene, old, new.format("2"))
+        line = one_line_error(solver_cli, path)
+        assert f"{key}: '2' is" in line

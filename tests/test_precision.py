@@ -296,3 +296,20 @@ def test_exact_forms_are_tidied(tmp_path, capsys):
     for name, closed in expected.items():
         form = forms[name][0]
         assert sp.expand(form - closed) == 0  # equal as written: no sin**2 + cos**2 left to reduce
+
+
+def test_exact_solve_with_an_irrational_number_and_the_advisor_point(solver_cli):
+    """QA 13 #1: the four-bar about its crank's instant centre I(O2_y, A_x), whose coordinate is
+    sqrt(3)/20, stopped with sympy's "expected an expression convertible to a rational function ...
+    got sqrt(3)/20" (exit 2). Irrational numbers are now generators of the field as the angles'
+    sines are. By hand: [[sqrt(3), 1], [1, sqrt(3)]] x = [1, 0] has det 2 and x = (sqrt(3)/2, -1/2);
+    with pi and E, [[pi, 0], [0, E]] x = [sqrt(2), pi] gives (sqrt(2)/pi, pi/E)."""
+    from solver.precision import _exact_solve
+
+    r3 = sp.sqrt(3)
+    x = _exact_solve(sp.Matrix([[r3, 1], [1, r3]]), sp.Matrix([1, 0]), {}, "test")
+    assert sp.simplify(x[0] - r3 / 2) == 0 and sp.simplify(x[1] + sp.Rational(1, 2)) == 0
+    x = _exact_solve(sp.Matrix([[sp.pi, 0], [0, sp.E]]), sp.Matrix([sp.sqrt(2), sp.pi]), {}, "test")
+    assert sp.simplify(x[0] - sp.sqrt(2) / sp.pi) == 0 and sp.simplify(x[1] - sp.pi / sp.E) == 0
+    code, out, err = solver_cli("precision", "tests/data/multibody/driven_four_bar.toml", "--point", "crank:I(O2_y,A_x)")
+    assert code == 0 and "exact (50 digits)" in out, err

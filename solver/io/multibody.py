@@ -203,6 +203,9 @@ class _MultibodyReader:
                 if q.dimensionality not in (DIMENSIONLESS, LENGTH):
                     raise self.fail(f"coordinates.{cname}.{key}", f"{q:~P} is neither an angle nor a length")
                 kind = "angle" if q.dimensionality == DIMENSIONLESS else "length"
+                if units.is_bare_zero(q):
+                    kind = self._kind_of_bare_zero(cname, spec, key)
+                    q = units.zero_in(q, "rad" if kind == "angle" else "m")
                 if kind == "angle":  # a bare number refused as --set refuses it (a bare 0 passes)
                     L.set_angle(q, spec[key], cname, f"coordinates.{cname}.{key}")
                 if cname in self.overrides:  # the scene's value decides the kind; --set gives one of it
@@ -226,6 +229,24 @@ class _MultibodyReader:
                 kind = "angle" if self._dim(self.kinds[cname][1]) == DIMENSIONLESS else "length"
             L.dims[sym] = DIMENSIONLESS if kind == "angle" else LENGTH
             L.dims[rates[f"{cname}_dot"]] = RATE if kind == "angle" else LENGTH / TIME
+
+    def _kind_of_bare_zero(self, cname: str, spec: dict, key: str) -> str:
+        """``"angle"`` or ``"length"`` for a coordinate whose value (or guess) is a bare 0, which
+        cannot tell them apart: the kind its rate in the file gives (``"0.5 m/s"``: a length).
+
+        Raises
+        ------
+        SceneError
+            When the rate is absent or is a bare zero too: one line naming the key, asking for a unit.
+        """
+        if "rate" in spec:
+            rate = self._quantity(spec["rate"], f"coordinates.{cname}.rate")
+            if rate.dimensionality == RATE:
+                return "angle"
+            if rate.dimensionality == LENGTH / TIME:
+                return "length"
+        raise self.fail(f"coordinates.{cname}.{key}", f"a bare 0 does not tell an angle from a length; write "
+                        f"\"0 m\" (or another length unit) or \"0 deg\" (or another angle unit)")
 
     def _dim(self, expr):
         from ..scenefile import _dimension
@@ -265,13 +286,10 @@ class _MultibodyReader:
                 rkey = f"{cname}_dot"
                 text = self.overrides.get(rkey, L.require(spec, "rate", f"coordinates.{cname}", "its rate, e.g. \"0 rad/s\""))
                 where = f"coordinates.{cname}.rate" if rkey not in self.overrides else f"--set {rkey}"
-                q = self._quantity(text, where)
-                if rkey in self.overrides:
-                    q = units.zero_in(q, "rad/s" if kind == "angle" else "m/s")
+                q = units.zero_in(self._quantity(text, where), "rad/s" if kind == "angle" else "m/s")
                 need = RATE if kind == "angle" else LENGTH / TIME
-                if q.dimensionality != need:
-                    shown = repr(text) if rkey in self.overrides else f"{q:~P}"
-                    raise self.fail(where, f"{shown} is not {'an angular velocity' if kind == 'angle' else 'a speed'}")
+                if q.dimensionality != need:  # (shown as typed, in the file as on --set)
+                    raise self.fail(where, f"{text!r} is not {'an angular velocity' if kind == 'angle' else 'a speed'}")
                 rate = float(q.to_base_units().magnitude)
             elif "rate" in spec:
                 raise self.fail(f"coordinates.{cname}.rate", "a dependent coordinate's rate is solved, not given")
