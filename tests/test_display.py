@@ -442,51 +442,14 @@ def test_the_equation_of_motion_about_g_is_the_one_about_p(capsys):
         assert not any("m_d**2" in x or "m_t**2" in x for x in lines[-1])
 
 
-VARYING_ARM = """
-name = "rot_arm_varying"
-[parameters]
-m = "2 kg"
-M = "2 kg"
-L = "1 m"
-k = "50 N/m"
-L0 = "0.2 m"
-W = "3 rad/s"
-[coordinates]
-theta = { motion = "W*t + 0.3*sin(W*t)" }
-r = { value = "0.4 m", rate = "0.5 m/s" }
-[ground.points]
-O = ["0", "0"]
-[[bodies]]
-name = "arm"
-points = { O = ["0", "0"], E = ["L", "0"] }
-elements = [{ kind = "slender_bar", mass = "M", from = "O", to = "E" }]
-[[bodies]]
-name = "collar"
-position = { point = "C", at = ["r*cos(theta)", "r*sin(theta)"] }
-points = { C = ["0", "0"] }
-elements = [{ kind = "point_mass", mass = "m", at = ["0", "0"] }]
-[[joints]]
-kind = "pin"
-name = "O"
-connects = ["ground:O", "arm:O"]
-[[joints]]
-kind = "motor"
-name = "drive"
-bodies = ["ground", "arm"]
-angle = "W*t + 0.3*sin(W*t)"
-torque = "T"
-[[joints]]
-kind = "slider"
-name = "sl"
-on = "arm"
-point = "collar:C"
-reactions = ["N", "Mc"]
-[[loads]]
-kind = "spring"
-between = ["arm:O", "collar:C"]
-stiffness = "k"
-free_length = "L0"
-"""
+def _varying_arm() -> str:
+    """tests/data/multibody/rot_arm.toml with the arm turned by W t + 3 sin(W t)/10, not W t."""
+    from pathlib import Path
+
+    text = (Path(__file__).parent / "data" / "multibody" / "rot_arm.toml").read_text(encoding="utf-8")
+    varied = text.replace('"W*t"', '"W*t + 0.3*sin(W*t)"')
+    assert varied.count("0.3*sin(W*t)") == 2  # the coordinate's motion and the motor's angle
+    return varied
 
 
 def test_pythagoras_for_any_common_angle():
@@ -520,7 +483,7 @@ def test_eom_of_a_collar_on_an_arm_turned_by_a_varying_motion(tmp_path, capsys):
     from solver.__main__ import main
 
     path = tmp_path / "arm.toml"
-    path.write_text(VARYING_ARM)
+    path.write_text(_varying_arm())
     payload = _eom_json(capsys, path)
     names = {n: sp.Symbol(n, real=True) for n in ("m", "M", "L", "k", "L0", "W", "t", "r", "r_dot", "r_ddot")}
     m_, M_, L_, k_, L0, W_, t_, r, rd, rdd = names.values()
