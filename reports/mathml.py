@@ -15,7 +15,7 @@ import sympy as sp
 from markupsafe import escape
 from sympy.printing.latex import LatexPrinter
 
-from solver.mathml import equation_mathml, mathml_text, to_mathml
+from solver.mathml import equation_mathml, mathml_text, printed_once, to_mathml
 from solver.notation import name_text  # noqa: F401 (the one rule for Greek names in text and on figures)
 from solver.mathml import mathml_body as _mathml_body  # noqa: F401 (reports.paper prints term by term)
 from solver.mathml import wrap as _wrap
@@ -39,24 +39,17 @@ def display_symbols(expr: sp.Basic) -> dict[sp.Symbol, str]:
     return names
 
 
+def _latex(expr: sp.Basic) -> str:
+    return LatexPrinter({"symbol_names": display_symbols(expr)}).doprint(expr)
+
+
+_printed_latex = printed_once(_latex)
+
+
 def to_latex(expr: sp.Basic) -> str:
     """LaTeX of one expression (math mode content, without delimiters), printed once per process
     however often it is shown (paper.tex shows an equation in its example and in the findings)."""
-    expr = sp.sympify(expr)
-    try:
-        return _printed_latex(expr)
-    except TypeError:  # an unhashable expression (a mutable Matrix): printed each time
-        return _latex(expr)
-
-
-@lru_cache(maxsize=2048)
-def _printed_latex(expr: sp.Basic) -> str:
-    # sympy's == is structural (2.0 and 2 differ), so equal expressions print alike
-    return _latex(expr)
-
-
-def _latex(expr: sp.Basic) -> str:
-    return LatexPrinter({"symbol_names": display_symbols(expr)}).doprint(expr)
+    return _printed_latex(sp.sympify(expr))
 
 
 def equation_latex(lhs: sp.Basic, rhs: sp.Basic) -> str:

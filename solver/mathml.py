@@ -10,13 +10,13 @@ maths font they are drawn with.
 from __future__ import annotations
 
 import re
-from functools import lru_cache
+from functools import lru_cache, wraps
 
 import sympy as sp
 from markupsafe import Markup
 from sympy.printing.mathml import MathMLPresentationPrinter
 
-__all__ = ["to_mathml", "equation_mathml", "mathml_body", "wrap", "mathml_text", "MATHML_NS", "MINUS"]
+__all__ = ["to_mathml", "equation_mathml", "mathml_body", "printed_once", "wrap", "mathml_text", "MATHML_NS", "MINUS"]
 
 MATHML_NS = "http://www.w3.org/1998/Math/MathML"
 _DOTS = (("_ddot", "\u00a8"), ("_dot", "\u02d9"))
@@ -51,24 +51,29 @@ MINUS = "\u2212"
 """The minus sign of every MathML operator (sympy's printer writes the hyphen-minus "-")."""
 
 
-def mathml_body(expr: sp.Basic) -> str:
+def printed_once(doprint):
+    """``doprint`` (an expression's printed text) remembered per expression for the process:
+    sympy's == is structural (2.0 and 2 differ), so equal expressions print alike. An unhashable
+    expression (a mutable Matrix) is printed each time."""
+    remembered = lru_cache(maxsize=2048)(doprint)
+
+    @wraps(doprint)
+    def printed(expr: sp.Basic) -> str:
+        try:
+            return remembered(expr)
+        except TypeError:
+            return doprint(expr)
+    return printed
+
+
+def _mathml_body(expr: sp.Basic) -> str:
     """The MathML of one expression without its ``<math>`` element, printed once per process
     however often it is shown (the report prints each transcribed equation in block and inline
     form, the worked solution shows a point's velocity in several steps). A minus is U+2212."""
-    try:
-        return _printed_mathml(expr)
-    except TypeError:  # an unhashable expression (a mutable Matrix): printed each time
-        return _doprint(expr)
-
-
-@lru_cache(maxsize=2048)
-def _printed_mathml(expr: sp.Basic) -> str:
-    # sympy's == is structural (2.0 and 2 differ), so equal expressions print alike
-    return _doprint(expr)
-
-
-def _doprint(expr: sp.Basic) -> str:
     return _Printer({"mul_symbol": None}).doprint(expr).replace("<mo>-</mo>", f"<mo>{MINUS}</mo>")
+
+
+mathml_body = printed_once(_mathml_body)
 
 
 def wrap(body: str, display: str) -> Markup:
