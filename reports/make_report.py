@@ -101,10 +101,11 @@ class TemplateCache(FileSystemBytecodeCache):
 
     def load_bytecode(self, bucket: Bucket) -> None:
         """Read a template's compiled code when a readable file holds it; anything else (no file,
-        the cache's folder replaced by a file, no permission) leaves the template to be compiled."""
+        the cache's folder replaced by a file, no permission, a truncated or damaged file) leaves
+        the template to be compiled."""
         try:
             super().load_bytecode(bucket)
-        except OSError:
+        except Exception:  # noqa: BLE001 - unreadable, truncated or foreign: compiling costs only time
             bucket.reset()
 
     def dump_bytecode(self, bucket: Bucket) -> None:

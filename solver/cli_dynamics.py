@@ -580,7 +580,7 @@ def _precision_system(scene, point, method):
 
     variant, regime, _, state = system_in_regime(scene, point, method)
     if regime is not None and regime.indeterminate:
-        raise InputError(f"{scene.label}: precision: the sticking contacts hold the bodies redundantly "
+        raise InputError(f"{scene.label}: precision: the sticking contacts hold redundantly "
                          "(statically indeterminate), so the forces have no unique value to compute precisely; "
                          f"`solve` gives the accelerations and {SPLIT_NAME} of the forces")
     return variant, state

@@ -289,7 +289,7 @@ def _in_regime_at_state(system, args):
     held = ", ".join(f"{j}: {r}" for j, r in args.regimes.items())
     if found.indeterminate:
         raise InputError(f"{system.label}: eom: in the contact regime that holds at the state ({held}) sticking "
-                         "contacts hold the bodies redundantly (statically indeterminate); eom needs a regime whose "
+                         "contacts hold redundantly (statically indeterminate); eom needs a regime whose "
                          f"equations determine every reaction: `solve` gives the motion and {SPLIT_NAME} of the forces")
     rubbing = [j.name for j in system.contacts if j.friction is not None and found.regimes[j.name].friction_direction()]
     if rubbing:  # the friction -s mu_k N is a multiple of a reaction, which the elimination does not carry

@@ -827,3 +827,25 @@ def test_a_cache_folder_that_is_a_file_leaves_the_templates_to_be_compiled(tmp_p
     env = jinja2.Environment(loader=jinja2.FileSystemLoader(str(folder)), bytecode_cache=TemplateCache(cache, write=True))
     assert env.get_template("t.j2").render(x=1) == "<b>1</b>"
     assert cache.read_text(encoding="utf-8") == "not a folder"
+
+
+def test_a_truncated_or_damaged_cache_file_leaves_the_template_to_be_compiled(tmp_path):
+    """QA 14 #2: a cache file holding jinja's header and nothing more raised EOFError, one with a
+    damaged body UnpicklingError, out of the build. Either only costs the compiling."""
+    from jinja2.bccache import bc_magic
+
+    folder, cache = tmp_path / "templates", tmp_path / "cache"
+    folder.mkdir()
+    (folder / "t.j2").write_text("<b>{{ x }}</b>", encoding="utf-8")
+
+    def rendered():
+        env = jinja2.Environment(loader=jinja2.FileSystemLoader(str(folder)),
+                                 bytecode_cache=TemplateCache(cache, write=True))
+        return env.get_template("t.j2").render(x=1)
+
+    assert rendered() == "<b>1</b>"  # writes the cache file
+    (written,) = cache.iterdir()
+    checksum = written.read_bytes()[len(bc_magic):]
+    for damaged in (bc_magic, bc_magic + checksum[:20] + b"\x00garbage"):
+        written.write_bytes(damaged)
+        assert rendered() == "<b>1</b>"

@@ -271,7 +271,7 @@ class _Run:
         """Sticking contacts hold everything redundantly: the state stays (loads constant in time)."""
         segments.append(_rest_segment(found, state, work, t1))
         if self.base.time_dependent:
-            return segments, "failed", ("the contacts hold the bodies at rest redundantly (statically "
+            return segments, "failed", ("the contacts hold at rest redundantly (statically "
                                         "indeterminate) under loads that change with time: not followed")
         from .regimes import SPLIT_SHOWN
 

@@ -57,11 +57,12 @@ SPLIT_NAME = "the least-squeeze split"
 """The name of the split of statically indeterminate forces every command shows."""
 
 SPLIT_SHOWN = (f"{SPLIT_NAME} is shown: of the splits that keep every sticking contact inside its friction "
-               f"cone by at least {SPLIT_MARGIN:g} of the largest force, the one of least norm (the smallest sum "
-               "of squared forces, in SI units), which no choice of P or method changes")
+               f"cone by at least {SPLIT_MARGIN:g} of the largest force of the least-norm solution of the "
+               "equations (by less where none does), the one of least norm (the smallest sum of squared forces, "
+               "in SI units), which no choice of P or method changes")
 """Which split of statically indeterminate forces every command shows (:func:`_redundant_stick`)."""
 
-INDETERMINATE_NOTE = ("the sticking contacts hold the bodies redundantly: the accelerations are determined, "
+INDETERMINATE_NOTE = ("the sticking contacts hold redundantly: the accelerations are determined, "
                       "the split of their forces is not; " + SPLIT_SHOWN)
 """The one wording of a redundant stick's note (``solve``, ``explain``, ``simulate``)."""
 
@@ -300,7 +301,7 @@ def system_in_regime(system, point=None, method="generalized_euler"):
     """The system in the contact regime that holds at the scene's state, as ``solve`` finds it:
     (that system, :class:`RegimeResult` or None, warning or None, state). None and the system itself
     when no regime is consistent but the scene as written solves (:func:`regime_at_state`); a regime
-    whose sticking contacts hold the bodies redundantly keeps every contact row (its forces' split
+    whose sticking contacts hold redundantly keeps every contact row (its forces' split
     open: ``RegimeResult.indeterminate``)."""
     from ..model.system import RedundantConstraints
 

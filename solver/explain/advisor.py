@@ -344,7 +344,7 @@ def advice_explanation(system):
         section.steps.append(_regime_step(scene, regime, warning))
         if regime is not None and regime.indeterminate:
             section.steps.append(Step("advice", "Which point P?", [
-                "The sticking contacts hold the bodies redundantly, so their forces are statically "
+                "The sticking contacts hold redundantly, so their forces are statically "
                 "indeterminate: no choice of P separates them, and no point is ranked."]))
     else:
         state = assemble(system)
