@@ -24,13 +24,14 @@ garbage collector off as ``timeit`` does, in CPU time of this process (the machi
 shared: wall time would measure the neighbours). Target (issues 11/12): ours at most half
 of KanesMethod (ratio <= 0.5).
 
-Figures (2026-11-26, 01:50 UTC, 2 cores shared with three other jobs): sliding_bar
-KanesMethod 42 ms (the equation of motion alone 20 ms), eom 8 ms (0.19x), explain 23 ms
-(0.56x; 1.15x the equation of motion alone); disk_bar KanesMethod 46 ms (24 ms), eom 8 ms
-(0.17x), explain 19 ms (0.42x; 0.81x). Where explain's time goes (sliding_bar, wall time per
-run, 2026-11-25): the Euler step 2.7 ms, the scene load 2.5, the formulation 2.3, the equation
-of motion 1.8, the kinematics 1.5, the numbers at the state 1.5, the mass-centre check 1.4, the
-advisor 1.3, the rendering 2-3. disk_bar's contact adds the regime search twice. Under the
+Figures (2026-11-26, 03:35 UTC, two runs on an idle machine): sliding_bar KanesMethod 40 ms (the
+equation of motion alone 19 ms), eom 7 ms (0.17-0.19x; 0.35-0.39x the equation of motion alone),
+explain 14-16 ms (0.35-0.40x; 0.72-0.86x); disk_bar KanesMethod 44-45 ms (22-23 ms), eom 6-7 ms
+(0.15-0.17x; 0.29-0.33x), explain 16-19 ms (0.36-0.43x; 0.72-0.84x). Where explain's time goes
+(sliding_bar, wall time per run, fastest of 30, 2026-11-26): the scene load 2.2 ms, the Euler step
+2.5, the formulations 2.1, the equation of motion 1.6, the rendering 1.5, the kinematics 1.4, the
+mass-centre check 1.2, the numbers at the state 1.0, the advisor 1.8; tidying about 3 ms of these
+and printing about 2. disk_bar's contact adds the regime search twice (about 4 ms). Under the
 neighbours' load every figure moves by up to a half.
 
 Writes reports/build/bench/explain.json.
