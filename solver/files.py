@@ -144,7 +144,8 @@ def check_output_path(path: str | os.PathLike, where: str) -> Path:
         raise InputError(f"{where} {text}: not a file name" + (" (it ends with a slash)" if text.endswith(("/", os.sep)) else ""))
     folder = path.parent
     if not folder.is_dir():
-        raise InputError(f"{label}: folder {folder} does not exist")
+        raise InputError(f"{label}: {folder} is a file, not a folder" if folder.exists()
+                         else f"{label}: folder {folder} does not exist")
     if not os.access(folder, os.W_OK | os.X_OK):
         raise InputError(f"{label}: folder {folder} is not writable")
     try:

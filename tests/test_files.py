@@ -62,6 +62,9 @@ def test_output_path_is_checked_before_work(tmp_path: Path) -> None:
         check_output_path(tmp_path, "--out")
     with pytest.raises(InputError, match="does not exist"):
         check_output_path(tmp_path / "missing" / "x.csv", "--out")
+    (tmp_path / "afile").write_text("")  # a path through a file: said so (QA 14 #6: "does not exist")
+    with pytest.raises(InputError, match="afile is a file, not a folder"):
+        check_output_path(tmp_path / "afile" / "x.csv", "--out")
     with pytest.raises(InputError, match="character device"):
         check_output_path("/dev/null", "--out")
     assert check_output_path(tmp_path / "ok.csv", "--out") == tmp_path / "ok.csv"
