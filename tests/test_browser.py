@@ -443,3 +443,34 @@ def test_worked_solution_free_body_diagram_reads_at_the_page_width(explained, br
     assert sizes["labels"], "no labels found in the free-body diagram"
     assert min(sizes["labels"]) >= 0.85 * sizes["body"], sizes
     assert sizes["width"] <= sizes["text"] + 1, f"the diagram is wider than the text column: {sizes}"
+
+
+# Each term's note of the worked solution's term-by-term equations: how far it runs past the visible
+# part of its equation's box (a box wider than the page scrolls sideways, hiding what lies beyond).
+HIDDEN_NOTES = r"""
+(() => {
+  const notes = Array.from(document.querySelectorAll('div.eq span.note'));
+  const hidden = notes.filter(n => {
+    const box = n.closest('div.eq'), r = n.getBoundingClientRect(), b = box.getBoundingClientRect();
+    return r.right > b.left + box.clientWidth + 1; }).map(n => n.textContent);
+  return JSON.stringify({notes: notes.length, hidden: hidden});
+})()
+"""
+
+
+def test_worked_solution_term_notes_show_beside_wide_equations(tmp_path, browser):
+    """The four-bar's coupler has terms too wide for a note beside them at the page's width (its
+    a_G = a_A/2 + a_B/2 and its Euler equation's inertial term): every term's note (which term is
+    the moment of which force, which is the inertial term) shows without scrolling, at the 1280 px
+    window. Before, they sat right of the widest term, past the scrolling box's edge."""
+    from solver.__main__ import main
+
+    page = tmp_path / "four_bar.html"
+    assert main(["explain", str(ROOT / "data" / "scenes" / "four_bar.toml"), "-o", str(page)]) == 0
+    view = Page(browser, page)
+    try:
+        found = view.js(HIDDEN_NOTES)
+    finally:
+        browser.send("Target.closeTarget", {"targetId": view.target})
+    assert found["notes"] > 50, f"the term notes were not found: {found}"
+    assert found["hidden"] == [], f"notes hidden past the equation's visible width: {found['hidden']}"

@@ -322,14 +322,19 @@ class _Html(_Renderer):
         # one row per term (left side, then right side), each with its note; a left side of one term
         # without a note (a name, a_G) stands before the right side's first row
         inline = len(lhs) == 1 and not lhs[0].note
+        sides = ((sign, eq.rhs),) if inline else (("", lhs), (sign, eq.rhs))
+        column, above = _term_layout(lhs, eq.rhs, inline, eq.name)
         rows = []
-        for mark, terms in ((sign, eq.rhs),) if inline else (("", lhs), (sign, eq.rhs)):
+        for mark, terms in sides:
             for i, t in enumerate(terms):
                 negative = i > 0 and _negative(t.expr)
                 op = "<mo>\u2212</mo>" if negative else "<mo>+</mo>" if i else mark
-                term = _term_mathml(-t.expr if negative else t.expr, eq.name if t in lhs and eq.name else "")
+                term = _term_mathml(-t.expr if negative else t.expr, eq.name if t in lhs and eq.name else "", column)
                 note = f"<span class=\"note\">[{self.prose.cell(t.note)}]</span>" if t.note else ""
                 left = _math(_term_mathml(lhs[0].expr, eq.name)) if inline and i == 0 else ""
+                if above and note:  # the note on a row of its own, where a wide term leaves it no room beside
+                    rows.append(f"<tr><td></td><td></td><td>{note}</td><td></td></tr>")
+                    note = ""
                 rows.append(f"<tr><td>{left}</td><td>{_math(op) if op else ''}</td><td>{_math(term)}</td>"
                             f"<td>{note}</td></tr>")
         return f"<div>{head}:</div><div class=\"eq\"><table class=\"terms\">{''.join(rows)}</table></div>"
@@ -369,16 +374,43 @@ def _negative(expr) -> bool:
     return not isinstance(expr, sp.MatrixBase) and could_extract_minus_sign(sp.sympify(expr))
 
 
-def _term_mathml(expr, name: str = "") -> str:
-    """The MathML of one term: a 2-vector as ``(x, y)``, as the text writes it; ``name`` a name."""
+def _term_mathml(expr, name: str = "", column: bool = False) -> str:
+    """The MathML of one term: a 2-vector as ``(x, y)``, as the text writes it, or with ``column``
+    as a column vector, as the LaTeX writes it; ``name`` a name."""
     from ..mathml import mathml_body
     from .mathml_prose import name_mathml
 
     if name:
         return name_mathml(name)
+    if isinstance(expr, sp.MatrixBase) and column:
+        rows = "".join(f"<mtr><mtd><mstyle displaystyle=\"true\">{mathml_body(x)}</mstyle></mtd></mtr>" for x in expr)
+        return f"<mrow><mo>(</mo><mtable>{rows}</mtable><mo>)</mo></mrow>"
     if isinstance(expr, sp.MatrixBase):
         return f"<mrow><mo>(</mo>{mathml_body(expr[0])}<mo>,</mo>{mathml_body(expr[1])}<mo>)</mo></mrow>"
     return mathml_body(sp.sympify(expr))
+
+
+EQUATION_WIDTH_EM = 45.0
+"""The room, in em of the maths font, for one term-by-term equation of the worked solution's HTML
+(the page's 60em less the equation's indent and the cells' padding, at the maths' 1.15em size):
+wider, and a 2-vector is written as a column, then the terms' notes go on rows of their own."""
+NOTE_EM_PER_CHAR = 0.45
+"""The width of one character of a note (sans-serif at the text's size) in em of the maths font."""
+
+
+def _term_layout(lhs, rhs, inline: bool, name: str) -> tuple[bool, bool]:
+    """(column vectors, notes above their terms) for a term-by-term equation: each only where the
+    row form would run past :data:`EQUATION_WIDTH_EM` and the page would scroll it sideways."""
+    from ..mathml import mathml_width
+
+    def widest(column):
+        left = mathml_width(_term_mathml(lhs[0].expr, name)) if inline else 0.0
+        terms = [*([] if inline else lhs), *rhs]
+        return left + 2.0 + max(mathml_width(_term_mathml(t.expr, name if t in lhs else "", column)) for t in terms)
+
+    notes = max((len(t.note) + 2 for t in (*lhs, *rhs) if t.note), default=0) * NOTE_EM_PER_CHAR
+    column = widest(False) + notes > EQUATION_WIDTH_EM and any(isinstance(t.expr, sp.MatrixBase) for t in rhs)
+    return column, widest(column) + notes > EQUATION_WIDTH_EM
 
 
 def _terms_mathml(terms, name: str = "") -> str:
