@@ -1256,3 +1256,35 @@ def test_the_markdown_draw_command_survives_a_backtick_in_the_path(solver_cli, t
     content = content[1:-1] if content.startswith(" ") and content.endswith(" ") else content
     words = shlex.split(content)
     assert words[:4] == ["python", "-m", "solver", "draw"] and words[4] == str(scene), words
+
+
+def test_latex_long_equations_are_set_in_rows_without_losing_a_term(every_scene, every_rendering):
+    """An equation too long for one line of the page (the four-bar coupler's Euler equation about A,
+    five terms of about 80 em in all, against a text width of about 48 em between the 2 cm margins)
+    is set as ``aligned`` rows, one term per row, in the LaTeX and in the Markdown's $$ blocks. Each
+    rows form holds exactly the terms of the one-line form: with the alignment marks and row breaks
+    taken out, it reads the same (the one-line form rebuilt by the renderer's own join of the terms,
+    which the short equations still use)."""
+    from solver.explain.render import _LatexMath, _latex_too_wide, _name_latex
+
+    def flat(text):
+        return re.sub(r"\s|&|\{\}|\\\\|\\(begin|end)\{aligned\}", "", text)
+
+    rows_seen = 0
+    for name, (_, expl) in every_scene.items():
+        maths = _LatexMath(expl.symbol_latex)
+        for step in expl.steps():
+            for eq in step.equations:
+                shown = maths.equation(eq)
+                relation = r"\approx" if eq.approximate else "="
+                lhs = _name_latex(eq.name) if eq.name else maths.join(eq.lhs)
+                one_line = f"{lhs} {relation} {maths.join(eq.rhs)}"
+                assert flat(shown) == flat(one_line), (name, eq.label)
+                rows_seen += _latex_too_wide(eq)
+                assert (r"\begin{aligned}" in shown) == _latex_too_wide(eq), (name, eq.label)
+    assert rows_seen > 20
+    coupler = every_rendering["four_bar", "latex"].split("generalized Euler equation about A (Eq. (10)):")[1]
+    block = coupler.split(r"\end{equation*}")[0]
+    assert r"\begin{aligned}" in block and block.count(r" \\") == 4, block[:400]
+    markdown = every_rendering["four_bar", "markdown"].split("generalized Euler equation about A (Eq. (10)):")[1]
+    assert markdown.lstrip().startswith("$$\n\\begin{aligned}"), markdown[:200]

@@ -159,21 +159,57 @@ class _LatexMath:
             text = self.printed[e] = sp.latex(e, symbol_names=self.names)
         return text
 
-    def join(self, terms, notes=True) -> str:
-        out = ""
+    def signed(self, terms, notes=True) -> list[tuple[str, str]]:
+        """(operator, LaTeX) per term: "", then " + " or " - " (a negative scalar term's sign taken out);
+        each term with its note under a brace where the side has several terms."""
+        out = []
         for i, t in enumerate(terms):
             expr = t.expr
             negative = i > 0 and not isinstance(expr, sp.MatrixBase) and could_extract_minus_sign(sp.sympify(expr))
             s = self.expr(-expr if negative else expr)
             if notes and t.note and len(terms) > 1:
                 s = rf"\underbrace{{{s}}}_{{\text{{{self.note(t.note)}}}}}"
-            out += ("" if i == 0 else (" - " if negative else " + ")) + s
+            out.append(("" if i == 0 else (" - " if negative else " + "), s))
         return out
 
+    def join(self, terms, notes=True) -> str:
+        return "".join(op + s for op, s in self.signed(terms, notes))
+
     def equation(self, eq: Equation) -> str:
-        lhs = _name_latex(eq.name) if eq.name else self.join(eq.lhs)
+        """The equation on one line, or, where that line would run past the page
+        (:func:`_latex_too_wide`), as ``aligned`` rows: one term per row, aligned on the operators."""
         relation = r"\approx" if eq.approximate else "="
-        return f"{lhs} {relation} {self.join(eq.rhs)}"
+        if not _latex_too_wide(eq):
+            lhs = _name_latex(eq.name) if eq.name else self.join(eq.lhs)
+            return f"{lhs} {relation} {self.join(eq.rhs)}"
+        rhs = self.signed(eq.rhs)
+        if eq.name or len(eq.lhs) == 1:
+            first = _name_latex(eq.name) if eq.name else self.join(eq.lhs)
+            rows = [f"{first} &{relation} {rhs[0][1]}"]
+        else:
+            rows = [f"&{op.strip()} {s}".replace("& ", "&") for op, s in self.signed(eq.lhs)]
+            rows.append(f"&{relation} {rhs[0][1]}")
+        rows += [f"&{{}}{op.strip()} {s}" for op, s in rhs[1:]]
+        return "\\begin{aligned}\n" + " \\\\\n".join(rows) + "\n\\end{aligned}"
+
+
+LATEX_LINE_EM = 44.0
+"""The room, in em, for one displayed equation of the LaTeX worked solution (an article's 10 pt text
+between 2 cm margins, about 48 em, less the display's indent): wider, and it is set as rows."""
+
+
+def _latex_too_wide(eq: Equation) -> bool:
+    """Whether ``eq`` on one line would run past :data:`LATEX_LINE_EM`: each term as wide as its
+    maths (:func:`solver.mathml.mathml_width`, 2-vectors as columns, as LaTeX sets them) or its note
+    (under a brace, at script size), whichever is wider."""
+    from ..mathml import mathml_width
+
+    def width(terms):
+        notes = len(terms) > 1
+        return sum(max(mathml_width(_term_mathml(t.expr, column=True)),
+                       0.35 * len(t.note) if notes and t.note else 0.0) + 1.8 for t in terms)
+    left = 3.0 if eq.name else width(eq.lhs)
+    return len(eq.lhs) + len(eq.rhs) > 2 and left + width(eq.rhs) > LATEX_LINE_EM
 
 
 class _Markdown(_Renderer):
