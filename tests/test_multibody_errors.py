@@ -402,3 +402,15 @@ def test_a_bare_zero_rate_in_the_file_is_taken_as_on_set(solver_cli, tmp_path):
         path = edited(tmp_path, scene, old, new.format("2"))
         line = one_line_error(solver_cli, path)
         assert f"{key}: '2' is" in line
+
+
+@pytest.mark.parametrize("motion", ["0", "0*t", "0*omega*t"])
+def test_a_motion_that_is_zero_at_every_time_names_its_key(solver_cli, tmp_path, motion):
+    """A prescribed motion that is 0 at every t is 0 in every unit: it cannot tell a length from an
+    angle. It was taken for an angle, and a slider's length coordinate then failed at the point
+    that uses it, naming another key ('x' is an angle ..., at bodies[0].position.at[0]). Now the
+    motion's own key is named, with what to write instead."""
+    path = prescribed_crank(tmp_path)
+    path.write_text(path.read_text().replace('theta = { motion = "omega*t" }', f'theta = {{ motion = "{motion}" }}'))
+    line = one_line_error(solver_cli, path)
+    assert "coordinates.theta.motion" in line and "does not tell an angle from a length" in line

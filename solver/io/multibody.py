@@ -263,8 +263,11 @@ class _MultibodyReader:
             expr = parse_expression(text, self.with_t, f"{L.label}: {key}")
         except ExpressionError as err:  # the message already names the place
             raise SceneError(str(err)) from None
+        if expr == 0:  # zero in every unit: it cannot say whether the coordinate is an angle or a length
+            raise self.fail(key, f"{text!r} is 0 at every t, which does not tell an angle from a length: write 0 "
+                            "where the coordinate is used, or give the motion in the scene's parameters (e.g. \"v*t\")")
         try:
-            dim = _dimension(expr, L.dims) if expr != 0 else DIMENSIONLESS
+            dim = _dimension(expr, L.dims)
         except _DimensionError as err:
             raise self.fail(key, str(err)) from None
         if dim not in (DIMENSIONLESS, LENGTH):
