@@ -47,14 +47,19 @@ and ``--min-group`` up to 10,000,000.
 """
 from __future__ import annotations
 
-import argparse
-import json
-import math
-import os
-import sys
+import gc
 
-from ._io import check_output
-from .errors import SurveyInputError
+if __name__ == "__main__":  # a short-lived process: see the end of this file
+    gc.disable()
+
+import argparse  # noqa: E402
+import json  # noqa: E402
+import math  # noqa: E402
+import os  # noqa: E402
+import sys  # noqa: E402
+
+from ._io import check_output  # noqa: E402
+from .errors import SurveyInputError  # noqa: E402
 
 DEFAULT_N_RANGE = (1, 1000)
 #: Most respondents ``--respondents`` may declare (absent ones are padded as missing).
@@ -526,4 +531,12 @@ def _fail(message: str, status: int) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    # The cyclic garbage collector stays off for the whole command, as in solver/__main__.py: its
+    # full collections walk the heap of pandas, scipy and DuckDB again and again (summarize on a
+    # 200,000-row CSV: 1.09 s of CPU with it, 0.89 s without; peak memory within 2 %). The heap is
+    # frozen before the exit so that the interpreter's last collection skips it.
+    try:
+        status = main()
+    finally:
+        gc.freeze()
+    sys.exit(status)
