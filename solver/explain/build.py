@@ -813,7 +813,7 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
         final.steps.append(advice_step(system, state, parts))
     motion = _motion_step(system, f, expl)
     if motion is None and system.free:
-        motion = _constrained_motion_step(system, f, expl)
+        motion = _constrained_motion_step(system, f, expl, state)
     if motion is not None:
         final.steps.append(motion)
     numbers = _numbers_step(system, f, expl, state)
@@ -1097,7 +1097,7 @@ def _structured_eom(system, c, e, q, keep, ref: str = "projected on the partial 
                     f"equation of motion in {c.name}", ref, tag=f"eom:{c.name}")
 
 
-def _constrained_motion_step(system, f, expl) -> Step:
+def _constrained_motion_step(system, f, expl, state) -> Step:
     """The equations of motion of a system with closure rows or a slipping contact.
 
     Constrained form: one projected equation per free coordinate (dependent ones included),
@@ -1113,7 +1113,7 @@ def _constrained_motion_step(system, f, expl) -> Step:
     eqs, text, known = [], [], {}
     slipping = _slipping_contacts(system)
     for r in working:
-        unknown = set(working) | set(closure)
+        unknown = set(working) | set(closure) | {x.symbol for x in system.reactions}  # a pin's too
         found = (_normal_force_from_newton(expl, slipping[str(r)], r, known, unknown) if str(r) in slipping
                  else None) or _reaction_from_body_equations(expl, r, known, unknown)
         if found is None:
@@ -1124,6 +1124,9 @@ def _constrained_motion_step(system, f, expl) -> Step:
                             tag=f"from_newton:{r}", name=str(r)))
         text.append(f"{r} does work through the slipping friction -s mu_k {r}, so it stays in the projected "
                     f"equations; {where} holds it alone and gives it.")
+    from .slip_reactions import settle_slipping_reactions
+
+    known, eqs, text = settle_slipping_reactions(system, expl, state, projected, working, closure, known, eqs, text)
     keep = closure + [r for r in working if r not in known]
     Q = system.generalized_forces()
     for c, e, q in zip(system.free, projected, Q):
