@@ -474,6 +474,32 @@ def test_every_shipped_scene_explains_in_every_format(every_scene, every_renderi
                 assert out.count(r"\begin{") == out.count(r"\end{"), name
 
 
+# A product with a factor 0 (text "*0", "0*"; LaTeX "\cdot 0"; MathML a times sign next to <mn>0</mn>)
+TIMES_ZERO = re.compile(r"\*0(?![.\d])|(?<![\w.])0\*(?!\*)|\\cdot 0(?![.\d])"
+                        r"|(?:&InvisibleTimes;|×)</mo><mn>0</mn>|<mn>0</mn><mo>(?:&InvisibleTimes;|×)")
+# A number with a trailing ".0" (2.0, 0.0, -100.0); a mantissa before an exponent (2.0e-16, the relative
+# differences of the check, printed to two significant figures) is not one
+POINT_ZERO = re.compile(r"(?<![\w.])\d+\.0(?![\de]|\\times 10|</mn><mo>×</mo><msup>)")
+
+
+def test_no_times_zero_and_no_trailing_point_zero(every_scene, every_rendering):
+    """QA 15 #6: a term that is zero is shown as 0, never as I_P times alpha = 0 (``(m_c*r**2/3)*0``,
+    ``0*0``, ``M_{cyl} = 0 \\cdot 0``), and the equations with the data entered write integers as
+    integers (``2*x_ddot``, ``= 0``), not ``2.0``/``0.0``: every shipped scene in every format, and
+    the test scenes QA 15 named (bodies that only translate, rows with integer data)."""
+    pages = dict(every_rendering)
+    for name in ("arm_block", "block_incline", "cart_spring", "disk_pend", "driven_four_bar"):
+        expl = explain(load_system(ROOT / "tests" / "data" / "multibody" / f"{name}.toml"))
+        pages.update({(name, fmt): render(expl, fmt) for fmt in FORMATS})
+    for (name, fmt), out in pages.items():
+        for pattern in (TIMES_ZERO, POINT_ZERO):
+            hit = pattern.search(out)
+            assert hit is None, (name, fmt, out[max(0, hit.start() - 80):hit.end() + 20])
+    crank = every_scene["slider_crank"][1].section("crank").step("euler")
+    assert crank.equation("euler").right == 0
+    assert "crank turns at a constant rate (alpha = 0), so I_O alpha = 0." in crank.text
+
+
 def _state_values(system, state):
     vals = {k: sp.Float(v) for k, v in system.si_values().items()}
     vals.update({q: sp.Float(v) for q, v in zip(system.q, state.q)})

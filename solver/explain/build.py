@@ -542,11 +542,12 @@ def _euler_step(system, body: str, P: str, forces: list[_Force],
         lhs.append(Term(tidy_linear(inertial, rates), f"inertial term -r_G/{P} x m a_{P}"))
     inertia = _inertia_equation(system, body, P)
     I_P = tidy(inertia.left)
-    euler = Equation(tuple(lhs) or (Term(sp.Integer(0)),), (Term(sp.Mul(I_P, al, evaluate=False), f"I_{P} alpha"),),
+    euler = Equation(tuple(lhs) or (Term(sp.Integer(0)),), (Term(_inertia_times_alpha(I_P, al), f"I_{P} alpha"),),
                      f"generalized Euler equation about {P}",
                      "Eq. (11)" if len(system.bodies[body].elements) > 1 else "Eq. (10)", tag="euler")
     text = [f"M_{P} - r_G/{P} x m a_{P} = I_{P} alpha: the moments of the actual forces about {P}, then the "
             f"inertial term, then I_{P} alpha with I_{P} from the parallel-axis theorem (Eq. 12)."]
+    text += _vanishing_inertia_words(body, P, I_P, al, system.omega(body))
     if _zero(inertial):
         text.append(f"The inertial term vanishes here: r_G/{P} x a_{P} = 0 ({P} is the mass centre, or a_{P} "
                     f"is parallel to r_G/{P} or zero).")
@@ -561,6 +562,24 @@ def _euler_step(system, body: str, P: str, forces: list[_Force],
                     "the known terms on the right (as the paper's Eq. 28 writes Eq. 27).")
     return (Step("euler", f"Generalized Euler equation of {body} about {P}", text,
                  [inertia, euler] + ([collected] if collected is not None else [])), dropped)
+
+
+def _inertia_times_alpha(I_P, al) -> sp.Expr:
+    """I_P alpha as shown: the product unevaluated (I_P first, as Eq. 10 writes it), or 0 when
+    either factor is zero (never ``(m*r**2/3)*0``)."""
+    if I_P == 0 or al == 0:
+        return sp.Integer(0)
+    return sp.Mul(I_P, al, evaluate=False)
+
+
+def _vanishing_inertia_words(body: str, P: str, I_P, al, omega) -> list[str]:
+    """The sentence saying why I_P alpha is 0, when it is (:func:`_inertia_times_alpha`)."""
+    if al == 0:
+        how = "does not turn (omega = alpha = 0)" if omega == 0 else "turns at a constant rate (alpha = 0)"
+        return [f"{body} {how}, so I_{P} alpha = 0."]
+    if I_P == 0:
+        return [f"I_{P} = 0 (the mass of {body} is all at {P}), so I_{P} alpha = 0."]
+    return []
 
 
 def _length(eq: Equation, printer: FastStrPrinter | None = None) -> int:
@@ -1218,6 +1237,16 @@ def _small_oscillations(system, e: sp.Expr) -> Equation | None:
 
 
 NUMBER_DIGITS = 4
+
+
+def _shown_number(x: float) -> sp.Expr:
+    """``x`` to :data:`NUMBER_DIGITS` significant figures as a person writes it: an integer when
+    the rounded value is one with at most that many digits (2, 0, 1235; never 2.0 or 0.0), else a
+    Float of that precision (0.6732, 29.43, 1.235e+5)."""
+    rounded = float(f"{x:.{NUMBER_DIGITS}g}")
+    if math.isfinite(rounded) and rounded == int(rounded) and abs(rounded) < 10**NUMBER_DIGITS:
+        return sp.Integer(int(rounded))
+    return sp.Float(x, NUMBER_DIGITS)
 """Significant figures of the equations with the data entered (as the paper's Eq. 29)."""
 
 
@@ -1258,12 +1287,12 @@ def _numbers_step(system, f, expl, state) -> Step | None:
                 coef = float(coefficients[u]) * scale / per[u]
                 if name in held[tag]:
                     shown, k = rename.get(u, (u, 1))
-                    value = sp.Float(coef / k, NUMBER_DIGITS)
+                    value = _shown_number(coef / k)
                     unit = abs(float(f"{coef / k:.{NUMBER_DIGITS}g}")) == 1.0  # written as R_A, not 1.000 R_A
                     terms.append(Term(sp.sign(value) * shown if unit else value * shown, str(shown)))
             rhs = -float(known) * scale
             rows.append((len(terms), Equation(tuple(terms) or (Term(sp.Integer(0)),),
-                                              (Term(sp.Float(rhs, NUMBER_DIGITS), "known"),),
+                                              (Term(_shown_number(rhs), "known"),),
                                               f"{section.body}: {eq.label} [{row_unit}]", tag=f"numbers:{section.body}:{tag}")))
     if not rows:
         return None
