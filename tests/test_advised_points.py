@@ -265,3 +265,33 @@ def test_an_element_centre_the_advisor_lists_is_accepted_by_every_command(tmp_pa
         import matplotlib.pyplot as plt
 
         plt.close(drawing.figure)
+
+
+def test_a_crossing_is_written_in_the_coordinates_and_its_acceleration_derived() -> None:
+    """QA 15 #8: about I(N_A,N_B) the worked solution printed r_I = (x, 0.939692620785908*L), the
+    state's value of L sin(theta) frozen into the symbolic kinematics, and said that a_I follows
+    from the joints while the advisor's table said "derive". By hand for ladder_leaves_wall
+    (A = (x, 0) on the floor, the body's angle pi - theta, B = (x - L cos th, L sin th) on the wall):
+    N_A acts along y through A and N_B along x through B, so they cross at (x, L sin th); the
+    material point there moves as v_A + omega x r_I/A with omega = -th', r_I/A = (0, L sin th):
+    v_I = (x' + L th' sin th, 0), a_I = (x'' + L th'' sin th, -L th'^2 sin th). Exact comparisons;
+    and no Float in the body's equations."""
+    import sympy as sp
+
+    x, th, L = (sp.Symbol(n, real=True) for n in ("x", "theta", "L"))
+    xd, thd, xdd, thdd = (sp.Symbol(n, real=True) for n in ("x_dot", "theta_dot", "x_ddot", "theta_ddot"))
+    name = "I(N_A,N_B)"
+    expected = {f"pos:{name}": (x, L * sp.sin(th)), f"vel:{name}": (xd + L * thd * sp.sin(th), 0),
+                f"accel:{name}": (xdd + L * thdd * sp.sin(th), -L * thd**2 * sp.sin(th))}
+    expl = explain(load_system(ROOT / "data" / "scenes" / "ladder_leaves_wall.toml"), name)
+    section = expl.section("ladder")
+    kinematics = section.step("kinematics")
+    for tag, (ex, ey) in expected.items():
+        got = kinematics.equation(tag).right
+        assert sp.expand(got[0] - ex) == 0 and sp.expand(got[1] - ey) == 0, (tag, got)
+    floats = {f for step in section.steps for e in step.equations for t in (*e.lhs, *e.rhs)
+              for f in sp.sympify(t.expr).atoms(sp.Float)}
+    assert not floats, floats
+    assert "derived" in kinematics.text[0] and "follow from the joints" not in kinematics.text[0]
+    advice = {row[1]: row[-1] for row in expl.sections[-1].step("advice").table.rows}
+    assert advice[name] == "derive"

@@ -226,7 +226,7 @@ def body_shapes(system) -> dict[str, BodyShape]:
         points, instant = {}, {}
         for pname, p in body.points.items():
             if p.is_instant:
-                instant[pname] = (p.relative_to, _vec(p.coords, si))
+                instant[pname] = (p.relative_to, _instant_offset(system, p, si))
             else:
                 points[pname] = _vec(p.coords, si)
         if "G" not in points and "G" not in instant:
@@ -235,6 +235,20 @@ def body_shapes(system) -> dict[str, BodyShape]:
                     for e in body.elements]
         out[name] = BodyShape(name, points, instant, elements)
     return out
+
+
+def _instant_offset(system, p, si) -> np.ndarray:
+    """The fixed-frame offset of the instant point ``p`` from its reference point [m]: a constant, or,
+    for one given as a function of the coordinates (a crossing of two lines of action, ``I(R1,R2)``),
+    its value at the scene's state, where the worked solution takes moments about it."""
+    coords = sp.Matrix(p.coords)
+    if not coords.free_symbols & {*system.q, system.t}:
+        return _vec(coords, si)
+    from ..analyses.regimes import start_state
+
+    state = start_state(system)
+    at = {**si, **dict(zip(system.q, map(sp.Float, state.q))), system.t: sp.Float(state.t)}
+    return _vec(coords, at)
 
 
 def _element_item(body: str, element, centre, angle, dims, pose) -> DrawnItem:

@@ -150,9 +150,11 @@ def add_joint_point(system, point: str | None) -> None:
     the lines of action cross, so that the moment equation can be taken about it. Other names are
     left to the formulation to accept or refuse.
 
-    The point's offset from its body's reference point is that of the scene's state, a constant
-    (with the coordinates' values there) as an instant point's is: the drawing places the point
-    by it, and at the state it is the same place.
+    A joint's point's offset from its body's reference point is that of the scene's state, a
+    constant (with the coordinates' values there) as an instant point's is. A crossing's stays a
+    function of the coordinates, so that its position reads as the crossing itself (``(x, L*sin(theta))``,
+    not the state's numbers); its velocity and acceleration are still those of the material point
+    there at the instant, and the drawing places it by its value at the scene's state.
     """
     from ..analyses.regimes import start_state
     from ..model.bodies import Point
@@ -177,13 +179,16 @@ def add_joint_point(system, point: str | None) -> None:
         forces = _forces_on(system, b.name, points)
         at = next((f.at for f in forces if f.point == name), None)
         state = state or start_state(system)  # (a contact may be open there)
-        if at is None or name not in points.about:
+        crossing = at is None or name not in points.about
+        if crossing:
             at = _crossing(system, forces, name, point, _state_subs(system, state))
         if at is None:
             continue
         ref = next((n for n, p in b.points.items() if not p.is_instant), "G")
         coordinates = {**dict(zip(system.q, map(sp.Float, state.q))), system.t: sp.Float(state.t)}
-        offset = (sp.Matrix(at) - system.point_position(b.name, ref)).xreplace(coordinates)
+        offset = sp.Matrix(at) - system.point_position(b.name, ref)
+        if not crossing:  # (a crossing stays a function of the coordinates: _crossing_source)
+            offset = offset.xreplace(coordinates)
         b.points[name] = Point(name, _vec(offset), frame="instant", relative_to=ref)
         system.reset()
         placed = True
@@ -364,7 +369,7 @@ def _kinematics_step(system, body: str, P: str, used: list[str], points: _Points
     w, al = system.omega(body), system.alpha(body)
     r_P = system.point_position(body, P)  # the placement's: the other points are placed with it
     shown, v_P, a_P = system.point_kinematics(body, P)
-    pivot = _pivot_text(system, body, P, r_P, shown)
+    pivot = _pivot_text(system, body, P, r_P, shown) or _crossing_source(system, body, P)
     source = pivot[0] if pivot else "from the placement (the joints)"
     v_shown, a_shown = _vec(v_P), _vec(a_P)  # shown again in every other point's relation
     eqs = [
@@ -416,6 +421,21 @@ def _pivot_text(system, body: str, P: str, r_P, shown) -> tuple[str, str] | None
     return (f"from the fixed point {F}",
             f"{P} turns with {body} about {F}, held by joint {joint.name}, a pin to the ground ({why}): "
             f"v_{P} = omega x r_{P}/{F}, a_{P} = alpha x r_{P}/{F} - omega^2 r_{P}/{F}")
+
+
+def _crossing_source(system, body: str, P: str) -> tuple[str, str] | None:
+    """(label, sentence) saying where P's motion comes from when P is a crossing ``I(R1,R2)``
+    (:func:`add_joint_point`): no joint acts there, so its velocity and acceleration are derived, as
+    the advisor's column a_P says; None for any other P."""
+    p = system.bodies[body].points.get(P)
+    if p is None or not p.is_instant or _CROSSING.fullmatch(P) is None:
+        return None
+    ref = p.relative_to
+    return (f"derived by the rigid-body relation from {ref} (Eq. 6)",
+            f"No joint acts at {P}, so its velocity and acceleration are derived (as the advisor's a_P says): "
+            f"those of the material point of {body} at {P} at this instant, by the rigid-body relation from "
+            f"{ref} (Eq. 6), v_{P} = v_{ref} + omega x r_{P}/{ref}, a_{P} = a_{ref} + alpha x r_{P}/{ref} - "
+            f"omega^2 r_{P}/{ref}; r_{P} is where the lines of action cross, a function of the coordinates")
 
 
 def _midpoints(system, body: str, points: _Points, eqs: list[Equation]) -> list[Equation]:
