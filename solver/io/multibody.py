@@ -293,6 +293,7 @@ class _MultibodyReader:
                 need = RATE if kind == "angle" else LENGTH / TIME
                 if q.dimensionality != need:  # (shown as typed, in the file as on --set)
                     raise self.fail(where, f"{text!r} is not {'an angular velocity' if kind == 'angle' else 'a speed'}")
+                L.check_magnitudes({rkey: q}, self.overrides, {rkey: where})  # the SI cap, as on parameters
                 rate = float(q.to_base_units().magnitude)
             elif "rate" in spec:
                 raise self.fail(f"coordinates.{cname}.rate", "a dependent coordinate's rate is solved, not given")
