@@ -693,7 +693,7 @@ def _modes_command(args, system) -> int:
     formulate(system, args.method, args.point)  # checks the point
     result = modes(system, args.method)
     units = system.output_units
-    payload = to_output_units(result.to_dict(), units)
+    payload = to_output_units(result.to_dict(units), units)
     if len(result.modes) == 1:  # one freedom: also the keys of the one-coordinate answer
         (name, value), = result.equilibrium.items()
         mode = payload["modes"][0]
