@@ -500,12 +500,13 @@ def precision_command(args: argparse.Namespace) -> int:
               + "; a sliding contact's friction (-mu_k N) and a separated one's forces (0) are not unknowns here")
     print(f"condition number of the linear system (exact; 1-norm, rows and columns equilibrated, so unit-free; "
           f"`solve` prints an estimate of it): {results[0].condition_number:.6g} "
-          f"(float64 relative error bound ~ {results[0].condition_number * 2.2e-16:.2g})")
+          f"(float64 relative error bound ~ {_bound_text(results[0])})")
     for r in results:
         print()
         print(f"{r.precision}" + (f" ({r.dps} digits)" if r.precision != "float64" else ""))
-        rows = [(n, r.text[n], r.units.get(n, ""), f"{r.float64_error.get(n, 0.0):.2g}") for n in r.unknowns]
-        print(format_table(("name", "value", "unit", "float64 rel. error"), rows, align="lrll"))
+        rows = [(n, r.text[n], r.units.get(n, ""), f"{r.float64_error.get(n, 0.0):.2g}",
+                 f"{r.error_bound[n]:.2g}" if n in r.error_bound else "-") for n in r.unknowns]
+        print(format_table(("name", "value", "unit", "float64 rel. error", "its bound"), rows, align="lrlll"))
         if r.exact_form:
             print("exact forms (SI units):")
         for n, e in r.exact_form.items():
@@ -514,6 +515,21 @@ def precision_command(args: argparse.Namespace) -> int:
             print(f"note: {r.note}")
     sys.stdout.flush()
     return 0
+
+
+def _bound_text(result) -> str:
+    """The headline float64 bound: cond * 2.2e-16 for the unknowns of the largest scale, and the
+    worst unknown's own bound where the equations' terms cancel beside it (each unknown's in the
+    tables' "its bound" column)."""
+    normwise = f"{result.condition_number * 2.2e-16:.2g}"
+    finite = {n: v for n, v in result.error_bound.items() if math.isfinite(v)}
+    if not result.error_bound:
+        return normwise + " for the unknowns of the largest scale (no bound per unknown: an entry could not be sized)"
+    worst = max(finite, key=finite.get, default=None)
+    if worst is None or finite[worst] <= 100 * result.condition_number * 2.2e-16:
+        return normwise + "; each unknown's bound in the tables"
+    return (f"{normwise} for the unknowns of the largest scale, {finite[worst]:.2g} for {worst}, which the "
+            "equations' cancelling terms dwarf; each unknown's bound in the tables")
 
 
 def _precise_in_output_units(result, units):

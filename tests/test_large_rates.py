@@ -40,3 +40,67 @@ def test_a_rate_beyond_the_si_cap_is_refused_on_the_command_line(solver_cli):
     assert code == 2 and "--set x_dot:" in err and "singular" not in err
     code, out, err = solver_cli("solve", PIN_BAR, "--set", "theta_dot=1e100 rad/s", "--json")  # the cap itself: taken
     assert code == 0, err
+
+
+def _solve(solver_cli, *argv):
+    code, out, err = solver_cli("solve", *argv, "--json")
+    assert code == 0, err
+    return json.loads(out)
+
+
+@pytest.mark.parametrize("route", [(), ("--method", "lagrange")])
+@pytest.mark.parametrize("rate", ["1e8 rad/s", "1e9 rad/s"])
+def test_large_rates_are_answered_exactly_where_no_equation_cancels(solver_cli, route, rate):
+    """At 1e8 rad/s the pin's reactions are 1e15 times theta_ddot; elimination mixed their round-off
+    into it (-6.93, then 0 at 1e9, for -7.3575). The moment equation about O, and Lagrange's, hold no
+    rate term, so refined once the answer is exact to round-off: 1e-12 relative (observed ~1e-16)."""
+    payload = _solve(solver_cli, PIN_BAR, "--set", f"theta_dot={rate}", *route)
+    assert payload["unknowns"]["theta_ddot"]["value"] == pytest.approx(EXACT, rel=1e-12)
+    assert "digits_lost" not in payload
+
+
+@pytest.mark.parametrize("route", [("--point", "G"), ("--method", "mass_center")])
+@pytest.mark.parametrize("rate", ["1e6 rad/s", "1e9 rad/s"])
+def test_cancelling_terms_are_flagged_with_the_digits_lost(solver_cli, rate, route):
+    """About G the matrix holds L m omega**2 terms that cancel to m L cos(theta)/2: at 1e9 rad/s terms of
+    5e17 leave 0.43, and theta_ddot came out +103 with no word. Now `solve` names the unknowns, the digits
+    lost and an error bound that covers the actual error (the reference above); at 1e6 rad/s, where
+    the answer kept 5 digits (-7.35739), it is flagged too, since its 6th printed digit is wrong. The
+    mass-centre route (Eqs. 1-2) writes the same terms."""
+    payload = _solve(solver_cli, PIN_BAR, "--set", f"theta_dot={rate}", *route)
+    lost = payload["digits_lost"]
+    assert set(lost) == {"theta_ddot", "alpha"}
+    got = payload["unknowns"]["theta_ddot"]["value"]
+    assert abs(got - EXACT) <= lost["theta_ddot"]["error_bound"]["value"]
+    assert lost["theta_ddot"]["error_bound"]["unit"] == "rad/s**2" and 9 < lost["theta_ddot"]["digits"] <= 16
+    code, out, err = solver_cli("solve", PIN_BAR, "--set", f"theta_dot={rate}", *route)
+    warning = [line for line in out.splitlines() if line.startswith("warning: cancellation")]
+    assert len(warning) == 1 and "theta_ddot lost" in warning[0] and "of float64's 16 digits" in warning[0]
+
+
+def test_no_shipped_scene_is_flagged_at_its_state(solver_cli):
+    """The paper's scenes (sliding_bar, disk_bar) and every other shipped scene lose no digits to
+    cancellation at the state they give: no warning, no digits_lost."""
+    from pathlib import Path
+
+    for scene in sorted(Path("data/scenes").glob("*.toml")):
+        payload = _solve(solver_cli, str(scene))
+        assert "digits_lost" not in payload, scene
+        code, out, _ = solver_cli("solve", str(scene))
+        assert "cancellation" not in out, scene
+
+
+@pytest.mark.parametrize("route", [(), ("--point", "G"), ("--method", "lagrange")])
+@pytest.mark.parametrize("rate", ["1e8 rad/s", "1e9 rad/s", "1 rad/s"])
+def test_precision_bounds_the_float64_error_it_shows(solver_cli, route, rate):
+    """`precision` printed "float64 relative error bound ~ 1.5e-15" beside theta_ddot's rel. error 1.
+    Each unknown now has its own bound, counting the equations' cancellation; it must cover the
+    float64 answer's actual error against -1.5 g sin(theta)/L (and the exact solve's)."""
+    code, out, err = solver_cli("precision", PIN_BAR, "--set", f"theta_dot={rate}", *route, "--json")
+    assert code == 0, err
+    solutions = json.loads(out)["solutions"]
+    float64 = solutions["float64"]
+    for name in ("theta_ddot", "alpha"):
+        bound = float64["float64_relative_error_bound"][name]
+        assert abs(float64["unknowns"][name]["value"] - EXACT) / abs(EXACT) <= bound
+        assert solutions["exact"]["float64_relative_error"][name] <= bound
