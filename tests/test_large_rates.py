@@ -104,3 +104,13 @@ def test_precision_bounds_the_float64_error_it_shows(solver_cli, route, rate):
         bound = float64["float64_relative_error_bound"][name]
         assert abs(float64["unknowns"][name]["value"] - EXACT) / abs(EXACT) <= bound
         assert solutions["exact"]["float64_relative_error"][name] <= bound
+
+
+def test_a_matrix_lost_to_round_off_is_not_called_a_singular_configuration(solver_cli):
+    """About the bar's free end A at 3e8 rad/s the matrix's entries are m L omega**2 terms of 1e17 that
+    cancel to about 0.5: float64 leaves noise, which the solve found singular and blamed on "a singular
+    configuration at theta = 60 deg" (the bar on its pin is regular at every angle: I_O = m L**2/3).
+    Now one line says the terms cancel beyond float64's digits, exit 2."""
+    code, out, err = solver_cli("solve", PIN_BAR, "--point", "A", "--set", "theta_dot=3e8 rad/s", "--set", "theta=60 deg")
+    assert (code, out, err.count("\n")) == (2, "", 1)
+    assert "cancel beyond float64's digits" in err and "no singular configuration" in err and "theta_dot = 3e+08 rad/s" in err

@@ -296,6 +296,24 @@ class NumericModel:
             out["error_bound"] = None if sizes is None else error_bounds(A, b, x, *sizes)
         return out
 
+    def _refuse_round_off(self, M: np.ndarray, q, qd, t: float) -> None:
+        """Raise :class:`SingularConfigurationError` saying that the matrix ``M`` (found singular at
+        the state q, qd, t) is round-off, when the terms of its entries cancel beyond float64's
+        digits (about a bar's end at 3e8 rad/s, m L omega**2 terms of 1e17 leave 0.5): the
+        configuration is not the cause, and no other message should say it is."""
+        sizes = self._sizes(q, qd, t)
+        if sizes is None:
+            return
+        lost = ROUND_OFF * sizes[0] / np.maximum(np.max(np.abs(M), axis=0), 1e-300)  # per entry, by its column
+        if not np.nanmax(lost, initial=0.0) > 1e-3:
+            return
+        state = _state_text(self.system, q, qd, t, ())
+        raise SingularConfigurationError(
+            f"{self.label}: at {state} (rates {', '.join(f'{c.name}_dot = {v:.3g} {c.unit}/s' for c, v in zip(self.system.free, qd))}) "
+            f"the terms of the equations' matrix cancel beyond float64's digits (terms up to {np.nanmax(sizes[0]):.3g} "
+            "leave far smaller entries): the matrix is round-off there, so the motion cannot be solved in float64; "
+            "this is no singular configuration (about another point, or by another --method, the terms may not cancel)")
+
     def _sizes(self, q, qd, t):
         """(S_A, S_b): the round-off sizes of A's and b's entries at one state (:func:`entry_sizes`)."""
         point = dict(zip(self._params, self._param_values))
@@ -360,6 +378,7 @@ class NumericModel:
         idx = np.unravel_index(int(np.argmax(cond)), cond.shape) if cond.ndim else ()
         refuse_zero_length(self.system, q, qd, t, idx)
         M = A[idx]
+        self._refuse_round_off(M, [_at(v, idx) for v in q], [_at(v, idx) for v in qd], _at(t, idx))
         c = float(condition_numbers(M[None])[0]) if np.all(np.isfinite(M)) else math.inf
         c = max(c, float(cond[idx]))
         involved = []
