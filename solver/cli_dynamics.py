@@ -265,30 +265,39 @@ def _simulate_multibody(args, system, t_end) -> int:
             payload["out"] = str(args.out)
         print_json(payload)
         return 0
-    print(f"scene   {system.name}  ({_where(system)})")
-    print(f"status  {res.status}: {res.reason}   ({res.nfev} rhs evaluations, {len(res.t)} samples)")
-    if res.events:
+    _print_run(args, system, res.status, res.reason, res.nfev, res.columns_with_time(system.output_units),
+               res.energy_drift, res.events)
+    return 0
+
+
+def _print_run(args, scene, status: str, reason: str, nfev: int, columns: dict, drift: float | None,
+               events=()) -> None:
+    """The text of ``simulate``, one layout for one freedom and for n: the scene, the status, the
+    integrator, each regime switch, the final sample of every CSV column (``columns``: name ->
+    (values, unit) in the output units, as the file has them; the energy left out) and the energy
+    drift (None: the loads do work, nothing is conserved)."""
+    t_values, _ = columns["t"]
+    print(f"scene   {scene.name}  ({_where(scene)})")
+    print(f"status  {status}: {reason}   ({nfev} rhs evaluations, {len(t_values)} samples)")
+    print(f"method  {args.ivp_method}  rtol {args.rtol:g}  atol {args.atol:g}")
+    if events:
         print()
         print("regime switches:")
-        for ev in res.events:
-            t, t_unit = in_output_units(ev["t"], "s", system.output_units)
+        for ev in events:
+            t, t_unit = in_output_units(ev["t"], "s", scene.output_units)
             print(f"  t = {format_number(t, 10)} {t_unit}  {ev['joint']}: {ev['from']} -> {ev['to']}  ({ev['cause']})")
-    t, t_unit = in_output_units(float(res.t[-1]), "s", system.output_units)
-    rows = [("t", format_number(t, 10), t_unit)]
-    for name, (values, unit) in res.columns.items():
-        shown = to_output_units({"value": float(values[-1]), "unit": unit}, system.output_units)
-        rows.append((name, format_number(shown["value"], 10), shown["unit"]))
+    rows = [(name, format_number(float(values[-1]), 10), unit) for name, (values, unit) in columns.items()
+            if name != "energy" and math.isfinite(float(values[-1]))]
     print()
     print("final sample:")
     print(format_table(("name", "value", "unit"), rows, align="lrl"))
-    if res.energy_drift is not None:
-        print(f"\nenergy drift over the run: {format_number(res.energy_drift, 3)} (of the largest kinetic energy)")
+    print(f"\nenergy drift over the run: {format_number(drift, 3)} (of the largest kinetic energy)" if drift is not None
+          else "\nenergy drift: not applicable (the loads depend on time or rate: they do work)")
     if args.out is not None:
-        units = ", ".join(f"{n} [{u}]" for n, u in res.to_dict(system.output_units)["columns"].items())
+        units = ", ".join(f"{n} [{u}]" for n, (_, u) in columns.items())
         print(f"\ntime history written to {args.out} (columns in the scene's output units: {units})")
     if args.animate is not None:
         print(f"animation written to {args.animate}")
-    return 0
 
 
 def simulate_command(args: argparse.Namespace) -> int:
@@ -334,33 +343,7 @@ def simulate_command(args: argparse.Namespace) -> int:
             payload["out"] = str(args.out)
         print_json(payload)
         return 0
-    print(f"scene   {scene.name}  ({_where(scene)})")
-    print(f"method  {res.method}  rtol {res.rtol:g}  atol {res.atol:g}  ({res.nfev} rhs evaluations)")
-    print(f"status  {res.status}: {res.reason}")
-    rows = [("t", format_number(float(res.t[-1]), 10), "s"),
-            ("theta", format_number(math.degrees(float(res.theta[-1])), 10), "deg"),
-            ("theta_dot", format_number(float(res.theta_dot[-1]), 10), "rad/s"),
-            ("alpha", format_number(float(res.alpha[-1]), 10), "rad/s**2")]
-    for name, values in res.reactions.items():
-        if math.isfinite(float(values[-1])):
-            rows.append((name, format_number(float(values[-1]), 10), res.reaction_units.get(name, "N")))
-    for i, (name, text, unit) in enumerate(rows):
-        shown = to_output_units({"value": float(text), "unit": unit}, scene.output_units)
-        if shown["unit"] != unit:
-            rows[i] = (name, format_number(shown["value"], 10), shown["unit"])
-    print()
-    print("final state:")
-    print(format_table(("name", "value", "unit"), rows, align="lrl"))
-    print()
-    drift = res.energy_drift
-    drift_text = (f"{drift:.3g}" if drift is not None
-                  else "not applicable (the loads depend on time or rate: they do work)")
-    print(f"energy drift (relative to the largest kinetic energy): {drift_text}   samples: {res.t.size}")
-    if args.out is not None:
-        units = ", ".join(f"{n} [{u}]" for n, u in res.to_dict(scene.output_units)["columns"].items())
-        print(f"wrote {args.out} (columns in the scene's output units: {units})")
-    if args.animate is not None:
-        print(f"animation written to {args.animate}")
+    _print_run(args, scene, res.status, res.reason, res.nfev, res.columns(scene.output_units), res.energy_drift)
     return 0
 
 
@@ -517,12 +500,13 @@ def precision_command(args: argparse.Namespace) -> int:
               + "; a sliding contact's friction (-mu_k N) and a separated one's forces (0) are not unknowns here")
     print(f"condition number of the linear system (exact; 1-norm, rows and columns equilibrated, so unit-free; "
           f"`solve` prints an estimate of it): {results[0].condition_number:.6g} "
-          f"(float64 relative error bound ~ {results[0].condition_number * 2.2e-16:.2g})")
+          f"(float64 relative error bound ~ {_bound_text(results[0])})")
     for r in results:
         print()
         print(f"{r.precision}" + (f" ({r.dps} digits)" if r.precision != "float64" else ""))
-        rows = [(n, r.text[n], r.units.get(n, ""), f"{r.float64_error.get(n, 0.0):.2g}") for n in r.unknowns]
-        print(format_table(("name", "value", "unit", "float64 rel. error"), rows, align="lrll"))
+        rows = [(n, r.text[n], r.units.get(n, ""), f"{r.float64_error.get(n, 0.0):.2g}",
+                 f"{r.error_bound[n]:.2g}" if n in r.error_bound else "-") for n in r.unknowns]
+        print(format_table(("name", "value", "unit", "float64 rel. error", "its bound"), rows, align="lrlll"))
         if r.exact_form:
             print("exact forms (SI units):")
         for n, e in r.exact_form.items():
@@ -531,6 +515,21 @@ def precision_command(args: argparse.Namespace) -> int:
             print(f"note: {r.note}")
     sys.stdout.flush()
     return 0
+
+
+def _bound_text(result) -> str:
+    """The headline float64 bound: cond * 2.2e-16 for the unknowns of the largest scale, and the
+    worst unknown's own bound where the equations' terms cancel beside it (each unknown's in the
+    tables' "its bound" column)."""
+    normwise = f"{result.condition_number * 2.2e-16:.2g}"
+    finite = {n: v for n, v in result.error_bound.items() if math.isfinite(v)}
+    if not result.error_bound:
+        return normwise + " for the unknowns of the largest scale (no bound per unknown: an entry could not be sized)"
+    worst = max(finite, key=finite.get, default=None)
+    if worst is None or finite[worst] <= 100 * result.condition_number * 2.2e-16:
+        return normwise + "; each unknown's bound in the tables"
+    return (f"{normwise} for the unknowns of the largest scale, {finite[worst]:.2g} for {worst}, which the "
+            "equations' cancelling terms dwarf; each unknown's bound in the tables")
 
 
 def _precise_in_output_units(result, units):

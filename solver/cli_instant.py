@@ -130,7 +130,7 @@ def solve_command(args: argparse.Namespace) -> int:
             "unknowns": unknowns,
             "condition_number_estimate": result["condition_number_estimate"],
         }
-        for key in ("regime", "indeterminate", "warning"):
+        for key in ("regime", "indeterminate", "warning", "digits_lost"):
             if key in result:
                 payload[key] = to_output_units(result[key], system.output_units)
         if system.dependent or system.time_dependent or "regime" in result:  # the solved state is part of the answer
@@ -159,9 +159,19 @@ def solve_command(args: argparse.Namespace) -> int:
               f"bound, `precision` gives the exact value): {format_number(result['condition_number_estimate'], 3)}")
     if "warning" in result:
         print(f"warning: {result['warning']}")
+    if "digits_lost" in result:
+        print(f"warning: {digits_lost_text(to_output_units(result['digits_lost'], system.output_units))}")
     if "alpha" in unknowns:
         print("alpha is the k-component of the angular acceleration (counter-clockwise positive).")
     return 0
+
+
+def digits_lost_text(lost: dict) -> str:
+    """The sentence on the unknowns whose digits cancellation took (``digits_lost`` of a solve)."""
+    parts = [f"{name} lost {v['digits']:.0f} of float64's 16 digits (error up to "
+             f"{format_number(v['error_bound']['value'], 2)} {v['error_bound']['unit']})" for name, v in lost.items()]
+    return ("cancellation: the terms of the equations are far larger than these unknowns (large rates, a force "
+            "that is nearly zero): " + "; ".join(parts) + "; the printed digits beyond those left are round-off")
 
 
 def _state_payload(system, state) -> dict:
@@ -693,7 +703,7 @@ def _modes_command(args, system) -> int:
     formulate(system, args.method, args.point)  # checks the point
     result = modes(system, args.method)
     units = system.output_units
-    payload = to_output_units(result.to_dict(), units)
+    payload = to_output_units(result.to_dict(units), units)
     if len(result.modes) == 1:  # one freedom: also the keys of the one-coordinate answer
         (name, value), = result.equilibrium.items()
         mode = payload["modes"][0]

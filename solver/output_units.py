@@ -137,12 +137,35 @@ def to_output_units(payload: Any, units: Mapping[str, str] | None) -> Any:
     return {key: to_output_units(item, units) for key, item in payload.items()}
 
 
+SIGNIFICANT_DIGITS = 15
+"""A converted value is rounded to this many significant digits: float64 holds 15.95, and the trip
+through SI (0.5 ft -> 0.1524 m -> 0.49999999999999994 ft) errs in the 16th-17th; so a value given
+in the output unit comes back as given."""
+
+
 def _scaled(value: Any, factor: float) -> Any:
     if getattr(value, "ndim", 0):  # a numpy array (a column of samples): scaled as a whole
-        return value * factor
+        return _rounded(value * factor)
     if isinstance(value, (list, tuple)):
         return [_scaled(v, factor) for v in value]
-    return None if value is None else float(value) * factor
+    return None if value is None else float(f"{float(value) * factor:.{SIGNIFICANT_DIGITS}g}")
+
+
+def _rounded(values):
+    """``values`` (a numpy array) to :data:`SIGNIFICANT_DIGITS` significant digits, vectorised: each
+    the nearest double to round(v * 10**k) / 10**k with 10**k exact (|k| <= 22), as ``f"{v:.15g}"``
+    reads, up to a tie in the last digit; values whose k falls outside (below 1e-8 or above 1e36
+    in size), zeros and non-finite ones are left as they are."""
+    import numpy as np
+
+    v = np.asarray(values, dtype=float)
+    with np.errstate(all="ignore"):
+        k = SIGNIFICANT_DIGITS - 1 - np.floor(np.log10(np.abs(v)))
+        ok = np.isfinite(k) & (np.abs(k) <= 22)
+        kk = np.where(ok, k, 0.0)
+        up, down = 10.0 ** np.maximum(kk, 0), 10.0 ** np.maximum(-kk, 0)
+        out = np.where(kk >= 0, np.round(v * up) / up, np.round(v / down) * down)
+    return np.where(ok, out, v)
 
 
 def in_output_units(value: Any, unit: str, units: Mapping[str, str] | None) -> tuple[Any, str]:

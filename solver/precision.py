@@ -20,7 +20,10 @@ and reports the condition number of A (float64): exactly, the one whose cheap es
 ``solve`` prints (:func:`solver.analyses.instant.condition_numbers`: 1-norm, rows and
 columns equilibrated, so that it does not depend on the units). It bounds the relative
 error of the float64 answer, each unknown measured against its column's scale, by about
-cond(A) * 2.2e-16.
+cond(A) * 2.2e-16. An unknown much smaller than the equations' terms (a pendulum's angular
+acceleration beside its pin forces at 1e8 rad/s) loses more: each unknown's own bound
+(:func:`solver.analyses.instant.error_bounds`, from the round-off size of A's and b's entries)
+counts it.
 """
 from __future__ import annotations
 
@@ -33,7 +36,8 @@ import numpy as np
 import pint
 import sympy as sp
 
-from .analyses.instant import condition_numbers, refuse_zero_length
+from .analyses.instant import (ROUND_OFF, condition_numbers, entry_sizes, error_bounds, refine,
+                               refuse_zero_length, solve_with_estimate)
 from .display import tidy
 from .errors import InputError, SingularConfigurationError
 from .strprint import lambdify
@@ -169,6 +173,10 @@ class PreciseSolution:
         :func:`solver.analyses.instant.condition_numbers`).
     float64_error : dict[str, float]
         |float64 - this| / |this| per unknown (0 for the float64 solve).
+    error_bound : dict[str, float]
+        A bound on each unknown's float64 relative error (:func:`solver.analyses.instant.error_bounds`
+        over its size; inf for an unknown computed as 0 with a bound above 0); empty where the
+        entries' round-off cannot be sized (a function the walk does not know).
     units : dict[str, str]
     exact_form : dict[str, str]
         The exact answers as expressions (none with dependent coordinates).
@@ -185,6 +193,7 @@ class PreciseSolution:
     units: dict[str, str] = field(default_factory=dict)
     exact_form: dict[str, str] = field(default_factory=dict)
     note: str = ""
+    error_bound: dict[str, float] = field(default_factory=dict)
 
     def to_dict(self) -> dict:
         out = {
@@ -196,6 +205,8 @@ class PreciseSolution:
             "condition_number": self.condition_number,
             "float64_relative_error": self.float64_error,
         }
+        if self.error_bound:
+            out["float64_relative_error_bound"] = {n: v if math.isfinite(v) else None for n, v in self.error_bound.items()}
         if self.exact_form:
             out["exact"] = self.exact_form
         if self.note:
@@ -274,15 +285,18 @@ def solve_precise(derivation: Any, precision: str = "float64", dps: int = 50,
         n = len(system.free)
         refuse_zero_length(system, fvals[:n], fvals[n:2 * n], fvals[2 * n])
         raise SingularConfigurationError(f"{where}: the equations' right-hand side is not finite there")
-    xf = np.linalg.solve(Af, bf)
+    xf = refine(Af, bf, solve_with_estimate(Af[None], bf[None])[0][0])  # as `solve` does
     fl = {n: float(x) for n, x in zip(names, xf)}
+    bound = _relative_bounds(A, b, args, fvals, Af, bf, xf, names)
     if alpha_expr is not None:
         falpha = lambdify((*args, *accelerations), alpha_expr, "math")
         fl["alpha"] = float(falpha(*fvals, *[fl[str(a)] for a in accelerations]))
+        if bound:
+            bound["alpha"] = max(bound[str(a)] for a in accelerations)
 
     if precision == "float64":
         text = {n: repr(v) for n, v in fl.items()}
-        return PreciseSolution("float64", 16, fl, text, cond, {n: 0.0 for n in fl}, units)
+        return PreciseSolution("float64", 16, fl, text, cond, {n: 0.0 for n in fl}, units, error_bound=bound)
 
     if precision == "exact":
         # rational values are substituted; the coordinates and irrational values (angles:
@@ -309,7 +323,7 @@ def solve_precise(derivation: Any, precision: str = "float64", dps: int = 50,
         at = ", ".join(f"{k} = {v}" for k, v in kept.items() if _uses(sym, k))
         # with dependent coordinates the closed form holds their many-digit values: not shown
         exact_form = {} if solved else {n: str(tidy(v)) + (f"   at {at}" if at else "") for n, v in sym.items()}
-        return PreciseSolution("exact", dps, vals, text, cond, err, units, exact_form, _note(system, dps))
+        return PreciseSolution("exact", dps, vals, text, cond, err, units, exact_form, _note(system, dps), bound)
 
     # mpmath ----------------------------------------------------------------
     with mpmath.workdps(dps + 5):
@@ -328,7 +342,22 @@ def solve_precise(derivation: Any, precision: str = "float64", dps: int = 50,
             vals["alpha"] = malpha(*mvals, *[vals[str(a)] for a in accelerations])
         text = {n: mpmath.nstr(v, dps) for n, v in vals.items()}
         err = {n: _relerr(fl[n], v) for n, v in vals.items()}
-    return PreciseSolution("mpmath", dps, vals, text, cond, err, units, note=_note(system, dps))
+    return PreciseSolution("mpmath", dps, vals, text, cond, err, units, note=_note(system, dps), error_bound=bound)
+
+
+def _relative_bounds(A, b, args, fvals, Af, bf, xf, names) -> dict[str, float]:
+    """Each unknown's float64 relative error bound: :func:`solver.analyses.instant.error_bounds`
+    over its size (at least u, the rounding of the answer itself); {} where the entries cannot
+    be sized."""
+    sizes = entry_sizes([*A, *b], dict(zip(args, fvals)))
+    if sizes is None or not np.all(np.isfinite(sizes)):
+        return {}
+    n = A.rows * A.cols
+    bounds = error_bounds(Af, bf, xf, sizes[:n].reshape(A.rows, A.cols), sizes[n:])
+    out = {}
+    for name, e, x in zip(names, bounds, xf):
+        out[name] = max(float(e) / abs(float(x)), ROUND_OFF) if x else (0.0 if e == 0 else math.inf)
+    return out
 
 
 def _as_rationals(matrix: sp.Matrix) -> sp.Matrix:

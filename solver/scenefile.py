@@ -564,6 +564,7 @@ class _SceneLoader:
         self._check_state_dimension(value, DIMENSIONLESS, "coordinate.value", "an angle", value_text)
         self.set_angle(value, value_text, coordinate, "coordinate.value")
         self._check_state_dimension(rate, RATE, "coordinate.rate", "an angular velocity such as \"0 rad/s\"", rate_text)
+        self.set_rate(rate, rate_text, coordinate + "_dot", "coordinate.rate")
         return coordinate, {coordinate: value, coordinate + "_dot": rate}
 
     def _check_state_dimension(self, quantity: pint.Quantity, need: UnitsContainer, key: str, what: str,
@@ -588,8 +589,7 @@ class _SceneLoader:
                         f"{text!r} is {describe_dimension(quantity.dimensionality)}, but {name} is "
                         f"{describe_dimension(old.dimensionality)} (in the scene: {old:~P})",
                     )
-                if units.is_angle_unit(old):
-                    self.set_angle(quantity, text, name)
+                self.set_angular(old, quantity, text, name)
                 self.parameters[name] = quantity
                 self.overridden.add(name)
             elif name in state:
@@ -599,6 +599,8 @@ class _SceneLoader:
                                             text)
                 if name == coordinate:
                     self.set_angle(quantity, text, name)
+                else:
+                    self.set_rate(quantity, text, name)
                 state[name] = quantity
             else:
                 valid = ", ".join([*self.parameters, *state])
@@ -611,6 +613,23 @@ class _SceneLoader:
             units.check_angle_unit(quantity, text, f"{self.label}: {key or '--set ' + name}", name)
         except InputError as err:
             raise SceneError(str(err)) from None
+
+    def set_rate(self, quantity: pint.Quantity, text: str, name: str, key: str | None = None) -> None:
+        """An angular velocity, given by ``--set NAME`` or in the file at ``key``: refused in a unit
+        that measures no angle per time, such as Hz (:func:`solver.units.check_rate_unit`)."""
+        try:
+            units.check_rate_unit(quantity, text, f"{self.label}: {key or '--set ' + name}", name)
+        except InputError as err:
+            raise SceneError(str(err)) from None
+
+    def set_angular(self, old: pint.Quantity, quantity: pint.Quantity, text: str, name: str) -> None:
+        """``--set NAME`` of a parameter: an angle or an angular velocity when the scene gives it in an
+        angle unit (``45 deg``, ``10 rad/s``), checked as such (a parameter the scene gives in Hz or
+        1/s is a frequency or a plain rate, and takes Hz)."""
+        if units.is_angle_unit(old):
+            self.set_angle(quantity, text, name)
+        elif old.dimensionality == RATE and units.angle_power(old.units) == 1:  # rad/s, rpm
+            self.set_rate(quantity, text, name)
 
     def _check_angles(self, coordinate: str, state: dict[str, pint.Quantity], overrides: Mapping[str, str]) -> None:
         """Every parameter and state value must lie within :data:`solver.units.MAX_SI_MAGNITUDE`
@@ -989,6 +1008,10 @@ class _SceneLoader:
                 raise self.fail(
                     key, f"{text!r} is {describe_dimension(dim)}, but {name} needs {describe_dimension(OUTPUT_UNIT_DIMENSIONS[name])}"
                 )
+            if name.startswith("angle") or name.startswith("angular"):
+                what = units.not_angular(units.parse_unit(text, key))
+                if what is not None:  # percent, Hz: pint would print a number of radians in them
+                    raise self.fail(key, f"{text!r} is {what}, but {name} needs an angle unit (deg, rad, rev...)")
             chosen[name] = text
         return chosen
 

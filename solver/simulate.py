@@ -434,7 +434,7 @@ def simulate(
         status = event.kind if event else "completed"
         reason = _reason(system, event, mu) if event else "stopped by an event"
     else:
-        reason = f"reached t_end = {t_end:g} s"
+        reason = f"reached t = {t_end:g} s"
     t_final = float(sol.t[-1])
     if samples is None:
         try:

@@ -17,13 +17,14 @@ falls back to sympy (``evalf``, or ``lambdify``).
 from __future__ import annotations
 
 import cmath
+import math
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
 import mpmath
 import sympy as sp
 
-__all__ = ["Arithmetic", "DOUBLE", "mpmath_arithmetic", "NotEvaluable", "real_value", "substitute", "tree_value",
+__all__ = ["Arithmetic", "DOUBLE", "SIZED", "Sized", "mpmath_arithmetic", "NotEvaluable", "real_value", "substitute", "tree_value",
            "tree_program"]
 
 
@@ -81,6 +82,79 @@ DOUBLE = Arithmetic(
                sp.sinh: cmath.sinh, sp.cosh: cmath.cosh, sp.tanh: cmath.tanh, sp.Abs: abs},
 )
 """Double-precision complex arithmetic (``cmath``)."""
+
+
+@dataclass(frozen=True, slots=True)
+class Sized:
+    """A double-precision value and the size of its round-off: evaluated in float64, an expression
+    errs by about u * size (u = 2**-53, to first order, up to a small multiple for the number of
+    operations in a row). A sum's size is the sum of its terms' sizes, so a result much smaller
+    than its terms (cancellation: omega**2 terms of 1e16 leaving 7) has a size much larger than
+    itself; a function passes on its argument's error times its slope."""
+
+    value: float
+    size: float
+
+    def __pow__(self, k: int) -> "Sized":
+        v, c = self.value, self._ratio()
+        if k < 0 and v == 0:
+            return Sized(math.nan, math.nan)
+        return Sized(v ** k, abs(v) ** k * (1 + abs(k) * (c - 1)) if k < 0 else self.size ** k)
+
+    def _ratio(self) -> float:
+        """size / |value| (at least 1): the relative error in units of u."""
+        return self.size / abs(self.value) if self.value else math.inf
+
+    @staticmethod
+    def of(value) -> "Sized":
+        v = float(value)
+        return Sized(v, abs(v))
+
+
+def _sized_product(values) -> Sized:
+    v, s = 1.0, 1.0
+    for x in values:  # the product of the sizes bounds the product's first-order error
+        v, s = v * x.value, s * x.size
+    return Sized(v, s)
+
+
+def _sized_power(base: Sized, exp: Sized) -> Sized:
+    v, p = base.value, exp.value
+    if v < 0 or (v == 0 and p < 0):
+        return Sized(math.nan, math.nan)
+    value = v ** p
+    return Sized(value, abs(value) + abs(p) * v ** (p - 1) * base.size if v else abs(value))
+
+
+def _sized(f, slope):
+    """The sized version of a function of one argument with derivative ``slope``."""
+    def apply(x: Sized) -> Sized:
+        try:
+            value = f(x.value)
+            return Sized(value, abs(value) + abs(slope(x.value)) * x.size)
+        except (ValueError, OverflowError, ZeroDivisionError):
+            return Sized(math.nan, math.nan)
+    return apply
+
+
+SIZED = Arithmetic(
+    number=lambda e: Sized.of(_double_number(e).real) if complex(e).imag == 0 else Sized(math.nan, math.nan),
+    total=lambda values: Sized(*map(math.fsum, zip(*((x.value, x.size) for x in values)))),
+    product=_sized_product,
+    sqrt=lambda x: _sized_power(x, Sized(0.5, 0.5)),
+    power=_sized_power,
+    functions={sp.sin: _sized(math.sin, math.cos), sp.cos: _sized(math.cos, math.sin),
+               sp.tan: _sized(math.tan, lambda x: 1 + math.tan(x) ** 2), sp.exp: _sized(math.exp, math.exp),
+               sp.log: _sized(math.log, lambda x: 1 / x), sp.sinh: _sized(math.sinh, math.cosh),
+               sp.cosh: _sized(math.cosh, math.sinh), sp.tanh: _sized(math.tanh, lambda x: 1 - math.tanh(x) ** 2),
+               sp.asin: _sized(math.asin, lambda x: 1 / math.sqrt(1 - x * x)),
+               sp.acos: _sized(math.acos, lambda x: 1 / math.sqrt(1 - x * x)),
+               sp.atan: _sized(math.atan, lambda x: 1 / (1 + x * x)),
+               sp.Abs: _sized(abs, lambda x: 1.0)},
+)
+"""Float64 values with the size of their round-off (:class:`Sized`): the size of each entry of a
+linear system's matrix and right-hand side, from which :func:`solver.analyses.instant.error_bounds`
+bounds what cancellation in them costs the answer."""
 
 
 def mpmath_arithmetic() -> Arithmetic:

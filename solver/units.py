@@ -56,6 +56,7 @@ def _registry() -> pint.UnitRegistry:
 ureg = _registry()
 # pint knows `lb` (pound mass) and `lbf`; spell out the engineering aliases too.
 ureg.define("lbm = pound")
+ureg.define("@alias turn = rev")  # rev/s, as a rotation rate is written (pint has revolution and rpm)
 Q_ = ureg.Quantity
 
 MAX_QUANTITY_LENGTH = 200
@@ -260,14 +261,76 @@ def parse_quantity(text: Any, where: str) -> pint.Quantity:
     return Q_(number, unit)
 
 
-DIMENSIONLESS_UNITS = ("radian", "degree", "arcminute", "arcsecond", "turn", "revolution", "gradian", "percent")
+ANGLE_UNITS = ("radian", "degree", "arcminute", "arcsecond", "turn", "revolution", "gradian")
+"""The angle units (and their symbols and pint's aliases: ``deg``, ``rev``, ``grad``, ``gon``)."""
+PURE_NUMBER_UNITS = ("percent",)
+"""Dimensionless units that are not angles: a pure number (a ratio, a friction coefficient), never
+an angle or an angular velocity (100 percent is not 1 rad, nor a 100 % slope's 45 deg)."""
+DIMENSIONLESS_UNITS = ANGLE_UNITS + PURE_NUMBER_UNITS
 """The units a dimensionless quantity may carry: one of these, to the power 1
 (``"30 deg**2"`` or ``"2 ft/m"`` would be silently taken as a scaled pure number)."""
+_PLAIN_NAMES = frozenset(ureg.get_name(n) for n in DIMENSIONLESS_UNITS)  # pint's names: gradian is grade
 
 
 def _plain_dimensionless(unit: pint.Unit) -> bool:
     items = list(unit._units.items())  # noqa: SLF001 - no public API
-    return len(items) == 1 and items[0][1] == 1 and ureg.get_name(items[0][0]) in DIMENSIONLESS_UNITS
+    return len(items) == 1 and items[0][1] == 1 and ureg.get_name(items[0][0]) in _PLAIN_NAMES
+
+
+def not_angular(unit) -> str | None:
+    """The one test of whether a unit of an angle's or an angular velocity's dimension measures
+    one. None when it does: an angle unit (rad, deg, turn, gradian...), alone or per time (rad/s,
+    rpm), or for a rate a time unit to the power -1 alone (``1/s``, as SI writes rad/s); else what
+    the unit measures instead, in words. pint reads every dimensionless unit as a number of
+    radians, so without this 100 percent would be 1 rad and 2 Hz (cycles per second) 2 rad/s.
+
+    Examples
+    --------
+    >>> not_angular(ureg.Unit("deg")), not_angular(ureg.Unit("rev/min")), not_angular(ureg.Unit("1/s"))
+    (None, None, None)
+    >>> not_angular(ureg.Unit("percent")), not_angular(ureg.Unit("kHz"))
+    ('a pure number', 'a frequency (cycles or counts per time)')
+    """
+    if angle_power(unit) == 1:
+        return None
+    names = list(unit._units)  # noqa: SLF001
+    if not names or (ureg.get_dimensionality(unit) == _TIME_INVERSE
+                     and all(ureg.get_dimensionality(n) == _TIME for n in names)):
+        return None  # a bare number (the callers' rule on those applies), or 1/s
+    return "a pure number" if not ureg.get_dimensionality(unit) else "a frequency (cycles or counts per time)"
+
+
+def angle_power(unit) -> float:
+    """The power of the radian in ``unit`` written in SI base units: 1 for deg, rev/s and rpm, 0 for
+    percent, 1/s and Hz (pint keeps the radian as a base unit of no dimension)."""
+    _, base = ureg.get_base_units(unit)
+    return base._units.get("radian", 0)  # noqa: SLF001 - no public API
+
+
+_TIME = ureg.get_dimensionality("s")
+_TIME_INVERSE = ureg.get_dimensionality("1/s")
+
+
+def check_rate_unit(quantity: pint.Quantity, text: Any, where: str, name: str) -> None:
+    """The rule for an angular velocity given as a quantity (a coordinate's rate in a scene file or
+    by ``--set``, a parameter the scene gives as one): its unit measures an angle per time
+    (:func:`not_angular`); ``Hz`` counts cycles, so ``2 Hz`` is refused with the two readings.
+
+    Examples
+    --------
+    >>> check_rate_unit(Q_(2, "Hz"), "2 Hz", "--set theta_dot", "theta_dot")
+    Traceback (most recent call last):
+    ...
+    solver.errors.InputError: --set theta_dot: '2 Hz' is a frequency (cycles or counts per time), but theta_dot is an angular velocity: give "2 rev/s" (12.5664 rad/s) for turns per second, or "2 rad/s"
+    """
+    if quantity.dimensionality != _TIME_INVERSE:
+        return
+    what = not_angular(quantity.units)
+    if what is not None:
+        per_second = float(quantity.to("1/s").magnitude)
+        raise InputError(f"{where}: {str(text)!r} is {what}, but {name} is an angular velocity: give "
+                         f"\"{per_second:g} rev/s\" ({2 * math.pi * per_second:g} rad/s) for turns per second, "
+                         f"or \"{per_second:g} rad/s\"")
 
 
 def check_magnitude(number: float, where: str, text: Any = None) -> float:
@@ -390,6 +453,9 @@ def check_angle_unit(quantity: pint.Quantity, text: Any, where: str, name: str) 
     """
     if not is_angle_unit(quantity) and not quantity.dimensionality and quantity.magnitude != 0:
         number = f"{quantity.magnitude:g}"
+        if quantity.units != ureg.dimensionless:  # percent
+            raise InputError(f"{where}: {str(text)!r} is {not_angular(quantity.units)}, not an angle; {name} is an "
+                             f"angle: give it in deg or rad")
         raise InputError(f"{where}: {str(text)!r} has no unit, but {name} is an angle: give \"{number} deg\" or "
                          f"\"{number} rad\"")
 
@@ -422,9 +488,11 @@ def is_bare_zero(quantity: pint.Quantity) -> bool:
 
 
 def is_angle_unit(quantity: pint.Quantity) -> bool:
-    """True for a dimensionless quantity with a unit (``deg``, ``rad``, ``turn``): an angle."""
+    """True for a dimensionless quantity with an angle unit (``deg``, ``rad``, ``turn``; not
+    ``percent``, :func:`not_angular`): an angle."""
     # not quantity.dimensionality: pint's .dimensionless, without converting to the root units first
-    return not quantity.dimensionality and quantity.units != ureg.dimensionless  # (its text is not "dimensionless")
+    return (not quantity.dimensionality and quantity.units != ureg.dimensionless  # (its text is not "dimensionless")
+            and not_angular(quantity.units) is None)
 
 
 def parse_angle(text: Any, where: str, bare_unit: str = "deg") -> float:
@@ -441,7 +509,7 @@ def parse_angle(text: Any, where: str, bare_unit: str = "deg") -> float:
     3.14159265359
     """
     q = parse_quantity(text, where)
-    if not q.dimensionless:
+    if not q.dimensionless or (q.units != ureg.dimensionless and not is_angle_unit(q)):  # not percent
         raise InputError(f"{where}: expected an angle such as \"30 deg\", got {text!r}")
     value = float(Q_(float(q.magnitude), bare_unit).to("rad").magnitude) if not is_angle_unit(q) \
         else float(q.to("rad").magnitude)
@@ -457,7 +525,7 @@ def parse_time(text: Any, where: str) -> float:
         Not a time.
     """
     q = parse_quantity(text, where)
-    if q.dimensionless and not is_angle_unit(q):
+    if q.units == ureg.dimensionless:
         return float(q.magnitude)
     if q.dimensionality != ureg.get_dimensionality("s"):
         raise InputError(f"{where}: expected a time such as \"10 s\", got {text!r}")
@@ -471,7 +539,8 @@ def _short(err: Exception, limit: int = 120) -> str:
 
 __all__ = [
     "ureg", "Q_", "check_unit_text", "parse_unit", "parse_quantity", "parse_angle", "parse_time", "si_magnitude",
-    "check_magnitude", "check_angle", "check_angle_unit", "zero_in", "unit_text", "check_si_magnitude", "MAX_SI_MAGNITUDE", "is_angle_unit", "DIMENSIONLESS_UNITS",
+    "check_magnitude", "check_angle", "check_angle_unit", "check_rate_unit", "not_angular", "angle_power", "zero_in", "unit_text", "check_si_magnitude", "MAX_SI_MAGNITUDE", "is_angle_unit", "DIMENSIONLESS_UNITS",
+    "ANGLE_UNITS", "PURE_NUMBER_UNITS",
     "MAX_QUANTITY_LENGTH", "MAX_UNIT_LENGTH", "MAX_UNIT_EXPONENT", "MAX_UNIT_NESTING",
     "MAX_MAGNITUDE", "MAX_ANGLE_TURNS", "MAX_ANGLE_RAD",
 ]

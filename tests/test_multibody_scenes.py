@@ -696,7 +696,9 @@ def test_cart_pendulum_mode_shape_names_each_components_unit(solver_cli, tmp_pat
     assert code == 0, err
     neutral, swing = json.loads(out)["modes"]
     assert {k: v["unit"] for k, v in swing["shape"].items()} == {"x": "ft", "theta": "deg"}
-    assert neutral["shape"]["x"] == {"value": pytest.approx(1 / 0.3048, rel=1e-9), "unit": "ft"}
+    # QA 15 #10: normalised in the printed units (it printed 3.281 ft: 1 m), the largest component 1
+    assert neutral["shape"]["x"] == {"value": pytest.approx(1.0, rel=1e-9), "unit": "ft"}
+    assert max(abs(v["value"]) for v in swing["shape"].values()) == pytest.approx(1.0, rel=1e-12)
     M, m, L = 2.0, 0.5, 0.6
     per_rad = -m * (L / 2) / (M + m) / 0.3048  # ft per rad
     ratio = swing["shape"]["x"]["value"] / swing["shape"]["theta"]["value"]

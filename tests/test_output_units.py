@@ -329,3 +329,21 @@ def test_contact_sentences_and_friction_work_print_in_the_scenes_units(tmp_path:
     # the work is integrated with the motion (rtol 1e-9 by default): 1e-6 leaves room for its
     # error and still catches J for ft*lbf (a factor 1.36)
     assert last["friction_work_floor"]["value"] == pytest.approx(work / FT_LBF, rel=1e-6)
+
+
+def test_a_value_given_in_the_output_unit_comes_back_as_given(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """QA 15 #11: `kinematics --json` echoed x = "0.5 ft" as 0.49999999999999994 ft and x_dot = "1 ft/s" as
+    0.9999999999999999 ft/s (the trip through SI). Converted values are rounded to 15 significant digits
+    (float64 holds 15.95), so the decimals given come back exactly; every command prints through the one
+    conversion, so the simulate CSV's first row is checked too. No tolerance: exact decimals."""
+    scene = tmp_path / "cart_ft.toml"
+    scene.write_text((Path("data/scenes/cart_pendulum.toml")).read_text() + '\n[output_units]\nlength = "ft"\n')
+    sets = ("--set", "x=0.5 ft", "--set", "x_dot=1 ft/s", "--set", "theta=0.1 rad")
+    state = json.loads(_run(capsys, "kinematics", str(scene), *sets, "--json"))["state"]
+    assert (state["x"]["value"], state["x"]["unit"]) == (0.5, "ft")
+    assert (state["x_dot"]["value"], state["x_dot"]["unit"]) == (1.0, "ft/s")
+    csv = tmp_path / "run.csv"
+    _run(capsys, "simulate", str(scene), *sets, "--t-end", "0.01", "--out", str(csv))
+    header, first = csv.read_text().splitlines()[:2]
+    row = dict(zip(header.split(","), first.split(",")))
+    assert row["x [ft]"] == "0.5" and row["x_dot [ft/s]"] == "1.0"

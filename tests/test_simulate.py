@@ -304,3 +304,25 @@ def test_simulate_columns_carry_the_output_units(solver_cli, tmp_path, scene):
     first = dict(zip(columns, map(float, rows[1])))
     for name in ("R_A", "R_B"):
         assert abs(first[name] - published[f"eq30-{name}"]["value"]) <= tol[name], name
+
+
+@pytest.mark.parametrize("scene", ["tests/data/multibody/pin_bar.toml", "data/scenes/double_pendulum.toml"])
+def test_one_freedom_and_n_freedoms_print_one_layout(solver_cli, tmp_path, scene):
+    """QA 15 #11: the one-freedom text had another layout ("final state", theta in deg while the CSV
+    has rad, no theta_ddot). Both now print the final sample of every CSV column but the energy, in
+    the CSV's units, under the same headings. The CSV's last row is the reference: the text prints
+    10 significant digits of the same number."""
+    csv = tmp_path / "run.csv"
+    code, out, err = solver_cli("simulate", scene, "--t-end", "0.2", "--out", str(csv))
+    assert code == 0, err
+    lines = csv.read_text().splitlines()
+    header = [h.rsplit(" [", 1) for h in lines[0].split(",")]
+    last = [float(v) for v in lines[-1].split(",")]
+    assert "final sample:" in out and "energy drift over the run:" in out and "method  DOP853" in out
+    table = out.split("final sample:")[1].split("\n\n")[0].splitlines()[3:]
+    printed = {row.split()[0]: (float(row.split()[1]), row.split()[2]) for row in table}
+    expected = {name: (value, unit[:-1]) for (name, unit), value in zip(header, last) if name != "energy"}
+    assert list(printed) == list(expected)
+    for name, (value, unit) in expected.items():
+        # 1e-9: 10 significant digits printed (half a unit of the 10th is 5e-10 relative)
+        assert printed[name][1] == unit and printed[name][0] == pytest.approx(value, rel=1e-9, abs=1e-12), name

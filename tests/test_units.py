@@ -125,3 +125,72 @@ def test_times() -> None:
         parse_time("10 m", "--t-end")
     with pytest.raises(InputError, match=r"^--t-end: expected a time"):
         parse_time("10 deg", "--t-end")
+
+
+# QA 15 #3: every unit the "plain units" message lists is taken, and an angle or an angular velocity
+# is refused in a unit that measures none. References: 1 gradian = pi/200 rad (a right angle is
+# 100 gradians), 1 rev/s = 2 pi rad/s, 1 rpm = 2 pi/60 rad/s (definitions); 1e-12: unit factors'
+# round-off only.
+@pytest.mark.parametrize("spelling", ["gradian", "grad", "gon"])
+def test_gradians_are_angles(spelling: str) -> None:
+    assert parse_angle(f"100 {spelling}", "--amplitude") == pytest.approx(math.pi / 2, rel=1e-12)
+
+
+def test_every_unit_the_plain_units_message_lists_is_taken() -> None:
+    with pytest.raises(InputError) as err:
+        parse_quantity("2 ft/m", "demo")
+    listed = err.value.args[0].split("plain units (")[1].split(")")[0].split(", ")
+    assert {"gradian", "revolution", "percent"} <= set(listed)
+    for name in listed:
+        parse_quantity(f"1 {name}", "demo")  # raises if refused
+
+
+@pytest.mark.parametrize("text", ["50 percent", "50 %"])
+def test_percent_is_no_angle(text: str) -> None:
+    with pytest.raises(InputError, match="expected an angle"):
+        parse_angle(text, "--amplitude")
+    with pytest.raises(InputError, match="expected a time"):
+        parse_time(text, "--t-end")
+    assert parse_quantity(text, "demo").to("").magnitude == pytest.approx(0.5, rel=1e-12)  # a pure number still
+
+
+@pytest.mark.parametrize("scene, setting, name", [
+    ("data/scenes/sliding_bar.toml", "theta_dot=0.5 Hz", "theta_dot"),      # one-body format, the state
+    ("tests/data/multibody/pin_bar.toml", "theta_dot=2 kHz", "theta_dot"),  # multibody format, the state
+    ("tests/data/multibody/pin_bar.toml", "theta_dot=2 Bq", "theta_dot"),
+    ("data/scenes/slider_crank.toml", "omega=16 Hz", "omega"),             # a parameter the scene gives in rad/s
+])
+def test_a_frequency_is_refused_for_an_angular_velocity(solver_cli, scene, setting, name) -> None:
+    code, out, err = solver_cli("solve", scene, "--set", setting)
+    assert (code, out, err.count("\n")) == (2, "", 1), err
+    assert f"--set {name}:" in err and "is a frequency" in err and "rev/s" in err and "rad/s" in err
+
+
+@pytest.mark.parametrize("scene, setting", [("data/scenes/sliding_bar.toml", "beta=100 percent"),
+                                            ("tests/data/multibody/pin_bar.toml", "theta=50 percent")])
+def test_percent_is_refused_for_an_angle(solver_cli, scene, setting) -> None:
+    code, out, err = solver_cli("solve", scene, "--set", setting)
+    assert (code, out, err.count("\n")) == (2, "", 1) and "not an angle" in err
+
+
+def test_turns_per_second_and_rpm_are_taken(solver_cli) -> None:
+    import json
+
+    for setting, rad_s in (("theta_dot=2 rev/s", 4 * math.pi), ("theta_dot=60 rpm", 2 * math.pi),
+                           ("theta_dot=3 rad/min", 0.05)):
+        code, out, err = solver_cli("kinematics", "tests/data/multibody/pin_bar.toml", "--set", setting, "--json")
+        assert code == 0, err
+        omega = json.loads(out)["bodies"]["bar"]["omega"]
+        assert omega["unit"] == "rad/s" and omega["value"] == pytest.approx(rad_s, rel=1e-12)
+
+
+def test_a_rate_in_hz_in_the_scene_file_and_output_units_in_percent_are_refused(solver_cli, tmp_path) -> None:
+    text = open("tests/data/multibody/pin_bar.toml", encoding="utf-8").read()
+    for old, new, key in (('rate = "1 rad/s"', 'rate = "2 Hz"', "coordinates.theta.rate:"),
+                          ('name = "pin_bar"', 'name = "pin_bar"\noutput_units = { angle = "percent" }', "output_units.angle:"),
+                          ('name = "pin_bar"', 'name = "pin_bar"\noutput_units = { angular_velocity = "Hz" }',
+                           "output_units.angular_velocity:")):
+        path = tmp_path / "s.toml"
+        path.write_text(text.replace(old, new), encoding="utf-8")
+        code, out, err = solver_cli("solve", str(path))
+        assert (code, out, err.count("\n")) == (2, "", 1) and key in err, err

@@ -28,7 +28,8 @@ from ..errors import InputError, SingularConfigurationError
 from ..strprint import lambdify
 from ..units import Q_
 
-__all__ = ["CONDITION_LIMIT", "NumericModel", "refuse_zero_length", "InstantSolution", "State", "assemble", "solve_instant",
+__all__ = ["CONDITION_LIMIT", "ROUND_OFF", "ERROR_BOUND_FACTOR", "SIGNIFICANT_ERROR", "entry_sizes", "refine",
+           "error_bounds", "NumericModel", "refuse_zero_length", "InstantSolution", "State", "assemble", "solve_instant",
            "condition_numbers", "solve_with_estimate"]
 
 CONDITION_LIMIT = 1e12
@@ -110,6 +111,66 @@ def solve_with_estimate(A: np.ndarray, b: np.ndarray):
         x = sol[..., 0] / col
     cond = np.where(finite & np.isfinite(cond) & np.all(np.isfinite(x), axis=-1), cond, np.inf)
     return x, cond
+
+
+ROUND_OFF = 2.0 ** -53
+"""float64's unit round-off u (1.1e-16)."""
+ERROR_BOUND_FACTOR = 16.0
+"""The first-order bound u * |A^-1| (S_A |x| + S_b) counts one rounding per size; the evaluation
+chains a few operations per term. Measured on a bar on a pin (tests/data/multibody/pin_bar.toml:
+7 angles from 1 to 200 deg, rates 1e2 .. 1e9 rad/s, about O, G and A, mass centre and Lagrange;
+515 solves against -1.5 g sin(theta)/L), the error reached 0.96 of the unscaled bound where both
+are a unit in the last place, 0.69 where cancellation lost every digit (about A at 1e9 rad/s);
+16 leaves a margin of 16 over that."""
+SIGNIFICANT_ERROR = 1e-6
+"""An unknown whose error bound exceeds this fraction of its size is flagged: its sixth significant
+digit, the last `solve` prints, may be wrong."""
+
+
+def entry_sizes(entries, point: Mapping) -> np.ndarray | None:
+    """The size of the round-off of each expression of ``entries`` evaluated in float64 at ``point``
+    (symbol -> float): :data:`solver.tree_value.SIZED`, the sum of its terms' sizes, so that a
+    cancelling sum (omega**2 terms of 1e16 leaving 7) has a size far above its value. None where
+    the walk cannot evaluate an expression (a function it does not know: then nothing is bounded)."""
+    from ..tree_value import SIZED, NotEvaluable, Sized, tree_value
+
+    memo: dict = {}
+    at = {k: Sized.of(v) for k, v in point.items()}
+    sizes = []
+    for e in entries:
+        try:
+            sizes.append(tree_value(e, at, SIZED, memo).size)
+        except (NotEvaluable, KeyError, TypeError, ValueError, ZeroDivisionError, OverflowError):
+            return None
+    return np.array(sizes, dtype=float)
+
+
+def refine(A: np.ndarray, b: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """``x`` after one step of iterative refinement, x + A^-1 (b - A x) (one system, float64).
+
+    Elimination mixes the rows: at large rates a pin's reactions are 1e15 times the angular
+    acceleration and their round-off fell into it (a bar at 1e8 rad/s gave -6.93 rad/s**2 for
+    -7.3575, though no equation of it cancels). One step of refinement makes the solve
+    componentwise accurate (Skeel 1980), leaving only the round-off of A and b themselves, which
+    :func:`error_bounds` bounds."""
+    with np.errstate(all="ignore"):
+        try:
+            dx = np.linalg.solve(A, b - A @ x)
+        except np.linalg.LinAlgError:
+            return x
+    return x + dx if np.all(np.isfinite(dx)) else x
+
+
+def error_bounds(A: np.ndarray, b: np.ndarray, x: np.ndarray, size_A: np.ndarray, size_b: np.ndarray) -> np.ndarray:
+    """A bound on each unknown's float64 error, from the round-off of evaluating A and b.
+
+    The equations' residual at the exact answer errs by about u (S_A |x| + S_b) (sizes from
+    :func:`entry_sizes`), so x errs by |A^-1| times that, times :data:`ERROR_BOUND_FACTOR`.
+    Where the equations' terms cancel (large rates), the bound is far above u |x|: the digits
+    lost are log10(bound / (u |x|))."""
+    with np.errstate(all="ignore"):
+        inv = np.linalg.inv(A)
+        return ERROR_BOUND_FACTOR * ROUND_OFF * (np.abs(inv) @ (size_A @ np.abs(x) + size_b))
 
 
 class NumericModel:
@@ -195,13 +256,16 @@ class NumericModel:
             b[..., i] = v
         return A.reshape(shape + (m, k)), b
 
-    def solve(self, q, qd, t=0.0, once: bool = False) -> dict[str, np.ndarray]:
+    def solve(self, q, qd, t=0.0, once: bool = False, bounds: bool = False) -> dict[str, np.ndarray]:
         """Every unknown (SI) at the given states, with ``condition_number``.
 
         ``once``: the caller solves this one state once (an instantaneous solve, one contact
         regime tried): its matrices come from one walk over the expressions (:meth:`_walked`,
-        tens of microseconds) instead of compiled code (``lambdify``, milliseconds to build).
-        Both are double precision; their results agree to round-off, not always to the last bit.
+        tens of microseconds) instead of compiled code (``lambdify``, milliseconds to build), and
+        the answer is refined once (:func:`refine`). Both are double precision; their results
+        agree to round-off, not always to the last bit. ``bounds`` (with ``once``): also
+        ``error_bound``, an array of each unknown's error bound (:func:`error_bounds`), or None
+        where the sizes cannot be evaluated.
 
         Raises
         ------
@@ -223,9 +287,42 @@ class NumericModel:
         x, cond = self._solve_with_estimate(A, b)
         if np.any(~(cond <= CONDITION_LIMIT)):
             self.singular(q, qd, t, A, cond)
+        if once and A.ndim == 2:
+            x = refine(A, b, x)
         out = {name: x[..., i] for i, name in enumerate(self.names)}
         out["condition_number"] = cond
+        if bounds and once and A.ndim == 2:
+            sizes = self._sizes(q, qd, t)
+            out["error_bound"] = None if sizes is None else error_bounds(A, b, x, *sizes)
         return out
+
+    def _refuse_round_off(self, M: np.ndarray, q, qd, t: float) -> None:
+        """Raise :class:`SingularConfigurationError` saying that the matrix ``M`` (found singular at
+        the state q, qd, t) is round-off, when the terms of its entries cancel beyond float64's
+        digits (about a bar's end at 3e8 rad/s, m L omega**2 terms of 1e17 leave 0.5): the
+        configuration is not the cause, and no other message should say it is."""
+        sizes = self._sizes(q, qd, t)
+        if sizes is None:
+            return
+        lost = ROUND_OFF * sizes[0] / np.maximum(np.max(np.abs(M), axis=0), 1e-300)  # per entry, by its column
+        if not np.nanmax(lost, initial=0.0) > 1e-3:
+            return
+        state = _state_text(self.system, q, qd, t, ())
+        raise SingularConfigurationError(
+            f"{self.label}: at {state} (rates {', '.join(f'{c.name}_dot = {v:.3g} {c.unit}/s' for c, v in zip(self.system.free, qd))}) "
+            f"the terms of the equations' matrix cancel beyond float64's digits (terms up to {np.nanmax(sizes[0]):.3g} "
+            "leave far smaller entries): the matrix is round-off there, so the motion cannot be solved in float64; "
+            "this is no singular configuration (about another point, or by another --method, the terms may not cancel)")
+
+    def _sizes(self, q, qd, t):
+        """(S_A, S_b): the round-off sizes of A's and b's entries at one state (:func:`entry_sizes`)."""
+        point = dict(zip(self._params, self._param_values))
+        point.update((a, float(np.asarray(v, dtype=float).reshape(-1)[0])) for a, v in zip(self.args, (*q, *qd, t)))
+        sizes = entry_sizes(self._entries, point)
+        if sizes is None or not np.all(np.isfinite(sizes)):
+            return None
+        m, k = self.shape
+        return sizes[: m * k].reshape(m, k), sizes[m * k:]
 
     def structured(self):
         """The :class:`~solver.analyses.structured.StructuredSolver` of this model (built once).
@@ -281,6 +378,7 @@ class NumericModel:
         idx = np.unravel_index(int(np.argmax(cond)), cond.shape) if cond.ndim else ()
         refuse_zero_length(self.system, q, qd, t, idx)
         M = A[idx]
+        self._refuse_round_off(M, [_at(v, idx) for v in q], [_at(v, idx) for v in qd], _at(t, idx))
         c = float(condition_numbers(M[None])[0]) if np.all(np.isfinite(M)) else math.inf
         c = max(c, float(cond[idx]))
         involved = []
@@ -596,7 +694,10 @@ def solution_in_regime(system, regime, warning: str | None, state: State | None,
     else:
         f = formulate(system, method, point)
         state = assemble(system) if state is None else state
-        res = f.numeric().solve(state.q, state.qd, state.t, once=True)
+        res = f.numeric().solve(state.q, state.qd, state.t, once=True, bounds=True)
+        lost = _digits_lost(system, res, f.numeric().names)
+        if lost:
+            extra["digits_lost"] = lost
     _check_limits(system, state)
     unknowns: dict[str, pint.Quantity] = {}
     if len(system.bodies) == 1:
@@ -612,6 +713,29 @@ def solution_in_regime(system, regime, warning: str | None, state: State | None,
     shown = shown_point(system, method, point)
     cond = float(res["condition_number"]) if "condition_number" in res else math.inf
     return InstantSolution(unknowns, cond, shown, method, state, system.name, extra)
+
+
+def _digits_lost(system, res: dict, names) -> dict:
+    """The unknowns whose error bound (``res["error_bound"]``) exceeds :data:`SIGNIFICANT_ERROR` of
+    their size: name -> {"digits": float64 digits lost, "error_bound": {"value", "unit"}}; a
+    one-body system's alpha, a combination of its accelerations, is named with the worst of them.
+    An unknown computed as exactly 0 is not flagged: a reaction with nothing to carry is 0 by the
+    structure of the equations, whatever the round-off of the other unknowns."""
+    bound = res.get("error_bound")
+    if bound is None:
+        return {}
+    units = {str(c.qdd): "rad/s**2" if c.kind == "angle" else "m/s**2" for c in system.free}
+    units.update({r.name: r.unit for r in system.reactions})
+    lost = {}
+    for name, e in zip(names, bound):
+        size = abs(float(res[name]))
+        if size and e > SIGNIFICANT_ERROR * size:  # (an exact 0, a reaction with nothing to do, is not flagged)
+            digits = min(16.0, max(0.0, math.log10(e / (ROUND_OFF * size))))
+            lost[name] = {"digits": round(digits, 1), "error_bound": {"value": float(e), "unit": units.get(name, "")}}
+    accelerations = [lost[str(c.qdd)] for c in system.free if str(c.qdd) in lost]
+    if len(system.bodies) == 1 and accelerations:
+        lost["alpha"] = max(accelerations, key=lambda v: v["digits"])
+    return lost
 
 
 def _alpha_value(system, body, state, res) -> float:

@@ -28,6 +28,7 @@ robust to any starting state), so ``frequency`` and ``period`` agree.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -80,7 +81,9 @@ class ModesResult:
     modes: list[Mode]
     units: dict[str, str]
 
-    def to_dict(self) -> dict:
+    def to_dict(self, units: Mapping[str, str] | None = None) -> dict:
+        """JSON-ready dict; ``units``: the scene's ``[output_units]``, in which each shape is given
+        (:meth:`shape_in`)."""
         coords = {k: {"value": v, "unit": self.units[k]} for k, v in self.equilibrium.items()}
         return {
             "equilibrium": coords,
@@ -89,10 +92,23 @@ class ModesResult:
                 {"omega_n": {"value": m.omega, "unit": "rad/s"},
                  "frequency": {"value": m.frequency, "unit": "Hz"},
                  "period": {"value": m.period if math.isfinite(m.period) else None, "unit": "s"},
-                 "shape": {k: {"value": v, "unit": self.units[k]} for k, v in m.shape.items()}}
+                 "shape": self.shape_in(m, units)}
                 for m in self.modes
             ],
         }
+
+    def shape_in(self, mode: Mode, units: Mapping[str, str] | None) -> dict:
+        """``mode``'s shape as printed: each component in its coordinate's output unit
+        (:func:`solver.output_units.to_output_units`), scaled again so that the largest printed
+        component is 1 (in SI 1 m beside 0.89 rad prints as 3.281 ft beside 0.89 rad; here 1 ft
+        beside 0.27 rad)."""
+        from solver.output_units import to_output_units
+
+        shape = to_output_units({k: {"value": v, "unit": self.units[k]} for k, v in mode.shape.items()}, units)
+        largest = max((e["value"] for e in shape.values()), key=abs, default=0.0)
+        if largest:
+            shape = {k: {**e, "value": e["value"] / largest} for k, e in shape.items()}
+        return shape
 
 
 def _accelerations(system, method, t=None):

@@ -167,8 +167,7 @@ class _MultibodyReader:
                 q = units.zero_in(self._quantity(text, f"--set {oname}"), L.parameters[oname].units)
                 if q.dimensionality != L.parameters[oname].dimensionality:
                     raise self.fail(f"--set {oname}", f"{text!r} has the wrong dimension for {oname}")
-                if units.is_angle_unit(L.parameters[oname]):
-                    L.set_angle(q, text, oname)
+                L.set_angular(L.parameters[oname], q, text, oname)
                 L.parameters[oname] = q
         L.check_magnitudes(L.parameters, self.overrides)
         L.check_angle_sizes({}, self.overrides)
@@ -293,6 +292,8 @@ class _MultibodyReader:
                 need = RATE if kind == "angle" else LENGTH / TIME
                 if q.dimensionality != need:  # (shown as typed, in the file as on --set)
                     raise self.fail(where, f"{text!r} is not {'an angular velocity' if kind == 'angle' else 'a speed'}")
+                L.set_rate(q, text, rkey, None if rkey in self.overrides else where)
+                L.check_magnitudes({rkey: q}, self.overrides, {rkey: where})  # the SI cap, as on parameters
                 rate = float(q.to_base_units().magnitude)
             elif "rate" in spec:
                 raise self.fail(f"coordinates.{cname}.rate", "a dependent coordinate's rate is solved, not given")

@@ -1,0 +1,116 @@
+"""Rates: the SI cap every other state value has, and answers at large rates (QA 15 #2).
+
+Reference: a uniform bar of mass m and length L on a pin at its end (tests/data/multibody/pin_bar.toml)
+has theta_ddot = -3 g sin(theta) / (2 L) whatever its rate (the moment of the pin reaction about O is
+zero and the centripetal acceleration of G points at O), -7.3575 rad/s**2 at 30 deg with g = 9.81.
+"""
+from __future__ import annotations
+
+import json
+import math
+
+import pytest
+
+PIN_BAR = "tests/data/multibody/pin_bar.toml"
+EXACT = -1.5 * 9.81 * math.sin(math.radians(30)) / 1.0  # -7.3575 rad/s**2
+
+
+def _rate_scene(tmp_path, rate: str) -> str:
+    path = tmp_path / "rate.toml"
+    text = open(PIN_BAR, encoding="utf-8").read().replace('rate = "1 rad/s"', f'rate = "{rate}"')
+    path.write_text(text, encoding="utf-8")
+    return str(path)
+
+
+@pytest.mark.parametrize("rate, words", [("1e150 rad/s", "the limit is 1e+100"), ("1e-200 rad/s", "at least 1e-100")])
+def test_a_rate_beyond_the_si_cap_is_refused_at_its_key(solver_cli, tmp_path, rate, words):
+    """A rate of 1e150 rad/s gave theta_ddot = 0 and O_x = -2.5e299 N, and 1e160 rad/s blamed a
+    singular configuration: rates now have the 1e-100 .. 1e100 SI range of every parameter and
+    state value (solver.units.MAX_SI_MAGNITUDE), refused in one line naming the key, exit 2."""
+    code, out, err = solver_cli("solve", _rate_scene(tmp_path, rate))
+    assert (code, out, err.count("\n")) == (2, "", 1)
+    assert "coordinates.theta.rate:" in err and words in err
+
+
+def test_a_rate_beyond_the_si_cap_is_refused_on_the_command_line(solver_cli):
+    for setting, flag in (("theta_dot=1e160 rad/s", "--set theta_dot:"), ("theta_dot=1e101 rad/s", "--set theta_dot:")):
+        code, out, err = solver_cli("solve", PIN_BAR, "--set", setting)
+        assert (code, out, err.count("\n")) == (2, "", 1) and flag in err and "the limit is 1e+100" in err
+    code, out, err = solver_cli("solve", "data/scenes/cart_pendulum.toml", "--set", "x_dot=1e101 m/s")
+    assert code == 2 and "--set x_dot:" in err and "singular" not in err
+    code, out, err = solver_cli("solve", PIN_BAR, "--set", "theta_dot=1e100 rad/s", "--json")  # the cap itself: taken
+    assert code == 0, err
+
+
+def _solve(solver_cli, *argv):
+    code, out, err = solver_cli("solve", *argv, "--json")
+    assert code == 0, err
+    return json.loads(out)
+
+
+@pytest.mark.parametrize("route", [(), ("--method", "lagrange")])
+@pytest.mark.parametrize("rate", ["1e8 rad/s", "1e9 rad/s"])
+def test_large_rates_are_answered_exactly_where_no_equation_cancels(solver_cli, route, rate):
+    """At 1e8 rad/s the pin's reactions are 1e15 times theta_ddot; elimination mixed their round-off
+    into it (-6.93, then 0 at 1e9, for -7.3575). The moment equation about O, and Lagrange's, hold no
+    rate term, so refined once the answer is exact to round-off: 1e-12 relative (observed ~1e-16)."""
+    payload = _solve(solver_cli, PIN_BAR, "--set", f"theta_dot={rate}", *route)
+    assert payload["unknowns"]["theta_ddot"]["value"] == pytest.approx(EXACT, rel=1e-12)
+    assert "digits_lost" not in payload
+
+
+@pytest.mark.parametrize("route", [("--point", "G"), ("--method", "mass_center")])
+@pytest.mark.parametrize("rate", ["1e6 rad/s", "1e9 rad/s"])
+def test_cancelling_terms_are_flagged_with_the_digits_lost(solver_cli, rate, route):
+    """About G the matrix holds L m omega**2 terms that cancel to m L cos(theta)/2: at 1e9 rad/s terms of
+    5e17 leave 0.43, and theta_ddot came out +103 with no word. Now `solve` names the unknowns, the digits
+    lost and an error bound that covers the actual error (the reference above); at 1e6 rad/s, where
+    the answer kept 5 digits (-7.35739), it is flagged too, since its 6th printed digit is wrong. The
+    mass-centre route (Eqs. 1-2) writes the same terms."""
+    payload = _solve(solver_cli, PIN_BAR, "--set", f"theta_dot={rate}", *route)
+    lost = payload["digits_lost"]
+    assert set(lost) == {"theta_ddot", "alpha"}
+    got = payload["unknowns"]["theta_ddot"]["value"]
+    assert abs(got - EXACT) <= lost["theta_ddot"]["error_bound"]["value"]
+    assert lost["theta_ddot"]["error_bound"]["unit"] == "rad/s**2" and 9 < lost["theta_ddot"]["digits"] <= 16
+    code, out, err = solver_cli("solve", PIN_BAR, "--set", f"theta_dot={rate}", *route)
+    warning = [line for line in out.splitlines() if line.startswith("warning: cancellation")]
+    assert len(warning) == 1 and "theta_ddot lost" in warning[0] and "of float64's 16 digits" in warning[0]
+
+
+def test_no_shipped_scene_is_flagged_at_its_state(solver_cli):
+    """The paper's scenes (sliding_bar, disk_bar) and every other shipped scene lose no digits to
+    cancellation at the state they give: no warning, no digits_lost."""
+    from pathlib import Path
+
+    for scene in sorted(Path("data/scenes").glob("*.toml")):
+        payload = _solve(solver_cli, str(scene))
+        assert "digits_lost" not in payload, scene
+        code, out, _ = solver_cli("solve", str(scene))
+        assert "cancellation" not in out, scene
+
+
+@pytest.mark.parametrize("route", [(), ("--point", "G"), ("--method", "lagrange")])
+@pytest.mark.parametrize("rate", ["1e8 rad/s", "1e9 rad/s", "1 rad/s"])
+def test_precision_bounds_the_float64_error_it_shows(solver_cli, route, rate):
+    """`precision` printed "float64 relative error bound ~ 1.5e-15" beside theta_ddot's rel. error 1.
+    Each unknown now has its own bound, counting the equations' cancellation; it must cover the
+    float64 answer's actual error against -1.5 g sin(theta)/L (and the exact solve's)."""
+    code, out, err = solver_cli("precision", PIN_BAR, "--set", f"theta_dot={rate}", *route, "--json")
+    assert code == 0, err
+    solutions = json.loads(out)["solutions"]
+    float64 = solutions["float64"]
+    for name in ("theta_ddot", "alpha"):
+        bound = float64["float64_relative_error_bound"][name]
+        assert abs(float64["unknowns"][name]["value"] - EXACT) / abs(EXACT) <= bound
+        assert solutions["exact"]["float64_relative_error"][name] <= bound
+
+
+def test_a_matrix_lost_to_round_off_is_not_called_a_singular_configuration(solver_cli):
+    """About the bar's free end A at 3e8 rad/s the matrix's entries are m L omega**2 terms of 1e17 that
+    cancel to about 0.5: float64 leaves noise, which the solve found singular and blamed on "a singular
+    configuration at theta = 60 deg" (the bar on its pin is regular at every angle: I_O = m L**2/3).
+    Now one line says the terms cancel beyond float64's digits, exit 2."""
+    code, out, err = solver_cli("solve", PIN_BAR, "--point", "A", "--set", "theta_dot=3e8 rad/s", "--set", "theta=60 deg")
+    assert (code, out, err.count("\n")) == (2, "", 1)
+    assert "cancel beyond float64's digits" in err and "no singular configuration" in err and "theta_dot = 3e+08 rad/s" in err
