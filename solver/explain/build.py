@@ -823,7 +823,7 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
     cond = _condition_number(numeric[0])
     if scene.contacts:  # the product's own regime solve, and the same by the mass-centre form
         solution = solution_in_regime(scene, *found, point, "generalized_euler")
-        check = solve_instant(scene, None, "mass_center", state).unknowns
+        check = _mass_center_in_regime(scene, found)
     else:
         solution = (_solve_at_state(system, f, point, state, numeric, cond)
                     or solve_instant(system, point, "generalized_euler", state))
@@ -1418,6 +1418,35 @@ def _mass_center_check(system, state) -> dict:
     for r in system.reactions:
         out[r.name] = Q_(x[r.name], r.unit)
     return out
+
+
+def _mass_center_in_regime(scene, found) -> dict:
+    """The unknowns of a scene with contacts by the mass-centre form (Eqs. 1-2), in the contact regime
+    the generalized Euler route found (``found``: (regime, warning, state) of
+    :func:`solver.analyses.regimes.regime_at_state`).
+
+    The check stays a route of its own: the mass-centre equations are solved in that regime and
+    every condition of the regime (normal forces press, sticking friction in its cone, a slip
+    sliding its way) is tested again on their numbers; only the search for the regime is not
+    repeated. When a condition fails on them, the regime is indeterminate or none was found, the
+    whole search is run by the mass-centre form (:func:`solver.analyses.instant.solve_instant`).
+    The conditions are tested as the search tests its final regime (``strict_direction=False``:
+    a slip at rest is the kinetic one after an impending slip, which the search solves so)."""
+    from ..analyses.instant import solution_in_regime, solve_instant
+    from ..analyses.regimes import solve_in_regime
+    from ..errors import SceneError
+
+    regime, _, state = found
+    res = None
+    if regime is not None and not regime.indeterminate:
+        try:
+            res = solve_in_regime(scene, regime.regimes, state.q, state.qd, state.t, None, "mass_center",
+                                  strict_direction=False)
+        except SceneError:  # (singular with every contact holding, or not describable: the search decides)
+            res = None
+    if res is None or isinstance(res, str):
+        return solve_instant(scene, None, "mass_center", state).unknowns
+    return solution_in_regime(scene, res, None, state, None, "mass_center").unknowns
 
 
 def _check_step(system, solution, check) -> Step:
