@@ -31,7 +31,9 @@ explain 14-16 ms (0.35-0.40x; 0.72-0.86x); disk_bar KanesMethod 44-45 ms (22-23 
 (sliding_bar, wall time per run, fastest of 30, 2026-11-26): the scene load 2.2 ms, the Euler step
 2.5, the formulations 2.1, the equation of motion 1.6, the rendering 1.5, the kinematics 1.4, the
 mass-centre check 1.2, the numbers at the state 1.0, the advisor 1.8; tidying about 3 ms of these
-and printing about 2. disk_bar's contact adds the regime search twice (about 4 ms). Under the
+and printing about 2. disk_bar's contact adds the regime search, once (about 2.6 ms: the
+mass-centre check solves in the regime found and tests its conditions again, without a second
+search; the contact kinematics are walked, not compiled, for the state's few calls). Under the
 neighbours' load every figure moves by up to a half.
 
 Writes reports/build/bench/explain.json.
