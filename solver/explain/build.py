@@ -82,6 +82,31 @@ def _at_state(system, expr, state):
     return substitute(expr, _state_subs(system, state), memo)
 
 
+def _walk_state(system, state) -> tuple[dict, dict]:
+    """(symbol -> double at ``state``, the memo of the walks there): what :func:`_float_at_state` and
+    the equations with the data entered walk with, remembered by the system for that state (the
+    formulations' matrices and the equations shown share the bodies' kinematics). Read only."""
+    def build():
+        return {k: float(v) for k, v in _state_subs(system, state).items()}, {}
+    return system._memo(("walk_state", tuple(state.q), tuple(state.qd), state.t), build)
+
+
+def _float_at_state(system, expr, state) -> float:
+    """``float(_at_state(system, expr, state))`` by one walk of the tree in double precision
+    (:func:`solver.tree_value.tree_value`), without the sympy Floats built node by node; by
+    :func:`_at_state` where the walk does not go or gives no real number."""
+    from ..tree_value import NotEvaluable, tree_value
+
+    point, memo = _walk_state(system, state)
+    try:
+        value = tree_value(sp.sympify(expr), point, memo=memo)
+    except (NotEvaluable, KeyError, TypeError, ValueError, ZeroDivisionError, OverflowError):
+        value = None
+    if value is None or value.imag != 0:
+        return float(_at_state(system, expr, state))
+    return value.real
+
+
 def _value(expr, subs) -> float:
     return float(sp.sympify(expr).xreplace(subs).xreplace(subs))
 
@@ -1247,9 +1272,8 @@ def _numbers_step(system, f, expl, state) -> Step | None:
                     eq = collected
                     residual = sp.sympify(collected.residual).xreplace({ALPHA: system.alpha(section.body)})
                     unit = _collected_unit(system, collected)
-            row = sp.expand(_at_state(system, residual, state))
             scale, row_unit = _per_si(system, unit)
-            coefficients, known = _numeric_row(row, [u for u, _, _ in unknowns])
+            coefficients, known = _numbers_at_state(system, residual, [u for u, _, _ in unknowns], state)
             terms = []
             for u, name, _ in unknowns:
                 coef = float(coefficients[u]) * scale / per[u]
@@ -1270,6 +1294,25 @@ def _numbers_step(system, f, expl, state) -> Step | None:
     if system.closure:
         text.append("The closure rows of the joints (acceleration level) complete the system; they are not shown.")
     return Step("numbers", "The equations with the data entered", text, [e for _, e in rows])
+
+
+def _numbers_at_state(system, residual, unknowns: list, state) -> tuple[dict, float]:
+    """({unknown: its coefficient}, the rest) of an equation's ``residual``, affine in the
+    ``unknowns``, at the state in double precision by one walk of its tree
+    (:func:`solver.tree_value.affine_value`, sharing the walks at the state with
+    :func:`_float_at_state`); where the walk does not go or gives no real number, by the
+    residual with the state substituted and expanded (:func:`_numeric_row`)."""
+    from ..tree_value import NotEvaluable, affine_value
+
+    point, memo = _walk_state(system, state)
+    try:
+        values = affine_value(residual, point, unknowns, memo)
+    except (NotEvaluable, KeyError, TypeError, ValueError, ZeroDivisionError, OverflowError):
+        values = None
+    if values is None or any(v.imag != 0 for v in values):
+        coefficients, known = _numeric_row(sp.expand(_at_state(system, residual, state)), unknowns)
+        return {u: float(c) for u, c in coefficients.items()}, float(known)
+    return {u: v.real for u, v in zip(unknowns, values[1:])}, values[0].real
 
 
 def _numeric_row(row: sp.Expr, unknowns: list) -> tuple[dict, sp.Expr]:
@@ -1359,12 +1402,13 @@ def _solution_step(system, solution, cond: float | None) -> Step:
 
 
 def _numeric_system(system, f, state):
-    """(A, b) of a formulation evaluated at the state by substitution (one state: cheaper than lambdify)."""
+    """(A, b) of a formulation evaluated at the state by tree walks (:func:`_float_at_state`; one state:
+    cheaper than lambdify)."""
     import numpy as np
 
     A, b = f.linear_system()
-    An = np.array([[float(_at_state(system, x, state)) for x in row] for row in A.tolist()])
-    bn = np.array([float(_at_state(system, x, state)) for x in b])
+    An = np.array([[_float_at_state(system, x, state) for x in row] for row in A.tolist()])
+    bn = np.array([_float_at_state(system, x, state) for x in b])
     return An, bn
 
 
