@@ -136,7 +136,6 @@ def _rows(system, f, body, subs):
         eqs = dict(zip("xyE", body_equations(system, body, P0, a_P)))
         return {k: np.array([_numeric(a, subs) for a in _coefficients(e.expr, f.unknowns, zero)])
                 for k, e in eqs.items()}
-    A, _ = f.linear_system()
     idx = {"x": None, "y": None, "E": None}
     for i, e in enumerate(f.equations):
         if e.body != body:
@@ -148,8 +147,23 @@ def _rows(system, f, body, subs):
             idx["y"] = i
         elif tail.startswith("Euler"):
             idx["E"] = i
-    rows = A.tolist()  # (a Matrix row costs tens of microseconds)
-    return {k: np.array([_numeric(a, subs) for a in rows[i]]) for k, i in idx.items()}
+    return {k: _coefficients_at(f, i, subs) for k, i in idx.items()}
+
+
+def _coefficients_at(f, i: int, subs: _State) -> np.ndarray:
+    """The coefficients of the unknowns of ``f`` in its equation ``i`` at the state, by one walk of
+    its tree (:func:`solver.tree_value.affine_value`); by row ``i`` of the formulation's matrix A
+    where the walk does not go or gives no real number."""
+    from ..tree_value import NotEvaluable, affine_value
+
+    try:
+        values = affine_value(f.equations[i].expr, subs.floats, list(f.unknowns), subs.values)[1:]
+    except (NotEvaluable, KeyError, TypeError, ValueError, ZeroDivisionError, OverflowError):
+        values = None
+    if values is None or any(v.imag != 0 for v in values):
+        A, _ = f.linear_system()
+        return np.array([_numeric(a, subs) for a in A.tolist()[i]])
+    return np.array([v.real for v in values])
 
 
 def _known_points(system, body, forces_at):
@@ -171,9 +185,9 @@ class _BodyRows:
     the moment equation" both ask :meth:`unknowns_about`)."""
 
     def __init__(self, system, f, body: str, state):
-        from .build import _state_subs
+        from .build import _walk_state
 
-        self.subs = _State(_state_subs(system, state))
+        self.subs = _walk_state(system, state)
         self.rows = _rows(system, f, body, self.subs)
         self.names = [str(u) for u in f.unknowns]
         self.scale = max(float(np.max(np.abs(r))) for r in self.rows.values()) or 1.0

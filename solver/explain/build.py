@@ -82,29 +82,15 @@ def _at_state(system, expr, state):
     return substitute(expr, _state_subs(system, state), memo)
 
 
-def _walk_state(system, state) -> tuple[dict, dict]:
-    """(symbol -> double at ``state``, the memo of the walks there): what :func:`_float_at_state` and
-    the equations with the data entered walk with, remembered by the system for that state (the
-    formulations' matrices and the equations shown share the bodies' kinematics). Read only."""
-    def build():
-        return {k: float(v) for k, v in _state_subs(system, state).items()}, {}
-    return system._memo(("walk_state", tuple(state.q), tuple(state.qd), state.t), build)
+def _walk_state(system, state):
+    """The state as the walks at it take it: a :class:`solver.explain.advisor._State` (the Floats of
+    :func:`_state_subs`, the same as doubles, and the memo of the subtrees' values there), remembered
+    by the system for that state (the advisor's rows, the formulations' matrices and the equations
+    with the data entered share the bodies' kinematics). Read only, but for the memo."""
+    from .advisor import _State
 
-
-def _float_at_state(system, expr, state) -> float:
-    """``float(_at_state(system, expr, state))`` by one walk of the tree in double precision
-    (:func:`solver.tree_value.tree_value`), without the sympy Floats built node by node; by
-    :func:`_at_state` where the walk does not go or gives no real number."""
-    from ..tree_value import NotEvaluable, tree_value
-
-    point, memo = _walk_state(system, state)
-    try:
-        value = tree_value(sp.sympify(expr), point, memo=memo)
-    except (NotEvaluable, KeyError, TypeError, ValueError, ZeroDivisionError, OverflowError):
-        value = None
-    if value is None or value.imag != 0:
-        return float(_at_state(system, expr, state))
-    return value.real
+    return system._memo(("walk_state", tuple(state.q), tuple(state.qd), state.t),
+                        lambda: _State(_state_subs(system, state)))
 
 
 def _value(expr, subs) -> float:
@@ -1299,14 +1285,14 @@ def _numbers_step(system, f, expl, state) -> Step | None:
 def _numbers_at_state(system, residual, unknowns: list, state) -> tuple[dict, float]:
     """({unknown: its coefficient}, the rest) of an equation's ``residual``, affine in the
     ``unknowns``, at the state in double precision by one walk of its tree
-    (:func:`solver.tree_value.affine_value`, sharing the walks at the state with
-    :func:`_float_at_state`); where the walk does not go or gives no real number, by the
-    residual with the state substituted and expanded (:func:`_numeric_row`)."""
+    (:func:`solver.tree_value.affine_value`, sharing the walks at the state: :func:`_walk_state`);
+    where the walk does not go or gives no real number, by the residual with the state substituted
+    and expanded (:func:`_numeric_row`)."""
     from ..tree_value import NotEvaluable, affine_value
 
-    point, memo = _walk_state(system, state)
+    at = _walk_state(system, state)
     try:
-        values = affine_value(residual, point, unknowns, memo)
+        values = affine_value(residual, at.floats, unknowns, at.values)
     except (NotEvaluable, KeyError, TypeError, ValueError, ZeroDivisionError, OverflowError):
         values = None
     if values is None or any(v.imag != 0 for v in values):
@@ -1402,13 +1388,15 @@ def _solution_step(system, solution, cond: float | None) -> Step:
 
 
 def _numeric_system(system, f, state):
-    """(A, b) of a formulation evaluated at the state by tree walks (:func:`_float_at_state`; one state:
-    cheaper than lambdify)."""
+    """(A, b) of a formulation at the state, A x = b: each equation's coefficients and rest by one
+    walk of its tree (:func:`_numbers_at_state`; one state: cheaper than lambdify, and than the
+    symbolic matrices ``linear_system`` builds to be evaluated after)."""
     import numpy as np
 
-    A, b = f.linear_system()
-    An = np.array([[_float_at_state(system, x, state) for x in row] for row in A.tolist()])
-    bn = np.array([_float_at_state(system, x, state) for x in b])
+    unknowns = list(f.unknowns)
+    rows = [_numbers_at_state(system, e.expr, unknowns, state) for e in f.equations]
+    An = np.array([[coefficients[u] for u in unknowns] for coefficients, _ in rows], dtype=float)
+    bn = np.array([-known for _, known in rows], dtype=float)
     return An, bn
 
 
