@@ -97,13 +97,22 @@ class Candidate:
 
 class _State(dict):
     """The state as symbol -> sympy Float (for ``xreplace``), with ``floats``: the same as Python floats,
-    and ``values``: the value of each subtree evaluated there so far (a body's coefficients and
-    positions share their kinematics: :func:`solver.tree_value.tree_value`'s ``memo``)."""
+    ``values``: the value of each subtree evaluated there so far (a body's coefficients and
+    positions share their kinematics: :func:`solver.tree_value.tree_value`'s ``memo``), and
+    ``forms``: per tuple of unknowns, the affine forms of the subtrees holding them
+    (:func:`solver.tree_value.affine_value`'s ``forms``)."""
 
     def __init__(self, subs):
         super().__init__(subs)
         self.floats = {k: float(v) for k, v in subs.items()}
         self.values: dict = {}
+        self.forms: dict = {}
+
+    def affine(self, expr, unknowns: list) -> list:
+        """:func:`solver.tree_value.affine_value` of ``expr`` at this state, sharing the walks."""
+        from ..tree_value import affine_value
+
+        return affine_value(expr, self.floats, unknowns, self.values, self.forms.setdefault(tuple(unknowns), {}))
 
 
 def _numeric(expr, subs: _State) -> float:
@@ -154,10 +163,10 @@ def _coefficients_at(f, i: int, subs: _State) -> np.ndarray:
     """The coefficients of the unknowns of ``f`` in its equation ``i`` at the state, by one walk of
     its tree (:func:`solver.tree_value.affine_value`); by row ``i`` of the formulation's matrix A
     where the walk does not go or gives no real number."""
-    from ..tree_value import NotEvaluable, affine_value
+    from ..tree_value import NotEvaluable
 
     try:
-        values = affine_value(f.equations[i].expr, subs.floats, list(f.unknowns), subs.values)[1:]
+        values = subs.affine(f.equations[i].expr, list(f.unknowns))[1:]
     except (NotEvaluable, KeyError, TypeError, ValueError, ZeroDivisionError, OverflowError):
         values = None
     if values is None or any(v.imag != 0 for v in values):

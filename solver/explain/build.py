@@ -1288,11 +1288,10 @@ def _numbers_at_state(system, residual, unknowns: list, state) -> tuple[dict, fl
     (:func:`solver.tree_value.affine_value`, sharing the walks at the state: :func:`_walk_state`);
     where the walk does not go or gives no real number, by the residual with the state substituted
     and expanded (:func:`_numeric_row`)."""
-    from ..tree_value import NotEvaluable, affine_value
+    from ..tree_value import NotEvaluable
 
-    at = _walk_state(system, state)
     try:
-        values = affine_value(residual, at.floats, unknowns, at.values)
+        values = _walk_state(system, state).affine(residual, unknowns)
     except (NotEvaluable, KeyError, TypeError, ValueError, ZeroDivisionError, OverflowError):
         values = None
     if values is None or any(v.imag != 0 for v in values):
