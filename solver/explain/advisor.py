@@ -319,11 +319,19 @@ def _fixed(system, body, name) -> bool:
 
 
 def _group(row, rows, scale):
-    """Smallest solvable group containing the moment row: unknowns <= equations."""
+    """Smallest solvable group containing the moment row: unknowns <= equations, their columns of
+    full rank (``numpy.linalg.matrix_rank``; a single unknown in a single row, whose finite entry is
+    above the zero tolerance, has rank 1 without it)."""
+    tol = _REL_ZERO * scale
+    held = {id(r): np.abs(r) > tol for r in (row, rows["x"], rows["y"])}
     options = [(row,), (row, rows["x"]), (row, rows["y"]), (row, rows["x"], rows["y"])]
     for group in options:
-        present = np.any(np.abs(np.vstack(group)) > _REL_ZERO * scale, axis=0)
-        if 0 < int(present.sum()) <= len(group) and np.linalg.matrix_rank(np.vstack(group)[:, present]) == int(present.sum()):
+        present = np.logical_or.reduce([held[id(r)] for r in group])
+        count = int(present.sum())
+        if not 0 < count <= len(group):
+            continue
+        if (count == 1 and len(group) == 1 and np.isfinite(row[present]).all()
+                or np.linalg.matrix_rank(np.vstack(group)[:, present]) == count):
             return len(group)
     return None
 
