@@ -25,7 +25,7 @@ import mpmath
 import sympy as sp
 
 __all__ = ["Arithmetic", "DOUBLE", "SIZED", "Sized", "mpmath_arithmetic", "NotEvaluable", "real_value", "substitute", "tree_value",
-           "tree_program"]
+           "tree_program", "affine_value"]
 
 
 class NotEvaluable(Exception):
@@ -219,6 +219,78 @@ def tree_value(expr: sp.Expr, point: dict, arithmetic: Arithmetic = DOUBLE, memo
     memo[expr] = value
     return value
 
+
+
+def affine_value(expr: sp.Expr, point: dict, unknowns: list, memo: dict | None = None,
+                 forms: dict | None = None) -> list:
+    """[``expr`` with the ``unknowns`` 0, then the coefficient of each unknown] at ``point`` (Symbol ->
+    double), for an ``expr`` affine in the unknowns, by one walk of its tree in double-precision
+    complex arithmetic (:data:`DOUBLE`): a subtree free of the unknowns has its :func:`tree_value`
+    (``memo``, shared with it); a sum adds its arguments' lists in their order, a product scales
+    the one argument that holds unknowns by the product of the others. No expression is built
+    (``expand`` of the tree with the point substituted costs tens of times more). ``forms``: the
+    forms of the subtrees holding unknowns, shared by calls with the same point and unknowns (the
+    equations of one formulation share their kinematics); the lists are never changed once made.
+
+    Raises
+    ------
+    NotEvaluable
+        A product of two arguments holding unknowns, an unknown under a power or a function (not
+        affine, or not in that form), or a node :func:`tree_value` does not evaluate.
+    KeyError
+        A free symbol missing from ``point`` (and not an unknown).
+    """
+    memo = {} if memo is None else memo
+    index = {u: k for k, u in enumerate(unknowns, start=1)}
+    size = len(unknowns) + 1
+    affine = {} if forms is None else forms
+
+    def walk(e):  # a value (no unknown below) or the list of the affine form
+        done = memo.get(e)
+        if done is None:
+            done = affine.get(e)
+        if done is not None:
+            return done
+        if e in index:
+            out = [0j] * size
+            out[index[e]] = 1 + 0j
+        elif not (e.is_Add or e.is_Mul):
+            if any(isinstance(walk(a), list) for a in e.args):
+                raise NotEvaluable(f"an unknown under {type(e).__name__}")
+            return tree_value(e, point, DOUBLE, memo)
+        else:
+            parts = [walk(a) for a in e.args]
+            forms = [p for p in parts if isinstance(p, list)]
+            if not forms:
+                value = DOUBLE.total(parts) if e.is_Add else DOUBLE.product(parts)
+                memo[e] = value
+                return value
+            out = _affine_sum(parts, size) if e.is_Add else _affine_product(parts, forms)
+        affine[e] = out
+        return out
+
+    out = walk(expr)
+    return out if isinstance(out, list) else [out] + [0j] * len(unknowns)
+
+
+def _affine_sum(parts: list, size: int) -> list:
+    """The affine form of a sum of ``parts`` (values, and forms: lists), added in their order."""
+    out = [0j] * size
+    for p in parts:
+        if isinstance(p, list):
+            out = [a + b for a, b in zip(out, p)]
+        else:
+            out[0] += p
+    return out
+
+
+def _affine_product(parts: list, forms: list) -> list:
+    """The affine form of a product of ``parts`` of which one, ``forms[0]``, holds unknowns: that form
+    times the product of the others."""
+    if len(forms) > 1:
+        raise NotEvaluable("a product of two factors holding unknowns")
+    k = DOUBLE.product(p for p in parts if not isinstance(p, list))
+    return [k * c for c in forms[0]]
 
 
 def _program_steps(exprs: list, arithmetic: Arithmetic) -> tuple[list, list]:

@@ -704,3 +704,27 @@ def test_eom_refuses_a_regime_it_cannot_write_saying_why(solver_cli, scene, why)
     code, out, err = solver_cli("eom", f"data/scenes/{scene}")
     assert code == 2 and out == "" and len(err.strip().splitlines()) == 1
     assert why in err and "in the contact regime that holds at the state" in err
+
+
+def test_contact_kinematics_walked_then_compiled_equal_exact_values():
+    """The ladder's contact kinematics (gap, its rates, the sliding rate and acceleration) are walked
+    for a state's first calls and compiled after: both give sympy's 30-digit values of the same
+    expressions at random states, to 1e-12 of the largest (a few dozen double operations round
+    to ~1e-15 of it; a dropped or wrong term is off by order one)."""
+    from pathlib import Path
+
+    import sympy as sp
+
+    from solver.analyses.regimes import contact_kinematics
+    from solver.io.scenes import load_system
+
+    system = load_system(Path(__file__).resolve().parents[1] / "data/scenes/ladder_friction.toml")
+    rng = np.random.default_rng(7)
+    for f, pv in contact_kinematics(system).values():
+        for _ in range(f.WALKS + 3):
+            values = [*rng.uniform(0.2, 1.2, len(f.args) - len(pv)), *pv]
+            point = {a: sp.Float(v, 30) for a, v in zip(f.args, values)}
+            exact = [float(sp.N(e.xreplace(point), 30)) for e in f.exprs]
+            scale = max(1.0, *map(abs, exact))
+            assert np.allclose(f(*values), exact, rtol=0, atol=1e-12 * scale)
+        assert f._f is not None  # the calls after the first WALKS went to the compiled function

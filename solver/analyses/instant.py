@@ -186,9 +186,8 @@ class NumericModel:
         self.formulation = f
         self.system = sysm
         self.label = sysm.label
-        A, b = f.linear_system()
-        self.n = A.shape[0]
-        self.shape = A.shape
+        self.n = len(f.equations)
+        self.shape = (len(f.equations), len(f.unknowns))  # (A's, without building it: :meth:`entries`)
         self.names = tuple(str(u) for u in f.unknowns)
         self.owner = {}
         for c in sysm.free:
@@ -200,42 +199,54 @@ class NumericModel:
         params = sorted(values, key=str)
         self._param_values = tuple(values[p] for p in params)
         self.args = (*sysm.q, *sysm.qd, sysm.t)
-        entries = [sp.sympify(e) for e in list(A) + list(b)]
-        stray = free_symbols_of(entries) - set(self.args) - set(params)
+        stray = free_symbols_of([e.expr for e in f.equations]) - set(self.args) - set(params) - set(f.unknowns)
         if stray:
             raise InputError(f"{self.label}: undefined name(s) {', '.join(sorted(map(str, stray)))} in the scene's expressions")
-        self._entries, self._params = entries, tuple(params)
+        self._entries, self._params = None, tuple(params)
         self._f = None  # compiled on first use (:meth:`_compiled`)
         self._structured = None
+
+    def entries(self) -> list:
+        """The entries of A, row by row, then those of b (``Formulation.linear_system``), built on
+        first use: a model asked for one state only (:meth:`solve` with ``once``) walks the
+        equations themselves (:meth:`_walked`)."""
+        if self._entries is None:
+            A, b = self.formulation.linear_system()
+            self._entries = [sp.sympify(e) for e in list(A) + list(b)]
+        return self._entries
 
     def _compiled(self):
         """The entries of A and b as one numpy function (``lambdify`` with common subexpressions),
         built on first use: a model asked for one state only (:meth:`solve` with ``once``) never
         pays for it."""
         if self._f is None:
-            self._f = lambdify((*self.args, *self._params), self._entries, "numpy", cse=True)
+            self._f = lambdify((*self.args, *self._params), self.entries(), "numpy", cse=True)
         return self._f
 
     def _walked(self, arrays):
-        """The entries at the one state of ``arrays`` by one walk over their trees (shared subtrees
-        once: :func:`solver.tree_value.tree_value`), or None where the walk cannot go (then the
-        compiled function serves). What numpy would give as inf or nan, or a complex number gives,
-        is nan (a singular system, as the compiled path decides it)."""
-        from ..tree_value import NotEvaluable, real_value, tree_value
+        """The entries of A and b at the one state of ``arrays``, each equation's coefficients and rest
+        by one walk of its tree (:func:`solver.tree_value.affine_value`, shared subtrees once), or
+        None where the walk cannot go (then the compiled function serves). What numpy would give as
+        inf or nan, or a complex number gives, is nan (a singular system, as the compiled path
+        decides it): for a whole equation when its walk divides by zero or overflows."""
+        from ..tree_value import NotEvaluable, affine_value, real_value
 
         point = dict(zip(self._params, self._param_values))
         point.update((a, float(v.reshape(-1)[0])) for a, v in zip(self.args, arrays))
         memo: dict = {}
-        vals = []
-        for e in self._entries:
+        forms: dict = {}
+        unknowns = list(self.formulation.unknowns)
+        rows, rests = [], []
+        for e in self.formulation.equations:
             try:
-                v = tree_value(e, point, memo=memo)
+                values = affine_value(e.expr, point, unknowns, memo, forms)
             except (ZeroDivisionError, OverflowError):
-                v = complex(math.nan)
+                values = [complex(math.nan)] * (len(unknowns) + 1)
             except (NotEvaluable, KeyError, TypeError, ValueError):
                 return None
-            vals.append(real_value(v))
-        return vals
+            rows += [real_value(v) for v in values[1:]]
+            rests.append(real_value(-values[0]))
+        return rows + rests
 
     def matrices(self, q, qd, t=0.0, once: bool = False):
         """(A, b) at the states: q and qd are sequences (one array per free coordinate).

@@ -157,9 +157,9 @@ def _same(joint, regime) -> bool:
 
 
 def contact_kinematics(system):
-    """Per contact (joint name): functions of (q, qd, qdd, t) giving
-    (Phi_n, dPhi_n, d2Phi_n, dPhi_t, d2Phi_t) in ``system``'s coordinates
-    (cached on the system)."""
+    """Per contact (joint name): a :class:`_KinematicsAt` of (q, qd, qdd, t) giving
+    (Phi_n, dPhi_n, d2Phi_n, dPhi_t, d2Phi_t) in ``system``'s coordinates, and the parameters'
+    values (cached on the system)."""
     def build():
         pose = system._pose_fn(system.poses)
         values = system.si_values()
@@ -170,15 +170,52 @@ def contact_kinematics(system):
         for j in system.contacts:
             Pt, Pn = (system.prescribe(sp.sympify(x)) for x in j.contact_rows(pose))
             dPn, dPt = system.D(Pn), system.D(Pt)
-            f = lambdify(args, [Pn, dPn, system.D(dPn), dPt, system.D(dPt)], "math", cse=True)
-            out[j.name] = (f, pv)
+            out[j.name] = (_KinematicsAt(args, [Pn, dPn, system.D(dPn), dPt, system.D(dPt)]), pv)
         return out
     return system._memo("contact_kinematics", build)
 
 
+class _KinematicsAt:
+    """Expressions in ``args`` as a function of their values, a list of floats: for the first
+    :attr:`WALKS` calls by one walk of the trees each (:func:`solver.tree_value.tree_value`; a solve
+    or a worked solution asks at two or three states), then compiled (``lambdify`` with common
+    subexpressions, which costs as much as a few hundred walks: a simulation asks at every step
+    and event). An expression the walk does not know, or a value it cannot give (a division by
+    zero, a complex number), goes to the compiled function."""
+
+    WALKS = 8
+
+    def __init__(self, args, exprs):
+        self.args, self.exprs, self.walks, self._f = args, exprs, 0, None
+
+    def __call__(self, *values) -> list[float]:
+        if self._f is None and self.walks < self.WALKS:
+            self.walks += 1
+            walked = self._walked(values)
+            if walked is not None:
+                return walked
+        if self._f is None:
+            self._f = lambdify(self.args, self.exprs, "math", cse=True)
+        return [float(v) for v in self._f(*values)]
+
+    def _walked(self, values):
+        from ..tree_value import NotEvaluable, tree_value
+
+        point, memo, out = dict(zip(self.args, map(float, values))), {}, []
+        try:
+            for e in self.exprs:
+                v = tree_value(e, point, memo=memo)
+                if v.imag != 0:
+                    return None
+                out.append(v.real)
+        except (NotEvaluable, KeyError, TypeError, ValueError, ZeroDivisionError, OverflowError):
+            return None
+        return out
+
+
 def _kin(system, name, q, qd, qdd, t):
     f, pv = contact_kinematics(system)[name]
-    return [float(v) for v in f(*q, *qd, *qdd, t, *pv)]
+    return f(*q, *qd, *qdd, t, *pv)
 
 
 def _candidates(system, q, qd, t) -> dict[str, list[Regime]]:

@@ -97,13 +97,22 @@ class Candidate:
 
 class _State(dict):
     """The state as symbol -> sympy Float (for ``xreplace``), with ``floats``: the same as Python floats,
-    and ``values``: the value of each subtree evaluated there so far (a body's coefficients and
-    positions share their kinematics: :func:`solver.tree_value.tree_value`'s ``memo``)."""
+    ``values``: the value of each subtree evaluated there so far (a body's coefficients and
+    positions share their kinematics: :func:`solver.tree_value.tree_value`'s ``memo``), and
+    ``forms``: per tuple of unknowns, the affine forms of the subtrees holding them
+    (:func:`solver.tree_value.affine_value`'s ``forms``)."""
 
     def __init__(self, subs):
         super().__init__(subs)
         self.floats = {k: float(v) for k, v in subs.items()}
         self.values: dict = {}
+        self.forms: dict = {}
+
+    def affine(self, expr, unknowns: list) -> list:
+        """:func:`solver.tree_value.affine_value` of ``expr`` at this state, sharing the walks."""
+        from ..tree_value import affine_value
+
+        return affine_value(expr, self.floats, unknowns, self.values, self.forms.setdefault(tuple(unknowns), {}))
 
 
 def _numeric(expr, subs: _State) -> float:
@@ -136,7 +145,6 @@ def _rows(system, f, body, subs):
         eqs = dict(zip("xyE", body_equations(system, body, P0, a_P)))
         return {k: np.array([_numeric(a, subs) for a in _coefficients(e.expr, f.unknowns, zero)])
                 for k, e in eqs.items()}
-    A, _ = f.linear_system()
     idx = {"x": None, "y": None, "E": None}
     for i, e in enumerate(f.equations):
         if e.body != body:
@@ -148,8 +156,23 @@ def _rows(system, f, body, subs):
             idx["y"] = i
         elif tail.startswith("Euler"):
             idx["E"] = i
-    rows = A.tolist()  # (a Matrix row costs tens of microseconds)
-    return {k: np.array([_numeric(a, subs) for a in rows[i]]) for k, i in idx.items()}
+    return {k: _coefficients_at(f, i, subs) for k, i in idx.items()}
+
+
+def _coefficients_at(f, i: int, subs: _State) -> np.ndarray:
+    """The coefficients of the unknowns of ``f`` in its equation ``i`` at the state, by one walk of
+    its tree (:func:`solver.tree_value.affine_value`); by row ``i`` of the formulation's matrix A
+    where the walk does not go or gives no real number."""
+    from ..tree_value import NotEvaluable
+
+    try:
+        values = subs.affine(f.equations[i].expr, list(f.unknowns))[1:]
+    except (NotEvaluable, KeyError, TypeError, ValueError, ZeroDivisionError, OverflowError):
+        values = None
+    if values is None or any(v.imag != 0 for v in values):
+        A, _ = f.linear_system()
+        return np.array([_numeric(a, subs) for a in A.tolist()[i]])
+    return np.array([v.real for v in values])
 
 
 def _known_points(system, body, forces_at):
@@ -171,9 +194,9 @@ class _BodyRows:
     the moment equation" both ask :meth:`unknowns_about`)."""
 
     def __init__(self, system, f, body: str, state):
-        from .build import _state_subs
+        from .build import _walk_state
 
-        self.subs = _State(_state_subs(system, state))
+        self.subs = _walk_state(system, state)
         self.rows = _rows(system, f, body, self.subs)
         self.names = [str(u) for u in f.unknowns]
         self.scale = max(float(np.max(np.abs(r))) for r in self.rows.values()) or 1.0
@@ -296,11 +319,19 @@ def _fixed(system, body, name) -> bool:
 
 
 def _group(row, rows, scale):
-    """Smallest solvable group containing the moment row: unknowns <= equations."""
+    """Smallest solvable group containing the moment row: unknowns <= equations, their columns of
+    full rank (``numpy.linalg.matrix_rank``; a single unknown in a single row, whose finite entry is
+    above the zero tolerance, has rank 1 without it)."""
+    tol = _REL_ZERO * scale
+    held = {id(r): np.abs(r) > tol for r in (row, rows["x"], rows["y"])}
     options = [(row,), (row, rows["x"]), (row, rows["y"]), (row, rows["x"], rows["y"])]
     for group in options:
-        present = np.any(np.abs(np.vstack(group)) > _REL_ZERO * scale, axis=0)
-        if 0 < int(present.sum()) <= len(group) and np.linalg.matrix_rank(np.vstack(group)[:, present]) == int(present.sum()):
+        present = np.logical_or.reduce([held[id(r)] for r in group])
+        count = int(present.sum())
+        if not 0 < count <= len(group):
+            continue
+        if (count == 1 and len(group) == 1 and np.isfinite(row[present]).all()
+                or np.linalg.matrix_rank(np.vstack(group)[:, present]) == count):
             return len(group)
     return None
 

@@ -82,6 +82,17 @@ def _at_state(system, expr, state):
     return substitute(expr, _state_subs(system, state), memo)
 
 
+def _walk_state(system, state):
+    """The state as the walks at it take it: a :class:`solver.explain.advisor._State` (the Floats of
+    :func:`_state_subs`, the same as doubles, and the memo of the subtrees' values there), remembered
+    by the system for that state (the advisor's rows, the formulations' matrices and the equations
+    with the data entered share the bodies' kinematics). Read only, but for the memo."""
+    from .advisor import _State
+
+    return system._memo(("walk_state", tuple(state.q), tuple(state.qd), state.t),
+                        lambda: _State(_state_subs(system, state)))
+
+
 def _value(expr, subs) -> float:
     return float(sp.sympify(expr).xreplace(subs).xreplace(subs))
 
@@ -862,7 +873,7 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
     cond = _condition_number(numeric[0])
     if scene.contacts:  # the product's own regime solve, and the same by the mass-centre form
         solution = solution_in_regime(scene, *found, point, "generalized_euler")
-        check = solve_instant(scene, None, "mass_center", state).unknowns
+        check = _mass_center_in_regime(scene, found)
     else:
         solution = (_solve_at_state(system, f, point, state, numeric, cond)
                     or solve_instant(system, point, "generalized_euler", state))
@@ -1299,9 +1310,8 @@ def _numbers_step(system, f, expl, state) -> Step | None:
                     eq = collected
                     residual = sp.sympify(collected.residual).xreplace({ALPHA: system.alpha(section.body)})
                     unit = _collected_unit(system, collected)
-            row = sp.expand(_at_state(system, residual, state))
             scale, row_unit = _per_si(system, unit)
-            coefficients, known = _numeric_row(row, [u for u, _, _ in unknowns])
+            coefficients, known = _numbers_at_state(system, residual, [u for u, _, _ in unknowns], state)
             terms = []
             for u, name, _ in unknowns:
                 coef = float(coefficients[u]) * scale / per[u]
@@ -1322,6 +1332,24 @@ def _numbers_step(system, f, expl, state) -> Step | None:
     if system.closure:
         text.append("The closure rows of the joints (acceleration level) complete the system; they are not shown.")
     return Step("numbers", "The equations with the data entered", text, [e for _, e in rows])
+
+
+def _numbers_at_state(system, residual, unknowns: list, state) -> tuple[dict, float]:
+    """({unknown: its coefficient}, the rest) of an equation's ``residual``, affine in the
+    ``unknowns``, at the state in double precision by one walk of its tree
+    (:func:`solver.tree_value.affine_value`, sharing the walks at the state: :func:`_walk_state`);
+    where the walk does not go or gives no real number, by the residual with the state substituted
+    and expanded (:func:`_numeric_row`)."""
+    from ..tree_value import NotEvaluable
+
+    try:
+        values = _walk_state(system, state).affine(residual, unknowns)
+    except (NotEvaluable, KeyError, TypeError, ValueError, ZeroDivisionError, OverflowError):
+        values = None
+    if values is None or any(v.imag != 0 for v in values):
+        coefficients, known = _numeric_row(sp.expand(_at_state(system, residual, state)), unknowns)
+        return {u: float(c) for u, c in coefficients.items()}, float(known)
+    return {u: v.real for u, v in zip(unknowns, values[1:])}, values[0].real
 
 
 def _numeric_row(row: sp.Expr, unknowns: list) -> tuple[dict, sp.Expr]:
@@ -1411,12 +1439,15 @@ def _solution_step(system, solution, cond: float | None) -> Step:
 
 
 def _numeric_system(system, f, state):
-    """(A, b) of a formulation evaluated at the state by substitution (one state: cheaper than lambdify)."""
+    """(A, b) of a formulation at the state, A x = b: each equation's coefficients and rest by one
+    walk of its tree (:func:`_numbers_at_state`; one state: cheaper than lambdify, and than the
+    symbolic matrices ``linear_system`` builds to be evaluated after)."""
     import numpy as np
 
-    A, b = f.linear_system()
-    An = np.array([[float(_at_state(system, x, state)) for x in row] for row in A.tolist()])
-    bn = np.array([float(_at_state(system, x, state)) for x in b])
+    unknowns = list(f.unknowns)
+    rows = [_numbers_at_state(system, e.expr, unknowns, state) for e in f.equations]
+    An = np.array([[coefficients[u] for u in unknowns] for coefficients, _ in rows], dtype=float)
+    bn = np.array([-known for _, known in rows], dtype=float)
     return An, bn
 
 
@@ -1470,6 +1501,35 @@ def _mass_center_check(system, state) -> dict:
     for r in system.reactions:
         out[r.name] = Q_(x[r.name], r.unit)
     return out
+
+
+def _mass_center_in_regime(scene, found) -> dict:
+    """The unknowns of a scene with contacts by the mass-centre form (Eqs. 1-2), in the contact regime
+    the generalized Euler route found (``found``: (regime, warning, state) of
+    :func:`solver.analyses.regimes.regime_at_state`).
+
+    The check stays a route of its own: the mass-centre equations are solved in that regime and
+    every condition of the regime (normal forces press, sticking friction in its cone, a slip
+    sliding its way) is tested again on their numbers; only the search for the regime is not
+    repeated. When a condition fails on them, the regime is indeterminate or none was found, the
+    whole search is run by the mass-centre form (:func:`solver.analyses.instant.solve_instant`).
+    The conditions are tested as the search tests its final regime (``strict_direction=False``:
+    a slip at rest is the kinetic one after an impending slip, which the search solves so)."""
+    from ..analyses.instant import solution_in_regime, solve_instant
+    from ..analyses.regimes import solve_in_regime
+    from ..errors import SceneError
+
+    regime, _, state = found
+    res = None
+    if regime is not None and not regime.indeterminate:
+        try:
+            res = solve_in_regime(scene, regime.regimes, state.q, state.qd, state.t, None, "mass_center",
+                                  strict_direction=False)
+        except SceneError:  # (singular with every contact holding, or not describable: the search decides)
+            res = None
+    if res is None or isinstance(res, str):
+        return solve_instant(scene, None, "mass_center", state).unknowns
+    return solution_in_regime(scene, res, None, state, None, "mass_center").unknowns
 
 
 def _check_step(system, solution, check) -> Step:

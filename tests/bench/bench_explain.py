@@ -28,11 +28,15 @@ Figures (2026-11-26, 03:35 UTC, two runs on an idle machine): sliding_bar KanesM
 equation of motion alone 19 ms), eom 7 ms (0.17-0.19x; 0.35-0.39x the equation of motion alone),
 explain 14-16 ms (0.35-0.40x; 0.72-0.86x); disk_bar KanesMethod 44-45 ms (22-23 ms), eom 6-7 ms
 (0.15-0.17x; 0.29-0.33x), explain 16-19 ms (0.36-0.43x; 0.72-0.84x). Where explain's time goes
-(sliding_bar, wall time per run, fastest of 30, 2026-11-26): the scene load 2.2 ms, the Euler step
-2.5, the formulations 2.1, the equation of motion 1.6, the rendering 1.5, the kinematics 1.4, the
-mass-centre check 1.2, the numbers at the state 1.0, the advisor 1.8; tidying about 3 ms of these
-and printing about 2. disk_bar's contact adds the regime search twice (about 4 ms). Under the
-neighbours' load every figure moves by up to a half.
+(sliding_bar, thread CPU per run, fastest of 25, 2026-11-26 04:30 UTC, a loaded machine): the scene
+load 2.2 ms, the Euler step 2.4 (its moment equation collected by unknown 1.0), the formulations 2.0,
+the equation of motion 1.6, the kinematics 1.5, the rendering 1.4, the advisor 1.0 (and its rows at
+the state 0.5), the numbers at the state 0.9, the mass-centre check 0.8; tidying about 3 ms of these
+and printing about 2. The numbers at the state come from one walk of each equation's tree
+(tree_value.affine_value), not from the symbolic linear system. disk_bar's contact adds the regime
+search, once (about 2.6 ms: the mass-centre check solves in the regime found and tests its
+conditions again, without a second search; the contact kinematics are walked, not compiled, for the
+state's few calls). Under the neighbours' load every figure moves by up to a half.
 
 Writes reports/build/bench/explain.json.
 """
