@@ -329,7 +329,7 @@ class NumericModel:
         """(S_A, S_b): the round-off sizes of A's and b's entries at one state (:func:`entry_sizes`)."""
         point = dict(zip(self._params, self._param_values))
         point.update((a, float(np.asarray(v, dtype=float).reshape(-1)[0])) for a, v in zip(self.args, (*q, *qd, t)))
-        sizes = entry_sizes(self._entries, point)
+        sizes = entry_sizes(self.entries(), point)
         if sizes is None or not np.all(np.isfinite(sizes)):
             return None
         m, k = self.shape
