@@ -110,7 +110,9 @@ def test_a_matrix_lost_to_round_off_is_not_called_a_singular_configuration(solve
     """About the bar's free end A at 3e8 rad/s the matrix's entries are m L omega**2 terms of 1e17 that
     cancel to about 0.5: float64 leaves noise, which the solve found singular and blamed on "a singular
     configuration at theta = 60 deg" (the bar on its pin is regular at every angle: I_O = m L**2/3).
-    Now one line says the terms cancel beyond float64's digits, exit 2."""
+    The single-state solve evaluates the entries by walking the equations (the order of the operations
+    is the equations'), where this noise matrix is regular: the answer is printed with the warning that
+    the angular acceleration lost every digit to the cancellation, and nothing calls it singular."""
     code, out, err = solver_cli("solve", PIN_BAR, "--point", "A", "--set", "theta_dot=3e8 rad/s", "--set", "theta=60 deg")
-    assert (code, out, err.count("\n")) == (2, "", 1)
-    assert "cancel beyond float64's digits" in err and "no singular configuration" in err and "theta_dot = 3e+08 rad/s" in err
+    assert code == 0 and "singular" not in out + err, (code, out, err)
+    assert "warning: cancellation" in out and "theta_ddot lost 16 of float64's 16 digits" in out
