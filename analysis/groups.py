@@ -12,13 +12,16 @@ compared item says so in ``direction`` (text, HTML, JSON). For a reverse-keyed i
 
 Two groups: Mann-Whitney U (``scipy.stats.mannwhitneyu``, two-sided; U is the second
 group's) with Cliff's delta of the second group against the first as the ordinal effect
-size. When the survey carries respondent ids
-(:attr:`~analysis.ingest.SurveyData.ids`) and at least ``min_size`` ids answered in
-both groups (pre/post), those pairs are compared instead with the Wilcoxon
-signed-rank test (``scipy.stats.wilcoxon`` on second minus first group, zero
-differences dropped) and the matched-pairs rank-biserial correlation
+size. In a paired design (pre/post: the same respondents in both groups, matched by
+the respondent ids :attr:`~analysis.ingest.SurveyData.ids`) the pairs are compared
+instead with the Wilcoxon signed-rank test (``scipy.stats.wilcoxon`` on second minus
+first group, zero differences dropped) and the matched-pairs rank-biserial correlation
 :math:`r = (T^+ - T^-)/(T^+ + T^-)` (Kerby 2014), positive when the second group
-answers higher. More groups: Kruskal-Wallis H (``scipy.stats.kruskal``) with
+answers higher. The design is paired when asked (``paired=True``), or, by default,
+when the ids found once in each group are at least ``min_size`` and at least
+:data:`AUTO_PAIR_SHARE` of each group's respondents: a few shared ids (students who
+moved section) leave the groups independent samples, with a note that they are not
+fully so. More groups: Kruskal-Wallis H (``scipy.stats.kruskal``) with
 epsilon-squared, :math:`H/(n-1)`, and a trend over the groups in their order:
 Spearman's rho between the group's position and the answer code
 (``scipy.stats.spearmanr``). When several items are tested, p-values are also
@@ -43,6 +46,7 @@ Public API: :func:`compare_groups` -> :class:`GroupComparison` (``to_dict()``,
 """
 from __future__ import annotations
 
+from collections import Counter
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -60,6 +64,12 @@ __all__ = ["GroupInfo", "ItemComparison", "GroupComparison", "compare_groups", "
 
 #: Most (reported groups x items) one comparison computes (about half a millisecond each).
 MAX_GROUP_CELLS = 10_000
+#: The automatic rule pairs two groups by respondent id only when the ids found once in
+#: each group pair at least this share of each group's respondents (and at least
+#: ``min_size`` of them): a few ids shared by two sections do not make a pre/post design.
+AUTO_PAIR_SHARE = 0.5
+#: Values of ``compare_groups(..., paired=)``: the automatic rule, pairs required, none.
+PAIRED_CHOICES = (None, True, False)
 
 
 def cliffs_delta(x, y) -> float:
@@ -171,7 +181,8 @@ class GroupComparison:
     summaries: dict = field(default_factory=dict, repr=False)   # shown group -> SurveySummary
     paired_by: str = ""
     note: str = ""
-    pairing: str = ""            # how ids were paired, or why not (two groups with ids)
+    pairing: str = ""            # how ids were paired, or why not (groups sharing ids)
+    design: str = ""             # "paired" or "independent" (two or more groups compared)
 
     @property
     def shown(self) -> list[str]:
@@ -179,8 +190,8 @@ class GroupComparison:
         return [g.name for g in self.groups if not g.suppressed]
 
     def to_dict(self) -> dict:
-        return {"column": self.column, "min_size": self.min_size, "paired_by": self.paired_by,
-                "note": self.note, "pairing": self.pairing,
+        return {"column": self.column, "min_size": self.min_size, "design": self.design,
+                "paired_by": self.paired_by, "note": self.note, "pairing": self.pairing,
                 "groups": [g.to_dict() for g in self.groups],
                 "items": [i.to_dict() for i in self.items]}
 
@@ -209,7 +220,7 @@ class GroupComparison:
         """Tests per item, then one line per shown group with its distribution, printed
         to ``decimals`` places by ``method`` as the main table prints it."""
         out = [f"groups by {self.column!r} (groups under {self.min_size} respondents suppressed)"
-               + (f"; pre/post paired by {self.paired_by!r}" if self.paired_by else "")]
+               + (f"; paired by {self.paired_by!r}" if self.paired_by else "")]
         for g in self.groups:
             out.append(f"  {g.name}: {g.respondents} respondents"
                        + (f" -- suppressed: {g.reason}" if g.suppressed else ""))
@@ -248,11 +259,13 @@ class GroupComparison:
         return "\n".join(out)
 
 
-def _validate_groups(data, column, min_size, order):
+def _validate_groups(data, column, min_size, order, paired):
     if not isinstance(data, SurveyData):
         raise TypeError(f"`data` must be SurveyData, got {type(data).__name__}")
     if not isinstance(min_size, int) or min_size < 1:
         raise ValueError(f"`min_size` must be a positive integer, got {min_size!r}")
+    if not any(paired is c for c in PAIRED_CHOICES):
+        raise ValueError(f"`paired` must be one of {list(PAIRED_CHOICES)}, got {paired!r}")
     validate_group_order(order)
     for name in data.groups:
         if normalize_answer(name) == normalize_answer(column):
@@ -284,7 +297,8 @@ def _group_values(texts: list[str], order, source):
 
 
 def compare_groups(data: SurveyData, column: str, min_size: int = 5,
-                   order: "list[str] | None" = None, paired: bool = True) -> GroupComparison:
+                   order: "list[str] | None" = None,
+                   paired: "bool | None" = None) -> GroupComparison:
     """Compare every item across the values of a grouping column.
 
     Parameters
@@ -298,15 +312,21 @@ def compare_groups(data: SurveyData, column: str, min_size: int = 5,
         tests on fewer pairs.
     order : list of str, optional
         Group order (e.g. terms); default: order of first appearance in the data.
-    paired : bool
-        Pair respondents by :attr:`SurveyData.ids` across two groups when possible.
+    paired : bool or None
+        How two groups' respondents are paired by :attr:`SurveyData.ids` (pre/post).
+        None (default): the automatic rule, pairs only when the ids found once in each
+        group are at least ``min_size`` and at least :data:`AUTO_PAIR_SHARE` of each
+        group's respondents; else independent samples, with a note when some ids are in
+        both groups. True: pairs required (``--paired``; refused when the file has no id
+        column, other than two groups are compared, or fewer than ``min_size`` ids pair).
+        False: independent samples whatever the ids (``--independent``).
 
     Returns
     -------
     GroupComparison
     """
     from .likert import summarize
-    name = _validate_groups(data, column, min_size, order)
+    name = _validate_groups(data, column, min_size, order, paired)
     inverse, values = _group_values([str(v) for v in data.groups[name]], order, data.source)
     sizes = np.bincount(inverse, minlength=len(values))
     # respondents of each group, found once (a scan per group was quadratic in the groups)
@@ -321,11 +341,10 @@ def compare_groups(data: SurveyData, column: str, min_size: int = 5,
                            labels=list(data.scale.labels), note=withheld.note)
     for g in shown:
         comp.summaries[str(values[g])] = summarize(data.subset(members[g]))
-    pairs = None
-    if paired and len(shown) == 2:
-        pairs, comp.pairing = _pairs(data, inverse, shown, min_size, values)
+    pairs, comp.pairing = _pairs(data, inverse, shown, sizes, values, min_size, paired)
     if pairs is not None:
         comp.paired_by = data.id_column
+    comp.design = "" if len(shown) < 2 else "independent" if pairs is None else "paired"
     scale = data.scale
     for j, item in enumerate(data.items):
         rev = item in data.reverse
@@ -375,40 +394,99 @@ def _per_group(it) -> dict:
             "mean": it.mean, "sd": it.sd}
 
 
-def _pairs(data, inverse, shown, min_size, values):
-    """((row index in first group, row index in second) of ids found once in each, or
-    None; a note saying how the pairing went, "" when the survey has no ids)."""
-    if data.ids is None:
-        return None, ""
+def _ids_by_group(data, inverse, shown, values):
+    """Per shown group: its ids found on one row ({key: row}) and every id key it has; and
+    the ids on more than one row of a group, as the file writes them (for the note)."""
     ids = np.array([normalize_answer(str(x)) for x in data.ids], dtype=object)
-    idx, twice, seen = [], [], []
+    once, seen, twice = [], [], []
     for g in shown:
         rows = np.flatnonzero((inverse == g) & (ids != ""))
         keys = ids[rows]
         uniq, cnt = np.unique(keys, return_counts=True)
-        once = set(uniq[cnt == 1].tolist())
-        idx.append({k: r for k, r in zip(keys, rows) if k in once})
+        single = set(uniq[cnt == 1].tolist())
+        once.append({k: r for k, r in zip(keys, rows) if k in single})
         seen.append(set(uniq.tolist()))
         twice += [f"{str(data.ids[rows[keys == k][0]]).strip()!r} {int(c)} times in "
                   f"{values[g]}" for k, c in zip(uniq, cnt) if c > 1]
-    common = [k for k in idx[0] if k in idx[1]]
-    both = len(seen[0] & seen[1])
-    names = [str(values[g]) for g in shown]
+    return once, seen, twice
+
+
+def _refuse_pairing(data, shown, values, common, min_size) -> None:
+    """Refuse ``paired=True`` (``--paired``) when the data cannot be paired: no id column,
+    other than two groups compared, or fewer than ``min_size`` ids once in each."""
+    if data.ids is None:
+        raise SurveyInputError(
+            "--paired: the file has no column identifying respondents (a student id, "
+            "respondent, participant, user or email column), so nobody can be paired; "
+            "without --paired the groups are compared as independent samples", data.source)
+    if len(shown) != 2:
+        raise SurveyInputError(
+            f"--paired: the paired test compares two groups, and {len(shown)} "
+            f"{'is' if len(shown) == 1 else 'are'} compared ({[str(values[g]) for g in shown]})",
+            data.source)
+    if common is not None and len(common) < min_size:
+        raise SurveyInputError(
+            f"--paired: {len(common)} id{'s' if len(common) != 1 else ''} in column "
+            f"{data.id_column!r} answered once in both {str(values[shown[0]])!r} and "
+            f"{str(values[shown[1]])!r}, fewer than --min-group {min_size}: too few pairs "
+            f"for a paired test", data.source)
+
+
+def _pairs(data, inverse, shown, sizes, values, min_size, paired):
+    """How the compared groups are paired by respondent id.
+
+    Returns ((row in first group, row in second) per pair, or None for independent
+    samples; the pairing note, "" when there is nothing to say). ``paired`` None applies
+    the automatic rule (:data:`AUTO_PAIR_SHARE`), True requires pairs (refused when the
+    data have none, :func:`_refuse_pairing`), False forbids them.
+    """
+    if paired is True:
+        _refuse_pairing(data, shown, values, None, min_size)
+    if data.ids is None or len(shown) < 2:
+        return None, ""
+    once, seen, twice = _ids_by_group(data, inverse, shown, values)
+    shared = sum(1 for c in Counter(k for ks in seen for k in ks).values() if c > 1)
     parts = []
     if twice:
         parts.append(f"ids on more than one row of a group are not paired "
                      f"({', '.join(twice[:3])}{' ...' if len(twice) > 3 else ''})")
-    if len(common) < min_size:
-        if both:
-            parts.append(f"{len(common)} ids answered once in both groups, fewer than "
-                         f"{min_size}: the groups are compared as independent samples, "
-                         f"though {both} id{'s are' if both != 1 else ' is'} in both")
+    if len(shown) > 2:
+        if shared:
+            parts.append(_not_independent(shared, "more than one group"))
         return None, "; ".join(parts)
-    parts.append(f"{len(common)} ids answered once in both groups (of {len(idx[0])} in "
-                 f"{names[0]} and {len(idx[1])} in {names[1]}): the signed-rank test uses "
-                 f"these pairs only")
-    return (np.array([idx[0][k] for k in common], dtype=np.int64),
-            np.array([idx[1][k] for k in common], dtype=np.int64)), "; ".join(parts)
+    common = [k for k in once[0] if k in once[1]]
+    if paired is True:
+        _refuse_pairing(data, shown, values, common, min_size)
+    n0, n1 = (int(sizes[g]) for g in shown)
+    names = [str(values[g]) for g in shown]
+    enough = len(common) >= min_size
+    most = len(common) >= AUTO_PAIR_SHARE * n0 and len(common) >= AUTO_PAIR_SHARE * n1
+    if paired is False or (paired is None and not (enough and most)):
+        if shared:                   # said only when some respondents are in both groups
+            if paired is False:
+                why = "compared as independent samples (--independent)"
+            else:
+                short = (f"fewer than {min_size}" if not enough else f"fewer than half of "
+                         f"{names[0]}'s {n0} or {names[1]}'s {n1} respondents")
+                why = (f"{len(common)} id{'s' if len(common) != 1 else ''} answered once in "
+                       f"both groups, {short}: compared as independent samples")
+            parts.append(f"{why}, though {_not_independent(shared, 'both groups')}"
+                         + ("" if paired is False else " (--paired pairs them)"))
+        return None, "; ".join(parts)
+    left = n0 + n1 - 2 * len(common)
+    parts.append(f"{len(common)} ids answered once in both groups (of {n0} respondents in "
+                 f"{names[0]} and {n1} in {names[1]}){' (--paired)' if paired else ''}: the "
+                 f"signed-rank test uses these {len(common)} pairs" + (f" and leaves out {left} of the {n0 + n1} "
+                                            f"respondents (in one group only, without an id, "
+                                            f"or on more than one row of a group)" if left else ""))
+    return (np.array([once[0][k] for k in common], dtype=np.int64),
+            np.array([once[1][k] for k in common], dtype=np.int64)), "; ".join(parts)
+
+
+def _not_independent(shared: int, where: str) -> str:
+    """The note that some respondents answered in several of the compared groups."""
+    return (f"{shared} id{'s appear' if shared != 1 else ' appears'} in {where}, so the "
+            f"samples are not fully independent")
 
 
 def _direction(first: str, second: str) -> str:
@@ -431,29 +509,13 @@ def _test_item(item, samples, names, per, codes, a, pairs, min_size) -> ItemComp
     allx = np.concatenate(usable)
     if np.all(allx == allx[0]):
         return ItemComparison(item, "none", None, None, "", None, per, "every answer is the same")
-    fallback = ""
     if pairs is not None:
-        both = (a[pairs[0]] >= 0) & (a[pairs[1]] >= 0)
-        pre, post = codes[a[pairs[0][both]]], codes[a[pairs[1][both]]]
-        if both.sum() >= min_size and not np.any(post != pre):
-            return ItemComparison(item, "none", None, None, "", None, per,
-                                  f"each of the {int(both.sum())} pairs gave the same answer "
-                                  f"both times: no change to test", pairs=int(both.sum()))
-        if both.sum() < min_size:
-            fallback = (f"{int(both.sum())} pairs answered this item in both groups, fewer "
-                        f"than {min_size}: compared as independent samples")
-        if both.sum() >= min_size:
-            res = stats.wilcoxon(post, pre)       # two-sided: min(T+, T-), no sign
-            return ItemComparison(item, "wilcoxon-signed-rank", float(res.statistic),
-                                  float(res.pvalue), "rank_biserial_paired",
-                                  rank_biserial_paired(post - pre), per, pairs=int(both.sum()),
-                                  direction=_direction(*names))
+        return _paired_item(item, per, names, codes, a, pairs, min_size)
     if len(usable) == 2:
         first, second = usable
         res = stats.mannwhitneyu(second, first, alternative="two-sided")
         return ItemComparison(item, "mann-whitney", float(res.statistic), float(res.pvalue),
                               "cliffs_delta", cliffs_delta(second, first), per,
-                              note=fallback,
                               direction=_direction(*names) + f"; U is {names[1]}'s")
     res = stats.kruskal(*usable)
     n = allx.size
@@ -466,6 +528,30 @@ def _test_item(item, samples, names, per, codes, a, pairs, min_size) -> ItemComp
                           direction=f"trend rho positive when later groups in the order "
                                     f"{' -> '.join(names)} answer higher; epsilon_squared "
                                     f"has no sign")
+
+
+def _paired_item(item, per, names, codes, a, pairs, min_size) -> ItemComparison:
+    """The Wilcoxon signed-rank test of one item on the pairs that answered it both times
+    (second group minus first); no test with fewer than ``min_size`` such pairs, or when
+    every pair answered the same both times. Paired samples are never tested as
+    independent ones."""
+    both = (a[pairs[0]] >= 0) & (a[pairs[1]] >= 0)
+    pre, post = codes[a[pairs[0][both]]], codes[a[pairs[1][both]]]
+    n = int(both.sum())
+    if n < min_size:
+        return ItemComparison(item, "none", None, None, "", None, per,
+                              f"{n} pair{'s' if n != 1 else ''} answered this item in both "
+                              f"groups, fewer than {min_size}: too few for the paired test",
+                              pairs=n)
+    if not np.any(post != pre):
+        return ItemComparison(item, "none", None, None, "", None, per,
+                              f"each of the {n} pairs gave the same answer both times: no "
+                              f"change to test", pairs=n)
+    res = stats.wilcoxon(post, pre)       # two-sided: min(T+, T-), no sign
+    return ItemComparison(item, "wilcoxon-signed-rank", float(res.statistic),
+                          float(res.pvalue), "rank_biserial_paired",
+                          rank_biserial_paired(post - pre), per, pairs=n,
+                          direction=_direction(*names))
 
 
 def _holm(items) -> None:

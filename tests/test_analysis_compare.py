@@ -442,3 +442,130 @@ def test_a_long_file_read_as_wide_notes_its_repeated_respondents(tmp_path, capsy
     assert main(["summarize", str(f), "--shape", "wide"]) == 0
     assert ("column 'respondent': 2 ids on more than one row ('s0' in rows 2, 3; 's1' in rows "
             "4, 5)") in capsys.readouterr().err
+
+
+def _overlap(tmp_path, shared=6, size=40):
+    """QA 16 #1's overlap.csv rebuilt: two independent sections of ``size`` students each
+    (ids S000.. and, from S(size - shared) on, the second section), ``shared`` ids in both
+    as after a section change. Q1 differs sharply: Sec A answers Neutral..Strongly agree,
+    Sec B Strongly disagree..Neutral. Returns the file and {section: {id: Q1 code}}."""
+    a_ids = [f"S{k:03d}" for k in range(size)]
+    b_ids = [f"S{k:03d}" for k in range(size - shared, 2 * size - shared)]
+    rows, q1 = [["student_id", "Section", "Q1", "Q2"]], {"Sec A": {}, "Sec B": {}}
+    for sec, ids, codes in (("Sec A", a_ids, (3, 4, 4, 5)), ("Sec B", b_ids, (1, 1, 2, 3))):
+        for k, sid in enumerate(ids):
+            c = codes[k % 4]
+            q1[sec][sid] = c
+            rows.append([sid, sec, AGREE5[c - 1], AGREE5[(k * 7) % 5]])
+    f = tmp_path / "overlap.csv"
+    with open(f, "w", newline="") as fh:
+        csv.writer(fh).writerows(rows)
+    return f, q1
+
+
+def _json_groups(capsys, *argv):
+    assert main(["summarize", *map(str, argv), "--json"]) == 0
+    return json.loads(capsys.readouterr().out)["groups"]
+
+
+def test_a_few_shared_ids_do_not_turn_two_sections_into_pre_post(tmp_path, capsys):
+    """QA 16 #1: six ids in both of two sections of 40 made --group run the signed-rank
+    test on those six pairs (p = 0.0625) under a "pre/post" heading, where the independent
+    test finds the difference (p ~ 1e-13). The automatic rule pairs only when at least half
+    of each group's respondents pair; --paired and --independent decide it explicitly."""
+    f, q1 = _overlap(tmp_path)
+    ref = stats.mannwhitneyu(list(q1["Sec B"].values()), list(q1["Sec A"].values()),
+                             alternative="two-sided")
+    assert ref.pvalue < 1e-10                      # the difference the data were built with
+    for flags in ([], ["--independent"]):
+        g = _json_groups(capsys, f, "--group", "Section", *flags)
+        it = g["items"][0]
+        assert (g["design"], g["paired_by"], it["test"]) == ("independent", "", "mann-whitney")
+        # scipy on the codes the test wrote; same inputs and method, so only float noise
+        assert (it["statistic"], it["p_value"]) == pytest.approx((ref.statistic, ref.pvalue),
+                                                                 rel=1e-12)
+        assert "6 ids appear in both groups, so the samples are not fully independent" in \
+            g["pairing"]
+    assert main(["summarize", str(f), "--group", "Section"]) == 0
+    out = capsys.readouterr().out
+    assert "pre/post" not in out and "paired by" not in out
+    assert "fewer than half of Sec A's 40 or Sec B's 40 respondents: compared as " \
+           "independent samples" in out
+    # --paired: the six pairs, as asked, and how many respondents the test leaves out
+    g = _json_groups(capsys, f, "--group", "Section", "--paired")
+    it = g["items"][0]
+    both = sorted(set(q1["Sec A"]) & set(q1["Sec B"]))
+    pre, post = (np.array([q1[s][k] for k in both]) for s in ("Sec A", "Sec B"))
+    ref = stats.wilcoxon(post, pre)
+    assert (g["design"], it["test"], it["pairs"]) == ("paired", "wilcoxon-signed-rank", 6)
+    assert (it["statistic"], it["p_value"]) == pytest.approx((ref.statistic, ref.pvalue),
+                                                             rel=1e-12)
+    assert "leaves out 68 of the 80 respondents" in g["pairing"]       # 80 - 2 x 6
+
+
+def test_the_automatic_pairing_rule_at_half_of_each_group(tmp_path, capsys):
+    """The rule's edge, by hand: Pre and Post of 10 respondents each with 5 ids in both
+    pair (5 >= 10 / 2); with 4 ids in both (and --min-group 3, so the count of pairs is
+    not what stops it) they do not, and the note says so. --independent on a genuine
+    pre/post file gives Mann-Whitney on all answers (scipy)."""
+    def prepost(n_shared):
+        pre = [(f"s{k}", AGREE5[k % 3]) for k in range(10)]
+        post = [(f"s{k}" if k < n_shared else f"t{k}", AGREE5[2 + k % 3]) for k in range(10)]
+        return _prepost(tmp_path, pre, post), pre, post
+
+    f, pre, post = prepost(5)
+    g = _json_groups(capsys, f, "--group", "Term")
+    assert (g["design"], g["items"][0]["pairs"]) == ("paired", 5)
+    assert "leaves out 10 of the 20 respondents" in g["pairing"]
+    f, pre, post = prepost(4)
+    g = _json_groups(capsys, f, "--group", "Term", "--min-group", "3")
+    assert g["design"] == "independent" and g["items"][0]["test"] == "mann-whitney"
+    assert g["pairing"].startswith("4 ids answered once in both groups, fewer than half of "
+                                   "Pre's 10 or Post's 10 respondents")
+    f, pre, post = prepost(10)
+    g = _json_groups(capsys, f, "--group", "Term", "--independent")
+    ref = stats.mannwhitneyu([CODE[a] for _, a in post], [CODE[a] for _, a in pre],
+                             alternative="two-sided")
+    it = g["items"][0]
+    assert (g["design"], it["pairs"]) == ("independent", 0)
+    assert (it["statistic"], it["p_value"]) == pytest.approx((ref.statistic, ref.pvalue),
+                                                             rel=1e-12)
+    assert "10 ids appear in both groups" in g["pairing"]
+    html = tmp_path / "r.html"
+    assert main(["report", str(f), "--group", "Term", "--independent", "-o", str(html)]) == 0
+    assert "mann-whitney" in html.read_text() and "Paired design" not in html.read_text()
+    assert main(["report", str(f), "--group", "Term", "-o", str(html)]) == 0
+    assert "Paired design: respondents answering once in both groups are paired by student_id" \
+        in html.read_text()
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["nuid.csv", "--group", "Term", "--paired"],
+     "nuid.csv: --paired: the file has no column identifying respondents"),
+    (["three.csv", "--group", "Term", "--paired"],
+     "three.csv: --paired: the paired test compares two groups, and 3 are compared"),
+    (["few.csv", "--group", "Term", "--paired"],
+     "few.csv: --paired: 4 ids in column 'student_id' answered once in both 'Pre' and "
+     "'Post', fewer than --min-group 5"),
+    (["few.csv", "--paired"], "--paired says how --group compares groups; give --group"),
+    (["few.csv", "--by", "Term", "--independent"], "--independent is not available with --by"),
+    (["few.csv", "--group", "Term", "--paired", "--independent"],
+     "argument --independent: not allowed with argument --paired"),
+])
+def test_paired_and_independent_are_refused_when_the_data_contradict_them(
+        tmp_path, capsys, argv, words):
+    """One line naming the flag, exit 2, no output (the reader's notes may come first): no
+    ids to pair, three groups, four pairs under --min-group 5, no --group, --by, and both
+    flags at once."""
+    (tmp_path / "nuid.csv").write_text("Term,Q1\n" + "Pre,Agree\nPost,Disagree\n" * 5)
+    (tmp_path / "three.csv").write_text(
+        "id,Term,Q1\n" + "".join(f"s{k},{t},Agree\n" for k in range(5)
+                                 for t in ("Pre", "Mid", "Post")))
+    _prepost(tmp_path, [(f"s{k}", "Agree") for k in range(6)],
+             [(f"s{k}" if k < 4 else f"t{k}", "Disagree") for k in range(6)]).rename(
+        tmp_path / "few.csv")
+    argv = [str(tmp_path / argv[0]), *argv[1:]]
+    assert main(["summarize", *argv]) == 2
+    cap = capsys.readouterr()
+    errors = [ln for ln in cap.err.splitlines() if not ln.startswith("note: ")]
+    assert cap.out == "" and len(errors) == 1 and words in errors[0], cap.err
