@@ -22,10 +22,13 @@ when the ids found once in each group are at least ``min_size`` and at least
 :data:`AUTO_PAIR_SHARE` of each group's respondents: a few shared ids (students who
 moved section) leave the groups independent samples, with a note that they are not
 fully so. More groups: Kruskal-Wallis H (``scipy.stats.kruskal``) with
-epsilon-squared, :math:`H/(n-1)`, and a trend over the groups in their order:
+epsilon-squared, :math:`H/(n-1)`, and, when ``order`` places every group compared (an
+order that means something, such as terms), a trend over the groups in that order:
 Spearman's rho between the group's position and the answer code
-(``scipy.stats.spearmanr``). When several items are tested, p-values are also
-given Holm-adjusted (``statsmodels`` ``multipletests(method="holm")``).
+(``scipy.stats.spearmanr``). The order of first appearance in a file means nothing, so
+it gets no trend (``trend_note`` says why). When several items are tested, p-values are
+also given Holm-adjusted (``statsmodels`` ``multipletests(method="holm")``): the tests
+across the groups as one family, the trends as another.
 
 Cliff's delta of sample A against sample B (here A is the second group, B the first) is
 
@@ -139,7 +142,9 @@ class ItemComparison:
     pairs : int
         Respondents paired across the two groups (Wilcoxon test), else 0.
     trend : dict or None
-        More than two groups: Spearman ``rho`` and ``p_value`` of code on group position.
+        More than two groups in an order that means something (``order`` places every
+        one): Spearman ``rho``, ``p_value`` and ``p_holm`` (over the items' trends, a
+        family of their own) of code on group position, and the ``groups`` in order.
     reverse : bool
         Reverse-keyed: tests and median, IQR, mean, SD on reversed codes; counts raw.
     direction : str
@@ -183,6 +188,8 @@ class GroupComparison:
     note: str = ""
     pairing: str = ""            # how ids were paired, or why not (groups sharing ids)
     design: str = ""             # "paired" or "independent" (two or more groups compared)
+    trend_note: str = ""         # why no trend over the groups is tested (more than two)
+    multiplicity: str = ""       # which p-values are Holm-adjusted together
 
     @property
     def shown(self) -> list[str]:
@@ -192,6 +199,7 @@ class GroupComparison:
     def to_dict(self) -> dict:
         return {"column": self.column, "min_size": self.min_size, "design": self.design,
                 "paired_by": self.paired_by, "note": self.note, "pairing": self.pairing,
+                "trend_note": self.trend_note, "multiplicity": self.multiplicity,
                 "groups": [g.to_dict() for g in self.groups],
                 "items": [i.to_dict() for i in self.items]}
 
@@ -228,6 +236,10 @@ class GroupComparison:
             out.append(f"  note: {self.note}")
         if self.pairing:
             out.append(f"  pairing: {self.pairing}")
+        if self.trend_note:
+            out.append(f"  {self.trend_note}")
+        if self.multiplicity:
+            out.append(f"  multiplicity: {self.multiplicity}")
         width = max([len(g) for g in self.shown] + [5])
         for j, it in enumerate(self.items):
             name = it.item + (REVERSE_MARK if it.reverse else "")
@@ -243,9 +255,11 @@ class GroupComparison:
                 if it.note:
                     out.append(f"    note: {it.note}")
             if it.trend:
+                holm = ("" if it.trend["p_holm"] is None
+                        else f", Holm p = {significant_text(it.trend['p_holm'])}")
                 out.append(f"    trend over {' -> '.join(it.trend['groups'])}: Spearman rho = "
                            f"{number_text(it.trend['rho'], 3)}, "
-                           f"p = {significant_text(it.trend['p_value'])}")
+                           f"p = {significant_text(it.trend['p_value'])}{holm}")
             for g, d in it.per_group.items():
                 pp, agree = self.printed(j, g, decimals, method)
                 dist = " ".join(f"{lab} " + ("-" if pp[lab] is None else f"{pp[lab]:.{decimals}f}%")
@@ -275,7 +289,7 @@ def _validate_groups(data, column, min_size, order, paired):
 
 
 def _group_values(texts: list[str], order, source):
-    """(group index per respondent, group names in order).
+    """(group index per respondent, group names in order, their keys in order).
 
     Spellings of one value ("Mon", " mon ") are one group, named by its commonest
     spelling; groups come in first-appearance order, or in ``order``.
@@ -293,7 +307,7 @@ def _group_values(texts: list[str], order, source):
     index = {k: g for g, k in enumerate(ranked)}
     inverse = np.array([index[k] for k in keys], dtype=np.int64)
     names = [BLANK_GROUP if k == "" else name_of[k] for k in ranked]
-    return inverse, names
+    return inverse, names, ranked
 
 
 def compare_groups(data: SurveyData, column: str, min_size: int = 5,
@@ -327,7 +341,8 @@ def compare_groups(data: SurveyData, column: str, min_size: int = 5,
     """
     from .likert import summarize
     name = _validate_groups(data, column, min_size, order, paired)
-    inverse, values = _group_values([str(v) for v in data.groups[name]], order, data.source)
+    inverse, values, keys = _group_values([str(v) for v in data.groups[name]], order,
+                                          data.source)
     sizes = np.bincount(inverse, minlength=len(values))
     # respondents of each group, found once (a scan per group was quadratic in the groups)
     members = np.split(np.argsort(inverse, kind="stable"), np.cumsum(sizes)[:-1])
@@ -345,24 +360,54 @@ def compare_groups(data: SurveyData, column: str, min_size: int = 5,
     if pairs is not None:
         comp.paired_by = data.id_column
     comp.design = "" if len(shown) < 2 else "independent" if pairs is None else "paired"
+    unordered = _unordered([str(values[g]) for g in shown], [keys[g] for g in shown], order)
+    comp.trend_note = _trend_note(unordered, order) if len(shown) > 2 else ""
+    _test_items(comp, data, [str(values[g]) for g in shown], [members[g] for g in shown],
+                pairs, min_size, trend=not unordered)
+    comp.multiplicity = _holm(comp.items)
+    return comp
+
+
+def _test_items(comp, data, names, members, pairs, min_size, trend) -> None:
+    """Test every item over the shown groups (``names``, their rows ``members``), adding
+    an :class:`ItemComparison` per item to ``comp``; ``trend``: the groups' order means
+    something, so a trend over it is tested."""
     scale = data.scale
     for j, item in enumerate(data.items):
         rev = item in data.reverse
         codes = np.array(scale.reversed_codes() if rev else scale.codes, dtype=float)
         a = data.answers[:, j]
-        per = {str(values[g]): _per_group(comp.summaries[str(values[g])].items[j])
-               for g in shown}
+        per = {nm: _per_group(comp.summaries[nm].items[j]) for nm in names}
         samples = []
-        for g in shown:
-            sel = a[members[g]]
+        for rows in members:
+            sel = a[rows]
             samples.append(codes[sel[sel >= 0]])
-        names = [str(values[g]) for g in shown]
-        comp.items.append(_test_item(item, samples, names, per, codes, a, pairs, min_size))
-        comp.items[-1].reverse = rev
-        if rev and comp.items[-1].direction:
-            comp.items[-1].direction += " (on the reversed codes)"
-    _holm(comp.items)
-    return comp
+        it = _test_item(item, samples, names, per, codes, a, pairs, min_size, trend)
+        it.reverse = rev
+        if rev and it.direction:
+            it.direction += " (on the reversed codes)"
+        comp.items.append(it)
+
+
+def _unordered(names, keys, order) -> list:
+    """The compared groups (``names``, matched by ``keys``) that ``order`` (--group-order)
+    does not place: all of them when no order is given. A trend needs none."""
+    placed = {normalize_answer(o) for o in order or ()}
+    return [nm for nm, k in zip(names, keys) if k not in placed]
+
+
+def _trend_note(unordered, order) -> str:
+    """Why no trend over the groups is tested ("" when one is)."""
+    if not unordered:
+        return ""
+    if not order:
+        return ("no trend over the groups: they come in the order in which they first "
+                "appear in the file, which orders nothing (sorting the file would change "
+                "it); give --group-order to test a trend over an order that means something, "
+                "such as terms")
+    return (f"no trend over the groups: --group-order does not place "
+            f"{', '.join(repr(n) for n in unordered[:5])}{' ...' if len(unordered) > 5 else ''}"
+            f", and a trend needs an order over every group compared")
 
 
 def _group_infos(values, sizes, min_size):
@@ -494,8 +539,10 @@ def _direction(first: str, second: str) -> str:
     return f"{second} vs {first}: positive when {second} answers higher"
 
 
-def _test_item(item, samples, names, per, codes, a, pairs, min_size) -> ItemComparison:
-    """Test one item over the shown groups (``samples`` and ``names`` in group order).
+def _test_item(item, samples, names, per, codes, a, pairs, min_size,
+               trend=True) -> ItemComparison:
+    """Test one item over the shown groups (``samples`` and ``names`` in group order),
+    with more than two groups a trend over their order too when ``trend``.
 
     Two groups are compared second against first (Wilcoxon on post - pre, Mann-Whitney U
     of the second group, Cliff's delta of the second against the first), so that every
@@ -518,16 +565,18 @@ def _test_item(item, samples, names, per, codes, a, pairs, min_size) -> ItemComp
                               "cliffs_delta", cliffs_delta(second, first), per,
                               direction=_direction(*names) + f"; U is {names[1]}'s")
     res = stats.kruskal(*usable)
-    n = allx.size
-    position = np.concatenate([np.full(s.size, k, dtype=float) for k, s in enumerate(usable)])
-    rho = stats.spearmanr(position, allx)
-    return ItemComparison(item, "kruskal-wallis", float(res.statistic), float(res.pvalue),
-                          "epsilon_squared", float(res.statistic / (n - 1)), per,
-                          trend={"rho": float(rho.statistic), "p_value": float(rho.pvalue),
-                                 "groups": names},
-                          direction=f"trend rho positive when later groups in the order "
-                                    f"{' -> '.join(names)} answer higher; epsilon_squared "
-                                    f"has no sign")
+    out = ItemComparison(item, "kruskal-wallis", float(res.statistic), float(res.pvalue),
+                         "epsilon_squared", float(res.statistic / (allx.size - 1)), per,
+                         direction="epsilon_squared has no sign")
+    if trend:
+        position = np.concatenate([np.full(s.size, k, dtype=float)
+                                   for k, s in enumerate(usable)])
+        rho = stats.spearmanr(position, allx)
+        out.trend = {"rho": float(rho.statistic), "p_value": float(rho.pvalue),
+                     "p_holm": None, "groups": names}
+        out.direction = (f"trend rho positive when later groups in the order "
+                         f"{' -> '.join(names)} answer higher; epsilon_squared has no sign")
+    return out
 
 
 def _paired_item(item, per, names, codes, a, pairs, min_size) -> ItemComparison:
@@ -554,11 +603,22 @@ def _paired_item(item, per, names, codes, a, pairs, min_size) -> ItemComparison:
                           direction=_direction(*names))
 
 
-def _holm(items) -> None:
-    tested = [it for it in items if it.p_value is not None]
-    if len(tested) < 2:
-        return
+def _holm(items) -> str:
+    """Holm-adjust the items' p-values, in two families: the tests across the groups, and
+    the trends over the groups' order (a hypothesis of another kind, so adjusted on their
+    own). Returns the sentence saying so ("" when no family has two p-values)."""
     from statsmodels.stats.multitest import multipletests
-    adjusted = multipletests([it.p_value for it in tested], method="holm")[1]
-    for it, p in zip(tested, adjusted):
-        it.p_holm = float(p)
+    said = []
+    tested = [it for it in items if it.p_value is not None]
+    if len(tested) >= 2:
+        for it, p in zip(tested, multipletests([it.p_value for it in tested], method="holm")[1]):
+            it.p_holm = float(p)
+        said.append(f"the p-values of the {len(tested)} items tested are Holm-adjusted "
+                    f"together")
+    trends = [it for it in items if it.trend]
+    if len(trends) >= 2:
+        adjusted = multipletests([it.trend["p_value"] for it in trends], method="holm")[1]
+        for it, p in zip(trends, adjusted):
+            it.trend["p_holm"] = float(p)
+        said.append(f"the {len(trends)} trend p-values as a family of their own")
+    return "; ".join(said)
