@@ -189,6 +189,8 @@ class GroupComparison:
     pairing: str = ""            # how ids were paired, or why not (groups sharing ids)
     design: str = ""             # "paired" or "independent" (two or more groups compared)
     trend_note: str = ""         # why no trend over the groups is tested (more than two)
+    coverage: str = ""           # which groups the tests compare, when some are suppressed
+    left_out: int = 0            # respondents of the suppressed groups, in no test
     multiplicity: str = ""       # which p-values are Holm-adjusted together
 
     @property
@@ -200,6 +202,8 @@ class GroupComparison:
         return {"column": self.column, "min_size": self.min_size, "design": self.design,
                 "paired_by": self.paired_by, "note": self.note, "pairing": self.pairing,
                 "trend_note": self.trend_note, "multiplicity": self.multiplicity,
+                "tested_groups": self.shown if self.design else [],
+                "left_out": self.left_out, "coverage": self.coverage,
                 "groups": [g.to_dict() for g in self.groups],
                 "items": [i.to_dict() for i in self.items]}
 
@@ -234,6 +238,8 @@ class GroupComparison:
                        + (f" -- suppressed: {g.reason}" if g.suppressed else ""))
         if self.note:
             out.append(f"  note: {self.note}")
+        if self.coverage:
+            out.append(f"  coverage: {self.coverage}")
         if self.pairing:
             out.append(f"  pairing: {self.pairing}")
         if self.trend_note:
@@ -360,6 +366,8 @@ def compare_groups(data: SurveyData, column: str, min_size: int = 5,
     if pairs is not None:
         comp.paired_by = data.id_column
     comp.design = "" if len(shown) < 2 else "independent" if pairs is None else "paired"
+    comp.left_out = int(sizes.sum() - sizes[shown].sum())
+    comp.coverage = _coverage(infos, comp.left_out) if comp.design else ""
     unordered = _unordered([str(values[g]) for g in shown], [keys[g] for g in shown], order)
     comp.trend_note = _trend_note(unordered, order) if len(shown) > 2 else ""
     _test_items(comp, data, [str(values[g]) for g in shown], [members[g] for g in shown],
@@ -387,6 +395,22 @@ def _test_items(comp, data, names, members, pairs, min_size, trend) -> None:
         if rev and it.direction:
             it.direction += " (on the reversed codes)"
         comp.items.append(it)
+
+
+def _coverage(infos, left_out) -> str:
+    """The groups the tests compare and the respondents they leave out, when suppression
+    withheld some groups ("" when every group is compared)."""
+    hidden = [g for g in infos if g.suppressed]
+    if not hidden:
+        return ""
+    shown = [g for g in infos if not g.suppressed]
+    total = sum(g.respondents for g in infos)
+    return (f"the tests compare {len(shown)} of the {len(infos)} groups "
+            f"({', '.join(repr(g.name) for g in shown)}: {total - left_out} of {total} "
+            f"respondents); the {left_out} respondent{'s' if left_out != 1 else ''} of the "
+            f"suppressed group{'s' if len(hidden) != 1 else ''} "
+            f"({', '.join(repr(g.name) for g in hidden)}) "
+            f"{'are' if left_out != 1 else 'is'} left out, for disclosure reasons")
 
 
 def _unordered(names, keys, order) -> list:
@@ -552,6 +576,9 @@ def _test_item(item, samples, names, per, codes, a, pairs, min_size,
     if len(usable) < 2:
         return ItemComparison(item, "none", None, None, "", None, per,
                               "fewer than two groups with answers to compare after suppression")
+    silent = [nm for nm, s in zip(names, samples) if not s.size]
+    note = (f"{', '.join(repr(nm) for nm in silent)} gave no answer to this item: the test "
+            f"compares the other groups" if silent else "")
     names, usable = [u[0] for u in usable], [u[1] for u in usable]
     allx = np.concatenate(usable)
     if np.all(allx == allx[0]):
@@ -562,11 +589,11 @@ def _test_item(item, samples, names, per, codes, a, pairs, min_size,
         first, second = usable
         res = stats.mannwhitneyu(second, first, alternative="two-sided")
         return ItemComparison(item, "mann-whitney", float(res.statistic), float(res.pvalue),
-                              "cliffs_delta", cliffs_delta(second, first), per,
+                              "cliffs_delta", cliffs_delta(second, first), per, note,
                               direction=_direction(*names) + f"; U is {names[1]}'s")
     res = stats.kruskal(*usable)
     out = ItemComparison(item, "kruskal-wallis", float(res.statistic), float(res.pvalue),
-                         "epsilon_squared", float(res.statistic / (allx.size - 1)), per,
+                         "epsilon_squared", float(res.statistic / (allx.size - 1)), per, note,
                          direction="epsilon_squared has no sign")
     if trend:
         position = np.concatenate([np.full(s.size, k, dtype=float)

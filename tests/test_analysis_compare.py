@@ -629,3 +629,40 @@ def test_a_trend_is_tested_only_over_an_order_the_user_states(tmp_path, capsys):
     assert main(["report", str(mixed), "--group", "Section", "-o", str(html)]) == 0
     text = html.read_text()
     assert "No trend over the groups" in text and "trend rho" not in text
+
+
+def test_the_test_says_which_groups_it_covers_after_suppression(tmp_path, capsys):
+    """QA 16 #5: sections of 10, 12, 3 and 20; S3 (< 5) is suppressed and S1 withheld by
+    complementary suppression, and the test then silently compared S2 with S4 only. By
+    hand: 2 of 4 groups, 32 of 45 respondents, 13 left out. The test is Mann-Whitney on
+    S2 and S4 (scipy). With --min-group 3 every group is shown; S3 left Q2 blank, so Q2's
+    Kruskal-Wallis covers the other three, and says so."""
+    rng = random.Random(5)
+    rows = [(s, rng.choice(AGREE5), "" if s == "S3" else rng.choice(AGREE5))
+            for s, n in (("S1", 10), ("S2", 12), ("S3", 3), ("S4", 20)) for _ in range(n)]
+    f = tmp_path / "supp.csv"
+    f.write_text("section,Q1,Q2\n" + "".join(",".join(r) + "\n" for r in rows))
+    want = ("the tests compare 2 of the 4 groups ('S2', 'S4': 32 of 45 respondents); the 13 "
+            "respondents of the suppressed groups ('S1', 'S3') are left out, for disclosure "
+            "reasons")
+    g = _json_groups(capsys, f, "--group", "section")
+    assert (g["tested_groups"], g["left_out"], g["coverage"]) == (["S2", "S4"], 13, want)
+    it = g["items"][0]
+    ref = stats.mannwhitneyu([CODE[r[1]] for r in rows if r[0] == "S4"],
+                             [CODE[r[1]] for r in rows if r[0] == "S2"], alternative="two-sided")
+    assert (it["statistic"], it["p_value"]) == pytest.approx((ref.statistic, ref.pvalue),
+                                                             rel=1e-12)
+    assert main(["summarize", str(f), "--group", "section"]) == 0
+    assert f"  coverage: {want}\n" in capsys.readouterr().out
+    html = tmp_path / "r.html"
+    assert main(["report", str(f), "--group", "section", "-o", str(html)]) == 0
+    assert "Coverage: the tests compare 2 of the 4 groups (&#39;S2&#39;, &#39;S4&#39;: 32 of " \
+           "45 respondents); the 13 respondents" in html.read_text()
+    capsys.readouterr()                                  # the report's "wrote ..." line
+    g = _json_groups(capsys, f, "--group", "section", "--min-group", "3")
+    assert (g["coverage"], g["left_out"], g["tested_groups"]) == ("", 0, ["S1", "S2", "S3", "S4"])
+    it = g["items"][1]
+    ref = stats.kruskal(*[[CODE[r[2]] for r in rows if r[0] == s] for s in ("S1", "S2", "S4")])
+    assert (it["statistic"], it["p_value"]) == pytest.approx((ref.statistic, ref.pvalue),
+                                                             rel=1e-12)
+    assert it["note"] == "'S3' gave no answer to this item: the test compares the other groups"
