@@ -2,7 +2,7 @@
 
 Commands
 --------
-``summarize FILE [--scale NAME|FILE] [--items ...] [--group COLUMN] [--chart OUT.svg] [--json]``
+``summarize FILE [--scale NAME|FILE] [--items ...] [--group COLUMN [--paired|--independent]] [--chart OUT.svg] [--json]``
     Table 1 for a survey export; ``--json`` prints
     ``{"respondents": int, "ci_method", "confidence_level", "reverse_note", "items":
     [{"item", "reversed", "reversed_statistics", "n", "missing", "excluded", "counts",
@@ -24,7 +24,7 @@ Commands
     N attaining the most cells), and ``"n_range"`` and ``"feasible_n"`` are added, and
     per row ``"feasible_n"`` (the first 50 N making that row attainable) and
     ``"feasible_n_count"``.
-``report FILE -o OUT.html [--claims CLAIMS]``
+``report FILE -o OUT.html [--claims CLAIMS] [--group COLUMN [--paired|--independent]]``
     Self-contained HTML report of a survey export.
 ``rebuild-table1 OUT.csv``
     Write the respondent-level dataset rebuilt from the paper's Table 1.
@@ -187,7 +187,8 @@ def build_parser() -> argparse.ArgumentParser:
                         "(e.g. course term section), with institution-wide totals")
     s.add_argument("--group-order", nargs="+", metavar="VALUE",
                    help="order of the groups, e.g. terms (default: as they first appear; "
-                        "with --by, sorted as text)")
+                        "with --by, sorted as text); with --group, a trend over more than two "
+                        "groups is tested only over this order")
     s.add_argument("--table", metavar="OUT.csv",
                    help="also write the summary table (.csv or .xlsx by suffix; with --group "
                         "one row per item and group)")
@@ -235,7 +236,8 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--min-group", type=_int_in(1, MAX_RESPONDENTS), default=5,
                    help="suppress groups smaller than this (default 5)")
     r.add_argument("--group-order", nargs="+", metavar="VALUE",
-                   help="order of the groups, e.g. terms (default: as they first appear)")
+                   help="order of the groups, e.g. terms (default: as they first appear); "
+                        "a trend over more than two groups is tested only over this order")
     r.add_argument("--title", default=None, help="report title")
 
     b = sub.add_parser("rebuild-table1", epilog=_CAPS, help="write the dataset rebuilt from the paper's Table 1")

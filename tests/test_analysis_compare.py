@@ -666,3 +666,28 @@ def test_the_test_says_which_groups_it_covers_after_suppression(tmp_path, capsys
     assert (it["statistic"], it["p_value"]) == pytest.approx((ref.statistic, ref.pvalue),
                                                              rel=1e-12)
     assert it["note"] == "'S3' gave no answer to this item: the test compares the other groups"
+
+
+def test_a_paired_item_with_too_few_pairs_is_not_tested_as_independent(tmp_path, capsys):
+    """Ten students answer Pre and Post (a paired design by the rule); only three answer
+    Q2 at Post. Those 3 pairs are under --min-group 5, and testing Q2's 10 + 3 answers as
+    independent samples would treat the same students as different ones: no test, with
+    the reason. Q1 (10 pairs) is the signed-rank test (scipy)."""
+    rows = [["student_id", "Term", "Q1", "Q2"]]
+    pre = [(k % 3) + 1 for k in range(10)]
+    post = [(k % 3) + 3 for k in range(10)]
+    rows += [[f"s{k}", "Pre", AGREE5[pre[k] - 1], "Agree"] for k in range(10)]
+    rows += [[f"s{k}", "Post", AGREE5[post[k] - 1], "Disagree" if k < 3 else ""]
+             for k in range(10)]
+    f = tmp_path / "pp.csv"
+    with open(f, "w", newline="") as fh:
+        csv.writer(fh).writerows(rows)
+    g = _json_groups(capsys, f, "--group", "Term")
+    q1, q2 = g["items"]
+    ref = stats.wilcoxon(post, pre)
+    assert (g["design"], q1["test"], q1["pairs"]) == ("paired", "wilcoxon-signed-rank", 10)
+    assert (q1["statistic"], q1["p_value"]) == pytest.approx((ref.statistic, ref.pvalue),
+                                                             rel=1e-12)
+    assert (q2["test"], q2["pairs"], q2["p_value"]) == ("none", 3, None)
+    assert q2["note"] == ("3 pairs answered this item in both groups, fewer than 5: too few "
+                          "for the paired test")
