@@ -540,14 +540,14 @@ def _pairs(data, inverse, shown, sizes, values, min_size, paired):
                 why = (f"{len(common)} id{'s' if len(common) != 1 else ''} answered once in "
                        f"both groups, {short}: compared as independent samples")
             parts.append(f"{why}, though {_not_independent(shared, 'both groups')}"
-                         + ("" if paired is False else " (--paired pairs them)"))
+                         + (" (--paired pairs them)" if paired is None and enough else ""))
         return None, "; ".join(parts)
     left = n0 + n1 - 2 * len(common)
+    out = (f" and leaves out {left} of the {n0 + n1} respondents (in one group only, without "
+           f"an id, or on more than one row of a group)" if left else "")
     parts.append(f"{len(common)} ids answered once in both groups (of {n0} respondents in "
                  f"{names[0]} and {n1} in {names[1]}){' (--paired)' if paired else ''}: the "
-                 f"signed-rank test uses these {len(common)} pairs" + (f" and leaves out {left} of the {n0 + n1} "
-                                            f"respondents (in one group only, without an id, "
-                                            f"or on more than one row of a group)" if left else ""))
+                 f"signed-rank test uses these {len(common)} pairs{out}")
     return (np.array([once[0][k] for k in common], dtype=np.int64),
             np.array([once[1][k] for k in common], dtype=np.int64)), "; ".join(parts)
 
