@@ -2,7 +2,7 @@
 
 Commands
 --------
-``summarize FILE [--scale NAME|FILE] [--items ...] [--group COLUMN] [--chart OUT.svg] [--json]``
+``summarize FILE [--scale NAME|FILE] [--items ...] [--group COLUMN [--paired|--independent]] [--chart OUT.svg] [--json]``
     Table 1 for a survey export; ``--json`` prints
     ``{"respondents": int, "ci_method", "confidence_level", "reverse_note", "items":
     [{"item", "reversed", "reversed_statistics", "n", "missing", "excluded", "counts",
@@ -24,7 +24,7 @@ Commands
     N attaining the most cells), and ``"n_range"`` and ``"feasible_n"`` are added, and
     per row ``"feasible_n"`` (the first 50 N making that row attainable) and
     ``"feasible_n_count"``.
-``report FILE -o OUT.html [--claims CLAIMS]``
+``report FILE -o OUT.html [--claims CLAIMS] [--group COLUMN [--paired|--independent]]``
     Self-contained HTML report of a survey export.
 ``rebuild-table1 OUT.csv``
     Write the respondent-level dataset rebuilt from the paper's Table 1.
@@ -158,6 +158,18 @@ def _reading_options(p: argparse.ArgumentParser) -> None:
                    help="confidence level, strictly between 0 and 1 (default 0.95)")
 
 
+def _design_options(p: argparse.ArgumentParser) -> None:
+    """--paired / --independent: how --group compares two groups whose respondents carry ids."""
+    d = p.add_mutually_exclusive_group()
+    d.add_argument("--paired", dest="paired", action="store_const", const=True, default=None,
+                   help="with --group: pair the two groups' respondents by their id column "
+                        "(pre/post; refused when the file cannot be paired)")
+    d.add_argument("--independent", dest="paired", action="store_const", const=False,
+                   help="with --group: compare the groups as independent samples whatever "
+                        "the ids (default: paired only when at least half of each group's "
+                        "respondents pair)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser (exposed for documentation and tests)."""
     from .tables import MAX_N
@@ -169,12 +181,14 @@ def build_parser() -> argparse.ArgumentParser:
     s = sub.add_parser("summarize", epilog=_CAPS, help="per-item counts, percentages and intervals")
     _reading_options(s)
     s.add_argument("--group", help="grouping column (group comparisons)")
+    _design_options(s)
     s.add_argument("--by", nargs="+", metavar="COLUMN",
                    help="count a large CSV/Parquet file out of core (DuckDB) by these columns "
                         "(e.g. course term section), with institution-wide totals")
     s.add_argument("--group-order", nargs="+", metavar="VALUE",
                    help="order of the groups, e.g. terms (default: as they first appear; "
-                        "with --by, sorted as text)")
+                        "with --by, sorted as text); with --group, a trend over more than two "
+                        "groups is tested only over this order")
     s.add_argument("--table", metavar="OUT.csv",
                    help="also write the summary table (.csv or .xlsx by suffix; with --group "
                         "one row per item and group)")
@@ -218,10 +232,12 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("-o", "--output", required=True, help="HTML file to write")
     r.add_argument("--claims", help="claims .toml file to evaluate in the report")
     r.add_argument("--group", help="grouping column (group comparisons)")
+    _design_options(r)
     r.add_argument("--min-group", type=_int_in(1, MAX_RESPONDENTS), default=5,
                    help="suppress groups smaller than this (default 5)")
     r.add_argument("--group-order", nargs="+", metavar="VALUE",
-                   help="order of the groups, e.g. terms (default: as they first appear)")
+                   help="order of the groups, e.g. terms (default: as they first appear); "
+                        "a trend over more than two groups is tested only over this order")
     r.add_argument("--title", default=None, help="report title")
 
     b = sub.add_parser("rebuild-table1", epilog=_CAPS, help="write the dataset rebuilt from the paper's Table 1")
@@ -380,7 +396,7 @@ def _cmd_summarize(args) -> int:
     if args.group:
         from .groups import compare_groups
         extra["groups"] = compare_groups(data, args.group, min_size=args.min_group,
-                                         order=args.group_order)
+                                         order=args.group_order, paired=args.paired)
     if args.reliability is not None:
         from .reliability import cronbach_alpha_for
         extra["reliability"] = cronbach_alpha_for(data, args.reliability or None,
@@ -456,7 +472,8 @@ def _cmd_report(args) -> int:
     _check_chart_size(data, "report")
     _notes(data)
     res = build_report(data, args.output, claims=args.claims, group=args.group,
-                       min_group=args.min_group, group_order=args.group_order, title=args.title,
+                       min_group=args.min_group, group_order=args.group_order,
+                       paired=args.paired, title=args.title,
                        confidence_level=args.confidence, method=args.ci)
     print(f"wrote {res}")
     return 0
@@ -491,6 +508,14 @@ def main(argv: "list[str] | None" = None) -> int:
         if missing:
             return _usage_error(missing)
         _check_lists(args)
+        if getattr(args, "paired", None) is not None:
+            flag = "--paired" if args.paired else "--independent"
+            if getattr(args, "by", None):
+                return _usage_error(f"{args.command}: {flag} is not available with --by (the "
+                                    f"out-of-core count tests nothing across groups)")
+            if not args.group:
+                return _usage_error(f"{args.command}: {flag} says how --group compares "
+                                    f"groups; give --group COLUMN too")
         return _COMMANDS[args.command](args)
     except SurveyInputError as e:
         return _fail(e.line(), 2)

@@ -58,7 +58,8 @@ def _validate_report(data, decimals, percent_method):
 
 
 def render_report(data: SurveyData, claims=None, group: str | None = None, min_group: int = 5,
-                  group_order: "list[str] | None" = None, title: str | None = None, confidence_level: float = 0.95,
+                  group_order: "list[str] | None" = None, paired: "bool | None" = None,
+                  title: str | None = None, confidence_level: float = 0.95,
                   method: str = "wilson", decimals: int = 1, percent_method: str = "round",
                   reliability: bool = True) -> str:
     """HTML text of the survey report.
@@ -74,6 +75,9 @@ def render_report(data: SurveyData, claims=None, group: str | None = None, min_g
         Smallest group shown.
     group_order : list of str, optional
         Order of the groups (default: first appearance).
+    paired : bool or None
+        Pairing of two groups by respondent id, as
+        :func:`~analysis.groups.compare_groups` takes it (None: the automatic rule).
     title : str, optional
     confidence_level : float
     method : {"wilson", "beta"}
@@ -97,7 +101,7 @@ def render_report(data: SurveyData, claims=None, group: str | None = None, min_g
     if group:
         from .chart import faceted_bar
         from .groups import compare_groups
-        groups = compare_groups(data, group, min_group, order=group_order)
+        groups = compare_groups(data, group, min_group, order=group_order, paired=paired)
         if groups.shown:
             group_svg = Markup(figure_svg(faceted_bar(groups)))
     rel = None

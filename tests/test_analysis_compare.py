@@ -442,3 +442,252 @@ def test_a_long_file_read_as_wide_notes_its_repeated_respondents(tmp_path, capsy
     assert main(["summarize", str(f), "--shape", "wide"]) == 0
     assert ("column 'respondent': 2 ids on more than one row ('s0' in rows 2, 3; 's1' in rows "
             "4, 5)") in capsys.readouterr().err
+
+
+def _overlap(tmp_path, shared=6, size=40):
+    """QA 16 #1's overlap.csv rebuilt: two independent sections of ``size`` students each
+    (ids S000.. and, from S(size - shared) on, the second section), ``shared`` ids in both
+    as after a section change. Q1 differs sharply: Sec A answers Neutral..Strongly agree,
+    Sec B Strongly disagree..Neutral. Returns the file and {section: {id: Q1 code}}."""
+    a_ids = [f"S{k:03d}" for k in range(size)]
+    b_ids = [f"S{k:03d}" for k in range(size - shared, 2 * size - shared)]
+    rows, q1 = [["student_id", "Section", "Q1", "Q2"]], {"Sec A": {}, "Sec B": {}}
+    for sec, ids, codes in (("Sec A", a_ids, (3, 4, 4, 5)), ("Sec B", b_ids, (1, 1, 2, 3))):
+        for k, sid in enumerate(ids):
+            c = codes[k % 4]
+            q1[sec][sid] = c
+            rows.append([sid, sec, AGREE5[c - 1], AGREE5[(k * 7) % 5]])
+    f = tmp_path / "overlap.csv"
+    with open(f, "w", newline="") as fh:
+        csv.writer(fh).writerows(rows)
+    return f, q1
+
+
+def _json_groups(capsys, *argv):
+    assert main(["summarize", *map(str, argv), "--json"]) == 0
+    return json.loads(capsys.readouterr().out)["groups"]
+
+
+def test_a_few_shared_ids_do_not_turn_two_sections_into_pre_post(tmp_path, capsys):
+    """QA 16 #1: six ids in both of two sections of 40 made --group run the signed-rank
+    test on those six pairs (p = 0.0625) under a "pre/post" heading, where the independent
+    test finds the difference (p ~ 1e-13). The automatic rule pairs only when at least half
+    of each group's respondents pair; --paired and --independent decide it explicitly."""
+    f, q1 = _overlap(tmp_path)
+    ref = stats.mannwhitneyu(list(q1["Sec B"].values()), list(q1["Sec A"].values()),
+                             alternative="two-sided")
+    assert ref.pvalue < 1e-10                      # the difference the data were built with
+    for flags in ([], ["--independent"]):
+        g = _json_groups(capsys, f, "--group", "Section", *flags)
+        it = g["items"][0]
+        assert (g["design"], g["paired_by"], it["test"]) == ("independent", "", "mann-whitney")
+        # scipy on the codes the test wrote; same inputs and method, so only float noise
+        assert (it["statistic"], it["p_value"]) == pytest.approx((ref.statistic, ref.pvalue),
+                                                                 rel=1e-12)
+        assert "6 ids appear in both groups, so the samples are not fully independent" in \
+            g["pairing"]
+    assert main(["summarize", str(f), "--group", "Section"]) == 0
+    out = capsys.readouterr().out
+    assert "pre/post" not in out and "paired by" not in out
+    assert "fewer than half of Sec A's 40 or Sec B's 40 respondents: compared as " \
+           "independent samples" in out
+    # --paired: the six pairs, as asked, and how many respondents the test leaves out
+    g = _json_groups(capsys, f, "--group", "Section", "--paired")
+    it = g["items"][0]
+    both = sorted(set(q1["Sec A"]) & set(q1["Sec B"]))
+    pre, post = (np.array([q1[s][k] for k in both]) for s in ("Sec A", "Sec B"))
+    ref = stats.wilcoxon(post, pre)
+    assert (g["design"], it["test"], it["pairs"]) == ("paired", "wilcoxon-signed-rank", 6)
+    assert (it["statistic"], it["p_value"]) == pytest.approx((ref.statistic, ref.pvalue),
+                                                             rel=1e-12)
+    assert "leaves out 68 of the 80 respondents" in g["pairing"]       # 80 - 2 x 6
+
+
+def test_the_automatic_pairing_rule_at_half_of_each_group(tmp_path, capsys):
+    """The rule's edge, by hand: Pre and Post of 10 respondents each with 5 ids in both
+    pair (5 >= 10 / 2); with 4 ids in both (and --min-group 3, so the count of pairs is
+    not what stops it) they do not, and the note says so. --independent on a genuine
+    pre/post file gives Mann-Whitney on all answers (scipy)."""
+    def prepost(n_shared):
+        pre = [(f"s{k}", AGREE5[k % 3]) for k in range(10)]
+        post = [(f"s{k}" if k < n_shared else f"t{k}", AGREE5[2 + k % 3]) for k in range(10)]
+        return _prepost(tmp_path, pre, post), pre, post
+
+    f, pre, post = prepost(5)
+    g = _json_groups(capsys, f, "--group", "Term")
+    assert (g["design"], g["items"][0]["pairs"]) == ("paired", 5)
+    assert "leaves out 10 of the 20 respondents" in g["pairing"]
+    f, pre, post = prepost(4)
+    g = _json_groups(capsys, f, "--group", "Term", "--min-group", "3")
+    assert g["design"] == "independent" and g["items"][0]["test"] == "mann-whitney"
+    assert g["pairing"].startswith("4 ids answered once in both groups, fewer than half of "
+                                   "Pre's 10 or Post's 10 respondents")
+    f, pre, post = prepost(10)
+    g = _json_groups(capsys, f, "--group", "Term", "--independent")
+    ref = stats.mannwhitneyu([CODE[a] for _, a in post], [CODE[a] for _, a in pre],
+                             alternative="two-sided")
+    it = g["items"][0]
+    assert (g["design"], it["pairs"]) == ("independent", 0)
+    assert (it["statistic"], it["p_value"]) == pytest.approx((ref.statistic, ref.pvalue),
+                                                             rel=1e-12)
+    assert "10 ids appear in both groups" in g["pairing"]
+    html = tmp_path / "r.html"
+    assert main(["report", str(f), "--group", "Term", "--independent", "-o", str(html)]) == 0
+    assert "mann-whitney" in html.read_text() and "Paired design" not in html.read_text()
+    assert main(["report", str(f), "--group", "Term", "-o", str(html)]) == 0
+    assert "Paired design: respondents answering once in both groups are paired by student_id" \
+        in html.read_text()
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["nuid.csv", "--group", "Term", "--paired"],
+     "nuid.csv: --paired: the file has no column identifying respondents"),
+    (["three.csv", "--group", "Term", "--paired"],
+     "three.csv: --paired: the paired test compares two groups, and 3 are compared"),
+    (["few.csv", "--group", "Term", "--paired"],
+     "few.csv: --paired: 4 ids in column 'student_id' answered once in both 'Pre' and "
+     "'Post', fewer than --min-group 5"),
+    (["few.csv", "--paired"], "--paired says how --group compares groups; give --group"),
+    (["few.csv", "--by", "Term", "--independent"], "--independent is not available with --by"),
+    (["few.csv", "--group", "Term", "--paired", "--independent"],
+     "argument --independent: not allowed with argument --paired"),
+])
+def test_paired_and_independent_are_refused_when_the_data_contradict_them(
+        tmp_path, capsys, argv, words):
+    """One line naming the flag, exit 2, no output (the reader's notes may come first): no
+    ids to pair, three groups, four pairs under --min-group 5, no --group, --by, and both
+    flags at once."""
+    (tmp_path / "nuid.csv").write_text("Term,Q1\n" + "Pre,Agree\nPost,Disagree\n" * 5)
+    (tmp_path / "three.csv").write_text(
+        "id,Term,Q1\n" + "".join(f"s{k},{t},Agree\n" for k in range(5)
+                                 for t in ("Pre", "Mid", "Post")))
+    _prepost(tmp_path, [(f"s{k}", "Agree") for k in range(6)],
+             [(f"s{k}" if k < 4 else f"t{k}", "Disagree") for k in range(6)]).rename(
+        tmp_path / "few.csv")
+    argv = [str(tmp_path / argv[0]), *argv[1:]]
+    assert main(["summarize", *argv]) == 2
+    cap = capsys.readouterr()
+    errors = [ln for ln in cap.err.splitlines() if not ln.startswith("note: ")]
+    assert cap.out == "" and len(errors) == 1 and words in errors[0], cap.err
+
+
+def _holm_by_hand(p):
+    """Holm's step-down adjustment written out: sorted p times the hypotheses left, running
+    maximum, capped at 1; returned in the input order."""
+    out, running = [0.0] * len(p), 0.0
+    for i, k in enumerate(sorted(range(len(p)), key=lambda k: p[k])):
+        running = max(running, min(1.0, (len(p) - i) * p[k]))
+        out[k] = running
+    return out
+
+
+def test_a_trend_is_tested_only_over_an_order_the_user_states(tmp_path, capsys):
+    """QA 16 #4: with no --group-order the "trend over groups" ran over the order of first
+    appearance, so sorting the file turned p = 0.14 into p = 0.004 with the sign flipped,
+    and its p was in no Holm family. Now: no trend without a stated order (one note says
+    why), Kruskal-Wallis the same for both row orders, and with --group-order the trend
+    is Spearman over the stated order (scipy), Holm-adjusted over the items' trends."""
+    rng = random.Random(16)
+    rows = [(sec, rng.choice(AGREE5[k:k + 3]), rng.choice(AGREE5))
+            for k, sec in enumerate(["Sec A", "Sec B", "Sec C"]) for _ in range(12)]
+    mixed, by_name = tmp_path / "mixed.csv", tmp_path / "sorted.csv"
+    for f, order in ((mixed, rng.sample(rows, len(rows))), (by_name, sorted(rows, reverse=True))):
+        f.write_text("Section,Q1,Q2\n" + "".join(f"{s},{a},{b}\n" for s, a, b in order))
+    runs = [_json_groups(capsys, f, "--group", "Section") for f in (mixed, by_name)]
+    for g in runs:
+        assert g["trend_note"].startswith("no trend over the groups: they come in the order "
+                                          "in which they first appear in the file")
+        for j, it in enumerate(g["items"]):
+            ref = stats.kruskal(*[[CODE[r[1 + j]] for r in rows if r[0] == s]
+                                  for s in ("Sec A", "Sec B", "Sec C")])
+            assert it["trend"] is None and it["direction"] == "epsilon_squared has no sign"
+            assert (it["statistic"], it["p_value"]) == pytest.approx(
+                (ref.statistic, ref.pvalue), rel=1e-12)      # same data, same method
+    assert main(["summarize", str(mixed), "--group", "Section"]) == 0
+    assert "Spearman" not in capsys.readouterr().out
+    order = ["Sec C", "Sec A", "Sec B"]
+    for f in (mixed, by_name):
+        g = _json_groups(capsys, f, "--group", "Section", "--group-order", *order)
+        assert g["trend_note"] == ""
+        p_ref = []
+        for j, it in enumerate(g["items"]):
+            x = [order.index(r[0]) for r in rows]
+            ref = stats.spearmanr(x, [CODE[r[1 + j]] for r in rows])
+            assert (it["trend"]["rho"], it["trend"]["p_value"]) == pytest.approx(
+                (ref.statistic, ref.pvalue), rel=1e-12)     # ties ranked the same way
+            p_ref.append(ref.pvalue)
+        assert [it["trend"]["p_holm"] for it in g["items"]] == pytest.approx(
+            _holm_by_hand(p_ref), rel=1e-12)
+        # the main tests keep their own family: the trends do not enter it
+        assert [it["p_holm"] for it in g["items"]] == pytest.approx(
+            _holm_by_hand([it["p_value"] for it in g["items"]]), rel=1e-12)
+        assert "the 2 trend p-values as a family of their own" in g["multiplicity"]
+    g = _json_groups(capsys, mixed, "--group", "Section", "--group-order", "Sec B")
+    assert all(it["trend"] is None for it in g["items"])
+    assert "--group-order does not place 'Sec A', 'Sec C'" in g["trend_note"]
+    html = tmp_path / "r.html"
+    assert main(["report", str(mixed), "--group", "Section", "-o", str(html)]) == 0
+    text = html.read_text()
+    assert "No trend over the groups" in text and "trend rho" not in text
+
+
+def test_the_test_says_which_groups_it_covers_after_suppression(tmp_path, capsys):
+    """QA 16 #5: sections of 10, 12, 3 and 20; S3 (< 5) is suppressed and S1 withheld by
+    complementary suppression, and the test then silently compared S2 with S4 only. By
+    hand: 2 of 4 groups, 32 of 45 respondents, 13 left out. The test is Mann-Whitney on
+    S2 and S4 (scipy). With --min-group 3 every group is shown; S3 left Q2 blank, so Q2's
+    Kruskal-Wallis covers the other three, and says so."""
+    rng = random.Random(5)
+    rows = [(s, rng.choice(AGREE5), "" if s == "S3" else rng.choice(AGREE5))
+            for s, n in (("S1", 10), ("S2", 12), ("S3", 3), ("S4", 20)) for _ in range(n)]
+    f = tmp_path / "supp.csv"
+    f.write_text("section,Q1,Q2\n" + "".join(",".join(r) + "\n" for r in rows))
+    want = ("the tests compare 2 of the 4 groups ('S2', 'S4': 32 of 45 respondents); the 13 "
+            "respondents of the suppressed groups ('S1', 'S3') are left out, for disclosure "
+            "reasons")
+    g = _json_groups(capsys, f, "--group", "section")
+    assert (g["tested_groups"], g["left_out"], g["coverage"]) == (["S2", "S4"], 13, want)
+    it = g["items"][0]
+    ref = stats.mannwhitneyu([CODE[r[1]] for r in rows if r[0] == "S4"],
+                             [CODE[r[1]] for r in rows if r[0] == "S2"], alternative="two-sided")
+    assert (it["statistic"], it["p_value"]) == pytest.approx((ref.statistic, ref.pvalue),
+                                                             rel=1e-12)
+    assert main(["summarize", str(f), "--group", "section"]) == 0
+    assert f"  coverage: {want}\n" in capsys.readouterr().out
+    html = tmp_path / "r.html"
+    assert main(["report", str(f), "--group", "section", "-o", str(html)]) == 0
+    assert "Coverage: the tests compare 2 of the 4 groups (&#39;S2&#39;, &#39;S4&#39;: 32 of " \
+           "45 respondents); the 13 respondents" in html.read_text()
+    capsys.readouterr()                                  # the report's "wrote ..." line
+    g = _json_groups(capsys, f, "--group", "section", "--min-group", "3")
+    assert (g["coverage"], g["left_out"], g["tested_groups"]) == ("", 0, ["S1", "S2", "S3", "S4"])
+    it = g["items"][1]
+    ref = stats.kruskal(*[[CODE[r[2]] for r in rows if r[0] == s] for s in ("S1", "S2", "S4")])
+    assert (it["statistic"], it["p_value"]) == pytest.approx((ref.statistic, ref.pvalue),
+                                                             rel=1e-12)
+    assert it["note"] == "'S3' gave no answer to this item: the test compares the other groups"
+
+
+def test_a_paired_item_with_too_few_pairs_is_not_tested_as_independent(tmp_path, capsys):
+    """Ten students answer Pre and Post (a paired design by the rule); only three answer
+    Q2 at Post. Those 3 pairs are under --min-group 5, and testing Q2's 10 + 3 answers as
+    independent samples would treat the same students as different ones: no test, with
+    the reason. Q1 (10 pairs) is the signed-rank test (scipy)."""
+    rows = [["student_id", "Term", "Q1", "Q2"]]
+    pre = [(k % 3) + 1 for k in range(10)]
+    post = [(k % 3) + 3 for k in range(10)]
+    rows += [[f"s{k}", "Pre", AGREE5[pre[k] - 1], "Agree"] for k in range(10)]
+    rows += [[f"s{k}", "Post", AGREE5[post[k] - 1], "Disagree" if k < 3 else ""]
+             for k in range(10)]
+    f = tmp_path / "pp.csv"
+    with open(f, "w", newline="") as fh:
+        csv.writer(fh).writerows(rows)
+    g = _json_groups(capsys, f, "--group", "Term")
+    q1, q2 = g["items"]
+    ref = stats.wilcoxon(post, pre)
+    assert (g["design"], q1["test"], q1["pairs"]) == ("paired", "wilcoxon-signed-rank", 10)
+    assert (q1["statistic"], q1["p_value"]) == pytest.approx((ref.statistic, ref.pvalue),
+                                                             rel=1e-12)
+    assert (q2["test"], q2["pairs"], q2["p_value"]) == ("none", 3, None)
+    assert q2["note"] == ("3 pairs answered this item in both groups, fewer than 5: too few "
+                          "for the paired test")
