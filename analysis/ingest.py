@@ -52,6 +52,7 @@ from __future__ import annotations
 
 import codecs
 import csv
+import datetime
 import heapq
 import io
 import re
@@ -273,6 +274,9 @@ def _frame_to_columns(df: pd.DataFrame) -> list[_Column]:
             if (codes < 0).any():             # NaN -> blank
                 cats = cats + [""]
                 codes = np.where(codes < 0, len(cats) - 1, codes)
+        elif pd.api.types.infer_dtype(s, skipna=False) == "string":
+            codes, uniq = pd.factorize(s.to_numpy(dtype=object), sort=False)   # text as it is
+            cats = [str(u) for u in uniq]
         else:
             vals = s.astype(object).where(s.notna(), "")
             codes, uniq = pd.factorize(vals.map(_cell_text), sort=False)
@@ -285,8 +289,13 @@ def _frame_to_columns(df: pd.DataFrame) -> list[_Column]:
 
 
 def _cell_text(v) -> str:
+    """A workbook cell's value as text: a whole number without ``.0``, TRUE/FALSE as Excel
+    writes them, a date cell as its date (``2024-01-15``, not ``2024-01-15 00:00:00``: a time
+    only when the cell holds one, as Excel shows a date cell)."""
     if v is None:
         return ""
+    if isinstance(v, datetime.datetime):
+        return v.date().isoformat() if v.time() == datetime.time() else v.isoformat(" ")
     if isinstance(v, float):
         if v != v:
             return ""
@@ -388,8 +397,10 @@ def _read_csv_encoded(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", pd.errors.ParserWarning)
             # index_col=False: a data row with a trailing delimiter must not turn the
-            # first column into an index and shift every answer one column left
-            df = pd.read_csv(io.BytesIO(body), dtype="category", keep_default_na=False,
+            # first column into an index and shift every answer one column left.
+            # dtype=object: every cell the text the file holds (a "category" read infers
+            # numbers, so that sections "01" and "1.0" became one group and id "00123" 123)
+            df = pd.read_csv(io.BytesIO(body), dtype=object, keep_default_na=False,
                              sep=sep, na_filter=False, encoding=encoding, engine="c",
                              skipinitialspace=False, skip_blank_lines=not single,
                              index_col=False)

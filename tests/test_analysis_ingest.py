@@ -641,3 +641,53 @@ def test_a_workbook_names_the_sheets_it_did_not_read(tmp_path, capsys):
     c.write_text("Q1\nAgree\n")
     assert main(["summarize", str(c), "--sheet", "Responses"]) == 2
     assert "--sheet 'Responses': only a workbook (.xlsx) has sheets" in capsys.readouterr().err
+
+
+def test_cells_are_read_as_the_text_the_file_holds_on_both_routes(tmp_path):
+    """QA 16 #2: a CSV read with ``dtype="category"`` under pandas 3 turned numeric-looking
+    text into numbers: sections '01', '1', '1.0', '001' became one group '1.0', id '00123'
+    was named '123', ids '0123' and '123' were taken for one person. The references are the
+    cells as written below; every count is exact (no tolerance)."""
+    from analysis.institution import summarize_by
+    sections = ["01", "1", "1.0", "001"]
+    f = tmp_path / "zeros.csv"
+    f.write_text("student_id,section,Q1\n" + "".join(
+        f"S{g}{k},{sec},{LABELS[k % 5]}\n" for g, sec in enumerate(sections) for k in range(5)))
+    data = read_survey(f, group="section")
+    assert list(dict.fromkeys(data.groups["section"])) == sections
+    res = summarize_by(f, ["section"])
+    assert res.groups == sorted((s,) for s in sections) and res.respondents.tolist() == [5] * 4
+    # ids: two rows of '00123' are one id, named as written; '0123'/'123' and
+    # '00456'/'456.0' are four different ids (no note on either route)
+    g = tmp_path / "ids.csv"
+    g.write_text("student_id,Term,Q1\n00123,T,Agree\n00456,T,Disagree\n00123,T,Agree\n")
+    want = "('00123' in rows 2, 4)"
+    assert any(want in n for n in read_survey(g, group="Term").notes)
+    assert any(want in n for n in summarize_by(g, ["Term"], min_group=1).notes)
+    g.write_text("student_id,Term,Q1\n0123,T,Agree\n123,T,Disagree\n00456,T,Agree\n"
+                 "456.0,T,Agree\n")
+    for notes in (read_survey(g, group="Term").notes,
+                  summarize_by(g, ["Term"], min_group=1).notes):
+        assert not any("more than one row" in n for n in notes), notes
+    # a long file: respondents '007', '7', '0008' are three people on both routes
+    h = tmp_path / "long.csv"
+    h.write_text("respondent,item,answer,term\n" + "".join(
+        f"{r},{q},Agree,T\n" for r in ("007", "7", "0008") for q in ("1", "2")))
+    assert read_survey(h).respondents == 3
+    assert summarize_by(h, ["term"], min_group=1).respondents.tolist() == [3]
+
+
+def test_a_workbook_date_cell_reads_as_excel_shows_it(tmp_path):
+    """QA 16 #2: a date cell (midnight) printed as '2024-01-15 00:00:00' and made a group
+    apart from the text cell '2024-01-15'. Excel shows a date cell of a date format without
+    the time; one holding a time keeps it. References: the cell values written below."""
+    import datetime as dt
+    f = tmp_path / "dates.xlsx"
+    wb = openpyxl.Workbook()
+    ws = wb.active
+    for row in (["Term", "Q1"], [dt.datetime(2024, 1, 15), "Agree"], ["2024-01-15", "Agree"],
+                [dt.datetime(2024, 8, 20, 10, 30), "Disagree"]):
+        ws.append(row)
+    wb.save(f)
+    data = read_survey(f, group="Term")
+    assert data.groups["Term"].tolist() == ["2024-01-15", "2024-01-15", "2024-08-20 10:30:00"]
