@@ -213,7 +213,7 @@ class SurveyData:
     def note_lines(self) -> list[str]:
         """:attr:`notes` as every output shows them to the reader (the command line on stderr,
         the HTML report): ``note: ...``, or a warning as it is written (``warning: ...``)."""
-        return [n if n.startswith("warning:") else f"note: {n}" for n in self.notes]
+        return [note_line(n) for n in self.notes]
 
     def labels_frame(self) -> pd.DataFrame:
         """Answers as label text (blank -> ``""``, N/A -> ``"N/A"``, unknown -> ``""``)."""
@@ -224,6 +224,11 @@ class SurveyData:
     def __repr__(self):
         return (f"SurveyData({self.source!r}, shape={self.shape!r}, scale={self.scale.name!r}, "
                 f"respondents={self.respondents}, items={self.items!r})")
+
+
+def note_line(note: str) -> str:
+    """A note as every route prints it: ``note: ...``, or a warning as it is written."""
+    return note if note.startswith("warning:") else f"note: {note}"
 
 
 # ---------------------------------------------------------------------------
@@ -271,16 +276,16 @@ def _frame_to_columns(df: pd.DataFrame) -> list[_Column]:
         if isinstance(s.dtype, pd.CategoricalDtype):
             cats = [str(c) for c in s.cat.categories]
             codes = s.cat.codes.to_numpy()
-            if (codes < 0).any():             # NaN -> blank
-                cats = cats + [""]
-                codes = np.where(codes < 0, len(cats) - 1, codes)
-        elif pd.api.types.infer_dtype(s, skipna=False) == "string":
-            codes, uniq = pd.factorize(s.to_numpy(dtype=object), sort=False)   # text as it is
+        elif pd.api.types.infer_dtype(s, skipna=True) == "string":     # text as it is
+            codes, uniq = pd.factorize(s.to_numpy(dtype=object), sort=False)
             cats = [str(u) for u in uniq]
         else:
             vals = s.astype(object).where(s.notna(), "")
             codes, uniq = pd.factorize(vals.map(_cell_text), sort=False)
             cats = [str(u) for u in uniq]
+        if (codes < 0).any():                 # NaN -> blank
+            cats = cats + [""]
+            codes = np.where(codes < 0, len(cats) - 1, codes)
         codes = np.asarray(codes)
         if codes.dtype.kind != "i":
             codes = codes.astype(np.int64)
@@ -944,6 +949,8 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
                       other_columns=list(others), not_item_reasons=others,
                       comments=list(raw.comments), stems=[stems[j] for j in chosen],
                       fields=[raw.columns[j].name for j in chosen], notes=notes)
+    data.notes += narrower_scale_notes(raw.source, scale_obj, item_names,
+                                       label_counts(answers, scale_obj.k), data.reverse)
     pid = person_id_column(raw.header)
     if pid is not None:
         c = raw.columns[pid]
@@ -1253,6 +1260,94 @@ def _warn_unused_labels(scale: Scale, answers: np.ndarray, notes: list) -> None:
                          f"exactly; give --scale {other.name} if that is the questionnaire's "
                          f"scale (medians and codes depend on it)")
             return
+
+
+#: Chance below which an item's answers missing every label that only the wider scale has
+#: is taken as a sign that the item offered the narrower scale (see :func:`narrower_scale_notes`).
+NARROWER_SCALE_CHANCE = 0.05
+
+
+def label_counts(answers: np.ndarray, k: int) -> np.ndarray:
+    """Answers per label of each item, shape (items, k), from a matrix of scale positions."""
+    return np.array([np.bincount(np.ascontiguousarray(col[col >= 0]), minlength=k)[:k]
+                     for col in answers.T], dtype=np.int64).reshape(answers.shape[1], k)
+
+
+def _narrower_scales(scale: Scale) -> list:
+    """(built-in scale, positions of its labels on ``scale``) for every built-in scale whose
+    labels are some of ``scale``'s, in the same order (agree5 in agree7); widest first."""
+    mine = [normalize_answer(x) for x in scale.labels]
+    out = []
+    for other in BUILTIN_SCALES.values():
+        theirs = [normalize_answer(x) for x in other.labels]
+        if other.k < scale.k and all(t in mine for t in theirs):
+            pos = [mine.index(t) for t in theirs]
+            if pos == sorted(pos):
+                out.append((other, pos))
+    return sorted(out, key=lambda t: -t[0].k)
+
+
+def narrower_scale_notes(source: str, scale: Scale, names: list, counts: np.ndarray,
+                         reverse=frozenset()) -> list[str]:
+    """Warnings naming the items that look as if they offered a narrower built-in scale.
+
+    In a file mixing 5-point and 7-point agreement items the whole file is read as the
+    wider scale: a 5-point item then lands on codes 1, 2, 4, 6, 7, and its median, IQR,
+    mean and SD are wrong (its counts and agreement share are not). An item is named when
+    it uses only labels of a narrower built-in scale (agree5 inside agree7), and never one of
+    the labels only the wider scale has, while other items do, so often that an item of
+    this many answers on the wider scale would miss all of them with a chance below
+    :data:`NARROWER_SCALE_CHANCE`: (1 - f) ** n, f being those labels' share of the answers
+    of the items using them. The warning gives the item's statistics on the narrower scale.
+    Both routes (:func:`read_survey`, :func:`analysis.institution.summarize_by`) call this.
+
+    Parameters
+    ----------
+    source : str
+    scale : Scale
+        The scale the answers were read on.
+    names : list of str
+        Item names, in the order of ``counts``' rows.
+    counts : numpy.ndarray of int, shape (items, scale.k)
+        Answers per label.
+    reverse : set of str
+        Reverse-keyed items (their statistics on reversed codes, as in the table).
+    """
+    from .likert import summarize_tally
+    from .rounding import number_text, percent_text
+    counts = np.asarray(counts, dtype=np.int64)
+    notes, named = [], set()
+    for other, pos in _narrower_scales(scale):
+        wider = [i for i in range(scale.k) if i not in pos]
+        using = [j for j in range(len(names)) if counts[j, wider].sum()]
+        if not using:
+            continue
+        k_wider, n_using = int(counts[using][:, wider].sum()), int(counts[using].sum())
+        f = k_wider / n_using
+        found = [j for j in range(len(names)) if j not in named and j not in using
+                 and counts[j].sum() and (1 - f) ** int(counts[j].sum()) < NARROWER_SCALE_CHANCE]
+        if not found:
+            continue
+        named.update(found)
+        stats = []
+        for j in found:
+            it = summarize_tally(np.concatenate([[0, 0, 0], counts[j, pos]]), other, names[j],
+                                 reverse=names[j] in reverse)
+            stats.append(f"{names[j]!r}{' (reversed)' if it.reverse else ''}: median "
+                         f"{number_text(it.median)}, IQR {number_text(it.iqr)}, mean "
+                         f"{number_text(it.mean, 2)}, SD {number_text(it.sd, 2)}")
+        only = " or ".join(repr(scale.labels[i]) for i in wider)
+        which = ", ".join(repr(names[j]) for j in found)
+        lo, hi = number_text(min(other.codes), 0), number_text(max(other.codes), 0)
+        share = percent_text(k_wider, n_using, 0)
+        notes.append(
+            f"warning: {source}: item{'s' if len(found) > 1 else ''} {which} never answered "
+            f"{only} (labels only scale {scale.name!r} has, {share}% of the answers to the "
+            f"items that use them): if they offered scale {other.name!r}, their median, IQR, "
+            f"mean, SD (and a Cronbach's alpha with them) are on the wrong codes; on {other.name!r} (codes {lo}-{hi}) "
+            f"they are {'; '.join(stats)} (summarize them with --items and --scale "
+            f"{other.name})")
+    return notes
 
 
 name_matches = platforms.name_matches
@@ -1828,4 +1923,6 @@ def _build_long(raw: _Raw, scale, items, unknown, group, reverse, respondents):
                           per_item[k][1], scale_obj, items, True, notes)
                           for k in range(nitem) if k not in wanted},
                       comments=list(raw.comments), notes=notes)
+    data.notes += narrower_scale_notes(source, scale_obj, names,
+                                       label_counts(answers, scale_obj.k), data.reverse)
     return _declare(data, respondents)

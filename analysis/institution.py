@@ -250,7 +250,8 @@ class GroupedSummary:
             out.append(REVERSE_NOTE)
         out.extend(f"dropped {'the last row' if d.row is None else f'row {d.row}'}: {d.reason}"
                    for d in self.dropped)
-        out.extend(f"note: {n}" for n in self._all_notes())
+        from .ingest import note_line
+        out.extend(note_line(n) for n in self._all_notes())
         return "\n".join(out)
 
 
@@ -506,6 +507,9 @@ def summarize_by(path: "str | Path", by: "list[str]", scale=None, items=None,
         raise SurveyInputError(f"counting needs more than {size * _RETRY_FACTORS[-1]}{unit} "
                                f"of memory; give a larger memory limit", str(p))
     res.reverse = platforms.resolve_reverse(res.source, res.items, reverse)
+    from .ingest import narrower_scale_notes
+    res.notes += narrower_scale_notes(res.source, res.scale, res.items,
+                                      res.tallies.sum(axis=0)[:, 3:], res.reverse)
     res.ci_method, res.confidence_level = method, confidence_level
     _declare(res, respondents)
     _order(res, group_order)
