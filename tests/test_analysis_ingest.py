@@ -691,3 +691,46 @@ def test_a_workbook_date_cell_reads_as_excel_shows_it(tmp_path):
     wb.save(f)
     data = read_survey(f, group="Term")
     assert data.groups["Term"].tolist() == ["2024-01-15", "2024-01-15", "2024-08-20 10:30:00"]
+
+
+def test_items_of_a_narrower_scale_among_wider_ones_are_named_with_their_statistics(tmp_path):
+    """QA 16 #3: a file mixing 5-point and 7-point agreement items is read as agree7, and the
+    5-point items' median, IQR, mean and SD sit on codes 1, 2, 4, 6, 7, unsaid. Both routes
+    now name those items, word for word, with their statistics on agree5. By hand, on codes
+    1-5: Q1 = 1,1,2,2,3,3,4,4,5,5: median 3, quartiles 2 and 4 (numpy's linear rule), mean 3,
+    SD sqrt(20/9) = 1.49; Q2 = 5,5,5,4: median 5, quartiles 4.75 and 5 (IQR 0.25, printed
+    0.3), mean 4.75, SD sqrt(0.75/3) = 0.50. Q3 answers 'Somewhat ...' 8 times of 10 (80%):
+    an item of n answers on agree7 misses both such labels with chance 0.2**n (Q2:
+    0.0016), below the 5% the note asks for."""
+    from analysis.institution import summarize_by
+    a5 = list(BUILTIN_SCALES["agree5"].labels)
+    q1 = [a5[i // 2] for i in range(10)]
+    q2 = ["Strongly agree"] * 3 + ["Agree"] + [""] * 6
+    q3 = ["Somewhat disagree"] * 4 + ["Somewhat agree"] * 4 + ["Agree", "Strongly agree"]
+    f = tmp_path / "mixed.csv"
+    f.write_text("term,Q1,Q2,Q3\n" + "".join(f"T,{a},{b},{c}\n" for a, b, c in zip(q1, q2, q3)))
+    want = (f"warning: {f}: items 'Q1', 'Q2' never answered 'Somewhat disagree' or 'Somewhat "
+            "agree' (labels only scale 'agree7' has, 80% of the answers to the items that use "
+            "them): if they offered scale 'agree5', their median, IQR, mean, SD (and a "
+            "Cronbach's alpha with them) are on the wrong codes; on 'agree5' (codes 1-5) they "
+            "are 'Q1': median 3.0, IQR 2.0, mean 3.00, SD 1.49; 'Q2': median 5.0, IQR 0.3, "
+            "mean 4.75, SD 0.50 (summarize them with --items and --scale agree5)")
+    data = read_survey(f)
+    assert data.scale.name == "agree7" and want in data.notes, data.notes
+    assert want in summarize_by(f, ["term"], min_group=1).notes
+    # the statistics the note gives are those of the items read on agree5 by themselves
+    alone = summarize(read_survey(f, items=["Q1", "Q2"], scale="agree5"))
+    assert [(it.mean, it.iqr) for it in alone.items] == [(3.0, 2.0), (4.75, 0.25)]
+    # an agree5 file: a 3-answer item without 'Neither ...' is no sign (Q1 uses it in 2
+    # answers of 10, 20%: chance 0.8**3 = 0.51 of missing it); 20 such answers are
+    # (0.8**20 = 0.012): named as agree4, its codes 1, 2, 3, 4
+    g = tmp_path / "five.csv"
+    rows = [(a5[i // 2], "Agree" if i < 3 else "") for i in range(10)]
+    g.write_text("term,Q1,Q2\n" + "".join(f"T,{a},{b}\n" for a, b in rows))
+    assert not any("never answered" in n for n in read_survey(g).notes)
+    rows = [(a5[i // 2] if i < 10 else "", "Agree") for i in range(20)]
+    g.write_text("term,Q1,Q2\n" + "".join(f"T,{a},{b}\n" for a, b in rows))
+    note, = [n for n in read_survey(g).notes if "never answered" in n]
+    assert ("item 'Q2' never answered 'Neither agree nor disagree'" in note
+            and "on 'agree4' (codes 1-4) they are 'Q2': median 3.0, IQR 0.0, mean 3.00, SD 0.00"
+            in note), note
