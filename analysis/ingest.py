@@ -65,7 +65,8 @@ import pandas as pd
 
 from . import platforms
 from .platforms import CODES_HINT
-from ._io import is_regular_file, read_bytes, sniff_delimiter
+from ._io import (ShortRecords, is_regular_file, read_bytes, short_records_note,
+                  sniff_delimiter)
 from .dropped import (DROP_WHY, FOOTER, DroppedRow, is_footer_note, is_integer_text,
                       is_na_text as _is_na_text)
 from .errors import SurveyInputError
@@ -260,6 +261,7 @@ class _Raw:
     row_map: "np.ndarray | None" = None   # spreadsheet row per record when not consecutive
     notes: list[str] = field(default_factory=list)
     given: "list[str] | None" = None      # header as written, before a reader renamed any
+    short: list = field(default_factory=list)   # (row, fields) of records shorter than the header
 
     def row_of(self, idx):
         """Spreadsheet row of data record(s) ``idx`` (0-based record indices)."""
@@ -426,12 +428,34 @@ def _read_csv_encoded(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]
                 for ln in raw[:pos].splitlines()]
     first = skip + 2 if row_map is None or not len(row_map) else int(row_map[0])
     out = _Raw(source, header, _frame_to_columns(df), first, len(df), comments, row_map,
-               given=None if single else _given_header(body, sep, encoding))
+               given=None if single else _given_header(body, sep, encoding),
+               short=[] if single else _short_records(body, sep, skip))
     if trailing:
         out.notes.append(f"{source}: {trailing} empty line(s) at the end not read as "
                          f"respondents (in a one-column file an empty line elsewhere is a "
                          f"blank answer)")
     return out, peek
+
+
+def _short_records(body: bytes, sep: str, skip: int) -> list:
+    """(spreadsheet row, fields) of each record with fewer fields than the header, which
+    pandas pads with blank cells unsaid (``skip`` comment lines above the header)."""
+    scan = ShortRecords(sep, b"\n" if b"\n" in body[:262144] or b"\r" not in body else b"\r")
+    view = memoryview(body)
+    for at in range(0, len(body), 1 << 20):
+        scan.feed(view[at:at + (1 << 20)])
+    return [(skip + record, fields) for record, fields in scan.close()]
+
+
+def _note_short_rows(raw: _Raw, keep: np.ndarray, notes: list) -> None:
+    """Note the records of ``keep`` (respondents) that were shorter than the header."""
+    if not raw.short:
+        return
+    kept = set(raw.row_of(keep).tolist())
+    note = short_records_note(raw.source, [(r, n) for r, n in raw.short if r in kept],
+                              len(raw.header))
+    if note:
+        notes.append(note)
 
 
 def _parser_error(e: Exception, source: str, skip: int) -> SurveyInputError:
@@ -894,6 +918,7 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
                                f"is not a response)", raw.source)
     if shape == "long":           # a footer note is dropped by the rule of a wide file
         keep, footer = _drop_footer(raw, np.arange(raw.nrows))
+        _note_short_rows(raw, keep, raw.notes)
         data = _build_long(_take_records(raw, keep) if footer else raw, scale, items, unknown,
                            group, reverse, respondents)
         data.dropped = footer + list(data.dropped)
@@ -914,6 +939,7 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
         _note_incomplete(raw, keep, notes)
     keep, footer = _drop_footer(raw, keep)
     dropped += footer
+    _note_short_rows(raw, keep, notes)
     names, stems = _item_names(raw, shape, extra, codes)
     rows = raw.row_of(keep)
     exclude = {j for j, h in enumerate(raw.header)

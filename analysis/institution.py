@@ -37,7 +37,7 @@ from pathlib import Path
 import numpy as np
 
 from . import platforms
-from ._io import is_regular_file, sniff_delimiter
+from ._io import ShortRecords, is_regular_file, short_records_note, sniff_delimiter
 from .disclosure import BLANK_GROUP, suppress_groups
 from .dropped import FOOTER, DroppedRow, is_footer_note
 from .errors import SurveyInputError
@@ -381,6 +381,24 @@ def _answer_rows(con, src: str, path: Path, header: list[str]):
     return f"(SELECT * FROM {src} WHERE NOT ({cond}))", [DroppedRow(row, FOOTER)], []
 
 
+def _short_rows(path: Path, width: int, dropped: list) -> list[str]:
+    """The note naming the rows with fewer fields than the header (DuckDB pads them with
+    blank cells, as pandas does), the rows ``dropped`` aside, as the in-memory route words it
+    (:func:`analysis._io.short_records_note`); the file is scanned again, 1 MiB at a time."""
+    if path.suffix.lower() == ".parquet" or width < 2:
+        return []
+    newline = _header_newline(_head(path)) or "\n"
+    scan = ShortRecords(_delimiter(path), newline[-1].encode())
+    with open(path, "rb") as f:
+        while chunk := f.read(1 << 20):
+            scan.feed(chunk)
+    found = scan.close()
+    # a footer whose row was not looked up is the last record holding text
+    gone = {scan.last if d.row is None else d.row for d in dropped}
+    note = short_records_note(str(path), [(r, n) for r, n in found if r not in gone], width)
+    return [note] if note else []
+
+
 def _given_header(con, path: Path, header: list[str]) -> list[str]:
     """The column names as the file writes them (``header`` is DuckDB's, made distinct).
 
@@ -583,6 +601,7 @@ def _count(p, by, scale, items, min_group, memory_limit, threads,
             raise SurveyInputError(f"cannot read as CSV/Parquet ({str(e).splitlines()[0]})",
                                    str(p)) from None
         src, dropped, footer_notes = _answer_rows(con, src, p, header)
+        footer_notes += _short_rows(p, len(header), dropped)
         _refuse_header_rows(con, src, p, header)
         why = platforms.repeated_column(_given_header(con, p, header))
         if why:                     # DuckDB renames a repeated Q1 to Q1_1 (and q1 too)

@@ -734,3 +734,49 @@ def test_items_of_a_narrower_scale_among_wider_ones_are_named_with_their_statist
     assert ("item 'Q2' never answered 'Neither agree nor disagree'" in note
             and "on 'agree4' (codes 1-4) they are 'Q2': median 3.0, IQR 0.0, mean 3.00, SD 0.00"
             in note), note
+
+
+def test_short_rows_are_named_on_both_routes(tmp_path, capsys):
+    """QA 16 #6: a row with fewer fields than the header was padded with blanks unsaid (a
+    longer one is refused). Spreadsheet rows here: header 1, row 3 has 2 of 4 fields, row 4
+    holds a quoted line break (one record, 4 fields: not short), row 5 is empty (no
+    respondent), row 7 has 3 fields, row 9 is empty and row 10 a footer dropped as such (not
+    named)."""
+    from analysis.institution import summarize_by
+    f = tmp_path / "short.csv"
+    f.write_text('id,T,Q1,Q2\n1,A,Agree,Disagree\n2,A\n3,A,"Agree",Agree\n\n4,A,Agree,Agree\n'
+                 '5,A,Agree\n6,A,Agree,Agree\n\nExported by Canvas\n')
+    want = (f"{f}: 2 rows with fewer fields than the header's 4 (row 3 has 2, row 7 has 3): "
+            "the missing cells are read as blank answers (a line break in an unquoted cell "
+            "splits a record in two: check the export)")
+    data = read_survey(f)
+    assert want in data.notes and data.respondents == 6, data.notes
+    assert [d.row for d in data.dropped] == [10]
+    res = summarize_by(f, ["T"], min_group=1)
+    assert want in res.notes and res.respondents.tolist() == [6], res.notes
+    f.write_text(f.read_text().replace('3,A,"Agree",Agree', '3,A,"Agree\nmore",Agree'))
+    with pytest.raises(SurveyInputError, match="row 4, column 'Q1': answer 'Agree\\\\nmore'"):
+        read_survey(f)          # the record is whole; its Q1 is not an answer: refused there
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(st.lists(st.sampled_from(["", "a", "b c", 'x"y', "p,q", "l\nm", " "]),
+                         min_size=0, max_size=4), min_size=1, max_size=8),
+       st.integers(1, 9), st.sampled_from(["\n", "\r\n"]))
+def test_the_short_record_scan_agrees_with_the_csv_module(records, chunk, newline):
+    """The byte scan behind the note (``analysis._io.ShortRecords``), fed in chunks of any
+    size, finds the records Python's csv module reads with fewer fields than the first,
+    those holding no cell text aside. Reference: ``csv.writer`` writes the records (quoting
+    what needs it), ``csv.reader`` reads them back."""
+    from analysis._io import ShortRecords
+    buf = io.StringIO(newline="")
+    csv.writer(buf, lineterminator=newline).writerows([["h1", "h2", "h3"]] + records)
+    text = buf.getvalue()
+    back = list(csv.reader(io.StringIO(text, newline="")))
+    want = [(i + 1, len(r)) for i, r in enumerate(back)
+            if len(r) < 3 and "".join(r).strip(' \t\r\n"')]
+    scan = ShortRecords(",", newline.encode())
+    data = text.encode()
+    for at in range(0, len(data), chunk):
+        scan.feed(data[at:at + chunk])
+    assert scan.close() == want
