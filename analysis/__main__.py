@@ -534,9 +534,13 @@ if __name__ == "__main__":
     # The cyclic garbage collector stays off for the whole command, as in solver/__main__.py: its
     # full collections walk the heap of pandas, scipy and DuckDB again and again (summarize on a
     # 200,000-row CSV: 1.09 s of CPU with it, 0.89 s without; peak memory within 2 %). The heap is
-    # frozen before the exit so that the interpreter's last collection skips it.
+    # frozen before the exit so that the interpreter's last collection skips it. Not after an
+    # error once DuckDB is loaded: its objects then outlive the frozen heap, and its bindings
+    # (nanobind) print some 60 "leaked instance" lines after the one error line.
+    status = 1
     try:
         status = main()
     finally:
-        gc.freeze()
+        if status == 0 or "duckdb" not in sys.modules:
+            gc.freeze()
     sys.exit(status)

@@ -1936,6 +1936,9 @@ def _build_long(raw: _Raw, scale, items, unknown, group, reverse, respondents):
     first_rows = raw.row_of(first_idx)
     groups = {}
     for g in _as_list(group):
+        why = platforms.long_column_refusal("--group", g, raw.header)
+        if why:
+            raise SurveyInputError(why, source)
         col = raw.columns[_column_index(raw, g)]
         _refuse_two_groups(source, col, resp_code, resp_ids, first_idx, rows)
         groups[col.name] = np.array(col.cats, dtype=object)[col.codes][first_idx]

@@ -608,6 +608,9 @@ def _count(p, by, scale, items, min_group, memory_limit, threads,
             raise SurveyInputError(why, str(p))
         gcols = []
         for b in by:
+            why = platforms.long_column_refusal("--by", b, header)
+            if why:
+                raise SurveyInputError(why, str(p))
             j = platforms.find_column(header, (b.strip().casefold(),))
             if j is None:
                 raise SurveyInputError(f"--by {b!r}: no such column; columns are {header!r}",

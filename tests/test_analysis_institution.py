@@ -644,3 +644,27 @@ def test_by_takes_group_order_as_group_does(tmp_path, capsys):
     assert errors[0] == errors[1] == (
         f"error: {f}: --group-order names 'Winter', which is not a value of the grouping "
         f"column; values are ['Fall 2023', 'Spring 2024', 'Summer 2024']\n"), errors
+
+
+def test_grouping_a_long_file_by_its_own_columns_is_refused_in_one_line(tmp_path, capsys):
+    """QA 16 #7: ``--by item`` on a long file leaked DuckDB's "Catalog Error: Table with name
+    VALUES does not exist!", and ``--by respondent`` said "no item columns" of agree5 answers.
+    Both flags, on both routes, now say which column it is. Run as a command too: after an
+    error with DuckDB loaded, its bindings printed some 60 "leaked instance" lines at exit."""
+    import subprocess
+    import sys
+    from pathlib import Path
+    f = tmp_path / "long.csv"
+    f.write_text("Respondent,Item,Answer,term\n007,1,Agree,F\n007,2,Disagree,F\n"
+                 "7,1,Neutral,F\n7,2,Agree,F\n")
+    for flag in ("--by", "--group"):
+        for col, what in (("item", "item"), ("RESPONDENT", "respondent"), ("answer", "answer")):
+            assert main(["summarize", str(f), flag, col, "--min-group", "1"]) == 2
+            assert capsys.readouterr().err == (
+                f"error: {f}: {flag} {col}: {what.capitalize()!r} is the long file's {what} "
+                "column (Respondent, Item, Answer); group by another column\n")
+    r = subprocess.run([sys.executable, "-m", "analysis", "summarize", str(f), "--by", "item"],
+                       cwd=Path(__file__).resolve().parents[1], capture_output=True, text=True)
+    assert r.returncode == 2 and r.stderr.count("\n") == 1, r.stderr
+    assert main(["summarize", str(f), "--by", "term", "--min-group", "1", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["respondents"] == 2
