@@ -935,8 +935,7 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
     if shape == "canvas":
         keep, earlier = _drop_earlier_attempts(raw, keep)
         dropped += earlier
-    if shape == "limesurvey":
-        _note_incomplete(raw, keep, notes)
+    _note_incomplete(raw, keep, notes, shape, text_row)
     keep, footer = _drop_footer(raw, keep)
     dropped += footer
     _note_short_rows(raw, keep, notes)
@@ -945,7 +944,7 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
     exclude = {j for j, h in enumerate(raw.header)
                if not platforms.candidate(shape, h, text_row[j])}
     group_names = _as_list(group)
-    group_idx = [_column_index(raw, g) for g in group_names]
+    group_idx = [_column_index(raw, g, names) for g in group_names]
     exclude |= set(group_idx)
     keep = _as_slice(keep)
     cols = [(j, _Column(names[j], c.cats, c.codes[keep], c.name))
@@ -961,8 +960,8 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
     item_idx = set(chosen)                        # built once: the column scan stays linear
     item_names = [names[j] for j in chosen]
     by_index = dict(cols)                   # answer text after any code map
-    groups = {raw.columns[j].name: np.array(by_index[j].cats, dtype=object)[by_index[j].codes]
-              for j in group_idx}
+    groups = {_group_key(raw.header[j], names[j], g): np.array(
+        by_index[j].cats, dtype=object)[by_index[j].codes] for g, j in zip(group_names, group_idx)}
     others = _other_columns(raw, shape, names, item_idx, lambda j: (
         "grouping column" if j in group_idx else "metadata" if j in exclude
         else _why_not_item(by_index[j], scale_obj, items, False, notes)))
@@ -1136,20 +1135,37 @@ def _drop_footer(raw: _Raw, keep: np.ndarray):
     return keep[:-1], [DroppedRow(int(raw.row_of(last)), FOOTER)]
 
 
-def _note_incomplete(raw: _Raw, keep: np.ndarray, notes: list) -> None:
-    """Note LimeSurvey responses never submitted (blank ``submitdate``): they are counted
-    with the answers they hold, as partial respondents, not dropped."""
-    j = _find(raw.header, ("submitdate", "date submitted"))
+#: How each platform marks a response never completed: the column (its names), the test of
+#: its cell text (normalised) and the words saying so.
+_INCOMPLETE = {
+    "limesurvey": (("submitdate", "date submitted"), lambda t: t == "", "blank {}"),
+    "qualtrics": (("finished",), lambda t: t in ("false", "0"), "{} = False"),
+}
+
+
+def _note_incomplete(raw: _Raw, keep: np.ndarray, notes: list, shape: str,
+                     text_row: "list[str] | None" = None) -> None:
+    """Note responses never completed (LimeSurvey: a blank ``submitdate``; Qualtrics:
+    ``Finished`` False, or 0 in a numeric export): they are counted with the answers they
+    hold, as partial respondents, not dropped. ``text_row``: a legacy Qualtrics export's
+    question texts, where ``Finished`` is named (its field is ``V10``)."""
+    if shape not in _INCOMPLETE:
+        return
+    names, test, words = _INCOMPLETE[shape]
+    j = _find(raw.header, names)
+    if j is None and text_row:
+        j = _find(text_row, names)
     if j is None:
         return
     col = raw.columns[j]
-    blank = np.array([not x.strip() for x in col.cats], dtype=bool)[col.codes[keep]]
-    k = int(blank.sum())
+    bad = np.array([test(normalize_answer(x)) for x in col.cats], dtype=bool)[col.codes[keep]]
+    k = int(bad.sum())
     if k:
-        rows = [int(r) for r in raw.row_of(keep[blank][:5])]
+        rows = [int(r) for r in raw.row_of(keep[bad][:5])]
         more = f" and {k - 5} more" if k > 5 else ""
-        notes.append(f"{raw.source}: {k} incomplete response{'s' if k != 1 else ''} (blank "
-                     f"{raw.header[j].strip()!r}, row{'s' if k != 1 else ''} "
+        name = (raw.header[j] if _find(raw.header, names) is not None else text_row[j]).strip()
+        notes.append(f"{raw.source}: {k} incomplete response{'s' if k != 1 else ''} "
+                     f"({words.format(repr(name))}, row{'s' if k != 1 else ''} "
                      f"{', '.join(map(str, rows))}{more}) counted with the answers given")
 
 
@@ -1387,12 +1403,30 @@ def _as_list(x) -> list[str]:
     return list(x)
 
 
-def _column_index(raw: _Raw, name: str) -> int:
+def _column_index(raw: _Raw, name: str, names: "list[str] | None" = None) -> int:
+    """The column a grouping flag names: by its header (any case and spacing), else, given
+    the columns' question ``names`` (a Qualtrics export's texts, as items are named), by
+    its question text, as ``--items`` takes an item (:func:`analysis.platforms.item_matches`)."""
     key = normalize_answer(name)
     for j, h in enumerate(raw.header):
         if normalize_answer(h) == key:
             return j
-    raise SurveyInputError(f"no column {name!r}; columns are {raw.header!r}", raw.source, 1)
+    texts = {j: n for j, n in enumerate(names or []) if normalize_answer(n) != normalize_answer(
+        raw.header[j])}
+    hits = [j for j, n in texts.items() if platforms.item_matches(name, n)]
+    if len(hits) == 1:
+        return hits[0]
+    if hits:
+        raise SurveyInputError(f"{name!r} is the question text of columns "
+                               f"{[raw.header[j] for j in hits]!r}; name one of them", raw.source, 1)
+    also = f"; question texts are {list(texts.values())!r}" if texts else ""
+    raise SurveyInputError(f"no column {name!r}; columns are {raw.header!r}{also}", raw.source, 1)
+
+
+def _group_key(header: str, text: str, given: str) -> str:
+    """A grouping column's name in :attr:`SurveyData.groups` and every output: its header, or
+    its question text when the flag named it so (``--group Section`` for Qualtrics' ``Q2``)."""
+    return header if normalize_answer(header) == normalize_answer(given) else text
 
 
 _resolve_reverse = platforms.resolve_reverse
