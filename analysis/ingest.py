@@ -610,14 +610,14 @@ def _xlsx_rows(content: bytes, source: str, sheet: "str | None" = None):
         raise SurveyInputError(f"workbook unpacks to {size} bytes; at most {MAX_XLSX_BYTES} "
                                f"are read", source)
     try:
-        wb = openpyxl.load_workbook(io.BytesIO(content), read_only=True, data_only=True)
+        from .xlsx_sheet import load_read_only
+        wb = load_read_only(io.BytesIO(content))
     except Exception as e:  # noqa: BLE001 - BadZipFile, KeyError, InvalidFileException, XML errors ...
         raise _xlsx_error(e, source) from None
     rows, width = [], 0
     try:
         ws = _worksheet(wb, sheet, source)
-        ws.reset_dimensions()             # read the real extent, not the <dimension> record
-        for r in ws.iter_rows(values_only=True):
+        for r in _sheet_rows(wb, ws, source):
             _check_width(source, len(r))
             width = max(width, len(r))
             if len(rows) >= XLSX_MAX_ROWS:
@@ -627,7 +627,7 @@ def _xlsx_rows(content: bytes, source: str, sheet: "str | None" = None):
                 raise SurveyInputError(f"more than {MAX_CELLS} cells (rows x columns) in the "
                                        f"sheet", source, len(rows) + 1)
             rows.append([_cell_text(v) for v in r])
-        others = [w.title for w in wb.worksheets if w is not ws and _holds_a_cell(w)]
+        others = [w.title for w in wb.worksheets if w is not ws and _holds_a_cell(wb, w, source)]
     except SurveyInputError:
         raise
     except Exception as e:  # noqa: BLE001 - ParseError, EntitiesForbidden, ValueError ... in the sheet
@@ -651,10 +651,23 @@ def _worksheet(wb, sheet: "str | None", source: str):
                            f"{', '.join(repr(w.title) for w in sheets)}", source)
 
 
-def _holds_a_cell(ws) -> bool:
-    """Whether a worksheet holds a cell that is not blank (the first one found ends the scan)."""
+def _sheet_rows(wb, ws, source: str):
+    """The values of a worksheet, row by row, every cell read: the sheet's ``<dimension>``
+    record is not trusted (a writer may understate it, and openpyxl would then drop rows and
+    columns silently). Parsed by :func:`analysis.xlsx_sheet.sheet_values` (about 9 times
+    openpyxl's speed), or by openpyxl when the workbook lacks what that needs."""
+    from .xlsx_sheet import sheet_values
+    if all(hasattr(wb, a) for a in ("_date_formats", "_timedelta_formats", "epoch")) and all(
+            hasattr(ws, a) for a in ("_get_source", "_shared_strings")):
+        return sheet_values(wb, ws, MAX_COLUMNS,
+                            lambda n: _check_width(source, n, at_least=True))
     ws.reset_dimensions()
-    for i, r in enumerate(ws.iter_rows(values_only=True)):
+    return ws.iter_rows(values_only=True)
+
+
+def _holds_a_cell(wb, ws, source: str) -> bool:
+    """Whether a worksheet holds a cell that is not blank (the first one found ends the scan)."""
+    for i, r in enumerate(_sheet_rows(wb, ws, source)):
         if i >= XLSX_MAX_ROWS:
             return False
         if any(_cell_text(v).strip() for v in r):
