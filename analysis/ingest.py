@@ -39,8 +39,8 @@ answer is recorded in :attr:`SurveyData.unknown_answers` and counted as missing.
 Row numbers count records as a spreadsheet shows them: the (first) header row is
 row 1, comment lines count too.
 
-Workbooks are parsed through defusedxml (external entities and entity expansion are
-refused) and every cell of the sheet read is read, whatever its ``<dimension>`` record
+Workbooks are parsed with external entities and entity expansion refused (defusedxml;
+the sheet's cells by :mod:`analysis.xlsx_sheet`, with the same refusals) and every cell of the sheet read is read, whatever its ``<dimension>`` record
 says. Caps, each refused with one line: :data:`MAX_COLUMNS` columns (or distinct items
 of a long file), :data:`MAX_ITEMS` item columns, :data:`MAX_CELLS` cells,
 :data:`MAX_XLSX_BYTES` unpacked and :data:`XLSX_MAX_ROWS` rows per workbook.
@@ -594,9 +594,10 @@ def _xlsx_rows(content: bytes, source: str, sheet: "str | None" = None):
     cell read; with the sheet's name and the names of the other sheets holding a cell.
 
     The sheet's ``<dimension>`` record is not trusted (a writer may understate it and
-    openpyxl would then drop rows and columns silently). The XML is parsed through
-    defusedxml (openpyxl uses it when installed): external entities and entity
-    expansion are refused, as is malformed XML, with one line naming the file.
+    openpyxl would then drop rows and columns silently). The workbook's parts are
+    parsed through defusedxml (openpyxl uses it when installed), the sheet's cells by
+    :func:`_sheet_rows`: external entities and entity expansion are refused, as is
+    malformed XML, with one line naming the file.
     """
     import zipfile
 
