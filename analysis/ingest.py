@@ -1198,6 +1198,22 @@ def _item_names(raw: _Raw, shape: str, extra: int, codes) -> tuple[list[str], li
         pairs = [(codes.texts.get(h.strip().casefold()) or n,
                   codes.stems.get(h.strip().casefold(), s))
                  for h, (n, s) in zip(header, pairs)]
+    return _statement_names(header, pairs)
+
+
+def header_item_names(header: list[str], peek: list) -> tuple[list[str], list[str]]:
+    """Statement name and stem of every column of a file known by its header row and first
+    records (``peek``), as :func:`read_survey` names them: a grid row ``Rate each [X]`` is
+    item ``X``. :func:`analysis.institution.summarize_by` names its items so, and both
+    routes' tables join on ``item``. For exports whose statements are in a second header row
+    (Qualtrics, SurveyMonkey), which ``summarize_by`` refuses, the header is taken as is."""
+    shape = platforms.detect(header, peek) or "wide"
+    return _statement_names(header, [platforms.split_stem(shape, h, h) for h in header])
+
+
+def _statement_names(header: list[str], pairs: list) -> tuple[list[str], list[str]]:
+    """Names made from (statement, stem) ``pairs``: white space collapsed, a repeated
+    statement named with its stem, then with its header, then made distinct."""
     names = [" ".join(n.split()) or h for h, (n, _) in zip(header, pairs)]
     # a statement asked under two stems ("Before this course - X", "After this course -
     # X") is named with its stem; only a name repeated even so falls back to the field id
@@ -1644,7 +1660,7 @@ def _note_other_not_applicable(source: str, chosen, scale: Scale, notes: "list |
 
 
 def choose_items_from_counts(source: str, columns, scale=None, items=None,
-                             long: bool = False):
+                             long: bool = False, fields: "list[str] | None" = None):
     """The scale and the items among columns known only by their answer counts.
 
     The rule :func:`read_survey` applies (:func:`_choose_items`), for a reader that
@@ -1664,6 +1680,9 @@ def choose_items_from_counts(source: str, columns, scale=None, items=None,
         Item names or patterns.
     long : bool
         The names are items of a long file, not columns.
+    fields : list of str, optional
+        Another name of each column that ``items`` may give (its statement text), as
+        :func:`read_survey` takes a column by header or statement.
 
     Returns
     -------
@@ -1677,7 +1696,8 @@ def choose_items_from_counts(source: str, columns, scale=None, items=None,
     cols = []
     for j, (name, texts) in enumerate(columns):
         cats = [str(t) for t in texts]
-        col = _Column(str(name), cats, np.zeros(0, dtype=np.int64))   # counts alone:
+        col = _Column(str(name), cats, np.zeros(0, dtype=np.int64),   # counts alone:
+                      fields[j] if fields else "")
         col.__dict__["_counts"] = np.array(list(texts.values()), dtype=np.int64)  # no rows
         cols.append((j, col))
     notes: list[str] = []

@@ -91,6 +91,9 @@ class GroupedSummary:
         Groups with fewer respondents are suppressed in outputs (small cells).
     not_items : dict of str to str
         Columns (long: items) not counted as items, each with the reason.
+    fields : list of str
+        A wide file's header of each item (items are named by statement, as
+        :func:`analysis.ingest.read_survey` names them: ``Rate [Clear]`` is ``Clear``).
     """
 
     source: str
@@ -107,6 +110,7 @@ class GroupedSummary:
     ci_method: str = "wilson"
     confidence_level: float = 0.95
     not_items: dict = field(default_factory=dict)
+    fields: list = field(default_factory=list)     # a wide file's header of each item
     dropped: list = field(default_factory=list)
 
     def _item_summaries(self, tally, respondents: int, confidence_level, method) -> list:
@@ -524,7 +528,7 @@ def summarize_by(path: "str | Path", by: "list[str]", scale=None, items=None,
     else:
         raise SurveyInputError(f"counting needs more than {size * _RETRY_FACTORS[-1]}{unit} "
                                f"of memory; give a larger memory limit", str(p))
-    res.reverse = platforms.resolve_reverse(res.source, res.items, reverse)
+    res.reverse = platforms.resolve_reverse(res.source, res.items, reverse, res.fields or None)
     from .ingest import narrower_scale_notes
     res.notes += narrower_scale_notes(res.source, res.scale, res.items,
                                       res.tallies.sum(axis=0)[:, 3:], res.reverse)
@@ -628,9 +632,12 @@ def _count(p, by, scale, items, min_group, memory_limit, threads,
             idcols = {header[j] for j in range(len(header)) if platforms.find_column(
                 [header[j]], platforms.LONG_RESP) is not None}
             cand = [h for h in header if h not in gcols and h not in idcols]
+            from .ingest import header_item_names
+            peek = [header] if p.suffix.lower() == ".parquet" else sniff_delimiter(_head(p))[1]
+            statements = dict(zip(header, header_item_names(header, peek)[0]))
             if items:
-                from .platforms import name_matches
-                cand = [h for h in cand if any(name_matches(pat, h) for pat in items)]
+                cand = [h for h in cand if any(platforms.item_matches(pat, h, statements[h])
+                                               for pat in items)]
             left_out = {h: ("grouping column" if h in gcols else
                             "an identifier column" if h in idcols else "not named by --items")
                         for h in header if h not in cand}
@@ -655,15 +662,17 @@ def _count(p, by, scale, items, min_group, memory_limit, threads,
         spill.cleanup()
     locate = _locator(p, None if shape == "wide" else (header[ii], header[ai]))
     res = _assemble(str(p), gcols, shape, rows, scale, items, min_group,
-                    cand if shape == "wide" else None, locate)
+                    cand if shape == "wide" else None, locate,
+                    statements if shape == "wide" else None)
     res.dropped, res.notes = dropped, footer_notes + res.notes
     if shape == "wide" and idcol is not None:
         note = _repeated_ids(p, gcols, idcol, repeats, spelled)
         res.notes += [note] if note else []
-    if shape == "wide":                            # in the file's column order
-        res.not_items = {_spaced(h): left_out.get(h) or res.not_items[h] for h in header
+    if shape == "wide":         # in the file's column order, named as read_survey names them
+        res.not_items = {statements[h]: left_out.get(h) or res.not_items[h] for h in header
                          if h in left_out or h in res.not_items}
-        res.items = [_spaced(n) for n in res.items]
+        res.fields = list(res.items)
+        res.items = [statements[n] for n in res.items]
     return res
 
 
@@ -992,7 +1001,7 @@ def _answer_counts(rows, ng: int, wide_items) -> list:
 
 
 def _assemble(source, gcols, shape, rows, scale, items, min_group,
-              wide_items=None, locate=None) -> GroupedSummary:
+              wide_items=None, locate=None, statements=None) -> GroupedSummary:
     """Tallies from the aggregated rows: items and scale chosen by the in-memory rule
     (:func:`analysis.ingest.choose_items_from_counts`), texts matched, groups indexed.
     ``locate(item, text)`` gives the (row, column) an unknown answer is named by."""
@@ -1000,7 +1009,8 @@ def _assemble(source, gcols, shape, rows, scale, items, min_group,
     ng = len(gcols)
     counted = _answer_counts(rows, ng, wide_items)
     scale_obj, names, not_items, notes = choose_items_from_counts(
-        source, counted, scale, items, long=shape == "long")
+        source, counted, scale, items, long=shape == "long",
+        fields=None if statements is None else [statements[n] for n, _ in counted])
     index_item = {n: i for i, n in enumerate(names)}
     texts = {t: c for n, tx in counted if n in index_item for t, c in tx.items() if t != ""}
     keys = sorted({tuple("" if v is None else str(v) for v in r[:ng]) for r in rows})

@@ -668,3 +668,22 @@ def test_grouping_a_long_file_by_its_own_columns_is_refused_in_one_line(tmp_path
     assert r.returncode == 2 and r.stderr.count("\n") == 1, r.stderr
     assert main(["summarize", str(f), "--by", "term", "--min-group", "1", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["respondents"] == 2
+
+
+def test_both_routes_name_a_google_grid_item_by_its_statement(tmp_path, capsys):
+    """QA 16 #11: summarize named Google Forms grid rows by statement ('Clear'), --by by the
+    whole header ('Rate [Clear]'), so the two routes' tables did not join on 'item'. Both now
+    name them as read_survey does, take --items and --reverse by either name, and agree on
+    the counts. By hand: 'Clear' Agree x3, Disagree x1; 'Fast' Agree, Disagree, Neutral x2."""
+    f = tmp_path / "g.csv"
+    f.write_text("Timestamp,Section,Rate [Clear],Rate [Fast]\n"
+                 "2024/03/01 10:00:00,A,Agree,Agree\n2024/03/01 10:01:00,A,Agree,Disagree\n"
+                 "2024/03/01 10:02:00,B,Agree,Neutral\n2024/03/01 10:03:00,B,Disagree,Neutral\n")
+    got = {}
+    for route, extra, key in (("memory", [], "items"), ("by", ["--by", "Section"], "overall")):
+        assert main(["summarize", str(f), "--json", "--min-group", "1", "--items", "Clear",
+                     "Rate [Fast]", "--reverse", "Rate [Clear]", *extra]) == 0, route
+        out = json.loads(capsys.readouterr().out)
+        got[route] = [(it["item"], it["n"], it["counts"]["Agree"], it["reversed"])
+                      for it in out[key]]
+    assert got["memory"] == got["by"] == [("Clear", 4, 3, True), ("Fast", 4, 1, False)]
