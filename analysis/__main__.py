@@ -324,6 +324,8 @@ def _cmd_summarize_by(args) -> int:
     if args.table:
         from .export import write_table
         write_table(res.to_frame(), args.table)
+    if args.json:            # on stderr too, as the in-memory route writes them (the text has them)
+        sys.stderr.writelines(line + "\n" for line in res.note_lines())
     print(_json(res.to_dict()) if args.json else res.format_text(args.decimals))
     return 0
 

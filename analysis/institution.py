@@ -221,6 +221,12 @@ class GroupedSummary:
                    f"{rows[0].why}" for reason, rows in kinds.items()]
         return dropped + list(self.notes) + ([note] if note else [])
 
+    def note_lines(self) -> list[str]:
+        """The notes as every output shows them (``note: ...``, a warning as written), as
+        :meth:`analysis.ingest.SurveyData.note_lines` gives the in-memory route's."""
+        from .ingest import note_line
+        return [note_line(n) for n in self._all_notes()]
+
     def format_text(self, decimals: int = 1) -> str:
         """One line per (group, item), institution-wide first; the agreement share printed
         to ``decimals`` places by the project's rounding rule, with its interval."""
@@ -254,8 +260,7 @@ class GroupedSummary:
             out.append(REVERSE_NOTE)
         out.extend(f"dropped {'the last row' if d.row is None else f'row {d.row}'}: {d.reason}"
                    for d in self.dropped)
-        from .ingest import note_line
-        out.extend(note_line(n) for n in self._all_notes())
+        out.extend(self.note_lines())
         return "\n".join(out)
 
 

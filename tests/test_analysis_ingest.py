@@ -754,6 +754,10 @@ def test_short_rows_are_named_on_both_routes(tmp_path, capsys):
     assert [d.row for d in data.dropped] == [10]
     res = summarize_by(f, ["T"], min_group=1)
     assert want in res.notes and res.respondents.tolist() == [6], res.notes
+    for extra in ([], ["--by", "T", "--min-group", "1"]):     # QA 16 #11: --by --json wrote
+        assert main(["summarize", str(f), "--json", *extra]) == 0   # its notes in JSON only
+        out = capsys.readouterr()
+        assert f"note: {want}\n" in out.err and want in json.loads(out.out)["notes"], extra
     f.write_text(f.read_text().replace('3,A,"Agree",Agree', '3,A,"Agree\nmore",Agree'))
     with pytest.raises(SurveyInputError, match="row 4, column 'Q1': answer 'Agree\\\\nmore'"):
         read_survey(f)          # the record is whole; its Q1 is not an answer: refused there
