@@ -289,9 +289,10 @@ def _frame_to_columns(df: pd.DataFrame) -> list[_Column]:
             cats = cats + [""]
             codes = np.where(codes < 0, len(cats) - 1, codes)
         codes = np.asarray(codes)
-        if codes.dtype.kind != "i":
-            codes = codes.astype(np.int64)
-        cols.append(_Column(str(name), cats, codes))     # pandas' small int codes, no copy
+        small = np.int8 if len(cats) < 128 else np.int16 if len(cats) < 32768 else np.int32
+        if codes.dtype.kind != "i" or codes.dtype.itemsize > np.dtype(small).itemsize:
+            codes = codes.astype(small)      # a byte a cell, as pandas' category codes were
+        cols.append(_Column(str(name), cats, codes))
     return cols
 
 
