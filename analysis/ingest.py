@@ -970,7 +970,8 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
                                          notes=notes,
                                          codes_file=None if codes is None else codes.source)
     answers, unknowns = _match(raw.source, scale_obj, item_cols, rows, unknown)
-    _scale_notes(scale_obj, answers, scale is None, notes)
+    counts = label_counts(answers, scale_obj.k)
+    _scale_notes(scale_obj, counts, scale is None, notes)
     chosen = [j for j, _ in item_cols]
     item_idx = set(chosen)                        # built once: the column scan stays linear
     item_names = [names[j] for j in chosen]
@@ -989,8 +990,7 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
                       other_columns=list(others), not_item_reasons=others,
                       comments=list(raw.comments), stems=[stems[j] for j in chosen],
                       fields=[raw.columns[j].name for j in chosen], notes=notes)
-    data.notes += narrower_scale_notes(raw.source, scale_obj, item_names,
-                                       label_counts(answers, scale_obj.k), data.reverse)
+    data.notes += narrower_scale_notes(raw.source, scale_obj, item_names, counts, data.reverse)
     pid = person_id_column(raw.header)
     if pid is not None:
         c = raw.columns[pid]
@@ -1291,12 +1291,24 @@ def _apply_codebook(cols, book, exclude, notes, source):
     return out
 
 
-def _scale_notes(scale: Scale, answers: np.ndarray, detected: bool, notes: list) -> None:
+def _scale_notes(scale: Scale, counts: np.ndarray, detected: bool, notes: list) -> None:
     """The notes on the scale read, for wide and long files alike: labels nobody used
-    while another scale fits, and (when the scale was ``detected``) a missing label."""
-    _warn_unused_labels(scale, answers, notes)
+    while another scale fits, and (when the scale was ``detected``) a missing label.
+    ``counts``: answers per item and label (:func:`label_counts`)."""
+    _warn_unused_labels(scale, counts, notes)
     if detected:
         _note_no_neutral(scale, notes)
+
+
+def scale_fit_notes(source: str, scale: Scale, names: list, counts: np.ndarray,
+                    reverse=frozenset()) -> list[str]:
+    """The warnings on how the scale fits the answers that :func:`read_survey` gives, for
+    :func:`analysis.institution.summarize_by` (which notes a missing label on choosing the
+    items): labels nobody used while another scale fits, and items that look as if they
+    offered a narrower scale (:func:`narrower_scale_notes`)."""
+    notes: list[str] = []
+    _warn_unused_labels(scale, counts, notes)
+    return notes + narrower_scale_notes(source, scale, names, counts, reverse)
 
 
 def _note_no_neutral(scale: Scale, notes: list) -> None:
@@ -1315,13 +1327,9 @@ def _note_no_neutral(scale: Scale, notes: list) -> None:
             return
 
 
-def _warn_unused_labels(scale: Scale, answers: np.ndarray, notes: list) -> None:
+def _warn_unused_labels(scale: Scale, counts: np.ndarray, notes: list) -> None:
     """Note when labels go unused and another built-in scale fits the answers exactly."""
-    seen = np.zeros(256, dtype=bool)             # int8 codes read as uint8, no copy
-    for j in range(answers.shape[1]):
-        seen |= np.bincount(np.ascontiguousarray(answers[:, j]).view(np.uint8),
-                            minlength=256) > 0
-    used = np.flatnonzero(seen[:scale.k])
+    used = np.flatnonzero(np.asarray(counts).reshape(-1, scale.k).sum(axis=0) > 0)
     if len(used) == scale.k or len(used) == 0:
         return
     got = {normalize_answer(scale.labels[i]) for i in used}
@@ -1999,7 +2007,8 @@ def _build_long(raw: _Raw, scale, items, unknown, group, reverse, respondents):
                               unknown)
     answers = np.full((nresp, len(wanted)), BLANK, dtype=np.int8)
     answers[r_sel, i_sel] = a
-    _scale_notes(scale_obj, answers, scale is None, notes)
+    counts = label_counts(answers, scale_obj.k)
+    _scale_notes(scale_obj, counts, scale is None, notes)
     first_idx = np.full(nresp, np.iinfo(np.int64).max, dtype=np.int64)
     np.minimum.at(first_idx, resp_code, np.arange(raw.nrows))
     first_rows = raw.row_of(first_idx)
@@ -2021,6 +2030,5 @@ def _build_long(raw: _Raw, scale, items, unknown, group, reverse, respondents):
                           per_item[k][1], scale_obj, items, True, notes)
                           for k in range(nitem) if k not in wanted},
                       comments=list(raw.comments), notes=notes)
-    data.notes += narrower_scale_notes(source, scale_obj, names,
-                                       label_counts(answers, scale_obj.k), data.reverse)
+    data.notes += narrower_scale_notes(source, scale_obj, names, counts, data.reverse)
     return _declare(data, respondents)

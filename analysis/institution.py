@@ -534,9 +534,9 @@ def summarize_by(path: "str | Path", by: "list[str]", scale=None, items=None,
         raise SurveyInputError(f"counting needs more than {size * _RETRY_FACTORS[-1]}{unit} "
                                f"of memory; give a larger memory limit", str(p))
     res.reverse = platforms.resolve_reverse(res.source, res.items, reverse, res.fields or None)
-    from .ingest import narrower_scale_notes
-    res.notes += narrower_scale_notes(res.source, res.scale, res.items,
-                                      res.tallies.sum(axis=0)[:, 3:], res.reverse)
+    from .ingest import scale_fit_notes
+    res.notes += scale_fit_notes(res.source, res.scale, res.items,
+                                 res.tallies.sum(axis=0)[:, 3:], res.reverse)
     res.ci_method, res.confidence_level = method, confidence_level
     _declare(res, respondents)
     _order(res, group_order)

@@ -687,3 +687,17 @@ def test_both_routes_name_a_google_grid_item_by_its_statement(tmp_path, capsys):
         got[route] = [(it["item"], it["n"], it["counts"]["Agree"], it["reversed"])
                       for it in out[key]]
     assert got["memory"] == got["by"] == [("Clear", 4, 3, True), ("Fast", 4, 1, False)]
+
+
+def test_both_routes_warn_of_labels_no_answer_uses(tmp_path):
+    """--by gave no word where summarize warned that the scale read has labels nobody used
+    while another built-in scale fits the answers exactly (read as agree7, answers on the
+    five agree5 labels). The warning is now the same on both routes, word for word."""
+    from analysis.ingest import read_survey
+    f = tmp_path / "five.csv"
+    f.write_text("T,Q1,Q2\n" + "".join(f"A,{a},{b}\n" for a, b in zip(AGREE5, AGREE5[::-1])))
+    want = ("warning: scale 'agree7' has labels no answer uses (Somewhat disagree, Somewhat "
+            "agree), while scale 'agree5' fits the answers exactly; give --scale agree5 if that "
+            "is the questionnaire's scale (medians and codes depend on it)")
+    assert want in read_survey(f, scale="agree7").notes
+    assert want in summarize_by(f, ["T"], scale="agree7", min_group=1).notes
