@@ -643,7 +643,7 @@ def test_a_workbook_names_the_sheets_it_did_not_read(tmp_path, capsys):
     assert "--sheet 'Responses': only a workbook (.xlsx) has sheets" in capsys.readouterr().err
 
 
-def test_cells_are_read_as_the_text_the_file_holds_on_both_routes(tmp_path):
+def test_cells_are_read_as_the_text_the_file_holds_on_both_routes(tmp_path, capsys):
     """QA 16 #2: a CSV read with ``dtype="category"`` under pandas 3 turned numeric-looking
     text into numbers: sections '01', '1', '1.0', '001' became one group '1.0', id '00123'
     was named '123', ids '0123' and '123' were taken for one person. The references are the
@@ -657,6 +657,13 @@ def test_cells_are_read_as_the_text_the_file_holds_on_both_routes(tmp_path):
     assert list(dict.fromkeys(data.groups["section"])) == sections
     res = summarize_by(f, ["section"])
     assert res.groups == sorted((s,) for s in sections) and res.respondents.tolist() == [5] * 4
+    order = ["001", "1.0", "1", "01"]          # --group-order takes the values as written
+    for extra in (["--group", "section"], ["--by", "section"]):
+        assert main(["summarize", str(f), "--json", *extra, "--group-order", *order]) == 0
+        out = json.loads(capsys.readouterr().out)
+        got = ([g["group"] for g in out["groups"]["groups"]] if "--group" in extra else
+               [r["section"] for r in out["rows"] if r["section"] != "(all)"])
+        assert got == order, (extra, got)
     # ids: two rows of '00123' are one id, named as written; '0123'/'123' and
     # '00456'/'456.0' are four different ids (no note on either route)
     g = tmp_path / "ids.csv"
