@@ -175,3 +175,97 @@ def sniff_delimiter(head_text: str) -> tuple[str, list[list[str]]]:
     if best is None:
         return ",", []
     return best[1], best[2]
+
+
+class ShortRecords:
+    """The records of a CSV text with fewer fields than its header, found in one pass over
+    its bytes in chunks (numpy on each chunk: no per-record Python loop), so that both
+    survey routes can say which rows a reader padded with blank cells.
+
+    A record's fields are its delimiters outside quotes plus one: a byte is inside a quoted
+    cell when an odd number of ``"`` come before it (an escaped ``""`` counts twice). A record
+    holding no cell text (an empty line, ``,,``) is not listed: it is no respondent.
+
+    Parameters
+    ----------
+    sep : str
+        The delimiter (one ASCII character).
+    newline : bytes
+        The byte ending a record: ``b"\\n"`` (also for ``\\r\\n``) or ``b"\\r"``.
+
+    Attributes
+    ----------
+    found : list of (int, int)
+        (record number, fields) of each short record; the header is record 1, and every
+        line ending outside quotes starts a new record (empty lines count).
+    width : int
+        Fields of the header (record 1).
+    last : int
+        The last record holding cell text.
+    """
+
+    def __init__(self, sep: str, newline: bytes = b"\n"):
+        self.sep, self.newline = ord(sep), newline[-1]
+        self.found: list = []
+        self.width = self.last = 0
+        self._inside, self._seps, self._text, self._record = 0, 0, False, 1
+        self._blank = b' \t\r\n"' + sep.encode("ascii")
+
+    def feed(self, chunk: bytes) -> None:
+        """Scan the next bytes of the text."""
+        import numpy as np
+        a = np.frombuffer(chunk, dtype=np.uint8)
+        quotes = np.flatnonzero(a == 34)
+
+        def outside(pos):
+            if not len(quotes):
+                return pos if not self._inside else pos[:0]
+            return pos[(np.searchsorted(quotes, pos) + self._inside) % 2 == 0]
+        ends = outside(np.flatnonzero(a == self.newline))
+        seps = np.bincount(np.searchsorted(ends, outside(np.flatnonzero(a == self.sep))),
+                           minlength=len(ends) + 1)
+        seps[0] += self._seps
+        starts = np.concatenate([[0], ends + 1])
+        if len(ends) and not self.width:
+            self.width = int(seps[0]) + 1
+        for i in np.flatnonzero(seps[:len(ends)] + 1 < self.width).tolist():
+            self._close(i, int(seps[i]) + 1, chunk[starts[i]:ends[i]])
+        for i in range(len(ends) - 1, -1, -1):      # the last record holding text, usually
+            if self._holds_text(chunk[starts[i]:ends[i]]) or (i == 0 and self._text):
+                self.last = self._record + i        # the chunk's last one
+                break
+        self._record += len(ends)
+        tail = chunk[starts[-1]:]
+        self._text = (self._text if not len(ends) else False) or self._holds_text(tail)
+        self._seps = int(seps[-1])
+        self._inside = (self._inside + len(quotes)) % 2
+
+    def close(self) -> list:
+        """The short records, once every byte was fed (a last record without a line end
+        counted too)."""
+        if self._text:
+            self.last = self._record
+            if self._seps + 1 < self.width:
+                self.found.append((self._record, self._seps + 1))
+        self._text = False
+        return self.found
+
+    def _close(self, i: int, fields: int, body: bytes) -> None:
+        if self._holds_text(body) or (i == 0 and self._text):
+            self.found.append((self._record + i, fields))
+
+    def _holds_text(self, body: bytes) -> bool:
+        return bool(bytes(body).translate(None, delete=self._blank))
+
+
+def short_records_note(source: str, short: list, width: int) -> "str | None":
+    """The note naming the rows with fewer fields than the header (``short``: (spreadsheet
+    row, fields)), one wording for both routes; None when there are none."""
+    if not short:
+        return None
+    shown = ", ".join(f"row {r} has {n}" for r, n in short[:5])
+    more = f", and {len(short) - 5} more" if len(short) > 5 else ""
+    k = len(short)
+    return (f"{source}: {k} row{'s' if k != 1 else ''} with fewer fields than the header's "
+            f"{width} ({shown}{more}): the missing cells are read as blank answers (a line "
+            f"break in an unquoted cell splits a record in two: check the export)")

@@ -39,8 +39,8 @@ answer is recorded in :attr:`SurveyData.unknown_answers` and counted as missing.
 Row numbers count records as a spreadsheet shows them: the (first) header row is
 row 1, comment lines count too.
 
-Workbooks are parsed through defusedxml (external entities and entity expansion are
-refused) and every cell of the sheet read is read, whatever its ``<dimension>`` record
+Workbooks are parsed with external entities and entity expansion refused (defusedxml;
+the sheet's cells by :mod:`analysis.xlsx_sheet`, with the same refusals) and every cell of the sheet read is read, whatever its ``<dimension>`` record
 says. Caps, each refused with one line: :data:`MAX_COLUMNS` columns (or distinct items
 of a long file), :data:`MAX_ITEMS` item columns, :data:`MAX_CELLS` cells,
 :data:`MAX_XLSX_BYTES` unpacked and :data:`XLSX_MAX_ROWS` rows per workbook.
@@ -52,6 +52,7 @@ from __future__ import annotations
 
 import codecs
 import csv
+import datetime
 import heapq
 import io
 import re
@@ -64,7 +65,8 @@ import pandas as pd
 
 from . import platforms
 from .platforms import CODES_HINT
-from ._io import is_regular_file, read_bytes, sniff_delimiter
+from ._io import (ShortRecords, is_regular_file, read_bytes, short_records_note,
+                  sniff_delimiter)
 from .dropped import (DROP_WHY, FOOTER, DroppedRow, is_footer_note, is_integer_text,
                       is_na_text as _is_na_text)
 from .errors import SurveyInputError
@@ -212,7 +214,7 @@ class SurveyData:
     def note_lines(self) -> list[str]:
         """:attr:`notes` as every output shows them to the reader (the command line on stderr,
         the HTML report): ``note: ...``, or a warning as it is written (``warning: ...``)."""
-        return [n if n.startswith("warning:") else f"note: {n}" for n in self.notes]
+        return [note_line(n) for n in self.notes]
 
     def labels_frame(self) -> pd.DataFrame:
         """Answers as label text (blank -> ``""``, N/A -> ``"N/A"``, unknown -> ``""``)."""
@@ -223,6 +225,11 @@ class SurveyData:
     def __repr__(self):
         return (f"SurveyData({self.source!r}, shape={self.shape!r}, scale={self.scale.name!r}, "
                 f"respondents={self.respondents}, items={self.items!r})")
+
+
+def note_line(note: str) -> str:
+    """A note as every route prints it: ``note: ...``, or a warning as it is written."""
+    return note if note.startswith("warning:") else f"note: {note}"
 
 
 # ---------------------------------------------------------------------------
@@ -254,6 +261,7 @@ class _Raw:
     row_map: "np.ndarray | None" = None   # spreadsheet row per record when not consecutive
     notes: list[str] = field(default_factory=list)
     given: "list[str] | None" = None      # header as written, before a reader renamed any
+    short: list = field(default_factory=list)   # (row, fields) of records shorter than the header
 
     def row_of(self, idx):
         """Spreadsheet row of data record(s) ``idx`` (0-based record indices)."""
@@ -270,23 +278,32 @@ def _frame_to_columns(df: pd.DataFrame) -> list[_Column]:
         if isinstance(s.dtype, pd.CategoricalDtype):
             cats = [str(c) for c in s.cat.categories]
             codes = s.cat.codes.to_numpy()
-            if (codes < 0).any():             # NaN -> blank
-                cats = cats + [""]
-                codes = np.where(codes < 0, len(cats) - 1, codes)
+        elif pd.api.types.infer_dtype(s, skipna=True) == "string":     # text as it is
+            codes, uniq = pd.factorize(s.to_numpy(dtype=object), sort=False)
+            cats = [str(u) for u in uniq]
         else:
             vals = s.astype(object).where(s.notna(), "")
             codes, uniq = pd.factorize(vals.map(_cell_text), sort=False)
             cats = [str(u) for u in uniq]
+        if (codes < 0).any():                 # NaN -> blank
+            cats = cats + [""]
+            codes = np.where(codes < 0, len(cats) - 1, codes)
         codes = np.asarray(codes)
-        if codes.dtype.kind != "i":
-            codes = codes.astype(np.int64)
-        cols.append(_Column(str(name), cats, codes))     # pandas' small int codes, no copy
+        small = np.int8 if len(cats) < 128 else np.int16 if len(cats) < 32768 else np.int32
+        if codes.dtype.kind != "i" or codes.dtype.itemsize > np.dtype(small).itemsize:
+            codes = codes.astype(small)      # a byte a cell, as pandas' category codes were
+        cols.append(_Column(str(name), cats, codes))
     return cols
 
 
 def _cell_text(v) -> str:
+    """A workbook cell's value as text: a whole number without ``.0``, TRUE/FALSE as Excel
+    writes them, a date cell as its date (``2024-01-15``, not ``2024-01-15 00:00:00``: a time
+    only when the cell holds one, as Excel shows a date cell)."""
     if v is None:
         return ""
+    if isinstance(v, datetime.datetime):
+        return v.date().isoformat() if v.time() == datetime.time() else v.isoformat(" ")
     if isinstance(v, float):
         if v != v:
             return ""
@@ -388,8 +405,10 @@ def _read_csv_encoded(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", pd.errors.ParserWarning)
             # index_col=False: a data row with a trailing delimiter must not turn the
-            # first column into an index and shift every answer one column left
-            df = pd.read_csv(io.BytesIO(body), dtype="category", keep_default_na=False,
+            # first column into an index and shift every answer one column left.
+            # dtype=object: every cell the text the file holds (a "category" read infers
+            # numbers, so that sections "01" and "1.0" became one group and id "00123" 123)
+            df = pd.read_csv(io.BytesIO(body), dtype=object, keep_default_na=False,
                              sep=sep, na_filter=False, encoding=encoding, engine="c",
                              skipinitialspace=False, skip_blank_lines=not single,
                              index_col=False)
@@ -410,12 +429,34 @@ def _read_csv_encoded(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]
                 for ln in raw[:pos].splitlines()]
     first = skip + 2 if row_map is None or not len(row_map) else int(row_map[0])
     out = _Raw(source, header, _frame_to_columns(df), first, len(df), comments, row_map,
-               given=None if single else _given_header(body, sep, encoding))
+               given=None if single else _given_header(body, sep, encoding),
+               short=[] if single else _short_records(body, sep, skip))
     if trailing:
         out.notes.append(f"{source}: {trailing} empty line(s) at the end not read as "
                          f"respondents (in a one-column file an empty line elsewhere is a "
                          f"blank answer)")
     return out, peek
+
+
+def _short_records(body: bytes, sep: str, skip: int) -> list:
+    """(spreadsheet row, fields) of each record with fewer fields than the header, which
+    pandas pads with blank cells unsaid (``skip`` comment lines above the header)."""
+    scan = ShortRecords(sep, b"\n" if b"\n" in body[:262144] or b"\r" not in body else b"\r")
+    view = memoryview(body)
+    for at in range(0, len(body), 1 << 20):
+        scan.feed(view[at:at + (1 << 20)])
+    return [(skip + record, fields) for record, fields in scan.close()]
+
+
+def _note_short_rows(raw: _Raw, keep: np.ndarray, notes: list) -> None:
+    """Note the records of ``keep`` (respondents) that were shorter than the header."""
+    if not raw.short:
+        return
+    kept = set(raw.row_of(keep).tolist())
+    note = short_records_note(raw.source, [(r, n) for r, n in raw.short if r in kept],
+                              len(raw.header))
+    if note:
+        notes.append(note)
 
 
 def _parser_error(e: Exception, source: str, skip: int) -> SurveyInputError:
@@ -554,9 +595,10 @@ def _xlsx_rows(content: bytes, source: str, sheet: "str | None" = None):
     cell read; with the sheet's name and the names of the other sheets holding a cell.
 
     The sheet's ``<dimension>`` record is not trusted (a writer may understate it and
-    openpyxl would then drop rows and columns silently). The XML is parsed through
-    defusedxml (openpyxl uses it when installed): external entities and entity
-    expansion are refused, as is malformed XML, with one line naming the file.
+    openpyxl would then drop rows and columns silently). The workbook's parts are
+    parsed through defusedxml (openpyxl uses it when installed), the sheet's cells by
+    :func:`_sheet_rows`: external entities and entity expansion are refused, as is
+    malformed XML, with one line naming the file.
     """
     import zipfile
 
@@ -570,14 +612,14 @@ def _xlsx_rows(content: bytes, source: str, sheet: "str | None" = None):
         raise SurveyInputError(f"workbook unpacks to {size} bytes; at most {MAX_XLSX_BYTES} "
                                f"are read", source)
     try:
-        wb = openpyxl.load_workbook(io.BytesIO(content), read_only=True, data_only=True)
+        from .xlsx_sheet import load_read_only
+        wb = load_read_only(io.BytesIO(content))
     except Exception as e:  # noqa: BLE001 - BadZipFile, KeyError, InvalidFileException, XML errors ...
         raise _xlsx_error(e, source) from None
     rows, width = [], 0
     try:
         ws = _worksheet(wb, sheet, source)
-        ws.reset_dimensions()             # read the real extent, not the <dimension> record
-        for r in ws.iter_rows(values_only=True):
+        for r in _sheet_rows(wb, ws, source):
             _check_width(source, len(r))
             width = max(width, len(r))
             if len(rows) >= XLSX_MAX_ROWS:
@@ -587,7 +629,7 @@ def _xlsx_rows(content: bytes, source: str, sheet: "str | None" = None):
                 raise SurveyInputError(f"more than {MAX_CELLS} cells (rows x columns) in the "
                                        f"sheet", source, len(rows) + 1)
             rows.append([_cell_text(v) for v in r])
-        others = [w.title for w in wb.worksheets if w is not ws and _holds_a_cell(w)]
+        others = [w.title for w in wb.worksheets if w is not ws and _holds_a_cell(wb, w, source)]
     except SurveyInputError:
         raise
     except Exception as e:  # noqa: BLE001 - ParseError, EntitiesForbidden, ValueError ... in the sheet
@@ -611,10 +653,23 @@ def _worksheet(wb, sheet: "str | None", source: str):
                            f"{', '.join(repr(w.title) for w in sheets)}", source)
 
 
-def _holds_a_cell(ws) -> bool:
-    """Whether a worksheet holds a cell that is not blank (the first one found ends the scan)."""
+def _sheet_rows(wb, ws, source: str):
+    """The values of a worksheet, row by row, every cell read: the sheet's ``<dimension>``
+    record is not trusted (a writer may understate it, and openpyxl would then drop rows and
+    columns silently). Parsed by :func:`analysis.xlsx_sheet.sheet_values` (about 9 times
+    openpyxl's speed), or by openpyxl when the workbook lacks what that needs."""
+    from .xlsx_sheet import sheet_values
+    if all(hasattr(wb, a) for a in ("_date_formats", "_timedelta_formats", "epoch")) and all(
+            hasattr(ws, a) for a in ("_get_source", "_shared_strings")):
+        return sheet_values(wb, ws, MAX_COLUMNS,
+                            lambda n: _check_width(source, n, at_least=True))
     ws.reset_dimensions()
-    for i, r in enumerate(ws.iter_rows(values_only=True)):
+    return ws.iter_rows(values_only=True)
+
+
+def _holds_a_cell(wb, ws, source: str) -> bool:
+    """Whether a worksheet holds a cell that is not blank (the first one found ends the scan)."""
+    for i, r in enumerate(_sheet_rows(wb, ws, source)):
         if i >= XLSX_MAX_ROWS:
             return False
         if any(_cell_text(v).strip() for v in r):
@@ -878,6 +933,7 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
                                f"is not a response)", raw.source)
     if shape == "long":           # a footer note is dropped by the rule of a wide file
         keep, footer = _drop_footer(raw, np.arange(raw.nrows))
+        _note_short_rows(raw, keep, raw.notes)
         data = _build_long(_take_records(raw, keep) if footer else raw, scale, items, unknown,
                            group, reverse, respondents)
         data.dropped = footer + list(data.dropped)
@@ -894,16 +950,16 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
     if shape == "canvas":
         keep, earlier = _drop_earlier_attempts(raw, keep)
         dropped += earlier
-    if shape == "limesurvey":
-        _note_incomplete(raw, keep, notes)
+    _note_incomplete(raw, keep, notes, shape, text_row)
     keep, footer = _drop_footer(raw, keep)
     dropped += footer
+    _note_short_rows(raw, keep, notes)
     names, stems = _item_names(raw, shape, extra, codes)
     rows = raw.row_of(keep)
     exclude = {j for j, h in enumerate(raw.header)
                if not platforms.candidate(shape, h, text_row[j])}
     group_names = _as_list(group)
-    group_idx = [_column_index(raw, g) for g in group_names]
+    group_idx = [_column_index(raw, g, names) for g in group_names]
     exclude |= set(group_idx)
     keep = _as_slice(keep)
     cols = [(j, _Column(names[j], c.cats, c.codes[keep], c.name))
@@ -914,13 +970,14 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
                                          notes=notes,
                                          codes_file=None if codes is None else codes.source)
     answers, unknowns = _match(raw.source, scale_obj, item_cols, rows, unknown)
-    _scale_notes(scale_obj, answers, scale is None, notes)
+    counts = label_counts(answers, scale_obj.k)
+    _scale_notes(scale_obj, counts, scale is None, notes)
     chosen = [j for j, _ in item_cols]
     item_idx = set(chosen)                        # built once: the column scan stays linear
     item_names = [names[j] for j in chosen]
     by_index = dict(cols)                   # answer text after any code map
-    groups = {raw.columns[j].name: np.array(by_index[j].cats, dtype=object)[by_index[j].codes]
-              for j in group_idx}
+    groups = {_group_key(raw.header[j], names[j], g): np.array(
+        by_index[j].cats, dtype=object)[by_index[j].codes] for g, j in zip(group_names, group_idx)}
     others = _other_columns(raw, shape, names, item_idx, lambda j: (
         "grouping column" if j in group_idx else "metadata" if j in exclude
         else _why_not_item(by_index[j], scale_obj, items, False, notes)))
@@ -933,6 +990,7 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
                       other_columns=list(others), not_item_reasons=others,
                       comments=list(raw.comments), stems=[stems[j] for j in chosen],
                       fields=[raw.columns[j].name for j in chosen], notes=notes)
+    data.notes += narrower_scale_notes(raw.source, scale_obj, item_names, counts, data.reverse)
     pid = person_id_column(raw.header)
     if pid is not None:
         c = raw.columns[pid]
@@ -1092,20 +1150,37 @@ def _drop_footer(raw: _Raw, keep: np.ndarray):
     return keep[:-1], [DroppedRow(int(raw.row_of(last)), FOOTER)]
 
 
-def _note_incomplete(raw: _Raw, keep: np.ndarray, notes: list) -> None:
-    """Note LimeSurvey responses never submitted (blank ``submitdate``): they are counted
-    with the answers they hold, as partial respondents, not dropped."""
-    j = _find(raw.header, ("submitdate", "date submitted"))
+#: How each platform marks a response never completed: the column (its names), the test of
+#: its cell text (normalised) and the words saying so.
+_INCOMPLETE = {
+    "limesurvey": (("submitdate", "date submitted"), lambda t: t == "", "blank {}"),
+    "qualtrics": (("finished",), lambda t: t in ("false", "0"), "{} = False"),
+}
+
+
+def _note_incomplete(raw: _Raw, keep: np.ndarray, notes: list, shape: str,
+                     text_row: "list[str] | None" = None) -> None:
+    """Note responses never completed (LimeSurvey: a blank ``submitdate``; Qualtrics:
+    ``Finished`` False, or 0 in a numeric export): they are counted with the answers they
+    hold, as partial respondents, not dropped. ``text_row``: a legacy Qualtrics export's
+    question texts, where ``Finished`` is named (its field is ``V10``)."""
+    if shape not in _INCOMPLETE:
+        return
+    names, test, words = _INCOMPLETE[shape]
+    j = _find(raw.header, names)
+    if j is None and text_row:
+        j = _find(text_row, names)
     if j is None:
         return
     col = raw.columns[j]
-    blank = np.array([not x.strip() for x in col.cats], dtype=bool)[col.codes[keep]]
-    k = int(blank.sum())
+    bad = np.array([test(normalize_answer(x)) for x in col.cats], dtype=bool)[col.codes[keep]]
+    k = int(bad.sum())
     if k:
-        rows = [int(r) for r in raw.row_of(keep[blank][:5])]
+        rows = [int(r) for r in raw.row_of(keep[bad][:5])]
         more = f" and {k - 5} more" if k > 5 else ""
-        notes.append(f"{raw.source}: {k} incomplete response{'s' if k != 1 else ''} (blank "
-                     f"{raw.header[j].strip()!r}, row{'s' if k != 1 else ''} "
+        name = (raw.header[j] if _find(raw.header, names) is not None else text_row[j]).strip()
+        notes.append(f"{raw.source}: {k} incomplete response{'s' if k != 1 else ''} "
+                     f"({words.format(repr(name))}, row{'s' if k != 1 else ''} "
                      f"{', '.join(map(str, rows))}{more}) counted with the answers given")
 
 
@@ -1124,6 +1199,22 @@ def _item_names(raw: _Raw, shape: str, extra: int, codes) -> tuple[list[str], li
         pairs = [(codes.texts.get(h.strip().casefold()) or n,
                   codes.stems.get(h.strip().casefold(), s))
                  for h, (n, s) in zip(header, pairs)]
+    return _statement_names(header, pairs)
+
+
+def header_item_names(header: list[str], peek: list) -> tuple[list[str], list[str]]:
+    """Statement name and stem of every column of a file known by its header row and first
+    records (``peek``), as :func:`read_survey` names them: a grid row ``Rate each [X]`` is
+    item ``X``. :func:`analysis.institution.summarize_by` names its items so, and both
+    routes' tables join on ``item``. For exports whose statements are in a second header row
+    (Qualtrics, SurveyMonkey), which ``summarize_by`` refuses, the header is taken as is."""
+    shape = platforms.detect(header, peek) or "wide"
+    return _statement_names(header, [platforms.split_stem(shape, h, h) for h in header])
+
+
+def _statement_names(header: list[str], pairs: list) -> tuple[list[str], list[str]]:
+    """Names made from (statement, stem) ``pairs``: white space collapsed, a repeated
+    statement named with its stem, then with its header, then made distinct."""
     names = [" ".join(n.split()) or h for h, (n, _) in zip(header, pairs)]
     # a statement asked under two stems ("Before this course - X", "After this course -
     # X") is named with its stem; only a name repeated even so falls back to the field id
@@ -1200,12 +1291,24 @@ def _apply_codebook(cols, book, exclude, notes, source):
     return out
 
 
-def _scale_notes(scale: Scale, answers: np.ndarray, detected: bool, notes: list) -> None:
+def _scale_notes(scale: Scale, counts: np.ndarray, detected: bool, notes: list) -> None:
     """The notes on the scale read, for wide and long files alike: labels nobody used
-    while another scale fits, and (when the scale was ``detected``) a missing label."""
-    _warn_unused_labels(scale, answers, notes)
+    while another scale fits, and (when the scale was ``detected``) a missing label.
+    ``counts``: answers per item and label (:func:`label_counts`)."""
+    _warn_unused_labels(scale, counts, notes)
     if detected:
         _note_no_neutral(scale, notes)
+
+
+def scale_fit_notes(source: str, scale: Scale, names: list, counts: np.ndarray,
+                    reverse=frozenset()) -> list[str]:
+    """The warnings on how the scale fits the answers that :func:`read_survey` gives, for
+    :func:`analysis.institution.summarize_by` (which notes a missing label on choosing the
+    items): labels nobody used while another scale fits, and items that look as if they
+    offered a narrower scale (:func:`narrower_scale_notes`)."""
+    notes: list[str] = []
+    _warn_unused_labels(scale, counts, notes)
+    return notes + narrower_scale_notes(source, scale, names, counts, reverse)
 
 
 def _note_no_neutral(scale: Scale, notes: list) -> None:
@@ -1224,13 +1327,9 @@ def _note_no_neutral(scale: Scale, notes: list) -> None:
             return
 
 
-def _warn_unused_labels(scale: Scale, answers: np.ndarray, notes: list) -> None:
+def _warn_unused_labels(scale: Scale, counts: np.ndarray, notes: list) -> None:
     """Note when labels go unused and another built-in scale fits the answers exactly."""
-    seen = np.zeros(256, dtype=bool)             # int8 codes read as uint8, no copy
-    for j in range(answers.shape[1]):
-        seen |= np.bincount(np.ascontiguousarray(answers[:, j]).view(np.uint8),
-                            minlength=256) > 0
-    used = np.flatnonzero(seen[:scale.k])
+    used = np.flatnonzero(np.asarray(counts).reshape(-1, scale.k).sum(axis=0) > 0)
     if len(used) == scale.k or len(used) == 0:
         return
     got = {normalize_answer(scale.labels[i]) for i in used}
@@ -1244,6 +1343,94 @@ def _warn_unused_labels(scale: Scale, answers: np.ndarray, notes: list) -> None:
             return
 
 
+#: Chance below which an item's answers missing every label that only the wider scale has
+#: is taken as a sign that the item offered the narrower scale (see :func:`narrower_scale_notes`).
+NARROWER_SCALE_CHANCE = 0.05
+
+
+def label_counts(answers: np.ndarray, k: int) -> np.ndarray:
+    """Answers per label of each item, shape (items, k), from a matrix of scale positions."""
+    return np.array([np.bincount(np.ascontiguousarray(col[col >= 0]), minlength=k)[:k]
+                     for col in answers.T], dtype=np.int64).reshape(answers.shape[1], k)
+
+
+def _narrower_scales(scale: Scale) -> list:
+    """(built-in scale, positions of its labels on ``scale``) for every built-in scale whose
+    labels are some of ``scale``'s, in the same order (agree5 in agree7); widest first."""
+    mine = [normalize_answer(x) for x in scale.labels]
+    out = []
+    for other in BUILTIN_SCALES.values():
+        theirs = [normalize_answer(x) for x in other.labels]
+        if other.k < scale.k and all(t in mine for t in theirs):
+            pos = [mine.index(t) for t in theirs]
+            if pos == sorted(pos):
+                out.append((other, pos))
+    return sorted(out, key=lambda t: -t[0].k)
+
+
+def narrower_scale_notes(source: str, scale: Scale, names: list, counts: np.ndarray,
+                         reverse=frozenset()) -> list[str]:
+    """Warnings naming the items that look as if they offered a narrower built-in scale.
+
+    In a file mixing 5-point and 7-point agreement items the whole file is read as the
+    wider scale: a 5-point item then lands on codes 1, 2, 4, 6, 7, and its median, IQR,
+    mean and SD are wrong (its counts and agreement share are not). An item is named when
+    it uses only labels of a narrower built-in scale (agree5 inside agree7), and never one of
+    the labels only the wider scale has, while other items do, so often that an item of
+    this many answers on the wider scale would miss all of them with a chance below
+    :data:`NARROWER_SCALE_CHANCE`: (1 - f) ** n, f being those labels' share of the answers
+    of the items using them. The warning gives the item's statistics on the narrower scale.
+    Both routes (:func:`read_survey`, :func:`analysis.institution.summarize_by`) call this.
+
+    Parameters
+    ----------
+    source : str
+    scale : Scale
+        The scale the answers were read on.
+    names : list of str
+        Item names, in the order of ``counts``' rows.
+    counts : numpy.ndarray of int, shape (items, scale.k)
+        Answers per label.
+    reverse : set of str
+        Reverse-keyed items (their statistics on reversed codes, as in the table).
+    """
+    from .likert import summarize_tally
+    from .rounding import number_text, percent_text
+    counts = np.asarray(counts, dtype=np.int64)
+    notes, named = [], set()
+    for other, pos in _narrower_scales(scale):
+        wider = [i for i in range(scale.k) if i not in pos]
+        using = [j for j in range(len(names)) if counts[j, wider].sum()]
+        if not using:
+            continue
+        k_wider, n_using = int(counts[using][:, wider].sum()), int(counts[using].sum())
+        f = k_wider / n_using
+        found = [j for j in range(len(names)) if j not in named and j not in using
+                 and counts[j].sum() and (1 - f) ** int(counts[j].sum()) < NARROWER_SCALE_CHANCE]
+        if not found:
+            continue
+        named.update(found)
+        stats = []
+        for j in found:
+            it = summarize_tally(np.concatenate([[0, 0, 0], counts[j, pos]]), other, names[j],
+                                 reverse=names[j] in reverse)
+            stats.append(f"{names[j]!r}{' (reversed)' if it.reverse else ''}: median "
+                         f"{number_text(it.median)}, IQR {number_text(it.iqr)}, mean "
+                         f"{number_text(it.mean, 2)}, SD {number_text(it.sd, 2)}")
+        only = " or ".join(repr(scale.labels[i]) for i in wider)
+        which = ", ".join(repr(names[j]) for j in found)
+        lo, hi = number_text(min(other.codes), 0), number_text(max(other.codes), 0)
+        share = percent_text(k_wider, n_using, 0)
+        notes.append(
+            f"warning: {source}: item{'s' if len(found) > 1 else ''} {which} never answered "
+            f"{only} (labels only scale {scale.name!r} has, {share}% of the answers to the "
+            f"items that use them): if they offered scale {other.name!r}, their median, IQR, "
+            f"mean, SD (and a Cronbach's alpha with them) are on the wrong codes; on {other.name!r} (codes {lo}-{hi}) "
+            f"they are {'; '.join(stats)} (summarize them with --items and --scale "
+            f"{other.name})")
+    return notes
+
+
 name_matches = platforms.name_matches
 
 
@@ -1255,12 +1442,30 @@ def _as_list(x) -> list[str]:
     return list(x)
 
 
-def _column_index(raw: _Raw, name: str) -> int:
+def _column_index(raw: _Raw, name: str, names: "list[str] | None" = None) -> int:
+    """The column a grouping flag names: by its header (any case and spacing), else, given
+    the columns' question ``names`` (a Qualtrics export's texts, as items are named), by
+    its question text, as ``--items`` takes an item (:func:`analysis.platforms.item_matches`)."""
     key = normalize_answer(name)
     for j, h in enumerate(raw.header):
         if normalize_answer(h) == key:
             return j
-    raise SurveyInputError(f"no column {name!r}; columns are {raw.header!r}", raw.source, 1)
+    texts = {j: n for j, n in enumerate(names or []) if normalize_answer(n) != normalize_answer(
+        raw.header[j])}
+    hits = [j for j, n in texts.items() if platforms.item_matches(name, n)]
+    if len(hits) == 1:
+        return hits[0]
+    if hits:
+        raise SurveyInputError(f"{name!r} is the question text of columns "
+                               f"{[raw.header[j] for j in hits]!r}; name one of them", raw.source, 1)
+    also = f"; question texts are {list(texts.values())!r}" if texts else ""
+    raise SurveyInputError(f"no column {name!r}; columns are {raw.header!r}{also}", raw.source, 1)
+
+
+def _group_key(header: str, text: str, given: str) -> str:
+    """A grouping column's name in :attr:`SurveyData.groups` and every output: its header, or
+    its question text when the flag named it so (``--group Section`` for Qualtrics' ``Q2``)."""
+    return header if normalize_answer(header) == normalize_answer(given) else text
 
 
 _resolve_reverse = platforms.resolve_reverse
@@ -1464,7 +1669,7 @@ def _note_other_not_applicable(source: str, chosen, scale: Scale, notes: "list |
 
 
 def choose_items_from_counts(source: str, columns, scale=None, items=None,
-                             long: bool = False):
+                             long: bool = False, fields: "list[str] | None" = None):
     """The scale and the items among columns known only by their answer counts.
 
     The rule :func:`read_survey` applies (:func:`_choose_items`), for a reader that
@@ -1484,6 +1689,9 @@ def choose_items_from_counts(source: str, columns, scale=None, items=None,
         Item names or patterns.
     long : bool
         The names are items of a long file, not columns.
+    fields : list of str, optional
+        Another name of each column that ``items`` may give (its statement text), as
+        :func:`read_survey` takes a column by header or statement.
 
     Returns
     -------
@@ -1497,7 +1705,8 @@ def choose_items_from_counts(source: str, columns, scale=None, items=None,
     cols = []
     for j, (name, texts) in enumerate(columns):
         cats = [str(t) for t in texts]
-        col = _Column(str(name), cats, np.zeros(0, dtype=np.int64))   # counts alone:
+        col = _Column(str(name), cats, np.zeros(0, dtype=np.int64),   # counts alone:
+                      fields[j] if fields else "")
         col.__dict__["_counts"] = np.array(list(texts.values()), dtype=np.int64)  # no rows
         cols.append((j, col))
     notes: list[str] = []
@@ -1798,12 +2007,16 @@ def _build_long(raw: _Raw, scale, items, unknown, group, reverse, respondents):
                               unknown)
     answers = np.full((nresp, len(wanted)), BLANK, dtype=np.int8)
     answers[r_sel, i_sel] = a
-    _scale_notes(scale_obj, answers, scale is None, notes)
+    counts = label_counts(answers, scale_obj.k)
+    _scale_notes(scale_obj, counts, scale is None, notes)
     first_idx = np.full(nresp, np.iinfo(np.int64).max, dtype=np.int64)
     np.minimum.at(first_idx, resp_code, np.arange(raw.nrows))
     first_rows = raw.row_of(first_idx)
     groups = {}
     for g in _as_list(group):
+        why = platforms.long_column_refusal("--group", g, raw.header)
+        if why:
+            raise SurveyInputError(why, source)
         col = raw.columns[_column_index(raw, g)]
         _refuse_two_groups(source, col, resp_code, resp_ids, first_idx, rows)
         groups[col.name] = np.array(col.cats, dtype=object)[col.codes][first_idx]
@@ -1817,4 +2030,5 @@ def _build_long(raw: _Raw, scale, items, unknown, group, reverse, respondents):
                           per_item[k][1], scale_obj, items, True, notes)
                           for k in range(nitem) if k not in wanted},
                       comments=list(raw.comments), notes=notes)
+    data.notes += narrower_scale_notes(source, scale_obj, names, counts, data.reverse)
     return _declare(data, respondents)

@@ -37,7 +37,7 @@ from pathlib import Path
 import numpy as np
 
 from . import platforms
-from ._io import is_regular_file, sniff_delimiter
+from ._io import ShortRecords, is_regular_file, short_records_note, sniff_delimiter
 from .disclosure import BLANK_GROUP, suppress_groups
 from .dropped import FOOTER, DroppedRow, is_footer_note
 from .errors import SurveyInputError
@@ -91,6 +91,9 @@ class GroupedSummary:
         Groups with fewer respondents are suppressed in outputs (small cells).
     not_items : dict of str to str
         Columns (long: items) not counted as items, each with the reason.
+    fields : list of str
+        A wide file's header of each item (items are named by statement, as
+        :func:`analysis.ingest.read_survey` names them: ``Rate [Clear]`` is ``Clear``).
     """
 
     source: str
@@ -107,6 +110,7 @@ class GroupedSummary:
     ci_method: str = "wilson"
     confidence_level: float = 0.95
     not_items: dict = field(default_factory=dict)
+    fields: list = field(default_factory=list)     # a wide file's header of each item
     dropped: list = field(default_factory=list)
 
     def _item_summaries(self, tally, respondents: int, confidence_level, method) -> list:
@@ -217,6 +221,12 @@ class GroupedSummary:
                    f"{rows[0].why}" for reason, rows in kinds.items()]
         return dropped + list(self.notes) + ([note] if note else [])
 
+    def note_lines(self) -> list[str]:
+        """The notes as every output shows them (``note: ...``, a warning as written), as
+        :meth:`analysis.ingest.SurveyData.note_lines` gives the in-memory route's."""
+        from .ingest import note_line
+        return [note_line(n) for n in self._all_notes()]
+
     def format_text(self, decimals: int = 1) -> str:
         """One line per (group, item), institution-wide first; the agreement share printed
         to ``decimals`` places by the project's rounding rule, with its interval."""
@@ -250,7 +260,7 @@ class GroupedSummary:
             out.append(REVERSE_NOTE)
         out.extend(f"dropped {'the last row' if d.row is None else f'row {d.row}'}: {d.reason}"
                    for d in self.dropped)
-        out.extend(f"note: {n}" for n in self._all_notes())
+        out.extend(self.note_lines())
         return "\n".join(out)
 
 
@@ -380,6 +390,24 @@ def _answer_rows(con, src: str, path: Path, header: list[str]):
     return f"(SELECT * FROM {src} WHERE NOT ({cond}))", [DroppedRow(row, FOOTER)], []
 
 
+def _short_rows(path: Path, width: int, dropped: list) -> list[str]:
+    """The note naming the rows with fewer fields than the header (DuckDB pads them with
+    blank cells, as pandas does), the rows ``dropped`` aside, as the in-memory route words it
+    (:func:`analysis._io.short_records_note`); the file is scanned again, 1 MiB at a time."""
+    if path.suffix.lower() == ".parquet" or width < 2:
+        return []
+    newline = _header_newline(_head(path)) or "\n"
+    scan = ShortRecords(_delimiter(path), newline[-1].encode())
+    with open(path, "rb") as f:
+        while chunk := f.read(1 << 20):
+            scan.feed(chunk)
+    found = scan.close()
+    # a footer whose row was not looked up is the last record holding text
+    gone = {scan.last if d.row is None else d.row for d in dropped}
+    note = short_records_note(str(path), [(r, n) for r, n in found if r not in gone], width)
+    return [note] if note else []
+
+
 def _given_header(con, path: Path, header: list[str]) -> list[str]:
     """The column names as the file writes them (``header`` is DuckDB's, made distinct).
 
@@ -505,7 +533,10 @@ def summarize_by(path: "str | Path", by: "list[str]", scale=None, items=None,
     else:
         raise SurveyInputError(f"counting needs more than {size * _RETRY_FACTORS[-1]}{unit} "
                                f"of memory; give a larger memory limit", str(p))
-    res.reverse = platforms.resolve_reverse(res.source, res.items, reverse)
+    res.reverse = platforms.resolve_reverse(res.source, res.items, reverse, res.fields or None)
+    from .ingest import scale_fit_notes
+    res.notes += scale_fit_notes(res.source, res.scale, res.items,
+                                 res.tallies.sum(axis=0)[:, 3:], res.reverse)
     res.ci_method, res.confidence_level = method, confidence_level
     _declare(res, respondents)
     _order(res, group_order)
@@ -579,12 +610,16 @@ def _count(p, by, scale, items, min_group, memory_limit, threads,
             raise SurveyInputError(f"cannot read as CSV/Parquet ({str(e).splitlines()[0]})",
                                    str(p)) from None
         src, dropped, footer_notes = _answer_rows(con, src, p, header)
+        footer_notes += _short_rows(p, len(header), dropped)
         _refuse_header_rows(con, src, p, header)
         why = platforms.repeated_column(_given_header(con, p, header))
         if why:                     # DuckDB renames a repeated Q1 to Q1_1 (and q1 too)
             raise SurveyInputError(why, str(p))
         gcols = []
         for b in by:
+            why = platforms.long_column_refusal("--by", b, header)
+            if why:
+                raise SurveyInputError(why, str(p))
             j = platforms.find_column(header, (b.strip().casefold(),))
             if j is None:
                 raise SurveyInputError(f"--by {b!r}: no such column; columns are {header!r}",
@@ -602,9 +637,12 @@ def _count(p, by, scale, items, min_group, memory_limit, threads,
             idcols = {header[j] for j in range(len(header)) if platforms.find_column(
                 [header[j]], platforms.LONG_RESP) is not None}
             cand = [h for h in header if h not in gcols and h not in idcols]
+            from .ingest import header_item_names
+            peek = [header] if p.suffix.lower() == ".parquet" else sniff_delimiter(_head(p))[1]
+            statements = dict(zip(header, header_item_names(header, peek)[0]))
             if items:
-                from .platforms import name_matches
-                cand = [h for h in cand if any(name_matches(pat, h) for pat in items)]
+                cand = [h for h in cand if any(platforms.item_matches(pat, h, statements[h])
+                                               for pat in items)]
             left_out = {h: ("grouping column" if h in gcols else
                             "an identifier column" if h in idcols else "not named by --items")
                         for h in header if h not in cand}
@@ -629,15 +667,17 @@ def _count(p, by, scale, items, min_group, memory_limit, threads,
         spill.cleanup()
     locate = _locator(p, None if shape == "wide" else (header[ii], header[ai]))
     res = _assemble(str(p), gcols, shape, rows, scale, items, min_group,
-                    cand if shape == "wide" else None, locate)
+                    cand if shape == "wide" else None, locate,
+                    statements if shape == "wide" else None)
     res.dropped, res.notes = dropped, footer_notes + res.notes
     if shape == "wide" and idcol is not None:
         note = _repeated_ids(p, gcols, idcol, repeats, spelled)
         res.notes += [note] if note else []
-    if shape == "wide":                            # in the file's column order
-        res.not_items = {_spaced(h): left_out.get(h) or res.not_items[h] for h in header
+    if shape == "wide":         # in the file's column order, named as read_survey names them
+        res.not_items = {statements[h]: left_out.get(h) or res.not_items[h] for h in header
                          if h in left_out or h in res.not_items}
-        res.items = [_spaced(n) for n in res.items]
+        res.fields = list(res.items)
+        res.items = [statements[n] for n in res.items]
     return res
 
 
@@ -966,7 +1006,7 @@ def _answer_counts(rows, ng: int, wide_items) -> list:
 
 
 def _assemble(source, gcols, shape, rows, scale, items, min_group,
-              wide_items=None, locate=None) -> GroupedSummary:
+              wide_items=None, locate=None, statements=None) -> GroupedSummary:
     """Tallies from the aggregated rows: items and scale chosen by the in-memory rule
     (:func:`analysis.ingest.choose_items_from_counts`), texts matched, groups indexed.
     ``locate(item, text)`` gives the (row, column) an unknown answer is named by."""
@@ -974,7 +1014,8 @@ def _assemble(source, gcols, shape, rows, scale, items, min_group,
     ng = len(gcols)
     counted = _answer_counts(rows, ng, wide_items)
     scale_obj, names, not_items, notes = choose_items_from_counts(
-        source, counted, scale, items, long=shape == "long")
+        source, counted, scale, items, long=shape == "long",
+        fields=None if statements is None else [statements[n] for n, _ in counted])
     index_item = {n: i for i, n in enumerate(names)}
     texts = {t: c for n, tx in counted if n in index_item for t, c in tx.items() if t != ""}
     keys = sorted({tuple("" if v is None else str(v) for v in r[:ng]) for r in rows})

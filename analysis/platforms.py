@@ -81,6 +81,23 @@ LONG_ITEM = ("item", "question", "question_id", "questionid", "item_id", "questi
 LONG_ANSWER = ("answer", "response", "value", "choice", "rating")
 
 
+def long_column_refusal(flag: str, name: str, header: list[str]) -> "str | None":
+    """Why ``flag`` (``--by``, ``--group``) cannot group a long file by its column ``name``:
+    it is one of the file's respondent, item and answer columns (each respondent's answers
+    are spread over its rows). None when ``name`` is another column, or the file is not long.
+    Both routes word it here."""
+    idx = [find_column(header, names) for names in (LONG_RESP, LONG_ITEM, LONG_ANSWER)]
+    if None in idx:
+        return None
+    key = name.strip().casefold()
+    for j, what in zip(idx, ("respondent", "item", "answer")):
+        if header[j].strip().casefold() == key:
+            cols = ", ".join(header[k].strip() for k in idx)
+            return (f"{flag} {name.strip()}: {header[j].strip()!r} is the long file's {what} "
+                    f"column ({cols}); group by another column")
+    return None
+
+
 def find_column(header: list[str], names) -> "int | None":
     """Index of the first of ``names`` among the header (ignoring case and outer spaces)."""
     keys = [h.strip().casefold() for h in header]

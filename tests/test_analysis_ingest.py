@@ -641,3 +641,153 @@ def test_a_workbook_names_the_sheets_it_did_not_read(tmp_path, capsys):
     c.write_text("Q1\nAgree\n")
     assert main(["summarize", str(c), "--sheet", "Responses"]) == 2
     assert "--sheet 'Responses': only a workbook (.xlsx) has sheets" in capsys.readouterr().err
+
+
+def test_cells_are_read_as_the_text_the_file_holds_on_both_routes(tmp_path, capsys):
+    """QA 16 #2: a CSV read with ``dtype="category"`` under pandas 3 turned numeric-looking
+    text into numbers: sections '01', '1', '1.0', '001' became one group '1.0', id '00123'
+    was named '123', ids '0123' and '123' were taken for one person. The references are the
+    cells as written below; every count is exact (no tolerance)."""
+    from analysis.institution import summarize_by
+    sections = ["01", "1", "1.0", "001"]
+    f = tmp_path / "zeros.csv"
+    f.write_text("student_id,section,Q1\n" + "".join(
+        f"S{g}{k},{sec},{LABELS[k % 5]}\n" for g, sec in enumerate(sections) for k in range(5)))
+    data = read_survey(f, group="section")
+    assert list(dict.fromkeys(data.groups["section"])) == sections
+    res = summarize_by(f, ["section"])
+    assert res.groups == sorted((s,) for s in sections) and res.respondents.tolist() == [5] * 4
+    order = ["001", "1.0", "1", "01"]          # --group-order takes the values as written
+    for extra in (["--group", "section"], ["--by", "section"]):
+        assert main(["summarize", str(f), "--json", *extra, "--group-order", *order]) == 0
+        out = json.loads(capsys.readouterr().out)
+        got = ([g["group"] for g in out["groups"]["groups"]] if "--group" in extra else
+               [r["section"] for r in out["rows"] if r["section"] != "(all)"])
+        assert got == order, (extra, got)
+    # ids: two rows of '00123' are one id, named as written; '0123'/'123' and
+    # '00456'/'456.0' are four different ids (no note on either route)
+    g = tmp_path / "ids.csv"
+    g.write_text("student_id,Term,Q1\n00123,T,Agree\n00456,T,Disagree\n00123,T,Agree\n")
+    want = "('00123' in rows 2, 4)"
+    assert any(want in n for n in read_survey(g, group="Term").notes)
+    assert any(want in n for n in summarize_by(g, ["Term"], min_group=1).notes)
+    g.write_text("student_id,Term,Q1\n0123,T,Agree\n123,T,Disagree\n00456,T,Agree\n"
+                 "456.0,T,Agree\n")
+    for notes in (read_survey(g, group="Term").notes,
+                  summarize_by(g, ["Term"], min_group=1).notes):
+        assert not any("more than one row" in n for n in notes), notes
+    # a long file: respondents '007', '7', '0008' are three people on both routes
+    h = tmp_path / "long.csv"
+    h.write_text("respondent,item,answer,term\n" + "".join(
+        f"{r},{q},Agree,T\n" for r in ("007", "7", "0008") for q in ("1", "2")))
+    assert read_survey(h).respondents == 3
+    assert summarize_by(h, ["term"], min_group=1).respondents.tolist() == [3]
+
+
+def test_a_workbook_date_cell_reads_as_excel_shows_it(tmp_path):
+    """QA 16 #2: a date cell (midnight) printed as '2024-01-15 00:00:00' and made a group
+    apart from the text cell '2024-01-15'. Excel shows a date cell of a date format without
+    the time; one holding a time keeps it. References: the cell values written below."""
+    import datetime as dt
+    f = tmp_path / "dates.xlsx"
+    wb = openpyxl.Workbook()
+    ws = wb.active
+    for row in (["Term", "Q1"], [dt.datetime(2024, 1, 15), "Agree"], ["2024-01-15", "Agree"],
+                [dt.datetime(2024, 8, 20, 10, 30), "Disagree"]):
+        ws.append(row)
+    wb.save(f)
+    data = read_survey(f, group="Term")
+    assert data.groups["Term"].tolist() == ["2024-01-15", "2024-01-15", "2024-08-20 10:30:00"]
+
+
+def test_items_of_a_narrower_scale_among_wider_ones_are_named_with_their_statistics(tmp_path):
+    """QA 16 #3: a file mixing 5-point and 7-point agreement items is read as agree7, and the
+    5-point items' median, IQR, mean and SD sit on codes 1, 2, 4, 6, 7, unsaid. Both routes
+    now name those items, word for word, with their statistics on agree5. By hand, on codes
+    1-5: Q1 = 1,1,2,2,3,3,4,4,5,5: median 3, quartiles 2 and 4 (numpy's linear rule), mean 3,
+    SD sqrt(20/9) = 1.49; Q2 = 5,5,5,4: median 5, quartiles 4.75 and 5 (IQR 0.25, printed
+    0.3), mean 4.75, SD sqrt(0.75/3) = 0.50. Q3 answers 'Somewhat ...' 8 times of 10 (80%):
+    an item of n answers on agree7 misses both such labels with chance 0.2**n (Q2:
+    0.0016), below the 5% the note asks for."""
+    from analysis.institution import summarize_by
+    a5 = list(BUILTIN_SCALES["agree5"].labels)
+    q1 = [a5[i // 2] for i in range(10)]
+    q2 = ["Strongly agree"] * 3 + ["Agree"] + [""] * 6
+    q3 = ["Somewhat disagree"] * 4 + ["Somewhat agree"] * 4 + ["Agree", "Strongly agree"]
+    f = tmp_path / "mixed.csv"
+    f.write_text("term,Q1,Q2,Q3\n" + "".join(f"T,{a},{b},{c}\n" for a, b, c in zip(q1, q2, q3)))
+    want = (f"warning: {f}: items 'Q1', 'Q2' never answered 'Somewhat disagree' or 'Somewhat "
+            "agree' (labels only scale 'agree7' has, 80% of the answers to the items that use "
+            "them): if they offered scale 'agree5', their median, IQR, mean, SD (and a "
+            "Cronbach's alpha with them) are on the wrong codes; on 'agree5' (codes 1-5) they "
+            "are 'Q1': median 3.0, IQR 2.0, mean 3.00, SD 1.49; 'Q2': median 5.0, IQR 0.3, "
+            "mean 4.75, SD 0.50 (summarize them with --items and --scale agree5)")
+    data = read_survey(f)
+    assert data.scale.name == "agree7" and want in data.notes, data.notes
+    assert want in summarize_by(f, ["term"], min_group=1).notes
+    # the statistics the note gives are those of the items read on agree5 by themselves
+    alone = summarize(read_survey(f, items=["Q1", "Q2"], scale="agree5"))
+    assert [(it.mean, it.iqr) for it in alone.items] == [(3.0, 2.0), (4.75, 0.25)]
+    # an agree5 file: a 3-answer item without 'Neither ...' is no sign (Q1 uses it in 2
+    # answers of 10, 20%: chance 0.8**3 = 0.51 of missing it); 20 such answers are
+    # (0.8**20 = 0.012): named as agree4, its codes 1, 2, 3, 4
+    g = tmp_path / "five.csv"
+    rows = [(a5[i // 2], "Agree" if i < 3 else "") for i in range(10)]
+    g.write_text("term,Q1,Q2\n" + "".join(f"T,{a},{b}\n" for a, b in rows))
+    assert not any("never answered" in n for n in read_survey(g).notes)
+    rows = [(a5[i // 2] if i < 10 else "", "Agree") for i in range(20)]
+    g.write_text("term,Q1,Q2\n" + "".join(f"T,{a},{b}\n" for a, b in rows))
+    note, = [n for n in read_survey(g).notes if "never answered" in n]
+    assert ("item 'Q2' never answered 'Neither agree nor disagree'" in note
+            and "on 'agree4' (codes 1-4) they are 'Q2': median 3.0, IQR 0.0, mean 3.00, SD 0.00"
+            in note), note
+
+
+def test_short_rows_are_named_on_both_routes(tmp_path, capsys):
+    """QA 16 #6: a row with fewer fields than the header was padded with blanks unsaid (a
+    longer one is refused). Spreadsheet rows here: header 1, row 3 has 2 of 4 fields, row 4
+    holds a quoted line break (one record, 4 fields: not short), row 5 is empty (no
+    respondent), row 7 has 3 fields, row 9 is empty and row 10 a footer dropped as such (not
+    named)."""
+    from analysis.institution import summarize_by
+    f = tmp_path / "short.csv"
+    f.write_text('id,T,Q1,Q2\n1,A,Agree,Disagree\n2,A\n3,A,"Agree",Agree\n\n4,A,Agree,Agree\n'
+                 '5,A,Agree\n6,A,Agree,Agree\n\nExported by Canvas\n')
+    want = (f"{f}: 2 rows with fewer fields than the header's 4 (row 3 has 2, row 7 has 3): "
+            "the missing cells are read as blank answers (a line break in an unquoted cell "
+            "splits a record in two: check the export)")
+    data = read_survey(f)
+    assert want in data.notes and data.respondents == 6, data.notes
+    assert [d.row for d in data.dropped] == [10]
+    res = summarize_by(f, ["T"], min_group=1)
+    assert want in res.notes and res.respondents.tolist() == [6], res.notes
+    for extra in ([], ["--by", "T", "--min-group", "1"]):     # QA 16 #11: --by --json wrote
+        assert main(["summarize", str(f), "--json", *extra]) == 0   # its notes in JSON only
+        out = capsys.readouterr()
+        assert f"note: {want}\n" in out.err and want in json.loads(out.out)["notes"], extra
+    f.write_text(f.read_text().replace('3,A,"Agree",Agree', '3,A,"Agree\nmore",Agree'))
+    with pytest.raises(SurveyInputError, match="row 4, column 'Q1': answer 'Agree\\\\nmore'"):
+        read_survey(f)          # the record is whole; its Q1 is not an answer: refused there
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(st.lists(st.sampled_from(["", "a", "b c", 'x"y', "p,q", "l\nm", " "]),
+                         min_size=0, max_size=4), min_size=1, max_size=8),
+       st.integers(1, 9), st.sampled_from(["\n", "\r\n"]))
+def test_the_short_record_scan_agrees_with_the_csv_module(records, chunk, newline):
+    """The byte scan behind the note (``analysis._io.ShortRecords``), fed in chunks of any
+    size, finds the records Python's csv module reads with fewer fields than the first,
+    those holding no cell text aside. Reference: ``csv.writer`` writes the records (quoting
+    what needs it), ``csv.reader`` reads them back."""
+    from analysis._io import ShortRecords
+    buf = io.StringIO(newline="")
+    csv.writer(buf, lineterminator=newline).writerows([["h1", "h2", "h3"]] + records)
+    text = buf.getvalue()
+    back = list(csv.reader(io.StringIO(text, newline="")))
+    want = [(i + 1, len(r)) for i, r in enumerate(back)
+            if len(r) < 3 and "".join(r).strip(' \t\r\n"')]
+    scan = ShortRecords(",", newline.encode())
+    data = text.encode()
+    for at in range(0, len(data), chunk):
+        scan.feed(data[at:at + chunk])
+    assert scan.close() == want

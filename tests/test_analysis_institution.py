@@ -644,3 +644,60 @@ def test_by_takes_group_order_as_group_does(tmp_path, capsys):
     assert errors[0] == errors[1] == (
         f"error: {f}: --group-order names 'Winter', which is not a value of the grouping "
         f"column; values are ['Fall 2023', 'Spring 2024', 'Summer 2024']\n"), errors
+
+
+def test_grouping_a_long_file_by_its_own_columns_is_refused_in_one_line(tmp_path, capsys):
+    """QA 16 #7: ``--by item`` on a long file leaked DuckDB's "Catalog Error: Table with name
+    VALUES does not exist!", and ``--by respondent`` said "no item columns" of agree5 answers.
+    Both flags, on both routes, now say which column it is. Run as a command too: after an
+    error with DuckDB loaded, its bindings printed some 60 "leaked instance" lines at exit."""
+    import subprocess
+    import sys
+    from pathlib import Path
+    f = tmp_path / "long.csv"
+    f.write_text("Respondent,Item,Answer,term\n007,1,Agree,F\n007,2,Disagree,F\n"
+                 "7,1,Neutral,F\n7,2,Agree,F\n")
+    for flag in ("--by", "--group"):
+        for col, what in (("item", "item"), ("RESPONDENT", "respondent"), ("answer", "answer")):
+            assert main(["summarize", str(f), flag, col, "--min-group", "1"]) == 2
+            assert capsys.readouterr().err == (
+                f"error: {f}: {flag} {col}: {what.capitalize()!r} is the long file's {what} "
+                "column (Respondent, Item, Answer); group by another column\n")
+    r = subprocess.run([sys.executable, "-m", "analysis", "summarize", str(f), "--by", "item"],
+                       cwd=Path(__file__).resolve().parents[1], capture_output=True, text=True)
+    assert r.returncode == 2 and r.stderr.count("\n") == 1, r.stderr
+    assert main(["summarize", str(f), "--by", "term", "--min-group", "1", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["respondents"] == 2
+
+
+def test_both_routes_name_a_google_grid_item_by_its_statement(tmp_path, capsys):
+    """QA 16 #11: summarize named Google Forms grid rows by statement ('Clear'), --by by the
+    whole header ('Rate [Clear]'), so the two routes' tables did not join on 'item'. Both now
+    name them as read_survey does, take --items and --reverse by either name, and agree on
+    the counts. By hand: 'Clear' Agree x3, Disagree x1; 'Fast' Agree, Disagree, Neutral x2."""
+    f = tmp_path / "g.csv"
+    f.write_text("Timestamp,Section,Rate [Clear],Rate [Fast]\n"
+                 "2024/03/01 10:00:00,A,Agree,Agree\n2024/03/01 10:01:00,A,Agree,Disagree\n"
+                 "2024/03/01 10:02:00,B,Agree,Neutral\n2024/03/01 10:03:00,B,Disagree,Neutral\n")
+    got = {}
+    for route, extra, key in (("memory", [], "items"), ("by", ["--by", "Section"], "overall")):
+        assert main(["summarize", str(f), "--json", "--min-group", "1", "--items", "Clear",
+                     "Rate [Fast]", "--reverse", "Rate [Clear]", *extra]) == 0, route
+        out = json.loads(capsys.readouterr().out)
+        got[route] = [(it["item"], it["n"], it["counts"]["Agree"], it["reversed"])
+                      for it in out[key]]
+    assert got["memory"] == got["by"] == [("Clear", 4, 3, True), ("Fast", 4, 1, False)]
+
+
+def test_both_routes_warn_of_labels_no_answer_uses(tmp_path):
+    """--by gave no word where summarize warned that the scale read has labels nobody used
+    while another built-in scale fits the answers exactly (read as agree7, answers on the
+    five agree5 labels). The warning is now the same on both routes, word for word."""
+    from analysis.ingest import read_survey
+    f = tmp_path / "five.csv"
+    f.write_text("T,Q1,Q2\n" + "".join(f"A,{a},{b}\n" for a, b in zip(AGREE5, AGREE5[::-1])))
+    want = ("warning: scale 'agree7' has labels no answer uses (Somewhat disagree, Somewhat "
+            "agree), while scale 'agree5' fits the answers exactly; give --scale agree5 if that "
+            "is the questionnaire's scale (medians and codes depend on it)")
+    assert want in read_survey(f, scale="agree7").notes
+    assert want in summarize_by(f, ["T"], scale="agree7", min_group=1).notes

@@ -549,3 +549,47 @@ def test_qualtrics_statement_shared_by_two_matrices_keeps_its_text(tmp_path):
                           "After this course - The pace was right",
                           "After this course - Slides were clear"]
     assert data.fields == ["Q1_1", "Q1_2", "Q2_1", "Q2_2"]      # still selectable by id
+
+
+def test_group_takes_a_qualtrics_question_by_its_text(tmp_path, capsys):
+    """QA 16 #8: the tool prints Qualtrics' Q2 by its text, but ``--group`` took only the field
+    id. Both now give the same comparison, named as typed. By hand: rows 0-5 in 'Sec A'
+    (6 respondents), rows 6-11 in 'Sec B' (6)."""
+    ans = [[AGREE5[(i + k) % 5] for k in range(3)] for i in range(12)]
+    f = _csv(tmp_path / "q.csv", _qualtrics_rows(ans, lambda i: "IP Address",
+                                                 section=["Sec A"] * 6 + ["Sec B"] * 6))
+    got = {}
+    for name in ("Q2", "which section are you in?"):
+        assert main(["summarize", str(f), "--group", name, "--json"]) == 0
+        out = json.loads(capsys.readouterr().out)["groups"]
+        assert out["column"] == {"Q2": "Q2"}.get(name, "Which section are you in?")
+        got[name] = [(g["group"], g["respondents"]) for g in out["groups"]]
+    assert got["Q2"] == got["which section are you in?"] == [("Sec A", 6), ("Sec B", 6)]
+    assert main(["summarize", str(f), "--group", "Section"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"error: {f}: row 1: no column 'Section'; columns are [") and (
+        "question texts are [" in err and "'Which section are you in?'" in err), err
+
+
+def test_unfinished_qualtrics_responses_are_counted_with_a_note(tmp_path):
+    """QA 16 #9: rows with Finished = False were counted unsaid, while LimeSurvey's
+    incomplete responses get a note. Rows here: 3 header rows, responses in rows 4-9; the
+    ones at i = 1 and 4 (rows 5 and 8) are unfinished. In a numeric export Finished is 0."""
+    ans = [[AGREE5[(i + k) % 5] for k in range(3)] for i in range(6)]
+    for numeric in (False, True):
+        rows = _qualtrics_rows(ans, lambda i: "0" if numeric else "IP Address", numeric)
+        for i in (1, 4):
+            rows[3 + i][6] = "0" if numeric else "False"
+        f = _csv(tmp_path / "q.csv", rows)
+        if numeric:
+            book = tmp_path / "codes.toml"
+            book.write_text("[codes]\n" + "".join(f'{k + 1} = "{lab}"\n'
+                                                  for k, lab in enumerate(AGREE5)))
+            rows = [r[:10] + [str(AGREE5.index(a) + 1) for a in r[10:13]] + r[13:]
+                    if k > 2 else r for k, r in enumerate(rows)]
+            f = _csv(tmp_path / "q.csv", rows)
+        data = read_survey(f, codes=book if numeric else None)
+        assert data.respondents == 6 and not data.dropped
+        assert [n for n in data.notes if "incomplete" in n] == [
+            f"{f}: 2 incomplete responses ('Finished' = False, rows 5, 8) counted with the "
+            "answers given"], data.notes

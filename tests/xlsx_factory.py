@@ -64,3 +64,40 @@ def with_entity(data: bytes, kind: str = "xxe") -> bytes:
         body = _DECL.sub(b"", x).replace(b"<t>", b"<t>&e;", 1)
         return b'<?xml version="1.0"?>' + doctype + body
     return rewrite_sheet(data, edit)
+
+
+_INLINE = re.compile(rb'<c ([^>]*?)t="inlineStr"([^>]*)><is><t[^>]*>(.*?)</t></is></c>', re.S)
+
+
+def with_shared_strings(data: bytes) -> bytes:
+    """The workbook with its first sheet's inline strings moved to a shared-strings part
+    (``t="s"`` cells holding an index), as Excel saves text."""
+    table: list[bytes] = []
+
+    def share(m):
+        table.append(m.group(3))
+        return b'<c ' + m.group(1) + b't="s"' + m.group(2) + b'><v>%d</v></c>' % (len(table) - 1)
+    sheet = _INLINE.sub(share, zipfile.ZipFile(io.BytesIO(data)).read(SHEET))
+    sst = (b'<?xml version="1.0" encoding="UTF-8"?><sst xmlns="http://schemas.openxmlformats.org/'
+           b'spreadsheetml/2006/main" count="%d" uniqueCount="%d">' % (len(table), len(table))
+           + b"".join(b'<si><t xml:space="preserve">' + t + b"</t></si>" for t in table)
+           + b"</sst>")
+    zin = zipfile.ZipFile(io.BytesIO(data))
+    out = io.BytesIO()
+    with zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as z:
+        for info in zin.infolist():
+            body = zin.read(info.filename)
+            if info.filename == SHEET:
+                body = sheet
+            elif info.filename == "[Content_Types].xml":
+                body = body.replace(b"</Types>", b'<Override PartName="/xl/sharedStrings.xml" '
+                                    b'ContentType="application/vnd.openxmlformats-officedocument.'
+                                    b'spreadsheetml.sharedStrings+xml"/></Types>')
+            elif info.filename == "xl/_rels/workbook.xml.rels":
+                body = body.replace(b"</Relationships>", b'<Relationship Id="rIdSST" Type="http'
+                                    b'://schemas.openxmlformats.org/officeDocument/2006/'
+                                    b'relationships/sharedStrings" Target="sharedStrings.xml"/>'
+                                    b"</Relationships>")
+            z.writestr(info.filename, body)
+        z.writestr("xl/sharedStrings.xml", sst)
+    return out.getvalue()
