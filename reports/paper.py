@@ -14,6 +14,7 @@ import re
 import sympy as sp
 
 from reports.mathml import equation_latex, equation_mathml, name_text, to_latex, to_mathml
+from solver.model.system import derivative
 
 __all__ = ["Shown", "shown", "method_equations", "method_prose", "example_steps", "STEP_PARTS", "quantity_text", "linearisation",
            "unit_conversion", "result_rows"]
@@ -160,8 +161,8 @@ def linearisation(deriv, about: dict, assume: dict | None = None):
     eom = deriv.eom.subs(assume or {})
     q, qd, qdd = deriv.q, deriv.qd, deriv.qdd
     at = {q: about.get(q, 0), qd: about.get(qd, 0)}
-    mass = tidy(sp.diff(eom, qdd).subs(at))
-    stiffness = tidy(sp.diff(eom, q).subs(qdd, 0).subs(at))
+    mass = tidy(derivative(eom, qdd).subs(at))
+    stiffness = tidy(derivative(eom, q).subs(qdd, 0).subs(at))
     return mass, stiffness, _upright(tidy(stiffness / mass))
 
 

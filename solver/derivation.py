@@ -30,7 +30,7 @@ from .analyses.instant import solve_instant as _solve_system
 from .errors import InputError, NoRestoringError, SceneError, SingularConfigurationError
 from .formulations import METHODS, NamedEquation, formulate
 from .io.convert import system_from_scene
-from .model.system import System, derivative
+from .model.system import System, derivative, second_derivative
 from .scene import Scene
 from .strprint import lambdify
 from .units import Q_
@@ -251,7 +251,7 @@ class Derivation:
     def mass(self):
         """M(q): T = 1/2 M qd^2."""
         self._one_dof("the generalized mass")
-        return self._memo("mass", lambda: sp.expand(sp.diff(self.kinetic_energy, self.qd, 2)))
+        return self._memo("mass", lambda: sp.expand(second_derivative(self.kinetic_energy, self.qd)))
 
     # -- the system ---------------------------------------------------------------------------
     def linear_system(self):
