@@ -40,6 +40,7 @@ import sympy as sp
 from reports.mathml import expr_text
 from reports.published import ReportInputError, Transcription
 from solver.expressions import parse_expression
+from solver.display import expanded
 from solver.model.system import derivative
 from solver.tree_value import NotEvaluable, mpmath_arithmetic, tree_program
 
@@ -130,7 +131,7 @@ def _reduced(expr: sp.Expr) -> sp.Expr:
     identically zero modulo sin**2 + cos**2 = 1 (:func:`solver.display.is_identically_zero`)."""
     from solver.display import is_identically_zero, tidy
 
-    expr = sp.expand(expr)
+    expr = expanded(expr)
     return sp.Integer(0) if is_identically_zero(expr) else tidy(expr)
 
 
@@ -373,7 +374,7 @@ def _exact_zero(expr: sp.Expr) -> bool | None:
     does not apply (a trigonometric argument that is not a plain symbol)."""
     from solver.display import is_identically_zero
 
-    return is_identically_zero(sp.expand(expr))
+    return is_identically_zero(expanded(expr))
 
 
 def _trig_reduce(expr: sp.Expr) -> sp.Expr | None:
@@ -453,7 +454,7 @@ def _diagnose(residual: sp.Expr, lhs: sp.Expr, rhs: sp.Expr, solution: dict) -> 
     if residual == 0:
         return "", ""
     for side, sign, expr in (("left-hand side", 1, lhs), ("right-hand side", -1, rhs)):
-        for term in sp.Add.make_args(sp.expand(expr)):
+        for term in sp.Add.make_args(expanded(expr)):
             value = (sign * term).xreplace(solution) if solution else sign * term
             if value == 0:
                 continue
@@ -539,7 +540,7 @@ def check_equation(tr: Transcription, scene, deriv,
                 factor = None
             else:
                 diff = printed - factor * eom
-                derived_l, derived_r = sp.expand(factor * eom), sp.Integer(0)
+                derived_l, derived_r = expanded(factor * eom), sp.Integer(0)
     elif tr.kind == "approximation":
         diff = _first_order(printed, deriv, about)
         derived_l, derived_r = mapped_l, mapped_r
