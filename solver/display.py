@@ -20,7 +20,7 @@ from math import gcd as igcd
 
 import sympy as sp
 from sympy.core.exprtools import gcd_terms
-from sympy.core.mul import _keep_coeff
+from sympy.core.mul import _keep_coeff, _mulsort
 
 from .tree_value import DOUBLE, NotEvaluable, tree_value
 
@@ -60,7 +60,30 @@ def _expanded(expr: sp.Expr) -> sp.Expr:
     products = _monomials(expr, [0])
     if products is None:
         return sp.expand(expr)
-    return sp.Add(*[sp.Mul(*p) for p in products])
+    return sp.Add(*[_monomial(p) for p in products])
+
+
+def _monomial(factors: tuple) -> sp.Expr:
+    """``Mul(*factors)`` of :func:`expanded`'s atoms, as ``Mul.flatten`` builds it for them: the
+    rational coefficient, the exponents of each base summed (x**0 dropped, x**1 as x), the powers
+    in sympy's canonical order after the coefficient (when it is not 1); 0 for a zero coefficient
+    (the atoms are finite)."""
+    coeff = sp.S.One
+    powers: dict = {}
+    for f in factors:
+        if isinstance(f, sp.Rational):
+            coeff *= f
+        elif type(f) is sp.Pow:
+            powers[f.base] = powers.get(f.base, 0) + f.exp
+        else:
+            powers[f] = powers.get(f, 0) + 1
+    if coeff.is_zero:
+        return sp.S.Zero
+    part = [b if e == 1 else sp.Pow(b, e) for b, e in powers.items() if e != 0]
+    _mulsort(part)
+    if coeff is not sp.S.One:
+        part.insert(0, coeff)
+    return sp.Mul._from_args(part, True)
 
 
 def _expansion_atom(e) -> bool:
