@@ -38,6 +38,7 @@ from reports.equations import DerivedQuantities, EquationOutcome, check_equation
 from reports.published import EquationSet, ReportInputError, read_toml
 from reports.rounding import eq30_tolerances, half_unit
 from solver.expressions import parse_expression
+from solver.model.system import derivative
 from solver.units import Q_, ureg
 
 __all__ = [
@@ -294,7 +295,7 @@ def _system_values(eqset: EquationSet, key: str, scene, deriv) -> tuple[dict, di
         rhs = parse_expression(tr.rhs, names, where=f"{tr.where}.rhs")
         expr = lhs - rhs
         for u, sym in placeholders.items():
-            coefficients[(row, u)] = sp.diff(expr, sym)
+            coefficients[(row, u)] = derivative(expr, sym)
         coefficients[(row, "rhs")] = -expr.subs({s: 0 for s in placeholders.values()})
     return system, coefficients, state
 
@@ -348,7 +349,7 @@ def example1_value_checks(values_path: Path, eqset: EquationSet, scene, deriv, s
                 for name in rounded_data:
                     symbol = sp.Symbol(name, real=True)
                     if expression.has(symbol):
-                        needed[(row, column, name)] = sp.diff(expression, symbol)
+                        needed[(row, column, name)] = derivative(expression, symbol)
     with_units = dict(zip(needed, _lambdify_units(list(needed.values()), scene, state))) if needed else {}
     for row in row_names:
         for column in unknowns + ["rhs"]:

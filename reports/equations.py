@@ -40,6 +40,8 @@ import sympy as sp
 from reports.mathml import expr_text
 from reports.published import ReportInputError, Transcription
 from solver.expressions import parse_expression
+from solver.display import expanded
+from solver.model.system import derivative
 from solver.tree_value import NotEvaluable, mpmath_arithmetic, tree_program
 
 __all__ = ["EquationOutcome", "DerivedQuantities", "check_equation", "is_zero"]
@@ -129,7 +131,7 @@ def _reduced(expr: sp.Expr) -> sp.Expr:
     identically zero modulo sin**2 + cos**2 = 1 (:func:`solver.display.is_identically_zero`)."""
     from solver.display import is_identically_zero, tidy
 
-    expr = sp.expand(expr)
+    expr = expanded(expr)
     return sp.Integer(0) if is_identically_zero(expr) else tidy(expr)
 
 
@@ -138,9 +140,9 @@ def _linearisation(deriv, assume: dict, about: dict):
     eom = deriv.eom.xreplace(assume)
     q, qd, qdd = deriv.q, deriv.qd, deriv.qdd
     at = {q: about.get(q, sp.Integer(0)), qd: about.get(qd, sp.Integer(0))}
-    mass = _reduced(sp.diff(eom, qdd).xreplace(at))
-    stiffness = _reduced(sp.diff(eom, q).xreplace({qdd: 0}).xreplace(at))
-    damping = _reduced(sp.diff(eom, qd).xreplace({qdd: 0}).xreplace(at))
+    mass = _reduced(derivative(eom, qdd).xreplace(at))
+    stiffness = _reduced(derivative(eom, q).xreplace({qdd: 0}).xreplace(at))
+    damping = _reduced(derivative(eom, qd).xreplace({qdd: 0}).xreplace(at))
     offset = _reduced(eom.xreplace({qdd: 0}).xreplace(at))
     return mass, stiffness, damping, offset
 
@@ -286,8 +288,8 @@ def _first_order(expr: sp.Expr, deriv, about: dict) -> sp.Expr:
     zero when ``expr`` is of second order there (kind ``approximation``, Eq. 45)."""
     q, qd = deriv.q, deriv.qd
     at = {q: about.get(q, sp.Integer(0)), qd: about.get(qd, sp.Integer(0))}
-    return (expr.subs(at) + sp.diff(expr, q).subs(at) * (q - at[q])
-            + sp.diff(expr, qd).subs(at) * (qd - at[qd]))
+    return (expr.subs(at) + derivative(expr, q).subs(at) * (q - at[q])
+            + derivative(expr, qd).subs(at) * (qd - at[qd]))
 
 
 def _random_point(symbols, seed: int) -> dict:
@@ -372,7 +374,7 @@ def _exact_zero(expr: sp.Expr) -> bool | None:
     does not apply (a trigonometric argument that is not a plain symbol)."""
     from solver.display import is_identically_zero
 
-    return is_identically_zero(sp.expand(expr))
+    return is_identically_zero(expanded(expr))
 
 
 def _trig_reduce(expr: sp.Expr) -> sp.Expr | None:
@@ -452,7 +454,7 @@ def _diagnose(residual: sp.Expr, lhs: sp.Expr, rhs: sp.Expr, solution: dict) -> 
     if residual == 0:
         return "", ""
     for side, sign, expr in (("left-hand side", 1, lhs), ("right-hand side", -1, rhs)):
-        for term in sp.Add.make_args(sp.expand(expr)):
+        for term in sp.Add.make_args(expanded(expr)):
             value = (sign * term).xreplace(solution) if solution else sign * term
             if value == 0:
                 continue
@@ -473,7 +475,7 @@ def _diagnose(residual: sp.Expr, lhs: sp.Expr, rhs: sp.Expr, solution: dict) -> 
 def _qdd_solution(eom: sp.Expr, qdd: sp.Symbol) -> sp.Expr:
     """theta_ddot solved from the equation of motion (linear in it); the same for every printed
     equation of an example under the same conditions, so solved once."""
-    return -eom.xreplace({qdd: 0}) / sp.diff(eom, qdd)
+    return -eom.xreplace({qdd: 0}) / derivative(eom, qdd)
 
 
 def check_equation(tr: Transcription, scene, deriv,
@@ -529,7 +531,7 @@ def check_equation(tr: Transcription, scene, deriv,
         if tr.kind == "eom":
             if printed.has(*[sp.Symbol(r, real=True) for r in deriv.reactions]):
                 raise ReportInputError(f"{tr.where}: kind 'eom' must not contain reactions")
-            factor = _normal_form(sp.diff(printed, qdd) / sp.diff(eom, qdd))
+            factor = _normal_form(derivative(printed, qdd) / derivative(eom, qdd))
             if factor.free_symbols & {q, qd, qdd, deriv.t}:
                 notes.append(
                     "the printed and derived equations of motion are not proportional "
@@ -538,7 +540,7 @@ def check_equation(tr: Transcription, scene, deriv,
                 factor = None
             else:
                 diff = printed - factor * eom
-                derived_l, derived_r = sp.expand(factor * eom), sp.Integer(0)
+                derived_l, derived_r = expanded(factor * eom), sp.Integer(0)
     elif tr.kind == "approximation":
         diff = _first_order(printed, deriv, about)
         derived_l, derived_r = mapped_l, mapped_r

@@ -14,6 +14,8 @@ import re
 import sympy as sp
 
 from reports.mathml import equation_latex, equation_mathml, name_text, to_latex, to_mathml
+from solver.display import expanded
+from solver.model.system import derivative
 
 __all__ = ["Shown", "shown", "method_equations", "method_prose", "example_steps", "STEP_PARTS", "quantity_text", "linearisation",
            "unit_conversion", "result_rows"]
@@ -76,7 +78,7 @@ def _shown_tidy(expr: sp.Expr) -> sp.Expr:
     common factors out), never a generic ``simplify``."""
     from solver.display import tidy
 
-    return _upright(tidy(sp.expand(expr)))
+    return _upright(tidy(expanded(expr)))
 
 
 def _grouped(expr: sp.Expr, keys) -> sp.Expr:
@@ -160,8 +162,8 @@ def linearisation(deriv, about: dict, assume: dict | None = None):
     eom = deriv.eom.subs(assume or {})
     q, qd, qdd = deriv.q, deriv.qd, deriv.qdd
     at = {q: about.get(q, 0), qd: about.get(qd, 0)}
-    mass = tidy(sp.diff(eom, qdd).subs(at))
-    stiffness = tidy(sp.diff(eom, q).subs(qdd, 0).subs(at))
+    mass = tidy(derivative(eom, qdd).subs(at))
+    stiffness = tidy(derivative(eom, q).subs(qdd, 0).subs(at))
     return mass, stiffness, _upright(tidy(stiffness / mass))
 
 
@@ -221,7 +223,7 @@ def example_steps(scene, deriv, at_rest: bool, parts=STEP_PARTS) -> dict:
         # opposite: alpha is -theta_ddot (the coordinate turns clockwise), so their numbers differ in sign
         steps["alpha"] = {**inline(deriv.alpha), "opposite": sp.expand(deriv.alpha + deriv.qdd) == 0}
     if "inertia" in want:
-        inertia = sp.expand(deriv.inertia_about(deriv.point))
+        inertia = expanded(deriv.inertia_about(deriv.point))
         steps["inertia"] = inline(inertia if not inertia.has(sp.sin, sp.cos) else _shown_tidy(inertia))
     if want & {"eom", "qdd_solution", "alpha_solution"}:
         steps.update(_motion_steps(deriv, rest, want))
@@ -236,13 +238,13 @@ def _motion_steps(deriv, rest: dict, want: set) -> dict:
     qd, qdd = deriv.qd, deriv.qdd
     out = {}
     # equation of motion M qdd + f = Q, from the derivation's (already structured) form
-    eom = sp.expand(deriv.eom.xreplace(rest))
+    eom = expanded(deriv.eom.xreplace(rest))
     if "eom" in want:
         Q = deriv.generalized_force.xreplace(rest)
         out["eom"] = shown(_grouped(eom + Q, [qdd, qd**2]), _shown_tidy(Q), "Equation of motion", "")
     # closed-form theta_ddot = -f / M and alpha (affine in theta_ddot: a1 qdd + a0 = (a0 M - a1 f) / M)
     mass = eom.coeff(qdd)
-    rest_terms = sp.expand(eom - mass * qdd)
+    rest_terms = expanded(eom - mass * qdd)
     if "qdd_solution" in want:
         out["qdd_solution"] = shown(qdd, _shown_tidy(-rest_terms / mass), "Angular acceleration", "")
     if "alpha_solution" in want:
@@ -260,7 +262,7 @@ def _reaction_steps(scene, deriv, rest: dict) -> list:
     # reactions from the Newton components, theta_ddot left symbolic (cf. Eqs. 24-25, 39-40): a linear
     # system in the reactions, solved by elimination
     symbols = [sp.Symbol(r, real=True) for r in scene.reaction_names()]
-    newton = [sp.expand(e.expr.xreplace(rest)) for e in deriv.equations if "Newton" in e.name]
+    newton = [expanded(e.expr.xreplace(rest)) for e in deriv.equations if "Newton" in e.name]
     reactions = []
     A, b = sp.linear_eq_to_matrix(newton, symbols)
     if A.shape[0] == A.shape[1] and A.det() != 0:

@@ -199,20 +199,66 @@ def _glyph_procedures(font_path, glyph_indices) -> dict:
 
 
 _MAKE_PROCEDURES = getattr(backend_pdf, "_get_pdf_charprocs", None)
+_GET_FONT = getattr(backend_pdf, "get_font", None)
+_UNSCALED = LoadFlags.NO_SCALE | LoadFlags.NO_HINTING
+
+_ADVANCES: dict = {}
+"""(font file, glyph index) -> the glyph's unscaled advance width [font units], for every PDF this
+process writes (:class:`_FontAdvancesOnce`)."""
+
+
+class _Advance:
+    """The one field of a loaded glyph that the Type 3 widths ask for."""
+
+    __slots__ = ("horiAdvance",)
+
+    def __init__(self, advance):
+        self.horiAdvance = advance
+
+
+class _FontAdvancesOnce:
+    """The font matplotlib's PDF backend embeds (``get_font(file)``), each glyph's unscaled advance
+    width read once per process: the Type 3 widths array loads the glyph of every character code
+    from the subset's first to its last (the glyph 0 for the codes not used), in every figure, to
+    read that one number, a property of the font file alone. Everything else is the font's own."""
+
+    def __init__(self, font, path):
+        self._font, self._path = font, path
+
+    def __getattr__(self, name):
+        return getattr(self._font, name)
+
+    def load_glyph(self, glyph, *args, **kwargs):
+        flags = args[0] if args else kwargs.get("flags")
+        if flags != _UNSCALED or len(args) + len(kwargs) != 1:
+            return self._font.load_glyph(glyph, *args, **kwargs)
+        key = (self._path, glyph)
+        advance = _ADVANCES.get(key)
+        if advance is None:
+            advance = _ADVANCES[key] = _Advance(self._font.load_glyph(glyph, flags=flags).horiAdvance)
+        return advance
+
+
+def _embedded_font(path):
+    """``get_font(path)`` as the PDF backend's font embedding gets it (:class:`_FontAdvancesOnce`)."""
+    return _FontAdvancesOnce(_GET_FONT(path), path)
 
 
 @contextmanager
-def _procedures_made_once():
-    """While the block runs, matplotlib's PDF backend makes glyph procedures through
-    :func:`_glyph_procedures` (nothing changes where matplotlib has no such function)."""
-    if _MAKE_PROCEDURES is None:
+def _fonts_embedded_once():
+    """While the block runs, matplotlib's PDF backend makes Type 3 glyph procedures through
+    :func:`_glyph_procedures` and reads glyph widths through :class:`_FontAdvancesOnce` (nothing
+    changes where matplotlib has no such functions, or for another font type)."""
+    if _MAKE_PROCEDURES is None or _GET_FONT is None or mpl.rcParams["pdf.fonttype"] != 3:
         yield
         return
     backend_pdf._get_pdf_charprocs = _glyph_procedures
+    backend_pdf.get_font = _embedded_font
     try:
         yield
     finally:
         backend_pdf._get_pdf_charprocs = _MAKE_PROCEDURES
+        backend_pdf.get_font = _GET_FONT
 
 
 class _PairCanvas(FigureCanvasBase):
@@ -242,7 +288,7 @@ class _PairCanvas(FigureCanvasBase):
             self.figure.draw(_BothRenderers(svg, pdf))
             svg.finalize()
             pdf.finalize()
-            with _procedures_made_once():  # the fonts are embedded here
+            with _fonts_embedded_once():  # the fonts are embedded here
                 pdf_file.finalize()
         finally:
             pdf_file.close()

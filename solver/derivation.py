@@ -30,7 +30,8 @@ from .analyses.instant import solve_instant as _solve_system
 from .errors import InputError, NoRestoringError, SceneError, SingularConfigurationError
 from .formulations import METHODS, NamedEquation, formulate
 from .io.convert import system_from_scene
-from .model.system import System, derivative
+from .display import expanded
+from .model.system import System, derivative, second_derivative
 from .scene import Scene
 from .strprint import lambdify
 from .units import Q_
@@ -251,7 +252,7 @@ class Derivation:
     def mass(self):
         """M(q): T = 1/2 M qd^2."""
         self._one_dof("the generalized mass")
-        return self._memo("mass", lambda: sp.expand(sp.diff(self.kinetic_energy, self.qd, 2)))
+        return self._memo("mass", lambda: expanded(second_derivative(self.kinetic_energy, self.qd)))
 
     # -- the system ---------------------------------------------------------------------------
     def linear_system(self):
@@ -324,20 +325,20 @@ class Derivation:
                 if pivot.free_symbols & state:
                     continue
                 rest = b[i] - A[i, 0] * self.qdd - sp.Add(*[A[i, k] * found[k] for k in found])
-                found[j] = sp.expand(rest / pivot)
+                found[j] = expanded(rest / pivot)
                 used.add(i)
                 progress = True
             if not progress:
                 return None
         raw = self._raw_eom()
         M = raw.coeff(self.qdd)
-        f = sp.expand(raw - M * self.qdd)
+        f = expanded(raw - M * self.qdd)
         out = {str(self.qdd): -f / M}
         parts = {}
         for j in range(1, n):
             c1 = found[j].coeff(self.qdd)
-            c0 = sp.expand(found[j] - c1 * self.qdd)
-            num = sp.expand(c0 * M - c1 * f)
+            c0 = expanded(found[j] - c1 * self.qdd)
+            num = expanded(c0 * M - c1 * f)
             out[str(self.unknowns[j])] = num / M
             parts[str(self.unknowns[j])] = (num, M)
         self._cache["reaction_parts"] = parts
@@ -352,7 +353,7 @@ class Derivation:
     def _raw_eom(self) -> sp.Expr:
         from .analyses.eom import equations_of_motion
 
-        return sp.expand(equations_of_motion(self.formulation)[0])
+        return expanded(equations_of_motion(self.formulation)[0])
 
     @property
     def qdd_solution(self) -> sp.Expr:
@@ -429,7 +430,7 @@ def _tidy_by_rate(expr: sp.Expr, qd: sp.Symbol, *more: sp.Symbol) -> sp.Expr:
     """Display form term by term in powers of theta_dot, each coefficient tidied on its own; with
     ``more`` rates, by the powers of each in turn (a kinetic energy: by qd1**2, qd1*qd2, ...)."""
     try:
-        parts = {sp.S.One: sp.expand(expr)}
+        parts = {sp.S.One: expanded(expr)}
         for x in (qd, *more):
             parts = {k * k2: v2 for k, v in parts.items() for k2, v2 in _by_powers(v, x).items()}
         return sp.Add(*[_tidy(v) * k for k, v in parts.items()])

@@ -20,11 +20,11 @@ from math import gcd as igcd
 
 import sympy as sp
 from sympy.core.exprtools import gcd_terms
-from sympy.core.mul import _keep_coeff
+from sympy.core.mul import _keep_coeff, _mulsort
 
 from .tree_value import DOUBLE, NotEvaluable, tree_value
 
-__all__ = ["reduce_trig", "numerator_reduces_to_zero", "constant_value", "tidy", "tidy_fraction", "tidy_linear",
+__all__ = ["expanded", "reduce_trig", "numerator_reduces_to_zero", "constant_value", "tidy", "tidy_fraction", "tidy_linear",
            "is_identically_zero", "free_symbols_of", "tree_size", "term_powers", "could_extract_minus_sign", "MAX_TIDY_NODES"]
 
 MAX_CANCEL_NODES = 120
@@ -32,6 +32,120 @@ MAX_CANCEL_NODES = 120
 factors it would remove cost more to find than they save on display)."""
 MAX_TIDY_NODES = 1000
 """Expressions with more nodes than this are shown as built (tidying would cost more than it saves)."""
+
+
+_EXPANDED_TERMS = 20000
+"""Most products :func:`expanded` distributes before it leaves an expression to sympy."""
+
+
+def expanded(expr):
+    """``sympy.expand(expr)``: the same object; for a polynomial in the model's atoms by distributing
+    its products directly.
+
+    The atoms: symbols, exact rational numbers, the sine and the cosine of a symbol, and integer
+    powers of these. A sum of products of atoms and of such sums (and of positive integer powers of
+    them) has one expanded form, the sum of its monomials with their rational coefficients
+    collected; sympy's ``expand`` reaches it by passing every hint over the whole tree (the model's
+    equations of motion and reactions spend most of their time there), :func:`_monomials` lists the
+    monomials and ``Add`` collects them. Anything else (another function, a float, a power of a sum
+    in the denominator) goes to ``sympy.expand`` itself. Remembered per process, as sympy remembers
+    its own (the display and the checks expand many expressions more than once).
+    """
+    return _expanded(expr) if isinstance(expr, sp.Expr) else sp.expand(expr)
+
+
+@lru_cache(maxsize=2048)
+def _expanded(expr: sp.Expr) -> sp.Expr:
+    """:func:`expanded` of an expression."""
+    products = _monomials(expr, [0])
+    if products is None:
+        return sp.expand(expr)
+    return sp.Add(*[_monomial(p) for p in products])
+
+
+def _monomial(factors: tuple) -> sp.Expr:
+    """``Mul(*factors)`` of :func:`expanded`'s atoms, as ``Mul.flatten`` builds it for them: the
+    rational coefficient, the exponents of each base summed (x**0 dropped, x**1 as x), the powers
+    in sympy's canonical order after the coefficient (when it is not 1); 0 for a zero coefficient
+    (the atoms are finite)."""
+    coeff = sp.S.One
+    powers: dict = {}
+    for f in factors:
+        if isinstance(f, sp.Rational):
+            coeff *= f
+        elif type(f) is sp.Pow:
+            powers[f.base] = powers.get(f.base, 0) + f.exp
+        else:
+            powers[f] = powers.get(f, 0) + 1
+    if coeff.is_zero:
+        return sp.S.Zero
+    part = [b if e == 1 else sp.Pow(b, e) for b, e in powers.items() if e != 0]
+    _mulsort(part)
+    if coeff is not sp.S.One:
+        part.insert(0, coeff)
+    return sp.Mul._from_args(part, True)
+
+
+def _expansion_atom(e) -> bool:
+    """A factor :func:`expanded` keeps as it is (see there)."""
+    kind = type(e)
+    if kind is sp.Symbol:
+        return e.is_commutative
+    if isinstance(e, sp.Rational):
+        return True
+    if kind is sp.sin or kind is sp.cos:
+        return type(e.args[0]) is sp.Symbol
+    if kind is sp.Pow:
+        base = e.base
+        return isinstance(e.exp, sp.Integer) and ((type(base) is sp.Symbol and base.is_commutative) or (
+            (type(base) is sp.sin or type(base) is sp.cos) and type(base.args[0]) is sp.Symbol))
+    return False
+
+
+def _monomials(e, count: list) -> list[tuple] | None:
+    """The products of atoms whose sum is ``e`` (each a tuple of factors), or None when ``e`` is not
+    a polynomial in :func:`expanded`'s atoms or has more than :data:`_EXPANDED_TERMS` of them
+    (``count``: the products listed so far)."""
+    kind = type(e)
+    if _expansion_atom(e):
+        return [(e,)]
+    if kind is sp.Add:
+        out = []
+        for a in e.args:
+            part = _monomials(a, count)
+            if part is None:
+                return None
+            out += part
+        return out
+    if kind is sp.Mul:
+        out = [()]
+        for f in e.args:
+            part = [(f,)] if _expansion_atom(f) else _monomials(f, count)
+            if part is None:
+                return None
+            out = _distributed(out, part, count)
+            if out is None:
+                return None
+        return out
+    if kind is sp.Pow and isinstance(e.exp, sp.Integer) and 1 < e.exp <= 8 and type(e.base) is sp.Add:
+        base = _monomials(e.base, count)
+        if base is None:
+            return None
+        out = [()]
+        for _ in range(int(e.exp)):
+            out = _distributed(out, base, count)
+            if out is None:
+                return None
+        return out
+    return None
+
+
+def _distributed(left: list, right: list, count: list) -> list[tuple] | None:
+    """Every product of a term of ``left`` and a term of ``right``; None past :data:`_EXPANDED_TERMS`."""
+    count[0] += len(left) * len(right)
+    if count[0] > _EXPANDED_TERMS:
+        return None
+    return [a + b for a in left for b in right]
 
 
 def _nodes(e: sp.Basic, kinds) -> set:
@@ -91,9 +205,9 @@ def _reduce_poly(poly: sp.Expr, pows: set | None = None) -> sp.Expr:
     This is the remainder of the division by the Groebner basis {sin**2 + cos**2 - 1} with
     sin ahead of cos, a canonical form: an identically zero polynomial reduces to 0. ``pows``:
     the powers of ``poly`` when the caller has them."""
-    p = sp.expand(poly)
+    p = expanded(poly)
     reduced = _replace_powers(p, _is_sine_square, _lower_sine, pows if p is poly else None)
-    return p if reduced is p else sp.expand(reduced)
+    return p if reduced is p else expanded(reduced)
 
 
 def _replace_powers(e: sp.Expr, match, rewrite, pows: set | None = None) -> sp.Expr:
@@ -562,7 +676,7 @@ def _single_term_fraction(e: sp.Expr) -> tuple[sp.Expr, sp.Expr] | None:
             bottom.append(gp[0] ** -gp[1])
     if not sums:
         return None
-    den = sp.expand(sp.Mul(sp.Integer(coef.q), *bottom, *sums))
+    den = expanded(sp.Mul(sp.Integer(coef.q), *bottom, *sums))
     terms = sp.Add.make_args(den)
     powers = [term_powers(t) for t in terms]
     if any(all(d.get(g, 0) for d in powers) for g in top_gens):  # a monomial factor in common
@@ -614,7 +728,7 @@ def _over_common_denominator(e: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
     """(numerator, denominator) of ``e``: when every term's denominator is a monomial, over their
     least common multiple (one pass, no recursion); otherwise sympy's ``together``. Terms read by
     :func:`_simple_term` are put over it directly (the same products, built once)."""
-    e = sp.expand(e)
+    e = expanded(e)
     parts = [_simple_term(t) for t in sp.Add.make_args(e)]
     if any(p is None or any(b.is_Add for b in p[2]) for p in parts):
         return _over_common_denominator_of_fractions(e)
@@ -626,7 +740,7 @@ def _over_common_denominator(e: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
     den = sp.Integer(scale) * sp.Mul(*[b**x for b, x in lcm.items()])
     num = sp.Add(*[sp.Mul(sp.Integer(c.p * (scale // c.q)), *top,
                           *[_power(b, x - bottom.get(b, 0)) for b, x in lcm.items()]) for c, top, bottom in parts])
-    return sp.expand(num), den
+    return expanded(num), den
 
 
 def _over_common_denominator_of_fractions(e: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
@@ -645,7 +759,7 @@ def _over_common_denominator_of_fractions(e: sp.Expr) -> tuple[sp.Expr, sp.Expr]
     scale = reduce(sp.ilcm, [int(sp.fraction(x)[0]) if x.is_Rational and x != 0 else 1 for x in numbers], 1)
     den = sp.Integer(scale) * sp.Mul(*[b**x for b, x in lcm.items()])
     num = sp.Add(*[n * (den / d) for n, d in parts])
-    return sp.expand(num), den
+    return expanded(num), den
 
 
 def _over_factored_denominators(e: sp.Expr) -> sp.Expr | None:
@@ -660,7 +774,7 @@ def _over_factored_denominators(e: sp.Expr) -> sp.Expr | None:
     the numerator is reduced modulo sin**2 + cos**2 = 1 first (only then may a factor divide it),
     and divided by ``sympy.div`` (exact division by a known factor, no gcd search).
     """
-    e = sp.expand(e)
+    e = expanded(e)
     parts = [sp.fraction(t) for t in sp.Add.make_args(e)]
     factored = {}
     for _, d in parts:
@@ -675,7 +789,7 @@ def _over_factored_denominators(e: sp.Expr) -> sp.Expr | None:
     sums = [b for b in lcm if b.is_Add]
     if not sums:
         return None
-    num = sp.expand(sp.Add(*[n / factored[d][0] * sp.Mul(*[b**(x - dict(factored[d][1]).get(b, 0))
+    num = expanded(sp.Add(*[n / factored[d][0] * sp.Mul(*[b**(x - dict(factored[d][1]).get(b, 0))
                                                         for b, x in lcm.items()]) for n, d in parts]))
     if num.is_Add and _has_square(num):
         reduced = _reduce_poly(num)
@@ -757,7 +871,7 @@ def _tidy_polynomial(p: sp.Expr) -> sp.Expr:
     """Expanded, reduced modulo sin**2 + cos**2 = 1 when that leaves fewer terms, common factors out.
     A single term is only expanded (its reduction has at least one term; it has no other to share
     a factor with)."""
-    p = sp.expand(p)
+    p = expanded(p)
     if not p.is_Add:
         return p
     pows = _nodes(p, sp.Pow)  # (one walk for both questions)
@@ -956,7 +1070,7 @@ def _tidy_general(e: sp.Expr, shape: _Shape | None = None) -> sp.Expr:
     # (over monomial denominators the common monomial of the numerator cancels by itself below)
     num, den = _tidy_polynomial(num), _tidy_polynomial(den)
     if den.is_number and den != 0 and num.is_Add:
-        return factor_monomial_terms(sp.expand(num / den))
+        return factor_monomial_terms(expanded(num / den))
     return num / den
 
 
@@ -1051,7 +1165,7 @@ def _fraction_of_ratio(num: sp.Expr, den: sp.Expr, once=None) -> tuple[sp.Expr, 
 def _reduced_with_powers(e: sp.Expr) -> tuple[sp.Expr, set | None]:
     """(``_reduce_denominators(expand(e))``, its powers when it is the expanded ``e`` itself, else
     None): one walk of the tree for both."""
-    e = sp.expand(e)
+    e = expanded(e)
     pows = _nodes(e, sp.Pow)
     reduced = _reduce_denominators(e, pows)
     return (e, pows) if reduced is e else (reduced, None)
@@ -1091,7 +1205,7 @@ def tidy_linear(expr: sp.Expr, variables) -> sp.Expr:
     variables : sequence of sympy.Expr
         Symbols or monomials (``theta_dot**2``) in display order.
     """
-    e = sp.expand(sp.sympify(expr))
+    e = expanded(sp.sympify(expr))
     parts = []
     rest = e
     symbols = {u for u in variables if u.is_Symbol}
@@ -1138,5 +1252,5 @@ def _without_factor(rest: sp.Expr, v: sp.Expr) -> sp.Expr:
     """``expand(rest - rest.coeff(v) * v)`` of an expanded commutative sum: the terms that do not
     hold ``v`` as a factor (those are the ones ``coeff`` collects), without expanding again."""
     if not rest.is_commutative:
-        return sp.expand(rest - rest.coeff(v) * v)
+        return expanded(rest - rest.coeff(v) * v)
     return sp.Add(*[t for t in sp.Add.make_args(rest) if v not in sp.Mul.make_args(t)])

@@ -64,6 +64,7 @@ from scipy.optimize import brentq
 
 from .errors import InputError, NoRestoringError
 from .display import tidy
+from .model.system import derivative
 from .strprint import lambdify
 
 __all__ = [
@@ -342,8 +343,8 @@ class OneDofSystem:
 
         def build():
             M = self.mass
-            return (self.generalized_force - sp.Rational(1, 2) * sp.diff(M, self.q) * self.qd**2
-                    - sp.diff(self.potential, self.q)) / M
+            return (self.generalized_force - sp.Rational(1, 2) * derivative(M, self.q) * self.qd**2
+                    - derivative(self.potential, self.q)) / M
 
         return self._memo("qdd", build)
 
@@ -630,7 +631,7 @@ def _find_equilibrium(system: OneDofSystem, near: float, span: float) -> Equilib
     V_expr = system.effective_potential()
     flat = system._memo(("flat", system.values), lambda: (
         not V_expr.has(system.q)
-        or sp.diff(V_expr, system.q).xreplace(dict(zip(system.params, system.values))) == 0))
+        or derivative(V_expr, system.q).xreplace(dict(zip(system.params, system.values))) == 0))
     what, unit = system.restoring
     if flat:
         raise NoRestoringError(

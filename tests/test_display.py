@@ -592,3 +592,47 @@ def test_affine_value_gives_the_exact_coefficients():
     for bad in (u * w + g, sp.sin(u) * m):
         with pytest.raises(NotEvaluable):
             affine_value(bad, point, [u, w])
+
+
+def test_expanded_is_sympys_expand():
+    """display.expanded distributes polynomials in symbols, rationals and sin/cos of symbols itself:
+    the same tree (srepr) as sympy.expand, for the model's own expressions (every scene's kinetic
+    energy, its raw equations of motion and the structured reactions' products) and for random
+    sums, products and powers of those atoms and of nodes it must leave to sympy (floats, sin of a
+    sum, a power of a sum in a denominator, sqrt), with rational coefficients that cancel."""
+    from pathlib import Path
+
+    from solver.derivation import derive
+    from solver.display import expanded
+    from solver.io.scenes import load_system
+
+    def same(e):
+        assert sp.srepr(expanded(e)) == sp.srepr(sp.expand(e)), e
+
+    root = Path(__file__).resolve().parents[1]
+    for name in ("sliding_bar", "disk_bar", "wheel_on_incline", "slider_crank"):
+        system = load_system(root / "data" / "scenes" / f"{name}.toml")
+        same(system.kinetic_energy())
+        d = derive(system)
+        for eq in d.equations:
+            same(eq.expr)
+        if len(d.unknowns) == 3:  # the structured reactions' products: (c0 M - c1 f) of the report's examples
+            rows = [eq.expr for eq in d.equations]
+            same(rows[0] * rows[1] - rows[2] * d.mass)
+    rng = random.Random(11)
+    atoms = [phi, beta, g, m, s, c, s**2, c**-1, sp.cos(beta) ** 3, 1 / g, sp.Rational(3, 4), sp.Integer(-2)]
+    odd = [sp.Float(0.5), sp.sin(phi + beta), 1 / (g + m), sp.sqrt(g), sp.exp(phi)]
+    for trial in range(100):
+        pool = atoms + (odd if trial % 4 == 0 else [])
+
+        def tree(depth):
+            if depth == 0 or rng.random() < 0.3:
+                return rng.choice(pool)
+            kind = rng.randrange(3)
+            parts = [tree(depth - 1) for _ in range(rng.randint(2, 3))]
+            if kind == 0:
+                return sp.Add(*parts)
+            if kind == 1:
+                return sp.Mul(*parts)
+            return sp.Pow(sp.Add(*parts[:2]), 2)
+        same(tree(3 if trial % 5 == 0 else 2))

@@ -1,4 +1,4 @@
-"""solver.model.system.derivative gives exactly what sympy.diff gives.
+"""solver.model.system.derivative and second_derivative give exactly what sympy.diff gives.
 
 The reference is sympy's own ``diff`` (the path it shortens); "exactly" is the same tree
 (``srepr``), not only an equal value, since the displays print these trees as they are. The
@@ -17,7 +17,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from solver.io.scenes import load_system
-from solver.model.system import derivative
+from solver.model.system import derivative, second_derivative
 
 ROOT = Path(__file__).resolve().parents[1]
 x, y = sp.symbols("x y", real=True)
@@ -26,6 +26,10 @@ t = sp.Symbol("t")
 
 def _same(e, v) -> None:
     assert sp.srepr(derivative(e, v)) == sp.srepr(sp.diff(e, v))
+
+
+def _same_second(e, v) -> None:
+    assert sp.srepr(second_derivative(e, v)) == sp.srepr(sp.diff(e, v, 2))
 
 
 @pytest.mark.parametrize("scene", ["sliding_bar", "disk_bar", "slider_crank", "four_bar", "double_pendulum"])
@@ -43,6 +47,17 @@ def test_model_expressions(scene):
     assert checked > 0
 
 
+@pytest.mark.parametrize("scene", ["sliding_bar", "disk_bar", "slider_crank", "four_bar", "wheel_on_incline",
+                                   "crate_tipping"])
+def test_second_derivative_of_kinetic_energy(scene):
+    """The generalized masses d2T/dqd2 (wheel_on_incline: sympy's closing factor_terms(signsimp(...))
+    changes its signs; crate_tipping: a sum whose first derivative is not a sum)."""
+    system = load_system(ROOT / "data" / "scenes" / f"{scene}.toml")
+    T = system.kinetic_energy()
+    for v in system.qd:
+        _same_second(T, v)
+
+
 @pytest.mark.parametrize("e", [
     sp.Function("f")(x) * sp.sin(x),      # an unevaluated Derivative in the result: sympy's diff
     sp.Abs(x - y) + sp.sign(x),           # sympy's own rules for them
@@ -51,6 +66,7 @@ def test_model_expressions(scene):
 ])
 def test_special_nodes(e):
     _same(e, x)
+    _same_second(e, x)
 
 
 leaves = st.sampled_from([x, y, sp.Integer(2), sp.Rational(-1, 3), sp.Float(0.5), sp.pi])
@@ -67,3 +83,4 @@ trees = st.recursive(leaves, lambda inner: st.one_of(
 @given(trees)
 def test_random_trees(e):
     _same(e, x)
+    _same_second(e, x)

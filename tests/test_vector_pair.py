@@ -114,3 +114,24 @@ def test_glyph_procedures_made_once_are_matplotlibs():
         ours = vector_pair._glyph_procedures(path, asked)
         theirs = make(path, asked)
         assert list(ours.items()) == list(theirs.items())
+
+
+def test_fonts_embedded_once_give_matplotlibs_bytes(monkeypatch):
+    """With the glyph procedures and widths remembered across files (vector_pair._fonts_embedded_once),
+    the PDF is byte for byte the one matplotlib's own font embedding writes from the same drawing,
+    cold and with both memos filled by an earlier file."""
+    import contextlib
+
+    from reports import vector_pair
+
+    with rc_context(RC):
+        fig = _figure()
+        svg_and_pdf(fig, SVG_META, PDF_META)  # fixes the layout; fills the memos
+        _, remembered = svg_and_pdf(fig, SVG_META, PDF_META)
+        vector_pair._ADVANCES.clear()
+        vector_pair._GLYPH_PROCEDURES.clear()
+        _, cold = svg_and_pdf(fig, SVG_META, PDF_META)
+        monkeypatch.setattr(vector_pair, "_fonts_embedded_once", contextlib.nullcontext)
+        _, plain = svg_and_pdf(fig, SVG_META, PDF_META)
+    assert remembered == plain and cold == plain
+    assert b"/Widths" in plain

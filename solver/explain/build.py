@@ -28,7 +28,7 @@ import sympy as sp
 from ..model.joints import copy_vec, cross_k, k_cross, vadd, vec, vscale, vsub, xy
 from ..model.system import derivative
 from .content import Equation, Explanation, Section, Step, Table, Term
-from ..display import could_extract_minus_sign, is_identically_zero, term_powers, tidy, tidy_linear
+from ..display import could_extract_minus_sign, expanded, is_identically_zero, term_powers, tidy, tidy_linear
 from ..strprint import FastStrPrinter, sstr
 
 __all__ = ["explain", "latex_names"]
@@ -53,7 +53,7 @@ def _same_place(r, at) -> bool:
 
 
 def _zero(expr) -> bool:
-    expr = sp.expand(expr)
+    expr = expanded(expr)
     if expr == 0:
         return True
     return bool(is_identically_zero(expr))
@@ -544,7 +544,7 @@ def _inertia_equation(system, body: str, P: str) -> Equation:
         d = vsub(system.body_point(body, e.mass_center), r_P)
         terms.append(Term(tidy(e.I_G), f"I_G of {e.name}"))
         dx, dy = xy(d)
-        d2 = tidy(sp.expand(dx ** 2 + dy ** 2))
+        d2 = tidy(expanded(dx ** 2 + dy ** 2))
         if d2 != 0:
             terms.append(Term(tidy(e.mass * d2), f"m d^2 of {e.name}"))
     total = sp.Add(*[t.expr for t in terms])
@@ -709,7 +709,7 @@ def _coefficients(system, expr, unknowns) -> dict:
     """{u: (``expand(expr).coeff(u)``, whether it is identically zero)} for each of ``unknowns``,
     remembered by the system (the moment equation's are asked by the collected form, the step on
     the dropped unknowns and the equation of motion; read only)."""
-    e = sp.expand(expr)
+    e = expanded(expr)
 
     def build():
         out = {}
@@ -751,11 +751,11 @@ def _dropped_step(system, body: str, P: str, forces, dropped, newton: Step, eule
     identically zero but vanishes there is said to vanish at this state only.
     """
     unknowns = list(system.qdd) + [r.symbol for r in system.reactions]
-    residual = sp.expand(euler.equation("euler").residual)
+    residual = expanded(euler.equation("euler").residual)
     coefficients = _coefficients(system, residual, unknowns)
     in_euler = _unknowns_in(system, residual, unknowns)
     here = [u for u in in_euler if at_state is None or str(u) in at_state]
-    newton_rows = {tag: sp.expand(newton.equation(tag).residual) for tag in ("newton_x", "newton_y")}
+    newton_rows = {tag: expanded(newton.equation(tag).residual) for tag in ("newton_x", "newton_y")}
     reactions = [r.symbol for r in system.reactions]
     rows, text = [], []
     for f in forces:
