@@ -312,6 +312,21 @@ def test_html_escapes_scene_names(tmp_path):
     assert "<script>" not in render(expl, "markdown")
 
 
+def test_markdown_escapes_dollar_in_scene_text(tmp_path):
+    """A ``$`` of the scene's name or description is text: escaped (``\\$``), so that a KaTeX/MathJax
+    Markdown renderer does not set ``$E=mc^2$`` as maths. Outside the ``$$`` display blocks the
+    solution writes, no ``$`` is left unescaped."""
+    scene = (ROOT / "data" / "scenes" / "sliding_bar.toml").read_text(encoding="utf-8")
+    scene = scene.replace('name = "sliding_bar"', 'name = "cost $5 $E=mc^2$"', 1)
+    scene = scene.replace('description = "', 'description = "$x$ and ', 1)
+    path = tmp_path / "dollar.toml"
+    path.write_text(scene, encoding="utf-8")
+    out = render(explain(load_system(path), advice=False), "markdown")
+    assert r"cost \$5 \$E=mc^2\$" in out and r"\$x\$ and" in out
+    prose = re.sub(r"^\$\$\n.*?\n\$\$$", "", out, flags=re.MULTILINE | re.DOTALL)
+    assert "E=mc" in prose and re.search(r"(?<!\\)\$", prose) is None
+
+
 def test_latex_escapes_scene_text(tmp_path):
     scene = (ROOT / "data" / "scenes" / "sliding_bar.toml").read_text(encoding="utf-8")
     scene = scene.replace('description = "', r'description = "$\\input{x} 100% & #1 ')

@@ -248,9 +248,10 @@ def _code_span(text: str) -> str:
 
 
 def _md(text: str) -> str:
-    """Markdown-escape plain text (no HTML, no emphasis from names like a_b_c)."""
+    """Markdown-escape plain text: no HTML, no emphasis from names like a_b_c, no maths from a ``$``
+    (GitHub, Jupyter and other KaTeX/MathJax renderers read ``$...$`` as inline maths)."""
     text = html.escape(str(text), quote=False)
-    return re.sub(r"([\\`*_\[\]#<>])", r"\\\1", text)
+    return re.sub(r"([\\`*_\[\]#<>$])", r"\\\1", text)
 
 
 class _Latex(_Renderer):
