@@ -489,6 +489,33 @@ def test_every_shipped_scene_explains_in_every_format(every_scene, every_renderi
                 assert out.count(r"\begin{") == out.count(r"\end{"), name
 
 
+# A force vector named by its own scalar with that scalar negated in a component ("A_x = (-A_x, 0)"),
+# as each format writes the vector equation: text, LaTeX/Markdown (a column vector), HTML (MathML).
+_SELF_NEGATED = {
+    "text": re.compile(r"^ +([A-Za-z]\w*) = \((?:-\1, 0|0, -\1)\)$", re.MULTILINE),
+    "markdown": re.compile(r"^(\S+) = \\begin\{pmatrix\}(?:- \1 \\\\ 0|0 \\\\ - \1)\\end\{pmatrix\}$", re.MULTILINE),
+    "latex": re.compile(r"^(\S+) = \\begin\{pmatrix\}(?:- \1 \\\\ 0|0 \\\\ - \1)\\end\{pmatrix\}$", re.MULTILINE),
+    "html": re.compile(r"<mstyle displaystyle=\"true\"><mrow>(<msub><mi>\w+</mi>(?:<mi>\w+</mi>|<mrow>.*?</mrow>)</msub>)"
+                       r"</mrow><mo>=</mo><mrow><mrow><mo>\(</mo>(?:<mrow><mo>\u2212</mo>\1</mrow><mo>,</mo><mn>0</mn>|"
+                       r"<mn>0</mn><mo>,</mo><mrow><mo>\u2212</mo>\1</mrow>)<mo>\)</mo>"),
+}
+
+
+def test_free_body_vectors_are_true_as_written(every_scene, every_rendering):
+    """A reaction acting on a body against its positive sense (the second body's half of a joint's
+    pair) is listed as the vector F_A_x = (-A_x, 0), not as A_x = (-A_x, 0), which is false unless
+    A_x = 0 (QA 15 #5): in every format of every shipped scene no force vector is named by a scalar it
+    negates. double_pendulum's upper link gets joint A's pair reversed: its list names F_A_x, F_A_y."""
+    for name, (system, expl) in every_scene.items():
+        for eq in (e for s in expl.steps() for e in s.equations if e.tag.startswith("force:")):
+            components = [sp.sympify(c) for c in eq.rhs[0].expr]
+            assert -sp.Symbol(eq.name) not in components, (name, eq.name, components)
+        for fmt in FORMATS:
+            assert _SELF_NEGATED[fmt].search(every_rendering[name, fmt]) is None, (name, fmt)
+    text = every_rendering["double_pendulum", "text"]
+    assert "F_A_x = (-A_x, 0)" in text and "F_A_y = (0, -A_y)" in text and "    A_x = (A_x, 0)" in text
+
+
 def _state_values(system, state):
     vals = {k: sp.Float(v) for k, v in system.si_values().items()}
     vals.update({q: sp.Float(v) for q, v in zip(system.q, state.q)})
