@@ -468,9 +468,10 @@ def _fbd_step(system, body: str, forces: list[_Force], printer: FastStrPrinter |
 def _force_vectors(forces: list[_Force], body: str) -> list[Equation]:
     """Each force as a vector in the fixed frame (the paper's Eqs. 22 and 36), tag ``force:NAME``.
 
-    A reaction acting on ``body`` against its own positive sense (the opposite half of a joint's
-    pair, ``(-A_x, 0)``; a guide's normal along -x) is not named by its scalar, which would read
-    ``A_x = (-A_x, 0)``: the vector is F_A_x, the force whose scalar is A_x, and the label says so."""
+    A reaction whose vector on ``body`` negates its scalar in a component (the opposite half of a
+    joint's pair, ``(-A_x, 0)``; a guide's normal pushing along -x) is not named by its scalar, which
+    would read ``A_x = (-A_x, 0)``: the vector is F_A_x, the force whose scalar is A_x, and the
+    label says so."""
     out = []
     for f in forces:
         if f.force is None:
