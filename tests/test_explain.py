@@ -516,6 +516,56 @@ def test_free_body_vectors_are_true_as_written(every_scene, every_rendering):
     assert "F_A_x = (-A_x, 0)" in text and "F_A_y = (0, -A_y)" in text and "    A_x = (A_x, 0)" in text
 
 
+def _latex_text_mode(doc: str) -> str:
+    """A LaTeX document without its maths (``$...$`` and the equation environments) and comments:
+    the text that LaTeX sets in text mode."""
+    doc = re.sub(r"\\begin\{equation\*\}.*?\\end\{equation\*\}", "", doc, flags=re.DOTALL)
+    doc = re.sub(r"(?<!\\)\$.*?(?<!\\)\$", "", doc)
+    return re.sub(r"(?m)^%.*$", "", doc)
+
+
+def test_latex_contact_sentences(every_rendering):
+    """QA 15 #4, on incline_ring (its sticking regime rejected, then the impending slip): the units
+    of the contact sentences upright after the number (``7.35499\\,\\mathrm{N}``, not the symbol N),
+    the comparison inside the maths (a bare ``>`` in text prints as an inverted question mark in
+    LaTeX's default OT1 encoding), "least mu = ...", and the slip in words in every format. No
+    shipped scene's LaTeX has a bare < or > in text mode; the preamble sets T1 fonts and UTF-8."""
+    tex = every_rendering["incline_ring", "latex"]
+    assert (r"Rejected: incline sticking needs $|F| = 7.35499\,\mathrm{N} > \mu_{s} N = 6.36961\,\mathrm{N}$ "
+            r"(least $\mu = 0.288675$).") in tex
+    assert r"friction $F = -\mu_{k} N = -6.36961\,\mathrm{N}$" in tex
+    html = every_rendering["incline_ring", "html"]
+    assert ('<mn>7.35499</mn><mspace width="0.167em"/><mrow><mi mathvariant="normal">N</mi></mrow><mo>&gt;</mo>'
+            in html)
+    for fmt in FORMATS:
+        out = every_rendering["incline_ring", fmt]
+        assert "Rejected: incline starting to slip in the - direction: the sliding at incline would accelerate in the + direction" in out
+        assert "slip - (impending):" not in out and "least mu 0" not in out, fmt
+    for name in SCENES:
+        doc = every_rendering[name, "latex"]
+        assert not re.search(r"[<>]", _latex_text_mode(doc)), name
+        assert r"\usepackage[T1]{fontenc}" in doc and r"\usepackage{fontspec}" in doc and "beyond the Latin" not in doc
+
+
+def test_latex_escapes_angle_brackets_with_the_report_escape(tmp_path):
+    """A scene name with <, > and letters beyond Latin (QA 15 #4): escaped in ``\\section*{...}`` by
+    the project's one escape (the report's paper.tex uses the same function), and the document says
+    which engine sets those letters."""
+    from reports.make_report import latex_escape as report_escape
+    from solver.notation import latex_escape
+
+    assert report_escape is latex_escape
+    scene = (ROOT / "data" / "scenes" / "sliding_bar.toml").read_text(encoding="utf-8")
+    scene = scene.replace('name = "sliding_bar"', 'name = "<b>a > b</b> \u632f\u308a\u5b50"', 1)
+    path = tmp_path / "angles.toml"
+    path.write_text(scene, encoding="utf-8")
+    out = render(explain(load_system(path), advice=False), "latex")
+    assert (r"\section*{Worked solution: \textless{}b\textgreater{}a \textgreater{} b\textless{}/b\textgreater{} "
+            "\u632f\u308a\u5b50}") in out
+    assert not re.search(r"[<>]", _latex_text_mode(out))
+    assert "compile it with\n% lualatex or xelatex" in out
+
+
 def _state_values(system, state):
     vals = {k: sp.Float(v) for k, v in system.si_values().items()}
     vals.update({q: sp.Float(v) for q, v in zip(system.q, state.q)})
