@@ -453,7 +453,7 @@ def _fbd_step(system, body: str, forces: list[_Force], printer: FastStrPrinter |
             fx, fy = xy(f.force)
             shown = f"({sstr(tidy(fx), printer)}, {sstr(tidy(fy), printer)})"
             if len(shown) > MAX_CELL:
-                shown = f"the vector {f.name.replace('gravity:', 'W_')} above"
+                shown = f"the vector {_vector_name(f)} above"
             rows.append((f.name, f.kind, f.point, shown, what))
         else:
             shown = f"couple {sstr(tidy(f.couple), printer)}"
@@ -476,13 +476,20 @@ def _force_vectors(forces: list[_Force], body: str) -> list[Equation]:
     for f in forces:
         if f.force is None:
             continue
-        name, label = f.name.replace("gravity:", "W_"), f"force {f.name} at {f.point} (vector)"
-        if f.reaction is not None and any(could_extract_minus_sign(c) for c in _vec(f.force) if c != 0):
-            name = f"F_{f.name}"
-            label = f"force {f.name} at {f.point} (vector F_{f.name}: the force on {body} whose scalar is {f.name})"
+        name, label = _vector_name(f), f"force {f.name} at {f.point} (vector)"
+        if name != f.name.replace("gravity:", "W_"):
+            label = f"force {f.name} at {f.point} (vector {name}: the force on {body} whose scalar is {f.name})"
         out.append(Equation((Term(f.force),), (Term(_vec(f.force)),), label, tag=f"force:{f.name}", name=name,
                             vector=True))
     return out
+
+
+def _vector_name(f: _Force) -> str:
+    """The name of the force ``f``'s vector: W_body for a weight, F_A_x for a reaction A_x whose
+    components negate it (:func:`_force_vectors`), else the force's own name."""
+    if f.reaction is not None and any(could_extract_minus_sign(c) for c in _vec(f.force) if c != 0):
+        return f"F_{f.name}"
+    return f.name.replace("gravity:", "W_")
 
 
 def _element_offsets(system, body: str, P: str):
