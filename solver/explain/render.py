@@ -304,7 +304,7 @@ class _Latex(_Renderer):
 
 LATEX_ENGINE_NOTE = ("% A worked solution written by `python -m solver explain`: LaTeX2e, standard packages only.\n"
                      "% pdflatex sets it in T1-encoded Latin Modern from UTF-8 input; lualatex and xelatex through fontspec.\n")
-LATEX_UNICODE_NOTE = ("% This text holds letters beyond the Latin script (from the scene's names): compile it with\n"
+LATEX_UNICODE_NOTE = ("% This text holds letters beyond the Latin script (from the scene's text): compile it with\n"
                       "% lualatex or xelatex, with a main font that has them (\\setmainfont{...} after fontspec).\n")
 LATEX_PREAMBLE = ("\\usepackage{iftex}\n"
                   "\\ifPDFTeX\n  \\usepackage[T1]{fontenc}\n  \\usepackage[utf8]{inputenc}\n  \\usepackage{lmodern}\n"
