@@ -41,6 +41,7 @@ from reports.mathml import equation_mathml, latex_display, name_text, to_mathml,
 from reports.published import ReportInputError, load_equations
 from solver.errors import InputError
 from solver.expressions import parse_expression
+from solver.notation import latex_escape  # (the one LaTeX text escape; re-exported)
 
 __all__ = ["build", "build_cached", "main", "html_environment", "latex_environment", "latex_escape", "LATEX_ENGINES",
            "TemplateCache", "write_template_cache"]
@@ -172,52 +173,6 @@ def html_environment(templates: Path = TEMPLATES) -> Environment:
     env.filters["verdict_class"] = lambda v: {"agrees": "ok", "disagrees": "bad"}.get(v, "na")
     env.globals["math_font_css"] = mathfont.font_face_css()  # the embedded maths font (_style.html.j2)
     return env
-
-
-_LATEX_SPECIAL = {
-    "\\": r"\textbackslash{}",
-    "&": r"\&",
-    "%": r"\%",
-    "$": r"\$",
-    "#": r"\#",
-    "_": r"\_",
-    "{": r"\{",
-    "}": r"\}",
-    "~": r"\textasciitilde{}",
-    "^": r"\textasciicircum{}",
-    "<": r"\textless{}",
-    ">": r"\textgreater{}",
-    "²": r"\textsuperscript{2}",
-    "·": r"\ensuremath{\cdot}",
-    "±": r"\ensuremath{\pm}",
-    "\u2212": r"\ensuremath{-}",  # minus sign (also of captions: solver.notation.typeset_text)
-    "×": r"\ensuremath{\times}",
-    "\u2248": r"\ensuremath{\approx}",
-    "°": r"\ensuremath{^\circ}",
-    "\u2264": r"\ensuremath{\leq}",
-    "\u2265": r"\ensuremath{\geq}",
-}
-
-
-_LATEX_GREEK = re.compile("([\u03b1-\u03c9])([\u0307\u0308]?)")
-_GREEK_NAMES = dict(zip("\u03b1\u03b2\u03b8\u03c6\u03c8\u03c9", ("alpha", "beta", "theta", "phi", "psi", "omega")))
-
-
-def _latex_greek(m: re.Match) -> str:
-    r"""A Greek letter of prose (:func:`reports.mathml.name_text`) in maths, with its dot accent:
-    θ̈ -> ``\ensuremath{\ddot{	heta}}``."""
-    name = _GREEK_NAMES.get(m.group(1))
-    if name is None:
-        return m.group(0)
-    accent = {"\u0307": r"\dot", "\u0308": r"\ddot"}.get(m.group(2))
-    return rf"\ensuremath{{{accent}{{\{name}}}}}" if accent else rf"\ensuremath{{\{name}}}"
-
-
-def latex_escape(value) -> str:
-    """Escape text for LaTeX (every special character, so input text stays text; a Greek letter of
-    the prose, dotted or not, as maths)."""
-    text = "".join(_LATEX_SPECIAL.get(ch, ch) for ch in str(value))
-    return _LATEX_GREEK.sub(_latex_greek, text)
 
 
 def latex_environment(templates: Path = TEMPLATES) -> Environment:

@@ -8,7 +8,7 @@ import re
 
 import sympy as sp
 
-__all__ = ["rate_latex_names", "dotted_latex", "name_text", "typeset_text"]
+__all__ = ["rate_latex_names", "dotted_latex", "name_text", "typeset_text", "latex_escape"]
 
 _SUBSCRIPTED = re.compile(r"(?P<nucleus>\\?[A-Za-z]+)(?P<sub>_\{.*\})")
 
@@ -58,3 +58,54 @@ def typeset_text(text: str) -> str:
     '|\u2212I_A \u03b1| = 1 N, \u03c6\u0307 = \u22122 rad/s, free-body'
     """
     return name_text(re.sub(r"(^|[\s(|])-(?=[\w.])", "\\1\u2212", text))
+
+
+# -- text for LaTeX --------------------------------------------------------------------------------
+_LATEX_SPECIAL = {
+    "\\": r"\textbackslash{}",
+    "&": r"\&",
+    "%": r"\%",
+    "$": r"\$",
+    "#": r"\#",
+    "_": r"\_",
+    "{": r"\{",
+    "}": r"\}",
+    "~": r"\textasciitilde{}",
+    "^": r"\textasciicircum{}",
+    "<": r"\textless{}",  # (a bare < or > prints as ¡ or ¿ in LaTeX's default OT1 font encoding)
+    ">": r"\textgreater{}",
+    "²": r"\textsuperscript{2}",
+    "·": r"\ensuremath{\cdot}",
+    "±": r"\ensuremath{\pm}",
+    "\u2212": r"\ensuremath{-}",  # minus sign (also of captions: typeset_text)
+    "×": r"\ensuremath{\times}",
+    "\u2248": r"\ensuremath{\approx}",
+    "°": r"\ensuremath{^\circ}",
+    "\u2264": r"\ensuremath{\leq}",
+    "\u2265": r"\ensuremath{\geq}",
+}
+_LATEX_GREEK = re.compile("([\u03b1-\u03c9])([\u0307\u0308]?)")
+_GREEK_NAMES = {letter: name for name, letter in _GREEK.items()}
+
+
+def _latex_greek(m: re.Match) -> str:
+    """A Greek letter of prose (:func:`name_text`) as maths, with its dot accent (theta with two
+    dots as ``\\ensuremath{\\ddot{\\theta}}``); other Greek letters as they are."""
+    name = _GREEK_NAMES.get(m.group(1))
+    if name is None:
+        return m.group(0)
+    accent = {"\u0307": r"\dot", "\u0308": r"\ddot"}.get(m.group(2))
+    return rf"\ensuremath{{{accent}{{\{name}}}}}" if accent else rf"\ensuremath{{\{name}}}"
+
+
+def latex_escape(value) -> str:
+    """Text for LaTeX's text mode, the one escape of the project (the report's paper.tex and the
+    worked solution's LaTeX): every special character escaped, so input text stays text; ``<`` and
+    ``>`` as ``\\textless{}``, ``\\textgreater{}``; the maths signs of the prose and a Greek letter of
+    :func:`name_text`, dotted or not, as maths.
+
+    >>> latex_escape("50% of {x}_1 < 2 & θ̇")
+    '50\\\\% of \\\\{x\\\\}\\\\_1 \\\\textless{} 2 \\\\& \\\\ensuremath{\\\\dot{\\\\theta}}'
+    """
+    text = "".join(_LATEX_SPECIAL.get(ch, ch) for ch in str(value))
+    return _LATEX_GREEK.sub(_latex_greek, text)

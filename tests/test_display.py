@@ -549,11 +549,11 @@ def test_reduce_trig_of_a_polynomial_residual():
 def test_one_minus_cos_squared_is_shown_as_the_sine_squared():
     """QA 13 #10: the reduced numerator keeps X - X*cos(u)**2 as X*sin(u)**2 (sliding_bar's
     mass coefficient about G, written by hand: (l/sin b)^2 m (sin^2 b + 3 sin b cos b sin th cos th
-    + 3 cos^2 b cos^2 th) / 3)."""
+    + 3 cos^2 b cos^2 th) / 3, whose last two terms are 3 cos b cos th cos(b - th), QA 15 #7)."""
     l, th = sp.symbols("l_b theta", real=True)
     sb, cb, st, ct = sp.sin(beta), sp.cos(beta), sp.sin(th), sp.cos(th)
     given = l**2 * m * (3 * sb * cb * st * ct + 3 * cb**2 * ct**2 - cb**2 + 1) / (3 * sb**2)
-    assert tidy(given) == l**2 * m * (sb**2 + 3 * sb * cb * st * ct + 3 * cb**2 * ct**2) / (3 * sb**2)
+    assert tidy(given) == l**2 * m * (sb**2 + 3 * cb * ct * sp.cos(beta - th)) / (3 * sb**2)
 
 
 def test_explain_mass_coefficient_and_frequency_refusal_are_tidied(solver_cli):
@@ -636,3 +636,67 @@ def test_expanded_is_sympys_expand():
                 return sp.Mul(*parts)
             return sp.Pow(sp.Add(*parts[:2]), 2)
         same(tree(3 if trial % 5 == 0 else 2))
+
+
+def test_sums_of_angle_products_collapse_to_the_angle_difference():
+    """sin(a)*sin(b) + cos(a)*cos(b) is shown as cos(a - b), sin(a)*cos(b) - sin(b)*cos(a) as sin(a - b)
+    (the angle-addition formulas read backwards, QA 15 #7), common factors of the two terms allowed.
+    Random sums of such products over three angles keep their value: equal at random points to
+    1e-12 relative (double-precision evaluation of a few dozen operations; a wrong identity errs by
+    order 1)."""
+    a, b, k = sp.symbols("a b k", real=True)
+    sa, ca, sb, cb = sp.sin(a), sp.cos(a), sp.sin(b), sp.cos(b)
+    assert tidy(k * (sa * sb + ca * cb)) == k * sp.cos(a - b)
+    assert tidy(g * m * (sa * cb - sb * ca)) == g * m * sp.sin(a - b)
+    assert tidy(3 * sb * ca - 3 * sa * cb + k) == k - 3 * sp.sin(a - b)
+    rng = random.Random(5)
+    trig = [sa, ca, sb, cb, s, c, sa * ca, cb**2, sa * sb, ca * cb]  # (squares: a term may pair with one)
+    for _ in range(40):
+        expr = sum(rng.randint(-3, 3) * rng.choice([g, m, k, 1]) * rng.choice(trig) * rng.choice(trig)
+                   for _ in range(5)) + k * (sa * sb + ca * cb)
+        shown = tidy(expr)
+        for _ in range(3):
+            point = {x: rng.uniform(-3.0, 3.0) for x in (a, b, phi, g, m, k)}
+            x, y = float(expr.subs(point)), float(shown.subs(point))
+            assert abs(x - y) <= 1e-12 * max(1.0, abs(x)), (expr, shown)
+
+
+def test_the_collapse_is_tried_only_where_two_angles_occur(monkeypatch):
+    """The walk that collapses the sums is skipped where every sin/cos holds the same angle (the
+    paper's disk_bar, most one-body scenes): tidy never calls it there."""
+    import solver.display as display
+
+    def refuse(e):
+        raise AssertionError(f"collapse tried on {e}")
+
+    monkeypatch.setattr(display, "_collapse_angle_sums", refuse)
+    tidy.cache_clear()
+    tidy(g * m * (s**2 * c + s * c) / (1 + c**2))
+    tidy(g * s * c + m * s)
+    monkeypatch.undo()
+    tidy.cache_clear()
+    assert tidy(g * (s * sp.sin(beta) + c * sp.cos(beta))) == g * sp.cos(phi - beta)
+
+
+def test_double_pendulum_eom_is_the_textbook_one(capsys):
+    """`eom` on the double pendulum (point masses m1, m2 on massless links l1, l2) prints the
+    equations of textbooks, with cos(theta1 - theta2) and sin(theta1 - theta2) (QA 15 #7): each
+    equal to the Lagrange equation derived by hand (exact, after reduction), and no product
+    sin(theta1)*sin(theta2) left in any of the printed equations, masses or energies."""
+    import json
+
+    from solver.__main__ import main
+
+    assert main(["eom", "data/scenes/double_pendulum.toml", "--json"]) == 0
+    out = capsys.readouterr().out
+    payload = json.loads(out)
+    l1, l2, m1, m2, th1, th2, w1, w2, al1, al2 = sp.symbols(
+        "l1 l2 m1 m2 theta1 theta2 theta1_dot theta2_dot theta1_ddot theta2_ddot")
+    names = {str(x): x for x in (l1, l2, m1, m2, th1, th2, w1, w2, al1, al2, g)}
+    d = th1 - th2
+    hand = [(m1 + m2) * l1**2 * al1 + m2 * l1 * l2 * (al2 * sp.cos(d) + w2**2 * sp.sin(d)) + (m1 + m2) * g * l1 * sp.sin(th1),
+            m2 * l2**2 * al2 + m2 * l1 * l2 * (al1 * sp.cos(d) - w1**2 * sp.sin(d)) + m2 * g * l2 * sp.sin(th2)]
+    for shown, ref in zip(payload["eom"], hand):
+        assert is_identically_zero(sp.expand(sp.sympify(shown, locals=names) - ref)), shown
+    assert payload["mass"][0][1] == "l1*l2*m2*cos(theta1 - theta2)"
+    assert "sin(theta1)*sin(theta2)" not in out and "sin(theta2)*cos(theta1)" not in out

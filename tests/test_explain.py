@@ -312,6 +312,21 @@ def test_html_escapes_scene_names(tmp_path):
     assert "<script>" not in render(expl, "markdown")
 
 
+def test_markdown_escapes_dollar_in_scene_text(tmp_path):
+    """A ``$`` of the scene's name or description is text: escaped (``\\$``), so that a KaTeX/MathJax
+    Markdown renderer does not set ``$E=mc^2$`` as maths. Outside the ``$$`` display blocks the
+    solution writes, no ``$`` is left unescaped."""
+    scene = (ROOT / "data" / "scenes" / "sliding_bar.toml").read_text(encoding="utf-8")
+    scene = scene.replace('name = "sliding_bar"', 'name = "cost $5 $E=mc^2$"', 1)
+    scene = scene.replace('description = "', 'description = "$x$ and ', 1)
+    path = tmp_path / "dollar.toml"
+    path.write_text(scene, encoding="utf-8")
+    out = render(explain(load_system(path), advice=False), "markdown")
+    assert r"cost \$5 \$E=mc^2\$" in out and r"\$x\$ and" in out
+    prose = re.sub(r"^\$\$\n.*?\n\$\$$", "", out, flags=re.MULTILINE | re.DOTALL)
+    assert "E=mc" in prose and re.search(r"(?<!\\)\$", prose) is None
+
+
 def test_latex_escapes_scene_text(tmp_path):
     scene = (ROOT / "data" / "scenes" / "sliding_bar.toml").read_text(encoding="utf-8")
     scene = scene.replace('description = "', r'description = "$\\input{x} 100% & #1 ')
@@ -498,6 +513,83 @@ def test_no_times_zero_and_no_trailing_point_zero(every_scene, every_rendering):
     crank = every_scene["slider_crank"][1].section("crank").step("euler")
     assert crank.equation("euler").right == 0
     assert "crank turns at a constant rate (alpha = 0), so I_O alpha = 0." in crank.text
+
+
+# A force vector named by its own scalar with that scalar negated in a component ("A_x = (-A_x, 0)"),
+# as each format writes the vector equation: text, LaTeX/Markdown (a column vector), HTML (MathML).
+_SELF_NEGATED = {
+    "text": re.compile(r"^ +([A-Za-z]\w*) = \((?:-\1, 0|0, -\1)\)$", re.MULTILINE),
+    "markdown": re.compile(r"^(\S+) = \\begin\{pmatrix\}(?:- \1 \\\\ 0|0 \\\\ - \1)\\end\{pmatrix\}$", re.MULTILINE),
+    "latex": re.compile(r"^(\S+) = \\begin\{pmatrix\}(?:- \1 \\\\ 0|0 \\\\ - \1)\\end\{pmatrix\}$", re.MULTILINE),
+    "html": re.compile(r"<mstyle displaystyle=\"true\"><mrow>(<msub><mi>\w+</mi>(?:<mi>\w+</mi>|<mrow>.*?</mrow>)</msub>)"
+                       r"</mrow><mo>=</mo><mrow><mrow><mo>\(</mo>(?:<mrow><mo>\u2212</mo>\1</mrow><mo>,</mo><mn>0</mn>|"
+                       r"<mn>0</mn><mo>,</mo><mrow><mo>\u2212</mo>\1</mrow>)<mo>\)</mo>"),
+}
+
+
+def test_free_body_vectors_are_true_as_written(every_scene, every_rendering):
+    """A reaction acting on a body against its positive sense (the second body's half of a joint's
+    pair) is listed as the vector F_A_x = (-A_x, 0), not as A_x = (-A_x, 0), which is false unless
+    A_x = 0 (QA 15 #5): in every format of every shipped scene no force vector is named by a scalar it
+    negates. double_pendulum's upper link gets joint A's pair reversed: its list names F_A_x, F_A_y."""
+    for name, (system, expl) in every_scene.items():
+        for eq in (e for s in expl.steps() for e in s.equations if e.tag.startswith("force:")):
+            components = [sp.sympify(c) for c in eq.rhs[0].expr]
+            assert -sp.Symbol(eq.name) not in components, (name, eq.name, components)
+        for fmt in FORMATS:
+            assert _SELF_NEGATED[fmt].search(every_rendering[name, fmt]) is None, (name, fmt)
+    text = every_rendering["double_pendulum", "text"]
+    assert "F_A_x = (-A_x, 0)" in text and "F_A_y = (0, -A_y)" in text and "    A_x = (A_x, 0)" in text
+
+
+def _latex_text_mode(doc: str) -> str:
+    """A LaTeX document without its maths (``$...$`` and the equation environments) and comments:
+    the text that LaTeX sets in text mode."""
+    doc = re.sub(r"\\begin\{equation\*\}.*?\\end\{equation\*\}", "", doc, flags=re.DOTALL)
+    doc = re.sub(r"(?<!\\)\$.*?(?<!\\)\$", "", doc)
+    return re.sub(r"(?m)^%.*$", "", doc)
+
+
+def test_latex_contact_sentences(every_rendering):
+    """QA 15 #4, on incline_ring (its sticking regime rejected, then the impending slip): the units
+    of the contact sentences upright after the number (``7.35499\\,\\mathrm{N}``, not the symbol N),
+    the comparison inside the maths (a bare ``>`` in text prints as an inverted question mark in
+    LaTeX's default OT1 encoding), "least mu = ...", and the slip in words in every format. No
+    shipped scene's LaTeX has a bare < or > in text mode; the preamble sets T1 fonts and UTF-8."""
+    tex = every_rendering["incline_ring", "latex"]
+    assert (r"Rejected: incline sticking needs $|F| = 7.35499\,\mathrm{N} > \mu_{s} N = 6.36961\,\mathrm{N}$ "
+            r"(least $\mu = 0.288675$).") in tex
+    assert r"friction $F = -\mu_{k} N = -6.36961\,\mathrm{N}$" in tex
+    html = every_rendering["incline_ring", "html"]
+    assert ('<mn>7.35499</mn><mspace width="0.167em"/><mrow><mi mathvariant="normal">N</mi></mrow><mo>&gt;</mo>'
+            in html)
+    for fmt in FORMATS:
+        out = every_rendering["incline_ring", fmt]
+        assert "Rejected: incline starting to slip in the - direction: the sliding at incline would accelerate in the + direction" in out
+        assert "slip - (impending):" not in out and "least mu 0" not in out, fmt
+    for name in SCENES:
+        doc = every_rendering[name, "latex"]
+        assert not re.search(r"[<>]", _latex_text_mode(doc)), name
+        assert r"\usepackage[T1]{fontenc}" in doc and r"\usepackage{fontspec}" in doc and "beyond the Latin" not in doc
+
+
+def test_latex_escapes_angle_brackets_with_the_report_escape(tmp_path):
+    """A scene name with <, > and letters beyond Latin (QA 15 #4): escaped in ``\\section*{...}`` by
+    the project's one escape (the report's paper.tex uses the same function), and the document says
+    which engine sets those letters."""
+    from reports.make_report import latex_escape as report_escape
+    from solver.notation import latex_escape
+
+    assert report_escape is latex_escape
+    scene = (ROOT / "data" / "scenes" / "sliding_bar.toml").read_text(encoding="utf-8")
+    scene = scene.replace('name = "sliding_bar"', 'name = "<b>a > b</b> \u632f\u308a\u5b50"', 1)
+    path = tmp_path / "angles.toml"
+    path.write_text(scene, encoding="utf-8")
+    out = render(explain(load_system(path), advice=False), "latex")
+    assert (r"\section*{Worked solution: \textless{}b\textgreater{}a \textgreater{} b\textless{}/b\textgreater{} "
+            "\u632f\u308a\u5b50}") in out
+    assert not re.search(r"[<>]", _latex_text_mode(out))
+    assert "compile it with\n% lualatex or xelatex" in out
 
 
 def _state_values(system, state):

@@ -286,7 +286,7 @@ def find_regime(system, q=None, qd=None, t=None, point=None, method="generalized
         regimes = dict(zip(names, combo))
         if any(_dominates(c.regimes, regimes) for c in consistent):
             continue  # a preferred combination already holds
-        label = ", ".join(f"{n}: {r.label}" for n, r in regimes.items())
+        label = ", ".join(f"{n} {_in_words(r)}" for n, r in regimes.items())
         try:
             res = solve_in_regime(system, regimes, q, qd, t, point, method)
         except RedundantConstraints:
@@ -295,7 +295,7 @@ def find_regime(system, q=None, qd=None, t=None, point=None, method="generalized
             rejected.append(f"{label}: the scene cannot describe it ({_short(err)})")
             continue
         if isinstance(res, str):
-            rejected.append(f"{label}: {res}")
+            rejected.append(res if res.startswith(label) else f"{label}: {res}")  # (not "A sticking: A sticking needs")
             continue
         res = _now_sliding(system, res, q, qd, t, point, method)
         if isinstance(res, str):
@@ -563,7 +563,7 @@ def _check(variant, regimes, q, qd, qdd, t, values, strict_direction=True):
             if closed and an < -TOL * ascale:
                 return [], f"{j.name} separated would penetrate (gap acceleration {an:.6g})"
             checks.append(ContactCheck(j.name, r, f"the gap opens (gap acceleration {an:.6g} >= 0)" if closed
-                                       else f"apart (gap {_shown(gap, 'm', variant)}, opening at {_shown(vgap, 'm/s', variant)})"))
+                                       else f"apart (gap = {_shown(gap, 'm', variant)}, opening speed = {_shown(vgap, 'm/s', variant)})"))
             continue
         n = values[N.name]
         if N.one_sided and n < -TOL * fscale:
@@ -574,7 +574,7 @@ def _check(variant, regimes, q, qd, qdd, t, values, strict_direction=True):
             need = abs(f) / n if n > 0 else (0.0 if f == 0 else math.inf)
             if abs(f) > mu_s * n + TOL * fscale:
                 return [], (f"{j.name} sticking needs |{F.name}| = {_shown(abs(f), 'N', variant)} > mu_s {N.name} = "
-                            f"{_shown(mu_s * n, 'N', variant)} (least mu {need:.6g})")
+                            f"{_shown(mu_s * n, 'N', variant)} (least mu = {need:.6g})")
             why = (f"sticks: |{F.name}| = {_shown(abs(f), 'N', variant)} <= mu_s {N.name} = {_shown(mu_s * n, 'N', variant)}"
                    if math.isfinite(mu_s) else "rolls without slip (no friction limit given)")
             checks.append(ContactCheck(j.name, r, why, n, f, need))
@@ -585,13 +585,22 @@ def _check(variant, regimes, q, qd, qdd, t, values, strict_direction=True):
         if F is not None:
             values[F.name] = f
         if strict_direction and s and s * at < -TOL * ascale and abs(vt) <= TOL * vscale:
-            return [], f"{j.name} slipping {'+' if s > 0 else '-'} would accelerate the other way"
+            return [], f"the sliding at {j.name} would accelerate in the {'-' if s > 0 else '+'} direction, against the slip"
         friction = f"{F.name} = " if F is not None else "= "  # the slip's sign written out, not as s
         why = ("slides without friction" if j.friction is None else  # (a scene may name a coordinate s)
                f"slides ({'+' if s > 0 else '-'} along its line): friction {friction}{'-' if s > 0 else ''}"
                f"mu_k {N.name} = {_shown(f, 'N', variant)}")
         checks.append(ContactCheck(j.name, r, why, n, f))
     return checks, None
+
+
+def _in_words(regime: Regime) -> str:
+    """A contact's regime in words for a sentence (``slip - (impending)`` as "starting to slip in the
+    - direction"): the labels are names for tables and JSON, and their bare signs read badly in prose."""
+    if isinstance(regime, Slip):
+        return (f"{'starting to slip' if regime.impending else 'slipping'} in the "
+                f"{'+' if regime.direction > 0 else '-'} direction")
+    return {STICK.label: "sticking", SEPARATED.label: "separated"}.get(regime.label, regime.label)
 
 
 def _shown(value: float, unit: str, system) -> str:

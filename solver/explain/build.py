@@ -484,23 +484,43 @@ def _fbd_step(system, body: str, forces: list[_Force], printer: FastStrPrinter |
             fx, fy = xy(f.force)
             shown = f"({sstr(tidy(fx), printer)}, {sstr(tidy(fy), printer)})"
             if len(shown) > MAX_CELL:
-                shown = f"the vector {f.name.replace('gravity:', 'W_')} above"
+                shown = f"the vector {_vector_name(f)} above"
             rows.append((f.name, f.kind, f.point, shown, what))
         else:
             shown = f"couple {sstr(tidy(f.couple), printer)}"
             rows.append((f.name, f.kind, "-", shown if len(shown) <= MAX_CELL else "a couple (too long to show here)", what))
     step = Step("fbd", f"Free-body diagram of {body}",
                 [f"The forces and couples on {body}, fixed-frame components (x right, y up)."],
-                _force_vectors(forces), table=Table(("force", "kind", "at", "components", ""), tuple(rows)))
+                _force_vectors(forces, body), table=Table(("force", "kind", "at", "components", ""), tuple(rows)))
     step.figure_request = {"scene": system.source or system.name, "body": body, "fbd": True}
     return step
 
 
-def _force_vectors(forces: list[_Force]) -> list[Equation]:
-    """Each force as a vector in the fixed frame (the paper's Eqs. 22 and 36), tag ``force:NAME``."""
-    return [Equation((Term(f.force),), (Term(_vec(f.force)),), f"force {f.name} at {f.point} (vector)",
-                     tag=f"force:{f.name}", name=f.name.replace("gravity:", "W_"), vector=True)
-            for f in forces if f.force is not None]
+def _force_vectors(forces: list[_Force], body: str) -> list[Equation]:
+    """Each force as a vector in the fixed frame (the paper's Eqs. 22 and 36), tag ``force:NAME``.
+
+    A reaction whose vector on ``body`` negates its scalar in a component (the opposite half of a
+    joint's pair, ``(-A_x, 0)``; a guide's normal pushing along -x) is not named by its scalar, which
+    would read ``A_x = (-A_x, 0)``: the vector is F_A_x, the force whose scalar is A_x, and the
+    label says so."""
+    out = []
+    for f in forces:
+        if f.force is None:
+            continue
+        name, label = _vector_name(f), f"force {f.name} at {f.point} (vector)"
+        if name != f.name.replace("gravity:", "W_"):
+            label = f"force {f.name} at {f.point} (vector {name}: the force on {body} whose scalar is {f.name})"
+        out.append(Equation((Term(f.force),), (Term(_vec(f.force)),), label, tag=f"force:{f.name}", name=name,
+                            vector=True))
+    return out
+
+
+def _vector_name(f: _Force) -> str:
+    """The name of the force ``f``'s vector: W_body for a weight, F_A_x for a reaction A_x whose
+    components negate it (:func:`_force_vectors`), else the force's own name."""
+    if f.reaction is not None and any(could_extract_minus_sign(c) for c in _vec(f.force) if c != 0):
+        return f"F_{f.name}"
+    return f.name.replace("gravity:", "W_")
 
 
 def _element_offsets(system, body: str, P: str):

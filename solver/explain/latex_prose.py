@@ -20,10 +20,9 @@ import re
 
 import sympy as sp
 
-__all__ = ["LatexProse", "latex_escape", "unit_latex", "subscripted"]
+from ..notation import latex_escape
 
-_LATEX_SPECIAL = {"\\": r"\textbackslash{}", "&": r"\&", "%": r"\%", "$": r"\$", "#": r"\#", "_": r"\_",
-                  "{": r"\{", "}": r"\}", "~": r"\textasciitilde{}", "^": r"\textasciicircum{}"}
+__all__ = ["LatexProse", "latex_escape", "unit_latex", "subscripted"]
 
 
 def subscripted(head: str, tail: str) -> str:
@@ -37,17 +36,12 @@ def subscripted(head: str, tail: str) -> str:
     return head + "_{" + tail.replace("_", r"\ ") + "}"
 
 
-def latex_escape(text: str) -> str:
-    """Plain text for LaTeX's text mode: every special character escaped."""
-    return "".join(_LATEX_SPECIAL.get(ch, ch) for ch in str(text))
-
-
 _GREEK = {"alpha", "beta", "gamma", "delta", "epsilon", "zeta", "eta", "theta", "iota", "kappa", "lambda",
           "mu", "nu", "xi", "pi", "rho", "sigma", "tau", "upsilon", "phi", "chi", "psi", "omega",
           "Gamma", "Delta", "Theta", "Lambda", "Xi", "Pi", "Sigma", "Upsilon", "Phi", "Psi", "Omega"}
 _FUNCTIONS = {"sin": r"\sin", "cos": r"\cos", "tan": r"\tan", "exp": r"\exp", "log": r"\log",
               "sqrt": r"\operatorname{sqrt}", "sign": r"\operatorname{sign}", "Abs": r"\operatorname{abs}"}
-_RELATIONS = {">=": r"\geq", "<=": r"\leq", "=": "=", "~": r"\approx"}
+_RELATIONS = {">=": r"\geq", "<=": r"\leq", "=": "=", "~": r"\approx", ">": ">", "<": "<"}
 
 _TOKEN = re.compile(r"""
     (?P<flag>--point[ ][A-Za-z0-9_:(),]*[A-Za-z0-9_)]|--[a-z][a-z-]*[a-z])
@@ -55,11 +49,13 @@ _TOKEN = re.compile(r"""
              (?:(?:_[A-Za-z0-9]+)+(?:,[a-z](?![A-Za-z0-9]))?(?:/[A-Za-z][A-Za-z0-9]*(?![A-Za-z0-9(]))?)?
              (?:\([A-Za-z0-9_,]+\)(?=[\s,.;:)]|$))?'*)
   | (?P<num>\d+(?:\.\d+)?(?:e[-+]?\d+)?)
-  | (?P<op>\*\*|>=|<=|[-+*/=^|~])
+  | (?P<op>\*\*|>=|<=|(?<=[ ])[<>](?=[ ])|[-+*/=^|~])
   | (?P<paren>[()])
   | (?P<space>[ ]+)
   | (?P<other>.)
 """, re.VERBOSE | re.DOTALL)
+UNIT = "unit"
+"""The kind of a prose token that is the unit of the number before it (:func:`_mark_units`)."""
 CODE = "code"
 """The kind of a prose segment that is a command-line flag as typed (:meth:`LatexProse.segments`)."""
 _ONE_LETTER_SUB = re.compile(r"[A-Za-z](?:_[A-Za-z0-9]+)+(?:,[a-z])?(?:/[A-Za-z][A-Za-z0-9]*)?")
@@ -67,6 +63,41 @@ _SUBSCRIPTED = re.compile(r"[A-Za-z][0-9]*(?:_[A-Za-z0-9]+)+")
 _RATE = re.compile(r"(?P<base>[A-Za-z][A-Za-z0-9]*)_(?P<dots>d?dot)")
 _UNIT = re.compile(r"[A-Za-z]+(?:\s*(?:\*\*\s*-?\d+|[*/]\s*[A-Za-z]+))*")
 _NUMBER_UNIT = re.compile(r"(?P<num>-?\d+(?:\.\d+)?(?:e[-+]?\d+)?)(?:\s+(?P<unit>" + _UNIT.pattern + "))?")
+
+
+def _mark_units(tokens: list) -> list:
+    """``tokens`` with the unit after a number that a relation gives (``|F| = 7.35 N``, ``N_B =
+    -15 lbf < 0``, ``a = 2 ft/s**2``) as one token of kind :data:`UNIT`, so that it is set upright
+    and not read as a symbol (N the unit, not the normal force N). Only there: elsewhere in prose
+    a number and a word ("1 Newton component") stay what they are."""
+    out, last, i = [], ["", ""], 0  # last: the two tokens before, spaces left out
+    while i < len(tokens):
+        kind, value = tokens[i]
+        out.append(tokens[i])
+        relation = last[1] if last[1] != "-" else last[0]  # (= -15 N)
+        if kind == "num" and relation in _RELATIONS and tokens[i + 1:i + 2] == [("space", " ")]:
+            j = _unit_end(tokens, i + 2)
+            if j > i + 2:
+                out.append((UNIT, "".join(v for _, v in tokens[i + 2:j])))
+                last, i = [value, "unit"], j
+                continue
+        if kind != "space":
+            last = [last[1], value]
+        i += 1
+    return out
+
+
+def _unit_end(tokens: list, i: int) -> int:
+    """The end of the unit written from token ``i`` on (``ft*lbf``, ``m/s**2``), ``i`` when none:
+    names of letters joined by ``*`` and ``/``, and integer powers, as :data:`_UNIT` reads them."""
+    text, ends = "", {}
+    for j in range(i, len(tokens)):
+        if tokens[j][0] in ("space", "other", "paren", "flag"):
+            break
+        text += tokens[j][1]
+        ends[len(text)] = j + 1
+    m = _UNIT.match(text)
+    return ends.get(m.end(), i) if m else i
 
 
 def unit_latex(unit: str) -> str | None:
@@ -160,7 +191,7 @@ class LatexProse:
         (``--point C_contact``: text a user types, never maths). The one decision of what is maths
         in the worked solution's prose, for LaTeX (:meth:`text`) and for HTML's MathML
         (:mod:`.mathml_prose`)."""
-        tokens = [(m.lastgroup, m.group()) for m in _TOKEN.finditer(str(text))]
+        tokens = _mark_units([(m.lastgroup, m.group()) for m in _TOKEN.finditer(str(text))])
         i, words = 0, ""
         while i < len(tokens):
             if tokens[i][0] == "flag":
@@ -200,7 +231,7 @@ class LatexProse:
         return self.text(text, letters=True)
 
     def _operand(self, kind: str, value: str) -> bool:
-        return kind == "num" or (kind == "name" and (self.name(value) is not None or value in _FUNCTIONS
+        return kind in ("num", UNIT) or (kind == "name" and (self.name(value) is not None or value in _FUNCTIONS
                                                      or value == "x"))
 
     def _formula_end(self, tokens, start: int, letters: bool) -> int:
@@ -224,9 +255,10 @@ class LatexProse:
                 if depth < 0:
                     break
             strong = strong or (kind == "name" and self._strong(value, letters)) or value in ("**", "^", "*")
-            relation = relation or value in _RELATIONS
+            relation = relation or (value in _RELATIONS and value not in "<>")  # (a spaced < or > joins formulae,
+            # makes none: "b > a" stays text, as it did)
             end += 1
-            if depth == 0 and kind in ("name", "num", "paren") or value == "|":
+            if depth == 0 and kind in ("name", "num", "paren", UNIT) or value == "|":
                 last_good = end
         if last_good == start or not (strong or relation):
             return start
@@ -254,6 +286,8 @@ class LatexProse:
                 out.append({"*": r"\,", "|": "|", "/": "/"}.get(value, _RELATIONS.get(value, value)))
             elif kind == "space":
                 out.append(" ")
+            elif kind == UNIT:
+                out.append(r"\," + unit_latex(value))
             else:
                 out.append(value)
             i += 1

@@ -15,11 +15,11 @@ import re
 import sympy as sp
 
 from ..mathml import mathml_body, wrap
-from .latex_prose import _FUNCTIONS, _NUMBER_UNIT, _UNIT, CODE, LatexProse
+from .latex_prose import _FUNCTIONS, _NUMBER_UNIT, _UNIT, CODE, UNIT, LatexProse
 
-__all__ = ["MathmlProse", "unit_html", "name_mathml", "number_mathml"]
+__all__ = ["MathmlProse", "unit_html", "unit_mathml", "name_mathml", "number_mathml"]
 
-_RELATIONS = {">=": "\u2265", "<=": "\u2264", "=": "=", "~": "\u2248"}
+_RELATIONS = {">=": "\u2265", "<=": "\u2264", "=": "=", "~": "\u2248", ">": ">", "<": "<"}
 
 
 def _h(text) -> str:
@@ -35,6 +35,22 @@ def unit_html(unit: str) -> str | None:
     text = re.sub(r"\s*\*\*\s*(-?\d+)", r"<sup>\1</sup>", unit)
     text = re.sub(r"\s*\*\s*", "&#183;", text)
     return re.sub(r"\s*/\s*", "/", text)
+
+
+def unit_mathml(unit: str) -> str:
+    """``ft / s ** 2`` as MathML: upright unit names (``mathvariant="normal"``, so the unit N is not
+    the italic symbol N), a middle dot for ``*``, a superscript for a power."""
+    out = []
+    for word, op, power in re.findall(r"([A-Za-z]+)|(\*\*|[*/])|(-?\d+)", unit):
+        if word:
+            out.append(f"<mi mathvariant=\"normal\">{_h(word)}</mi>")
+        elif op == "**":
+            continue
+        elif op:
+            out.append("<mo>&#183;</mo>" if op == "*" else "<mo>/</mo>")
+        elif out:
+            out[-1] = f"<msup>{out[-1]}<mn>{power}</mn></msup>"
+    return "<mrow>" + "".join(out) + "</mrow>"
 
 
 def name_mathml(word: str) -> str:
@@ -118,6 +134,8 @@ class MathmlProse:
                     out.append(self._name(value))
             elif kind == "num":
                 out.append(number_mathml(value))
+            elif kind == UNIT:  # (a thin space, then the unit upright)
+                out.append(f"<mspace width=\"0.167em\"/>{unit_mathml(value)}")
             elif kind == "op":
                 out.append({"*": "<mo>&#8290;</mo>"}.get(value) or f"<mo>{_h(_RELATIONS.get(value, value))}</mo>")
             elif kind != "space":

@@ -248,9 +248,10 @@ def _code_span(text: str) -> str:
 
 
 def _md(text: str) -> str:
-    """Markdown-escape plain text (no HTML, no emphasis from names like a_b_c)."""
+    """Markdown-escape plain text: no HTML, no emphasis from names like a_b_c, no maths from a ``$``
+    (GitHub, Jupyter and other KaTeX/MathJax renderers read ``$...$`` as inline maths)."""
     text = html.escape(str(text), quote=False)
-    return re.sub(r"([\\`*_\[\]#<>])", r"\\\1", text)
+    return re.sub(r"([\\`*_\[\]#<>$])", r"\\\1", text)
 
 
 class _Latex(_Renderer):
@@ -265,8 +266,9 @@ class _Latex(_Renderer):
         self.math = _LatexMath(expl.symbol_latex, note=self.prose.cell)
 
     def wrap(self, body):
-        return ("\\documentclass{article}\n\\usepackage{amsmath}\n\\usepackage[margin=2cm]{geometry}\n"
-                "\\allowdisplaybreaks\n\\begin{document}\n" + body + "\n\\end{document}\n")
+        beyond = _beyond_latin(body)
+        return ("\\documentclass{article}\n" + LATEX_ENGINE_NOTE + (LATEX_UNICODE_NOTE if beyond else "")
+                + LATEX_PREAMBLE + "\\begin{document}\n" + body + "\n\\end{document}\n")
 
     def title(self, text):
         return f"\\section*{{{self.prose.text(text)}}}"
@@ -298,6 +300,26 @@ class _Latex(_Renderer):
 
     def figure(self, figure):
         return f"% figure: {latex_escape(figure)}"
+
+
+LATEX_ENGINE_NOTE = ("% A worked solution written by `python -m solver explain`: LaTeX2e, standard packages only.\n"
+                     "% pdflatex sets it in T1-encoded Latin Modern from UTF-8 input; lualatex and xelatex through fontspec.\n")
+LATEX_UNICODE_NOTE = ("% This text holds letters beyond the Latin script (from the scene's text): compile it with\n"
+                      "% lualatex or xelatex, with a main font that has them (\\setmainfont{...} after fontspec).\n")
+LATEX_PREAMBLE = ("\\usepackage{iftex}\n"
+                  "\\ifPDFTeX\n  \\usepackage[T1]{fontenc}\n  \\usepackage[utf8]{inputenc}\n  \\usepackage{lmodern}\n"
+                  "\\else\n  \\usepackage{fontspec}\n\\fi\n"
+                  "\\usepackage{amsmath}\n\\usepackage[margin=2cm]{geometry}\n\\allowdisplaybreaks\n")
+"""The LaTeX worked solution's preamble: for pdflatex T1 fonts (``<``, ``>``, ``|`` and accented
+letters print as typed, not as OT1's inverted marks) and UTF-8 input; for lualatex and xelatex
+fontspec (\\ifPDFTeX from the iftex package, which every distribution with hyperref has)."""
+_LATIN_PUNCTUATION = set("\u2013\u2014\u2018\u2019\u201c\u201d\u2026")
+
+
+def _beyond_latin(text: str) -> bool:
+    """Whether ``text`` holds a character pdflatex's T1/UTF-8 setup does not set: beyond Latin
+    Extended-A (U+017F), typographic dashes, quotes and the ellipsis apart."""
+    return any(ord(ch) > 0x17F and ch not in _LATIN_PUNCTUATION for ch in text)
 
 
 # -- HTML ------------------------------------------------------------------------------------------
