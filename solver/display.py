@@ -888,7 +888,7 @@ def _merge_pairs(p: sp.Expr) -> sp.Expr:
     reader sees as sin**2 + cos**2 goes even where the remainder of :func:`_reduce_poly` (sin**2
     written 1 - cos**2 everywhere) has as many terms as ``p``: ``-c*sin**2 - c*cos**2 + b*sin**2``."""
     terms, merged = set(sp.Add.make_args(p)), False
-    for t in list(terms):
+    for t in sp.Add.make_args(p):  # (in the sum's own order: the set's would depend on the hash seed)
         if t not in terms:
             continue
         for f in sp.Mul.make_args(t):
@@ -917,7 +917,7 @@ def _merge_complements(p: sp.Expr, pows: set | None = None) -> sp.Expr:
     if not p.is_Add or not any(isinstance(x.base, sp.cos) and x.exp.is_Integer and x.exp.p >= 2 for x in pows):
         return p
     terms = set(sp.Add.make_args(p))
-    for t in terms:
+    for t in p.args:  # (in the sum's own order, not the set's: which pair goes first decides the form)
         for f in sp.Mul.make_args(t):
             if not (f.is_Pow and isinstance(f.base, sp.cos) and f.exp.is_Integer and f.exp.p >= 2):
                 continue

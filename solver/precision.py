@@ -435,7 +435,7 @@ def _exact_solve(A: sp.Matrix, b: sp.Matrix, kept: Mapping, where: str) -> sp.Ma
     for e in exprs:  # (numbers too: an advisor point's coordinate may be sqrt(3)/20)
         atoms |= {a for a in e.atoms(sp.Function) if a.free_symbols or not a.is_Rational}
         atoms |= {a for a in e.atoms(sp.Pow) if not a.exp.is_Integer and (a.free_symbols or not a.is_Rational)}
-    ordered = sorted(atoms, key=lambda a: -sp.count_ops(a))
+    ordered = sorted(atoms, key=lambda a: (-sp.count_ops(a), sp.default_sort_key(a)))  # (ties: not the set's order)
     # pi, E, ... outside the functions: more generators of the field
     ordered += sorted({c for e in exprs for c in e.atoms(sp.NumberSymbol)}, key=str)
     syms = sp.symbols(f"_atom0:{len(ordered)}")
