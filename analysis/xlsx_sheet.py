@@ -52,6 +52,17 @@ def _column_number(ref: str) -> int:
     return n
 
 
+_MAIN = "http://schemas.openxmlformats.org/spreadsheetml/2006/main"
+"""The worksheet's namespace (openpyxl's ``SHEET_MAIN_NS``): elements of any other are not cells."""
+
+
+def _local(name: str) -> str:
+    """The local name of an element of the worksheet's namespace, "" for any other (expat gives
+    ``namespace}name``): a ``<c>`` of a foreign namespace is no cell, as openpyxl reads it."""
+    namespace, _, local = name.rpartition("}")
+    return local if namespace == _MAIN else ""
+
+
 def _refuse_entities(*_args):
     from defusedxml import EntitiesForbidden
     raise EntitiesForbidden("entity declared in a worksheet", None, None, None, None, None)
@@ -77,7 +88,7 @@ class _Cells:
         self.inline = self.phonetic = 0
 
     def start(self, name, attrs):
-        name = name.rpartition("}")[2]
+        name = _local(name)
         if name == "c":
             ref = attrs.get("r")
             self.column = _column_number(ref) if ref else self.column + 1
@@ -87,7 +98,7 @@ class _Cells:
             self.value, self.inline = None, 0
         elif name == "v" or (name == "t" and self.inline and not self.phonetic):
             self.text = []
-        elif name == "is":
+        elif name == "is" and self.kind == "inlineStr":  # (another type's <is> is ignored, as by openpyxl)
             self.inline, self.value = 1, ""
         elif name == "rPh":
             self.phonetic += 1
@@ -101,9 +112,10 @@ class _Cells:
             self.text.append(data)
 
     def end(self, name):
-        name = name.rpartition("}")[2]
+        name = _local(name)
         if name == "v" and self.text is not None:
-            self.value = "".join(self.text) or None
+            if self.kind != "inlineStr":  # an inline string's value is its <is> alone, as openpyxl reads it
+                self.value = "".join(self.text) or None
             self.text = None
         elif name == "t" and self.text is not None:
             self.value += "".join(self.text)
@@ -167,6 +179,7 @@ def sheet_values(wb, ws, max_columns: int, too_wide):
     parser.CharacterDataHandler = cells.chars
     parser.EntityDeclHandler = parser.UnparsedEntityDeclHandler = _refuse_entities
     parser.ExternalEntityRefHandler = _refuse_external
+    parser.SkippedEntityHandler = _refuse_entities  # an entity no declaration defines (an external DTD's)
     parser.SetParamEntityParsing(expat.XML_PARAM_ENTITY_PARSING_NEVER)
     counter = [1]
     with ws._get_source() as src:
