@@ -668,12 +668,19 @@ def _sheet_rows(wb, ws, source: str):
 
 
 def _holds_a_cell(wb, ws, source: str) -> bool:
-    """Whether a worksheet holds a cell that is not blank (the first one found ends the scan)."""
-    for i, r in enumerate(_sheet_rows(wb, ws, source)):
-        if i >= XLSX_MAX_ROWS:
-            return False
-        if any(_cell_text(v).strip() for v in r):
-            return True
+    """Whether a worksheet holds a cell that is not blank (the first one found ends the scan).
+
+    Asked of the sheets not read, for the hint naming them: a sheet that cannot be read (its
+    XML malformed or declaring entities, a shared string out of range, too many columns) is counted as holding
+    data, so that the hint names it, and does not refuse the sheet that was read."""
+    try:
+        for i, r in enumerate(_sheet_rows(wb, ws, source)):
+            if i >= XLSX_MAX_ROWS:
+                return False
+            if any(_cell_text(v).strip() for v in r):
+                return True
+    except Exception:  # noqa: BLE001 - ParseError, EntitiesForbidden, IndexError, too wide ... in that sheet
+        return True
     return False
 
 

@@ -360,3 +360,34 @@ def test_the_fast_sheet_reader_reads_odd_cells_as_openpyxl_or_refuses(tmp_path, 
     path.write_bytes(undefined)
     code, out, err = analysis_cli("summarize", str(path))
     assert (code, out, err.count("\n")) == (2, "", 1) and "entit" in err, (code, out, err)
+
+
+def test_a_fault_in_a_sheet_not_read_does_not_refuse_the_sheet_read(analysis_cli, tmp_path):
+    """QA 18 #4: a second sheet declaring entities refused the whole workbook, with --sheet naming
+    the good one too, and the error named a row of the sheet read. That sheet is only scanned
+    for the hint naming the sheets not read: it is named there, and the sheet read is read."""
+    import openpyxl
+    wb = openpyxl.Workbook()
+    wb.active.title = "Data"
+    for r in [["id", "Q1"], [1, "Agree"], [2, "Disagree"]]:
+        wb.active.append(r)
+    wb.create_sheet("Evil").append(["x"])
+    buf = io.BytesIO()
+    wb.save(buf)
+    evil = "xl/worksheets/sheet2.xml"
+    zin = __import__("zipfile").ZipFile(io.BytesIO(buf.getvalue()))
+    out = io.BytesIO()
+    with __import__("zipfile").ZipFile(out, "w") as z:
+        for info in zin.infolist():
+            body = zin.read(info.filename)
+            if info.filename == evil:
+                body = re.sub(rb"^<\?xml[^>]*\?>", b"", body).replace(b"<t>x", b"<t>&e;x", 1)
+                body = b'<?xml version="1.0"?><!DOCTYPE w [<!ENTITY e "lol">]>' + body
+            z.writestr(info.filename, body)
+    path = tmp_path / "two.xlsx"
+    path.write_bytes(out.getvalue())
+    for argv in ([], ["--sheet", "Data"]):
+        code, text, err = analysis_cli("summarize", str(path), "--json", *argv)
+        assert code == 0, err
+        assert json.loads(text)["respondents"] == 2
+    assert "'Evil' also holds data" in analysis_cli("summarize", str(path))[2]
