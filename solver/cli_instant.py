@@ -170,8 +170,7 @@ def digits_lost_text(lost: dict) -> str:
     """The sentence on the unknowns whose digits cancellation took (``digits_lost`` of a solve)."""
     parts = [f"{name} lost {v['digits']:.0f} of float64's 16 digits (error up to "
              f"{format_number(v['error_bound']['value'], 2)} {v['error_bound']['unit']})" for name, v in lost.items()]
-    return ("cancellation: the terms of the equations are far larger than these unknowns (large rates, a force "
-            "that is nearly zero): " + "; ".join(parts) + "; the printed digits beyond those left are round-off")
+    return ("cancellation: the terms of the equations are far larger than these unknowns (large rates): " + "; ".join(parts) + "; the printed digits beyond those left are round-off")
 
 
 def _state_payload(system, state) -> dict:

@@ -116,3 +116,23 @@ def test_a_matrix_lost_to_round_off_is_not_called_a_singular_configuration(solve
     code, out, err = solver_cli("solve", PIN_BAR, "--point", "A", "--set", "theta_dot=3e8 rad/s", "--set", "theta=60 deg")
     assert code == 0 and "singular" not in out + err, (code, out, err)
     assert "warning: cancellation" in out and "theta_ddot lost 16 of float64's 16 digits" in out
+
+
+@pytest.mark.parametrize("scene, argv", [
+    (PIN_BAR, ["--set", "theta=90 deg"]), (PIN_BAR, ["--set", "theta=180 deg"]),
+    ("data/scenes/sliding_bar.toml", ["--set", "theta=90 deg"]),
+    ("data/scenes/double_pendulum.toml", ["--set", "theta1=180 deg"]),
+    (PIN_BAR, ["--set", "theta=90 deg", "--set", "theta_dot=2 rad/s"]),
+    ("tests/data/multibody/block_incline.toml", ["--set", "beta=90 deg"]),
+    ("data/scenes/compound_pendulum.toml", ["--set", "theta=0 deg"]),
+    ("tests/data/multibody/spring_slot.toml", [])])
+def test_an_answer_that_is_zero_is_not_flagged_as_lost(solver_cli, scene, argv):
+    """QA 17 #4: at a textbook state whose answer is 0 (the bar hanging or upright, the block on
+    a vertical incline pressing on nothing, the slot's normal force), the solve computes about
+    1e-16 beside terms of about 10, and the warning said every digit was lost. The bound is now
+    set against the unknown's scale at rest (the terms with every rate 0), as well as its value:
+    no warning, and the JSON carries no digits_lost, while the bar at 1e9 rad/s about G still
+    has one (test_cancelling_terms_are_flagged_with_the_digits_lost)."""
+    code, out, err = solver_cli("solve", scene, *argv, "--json")
+    assert code == 0, err
+    assert "digits_lost" not in json.loads(out), json.loads(out).get("digits_lost")

@@ -706,7 +706,7 @@ def solution_in_regime(system, regime, warning: str | None, state: State | None,
         f = formulate(system, method, point)
         state = assemble(system) if state is None else state
         res = f.numeric().solve(state.q, state.qd, state.t, once=True, bounds=True)
-        lost = _digits_lost(system, res, f.numeric().names)
+        lost = _digits_lost(system, res, f.numeric().names, _scale_at_rest(f.numeric(), state, res))
         if lost:
             extra["digits_lost"] = lost
     _check_limits(system, state)
@@ -726,21 +726,43 @@ def solution_in_regime(system, regime, warning: str | None, state: State | None,
     return InstantSolution(unknowns, cond, shown, method, state, system.name, extra)
 
 
-def _digits_lost(system, res: dict, names) -> dict:
+def _scale_at_rest(model, state, res) -> "np.ndarray | None":
+    """Each unknown's scale at rest: the size of the terms that make it with every rate set to
+    0 at the same configuration (its error bound there over :data:`ERROR_BOUND_FACTOR` u), the
+    size gravity, springs and the given loads give it. None where nothing moves (the bound at
+    the state is that one) or that solve fails."""
+    if res.get("error_bound") is None or not any(state.qd):
+        return None
+    try:
+        rest = model.solve(state.q, [0.0] * len(state.qd), state.t, once=True, bounds=True)
+    except (InputError, SingularConfigurationError):
+        return None
+    bound = rest.get("error_bound")
+    return None if bound is None else np.asarray(bound) / (ERROR_BOUND_FACTOR * ROUND_OFF)
+
+
+def _digits_lost(system, res: dict, names, at_rest=None) -> dict:
     """The unknowns whose error bound (``res["error_bound"]``) exceeds :data:`SIGNIFICANT_ERROR` of
     their size: name -> {"digits": float64 digits lost, "error_bound": {"value", "unit"}}; a
     one-body system's alpha, a combination of its accelerations, is named with the worst of them.
-    An unknown computed as exactly 0 is not flagged: a reaction with nothing to carry is 0 by the
-    structure of the equations, whatever the round-off of the other unknowns."""
+
+    The size is the larger of the unknown's value and of its scale (:func:`_scale_at_rest`,
+    ``at_rest``; at rest, the size of the terms that make it): an answer that is 0 (a pendulum's
+    angular acceleration at the bottom, a vertical bar's reaction on a wall), computed as
+    1e-16 beside terms of 10, is round-off of 0, not an answer that lost its digits, while an
+    angular acceleration of 7 left by omega**2 terms of 1e17 at 1e9 rad/s lost every digit of
+    it. An unknown computed as exactly 0 is not flagged: a reaction with nothing to carry is 0
+    by the structure of the equations, whatever the round-off of the other unknowns."""
     bound = res.get("error_bound")
     if bound is None:
         return {}
     units = {str(c.qdd): "rad/s**2" if c.kind == "angle" else "m/s**2" for c in system.free}
     units.update({r.name: r.unit for r in system.reactions})
+    scale = dict(zip(names, bound / (ERROR_BOUND_FACTOR * ROUND_OFF) if at_rest is None else at_rest))
     lost = {}
     for name, e in zip(names, bound):
         size = abs(float(res[name]))
-        if size and e > SIGNIFICANT_ERROR * size:  # (an exact 0, a reaction with nothing to do, is not flagged)
+        if size and e > SIGNIFICANT_ERROR * max(size, float(scale[name])):  # (an exact 0 is not flagged)
             digits = min(16.0, max(0.0, math.log10(e / (ROUND_OFF * size))))
             lost[name] = {"digits": round(digits, 1), "error_bound": {"value": float(e), "unit": units.get(name, "")}}
     accelerations = [lost[str(c.qdd)] for c in system.free if str(c.qdd) in lost]
