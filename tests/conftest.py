@@ -26,14 +26,16 @@ REPORT_BUILD_FILES = frozenset({"tests/test_report.py", "tests/test_browser.py",
 # process-time hook, 23 November 2026: report build group ~22 (browser 8, drawing 8, report 6),
 # explain ~16, routes ~15, extremes ~10, display ~10, multibody scenes ~9, multibody properties ~8,
 # friction regimes ~7, analysis tables and analysis report ~6 each, period ~5, fuzz solver and
-# multibody joints ~4, command line ~3), the rest after them in xdist's order (most tests first).
+# multibody joints ~4, command line ~3; 26 November: precision ~4.5, analysis compare, institution and
+# advised points ~2.5 each, the hash-seed subprocesses ~2), the rest after them in xdist's order.
 # Longest-first keeps the two workers finishing together: xdist alone orders by number of tests,
 # which sent the 2-test, 8 s multibody-properties file last. Only the order changes, never what runs.
 HEAVY_FIRST = ("report-build", "tests/test_explain.py", "tests/test_routes.py", "tests/test_extremes.py",
                "tests/test_display.py", "tests/test_multibody_scenes.py", "tests/test_multibody_properties.py",
-               "tests/test_friction_regimes.py", "tests/test_analysis_tables.py", "tests/test_analysis_report.py",
-               "tests/test_period.py", "tests/test_fuzz_solver.py", "tests/test_multibody_joints.py",
-               "tests/test_cli_solver.py")
+               "tests/test_friction_regimes.py", "tests/test_precision.py", "tests/test_analysis_tables.py",
+               "tests/test_analysis_report.py", "tests/test_period.py", "tests/test_fuzz_solver.py",
+               "tests/test_multibody_joints.py", "tests/test_analysis_compare.py", "tests/test_analysis_institution.py",
+               "tests/test_advised_points.py", "tests/test_hash_seed.py", "tests/test_cli_solver.py")
 
 
 # The cyclic garbage collector in a test process. Its full collections walk every live object,

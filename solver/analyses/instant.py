@@ -705,7 +705,9 @@ def solution_in_regime(system, regime, warning: str | None, state: State | None,
     else:
         f = formulate(system, method, point)
         state = assemble(system) if state is None else state
-        res = f.numeric().solve(state.q, state.qd, state.t, once=True, bounds=True)
+        # at rest an unknown's bound is set against its own scale there, which no bound exceeds
+        # (:func:`_digits_lost`): the bounds are computed only where something moves
+        res = f.numeric().solve(state.q, state.qd, state.t, once=True, bounds=any(state.qd))
         lost = _digits_lost(system, res, f.numeric().names, _scale_at_rest(f.numeric(), state, res))
         if lost:
             extra["digits_lost"] = lost
