@@ -136,3 +136,21 @@ def test_an_answer_that_is_zero_is_not_flagged_as_lost(solver_cli, scene, argv):
     code, out, err = solver_cli("solve", scene, *argv, "--json")
     assert code == 0, err
     assert "digits_lost" not in json.loads(out), json.loads(out).get("digits_lost")
+
+
+def test_explain_at_large_rates_answers_as_solve_does_and_warns(solver_cli):
+    """QA 17 #1: explain solved its own substituted system without refinement: the bar about O at
+    1e8 rad/s gave theta_ddot = -8.08 (-7.3575 exact), and about G at 1e9 rad/s a wrong value with
+    no word, which its mass-centre check then seemed to confirm. Where something moves it now
+    takes `solve`'s answer: exact about O (1e-12 relative, as above), and about G the warning that
+    the acceleration lost its digits."""
+    import re
+
+    code, out, err = solver_cli("explain", PIN_BAR, "--point", "O", "--set", "theta_dot=1e8 rad/s")
+    assert code == 0, err
+    solution = out.split("unknowns at the state", 1)[1]
+    value = float(re.search(r"theta_ddot\s+(\S+)\s+rad/s\*\*2", solution).group(1))
+    assert value == pytest.approx(EXACT, rel=1e-5)  # printed to 6 significant digits
+    assert "Warning: cancellation" not in out
+    code, out, err = solver_cli("explain", PIN_BAR, "--point", "G", "--set", "theta_dot=1e9 rad/s")
+    assert code == 0 and "Warning: cancellation" in out and "theta_ddot lost" in out, err

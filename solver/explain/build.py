@@ -895,7 +895,9 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
         solution = solution_in_regime(scene, *found, point, "generalized_euler")
         check = _mass_center_in_regime(scene, found)
     else:
-        solution = (_solve_at_state(system, f, point, state, numeric, cond)
+        # where something moves, the product's own solve (refined once, its round-off bounded: the
+        # cancellation warning of `solve`); at rest the substituted system above, solved here
+        solution = ((None if any(state.qd) else _solve_at_state(system, f, point, state, numeric, cond))
                     or solve_instant(system, point, "generalized_euler", state))
         check = _mass_center_check(system, state)
     final.steps.append(_solution_step(system, solution, cond))
@@ -1455,6 +1457,11 @@ def _solution_step(system, solution, cond: float | None) -> Step:
            "their matrix is singular, its condition number infinite: one admissible solution")
     text = [f"The {len(rows)} unknowns at the state, from the linear equations above ({how}), in the scene's "
             "output units."]
+    if "digits_lost" in solution.extra:  # as `solve` warns of it
+        from ..cli_instant import digits_lost_text
+        from ..output_units import to_output_units
+
+        text.append("Warning: " + digits_lost_text(to_output_units(solution.extra["digits_lost"], system.output_units)) + ".")
     return Step("solution", "Solution", text, table=Table(("unknown", "value", "unit"), tuple(rows)))
 
 
