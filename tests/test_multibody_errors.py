@@ -414,3 +414,20 @@ def test_a_motion_that_is_zero_at_every_time_names_its_key(solver_cli, tmp_path,
     path.write_text(path.read_text().replace('theta = { motion = "omega*t" }', f'theta = {{ motion = "{motion}" }}'))
     line = one_line_error(solver_cli, path)
     assert "coordinates.theta.motion" in line and "does not tell an angle from a length" in line
+
+
+@pytest.mark.parametrize("guess, branch", [("90 deg", -5.58686), ("-90 deg", -5.58686), ("270 deg", 185.587)])
+def test_a_guess_where_the_closure_jacobian_vanishes_still_assembles(solver_cli, guess, branch):
+    """QA 17 #2: slider_crank with the rod's guess at 90 deg, where the closure's Jacobian l cos(phi)
+    vanishes: Newton's first step was 1e16 rad and the state printed phi = -1.02681e+18 deg (an angle
+    with no digit left) with a full table of reactions. With each step turning an angle by at most
+    1 rad, it reaches a branch of the loop, as the guesses 89 deg and 91 deg did. Reference: the
+    rod's angle from the geometry by hand, sin(phi) = -r sin(theta) / l with the crank's theta =
+    omega t at t = 0.004 s, omega = 100 rad/s, r = 0.05 m, l = 0.2 m (the scene's data); the
+    printed 6 digits."""
+    code, out, err = solver_cli("solve", str(SLIDER_CRANK), "--set", f"phi={guess}")
+    assert code == 0, err
+    theta = 100 * 0.004
+    principal = math.degrees(math.asin(-0.05 * math.sin(theta) / 0.2))
+    assert round(branch, 2) in (round(principal, 2), round(180 - principal, 2))
+    assert f"phi = {branch:g} deg" in out.splitlines()[1], out.splitlines()[1]

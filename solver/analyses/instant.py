@@ -515,7 +515,7 @@ def assemble(system, q=None, qd=None, t=None) -> State:
     dep = [i for i, c in enumerate(free) if c.dependent]
     ind = [i for i, c in enumerate(free) if not c.dependent]
     guesses = q.copy()
-    q, res = _newton_closure(funcs, q, t, dep)
+    q, res = _newton_closure(funcs, q, t, dep, [i for i in dep if free[i].kind == "angle"])
     if not _closes(res, q):
         _refuse_unclosed(system, funcs, guesses, t, dep, res)
     turns = [i for i in dep if free[i].kind == "angle"]  # each angle in the turn of its guess
@@ -533,17 +533,29 @@ def assemble(system, q=None, qd=None, t=None) -> State:
     return State(tuple(q), tuple(qd), t)
 
 
-def _newton_closure(funcs, q, t, dep):
+_MAX_ANGLE_STEP = 1.0
+"""The largest change of a dependent angle in one Newton step [rad]: from a guess where the closure's
+Jacobian vanishes (slider_crank's rod at phi = 90 deg, J = l cos(phi) = 6e-17) the full step was
+1e16 rad, an angle with no digit left, which then "closed" the loop to the tolerance of its size."""
+
+
+def _newton_closure(funcs, q, t, dep, angles=()):
     """(q, residual): Newton's method (Gauss-Newton where the rows outnumber ``dep``) on the
-    closure equations in the dependent coordinates ``dep`` (indices), from ``q``."""
+    closure equations in the dependent coordinates ``dep`` (indices), from ``q``; a step that
+    would turn one of the dependent ``angles`` (indices) by more than :data:`_MAX_ANGLE_STEP` is
+    shortened to that, along its direction."""
     fPhi, fJ, _, pv, m, _ = funcs
     q = np.array(q, dtype=float)
+    turning = [k for k, i in enumerate(dep) if i in set(angles)]
     for _ in range(_NEWTON_STEPS):
         res = np.array(fPhi(*q, t, *pv), dtype=float)
         if _closes(res, q, 1e-13) or not dep:
             break
         J = np.array(fJ(*q, t, *pv), dtype=float).reshape(m, len(q))
         step, *_ = np.linalg.lstsq(J[:, dep], -res, rcond=None)
+        widest = float(np.max(np.abs(step[turning]), initial=0.0))
+        if widest > _MAX_ANGLE_STEP:
+            step = step * (_MAX_ANGLE_STEP / widest)
         q[dep] += step
         if not np.all(np.isfinite(q)):
             break
@@ -579,7 +591,7 @@ def _refuse_unclosed(system, funcs, guesses, t, dep, res) -> None:
             break
         start = np.array(guesses, dtype=float)
         start[angles] += 2 * math.pi * np.array(spots) / per
-        q, r = _newton_closure(funcs, start, t, dep)
+        q, r = _newton_closure(funcs, start, t, dep, angles)
         if _closes(r, q):
             found = ", ".join(f"{free[i].name} = {math.degrees(q[i]) if free[i].kind == 'angle' else q[i]:.6g}"
                               f" {'deg' if free[i].kind == 'angle' else 'm'}" for i in dep)
