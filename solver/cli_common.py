@@ -301,6 +301,17 @@ def format_number(value: float, digits: int = 6) -> str:
     return f"{value:.{digits}g}"
 
 
+def digits_lost_text(lost: dict, units: Mapping[str, str] | None = None) -> str:
+    """The sentence on the unknowns whose digits cancellation took (``digits_lost`` of a solve,
+    :func:`solver.analyses.instant.solution_in_regime`), its bounds in the scene's ``[output_units]``:
+    `solve` prints it as a warning and `explain` beside its solution."""
+    lost = to_output_units(lost, units)
+    parts = [f"{name} lost {v['digits']:.0f} of float64's 16 digits (error up to "
+             f"{format_number(v['error_bound']['value'], 2)} {v['error_bound']['unit']})" for name, v in lost.items()]
+    return ("cancellation: the terms of the equations are far larger than these unknowns (large rates): "
+            + "; ".join(parts) + "; the printed digits beyond those left are round-off")
+
+
 def format_pair(a: float, b: float, digits: int = 6) -> tuple[str, str]:
     """Two values to compare, printed so that values equal to the printed precision print equal.
 
@@ -463,6 +474,7 @@ __all__ = [
     "in_output_units",
     "print_json",
     "format_number",
+    "digits_lost_text",
     "format_pair",
     "format_table",
     "state_text",

@@ -23,6 +23,7 @@ from solver.lazy import lazy_module
 from solver.cli_common import (
     add_common_arguments,
     check_finite,
+    digits_lost_text,
     format_number,
     format_table,
     load_scene_from_args,
@@ -160,17 +161,10 @@ def solve_command(args: argparse.Namespace) -> int:
     if "warning" in result:
         print(f"warning: {result['warning']}")
     if "digits_lost" in result:
-        print(f"warning: {digits_lost_text(to_output_units(result['digits_lost'], system.output_units))}")
+        print(f"warning: {digits_lost_text(result['digits_lost'], system.output_units)}")
     if "alpha" in unknowns:
         print("alpha is the k-component of the angular acceleration (counter-clockwise positive).")
     return 0
-
-
-def digits_lost_text(lost: dict) -> str:
-    """The sentence on the unknowns whose digits cancellation took (``digits_lost`` of a solve)."""
-    parts = [f"{name} lost {v['digits']:.0f} of float64's 16 digits (error up to "
-             f"{format_number(v['error_bound']['value'], 2)} {v['error_bound']['unit']})" for name, v in lost.items()]
-    return ("cancellation: the terms of the equations are far larger than these unknowns (large rates): " + "; ".join(parts) + "; the printed digits beyond those left are round-off")
 
 
 def _state_payload(system, state) -> dict:

@@ -1458,10 +1458,9 @@ def _solution_step(system, solution, cond: float | None) -> Step:
     text = [f"The {len(rows)} unknowns at the state, from the linear equations above ({how}), in the scene's "
             "output units."]
     if "digits_lost" in solution.extra:  # as `solve` warns of it
-        from ..cli_instant import digits_lost_text
-        from ..output_units import to_output_units
+        from ..cli_common import digits_lost_text
 
-        text.append("Warning: " + digits_lost_text(to_output_units(solution.extra["digits_lost"], system.output_units)) + ".")
+        text.append("Warning: " + digits_lost_text(solution.extra["digits_lost"], system.output_units) + ".")
     return Step("solution", "Solution", text, table=Table(("unknown", "value", "unit"), tuple(rows)))
 
 
