@@ -16,6 +16,7 @@ from functools import lru_cache, wraps
 import sympy as sp
 from markupsafe import Markup
 from sympy.printing.mathml import MathMLPresentationPrinter
+from sympy.printing.precedence import PRECEDENCE
 
 __all__ = ["to_mathml", "equation_mathml", "mathml_body", "printed_once", "wrap", "mathml_text", "mathml_width", "MATHML_NS", "MINUS"]
 
@@ -37,6 +38,38 @@ class _Printer(MathMLPresentationPrinter):
                     return name
                 return self._dotted(name, accent)
         return super()._print_Symbol(sym, style)
+
+    def _print_Mul(self, expr):  # noqa: N802 (sympy's naming)
+        """A negated sum keeps its brackets, -(a + b): sympy's printer drops them when the
+        minus is the product's only other factor (an unevaluated ``Mul(-1, a + b)``)."""
+        if expr.could_extract_minus_sign() and isinstance(-expr, sp.Add):
+            return self._minus(-expr)
+        return super()._print_Mul(expr)
+
+    def _print_Add(self, expr, order=None):  # noqa: N802 (sympy's naming)
+        """A sum whose terms print as sympy's do, except that a term subtracted as a whole
+        sum is bracketed, a - (b - c), where sympy's printer writes a - b - c."""
+        mrow = self.dom.createElement("mrow")
+        terms = self._as_ordered_terms(expr, order=order)
+        mrow.appendChild(self._print(terms[0]))
+        for term in terms[1:]:
+            negative = term.could_extract_minus_sign()
+            mrow.appendChild(self._operator("-" if negative else "+"))
+            shown = -term if negative else term
+            mrow.appendChild(self.parenthesize(shown, PRECEDENCE["Add"]) if negative else self._print(shown))
+        return mrow
+
+    def _minus(self, expr):
+        """``-(expr)``, the sum ``expr`` in brackets."""
+        mrow = self.dom.createElement("mrow")
+        mrow.appendChild(self._operator("-"))
+        mrow.appendChild(self.parenthesize(expr, PRECEDENCE["Add"]))
+        return mrow
+
+    def _operator(self, text: str):
+        mo = self.dom.createElement("mo")
+        mo.appendChild(self.dom.createTextNode(text))
+        return mo
 
     def _dotted(self, node, accent: str):
         over = self.dom.createElement("mover")
