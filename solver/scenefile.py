@@ -964,21 +964,11 @@ class _SceneLoader:
             key = f"loads[{i}]"
             kind = self.kind_of(spec, key, "load", LOAD_KINDS, LOAD_COMMON, LOAD_KEYS)
             name = self.identifier(spec.get("name", kind if kind == "gravity" else f"{kind}_{i + 1}"), f"{key}.name", "load name")
-            if name in names:
-                raise self.fail(f"{key}.name", f"duplicate load name {name!r}" + (" (only one gravity load is allowed)" if kind == "gravity" else ""))
-            names.add(name)
+            self.distinct_load(name, kind, key, names, any(load.kind == "gravity" for load in loads))
             if kind == "gravity":
-                if any(load.kind == "gravity" for load in loads):
-                    raise self.fail(key, "a second gravity load (gravity acts once on every element)")
                 g = self.expr(self.require(spec, "g", key, "the gravitational acceleration, e.g. g = \"g\""), f"{key}.g", self.names.params, ACCELERATION)
                 self.positive(g, f"{key}.g", "g")
-                direction = self.vector(spec.get("direction", [0, -1]), f"{key}.direction", self.names.params, DIMENSIONLESS)
-                dx, dy = (self.si(c, f"{key}.direction") for c in direction)
-                if math.hypot(dx, dy) < 1e-12:
-                    raise self.fail(f"{key}.direction", "the direction is the zero vector")
-                if abs(math.hypot(dx, dy) - 1.0) > 1e-12:
-                    direction = direction / sp.sqrt(direction[0] ** 2 + direction[1] ** 2)
-                loads.append(Load(name, kind, magnitude=g, direction=direction))
+                loads.append(Load(name, kind, magnitude=g, direction=self.unit_direction(spec, key)))
             elif kind == "force":
                 point = self.text(self.require(spec, "point", key, "the body point where it acts"), f"{key}.point")
                 if point not in points:
@@ -992,6 +982,25 @@ class _SceneLoader:
                 moment = self.expr(self.require(spec, "moment", key, "its k-component, counter-clockwise positive"), f"{key}.moment", self.names.with_state_t, MOMENT)
                 loads.append(Load(name, kind, magnitude=moment))
         return loads
+
+    def distinct_load(self, name: str, kind: str, key: str, names: set[str], has_gravity: bool) -> None:
+        """Refuse a load whose name an earlier load has, or a second gravity load (a pasted block
+        would double g unsaid); record ``name`` in ``names``."""
+        if name in names:
+            raise self.fail(f"{key}.name", f"duplicate load name {name!r}" + (" (only one gravity load is allowed)" if kind == "gravity" else ""))
+        if kind == "gravity" and has_gravity:
+            raise self.fail(key, "a second gravity load (gravity acts once on every element)")
+        names.add(name)
+
+    def unit_direction(self, spec: dict[str, Any], key: str) -> sp.Matrix:
+        """``spec``'s ``direction`` (default straight down), scaled to unit length: a direction
+        says which way and never how much, so ["1", "-1"] does not make gravity sqrt(2) times
+        stronger. The zero vector is refused."""
+        direction = self.vector(spec.get("direction", [0, -1]), f"{key}.direction", self.names.params, DIMENSIONLESS)
+        norm = math.hypot(*(self.si(c, f"{key}.direction") for c in direction))
+        if norm < 1e-12:
+            raise self.fail(f"{key}.direction", "the direction is the zero vector")
+        return direction / sp.sqrt(direction[0] ** 2 + direction[1] ** 2) if abs(norm - 1.0) > 1e-12 else direction
 
     def _read_output_units(self, table: dict[str, Any]) -> dict[str, str]:
         chosen: dict[str, str] = {}

@@ -431,3 +431,57 @@ def test_a_guess_where_the_closure_jacobian_vanishes_still_assembles(solver_cli,
     principal = math.degrees(math.asin(-0.05 * math.sin(theta) / 0.2))
     assert round(branch, 2) in (round(principal, 2), round(180 - principal, 2))
     assert f"phi = {branch:g} deg" in out.splitlines()[1], out.splitlines()[1]
+
+
+# --------------------------------------------------------------------------- loads (QA 19 #3, #7)
+PENDULUM = """name = "pendulum"
+[parameters]
+m = "2 kg"
+L = "1 m"
+g = "9.81 m/s^2"
+[coordinates]
+theta = { value = "30 deg", rate = "1 rad/s" }
+[ground.points]
+O = ["0", "0"]
+[[bodies]]
+name = "bar"
+orientation = "theta - pi/2"
+reference_point = "O"
+points = { O = ["0", "0"], E = ["L", "0"] }
+elements = [{ kind = "slender_bar", mass = "m", from = "O", to = "E" }]
+[[joints]]
+kind = "pin"
+name = "O"
+connects = ["ground:O", "bar:O"]
+"""
+GRAVITY = '[[loads]]\nkind = "gravity"\ng = "g"\n'
+
+
+def test_a_tilted_gravity_direction_says_which_way_not_how_much(tmp_path):
+    """direction = ["1", "-1"] is the unit vector (1, -1)/sqrt(2): before, the weight was sqrt(2)
+    times too large. Reference by hand: about the pin, I_O alpha = (r_G/O x m g d)_z with
+    I_O = m L^2/3 and r_G/O = (L/2)(sin theta, -cos theta), so
+    alpha = 3 g (cos theta - sin theta) / (2 sqrt(2) L). Tolerance: a few round-offs of O(10)."""
+    path = tmp_path / "tilted.toml"
+    path.write_text(PENDULUM + GRAVITY + 'direction = ["1", "-1"]\n')
+    alpha = solve_instant(load_system(path)).unknowns["theta_ddot"].to("rad/s**2").magnitude
+    theta = math.radians(30)
+    assert alpha == pytest.approx(3 * 9.81 * (math.cos(theta) - math.sin(theta)) / (2 * math.sqrt(2) * 1.0), rel=1e-13)
+
+
+@pytest.mark.parametrize("extra,place,words", [
+    (GRAVITY + 'direction = ["0", "0"]\n', "loads[0].direction", "the direction is the zero vector"),
+    (GRAVITY + GRAVITY, "loads[1].name", "only one gravity load is allowed"),
+    (GRAVITY + GRAVITY.replace('g = "g"', 'name = "weight"\ng = "g"'), "loads[1]", "a second gravity load"),
+    (GRAVITY + '[[loads]]\nkind = "couple"\nname = "gravity"\nbody = "bar"\nmoment = "m*g*L"\n',
+     "loads[1].name", "duplicate load name 'gravity'"),
+    ('[[loads]]\nkind = "force"\npoint = "ground:O"\ncomponents = ["m*g", "0"]\n', "loads[0].point", "on the ground moves nothing"),
+    ('[[loads]]\nkind = "couple"\nbody = "ground"\nmoment = "m*g*L"\n', "loads[0].body", "on the ground moves nothing"),
+])
+def test_loads_that_would_act_twice_or_on_nothing_are_refused(solver_cli, tmp_path, extra, place, words):
+    """Each was accepted without a word: a pasted gravity block doubled g, a zero direction
+    switched gravity off, a force on the ground did nothing."""
+    path = tmp_path / "loads.toml"
+    path.write_text(PENDULUM + extra)
+    line = one_line_error(solver_cli, path)
+    assert f": {place}: " in line and words in line, line

@@ -115,7 +115,7 @@ class _MultibodyReader:
         for i, n in enumerate(names):
             if names.index(n) != i:
                 raise self.fail(f"joints[{i}].name", f"duplicate joint name {n!r}")
-        loads = [self._read_load(spec, i) for i, spec in enumerate(L.array_of_tables(data.get("loads", []), "loads"))]
+        loads = self._read_loads(data)
         output_units = L._read_output_units(L.table(data.get("output_units", {}), "output_units"))
         system = System(name, L.parameters, self.coordinates, bodies, joints, loads, ground=ground,
                         time=time_value, source=L.label, output_units=output_units, description=description)
@@ -587,12 +587,7 @@ class _MultibodyReader:
         b1, e = self.element_ref(L.require(spec, "drum", key, "the drum, BODY:ELEMENT"), f"{key}.drum")
         b2, _, coords = self.point_ref(L.require(spec, "point", key, "where the cord is tied, BODY:POINT"), f"{key}.point")
         self._distinct(b1, b2, key)
-        direction = L.vector(spec.get("direction", [0, -1]), f"{key}.direction", L.names.params, DIMENSIONLESS)
-        dx, dy = (L.si(c, f"{key}.direction") for c in direction)
-        norm = math.hypot(dx, dy)
-        if norm < 1e-12:
-            raise self.fail(f"{key}.direction", "the direction is the zero vector")
-        direction = direction / sp.sqrt(direction[0] ** 2 + direction[1] ** 2) if abs(norm - 1) > 1e-12 else direction
+        direction = L.unit_direction(spec, key)
         winds = L.text(spec.get("winds", "ccw"), f"{key}.winds")
         if winds not in ("ccw", "cw"):
             raise self.fail(f"{key}.winds", f"must be \"ccw\" or \"cw\", got {winds!r}")
@@ -634,14 +629,15 @@ class _MultibodyReader:
         names = L.names.with_state_t
         if kind == "gravity":
             g = L.positive(L.expr(L.require(spec, "g", key, "g"), f"{key}.g", L.names.params, ACCELERATION), f"{key}.g", "g")
-            direction = L.vector(spec.get("direction", [0, -1]), f"{key}.direction", L.names.params, DIMENSIONLESS)
-            return Gravity(name, g, direction)
+            return Gravity(name, g, L.unit_direction(spec, key))
         if kind == "force":
             body, point, _ = self._load_point(L.require(spec, "point", key, "BODY:POINT"), f"{key}.point")
+            self._not_on_ground(body, f"{key}.point")
             comps = L.vector(L.require(spec, "components", key, "[Fx, Fy]"), f"{key}.components", names, FORCE)
             return Force(name, body, point, comps)
         if kind == "couple":
             body = self.body_name(L.require(spec, "body", key, "the body it acts on"), f"{key}.body")
+            self._not_on_ground(body, f"{key}.body")
             moment = L.expr(L.require(spec, "moment", key, "its k-component"), f"{key}.moment", names, MOMENT)
             return Couple(name, body, moment)
         if kind in ("spring", "damper"):
@@ -671,6 +667,22 @@ class _MultibodyReader:
             return TorsionalSpring(name, b1, b2, k, free)
         c = L.expr(L.require(spec, "coefficient", key, "c"), f"{key}.coefficient", L.names.params, TORSION_DAMPING)
         return TorsionalDamper(name, b1, b2, L.nonnegative(c, f"{key}.coefficient", "a damping coefficient"))
+
+    def _not_on_ground(self, body, key):
+        if body == GROUND:
+            raise self.fail(key, "a force or couple on the ground moves nothing; name the body it acts on")
+
+    def _read_loads(self, data):
+        """The ``[[loads]]``, each name once and gravity at most once (the checks of the
+        one-body reader, :meth:`solver.scenefile._SceneLoader.distinct_load`)."""
+        loads, names = [], set()
+        for i, spec in enumerate(self.L.array_of_tables(data.get("loads", []), "loads")):
+            load = self._read_load(spec, i)
+            kind = "gravity" if isinstance(load, Gravity) else type(load).__name__.lower()
+            self.L.distinct_load(load.name, kind, f"loads[{i}]", names,
+                                 any(isinstance(done, Gravity) for done in loads))
+            loads.append(load)
+        return loads
 
     def _load_point(self, value, key):
         """'body:point' of a load (instant points allowed) -> (body, point, None)."""
