@@ -18,6 +18,8 @@ from markupsafe import Markup
 from sympy.printing.mathml import MathMLPresentationPrinter
 from sympy.printing.precedence import PRECEDENCE
 
+from .notation import compound_subscript
+
 __all__ = ["to_mathml", "equation_mathml", "mathml_body", "printed_once", "wrap", "mathml_text", "mathml_width", "MATHML_NS", "MINUS"]
 
 MATHML_NS = "http://www.w3.org/1998/Math/MathML"
@@ -30,6 +32,9 @@ class _Printer(MathMLPresentationPrinter):
     :func:`solver.notation.dotted_latex` writes them in LaTeX."""
 
     def _print_Symbol(self, sym, style="plain"):  # noqa: N802 (sympy's naming)
+        parts = compound_subscript(sym.name)
+        if parts is not None:
+            return self._compound(parts, style)
         for suffix, accent in _DOTS:
             if sym.name.endswith(suffix):
                 name = super()._print_Symbol(sp.Symbol(sym.name[: -len(suffix)]), style)
@@ -70,6 +75,26 @@ class _Printer(MathMLPresentationPrinter):
         mo = self.dom.createElement("mo")
         mo.appendChild(self.dom.createTextNode(text))
         return mo
+
+    def _compound(self, parts, style):
+        """A compound name (:func:`solver.notation.compound_subscript`): the nucleus with a
+        subscript row of words, marks and the crossing point's own subscripted names."""
+        row = self.dom.createElement("mrow")
+        for kind, text in parts[1:]:
+            if kind == "name":
+                row.appendChild(self._print_Symbol(sp.Symbol(text), style))
+            elif kind == "space":
+                space = self.dom.createElement("mspace")
+                space.setAttribute("width", "0.3em")
+                row.appendChild(space)
+            else:
+                node = self.dom.createElement("mo" if kind == "mark" else "mn" if text.isdigit() else "mi")
+                node.appendChild(self.dom.createTextNode(text.replace("_", " ")))
+                row.appendChild(node)
+        sub = self.dom.createElement("msub")
+        sub.appendChild(self._print_Symbol(sp.Symbol(parts[0][1]), style))
+        sub.appendChild(row)
+        return sub
 
     def _dotted(self, node, accent: str):
         over = self.dom.createElement("mover")

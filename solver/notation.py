@@ -8,7 +8,8 @@ import re
 
 import sympy as sp
 
-__all__ = ["rate_latex_names", "dotted_latex", "name_text", "typeset_text", "latex_escape"]
+__all__ = ["rate_latex_names", "dotted_latex", "name_text", "typeset_text", "latex_escape", "compound_subscript",
+           "compound_latex"]
 
 _SUBSCRIPTED = re.compile(r"(?P<nucleus>\\?[A-Za-z]+)(?P<sub>_\{.*\})")
 
@@ -35,6 +36,61 @@ def rate_latex_names(coordinates) -> dict:
         names[c.qd] = dotted_latex(c.q, "dot")
         names[c.qdd] = dotted_latex(c.q, "ddot")
     return names
+
+
+# -- compound names: a subscript naming a point by two lines, or an element of a body --------------
+_COMPOUND = re.compile(r"[(). ]")
+_SUBSCRIPT_TOKEN = re.compile(r"[A-Za-z0-9_]+|\s+|.")
+
+
+def compound_subscript(name: str):
+    """The parts of a symbol name whose subscript names a point by two lines (``r_G/I(A_x,B_y)``)
+    or an element of a body (``W_upper.bob1``, ``W_coupler.slender bar 1``), or None for any other
+    name (sympy's printers read those). Each part is ``("name", text)`` for a symbol inside the
+    brackets (``A_x``, itself subscripted), ``("word", text)`` for a word of the name (its
+    underscores join words), ``("space", " ")`` or ``("mark", text)`` for ``( ) , / .``; the
+    nucleus comes first as ``("head", text)``. The one reading of such names, for LaTeX
+    (:func:`compound_latex`) and MathML (:mod:`solver.mathml`).
+
+    >>> compound_subscript("r_I(A_x,B_y)")[:4]
+    [('head', 'r'), ('word', 'I'), ('mark', '('), ('name', 'A_x')]
+    >>> compound_subscript("theta_1") is None
+    True
+    """
+    head, _, tail = name.partition("_")
+    if not tail or not head or not _COMPOUND.search(tail):
+        return None
+    parts, depth = [("head", head)], 0
+    for token in _SUBSCRIPT_TOKEN.findall(tail):
+        depth += {"(": 1, ")": -1}.get(token, 0)
+        if token.isspace():
+            parts.append(("space", " "))
+        elif re.fullmatch(r"[A-Za-z0-9_]+", token):
+            parts.append(("name" if depth > 0 and token[0].isalpha() else "word", token))
+        else:
+            parts.append(("mark", token))
+    return parts
+
+
+def compound_latex(name: str) -> str | None:
+    r"""LaTeX of a compound name (:func:`compound_subscript`), None for any other name: the crossing
+    point's names keep their own subscripts, words stay apart.
+
+    >>> compound_latex("r_G/I(A_x,B_y)"), compound_latex("W_upper.bob1")
+    ('r_{G/I(A_{x},B_{y})}', 'W_{upper.bob1}')
+    """
+    parts = compound_subscript(name)
+    if parts is None:
+        return None
+    out = []
+    for kind, text in parts[1:]:
+        if kind == "name":
+            out.append(sp.latex(sp.Symbol(text)))
+        elif kind == "word":
+            out.append(text.replace("_", r"\ "))
+        else:
+            out.append(r"\ " if kind == "space" else latex_escape(text))
+    return sp.latex(sp.Symbol(parts[0][1])) + "_{" + "".join(out) + "}"
 
 
 # -- names in running text and on figures ---------------------------------------------------------

@@ -20,7 +20,7 @@ import re
 
 import sympy as sp
 
-from ..notation import latex_escape
+from ..notation import compound_latex, latex_escape
 
 __all__ = ["LatexProse", "latex_escape", "unit_latex", "subscripted"]
 
@@ -45,9 +45,10 @@ _RELATIONS = {">=": r"\geq", "<=": r"\leq", "=": "=", "~": r"\approx", ">": ">",
 
 _TOKEN = re.compile(r"""
     (?P<flag>--point[ ][A-Za-z0-9_:(),]*[A-Za-z0-9_)]|--[a-z][a-z-]*[a-z])
+  | (?P<prose>[A-Za-z]+'[a-z]+(?![A-Za-z0-9_]))
   | (?P<name>[A-Za-z][A-Za-z0-9]*
              (?:(?:_[A-Za-z0-9]+)+(?:,[a-z](?![A-Za-z0-9]))?(?:/[A-Za-z][A-Za-z0-9]*(?![A-Za-z0-9(]))?)?
-             (?:\([A-Za-z0-9_,]+\)(?=[\s,.;:)]|$))?'*)
+             (?:\([A-Za-z0-9_,]+\)(?:/[A-Za-z][A-Za-z0-9]*)?(?=[\s,.;:)]|$))?'*(?![A-Za-z]))
   | (?P<num>\d+(?:\.\d+)?(?:e[-+]?\d+)?)
   | (?P<op>\*\*|>=|<=|(?<=[ ])[<>](?=[ ])|[-+*/=^|~])
   | (?P<paren>[()])
@@ -132,7 +133,7 @@ class LatexProse:
     """
 
     def __init__(self, symbols, symbol_latex: dict):
-        self.known = {str(s): sp.latex(s, symbol_names=symbol_latex) for s in symbols}
+        self.known = {str(s): compound_latex(s.name) or sp.latex(s, symbol_names=symbol_latex) for s in symbols}
         self.known.update({str(s): tex for s, tex in symbol_latex.items()})
 
     # -- names ------------------------------------------------------------------------------------
@@ -141,6 +142,10 @@ class LatexProse:
         """The LaTeX of a name, or None when the word is not a name of maths."""
         primes = len(word) - len(word.rstrip("'"))
         word = word.rstrip("'")
+        point, slash, reference = word.rpartition("/")
+        if slash and point.endswith(")") and "(" in point:  # r_I(R_A,R_B)/A: the subscript takes the /A
+            tex = self.name(point)
+            return None if tex is None or not tex.endswith("}") else tex[:-1] + "/" + reference + "}" + "'" * primes
         args = ""
         if word.endswith(")") and "(" in word:  # a point named by two lines, I(R_A,R_B)
             word, _, inner = word[:-1].partition("(")
@@ -244,8 +249,8 @@ class LatexProse:
         end, depth, last_good, strong, relation = start, 0, start, False, False
         while end < len(tokens):
             kind, value = tokens[end]
-            if kind == "other" and not (value == "," and depth > 0):
-                break
+            if (kind == "other" and not (value == "," and depth > 0)) or kind == "prose":
+                break  # ("prose": a word with an apostrophe, the advisor's, is never maths)
             if kind == "name" and not self._operand(kind, value):
                 break
             if value in _FUNCTIONS and tokens[end + 1:end + 2] != [("paren", "(")]:

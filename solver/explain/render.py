@@ -19,6 +19,7 @@ import sympy as sp
 from ..display import could_extract_minus_sign
 from ..strprint import FastStrPrinter, join_sum, sstr
 from .content import Equation, Explanation, Step, Table, Term
+from ..notation import compound_latex
 from .latex_prose import LatexProse, latex_escape, subscripted, unit_latex
 
 __all__ = ["FORMATS", "render"]
@@ -139,6 +140,9 @@ class _Text(_Renderer):
 def _name_latex(name: str) -> str:
     """``a_G,x`` -> ``a_{G,x}``, ``v_C_contact`` -> ``v_{C\\ contact}``; names are letters, digits,
     _ , / and ``G_bar`` style."""
+    compound = compound_latex(name)
+    if compound:
+        return compound
     safe = re.sub(r"[^A-Za-z0-9_,/()]", "", name)
     head, _, tail = safe.partition("_")
     head = {"omega": r"\omega", "alpha": r"\alpha"}.get(head, head)
@@ -156,8 +160,15 @@ class _LatexMath:
             return r"\begin{pmatrix}" + r" \\ ".join(self.expr(x) for x in e) + r"\end{pmatrix}"
         text = self.printed.get(e)
         if text is None:
-            text = self.printed[e] = sp.latex(e, symbol_names=self.names)
+            text = self.printed[e] = sp.latex(e, symbol_names=self._names(e))
         return text
+
+    def _names(self, e) -> dict:
+        """The explanation's LaTeX names, and those of ``e``'s compound names
+        (:func:`solver.notation.compound_latex`: ``r_{I(A_{x},B_{y})}``, not sympy's ``r_{I(A x,B y)}``)."""
+        compound = {s: tex for s in getattr(e, "free_symbols", ()) if s not in self.names
+                    for tex in [compound_latex(s.name)] if tex}
+        return {**self.names, **compound} if compound else self.names
 
     def signed(self, terms, notes=True) -> list[tuple[str, str]]:
         """(operator, LaTeX) per term: "", then " + " or " - " (a negative scalar term's sign taken out);
