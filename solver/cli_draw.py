@@ -45,4 +45,6 @@ def draw_command(args: argparse.Namespace) -> int:
     what = (f"free-body diagrams of {len(drawing.panels)} bod{'y' if len(drawing.panels) == 1 else 'ies'}"
             if args.fbd else "scene drawing")
     print(f"wrote {args.output} ({what} of {system.name})")
+    if args.fbd and drawing.solution.extra.get("indeterminate"):
+        print(f"note: statically indeterminate: {drawing.solution.extra['indeterminate']}")
     return 0

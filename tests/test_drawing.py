@@ -1155,3 +1155,17 @@ def test_font_heights_give_matplotlibs_own_text_boxes(dpi):
     hooked._get_font_height_metrics = FontHeights(dpi)
     for t in texts:
         assert t.get_window_extent(hooked).bounds == t.get_window_extent(plain).bounds, t.get_text()
+
+
+@pytest.mark.parametrize("scene,indeterminate", [("ladder_friction", True), ("crate_tipping", True),
+                                                  ("sliding_bar", False)])
+def test_a_free_body_diagram_says_when_its_contact_forces_are_one_split_of_many(scene, indeterminate):
+    """QA 19 #8: the ladder's and the crate's sticking contacts hold redundantly (solve says so), yet
+    the diagram showed the least-squeeze split under the usual caption, as if determined. The
+    sliding bar's reactions are determined: no such line."""
+    from solver.drawing import INDETERMINATE_CAPTION
+
+    drawing = draw_system(load_system(ROOT / "data" / "scenes" / f"{scene}.toml"), fbd=True)
+    captions = [ax.get_xlabel() for ax in drawing.figure.axes if ax.get_xlabel()]
+    assert captions and all((INDETERMINATE_CAPTION in c) == indeterminate for c in captions), captions
+    assert bool(drawing.solution.extra.get("indeterminate")) == indeterminate

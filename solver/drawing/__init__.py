@@ -137,10 +137,19 @@ def draw_system(system, state=None, ax=None, fbd: bool = False, point: str | Non
         for a, body in zip(axes, panels):
             render.render_fbd(a, scene, [f for f in forces if f.body == body], body, bodies,
                               title=fbd_title(body, points[body], len(bodies)))
+        if solution.extra.get("indeterminate"):
+            for a in axes:
+                a.set_xlabel(a.get_xlabel() + "\n" + INDETERMINATE_CAPTION)
         if arrange_labels:
             render.place_labels(axes[0].figure, axes)  # labels off each other and off the bodies
     forces = [f for f in forces if f.body in panels]
     return Drawing(system.name, forces, fbd=True, panels=panels, point=points, figure=figure, solution=solution)
+
+
+INDETERMINATE_CAPTION = "Statically indeterminate: one admissible split of the contact forces (least squeeze)."
+"""The line under free-body diagrams whose sticking contacts hold redundantly: the forces drawn are
+not forces the equations determine (``solve`` and ``explain`` say it at length,
+:data:`solver.analyses.regimes.INDETERMINATE_NOTE`)."""
 
 
 def scene_title(system) -> str:
