@@ -1406,3 +1406,11 @@ def test_latex_long_equations_are_set_in_rows_without_losing_a_term(every_scene,
     assert r"\begin{aligned}" in block and block.count(r" \\") == 4, block[:400]
     markdown = every_rendering["four_bar", "markdown"].split("generalized Euler equation about A (Eq. (10)):")[1]
     assert markdown.lstrip().startswith("$$\n\\begin{aligned}"), markdown[:200]
+
+
+def test_a_point_named_p_is_not_introduced_as_itself(every_rendering):
+    """QA 19 #10: drum_and_block's block, whose point is named P, read "P = P." (the disk-bar's
+    moments are about its own P too)."""
+    pages = [name for (name, fmt), out in every_rendering.items() if fmt == "text" and "P = P." in out]
+    assert pages == []
+    assert "Kinematics of block from P\nIts velocity" in every_rendering["drum_and_block", "text"]

@@ -408,7 +408,7 @@ def _kinematics_step(system, body: str, P: str, used: list[str], points: _Points
                             tag=f"accel:{X}", name=f"a_{X}", vector=True))
     eqs += _midpoints(system, body, points, eqs)
     how = pivot[1] if pivot else f"Its velocity and acceleration follow from the joints (the placement of {body})"
-    text = [f"P = {P}. {how}; "
+    text = [("" if P == "P" else f"P = {P}. ") + f"{how}; "  # (a scene's own point named P: no "P = P")
             f"every other point's follow by the rigid-body relation from {P}: v = v_{P} + omega x r, "
             f"a = a_{P} + alpha x r - omega^2 r (Eq. 6; Eq. 15 for an element's mass centre G_k)."]
     text += [points.about[X] + "." for X in dict.fromkeys([P, *used]) if X in points.about]
