@@ -70,6 +70,7 @@ from ._io import (ShortRecords, is_regular_file, read_bytes, short_records_note,
 from .dropped import (DROP_WHY, FOOTER, DroppedRow, is_footer_note, is_integer_text,
                       is_na_text as _is_na_text)
 from .errors import SurveyInputError
+from .xlsx_sheet import SheetFault
 from .scales import (BLANK, BUILTIN_SCALES, DECLINED, NOT_APPLICABLE, SHORT_NOT_APPLICABLE, UNKNOWN,
                      Scale, code_key, get_scale, normalize_answer,
                      two_groups_message)
@@ -567,27 +568,59 @@ def _record_rows(body: bytes, encoding: str, sep: str, skip: int, nrows: int):
     return np.asarray(rows, dtype=np.int64)
 
 
-def _check_width(source: str, width: int, at_least: bool = False) -> None:
+def _check_width(source: str, width: int, at_least: bool = False, row: int = 1) -> None:
     if width > MAX_COLUMNS:
         more = " or more" if at_least else ""
         raise SurveyInputError(f"{width} columns{more}; at most {MAX_COLUMNS} are read",
-                               source, 1)
+                               source, row)
+
+
+#: The parts of a workbook openpyxl reads as it loads it, by the function reading each
+#: (a fault there is named by its part, not by openpyxl's exception).
+_WORKBOOK_PARTS = {"read_manifest": "its list of parts ([Content_Types].xml)",
+                   "read_strings": "its shared strings (xl/sharedStrings.xml)",
+                   "read_workbook": "its workbook part (xl/workbook.xml)",
+                   "find_sheets": "its sheet list (xl/workbook.xml and its relationships)",
+                   "read_properties": "its document properties (docProps/core.xml)",
+                   "read_custom": "its custom properties (docProps/custom.xml)",
+                   "apply_stylesheet": "its styles (xl/styles.xml)",
+                   "read_worksheets": "its sheet list (xl/workbook.xml and its relationships)",
+                   "assign_names": "its defined names (xl/workbook.xml)"}
 
 
 def _xlsx_error(e: Exception, source: str, row: "int | None" = None) -> SurveyInputError:
-    """One line for a workbook openpyxl cannot read (entities named as refused)."""
+    """One line for a workbook openpyxl cannot read: entities named as refused, malformed XML
+    with expat's place, else the part being read and what its reader said (never an
+    exception's name alone)."""
+    import traceback
     chain, err = [], e
     while err is not None and len(chain) < 10:
         chain.append(err)
         err = err.__cause__ or err.__context__
+    part = None
+    for x in reversed(chain):                  # the innermost reading step names the part
+        for frame in traceback.extract_tb(x.__traceback__):
+            part = _WORKBOOK_PARTS.get(frame.name, part)
+    where = f"{part}: " if part else ""
     if any(type(x).__module__.startswith("defusedxml") for x in chain):
         what = ("its XML declares entities (external entities and entity expansion are "
                 "refused)")
     elif any(type(x).__name__ in ("ParseError", "ExpatError") for x in chain):
-        what = "malformed XML"
+        said = next(str(x) for x in chain if type(x).__name__ in ("ParseError", "ExpatError"))
+        what = f"malformed XML ({said[:120]})"
     else:
-        what = type(e).__name__
-    return SurveyInputError(f"not a readable .xlsx workbook: {what}", source, row)
+        inner = chain[-1]
+        said = (inner.args[0] if isinstance(inner, KeyError) and inner.args else str(inner))
+        said = " ".join(str(said).split())[:160]
+        what = said or f"unreadable content ({type(inner).__name__})"
+    return SurveyInputError(f"not a readable .xlsx workbook: {where}{what}", source, row)
+
+
+def _sheet_fault(e, source: str, title: str) -> SurveyInputError:
+    """One line for a sheet the fast reader refused (:class:`analysis.xlsx_sheet.SheetFault`),
+    naming the sheet and the cell."""
+    where = f"sheet {title!r}" + (f", cell {e.cell}" if e.cell else "")
+    return SurveyInputError(f"{where}: {e.reason}", source, e.row)
 
 
 def _xlsx_rows(content: bytes, source: str, sheet: "str | None" = None):
@@ -606,7 +639,8 @@ def _xlsx_rows(content: bytes, source: str, sheet: "str | None" = None):
     try:
         size = sum(i.file_size for i in zipfile.ZipFile(io.BytesIO(content)).infolist())
     except Exception as e:  # noqa: BLE001 - zipfile raises several kinds on a broken container
-        raise SurveyInputError(f"not a readable .xlsx workbook ({type(e).__name__})",
+        raise SurveyInputError(f"not a readable .xlsx workbook: not a zip archive, or a "
+                               f"damaged or truncated one ({e or type(e).__name__})",
                                source) from None
     if size > MAX_XLSX_BYTES:
         raise SurveyInputError(f"workbook unpacks to {size} bytes; at most {MAX_XLSX_BYTES} "
@@ -616,7 +650,7 @@ def _xlsx_rows(content: bytes, source: str, sheet: "str | None" = None):
         wb = load_read_only(io.BytesIO(content))
     except Exception as e:  # noqa: BLE001 - BadZipFile, KeyError, InvalidFileException, XML errors ...
         raise _xlsx_error(e, source) from None
-    rows, width = [], 0
+    rows, width, ws = [], 0, None
     try:
         ws = _worksheet(wb, sheet, source)
         for r in _sheet_rows(wb, ws, source):
@@ -632,7 +666,9 @@ def _xlsx_rows(content: bytes, source: str, sheet: "str | None" = None):
         others = [w.title for w in wb.worksheets if w is not ws and _holds_a_cell(wb, w, source)]
     except SurveyInputError:
         raise
-    except Exception as e:  # noqa: BLE001 - ParseError, EntitiesForbidden, ValueError ... in the sheet
+    except SheetFault as e:
+        raise _sheet_fault(e, source, ws.title) from None
+    except Exception as e:  # noqa: BLE001 - ParseError, EntitiesForbidden ... in the sheet
         raise _xlsx_error(e, source, len(rows) + 1) from None
     finally:
         wb.close()
@@ -643,6 +679,9 @@ def _worksheet(wb, sheet: "str | None", source: str):
     """The worksheet named ``sheet`` (exactly, else ignoring case and outer spaces), or the
     first; a name the workbook lacks is refused, listing its sheets."""
     sheets = list(wb.worksheets)
+    if not sheets:
+        raise SurveyInputError("not a readable .xlsx workbook: it has no worksheet (the parts "
+                               "its sheet list names are missing)", source)
     if sheet is None:
         return sheets[0]
     for same in (lambda t: t == sheet, lambda t: t.strip().casefold() == sheet.strip().casefold()):
@@ -662,7 +701,7 @@ def _sheet_rows(wb, ws, source: str):
     if all(hasattr(wb, a) for a in ("_date_formats", "_timedelta_formats", "epoch")) and all(
             hasattr(ws, a) for a in ("_get_source", "_shared_strings")):
         return sheet_values(wb, ws, MAX_COLUMNS,
-                            lambda n: _check_width(source, n, at_least=True))
+                            lambda n, row: _check_width(source, n, at_least=True, row=row))
     ws.reset_dimensions()
     return ws.iter_rows(values_only=True)
 
