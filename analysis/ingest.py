@@ -65,8 +65,8 @@ import pandas as pd
 
 from . import platforms
 from .platforms import CODES_HINT
-from ._io import (ShortRecords, is_regular_file, read_bytes, short_records_note,
-                  sniff_delimiter)
+from ._io import (ShortRecords, is_regular_file, read_bytes, refuse_values_beyond_header,
+                  short_records_note, sniff_delimiter)
 from .dropped import (DROP_WHY, FOOTER, DroppedRow, is_footer_note, is_integer_text,
                       is_na_text as _is_na_text)
 from .errors import SurveyInputError
@@ -402,17 +402,27 @@ def _read_csv_encoded(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]
     if single:
         body, lead, trailing = _trim_single_column(body)
         skip += lead
-    try:
+    def read(usecols=None):
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", pd.errors.ParserWarning)
             # index_col=False: a data row with a trailing delimiter must not turn the
             # first column into an index and shift every answer one column left.
             # dtype=object: every cell the text the file holds (a "category" read infers
             # numbers, so that sections "01" and "1.0" became one group and id "00123" 123)
-            df = pd.read_csv(io.BytesIO(body), dtype=object, keep_default_na=False,
-                             sep=sep, na_filter=False, encoding=encoding, engine="c",
-                             skipinitialspace=False, skip_blank_lines=not single,
-                             index_col=False)
+            return pd.read_csv(io.BytesIO(body), dtype=object, keep_default_na=False,
+                               sep=sep, na_filter=False, encoding=encoding, engine="c",
+                               skipinitialspace=False, skip_blank_lines=not single,
+                               index_col=False, usecols=usecols), caught
+    try:
+        try:
+            df, caught = read()
+        except pd.errors.ParserError as e:
+            if not re.search(r"Expected \d+ fields", str(e)) or not peek:
+                raise
+            # a record longer than the others: refused when it holds a value beyond the
+            # header (the rule of both routes); empty fields there are no values, left out
+            _values_beyond_header(body, encoding, sep, len(peek[0]), source, skip)
+            df, caught = read(range(len(peek[0])))
     except UnicodeDecodeError:
         raise _decode_error(raw, encoding, source) from None
     except pd.errors.EmptyDataError:
@@ -420,7 +430,7 @@ def _read_csv_encoded(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]
     except pd.errors.ParserError as e:
         raise _parser_error(e, source, skip) from None
     if any(issubclass(w.category, pd.errors.ParserWarning) for w in caught):
-        _check_extra_fields(body, encoding, sep, df.shape[1], source, skip)
+        _values_beyond_header(body, encoding, sep, df.shape[1], source, skip)
     _check_width(source, df.shape[1])
     row_map = None
     if not single and _may_have_blank_lines(body, len(df)) and _BLANK_LINE.search(b"\n" + body):
@@ -514,28 +524,12 @@ def _may_have_blank_lines(body: bytes, nrows: int) -> bool:
 _BLANK_LINE = re.compile(rb"\n[ \t]*\r?\n[^\r\n]")
 
 
-def _check_extra_fields(body: bytes, encoding: str, sep: str, width: int, source: str,
-                        skip: int) -> None:
-    """Raise when a record has a non-blank value beyond the header's last column.
-
-    Blank trailing fields (a delimiter at the end of each line) are harmless and left
-    out; a value there has no column, and leaving it out would drop it silently.
-    """
-    text = body.decode(encoding, errors="replace")
-    line = skip
-    limit = csv.field_size_limit(len(text) + 1)   # pandas read fields of any size: so do we
-    try:
-        for rec in csv.reader(io.StringIO(text, newline=""), delimiter=sep):
-            line += 1
-            extra = [c for c in rec[width:] if c.strip()]
-            if extra:
-                raise SurveyInputError(
-                    f"{len(rec)} fields, but the header has {width}: value {extra[0]!r} has "
-                    f"no column", source, line)
-    except csv.Error as e:
-        raise SurveyInputError(f"not a well-formed CSV ({e})", source, line + 1) from None
-    finally:
-        csv.field_size_limit(limit)
+def _values_beyond_header(body: bytes, encoding: str, sep: str, width: int, source: str,
+                          skip: int) -> None:
+    """Refuse a record with a value beyond the header's last column
+    (:func:`analysis._io.refuse_values_beyond_header`, the rule of both routes)."""
+    refuse_values_beyond_header(io.StringIO(body.decode(encoding, errors="replace"), newline=""),
+                                sep, width, source, skip)
 
 
 def _record_rows(body: bytes, encoding: str, sep: str, skip: int, nrows: int):

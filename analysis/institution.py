@@ -37,7 +37,8 @@ from pathlib import Path
 import numpy as np
 
 from . import platforms
-from ._io import ShortRecords, is_regular_file, short_records_note, sniff_delimiter
+from ._io import (ShortRecords, is_regular_file, refuse_values_beyond_header, short_records_note,
+                  sniff_delimiter)
 from .disclosure import BLANK_GROUP, suppress_groups
 from .dropped import FOOTER, DroppedRow, is_footer_note
 from .errors import SurveyInputError
@@ -390,21 +391,37 @@ def _answer_rows(con, src: str, path: Path, header: list[str]):
     return f"(SELECT * FROM {src} WHERE NOT ({cond}))", [DroppedRow(row, FOOTER)], []
 
 
-def _short_rows(path: Path, width: int, dropped: list) -> list[str]:
-    """The note naming the rows with fewer fields than the header (DuckDB pads them with
-    blank cells, as pandas does), the rows ``dropped`` aside, as the in-memory route words it
-    (:func:`analysis._io.short_records_note`); the file is scanned again, 1 MiB at a time."""
-    if path.suffix.lower() == ".parquet" or width < 2:
-        return []
+def _scan_records(path: Path) -> "ShortRecords | None":
+    """The fields of each record of a CSV file, counted by the in-memory route's byte scan
+    (:class:`analysis._io.ShortRecords`, 1 MiB at a time); a record with a value beyond the
+    header's last column is refused as that route refuses it
+    (:func:`analysis._io.refuse_values_beyond_header`: DuckDB read it by inventing a column).
+    None for a Parquet file."""
+    if path.suffix.lower() == ".parquet":
+        return None
     newline = _header_newline(_head(path)) or "\n"
     scan = ShortRecords(_delimiter(path), newline[-1].encode())
     with open(path, "rb") as f:
         while chunk := f.read(1 << 20):
             scan.feed(chunk)
-    found = scan.close()
+    scan.close()
+    if scan.longer:
+        with open(path, encoding="utf-8", errors="replace", newline="") as text:
+            if text.read(1) != "\ufeff":
+                text.seek(0)
+            refuse_values_beyond_header(text, _delimiter(path), scan.width, str(path))
+    return scan
+
+
+def _short_rows(scan: "ShortRecords | None", path: Path, width: int, dropped: list) -> list[str]:
+    """The note naming the rows with fewer fields than the header (DuckDB pads them with
+    blank cells, as pandas does), the rows ``dropped`` aside, as the in-memory route words it
+    (:func:`analysis._io.short_records_note`), from the file's ``scan``."""
+    if scan is None or width < 2:
+        return []
     # a footer whose row was not looked up is the last record holding text
     gone = {scan.last if d.row is None else d.row for d in dropped}
-    note = short_records_note(str(path), [(r, n) for r, n in found if r not in gone], width)
+    note = short_records_note(str(path), [(r, n) for r, n in scan.found if r not in gone], width)
     return [note] if note else []
 
 
@@ -597,6 +614,7 @@ def _count(p, by, scale, items, min_group, memory_limit, threads,
                                  "preserve_insertion_order": False,
                                  "temp_directory": spill.name})
     try:
+        scan = _scan_records(p)
         src = _source_sql(p, parallel)
         try:
             header = [r[0] for r in con.execute(f"DESCRIBE SELECT * FROM {src}").fetchall()]
@@ -609,8 +627,10 @@ def _count(p, by, scale, items, min_group, memory_limit, threads,
                 raise SurveyInputError(bad[1], str(p), bad[0]) from None
             raise SurveyInputError(f"cannot read as CSV/Parquet ({str(e).splitlines()[0]})",
                                    str(p)) from None
+        if scan is not None and 0 < scan.width < len(header):
+            header = header[:scan.width]    # columns DuckDB made of empty fields past the header
         src, dropped, footer_notes = _answer_rows(con, src, p, header)
-        footer_notes += _short_rows(p, len(header), dropped)
+        footer_notes += _short_rows(scan, p, len(header), dropped)
         _refuse_header_rows(con, src, p, header)
         why = platforms.repeated_column(_given_header(con, p, header))
         if why:                     # DuckDB renames a repeated Q1 to Q1_1 (and q1 too)

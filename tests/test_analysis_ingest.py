@@ -770,6 +770,34 @@ def test_short_rows_are_named_on_both_routes(tmp_path, capsys):
         read_survey(f)          # the record is whole; its Q1 is not an answer: refused there
 
 
+def test_a_value_beyond_the_header_is_refused_alike_on_both_routes(tmp_path, capsys):
+    """QA 18 #6: ``--by`` (DuckDB) read a row with one field too many by inventing a column
+    ``column3``, while the in-memory route refused it with pandas' tokenizer text. Both routes
+    now apply one rule: a value beyond the header's last column is refused at its row; empty
+    fields there (a delimiter too many) are no values, on both routes, and make no column.
+    Rows here: header 1; the long one is row 4 (in ``late`` row 3 is long but blank)."""
+    rows = "id,T,Q1\n1,A,Agree\n2,A,Disagree\n3,B,Agree{}\n4,B,Agree\n"
+    bad = tmp_path / "bad.csv"
+    bad.write_text(rows.format(",Extra"))
+    for by in ([], ["--by", "T", "--min-group", "1"]):
+        assert main(["summarize", str(bad), *by]) == 2
+        err = capsys.readouterr().err
+        assert err == (f"error: {bad}: row 4: 4 fields, but the header has 3: value 'Extra' "
+                       "has no column\n"), (by, err)
+    for blank in (",", ",,"):
+        ok = tmp_path / "blank.csv"
+        ok.write_text(rows.format(blank))
+        assert main(["summarize", str(ok), "--json"]) == 0
+        one = json.loads(capsys.readouterr().out)
+        assert main(["summarize", str(ok), "--json", "--by", "T", "--min-group", "1"]) == 0
+        out = capsys.readouterr()
+        by = json.loads(out.out)
+        assert "column" not in out.err, out.err       # no invented 'column3' noted
+        assert [(i["item"], i["n"]) for i in one["items"]] == [("Q1", 4)]
+        assert [(r["item"], r["n"]) for r in by["overall"]] == [("Q1", 4)], by["overall"]
+        assert by["respondents"] == one["respondents"] == 4
+
+
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(st.lists(st.lists(st.sampled_from(["", "a", "b c", 'x"y', "p,q", "l\nm", " "]),
                          min_size=0, max_size=4), min_size=1, max_size=8),
@@ -791,3 +819,4 @@ def test_the_short_record_scan_agrees_with_the_csv_module(records, chunk, newlin
     for at in range(0, len(data), chunk):
         scan.feed(data[at:at + chunk])
     assert scan.close() == want
+    assert scan.longer == sum(len(r) > 3 for r in back)     # (the long-row check's trigger)
