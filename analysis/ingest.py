@@ -999,7 +999,7 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
     exclude = {j for j, h in enumerate(raw.header)
                if not platforms.candidate(shape, h, text_row[j])}
     group_names = _as_list(group)
-    group_idx = [_column_index(raw, g, names) for g in group_names]
+    group_idx = [_column_index(raw, g, names, text_row) for g in group_names]
     exclude |= set(group_idx)
     keep = _as_slice(keep)
     cols = [(j, _Column(names[j], c.cats, c.codes[keep], c.name))
@@ -1482,23 +1482,30 @@ def _as_list(x) -> list[str]:
     return list(x)
 
 
-def _column_index(raw: _Raw, name: str, names: "list[str] | None" = None) -> int:
+def _column_index(raw: _Raw, name: str, names: "list[str] | None" = None,
+                  texts: "list[str] | None" = None) -> int:
     """The column a grouping flag names: by its header (any case and spacing), else, given
     the columns' question ``names`` (a Qualtrics export's texts, as items are named), by
-    its question text, as ``--items`` takes an item (:func:`analysis.platforms.item_matches`)."""
+    its question text, as ``--items`` takes an item (:func:`analysis.platforms.item_matches`).
+    ``texts`` are the question texts as the export writes them: a text two questions share
+    (each then named by its field id) is refused as ambiguous, naming them."""
     key = normalize_answer(name)
     for j, h in enumerate(raw.header):
         if normalize_answer(h) == key:
             return j
-    texts = {j: n for j, n in enumerate(names or []) if normalize_answer(n) != normalize_answer(
+    named = {j: n for j, n in enumerate(names or []) if normalize_answer(n) != normalize_answer(
         raw.header[j])}
-    hits = [j for j, n in texts.items() if platforms.item_matches(name, n)]
+    hits = [j for j, n in named.items() if platforms.item_matches(name, n)]
     if len(hits) == 1:
         return hits[0]
-    if hits:
+    hits = hits or [j for j, t in enumerate(texts or []) if t.strip() and normalize_answer(
+        t) != normalize_answer(raw.header[j]) and platforms.item_matches(name, t)]
+    if len(hits) > 1:
         raise SurveyInputError(f"{name!r} is the question text of columns "
                                f"{[raw.header[j] for j in hits]!r}; name one of them", raw.source, 1)
-    also = f"; question texts are {list(texts.values())!r}" if texts else ""
+    if hits:
+        return hits[0]
+    also = f"; question texts are {list(named.values())!r}" if named else ""
     raise SurveyInputError(f"no column {name!r}; columns are {raw.header!r}{also}", raw.source, 1)
 
 
