@@ -1030,7 +1030,7 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
                       other_columns=list(others), not_item_reasons=others,
                       comments=list(raw.comments), stems=[stems[j] for j in chosen],
                       fields=[raw.columns[j].name for j in chosen], notes=notes)
-    data.notes += narrower_scale_notes(raw.source, scale_obj, item_names, counts, data.reverse)
+    _narrower_items(data, counts, scale is None)
     pid = person_id_column(raw.header)
     if pid is not None:
         c = raw.columns[pid]
@@ -1341,14 +1341,34 @@ def _scale_notes(scale: Scale, counts: np.ndarray, detected: bool, notes: list) 
 
 
 def scale_fit_notes(source: str, scale: Scale, names: list, counts: np.ndarray,
-                    reverse=frozenset()) -> list[str]:
+                    reverse=frozenset(), detected: bool = True) -> tuple[list[str], dict]:
     """The warnings on how the scale fits the answers that :func:`read_survey` gives, for
     :func:`analysis.institution.summarize_by` (which notes a missing label on choosing the
     items): labels nobody used while another scale fits, and items that look as if they
-    offered a narrower scale (:func:`narrower_scale_notes`)."""
+    offered a narrower scale, with those to leave out (:func:`narrower_scale_notes`)."""
     notes: list[str] = []
     _warn_unused_labels(scale, counts, notes)
-    return notes + narrower_scale_notes(source, scale, names, counts, reverse)
+    more, left_out = narrower_scale_notes(source, scale, names, counts, reverse, detected)
+    return notes + more, left_out
+
+
+def _narrower_items(data: "SurveyData", counts: np.ndarray, detected: bool) -> None:
+    """Warn of the items that look as if they offered a narrower scale, and leave out of
+    ``data`` those that did (:func:`narrower_scale_notes`), listed with their reason."""
+    notes, left_out = narrower_scale_notes(data.source, data.scale, data.items, counts,
+                                           data.reverse, detected)
+    data.notes += notes
+    if not left_out:
+        return
+    keep = [j for j, name in enumerate(data.items) if name not in left_out]
+    data.items = [data.items[j] for j in keep]
+    data.item_texts = [data.item_texts[j] for j in keep]
+    data.answers = data.answers[:, keep]
+    data.stems = [data.stems[j] for j in keep if j < len(data.stems)]
+    data.fields = [data.fields[j] for j in keep if j < len(data.fields)]
+    data.reverse = {r for r in data.reverse if r not in left_out}
+    data.other_columns = list(data.other_columns) + list(left_out)
+    data.not_item_reasons = {**data.not_item_reasons, **left_out}
 
 
 def _note_no_neutral(scale: Scale, notes: list) -> None:
@@ -1409,17 +1429,27 @@ def _narrower_scales(scale: Scale) -> list:
 
 
 def narrower_scale_notes(source: str, scale: Scale, names: list, counts: np.ndarray,
-                         reverse=frozenset()) -> list[str]:
-    """Warnings naming the items that look as if they offered a narrower built-in scale.
+                         reverse=frozenset(), detected: bool = True) -> tuple[list[str], dict]:
+    """Warnings naming the items that look as if they offered a narrower built-in scale, and
+    the items left out of the table for it.
 
     In a file mixing 5-point and 7-point agreement items the whole file is read as the
     wider scale: a 5-point item then lands on codes 1, 2, 4, 6, 7, and its median, IQR,
-    mean and SD are wrong (its counts and agreement share are not). An item is named when
-    it uses only labels of a narrower built-in scale (agree5 inside agree7), and never one of
-    the labels only the wider scale has, while other items do, so often that an item of
-    this many answers on the wider scale would miss all of them with a chance below
+    mean and SD are wrong (its counts and agreement share are not). An item is a suspect
+    when it uses only labels of a narrower built-in scale (agree5 inside agree7), and never
+    one of the labels only the wider scale has, while other items do, so often that an item
+    of this many answers on the wider scale would miss all of them with a chance below
     :data:`NARROWER_SCALE_CHANCE`: (1 - f) ** n, f being those labels' share of the answers
-    of the items using them. The warning gives the item's statistics on the narrower scale.
+    of the items using them.
+
+    A suspect whose answers lie on both sides of such a label (``Disagree`` and ``Agree``
+    around agree7's ``Somewhat ...``) skipped a middle answer it would have been offered:
+    it offered the narrower scale. When the scale was ``detected`` (no ``--scale``), such an
+    item is left out of the table, as R's ``likert()`` refuses items of unequal numbers of
+    levels in one table, with the reason and its statistics on the narrower scale, rather
+    than summarized on codes that are not its own. A given ``--scale`` is the questionnaire's
+    word, and a suspect answered only at one end (every answer ``Strongly agree``) may be
+    a consensus on the wider scale: those are kept, with the warning and both readings.
     Both routes (:func:`read_survey`, :func:`analysis.institution.summarize_by`) call this.
 
     Parameters
@@ -1433,11 +1463,18 @@ def narrower_scale_notes(source: str, scale: Scale, names: list, counts: np.ndar
         Answers per label.
     reverse : set of str
         Reverse-keyed items (their statistics on reversed codes, as in the table).
+    detected : bool
+        The scale was detected from the answers (not given with ``--scale``).
+
+    Returns
+    -------
+    notes : list of str
+    left_out : dict of str to str
+        The items to leave out of the table, each with its reason.
     """
-    from .likert import summarize_tally
-    from .rounding import number_text, percent_text
+    from .rounding import percent_text
     counts = np.asarray(counts, dtype=np.int64)
-    notes, named = [], set()
+    notes, named, left_out = [], set(), {}
     for other, pos in _narrower_scales(scale):
         wider = [i for i in range(scale.k) if i not in pos]
         using = [j for j in range(len(names)) if counts[j, wider].sum()]
@@ -1447,28 +1484,72 @@ def narrower_scale_notes(source: str, scale: Scale, names: list, counts: np.ndar
         f = k_wider / n_using
         found = [j for j in range(len(names)) if j not in named and j not in using
                  and counts[j].sum() and (1 - f) ** int(counts[j].sum()) < NARROWER_SCALE_CHANCE]
-        if not found:
-            continue
         named.update(found)
+        around = [j for j in found if detected and any(
+            counts[j, :w].sum() and counts[j, w + 1:].sum() for w in wider)]
+        words = _NarrowerWords(source, scale, other, pos, wider, names, counts, reverse,
+                               percent_text(k_wider, n_using, 0))
+        if around:
+            notes.append(words.left_out(around))
+            left_out.update({names[j]: words.reason() for j in around})
+        kept = [j for j in found if j not in around]
+        if kept:
+            notes.append(words.kept(kept))
+    return notes, left_out
+
+
+@dataclass
+class _NarrowerWords:
+    """The wording of :func:`narrower_scale_notes` for one narrower scale ``other``."""
+    source: str
+    scale: Scale
+    other: Scale
+    pos: list
+    wider: list
+    names: list
+    counts: np.ndarray
+    reverse: frozenset
+    share: str
+
+    def _stats(self, found: list) -> str:
+        from .likert import summarize_tally
+        from .rounding import number_text
         stats = []
         for j in found:
-            it = summarize_tally(np.concatenate([[0, 0, 0], counts[j, pos]]), other, names[j],
-                                 reverse=names[j] in reverse)
-            stats.append(f"{names[j]!r}{' (reversed)' if it.reverse else ''}: median "
+            name = self.names[j]
+            it = summarize_tally(np.concatenate([[0, 0, 0], self.counts[j, self.pos]]),
+                                 self.other, name, reverse=name in self.reverse)
+            stats.append(f"{name!r}{' (reversed)' if it.reverse else ''}: median "
                          f"{number_text(it.median)}, IQR {number_text(it.iqr)}, mean "
                          f"{number_text(it.mean, 2)}, SD {number_text(it.sd, 2)}")
-        only = " or ".join(repr(scale.labels[i]) for i in wider)
-        which = ", ".join(repr(names[j]) for j in found)
-        lo, hi = number_text(min(other.codes), 0), number_text(max(other.codes), 0)
-        share = percent_text(k_wider, n_using, 0)
-        notes.append(
-            f"warning: {source}: item{'s' if len(found) > 1 else ''} {which} never answered "
-            f"{only} (labels only scale {scale.name!r} has, {share}% of the answers to the "
-            f"items that use them): if they offered scale {other.name!r}, their median, IQR, "
-            f"mean, SD (and a Cronbach's alpha with them) are on the wrong codes; on {other.name!r} (codes {lo}-{hi}) "
-            f"they are {'; '.join(stats)} (summarize them with --items and --scale "
-            f"{other.name})")
-    return notes
+        lo, hi = (number_text(min(self.other.codes), 0), number_text(max(self.other.codes), 0))
+        return f"on {self.other.name!r} (codes {lo}-{hi}) they are {'; '.join(stats)}"
+
+    def _only(self) -> str:
+        return " or ".join(repr(self.scale.labels[i]) for i in self.wider)
+
+    def _head(self, found: list) -> str:
+        which = ", ".join(repr(self.names[j]) for j in found)
+        return f"item{'s' if len(found) > 1 else ''} {which}"
+
+    def kept(self, found: list) -> str:
+        return (f"warning: {self.source}: {self._head(found)} never answered {self._only()} "
+                f"(labels only scale {self.scale.name!r} has, {self.share}% of the answers to "
+                f"the items that use them): if they offered scale {self.other.name!r}, their "
+                f"median, IQR, mean, SD (and a Cronbach's alpha with them) are on the wrong "
+                f"codes; {self._stats(found)} (summarize them with --items and --scale "
+                f"{self.other.name})")
+
+    def left_out(self, found: list) -> str:
+        return (f"warning: {self.source}: {self._head(found)} left out of the table: "
+                f"{self.reason()}; {self._stats(found)}")
+
+    def reason(self) -> str:
+        return (f"answers of scale {self.other.name!r}, not {self.scale.name!r}: never "
+                f"{self._only()} ({self.share}% of the answers to the items that use them), "
+                f"though its answers lie on both sides of such a label; summarize with --items and --scale "
+                f"{self.other.name}, or give --scale {self.scale.name} to count it on "
+                f"{self.scale.name!r} codes")
 
 
 name_matches = platforms.name_matches
@@ -2077,5 +2158,5 @@ def _build_long(raw: _Raw, scale, items, unknown, group, reverse, respondents):
                           per_item[k][1], scale_obj, items, True, notes)
                           for k in range(nitem) if k not in wanted},
                       comments=list(raw.comments), notes=notes)
-    data.notes += narrower_scale_notes(source, scale_obj, names, counts, data.reverse)
+    _narrower_items(data, counts, scale is None)
     return _declare(data, respondents)

@@ -552,8 +552,16 @@ def summarize_by(path: "str | Path", by: "list[str]", scale=None, items=None,
                                f"of memory; give a larger memory limit", str(p))
     res.reverse = platforms.resolve_reverse(res.source, res.items, reverse, res.fields or None)
     from .ingest import scale_fit_notes
-    res.notes += scale_fit_notes(res.source, res.scale, res.items,
-                                 res.tallies.sum(axis=0)[:, 3:], res.reverse)
+    notes, left_out = scale_fit_notes(res.source, res.scale, res.items,
+                                      res.tallies.sum(axis=0)[:, 3:], res.reverse, scale is None)
+    res.notes += notes
+    if left_out:                # items of a narrower scale, as read_survey leaves them out
+        keep = [j for j, name in enumerate(res.items) if name not in left_out]
+        res.items = [res.items[j] for j in keep]
+        res.fields = [res.fields[j] for j in keep if j < len(res.fields)]
+        res.tallies = res.tallies[:, keep]
+        res.reverse = {r for r in res.reverse if r not in left_out}
+        res.not_items = {**res.not_items, **left_out}
     res.ci_method, res.confidence_level = method, confidence_level
     _declare(res, respondents)
     _order(res, group_order)
