@@ -1191,10 +1191,10 @@ def _drop_footer(raw: _Raw, keep: np.ndarray):
 
 
 #: How each platform marks a response never completed: the column (its names), the test of
-#: its cell text (normalised) and the words saying so.
+#: its cell text (normalised) and the words saying so (``{value}``: the cells as written).
 _INCOMPLETE = {
-    "limesurvey": (("submitdate", "date submitted"), lambda t: t == "", "blank {}"),
-    "qualtrics": (("finished",), lambda t: t in ("false", "0"), "{} = False"),
+    "limesurvey": (("submitdate", "date submitted"), lambda t: t == "", "blank {name}"),
+    "qualtrics": (("finished",), lambda t: t in ("false", "0"), "{name} = {value}"),
 }
 
 
@@ -1213,14 +1213,16 @@ def _note_incomplete(raw: _Raw, keep: np.ndarray, notes: list, shape: str,
     if j is None:
         return
     col = raw.columns[j]
-    bad = np.array([test(normalize_answer(x)) for x in col.cats], dtype=bool)[col.codes[keep]]
+    codes = col.codes[keep]
+    bad = np.array([test(normalize_answer(x)) for x in col.cats], dtype=bool)[codes]
     k = int(bad.sum())
     if k:
         rows = [int(r) for r in raw.row_of(keep[bad][:5])]
         more = f" and {k - 5} more" if k > 5 else ""
         name = (raw.header[j] if _find(raw.header, names) is not None else text_row[j]).strip()
+        value = " or ".join(dict.fromkeys(col.cats[c].strip() for c in np.unique(codes[bad])))
         notes.append(f"{raw.source}: {k} incomplete response{'s' if k != 1 else ''} "
-                     f"({words.format(repr(name))}, row{'s' if k != 1 else ''} "
+                     f"({words.format(name=repr(name), value=value)}, row{'s' if k != 1 else ''} "
                      f"{', '.join(map(str, rows))}{more}) counted with the answers given")
 
 
