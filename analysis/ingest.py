@@ -1700,6 +1700,14 @@ def _refuse_codes(source: str, col: _Column, long: bool, codes_file: "str | None
         None if long else (col.field or col.name))
 
 
+def unmatched_item(source: str, pattern: str, names: list, long: bool = False):
+    """The refusal of an ``--items`` pattern that matches no column (of a long file: no
+    item), listing the ``names`` it could match; the words of both routes."""
+    what = "item" if long else "column"
+    return SurveyInputError(f"no {what} matches item {pattern!r}; {what}s are {names!r}",
+                            source, None if long else 1)
+
+
 def _choose_items(source: str, names: list[str], cols, exclude, scale, items,
                   long: bool = False, notes: "list | None" = None,
                   codes_file: "str | None" = None):
@@ -1715,8 +1723,7 @@ def _choose_items(source: str, names: list[str], cols, exclude, scale, items,
         for pat in items:
             hits = [(j, c) for j, c in cols if platforms.item_matches(pat, c.name, c.field)]
             if not hits:
-                raise SurveyInputError(f"no {what} matches item {pat!r}; {what}s are {names!r}",
-                                       source, None if long else 1)
+                raise unmatched_item(source, pat, names, long)
             chosen.extend(h for h in hits if h[0] not in taken)
             taken.update(j for j, _ in hits)
         chosen.sort(key=lambda t: t[0])

@@ -669,6 +669,10 @@ def _count(p, by, scale, items, min_group, memory_limit, threads,
             peek = [header] if p.suffix.lower() == ".parquet" else sniff_delimiter(_head(p))[1]
             statements = dict(zip(header, header_item_names(header, peek)[0]))
             if items:
+                from .ingest import unmatched_item
+                for pat in items:         # a pattern matching no column, as read_survey says
+                    if not any(platforms.item_matches(pat, h, statements[h]) for h in header):
+                        raise unmatched_item(str(p), pat, [statements[h] for h in header])
                 cand = [h for h in cand if any(platforms.item_matches(pat, h, statements[h])
                                                for pat in items)]
             left_out = {h: ("grouping column" if h in gcols else

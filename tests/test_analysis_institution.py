@@ -701,3 +701,19 @@ def test_both_routes_warn_of_labels_no_answer_uses(tmp_path):
             "is the questionnaire's scale (medians and codes depend on it)")
     assert want in read_survey(f, scale="agree7").notes
     assert want in summarize_by(f, ["T"], scale="agree7", min_group=1).notes
+
+
+def test_an_items_pattern_matching_nothing_is_refused_alike_on_both_routes(tmp_path, capsys):
+    """QA 18 #9: ``--by ... --items Nope`` said 'no item columns to count' without naming
+    'Nope', and with a good name beside it listed the grid's header form, not the statement
+    names --by takes. Both routes now give the in-memory route's line, naming the pattern and
+    listing the columns by the names items go by."""
+    f = tmp_path / "google.csv"
+    f.write_text("Timestamp,Section,Rate each statement [Clear],Rate each statement [Too hard]\n"
+                 + "".join(f"2024-01-0{i} 10:00,{'AB'[i % 2]},Agree,Disagree\n" for i in range(1, 7)))
+    want = (f"error: {f}: row 1: no column matches item 'Nope'; columns are ['Timestamp', "
+            "'Section', 'Clear', 'Too hard']\n")
+    for items in (["Nope"], ["Clear", "Nope"]):
+        for by in ([], ["--by", "Section", "--min-group", "1"]):
+            assert main(["summarize", str(f), "--items", *items, *by]) == 2
+            assert capsys.readouterr().err == want, (items, by)
