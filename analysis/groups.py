@@ -209,15 +209,17 @@ class GroupComparison:
 
     def distribution_frame(self):
         """Per shown group and item (pandas): the group, named by its column as ``--by`` names
-        it, the item, the columns of every summary table (:func:`analysis.export.item_columns`),
-        then the item's test across the groups."""
+        it, the item, the group's respondents (as ``--by``'s table), the columns of every
+        summary table (:func:`analysis.export.item_columns`), then the item's test across the
+        groups."""
         import pandas as pd
         from .export import item_columns
         rows = []
         for j, it in enumerate(self.items):
             for g in it.per_group:
-                row = {self.column: g, "item": it.item,
-                       **item_columns(self.summaries[g].items[j], self.labels)}
+                one = self.summaries[g].items[j]
+                row = {self.column: g, "item": it.item, "respondents": one.respondents,
+                       **item_columns(one, self.labels)}
                 row.update({"test": it.test, "p": it.p_value, "p (Holm)": it.p_holm})
                 rows.append(row)
         return pd.DataFrame(rows)

@@ -1408,6 +1408,11 @@ def _warn_unused_labels(scale: Scale, counts: np.ndarray, notes: list) -> None:
 #: Chance below which an item's answers missing every label that only the wider scale has
 #: is taken as a sign that the item offered the narrower scale (see :func:`narrower_scale_notes`).
 NARROWER_SCALE_CHANCE = 0.05
+#: The stricter chance below which such an item, answered on both sides of those labels, is
+#: left out of the table (a warning at 5% is cheap; leaving an item out needs firmer evidence:
+#: a 5-point item of 13 answers that nobody answered neutrally, where 35% of the others'
+#: answers are neutral, is at 0.4% and stays).
+NARROWER_SCALE_LEAVE_OUT = 0.001
 
 
 def label_counts(answers: np.ndarray, k: int) -> np.ndarray:
@@ -1445,8 +1450,9 @@ def narrower_scale_notes(source: str, scale: Scale, names: list, counts: np.ndar
     of the items using them.
 
     A suspect whose answers lie on both sides of such a label (``Disagree`` and ``Agree``
-    around agree7's ``Somewhat ...``) skipped a middle answer it would have been offered:
-    it offered the narrower scale. When the scale was ``detected`` (no ``--scale``), such an
+    around agree7's ``Somewhat ...``) skipped a middle answer it would have been offered,
+    and when the chance is also below :data:`NARROWER_SCALE_LEAVE_OUT` it offered the
+    narrower scale. When the scale was ``detected`` (no ``--scale``), such an
     item is left out of the table, as R's ``likert()`` refuses items of unequal numbers of
     levels in one table, with the reason and its statistics on the narrower scale, rather
     than summarized on codes that are not its own. A given ``--scale`` is the questionnaire's
@@ -1487,8 +1493,9 @@ def narrower_scale_notes(source: str, scale: Scale, names: list, counts: np.ndar
         found = [j for j in range(len(names)) if j not in named and j not in using
                  and counts[j].sum() and (1 - f) ** int(counts[j].sum()) < NARROWER_SCALE_CHANCE]
         named.update(found)
-        around = [j for j in found if detected and any(
-            counts[j, :w].sum() and counts[j, w + 1:].sum() for w in wider)]
+        around = [j for j in found if detected
+                  and (1 - f) ** int(counts[j].sum()) < NARROWER_SCALE_LEAVE_OUT
+                  and any(counts[j, :w].sum() and counts[j, w + 1:].sum() for w in wider)]
         words = _NarrowerWords(source, scale, other, pos, wider, names, counts, reverse,
                                percent_text(k_wider, n_using, 0))
         if around:

@@ -525,11 +525,12 @@ def test_every_route_writes_the_same_table_columns(tmp_path, capsys):
     plain, group, by = tables["plain"], tables["group"], tables["by"]
     columns = list(plain.columns[2:])                       # after item and stem
     assert columns[:3] == ["reversed", "statistics on reversed codes", "n"]
-    assert list(group.columns[:2]) == ["Section", "item"] and list(group.columns[2:-3]) == columns
+    # QA 18 #9: the --group table had no respondents column where --by's has one
+    assert list(group.columns[:3]) == ["Section", "item", "respondents"] and list(group.columns[3:-3]) == columns
     assert list(by.columns[:3]) == ["Section", "item", "respondents"] and list(by.columns[3:]) == columns
-    numbers = [c for c in columns if c not in ("reversed", "statistics on reversed codes")]
+    numbers = ["respondents"] + [c for c in columns if c not in ("reversed", "statistics on reversed codes")]
     everyone = by[by["Section"] == "(all)"].reset_index(drop=True)
-    pd.testing.assert_frame_equal(everyone[numbers], plain[numbers], check_dtype=False)
+    pd.testing.assert_frame_equal(everyone[numbers[1:]], plain[numbers[1:]], check_dtype=False)
     for section in ("A", "B"):
         a = group[group["Section"] == section].reset_index(drop=True)[numbers]
         b = by[by["Section"] == section].reset_index(drop=True)[numbers]
