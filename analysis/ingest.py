@@ -582,7 +582,8 @@ _WORKBOOK_PARTS = {"read_manifest": "its list of parts ([Content_Types].xml)",
                    "assign_names": "its defined names (xl/workbook.xml)"}
 
 
-def _xlsx_error(e: Exception, source: str, row: "int | None" = None) -> SurveyInputError:
+def _xlsx_error(e: Exception, source: str, row: "int | None" = None,
+                sheet: "str | None" = None) -> SurveyInputError:
     """One line for a workbook openpyxl cannot read: entities named as refused, malformed XML
     with expat's place, else the part being read and what its reader said (never an
     exception's name alone)."""
@@ -595,10 +596,10 @@ def _xlsx_error(e: Exception, source: str, row: "int | None" = None) -> SurveyIn
     for x in reversed(chain):                  # the innermost reading step names the part
         for frame in traceback.extract_tb(x.__traceback__):
             part = _WORKBOOK_PARTS.get(frame.name, part)
-    where = f"{part}: " if part else ""
+    where = f"sheet {sheet!r}: " if sheet is not None else f"{part}: " if part else ""
     if any(type(x).__module__.startswith("defusedxml") for x in chain):
-        what = ("its XML declares entities (external entities and entity expansion are "
-                "refused)")
+        what = ("its XML declares or uses entities (external entities, entity expansion "
+                "and entities no declaration defines are refused)")
     elif any(type(x).__name__ in ("ParseError", "ExpatError") for x in chain):
         said = next(str(x) for x in chain if type(x).__name__ in ("ParseError", "ExpatError"))
         what = f"malformed XML ({said[:120]})"
@@ -663,7 +664,7 @@ def _xlsx_rows(content: bytes, source: str, sheet: "str | None" = None):
     except SheetFault as e:
         raise _sheet_fault(e, source, ws.title) from None
     except Exception as e:  # noqa: BLE001 - ParseError, EntitiesForbidden ... in the sheet
-        raise _xlsx_error(e, source, len(rows) + 1) from None
+        raise _xlsx_error(e, source, len(rows) + 1, None if ws is None else ws.title) from None
     finally:
         wb.close()
     return rows, ws.title, others

@@ -53,12 +53,13 @@ def test_xlsx_dimension_record_is_not_trusted(tmp_path, analysis_cli, ref):
 @pytest.mark.parametrize("kind, needle", [("truncated", "malformed XML"),
                                           ("xxe", "entities"), ("bomb", "entities")])
 def test_xlsx_bad_xml_one_line(tmp_path, analysis_cli, kind, needle):
-    """Regression: malformed XML and entities raised a traceback from iter_rows."""
+    """Regression: malformed XML and entities raised a traceback from iter_rows. QA 18 #7:
+    the line names the sheet the fault is in."""
     good = xf.workbook(ROWS)
     f = tmp_path / "x.xlsx"
     f.write_bytes(xf.truncated(good) if kind == "truncated" else xf.with_entity(good, kind))
     code, out, err = analysis_cli("summarize", str(f))
-    _one_error_line(code, err, str(f), needle)
+    _one_error_line(code, err, str(f), needle, "sheet 'Sheet': ")
     assert "root:" not in out + err                     # nothing of /etc/passwd
 
 
