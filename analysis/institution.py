@@ -395,10 +395,12 @@ def _scan_records(path: Path) -> "ShortRecords | None":
     """The fields of each record of a CSV file, counted by the in-memory route's byte scan
     (:class:`analysis._io.ShortRecords`, 1 MiB at a time); a record with a value beyond the
     header's last column is refused as that route refuses it
-    (:func:`analysis._io.refuse_values_beyond_header`: DuckDB read it by inventing a column).
-    None for a Parquet file."""
+    (:func:`analysis._io.refuse_values_beyond_header`: DuckDB read it by inventing a column),
+    and so is an empty file. None for a Parquet file."""
     if path.suffix.lower() == ".parquet":
         return None
+    if not _head(path).strip():
+        raise SurveyInputError("empty file", str(path))    # (DuckDB reads a column 'column0')
     newline = _header_newline(_head(path)) or "\n"
     scan = ShortRecords(_delimiter(path), newline[-1].encode())
     with open(path, "rb") as f:

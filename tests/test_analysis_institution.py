@@ -718,3 +718,14 @@ def test_an_items_pattern_matching_nothing_is_refused_alike_on_both_routes(tmp_p
         for by in ([], ["--by", "Section", "--min-group", "1"]):
             assert main(["summarize", str(f), "--items", *items, *by]) == 2
             assert capsys.readouterr().err == want, (items, by)
+
+
+def test_an_empty_file_is_called_empty_on_both_routes(tmp_path, capsys):
+    """An empty CSV (or one of blank lines) was refused by --by as having no column 'Q1'
+    among ['column0'], a column DuckDB made up; the in-memory route calls it empty."""
+    for text in ("", "\n\n  \n"):
+        f = tmp_path / "empty.csv"
+        f.write_text(text)
+        for by in ([], ["--by", "Q1"]):
+            assert main(["summarize", str(f), *by]) == 2
+            assert capsys.readouterr().err == f"error: {f}: empty file\n", (text, by)
