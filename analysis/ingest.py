@@ -1557,9 +1557,9 @@ class _NarrowerWords:
     def reason(self) -> str:
         return (f"answers of scale {self.other.name!r}, not {self.scale.name!r}: never "
                 f"{self._only()} ({self.share}% of the answers to the items that use them), "
-                f"though its answers lie on both sides of such a label; summarize with --items and --scale "
-                f"{self.other.name}, or give --scale {self.scale.name} to count it on "
-                f"{self.scale.name!r} codes")
+                f"though its answers lie on both sides of such a label; summarize with "
+                f"--items and --scale {self.other.name}, or give --scale {self.scale.name} to "
+                f"count it on {self.scale.name!r} codes")
 
 
 name_matches = platforms.name_matches

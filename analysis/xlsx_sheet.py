@@ -200,8 +200,9 @@ class _Cells:
         if value is None or kind == "inlineStr":
             return value if kind == "inlineStr" else None
         if kind == "n":
+            real = "." in value or "e" in value or "E" in value
             try:
-                number = float(value) if ("." in value or "e" in value or "E" in value) else int(value)
+                number = float(value) if real else int(value)
             except ValueError:
                 raise self._fault(f"its value {value[:20]!r} is not a number") from None
             if self.style in self.dates:
@@ -215,7 +216,8 @@ class _Cells:
             try:
                 index = int(value)
             except ValueError:
-                raise self._fault(f"its shared-string index {value[:20]!r} is not a number") from None
+                raise self._fault(f"its shared-string index {value[:20]!r} is not a "
+                                  "number") from None
             if not 0 <= index < len(self.strings):     # (a negative index would count from the end)
                 raise self._fault(f"shared string {index} does not exist (the workbook has "
                                   f"{len(self.strings)})")
