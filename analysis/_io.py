@@ -202,12 +202,15 @@ class ShortRecords:
         Fields of the header (record 1).
     last : int
         The last record holding cell text.
+    longer : int
+        Records with more fields than the header (their values beyond it are looked at by
+        :func:`refuse_values_beyond_header`).
     """
 
     def __init__(self, sep: str, newline: bytes = b"\n"):
         self.sep, self.newline = ord(sep), newline[-1]
         self.found: list = []
-        self.width = self.last = 0
+        self.width = self.last = self.longer = 0
         self._inside, self._seps, self._text, self._record = 0, 0, False, 1
         self._blank = b' \t\r\n"' + sep.encode("ascii")
 
@@ -230,6 +233,7 @@ class ShortRecords:
             self.width = int(seps[0]) + 1
         for i in np.flatnonzero(seps[:len(ends)] + 1 < self.width).tolist():
             self._close(i, int(seps[i]) + 1, chunk[starts[i]:ends[i]])
+        self.longer += int(np.count_nonzero(seps[:len(ends)] + 1 > self.width))
         for i in range(len(ends) - 1, -1, -1):      # the last record holding text, usually
             if self._holds_text(chunk[starts[i]:ends[i]]) or (i == 0 and self._text):
                 self.last = self._record + i        # the chunk's last one
@@ -247,6 +251,7 @@ class ShortRecords:
             self.last = self._record
             if self._seps + 1 < self.width:
                 self.found.append((self._record, self._seps + 1))
+            self.longer += self._seps + 1 > self.width
         self._text = False
         return self.found
 
@@ -269,3 +274,46 @@ def short_records_note(source: str, short: list, width: int) -> "str | None":
     return (f"{source}: {k} row{'s' if k != 1 else ''} with fewer fields than the header's "
             f"{width} ({shown}{more}): the missing cells are read as blank answers (a line "
             f"break in an unquoted cell splits a record in two: check the export)")
+
+
+def refuse_values_beyond_header(text, sep: str, width: int, source: str, skip: int = 0) -> None:
+    """Raise when a CSV record holds a value beyond the header's last column: that value has
+    no column, and reading it as one (DuckDB invents ``column3``) or leaving it out would
+    both be silent. Empty fields there (a delimiter ending a line) are no values. The one rule
+    of both survey routes, worded once.
+
+    Parameters
+    ----------
+    text : file-like
+        The CSV text from its header record (opened with ``newline=""``), read as a stream.
+    sep : str
+        The delimiter.
+    width : int
+        Fields of the header record.
+    source : str
+        The file, for the message.
+    skip : int
+        Lines above the header (comment lines), so that rows are numbered as a spreadsheet
+        shows them.
+
+    Raises
+    ------
+    SurveyInputError
+        ``row R: N fields, but the header has W: value 'x' has no column``, or a record
+        Python's csv module cannot read.
+    """
+    line = skip
+    limit = csv.field_size_limit(1 << 30)       # pandas and DuckDB read fields of any size
+    try:
+        for rec in csv.reader(text, delimiter=sep):
+            line += 1
+            if len(rec) > width:
+                extra = [c for c in rec[width:] if c.strip()]
+                if extra:
+                    raise SurveyInputError(
+                        f"{len(rec)} fields, but the header has {width}: value "
+                        f"{extra[0]!r} has no column", source, line)
+    except csv.Error as e:
+        raise SurveyInputError(f"not a well-formed CSV ({e})", source, line + 1) from None
+    finally:
+        csv.field_size_limit(limit)

@@ -47,7 +47,8 @@ from pathlib import Path
 
 from ._io import read_toml
 from .errors import SurveyInputError
-from .likert import CI_METHODS, Proportion, SurveySummary, interval_label, proportion
+from .likert import (CI_METHODS, Proportion, SurveySummary, interval_label, left_out_words,
+                     proportion)
 from .rounding import number_text, share_percent_text, significant_text
 from .scales import normalize_answer
 
@@ -286,7 +287,8 @@ def evaluate_claim(claim: Claim, summary: SurveySummary, confidence_level: float
         it = summary.item(claim.item)
     except (KeyError, IndexError):
         raise SurveyInputError(
-            f"claim {claim.id!r}: no item {claim.item!r}; items are "
+            f"claim {claim.id!r}: no item {claim.item!r}"
+            f"{left_out_words(summary.not_item_reasons, claim.item)}; items are "
             f"{[i.item for i in summary.items]} (or positions 1..{len(summary.items)})",
             source) from None
     keys = {normalize_answer(lab): lab for lab in it.labels}

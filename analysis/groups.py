@@ -209,15 +209,17 @@ class GroupComparison:
 
     def distribution_frame(self):
         """Per shown group and item (pandas): the group, named by its column as ``--by`` names
-        it, the item, the columns of every summary table (:func:`analysis.export.item_columns`),
-        then the item's test across the groups."""
+        it, the item, the group's respondents (as ``--by``'s table), the columns of every
+        summary table (:func:`analysis.export.item_columns`), then the item's test across the
+        groups."""
         import pandas as pd
         from .export import item_columns
         rows = []
         for j, it in enumerate(self.items):
             for g in it.per_group:
-                row = {self.column: g, "item": it.item,
-                       **item_columns(self.summaries[g].items[j], self.labels)}
+                one = self.summaries[g].items[j]
+                row = {self.column: g, "item": it.item, "respondents": one.respondents,
+                       **item_columns(one, self.labels)}
                 row.update({"test": it.test, "p": it.p_value, "p (Holm)": it.p_holm})
                 rows.append(row)
         return pd.DataFrame(rows)
@@ -397,6 +399,15 @@ def _test_items(comp, data, names, members, pairs, min_size, trend) -> None:
         comp.items.append(it)
 
 
+def _quoted(name) -> str:
+    """A group name or id in quotes as the file writes it (``'"q'<'``, where ``repr`` would
+    print ``'"q\\'<'``); only a character that would break the line (a line break, a control
+    character) is escaped."""
+    text = "".join(c if c.isprintable() else c.encode("unicode_escape").decode("ascii")
+                   for c in str(name))
+    return f"'{text}'"
+
+
 def _coverage(infos, left_out) -> str:
     """The groups the tests compare and the respondents they leave out, when suppression
     withheld some groups ("" when every group is compared)."""
@@ -406,10 +417,10 @@ def _coverage(infos, left_out) -> str:
     shown = [g for g in infos if not g.suppressed]
     total = sum(g.respondents for g in infos)
     return (f"the tests compare {len(shown)} of the {len(infos)} groups "
-            f"({', '.join(repr(g.name) for g in shown)}: {total - left_out} of {total} "
+            f"({', '.join(_quoted(g.name) for g in shown)}: {total - left_out} of {total} "
             f"respondents); the {left_out} respondent{'s' if left_out != 1 else ''} of the "
             f"suppressed group{'s' if len(hidden) != 1 else ''} "
-            f"({', '.join(repr(g.name) for g in hidden)}) "
+            f"({', '.join(_quoted(g.name) for g in hidden)}) "
             f"{'are' if left_out != 1 else 'is'} left out, for disclosure reasons")
 
 
@@ -430,7 +441,7 @@ def _trend_note(unordered, order) -> str:
                 "it); give --group-order to test a trend over an order that means something, "
                 "such as terms")
     return (f"no trend over the groups: --group-order does not place "
-            f"{', '.join(repr(n) for n in unordered[:5])}{' ...' if len(unordered) > 5 else ''}"
+            f"{', '.join(_quoted(n) for n in unordered[:5])}{' ...' if len(unordered) > 5 else ''}"
             f", and a trend needs an order over every group compared")
 
 
@@ -475,7 +486,7 @@ def _ids_by_group(data, inverse, shown, values):
         single = set(uniq[cnt == 1].tolist())
         once.append({k: r for k, r in zip(keys, rows) if k in single})
         seen.append(set(uniq.tolist()))
-        twice += [f"{str(data.ids[rows[keys == k][0]]).strip()!r} {int(c)} times in "
+        twice += [f"{_quoted(str(data.ids[rows[keys == k][0]]).strip())} {int(c)} times in "
                   f"{values[g]}" for k, c in zip(uniq, cnt) if c > 1]
     return once, seen, twice
 
@@ -496,8 +507,8 @@ def _refuse_pairing(data, shown, values, common, min_size) -> None:
     if common is not None and len(common) < min_size:
         raise SurveyInputError(
             f"--paired: {len(common)} id{'s' if len(common) != 1 else ''} in column "
-            f"{data.id_column!r} answered once in both {str(values[shown[0]])!r} and "
-            f"{str(values[shown[1]])!r}, fewer than --min-group {min_size}: too few pairs "
+            f"{data.id_column!r} answered once in both {_quoted(values[shown[0]])} and "
+            f"{_quoted(values[shown[1]])}, fewer than --min-group {min_size}: too few pairs "
             f"for a paired test", data.source)
 
 
@@ -577,7 +588,7 @@ def _test_item(item, samples, names, per, codes, a, pairs, min_size,
         return ItemComparison(item, "none", None, None, "", None, per,
                               "fewer than two groups with answers to compare after suppression")
     silent = [nm for nm, s in zip(names, samples) if not s.size]
-    note = (f"{', '.join(repr(nm) for nm in silent)} gave no answer to this item: the test "
+    note = (f"{', '.join(_quoted(nm) for nm in silent)} gave no answer to this item: the test "
             f"compares the other groups" if silent else "")
     names, usable = [u[0] for u in usable], [u[1] for u in usable]
     allx = np.concatenate(usable)

@@ -65,11 +65,12 @@ import pandas as pd
 
 from . import platforms
 from .platforms import CODES_HINT
-from ._io import (ShortRecords, is_regular_file, read_bytes, short_records_note,
-                  sniff_delimiter)
+from ._io import (ShortRecords, is_regular_file, read_bytes, refuse_values_beyond_header,
+                  short_records_note, sniff_delimiter)
 from .dropped import (DROP_WHY, FOOTER, DroppedRow, is_footer_note, is_integer_text,
                       is_na_text as _is_na_text)
 from .errors import SurveyInputError
+from .xlsx_sheet import SheetFault
 from .scales import (BLANK, BUILTIN_SCALES, DECLINED, NOT_APPLICABLE, SHORT_NOT_APPLICABLE, UNKNOWN,
                      Scale, code_key, get_scale, normalize_answer,
                      two_groups_message)
@@ -401,17 +402,27 @@ def _read_csv_encoded(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]
     if single:
         body, lead, trailing = _trim_single_column(body)
         skip += lead
-    try:
+    def read(usecols=None):
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", pd.errors.ParserWarning)
             # index_col=False: a data row with a trailing delimiter must not turn the
             # first column into an index and shift every answer one column left.
             # dtype=object: every cell the text the file holds (a "category" read infers
             # numbers, so that sections "01" and "1.0" became one group and id "00123" 123)
-            df = pd.read_csv(io.BytesIO(body), dtype=object, keep_default_na=False,
-                             sep=sep, na_filter=False, encoding=encoding, engine="c",
-                             skipinitialspace=False, skip_blank_lines=not single,
-                             index_col=False)
+            return pd.read_csv(io.BytesIO(body), dtype=object, keep_default_na=False,
+                               sep=sep, na_filter=False, encoding=encoding, engine="c",
+                               skipinitialspace=False, skip_blank_lines=not single,
+                               index_col=False, usecols=usecols), caught
+    try:
+        try:
+            df, caught = read()
+        except pd.errors.ParserError as e:
+            if not re.search(r"Expected \d+ fields", str(e)) or not peek:
+                raise
+            # a record longer than the others: refused when it holds a value beyond the
+            # header (the rule of both routes); empty fields there are no values, left out
+            _values_beyond_header(body, encoding, sep, len(peek[0]), source, skip)
+            df, caught = read(range(len(peek[0])))
     except UnicodeDecodeError:
         raise _decode_error(raw, encoding, source) from None
     except pd.errors.EmptyDataError:
@@ -419,7 +430,7 @@ def _read_csv_encoded(path: Path, encoding: str) -> tuple[_Raw, list[list[str]]]
     except pd.errors.ParserError as e:
         raise _parser_error(e, source, skip) from None
     if any(issubclass(w.category, pd.errors.ParserWarning) for w in caught):
-        _check_extra_fields(body, encoding, sep, df.shape[1], source, skip)
+        _values_beyond_header(body, encoding, sep, df.shape[1], source, skip)
     _check_width(source, df.shape[1])
     row_map = None
     if not single and _may_have_blank_lines(body, len(df)) and _BLANK_LINE.search(b"\n" + body):
@@ -513,28 +524,12 @@ def _may_have_blank_lines(body: bytes, nrows: int) -> bool:
 _BLANK_LINE = re.compile(rb"\n[ \t]*\r?\n[^\r\n]")
 
 
-def _check_extra_fields(body: bytes, encoding: str, sep: str, width: int, source: str,
-                        skip: int) -> None:
-    """Raise when a record has a non-blank value beyond the header's last column.
-
-    Blank trailing fields (a delimiter at the end of each line) are harmless and left
-    out; a value there has no column, and leaving it out would drop it silently.
-    """
-    text = body.decode(encoding, errors="replace")
-    line = skip
-    limit = csv.field_size_limit(len(text) + 1)   # pandas read fields of any size: so do we
-    try:
-        for rec in csv.reader(io.StringIO(text, newline=""), delimiter=sep):
-            line += 1
-            extra = [c for c in rec[width:] if c.strip()]
-            if extra:
-                raise SurveyInputError(
-                    f"{len(rec)} fields, but the header has {width}: value {extra[0]!r} has "
-                    f"no column", source, line)
-    except csv.Error as e:
-        raise SurveyInputError(f"not a well-formed CSV ({e})", source, line + 1) from None
-    finally:
-        csv.field_size_limit(limit)
+def _values_beyond_header(body: bytes, encoding: str, sep: str, width: int, source: str,
+                          skip: int) -> None:
+    """Refuse a record with a value beyond the header's last column
+    (:func:`analysis._io.refuse_values_beyond_header`, the rule of both routes)."""
+    refuse_values_beyond_header(io.StringIO(body.decode(encoding, errors="replace"), newline=""),
+                                sep, width, source, skip)
 
 
 def _record_rows(body: bytes, encoding: str, sep: str, skip: int, nrows: int):
@@ -567,27 +562,60 @@ def _record_rows(body: bytes, encoding: str, sep: str, skip: int, nrows: int):
     return np.asarray(rows, dtype=np.int64)
 
 
-def _check_width(source: str, width: int, at_least: bool = False) -> None:
+def _check_width(source: str, width: int, at_least: bool = False, row: int = 1) -> None:
     if width > MAX_COLUMNS:
         more = " or more" if at_least else ""
         raise SurveyInputError(f"{width} columns{more}; at most {MAX_COLUMNS} are read",
-                               source, 1)
+                               source, row)
 
 
-def _xlsx_error(e: Exception, source: str, row: "int | None" = None) -> SurveyInputError:
-    """One line for a workbook openpyxl cannot read (entities named as refused)."""
+#: The parts of a workbook openpyxl reads as it loads it, by the function reading each
+#: (a fault there is named by its part, not by openpyxl's exception).
+_WORKBOOK_PARTS = {"read_manifest": "its list of parts ([Content_Types].xml)",
+                   "read_strings": "its shared strings (xl/sharedStrings.xml)",
+                   "read_workbook": "its workbook part (xl/workbook.xml)",
+                   "find_sheets": "its sheet list (xl/workbook.xml and its relationships)",
+                   "read_properties": "its document properties (docProps/core.xml)",
+                   "read_custom": "its custom properties (docProps/custom.xml)",
+                   "apply_stylesheet": "its styles (xl/styles.xml)",
+                   "read_worksheets": "its sheet list (xl/workbook.xml and its relationships)",
+                   "assign_names": "its defined names (xl/workbook.xml)"}
+
+
+def _xlsx_error(e: Exception, source: str, row: "int | None" = None,
+                sheet: "str | None" = None) -> SurveyInputError:
+    """One line for a workbook openpyxl cannot read: entities named as refused, malformed XML
+    with expat's place, else the part being read and what its reader said (never an
+    exception's name alone)."""
+    import traceback
     chain, err = [], e
     while err is not None and len(chain) < 10:
         chain.append(err)
         err = err.__cause__ or err.__context__
+    part = None
+    for x in reversed(chain):                  # the innermost reading step names the part
+        for frame in traceback.extract_tb(x.__traceback__):
+            part = _WORKBOOK_PARTS.get(frame.name, part)
+    where = f"sheet {sheet!r}: " if sheet is not None else f"{part}: " if part else ""
     if any(type(x).__module__.startswith("defusedxml") for x in chain):
-        what = ("its XML declares entities (external entities and entity expansion are "
-                "refused)")
+        what = ("its XML declares or uses entities (external entities, entity expansion "
+                "and entities no declaration defines are refused)")
     elif any(type(x).__name__ in ("ParseError", "ExpatError") for x in chain):
-        what = "malformed XML"
+        said = next(str(x) for x in chain if type(x).__name__ in ("ParseError", "ExpatError"))
+        what = f"malformed XML ({said[:120]})"
     else:
-        what = type(e).__name__
-    return SurveyInputError(f"not a readable .xlsx workbook: {what}", source, row)
+        inner = chain[-1]
+        said = (inner.args[0] if isinstance(inner, KeyError) and inner.args else str(inner))
+        said = " ".join(str(said).split())[:160]
+        what = said or f"unreadable content ({type(inner).__name__})"
+    return SurveyInputError(f"not a readable .xlsx workbook: {where}{what}", source, row)
+
+
+def _sheet_fault(e, source: str, title: str) -> SurveyInputError:
+    """One line for a sheet the fast reader refused (:class:`analysis.xlsx_sheet.SheetFault`),
+    naming the sheet and the cell."""
+    where = f"sheet {title!r}" + (f", cell {e.cell}" if e.cell else "")
+    return SurveyInputError(f"{where}: {e.reason}", source, e.row)
 
 
 def _xlsx_rows(content: bytes, source: str, sheet: "str | None" = None):
@@ -606,7 +634,8 @@ def _xlsx_rows(content: bytes, source: str, sheet: "str | None" = None):
     try:
         size = sum(i.file_size for i in zipfile.ZipFile(io.BytesIO(content)).infolist())
     except Exception as e:  # noqa: BLE001 - zipfile raises several kinds on a broken container
-        raise SurveyInputError(f"not a readable .xlsx workbook ({type(e).__name__})",
+        raise SurveyInputError(f"not a readable .xlsx workbook: not a zip archive, or a "
+                               f"damaged or truncated one ({e or type(e).__name__})",
                                source) from None
     if size > MAX_XLSX_BYTES:
         raise SurveyInputError(f"workbook unpacks to {size} bytes; at most {MAX_XLSX_BYTES} "
@@ -616,7 +645,7 @@ def _xlsx_rows(content: bytes, source: str, sheet: "str | None" = None):
         wb = load_read_only(io.BytesIO(content))
     except Exception as e:  # noqa: BLE001 - BadZipFile, KeyError, InvalidFileException, XML errors ...
         raise _xlsx_error(e, source) from None
-    rows, width = [], 0
+    rows, width, ws = [], 0, None
     try:
         ws = _worksheet(wb, sheet, source)
         for r in _sheet_rows(wb, ws, source):
@@ -632,8 +661,10 @@ def _xlsx_rows(content: bytes, source: str, sheet: "str | None" = None):
         others = [w.title for w in wb.worksheets if w is not ws and _holds_a_cell(wb, w, source)]
     except SurveyInputError:
         raise
-    except Exception as e:  # noqa: BLE001 - ParseError, EntitiesForbidden, ValueError ... in the sheet
-        raise _xlsx_error(e, source, len(rows) + 1) from None
+    except SheetFault as e:
+        raise _sheet_fault(e, source, ws.title) from None
+    except Exception as e:  # noqa: BLE001 - ParseError, EntitiesForbidden ... in the sheet
+        raise _xlsx_error(e, source, len(rows) + 1, None if ws is None else ws.title) from None
     finally:
         wb.close()
     return rows, ws.title, others
@@ -643,6 +674,9 @@ def _worksheet(wb, sheet: "str | None", source: str):
     """The worksheet named ``sheet`` (exactly, else ignoring case and outer spaces), or the
     first; a name the workbook lacks is refused, listing its sheets."""
     sheets = list(wb.worksheets)
+    if not sheets:
+        raise SurveyInputError("not a readable .xlsx workbook: it has no worksheet (the parts "
+                               "its sheet list names are missing)", source)
     if sheet is None:
         return sheets[0]
     for same in (lambda t: t == sheet, lambda t: t.strip().casefold() == sheet.strip().casefold()):
@@ -662,7 +696,7 @@ def _sheet_rows(wb, ws, source: str):
     if all(hasattr(wb, a) for a in ("_date_formats", "_timedelta_formats", "epoch")) and all(
             hasattr(ws, a) for a in ("_get_source", "_shared_strings")):
         return sheet_values(wb, ws, MAX_COLUMNS,
-                            lambda n: _check_width(source, n, at_least=True))
+                            lambda n, row: _check_width(source, n, at_least=True, row=row))
     ws.reset_dimensions()
     return ws.iter_rows(values_only=True)
 
@@ -966,7 +1000,7 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
     exclude = {j for j, h in enumerate(raw.header)
                if not platforms.candidate(shape, h, text_row[j])}
     group_names = _as_list(group)
-    group_idx = [_column_index(raw, g, names) for g in group_names]
+    group_idx = [_column_index(raw, g, names, text_row) for g in group_names]
     exclude |= set(group_idx)
     keep = _as_slice(keep)
     cols = [(j, _Column(names[j], c.cats, c.codes[keep], c.name))
@@ -997,7 +1031,7 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
                       other_columns=list(others), not_item_reasons=others,
                       comments=list(raw.comments), stems=[stems[j] for j in chosen],
                       fields=[raw.columns[j].name for j in chosen], notes=notes)
-    data.notes += narrower_scale_notes(raw.source, scale_obj, item_names, counts, data.reverse)
+    _narrower_items(data, counts, scale is None)
     pid = person_id_column(raw.header)
     if pid is not None:
         c = raw.columns[pid]
@@ -1158,10 +1192,10 @@ def _drop_footer(raw: _Raw, keep: np.ndarray):
 
 
 #: How each platform marks a response never completed: the column (its names), the test of
-#: its cell text (normalised) and the words saying so.
+#: its cell text (normalised) and the words saying so (``{value}``: the cells as written).
 _INCOMPLETE = {
-    "limesurvey": (("submitdate", "date submitted"), lambda t: t == "", "blank {}"),
-    "qualtrics": (("finished",), lambda t: t in ("false", "0"), "{} = False"),
+    "limesurvey": (("submitdate", "date submitted"), lambda t: t == "", "blank {name}"),
+    "qualtrics": (("finished",), lambda t: t in ("false", "0"), "{name} = {value}"),
 }
 
 
@@ -1180,14 +1214,16 @@ def _note_incomplete(raw: _Raw, keep: np.ndarray, notes: list, shape: str,
     if j is None:
         return
     col = raw.columns[j]
-    bad = np.array([test(normalize_answer(x)) for x in col.cats], dtype=bool)[col.codes[keep]]
+    codes = col.codes[keep]
+    bad = np.array([test(normalize_answer(x)) for x in col.cats], dtype=bool)[codes]
     k = int(bad.sum())
     if k:
         rows = [int(r) for r in raw.row_of(keep[bad][:5])]
         more = f" and {k - 5} more" if k > 5 else ""
         name = (raw.header[j] if _find(raw.header, names) is not None else text_row[j]).strip()
+        value = " or ".join(dict.fromkeys(col.cats[c].strip() for c in np.unique(codes[bad])))
         notes.append(f"{raw.source}: {k} incomplete response{'s' if k != 1 else ''} "
-                     f"({words.format(repr(name))}, row{'s' if k != 1 else ''} "
+                     f"({words.format(name=repr(name), value=value)}, row{'s' if k != 1 else ''} "
                      f"{', '.join(map(str, rows))}{more}) counted with the answers given")
 
 
@@ -1308,14 +1344,34 @@ def _scale_notes(scale: Scale, counts: np.ndarray, detected: bool, notes: list) 
 
 
 def scale_fit_notes(source: str, scale: Scale, names: list, counts: np.ndarray,
-                    reverse=frozenset()) -> list[str]:
+                    reverse=frozenset(), detected: bool = True) -> tuple[list[str], dict]:
     """The warnings on how the scale fits the answers that :func:`read_survey` gives, for
     :func:`analysis.institution.summarize_by` (which notes a missing label on choosing the
     items): labels nobody used while another scale fits, and items that look as if they
-    offered a narrower scale (:func:`narrower_scale_notes`)."""
+    offered a narrower scale, with those to leave out (:func:`narrower_scale_notes`)."""
     notes: list[str] = []
     _warn_unused_labels(scale, counts, notes)
-    return notes + narrower_scale_notes(source, scale, names, counts, reverse)
+    more, left_out = narrower_scale_notes(source, scale, names, counts, reverse, detected)
+    return notes + more, left_out
+
+
+def _narrower_items(data: "SurveyData", counts: np.ndarray, detected: bool) -> None:
+    """Warn of the items that look as if they offered a narrower scale, and leave out of
+    ``data`` those that did (:func:`narrower_scale_notes`), listed with their reason."""
+    notes, left_out = narrower_scale_notes(data.source, data.scale, data.items, counts,
+                                           data.reverse, detected)
+    data.notes += notes
+    if not left_out:
+        return
+    keep = [j for j, name in enumerate(data.items) if name not in left_out]
+    data.items = [data.items[j] for j in keep]
+    data.item_texts = [data.item_texts[j] for j in keep]
+    data.answers = data.answers[:, keep]
+    data.stems = [data.stems[j] for j in keep if j < len(data.stems)]
+    data.fields = [data.fields[j] for j in keep if j < len(data.fields)]
+    data.reverse = {r for r in data.reverse if r not in left_out}
+    data.other_columns = list(data.other_columns) + list(left_out)
+    data.not_item_reasons = {**data.not_item_reasons, **left_out}
 
 
 def _note_no_neutral(scale: Scale, notes: list) -> None:
@@ -1353,6 +1409,11 @@ def _warn_unused_labels(scale: Scale, counts: np.ndarray, notes: list) -> None:
 #: Chance below which an item's answers missing every label that only the wider scale has
 #: is taken as a sign that the item offered the narrower scale (see :func:`narrower_scale_notes`).
 NARROWER_SCALE_CHANCE = 0.05
+#: The stricter chance below which such an item, answered on both sides of those labels, is
+#: left out of the table (a warning at 5% is cheap; leaving an item out needs firmer evidence:
+#: a 5-point item of 13 answers that nobody answered neutrally, where 35% of the others'
+#: answers are neutral, is at 0.4% and stays).
+NARROWER_SCALE_LEAVE_OUT = 0.001
 
 
 def label_counts(answers: np.ndarray, k: int) -> np.ndarray:
@@ -1376,17 +1437,28 @@ def _narrower_scales(scale: Scale) -> list:
 
 
 def narrower_scale_notes(source: str, scale: Scale, names: list, counts: np.ndarray,
-                         reverse=frozenset()) -> list[str]:
-    """Warnings naming the items that look as if they offered a narrower built-in scale.
+                         reverse=frozenset(), detected: bool = True) -> tuple[list[str], dict]:
+    """Warnings naming the items that look as if they offered a narrower built-in scale, and
+    the items left out of the table for it.
 
     In a file mixing 5-point and 7-point agreement items the whole file is read as the
     wider scale: a 5-point item then lands on codes 1, 2, 4, 6, 7, and its median, IQR,
-    mean and SD are wrong (its counts and agreement share are not). An item is named when
-    it uses only labels of a narrower built-in scale (agree5 inside agree7), and never one of
-    the labels only the wider scale has, while other items do, so often that an item of
-    this many answers on the wider scale would miss all of them with a chance below
+    mean and SD are wrong (its counts and agreement share are not). An item is a suspect
+    when it uses only labels of a narrower built-in scale (agree5 inside agree7), and never
+    one of the labels only the wider scale has, while other items do, so often that an item
+    of this many answers on the wider scale would miss all of them with a chance below
     :data:`NARROWER_SCALE_CHANCE`: (1 - f) ** n, f being those labels' share of the answers
-    of the items using them. The warning gives the item's statistics on the narrower scale.
+    of the items using them.
+
+    A suspect whose answers lie on both sides of such a label (``Disagree`` and ``Agree``
+    around agree7's ``Somewhat ...``) skipped a middle answer it would have been offered,
+    and when the chance is also below :data:`NARROWER_SCALE_LEAVE_OUT` it offered the
+    narrower scale. When the scale was ``detected`` (no ``--scale``), such an
+    item is left out of the table, as R's ``likert()`` refuses items of unequal numbers of
+    levels in one table, with the reason and its statistics on the narrower scale, rather
+    than summarized on codes that are not its own. A given ``--scale`` is the questionnaire's
+    word, and a suspect answered only at one end (every answer ``Strongly agree``) may be
+    a consensus on the wider scale: those are kept, with the warning and both readings.
     Both routes (:func:`read_survey`, :func:`analysis.institution.summarize_by`) call this.
 
     Parameters
@@ -1400,11 +1472,18 @@ def narrower_scale_notes(source: str, scale: Scale, names: list, counts: np.ndar
         Answers per label.
     reverse : set of str
         Reverse-keyed items (their statistics on reversed codes, as in the table).
+    detected : bool
+        The scale was detected from the answers (not given with ``--scale``).
+
+    Returns
+    -------
+    notes : list of str
+    left_out : dict of str to str
+        The items to leave out of the table, each with its reason.
     """
-    from .likert import summarize_tally
-    from .rounding import number_text, percent_text
+    from .rounding import percent_text
     counts = np.asarray(counts, dtype=np.int64)
-    notes, named = [], set()
+    notes, named, left_out = [], set(), {}
     for other, pos in _narrower_scales(scale):
         wider = [i for i in range(scale.k) if i not in pos]
         using = [j for j in range(len(names)) if counts[j, wider].sum()]
@@ -1414,28 +1493,73 @@ def narrower_scale_notes(source: str, scale: Scale, names: list, counts: np.ndar
         f = k_wider / n_using
         found = [j for j in range(len(names)) if j not in named and j not in using
                  and counts[j].sum() and (1 - f) ** int(counts[j].sum()) < NARROWER_SCALE_CHANCE]
-        if not found:
-            continue
         named.update(found)
+        around = [j for j in found if detected
+                  and (1 - f) ** int(counts[j].sum()) < NARROWER_SCALE_LEAVE_OUT
+                  and any(counts[j, :w].sum() and counts[j, w + 1:].sum() for w in wider)]
+        words = _NarrowerWords(source, scale, other, pos, wider, names, counts, reverse,
+                               percent_text(k_wider, n_using, 0))
+        if around:
+            notes.append(words.left_out(around))
+            left_out.update({names[j]: words.reason() for j in around})
+        kept = [j for j in found if j not in around]
+        if kept:
+            notes.append(words.kept(kept))
+    return notes, left_out
+
+
+@dataclass
+class _NarrowerWords:
+    """The wording of :func:`narrower_scale_notes` for one narrower scale ``other``."""
+    source: str
+    scale: Scale
+    other: Scale
+    pos: list
+    wider: list
+    names: list
+    counts: np.ndarray
+    reverse: frozenset
+    share: str
+
+    def _stats(self, found: list) -> str:
+        from .likert import summarize_tally
+        from .rounding import number_text
         stats = []
         for j in found:
-            it = summarize_tally(np.concatenate([[0, 0, 0], counts[j, pos]]), other, names[j],
-                                 reverse=names[j] in reverse)
-            stats.append(f"{names[j]!r}{' (reversed)' if it.reverse else ''}: median "
+            name = self.names[j]
+            it = summarize_tally(np.concatenate([[0, 0, 0], self.counts[j, self.pos]]),
+                                 self.other, name, reverse=name in self.reverse)
+            stats.append(f"{name!r}{' (reversed)' if it.reverse else ''}: median "
                          f"{number_text(it.median)}, IQR {number_text(it.iqr)}, mean "
                          f"{number_text(it.mean, 2)}, SD {number_text(it.sd, 2)}")
-        only = " or ".join(repr(scale.labels[i]) for i in wider)
-        which = ", ".join(repr(names[j]) for j in found)
-        lo, hi = number_text(min(other.codes), 0), number_text(max(other.codes), 0)
-        share = percent_text(k_wider, n_using, 0)
-        notes.append(
-            f"warning: {source}: item{'s' if len(found) > 1 else ''} {which} never answered "
-            f"{only} (labels only scale {scale.name!r} has, {share}% of the answers to the "
-            f"items that use them): if they offered scale {other.name!r}, their median, IQR, "
-            f"mean, SD (and a Cronbach's alpha with them) are on the wrong codes; on {other.name!r} (codes {lo}-{hi}) "
-            f"they are {'; '.join(stats)} (summarize them with --items and --scale "
-            f"{other.name})")
-    return notes
+        lo, hi = (number_text(min(self.other.codes), 0), number_text(max(self.other.codes), 0))
+        return f"on {self.other.name!r} (codes {lo}-{hi}) they are {'; '.join(stats)}"
+
+    def _only(self) -> str:
+        return " or ".join(repr(self.scale.labels[i]) for i in self.wider)
+
+    def _head(self, found: list) -> str:
+        which = ", ".join(repr(self.names[j]) for j in found)
+        return f"item{'s' if len(found) > 1 else ''} {which}"
+
+    def kept(self, found: list) -> str:
+        return (f"warning: {self.source}: {self._head(found)} never answered {self._only()} "
+                f"(labels only scale {self.scale.name!r} has, {self.share}% of the answers to "
+                f"the items that use them): if they offered scale {self.other.name!r}, their "
+                f"median, IQR, mean, SD (and a Cronbach's alpha with them) are on the wrong "
+                f"codes; {self._stats(found)} (summarize them with --items and --scale "
+                f"{self.other.name})")
+
+    def left_out(self, found: list) -> str:
+        return (f"warning: {self.source}: {self._head(found)} left out of the table: "
+                f"{self.reason()}; {self._stats(found)}")
+
+    def reason(self) -> str:
+        return (f"answers of scale {self.other.name!r}, not {self.scale.name!r}: never "
+                f"{self._only()} ({self.share}% of the answers to the items that use them), "
+                f"though its answers lie on both sides of such a label; summarize with "
+                f"--items and --scale {self.other.name}, or give --scale {self.scale.name} to "
+                f"count it on {self.scale.name!r} codes")
 
 
 name_matches = platforms.name_matches
@@ -1449,23 +1573,30 @@ def _as_list(x) -> list[str]:
     return list(x)
 
 
-def _column_index(raw: _Raw, name: str, names: "list[str] | None" = None) -> int:
+def _column_index(raw: _Raw, name: str, names: "list[str] | None" = None,
+                  texts: "list[str] | None" = None) -> int:
     """The column a grouping flag names: by its header (any case and spacing), else, given
     the columns' question ``names`` (a Qualtrics export's texts, as items are named), by
-    its question text, as ``--items`` takes an item (:func:`analysis.platforms.item_matches`)."""
+    its question text, as ``--items`` takes an item (:func:`analysis.platforms.item_matches`).
+    ``texts`` are the question texts as the export writes them: a text two questions share
+    (each then named by its field id) is refused as ambiguous, naming them."""
     key = normalize_answer(name)
     for j, h in enumerate(raw.header):
         if normalize_answer(h) == key:
             return j
-    texts = {j: n for j, n in enumerate(names or []) if normalize_answer(n) != normalize_answer(
+    named = {j: n for j, n in enumerate(names or []) if normalize_answer(n) != normalize_answer(
         raw.header[j])}
-    hits = [j for j, n in texts.items() if platforms.item_matches(name, n)]
+    hits = [j for j, n in named.items() if platforms.item_matches(name, n)]
     if len(hits) == 1:
         return hits[0]
-    if hits:
+    hits = hits or [j for j, t in enumerate(texts or []) if t.strip() and normalize_answer(
+        t) != normalize_answer(raw.header[j]) and platforms.item_matches(name, t)]
+    if len(hits) > 1:
         raise SurveyInputError(f"{name!r} is the question text of columns "
                                f"{[raw.header[j] for j in hits]!r}; name one of them", raw.source, 1)
-    also = f"; question texts are {list(texts.values())!r}" if texts else ""
+    if hits:
+        return hits[0]
+    also = f"; question texts are {list(named.values())!r}" if named else ""
     raise SurveyInputError(f"no column {name!r}; columns are {raw.header!r}{also}", raw.source, 1)
 
 
@@ -1577,6 +1708,14 @@ def _refuse_codes(source: str, col: _Column, long: bool, codes_file: "str | None
         None if long else (col.field or col.name))
 
 
+def unmatched_item(source: str, pattern: str, names: list, long: bool = False):
+    """The refusal of an ``--items`` pattern that matches no column (of a long file: no
+    item), listing the ``names`` it could match; the words of both routes."""
+    what = "item" if long else "column"
+    return SurveyInputError(f"no {what} matches item {pattern!r}; {what}s are {names!r}",
+                            source, None if long else 1)
+
+
 def _choose_items(source: str, names: list[str], cols, exclude, scale, items,
                   long: bool = False, notes: "list | None" = None,
                   codes_file: "str | None" = None):
@@ -1592,8 +1731,7 @@ def _choose_items(source: str, names: list[str], cols, exclude, scale, items,
         for pat in items:
             hits = [(j, c) for j, c in cols if platforms.item_matches(pat, c.name, c.field)]
             if not hits:
-                raise SurveyInputError(f"no {what} matches item {pat!r}; {what}s are {names!r}",
-                                       source, None if long else 1)
+                raise unmatched_item(source, pat, names, long)
             chosen.extend(h for h in hits if h[0] not in taken)
             taken.update(j for j, _ in hits)
         chosen.sort(key=lambda t: t[0])
@@ -2037,5 +2175,5 @@ def _build_long(raw: _Raw, scale, items, unknown, group, reverse, respondents):
                           per_item[k][1], scale_obj, items, True, notes)
                           for k in range(nitem) if k not in wanted},
                       comments=list(raw.comments), notes=notes)
-    data.notes += narrower_scale_notes(source, scale_obj, names, counts, data.reverse)
+    _narrower_items(data, counts, scale is None)
     return _declare(data, respondents)

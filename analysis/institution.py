@@ -37,7 +37,8 @@ from pathlib import Path
 import numpy as np
 
 from . import platforms
-from ._io import ShortRecords, is_regular_file, short_records_note, sniff_delimiter
+from ._io import (ShortRecords, is_regular_file, refuse_values_beyond_header, short_records_note,
+                  sniff_delimiter)
 from .disclosure import BLANK_GROUP, suppress_groups
 from .dropped import FOOTER, DroppedRow, is_footer_note
 from .errors import SurveyInputError
@@ -390,21 +391,39 @@ def _answer_rows(con, src: str, path: Path, header: list[str]):
     return f"(SELECT * FROM {src} WHERE NOT ({cond}))", [DroppedRow(row, FOOTER)], []
 
 
-def _short_rows(path: Path, width: int, dropped: list) -> list[str]:
-    """The note naming the rows with fewer fields than the header (DuckDB pads them with
-    blank cells, as pandas does), the rows ``dropped`` aside, as the in-memory route words it
-    (:func:`analysis._io.short_records_note`); the file is scanned again, 1 MiB at a time."""
-    if path.suffix.lower() == ".parquet" or width < 2:
-        return []
+def _scan_records(path: Path) -> "ShortRecords | None":
+    """The fields of each record of a CSV file, counted by the in-memory route's byte scan
+    (:class:`analysis._io.ShortRecords`, 1 MiB at a time); a record with a value beyond the
+    header's last column is refused as that route refuses it
+    (:func:`analysis._io.refuse_values_beyond_header`: DuckDB read it by inventing a column),
+    and so is an empty file. None for a Parquet file."""
+    if path.suffix.lower() == ".parquet":
+        return None
+    if not _head(path).strip():
+        raise SurveyInputError("empty file", str(path))    # (DuckDB reads a column 'column0')
     newline = _header_newline(_head(path)) or "\n"
     scan = ShortRecords(_delimiter(path), newline[-1].encode())
     with open(path, "rb") as f:
         while chunk := f.read(1 << 20):
             scan.feed(chunk)
-    found = scan.close()
+    scan.close()
+    if scan.longer:
+        with open(path, encoding="utf-8", errors="replace", newline="") as text:
+            if text.read(1) != "\ufeff":
+                text.seek(0)
+            refuse_values_beyond_header(text, _delimiter(path), scan.width, str(path))
+    return scan
+
+
+def _short_rows(scan: "ShortRecords | None", path: Path, width: int, dropped: list) -> list[str]:
+    """The note naming the rows with fewer fields than the header (DuckDB pads them with
+    blank cells, as pandas does), the rows ``dropped`` aside, as the in-memory route words it
+    (:func:`analysis._io.short_records_note`), from the file's ``scan``."""
+    if scan is None or width < 2:
+        return []
     # a footer whose row was not looked up is the last record holding text
     gone = {scan.last if d.row is None else d.row for d in dropped}
-    note = short_records_note(str(path), [(r, n) for r, n in found if r not in gone], width)
+    note = short_records_note(str(path), [(r, n) for r, n in scan.found if r not in gone], width)
     return [note] if note else []
 
 
@@ -535,8 +554,16 @@ def summarize_by(path: "str | Path", by: "list[str]", scale=None, items=None,
                                f"of memory; give a larger memory limit", str(p))
     res.reverse = platforms.resolve_reverse(res.source, res.items, reverse, res.fields or None)
     from .ingest import scale_fit_notes
-    res.notes += scale_fit_notes(res.source, res.scale, res.items,
-                                 res.tallies.sum(axis=0)[:, 3:], res.reverse)
+    notes, left_out = scale_fit_notes(res.source, res.scale, res.items,
+                                      res.tallies.sum(axis=0)[:, 3:], res.reverse, scale is None)
+    res.notes += notes
+    if left_out:                # items of a narrower scale, as read_survey leaves them out
+        keep = [j for j, name in enumerate(res.items) if name not in left_out]
+        res.items = [res.items[j] for j in keep]
+        res.fields = [res.fields[j] for j in keep if j < len(res.fields)]
+        res.tallies = res.tallies[:, keep]
+        res.reverse = {r for r in res.reverse if r not in left_out}
+        res.not_items = {**res.not_items, **left_out}
     res.ci_method, res.confidence_level = method, confidence_level
     _declare(res, respondents)
     _order(res, group_order)
@@ -597,6 +624,7 @@ def _count(p, by, scale, items, min_group, memory_limit, threads,
                                  "preserve_insertion_order": False,
                                  "temp_directory": spill.name})
     try:
+        scan = _scan_records(p)
         src = _source_sql(p, parallel)
         try:
             header = [r[0] for r in con.execute(f"DESCRIBE SELECT * FROM {src}").fetchall()]
@@ -609,8 +637,10 @@ def _count(p, by, scale, items, min_group, memory_limit, threads,
                 raise SurveyInputError(bad[1], str(p), bad[0]) from None
             raise SurveyInputError(f"cannot read as CSV/Parquet ({str(e).splitlines()[0]})",
                                    str(p)) from None
+        if scan is not None and 0 < scan.width < len(header):
+            header = header[:scan.width]    # columns DuckDB made of empty fields past the header
         src, dropped, footer_notes = _answer_rows(con, src, p, header)
-        footer_notes += _short_rows(p, len(header), dropped)
+        footer_notes += _short_rows(scan, p, len(header), dropped)
         _refuse_header_rows(con, src, p, header)
         why = platforms.repeated_column(_given_header(con, p, header))
         if why:                     # DuckDB renames a repeated Q1 to Q1_1 (and q1 too)
@@ -641,6 +671,10 @@ def _count(p, by, scale, items, min_group, memory_limit, threads,
             peek = [header] if p.suffix.lower() == ".parquet" else sniff_delimiter(_head(p))[1]
             statements = dict(zip(header, header_item_names(header, peek)[0]))
             if items:
+                from .ingest import unmatched_item
+                for pat in items:         # a pattern matching no column, as read_survey says
+                    if not any(platforms.item_matches(pat, h, statements[h]) for h in header):
+                        raise unmatched_item(str(p), pat, [statements[h] for h in header])
                 cand = [h for h in cand if any(platforms.item_matches(pat, h, statements[h])
                                                for pat in items)]
             left_out = {h: ("grouping column" if h in gcols else

@@ -446,6 +446,16 @@ def not_items_text(reasons: dict) -> str:
         f"{name} ({why})" if why else name for name, why in reasons.items())
 
 
+def left_out_words(reasons: dict, name) -> str:
+    """``" (left out of the table: REASON)"`` when ``name`` (any case and spacing) is a
+    column left out with a reason, else ``""``: a refusal naming an item that is not one
+    says why (claims, ``--reliability``)."""
+    from .scales import normalize_answer
+    key = normalize_answer(str(name))
+    why = next((r for c, r in reasons.items() if normalize_answer(c) == key and r), "")
+    return f" (left out of the table: {why})" if why else ""
+
+
 def _name(it: ItemSummary) -> str:
     """An item's name as printed, marked when reverse-keyed."""
     return it.item + (REVERSE_MARK if it.reverse else "")

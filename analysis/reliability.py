@@ -36,6 +36,7 @@ from scipy import stats
 
 from .errors import SurveyInputError
 from .ingest import SurveyData
+from .likert import left_out_words
 from .platforms import item_matches
 from .respondents import PAIRING_UNKNOWN
 from .rounding import number_text
@@ -155,8 +156,9 @@ def cronbach_alpha_for(data: SurveyData, items=None,
             hits = [j for j, nm in enumerate(data.items) if item_matches(
                 pat, nm, data.fields[j] if j < len(data.fields) else "")]
             if not hits:
-                raise SurveyInputError(f"reliability item {pat!r} is not an item; items are "
-                                       f"{data.items!r}", data.source)
+                raise SurveyInputError(f"reliability item {pat!r} is not an item"
+                                       f"{left_out_words(data.not_item_reasons, pat)}; items "
+                                       f"are {data.items!r}", data.source)
             idx.extend(j for j in hits if j not in idx)
     else:
         idx = list(range(len(data.items)))

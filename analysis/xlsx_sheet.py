@@ -8,13 +8,18 @@ inline strings, numbers, booleans, error codes, dates by the cell's number forma
 takes the shared strings, the date formats and the epoch from the workbook openpyxl
 loaded. The XML may declare no entity (expansion and external entities are refused, as
 defusedxml refuses them, with its exceptions).
+
+Where openpyxl drops or misreads without a word, this reader refuses with
+:class:`SheetFault`, naming the row and cell: a row written out of order or twice (openpyxl
+skips it), a cell written twice in a row (the last one won), a negative shared-string index
+(counted from the end), and a cell its type cannot hold (a bare ValueError or IndexError).
 """
 from __future__ import annotations
 
 import re
 from xml.parsers import expat
 
-__all__ = ["load_read_only", "sheet_values"]
+__all__ = ["SheetFault", "load_read_only", "sheet_values"]
 
 _COLUMN = re.compile(r"[A-Za-z]{1,4}")      # XFD is Excel's last; 4 letters reach 475,254
 _NUMBERS: dict = {}            # column letters -> column number, filled as met
@@ -73,6 +78,34 @@ def _refuse_external(*_args):
     raise ExternalReferenceForbidden(None, None, None, None)
 
 
+class SheetFault(ValueError):
+    """A worksheet whose XML cannot be read as written: a cell that is not what its type
+    says, a row out of order or repeated, a damaged zip member.
+
+    Attributes
+    ----------
+    row : int or None
+        The sheet's row (1-based) the fault is in, None when it is in no row.
+    cell : str or None
+        The cell's reference (``"B10"``), None for a fault of a whole row or part.
+    reason : str
+        What is wrong, in words.
+    """
+
+    def __init__(self, row: "int | None", cell: "str | None", reason: str):
+        super().__init__(reason)
+        self.row, self.cell, self.reason = row, cell, reason
+
+
+def _letters(column: int) -> str:
+    """Column letters of a 1-based column number (28 -> ``"AB"``)."""
+    out = ""
+    while column > 0:
+        column, rest = divmod(column - 1, 26)
+        out = chr(65 + rest) + out
+    return out
+
+
 class _Cells:
     """The expat handlers: the values of each row, as openpyxl's parser reads them."""
 
@@ -91,10 +124,20 @@ class _Cells:
         name = _local(name)
         if name == "c":
             ref = attrs.get("r")
-            self.column = _column_number(ref) if ref else self.column + 1
+            try:
+                self.column = _column_number(ref) if ref else self.column + 1
+            except ValueError as e:
+                raise SheetFault(self.row, None, str(e)) from None
             if self.column > self.max_columns:
-                raise _TooWide(self.column)
-            self.kind, self.style = attrs.get("t", "n"), int(attrs.get("s", 0) or 0)
+                raise _TooWide(self.column, self.row)
+            if self.column in self.cells:
+                raise SheetFault(self.row, self._ref(), "the cell is written twice in the "
+                                 "sheet's XML; which value holds is not known")
+            self.kind, style = attrs.get("t", "n"), attrs.get("s", 0) or 0
+            try:
+                self.style = int(style)
+            except ValueError:
+                raise self._fault(f"its style s={style[:20]!r} is not a number") from None
             self.value, self.inline = None, 0
         elif name == "v" or (name == "t" and self.inline and not self.phonetic):
             self.text = []
@@ -103,9 +146,32 @@ class _Cells:
         elif name == "rPh":
             self.phonetic += 1
         elif name == "row":
-            r = attrs.get("r")
-            self.row = int(r) if r else self.row + 1
-            self.cells, self.column = {}, 0
+            self._next_row(attrs.get("r"))
+
+    def _next_row(self, r: "str | None") -> None:
+        """Start the row numbered ``r`` (the next one when None). Rows are read in the order
+        the XML gives them: a number not above the last one (a row out of order or repeated,
+        which openpyxl drops unsaid) is refused, as is one that is no row number."""
+        try:
+            number = int(r) if r else self.row + 1
+        except ValueError:
+            raise SheetFault(self.row + 1, None, f"row number r={r[:20]!r} is not a "
+                             "number") from None
+        if number < 1:
+            raise SheetFault(None, None, f"a row is numbered {number}; rows are numbered "
+                             "from 1")
+        if number <= self.row:
+            how = "twice" if number == self.row else "again or out of order"
+            raise SheetFault(number, None, f"the sheet's XML writes this row {how} (after "
+                             f"row {self.row}); rows are read only in order, each once: "
+                             f"re-save the sheet in Excel or export it as CSV")
+        self.row, self.cells, self.column = number, {}, 0
+
+    def _ref(self) -> str:
+        return f"{_letters(self.column)}{self.row}"
+
+    def _fault(self, reason: str) -> SheetFault:
+        return SheetFault(self.row, self._ref(), reason)
 
     def chars(self, data):
         if self.text is not None:
@@ -129,12 +195,16 @@ class _Cells:
 
     def _typed(self):
         """The cell's value by its type (openpyxl's ``WorkSheetParser.parse_cell``, values
-        only)."""
+        only); a value its type cannot hold raises :class:`SheetFault` naming the cell."""
         value, kind = self.value, self.kind
         if value is None or kind == "inlineStr":
             return value if kind == "inlineStr" else None
         if kind == "n":
-            number = float(value) if ("." in value or "e" in value or "E" in value) else int(value)
+            real = "." in value or "e" in value or "E" in value
+            try:
+                number = float(value) if real else int(value)
+            except ValueError:
+                raise self._fault(f"its value {value[:20]!r} is not a number") from None
             if self.style in self.dates:
                 from openpyxl.utils.datetime import from_excel
                 try:
@@ -143,17 +213,30 @@ class _Cells:
                     return "#VALUE!"
             return number
         if kind == "s":
-            return self.strings[int(value)]
+            try:
+                index = int(value)
+            except ValueError:
+                raise self._fault(f"its shared-string index {value[:20]!r} is not a "
+                                  "number") from None
+            if not 0 <= index < len(self.strings):     # (a negative index would count from the end)
+                raise self._fault(f"shared string {index} does not exist (the workbook has "
+                                  f"{len(self.strings)})")
+            return self.strings[index]
         if kind == "b":
-            return bool(int(value))
+            if value.strip() not in ("0", "1"):
+                raise self._fault(f"its boolean value {value[:20]!r} is not 0 or 1")
+            return value.strip() == "1"
         if kind == "d":
             from openpyxl.utils.datetime import from_ISO8601
-            return from_ISO8601(value)
+            try:
+                return from_ISO8601(value)
+            except ValueError:
+                raise self._fault(f"its date {value[:30]!r} is not an ISO 8601 date") from None
         return value                    # "str" (a formula's text), "e" (an error code)
 
 
 class _TooWide(Exception):
-    """A cell beyond the column cap (its column number in ``args[0]``)."""
+    """A cell beyond the column cap (its column number in ``args[0]``, its row in ``args[1]``)."""
 
 
 def sheet_values(wb, ws, max_columns: int, too_wide):
@@ -162,11 +245,15 @@ def sheet_values(wb, ws, max_columns: int, too_wide):
     the XML leaves out is an empty tuple, cells missing in a row are None, every row as
     long as its last cell.
 
-    ``too_wide(column)`` is called, and must raise, at a cell beyond column ``max_columns``,
-    before its row is built (a hostile ``r="ZZZ1"`` would otherwise ask for 18,278 cells a row).
+    ``too_wide(column, row)`` is called, and must raise, at a cell beyond column
+    ``max_columns``, before its row is built (a hostile ``r="ZZZ1"`` would otherwise ask for
+    18,278 cells a row).
 
     Raises
     ------
+    SheetFault
+        A cell its type cannot hold, a cell or row written twice, a row out of order, a zip
+        member whose compressed data is damaged.
     defusedxml.EntitiesForbidden, defusedxml.ExternalReferenceForbidden
         The XML declares entities or refers to an external one.
     xml.parsers.expat.ExpatError
@@ -184,11 +271,11 @@ def sheet_values(wb, ws, max_columns: int, too_wide):
     counter = [1]
     with ws._get_source() as src:
         while True:
-            chunk = src.read(1 << 20)
+            chunk = _read(src, getattr(ws, "_worksheet_path", "the sheet's part"))
             try:
                 parser.Parse(chunk, not chunk)
             except _TooWide as e:
-                too_wide(e.args[0])
+                too_wide(*e.args)
                 raise
             except Exception:
                 yield from _ready(cells, counter)   # the rows before the fault, so that the
@@ -198,14 +285,25 @@ def sheet_values(wb, ws, max_columns: int, too_wide):
                 return
 
 
+def _read(src, part: str) -> bytes:
+    """The next MiB of a zip member; a member whose compressed data or checksum is damaged
+    raises :class:`SheetFault` naming it (zipfile and zlib name only their own error)."""
+    import zipfile
+    import zlib
+    try:
+        return src.read(1 << 20)
+    except (zipfile.BadZipFile, zlib.error, EOFError) as e:
+        raise SheetFault(None, None, f"the zip member {part} is damaged ({e or type(e).__name__}"
+                         f"): its compressed data or checksum is wrong") from None
+
+
 def _ready(cells: _Cells, counter: list):
     """The rows parsed so far, as tuples, each row the XML leaves out as ``()``; ``counter``
-    holds the next row number to yield."""
+    holds the next row number to yield (rows come in order: :meth:`_Cells._next_row`)."""
     for number, row in cells.rows:
         while counter[0] < number:
             counter[0] += 1
             yield ()
-        if counter[0] == number:             # (a repeated row number is skipped, as openpyxl does)
-            counter[0] += 1
-            yield tuple(row.get(c) for c in range(1, max(row, default=0) + 1))
+        counter[0] += 1
+        yield tuple(row.get(c) for c in range(1, max(row, default=0) + 1))
     cells.rows = []

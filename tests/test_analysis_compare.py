@@ -631,6 +631,23 @@ def test_a_trend_is_tested_only_over_an_order_the_user_states(tmp_path, capsys):
     assert "No trend over the groups" in text and "trend rho" not in text
 
 
+def test_group_names_are_quoted_as_the_file_writes_them(tmp_path, capsys):
+    """QA 18 #9: the coverage line quoted group names with Python's repr, so a section named
+    "q'< printed as '"q\\'<' (a backslash the file does not hold). Groups: S1 (10), "q'< (12),
+    S3 (3, suppressed), S4 (20; S1 withheld by complementary suppression), as in the test
+    below."""
+    rng = random.Random(5)
+    odd = '"q\'<'
+    rows = [(s, rng.choice(AGREE5)) for s, n in (("S1", 10), (odd, 12), ("S3", 3), ("S4", 20))
+            for _ in range(n)]
+    f = tmp_path / "odd.csv"
+    with open(f, "w", newline="") as fh:
+        csv.writer(fh).writerows([("section", "Q1")] + rows)
+    g = _json_groups(capsys, f, "--group", "section")
+    assert g["coverage"].startswith("the tests compare 2 of the 4 groups ('\"q'<', 'S4': 32 "
+                                    "of 45 respondents)"), g["coverage"]
+
+
 def test_the_test_says_which_groups_it_covers_after_suppression(tmp_path, capsys):
     """QA 16 #5: sections of 10, 12, 3 and 20; S3 (< 5) is suppressed and S1 withheld by
     complementary suppression, and the test then silently compared S2 with S4 only. By

@@ -53,12 +53,13 @@ def test_xlsx_dimension_record_is_not_trusted(tmp_path, analysis_cli, ref):
 @pytest.mark.parametrize("kind, needle", [("truncated", "malformed XML"),
                                           ("xxe", "entities"), ("bomb", "entities")])
 def test_xlsx_bad_xml_one_line(tmp_path, analysis_cli, kind, needle):
-    """Regression: malformed XML and entities raised a traceback from iter_rows."""
+    """Regression: malformed XML and entities raised a traceback from iter_rows. QA 18 #7:
+    the line names the sheet the fault is in."""
     good = xf.workbook(ROWS)
     f = tmp_path / "x.xlsx"
     f.write_bytes(xf.truncated(good) if kind == "truncated" else xf.with_entity(good, kind))
     code, out, err = analysis_cli("summarize", str(f))
-    _one_error_line(code, err, str(f), needle)
+    _one_error_line(code, err, str(f), needle, "sheet 'Sheet': ")
     assert "root:" not in out + err                     # nothing of /etc/passwd
 
 
@@ -391,3 +392,91 @@ def test_a_fault_in_a_sheet_not_read_does_not_refuse_the_sheet_read(analysis_cli
         assert code == 0, err
         assert json.loads(text)["respondents"] == 2
     assert "'Evil' also holds data" in analysis_cli("summarize", str(path))[2]
+
+
+# the sheet written by xf.workbook(_FOUR): rows 1-4, cells A (id) and B (answer)
+_FOUR = [["id", "Q1"], [1, "Agree"], [2, "Disagree"], [3, "Agree"]]
+
+
+def _row(xml: bytes, r: int) -> bytes:
+    return re.search(rb'<row r="%d">.*?</row>' % r, xml, re.S).group(0)
+
+
+@pytest.mark.parametrize("edit, row", [
+    # row 3 written a second time at the end (its second copy was dropped unsaid)
+    (lambda x: x.replace(b"</sheetData>", _row(x, 3).replace(b"Disagree", b"Agree") + b"</sheetData>"), 3),
+    # row 2 moved after row 4: out of order (it was dropped unsaid: 2 respondents of 3)
+    (lambda x: x.replace(_row(x, 2), b"").replace(b"</sheetData>", _row(x, 2) + b"</sheetData>"), 2),
+    # row 3 written twice in a row
+    (lambda x: x.replace(_row(x, 3), _row(x, 3) * 2), 3),
+    # a row numbered 0 before the header (it was dropped unsaid)
+    (lambda x: x.replace(b"<sheetData>", b'<sheetData><row r="0"><c r="A0" t="n"><v>9</v></c></row>'), None),
+])
+def test_rows_out_of_order_or_repeated_are_refused(tmp_path, analysis_cli, edit, row):
+    """QA 18 #5: the fast reader (as openpyxl) skipped a row whose number was not above the
+    last one read, so a row written again or out of order was lost without a word. Which of
+    two copies holds is not known, so such a sheet is refused, naming the sheet and the row."""
+    f = tmp_path / "rows.xlsx"
+    f.write_bytes(xf.rewrite_sheet(xf.workbook(_FOUR), edit))
+    code, out, err = analysis_cli("summarize", str(f))
+    _one_error_line(code, err, str(f), "sheet 'Sheet'", *([f"row {row}: "] if row else ["numbered 0"]))
+    assert out == ""
+
+
+def _cell(ref: bytes, new: bytes):
+    """An edit replacing the cell ``ref`` of the sheet's XML by ``new``."""
+    return lambda x: re.sub(rb'<c r="%s"[^>]*>.*?</c>' % ref, new, x, count=1, flags=re.S)
+
+
+@pytest.mark.parametrize("edit, shared, needles", [
+    (_cell(b"A3", b'<c r="A3" s="x"><v>2</v></c>'), False, ["row 3: ", "cell A3", "style"]),
+    (_cell(b"A3", b'<c r="A3" t="b"><v>true</v></c>'), False, ["row 3: ", "cell A3", "'true'"]),
+    (_cell(b"A3", b'<c r="A3"><v>1,5</v></c>'), False, ["row 3: ", "cell A3", "'1,5'"]),
+    (_cell(b"B3", b'<c r="B3" t="s"><v>99</v></c>'), True, ["row 3: ", "cell B3", "shared string 99"]),
+    # a negative index read the last shared string ('Agree') in Disagree's place, unsaid
+    (_cell(b"B3", b'<c r="B3" t="s"><v>-1</v></c>'), True, ["row 3: ", "cell B3", "shared string -1"]),
+    (_cell(b"B3", b'<c r="3" t="inlineStr"><is><t>Agree</t></is></c>'), False, ["row 3: ", "'3' names no column"]),
+    (_cell(b"B3", b'<c r="B3"><v>2</v></c><c r="B3"><v>3</v></c>'), False, ["row 3: ", "cell B3", "twice"]),
+    (_cell(b"B3", b'<c r="XFD3"><v>2</v></c>'), False, ["row 3: ", "16384 columns"]),
+])
+def test_a_bad_cell_is_named_by_its_reference(tmp_path, analysis_cli, edit, shared, needles):
+    """QA 18 #7: a cell its type cannot hold was refused as 'not a readable .xlsx workbook:
+    ValueError' (or IndexError), and a cell too far right as in row 1. The line names the sheet,
+    the row and the cell, and says what is wrong."""
+    book = xf.workbook(_FOUR)
+    f = tmp_path / "cell.xlsx"
+    f.write_bytes(xf.rewrite_sheet(xf.with_shared_strings(book) if shared else book, edit))
+    code, out, err = analysis_cli("summarize", str(f))
+    _one_error_line(code, err, str(f), *needles)
+    assert "Error" not in err and out == ""
+
+
+def test_a_damaged_or_broken_workbook_is_named_in_words(tmp_path, analysis_cli):
+    """QA 18 #7: a flipped byte in the compressed sheet gave 'row 1: not a readable .xlsx
+    workbook: error' (zlib's class name), a truncated file '(BadZipFile)', a missing part
+    'KeyError'-like text or 'IndexError'. Each line now names the part and what is wrong."""
+    import zipfile
+    good = xf.workbook(_FOUR)
+    info = zipfile.ZipFile(io.BytesIO(good)).getinfo(xf.SHEET)
+    start = info.header_offset + 30 + len(info.filename) + len(info.extra)
+    flipped = bytearray(good)
+    for k in range(8):                          # several bytes, so that inflating surely fails
+        flipped[start + info.compress_size // 3 + k] ^= 0xFF
+
+    def without(part):
+        zin, out = zipfile.ZipFile(io.BytesIO(good)), io.BytesIO()
+        with zipfile.ZipFile(out, "w") as z:
+            for i in zin.infolist():
+                if i.filename != part:
+                    z.writestr(i.filename, zin.read(i.filename))
+        return out.getvalue()
+    cases = {"damaged": (bytes(flipped), ["sheet 'Sheet'", xf.SHEET, "damaged"]),
+             "truncated": (good[:len(good) // 2], ["not a zip archive"]),
+             "no_workbook": (without("xl/workbook.xml"), ["xl/workbook.xml"]),
+             "no_sheet": (without(xf.SHEET), ["no worksheet"])}
+    for name, (data, needles) in cases.items():
+        f = tmp_path / f"{name}.xlsx"
+        f.write_bytes(data)
+        code, out, err = analysis_cli("summarize", str(f))
+        _one_error_line(code, err, str(f), *needles)
+        assert not re.search(r"\b(error|[A-Z]\w+(Error|File))$", err.strip()), err

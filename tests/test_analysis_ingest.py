@@ -700,15 +700,22 @@ def test_a_workbook_date_cell_reads_as_excel_shows_it(tmp_path):
     assert data.groups["Term"].tolist() == ["2024-01-15", "2024-01-15", "2024-08-20 10:30:00"]
 
 
-def test_items_of_a_narrower_scale_among_wider_ones_are_named_with_their_statistics(tmp_path):
+def test_items_of_a_narrower_scale_among_wider_ones_are_named_with_their_statistics(tmp_path, capsys):
     """QA 16 #3: a file mixing 5-point and 7-point agreement items is read as agree7, and the
     5-point items' median, IQR, mean and SD sit on codes 1, 2, 4, 6, 7, unsaid. Both routes
-    now name those items, word for word, with their statistics on agree5. By hand, on codes
+    name those items, word for word, with their statistics on agree5. By hand, on codes
     1-5: Q1 = 1,1,2,2,3,3,4,4,5,5: median 3, quartiles 2 and 4 (numpy's linear rule), mean 3,
     SD sqrt(20/9) = 1.49; Q2 = 5,5,5,4: median 5, quartiles 4.75 and 5 (IQR 0.25, printed
     0.3), mean 4.75, SD sqrt(0.75/3) = 0.50. Q3 answers 'Somewhat ...' 8 times of 10 (80%):
     an item of n answers on agree7 misses both such labels with chance 0.2**n (Q2:
-    0.0016), below the 5% the note asks for."""
+    0.0016), below the 5% the note asks for.
+
+    QA 18: Q1 answers on both sides of 'Somewhat disagree' and 'Somewhat agree' and never
+    them: it offered agree5, and a table on agree7 codes gave its median as 4 (codes 1, 1,
+    2, 2, 4, 4, 6, 6, 7, 7), not 3. With the scale detected it is left out of the table on
+    both routes (as R's likert() refuses items of unequal levels in one table), its reason
+    listed and its agree5 statistics given; Q2 (every answer at the agreeing end: maybe a
+    consensus on agree7) stays, warned; a given --scale agree7 keeps both, warned."""
     from analysis.institution import summarize_by
     a5 = list(BUILTIN_SCALES["agree5"].labels)
     q1 = [a5[i // 2] for i in range(10)]
@@ -716,18 +723,41 @@ def test_items_of_a_narrower_scale_among_wider_ones_are_named_with_their_statist
     q3 = ["Somewhat disagree"] * 4 + ["Somewhat agree"] * 4 + ["Agree", "Strongly agree"]
     f = tmp_path / "mixed.csv"
     f.write_text("term,Q1,Q2,Q3\n" + "".join(f"T,{a},{b},{c}\n" for a, b, c in zip(q1, q2, q3)))
-    want = (f"warning: {f}: items 'Q1', 'Q2' never answered 'Somewhat disagree' or 'Somewhat "
+    why = ("answers of scale 'agree5', not 'agree7': never 'Somewhat disagree' or 'Somewhat "
+           "agree' (80% of the answers to the items that use them), though its answers lie on "
+           "both sides of such a label; summarize with --items and --scale agree5, or give "
+           "--scale agree7 to count it on 'agree7' codes")
+    left = (f"warning: {f}: item 'Q1' left out of the table: {why}; on 'agree5' (codes 1-5) "
+            "they are 'Q1': median 3.0, IQR 2.0, mean 3.00, SD 1.49")
+    kept = (f"warning: {f}: item 'Q2' never answered 'Somewhat disagree' or 'Somewhat "
             "agree' (labels only scale 'agree7' has, 80% of the answers to the items that use "
             "them): if they offered scale 'agree5', their median, IQR, mean, SD (and a "
             "Cronbach's alpha with them) are on the wrong codes; on 'agree5' (codes 1-5) they "
-            "are 'Q1': median 3.0, IQR 2.0, mean 3.00, SD 1.49; 'Q2': median 5.0, IQR 0.3, "
-            "mean 4.75, SD 0.50 (summarize them with --items and --scale agree5)")
+            "are 'Q2': median 5.0, IQR 0.3, mean 4.75, SD 0.50 (summarize them with --items "
+            "and --scale agree5)")
     data = read_survey(f)
-    assert data.scale.name == "agree7" and want in data.notes, data.notes
-    assert want in summarize_by(f, ["term"], min_group=1).notes
+    assert data.scale.name == "agree7" and left in data.notes and kept in data.notes, data.notes
+    assert data.items == ["Q2", "Q3"] and data.not_item_reasons["Q1"] == why
+    assert summarize(data).to_dict()["not_item_reasons"]["Q1"] == why
+    by = summarize_by(f, ["term"], min_group=1)
+    assert left in by.notes and kept in by.notes and by.items == ["Q2", "Q3"], by.notes
+    assert by.not_items["Q1"] == why and by.tallies.shape[1] == 2
+    given = read_survey(f, scale="agree7")
+    assert given.items == ["Q1", "Q2", "Q3"] and [n for n in given.notes if "Q1" in n] == [
+        kept.replace("item 'Q2'", "items 'Q1', 'Q2'").replace(
+            "they are 'Q2'", "they are 'Q1': median 3.0, IQR 2.0, mean 3.00, SD 1.49; 'Q2'")]
     # the statistics the note gives are those of the items read on agree5 by themselves
     alone = summarize(read_survey(f, items=["Q1", "Q2"], scale="agree5"))
     assert [(it.mean, it.iqr) for it in alone.items] == [(3.0, 2.0), (4.75, 0.25)]
+    # a claim or --reliability naming Q1 is refused with the reason it is no item
+    claims = tmp_path / "c.toml"
+    claims.write_text('[[claims]]\nid = "c"\nitem = "Q1"\nstatement = "s"\ncategories = '
+                      '["Agree"]\ncomparison = ">"\nthreshold = 10\nunit = "%"\n')
+    capsys.readouterr()
+    for argv in (["claims", str(f), str(claims)], ["summarize", str(f), "--reliability", "Q1", "Q3"]):
+        assert main(argv) == 2
+        last = capsys.readouterr().err.splitlines()[-1]
+        assert last.startswith("error: ") and f"(left out of the table: {why})" in last, last
     # an agree5 file: a 3-answer item without 'Neither ...' is no sign (Q1 uses it in 2
     # answers of 10, 20%: chance 0.8**3 = 0.51 of missing it); 20 such answers are
     # (0.8**20 = 0.012): named as agree4, its codes 1, 2, 3, 4
@@ -770,6 +800,34 @@ def test_short_rows_are_named_on_both_routes(tmp_path, capsys):
         read_survey(f)          # the record is whole; its Q1 is not an answer: refused there
 
 
+def test_a_value_beyond_the_header_is_refused_alike_on_both_routes(tmp_path, capsys):
+    """QA 18 #6: ``--by`` (DuckDB) read a row with one field too many by inventing a column
+    ``column3``, while the in-memory route refused it with pandas' tokenizer text. Both routes
+    now apply one rule: a value beyond the header's last column is refused at its row; empty
+    fields there (a delimiter too many) are no values, on both routes, and make no column.
+    Rows here: header 1; the long one is row 4 (in ``late`` row 3 is long but blank)."""
+    rows = "id,T,Q1\n1,A,Agree\n2,A,Disagree\n3,B,Agree{}\n4,B,Agree\n"
+    bad = tmp_path / "bad.csv"
+    bad.write_text(rows.format(",Extra"))
+    for by in ([], ["--by", "T", "--min-group", "1"]):
+        assert main(["summarize", str(bad), *by]) == 2
+        err = capsys.readouterr().err
+        assert err == (f"error: {bad}: row 4: 4 fields, but the header has 3: value 'Extra' "
+                       "has no column\n"), (by, err)
+    for blank in (",", ",,"):
+        ok = tmp_path / "blank.csv"
+        ok.write_text(rows.format(blank))
+        assert main(["summarize", str(ok), "--json"]) == 0
+        one = json.loads(capsys.readouterr().out)
+        assert main(["summarize", str(ok), "--json", "--by", "T", "--min-group", "1"]) == 0
+        out = capsys.readouterr()
+        by = json.loads(out.out)
+        assert "column" not in out.err, out.err       # no invented 'column3' noted
+        assert [(i["item"], i["n"]) for i in one["items"]] == [("Q1", 4)]
+        assert [(r["item"], r["n"]) for r in by["overall"]] == [("Q1", 4)], by["overall"]
+        assert by["respondents"] == one["respondents"] == 4
+
+
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(st.lists(st.lists(st.sampled_from(["", "a", "b c", 'x"y', "p,q", "l\nm", " "]),
                          min_size=0, max_size=4), min_size=1, max_size=8),
@@ -791,3 +849,4 @@ def test_the_short_record_scan_agrees_with_the_csv_module(records, chunk, newlin
     for at in range(0, len(data), chunk):
         scan.feed(data[at:at + chunk])
     assert scan.close() == want
+    assert scan.longer == sum(len(r) > 3 for r in back)     # (the long-row check's trigger)

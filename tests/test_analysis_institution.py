@@ -525,11 +525,12 @@ def test_every_route_writes_the_same_table_columns(tmp_path, capsys):
     plain, group, by = tables["plain"], tables["group"], tables["by"]
     columns = list(plain.columns[2:])                       # after item and stem
     assert columns[:3] == ["reversed", "statistics on reversed codes", "n"]
-    assert list(group.columns[:2]) == ["Section", "item"] and list(group.columns[2:-3]) == columns
+    # QA 18 #9: the --group table had no respondents column where --by's has one
+    assert list(group.columns[:3]) == ["Section", "item", "respondents"] and list(group.columns[3:-3]) == columns
     assert list(by.columns[:3]) == ["Section", "item", "respondents"] and list(by.columns[3:]) == columns
-    numbers = [c for c in columns if c not in ("reversed", "statistics on reversed codes")]
+    numbers = ["respondents"] + [c for c in columns if c not in ("reversed", "statistics on reversed codes")]
     everyone = by[by["Section"] == "(all)"].reset_index(drop=True)
-    pd.testing.assert_frame_equal(everyone[numbers], plain[numbers], check_dtype=False)
+    pd.testing.assert_frame_equal(everyone[numbers[1:]], plain[numbers[1:]], check_dtype=False)
     for section in ("A", "B"):
         a = group[group["Section"] == section].reset_index(drop=True)[numbers]
         b = by[by["Section"] == section].reset_index(drop=True)[numbers]
@@ -701,3 +702,30 @@ def test_both_routes_warn_of_labels_no_answer_uses(tmp_path):
             "is the questionnaire's scale (medians and codes depend on it)")
     assert want in read_survey(f, scale="agree7").notes
     assert want in summarize_by(f, ["T"], scale="agree7", min_group=1).notes
+
+
+def test_an_items_pattern_matching_nothing_is_refused_alike_on_both_routes(tmp_path, capsys):
+    """QA 18 #9: ``--by ... --items Nope`` said 'no item columns to count' without naming
+    'Nope', and with a good name beside it listed the grid's header form, not the statement
+    names --by takes. Both routes now give the in-memory route's line, naming the pattern and
+    listing the columns by the names items go by."""
+    f = tmp_path / "google.csv"
+    f.write_text("Timestamp,Section,Rate each statement [Clear],Rate each statement [Too hard]\n"
+                 + "".join(f"2024-01-0{i} 10:00,{'AB'[i % 2]},Agree,Disagree\n" for i in range(1, 7)))
+    want = (f"error: {f}: row 1: no column matches item 'Nope'; columns are ['Timestamp', "
+            "'Section', 'Clear', 'Too hard']\n")
+    for items in (["Nope"], ["Clear", "Nope"]):
+        for by in ([], ["--by", "Section", "--min-group", "1"]):
+            assert main(["summarize", str(f), "--items", *items, *by]) == 2
+            assert capsys.readouterr().err == want, (items, by)
+
+
+def test_an_empty_file_is_called_empty_on_both_routes(tmp_path, capsys):
+    """An empty CSV (or one of blank lines) was refused by --by as having no column 'Q1'
+    among ['column0'], a column DuckDB made up; the in-memory route calls it empty."""
+    for text in ("", "\n\n  \n"):
+        f = tmp_path / "empty.csv"
+        f.write_text(text)
+        for by in ([], ["--by", "Q1"]):
+            assert main(["summarize", str(f), *by]) == 2
+            assert capsys.readouterr().err == f"error: {f}: empty file\n", (text, by)

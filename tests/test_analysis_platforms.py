@@ -571,10 +571,28 @@ def test_group_takes_a_qualtrics_question_by_its_text(tmp_path, capsys):
         "question texts are [" in err and "'Which section are you in?'" in err), err
 
 
+def test_group_by_a_question_text_two_questions_share_is_called_ambiguous(tmp_path, capsys):
+    """QA 18 #8: when Q2 and Q3 share the text 'Section' (each then named by its field id),
+    ``--group Section`` was refused as 'no column'. It is ambiguous: the line names both
+    columns, and either field id is taken."""
+    ans = [[AGREE5[(i + k) % 5] for k in range(3)] for i in range(12)]
+    rows = _qualtrics_rows(ans, lambda i: "IP Address", section=["Sec A"] * 6 + ["Sec B"] * 6)
+    rows[1][-2:] = ["Section", "Section"]
+    f = _csv(tmp_path / "q.csv", rows)
+    assert main(["summarize", str(f), "--group", "section"]) == 2
+    err = capsys.readouterr().err
+    assert err == (f"error: {f}: row 1: 'section' is the question text of columns "
+                   "['Q2', 'Q3']; name one of them\n"), err
+    assert main(["summarize", str(f), "--group", "Q2", "--json"]) == 0
+    got = json.loads(capsys.readouterr().out)["groups"]["groups"]
+    assert [(g["group"], g["respondents"]) for g in got] == [("Sec A", 6), ("Sec B", 6)]
+
+
 def test_unfinished_qualtrics_responses_are_counted_with_a_note(tmp_path):
     """QA 16 #9: rows with Finished = False were counted unsaid, while LimeSurvey's
     incomplete responses get a note. Rows here: 3 header rows, responses in rows 4-9; the
-    ones at i = 1 and 4 (rows 5 and 8) are unfinished. In a numeric export Finished is 0."""
+    ones at i = 1 and 4 (rows 5 and 8) are unfinished. In a numeric export Finished is 0,
+    and the note says 0, as the file writes it."""
     ans = [[AGREE5[(i + k) % 5] for k in range(3)] for i in range(6)]
     for numeric in (False, True):
         rows = _qualtrics_rows(ans, lambda i: "0" if numeric else "IP Address", numeric)
@@ -590,6 +608,7 @@ def test_unfinished_qualtrics_responses_are_counted_with_a_note(tmp_path):
             f = _csv(tmp_path / "q.csv", rows)
         data = read_survey(f, codes=book if numeric else None)
         assert data.respondents == 6 and not data.dropped
+        # QA 18 #9: the value as the file writes it (a numeric export's 0 was called False)
         assert [n for n in data.notes if "incomplete" in n] == [
-            f"{f}: 2 incomplete responses ('Finished' = False, rows 5, 8) counted with the "
-            "answers given"], data.notes
+            f"{f}: 2 incomplete responses ('Finished' = {'0' if numeric else 'False'}, rows "
+            "5, 8) counted with the answers given"], data.notes
