@@ -141,6 +141,9 @@ class ItemComparison:
         Holm-adjusted p-value over the items tested.
     pairs : int
         Respondents paired across the two groups (Wilcoxon test), else 0.
+    pairs_unchanged : int
+        Of those, the pairs that gave the same answer both times: the Wilcoxon test and the
+        effect leave them out (zero differences dropped), so they are counted apart.
     trend : dict or None
         More than two groups in an order that means something (``order`` places every
         one): Spearman ``rho``, ``p_value`` and ``p_holm`` (over the items' trends, a
@@ -161,16 +164,26 @@ class ItemComparison:
     note: str = ""
     p_holm: float | None = None
     pairs: int = 0
+    pairs_unchanged: int = 0
     trend: dict | None = None
     reverse: bool = False
     direction: str = ""
+
+    @property
+    def pairs_text(self) -> str:
+        """The pairs tested, in words, with those left out as unchanged (text and HTML)."""
+        if not self.pairs_unchanged:
+            return f"{self.pairs} pairs"
+        return (f"{self.pairs} pairs ({self.pairs_unchanged} unchanged: left out of the test "
+                f"and the effect)")
 
     def to_dict(self) -> dict:
         return {"item": self.item, "reversed": self.reverse, "direction": self.direction,
                 "reversed_statistics": list(REVERSED_STATISTICS) if self.reverse else [],
                 "test": self.test, "statistic": self.statistic,
                 "p_value": self.p_value, "p_holm": self.p_holm, "effect_name": self.effect_name,
-                "effect": self.effect, "pairs": self.pairs, "trend": self.trend,
+                "effect": self.effect, "pairs": self.pairs, "pairs_unchanged": self.pairs_unchanged,
+                "trend": self.trend,
                 "per_group": self.per_group, "note": self.note}
 
 
@@ -255,7 +268,7 @@ class GroupComparison:
                 out.append(f"  {name}: no test ({it.note})")
             else:
                 holm = "" if it.p_holm is None else f", Holm p = {significant_text(it.p_holm)}"
-                pairs = f" on {it.pairs} pairs" if it.pairs else ""
+                pairs = f" on {it.pairs_text}" if it.pairs else ""
                 out.append(f"  {name}: {it.test}{pairs} statistic "
                            f"{significant_text(it.statistic)}, p = {significant_text(it.p_value)}{holm}, "
                            f"{it.effect_name} = {number_text(it.effect, 3)}")
@@ -638,7 +651,7 @@ def _paired_item(item, per, names, codes, a, pairs, min_size) -> ItemComparison:
     return ItemComparison(item, "wilcoxon-signed-rank", float(res.statistic),
                           float(res.pvalue), "rank_biserial_paired",
                           rank_biserial_paired(post - pre), per, pairs=n,
-                          direction=_direction(*names))
+                          pairs_unchanged=int(np.sum(post == pre)), direction=_direction(*names))
 
 
 def _holm(items) -> str:

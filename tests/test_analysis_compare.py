@@ -61,6 +61,10 @@ def test_pre_post_paired_by_id_matches_scipy(tmp_path, capsys):
         x, y = np.array(pairs).T
         ref = stats.wilcoxon(y, x)
         assert it.test == "wilcoxon-signed-rank" and it.pairs == len(pairs)
+        # QA 19 #6: the pairs the test leaves out (same answer twice) are counted apart
+        assert 0 < it.pairs_unchanged == int(np.sum(x == y))
+        assert f"({it.pairs_unchanged} unchanged: left out of the test and the effect)" in it.pairs_text
+        assert it.to_dict()["pairs_unchanged"] == it.pairs_unchanged
         assert (it.statistic, it.p_value) == pytest.approx((ref.statistic, ref.pvalue), rel=1e-12)
         d = (y - x)[y != x]
         s_total = d.size * (d.size + 1) / 2
