@@ -1875,6 +1875,12 @@ def _why_not_item(col: _Column, scale: Scale, items, long: bool, notes: list) ->
         return "see the note"
     if _unanswered(_column_stats(col, scale)):
         return "no answer in any row"
+    answers = [c for c, n in zip(col.cats, col.counts()) if n and str(c).strip()]
+    if answers and all(scale.matches_code(str(c)) for c in answers):
+        reason = (f"its answers are numeric codes, and which end of the numbering means agreement "
+                  f"is not known; {CODES_HINT}")
+        notes.append(f"column {col.name!r} is left out of the table: {reason}")
+        return reason
     return f"its answers are not labels of scale {scale.name!r}"
 
 

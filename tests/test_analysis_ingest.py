@@ -850,3 +850,18 @@ def test_the_short_record_scan_agrees_with_the_csv_module(records, chunk, newlin
         scan.feed(data[at:at + chunk])
     assert scan.close() == want
     assert scan.longer == sum(len(r) > 3 for r in back)     # (the long-row check's trigger)
+
+
+@pytest.mark.parametrize("route", [[], ["--by", "Q1"]])
+def test_a_numeric_column_among_labelled_items_says_codes_would_bring_it_in(analysis_cli, tmp_path, route):
+    """QA 19 #2: a Google Forms linear-scale question (answers 1-5) beside labelled grid items was
+    set aside as 'not labels of scale agree5', as if it were a comment column, with no note; a file
+    of that column alone is refused with the --codes hint. Now the reason and a note say so."""
+    f = tmp_path / "mixed.csv"
+    f.write_text("id,Q1,Q2,Q3\n1,Agree,4,Disagree\n2,Disagree,2,Neither agree nor disagree\n3,Strongly agree,5,Agree\n")
+    code, out, err = analysis_cli("summarize", str(f), "--json", *route)
+    assert code == 0, err
+    result = json.loads(out)
+    notes = " ".join(result["notes"])
+    assert "'Q2' is left out of the table: its answers are numeric codes" in notes and "--codes" in notes
+    assert "Q2" not in result.get("items", {}) and "Q2" in json.dumps(result.get("not_items"))
