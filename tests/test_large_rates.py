@@ -154,3 +154,68 @@ def test_explain_at_large_rates_answers_as_solve_does_and_warns(solver_cli):
     assert "Warning: cancellation" not in out
     code, out, err = solver_cli("explain", PIN_BAR, "--point", "G", "--set", "theta_dot=1e9 rad/s")
     assert code == 0 and "Warning: cancellation" in out and "theta_ddot lost" in out, err
+
+
+def _sliding_bar_theta_ddot(theta, theta_dot):
+    """The paper's sliding bar (data/scenes/sliding_bar.toml: L = 4 ft, g = 32.174 ft/s**2, rails at
+    beta = 45 deg), its theta_ddot by Lagrange's equation written here with sympy, independent of the
+    solver: A = (L sin(beta - theta) / sin(beta), 0) on the floor rail puts B = A + L (-cos, sin) on
+    the rail (cos beta, -sin beta); T and V per unit mass (the mass cancels). Evaluated in mpmath at
+    60 digits (the omega**2 terms of 1e26 at 1e13 rad/s leave 30 of them): sympy's own evalf of the
+    same expression gave -16.47 for -2.41 at 22.5 deg and 1e9 rad/s."""
+    import mpmath
+    import sympy as sp
+
+    L, g, beta = 4, sp.Rational(32174, 1000), sp.pi / 4
+    t, q, w, a = sp.symbols("t q w a")
+    th = sp.Function("th")(t)
+    xg = L * sp.sin(beta - th) / sp.sin(beta) - L * sp.cos(th) / 2
+    yg = L * sp.sin(th) / 2
+    lag = (xg.diff(t) ** 2 + yg.diff(t) ** 2) / 2 + sp.Rational(L ** 2, 24) * th.diff(t) ** 2 - g * yg
+    eom = (lag.diff(th.diff(t)).diff(t) - lag.diff(th)).subs(th.diff(t, 2), a).subs(th.diff(t), w).subs(th, q)
+    with mpmath.workdps(60):
+        return float(sp.lambdify((q, w), sp.solve(eom, a)[0], "mpmath")(theta, mpmath.mpf(theta_dot)))
+
+
+@pytest.mark.parametrize("scene, argv, name, exact", [
+    (PIN_BAR, ["--set", "theta_dot=1e13 rad/s"], "theta_ddot", EXACT),
+    (PIN_BAR, ["--set", "theta_dot=1e99 rad/s"], "theta_ddot", EXACT),
+    ("data/scenes/sliding_bar.toml", ["--set", "theta_dot=1e13 rad/s"], "theta_ddot", "sliding_bar")])
+def test_an_accurate_answer_at_large_rates_is_not_flagged(solver_cli, scene, argv, name, exact):
+    """QA 17 #3: the bound raised false alarms. About O the bar's theta_ddot is -7.3575 exactly at any
+    rate, yet float64 elimination left round-off of 1e-17 in A^-1 where its exact entry is 0, which met
+    the reactions' omega**2 terms: 'error up to 3.3e+167' at 1e99 rad/s. And the sliding bar's
+    coefficient of theta_ddot (30.9) was sized from the symbolic entry t(u=1) - t(u=0), whose omega**2
+    parts cancel exactly (4e26 at 1e12 rad/s), while the solve evaluates it without them. The bound
+    now takes the exact inverse's |A^-1| and the sizes of the values the solve computes: no warning,
+    and the answers agree with the references (the closed form above; Lagrange's equation by sympy)
+    to 1e-13 relative (float64's round-off of the omega**2 terms, observed 7e-16)."""
+    if exact == "sliding_bar":
+        import mpmath
+
+        with mpmath.workdps(60):
+            exact = _sliding_bar_theta_ddot(mpmath.pi / 6, 10 ** 13)
+    payload = _solve(solver_cli, scene, *argv)
+    assert "digits_lost" not in payload, payload["digits_lost"]
+    assert payload["unknowns"][name]["value"] == pytest.approx(exact, rel=1e-13)
+    code, out, err = solver_cli("solve", scene, *argv)
+    assert code == 0 and "cancellation" not in out, out
+
+
+def test_a_real_loss_on_the_paper_bar_is_still_flagged(solver_cli):
+    """The other side: at theta = 22.5 deg the sliding bar's omega**2 terms cancel exactly (their
+    coefficient is 3000 (sin 2 theta - cos 2 theta) at beta = 45 deg), so at 1e9 rad/s theta_ddot
+    (-2.41205 rad/s**2 by the reference above, gravity's term alone) is what is left of terms of 1e18,
+    and 22.5 deg's own rounding in float64 moves them by tens: the solve's answer is off by about 76.
+    It is flagged as having lost its digits, with a bound that covers the actual error."""
+    import mpmath
+
+    with mpmath.workdps(60):
+        exact = _sliding_bar_theta_ddot(mpmath.pi / 8, 10 ** 9)
+    # gravity's term alone: -(3 g / 2 L) cos(theta) sin(beta)**2 / (sin(beta)**2 + 3 cos(beta) cos(theta) cos(beta - theta))
+    c = math.cos(math.pi / 8)
+    assert exact == pytest.approx(-(3 * 32.174 / 8) * c * 0.5 / (0.5 + 3 * math.sqrt(0.5) * c * math.cos(math.pi / 8)), rel=1e-12)
+    payload = _solve(solver_cli, "data/scenes/sliding_bar.toml", "--set", "theta=22.5 deg", "--set", "theta_dot=1e9 rad/s")
+    lost = payload["digits_lost"]["theta_ddot"]
+    error = abs(payload["unknowns"]["theta_ddot"]["value"] - exact)
+    assert error > 1 and error <= lost["error_bound"]["value"] and lost["digits"] > 6
