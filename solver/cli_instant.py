@@ -698,10 +698,10 @@ def _modes_command(args, system) -> int:
     units = system.output_units
     payload = to_output_units(result.to_dict(units), units)
     if len(result.modes) == 1:  # one freedom: also the keys of the one-coordinate answer
-        (name, value), = result.equilibrium.items()
+        (name, value), = result.equilibrium_in(units).items()
         mode = payload["modes"][0]
         payload = {"omega_n": mode["omega_n"], "frequency": mode["frequency"], "period": mode["period"],
-                   **payload, "equilibrium": to_output_units({"value": value, "unit": result.units[name]}, units)}
+                   **payload, "equilibrium": value}
     if system.time_dependent:
         payload["equilibrium_relative_to_prescribed_motion"] = True
     if args.json:
