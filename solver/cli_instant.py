@@ -24,6 +24,7 @@ from solver.cli_common import (
     add_common_arguments,
     check_finite,
     digits_lost_text,
+    round_off_zero_text,
     format_number,
     format_table,
     load_scene_from_args,
@@ -131,7 +132,7 @@ def solve_command(args: argparse.Namespace) -> int:
             "unknowns": unknowns,
             "condition_number_estimate": result["condition_number_estimate"],
         }
-        for key in ("regime", "indeterminate", "warning", "digits_lost"):
+        for key in ("regime", "indeterminate", "warning", "digits_lost", "zero_to_round_off"):
             if key in result:
                 payload[key] = to_output_units(result[key], system.output_units)
         if system.dependent or system.time_dependent or "regime" in result:  # the solved state is part of the answer
@@ -162,6 +163,8 @@ def solve_command(args: argparse.Namespace) -> int:
         print(f"warning: {result['warning']}")
     if "digits_lost" in result:
         print(f"warning: {digits_lost_text(result['digits_lost'], system.output_units)}")
+    if "zero_to_round_off" in result:
+        print(round_off_zero_text(result["zero_to_round_off"], system.output_units))
     if "alpha" in unknowns:
         print("alpha is the k-component of the angular acceleration (counter-clockwise positive).")
     return 0

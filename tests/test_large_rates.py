@@ -219,3 +219,65 @@ def test_a_real_loss_on_the_paper_bar_is_still_flagged(solver_cli):
     lost = payload["digits_lost"]["theta_ddot"]
     error = abs(payload["unknowns"]["theta_ddot"]["value"] - exact)
     assert error > 1 and error <= lost["error_bound"]["value"] and lost["digits"] > 6
+
+
+def _pendulum_at_pi_is_zero() -> None:
+    """The reference for the round-off zeros below, proved with sympy: a body on a fixed pivot O whose
+    mass centre G lies at distance d along its axis, at angle theta from the downward vertical
+    (compound_pendulum.toml: orientation theta - pi/2, so G = d (sin theta, -cos theta)), has
+    I_O theta_ddot = -m g d sin(theta), and the pivot's horizontal force is R_x = m x_G''. At
+    theta = pi (upright) both are 0 exactly, at any rate theta_dot."""
+    import sympy as sp
+
+    t = sp.Symbol("t")
+    m, g, d, I_O, w = sp.symbols("m g d I_O w", positive=True)
+    th = sp.Function("theta")(t)
+    theta_ddot = -m * g * d * sp.sin(th) / I_O
+    x_G = d * sp.sin(th)
+    R_x = m * x_G.diff(t, 2).subs(th.diff(t, 2), theta_ddot)
+    at_pi = {th.diff(t): w}
+    assert sp.simplify(theta_ddot.subs(th, sp.pi)) == 0
+    assert sp.simplify(R_x.subs(at_pi).subs(th, sp.pi)) == 0
+
+
+@pytest.mark.parametrize("rate", ["0 rad/s", "2 rad/s"])
+def test_a_value_within_its_own_error_bound_is_given_as_zero(solver_cli, rate):
+    """QA 17 #4: the upright pendulum's theta_ddot and R_x are 0 (proved above) and were printed as
+    -2.56e-15 rad/s**2 and 2.3e-15 N. The rule: a value no larger than its own error bound is 0 to
+    round-off, given as 0, with what was computed and the bound (JSON zero_to_round_off, and one
+    line of text); R_y, far above its bound, keeps its value."""
+    _pendulum_at_pi_is_zero()
+    argv = ("data/scenes/compound_pendulum.toml", "--set", "theta=180 deg", "--set", f"theta_dot={rate}")
+    payload = _solve(solver_cli, *argv)
+    zeros = payload["zero_to_round_off"]
+    assert set(zeros) == {"theta_ddot", "R_x", "alpha"}
+    for name, entry in zeros.items():
+        assert payload["unknowns"][name]["value"] == 0.0
+        assert 0 < abs(entry["computed"]["value"]) <= entry["error_bound"]["value"] < 1e-12
+    assert payload["unknowns"]["R_y"]["value"] > 1 and "digits_lost" not in payload
+    code, out, err = solver_cli("solve", *argv)
+    table = {line.split()[0]: line.split()[1] for line in out.splitlines()[5:9]}
+    assert table["theta_ddot"] == table["R_x"] == table["alpha"] == "0"
+    assert sum(line.startswith("0 to round-off") for line in out.splitlines()) == 1
+
+
+def test_precision_gives_an_exact_zero_and_absolute_errors_beside_it(solver_cli):
+    """QA 17 #6: `precision` printed the upright pendulum's exact theta_ddot as -1.93e-65 (the form
+    -5295591 sin(theta)/253000 at a 65-digit pi), a relative error of 1.5e+55 beside a bound of 46.
+    The exact answer is 0 (proved above); float64's -2.56e-15 is within its own bound, so no relative
+    error is defined: the row gives the absolute error and bound (abs.), and the error is within the
+    bound; JSON gives null for the relative error, as for an infinite bound."""
+    _pendulum_at_pi_is_zero()
+    argv = ("data/scenes/compound_pendulum.toml", "--set", "theta=180 deg", "--precision", "exact")
+    code, out, err = solver_cli("precision", *argv, "--json")
+    assert code == 0, err
+    exact = json.loads(out)["solutions"]["exact"]
+    for name in ("theta_ddot", "R_x", "alpha"):
+        assert exact["unknowns"][name]["text"] == "0" and exact["float64_relative_error"][name] is None
+    code, out, err = solver_cli("precision", *argv)
+    rows = {line.split()[0]: line.split() for line in out.splitlines()
+            if line.split()[:1] in (["theta_ddot"], ["R_x"]) and "abs." in line}
+    assert set(rows) == {"theta_ddot", "R_x"}
+    for name, cells in rows.items():  # name, 0, unit, abs., error, abs., bound
+        assert cells[1] == "0" and cells[3] == cells[5] == "abs."
+        assert 0 < float(cells[4]) <= float(cells[6])

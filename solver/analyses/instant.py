@@ -28,7 +28,7 @@ from ..errors import InputError, SingularConfigurationError
 from ..strprint import lambdify
 from ..units import Q_
 
-__all__ = ["CONDITION_LIMIT", "ROUND_OFF", "ERROR_BOUND_FACTOR", "SIGNIFICANT_ERROR", "entry_sizes", "refine",
+__all__ = ["round_off_zeros", "CONDITION_LIMIT", "ROUND_OFF", "ERROR_BOUND_FACTOR", "SIGNIFICANT_ERROR", "entry_sizes", "refine",
            "error_bounds", "NumericModel", "refuse_zero_length", "InstantSolution", "State", "assemble", "solve_instant",
            "condition_numbers", "solve_with_estimate"]
 
@@ -779,12 +779,20 @@ def solution_in_regime(system, regime, warning: str | None, state: State | None,
     else:
         f = formulate(system, method, point)
         state = assemble(system) if state is None else state
-        # at rest an unknown's bound is set against its own scale there, which no bound exceeds
-        # (:func:`_digits_lost`): the bounds are computed only where something moves
-        res = f.numeric().solve(state.q, state.qd, state.t, once=True, bounds=any(state.qd))
-        lost = _digits_lost(system, res, f.numeric().names, _scale_at_rest(f.numeric(), state, res))
+        res = f.numeric().solve(state.q, state.qd, state.t, once=True, bounds=True)
+        scale = _scale_at_rest(f.numeric(), state, res)
+        lost = _digits_lost(system, res, f.numeric().names, scale)
         if lost:
             extra["digits_lost"] = lost
+        computed = dict(res)
+        zeros = round_off_zeros(system, res, f.numeric().names, lost)
+        accelerations = [zeros[str(c.qdd)] for c in system.free if str(c.qdd) in zeros]
+        if len(system.bodies) == 1 and accelerations:  # alpha, a combination of them, with them
+            body = next(iter(system.bodies))
+            zeros["alpha"] = {"computed": {"value": _alpha_value(system, body, state, computed), "unit": "rad/s**2"},
+                              "error_bound": max((a["error_bound"] for a in accelerations), key=lambda b: b["value"])}
+        if zeros:
+            extra["zero_to_round_off"] = zeros
     _check_limits(system, state)
     unknowns: dict[str, pint.Quantity] = {}
     if len(system.bodies) == 1:
@@ -800,6 +808,32 @@ def solution_in_regime(system, regime, warning: str | None, state: State | None,
     shown = shown_point(system, method, point)
     cond = float(res["condition_number"]) if "condition_number" in res else math.inf
     return InstantSolution(unknowns, cond, shown, method, state, system.name, extra)
+
+
+def round_off_zeros(system, res: dict, names, lost: dict) -> dict:
+    """The unknowns that are 0 to round-off, set to 0 in ``res``: name -> {"computed", "error_bound"}
+    (each ``{"value", "unit"}``).
+
+    The rule: an unknown whose computed value is no larger than its own error bound
+    (``res["error_bound"]``, :func:`error_bounds`), where that bound is round-off of its scale
+    (not among ``lost``, the unknowns whose digits cancellation took: :func:`_digits_lost`), is
+    indistinguishable from 0: its sign and digits are the round-off of the equations' terms (a
+    pendulum hanging straight down, theta_ddot = -2.6e-15 rad/s**2 beside a bound of 1.2e-13).
+    It is given as 0, with what was computed and the bound. A lost unknown keeps its value and
+    its warning; an unknown computed as exactly 0 needs no word."""
+    bound = res.get("error_bound")
+    if bound is None:
+        return {}
+    units = {str(c.qdd): "rad/s**2" if c.kind == "angle" else "m/s**2" for c in system.free}
+    units.update({r.name: r.unit for r in system.reactions})
+    zeros = {}
+    for name, e in zip(names, bound):
+        x = float(res[name])
+        if name not in lost and x != 0 and abs(x) <= e:
+            unit = units.get(name, "")
+            zeros[name] = {"computed": {"value": x, "unit": unit}, "error_bound": {"value": float(e), "unit": unit}}
+            res[name] = 0.0
+    return zeros
 
 
 def _scale_at_rest(model, state, res) -> "np.ndarray | None":
@@ -854,7 +888,7 @@ def _alpha_value(system, body, state, res) -> float:
     vals.update({c.qdd: float(res[str(c.qdd)]) for c in system.free})
     vals[system.t] = state.t
     vals.update(system.si_values())
-    return float(sp.sympify(al).xreplace({k: sp.Float(v) for k, v in vals.items()}))
+    return float(sp.sympify(al).xreplace({k: sp.Float(v) for k, v in vals.items()})) + 0.0  # (no -0.0)
 
 
 def _check_limits(system, state: State) -> None:
