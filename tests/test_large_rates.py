@@ -259,6 +259,12 @@ def test_a_value_within_its_own_error_bound_is_given_as_zero(solver_cli, rate):
     table = {line.split()[0]: line.split()[1] for line in out.splitlines()[5:9]}
     assert table["theta_ddot"] == table["R_x"] == table["alpha"] == "0"
     assert sum(line.startswith("0 to round-off") for line in out.splitlines()) == 1
+    code, out, err = solver_cli("explain", *argv)  # the worked solution, at rest too, says the same
+    assert code == 0, err
+    solution = out.split("\nSolution\n", 1)[1].split("\nCheck by the mass-centre form", 1)[0]
+    assert "0 to round-off" in solution
+    values = {line.split()[0]: line.split()[1] for line in solution.splitlines() if line.startswith("    ")}
+    assert values["theta_ddot"] == values["R_x"] == values["alpha"] == "0" and values["R_y"] != "0"
 
 
 def test_precision_gives_an_exact_zero_and_absolute_errors_beside_it(solver_cli):

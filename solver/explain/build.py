@@ -896,9 +896,14 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
         check = _mass_center_in_regime(scene, found)
     else:
         # where something moves, the product's own solve (refined once, its round-off bounded: the
-        # cancellation warning of `solve`); at rest the substituted system above, solved here
-        solution = ((None if any(state.qd) else _solve_at_state(system, f, point, state, numeric, cond))
-                    or solve_instant(system, point, "generalized_euler", state))
+        # cancellation warning of `solve`)
+        solution = solve_instant(system, point, "generalized_euler", state)
+        own = None if any(state.qd) else _solve_at_state(system, f, point, state, numeric, cond)
+        if own is not None:  # at rest the substituted system above, solved here, with solve's round-off zeros
+            zeros = solution.extra.get("zero_to_round_off", {})
+            own.unknowns.update({name: solution.unknowns[name] for name in zeros})
+            own.extra.update({"zero_to_round_off": zeros} if zeros else {})
+            solution = own
         check = _mass_center_check(system, state)
     final.steps.append(_solution_step(system, solution, cond))
     final.steps.append(_check_step(system, solution, check))
