@@ -784,13 +784,7 @@ def solution_in_regime(system, regime, warning: str | None, state: State | None,
         lost = _digits_lost(system, res, f.numeric().names, scale)
         if lost:
             extra["digits_lost"] = lost
-        computed = dict(res)
-        zeros = round_off_zeros(system, res, f.numeric().names, lost)
-        accelerations = [zeros[str(c.qdd)] for c in system.free if str(c.qdd) in zeros]
-        if len(system.bodies) == 1 and accelerations:  # alpha, a combination of them, with them
-            body = next(iter(system.bodies))
-            zeros["alpha"] = {"computed": {"value": _alpha_value(system, body, state, computed), "unit": "rad/s**2"},
-                              "error_bound": max((a["error_bound"] for a in accelerations), key=lambda b: b["value"])}
+        zeros = round_off_zeros(system, res, f.numeric().names, lost, state)
         if zeros:
             extra["zero_to_round_off"] = zeros
     _check_limits(system, state)
@@ -810,9 +804,10 @@ def solution_in_regime(system, regime, warning: str | None, state: State | None,
     return InstantSolution(unknowns, cond, shown, method, state, system.name, extra)
 
 
-def round_off_zeros(system, res: dict, names, lost: dict) -> dict:
+def round_off_zeros(system, res: dict, names, lost: dict, state: State) -> dict:
     """The unknowns that are 0 to round-off, set to 0 in ``res``: name -> {"computed", "error_bound"}
-    (each ``{"value", "unit"}``).
+    (each ``{"value", "unit"}``); a one-body system's alpha, a combination of its accelerations,
+    goes with them.
 
     The rule: an unknown whose computed value is no larger than its own error bound
     (``res["error_bound"]``, :func:`error_bounds`), where that bound is round-off of its scale
@@ -826,13 +821,18 @@ def round_off_zeros(system, res: dict, names, lost: dict) -> dict:
         return {}
     units = {str(c.qdd): "rad/s**2" if c.kind == "angle" else "m/s**2" for c in system.free}
     units.update({r.name: r.unit for r in system.reactions})
-    zeros = {}
+    zeros, computed = {}, dict(res)
     for name, e in zip(names, bound):
         x = float(res[name])
         if name not in lost and x != 0 and abs(x) <= e:
             unit = units.get(name, "")
             zeros[name] = {"computed": {"value": x, "unit": unit}, "error_bound": {"value": float(e), "unit": unit}}
             res[name] = 0.0
+    accelerations = [zeros[str(c.qdd)] for c in system.free if str(c.qdd) in zeros]
+    if len(system.bodies) == 1 and accelerations:
+        body = next(iter(system.bodies))
+        zeros["alpha"] = {"computed": {"value": _alpha_value(system, body, state, computed), "unit": "rad/s**2"},
+                          "error_bound": max((a["error_bound"] for a in accelerations), key=lambda b: b["value"])}
     return zeros
 
 
