@@ -896,9 +896,14 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
         check = _mass_center_in_regime(scene, found)
     else:
         # where something moves, the product's own solve (refined once, its round-off bounded: the
-        # cancellation warning of `solve`); at rest the substituted system above, solved here
-        solution = ((None if any(state.qd) else _solve_at_state(system, f, point, state, numeric, cond))
-                    or solve_instant(system, point, "generalized_euler", state))
+        # cancellation warning of `solve`)
+        solution = solve_instant(system, point, "generalized_euler", state)
+        own = None if any(state.qd) else _solve_at_state(system, f, point, state, numeric, cond)
+        if own is not None:  # at rest the substituted system above, solved here, with solve's round-off zeros
+            zeros = solution.extra.get("zero_to_round_off", {})
+            own.unknowns.update({name: solution.unknowns[name] for name in zeros})
+            own.extra.update({"zero_to_round_off": zeros} if zeros else {})
+            solution = own
         check = _mass_center_check(system, state)
     final.steps.append(_solution_step(system, solution, cond))
     final.steps.append(_check_step(system, solution, check))
@@ -1461,6 +1466,10 @@ def _solution_step(system, solution, cond: float | None) -> Step:
         from ..cli_common import digits_lost_text
 
         text.append("Warning: " + digits_lost_text(solution.extra["digits_lost"], system.output_units) + ".")
+    if "zero_to_round_off" in solution.extra:  # as `solve` says it
+        from ..cli_common import round_off_zero_text
+
+        text.append(round_off_zero_text(solution.extra["zero_to_round_off"], system.output_units) + ".")
     return Step("solution", "Solution", text, table=Table(("unknown", "value", "unit"), tuple(rows)))
 
 
@@ -1563,9 +1572,13 @@ def _check_step(system, solution, check) -> Step:
 
     rows = []
     worst = 0.0
+    zeros = solution.extra.get("zero_to_round_off", {})
     for name, qty in solution.unknowns.items():
         v1, unit = _out(system, name, qty)
         v2, _ = _out(system, name, check[name])
+        if name in zeros and abs(float(check[name].to(zeros[name]["error_bound"]["unit"]).magnitude)) \
+                <= zeros[name]["error_bound"]["value"]:
+            v2 = 0.0  # 0 to round-off by the solution's rule, as the solution gives it (round_off_zeros)
         scale = max(abs(v1), abs(v2), 1e-300)
         diff = abs(v1 - v2) / scale if (v1 or v2) else 0.0
         worst = max(worst, diff)
