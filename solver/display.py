@@ -1054,10 +1054,18 @@ def _collapse_angle_sums(e: sp.Expr) -> sp.Expr:
     written with it in front. An identity: the value is the same at every point."""
     if not e.args:
         return e
-    args = [_collapse_angle_sums(a) for a in e.args]
+    args = [a if _of_leaves(a) else _collapse_angle_sums(a) for a in e.args]
     if any(x is not y for x, y in zip(args, e.args)):
         e = e.func(*args)
     return _collapse_sum(e) if e.is_Add else e
+
+
+def _of_leaves(e: sp.Basic) -> bool:
+    """Whether ``e`` is a leaf or a node of leaves only (``sin(theta)``, ``theta_dot**2``, ``l_b*m_b``):
+    :func:`_collapse_angle_sums` leaves it as it is (no term of a sum of leaves holds a sine or a
+    cosine), so it need not be walked."""
+    args = e.args
+    return not args or not any(a.args for a in args)
 
 
 def _collapse_sum(add: sp.Add) -> sp.Expr:
