@@ -537,6 +537,8 @@ def is_identically_zero(expr: sp.Expr) -> bool | None:
     """True/False when :func:`reduce_trig` decides it, None when it cannot."""
     if expr == 0:
         return True
+    if isinstance(expr, sp.Expr) and (expr.is_Rational or _plain_monomial(expr)):
+        return False  # a nonzero rational, or one times symbols and sin/cos of symbols (no test needed)
     if _numerically_nonzero(expr):
         return False
     return numerator_reduces_to_zero(expr)
