@@ -28,7 +28,7 @@ import sympy as sp
 from ..model.joints import copy_vec, cross_k, k_cross, vadd, vec, vscale, vsub, xy
 from ..model.system import derivative
 from .content import Equation, Explanation, Section, Step, Table, Term
-from ..display import could_extract_minus_sign, expanded, is_identically_zero, term_powers, tidy, tidy_linear
+from ..display import coefficient, could_extract_minus_sign, expanded, is_identically_zero, term_powers, tidy, tidy_linear
 from ..strprint import FastStrPrinter, sstr
 
 __all__ = ["explain", "latex_names"]
@@ -734,7 +734,7 @@ def _coefficients(system, expr, unknowns) -> dict:
     def build():
         out = {}
         for u in unknowns:
-            c = e.coeff(u)
+            c = coefficient(e, u)
             out[u] = (c, c == 0 or _zero(c))
         return out
     return system._memo(("coefficients", e, tuple(unknowns)), build)
@@ -1023,7 +1023,7 @@ def _single_reaction_substitution(system, f, body: str):
             e = sp.expand(eqs[axis])
             held = _unknowns_in(system, e, reactions)
             if held == [r] and axis not in used:
-                subs[r] = -e.xreplace({r: 0}) / e.coeff(r)  # linear in r
+                subs[r] = -e.xreplace({r: 0}) / coefficient(e, r)  # linear in r
                 used.append(axis)
                 break
         else:
@@ -1093,7 +1093,7 @@ def _projected(system, f) -> list[sp.Expr]:
             terms += [derivative(v[0], c.qd) * nx, derivative(v[1], c.qd) * ny, derivative(w, c.qd) * eu]
         e = sp.expand(-sp.Add(*terms))
         for r in system.reactions:
-            coef = e.coeff(r.symbol)
+            coef = coefficient(e, r.symbol)
             if coef != 0 and _zero(coef):  # a workless reaction: it drops out
                 e = sp.expand(e - coef * r.symbol)
         out.append(e)
@@ -1111,8 +1111,8 @@ def _reaction_from_body_equations(expl, r, known: dict, unknown: set):
                 e = sp.expand(sp.sympify(section.step(kind).equation(tag).residual).xreplace(known))
             except KeyError:
                 continue
-            coef = e.coeff(r)
-            if _zero(coef) or any(not _zero(e.coeff(x)) for x in unknown - {r}):
+            coef = coefficient(e, r)
+            if _zero(coef) or any(not _zero(coefficient(e, x)) for x in unknown - {r}):
                 continue
             label = {"newton_x": "Newton x", "newton_y": "Newton y", "euler": "the moment equation"}[tag]
             return -e.xreplace({r: 0}) / coef, f"{label} of {section.body}"
@@ -1129,8 +1129,8 @@ def _normal_force_from_newton(expl, contact, r, known: dict, unknown: set):
         return None
     e = sp.expand((n[0] * newton.equation("newton_x").residual
                    + n[1] * newton.equation("newton_y").residual).xreplace(known))
-    coef = e.coeff(r)
-    if _zero(coef) or any(not _zero(e.coeff(x)) for x in unknown - {r}):
+    coef = coefficient(e, r)
+    if _zero(coef) or any(not _zero(coefficient(e, x)) for x in unknown - {r}):
         return None
     return -e.xreplace({r: 0}) / coef, f"Newton along the normal of contact {joint.name} ({joint.second})"
 
@@ -1153,13 +1153,13 @@ def _structured_eom(system, c, e, q, keep, ref: str = "projected on the partial 
     e = sp.expand(e + q)
     lhs, taken = [], []
     for x, label in [(x, "M") for x in system.qdd] + [(lam, "reaction term") for lam in keep]:
-        coef = e.coeff(x)
+        coef = coefficient(e, x)
         if coef != 0:
             lhs.append(Term(tidy(coef) * x, f"{label} {x}"))
             taken.append(coef * x)  # (the coefficient as it is: its tidy form differs by sin**2 + cos**2 - 1)
     rest = sp.expand(e - sp.Add(*taken))
     for x in rates:
-        coef = rest.coeff(x)
+        coef = coefficient(rest, x)
         if coef != 0 and not coef.has(*system.qd):
             lhs.append(Term(tidy(coef) * x, f"rate terms {x}"))
             rest = sp.expand(rest - coef * x)
@@ -1186,7 +1186,7 @@ def _constrained_motion_step(system, f, expl, state) -> Step:
     closure = [r.reaction.symbol for r in system.closure]
     projected = _projected(system, f)
     working = [r.symbol for r in system.reactions if r.symbol not in closure
-               and any(not _zero(e.coeff(r.symbol)) for e in projected)]
+               and any(not _zero(coefficient(e, r.symbol)) for e in projected)]
     eqs, text, known = [], [], {}
     slipping = _slipping_contacts(system)
     for r in working:
@@ -1210,8 +1210,8 @@ def _constrained_motion_step(system, f, expl, state) -> Step:
         eqs.append(_structured_eom(system, c, sp.expand(e.xreplace(known)), q, keep))
     for row in system.closure:
         acc = sp.expand(system.D(system.D(row.expr)))
-        terms = [Term(tidy(acc.coeff(x)) * x, f"C {x}") for x in system.qdd if acc.coeff(x) != 0]
-        rest = sp.expand(acc - sp.Add(*[acc.coeff(x) * x for x in system.qdd]))
+        terms = [Term(tidy(coefficient(acc, x)) * x, f"C {x}") for x in system.qdd if coefficient(acc, x) != 0]
+        rest = sp.expand(acc - sp.Add(*[coefficient(acc, x) * x for x in system.qdd]))
         if rest != 0:
             terms.append(Term(tidy(rest), "-gamma (rate terms)"))
         eqs.append(Equation(tuple(terms) or (Term(sp.Integer(0)),), (Term(sp.Integer(0)),),
@@ -1279,7 +1279,7 @@ def _small_oscillations(system, e: sp.Expr) -> Equation | None:
     rest = e.xreplace({c.qdd: 0})
     if not _zero(rest.xreplace(at)):
         return None
-    mass = tidy(e.coeff(c.qdd).xreplace(at))
+    mass = tidy(coefficient(e, c.qdd).xreplace(at))
     stiffness = tidy(derivative(rest, c.q).xreplace(at))
     values = {k: sp.Float(v) for k, v in system.si_values().items()}
     ratio = stiffness / mass
@@ -1391,7 +1391,7 @@ def _numeric_row(row: sp.Expr, unknowns: list) -> tuple[dict, sp.Expr]:
             continue
         c, u = term.as_coeff_Mul()
         if u not in wanted or coefficients[u] != 0:
-            return {u: row.coeff(u) for u in unknowns}, row.xreplace({u: 0 for u in unknowns})
+            return {u: coefficient(row, u) for u in unknowns}, row.xreplace({u: 0 for u in unknowns})
         coefficients[u] = c
     return coefficients, known
 
