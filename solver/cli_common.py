@@ -312,6 +312,16 @@ def digits_lost_text(lost: dict, units: Mapping[str, str] | None = None) -> str:
             + "; ".join(parts) + "; the printed digits beyond those left are round-off")
 
 
+def round_off_zero_text(zeros: dict, units: Mapping[str, str] | None = None) -> str:
+    """The line on the unknowns given as 0 because they are no larger than their own error bound
+    (``zero_to_round_off`` of a solve, :func:`solver.analyses.instant.round_off_zeros`), in the
+    scene's ``[output_units]``."""
+    zeros = to_output_units(zeros, units)
+    parts = [f"{name} (computed {format_number(v['computed']['value'], 3)}, error bound "
+             f"{format_number(v['error_bound']['value'], 2)} {v['error_bound']['unit']})" for name, v in zeros.items()]
+    return "0 to round-off (a value within its own error bound is given as 0): " + "; ".join(parts)
+
+
 def format_pair(a: float, b: float, digits: int = 6) -> tuple[str, str]:
     """Two values to compare, printed so that values equal to the printed precision print equal.
 
@@ -475,6 +485,7 @@ __all__ = [
     "print_json",
     "format_number",
     "digits_lost_text",
+    "round_off_zero_text",
     "format_pair",
     "format_table",
     "state_text",

@@ -501,12 +501,18 @@ def precision_command(args: argparse.Namespace) -> int:
     print(f"condition number of the linear system (exact; 1-norm, rows and columns equilibrated, so unit-free; "
           f"`solve` prints an estimate of it): {results[0].condition_number:.6g} "
           f"(float64 relative error bound ~ {_bound_text(results[0])})")
+    float64 = solve_precise(d, "float64", args.dps, assembled=state) if "float64" not in which else None
+    float64 = _precise_in_output_units(float64, scene.output_units) if float64 else results[which.index("float64")]
+    within = {n for n, b in float64.error_bound.items() if b >= 1 and float(float64.text[n]) != 0}
     for r in results:
         print()
         print(f"{r.precision}" + (f" ({r.dps} digits)" if r.precision != "float64" else ""))
-        rows = [(n, r.text[n], r.units.get(n, ""), f"{r.float64_error.get(n, 0.0):.2g}",
-                 f"{r.error_bound[n]:.2g}" if n in r.error_bound else "-") for n in r.unknowns]
+        rows = [(n, r.text[n], r.units.get(n, ""), *_error_cells(n, r, float64, n in within)) for n in r.unknowns]
         print(format_table(("name", "value", "unit", "float64 rel. error", "its bound"), rows, align="lrlll"))
+        if within & set(r.unknowns) and r is results[-1]:
+            print()
+            print("abs.: a float64 value within its own error bound (0 to round-off, or its digits lost: `solve` "
+                  "gives the first as 0): its error and bound are absolute, in the row's unit")
         if r.exact_form:
             print("exact forms (SI units):")
         for n, e in r.exact_form.items():
@@ -515,6 +521,22 @@ def precision_command(args: argparse.Namespace) -> int:
             print(f"note: {r.note}")
     sys.stdout.flush()
     return 0
+
+
+def _error_cells(name: str, result, float64, absolute: bool) -> tuple[str, str]:
+    """The two error cells of ``precision``'s row ``name`` in ``result``'s table: float64's relative error
+    and bound, or, for a float64 value within its own bound (its relative bound at least 1: no digit
+    of it is known, and 0 may be the answer, whose relative error is undefined), the absolute
+    ones in the row's unit, marked "abs."."""
+    import mpmath
+
+    if not absolute:
+        return (f"{result.float64_error.get(name, 0.0):.2g}",
+                f"{result.error_bound[name]:.2g}" if name in result.error_bound else "-")
+    value = float(float64.text[name])
+    with mpmath.workdps(result.dps + 10):
+        error = 0 if result.precision == "float64" else abs(mpmath.mpf(value) - mpmath.mpf(result.text[name]))
+    return f"abs. {float(error):.2g}", f"abs. {float64.error_bound[name] * abs(value):.2g}"
 
 
 def _bound_text(result) -> str:

@@ -24,6 +24,7 @@ from solver.cli_common import (
     add_common_arguments,
     check_finite,
     digits_lost_text,
+    round_off_zero_text,
     format_number,
     format_table,
     load_scene_from_args,
@@ -131,7 +132,7 @@ def solve_command(args: argparse.Namespace) -> int:
             "unknowns": unknowns,
             "condition_number_estimate": result["condition_number_estimate"],
         }
-        for key in ("regime", "indeterminate", "warning", "digits_lost"):
+        for key in ("regime", "indeterminate", "warning", "digits_lost", "zero_to_round_off"):
             if key in result:
                 payload[key] = to_output_units(result[key], system.output_units)
         if system.dependent or system.time_dependent or "regime" in result:  # the solved state is part of the answer
@@ -162,6 +163,8 @@ def solve_command(args: argparse.Namespace) -> int:
         print(f"warning: {result['warning']}")
     if "digits_lost" in result:
         print(f"warning: {digits_lost_text(result['digits_lost'], system.output_units)}")
+    if "zero_to_round_off" in result:
+        print(round_off_zero_text(result["zero_to_round_off"], system.output_units))
     if "alpha" in unknowns:
         print("alpha is the k-component of the angular acceleration (counter-clockwise positive).")
     return 0
@@ -698,10 +701,10 @@ def _modes_command(args, system) -> int:
     units = system.output_units
     payload = to_output_units(result.to_dict(units), units)
     if len(result.modes) == 1:  # one freedom: also the keys of the one-coordinate answer
-        (name, value), = result.equilibrium.items()
+        (name, value), = result.equilibrium_in(units).items()
         mode = payload["modes"][0]
         payload = {"omega_n": mode["omega_n"], "frequency": mode["frequency"], "period": mode["period"],
-                   **payload, "equilibrium": to_output_units({"value": value, "unit": result.units[name]}, units)}
+                   **payload, "equilibrium": value}
     if system.time_dependent:
         payload["equilibrium_relative_to_prescribed_motion"] = True
     if args.json:

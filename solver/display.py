@@ -25,7 +25,8 @@ from sympy.core.mul import _keep_coeff, _mulsort
 from .tree_value import DOUBLE, NotEvaluable, tree_value
 
 __all__ = ["expanded", "reduce_trig", "numerator_reduces_to_zero", "constant_value", "tidy", "tidy_fraction", "tidy_linear",
-           "is_identically_zero", "free_symbols_of", "tree_size", "term_powers", "could_extract_minus_sign", "MAX_TIDY_NODES"]
+           "is_identically_zero", "free_symbols_of", "tree_size", "term_powers", "could_extract_minus_sign", "coefficient",
+           "MAX_TIDY_NODES"]
 
 MAX_CANCEL_NODES = 120
 """Above this size a single fraction of polynomials is not passed through ``cancel`` (the common
@@ -536,6 +537,8 @@ def is_identically_zero(expr: sp.Expr) -> bool | None:
     """True/False when :func:`reduce_trig` decides it, None when it cannot."""
     if expr == 0:
         return True
+    if isinstance(expr, sp.Expr) and (expr.is_Rational or _plain_monomial(expr)):
+        return False  # a nonzero rational, or one times symbols and sin/cos of symbols (no test needed)
     if _numerically_nonzero(expr):
         return False
     return numerator_reduces_to_zero(expr)
@@ -1054,10 +1057,18 @@ def _collapse_angle_sums(e: sp.Expr) -> sp.Expr:
     written with it in front. An identity: the value is the same at every point."""
     if not e.args:
         return e
-    args = [_collapse_angle_sums(a) for a in e.args]
+    args = [a if _of_leaves(a) else _collapse_angle_sums(a) for a in e.args]
     if any(x is not y for x, y in zip(args, e.args)):
         e = e.func(*args)
     return _collapse_sum(e) if e.is_Add else e
+
+
+def _of_leaves(e: sp.Basic) -> bool:
+    """Whether ``e`` is a leaf or a node of leaves only (``sin(theta)``, ``theta_dot**2``, ``l_b*m_b``):
+    :func:`_collapse_angle_sums` leaves it as it is (no term of a sum of leaves holds a sine or a
+    cosine), so it need not be walked."""
+    args = e.args
+    return not args or not any(a.args for a in args)
 
 
 def _collapse_sum(add: sp.Add) -> sp.Expr:
@@ -1303,6 +1314,22 @@ def tidy_linear(expr: sp.Expr, variables) -> sp.Expr:
             parts.append(tidy(coef) * v)
             rest = others
     return sp.Add(*parts, tidy(rest))
+
+
+def coefficient(expr: sp.Expr, v: sp.Expr) -> sp.Expr:
+    """``expr.coeff(v)``, the same expression, in one pass over the terms of a commutative ``expr``
+    when ``v`` is a symbol or a power (``theta_dot**2``): ``coeff`` collects, from each term holding
+    ``v`` as a factor, the product of its other factors (its ``args_cnc`` sets, compared by set
+    difference, cost about twice this). Any other ``v`` (a product, whose factors ``coeff`` finds
+    among a term's) goes to ``coeff`` itself."""
+    if not (v.is_Symbol or v.is_Pow) or not (expr.is_commutative and v.is_commutative):
+        return expr.coeff(v)
+    holding = []
+    for t in sp.Add.make_args(expr):
+        factors = sp.Mul.make_args(t)
+        if v in factors:
+            holding.append(sp.Mul(*[f for f in factors if f != v]))
+    return sp.Add(*holding)
 
 
 def _coefficient_and_rest(rest: sp.Expr, v: sp.Expr) -> tuple[sp.Expr, sp.Expr]:

@@ -74,9 +74,14 @@ def read_regular_file(path: str | os.PathLike, where: str, max_bytes: int = MAX_
             raise InputError(f"{where}: the file is {info.st_size} bytes long; the limit is {max_bytes}")
         fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
         with os.fdopen(fd, "rb") as fh:
-            if not stat.S_ISREG(os.fstat(fh.fileno()).st_mode):  # replaced since the check
+            opened = os.fstat(fh.fileno())
+            if not stat.S_ISREG(opened.st_mode):  # replaced since the check
                 raise InputError(f"{where}: cannot read the file: it is not a regular file")
-            data = fh.read(max_bytes + 1)
+            # to at most max_bytes + 1 bytes: first the size it has (read(max_bytes + 1) would set
+            # aside a buffer of that size, most of the time of a small file), then on if it grew
+            data = fh.read(min(opened.st_size, max_bytes) + 1)
+            if len(data) == min(opened.st_size, max_bytes) + 1 and len(data) <= max_bytes:
+                data += fh.read(max_bytes + 1 - len(data))
     except OSError as err:
         raise InputError(f"{where}: cannot read the file ({err.strerror or err})") from None
     if len(data) > max_bytes:

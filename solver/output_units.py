@@ -10,6 +10,7 @@ parts, SI for the parts the scene does not name.
 from __future__ import annotations
 
 import functools
+import math
 import re
 from collections.abc import Mapping
 from typing import Any
@@ -143,6 +144,16 @@ through SI (0.5 ft -> 0.1524 m -> 0.49999999999999994 ft) errs in the 16th-17th;
 in the output unit comes back as given."""
 
 
+def rounded_at(value: float, resolution: float) -> float:
+    """``value`` rounded at the decimal place of ``resolution`` (> 0), the size below which its digits
+    are round-off: the nearest double to the decimal number kept (an equilibrium solved to 1e-12 of
+    its scale, -0.999999999999998 ft of a spring's 1 ft, is -1.0). What :data:`SIGNIFICANT_DIGITS`
+    does for a unit's factor, for a value whose own accuracy is known to be less."""
+    if not (value and math.isfinite(value) and resolution > 0 and math.isfinite(resolution)):
+        return value
+    return round(value, -math.floor(math.log10(resolution)))
+
+
 def _scaled(value: Any, factor: float) -> Any:
     if getattr(value, "ndim", 0):  # a numpy array (a column of samples): scaled as a whole
         return _rounded(value * factor)
@@ -181,4 +192,4 @@ def columns_in_output_units(columns: Mapping[str, tuple[Any, str]], units: Mappi
     return {name: in_output_units(values, unit, units) for name, (values, unit) in columns.items()}
 
 
-__all__ = ["output_unit", "si_unit_of", "to_output_units", "in_output_units", "columns_in_output_units"]
+__all__ = ["rounded_at", "output_unit", "si_unit_of", "to_output_units", "in_output_units", "columns_in_output_units"]

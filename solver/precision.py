@@ -203,7 +203,7 @@ class PreciseSolution:
                              "text": self.text[n], "unit": self.units.get(n, "")}
                          for n, v in self.unknowns.items()},
             "condition_number": self.condition_number,
-            "float64_relative_error": self.float64_error,
+            "float64_relative_error": {n: v if math.isfinite(v) else None for n, v in self.float64_error.items()},
         }
         if self.error_bound:
             out["float64_relative_error_bound"] = {n: v if math.isfinite(v) else None for n, v in self.error_bound.items()}
@@ -318,8 +318,10 @@ def solve_precise(derivation: Any, precision: str = "float64", dps: int = 50,
         if alpha_expr is not None:
             sym["alpha"] = alpha_expr.xreplace(rational).xreplace({a: sym[str(a)] for a in accelerations})
         vals = {n: _exact_value(v, kept) for n, v in sym.items()}
-        text = {n: str(_evalf(v, kept, dps)) for n, v in sym.items()}
-        err = {n: _relerr(fl[n], _evalf(v, kept, dps + 5)) for n, v in sym.items()}
+        # an answer sympy finds to be 0 exactly (sin(pi)) is 0, not the evalf of its form at a
+        # many-digit pi (-1.9e-65)
+        text = {n: "0" if vals[n] == 0 else str(_evalf(v, kept, dps)) for n, v in sym.items()}
+        err = {n: _relerr(fl[n], 0 if vals[n] == 0 else _evalf(v, kept, dps + 5)) for n, v in sym.items()}
         at = ", ".join(f"{k} = {v}" for k, v in kept.items() if _uses(sym, k))
         # with dependent coordinates the closed form holds their many-digit values: not shown
         exact_form = {} if solved else {n: str(tidy(v)) + (f"   at {at}" if at else "") for n, v in sym.items()}
@@ -458,7 +460,9 @@ def _exact_solve(A: sp.Matrix, b: sp.Matrix, kept: Mapping, where: str) -> sp.Ma
 
 
 def _relerr(approx: float, ref) -> float:
+    """|approx - ref| / |ref|; against a reference 0, 0 for an approx of 0 and infinite otherwise
+    (no relative error is defined: the tables give the absolute one, JSON null)."""
     ref = mpmath.mpf(str(ref)) if not isinstance(ref, mpmath.mpf) else ref
     if ref == 0:
-        return abs(approx)
+        return 0.0 if approx == 0 else math.inf
     return float(abs((mpmath.mpf(approx) - ref) / ref))

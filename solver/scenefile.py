@@ -50,6 +50,9 @@ TOP_KEYS = (
 )
 COORDINATE_KEYS = ("name", "value", "rate")
 BODY_KEYS = ("orientation", "reference_point", "position")
+ANGLE_KEYS = frozenset({"orientation", "angle", "relative_angle"})
+"""The keys whose expression is an angle, in both scene formats (``[body] orientation``, a rail's
+``angle``, a slider's ``relative_angle``)."""
 POSITION_KEYS = ("point", "at")
 POINT_KEYS = ("at", "relative_to", "offset")
 
@@ -295,6 +298,7 @@ class _SceneLoader:
     def __init__(self, path: Path):
         self.path = path
         self.label = str(path)
+        self.overrides: Mapping[str, str] = {}  # the --set values (the key an error names)
 
     # -- messages ----------------------------------------------------------------
     def fail(self, key: str, what: str) -> SceneError:
@@ -397,7 +401,26 @@ class _SceneLoader:
             else:
                 got = f"{value!r} is {describe_dimension(dim)}"
             raise self.fail(key, f"{got}, but {describe_dimension(need)} is needed here")
+        self._check_angle_arguments(result, key, value)
         return result
+
+    def _check_angle_arguments(self, expr: sp.Expr, key: str, value: str) -> None:
+        """A parameter in an angle (a key of :data:`ANGLE_KEYS`, or the argument of a trigonometric
+        function) is one there: refused when
+        its unit measures none (:func:`solver.units.not_angular`: ``100 percent``, which pint reads as
+        1 rad); a pure number (``mu = "30 percent"``) elsewhere stays one."""
+        whole = [expr] if key.rsplit(".", 1)[-1] in ANGLE_KEYS else []
+        for call in whole + sorted(expr.atoms(sp.sin, sp.cos, sp.tan, sp.cot, sp.sec, sp.csc), key=sp.default_sort_key):
+            for symbol in sorted(call.free_symbols, key=str):
+                quantity = self.parameters.get(symbol.name)
+                if quantity is None or quantity.units == ureg.dimensionless or quantity.dimensionality:
+                    continue
+                what = units.not_angular(quantity.units)
+                if what is not None:
+                    key_of = f"--set {symbol.name}" if symbol.name in self.overrides else f"parameters.{symbol.name}"
+                    where = "" if call is expr and whole else f" (in {sp.sstr(call)})"
+                    raise self.fail(key_of, f"{quantity.magnitude:g} {quantity.units} is {what}, not an angle, but {value!r} at {key} takes "
+                                            f"{symbol.name} as one{where}: give it in deg or rad")
 
     def vector(self, value: Any, key: str, names: Mapping[str, sp.Symbol], need: UnitsContainer) -> sp.Matrix:
         if not isinstance(value, list) or len(value) != 2:
@@ -463,6 +486,7 @@ class _SceneLoader:
     def load(self, overrides: dict[str, str], data: dict[str, Any] | None = None) -> Scene:
         """The Scene of the file (``data``: its parsed TOML when the caller has read it already)."""
         data = self._read_toml() if data is None else data
+        self.overrides = overrides
         self.check_keys(data, TOP_KEYS, "", "a scene file")
         if "coordinate" not in data and "body" not in data:  # nor [coordinates]/[[bodies]]: not multibody
             raise self.fail("", "not a scene: neither the multibody format ([coordinates] and [[bodies]]) nor "
@@ -616,19 +640,20 @@ class _SceneLoader:
 
     def set_rate(self, quantity: pint.Quantity, text: str, name: str, key: str | None = None) -> None:
         """An angular velocity, given by ``--set NAME`` or in the file at ``key``: refused in a unit
-        that measures no angle per time, such as Hz (:func:`solver.units.check_rate_unit`)."""
+        that measures no angle per time, such as Hz (:func:`solver.units.check_rate_unit`); an
+        angular acceleration likewise (Hz/s)."""
         try:
             units.check_rate_unit(quantity, text, f"{self.label}: {key or '--set ' + name}", name)
         except InputError as err:
             raise SceneError(str(err)) from None
 
     def set_angular(self, old: pint.Quantity, quantity: pint.Quantity, text: str, name: str) -> None:
-        """``--set NAME`` of a parameter: an angle or an angular velocity when the scene gives it in an
-        angle unit (``45 deg``, ``10 rad/s``), checked as such (a parameter the scene gives in Hz or
+        """``--set NAME`` of a parameter: an angle, an angular velocity or acceleration when the scene
+        gives it in an angle unit (``45 deg``, ``10 rad/s``, ``2 rad/s^2``), checked as such (a parameter the scene gives in Hz or
         1/s is a frequency or a plain rate, and takes Hz)."""
         if units.is_angle_unit(old):
             self.set_angle(quantity, text, name)
-        elif old.dimensionality == RATE and units.angle_power(old.units) == 1:  # rad/s, rpm
+        elif old.dimensionality in (RATE, RATE ** 2) and units.angle_power(old.units) == 1:  # rad/s, rpm, rad/s^2
             self.set_rate(quantity, text, name)
 
     def _check_angles(self, coordinate: str, state: dict[str, pint.Quantity], overrides: Mapping[str, str]) -> None:

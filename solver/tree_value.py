@@ -101,6 +101,12 @@ class Sized:
             return Sized(math.nan, math.nan)
         return Sized(v ** k, abs(v) ** k * (1 + abs(k) * (c - 1)) if k < 0 else self.size ** k)
 
+    def __add__(self, other: "Sized") -> "Sized":
+        return Sized(self.value + other.value, self.size + other.size)
+
+    def __mul__(self, other: "Sized") -> "Sized":
+        return Sized(self.value * other.value, self.size * other.size)
+
     def _ratio(self) -> float:
         """size / |value| (at least 1): the relative error in units of u."""
         return self.size / abs(self.value) if self.value else math.inf
@@ -222,7 +228,7 @@ def tree_value(expr: sp.Expr, point: dict, arithmetic: Arithmetic = DOUBLE, memo
 
 
 def affine_value(expr: sp.Expr, point: dict, unknowns: list, memo: dict | None = None,
-                 forms: dict | None = None) -> list:
+                 forms: dict | None = None, arithmetic: Arithmetic = DOUBLE) -> list:
     """[``expr`` with the ``unknowns`` 0, then the coefficient of each unknown] at ``point`` (Symbol ->
     double), for an ``expr`` affine in the unknowns, by one walk of its tree in double-precision
     complex arithmetic (:data:`DOUBLE`): a subtree free of the unknowns has its :func:`tree_value`
@@ -231,6 +237,9 @@ def affine_value(expr: sp.Expr, point: dict, unknowns: list, memo: dict | None =
     (``expand`` of the tree with the point substituted costs tens of times more). ``forms``: the
     forms of the subtrees holding unknowns, shared by calls with the same point and unknowns (the
     equations of one formulation share their kinematics); the lists are never changed once made.
+    ``arithmetic``: :data:`DOUBLE`, or :data:`SIZED` for the round-off size of each value the
+    double walk computes (``point`` then holds :class:`Sized` values), the same operations in
+    the same order.
 
     Raises
     ------
@@ -244,6 +253,7 @@ def affine_value(expr: sp.Expr, point: dict, unknowns: list, memo: dict | None =
     index = {u: k for k, u in enumerate(unknowns, start=1)}
     size = len(unknowns) + 1
     affine = {} if forms is None else forms
+    zero, one = arithmetic.number(sp.Integer(0)), arithmetic.number(sp.Integer(1))
 
     def walk(e):  # a value (no unknown below) or the list of the affine form
         done = memo.get(e)
@@ -252,30 +262,31 @@ def affine_value(expr: sp.Expr, point: dict, unknowns: list, memo: dict | None =
         if done is not None:
             return done
         if e in index:
-            out = [0j] * size
-            out[index[e]] = 1 + 0j
+            out = [zero] * size
+            out[index[e]] = one
         elif not (e.is_Add or e.is_Mul):
             if any(isinstance(walk(a), list) for a in e.args):
                 raise NotEvaluable(f"an unknown under {type(e).__name__}")
-            return tree_value(e, point, DOUBLE, memo)
+            return tree_value(e, point, arithmetic, memo)
         else:
             parts = [walk(a) for a in e.args]
             forms = [p for p in parts if isinstance(p, list)]
             if not forms:
-                value = DOUBLE.total(parts) if e.is_Add else DOUBLE.product(parts)
+                value = arithmetic.total(parts) if e.is_Add else arithmetic.product(parts)
                 memo[e] = value
                 return value
-            out = _affine_sum(parts, size) if e.is_Add else _affine_product(parts, forms)
+            out = _affine_sum(parts, size, zero) if e.is_Add else _affine_product(parts, forms, arithmetic)
         affine[e] = out
         return out
 
     out = walk(expr)
-    return out if isinstance(out, list) else [out] + [0j] * len(unknowns)
+    return out if isinstance(out, list) else [out] + [zero] * len(unknowns)
 
 
-def _affine_sum(parts: list, size: int) -> list:
-    """The affine form of a sum of ``parts`` (values, and forms: lists), added in their order."""
-    out = [0j] * size
+def _affine_sum(parts: list, size: int, zero=0j) -> list:
+    """The affine form of a sum of ``parts`` (values, and forms: lists), added in their order
+    (``zero``: the arithmetic's 0; its values add with ``+``)."""
+    out = [zero] * size
     for p in parts:
         if isinstance(p, list):
             out = [a + b for a, b in zip(out, p)]
@@ -284,12 +295,12 @@ def _affine_sum(parts: list, size: int) -> list:
     return out
 
 
-def _affine_product(parts: list, forms: list) -> list:
+def _affine_product(parts: list, forms: list, arithmetic: Arithmetic = DOUBLE) -> list:
     """The affine form of a product of ``parts`` of which one, ``forms[0]``, holds unknowns: that form
-    times the product of the others."""
+    times the product of the others (their values multiply with ``*``)."""
     if len(forms) > 1:
         raise NotEvaluable("a product of two factors holding unknowns")
-    k = DOUBLE.product(p for p in parts if not isinstance(p, list))
+    k = arithmetic.product(p for p in parts if not isinstance(p, list))
     return [k * c for c in forms[0]]
 
 

@@ -278,26 +278,34 @@ def _plain_dimensionless(unit: pint.Unit) -> bool:
 
 
 def not_angular(unit) -> str | None:
-    """The one test of whether a unit of an angle's or an angular velocity's dimension measures
-    one. None when it does: an angle unit (rad, deg, turn, gradian...), alone or per time (rad/s,
-    rpm), or for a rate a time unit to the power -1 alone (``1/s``, as SI writes rad/s); else what
-    the unit measures instead, in words. pint reads every dimensionless unit as a number of
-    radians, so without this 100 percent would be 1 rad and 2 Hz (cycles per second) 2 rad/s.
+    """The one test of whether a unit of an angle's, an angular velocity's or an angular
+    acceleration's dimension measures one. None when it does: an angle unit (rad, deg, turn,
+    gradian...), alone or per time or time squared (rad/s, rpm, rev/s^2), or for a rate a time unit
+    alone to a negative power (``1/s``, ``s^-2``, as SI writes rad/s and rad/s^2); else what the
+    unit measures instead, in words. pint reads every dimensionless unit as a number of radians,
+    so without this 100 percent would be 1 rad, 2 Hz (cycles per second) 2 rad/s and 1 Hz/s
+    1 rad/s^2.
 
     Examples
     --------
     >>> not_angular(ureg.Unit("deg")), not_angular(ureg.Unit("rev/min")), not_angular(ureg.Unit("1/s"))
     (None, None, None)
-    >>> not_angular(ureg.Unit("percent")), not_angular(ureg.Unit("kHz"))
-    ('a pure number', 'a frequency (cycles or counts per time)')
+    >>> not_angular(ureg.Unit("rev/s^2")), not_angular(ureg.Unit("s^-2"))
+    (None, None)
+    >>> not_angular(ureg.Unit("percent")), not_angular(ureg.Unit("kHz")), not_angular(ureg.Unit("Hz/s"))
+    ('a pure number', 'a frequency (cycles or counts per time)', 'a frequency per time (cycles or counts per time squared)')
     """
     if angle_power(unit) == 1:
         return None
     names = list(unit._units)  # noqa: SLF001
-    if not names or (ureg.get_dimensionality(unit) == _TIME_INVERSE
+    dim = ureg.get_dimensionality(unit)
+    if not names or (dim.get("[time]", 0) < 0 and len(dim) == 1
                      and all(ureg.get_dimensionality(n) == _TIME for n in names)):
-        return None  # a bare number (the callers' rule on those applies), or 1/s
-    return "a pure number" if not ureg.get_dimensionality(unit) else "a frequency (cycles or counts per time)"
+        return None  # a bare number (the callers' rule on those applies), or 1/s, 1/s^2
+    if not dim:
+        return "a pure number"
+    return "a frequency (cycles or counts per time)" if dim == _TIME_INVERSE else \
+        "a frequency per time (cycles or counts per time squared)"
 
 
 def angle_power(unit) -> float:
@@ -312,9 +320,10 @@ _TIME_INVERSE = ureg.get_dimensionality("1/s")
 
 
 def check_rate_unit(quantity: pint.Quantity, text: Any, where: str, name: str) -> None:
-    """The rule for an angular velocity given as a quantity (a coordinate's rate in a scene file or
-    by ``--set``, a parameter the scene gives as one): its unit measures an angle per time
-    (:func:`not_angular`); ``Hz`` counts cycles, so ``2 Hz`` is refused with the two readings.
+    """The rule for an angular velocity or acceleration given as a quantity (a coordinate's rate in a
+    scene file or by ``--set``, a parameter the scene gives as one): its unit measures an angle per
+    time or time squared (:func:`not_angular`); ``Hz`` counts cycles, so ``2 Hz`` and ``1 Hz/s`` are
+    refused with the two readings.
 
     Examples
     --------
@@ -322,15 +331,22 @@ def check_rate_unit(quantity: pint.Quantity, text: Any, where: str, name: str) -
     Traceback (most recent call last):
     ...
     solver.errors.InputError: --set theta_dot: '2 Hz' is a frequency (cycles or counts per time), but theta_dot is an angular velocity: give "2 rev/s" (12.5664 rad/s) for turns per second, or "2 rad/s"
+    >>> check_rate_unit(Q_(1, "Hz/s"), "1 Hz/s", "--set al", "al")
+    Traceback (most recent call last):
+    ...
+    solver.errors.InputError: --set al: '1 Hz/s' is a frequency per time (cycles or counts per time squared), but al is an angular acceleration: give "1 rev/s^2" (6.28319 rad/s^2) for turns per second squared, or "1 rad/s^2"
     """
-    if quantity.dimensionality != _TIME_INVERSE:
+    kinds = {_TIME_INVERSE: ("an angular velocity", "s", "per second"),
+             _TIME_INVERSE ** 2: ("an angular acceleration", "s^2", "per second squared")}
+    if quantity.dimensionality not in kinds:
         return
     what = not_angular(quantity.units)
     if what is not None:
-        per_second = float(quantity.to("1/s").magnitude)
-        raise InputError(f"{where}: {str(text)!r} is {what}, but {name} is an angular velocity: give "
-                         f"\"{per_second:g} rev/s\" ({2 * math.pi * per_second:g} rad/s) for turns per second, "
-                         f"or \"{per_second:g} rad/s\"")
+        kind, per, words = kinds[quantity.dimensionality]
+        number = float(quantity.to(f"1/{per}").magnitude)
+        raise InputError(f"{where}: {str(text)!r} is {what}, but {name} is {kind}: give "
+                         f"\"{number:g} rev/{per}\" ({2 * math.pi * number:g} rad/{per}) for turns {words}, "
+                         f"or \"{number:g} rad/{per}\"")
 
 
 def check_magnitude(number: float, where: str, text: Any = None) -> float:

@@ -700,3 +700,33 @@ def test_double_pendulum_eom_is_the_textbook_one(capsys):
         assert is_identically_zero(sp.expand(sp.sympify(shown, locals=names) - ref)), shown
     assert payload["mass"][0][1] == "l1*l2*m2*cos(theta1 - theta2)"
     assert "sin(theta1)*sin(theta2)" not in out and "sin(theta2)*cos(theta1)" not in out
+
+
+def test_coefficient_is_what_coeff_gives():
+    """solver.display.coefficient against sympy's ``coeff`` itself, tree for tree (srepr: the displays
+    print these trees): expanded sums of random products with integer, rational and float
+    coefficients, for a symbol, a power of it, and a product (which goes to ``coeff``)."""
+    from solver.display import coefficient
+
+    x, y, z = sp.symbols("x y z", real=True)
+    rng = random.Random(7)
+    factors = [x, y, z, x**2, y**3, s, c, s**2, sp.Integer(-1), sp.Rational(-3, 2), sp.Float(0.25), sp.Integer(2)]
+    for _ in range(300):
+        expr = sp.expand(sp.Add(*[sp.Mul(*rng.sample(factors, rng.randint(1, 4))) for _ in range(rng.randint(1, 6))]))
+        for v in (x, y, x**2, y**3, s**2, x * y):
+            assert sp.srepr(coefficient(expr, v)) == sp.srepr(expr.coeff(v)), (expr, v)
+    assert coefficient(x, x) == 1 and coefficient(x**2, x**2) == 1 and coefficient(x**2, x) == 0
+
+
+def test_monomials_are_not_identically_zero():
+    """is_identically_zero answers a nonzero rational or a plain monomial (symbols, sin/cos of
+    symbols, positive powers) without a test; the answer is the exact route's
+    (numerator_reduces_to_zero), including monomials tiny at the numeric probes (x**40)."""
+    x, y = sp.symbols("x y", real=True)
+    rng = random.Random(11)
+    factors = [x, y, s, c, x**2, c**3, x**40, sp.Rational(-3, 7), sp.Integer(5)]
+    for _ in range(200):
+        e = sp.Mul(*rng.sample(factors, rng.randint(1, 4)))
+        is_identically_zero.cache_clear()
+        assert is_identically_zero(e) is False and numerator_reduces_to_zero(e) is False, e
+    assert is_identically_zero(sp.Integer(0)) is True and is_identically_zero(sp.Rational(1, 3)) is False

@@ -37,6 +37,24 @@ def test_size_cap(tmp_path: Path) -> None:
         read_regular_file(big, "x", max_bytes=100)
 
 
+def test_a_file_that_grows_after_it_is_opened_is_read_to_the_cap(tmp_path: Path, monkeypatch) -> None:
+    """The read goes by the size the open file reports, then on to the cap: a file longer than
+    that size (it grew since) is read whole when within the cap, refused when past it."""
+    grown = tmp_path / "grown.toml"
+    grown.write_bytes(b"#" * 200)
+    real_stat, real_fstat = os.stat, os.fstat
+
+    def stale(real):  # the size it had when checked and opened
+        return lambda *args: os.stat_result((*real(*args)[:6], 10, *real(*args)[7:]))
+
+    monkeypatch.setattr("solver.files.os.stat", stale(real_stat))
+    monkeypatch.setattr("solver.files.os.fstat", stale(real_fstat))
+    assert read_regular_file(grown, "x", max_bytes=1000) == b"#" * 200
+    assert read_regular_file(grown, "x", max_bytes=200) == b"#" * 200
+    with pytest.raises(InputError, match="longer than the limit of 150 bytes"):
+        read_regular_file(grown, "x", max_bytes=150)
+
+
 @pytest.mark.parametrize("depth", [MAX_TOML_DEPTH, MAX_TOML_DEPTH + 1, 50_000])
 def test_toml_nesting_is_bounded(tmp_path: Path, depth: int) -> None:
     # key = [[...]] adds the array levels below the top table (level 1)

@@ -13,7 +13,7 @@ import itertools
 
 import sympy as sp
 
-from solver.model.joints import dot, rotate, rotation, vadd, vec, vscale, vsub, xy
+from solver.model.joints import copy_vec, dot, rotate, rotation, vadd, vec, vscale, vsub, xy
 
 x, y, th, beta, l_b = sp.symbols("x y theta beta l_b", real=True)
 # entries of the kinds the scenes hold: zeros and ones (dropped by the sparse product), rationals,
@@ -40,6 +40,28 @@ def test_vec_is_the_matrix_sympy_builds():
         assert [sp.srepr(e) for e in ours] == [sp.srepr(e) for e in theirs]
         assert ours._rep.domain == theirs._rep.domain
         assert ours._rep.rep == theirs._rep.rep  # the same sparse dict of the same entries
+        for mine, sympys in ((ours._rep, theirs._rep), (ours._rep.rep, theirs._rep.rep)):  # and attributes
+            assert type(mine) is type(sympys)
+            assert {k: v for k, v in vars(mine).items() if k != "rep"} == \
+                {k: v for k, v in vars(sympys).items() if k != "rep"}
+
+
+def test_copy_vec_is_the_copy_sympy_makes():
+    """Of the matrices vec builds and of those sympy's constructor and arithmetic build (every domain,
+    a row left empty by a sum that cancels): the same class, entries, sparse dict and attributes,
+    and a copy (changing it leaves the original as it was)."""
+    for a, b in itertools.product(ENTRIES, repeat=2):
+        for v in (vec(a, b), sp.Matrix([a, b]), sp.Matrix([a, b]) + sp.Matrix([b, a]), sp.Matrix([a, b]) - sp.Matrix([a, 0])):
+            ours, theirs = copy_vec(v), v.copy()
+            assert type(ours) is type(theirs)
+            assert ours._rep.rep == theirs._rep.rep and ours._rep.domain == theirs._rep.domain
+            for mine, sympys in ((ours._rep, theirs._rep), (ours._rep.rep, theirs._rep.rep)):
+                assert type(mine) is type(sympys)
+                assert {k: w for k, w in vars(mine).items() if k != "rep"} == \
+                    {k: w for k, w in vars(sympys).items() if k != "rep"}
+            before = [sp.srepr(e) for e in v]
+            ours[0] = x**7
+            assert [sp.srepr(e) for e in v] == before
 
 
 def test_xy_reads_what_indexing_reads():

@@ -110,3 +110,23 @@ def test_a_spring_that_must_pass_its_anchor_to_reach_equilibrium(capsys):
     out = json.loads(capsys.readouterr().out)
     assert out["equilibrium"]["value"] == pytest.approx(-(0.1 + 5 * 9.81 / 200), abs=1e-9)
     assert out["omega_n"]["value"] == pytest.approx(math.sqrt(200 / 5), rel=1e-9)
+
+
+@pytest.mark.parametrize("length_unit", ["m", "ft"])
+def test_the_equilibrium_is_printed_to_the_digits_it_is_known_to(tmp_path: Path, capsys, length_unit: str) -> None:
+    """QA 17 #7: an equilibrium solved by Newton to about 1e-12 of its scale came out as
+    0.375000000000024 ft (cart_us: -0.999999999999998 ft for a spring's 1 ft). Its digits below
+    1e-12 of the scale are round-off: here r_e = k L0 / (k - m W^2) = 40 * 0.3 / 32 = 0.375 exactly
+    (with L0 = 0.3 ft the same number of ft), and the JSON gives that decimal, in m and in ft."""
+    from fractions import Fraction
+
+    scene = tmp_path / "rot_arm.toml"
+    text = ROT_ARM.replace('L0 = "0.3 m"', f'L0 = "0.3 {length_unit}"')
+    if length_unit == "ft":
+        text = text.replace('name = "rot_arm"', 'name = "rot_arm"\noutput_units = { length = "ft" }')
+    scene.write_text(text)
+    status, out, err = _run(capsys, "frequency", str(scene), "--json")
+    assert status == 0, err
+    exact = Fraction(40) * Fraction(3, 10) / (Fraction(40) - Fraction(1, 2) * 16)  # in L0's unit
+    equilibrium = json.loads(out)["equilibrium"]
+    assert equilibrium == {"value": float(exact), "unit": length_unit}

@@ -326,3 +326,19 @@ def test_one_freedom_and_n_freedoms_print_one_layout(solver_cli, tmp_path, scene
     for name, (value, unit) in expected.items():
         # 1e-9: 10 significant digits printed (half a unit of the 10th is 5e-10 relative)
         assert printed[name][1] == unit and printed[name][0] == pytest.approx(value, rel=1e-9, abs=1e-12), name
+
+
+def test_the_readme_says_which_simulate_json_field_to_match(solver_cli):
+    """QA 17 #7: the one-freedom `reason` changed from 'reached t_end = 0.5 s' to 'reached t = 0.5 s'
+    (as n freedoms say it) and the README did not say so; a consumer matching the words broke. The
+    README names `status` as the field to match and quotes the reason as simulate writes it, for one
+    freedom (pin_bar) and for two (double_pendulum)."""
+    from pathlib import Path
+
+    readme = Path("README.md").read_text(encoding="utf-8")
+    for scene in ("tests/data/multibody/pin_bar.toml", "data/scenes/double_pendulum.toml"):
+        code, out, err = solver_cli("simulate", scene, "--t-end", "0.5", "--json")
+        assert code == 0, err
+        payload = json.loads(out)
+        assert payload["status"] == "completed" and f"`{payload['reason']}`" in readme
+    assert "`status` is the field to match" in readme

@@ -194,3 +194,37 @@ def test_a_rate_in_hz_in_the_scene_file_and_output_units_in_percent_are_refused(
         path.write_text(text.replace(old, new), encoding="utf-8")
         code, out, err = solver_cli("solve", str(path))
         assert (code, out, err.count("\n")) == (2, "", 1) and key in err, err
+
+
+# QA 17 #5: the same 2 pi confusion one derivative further, and percent as an angle in the file.
+def test_a_frequency_per_time_is_refused_for_an_angular_acceleration(solver_cli) -> None:
+    """driven_coord's al (given as 2 rad/s^2) took "1 Hz/s" as 1 rad/s^2; 1 rev/s^2 is 2 pi rad/s^2
+    (definition) and stays taken, as does SI's 1/s^2. The crank's alpha is al at t = 0 (th = w t +
+    al t^2 / 2, the scene's motion), so the JSON alpha is the angular acceleration set."""
+    import json
+
+    code, out, err = solver_cli("solve", "tests/data/multibody/driven_coord.toml", "--set", "al=1 Hz/s")
+    assert (code, out, err.count("\n")) == (2, "", 1), err
+    assert "--set al:" in err and "angular acceleration" in err and '"1 rev/s^2"' in err and '"1 rad/s^2"' in err
+    for setting, rad_s2 in (("al=1 rev/s^2", 2 * math.pi), ("al=3 s^-2", 3.0)):
+        code, out, err = solver_cli("solve", "tests/data/multibody/driven_coord.toml", "--set", setting, "--json")
+        assert code == 0, err
+        assert json.loads(out)["unknowns"]["alpha"]["value"] == pytest.approx(rad_s2, rel=1e-12)
+
+
+@pytest.mark.parametrize("old, new, key", [
+    ('beta = "45 deg"', 'beta = "100 percent"', "parameters.beta:"),   # a rail's angle = "-beta"
+    ('g    = "32.174 ft/s^2"', 'g    = "32.174 ft/s^2"\nphi = "50 %"', "parameters.phi:")])
+def test_percent_is_refused_where_the_file_uses_a_parameter_as_an_angle(solver_cli, tmp_path, old, new, key) -> None:
+    """/tmp/qa17/sb_pct.toml gave beta = "100 percent" and was solved with beta = 1 rad. A parameter
+    in an angle key or in a sine's argument is now refused in its unit of percent; the second case
+    adds phi to the bar's mass, m_b*cos(phi)**2 (pure numbers as factors), while mu = "30 percent"
+    as a plain factor stays taken (test_percent_is_no_angle)."""
+    text = open("data/scenes/sliding_bar.toml", encoding="utf-8").read().replace(old, new)
+    if "phi" in new:
+        text = text.replace('mass = "m_b"', 'mass = "m_b*cos(phi)**2"')
+    path = tmp_path / "s.toml"
+    path.write_text(text, encoding="utf-8")
+    code, out, err = solver_cli("solve", str(path))
+    assert (code, out, err.count("\n")) == (2, "", 1), err
+    assert key in err and "not an angle" in err and "deg or rad" in err

@@ -28,7 +28,7 @@ from ..errors import InputError, SingularConfigurationError
 from ..strprint import lambdify
 from ..units import Q_
 
-__all__ = ["CONDITION_LIMIT", "ROUND_OFF", "ERROR_BOUND_FACTOR", "SIGNIFICANT_ERROR", "entry_sizes", "refine",
+__all__ = ["round_off_zeros", "CONDITION_LIMIT", "ROUND_OFF", "ERROR_BOUND_FACTOR", "SIGNIFICANT_ERROR", "entry_sizes", "refine",
            "error_bounds", "NumericModel", "refuse_zero_length", "InstantSolution", "State", "assemble", "solve_instant",
            "condition_numbers", "solve_with_estimate"]
 
@@ -121,7 +121,9 @@ chains a few operations per term. Measured on a bar on a pin (tests/data/multibo
 7 angles from 1 to 200 deg, rates 1e2 .. 1e9 rad/s, about O, G and A, mass centre and Lagrange;
 515 solves against -1.5 g sin(theta)/L), the error reached 0.96 of the unscaled bound where both
 are a unit in the last place, 0.69 where cancellation lost every digit (about A at 1e9 rad/s);
-16 leaves a margin of 16 over that."""
+16 leaves a margin of 16 over that. With the sizes of the walked entries and the exact inverse's
+|A^-1| (QA 17 #3), 294 such solves (7 angles, rates 1e2 .. 1e20 rad/s, about O, G and A and the
+mass-centre route) erred by at most 0.25 of the unscaled bound where they erred beyond a few ulp."""
 SIGNIFICANT_ERROR = 1e-6
 """An unknown whose error bound exceeds this fraction of its size is flagged: its sixth significant
 digit, the last `solve` prints, may be wrong."""
@@ -161,15 +163,49 @@ def refine(A: np.ndarray, b: np.ndarray, x: np.ndarray) -> np.ndarray:
     return x + dx if np.all(np.isfinite(dx)) else x
 
 
+EXACT_INVERSE_MAX = 24
+"""The largest system whose |A^-1| :func:`error_bounds` takes from the exact inverse (rational
+arithmetic: about 0.1 s for 20 dense unknowns, far less for a mechanism's sparse ones)."""
+
+
+def exact_inverse(A: np.ndarray) -> np.ndarray | None:
+    """The inverse of the float64 matrix ``A`` computed in rational arithmetic, rounded to float64
+    (each entry within u of the exact inverse's; an entry that is 0 exactly, as the equations'
+    structure makes it, stays 0), or None where A is exactly singular or larger than
+    :data:`EXACT_INVERSE_MAX`.
+
+    Elimination in float64 leaves round-off of about u |A^-1| |A| |A^-1| where the exact inverse is
+    0: at large rates that couples an unknown to equations whose terms are omega**2 times its own
+    (a pendulum's reactions at 1e13 rad/s), and the bound grew as omega**2 for an answer that
+    stays exact."""
+    from fractions import Fraction
+
+    from sympy import QQ
+    from sympy.polys.matrices import DomainMatrix
+    from sympy.polys.matrices.exceptions import DMNonInvertibleMatrixError
+
+    n = A.shape[0]
+    if n > EXACT_INVERSE_MAX or not np.all(np.isfinite(A)):
+        return None
+    M = DomainMatrix([[QQ(Fraction(float(v))) for v in row] for row in A], (n, n), QQ)
+    try:
+        inv = M.inv()
+    except (DMNonInvertibleMatrixError, ZeroDivisionError):
+        return None
+    return np.array([[float(v) for v in row] for row in inv.to_list()], dtype=float)
+
+
 def error_bounds(A: np.ndarray, b: np.ndarray, x: np.ndarray, size_A: np.ndarray, size_b: np.ndarray) -> np.ndarray:
     """A bound on each unknown's float64 error, from the round-off of evaluating A and b.
 
     The equations' residual at the exact answer errs by about u (S_A |x| + S_b) (sizes from
     :func:`entry_sizes`), so x errs by |A^-1| times that, times :data:`ERROR_BOUND_FACTOR`.
     Where the equations' terms cancel (large rates), the bound is far above u |x|: the digits
-    lost are log10(bound / (u |x|))."""
+    lost are log10(bound / (u |x|)). |A^-1| is the exact inverse's (:func:`exact_inverse`;
+    float64's where that is not computed)."""
     with np.errstate(all="ignore"):
-        inv = np.linalg.inv(A)
+        inv = exact_inverse(A)
+        inv = np.linalg.inv(A) if inv is None else inv
         return ERROR_BOUND_FACTOR * ROUND_OFF * (np.abs(inv) @ (size_A @ np.abs(x) + size_b))
 
 
@@ -205,6 +241,7 @@ class NumericModel:
         self._entries, self._params = None, tuple(params)
         self._f = None  # compiled on first use (:meth:`_compiled`)
         self._structured = None
+        self.walked = False
 
     def entries(self) -> list:
         """The entries of A, row by row, then those of b (``Formulation.linear_system``), built on
@@ -255,6 +292,7 @@ class NumericModel:
         arrays = np.broadcast_arrays(*arrays) if arrays else arrays
         shape = arrays[0].shape if arrays else ()
         vals = self._walked(arrays) if once and arrays and arrays[0].size == 1 else None
+        self.walked = vals is not None  # how the last matrices were evaluated (:meth:`_sizes`)
         if vals is None:
             with np.errstate(all="ignore"):
                 vals = self._compiled()(*arrays, *self._param_values)
@@ -303,7 +341,7 @@ class NumericModel:
         out = {name: x[..., i] for i, name in enumerate(self.names)}
         out["condition_number"] = cond
         if bounds and once and A.ndim == 2:
-            sizes = self._sizes(q, qd, t)
+            sizes = self._sizes(q, qd, t, walked=self.walked)
             out["error_bound"] = None if sizes is None else error_bounds(A, b, x, *sizes)
         return out
 
@@ -325,15 +363,39 @@ class NumericModel:
             "leave far smaller entries): the matrix is round-off there, so the motion cannot be solved in float64; "
             "this is no singular configuration (about another point, or by another --method, the terms may not cancel)")
 
-    def _sizes(self, q, qd, t):
-        """(S_A, S_b): the round-off sizes of A's and b's entries at one state (:func:`entry_sizes`)."""
+    def _sizes(self, q, qd, t, walked: bool = False):
+        """(S_A, S_b): the round-off sizes of A's and b's entries at one state, as they were
+        evaluated: ``walked``, by the walk of :meth:`_walked` (:meth:`_walked_sizes`), else from
+        the symbolic entries (:func:`entry_sizes`)."""
         point = dict(zip(self._params, self._param_values))
         point.update((a, float(np.asarray(v, dtype=float).reshape(-1)[0])) for a, v in zip(self.args, (*q, *qd, t)))
-        sizes = entry_sizes(self.entries(), point)
+        sizes = self._walked_sizes(point) if walked else entry_sizes(self.entries(), point)
         if sizes is None or not np.all(np.isfinite(sizes)):
             return None
         m, k = self.shape
         return sizes[: m * k].reshape(m, k), sizes[m * k:]
+
+    def _walked_sizes(self, point: dict) -> np.ndarray | None:
+        """The round-off sizes of the entries :meth:`_walked` computes at ``point``: the same walk in
+        :data:`solver.tree_value.SIZED`. A coefficient the walk collects term by term has the sizes
+        of those terms only, not those of the symbolic entry (``linear_system`` writes a term's
+        coefficient as t(u = 1) - t(u = 0), whose omega**2 parts cancel exactly: a sliding bar's
+        coefficient of 30.9 sized 4e26 at 1e12 rad/s). None where the walk cannot go."""
+        from ..tree_value import SIZED, NotEvaluable, Sized, affine_value
+
+        at = {k: Sized.of(v) for k, v in point.items()}
+        memo: dict = {}
+        forms: dict = {}
+        unknowns = list(self.formulation.unknowns)
+        rows, rests = [], []
+        for e in self.formulation.equations:
+            try:
+                values = affine_value(e.expr, at, unknowns, memo, forms, SIZED)
+            except (NotEvaluable, KeyError, TypeError, ValueError, ZeroDivisionError, OverflowError):
+                return None
+            rows += [v.size for v in values[1:]]
+            rests.append(values[0].size)
+        return np.array(rows + rests, dtype=float)
 
     def structured(self):
         """The :class:`~solver.analyses.structured.StructuredSolver` of this model (built once).
@@ -717,12 +779,14 @@ def solution_in_regime(system, regime, warning: str | None, state: State | None,
     else:
         f = formulate(system, method, point)
         state = assemble(system) if state is None else state
-        # at rest an unknown's bound is set against its own scale there, which no bound exceeds
-        # (:func:`_digits_lost`): the bounds are computed only where something moves
-        res = f.numeric().solve(state.q, state.qd, state.t, once=True, bounds=any(state.qd))
-        lost = _digits_lost(system, res, f.numeric().names, _scale_at_rest(f.numeric(), state, res))
+        res = f.numeric().solve(state.q, state.qd, state.t, once=True, bounds=True)
+        scale = _scale_at_rest(f.numeric(), state, res)
+        lost = _digits_lost(system, res, f.numeric().names, scale)
         if lost:
             extra["digits_lost"] = lost
+        zeros = round_off_zeros(system, res, f.numeric().names, lost, state)
+        if zeros:
+            extra["zero_to_round_off"] = zeros
     _check_limits(system, state)
     unknowns: dict[str, pint.Quantity] = {}
     if len(system.bodies) == 1:
@@ -738,6 +802,38 @@ def solution_in_regime(system, regime, warning: str | None, state: State | None,
     shown = shown_point(system, method, point)
     cond = float(res["condition_number"]) if "condition_number" in res else math.inf
     return InstantSolution(unknowns, cond, shown, method, state, system.name, extra)
+
+
+def round_off_zeros(system, res: dict, names, lost: dict, state: State) -> dict:
+    """The unknowns that are 0 to round-off, set to 0 in ``res``: name -> {"computed", "error_bound"}
+    (each ``{"value", "unit"}``); a one-body system's alpha, a combination of its accelerations,
+    goes with them.
+
+    The rule: an unknown whose computed value is no larger than its own error bound
+    (``res["error_bound"]``, :func:`error_bounds`), where that bound is round-off of its scale
+    (not among ``lost``, the unknowns whose digits cancellation took: :func:`_digits_lost`), is
+    indistinguishable from 0: its sign and digits are the round-off of the equations' terms (a
+    pendulum hanging straight down, theta_ddot = -2.6e-15 rad/s**2 beside a bound of 1.2e-13).
+    It is given as 0, with what was computed and the bound. A lost unknown keeps its value and
+    its warning; an unknown computed as exactly 0 needs no word."""
+    bound = res.get("error_bound")
+    if bound is None:
+        return {}
+    units = {str(c.qdd): "rad/s**2" if c.kind == "angle" else "m/s**2" for c in system.free}
+    units.update({r.name: r.unit for r in system.reactions})
+    zeros, computed = {}, dict(res)
+    for name, e in zip(names, bound):
+        x = float(res[name])
+        if name not in lost and x != 0 and abs(x) <= e:
+            unit = units.get(name, "")
+            zeros[name] = {"computed": {"value": x, "unit": unit}, "error_bound": {"value": float(e), "unit": unit}}
+            res[name] = 0.0
+    accelerations = [zeros[str(c.qdd)] for c in system.free if str(c.qdd) in zeros]
+    if len(system.bodies) == 1 and accelerations:
+        body = next(iter(system.bodies))
+        zeros["alpha"] = {"computed": {"value": _alpha_value(system, body, state, computed), "unit": "rad/s**2"},
+                          "error_bound": max((a["error_bound"] for a in accelerations), key=lambda b: b["value"])}
+    return zeros
 
 
 def _scale_at_rest(model, state, res) -> "np.ndarray | None":
@@ -792,7 +888,7 @@ def _alpha_value(system, body, state, res) -> float:
     vals.update({c.qdd: float(res[str(c.qdd)]) for c in system.free})
     vals[system.t] = state.t
     vals.update(system.si_values())
-    return float(sp.sympify(al).xreplace({k: sp.Float(v) for k, v in vals.items()}))
+    return float(sp.sympify(al).xreplace({k: sp.Float(v) for k, v in vals.items()})) + 0.0  # (no -0.0)
 
 
 def _check_limits(system, state: State) -> None:

@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import sympy as sp
@@ -39,6 +39,10 @@ from .instant import assemble
 
 __all__ = ["Mode", "ModesResult", "modes"]
 
+EQUILIBRIUM_RESOLUTION = 1e-12
+"""An equilibrium coordinate is found to about this fraction of its scale (1 rad; a length's own size,
+at least 0.1 m): Newton's residual test is 1e-12 of the accelerations. Nearer 0 it is 0, and its
+digits below it are round-off, not printed (:meth:`ModesResult.equilibrium_in`)."""
 _STEP = 1e-3
 _NEWTON = 50
 _DESCENT = 200  # steps of _descend (each a Jacobian: 4 n + 1 evaluations of u'')
@@ -75,16 +79,20 @@ class ModesResult:
         free cart's position) has omega = 0.
     units : dict[str, str]
         Coordinate units.
+    resolution : dict[str, float]
+        Each coordinate's round-off distance (SI): :data:`EQUILIBRIUM_RESOLUTION` of its scale,
+        the digits of the equilibrium below it are not printed (:meth:`equilibrium_in`).
     """
 
     equilibrium: dict[str, float]
     modes: list[Mode]
     units: dict[str, str]
+    resolution: dict[str, float] = field(default_factory=dict)
 
     def to_dict(self, units: Mapping[str, str] | None = None) -> dict:
         """JSON-ready dict; ``units``: the scene's ``[output_units]``, in which each shape is given
         (:meth:`shape_in`)."""
-        coords = {k: {"value": v, "unit": self.units[k]} for k, v in self.equilibrium.items()}
+        coords = self.equilibrium_in(units)
         return {
             "equilibrium": coords,
             "equilibrium_coordinates": coords,
@@ -96,6 +104,19 @@ class ModesResult:
                 for m in self.modes
             ],
         }
+
+    def equilibrium_in(self, units: Mapping[str, str] | None) -> dict:
+        """Each coordinate's equilibrium ``{"value", "unit"}`` in its output unit, rounded at its
+        :attr:`resolution` there (:func:`solver.output_units.rounded_at`): the spring's rest length of
+        1 ft, solved as -0.3047999999999994 m, reads -1 ft, not -0.999999999999998 ft."""
+        from solver.output_units import in_output_units, rounded_at
+
+        out = {}
+        for k, v in self.equilibrium.items():
+            value, unit = in_output_units(v, self.units[k], units)
+            factor = abs(in_output_units(1.0, self.units[k], units)[0])
+            out[k] = {"value": rounded_at(value, self.resolution.get(k, 0.0) * factor), "unit": unit}
+        return out
 
     def shape_in(self, mode: Mode, units: Mapping[str, str] | None) -> dict:
         """``mode``'s shape as printed: each component in its coordinate's output unit
@@ -237,7 +258,7 @@ def modes(system, method: str = "generalized_euler") -> ModesResult:
     u = _back_along_neutral(g, u, np.array([c.value for c in ind], dtype=float), scales, system)
     tol = 1e-9 * max(1.0, float(np.max(np.abs(lam))))
     # an equilibrium at round-off distance from 0 is 0
-    eq = {c.name: (0.0 if abs(x) < 1e-12 * sc else float(x)) for c, x, sc in zip(ind, u, scales)}
+    eq = {c.name: (0.0 if abs(x) < EQUILIBRIUM_RESOLUTION * sc else float(x)) for c, x, sc in zip(ind, u, scales)}
     if np.any(lam < -tol):
         raise NoRestoringError(
             f"{system.label}: the equilibrium found near the state ("
@@ -253,7 +274,8 @@ def modes(system, method: str = "generalized_euler") -> ModesResult:
         v = np.where(np.abs(v) < 1e-12, 0.0, v)  # round-off of an uncoupled direction
         omega = math.sqrt(max(lam[k], 0.0)) if abs(lam[k]) > tol else 0.0
         out.append(Mode(omega, {c.name: float(x) for c, x in zip(ind, v)}))
-    return ModesResult(eq, out, {c.name: c.unit for c in ind})
+    return ModesResult(eq, out, {c.name: c.unit for c in ind},
+                       {c.name: EQUILIBRIUM_RESOLUTION * sc for c, sc in zip(ind, scales)})
 
 
 def _unstable(J) -> bool:

@@ -28,7 +28,7 @@ import sympy as sp
 from ..model.joints import copy_vec, cross_k, k_cross, vadd, vec, vscale, vsub, xy
 from ..model.system import derivative
 from .content import Equation, Explanation, Section, Step, Table, Term
-from ..display import could_extract_minus_sign, expanded, is_identically_zero, term_powers, tidy, tidy_linear
+from ..display import coefficient, could_extract_minus_sign, expanded, is_identically_zero, term_powers, tidy, tidy_linear
 from ..strprint import FastStrPrinter, sstr
 
 __all__ = ["explain", "latex_names"]
@@ -734,7 +734,7 @@ def _coefficients(system, expr, unknowns) -> dict:
     def build():
         out = {}
         for u in unknowns:
-            c = e.coeff(u)
+            c = coefficient(e, u)
             out[u] = (c, c == 0 or _zero(c))
         return out
     return system._memo(("coefficients", e, tuple(unknowns)), build)
@@ -896,9 +896,14 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
         check = _mass_center_in_regime(scene, found)
     else:
         # where something moves, the product's own solve (refined once, its round-off bounded: the
-        # cancellation warning of `solve`); at rest the substituted system above, solved here
-        solution = ((None if any(state.qd) else _solve_at_state(system, f, point, state, numeric, cond))
-                    or solve_instant(system, point, "generalized_euler", state))
+        # cancellation warning of `solve`)
+        solution = solve_instant(system, point, "generalized_euler", state)
+        own = None if any(state.qd) else _solve_at_state(system, f, point, state, numeric, cond)
+        if own is not None:  # at rest the substituted system above, solved here, with solve's round-off zeros
+            zeros = solution.extra.get("zero_to_round_off", {})
+            own.unknowns.update({name: solution.unknowns[name] for name in zeros})
+            own.extra.update({"zero_to_round_off": zeros} if zeros else {})
+            solution = own
         check = _mass_center_check(system, state)
     final.steps.append(_solution_step(system, solution, cond))
     final.steps.append(_check_step(system, solution, check))
@@ -1018,7 +1023,7 @@ def _single_reaction_substitution(system, f, body: str):
             e = sp.expand(eqs[axis])
             held = _unknowns_in(system, e, reactions)
             if held == [r] and axis not in used:
-                subs[r] = -e.xreplace({r: 0}) / e.coeff(r)  # linear in r
+                subs[r] = -e.xreplace({r: 0}) / coefficient(e, r)  # linear in r
                 used.append(axis)
                 break
         else:
@@ -1088,7 +1093,7 @@ def _projected(system, f) -> list[sp.Expr]:
             terms += [derivative(v[0], c.qd) * nx, derivative(v[1], c.qd) * ny, derivative(w, c.qd) * eu]
         e = sp.expand(-sp.Add(*terms))
         for r in system.reactions:
-            coef = e.coeff(r.symbol)
+            coef = coefficient(e, r.symbol)
             if coef != 0 and _zero(coef):  # a workless reaction: it drops out
                 e = sp.expand(e - coef * r.symbol)
         out.append(e)
@@ -1106,8 +1111,8 @@ def _reaction_from_body_equations(expl, r, known: dict, unknown: set):
                 e = sp.expand(sp.sympify(section.step(kind).equation(tag).residual).xreplace(known))
             except KeyError:
                 continue
-            coef = e.coeff(r)
-            if _zero(coef) or any(not _zero(e.coeff(x)) for x in unknown - {r}):
+            coef = coefficient(e, r)
+            if _zero(coef) or any(not _zero(coefficient(e, x)) for x in unknown - {r}):
                 continue
             label = {"newton_x": "Newton x", "newton_y": "Newton y", "euler": "the moment equation"}[tag]
             return -e.xreplace({r: 0}) / coef, f"{label} of {section.body}"
@@ -1124,8 +1129,8 @@ def _normal_force_from_newton(expl, contact, r, known: dict, unknown: set):
         return None
     e = sp.expand((n[0] * newton.equation("newton_x").residual
                    + n[1] * newton.equation("newton_y").residual).xreplace(known))
-    coef = e.coeff(r)
-    if _zero(coef) or any(not _zero(e.coeff(x)) for x in unknown - {r}):
+    coef = coefficient(e, r)
+    if _zero(coef) or any(not _zero(coefficient(e, x)) for x in unknown - {r}):
         return None
     return -e.xreplace({r: 0}) / coef, f"Newton along the normal of contact {joint.name} ({joint.second})"
 
@@ -1148,13 +1153,13 @@ def _structured_eom(system, c, e, q, keep, ref: str = "projected on the partial 
     e = sp.expand(e + q)
     lhs, taken = [], []
     for x, label in [(x, "M") for x in system.qdd] + [(lam, "reaction term") for lam in keep]:
-        coef = e.coeff(x)
+        coef = coefficient(e, x)
         if coef != 0:
             lhs.append(Term(tidy(coef) * x, f"{label} {x}"))
             taken.append(coef * x)  # (the coefficient as it is: its tidy form differs by sin**2 + cos**2 - 1)
     rest = sp.expand(e - sp.Add(*taken))
     for x in rates:
-        coef = rest.coeff(x)
+        coef = coefficient(rest, x)
         if coef != 0 and not coef.has(*system.qd):
             lhs.append(Term(tidy(coef) * x, f"rate terms {x}"))
             rest = sp.expand(rest - coef * x)
@@ -1181,7 +1186,7 @@ def _constrained_motion_step(system, f, expl, state) -> Step:
     closure = [r.reaction.symbol for r in system.closure]
     projected = _projected(system, f)
     working = [r.symbol for r in system.reactions if r.symbol not in closure
-               and any(not _zero(e.coeff(r.symbol)) for e in projected)]
+               and any(not _zero(coefficient(e, r.symbol)) for e in projected)]
     eqs, text, known = [], [], {}
     slipping = _slipping_contacts(system)
     for r in working:
@@ -1205,8 +1210,8 @@ def _constrained_motion_step(system, f, expl, state) -> Step:
         eqs.append(_structured_eom(system, c, sp.expand(e.xreplace(known)), q, keep))
     for row in system.closure:
         acc = sp.expand(system.D(system.D(row.expr)))
-        terms = [Term(tidy(acc.coeff(x)) * x, f"C {x}") for x in system.qdd if acc.coeff(x) != 0]
-        rest = sp.expand(acc - sp.Add(*[acc.coeff(x) * x for x in system.qdd]))
+        terms = [Term(tidy(coefficient(acc, x)) * x, f"C {x}") for x in system.qdd if coefficient(acc, x) != 0]
+        rest = sp.expand(acc - sp.Add(*[coefficient(acc, x) * x for x in system.qdd]))
         if rest != 0:
             terms.append(Term(tidy(rest), "-gamma (rate terms)"))
         eqs.append(Equation(tuple(terms) or (Term(sp.Integer(0)),), (Term(sp.Integer(0)),),
@@ -1274,7 +1279,7 @@ def _small_oscillations(system, e: sp.Expr) -> Equation | None:
     rest = e.xreplace({c.qdd: 0})
     if not _zero(rest.xreplace(at)):
         return None
-    mass = tidy(e.coeff(c.qdd).xreplace(at))
+    mass = tidy(coefficient(e, c.qdd).xreplace(at))
     stiffness = tidy(derivative(rest, c.q).xreplace(at))
     values = {k: sp.Float(v) for k, v in system.si_values().items()}
     ratio = stiffness / mass
@@ -1386,7 +1391,7 @@ def _numeric_row(row: sp.Expr, unknowns: list) -> tuple[dict, sp.Expr]:
             continue
         c, u = term.as_coeff_Mul()
         if u not in wanted or coefficients[u] != 0:
-            return {u: row.coeff(u) for u in unknowns}, row.xreplace({u: 0 for u in unknowns})
+            return {u: coefficient(row, u) for u in unknowns}, row.xreplace({u: 0 for u in unknowns})
         coefficients[u] = c
     return coefficients, known
 
@@ -1461,6 +1466,10 @@ def _solution_step(system, solution, cond: float | None) -> Step:
         from ..cli_common import digits_lost_text
 
         text.append("Warning: " + digits_lost_text(solution.extra["digits_lost"], system.output_units) + ".")
+    if "zero_to_round_off" in solution.extra:  # as `solve` says it
+        from ..cli_common import round_off_zero_text
+
+        text.append(round_off_zero_text(solution.extra["zero_to_round_off"], system.output_units) + ".")
     return Step("solution", "Solution", text, table=Table(("unknown", "value", "unit"), tuple(rows)))
 
 
@@ -1563,9 +1572,13 @@ def _check_step(system, solution, check) -> Step:
 
     rows = []
     worst = 0.0
+    zeros = solution.extra.get("zero_to_round_off", {})
     for name, qty in solution.unknowns.items():
         v1, unit = _out(system, name, qty)
         v2, _ = _out(system, name, check[name])
+        if name in zeros and abs(float(check[name].to(zeros[name]["error_bound"]["unit"]).magnitude)) \
+                <= zeros[name]["error_bound"]["value"]:
+            v2 = 0.0  # 0 to round-off by the solution's rule, as the solution gives it (round_off_zeros)
         scale = max(abs(v1), abs(v2), 1e-300)
         diff = abs(v1 - v2) / scale if (v1 or v2) else 0.0
         worst = max(worst, diff)

@@ -88,6 +88,7 @@ class _MultibodyReader:
     # -- the file ---------------------------------------------------------------------------------
     def read(self, data: dict, overrides: dict[str, str]) -> System:
         L = self.L
+        L.overrides = overrides
         L.check_keys(data, TOP_KEYS, "", "a multibody scene file")
         name = L.text(data.get("name", L.path.stem), "name")
         description = L.text(data.get("description", ""), "description")

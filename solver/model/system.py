@@ -109,6 +109,8 @@ def derivative(expr, x: sp.Symbol, free: set | None = None):
         return sp.diff(expr, x)
     if x not in (expr.free_symbols if free is None else free):
         return sp.S.Zero
+    if expr.is_Symbol:  # x itself (the only symbol free in it): sympy's Piecewise of the order gives 1
+        return sp.S.One
     out = _sum_or_product_derivative(expr, x)
     if out is None:
         out = expr._eval_derivative_n_times(x, sp.S.One)
@@ -118,26 +120,59 @@ def derivative(expr, x: sp.Symbol, free: set | None = None):
 
 
 def _sum_or_product_derivative(expr, x: sp.Symbol):
-    """The derivative of a sum or a product in ``x`` by sympy's own rule for it, each term's or
-    factor's derivative taken by :func:`derivative` (the same object as its ``diff``, which the
-    rule asks for); None for any other node.
+    """The derivative of a sum, a product, a power, a sine or a cosine in ``x`` by sympy's own rule
+    for it, each term's, factor's or argument's derivative taken by :func:`derivative` (the same
+    object as its ``diff``, which the rule asks for); None for any other node.
 
-    The rules, as ``Add._eval_derivative`` and ``Mul._eval_derivative_n_times`` apply them to one
-    derivative: the sum of the terms' derivatives; for a product, in the order of the general
-    Leibniz rule's index tuples (``multinomial_coefficients_iterator``), the product of the factors
-    with one of them differentiated, times its coefficient 1. Only the exact classes: a subclass
-    may have rules of its own."""
+    The rules, as ``Add._eval_derivative``, ``Mul._eval_derivative_n_times``,
+    ``Pow._eval_derivative`` and ``Function._eval_derivative`` apply them to one derivative: the sum
+    of the terms' derivatives; for a product, in the order of the general Leibniz rule's index
+    tuples (``multinomial_coefficients_iterator``), the product of the factors with one of them
+    differentiated, times its coefficient 1 (a product with a factor 0 left out of the sum, which
+    drops it); for b**e, b**e (e' log(b) + b' e / b); for f(a), the
+    sum (of one term) f'(a) a', or 0 when a' is zero. Only the exact classes: a subclass may have
+    rules of its own."""
     kind = type(expr)
     if kind is sp.Add:
         return sp.Add(*[derivative(a, x) for a in expr.args])
+    if kind is sp.sin or kind is sp.cos:
+        da = derivative(expr.args[0], x)
+        return sp.Add() if da.is_zero else sp.Add(expr.fdiff(1) * da)
+    if kind is sp.Pow:
+        base, exp = expr.args
+        return expr * (derivative(exp, x) * sp.log(base) + derivative(base, x) * exp / base)
     if kind is not sp.Mul:
         return None
-    from sympy.ntheory.multinomial import multinomial_coefficients_iterator
-
     args = expr.args
-    terms = [c * sp.Mul(*[derivative(a, x) if k else a for k, a in zip(ks, args)])
-             for ks, c in multinomial_coefficients_iterator(len(args), 1)]
+    if not expr.is_commutative:
+        from sympy.ntheory.multinomial import multinomial_coefficients_iterator
+
+        return sp.Add(*[c * sp.Mul(*[derivative(a, x) if k else a for k, a in zip(ks, args)])
+                        for ks, c in multinomial_coefficients_iterator(len(args), 1)])
+    terms, finite = [], None
+    for i in _leibniz_order(len(args)):
+        d = derivative(args[i], x)
+        if d is sp.S.Zero:  # the product with a factor 0 is 0 (Add drops it), unless a factor is infinite
+            finite = not any(a.is_finite is False for a in args) if finite is None else finite
+            if finite:
+                continue
+        terms.append(sp.Mul(*args[:i], d, *args[i + 1:]))  # (times the coefficient 1: the same object)
     return sp.Add(*terms)
+
+
+_LEIBNIZ: dict[int, tuple[int, ...]] = {}
+"""Number of factors -> the indices of the factor differentiated, in the order of
+``multinomial_coefficients_iterator(n, 1)`` (a table of sympy's order, filled as needed)."""
+
+
+def _leibniz_order(n: int) -> tuple[int, ...]:
+    """The order in which sympy's rule for a product of ``n`` factors differentiates them (:data:`_LEIBNIZ`)."""
+    order = _LEIBNIZ.get(n)
+    if order is None:
+        from sympy.ntheory.multinomial import multinomial_coefficients_iterator
+
+        order = _LEIBNIZ[n] = tuple(ks.index(1) for ks, _ in multinomial_coefficients_iterator(n, 1))
+    return order
 
 
 def second_derivative(expr, x: sp.Symbol):
