@@ -410,6 +410,8 @@ class _SceneLoader:
         its unit measures none (:func:`solver.units.not_angular`: ``100 percent``, which pint reads as
         1 rad); a pure number (``mu = "30 percent"``) elsewhere stays one."""
         whole = [expr] if key.rsplit(".", 1)[-1] in ANGLE_KEYS else []
+        if whole:
+            self._check_bare_turns(expr, key, value)
         for call in whole + sorted(expr.atoms(sp.sin, sp.cos, sp.tan, sp.cot, sp.sec, sp.csc), key=sp.default_sort_key):
             for symbol in sorted(call.free_symbols, key=str):
                 quantity = self.parameters.get(symbol.name)
@@ -421,6 +423,28 @@ class _SceneLoader:
                     where = "" if call is expr and whole else f" (in {sp.sstr(call)})"
                     raise self.fail(key_of, f"{quantity.magnitude:g} {quantity.units} is {what}, not an angle, but {value!r} at {key} takes "
                                             f"{symbol.name} as one{where}: give it in deg or rad")
+
+    def _check_bare_turns(self, expr: sp.Expr, key: str, value: str) -> None:
+        """A constant term of an angle (a key of :data:`ANGLE_KEYS`) written as a bare number, or a
+        parameter given as one, is radians: refused beyond a full turn, where degrees were
+        surely meant (``theta - 90`` would turn the body by 90 rad, 14 turns). A term with pi
+        (``theta - pi/2``) or a parameter with its unit (``q = "90 deg"``) says what it is."""
+        for term in sp.Add.make_args(expr):
+            if term.has(sp.pi):
+                continue
+            bare = {}
+            for symbol in term.free_symbols:
+                quantity = self.parameters.get(symbol.name)
+                if quantity is None or quantity.units != ureg.dimensionless:
+                    break  # a coordinate, t, or a parameter with a unit
+                bare[symbol] = float(quantity.magnitude)
+            else:
+                turned = float(term.xreplace(bare)) if bare else float(term)
+                if abs(turned) > 2 * math.pi:
+                    what = f"{sp.sstr(term)} = {turned:g}" if bare else f"{turned:g}"
+                    raise self.fail(key, f"{value!r} adds {what} rad ({turned / (2 * math.pi):.3g} "
+                                         "turns): a bare number in an angle is radians; for degrees give the angle as a "
+                                         "parameter with its unit (q = \"90 deg\", then theta - q), or use pi (pi/2)")
 
     def vector(self, value: Any, key: str, names: Mapping[str, sp.Symbol], need: UnitsContainer) -> sp.Matrix:
         if not isinstance(value, list) or len(value) != 2:

@@ -228,3 +228,28 @@ def test_percent_is_refused_where_the_file_uses_a_parameter_as_an_angle(solver_c
     code, out, err = solver_cli("solve", str(path))
     assert (code, out, err.count("\n")) == (2, "", 1), err
     assert key in err and "not an angle" in err and "deg or rad" in err
+
+
+@pytest.mark.parametrize("orientation, parameter, refused", [
+    ("theta - 90", "", True),                 # degrees meant: 90 rad is 14 turns
+    ("theta - q", 'q = "90"\n', True),        # the same through a bare parameter
+    ("theta - q", 'q = "90 deg"\n', False),   # the unit says what it is
+    ("theta - pi/2", "", False),
+    ("theta + 6", "", False),                 # under a turn: radians may well be meant
+])
+def test_a_bare_number_beyond_a_turn_in_an_orientation_is_refused(solver_cli, tmp_path, orientation, parameter,
+                                                                  refused) -> None:
+    """QA 19 #5: orientation = "theta - 90" was read as 90 rad with no word (the bar hung 5157 deg
+    off), while a bare number is refused for a coordinate's value and for --set."""
+    text = open("tests/data/multibody/pin_bar.toml", encoding="utf-8").read()
+    old = 'orientation = "theta - pi/2"'
+    assert text.count(old) == 1 and text.count("[parameters]\n") == 1
+    text = text.replace(old, f'orientation = "{orientation}"').replace("[parameters]\n", "[parameters]\n" + parameter)
+    path = tmp_path / "s.toml"
+    path.write_text(text, encoding="utf-8")
+    code, out, err = solver_cli("solve", str(path))
+    if refused:
+        assert (code, out, err.count("\n")) == (2, "", 1), err
+        assert "bodies[0].orientation:" in err and "bare number in an angle is radians" in err and "14.3 turns" in err
+    else:
+        assert code == 0, err
