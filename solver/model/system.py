@@ -37,7 +37,8 @@ from ..errors import SceneError
 from ..tree_value import NotEvaluable, real_value, tree_value
 from ..units import si_magnitude
 from .bodies import GROUND, Ground, RigidBody
-from .joints import Actuator, Contact, Joint, Motor, Pin, copy_vec, dot, k_cross, rotation, vadd, vec, xy
+from .joints import (Actuator, Contact, Joint, Motor, Pin, copy_vec, dot, k_cross, rotation, times_zero_is_zero,
+                     vadd, vec, xy)
 from .loads import Load
 
 __all__ = ["Coordinate", "System", "ClosureRow", "RedundantConstraints", "derivative"]
@@ -126,7 +127,9 @@ def _sum_or_product_derivative(expr, x: sp.Symbol):
     derivative: the sum of the terms' derivatives; for a product, in the order of the general
     Leibniz rule's index tuples (``multinomial_coefficients_iterator``), the product of the factors
     with one of them differentiated, times its coefficient 1. Only the exact classes: a subclass
-    may have rules of its own."""
+    may have rules of its own. A product whose differentiated factor is 0 is left out where it is 0
+    (:func:`solver.model.joints.times_zero_is_zero`: no other factor can be infinite), as ``Add``
+    leaves out a 0 term: sympy would build it only to ask each factor whether it is finite."""
     kind = type(expr)
     if kind is sp.Add:
         return sp.Add(*[derivative(a, x) for a in expr.args])
@@ -135,8 +138,11 @@ def _sum_or_product_derivative(expr, x: sp.Symbol):
     from sympy.ntheory.multinomial import multinomial_coefficients_iterator
 
     args = expr.args
-    terms = [c * sp.Mul(*[derivative(a, x) if k else a for k, a in zip(ks, args)])
-             for ks, c in multinomial_coefficients_iterator(len(args), 1)]
+    terms = []
+    for ks, c in multinomial_coefficients_iterator(len(args), 1):
+        factors = [derivative(a, x) if k else a for k, a in zip(ks, args)]
+        if not times_zero_is_zero(factors):
+            terms.append(c * sp.Mul(*factors))
     return sp.Add(*terms)
 
 
