@@ -279,19 +279,36 @@ def numerator_reduces_to_zero(expr: sp.Expr) -> bool | None:
     remainder (:func:`_reduce_poly`) is 0. The same answer as ``reduce_trig(expr) == 0``
     without the greatest common divisors ``cancel`` computes (about 2.5x faster). A rational
     function of symbols and sin/cos/tan/cot of symbols is decided in sympy's sparse polynomials
-    (:func:`_ring_numerator_zero`, the same remainder, about 5x faster again); the rest (sums of
-    angles, floats, roots) as expressions.
+    (:func:`_ring_numerator_zero`, the same remainder, about 5x faster again), and so is one whose
+    sums or multiples of angles become such a function once written out (:func:`_angle_sums_expanded`,
+    the expansion the expression route makes); the rest (floats, roots) as expressions.
     """
     e = sp.sympify(expr)
     decided = _ring_numerator_zero(e)
     if decided is not None:
         return decided
+    expanded_angles = _angle_sums_expanded(e)
+    if expanded_angles is not None:
+        decided = _ring_numerator_zero(expanded_angles)
+        if decided is not None:
+            return decided
     e = e.replace(sp.tan, lambda a: sp.sin(a) / sp.cos(a)).replace(sp.cot, lambda a: sp.cos(a) / sp.sin(a))
     e = sp.expand_trig(e)
     if not _angles_ok(e):
         return None
     num, _ = sp.fraction(_together(e))
     return _reduce_poly(num) == 0
+
+
+def _angle_sums_expanded(e: sp.Expr) -> sp.Expr | None:
+    """``e`` with each sin/cos/tan/cot whose argument is not a plain symbol (cos(beta - theta),
+    sin(2*theta)) written out by ``expand_trig`` of that call alone: the same function, which the
+    ring route (:func:`_ring_numerator_zero`) can then take when every argument has become a
+    symbol. None when every argument is a symbol already."""
+    calls = [x for x in _nodes(e, (sp.sin, sp.cos, sp.tan, sp.cot)) if not x.args[0].is_Symbol]
+    if not calls:
+        return None
+    return e.xreplace({f: sp.expand_trig(f) for f in calls})
 
 
 class _NotRational(Exception):

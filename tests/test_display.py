@@ -86,8 +86,28 @@ def test_the_polynomial_route_decides_what_it_can_and_leaves_the_rest():
     for outside in (sp.sin(2 * phi) - 2 * s * c, sp.Float(0.25) * g * s - s, sp.sqrt(g) * s, sp.pi * s,
                     g / (one - 1)):
         assert _ring_numerator_zero(outside) is None
-    assert numerator_reduces_to_zero(sp.sin(2 * phi) - 2 * s * c)  # (decided by the expression route)
+    assert numerator_reduces_to_zero(sp.sin(2 * phi) - 2 * s * c)  # (decided once sin(2 phi) is written out)
 
+
+
+def test_sums_and_multiples_of_angles_are_decided_by_the_polynomial_route(monkeypatch):
+    """sin/cos/tan of a sum or a multiple of angles (Example 1's residuals hold cos(beta - theta),
+    also in a denominator) are written out, and the sparse-polynomial route decides: zero for the
+    addition and double-angle identities, nonzero once a term is added; the expression route
+    (its common denominator by ``_together``) is never asked."""
+    import solver.display as display
+
+    def expression_route(e):
+        raise AssertionError("the expression route was taken")
+
+    monkeypatch.setattr(display, "_together", expression_route)
+    den = sp.sin(beta) ** 2 + 3 * sp.cos(beta) * c * sp.cos(beta - phi)
+    identities = (sp.cos(beta - phi) - sp.cos(beta) * c - sp.sin(beta) * s,
+                  sp.sin(2 * phi) - 2 * s * c,
+                  sp.tan(phi + beta) * (1 - sp.tan(phi) * sp.tan(beta)) - sp.tan(phi) - sp.tan(beta))
+    for identity in identities:
+        assert numerator_reduces_to_zero(g * identity / den) is True
+        assert numerator_reduces_to_zero(g * identity / den + m * s / den) is False
 
 def test_a_constant_ratio_is_found_exactly():
     """constant_value: k for (k num + (sin^2 + cos^2 - 1) anything) / num, by construction; None

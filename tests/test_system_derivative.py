@@ -85,3 +85,21 @@ trees = st.recursive(leaves, lambda inner: st.one_of(
 def test_random_trees(e):
     _same(e, x)
     _same_second(e, x)
+
+
+def test_a_zero_term_is_left_out_only_where_sympy_makes_it_zero():
+    """A Leibniz term whose differentiated factor is 0 is 0 unless another factor can be infinite,
+    where sympy makes it nan: beside oo, zoo or a symbol assumed infinite the derivative is still
+    sympy's own tree (nan included), and so is a 2-vector scaled by such a factor."""
+    from solver.model.joints import vec, vscale, xy
+
+    big = sp.Symbol("big", infinite=True)
+    for e in (big * x * y, sp.oo * x * sp.sin(y), sp.zoo * x * y ** 2, x * y * sp.cos(x) ** 2,
+              x / y * sp.sin(y), x * t * sp.exp(y)):
+        for v in (x, y):
+            _same(e, v)
+    assert sp.diff(big * x * y, x) is sp.nan  # (the case the shortcut must leave to sympy: 0 times an infinity)
+    for k in (big, sp.oo, x * sp.sin(y) + 2, t):
+        for v in ((0, y), (x, 0), (0, 0)):
+            assert [sp.srepr(c) for c in xy(vscale(k, vec(*v)))] == [sp.srepr(k * sp.Integer(c) if c == 0 else k * c)
+                                                                    for c in v]

@@ -23,6 +23,7 @@ translation).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import lru_cache
 from typing import Callable, ClassVar
 
 import sympy as sp
@@ -38,6 +39,7 @@ __all__ = [
     "Reaction", "JointLoad", "Joint", "Pin", "Rail", "PinInSlot", "Slider", "Rolling",
     "RollingOnCircle", "GearMesh", "Cord", "Motor", "Actuator", "JOINT_CLASSES",
     "vec", "xy", "vadd", "vsub", "vscale", "rotation", "cross_k", "k_cross", "Contact",
+    "finite_by_structure", "times_zero_is_zero",
 ]
 
 Pose = Callable[[str], tuple[sp.Matrix, sp.Expr]]
@@ -79,6 +81,40 @@ def _nonzero(x) -> bool:
     """``x != 0``: compared only for a number (about 0.7 us each); any other expression differs
     from the number 0 (sympy's equality is structural)."""
     return x != 0 if not isinstance(x, sp.Expr) or x.is_Number else True
+
+
+@lru_cache(maxsize=4096)
+def finite_by_structure(e: sp.Expr) -> bool:
+    """Whether ``e`` is built only from finite numbers and finite symbols (a real symbol is one) by
+    sums, products, positive integer powers, sine and cosine: then no value of its symbols makes it
+    infinite, so sympy's assumptions never find ``e.is_finite`` False. False when not so built (it
+    may still be finite).
+
+    ``0 * e`` is then 0 as sympy makes it: ``Mul.flatten`` gives nan for 0 times a factor whose
+    ``is_finite`` is False, else 0, and asks every factor to decide (the first time for each object,
+    through its assumption rules); callers that know the product is 0 skip the asking."""
+    if e.is_Number or e.is_Symbol:
+        return e.is_finite is True
+    if e.is_Add or e.is_Mul:
+        return all(finite_by_structure(a) for a in e.args)
+    if e.is_Pow:
+        return e.exp.is_Integer and e.exp > 0 and finite_by_structure(e.base)
+    if isinstance(e, (sp.sin, sp.cos)):
+        return finite_by_structure(e.args[0])
+    return False
+
+
+def times_zero_is_zero(factors) -> bool:
+    """Whether a product of ``factors`` (sympy expressions) of which one is the number 0 is 0: every
+    other factor is finite by its structure (:func:`finite_by_structure`). False when no factor is 0,
+    or when another factor could be infinite (sympy then asks it)."""
+    zero = False
+    for f in factors:
+        if f is sp.S.Zero:
+            zero = True
+        elif not finite_by_structure(f):
+            return False
+    return zero
 
 
 def xy(v) -> tuple:
@@ -127,6 +163,8 @@ def vsub(a, b) -> sp.Matrix:
 def vscale(k, v) -> sp.Matrix:
     """k v for a scalar k and a 2-vector v by components (the entries of sympy's ``k * v``)."""
     x, y = xy(v)
+    if isinstance(k, sp.Expr):  # a zero component stays 0 without asking k whether it is finite
+        return vec(sp.S.Zero if times_zero_is_zero((k, x)) else k * x, sp.S.Zero if times_zero_is_zero((k, y)) else k * y)
     return vec(k * x, k * y)
 
 

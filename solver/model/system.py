@@ -37,7 +37,8 @@ from ..errors import SceneError
 from ..tree_value import NotEvaluable, real_value, tree_value
 from ..units import si_magnitude
 from .bodies import GROUND, Ground, RigidBody
-from .joints import Actuator, Contact, Joint, Motor, Pin, copy_vec, dot, k_cross, rotation, vadd, vec, xy
+from .joints import (Actuator, Contact, Joint, Motor, Pin, copy_vec, dot, k_cross, rotation, times_zero_is_zero,
+                     vadd, vec, xy)
 from .loads import Load
 
 __all__ = ["Coordinate", "System", "ClosureRow", "RedundantConstraints", "derivative"]
@@ -128,10 +129,11 @@ def _sum_or_product_derivative(expr, x: sp.Symbol):
     ``Pow._eval_derivative`` and ``Function._eval_derivative`` apply them to one derivative: the sum
     of the terms' derivatives; for a product, in the order of the general Leibniz rule's index
     tuples (``multinomial_coefficients_iterator``), the product of the factors with one of them
-    differentiated, times its coefficient 1 (a product with a factor 0 left out of the sum, which
-    drops it); for b**e, b**e (e' log(b) + b' e / b); for f(a), the
+    differentiated, times its coefficient 1; for b**e, b**e (e' log(b) + b' e / b); for f(a), the
     sum (of one term) f'(a) a', or 0 when a' is zero. Only the exact classes: a subclass may have
-    rules of its own."""
+    rules of its own. A product whose differentiated factor is 0 is left out where it is 0
+    (:func:`solver.model.joints.times_zero_is_zero`: no other factor can be infinite), as ``Add``
+    leaves out a 0 term: sympy would build it only to ask each factor whether it is finite."""
     kind = type(expr)
     if kind is sp.Add:
         return sp.Add(*[derivative(a, x) for a in expr.args])
@@ -149,14 +151,11 @@ def _sum_or_product_derivative(expr, x: sp.Symbol):
 
         return sp.Add(*[c * sp.Mul(*[derivative(a, x) if k else a for k, a in zip(ks, args)])
                         for ks, c in multinomial_coefficients_iterator(len(args), 1)])
-    terms, finite = [], None
+    terms = []
     for i in _leibniz_order(len(args)):
-        d = derivative(args[i], x)
-        if d is sp.S.Zero:  # the product with a factor 0 is 0 (Add drops it), unless a factor is infinite
-            finite = not any(a.is_finite is False for a in args) if finite is None else finite
-            if finite:
-                continue
-        terms.append(sp.Mul(*args[:i], d, *args[i + 1:]))  # (times the coefficient 1: the same object)
+        factors = (*args[:i], derivative(args[i], x), *args[i + 1:])
+        if not times_zero_is_zero(factors):  # a product with a factor 0 is 0 (Add drops it), unless
+            terms.append(sp.Mul(*factors))   # a factor may be infinite (times the coefficient 1)
     return sp.Add(*terms)
 
 
