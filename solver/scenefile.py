@@ -440,7 +440,7 @@ class _SceneLoader:
                 bare[symbol] = float(quantity.magnitude)
             else:
                 turned = float(term.xreplace(bare)) if bare else float(term)
-                if abs(turned) > 2 * math.pi:
+                if 2 * math.pi < abs(turned) <= units.MAX_ANGLE_TURNS * 2 * math.pi:  # (beyond: the cap's refusal)
                     what = f"{sp.sstr(term)} = {turned:g}" if bare else f"{turned:g}"
                     raise self.fail(key, f"{value!r} adds {what} rad ({turned / (2 * math.pi):.3g} "
                                          "turns): a bare number in an angle is radians; for degrees give the angle as a "
