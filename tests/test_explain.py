@@ -1414,3 +1414,19 @@ def test_a_point_named_p_is_not_introduced_as_itself(every_rendering):
     pages = [name for (name, fmt), out in every_rendering.items() if fmt == "text" and "P = P." in out]
     assert pages == []
     assert "Kinematics of block from P\nIts velocity" in every_rendering["drum_and_block", "text"]
+
+
+def test_compound_names_keep_their_parts_in_every_format(every_rendering):
+    """QA 19 #4: the crossing point I(A_x,B_y) was typeset r_{I(A\\ x,B\\ y)} in displayed equations
+    and r_{I}(A_{x},B_{y})/A in prose (a function divided by A), the element W_upper.bob1 as
+    W_{upperbob1}, and "advisor's a_P" as advisor'$s a_P$. Expected forms written by hand."""
+    expl = explain(load_system(ROOT / "data" / "scenes" / "four_bar.toml"), "coupler:I(A_x,B_y)", advice=False)
+    text = render(expl, "latex")
+    assert r"r_{I(A_{x},B_{y})} = \begin{pmatrix}" in text and r"I(A\ x" not in text
+    assert r"\omega \times r_{I(A_{x},B_{y})/A}" in text and r"r_{I}(" not in text
+    assert "the advisor's $a_{P}$" in text
+    page = render(expl, "html")
+    assert "<mi>I(A</mi>" not in page
+    assert ("<msub><mi>r</mi><mrow><mi>I</mi><mo>(</mo><msub><mi>A</mi><mi>x</mi></msub><mo>,</mo>"
+            "<msub><mi>B</mi><mi>y</mi></msub><mo>)</mo></mrow></msub>") in page
+    assert r"W_{upper.bob1} = \begin{pmatrix}" in every_rendering["double_pendulum", "latex"]
