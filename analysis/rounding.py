@@ -51,24 +51,29 @@ def round_fraction(x: Fraction, decimals: int, rule: str = "half_away") -> Fract
         The rounded value, exactly.
     """
     _validate_rule(rule)
-    scale = Fraction(10) ** decimals
-    y = Fraction(x) * scale
-    sign = -1 if y < 0 else 1
-    a = abs(y)
-    if rule == "half_away":
-        m = math.floor(a + Fraction(1, 2))
-    elif rule == "half_even":
-        fl = math.floor(a)
-        rem = a - fl
-        if rem > Fraction(1, 2) or (rem == Fraction(1, 2) and fl % 2 == 1):
-            m = fl + 1
-        else:
-            m = fl
-    elif rule == "truncate":
-        m = math.floor(a)
-    else:  # ceil (towards +infinity; percentages are not negative)
-        return Fraction(math.ceil(y), scale)
-    return Fraction(sign * m, scale)
+    # On the integers of y = x 10**decimals = num / den (den > 0): the same values as Fraction
+    # arithmetic gives, without building a Fraction per step (tables.attainable_counts rounds
+    # some hundred thousand percentages in a N search)
+    x = x if isinstance(x, Fraction) else Fraction(x)
+    num, den = x.numerator, x.denominator
+    if decimals >= 0:
+        num *= 10**decimals
+    else:
+        den *= 10**-decimals
+    if rule == "ceil":  # towards +infinity (percentages are not negative)
+        m = -(-num // den)
+    else:
+        a = abs(num)
+        if rule == "half_away":
+            m = (2 * a + den) // (2 * den)  # floor(|y| + 1/2)
+        elif rule == "half_even":
+            m, rem = divmod(a, den)  # |y| = m + rem / den
+            if 2 * rem > den or (2 * rem == den and m % 2 == 1):
+                m += 1
+        else:  # truncate
+            m = a // den
+        m = -m if num < 0 else m
+    return Fraction(m, 10**decimals) if decimals >= 0 else Fraction(m * 10**-decimals)
 
 
 def percent_text(k: int, n: int, decimals: int = 1) -> str:

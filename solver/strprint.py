@@ -30,6 +30,8 @@ The text is sympy's own: ``tests/test_strprint.py`` compares it with
 """
 from __future__ import annotations
 
+from collections import OrderedDict
+
 import sympy as sp
 from sympy.core.exprtools import decompose_power
 from sympy.core.function import AppliedUndef, UndefinedFunction
@@ -365,8 +367,51 @@ def lambdify(args, expr, modules: str, cse: bool = False):
     same generated code (lambdify's own printer for ``"numpy"`` or ``"math"``, with its settings,
     sums ordered as in :class:`FastStrPrinter`), and no docstring (lambdify prints the whole
     expression into it, about half its cost; nobody reads these functions' docstrings). Other
-    ``modules`` (``"mpmath"``) keep lambdify's own printer, without the docstring."""
+    ``modules`` (``"mpmath"``) keep lambdify's own printer, without the docstring.
+
+    The function made for equal arguments is made once per process (:data:`_LAMBDIFIED`, the last
+    :data:`LAMBDIFIED_KEPT`): a scene loaded again (a command after another, each test of a suite)
+    gives the same expressions, and printing them into code is most of the cost."""
+    key = _lambdify_key(args, expr, modules, cse)
+    if key is not None and key in _LAMBDIFIED:
+        _LAMBDIFIED.move_to_end(key)
+        return _LAMBDIFIED[key]
     fast = {"numpy": _FastNumPyPrinter, "math": _FastPythonCodePrinter}.get(modules)
     printer = None if fast is None else fast(
         {"fully_qualified_modules": False, "inline": True, "allow_unknown_functions": True, "user_functions": {}})
-    return sp.lambdify(args, expr, modules=modules, printer=printer, cse=cse, docstring_limit=0)
+    f = sp.lambdify(args, expr, modules=modules, printer=printer, cse=cse, docstring_limit=0)
+    if key is not None:
+        _LAMBDIFIED[key] = f
+        if len(_LAMBDIFIED) > LAMBDIFIED_KEPT:
+            _LAMBDIFIED.popitem(last=False)
+    return f
+
+
+LAMBDIFIED_KEPT = 1024
+_LAMBDIFIED: OrderedDict = OrderedDict()
+
+
+def _lambdify_key(args, expr, modules: str, cse: bool):
+    """A key equal only for arguments that print the same code, or None (not kept).
+
+    sympy objects compare structurally (a Float is never equal to an Integer, nor to a Float of
+    another precision; symbols of other assumptions differ), so equal ones print alike; the type of
+    each container and Python number is part of the key (a list gives a list, a tuple a tuple,
+    2.0 is not 2)."""
+    def frozen(x):
+        if isinstance(x, sp.MatrixBase):
+            return (type(x).__name__, x.as_immutable())
+        if isinstance(x, sp.Basic):
+            return x
+        if isinstance(x, (list, tuple)):
+            return (type(x).__name__, *map(frozen, x))
+        if type(x) in (int, float, complex, bool, str):
+            return (type(x).__name__, x)
+        raise TypeError(type(x).__name__)
+
+    try:
+        key = (modules, bool(cse), frozen(args), frozen(expr))
+        hash(key)
+    except TypeError:
+        return None
+    return key

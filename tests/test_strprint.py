@@ -164,3 +164,34 @@ def test_lambdify_generates_sympys_code():
             ours = lambdify(args, list(A) + list(b), modules, cse=True)
             theirs = sp.lambdify(args, list(A) + list(b), modules=modules, cse=True)
             assert inspect.getsource(ours) == inspect.getsource(theirs)
+
+
+def test_lambdify_makes_a_function_once_only_for_equal_arguments():
+    # solver.strprint.lambdify keeps the function it made for equal arguments: it must be given back
+    # only where fresh code would be the same text (sympy's own lambdify, without the docstring), and
+    # never across a list and a tuple, an int and a float, floats of two precisions or symbols of two
+    # assumptions, each of which changes the code or what it returns.
+    import inspect
+
+    from solver.strprint import lambdify
+
+    x, y, xr = sp.Symbol("x"), sp.Symbol("y"), sp.Symbol("x", real=True)
+    cases = [((x, y), [x * y + 2, sp.sin(x)]), ((x, y), (x * y + 2, sp.sin(x))), ((x,), [2]), ((x,), [2.0]),
+             ((x,), x + sp.Float("0.1", 15)), ((x,), x + sp.Float("0.1", 30)), ((xr,), sp.Matrix([[xr, 1]])),
+             ((x,), sp.Matrix([[x, 1]])), ((x,), sp.ImmutableMatrix([[x, 1]]))]
+    for modules in ("numpy", "math", "mpmath"):
+        made = [lambdify(args, expr, modules) for args, expr in cases]
+        assert len({id(f) for f in made}) == len(cases)  # no two of the cases share a function
+        for (args, expr), f in zip(cases, made):
+            again = lambdify(args, expr, modules)
+            fresh = sp.lambdify(args, expr, modules=modules, docstring_limit=0)
+            assert again is f and inspect.getsource(again) == inspect.getsource(fresh)
+            assert _outcome(again, len(args)) == _outcome(fresh, len(args))
+
+
+def _outcome(f, n: int) -> str:
+    """What ``f(0.5, ...)`` gives, as text (the math module has no ImmutableDenseMatrix: a NameError)."""
+    try:
+        return repr(f(*[0.5] * n))
+    except NameError as e:
+        return f"NameError: {e}"
