@@ -434,26 +434,8 @@ def test_a_guess_where_the_closure_jacobian_vanishes_still_assembles(solver_cli,
 
 
 # --------------------------------------------------------------------------- loads (QA 19 #3, #7)
-PENDULUM = """name = "pendulum"
-[parameters]
-m = "2 kg"
-L = "1 m"
-g = "9.81 m/s^2"
-[coordinates]
-theta = { value = "30 deg", rate = "1 rad/s" }
-[ground.points]
-O = ["0", "0"]
-[[bodies]]
-name = "bar"
-orientation = "theta - pi/2"
-reference_point = "O"
-points = { O = ["0", "0"], E = ["L", "0"] }
-elements = [{ kind = "slender_bar", mass = "m", from = "O", to = "E" }]
-[[joints]]
-kind = "pin"
-name = "O"
-connects = ["ground:O", "bar:O"]
-"""
+PIN_BAR = Path(__file__).resolve().parent / "data" / "multibody" / "pin_bar.toml"
+PENDULUM = PIN_BAR.read_text().split("[[loads]]")[0]  # the bar on its pin, m = 1 kg, L = 1 m, no load
 GRAVITY = '[[loads]]\nkind = "gravity"\ng = "g"\n'
 
 
@@ -461,7 +443,8 @@ def test_a_tilted_gravity_direction_says_which_way_not_how_much(tmp_path):
     """direction = ["1", "-1"] is the unit vector (1, -1)/sqrt(2): before, the weight was sqrt(2)
     times too large. Reference by hand: about the pin, I_O alpha = (r_G/O x m g d)_z with
     I_O = m L^2/3 and r_G/O = (L/2)(sin theta, -cos theta), so
-    alpha = 3 g (cos theta - sin theta) / (2 sqrt(2) L). Tolerance: a few round-offs of O(10)."""
+    alpha = 3 g (cos theta - sin theta) / (2 sqrt(2) L), with pin_bar's L = 1 m and theta = 30 deg.
+    Tolerance: a few round-offs of O(10)."""
     path = tmp_path / "tilted.toml"
     path.write_text(PENDULUM + GRAVITY + 'direction = ["1", "-1"]\n')
     alpha = solve_instant(load_system(path)).unknowns["theta_ddot"].to("rad/s**2").magnitude

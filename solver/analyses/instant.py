@@ -266,24 +266,36 @@ class NumericModel:
         None where the walk cannot go (then the compiled function serves). What numpy would give as
         inf or nan, or a complex number gives, is nan (a singular system, as the compiled path
         decides it): for a whole equation when its walk divides by zero or overflows."""
-        from ..tree_value import NotEvaluable, affine_value, real_value
+        from ..tree_value import NotEvaluable, real_value
 
         point = dict(zip(self._params, self._param_values))
         point.update((a, float(v.reshape(-1)[0])) for a, v in zip(self.args, arrays))
+        n = len(self.formulation.unknowns)
+        rows, rests = [], []
+        try:
+            for values in self._walks(point):
+                values = [complex(math.nan)] * (n + 1) if values is None else values
+                rows += [real_value(v) for v in values[1:]]
+                rests.append(real_value(-values[0]))
+        except (NotEvaluable, KeyError, TypeError, ValueError):
+            return None
+        return rows + rests
+
+    def _walks(self, point: dict, *arithmetic):
+        """Each equation's [rest, coefficients...] at ``point`` by one walk of its tree
+        (:func:`solver.tree_value.affine_value`, in ``arithmetic``; subtrees the equations share
+        walked once), or None for an equation whose walk divides by zero or overflows; the
+        walk's other refusals (:class:`~solver.tree_value.NotEvaluable`...) are raised."""
+        from ..tree_value import affine_value
+
         memo: dict = {}
         forms: dict = {}
         unknowns = list(self.formulation.unknowns)
-        rows, rests = [], []
         for e in self.formulation.equations:
             try:
-                values = affine_value(e.expr, point, unknowns, memo, forms)
+                yield affine_value(e.expr, point, unknowns, memo, forms, *arithmetic)
             except (ZeroDivisionError, OverflowError):
-                values = [complex(math.nan)] * (len(unknowns) + 1)
-            except (NotEvaluable, KeyError, TypeError, ValueError):
-                return None
-            rows += [real_value(v) for v in values[1:]]
-            rests.append(real_value(-values[0]))
-        return rows + rests
+                yield None
 
     def matrices(self, q, qd, t=0.0, once: bool = False):
         """(A, b) at the states: q and qd are sequences (one array per free coordinate).
@@ -381,20 +393,17 @@ class NumericModel:
         of those terms only, not those of the symbolic entry (``linear_system`` writes a term's
         coefficient as t(u = 1) - t(u = 0), whose omega**2 parts cancel exactly: a sliding bar's
         coefficient of 30.9 sized 4e26 at 1e12 rad/s). None where the walk cannot go."""
-        from ..tree_value import SIZED, NotEvaluable, Sized, affine_value
+        from ..tree_value import SIZED, NotEvaluable, Sized
 
-        at = {k: Sized.of(v) for k, v in point.items()}
-        memo: dict = {}
-        forms: dict = {}
-        unknowns = list(self.formulation.unknowns)
         rows, rests = [], []
-        for e in self.formulation.equations:
-            try:
-                values = affine_value(e.expr, at, unknowns, memo, forms, SIZED)
-            except (NotEvaluable, KeyError, TypeError, ValueError, ZeroDivisionError, OverflowError):
-                return None
-            rows += [v.size for v in values[1:]]
-            rests.append(values[0].size)
+        try:
+            for values in self._walks({k: Sized.of(v) for k, v in point.items()}, SIZED):
+                if values is None:
+                    return None
+                rows += [v.size for v in values[1:]]
+                rests.append(values[0].size)
+        except (NotEvaluable, KeyError, TypeError, ValueError):
+            return None
         return np.array(rows + rests, dtype=float)
 
     def structured(self):
