@@ -50,9 +50,10 @@ TOP_KEYS = (
 )
 COORDINATE_KEYS = ("name", "value", "rate")
 BODY_KEYS = ("orientation", "reference_point", "position")
-ANGLE_KEYS = frozenset({"orientation", "angle", "relative_angle"})
+ANGLE_KEYS = frozenset({"orientation", "angle", "relative_angle", "position_angle", "free_angle"})
 """The keys whose expression is an angle, in both scene formats (``[body] orientation``, a rail's
-``angle``, a slider's ``relative_angle``)."""
+``angle``, a slider's ``relative_angle``, a rolling contact's ``position_angle``, a torsional
+spring's ``free_angle``)."""
 POSITION_KEYS = ("point", "at")
 POINT_KEYS = ("at", "relative_to", "offset")
 
@@ -1036,7 +1037,8 @@ class _SceneLoader:
         """Refuse a load whose name an earlier load has, or a second gravity load (a pasted block
         would double g unsaid); record ``name`` in ``names``."""
         if name in names:
-            raise self.fail(f"{key}.name", f"duplicate load name {name!r}" + (" (only one gravity load is allowed)" if kind == "gravity" else ""))
+            raise self.fail(f"{key}.name", f"duplicate load name {name!r}" + (" (only one gravity load is allowed)"
+                                                                            if kind == "gravity" and has_gravity else ""))
         if kind == "gravity" and has_gravity:
             raise self.fail(key, "a second gravity load (gravity acts once on every element)")
         names.add(name)

@@ -468,3 +468,17 @@ def test_loads_that_would_act_twice_or_on_nothing_are_refused(solver_cli, tmp_pa
     path.write_text(PENDULUM + extra)
     line = one_line_error(solver_cli, path)
     assert f": {place}: " in line and words in line, line
+
+
+def test_a_load_on_two_ground_points_and_a_name_taken_first_by_another_load(solver_cli, tmp_path):
+    """QA 20: a spring between two ground points was accepted (forces on the ground are refused);
+    a couple named gravity before the gravity load was refused as if there were two gravity loads."""
+    grounded = PENDULUM.replace('[ground.points]\nO = ["0", "0"]', '[ground.points]\nO = ["0", "0"]\nS = ["L", "0"]')
+    assert grounded != PENDULUM
+    path = tmp_path / "spring.toml"
+    path.write_text(grounded + '[[loads]]\nkind = "spring"\nbetween = ["ground:O", "ground:S"]\nstiffness = "m*g/L"\n')
+    line = one_line_error(solver_cli, path)
+    assert ": loads[0].between: " in line and "both ends are on the ground" in line
+    path.write_text(PENDULUM + '[[loads]]\nkind = "couple"\nname = "gravity"\nbody = "bar"\nmoment = "m*g*L"\n' + GRAVITY)
+    line = one_line_error(solver_cli, path)
+    assert ": loads[1].name: duplicate load name 'gravity'" in line and "only one gravity" not in line

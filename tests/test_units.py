@@ -236,6 +236,7 @@ def test_percent_is_refused_where_the_file_uses_a_parameter_as_an_angle(solver_c
     ("theta - q", 'q = "90 deg"\n', False),   # the unit says what it is
     ("theta - pi/2", "", False),
     ("theta + 6", "", False),                 # under a turn: radians may well be meant
+    ("theta - pi/2", 'f = "-90"\n', True),   # (QA 20) a torsional spring's free angle, through a parameter
 ])
 def test_a_bare_number_beyond_a_turn_in_an_orientation_is_refused(solver_cli, tmp_path, orientation, parameter,
                                                                   refused) -> None:
@@ -245,11 +246,14 @@ def test_a_bare_number_beyond_a_turn_in_an_orientation_is_refused(solver_cli, tm
     old = 'orientation = "theta - pi/2"'
     assert text.count(old) == 1 and text.count("[parameters]\n") == 1
     text = text.replace(old, f'orientation = "{orientation}"').replace("[parameters]\n", "[parameters]\n" + parameter)
+    if parameter.startswith("f ="):
+        text += '[[loads]]\nkind = "torsional_spring"\nbodies = ["ground", "bar"]\nstiffness = "m*g*L"\nfree_angle = "f"\n'
+    where = "loads[1].free_angle:" if parameter.startswith("f =") else "bodies[0].orientation:"
     path = tmp_path / "s.toml"
     path.write_text(text, encoding="utf-8")
     code, out, err = solver_cli("solve", str(path))
     if refused:
         assert (code, out, err.count("\n")) == (2, "", 1), err
-        assert "bodies[0].orientation:" in err and "bare number in an angle is radians" in err and "14.3 turns" in err
+        assert where in err and "bare number in an angle is radians" in err and "14.3 turns" in err
     else:
         assert code == 0, err

@@ -649,6 +649,8 @@ class _MultibodyReader:
             b = self._load_point(pair[1], f"{key}.between[1]")[:2]
             if a == b:
                 raise self.fail(f"{key}.between", f"both ends are {':'.join(a)}: a {kind} joins two different points")
+            if a[0] == GROUND and b[0] == GROUND:
+                raise self.fail(f"{key}.between", f"both ends are on the ground: the {kind} acts on nothing that moves")
             if kind == "spring":
                 k = L.expr(L.require(spec, "stiffness", key, "k"), f"{key}.stiffness", L.names.params, STIFFNESS)
                 L.nonnegative(k, f"{key}.stiffness", "a stiffness")
