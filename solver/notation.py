@@ -58,8 +58,8 @@ def compound_subscript(name: str):
     True
     """
     head, _, tail = name.partition("_")
-    if not tail or not head or not _COMPOUND.search(tail):
-        return None
+    if not tail or not head or not _COMPOUND.search(tail) or _COMPOUND.search(head):
+        return None  # (I(O_x,A_y) itself is a point's name, no nucleus with a subscript)
     parts, depth = [("head", head)], 0
     for token in _SUBSCRIPT_TOKEN.findall(tail):
         depth += {"(": 1, ")": -1}.get(token, 0)

@@ -1425,8 +1425,13 @@ def test_compound_names_keep_their_parts_in_every_format(every_rendering):
     assert r"r_{I(A_{x},B_{y})} = \begin{pmatrix}" in text and r"I(A\ x" not in text
     assert r"\omega \times r_{I(A_{x},B_{y})/A}" in text and r"r_{I}(" not in text
     assert "the advisor's $a_{P}$" in text
+    assert r"- r_{G/I(A_{x},B_{y})} \times m a_{I(A_{x},B_{y})}" in text  # (QA 20: the prose's r_{G}/I(...))
     page = render(expl, "html")
     assert "<mi>I(A</mi>" not in page
+    # (QA 20) in the prose too: v_I(A_x,B_y) is v with a subscript, not v_I applied to (A_x, B_y),
+    # and r_G/I(...) not r_G divided by I(...)
+    assert re.search(r"<msub><mi>[A-Za-z]</mi><mi>I</mi></msub><mo>\(</mo>", page) is None
+    assert "<mo>/</mo><mrow><mi>I</mi>" not in page
     assert ("<msub><mi>r</mi><mrow><mi>I</mi><mo>(</mo><msub><mi>A</mi><mi>x</mi></msub><mo>,</mo>"
             "<msub><mi>B</mi><mi>y</mi></msub><mo>)</mo></mrow></msub>") in page
     assert r"W_{upper.bob1} = \begin{pmatrix}" in every_rendering["double_pendulum", "latex"]

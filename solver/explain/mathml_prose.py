@@ -15,6 +15,7 @@ import re
 import sympy as sp
 
 from ..mathml import mathml_body, wrap
+from ..notation import compound_subscript
 from .latex_prose import _FUNCTIONS, _NUMBER_UNIT, _UNIT, CODE, UNIT, LatexProse
 
 __all__ = ["MathmlProse", "unit_html", "unit_mathml", "name_mathml", "number_mathml"]
@@ -106,6 +107,8 @@ class MathmlProse:
         return self.text(text, letters=True)
 
     def _name(self, word: str) -> str:
+        if compound_subscript(word.rstrip("'")) is not None:  # v_I(O_x,A_y), r_G/I(O_x,A_y): a subscript
+            return name_mathml(word)
         if word.endswith(")") and "(" in word:  # a point named by two lines, I(R_A,R_B); sin(beta)
             head, _, inner = word[:-1].partition("(")
             args = "<mo>,</mo>".join(name_mathml(a) for a in inner.split(","))
