@@ -643,15 +643,21 @@ def _paired_item(item, per, names, codes, a, pairs, min_size) -> ItemComparison:
                               f"{n} pair{'s' if n != 1 else ''} answered this item in both "
                               f"groups, fewer than {min_size}: too few for the paired test",
                               pairs=n)
-    if not np.any(post != pre):
+    unchanged = int(np.sum(post == pre))
+    if unchanged == n:
         return ItemComparison(item, "none", None, None, "", None, per,
                               f"each of the {n} pairs gave the same answer both times: no "
-                              f"change to test", pairs=n)
+                              f"change to test", pairs=n, pairs_unchanged=unchanged)
+    if n - unchanged < min_size:  # the test and the effect see only the pairs that changed
+        return ItemComparison(item, "none", None, None, "", None, per,
+                              f"{n - unchanged} of the {n} pairs changed their answer, fewer than "
+                              f"{min_size}: too few for the paired test (it leaves the unchanged out)",
+                              pairs=n, pairs_unchanged=unchanged)
     res = stats.wilcoxon(post, pre)       # two-sided: min(T+, T-), no sign
     return ItemComparison(item, "wilcoxon-signed-rank", float(res.statistic),
                           float(res.pvalue), "rank_biserial_paired",
                           rank_biserial_paired(post - pre), per, pairs=n,
-                          pairs_unchanged=int(np.sum(post == pre)), direction=_direction(*names))
+                          pairs_unchanged=unchanged, direction=_direction(*names))
 
 
 def _holm(items) -> str:

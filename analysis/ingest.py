@@ -1865,6 +1865,14 @@ def choose_items_from_counts(source: str, columns, scale=None, items=None,
     return scale_obj, [c.name for _, c in chosen], not_items, notes
 
 
+def _spans_the_codes(answers: list, scale: Scale) -> bool:
+    """Whether ``answers`` (numeric codes of ``scale``) use both its lowest and its highest code, as
+    an item answered in codes does and a year of study (1-4) or a section (1-3) beside 5-point
+    items does not."""
+    used = {scale.code_keys()[code_key(a)] for a in answers}
+    return 0 in used and len(scale.labels) - 1 in used
+
+
 def _why_not_item(col: _Column, scale: Scale, items, long: bool, notes: list) -> str:
     """Why :func:`_choose_items` left a column out, in words."""
     if items:
@@ -1875,11 +1883,13 @@ def _why_not_item(col: _Column, scale: Scale, items, long: bool, notes: list) ->
         return "see the note"
     if _unanswered(_column_stats(col, scale)):
         return "no answer in any row"
-    answers = [c for c, n in zip(col.cats, col.counts()) if n and str(c).strip()]
-    if answers and all(scale.matches_code(str(c)) for c in answers):
-        reason = (f"its answers are numeric codes, and which end of the numbering means agreement "
-                  f"is not known; {CODES_HINT}")
-        notes.append(f"column {col.name!r} is left out of the table: {reason}")
+    answers = [str(c) for c, n in zip(col.cats, col.counts()) if n and str(c).strip()]
+    if answers and all(scale.matches_code(c) for c in answers) and _spans_the_codes(answers, scale):
+        reason = (f"its answers are numbers from the scale's lowest code to its highest; if it is an item "
+                  f"in numeric codes, which end means agreement is not known: {CODES_HINT}")
+        note = f"column {col.name!r} is left out of the table: {reason}"
+        if note not in notes:  # (both routes ask for the reason of a column once each)
+            notes.append(note)
         return reason
     return f"its answers are not labels of scale {scale.name!r}"
 

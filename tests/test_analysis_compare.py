@@ -712,3 +712,23 @@ def test_a_paired_item_with_too_few_pairs_is_not_tested_as_independent(tmp_path,
     assert (q2["test"], q2["pairs"], q2["p_value"]) == ("none", 3, None)
     assert q2["note"] == ("3 pairs answered this item in both groups, fewer than 5: too few "
                           "for the paired test")
+
+
+def test_a_paired_item_is_tested_only_on_enough_pairs_that_changed(analysis_cli, tmp_path):
+    """QA 20 #3: with 9 of 10 pairs unchanged, the Wilcoxon test (which drops zero differences)
+    ran on one pair and printed p = 1 and a 'perfect' effect of 1.000; an item no pair changed on
+    gave pairs_unchanged 0. Now both have no test and count the unchanged pairs."""
+    rows = ["student_id,Term,Q1,Q2"]
+    for i in range(10):
+        same = "Agree" if i % 2 else "Disagree"  # Q2: every student answers as before
+        rows.append(f"s{i},Pre,Agree,{same}")
+        rows.append(f"s{i},Post,{'Strongly agree' if i == 0 else 'Agree'},{same}")
+    f = tmp_path / "prepost.csv"
+    f.write_text("\n".join(rows) + "\n")
+    code, out, err = analysis_cli("summarize", str(f), "--group", "Term", "--group-order", "Pre", "Post", "--json")
+    assert code == 0, err
+    items = {it["item"]: it for it in json.loads(out)["groups"]["items"]}
+    q1, q2 = items["Q1"], items["Q2"]
+    assert (q1["test"], q1["pairs"], q1["pairs_unchanged"]) == ("none", 10, 9)
+    assert "1 of the 10 pairs changed their answer" in q1["note"]
+    assert (q2["test"], q2["pairs"], q2["pairs_unchanged"]) == ("none", 10, 10)

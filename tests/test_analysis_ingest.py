@@ -858,10 +858,13 @@ def test_a_numeric_column_among_labelled_items_says_codes_would_bring_it_in(anal
     set aside as 'not labels of scale agree5', as if it were a comment column, with no note; a file
     of that column alone is refused with the --codes hint. Now the reason and a note say so."""
     f = tmp_path / "mixed.csv"
-    f.write_text("id,Q1,Q2,Q3\n1,Agree,4,Disagree\n2,Disagree,2,Neither agree nor disagree\n3,Strongly agree,5,Agree\n")
+    f.write_text("id,Q1,Q2,Q3,Year\n1,Agree,4,Disagree,1\n2,Disagree,1,Neither agree nor disagree,4\n"
+                 "3,Strongly agree,5,Agree,2\n")  # (Year 1-4 beside 5-point items: no item in codes, QA 20)
     code, out, err = analysis_cli("summarize", str(f), "--json", *route)
     assert code == 0, err
     result = json.loads(out)
     notes = " ".join(result["notes"])
-    assert "'Q2' is left out of the table: its answers are numeric codes" in notes and "--codes" in notes
+    assert "'Q2' is left out of the table: its answers are numbers from the scale's lowest code" in notes and "--codes" in notes
+    assert "'Year'" not in notes
+    assert len([n for n in result["notes"] if "'Q2'" in n]) == 1  # (QA 20: it was given twice)
     assert "Q2" not in result.get("items", {}) and "Q2" in json.dumps(result.get("not_items"))
