@@ -441,6 +441,9 @@ def test_html_worked_solution_draws_each_free_body_diagram(solver_cli, tmp_path)
     # the rod's diagram carries the pin forces at both of its ends (named A_x, A_y, B_x, B_y in the scene)
     rod = next(f for f in figures if "rod: free-body diagram" in f)
     assert all(name in rod for name in ("A_x", "A_y", "B_x", "B_y")), rod[:200]
+    # three matplotlib drawings, each numbering its ids alike: in the page each id is its own (QA 19 #10)
+    from html_ids import page_ids
+    assert page_ids(html_text) == ([], [])
 
 
 # ------------------------------------------------------------------ every scene the core can express
