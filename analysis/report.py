@@ -27,7 +27,7 @@ from .claims import evaluate_claims
 from .ingest import SurveyData
 from .likert import PERCENT_METHODS, REVERSE_NOTE, summarize
 from .respondents import PAIRING_UNKNOWN
-from .rounding import number_text, share_percent_text, significant_text
+from .rounding import number_text, quartile_texts, share_percent_text, significant_text
 
 __all__ = ["render_report", "build_report", "template_environment"]
 
@@ -119,7 +119,7 @@ def render_report(data: SurveyData, claims=None, group: str | None = None, min_g
         decimals=decimals, percent_method=percent_method, rounding_note=rounding,
         reverse_note=REVERSE_NOTE if any(it.reverse for it in s.items) else "",
         ci_name={"wilson": "Wilson", "beta": "Clopper-Pearson"}[method],
-        fmt=_fmt, svg=Markup(svg), claims=claims_rep, groups=groups, group_svg=group_svg,
+        fmt=_fmt, quartiles=lambda q1, q3: quartile_texts(q1, q3, none="–"), svg=Markup(svg), claims=claims_rep, groups=groups, group_svg=group_svg,
         reliability=rel,
         comments=data.comments, notes=data.note_lines(), pairing_unknown=pairing_unknown)
 
