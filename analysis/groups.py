@@ -55,7 +55,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import stats
 
-from .disclosure import BLANK_GROUP, suppress_groups
+from .disclosure import BLANK_GROUP, respondents_text, suppress_groups
 from .errors import SurveyInputError
 from .ingest import SurveyData
 from .likert import REVERSE_MARK, REVERSE_NOTE, REVERSED_STATISTICS
@@ -246,10 +246,10 @@ class GroupComparison:
     def format_text(self, decimals: int = 1, method: str = "round") -> str:
         """Tests per item, then one line per shown group with its distribution, printed
         to ``decimals`` places by ``method`` as the main table prints it."""
-        out = [f"groups by {self.column!r} (groups under {self.min_size} respondents suppressed)"
+        out = [f"groups by {self.column!r} (groups under {respondents_text(self.min_size)} suppressed)"
                + (f"; paired by {self.paired_by!r}" if self.paired_by else "")]
         for g in self.groups:
-            out.append(f"  {g.name}: {g.respondents} respondents"
+            out.append(f"  {g.name}: {respondents_text(g.respondents)}"
                        + (f" -- suppressed: {g.reason}" if g.suppressed else ""))
         if self.note:
             out.append(f"  note: {self.note}")

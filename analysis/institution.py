@@ -39,7 +39,7 @@ import numpy as np
 from . import platforms
 from ._io import (ShortRecords, is_regular_file, refuse_values_beyond_header, short_records_note,
                   sniff_delimiter)
-from .disclosure import BLANK_GROUP, suppress_groups
+from .disclosure import BLANK_GROUP, respondents_text, suppress_groups
 from .dropped import FOOTER, DroppedRow, is_footer_note
 from .errors import SurveyInputError
 from .export import reversal_columns
@@ -152,7 +152,7 @@ class GroupedSummary:
 
     def _why(self, g: int) -> str:
         if int(self.respondents[g]) < self.min_group:
-            return f"fewer than {self.min_group} respondents"
+            return f"fewer than {respondents_text(self.min_group)}"
         return ("complementary suppression: with it shown, a smaller group would be the "
                 "total minus the groups shown")
 
