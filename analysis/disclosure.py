@@ -15,7 +15,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-__all__ = ["BLANK_GROUP", "Suppression", "suppress_groups"]
+__all__ = ["BLANK_GROUP", "Suppression", "suppress_groups", "respondents_text"]
+
+
+def respondents_text(n: int) -> str:
+    """``"1 respondent"``, ``"5 respondents"``: a count of respondents as a sentence says it."""
+    return f"{n} respondent{'' if n == 1 else 's'}"
 
 #: The name every output (text, JSON, tables, HTML) gives the group of blank grouping
 #: values, on both routes (``--group`` and ``--by``).
@@ -92,5 +97,5 @@ def suppress_groups(sizes, min_size: int, names=None) -> Suppression:
                 else f"the pooled answers of groups {pooled}")
         note = (f"{', '.join(repr(names[g]) for g in extra)} also withheld (complementary "
                 f"suppression): otherwise the total minus the groups shown would give {what}, "
-                f"fewer than {min_size} respondents")
+                f"fewer than {respondents_text(min_size)}")
     return Suppression(primary=primary, complementary=extra, note=note)

@@ -1,8 +1,9 @@
 """Summary tables an instructor can reuse: pandas DataFrames, CSV and XLSX files.
 
 :func:`summary_frame` gives one row per item (whether it is reverse-keyed, counts and percent per label, n,
-missing, excluded, agreement share and interval, median, IQR, mean, SD) -- the same
-numbers as ``summarize --json``. :func:`write_table` writes a DataFrame as CSV or
+missing, excluded, agreement share and interval, median, IQR with Q1 and Q3, mean, SD) -- the
+same numbers as ``summarize --json``, the quartiles to two places (:func:`~analysis.rounding.quartile_values`:
+the IQR is Q3 - Q1 as written). :func:`write_table` writes a DataFrame as CSV or
 XLSX by the file's suffix. Every text cell that a spreadsheet would read as a
 formula (starting with ``=``, ``+``, ``-``, ``@``, a tab or a carriage return) is
 written with a leading apostrophe, so it shows as the text it is; numbers stay
@@ -16,6 +17,7 @@ import io
 from pathlib import Path
 
 from ._io import atomic_write, spreadsheet_safe
+from .rounding import quartile_values
 
 __all__ = ["TABLE_FORMATS", "summary_frame", "item_columns", "reversal_columns", "write_table", "neutralise"]
 
@@ -42,16 +44,17 @@ def item_columns(it, labels) -> dict:
     in one order and with one set of names, whichever route made it (``--table`` alone, with
     ``--group`` or with ``--by``): reversal, n, missing, excluded, the count and percent of each
     label, the agreement percent with its interval, the disagreement percent, and the median,
-    IQR, mean and SD of the codes."""
+    IQR (with Q1 and Q3, to two places: the IQR is Q3 - Q1 as written), mean and SD of the codes."""
     def pct(x):
         return None if it.agree.share is None or x is None else 100 * x
+    iqr, q1, q3 = quartile_values(it.q1, it.q3)
     row = {**reversal_columns(it), "n": it.n, "missing": it.missing, "excluded": it.excluded}
     row.update({f"{lab} (count)": it.counts[lab] for lab in labels})
     row.update({f"{lab} (%)": it.percent[lab] for lab in labels})
     row.update({"agree (%)": pct(it.agree.share), "agree CI low (%)": pct(it.agree.ci[0]),
                 "agree CI high (%)": pct(it.agree.ci[1]),
                 "disagree (%)": None if it.disagree.share is None else 100 * it.disagree.share,
-                "median": it.median, "IQR": it.iqr, "mean": it.mean, "SD": it.sd})
+                "median": it.median, "IQR": iqr, "Q1": q1, "Q3": q3, "mean": it.mean, "SD": it.sd})
     return row
 
 

@@ -55,11 +55,11 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import stats
 
-from .disclosure import BLANK_GROUP, suppress_groups
+from .disclosure import BLANK_GROUP, respondents_text, suppress_groups
 from .errors import SurveyInputError
 from .ingest import SurveyData
 from .likert import REVERSE_MARK, REVERSE_NOTE, REVERSED_STATISTICS
-from .rounding import number_text, significant_text
+from .rounding import number_text, quartile_texts, significant_text
 from .scales import group_names, normalize_answer, order_groups, validate_group_order
 
 __all__ = ["GroupInfo", "ItemComparison", "GroupComparison", "compare_groups", "cliffs_delta",
@@ -246,10 +246,10 @@ class GroupComparison:
     def format_text(self, decimals: int = 1, method: str = "round") -> str:
         """Tests per item, then one line per shown group with its distribution, printed
         to ``decimals`` places by ``method`` as the main table prints it."""
-        out = [f"groups by {self.column!r} (groups under {self.min_size} respondents suppressed)"
+        out = [f"groups by {self.column!r} (groups under {respondents_text(self.min_size)} suppressed)"
                + (f"; paired by {self.paired_by!r}" if self.paired_by else "")]
         for g in self.groups:
-            out.append(f"  {g.name}: {g.respondents} respondents"
+            out.append(f"  {g.name}: {respondents_text(g.respondents)}"
                        + (f" -- suppressed: {g.reason}" if g.suppressed else ""))
         if self.note:
             out.append(f"  note: {self.note}")
@@ -287,7 +287,7 @@ class GroupComparison:
                                 for lab in self.labels)          # no percent of nobody
                 agree = "-" if agree == "-" else f"{agree}%"
                 out.append(f"    {g:<{width}} n={d['n']:<4} agree {agree:>4} | {dist} | "
-                           f"median {number_text(d['median'])} IQR {number_text(d['iqr'])} "
+                           f"median {number_text(d['median'])} IQR {quartile_texts(d['q1'], d['q3'])[0]} "
                            f"mean {number_text(d['mean'], 2)} SD {number_text(d['sd'], 2)}")
         if any(it.reverse for it in self.items):
             out.append(f"  {REVERSE_NOTE}")
@@ -483,7 +483,7 @@ def _group_infos(values, sizes, min_size):
 def _per_group(it) -> dict:
     return {"n": it.n, "missing": it.missing, "excluded": it.excluded,
             "counts": dict(it.counts), "percent": dict(it.percent),
-            "agree_share": it.agree.share, "median": it.median, "iqr": it.iqr,
+            "agree_share": it.agree.share, "median": it.median, "iqr": it.iqr, "q1": it.q1, "q3": it.q3,
             "mean": it.mean, "sd": it.sd}
 
 

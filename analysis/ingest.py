@@ -1523,14 +1523,14 @@ class _NarrowerWords:
 
     def _stats(self, found: list) -> str:
         from .likert import summarize_tally
-        from .rounding import number_text
+        from .rounding import number_text, quartile_texts
         stats = []
         for j in found:
             name = self.names[j]
             it = summarize_tally(np.concatenate([[0, 0, 0], self.counts[j, self.pos]]),
                                  self.other, name, reverse=name in self.reverse)
             stats.append(f"{name!r}{' (reversed)' if it.reverse else ''}: median "
-                         f"{number_text(it.median)}, IQR {number_text(it.iqr)}, mean "
+                         f"{number_text(it.median)}, IQR {quartile_texts(it.q1, it.q3)[0]}, mean "
                          f"{number_text(it.mean, 2)}, SD {number_text(it.sd, 2)}")
         lo, hi = (number_text(min(self.other.codes), 0), number_text(max(self.other.codes), 0))
         return f"on {self.other.name!r} (codes {lo}-{hi}) they are {'; '.join(stats)}"

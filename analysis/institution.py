@@ -39,13 +39,13 @@ import numpy as np
 from . import platforms
 from ._io import (ShortRecords, is_regular_file, refuse_values_beyond_header, short_records_note,
                   sniff_delimiter)
-from .disclosure import BLANK_GROUP, suppress_groups
+from .disclosure import BLANK_GROUP, respondents_text, suppress_groups
 from .dropped import FOOTER, DroppedRow, is_footer_note
 from .errors import SurveyInputError
 from .export import reversal_columns
 from .likert import (REVERSE_MARK, REVERSE_NOTE, _validate_ci, absent_respondents,
                      interval_label, not_items_text)
-from .rounding import number_text, share_percent_text
+from .rounding import number_text, quartile_texts, share_percent_text
 from .scales import (Scale, group_names, normalize_answer, order_groups, two_groups_message,
                      validate_group_order)
 
@@ -152,7 +152,7 @@ class GroupedSummary:
 
     def _why(self, g: int) -> str:
         if int(self.respondents[g]) < self.min_group:
-            return f"fewer than {self.min_group} respondents"
+            return f"fewer than {respondents_text(self.min_group)}"
         return ("complementary suppression: with it shown, a smaller group would be the "
                 "total minus the groups shown")
 
@@ -248,9 +248,9 @@ class GroupedSummary:
                 ag = it.agree
                 agree = ("-" if ag.share is None else f"{ag.percent_text(decimals)}% "
                          f"[{share_percent_text(ag.ci[0], decimals)}%, {share_percent_text(ag.ci[1], decimals)}%]")
-                stats = " ".join(f"{k} {number_text(v, d)}" for k, v, d in (
-                    ("median", it.median, 1), ("IQR", it.iqr, 1), ("mean", it.mean, 2),
-                    ("SD", it.sd, 2)))
+                stats = " ".join(f"{k} {v}" for k, v in (
+                    ("median", number_text(it.median)), ("IQR", quartile_texts(it.q1, it.q3)[0]),
+                    ("mean", number_text(it.mean, 2)), ("SD", number_text(it.sd, 2))))
                 mark = REVERSE_MARK if it.reverse else ""
                 out.append(f"{head}: {it.item}{mark}: n={it.n} missing={it.missing} "
                            f"n/a={it.excluded} counts [{dist}] agree {agree} {stats}")

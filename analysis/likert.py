@@ -42,8 +42,8 @@ from fractions import Fraction
 
 import numpy as np
 
-from .rounding import (largest_remainder, largest_remainder_tie, number_text, percent_text, round_fraction,
-                       share_percent_text)
+from .rounding import (largest_remainder, largest_remainder_tie, number_text, percent_text, quartile_texts,
+                       round_fraction, share_percent_text)
 
 __all__ = ["CI_METHODS", "PERCENT_METHODS", "absent_respondents", "Proportion", "ItemSummary", "SurveySummary",
            "proportion", "summarize", "summarize_dataframe"]
@@ -425,7 +425,7 @@ class SurveySummary:
                      f"{ag.percent_text(decimals)}% [{share_percent_text(ag.ci[0], decimals)}%, "
                      f"{share_percent_text(ag.ci[1], decimals)}%]")
             out.append(f"{_name(it):<{width}}  {cells}  {it.n:>{nw}} {it.missing:>{nw}} "
-                       f"{it.excluded:>{nw}}  {number_text(it.median):>6} {number_text(it.iqr):>5} "
+                       f"{it.excluded:>{nw}}  {number_text(it.median):>6} {quartile_texts(it.q1, it.q3)[0]:>5} "
                        f"{number_text(it.mean, 2):>5} {number_text(it.sd, 2):>5}  {agree}")
         if any(it.reverse for it in self.items):
             out.append(REVERSE_NOTE)

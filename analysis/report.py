@@ -19,6 +19,7 @@ from pathlib import Path
 
 from jinja2 import Environment, FileSystemLoader, StrictUndefined
 from markupsafe import Markup
+from solver.drawing.svg_ids import inline_svg  # standard library only: each figure's ids, unique in the page
 
 from ._io import atomic_write
 from .chart import diverging_bar, figure_svg
@@ -26,7 +27,7 @@ from .claims import evaluate_claims
 from .ingest import SurveyData
 from .likert import PERCENT_METHODS, REVERSE_NOTE, summarize
 from .respondents import PAIRING_UNKNOWN
-from .rounding import number_text, share_percent_text, significant_text
+from .rounding import number_text, quartile_texts, share_percent_text, significant_text
 
 __all__ = ["render_report", "build_report", "template_environment"]
 
@@ -94,7 +95,7 @@ def render_report(data: SurveyData, claims=None, group: str | None = None, min_g
     """
     _validate_report(data, decimals, percent_method)
     s = summarize(data, confidence_level, method)
-    svg = figure_svg(diverging_bar(s))
+    svg = inline_svg(figure_svg(diverging_bar(s)), "chart")
     claims_rep = evaluate_claims(claims, s, confidence_level, method) if claims else None
     groups = None
     group_svg = None
@@ -103,7 +104,7 @@ def render_report(data: SurveyData, claims=None, group: str | None = None, min_g
         from .groups import compare_groups
         groups = compare_groups(data, group, min_group, order=group_order, paired=paired)
         if groups.shown:
-            group_svg = Markup(figure_svg(faceted_bar(groups)))
+            group_svg = Markup(inline_svg(figure_svg(faceted_bar(groups)), "groups"))
     rel = None
     pairing_unknown = any(PAIRING_UNKNOWN in c for c in data.comments)
     if reliability and len(data.items) >= 2 and not pairing_unknown:
@@ -118,7 +119,7 @@ def render_report(data: SurveyData, claims=None, group: str | None = None, min_g
         decimals=decimals, percent_method=percent_method, rounding_note=rounding,
         reverse_note=REVERSE_NOTE if any(it.reverse for it in s.items) else "",
         ci_name={"wilson": "Wilson", "beta": "Clopper-Pearson"}[method],
-        fmt=_fmt, svg=Markup(svg), claims=claims_rep, groups=groups, group_svg=group_svg,
+        fmt=_fmt, quartiles=lambda q1, q3: quartile_texts(q1, q3, none="–"), svg=Markup(svg), claims=claims_rep, groups=groups, group_svg=group_svg,
         reliability=rel,
         comments=data.comments, notes=data.note_lines(), pairing_unknown=pairing_unknown)
 

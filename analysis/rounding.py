@@ -14,6 +14,8 @@ between two printed values is recognised as such (binary floats cannot).
   IQR, mean, SD, an effect size; a p-value to significant digits) by the same rule, on
   the decimal value Python writes for the float (``repr``: 2.675, not the binary
   2.67499999...).
+- :func:`quartile_values`, :func:`quartile_texts` -- the interquartile range with its
+  quartiles, printed so that the IQR is the printed Q3 minus the printed Q1.
 - :func:`rounding_interval` -- every exact percentage that prints as a given
   value: the tolerance a printed precision implies.
 - :func:`largest_remainder` -- Hamilton's method: percentages of counts that
@@ -26,7 +28,8 @@ import math
 from fractions import Fraction
 
 __all__ = ["ROUNDING_RULES", "round_fraction", "percent_text", "share_percent_text",
-           "number_text", "significant_text", "rounding_interval", "largest_remainder",
+           "number_text", "significant_text", "QUARTILE_DECIMALS", "quartile_values", "quartile_texts",
+           "rounding_interval", "largest_remainder",
            "largest_remainder_tie"]
 
 #: Valid values of the ``rule`` argument.
@@ -128,6 +131,41 @@ def number_text(x, decimals: int = 1, none: str = "-") -> str:
     if not math.isfinite(x):
         return str(float(x))
     return f"{float(round_fraction(_decimal_value(x), decimals)):.{decimals}f}"
+
+
+QUARTILE_DECIMALS = 2
+"""Places of a printed quartile and IQR. The quartiles of whole-number codes (numpy's and R's
+default linear rule) are multiples of 0.25, so two places print them exactly: 0.75 (3.25-4.00),
+where one place would print 0.8 (3.3-4.0) and the reader who subtracts would get 0.7."""
+
+
+def quartile_values(q1, q3, decimals: int = QUARTILE_DECIMALS) -> tuple:
+    """The IQR, Q1 and Q3 as printed: each quartile to ``decimals`` places by the rule of
+    :func:`number_text`, and the IQR their difference (exact), so that the printed IQR is
+    always the printed Q3 minus the printed Q1. ``(None, None, None)`` without quartiles.
+
+    Examples
+    --------
+    >>> quartile_values(3.25, 4.0), quartile_values(2.124, 3.126)  # the IQR 1.002 prints as 1.01
+    ((0.75, 3.25, 4.0), (1.01, 2.12, 3.13))
+    """
+    if q1 is None or q3 is None:
+        return None, None, None
+    lo, hi = (round_fraction(_decimal_value(q), decimals) for q in (q1, q3))
+    return float(hi - lo), float(lo), float(hi)
+
+
+def quartile_texts(q1, q3, decimals: int = QUARTILE_DECIMALS, none: str = "-") -> tuple[str, str, str]:
+    """``(IQR, Q1, Q3)`` as text, by :func:`quartile_values` (``none`` for each when there are
+    no quartiles).
+
+    Examples
+    --------
+    >>> quartile_texts(3.25, 4.0), quartile_texts(None, None)
+    (('0.75', '3.25', '4.00'), ('-', '-', '-'))
+    """
+    values = quartile_values(q1, q3, decimals)
+    return tuple(none if v is None else f"{v:.{decimals}f}" for v in values)
 
 
 def significant_text(x, digits: int = 4) -> str:

@@ -39,6 +39,7 @@ from reports import figures, mathfont, paper, provenance
 from reports.cli import cyclic_gc_paused, main, validate_build
 from reports.mathml import equation_mathml, latex_display, name_text, to_mathml, transcription_mathml
 from reports.published import ReportInputError, load_equations
+from solver.drawing.svg_ids import inline_svg
 from solver.errors import InputError
 from solver.expressions import parse_expression
 from solver.notation import latex_escape  # (the one LaTeX text escape; re-exported)
@@ -171,6 +172,7 @@ def html_environment(templates: Path = TEMPLATES) -> Environment:
     env.filters["same_decimals"] = same_decimals
     env.filters["detail_prose"] = detail_prose
     env.filters["verdict_class"] = lambda v: {"agrees": "ok", "disagrees": "bad"}.get(v, "na")
+    env.filters["inline_svg"] = lambda fig: Markup(inline_svg(fig.svg, fig.name))  # ids unique in the page
     env.globals["math_font_css"] = mathfont.font_face_css()  # the embedded maths font (_style.html.j2)
     return env
 

@@ -58,11 +58,24 @@ def _format(args) -> str:
 
 
 def explain_command(args: argparse.Namespace) -> int:
-    from solver.explain import explain, render
+    from solver.display import positive_parameters
 
     fmt = _format(args)
     _check_output(args.output)
     system = load_scene_from_args(args)
+    with positive_parameters(system):  # |L| shown as L for a parameter of positive value
+        text = _explained(args, system, fmt)
+    if args.output is None:
+        print(text, end="" if text.endswith("\n") else "\n")
+    else:
+        _write_atomic(args.output, text)
+    return 0
+
+
+def _explained(args: argparse.Namespace, system, fmt: str) -> str:
+    """The worked solution (or, with --suggest-point, the advice) as ``explain`` writes it."""
+    from solver.explain import explain, render
+
     if args.suggest_point:  # the advisor alone, in the same formats
         from solver.explain.advisor import advice_explanation
         from solver.formulations import resolve_points
@@ -80,11 +93,7 @@ def explain_command(args: argparse.Namespace) -> int:
 
             attach_drawing_commands(explanation, args.scene, args.point, args.overrides)
         text = render(explanation, fmt)
-    if args.output is None:
-        print(text, end="" if text.endswith("\n") else "\n")
-    else:
-        _write_atomic(args.output, text)
-    return 0
+    return text
 
 
 def _check_output(path: str | None) -> None:

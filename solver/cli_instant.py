@@ -219,10 +219,18 @@ def kinematics_command(args: argparse.Namespace) -> int:
 
 
 def eom_command(args: argparse.Namespace) -> int:
-    from solver.formulations import point_text, shown_point
+    from solver.display import positive_parameters
 
     system = _in_regime_at_state(load_scene_from_args(args), args)
     _refuse_zero_length_at_state(system)
+    with positive_parameters(system):  # |L| shown as L for a parameter of positive value
+        return _eom_shown(args, system)
+
+
+def _eom_shown(args: argparse.Namespace, system) -> int:
+    """The equation(s) of motion of ``system`` as ``eom`` prints them."""
+    from solver.formulations import point_text, shown_point
+
     if len(system.free) != 1 or system.closure:
         return _eom_multi(args, system)
     d = derivation.derive(system, args.point, args.method)

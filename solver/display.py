@@ -14,6 +14,8 @@ from __future__ import annotations
 import cmath
 import math
 from fractions import Fraction
+from contextlib import contextmanager
+from contextvars import ContextVar
 from functools import lru_cache, reduce
 from typing import NamedTuple
 from math import gcd as igcd
@@ -24,7 +26,7 @@ from sympy.core.mul import _keep_coeff, _mulsort
 
 from .tree_value import DOUBLE, NotEvaluable, tree_value
 
-__all__ = ["expanded", "reduce_trig", "numerator_reduces_to_zero", "constant_value", "tidy", "tidy_fraction", "tidy_linear",
+__all__ = ["expanded", "reduce_trig", "numerator_reduces_to_zero", "constant_value", "tidy", "positive_parameters", "tidy_fraction", "tidy_linear",
            "is_identically_zero", "free_symbols_of", "tree_size", "term_powers", "could_extract_minus_sign", "coefficient",
            "MAX_TIDY_NODES"]
 
@@ -1030,8 +1032,38 @@ def _monomial_out(split: list, powers: list, common: dict) -> sp.Expr:
     return sp.Mul(_rational(content), monomial, sp.Add(*rest))
 
 
-@lru_cache(maxsize=4096)
+_POSITIVE: ContextVar[dict | None] = ContextVar("positive_parameters", default=None)
+
+
+@contextmanager
+def positive_parameters(system):
+    """Within this block, :func:`tidy` writes ``Abs(p)`` as ``p`` for each parameter ``p`` of
+    ``system`` whose value is positive. sympy's symbols of parameters are only real (a positive
+    assumption would change every symbol that code builds to look a value up), so the square root
+    of ``L**2*X`` becomes ``Abs(L)*sqrt(X)`` (QA 19 #10, a spring from a bar's tip). The scene's
+    equations hold at its parameters' values, where |L| = L: nothing computed changes, only what
+    is shown. A parameter of zero or negative value keeps its Abs."""
+    positive = {sp.Abs(s): s for s, v in system.si_values().items() if v > 0}
+    token = _POSITIVE.set(positive or None)
+    try:
+        yield
+    finally:
+        _POSITIVE.reset(token)
+
+
 def tidy(expr: sp.Expr, max_nodes: int = MAX_TIDY_NODES) -> sp.Expr:
+    """:func:`_tidy`, with each parameter known positive written without its Abs inside a
+    :func:`positive_parameters` block."""
+    shown = _tidy(expr, max_nodes)
+    positive = _POSITIVE.get()
+    return shown.xreplace(positive) if positive and shown.has(sp.Abs) else shown
+
+
+tidy.cache_clear, tidy.cache_info = (lambda: _tidy.cache_clear()), (lambda: _tidy.cache_info())
+
+
+@lru_cache(maxsize=4096)
+def _tidy(expr: sp.Expr, max_nodes: int = MAX_TIDY_NODES) -> sp.Expr:
     """A short display form built from the structure of ``expr``: one fraction whose numerator and
     denominator are each reduced modulo sin**2 + cos**2 = 1 (when that shortens them) with their
     common factors pulled out; ``cancel`` only on small expressions.

@@ -732,3 +732,17 @@ def test_a_paired_item_is_tested_only_on_enough_pairs_that_changed(analysis_cli,
     assert (q1["test"], q1["pairs"], q1["pairs_unchanged"]) == ("none", 10, 9)
     assert "1 of the 10 pairs changed their answer" in q1["note"]
     assert (q2["test"], q2["pairs"], q2["pairs_unchanged"]) == ("none", 10, 10)
+
+
+def test_a_count_of_one_respondent_is_singular(tmp_path, analysis_cli):
+    """QA 19 #10: ``--min-group 1`` printed "groups under 1 respondents suppressed", and a group of
+    one "b: 1 respondents". Section b has one respondent, a has two."""
+    f = tmp_path / "one.csv"
+    f.write_text("Section,Q1\na,Agree\na,Disagree\nb,Agree\n")
+    code, out, err = analysis_cli("summarize", str(f), "--group", "Section", "--min-group", "1")
+    assert code == 0, err
+    assert "(groups under 1 respondent suppressed)" in out and "  b: 1 respondent\n" in out, out
+    assert "  a: 2 respondents\n" in out and "1 respondents" not in out + err
+    code, out, err = analysis_cli("summarize", str(f), "--group", "Section", "--min-group", "2")
+    assert code == 0, err
+    assert "(groups under 2 respondents suppressed)" in out and "  b: 1 respondent -- suppressed" in out, out

@@ -706,7 +706,7 @@ def test_items_of_a_narrower_scale_among_wider_ones_are_named_with_their_statist
     name those items, word for word, with their statistics on agree5. By hand, on codes
     1-5: Q1 = 1,1,2,2,3,3,4,4,5,5: median 3, quartiles 2 and 4 (numpy's linear rule), mean 3,
     SD sqrt(20/9) = 1.49; Q2 = 5,5,5,4: median 5, quartiles 4.75 and 5 (IQR 0.25, printed
-    0.3), mean 4.75, SD sqrt(0.75/3) = 0.50. Q3 answers 'Somewhat ...' 8 times of 10 (80%):
+    to two places as every IQR), mean 4.75, SD sqrt(0.75/3) = 0.50. Q3 answers 'Somewhat ...' 8 times of 10 (80%):
     an item of n answers on agree7 misses both such labels with chance 0.2**n (Q2:
     0.0016), below the 5% the note asks for.
 
@@ -728,12 +728,12 @@ def test_items_of_a_narrower_scale_among_wider_ones_are_named_with_their_statist
            "both sides of such a label; summarize with --items and --scale agree5, or give "
            "--scale agree7 to count it on 'agree7' codes")
     left = (f"warning: {f}: item 'Q1' left out of the table: {why}; on 'agree5' (codes 1-5) "
-            "they are 'Q1': median 3.0, IQR 2.0, mean 3.00, SD 1.49")
+            "they are 'Q1': median 3.0, IQR 2.00, mean 3.00, SD 1.49")
     kept = (f"warning: {f}: item 'Q2' never answered 'Somewhat disagree' or 'Somewhat "
             "agree' (labels only scale 'agree7' has, 80% of the answers to the items that use "
             "them): if they offered scale 'agree5', their median, IQR, mean, SD (and a "
             "Cronbach's alpha with them) are on the wrong codes; on 'agree5' (codes 1-5) they "
-            "are 'Q2': median 5.0, IQR 0.3, mean 4.75, SD 0.50 (summarize them with --items "
+            "are 'Q2': median 5.0, IQR 0.25, mean 4.75, SD 0.50 (summarize them with --items "
             "and --scale agree5)")
     data = read_survey(f)
     assert data.scale.name == "agree7" and left in data.notes and kept in data.notes, data.notes
@@ -745,7 +745,7 @@ def test_items_of_a_narrower_scale_among_wider_ones_are_named_with_their_statist
     given = read_survey(f, scale="agree7")
     assert given.items == ["Q1", "Q2", "Q3"] and [n for n in given.notes if "Q1" in n] == [
         kept.replace("item 'Q2'", "items 'Q1', 'Q2'").replace(
-            "they are 'Q2'", "they are 'Q1': median 3.0, IQR 2.0, mean 3.00, SD 1.49; 'Q2'")]
+            "they are 'Q2'", "they are 'Q1': median 3.0, IQR 2.00, mean 3.00, SD 1.49; 'Q2'")]
     # the statistics the note gives are those of the items read on agree5 by themselves
     alone = summarize(read_survey(f, items=["Q1", "Q2"], scale="agree5"))
     assert [(it.mean, it.iqr) for it in alone.items] == [(3.0, 2.0), (4.75, 0.25)]
@@ -769,7 +769,7 @@ def test_items_of_a_narrower_scale_among_wider_ones_are_named_with_their_statist
     g.write_text("term,Q1,Q2\n" + "".join(f"T,{a},{b}\n" for a, b in rows))
     note, = [n for n in read_survey(g).notes if "never answered" in n]
     assert ("item 'Q2' never answered 'Neither agree nor disagree'" in note
-            and "on 'agree4' (codes 1-4) they are 'Q2': median 3.0, IQR 0.0, mean 3.00, SD 0.00"
+            and "on 'agree4' (codes 1-4) they are 'Q2': median 3.0, IQR 0.00, mean 3.00, SD 0.00"
             in note), note
 
 

@@ -9,6 +9,7 @@ Reference values
   one unit (0.1) above the recomputed value.
 - Median / quartiles: numpy.quantile on the expanded codes (independent of the count-based route).
 """
+import csv
 import json
 from decimal import Decimal
 from fractions import Fraction
@@ -227,7 +228,9 @@ def test_every_printed_statistic_rounds_half_away_from_zero(tmp_path, capsys):
     "2.62") while percentages round half away from zero. The values below are exact in
     binary, so a tie is a tie. References: Q1 codes 1,1,2,2,3,4,4,4 (twice, in sections A
     and B): mean 21/8 = 2.625, IQR by numpy.percentile 2.25; Q2 codes 3 x 6, 4 x 2: IQR 0.25.
-    Printed half away from zero: 2.63, 2.3, 0.3 on every route (text, --group, --by, HTML)."""
+    Printed half away from zero: mean 2.63 on every route (text, --group, --by, HTML). The IQR
+    and its quartiles print to two places, exact for whole-number codes (QA 19 #10: one place
+    printed 2.3 (1.8-4.0), which does not subtract): 2.25 (1.75-4.00), and 0.25."""
     labels = ["Strongly disagree", "Disagree", "Neither agree nor disagree", "Agree",
               "Strongly agree"]
     q1, q2 = [1, 1, 2, 2, 3, 4, 4, 4], [3, 3, 3, 3, 3, 3, 4, 4]
@@ -240,17 +243,23 @@ def test_every_printed_statistic_rounds_half_away_from_zero(tmp_path, capsys):
         for s in "AB" for k, (a, b) in enumerate(zip(q1, q2))))
     assert main(["summarize", str(f)]) == 0
     rows = capsys.readouterr().out.splitlines()
-    assert rows[2].split()[-7:-4] == ["2.5", "2.3", "2.63"], rows[2]   # median IQR mean
-    assert rows[3].split()[-7:-4] == ["3.0", "0.3", "3.25"], rows[3]
+    assert rows[2].split()[-7:-4] == ["2.5", "2.25", "2.63"], rows[2]   # median IQR mean
+    assert rows[3].split()[-7:-4] == ["3.0", "0.25", "3.25"], rows[3]
     for extra in (["--group", "Section"], ["--by", "Section"]):
         assert main(["summarize", str(f), *extra, "--min-group", "1"]) == 0
         out = capsys.readouterr().out
-        assert "IQR 2.3 mean 2.63" in out and "IQR 0.3 mean 3.25" in out, out
-        assert "2.62" not in out and "IQR 2.2 " not in out and "IQR 0.2 " not in out
+        assert "IQR 2.25 mean 2.63" in out and "IQR 0.25 mean 3.25" in out, out
+        assert "2.62" not in out
     html = tmp_path / "r.html"
     assert main(["report", str(f), "-o", str(html)]) == 0
     text = html.read_text()
-    assert "<td>2.3 (1.8&ndash;4.0)</td>" in text and "<td>2.63</td>" in text, text
+    assert "<td>2.25 (1.75&ndash;4.00)</td>" in text and "<td>2.63</td>" in text, text
+    assert main(["report", str(f), "-o", str(html), "--group", "Section", "--min-group", "1"]) == 0
+    assert "<td>2.25</td><td>2.63</td>" in html.read_text()    # the groups' table: IQR, mean
+    table = tmp_path / "t.csv"
+    assert main(["summarize", str(f), "--table", str(table)]) == 0
+    rows = list(csv.DictReader(table.read_text(encoding="utf-8-sig").splitlines()))
+    assert [(r["IQR"], r["Q1"], r["Q3"]) for r in rows] == [("2.25", "1.75", "4.0"), ("0.25", "3.0", "3.25")]
     # the one rule beyond two places and in significant digits (1/64, 1/32 exact in binary)
     from analysis.rounding import number_text, significant_text
     assert (number_text(1 / 32, 4), number_text(-0.0625, 3)) == ("0.0313", "-0.063")

@@ -750,3 +750,65 @@ def test_monomials_are_not_identically_zero():
         is_identically_zero.cache_clear()
         assert is_identically_zero(e) is False and numerator_reduces_to_zero(e) is False, e
     assert is_identically_zero(sp.Integer(0)) is True and is_identically_zero(sp.Rational(1, 3)) is False
+
+
+SPRING_BAR = """name = "spring_bar"
+[parameters]
+m = "3 kg"
+L = "1.2 m"
+g = "9.81 m/s^2"
+k = "50 N/m"
+L0 = "0.3 m"
+[coordinates]
+theta = { value = "40 deg", rate = "1.5 rad/s" }
+[ground.points]
+O = ["0", "0"]
+S = ["L", "L/2"]
+[[bodies]]
+name = "bar"
+orientation = "theta"
+reference_point = "O"
+points = { O = ["0", "0"], E = ["L", "0"] }
+elements = [{ kind = "slender_bar", mass = "m", from = "O", to = "E" }]
+[[joints]]
+kind = "pin"
+name = "O"
+connects = ["ground:O", "bar:O"]
+[[loads]]
+kind = "gravity"
+g = "g"
+[[loads]]
+kind = "spring"
+name = "spr"
+between = ["bar:E", "ground:S"]
+stiffness = "k"
+free_length = "L0"
+"""
+
+
+def test_a_positive_length_is_shown_without_abs(tmp_path, solver_cli):
+    """QA 19 #10: a spring from a bar's tip E to the ground point (L, L/2) has length
+    L*sqrt(9 - 8 cos(theta) - 4 sin(theta))/2 for L > 0, but eom and explain printed Abs(L) (sympy
+    takes sqrt(L**2) of a real L as Abs(L)). L = 1.2 m is positive: no Abs is shown, and the answer
+    stays the one by hand: I_O alpha = -m g (L/2) cos(theta) + (moment of the spring about O)."""
+    import math
+
+    scene = tmp_path / "spring.toml"
+    scene.write_text(SPRING_BAR)
+    for argv in (["eom", str(scene)], ["explain", str(scene), "--point", "E"], ["explain", str(scene)]):
+        code, out, err = solver_cli(*argv)
+        assert code == 0, err
+        assert "Abs" not in out and "sqrt(-4*sin(theta) - 8*cos(theta) + 9)" in out, argv
+    # by hand: E = L(cos, sin), S = (L, L/2); tension k(|SE| - L0) along E -> S
+    m, L, g, k, L0, th = 3.0, 1.2, 9.81, 50.0, 0.3, math.radians(40)
+    ex, ey, sx, sy = L * math.cos(th), L * math.sin(th), L, L / 2
+    length = math.hypot(sx - ex, sy - ey)
+    fx, fy = k * (length - L0) * (sx - ex) / length, k * (length - L0) * (sy - ey) / length
+    alpha = (-m * g * L / 2 * math.cos(th) + ex * fy - ey * fx) / (m * L ** 2 / 3)
+    assert f"alpha       {alpha:.6g}" in out, alpha    # the solved table prints 6 significant digits
+
+
+def test_tidy_keeps_abs_outside_a_positive_parameters_block():
+    """Outside :func:`positive_parameters` nothing is assumed: sqrt(L**2 X) of a real L is |L| sqrt(X)."""
+    L, x = sp.symbols("L x", real=True)
+    assert tidy(sp.sqrt(L ** 2 * (x ** 2 + 1))).has(sp.Abs)

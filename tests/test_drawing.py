@@ -506,6 +506,29 @@ def test_simulate_animates_the_trajectory(tmp_path, capsys):
         assert gif.format == "GIF" and gif.n_frames == 4
 
 
+def test_animation_draws_the_cart_track_once_and_long_enough(tmp_path, monkeypatch):
+    """QA 19 #10: cart_pendulum's track (the slider's hatched line) was sized to the scene of each
+    frame, so it travelled with the cart. It is drawn once, before the frames, and reaches past
+    the cart's centre C in every frame (the cart moves +x at 0.5 m/s from x = 0 over 1 s)."""
+    from solver.drawing import render
+
+    drawn = []
+    original = render.render_scene
+    monkeypatch.setattr(render, "render_scene", lambda ax, items, *a, **k: (drawn.append(list(items)),
+                                                                             original(ax, items, *a, **k))[1])
+    out = tmp_path / "cart.gif"
+    assert main(["simulate", str(ROOT / "data" / "scenes" / "cart_pendulum.toml"), "--t-end", "1 s",
+                 "--samples", "6", "--animate", str(out)]) == 0
+    fixed, frames = drawn[0], drawn[1:]
+    assert len(frames) == 6
+    track = [i for i in fixed if i.kind == "guide" and i.name == "track"]
+    assert len(track) == 1 and not any(i.kind == "guide" for f in frames for i in f)
+    (x0, y0), (x1, y1) = track[0].shape["ends"]
+    cart = [i.anchor[0] for f in frames for i in f if i.kind == "point" and i.body == "cart" and i.name == "C"]
+    assert len(cart) == 6 and cart[-1] - cart[0] > 0.3, cart    # the cart does move along the track
+    assert y0 == y1 == 0 and min(x0, x1) < min(cart) and max(x0, x1) > max(cart)
+
+
 @pytest.mark.parametrize("scene", ["slider_crank.toml", "disk_bar.toml"])  # the multibody route; the one-body one
 def test_simulate_says_once_and_last_that_the_animation_was_written(tmp_path, capsys, scene):
     """QA 11: the line saying the animation was written came first, before the run's summary (or

@@ -441,6 +441,9 @@ def test_html_worked_solution_draws_each_free_body_diagram(solver_cli, tmp_path)
     # the rod's diagram carries the pin forces at both of its ends (named A_x, A_y, B_x, B_y in the scene)
     rod = next(f for f in figures if "rod: free-body diagram" in f)
     assert all(name in rod for name in ("A_x", "A_y", "B_x", "B_y")), rod[:200]
+    # three matplotlib drawings, each numbering its ids alike: in the page each id is its own (QA 19 #10)
+    from html_ids import page_ids
+    assert page_ids(html_text) == ([], [])
 
 
 # ------------------------------------------------------------------ every scene the core can express
@@ -571,6 +574,22 @@ def test_latex_contact_sentences(every_rendering):
         doc = every_rendering[name, "latex"]
         assert not re.search(r"[<>]", _latex_text_mode(doc)), name
         assert r"\usepackage[T1]{fontenc}" in doc and r"\usepackage{fontspec}" in doc and "beyond the Latin" not in doc
+
+
+def test_slip_sign_is_not_a_name_a_scene_can_have(every_rendering):
+    """QA 19 #10: incline_ring's coordinate is s, and the friction read "-s mu_k N" (s the sign of
+    the sliding velocity), which is the position times mu_k N. The sign is written as the function
+    sign(v_slip) in every format: applied in LaTeX (\\operatorname{sign}(v_{slip}), the argument
+    outside the operator's name) and in MathML."""
+    for fmt in FORMATS:
+        out = every_rendering["incline_ring", fmt]
+        assert not re.search(r"-s \\?mu", out) and "s the sign" not in out, fmt
+    assert "known force -sign(v_slip) mu_k N along the contact line (v_slip the sliding velocity)" in \
+        every_rendering["incline_ring", "text"]
+    assert "[friction terms (slipping: -sign(v_slip) mu_k N)]" in every_rendering["incline_ring", "text"]
+    assert r"$-\operatorname{sign}(v_{slip}) \mu_{k} N$" in every_rendering["incline_ring", "latex"]
+    assert ("<mo>-</mo><mrow><mi>sign</mi><mo>(</mo><msub><mi>v</mi><mi>slip</mi></msub><mo>)</mo></mrow>"
+            "<msub><mi>&#956;</mi><mi>k</mi></msub><mi>N</mi>") in every_rendering["incline_ring", "html"]
 
 
 def test_latex_escapes_angle_brackets_with_the_report_escape(tmp_path):
@@ -829,7 +848,7 @@ def test_latex_writes_names_units_and_formulae_as_latex(every_scene, every_rende
     assert r"$m_{d}$ & $m_{d}\,r_{d}^{2}/2$" in example2  # I_G of the disk, no * or **
     assert r"[$\mathrm{N\,m}$]" in example2
     slipping = every_rendering["disk_backspin", "latex"]  # words stay words, formulae become maths
-    assert r"known force $-s \mu_{k} N$ along the contact line (s the sign of the sliding velocity)" in slipping
+    assert r"known force $-\operatorname{sign}(v_{slip}) \mu_{k} N$ along the contact line ($v_{slip}$ the sliding velocity)" in slipping
 PENDULUM = """name = "pendulum"
 [parameters]
 m = "2 kg"
@@ -1044,7 +1063,7 @@ def test_wording_citations_and_grammar(paper, every_scene, every_rendering):
     assert "other bodies" not in one_body and "holds 2 unknowns" in one_body
     eom = every_scene["disk_backspin"][1].sections[-1].step("motion")
     notes = {t.note: sp.sstr(t.expr) for e in eom.equations if e.tag.startswith("eom:") for t in e.lhs}
-    assert "mu" in notes["friction terms (slipping: -s mu_k N)"] and "configuration terms" not in notes
+    assert "mu" in notes["friction terms (slipping: -sign(v_slip) mu_k N)"] and "configuration terms" not in notes
     for name in every_scene:
         out = every_rendering[name, "text"]
         assert "(s)" not in out, (name, out[out.index("(s)") - 80:out.index("(s)") + 20])

@@ -232,7 +232,7 @@ def animate(system, times, states, path, flag: str = "--animate") -> Path:
     keep = frame_indices(n)
     shapes = _memo(system, "shapes", body_shapes)
     poses = _memo(system, "poses", PoseFunction)
-    frames = [scene_items(system, states[k], poses(states[k].q, states[k].t), shapes) for k in keep]
+    frames = _fixed_tracks([scene_items(system, states[k], poses(states[k].q, states[k].t), shapes) for k in keep])
     bodies = list(system.bodies)
     # one frame box for the whole run, so that the picture does not jump
     import numpy as np
@@ -282,6 +282,37 @@ def animate(system, times, states, path, flag: str = "--animate") -> Path:
                 movie.save(str(scratch), writer=FFMpegWriter(fps=FRAME_RATE), dpi=DPI)
                 data = scratch.read_bytes()
     return write_atomic(path, lambda fh: fh.write(data), flag, binary=True)
+
+
+def _fixed_tracks(frames: list[list]) -> list[list]:
+    """``frames`` with each straight guide of the ground that stays in place (a cart's track) drawn
+    alike in every frame, long enough for the whole run: from the first to the last point any
+    frame draws it to. A still drawing sizes the line to the scene at its state; frame by frame
+    that line travelled with the cart, as if the ground moved (QA 19 #10)."""
+    import dataclasses
+
+    import numpy as np
+
+    from ..model.bodies import GROUND
+
+    def track(item):
+        return item.kind == "guide" and item.body == GROUND and (item.shape or {}).get("type") == "line"
+
+    runs: dict = {}
+    for frame in frames:
+        for item in frame:
+            if track(item):
+                runs.setdefault(item.name, []).append(item)
+    merged = {}
+    for name, items in runs.items():
+        first = items[0]
+        if len(items) != len(frames) or any((i.anchor, i.direction) != (first.anchor, first.direction) for i in items):
+            continue  # a guide that moves (on a body, or a prescribed ground point) is drawn frame by frame
+        o, d = np.array(first.anchor), np.array(first.direction)
+        s = [float(d @ (np.array(end) - o)) for i in items for end in i.shape["ends"]]
+        ends = ((o + min(s) * d).tolist(), (o + max(s) * d).tolist())
+        merged[name] = dataclasses.replace(first, shape={**first.shape, "ends": ends})
+    return [[merged.get(i.name, i) if track(i) else i for i in frame] for frame in frames]
 
 
 def _unchanging(ground: list[list]) -> list:

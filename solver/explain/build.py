@@ -27,7 +27,7 @@ import sympy as sp
 
 from ..model.joints import copy_vec, cross_k, k_cross, vadd, vec, vscale, vsub, xy
 from ..model.system import derivative
-from .content import Equation, Explanation, Section, Step, Table, Term
+from .content import SLIP_VELOCITY_NOTE, Equation, Explanation, Section, Step, Table, Term, slip_friction
 from ..display import coefficient, could_extract_minus_sign, expanded, is_identically_zero, term_powers, tidy, tidy_linear
 from ..strprint import FastStrPrinter, sstr
 
@@ -327,12 +327,12 @@ def _forces_on(system, body: str, points: _Points) -> list[_Force]:
         force = None if jl.force is None else vscale(sym, jl.force)
         point = points.name_of(jl.at, joints.get(jl.reaction.joint)) if jl.force is not None else ""
         contact = slipping.get(jl.reaction.name)
-        if contact is not None and force is not None:  # N n, and the friction -s mu_k N d apart
+        if contact is not None and force is not None:  # N n, and the friction -sign(v_slip) mu_k N d apart
             joint, d, n = contact
             out.append(_Force(jl.reaction.name, f"normal reaction of contact {joint.name}",
                               sym * n * sp.expand(jl.force.dot(n)), jl.at, 0, reaction=jl.reaction, point=point))
             name = joint.friction_reaction.name if joint.friction_reaction is not None else f"friction_{joint.name}"
-            out.append(_Force(name, f"friction of contact {joint.name}, slipping: -s mu_k {jl.reaction.name}",
+            out.append(_Force(name, f"friction of contact {joint.name}, slipping: {slip_friction(jl.reaction.name)}",
                               sym * d * sp.expand(jl.force.dot(d)), jl.at, 0, point=point))
             continue
         out.append(_Force(jl.reaction.name, f"reaction of joint {jl.reaction.joint}", force, jl.at,
@@ -932,7 +932,7 @@ def _regime_step(scene, regime, warning) -> Step:
             rows.append((c.joint, c.regime.label, c.reason))
         if any(c.regime.friction_direction() and c.regime.keeps_normal for c in regime.checks):
             text.append("In the slipping regime the friction is not an unknown: it is the known force "
-                        "-s mu_k N along the contact line (s the sign of the sliding velocity), so only N is; "
+                        f"{slip_friction()} along the contact line ({SLIP_VELOCITY_NOTE}), so only N is; "
                         "the free-body diagram shows N and the friction apart.")
         if regime.indeterminate:
             from ..analyses.regimes import INDETERMINATE_NOTE
@@ -1080,7 +1080,7 @@ def _projected(system, f) -> list[sp.Expr]:
     """Kane's projection of each body's equations on the partial velocities of its P, one per
     free coordinate (as :func:`solver.analyses.eom.equations_of_motion`), keeping every reaction
     whose coefficient is not identically zero: the closure multipliers, and a slipping contact's
-    normal force (its friction -s mu_k N does work)."""
+    normal force (its friction -sign(v_slip) mu_k N does work)."""
     per_body = {}
     for e in f.equations:
         if e.body is not None:
@@ -1165,8 +1165,8 @@ def _structured_eom(system, c, e, q, keep, ref: str = "projected on the partial 
             rest = sp.expand(rest - coef * x)
     mus = _kinetic_coefficients(system)
     friction = sp.Add(*[t for t in sp.Add.make_args(rest) if mus and t.has(*mus)])
-    if friction != 0:  # the slipping friction -s mu_k N with N substituted: not a configuration term
-        lhs.append(Term(tidy(friction), "friction terms (slipping: -s mu_k N)"))
+    if friction != 0:  # the slipping friction -sign(v_slip) mu_k N with N substituted: not a configuration term
+        lhs.append(Term(tidy(friction), f"friction terms (slipping: {slip_friction()})"))
         rest = sp.expand(rest - friction)
     if rest != 0:
         lhs.append(Term(tidy(rest), "configuration terms"))
@@ -1199,7 +1199,7 @@ def _constrained_motion_step(system, f, expl, state) -> Step:
         known[r] = sp.expand(value)
         eqs.append(Equation((Term(r),), (Term(tidy(known[r])),), f"{r} from {where}",
                             tag=f"from_newton:{r}", name=str(r)))
-        text.append(f"{r} does work through the slipping friction -s mu_k {r}, so it stays in the projected "
+        text.append(f"{r} does work through the slipping friction {slip_friction(r)}, so it stays in the projected "
                     f"equations; {where} holds it alone and gives it.")
     from .slip_reactions import settle_slipping_reactions
 

@@ -13,7 +13,18 @@ import sympy as sp
 from ..model.joints import copy_vec
 from ..strprint import FastStrPrinter
 
-__all__ = ["Term", "Equation", "Table", "Step", "Section", "Explanation"]
+__all__ = ["Term", "Equation", "Table", "Step", "Section", "Explanation", "slip_friction", "SLIP_VELOCITY_NOTE"]
+
+
+def slip_friction(normal: str = "N") -> str:
+    """A slipping contact's friction as the worked solution writes it: ``-sign(v_slip) mu_k N``.
+    ``sign(...)`` is a function applied, which no scene can name (a lone ``s`` could be a scene's
+    coordinate: incline_ring's is)."""
+    return f"-sign(v_slip) mu_k {normal}"
+
+
+SLIP_VELOCITY_NOTE = "v_slip the sliding velocity"
+"""What ``v_slip`` of :func:`slip_friction` is, said once where the friction is first written."""
 
 
 @dataclass(frozen=True)

@@ -154,8 +154,8 @@ class LatexProse:
         tex = _FUNCTIONS.get(word) if args and word in _FUNCTIONS else self._plain_name(word)  # sin(beta)
         if tex is None:
             return None
-        if args:
-            tex = tex[:-1] + args + "}" if tex.endswith("}") else tex + args
+        if args:  # a function's arguments follow it; a point's lines go in its subscript
+            tex = tex[:-1] + args + "}" if tex.endswith("}") and word not in _FUNCTIONS else tex + args
         return tex + "'" * primes
 
     def _plain_name(self, word: str) -> str | None:

@@ -17,6 +17,7 @@ import re
 import sympy as sp
 
 from ..display import could_extract_minus_sign
+from ..drawing.svg_ids import inline_svg
 from ..strprint import FastStrPrinter, join_sum, sstr
 from .content import Equation, Explanation, Step, Table, Term
 from ..notation import compound_latex
@@ -356,6 +357,7 @@ class _Html(_Renderer):
         symbols = set().union(*[sp.sympify(t.expr).free_symbols for s in expl.steps() for e in s.equations
                                 for t in (*e.lhs, *e.rhs)])
         self.prose = MathmlProse(symbols, expl.symbol_latex)
+        self.drawings = 0  # the free-body diagrams inlined so far: each one's ids get its number
 
     def wrap(self, body):
         from ..mathfont import font_face_css
@@ -419,7 +421,8 @@ class _Html(_Renderer):
         return f"<figure data-figure=\"{_h(figure)}\"></figure>"
 
     def drawing(self, svg):
-        return f"<figure class=\"fbd\">{svg}</figure>"  # the project's own SVG (labels escaped by matplotlib)
+        self.drawings += 1  # the project's own SVG (labels escaped by matplotlib), ids unique in the page
+        return f"<figure class=\"fbd\">{inline_svg(svg, f'fbd{self.drawings}')}</figure>"
 
 
 def _h(text) -> str:

@@ -20,7 +20,7 @@ from itertools import combinations
 import numpy as np
 import sympy as sp
 
-from .content import Equation, Term
+from .content import Equation, Term, slip_friction
 
 __all__ = ["settle_slipping_reactions"]
 
@@ -148,7 +148,7 @@ def settle_slipping_reactions(system, expl, state, projected, working, closure, 
     found = solve_together(system, expl, state, projected, working, closure)
     names = _listed(working)
     plural = len(working) > 1
-    does = f"{names} {'do' if plural else 'does'} work through the slipping friction -s mu_k N, so " \
+    does = f"{names} {'do' if plural else 'does'} work through the slipping friction {slip_friction()}, so " \
            f"{'they stay' if plural else 'it stays'} in the projected equations"
     if found is None:
         return {}, [], [f"{does}. No set of body equations gives {'them' if plural else 'it'} in the coordinates, "
