@@ -1,11 +1,12 @@
-"""Time the solver on the two example scenes, against sympy.physics.mechanics.
+"""Time the solver's stages on the two example scenes, each route side by side.
 
-For each scene: load the TOML, derive (generalized Euler about the default
-point; cache cleared before each repeat), eliminate to the equation of motion,
-lambdify, solve one instant, and the whole cold path; then the same problem
-built and solved through sympy.physics.mechanics (Kane's method with
-auxiliary speeds; and LagrangesMethod for the equation of motion). Caches
-(ours and sympy's) are cleared before every cold repeat.
+For each scene: load the TOML; derive the linear system (generalized Euler about the default
+point) and compile it; solve one instant warm; the whole cold path (load, derive, solve); and the
+same instant by the mass-centre route and by the Lagrange route, which runs sympy.physics.mechanics'
+LagrangesMethod. "Cold" is a freshly loaded scene (derivations are cached on it) with sympy's
+expression cache cleared, untimed, before each repeat. The side-by-side comparison with
+KanesMethod building the same equations is tests/bench/bench_explain.py (eom) and
+tests/bench/bench_multibody.py (derivation).
 
 Writes reports/build/bench/solver.json and prints a table. Run: make bench
 (or .venv/bin/python tests/bench/bench_solver.py).
@@ -26,9 +27,7 @@ import sympy  # noqa: E402
 
 from sympy.core.cache import clear_cache as clear_sympy_cache  # noqa: E402
 
-from solver.derivation import clear_cache as clear_derivations  # noqa: E402
 from solver.derivation import derive, solve_instant  # noqa: E402
-from solver.lagrange import lagrange_route  # noqa: E402
 from solver.scenefile import load_scene  # noqa: E402
 
 SCENES = {"sliding_bar": ROOT / "data/scenes/sliding_bar.toml", "disk_bar": ROOT / "data/scenes/disk_bar.toml"}
@@ -36,45 +35,38 @@ OUT = ROOT / "reports/build/bench/solver.json"
 REPEATS = 5
 
 
-def clear_cache():
-    """Cold start: forget our derivations and sympy's own expression cache."""
-    clear_derivations()
+def cold(path: Path) -> dict:
+    """A fresh scene (our derivations are cached on it) and sympy's cache cleared: a cold start."""
     clear_sympy_cache()
+    return {"scene": load_scene(path)}
 
 
 def timed(fn, repeats=REPEATS, setup=None):
-    """Wall-clock seconds of ``fn()`` over ``repeats`` runs (``setup()`` untimed before each)."""
+    """Wall-clock seconds of ``fn(state)`` over ``repeats`` runs, ``state = setup()`` made untimed
+    before each (``{}`` without a setup)."""
     times = []
     for _ in range(repeats):
-        if setup:
-            setup()
+        state = setup() if setup else {}
         t0 = time.perf_counter()
-        fn()
+        fn(state)
         times.append(time.perf_counter() - t0)
     return {"median_s": statistics.median(times), "min_s": min(times), "max_s": max(times), "repeats": repeats}
 
 
 def bench_scene(path: Path) -> dict:
-    scene = load_scene(path)
-    out = {}
-    out["load"] = timed(lambda: load_scene(path))
-    out["derive"] = timed(lambda: derive(scene).linear_system(), setup=clear_cache)
-    out["eom"] = timed(lambda: derive(scene).eom, setup=clear_cache)
-    out["lambdify"] = timed(lambda: derive(scene).numeric(), setup=clear_cache)
-    derive(scene).numeric()
-    out["solve_instant_warm"] = timed(lambda: solve_instant(scene), repeats=50)
-    out["cold_load_derive_solve"] = timed(lambda: solve_instant(load_scene(path)), setup=clear_cache)
-    # sympy.physics.mechanics: Kane's equations + auxiliary speeds, then the same numeric solve
-    out["mechanics_kane_build"] = timed(lambda: lagrange_route(scene, "kane"), setup=clear_cache, repeats=3)
-    out["mechanics_lagranges_method_build"] = timed(
-        lambda: lagrange_route(scene, "lagrange"), setup=clear_cache, repeats=3
-    )
-    out["mechanics_cold_derive_solve"] = timed(
-        lambda: solve_instant(scene, method="lagrange"), setup=clear_cache, repeats=3
-    )
-    out["mass_center_cold_derive_solve"] = timed(
-        lambda: solve_instant(scene, method="mass_center"), setup=clear_cache
-    )
+    fresh = lambda: cold(path)  # noqa: E731
+    out = {"load": timed(lambda _: load_scene(path))}
+    out["derive"] = timed(lambda s: derive(s["scene"]).linear_system(), setup=fresh)
+    out["derive_and_compile"] = timed(lambda s: derive(s["scene"]).numeric(), setup=fresh)
+    warm = load_scene(path)
+    solve_instant(warm)
+    out["solve_instant_warm"] = timed(lambda _: solve_instant(warm), repeats=50)
+    out["cold_load_derive_solve"] = timed(lambda _: solve_instant(load_scene(path)),
+                                          setup=lambda: clear_sympy_cache() or {})
+    out["mass_center_cold_derive_solve"] = timed(lambda s: solve_instant(s["scene"], method="mass_center"),
+                                                 setup=fresh)
+    out["lagrange_cold_derive_solve"] = timed(lambda s: solve_instant(s["scene"], method="lagrange"),
+                                              setup=fresh, repeats=3)
     return out
 
 
