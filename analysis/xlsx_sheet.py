@@ -128,6 +128,10 @@ class _Cells:
                 self.column = _column_number(ref) if ref else self.column + 1
             except ValueError as e:
                 raise SheetFault(self.row, None, str(e)) from None
+            named = ref[len(ref.rstrip("0123456789")):] if ref else ""
+            if named and int(named) != self.row:  # (openpyxl puts it in row `named`, over that row's own)
+                raise SheetFault(self.row, None, f"the cell {ref[:20]!r} is written inside row {self.row} of "
+                                 "the sheet's XML; which row holds it is not known")
             if self.column > self.max_columns:
                 raise _TooWide(self.column, self.row)
             if self.column in self.cells:

@@ -437,6 +437,8 @@ def _cell(ref: bytes, new: bytes):
     (_cell(b"B3", b'<c r="B3" t="s"><v>-1</v></c>'), True, ["row 3: ", "cell B3", "shared string -1"]),
     (_cell(b"B3", b'<c r="3" t="inlineStr"><is><t>Agree</t></is></c>'), False, ["row 3: ", "'3' names no column"]),
     (_cell(b"B3", b'<c r="B3"><v>2</v></c><c r="B3"><v>3</v></c>'), False, ["row 3: ", "cell B3", "twice"]),
+    # (QA 20) a cell naming row 9 inside row 3: read as row 3's, where openpyxl puts it in row 9
+    (_cell(b"B3", b'<c r="B9" t="inlineStr"><is><t>Agree</t></is></c>'), False, ["row 3: ", "'B9'", "inside row 3"]),
     (_cell(b"B3", b'<c r="XFD3"><v>2</v></c>'), False, ["row 3: ", "16384 columns"]),
 ])
 def test_a_bad_cell_is_named_by_its_reference(tmp_path, analysis_cli, edit, shared, needles):
