@@ -430,7 +430,8 @@ class _SceneLoader:
         parameter given as one, is radians: refused beyond a full turn, where degrees were
         surely meant (``theta - 90`` would turn the body by 90 rad, 14 turns). A term with pi
         (``theta - pi/2``) or a parameter with its unit (``q = "90 deg"``) says what it is."""
-        for term in sp.Add.make_args(expr):
+        bare_terms, turned = [], 0.0
+        for term in sp.Add.make_args(sp.expand(expr)):  # (k*(theta - 90) and theta - 5 - q too)
             if term.has(sp.pi):
                 continue
             bare = {}
@@ -440,12 +441,14 @@ class _SceneLoader:
                     break  # a coordinate, t, or a parameter with a unit
                 bare[symbol] = float(quantity.magnitude)
             else:
-                turned = float(term.xreplace(bare)) if bare else float(term)
-                if 2 * math.pi < abs(turned) <= units.MAX_ANGLE_TURNS * 2 * math.pi:  # (beyond: the cap's refusal)
-                    what = f"{sp.sstr(term)} = {turned:g}" if bare else f"{turned:g}"
-                    raise self.fail(key, f"{value!r} adds {what} rad ({turned / (2 * math.pi):.3g} "
-                                         "turns): a bare number in an angle is radians; for degrees give the angle as a "
-                                         "parameter with its unit (q = \"90 deg\", then theta - q), or use pi (pi/2)")
+                bare_terms.append(term)
+                turned += float(term.xreplace(bare)) if bare else float(term)
+        if 2 * math.pi < abs(turned) <= units.MAX_ANGLE_TURNS * 2 * math.pi:  # (beyond: the cap's refusal)
+            constant = sp.Add(*bare_terms)
+            what = f"{sp.sstr(constant)} = {turned:g}" if constant.free_symbols else f"{turned:g}"
+            raise self.fail(key, f"{value!r} adds {what} rad ({turned / (2 * math.pi):.3g} "
+                                 "turns): a bare number in an angle is radians; for degrees give the angle as a "
+                                 "parameter with its unit (q = \"90 deg\", then theta - q), or use pi (pi/2)")
 
     def vector(self, value: Any, key: str, names: Mapping[str, sp.Symbol], need: UnitsContainer) -> sp.Matrix:
         if not isinstance(value, list) or len(value) != 2:

@@ -237,6 +237,8 @@ def test_percent_is_refused_where_the_file_uses_a_parameter_as_an_angle(solver_c
     ("theta - pi/2", "", False),
     ("theta + 6", "", False),                 # under a turn: radians may well be meant
     ("theta - pi/2", 'f = "-90"\n', True),   # (QA 20) a torsional spring's free angle, through a parameter
+    ("2*(theta - 45)", "", True),             # (QA 20) inside a product
+    ("theta - 4 - q", 'q = "86"\n', True),   # (QA 20) one constant written in two terms
 ])
 def test_a_bare_number_beyond_a_turn_in_an_orientation_is_refused(solver_cli, tmp_path, orientation, parameter,
                                                                   refused) -> None:
@@ -254,6 +256,6 @@ def test_a_bare_number_beyond_a_turn_in_an_orientation_is_refused(solver_cli, tm
     code, out, err = solver_cli("solve", str(path))
     if refused:
         assert (code, out, err.count("\n")) == (2, "", 1), err
-        assert where in err and "bare number in an angle is radians" in err and "14.3 turns" in err
+        assert where in err and "bare number in an angle is radians" in err and "14.3 turns" in err, err
     else:
         assert code == 0, err
