@@ -681,7 +681,7 @@ class _MultibodyReader:
         loads, names = [], set()
         for i, spec in enumerate(self.L.array_of_tables(data.get("loads", []), "loads")):
             load = self._read_load(spec, i)
-            kind = "gravity" if isinstance(load, Gravity) else type(load).__name__.lower()
+            kind = "gravity" if isinstance(load, Gravity) else "other"  # (distinct_load asks only this)
             self.L.distinct_load(load.name, kind, f"loads[{i}]", names,
                                  any(isinstance(done, Gravity) for done in loads))
             loads.append(load)
