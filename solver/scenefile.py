@@ -53,7 +53,8 @@ BODY_KEYS = ("orientation", "reference_point", "position")
 ANGLE_KEYS = frozenset({"orientation", "angle", "relative_angle", "position_angle", "free_angle"})
 """The keys whose expression is an angle, in both scene formats (``[body] orientation``, a rail's
 ``angle``, a slider's ``relative_angle``, a rolling contact's ``position_angle``, a torsional
-spring's ``free_angle``)."""
+spring's ``free_angle``); a prescribed coordinate's ``motion`` is one when its dimension says so,
+and gets the same checks (:meth:`_SceneLoader._check_angle_arguments`)."""
 POSITION_KEYS = ("point", "at")
 POINT_KEYS = ("at", "relative_to", "offset")
 
@@ -405,25 +406,59 @@ class _SceneLoader:
         self._check_angle_arguments(result, key, value)
         return result
 
-    def _check_angle_arguments(self, expr: sp.Expr, key: str, value: str) -> None:
-        """A parameter in an angle (a key of :data:`ANGLE_KEYS`, or the argument of a trigonometric
-        function) is one there: refused when
-        its unit measures none (:func:`solver.units.not_angular`: ``100 percent``, which pint reads as
-        1 rad); a pure number (``mu = "30 percent"``) elsewhere stays one."""
-        whole = [expr] if key.rsplit(".", 1)[-1] in ANGLE_KEYS else []
-        if whole:
+    def _check_angle_arguments(self, expr: sp.Expr, key: str, value: str, is_angle: bool | None = None) -> None:
+        """The checks of a parameter used as an angle: in ``expr`` when it is one (``is_angle``; by
+        default when ``key`` ends in a key of :data:`ANGLE_KEYS`), and in the argument of each of its
+        trigonometric functions.
+
+        A bare number of more than a turn is refused (:meth:`_check_bare_turns`), as is a parameter
+        whose unit measures no angle (:func:`solver.units.not_angular`): ``100 percent``, which pint
+        reads as 1 rad, or a frequency in Hz taken as radians per second (:meth:`_check_cycles`).
+        A pure number (``mu = "30 percent"``) or a frequency elsewhere stays one.
+        """
+        if is_angle is None:
+            is_angle = key.rsplit(".", 1)[-1] in ANGLE_KEYS
+        if is_angle:
             self._check_bare_turns(expr, key, value)
-        for call in whole + sorted(expr.atoms(sp.sin, sp.cos, sp.tan, sp.cot, sp.sec, sp.csc), key=sp.default_sort_key):
-            for symbol in sorted(call.free_symbols, key=str):
+        calls = sorted(expr.atoms(sp.sin, sp.cos, sp.tan, sp.cot, sp.sec, sp.csc), key=sp.default_sort_key)
+        for angle, call in ([(expr, None)] if is_angle else []) + [(c.args[0], c) for c in calls]:
+            where = "" if call is None else f" (in {sp.sstr(call)})"
+            for symbol in sorted(angle.free_symbols, key=str):
                 quantity = self.parameters.get(symbol.name)
                 if quantity is None or quantity.units == ureg.dimensionless or quantity.dimensionality:
                     continue
                 what = units.not_angular(quantity.units)
                 if what is not None:
-                    key_of = f"--set {symbol.name}" if symbol.name in self.overrides else f"parameters.{symbol.name}"
-                    where = "" if call is expr and whole else f" (in {sp.sstr(call)})"
-                    raise self.fail(key_of, f"{quantity.magnitude:g} {quantity.units} is {what}, not an angle, but {value!r} at {key} takes "
-                                            f"{symbol.name} as one{where}: give it in deg or rad")
+                    raise self.fail(self._parameter_key(symbol.name),
+                                    f"{quantity.magnitude:g} {quantity.units} is {what}, not an angle, but {value!r} at "
+                                    f"{key} takes {symbol.name} as one{where}: give it in deg or rad")
+            self._check_cycles(angle, key, value, where)
+
+    def _check_cycles(self, angle: sp.Expr, key: str, value: str, where: str) -> None:
+        """A parameter in ``Hz`` (``kHz``, ``Hz/s``) counts cycles, 2 pi rad each, where pint would
+        read it as radians per second: in an angle, a term holding it (to a net nonzero power) must
+        hold pi as well (``2*pi*f*t``). Else it is refused as ``--set`` refuses a rate given in Hz
+        (:func:`solver.units.check_rate_unit`), naming the parameter and the key that uses it
+        (``omega*t`` with ``omega = "15.9 Hz"`` would turn at 15.9 rad/s, not 100)."""
+        cycles = {name for name, q in self.parameters.items()
+                  if q.dimensionality in (RATE, RATE ** 2) and units.not_angular(q.units) is not None}
+        for term in sp.Add.make_args(sp.expand(angle)):
+            if term.has(sp.pi):
+                continue
+            powers = {b.name: e for b, e in term.as_powers_dict().items() if b.is_Symbol and b.name in cycles}
+            if powers and sum(powers.values()) != 0:  # (f/f0 is a pure number)
+                name = min(powers)
+                text = self.overrides.get(name, self.parameter_texts.get(name))
+                try:
+                    units.check_rate_unit(self.parameters[name], text, f"{self.label}: {self._parameter_key(name)}",
+                                          f"{name} in {value!r} at {key}{where}",
+                                          also=f"; or keep the frequency and write 2*pi*{name} (a cycle is 2 pi rad)")
+                except InputError as err:
+                    raise SceneError(str(err)) from None
+
+    def _parameter_key(self, name: str) -> str:
+        """Where parameter ``name`` was given: ``--set NAME`` or ``parameters.NAME``."""
+        return f"--set {name}" if name in self.overrides else f"parameters.{name}"
 
     def _check_bare_turns(self, expr: sp.Expr, key: str, value: str) -> None:
         """A constant term of an angle (a key of :data:`ANGLE_KEYS`) written as a bare number, or a
@@ -592,6 +627,8 @@ class _SceneLoader:
     # -- parameters and state -----------------------------------------------------------
     def _read_parameters(self, table: dict[str, Any]) -> None:
         self.parameters: dict[str, pint.Quantity] = {}
+        self.parameter_texts: dict[str, Any] = {}
+        """Each parameter as the file writes it (for messages)."""
         for name, value in table.items():
             key = f"parameters.{name}"
             self.identifier(name, key, "parameter name")
@@ -599,6 +636,7 @@ class _SceneLoader:
                 raise self.fail(key, f"{name!r} is reserved (a function, a constant, time t, or the angular "
                                      f"acceleration alpha) and cannot be a parameter name")
             self.parameters[name] = parse_quantity(value, f"{self.label}: {key}")
+            self.parameter_texts[name] = value
 
     def _read_coordinate(self, table: dict[str, Any]) -> tuple[str, dict[str, pint.Quantity]]:
         self.check_keys(table, COORDINATE_KEYS, "coordinate", "[coordinate]")

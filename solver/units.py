@@ -319,11 +319,12 @@ _TIME = ureg.get_dimensionality("s")
 _TIME_INVERSE = ureg.get_dimensionality("1/s")
 
 
-def check_rate_unit(quantity: pint.Quantity, text: Any, where: str, name: str) -> None:
+def check_rate_unit(quantity: pint.Quantity, text: Any, where: str, name: str, also: str = "") -> None:
     """The rule for an angular velocity or acceleration given as a quantity (a coordinate's rate in a
-    scene file or by ``--set``, a parameter the scene gives as one): its unit measures an angle per
-    time or time squared (:func:`not_angular`); ``Hz`` counts cycles, so ``2 Hz`` and ``1 Hz/s`` are
-    refused with the two readings.
+    scene file or by ``--set``, a parameter the scene gives as one or uses as one in an angle): its
+    unit measures an angle per time or time squared (:func:`not_angular`); ``Hz`` counts cycles, so
+    ``2 Hz`` and ``1 Hz/s`` are refused with the two readings (and ``also``, a further way out, at
+    the message's end).
 
     Examples
     --------
@@ -346,7 +347,7 @@ def check_rate_unit(quantity: pint.Quantity, text: Any, where: str, name: str) -
         number = float(quantity.to(f"1/{per}").magnitude)
         raise InputError(f"{where}: {str(text)!r} is {what}, but {name} is {kind}: give "
                          f"\"{number:g} rev/{per}\" ({2 * math.pi * number:g} rad/{per}) for turns {words}, "
-                         f"or \"{number:g} rad/{per}\"")
+                         f"or \"{number:g} rad/{per}\"{also}")
 
 
 def check_magnitude(number: float, where: str, text: Any = None) -> float:

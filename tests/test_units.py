@@ -259,3 +259,67 @@ def test_a_bare_number_beyond_a_turn_in_an_orientation_is_refused(solver_cli, tm
         assert where in err and "bare number in an angle is radians" in err and "14.3 turns" in err, err
     else:
         assert code == 0, err
+
+
+# QA 20 #1: a prescribed angle's motion and a rolling contact's position_angle get the angle checks.
+@pytest.mark.parametrize("scene, old, new, parameter, key, refusal", [
+    ("tests/data/multibody/driven_coord.toml", 'motion = "w*t + al*t**2/2"', 'motion = "w*t + al*t**2/2 + 90"', "",
+     "coordinates.th.motion:", "bare number in an angle is radians"),
+    ("tests/data/multibody/driven_coord.toml", 'motion = "w*t + al*t**2/2"', 'motion = "w*t + al*t**2/2 + q"',
+     'q = "50 percent"\n', "parameters.q:", "not an angle"),
+    ("tests/data/multibody/driven_coord.toml", 'motion = "w*t + al*t**2/2"', 'motion = "w*t + al*t**2/2 + q"',
+     'q = "90 deg"\n', None, None),
+    ("tests/data/multibody/disk_in_bowl.toml", 'position_angle = "psi"', 'position_angle = "psi - 90"', "",
+     "joints[0].position_angle:", "bare number in an angle is radians"),
+    ("tests/data/multibody/disk_in_bowl.toml", 'position_angle = "psi"', 'position_angle = "psi - q"',
+     'q = "50 percent"\n', "parameters.q:", "not an angle"),
+])
+def test_a_prescribed_motion_and_a_position_angle_are_checked_as_angles(solver_cli, tmp_path, scene, old, new,
+                                                                        parameter, key, refusal) -> None:
+    """QA 20 #1: th = { motion = "w*t + al*t**2/2 + 90" } turned the crank 90 rad further with no word,
+    and a percent parameter there was 0.5 rad; orientation = "theta - 90" was refused. A parameter
+    with its angle unit stays taken."""
+    text = open(scene, encoding="utf-8").read()
+    assert text.count(old) == 1 and text.count("[parameters]\n") == 1
+    path = tmp_path / "s.toml"
+    path.write_text(text.replace(old, new).replace("[parameters]\n", "[parameters]\n" + parameter), encoding="utf-8")
+    code, out, err = solver_cli("solve", str(path))
+    if refusal is None:
+        assert code == 0, err
+    else:
+        assert (code, out, err.count("\n")) == (2, "", 1), err
+        assert key in err and refusal in err, err
+
+
+def test_a_frequency_in_an_angle_is_refused_without_2_pi(solver_cli, tmp_path) -> None:
+    """QA 20 #1: al = "1 Hz/s" in driven_coord's [parameters] was taken as 1 rad/s^2 (--set refused it),
+    and slider_crank's omega = "15.9155 Hz" in the motor's angle = "omega*t" turned the crank at
+    15.9 rad/s instead of 100. Hz counts cycles of 2 pi rad: both are refused as --set refuses a
+    rate in Hz, while 2*pi*f*t turns the crank at 2 pi x 15.9155 rad/s (by hand)."""
+    import json
+
+    cases = [("tests/data/multibody/driven_coord.toml", 'al = "2 rad/s^2"', 'al = "1 Hz/s"', None,
+              ["parameters.al:", "is a frequency per time", '"1 rev/s^2"', "coordinates.th.motion", "2*pi*al"]),
+             ("data/scenes/slider_crank.toml", 'omega   = "100 rad/s"', 'omega = "15.9155 Hz"', None,
+              ["parameters.omega:", "is a frequency", '"15.9155 rev/s"', "'omega*t' at joints[1].angle"]),
+             ("data/scenes/slider_crank.toml", 'omega   = "100 rad/s"', 'f = "15.9155 Hz"', ('"omega*t"', '"2*pi*f*t"'),
+              None)]
+    for scene, old, new, also, words in cases:
+        text = open(scene, encoding="utf-8").read()
+        assert text.count(old) == 1
+        text = text.replace(old, new)
+        if also:
+            assert text.count(also[0]) == 1
+            text = text.replace(*also)
+        path = tmp_path / "s.toml"
+        path.write_text(text, encoding="utf-8")
+        if words is not None:
+            code, out, err = solver_cli("solve", str(path))
+            assert (code, out, err.count("\n")) == (2, "", 1), err
+            assert all(w in err for w in words), err
+            continue
+        code, out, err = solver_cli("kinematics", str(path), "--json")
+        assert code == 0, err
+        omega = json.loads(out)["bodies"]["crank"]["omega"]
+        # the crank's rate is the motor's, d(2 pi f t)/dt; rtol: a few float64 roundings
+        assert omega["unit"] == "rad/s" and omega["value"] == pytest.approx(2 * math.pi * 15.9155, rel=1e-12)

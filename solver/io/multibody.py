@@ -272,6 +272,7 @@ class _MultibodyReader:
             raise self.fail(key, str(err)) from None
         if dim not in (DIMENSIONLESS, LENGTH):
             raise self.fail(key, "a motion must be an angle or a length as a function of t")
+        L._check_angle_arguments(expr, key, text, is_angle=dim == DIMENSIONLESS)  # an angle's checks, as orientation's
         return expr
 
     def _finish_coordinates(self):
