@@ -1087,11 +1087,25 @@ class _SceneLoader:
     def unit_direction(self, spec: dict[str, Any], key: str) -> sp.Matrix:
         """``spec``'s ``direction`` (default straight down), scaled to unit length: a direction
         says which way and never how much, so ["1", "-1"] does not make gravity sqrt(2) times
-        stronger. The zero vector is refused."""
-        direction = self.vector(spec.get("direction", [0, -1]), f"{key}.direction", self.names.params, DIMENSIONLESS)
-        norm = math.hypot(*(self.si(c, f"{key}.direction") for c in direction))
-        if norm < 1e-12:
-            raise self.fail(f"{key}.direction", "the direction is the zero vector")
+        stronger, and ["1e-13", "0"] is the x axis. The zero vector is refused: every component
+        exactly 0, or 0 to round-off (no larger than its own float64 error bound,
+        :func:`solver.analyses.instant.error_bounds`' rule for one expression: sin(beta) at
+        beta = 180 deg, 1.2e-16 beside its terms of 3.1, has no sign)."""
+        from .analyses.instant import ERROR_BOUND_FACTOR, ROUND_OFF, entry_sizes
+
+        where = f"{key}.direction"
+        direction = self.vector(spec.get("direction", [0, -1]), where, self.names.params, DIMENSIONLESS)
+        values = [self.si(c, where) for c in direction]
+        if not any(values):
+            raise self.fail(where, "the direction is the zero vector")
+        sizes = entry_sizes(list(direction), self.si_values)
+        bounds = [] if sizes is None else [ERROR_BOUND_FACTOR * ROUND_OFF * s for s in sizes]
+        if bounds and all(abs(v) <= e for v, e in zip(values, bounds)):
+            shown = " and ".join(f"{sp.sstr(c)} = {v:.3g} (error bound {e:.2g})"
+                                 for c, v, e in zip(direction, values, bounds) if v)
+            raise self.fail(where, f"the direction is the zero vector to round-off: {shown}, within float64's "
+                                   "error of 0, says no way")
+        norm = math.hypot(*values)
         return direction / sp.sqrt(direction[0] ** 2 + direction[1] ** 2) if abs(norm - 1.0) > 1e-12 else direction
 
     def _read_output_units(self, table: dict[str, Any]) -> dict[str, str]:

@@ -39,8 +39,8 @@ def variant(tmp_path: Path, edits: list[tuple[str, str]], extra: str = "", name:
     return path
 
 
-def one_line_error(solver_cli, path: Path) -> str:
-    code, out, err = solver_cli("solve", str(path), "--json")
+def one_line_error(solver_cli, path: Path, *argv: str) -> str:
+    code, out, err = solver_cli("solve", str(path), "--json", *argv)
     assert code == 2, f"exit {code}; stdout {out[:300]!r}; stderr {err!r}"
     assert out == ""  # nothing half-written
     lines = err.strip().splitlines()
@@ -450,6 +450,24 @@ def test_a_tilted_gravity_direction_says_which_way_not_how_much(tmp_path):
     alpha = solve_instant(load_system(path)).unknowns["theta_ddot"].to("rad/s**2").magnitude
     theta = math.radians(30)
     assert alpha == pytest.approx(3 * 9.81 * (math.cos(theta) - math.sin(theta)) / (2 * math.sqrt(2) * 1.0), rel=1e-13)
+
+
+def test_a_tiny_gravity_direction_is_a_direction_and_a_round_off_one_is_refused(solver_cli, tmp_path):
+    """QA 20 #6: direction = ["1e-13", "0"] was refused as the zero vector (an absolute 1e-12 on a
+    quantity with no scale); it is the x axis. Reference by hand, as the tilted test: gravity
+    along +x gives alpha = 3 g cos(theta) / (2 L), L = 1 m, theta = 30 deg. Zero stays refused:
+    exactly (s = 0 by --set) or to round-off (sin(b) at b = 180 deg is 1.2e-16 beside its term
+    pi, within float64's error of 0)."""
+    path = tmp_path / "tiny.toml"
+    scene = PENDULUM.replace("[parameters]\n", '[parameters]\nb = "180 deg"\ns = "1"\n') + GRAVITY + 'direction = [X, "0"]\n'
+    path.write_text(scene.replace("X", '"1e-13"'))
+    alpha = solve_instant(load_system(path)).unknowns["theta_ddot"].to("rad/s**2").magnitude
+    assert alpha == pytest.approx(3 * 9.81 * math.cos(math.radians(30)) / 2, rel=1e-13)  # (a few round-offs of 10)
+    for component, argv, words in (('"s"', ("--set", "s=0"), "the direction is the zero vector"),
+                                   ('"sin(b)"', (), "the direction is the zero vector to round-off: sin(b) = 1.22e-16")):
+        path.write_text(scene.replace("X", component))
+        line = one_line_error(solver_cli, path, *argv)
+        assert ": loads[0].direction: " in line and words in line, line
 
 
 @pytest.mark.parametrize("extra,place,words", [
