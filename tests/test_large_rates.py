@@ -287,3 +287,31 @@ def test_precision_gives_an_exact_zero_and_absolute_errors_beside_it(solver_cli)
     for name, cells in rows.items():  # name, 0, unit, abs., error, abs., bound
         assert cells[1] == "0" and cells[3] == cells[5] == "abs."
         assert 0 < float(cells[4]) <= float(cells[6])
+
+
+@pytest.mark.parametrize("beta, zero, route", [("90 deg", True, ()), ("90 deg", True, ("--method", "lagrange")),
+                                               ("89.999 deg", False, ())])
+def test_a_contact_regime_gives_its_round_off_zeros_as_zero(solver_cli, beta, zero, route):
+    """QA 20: a scene whose contacts can change regime had no error bounds, so block_incline stood on a
+    vertical ramp printed N = 1.2e-15 N and F = -4.8e-16 N. Reference by hand: on a slope at beta the
+    block's normal force is N = m g cos(beta), 0 at beta = 90 deg, where it slides down freely, so
+    F = -mu_k N = 0 and s_ddot = g sin(beta) + F/m = g (m = 2 kg, g = 9.81 m/s^2, mu_k = 0.4: the
+    scene's data). At 89.999 deg N = m g cos(beta) = 3.42e-4 N is an answer, far above any round-off:
+    it keeps its value (rel: the printed 6 digits). Lagrange's route solves the regime's own system,
+    the default route its selection of every contact's equations: both are bounded."""
+    argv = ("tests/data/multibody/block_incline.toml", "--set", f"beta={beta}", *route)
+    payload = _solve(solver_cli, *argv)
+    N = 2 * 9.81 * math.cos(math.radians(float(beta.split()[0])))
+    if zero:
+        assert {"N", "F"} <= set(payload["zero_to_round_off"])  # (and M_r, 0 too, where a route computes 1e-49)
+        assert payload["unknowns"]["N"]["value"] == payload["unknowns"]["F"]["value"] == 0.0
+        assert payload["unknowns"]["s_ddot"]["value"] == pytest.approx(9.81, rel=1e-15)
+        ramp = payload["regime"]["ramp"]
+        assert ramp["normal_force"]["value"] == ramp["friction_force"]["value"] == 0.0 and "= 0 N" in ramp["reason"]
+        code, out, err = solver_cli("solve", *argv)
+        assert sum(line.startswith("0 to round-off") for line in out.splitlines()) == 1
+        assert "N (computed 1.2e-15" in out and "e-16" not in out.split("contacts:")[1].split("\n\n")[0]
+    else:
+        assert "zero_to_round_off" not in payload
+        assert payload["unknowns"]["N"]["value"] == pytest.approx(N, rel=1e-6)
+        assert payload["unknowns"]["F"]["value"] == pytest.approx(-0.4 * N, rel=1e-6)

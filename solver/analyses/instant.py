@@ -774,28 +774,46 @@ def solution_in_regime(system, regime, warning: str | None, state: State | None,
                        method: str = "generalized_euler") -> InstantSolution:
     """The :class:`InstantSolution` of :func:`solve_instant` once the contact regime is known:
     ``(regime, warning, state)`` as :func:`solver.analyses.regimes.regime_at_state` returns them
-    (``regime`` None: the system as written)."""
+    (``regime`` None: the system as written). Both are bounded by one rule (:func:`error_bounds`;
+    a regime through :func:`solver.analyses.regimes.regime_error_bounds`), and a value within its
+    own bound is given as 0 (:func:`round_off_zeros`); a regime's checks are then redone with
+    those zeros (``regime.checks``)."""
     from ..formulations import formulate, resolve_points, shown_point
 
     extra = {"warning": warning} if warning else {}
+    state = assemble(system) if state is None else state
+    rest = [0.0] * len(state.qd)
+    if regime is not None:  # the regime's own system, bounded by the same rule (regime_error_bounds)
+        from .regimes import INDETERMINATE_NOTE, recheck, regime_error_bounds
+
+        res = dict(regime.values)
+        bounded = regime_error_bounds(system, regime, state.q, state.qd, state.t, point, method)
+        names = bounded[0] if bounded is not None else []
+        if bounded is not None:
+            res["error_bound"] = bounded[1]
+
+        def bound_at_rest():
+            at_rest = regime_error_bounds(system, regime, state.q, rest, state.t, point, method)
+            return at_rest[1] if at_rest is not None and at_rest[0] == names else None
+    else:
+        model = formulate(system, method, point).numeric()
+        res = model.solve(state.q, state.qd, state.t, once=True, bounds=True)
+        names = model.names
+
+        def bound_at_rest():
+            return model.solve(state.q, rest, state.t, once=True, bounds=True).get("error_bound")
+    lost = _digits_lost(system, res, names, _scale_at_rest(bound_at_rest, state, res))
+    if lost:
+        extra["digits_lost"] = lost
+    zeros = round_off_zeros(system, res, names, lost, state)
+    if zeros:
+        extra["zero_to_round_off"] = zeros
     if regime is not None:
-        res = regime.values
+        if zeros:  # the reasons print the forces the table does (kept on the regime, for explain's step)
+            regime.checks = recheck(system, regime, state.q, state.qd, state.t, res, point, method)
         extra["regime"] = {c.joint: c.to_dict() for c in regime.checks}
         if regime.indeterminate:
-            from .regimes import INDETERMINATE_NOTE
-
             extra["indeterminate"] = INDETERMINATE_NOTE
-    else:
-        f = formulate(system, method, point)
-        state = assemble(system) if state is None else state
-        res = f.numeric().solve(state.q, state.qd, state.t, once=True, bounds=True)
-        scale = _scale_at_rest(f.numeric(), state, res)
-        lost = _digits_lost(system, res, f.numeric().names, scale)
-        if lost:
-            extra["digits_lost"] = lost
-        zeros = round_off_zeros(system, res, f.numeric().names, lost, state)
-        if zeros:
-            extra["zero_to_round_off"] = zeros
     _check_limits(system, state)
     unknowns: dict[str, pint.Quantity] = {}
     if len(system.bodies) == 1:
@@ -813,6 +831,16 @@ def solution_in_regime(system, regime, warning: str | None, state: State | None,
     return InstantSolution(unknowns, cond, shown, method, state, system.name, extra)
 
 
+def _unknown_units(system) -> dict[str, str]:
+    """The SI unit of each unknown an instantaneous solve gives: every coordinate's acceleration,
+    every reaction, and each contact's friction (a sliding one's -s mu_k N is no unknown of the
+    scene's system, but is printed and bounded with them)."""
+    units = {str(c.qdd): "rad/s**2" if c.kind == "angle" else "m/s**2" for c in system.free}
+    units.update({r.name: r.unit for r in system.reactions})
+    units.update({j.pair[0].name: j.pair[0].unit for j in system.contacts if j.pair[0] is not None})
+    return units
+
+
 def round_off_zeros(system, res: dict, names, lost: dict, state: State) -> dict:
     """The unknowns that are 0 to round-off, set to 0 in ``res``: name -> {"computed", "error_bound"}
     (each ``{"value", "unit"}``); a one-body system's alpha, a combination of its accelerations,
@@ -828,8 +856,7 @@ def round_off_zeros(system, res: dict, names, lost: dict, state: State) -> dict:
     bound = res.get("error_bound")
     if bound is None:
         return {}
-    units = {str(c.qdd): "rad/s**2" if c.kind == "angle" else "m/s**2" for c in system.free}
-    units.update({r.name: r.unit for r in system.reactions})
+    units = _unknown_units(system)
     zeros, computed = {}, dict(res)
     for name, e in zip(names, bound):
         x = float(res[name])
@@ -845,18 +872,17 @@ def round_off_zeros(system, res: dict, names, lost: dict, state: State) -> dict:
     return zeros
 
 
-def _scale_at_rest(model, state, res) -> "np.ndarray | None":
+def _scale_at_rest(bound_at_rest, state, res) -> "np.ndarray | None":
     """Each unknown's scale at rest: the size of the terms that make it with every rate set to
-    0 at the same configuration (its error bound there over :data:`ERROR_BOUND_FACTOR` u), the
-    size gravity, springs and the given loads give it. None where nothing moves (the bound at
-    the state is that one) or that solve fails."""
+    0 at the same configuration (its error bound there, ``bound_at_rest()``, over
+    :data:`ERROR_BOUND_FACTOR` u), the size gravity, springs and the given loads give it. None
+    where nothing moves (the bound at the state is that one) or that solve fails."""
     if res.get("error_bound") is None or not any(state.qd):
         return None
     try:
-        rest = model.solve(state.q, [0.0] * len(state.qd), state.t, once=True, bounds=True)
+        bound = bound_at_rest()
     except (InputError, SingularConfigurationError):
         return None
-    bound = rest.get("error_bound")
     return None if bound is None else np.asarray(bound) / (ERROR_BOUND_FACTOR * ROUND_OFF)
 
 
@@ -875,8 +901,7 @@ def _digits_lost(system, res: dict, names, at_rest=None) -> dict:
     bound = res.get("error_bound")
     if bound is None:
         return {}
-    units = {str(c.qdd): "rad/s**2" if c.kind == "angle" else "m/s**2" for c in system.free}
-    units.update({r.name: r.unit for r in system.reactions})
+    units = _unknown_units(system)
     scale = dict(zip(names, bound / (ERROR_BOUND_FACTOR * ROUND_OFF) if at_rest is None else at_rest))
     lost = {}
     for name, e in zip(names, bound):

@@ -37,7 +37,7 @@ from ..strprint import lambdify
 
 __all__ = ["RegimeResult", "ContactCheck", "find_regime", "contact_kinematics", "MAX_CONTACTS",
            "NoConsistentRegime", "AmbiguousRegime", "regime_system", "solve_in_regime", "start_state",
-           "regime_at_state", "least_friction", "holding", "with_every_contact_force", "SPLIT_NAME", "SPLIT_SHOWN",
+           "regime_at_state", "regime_error_bounds", "recheck", "least_friction", "holding", "with_every_contact_force", "SPLIT_NAME", "SPLIT_SHOWN",
            "INDETERMINATE_NOTE"]
 
 MAX_CONTACTS = 4
@@ -546,6 +546,73 @@ def _solve_variant(system, regimes, q, qd, t, point, method, strict_direction):
     return RegimeResult(dict(regimes), system, values, checks)
 
 
+def regime_error_bounds(system, regime: RegimeResult, q, qd, t, point=None, method="generalized_euler"):
+    """(names, bounds): each unknown's float64 error bound in ``regime`` at the state, by the
+    solver's one bound (:func:`solver.analyses.instant.error_bounds`) on the very system
+    :func:`solve_in_regime` solves (the variant's own, or the regime's selection of the augmented
+    system, a slide's friction column folded into its normal's with its sizes), or None where
+    the sizes cannot be evaluated, the regime's split of forces is indeterminate or its system is
+    singular. A sliding contact's friction -s mu_k N errs by mu_k times N's bound."""
+    from ..errors import SingularConfigurationError
+    from ..formulations import formulate
+    from .instant import error_bounds, solve_with_estimate
+
+    if regime.indeterminate:
+        return None
+    regimes = regime.regimes
+    if method == "lagrange" or regime_system(system, regimes, q, qd, t) is system:
+        variant = regime_system(system, regimes, q, qd, t)
+        model = formulate(variant, method, point).numeric()
+        try:
+            res = model.solve(q, qd, t, once=True, bounds=True)
+        except SingularConfigurationError:
+            return None
+        names, bound = list(model.names), res.get("error_bound")
+    else:
+        aug = _augmented(system, point, method)
+        A, b, names = aug.system_of(regimes, q, qd, t)
+        x, _ = solve_with_estimate(A, b)
+        sizes = aug.model._sizes(q, qd, t, walked=aug.model.walked)
+        if sizes is None:
+            return None
+        rows, cols, mods = aug.select(regimes)
+        pv = aug.variant.si_values()
+        size_A, size_b = aug.pick(sizes[0].copy(), sizes[1].copy(), rows, cols,
+                                  [(n, f, abs(float(e.xreplace(pv)))) for n, f, e in mods])
+        bound = error_bounds(A, b, x, size_A, size_b)
+        variant = aug.variant
+    if bound is None or not np.all(np.isfinite(bound)):
+        return None
+    of = dict(zip(names, bound))
+    pv = variant.si_values()
+    for j in variant.contacts:  # a slide's friction, -s mu_k N, from its normal force
+        r = regimes.get(j.name, j.current_regime)
+        F, N = j.pair
+        if F is not None and F.name not in of and N.name in of and not r.keeps_tangential and r.friction_direction() \
+                and j.friction is not None:
+            mu_k = abs(float(sp.sympify(r.coefficient(j.friction)).xreplace(pv)))
+            names.append(F.name)
+            of[F.name] = mu_k * of[N.name]
+    return list(names), np.array([of[n] for n in names], dtype=float)
+
+
+def recheck(system, regime: RegimeResult, q, qd, t, values: dict, point=None, method="generalized_euler") -> list:
+    """``regime``'s contact checks redone with ``values`` (its values with those that are 0 to
+    round-off set to 0, :func:`solver.analyses.instant.round_off_zeros`), so that the reasons
+    print the forces the table does; its own checks where the variant cannot be had or a
+    check fails on them (a condition that held by round-off only)."""
+    if regime.indeterminate:
+        return regime.checks
+    try:
+        variant = regime_system(system, regime.regimes, q, qd, t) if method == "lagrange" or \
+            regime_system(system, regime.regimes, q, qd, t) is system else _augmented(system, point, method).variant
+    except SceneError:
+        return regime.checks
+    qdd = [values[str(c.qdd)] for c in variant.free]
+    checks, failure = _check(variant, regime.regimes, q, qd, qdd, t, dict(values))
+    return regime.checks if failure else checks
+
+
 def _check(variant, regimes, q, qd, qdd, t, values, strict_direction=True):
     forces = [abs(v) for k, v in values.items() if k in {r.name for r in variant.reactions}]
     fscale = max(forces, default=0.0) + 1e-300
@@ -581,7 +648,7 @@ def _check(variant, regimes, q, qd, qdd, t, values, strict_direction=True):
             continue
         s = r.friction_direction()
         mu_k = 0.0 if j.friction is None or not s else float(sp.sympify(r.coefficient(j.friction)).xreplace(pv))
-        f = -s * mu_k * n
+        f = -s * mu_k * n + 0.0  # (no -0.0 for a normal force of 0)
         if F is not None:
             values[F.name] = f
         if strict_direction and s and s * at < -TOL * ascale and abs(vt) <= TOL * vscale:

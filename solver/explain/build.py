@@ -867,6 +867,9 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
     expl = Explanation(f"Worked solution: {system.name}", system.name, dict(f.points),
                        symbol_latex=latex_names(system))
     expl.sections.append(_system_data_section(system, state))
+    in_regime = None
+    if scene.contacts and solution:  # the product's own regime solve (its round-off zeros in the regime's reasons)
+        in_regime = solution_in_regime(scene, *found, point, "generalized_euler")
     if scene.contacts:
         expl.sections[-1].steps.append(_regime_step(scene, regime, warning))
     parts: dict = {}
@@ -892,7 +895,7 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
     numeric = _numeric_system(system, f, state)  # the equations shown, at the state
     cond = _condition_number(numeric[0])
     if scene.contacts:  # the product's own regime solve, and the same by the mass-centre form
-        solution = solution_in_regime(scene, *found, point, "generalized_euler")
+        solution = in_regime
         check = _mass_center_in_regime(scene, found)
     else:
         # where something moves, the product's own solve (refined once, its round-off bounded: the
