@@ -28,7 +28,7 @@ from ..errors import InputError, SingularConfigurationError
 from ..strprint import lambdify
 from ..units import Q_
 
-__all__ = ["round_off_zeros", "CONDITION_LIMIT", "ROUND_OFF", "ERROR_BOUND_FACTOR", "SIGNIFICANT_ERROR", "entry_sizes", "refine",
+__all__ = ["round_off_zeros", "round_off_bound", "CONDITION_LIMIT", "ROUND_OFF", "ERROR_BOUND_FACTOR", "SIGNIFICANT_ERROR", "entry_sizes", "refine",
            "error_bounds", "NumericModel", "refuse_zero_length", "InstantSolution", "State", "assemble", "solve_instant",
            "condition_numbers", "solve_with_estimate"]
 
@@ -124,6 +124,14 @@ are a unit in the last place, 0.69 where cancellation lost every digit (about A 
 16 leaves a margin of 16 over that. With the sizes of the walked entries and the exact inverse's
 |A^-1| (QA 17 #3), 294 such solves (7 angles, rates 1e2 .. 1e20 rad/s, about O, G and A and the
 mass-centre route) erred by at most 0.25 of the unscaled bound where they erred beyond a few ulp."""
+def round_off_bound(size: float) -> float:
+    """The float64 error bound of one value computed from terms whose sizes add up to ``size``
+    (:class:`solver.tree_value.Sized`), by the rule of :func:`error_bounds`: u size times
+    :data:`ERROR_BOUND_FACTOR`. A value no larger than it is 0 to round-off (a direction's
+    component, an equation's known side at rest)."""
+    return ERROR_BOUND_FACTOR * ROUND_OFF * size
+
+
 SIGNIFICANT_ERROR = 1e-6
 """An unknown whose error bound exceeds this fraction of its size is flagged: its sixth significant
 digit, the last `solve` prints, may be wrong."""
@@ -781,6 +789,7 @@ def solution_in_regime(system, regime, warning: str | None, state: State | None,
     from ..formulations import formulate, resolve_points, shown_point
 
     extra = {"warning": warning} if warning else {}
+    model = None if regime is not None else formulate(system, method, point).numeric()  # (its checks before assembly's)
     state = assemble(system) if state is None else state
     rest = [0.0] * len(state.qd)
     if regime is not None:  # the regime's own system, bounded by the same rule (regime_error_bounds)
@@ -796,7 +805,6 @@ def solution_in_regime(system, regime, warning: str | None, state: State | None,
             at_rest = regime_error_bounds(system, regime, state.q, rest, state.t, point, method)
             return at_rest[1] if at_rest is not None and at_rest[0] == names else None
     else:
-        model = formulate(system, method, point).numeric()
         res = model.solve(state.q, state.qd, state.t, once=True, bounds=True)
         names = model.names
 
