@@ -1089,9 +1089,9 @@ class _SceneLoader:
         says which way and never how much, so ["1", "-1"] does not make gravity sqrt(2) times
         stronger, and ["1e-13", "0"] is the x axis. The zero vector is refused: every component
         exactly 0, or 0 to round-off (no larger than its own float64 error bound,
-        :func:`solver.analyses.instant.error_bounds`' rule for one expression: sin(beta) at
+        :func:`solver.analyses.instant.round_off_bound`: sin(beta) at
         beta = 180 deg, 1.2e-16 beside its terms of 3.1, has no sign)."""
-        from .analyses.instant import ERROR_BOUND_FACTOR, ROUND_OFF, entry_sizes
+        from .analyses.instant import entry_sizes, round_off_bound
 
         where = f"{key}.direction"
         direction = self.vector(spec.get("direction", [0, -1]), where, self.names.params, DIMENSIONLESS)
@@ -1099,7 +1099,7 @@ class _SceneLoader:
         if not any(values):
             raise self.fail(where, "the direction is the zero vector")
         sizes = entry_sizes(list(direction), self.si_values)
-        bounds = [] if sizes is None else [ERROR_BOUND_FACTOR * ROUND_OFF * s for s in sizes]
+        bounds = [] if sizes is None else [round_off_bound(s) for s in sizes]
         if bounds and all(abs(v) <= e for v, e in zip(values, bounds)):
             shown = " and ".join(f"{sp.sstr(c)} = {v:.3g} (error bound {e:.2g})"
                                  for c, v, e in zip(direction, values, bounds) if v)

@@ -315,3 +315,24 @@ def test_a_contact_regime_gives_its_round_off_zeros_as_zero(solver_cli, beta, ze
         assert "zero_to_round_off" not in payload
         assert payload["unknowns"]["N"]["value"] == pytest.approx(N, rel=1e-6)
         assert payload["unknowns"]["F"]["value"] == pytest.approx(-0.4 * N, rel=1e-6)
+
+
+@pytest.mark.parametrize("theta, zero", [("180 deg", True), ("179 deg", False)])
+def test_explain_gives_a_known_side_within_its_own_bound_as_zero(solver_cli, theta, zero):
+    """QA 20: at rest upright the step "The equations with the data entered" printed the moment
+    equation's known side as -1.081e-15, and the Solution then said alpha is 0 to round-off. The
+    known side is -a g (m_p + 2 m_t) sin(theta) / 2 (the collected equation the page derives),
+    0 at theta = 180 deg (proved above), so it is given as 0 with the round-off line; at 179 deg
+    it is -0.1540 N*m by hand (a = 0.6 m, g = 9.80665 m/s^2, m_p = 2 kg, m_t = 0.5 kg:
+    the scene's data), and keeps its value to the 4 figures the step prints."""
+    _pendulum_at_pi_is_zero()
+    code, out, err = solver_cli("explain", "data/scenes/compound_pendulum.toml", "--set", f"theta={theta}")
+    assert code == 0, err
+    step = out.split("\nThe equations with the data entered\n", 1)[1].split("\n\n", 1)[0]
+    moment = step.split("the moment equation about O collected [N*m]:\n", 1)[1].splitlines()[:2]
+    known = float(moment[1].split("=")[1].split("[known]")[0])
+    if zero:
+        assert known == 0.0 and "0 to round-off" in step and "the known side of body" in step
+    else:
+        exact = -0.6 * 9.80665 * (2 + 2 * 0.5) * math.sin(math.radians(179)) / 2
+        assert known == pytest.approx(exact, rel=5e-4) and "0 to round-off" not in step  # (4 figures)

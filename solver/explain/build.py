@@ -1323,7 +1323,7 @@ def _numbers_step(system, f, expl, state) -> Step | None:
     unknowns += [(r.symbol, r.name, r.unit) for r in system.reactions]
     rename = _alpha_form(system)  # q'' = alpha / k
     per = {u: _per_si(system, unit)[0] for u, name, unit in unknowns}  # output units per SI unit
-    rows = []
+    rows, zeros = [], {}
     for section in expl.sections:
         if section.body is None:
             continue
@@ -1341,6 +1341,7 @@ def _numbers_step(system, f, expl, state) -> Step | None:
                     residual = sp.sympify(collected.residual).xreplace({ALPHA: system.alpha(section.body)})
                     unit = _collected_unit(system, collected)
             scale, row_unit = _per_si(system, unit)
+            si_unit = unit
             coefficients, known = _numbers_at_state(system, residual, [u for u, _, _ in unknowns], state)
             terms = []
             for u, name, _ in unknowns:
@@ -1351,6 +1352,12 @@ def _numbers_step(system, f, expl, state) -> Step | None:
                     unit = abs(float(f"{coef / k:.{NUMBER_DIGITS}g}")) == 1.0  # written as R_A, not 1.000 R_A
                     terms.append(Term(sp.sign(value) * shown if unit else value * shown, str(shown)))
             rhs = -float(known) * scale
+            bound = _known_bound(system, residual, [u for u, _, _ in unknowns], state) if known else None
+            if bound is not None and abs(known) <= bound:  # 0 to round-off, as the solution's unknowns
+                label = f"the known side of {section.body}: {eq.label}"
+                zeros[label] = {"computed": {"value": -float(known), "unit": si_unit},
+                                "error_bound": {"value": bound, "unit": si_unit}}
+                rhs = 0.0
             rows.append((len(terms), Equation(tuple(terms) or (Term(sp.Integer(0)),),
                                               (Term(_shown_number(rhs), "known"),),
                                               f"{section.body}: {eq.label} [{row_unit}]", tag=f"numbers:{section.body}:{tag}")))
@@ -1361,7 +1368,34 @@ def _numbers_step(system, f, expl, state) -> Step | None:
             f"{NUMBER_DIGITS} significant figures; those with the fewest unknowns first."]
     if system.closure:
         text.append("The closure rows of the joints (acceleration level) complete the system; they are not shown.")
+    if zeros:
+        from ..cli_common import round_off_zero_text
+
+        text.append(round_off_zero_text(zeros, system.output_units) + ".")
     return Step("numbers", "The equations with the data entered", text, [e for _, e in rows])
+
+
+def _known_bound(system, residual, unknowns: list, state) -> float | None:
+    """The float64 error bound of an equation's known side at the state (SI), where it is the
+    round-off of the side's scale: the walk of :func:`_numbers_at_state` in
+    :data:`solver.tree_value.SIZED` gives the size of its terms, and
+    :func:`solver.analyses.instant.round_off_bound` the bound. None where the walk does not go,
+    or where the terms cancel beyond :data:`~solver.analyses.instant.SIGNIFICANT_ERROR` of their
+    size with every rate 0 (omega**2 terms of 1e17 leaving 0.4 lost its digits, as `solve`'s
+    digits lost: it is no 0)."""
+    from ..analyses.instant import SIGNIFICANT_ERROR, round_off_bound
+    from ..tree_value import SIZED, NotEvaluable, Sized, affine_value
+
+    floats = _walk_state(system, state).floats
+    sizes = []
+    for rates in ({}, {qd: 0.0 for qd in system.qd}):  # at the state, then at rest
+        point = {k: Sized.of(rates.get(k, v)) for k, v in floats.items()}
+        try:
+            sizes.append(affine_value(residual, point, unknowns, arithmetic=SIZED)[0].size)
+        except (NotEvaluable, KeyError, TypeError, ValueError, ZeroDivisionError, OverflowError):
+            return None
+    bound = round_off_bound(sizes[0])
+    return bound if math.isfinite(bound) and bound <= SIGNIFICANT_ERROR * sizes[1] else None
 
 
 def _numbers_at_state(system, residual, unknowns: list, state) -> tuple[dict, float]:
