@@ -498,12 +498,12 @@ def precision_command(args: argparse.Namespace) -> int:
         print("contacts in the regime that holds at the state (as `solve` finds it): "
               + ", ".join(f"{j}: {r}" for j, r in regimes.items())
               + "; a sliding contact's friction (-mu_k N) and a separated one's forces (0) are not unknowns here")
-    print(f"condition number of the linear system (exact; 1-norm, rows and columns equilibrated, so unit-free; "
-          f"`solve` prints an estimate of it): {results[0].condition_number:.6g} "
-          f"(float64 relative error bound ~ {_bound_text(results[0])})")
     float64 = solve_precise(d, "float64", args.dps, assembled=state) if "float64" not in which else None
     float64 = _precise_in_output_units(float64, scene.output_units) if float64 else results[which.index("float64")]
     within = {n for n, b in float64.error_bound.items() if b >= 1 and float(float64.text[n]) != 0}
+    print(f"condition number of the linear system (exact; 1-norm, rows and columns equilibrated, so unit-free; "
+          f"`solve` prints an estimate of it): {results[0].condition_number:.6g} "
+          f"(float64 relative error bound ~ {_bound_text(results[0], [n for n in results[0].unknowns if n in within])})")
     for r in results:
         print()
         print(f"{r.precision}" + (f" ({r.dps} digits)" if r.precision != "float64" else ""))
@@ -539,19 +539,27 @@ def _error_cells(name: str, result, float64, absolute: bool) -> tuple[str, str]:
     return f"abs. {float(error):.2g}", f"abs. {float64.error_bound[name] * abs(value):.2g}"
 
 
-def _bound_text(result) -> str:
+def _bound_text(result, absolute=()) -> str:
     """The headline float64 bound: cond * 2.2e-16 for the unknowns of the largest scale, and the
     worst unknown's own bound where the equations' terms cancel beside it (each unknown's in the
-    tables' "its bound" column)."""
+    tables' "its bound" column). ``absolute``: the unknowns within their own bound, whose rows
+    the tables mark "abs." (no relative error is defined against what may be 0): named as such,
+    never quoted as a relative bound."""
     normwise = f"{result.condition_number * 2.2e-16:.2g}"
-    finite = {n: v for n, v in result.error_bound.items() if math.isfinite(v)}
     if not result.error_bound:
         return normwise + " for the unknowns of the largest scale (no bound per unknown: an entry could not be sized)"
+    finite = {n: v for n, v in result.error_bound.items() if math.isfinite(v) and n not in absolute}
     worst = max(finite, key=finite.get, default=None)
+    within = ""
+    if absolute:
+        one = len(absolute) == 1
+        within = (f"; {', '.join(absolute)} {'is' if one else 'are'} within {'its' if one else 'their'} own "
+                  "error bound (0 to round-off, or digits lost): no relative error is defined for "
+                  f"{'it' if one else 'them'}, and {'its row gives' if one else 'their rows give'} absolute ones (abs.)")
     if worst is None or finite[worst] <= 100 * result.condition_number * 2.2e-16:
-        return normwise + "; each unknown's bound in the tables"
+        return normwise + (" for the other unknowns" if absolute else "") + within + "; each unknown's bound in the tables"
     return (f"{normwise} for the unknowns of the largest scale, {finite[worst]:.2g} for {worst}, which the "
-            "equations' cancelling terms dwarf; each unknown's bound in the tables")
+            f"equations' cancelling terms dwarf{within}; each unknown's bound in the tables")
 
 
 def _precise_in_output_units(result, units):

@@ -287,6 +287,11 @@ def test_precision_gives_an_exact_zero_and_absolute_errors_beside_it(solver_cli)
     for name, cells in rows.items():  # name, 0, unit, abs., error, abs., bound
         assert cells[1] == "0" and cells[3] == cells[5] == "abs."
         assert 0 < float(cells[4]) <= float(cells[6])
+    # QA 20: the headline quoted "46 for R_x, which the equations' cancelling terms dwarf", a relative
+    # bound for a row the tables mark abs., at rest, where nothing cancels; it names the abs. rows
+    headline = out.splitlines()[1]
+    assert "dwarf" not in headline and " for R_x" not in headline, headline
+    assert "theta_ddot, R_x, alpha are within their own error bound" in headline and "absolute" in headline
 
 
 @pytest.mark.parametrize("beta, zero, route", [("90 deg", True, ()), ("90 deg", True, ("--method", "lagrange")),
