@@ -810,12 +810,7 @@ def solution_in_regime(system, regime, warning: str | None, state: State | None,
 
         def bound_at_rest():
             return model.solve(state.q, rest, state.t, once=True, bounds=True).get("error_bound")
-    lost = _digits_lost(system, res, names, _scale_at_rest(bound_at_rest, state, res))
-    if lost:
-        extra["digits_lost"] = lost
-    zeros = round_off_zeros(system, res, names, lost, state)
-    if zeros:
-        extra["zero_to_round_off"] = zeros
+    zeros = _round_off_treatment(system, res, names, bound_at_rest, state, extra)
     if regime is not None:
         if zeros:  # the reasons print the forces the table does (kept on the regime, for explain's step)
             regime.checks = recheck(system, regime, state.q, state.qd, state.t, res, point, method)
@@ -837,6 +832,21 @@ def solution_in_regime(system, regime, warning: str | None, state: State | None,
     shown = shown_point(system, method, point)
     cond = float(res["condition_number"]) if "condition_number" in res else math.inf
     return InstantSolution(unknowns, cond, shown, method, state, system.name, extra)
+
+
+def _round_off_treatment(system, res: dict, names, bound_at_rest, state: State, extra: dict) -> dict:
+    """The one treatment of a bounded solve's round-off (``res["error_bound"]``, aligned with
+    ``names``): the unknowns whose digits cancellation took (:func:`_digits_lost`, against their
+    scale at rest, ``bound_at_rest()``: :func:`_scale_at_rest`) into ``extra["digits_lost"]``, and
+    those within their own bound set to 0 in ``res`` (:func:`round_off_zeros`) into
+    ``extra["zero_to_round_off"]``, which is returned."""
+    lost = _digits_lost(system, res, names, _scale_at_rest(bound_at_rest, state, res))
+    if lost:
+        extra["digits_lost"] = lost
+    zeros = round_off_zeros(system, res, names, lost, state)
+    if zeros:
+        extra["zero_to_round_off"] = zeros
+    return zeros
 
 
 def _unknown_units(system) -> dict[str, str]:
