@@ -775,7 +775,7 @@ def solution_in_regime(system, regime, warning: str | None, state: State | None,
     """The :class:`InstantSolution` of :func:`solve_instant` once the contact regime is known:
     ``(regime, warning, state)`` as :func:`solver.analyses.regimes.regime_at_state` returns them
     (``regime`` None: the system as written)."""
-    from ..formulations import formulate, resolve_points, shown_point
+    from ..formulations import resolve_points, shown_point
 
     extra = {"warning": warning} if warning else {}
     if regime is not None:
@@ -786,31 +786,63 @@ def solution_in_regime(system, regime, warning: str | None, state: State | None,
 
             extra["indeterminate"] = INDETERMINATE_NOTE
     else:
-        f = formulate(system, method, point)
-        state = assemble(system) if state is None else state
-        res = f.numeric().solve(state.q, state.qd, state.t, once=True, bounds=True)
-        scale = _scale_at_rest(f.numeric(), state, res)
-        lost = _digits_lost(system, res, f.numeric().names, scale)
-        if lost:
-            extra["digits_lost"] = lost
-        zeros = round_off_zeros(system, res, f.numeric().names, lost, state)
-        if zeros:
-            extra["zero_to_round_off"] = zeros
+        res, checked, state = solved_at_state(system, point, method, state)
+        extra.update(checked)
     _check_limits(system, state)
-    unknowns: dict[str, pint.Quantity] = {}
-    if len(system.bodies) == 1:
-        body = next(iter(system.bodies))
-        unknowns["alpha"] = Q_(_alpha_value(system, body, state, res), "rad/s**2")
-    for c in system.free:
-        unit = "rad/s**2" if c.kind == "angle" else "m/s**2"
-        unknowns[str(c.qdd)] = Q_(float(res[str(c.qdd)]), unit)
-    for r in system.reactions + [j.pair[0] for j in system.contacts if j.pair[0] not in system.reactions]:
-        if r is not None:  # a separated contact's forces are zero; a sliding one's friction is -s mu_k N
-            unknowns[r.name] = Q_(float(res.get(r.name, 0.0)), r.unit)
+    unknowns = unknown_quantities(system, state, res)
     resolve_points(system, point)  # checks the point whatever the route
     shown = shown_point(system, method, point)
     cond = float(res["condition_number"]) if "condition_number" in res else math.inf
     return InstantSolution(unknowns, cond, shown, method, state, system.name, extra)
+
+
+def solved_at_state(system, point: str | None, method: str, state: State | None) -> tuple[dict, dict, State]:
+    """(res, extra, state) of the solve of a system without a contact regime at ``state`` (None: the
+    scene's), as :func:`solution_in_regime` makes its solution from them: every unknown (SI, by name;
+    those 0 to round-off set to 0) with ``condition_number`` and ``error_bound``, and ``digits_lost``
+    and ``zero_to_round_off`` where there are any (:func:`_digits_lost`, :func:`round_off_zeros`).
+    ``explain`` at rest takes only the round-off zeros from them (its own solve gives the rest).
+
+    Raises
+    ------
+    SingularConfigurationError
+        As :meth:`NumericModel.solve`.
+    """
+    from ..formulations import formulate
+
+    f = formulate(system, method, point)
+    state = assemble(system) if state is None else state
+    res = f.numeric().solve(state.q, state.qd, state.t, once=True, bounds=True)
+    scale = _scale_at_rest(f.numeric(), state, res)
+    extra = {}
+    lost = _digits_lost(system, res, f.numeric().names, scale)
+    if lost:
+        extra["digits_lost"] = lost
+    zeros = round_off_zeros(system, res, f.numeric().names, lost, state)
+    if zeros:
+        extra["zero_to_round_off"] = zeros
+    return res, extra, state
+
+
+def unknown_quantities(system, state: State, res: dict, names=None) -> dict[str, pint.Quantity]:
+    """The unknowns of a solve's ``res`` (SI, by name) as quantities, in the order of an
+    :class:`InstantSolution`: a one-body system's alpha, each free coordinate's acceleration, each
+    reaction (a contact's forces too, 0 where it separates); ``names``: only these."""
+    def wanted(name: str) -> bool:
+        return names is None or name in names
+
+    unknowns: dict[str, pint.Quantity] = {}
+    if len(system.bodies) == 1 and wanted("alpha"):
+        body = next(iter(system.bodies))
+        unknowns["alpha"] = Q_(_alpha_value(system, body, state, res), "rad/s**2")
+    for c in system.free:
+        if wanted(str(c.qdd)):
+            unit = "rad/s**2" if c.kind == "angle" else "m/s**2"
+            unknowns[str(c.qdd)] = Q_(float(res[str(c.qdd)]), unit)
+    for r in system.reactions + [j.pair[0] for j in system.contacts if j.pair[0] not in system.reactions]:
+        if r is not None and wanted(r.name):  # a separated contact's forces are zero; a sliding one's friction is -s mu_k N
+            unknowns[r.name] = Q_(float(res.get(r.name, 0.0)), r.unit)
+    return unknowns
 
 
 def round_off_zeros(system, res: dict, names, lost: dict, state: State) -> dict:
@@ -891,13 +923,16 @@ def _digits_lost(system, res: dict, names, at_rest=None) -> dict:
 
 
 def _alpha_value(system, body, state, res) -> float:
-    al = system.alpha(body)
+    """The angular acceleration of ``body`` at ``state`` with the accelerations ``res``: its
+    expression with a Float put for each of its own symbols (only those: a Float made for every
+    parameter cost more than the substitution)."""
+    al = sp.sympify(system.alpha(body))
     vals = dict(zip(system.q, state.q))
     vals.update(zip(system.qd, state.qd))
     vals.update({c.qdd: float(res[str(c.qdd)]) for c in system.free})
     vals[system.t] = state.t
     vals.update(system.si_values())
-    return float(sp.sympify(al).xreplace({k: sp.Float(v) for k, v in vals.items()})) + 0.0  # (no -0.0)
+    return float(al.xreplace({k: sp.Float(vals[k]) for k in al.free_symbols if k in vals})) + 0.0  # (no -0.0)
 
 
 def _check_limits(system, state: State) -> None:
