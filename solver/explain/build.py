@@ -49,6 +49,8 @@ def _vec(v) -> sp.Matrix:
 def _same_place(r, at) -> bool:
     """Whether the positions ``r`` and ``at`` (2-vectors) are identically the same place, by components."""
     (rx, ry), (ax, ay) = xy(r), xy(at)
+    if rx == ax and ry == ay:  # the same expressions (a point met again): no difference to test
+        return True
     return _zero(rx - ax) and _zero(ry - ay)
 
 
