@@ -84,13 +84,16 @@ DOUBLE = Arithmetic(
 """Double-precision complex arithmetic (``cmath``)."""
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True)
 class Sized:
     """A double-precision value and the size of its round-off: evaluated in float64, an expression
     errs by about u * size (u = 2**-53, to first order, up to a small multiple for the number of
     operations in a row). A sum's size is the sum of its terms' sizes, so a result much smaller
     than its terms (cancellation: omega**2 terms of 1e16 leaving 7) has a size much larger than
-    itself; a function passes on its argument's error times its slope."""
+    itself; a function passes on its argument's error times its slope.
+
+    Never changed once made (a walk's memo shares one among the nodes above it); not frozen, as a
+    frozen dataclass's ``__init__`` costs about twice as much and the walk makes one per node."""
 
     value: float
     size: float
@@ -143,8 +146,15 @@ def _sized(f, slope):
     return apply
 
 
+def _sized_number(e) -> Sized:
+    """A sympy number as :class:`Sized`: its double (:func:`_double_number`, which is ``complex(e)``
+    where it is not exact; converted once) with its own size, or nan when it is not real."""
+    value = _double_number(e)
+    return Sized.of(value.real) if value.imag == 0 else Sized(math.nan, math.nan)
+
+
 SIZED = Arithmetic(
-    number=lambda e: Sized.of(_double_number(e).real) if complex(e).imag == 0 else Sized(math.nan, math.nan),
+    number=_sized_number,
     total=lambda values: Sized(*map(math.fsum, zip(*((x.value, x.size) for x in values)))),
     product=_sized_product,
     sqrt=lambda x: _sized_power(x, Sized(0.5, 0.5)),

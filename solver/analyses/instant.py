@@ -786,15 +786,16 @@ def solution_in_regime(system, regime, warning: str | None, state: State | None,
     a regime through :func:`solver.analyses.regimes.regime_error_bounds`), and a value within its
     own bound is given as 0 (:func:`round_off_zeros`); a regime's checks are then redone with
     those zeros (``regime.checks``)."""
-    from ..formulations import formulate, resolve_points, shown_point
+    from ..formulations import resolve_points, shown_point
 
     extra = {"warning": warning} if warning else {}
-    model = None if regime is not None else formulate(system, method, point).numeric()  # (its checks before assembly's)
-    state = assemble(system) if state is None else state
-    rest = [0.0] * len(state.qd)
-    if regime is not None:  # the regime's own system, bounded by the same rule (regime_error_bounds)
+    if regime is None:
+        res, treated, state = solved_at_state(system, point, method, state)
+        extra.update(treated)
+    else:  # the regime's own system, bounded by the same rule (regime_error_bounds)
         from .regimes import INDETERMINATE_NOTE, recheck, regime_error_bounds
 
+        state = assemble(system) if state is None else state
         res = dict(regime.values)
         bounded = regime_error_bounds(system, regime, state.q, state.qd, state.t, point, method)
         names = bounded[0] if bounded is not None else []
@@ -802,32 +803,16 @@ def solution_in_regime(system, regime, warning: str | None, state: State | None,
             res["error_bound"] = bounded[1]
 
         def bound_at_rest():
-            at_rest = regime_error_bounds(system, regime, state.q, rest, state.t, point, method)
+            at_rest = regime_error_bounds(system, regime, state.q, [0.0] * len(state.qd), state.t, point, method)
             return at_rest[1] if at_rest is not None and at_rest[0] == names else None
-    else:
-        res = model.solve(state.q, state.qd, state.t, once=True, bounds=True)
-        names = model.names
-
-        def bound_at_rest():
-            return model.solve(state.q, rest, state.t, once=True, bounds=True).get("error_bound")
-    zeros = _round_off_treatment(system, res, names, bound_at_rest, state, extra)
-    if regime is not None:
-        if zeros:  # the reasons print the forces the table does (kept on the regime, for explain's step)
+        if _round_off_treatment(system, res, names, bound_at_rest, state, extra):
+            # the reasons print the forces the table does (kept on the regime, for explain's step)
             regime.checks = recheck(system, regime, state.q, state.qd, state.t, res, point, method)
         extra["regime"] = {c.joint: c.to_dict() for c in regime.checks}
         if regime.indeterminate:
             extra["indeterminate"] = INDETERMINATE_NOTE
     _check_limits(system, state)
-    unknowns: dict[str, pint.Quantity] = {}
-    if len(system.bodies) == 1:
-        body = next(iter(system.bodies))
-        unknowns["alpha"] = Q_(_alpha_value(system, body, state, res), "rad/s**2")
-    for c in system.free:
-        unit = "rad/s**2" if c.kind == "angle" else "m/s**2"
-        unknowns[str(c.qdd)] = Q_(float(res[str(c.qdd)]), unit)
-    for r in system.reactions + [j.pair[0] for j in system.contacts if j.pair[0] not in system.reactions]:
-        if r is not None:  # a separated contact's forces are zero; a sliding one's friction is -s mu_k N
-            unknowns[r.name] = Q_(float(res.get(r.name, 0.0)), r.unit)
+    unknowns = unknown_quantities(system, state, res)
     resolve_points(system, point)  # checks the point whatever the route
     shown = shown_point(system, method, point)
     cond = float(res["condition_number"]) if "condition_number" in res else math.inf
@@ -857,6 +842,47 @@ def _unknown_units(system) -> dict[str, str]:
     units.update({r.name: r.unit for r in system.reactions})
     units.update({j.pair[0].name: j.pair[0].unit for j in system.contacts if j.pair[0] is not None})
     return units
+
+
+def solved_at_state(system, point: str | None, method: str, state: State | None) -> tuple[dict, dict, State]:
+    """(res, extra, state) of the solve of a system without a contact regime at ``state`` (None: the
+    scene's), as :func:`solution_in_regime` makes its solution from them: every unknown (SI, by name;
+    those 0 to round-off set to 0) with ``condition_number`` and ``error_bound``, and ``digits_lost``
+    and ``zero_to_round_off`` where there are any (:func:`_round_off_treatment`).
+    ``explain`` at rest takes only the round-off zeros from them (its own solve gives the rest).
+
+    Raises
+    ------
+    SingularConfigurationError
+        As :meth:`NumericModel.solve`.
+    """
+    from ..formulations import formulate
+
+    model = formulate(system, method, point).numeric()  # (its checks before assembly's)
+    state = assemble(system) if state is None else state
+    res = model.solve(state.q, state.qd, state.t, once=True, bounds=True)
+    rest = [0.0] * len(state.qd)
+
+    def bound_at_rest():
+        return model.solve(state.q, rest, state.t, once=True, bounds=True).get("error_bound")
+    extra: dict = {}
+    _round_off_treatment(system, res, model.names, bound_at_rest, state, extra)
+    return res, extra, state
+
+
+def unknown_quantities(system, state: State, res: dict, names=None) -> dict[str, pint.Quantity]:
+    """The unknowns of a solve's ``res`` (SI, by name) as quantities, in the order of an
+    :class:`InstantSolution`: a one-body system's alpha, each free coordinate's acceleration, each
+    reaction (a contact's forces too, 0 where it separates or slides: :func:`_unknown_units`);
+    ``names``: only these."""
+    unknowns: dict[str, pint.Quantity] = {}
+    if len(system.bodies) == 1 and (names is None or "alpha" in names):
+        body = next(iter(system.bodies))
+        unknowns["alpha"] = Q_(_alpha_value(system, body, state, res), "rad/s**2")
+    for name, unit in _unknown_units(system).items():
+        if names is None or name in names:
+            unknowns[name] = Q_(float(res.get(name, 0.0)), unit)
+    return unknowns
 
 
 def round_off_zeros(system, res: dict, names, lost: dict, state: State) -> dict:
@@ -934,13 +960,16 @@ def _digits_lost(system, res: dict, names, at_rest=None) -> dict:
 
 
 def _alpha_value(system, body, state, res) -> float:
-    al = system.alpha(body)
+    """The angular acceleration of ``body`` at ``state`` with the accelerations ``res``: its
+    expression with a Float put for each of its own symbols (only those: a Float made for every
+    parameter cost more than the substitution)."""
+    al = sp.sympify(system.alpha(body))
     vals = dict(zip(system.q, state.q))
     vals.update(zip(system.qd, state.qd))
     vals.update({c.qdd: float(res[str(c.qdd)]) for c in system.free})
     vals[system.t] = state.t
     vals.update(system.si_values())
-    return float(sp.sympify(al).xreplace({k: sp.Float(v) for k, v in vals.items()})) + 0.0  # (no -0.0)
+    return float(al.xreplace({k: sp.Float(vals[k]) for k in al.free_symbols if k in vals})) + 0.0  # (no -0.0)
 
 
 def _check_limits(system, state: State) -> None:

@@ -49,6 +49,8 @@ def _vec(v) -> sp.Matrix:
 def _same_place(r, at) -> bool:
     """Whether the positions ``r`` and ``at`` (2-vectors) are identically the same place, by components."""
     (rx, ry), (ax, ay) = xy(r), xy(at)
+    if rx == ax and ry == ay:  # the same expressions (a point met again): no difference to test
+        return True
     return _zero(rx - ax) and _zero(ry - ay)
 
 
@@ -846,7 +848,7 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
     SceneError
         An unknown point; SingularConfigurationError at a singular state.
     """
-    from ..analyses.instant import assemble, solution_in_regime, solve_instant
+    from ..analyses.instant import assemble, solution_in_regime, solve_instant, solved_at_state, unknown_quantities
     from ..formulations import formulate
 
     add_joint_point(system, point)
@@ -900,11 +902,13 @@ def explain(system, point: str | None = None, *, advice: bool = True, solution: 
     else:
         # where something moves, the product's own solve (refined once, its round-off bounded: the
         # cancellation warning of `solve`)
-        solution = solve_instant(system, point, "generalized_euler", state)
         own = None if any(state.qd) else _solve_at_state(system, f, point, state, numeric, cond)
-        if own is not None:  # at rest the substituted system above, solved here, with solve's round-off zeros
-            zeros = solution.extra.get("zero_to_round_off", {})
-            own.unknowns.update({name: solution.unknowns[name] for name in zeros})
+        if own is None:
+            solution = solve_instant(system, point, "generalized_euler", state)
+        else:  # at rest the substituted system above, solved here, with solve's round-off zeros
+            res, extra, _ = solved_at_state(system, point, "generalized_euler", state)
+            zeros = extra.get("zero_to_round_off", {})
+            own.unknowns.update(unknown_quantities(system, state, res, zeros))
             own.extra.update({"zero_to_round_off": zeros} if zeros else {})
             solution = own
         check = _mass_center_check(system, state)

@@ -23,7 +23,7 @@ translation).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from functools import lru_cache
+from functools import cached_property, lru_cache
 from typing import Callable, ClassVar
 
 import sympy as sp
@@ -248,8 +248,9 @@ class Reaction:
     unit: str = "N"
     one_sided: bool = False
 
-    @property
+    @cached_property
     def symbol(self) -> sp.Symbol:
+        """Made once per reaction (it is frozen; sympy's Symbol() costs about 2 us a call)."""
         return sp.Symbol(self.name, real=True)
 
 

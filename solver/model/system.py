@@ -27,6 +27,7 @@ from __future__ import annotations
 import math
 import random
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Iterable
 
 import numpy as np
@@ -72,15 +73,17 @@ class Coordinate:
     motion: sp.Expr | None = None
     given: tuple | None = None  # (value, rate) pint quantities as written, for exact arithmetic
 
-    @property
+    # The symbols, made once per coordinate (it is frozen): sympy's Symbol() costs about 2 us a call,
+    # and a command asks for them hundreds of times.
+    @cached_property
     def q(self) -> sp.Symbol:
         return sp.Symbol(self.name, real=True)
 
-    @property
+    @cached_property
     def qd(self) -> sp.Symbol:
         return sp.Symbol(self.name + "_dot", real=True)
 
-    @property
+    @cached_property
     def qdd(self) -> sp.Symbol:
         return sp.Symbol(self.name + "_ddot", real=True)
 
