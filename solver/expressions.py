@@ -225,11 +225,15 @@ def _too_large_power(base: sp.Expr, exponent: sp.Expr) -> bool:
 
 def _size(value: sp.Expr) -> float | None:
     """|value| of a constant built from bounded parts (cheap to evaluate), or None when it
-    is not real or cannot be evaluated."""
+    is not real or cannot be evaluated. A value below the least double (exp(-746), 1.2e-324) is
+    sized as that least double, 5e-324: it is no 0."""
     try:
-        z = complex(sp.N(value, 20))
+        n = sp.N(value, 20)
+        z = complex(n)
     except (TypeError, ValueError, OverflowError, ArithmeticError):
         return None
+    if z == 0 and n != 0:
+        return math.ulp(0.0)
     if not (math.isfinite(z.real) and math.isfinite(z.imag)):
         return math.inf
     if abs(z.imag) > 1e-12 * max(abs(z.real), 1e-300):

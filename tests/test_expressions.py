@@ -72,6 +72,7 @@ REFUSED = [
     ("x*1e-999", "too large or too small"),
     ("x*1e299*1e299", "too large or too small"),
     ("x*exp(710)", "too large or too small"),
+    ("x*exp(-746)", "too large or too small"),  # 1.2e-324: below the least double, not 0
     ("x*sqrt(-1)", "not a real number"),
     ("x*acos(2)", "not a real number"),
     ("x" + "+x" * 150, "nesting deeper"),
@@ -203,13 +204,15 @@ def _constant_within_limits(expr: sp.Expr) -> bool:
     """A constant node is real, 0 or within 1e-300..1e300 in size, and a constant function
     argument is at most MAX_ARGUMENT in size (the parser's documented limits: exp(691),
     sin(exp(35)) and sqrt(-2) are refused). Applied node by node as the tree grows, so
-    nothing huge is ever evaluated."""
+    nothing huge is ever evaluated. Sizes are compared as 20-digit sympy Floats: a double would
+    take exp(-746) (1.2e-324, refused by the parser as smaller than 1e-300) for 0."""
     if not expr.is_number or expr.has(sp.zoo, sp.nan, sp.oo, -sp.oo):
         return True
-    z = complex(sp.N(expr, 20))
-    if abs(z.imag) > 1e-12 * max(abs(z.real), 1e-300):
+    re, im = sp.N(expr, 20).as_real_imag()  # sympy Floats: exp(-746) is 1.2e-324, where a double is 0
+    re, im = abs(sp.Float(re, 20)), abs(sp.Float(im, 20))
+    if im > sp.Float("1e-12") * max(re, sp.Float("1e-300")):
         return False
-    return z.real == 0 or 1e-300 <= abs(z.real) <= 1e300
+    return re == 0 or sp.Float("1e-300") <= re <= sp.Float("1e300")
 
 
 @settings(max_examples=50)  # each example is a parse plus a sympy comparison (~ms)
