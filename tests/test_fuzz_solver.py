@@ -230,6 +230,21 @@ def test_fuzz_orientation_expressions(solver_cli, tmp_path_factory, tree, hostil
         assert_ladder(out, phi0)
 
 
+def test_an_angle_whose_derivative_is_zero_to_round_off_is_a_singular_configuration(solver_cli, tmp_path) -> None:
+    # Found by the property above: the bar's angle sin(3 theta) has d(angle)/d(theta) = 3 cos(3 theta),
+    # exactly 0 at theta = 30 deg, computed as 1.8e-16. The equilibrated condition number did not see
+    # the round-off column, and every unknown (its bound far above it) was printed as "0 to round-off".
+    # At 30 deg theta_ddot is undetermined (exit 2, named singular); at 29 deg the bar is at rest at
+    # angle sin(87 deg) rad, and the answer is the ladder's (the tolerance of assert_ladder).
+    source = SLIDING_BAR.read_text().replace('orientation     = "pi - theta"', 'orientation = "sin(3*theta)"')
+    scene = _scene(tmp_path, source)
+    code, out, err = run(solver_cli, "solve", scene, "--set", "beta=90 deg", "--json")
+    assert code == 2 and "singular configuration at theta = 30 deg" in err, (code, out, err)
+    code, out, err = run(solver_cli, "solve", scene, "--set", "beta=90 deg", "--set", "theta=29 deg", "--json")
+    assert code == 0, err
+    assert_ladder(out, math.sin(math.radians(87)))
+
+
 # Scene files: harmless edits (the answer must not change) and hostile ones (refused).
 HOSTILE_VALUES = [
     "50 lbm**9**9**9", "50 kg**1e9", "1e999", "theta**(10**300)", "9**9**9", "__import__('os')",

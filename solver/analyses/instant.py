@@ -362,26 +362,57 @@ class NumericModel:
         out["condition_number"] = cond
         if bounds and once and A.ndim == 2:
             sizes = self._sizes(q, qd, t, walked=self.walked)
+            if sizes is not None:
+                self._refuse_singular_to_round_off(A, b, sizes[0], q, qd, t)
             out["error_bound"] = None if sizes is None else error_bounds(A, b, x, *sizes)
         return out
+
+    def _refuse_singular_to_round_off(self, A: np.ndarray, b: np.ndarray, size_A: np.ndarray, q, qd, t) -> None:
+        """The singularity decision with the matrix's entries that are 0 to round-off taken as 0
+        (no larger than their own bound, :func:`round_off_bound` of their terms' ``size_A``).
+
+        The equilibrated condition number cannot see a column whose entries are all round-off:
+        the scaling makes 1e-16 beside terms of 3 an entry like any other. A bar whose angle is
+        sin(3 theta) has at theta = 30 deg d(angle)/d(theta) = 3 cos(90 deg), exactly 0,
+        computed as 1.8e-16: theta_ddot came out 3.5e16 rad/s**2 with bounds far above every
+        unknown. Such a matrix is singular to float64's precision: decided here as
+        :meth:`singular` decides it, by the same condition limit."""
+        small = (np.abs(A) <= round_off_bound(size_A)) & (A != 0)
+        if not small.any():
+            return
+        A0 = np.where(small, 0.0, A)
+        _, cond = self._solve_with_estimate(A0, b)
+        if not cond <= CONDITION_LIMIT:
+            self.singular(q, qd, t, A0, np.asarray(cond))
 
     def _refuse_round_off(self, M: np.ndarray, q, qd, t: float) -> None:
         """Raise :class:`SingularConfigurationError` saying that the matrix ``M`` (found singular at
         the state q, qd, t) is round-off, when the terms of its entries cancel beyond float64's
-        digits (about a bar's end at 3e8 rad/s, m L omega**2 terms of 1e17 leave 0.5): the
-        configuration is not the cause, and no other message should say it is."""
+        digits (about a bar's end at 3e8 rad/s, m L omega**2 terms of 1e17 leave 0.5) and do not
+        at rest: the configuration is not the cause, and no other message should say it is. Where
+        they cancel at rest too (a bar's angle sin(3 theta) at theta = 30 deg, whose
+        d(angle)/d(theta) is 3 cos(90 deg)), the configuration is the cause."""
+        if not (any(np.asarray(qd, dtype=float).ravel()) and self._cancels(M, q, qd, t)):
+            return
+        rest = [0.0] * len(qd)
+        if self._cancels(self.matrices(q, rest, t)[0], q, rest, t):
+            return
         sizes = self._sizes(q, qd, t)
-        if sizes is None:
-            return
-        lost = ROUND_OFF * sizes[0] / np.maximum(np.max(np.abs(M), axis=0), 1e-300)  # per entry, by its column
-        if not np.nanmax(lost, initial=0.0) > 1e-3:
-            return
         state = _state_text(self.system, q, qd, t, ())
         raise SingularConfigurationError(
             f"{self.label}: at {state} (rates {', '.join(f'{c.name}_dot = {v:.3g} {c.unit}/s' for c, v in zip(self.system.free, qd))}) "
             f"the terms of the equations' matrix cancel beyond float64's digits (terms up to {np.nanmax(sizes[0]):.3g} "
             "leave far smaller entries): the matrix is round-off there, so the motion cannot be solved in float64; "
             "this is no singular configuration (about another point, or by another --method, the terms may not cancel)")
+
+    def _cancels(self, M: np.ndarray, q, qd, t) -> bool:
+        """Whether the entries of a column of ``M`` (at q, qd, t) are far below their terms'
+        round-off sizes (a thousandth of the column's largest entry is round-off)."""
+        sizes = self._sizes(q, qd, t)
+        if sizes is None:
+            return False
+        lost = ROUND_OFF * sizes[0] / np.maximum(np.max(np.abs(M), axis=0), 1e-300)  # per entry, by its column
+        return bool(np.nanmax(lost, initial=0.0) > 1e-3)
 
     def _sizes(self, q, qd, t, walked: bool = False):
         """(S_A, S_b): the round-off sizes of A's and b's entries at one state, as they were
