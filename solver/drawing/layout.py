@@ -92,11 +92,12 @@ def measure_as_vector(fig) -> None:
     PNG would: for a figure that is only ever saved as SVG or PDF (the report's).
 
     matplotlib's SVG and PDF renderers measure a text from its unhinted glyphs at 72 points to the
-    inch (:func:`vector_text_metrics`); a PNG's renderer measures it from glyphs hinted to the
-    figure's pixels, up to a few percent wider or narrower. With this, the layout (the axes' places,
-    the labels' places) is computed from the sizes the saved texts have, and each text is measured
-    once per process for the layout and the drawing alike, instead of once by each renderer (a
-    text's measure loads each of its glyphs in FreeType, some 30 us a character)."""
+    inch (:func:`vector_text_metrics`, the SVG renderer's measure); a PNG's renderer measures it from
+    glyphs hinted to the figure's pixels, up to a few percent wider or narrower. With this, the
+    layout (the axes' places, the labels' places) is computed from the sizes the saved texts have,
+    and each text is measured once per process for the layout and the drawing alike, instead of
+    once by each renderer (a text's measure loads each of its glyphs in FreeType, some 30 us a
+    character)."""
     setattr(fig, _VECTOR_FLAG, True)
 
 
@@ -108,7 +109,8 @@ _VECTOR_SIZES: dict = {}
 def vector_text_metrics(s: str, prop, ismath) -> tuple[float, float, float]:
     """Width, height and descent [points] of text ``s`` in font ``prop`` as matplotlib's SVG renderer
     measures it (``matplotlib.textpath.TextToPath.get_text_width_height_descent``: the glyphs
-    unhinted, at 72 points to the inch), which the PDF renderer shares for the fonts it embeds.
+    unhinted, at 72 points to the inch; the PDF renderer's own measure, by another route, is within
+    about 0.1 % of it).
     Plain text is measured once per process for each text, font file and size (the SVG renderer
     measures it again for every figure); mathematical text is measured each time."""
     from matplotlib import rcParams
