@@ -25,7 +25,7 @@ from matplotlib.figure import Figure  # noqa: E402
 from scipy.integrate import solve_ivp  # noqa: E402
 
 from reports.vector_pair import svg_and_pdf  # noqa: E402
-from solver.drawing.layout import MeasuredLayout  # noqa: E402
+from solver.drawing.layout import MeasuredLayout, measure_as_vector  # noqa: E402
 from solver.notation import typeset_text  # noqa: E402
 from solver.units import Q_  # noqa: E402
 
@@ -116,6 +116,7 @@ def example1_release_sweep(scene, deriv, n: int = 400) -> FigureResult:
         released = math.degrees(scene.state_si()[0])
         at = model.solve(np.array([scene.state_si()[0]]), np.array([0.0]))
         fig = Figure(figsize=(7.0, 4.6), layout=MeasuredLayout())
+        measure_as_vector(fig)  # saved as SVG and PDF only: laid out in their text sizes
         ax_r, ax_a = fig.subplots(2, 1, sharex=True)
         deg = np.degrees(theta)
         facts = {"released_deg": released, "force_unit": force_unit}
@@ -203,6 +204,7 @@ def example2_free_motion(scene, deriv, amplitude: float, omega_n: float, periods
     linear_period = 2 * math.pi / omega_n
     with rc_context(RC):
         fig = Figure(figsize=(7.0, 4.4), layout=MeasuredLayout())
+        measure_as_vector(fig)  # saved as SVG and PDF only: laid out in their text sizes
         ax, ax_d = fig.subplots(2, 1, sharex=True, height_ratios=[2, 1])
         ax.plot(t, np.degrees(exact), label="nonlinear equation of motion (solve_ivp)")
         ax.plot(t, np.degrees(linear), linestyle="--", label="linear model (Eq. 46)")
@@ -287,6 +289,7 @@ def scene_figure(path, name: str, number: int, body: str | None = None, point: s
     body = body or next(iter(system.bodies))
     with rc_context(RC):
         fig = Figure(figsize=(9.0, 3.8), layout=MeasuredLayout())
+        measure_as_vector(fig)  # saved as SVG and PDF only: laid out in their text sizes
         ax_scene, ax_fbd = fig.subplots(1, 2)
         draw_system(system, state, ax=ax_scene, arrange_labels=False, title=PAPER_SCENE_TITLES.get(number))
         fbd = draw_system(system, state, ax=[ax_fbd], fbd=True, point=point, bodies=[body], arrange_labels=False,
@@ -318,6 +321,7 @@ def likert_chart(summary, item_texts: dict[str, str] | None = None) -> FigureRes
     with rc_context(RC):
         # titled by what it shows (diverging_bar's default title names the data file)
         fig = diverging_bar(summary, order="questionnaire", title="Survey answers per item (Table 1)")
+        measure_as_vector(fig)
     caption = (
         f"Answers of the {summary.respondents} respondents to the five items, from the dataset rebuilt from "
         "Table 1: disagreement to the left, agreement to the right, neutral answers split across the centre."
@@ -351,6 +355,7 @@ def benchmark_figure(series: dict[str, list[tuple[float, float]]], title: str, x
     """A log-log work-precision style plot from benchmark JSON series (name -> [(x, y), ...])."""
     with rc_context(RC):
         fig = Figure(figsize=(7.0, 4.2), layout=MeasuredLayout())
+        measure_as_vector(fig)  # saved as SVG and PDF only: laid out in their text sizes
         ax = fig.subplots()
         for name, points in sorted(series.items()):
             pts = [(x, y) for x, y in points if x and y and x > 0 and y > 0]

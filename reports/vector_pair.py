@@ -25,7 +25,7 @@ from matplotlib.backends.backend_svg import RendererSVG
 from matplotlib.font_manager import FontPath, fontManager, get_font
 from matplotlib.ft2font import LoadFlags
 
-from solver.drawing.layout import FontHeights, fix_layout, font_key
+from solver.drawing.layout import FontHeights, fix_layout, font_key, vector_text_metrics
 
 __all__ = ["svg_and_pdf"]
 
@@ -65,6 +65,13 @@ class _BothRenderers:
 
     def new_gc(self):
         return self._pdf.new_gc()  # a PDF graphics context: the SVG renderer reads the same properties
+
+    def get_text_width_height_descent(self, s, prop, ismath):
+        """The SVG renderer's measure of a text (:func:`solver.drawing.layout.vector_text_metrics`,
+        which measured it for the layout already)."""
+        if ismath == "TeX":
+            return self._svg.get_text_width_height_descent(s, prop, ismath)
+        return vector_text_metrics(s, prop, ismath)
 
     def draw_text(self, gc, x, y, s, prop, angle, ismath=False, mtext=None):
         self._svg.draw_text(gc, x, y, s, prop, angle, ismath=ismath, mtext=mtext)

@@ -1183,6 +1183,43 @@ def test_font_heights_give_matplotlibs_own_text_boxes(dpi):
         assert t.get_window_extent(hooked).bounds == t.get_window_extent(plain).bounds, t.get_text()
 
 
+@pytest.mark.parametrize("dpi", [72, 100, 150])
+def test_a_figure_measured_as_vector_sizes_its_texts_as_the_svg_renderer_draws_them(dpi):
+    """layout.measure_as_vector: the layout's renderer measures each text as matplotlib's own SVG
+    renderer does (its boxes in points, scaled to the figure's pixels: the reference is the SVG
+    renderer, a separate route), also for a text measured before by another figure; a figure not
+    so marked keeps the PNG renderer's (hinted) measure, which differs for a long text."""
+    import io
+
+    from matplotlib.backends.backend_agg import RendererAgg
+    from matplotlib.backends.backend_svg import RendererSVG
+    from matplotlib.figure import Figure
+
+    from solver.drawing.layout import agg_renderer, measure_as_vector
+
+    svg = RendererSVG(400, 300, io.StringIO())
+    specs = [("A", 8, "normal"), ("|−m a_A| = 19.50 lbf", 7, "normal"), ("largest relative error", 9, "bold")]
+    for _ in range(2):  # the second figure's texts were measured by the first
+        fig = Figure(figsize=(4, 3), dpi=dpi)
+        measure_as_vector(fig)
+        texts = [fig.text(0.1, 0.1 + 0.2 * k, s, fontsize=size, fontweight=weight)
+                 for k, (s, size, weight) in enumerate(specs)]
+        renderer = agg_renderer(fig)
+        for t in texts:
+            prop = t.get_fontproperties()
+            # exact up to the one multiplication by dpi/72 (a float's last bit)
+            assert np.allclose(renderer.get_text_width_height_descent(t.get_text(), prop, False),
+                               [v * dpi / 72 for v in svg.get_text_width_height_descent(t.get_text(), prop, False)],
+                               rtol=1e-15, atol=0), t.get_text()
+    plain = Figure(figsize=(4, 3), dpi=dpi)
+    long = plain.text(0.1, 0.1, "largest relative error of the period", fontsize=9)
+    hinted = agg_renderer(plain).get_text_width_height_descent(long.get_text(), long.get_fontproperties(), False)
+    assert hinted == RendererAgg(400, 300, dpi).get_text_width_height_descent(long.get_text(),
+                                                                             long.get_fontproperties(), False)
+    vector = svg.get_text_width_height_descent(long.get_text(), long.get_fontproperties(), False)
+    assert hinted[0] != vector[0] * dpi / 72
+
+
 @pytest.mark.parametrize("scene,indeterminate", [("ladder_friction", True), ("crate_tipping", True),
                                                   ("sliding_bar", False)])
 def test_a_free_body_diagram_says_when_its_contact_forces_are_one_split_of_many(scene, indeterminate):

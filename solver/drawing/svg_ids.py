@@ -11,6 +11,7 @@ Standard library only: the survey report (:mod:`analysis.report`) uses it withou
 from __future__ import annotations
 
 import re
+from functools import lru_cache
 
 __all__ = ["inline_svg"]
 
@@ -18,6 +19,7 @@ _ID = re.compile(r'\bid="([^"]+)"')
 _NAME = re.compile(r"[A-Za-z][A-Za-z0-9_.-]*")
 
 
+@lru_cache(maxsize=16)  # a figure shown on two pages (the report's and the paper's) is scoped once
 def inline_svg(svg: str, prefix: str) -> str:
     """The ``<svg>`` element of ``svg`` with every id prefixed, to inline in an HTML page.
 
