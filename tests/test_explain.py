@@ -1454,3 +1454,43 @@ def test_compound_names_keep_their_parts_in_every_format(every_rendering):
     assert ("<msub><mi>r</mi><mrow><mi>I</mi><mo>(</mo><msub><mi>A</mi><mi>x</mi></msub><mo>,</mo>"
             "<msub><mi>B</mi><mi>y</mi></msub><mo>)</mo></mrow></msub>") in page
     assert r"W_{upper.bob1} = \begin{pmatrix}" in every_rendering["double_pendulum", "latex"]
+
+
+# What a hyphen-minus shown as a minus looks like in HTML: a MathML operator or number sign, or in the
+# text a number's sign or an operator between spaces (drawings, code and the style sheet taken out)
+_MATHML_HYPHEN = re.compile(r"<mo>-</mo>|<mn>-")
+_TEXT_HYPHEN = re.compile(r"(?<![\w.-])-(?=\.?\d)|\s-\s")
+_NOT_SHOWN_AS_TEXT = re.compile(r"<(svg|style|code|pre)\b.*?</\1>", re.S)
+
+
+def test_html_shows_every_minus_as_the_minus_sign(every_rendering):
+    """QA 20 #7: the worked solution's HTML wrote hyphen-minus in the prose's MathML ("M_O - r_G/O x
+    m a_O", the "- omega^2 r" note), in numbers (<mn>-1.703</mn>, the exponent of 10 to the -16) and in
+    the free-body table's "(-A_x, 0)", beside U+2212 in the displayed equations. Every shipped
+    scene's page now writes U+2212; text, Markdown and LaTeX keep "-"."""
+    for (name, fmt), page in every_rendering.items():
+        if fmt != "html":
+            assert "\u2212" not in page, (name, fmt)
+            continue
+        hit = _MATHML_HYPHEN.search(page)
+        assert hit is None, (name, page[max(0, hit.start() - 120):hit.end() + 40])
+        for text in re.split(r"<[^>]*>", _NOT_SHOWN_AS_TEXT.sub("", page)):
+            assert _TEXT_HYPHEN.search(text) is None, (name, text)
+    page = every_rendering["double_pendulum", "html"]
+    assert "<mo>(</mo><mo>\u2212</mo><msub><mi>A</mi><mi>x</mi></msub><mo>,</mo><mn>0</mn><mo>)</mo>" in page
+    assert "<mo>\u2212</mo><msup><mi>&#969;</mi>" in page  # a = a_O + alpha x r - omega^2 r
+
+
+def test_minus_signs_leaves_words_ranges_code_and_drawings():
+    """The rule's edges, written out by hand: signs and spaced operators become U+2212; a hyphen in a
+    word, a range, an exponent written as code (1e-16), a lone "-" cell, a command and a drawing stay."""
+    from solver.mathml import minus_signs
+
+    page = ('<p>lhs - rhs, mass-centre, items 1-5, -7.35 N, (-0.3, -r_G, 1e-16</p><td>-</td>'
+            '<math><mo>-</mo><mn>-1.703</mn><mo>-&gt;</mo></math><code>--point -1</code>'
+            '<svg><text x="-1">-2</text></svg><p class="a-b" id="eq-1">-4</p>')
+    m = "\u2212"
+    assert minus_signs(page) == (
+        f'<p>lhs {m} rhs, mass-centre, items 1-5, {m}7.35 N, ({m}0.3, {m}r_G, 1e-16</p><td>-</td>'
+        f'<math><mo>{m}</mo><mn>{m}1.703</mn><mo>-&gt;</mo></math><code>--point -1</code>'
+        f'<svg><text x="-1">-2</text></svg><p class="a-b" id="eq-1">{m}4</p>')

@@ -84,6 +84,21 @@ def test_each_page_has_unique_ids_and_every_reference_resolves(built):
         assert page_ids(text) == ([], []), name
 
 
+def test_pages_show_every_minus_as_the_minus_sign(built):
+    """QA 20 #7: report.html and paper.html write a minus as U+2212, as the worked solution's HTML does:
+    in the tables' numbers (-6.937 lbf s^2), the checks' details ("printed lhs - rhs", "cos(beta -
+    theta)"), and MathML; no hyphen-minus shows as a sign or a spaced operator outside drawings and code.
+    paper.tex and verification.json keep "-"."""
+    shown = re.compile(r"<mo>-</mo>|<mn>-|>[^<]*(?:(?<![\w.-])-(?=\.?\d)|\s-\s)[^<]*<")
+    for name in ("report.html", "paper.html"):
+        text = (Path(built["out"]) / name).read_text(encoding="utf-8")
+        text = re.sub(r"<(svg|style|code|pre)\b.*?</\1>", "", text, flags=re.S)
+        hit = shown.search(text)
+        assert hit is None, (name, hit and hit.group(0)[:200])
+        assert "\u2212" in text
+    assert "\u2212" not in (Path(built["out"]) / "verification.json").read_text(encoding="utf-8")
+
+
 def test_build_writes_every_output(built):
     out = Path(built["out"])
     for name in ("report.html", "paper.html", "paper.tex", "verification.json"):
@@ -112,7 +127,7 @@ def test_printed_column_shows_the_value_as_printed(built):
         row = re.search(rf'<tr id="row-{row_id}">(.*?)</tr>', page, flags=re.S).group(1)
         return re.sub(r"\s+", " ", re.findall(r"<td[^>]*>(.*?)</td>", row, flags=re.S)[2]).strip()
 
-    assert printed_cell("eq29-r1-alpha") == "-0.05080"  # example1.toml: printed "0.05080", value -0.05080
+    assert printed_cell("eq29-r1-alpha") == "\u22120.05080"  # example1.toml: printed "0.05080", value -0.05080, a minus sign
     assert printed_cell("table1-item1-definitely-agree") == "50.0 %"  # table1.csv prints 50.0
 
 
@@ -547,7 +562,8 @@ def _tex_rows(tex: str, after: str, names) -> dict[str, list[str]]:
 
 
 def _number(text: str) -> float:
-    return float(text.split()[0])
+    """The number a cell starts with, its sign the HTML's minus sign U+2212 or LaTeX's "-"."""
+    return float(text.split()[0].replace("\u2212", "-"))
 
 
 def test_example1_states_g_c_and_shows_forces_before_the_division(built):
@@ -610,7 +626,8 @@ def test_example2_numbers_table_holds_the_solver_values(built):
         # shown to 4 significant figures: off by at most half a unit in the 4th figure (5e-4 relative)
         assert _number(cell) == pytest.approx(value, rel=5e-4), name
     tex = (out / "paper.tex").read_text(encoding="utf-8")
-    assert _tex_rows(tex, "Solving the equations at the state of the data table:", expected) == table
+    shown = {name: [cell.replace("\u2212", "-") for cell in cells] for name, cells in table.items()}  # HTML's minus sign
+    assert _tex_rows(tex, "Solving the equations at the state of the data table:", expected) == shown
 
 
 def test_example2_says_both_points_work(built):

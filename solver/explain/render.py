@@ -361,8 +361,9 @@ class _Html(_Renderer):
 
     def wrap(self, body):
         from ..mathfont import font_face_css
+        from ..mathml import minus_signs
 
-        return ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
+        return minus_signs("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
                 f"<title>{_h(self.expl.title)}</title>\n<style>{font_face_css()}\n  {_CSS}</style></head><body>\n"
                 + body + "\n</body></html>\n")
 
