@@ -1494,3 +1494,19 @@ def test_minus_signs_leaves_words_ranges_code_and_drawings():
         f'<p>lhs {m} rhs, mass-centre, items 1-5, {m}7.35 N, ({m}0.3, {m}r_G, 1e-16</p><td>-</td>'
         f'<math><mo>{m}</mo><mn>{m}1.703</mn><mo>-&gt;</mo></math><code>--point -1</code>'
         f'<svg><text x="-1">-2</text></svg><p class="a-b" id="eq-1">{m}4</p>')
+
+
+def test_html_round_off_line_writes_numbers_as_the_tables_do(solver_cli):
+    """QA 20 #7: the upright pendulum's "0 to round-off" line printed "computed -2.56e-15, error bound
+    1.2e-13" in code notation on a page whose tables write 2.4 x 10 to the -16. The values (README:
+    theta_ddot computed -2.56e-15 rad/s**2 beside a bound of 1.2e-13) are now written -2.56 x 10 to the
+    -15 and 1.2 x 10 to the -13 rad/s squared, and no prose of the page keeps a number like 1e-16."""
+    code, page, _ = solver_cli("explain", str(ROOT / "data/scenes/compound_pendulum.toml"), "--set",
+                               "theta=180 deg", "--format", "html")
+    assert code == 0
+    line = next(p for p in page.split("<p>") if p.startswith("0 to round-off"))
+    power = "<mrow><mn>{}</mn><mo>\u00d7</mo><msup><mn>10</mn><mn>{}</mn></msup></mrow>"
+    assert power.format("\u22122.56", "\u221215") in line
+    assert power.format("1.2", "\u221213") + "</math>&#8201;rad/s<sup>2</sup>)" in line
+    for text in re.split(r"<[^>]*>", _NOT_SHOWN_AS_TEXT.sub("", page)):
+        assert re.search(r"\de[-+\u2212]?\d", text) is None, text
