@@ -1510,3 +1510,20 @@ def test_html_round_off_line_writes_numbers_as_the_tables_do(solver_cli):
     assert power.format("1.2", "\u221213") + "</math>&#8201;rad/s<sup>2</sup>)" in line
     for text in re.split(r"<[^>]*>", _NOT_SHOWN_AS_TEXT.sub("", page)):
         assert re.search(r"\de[-+\u2212]?\d", text) is None, text
+
+
+def test_an_element_is_spelled_alike_in_equations_and_force_list(tmp_path):
+    """QA 20 #7: an element without a name (the reader names it point_mass_1) had its weight written
+    W_{upper.point mass 1} in the equations and gravity:upper.point_mass_1 in the force list and the
+    notes; in MathML the "." was an operator, spaced "upper . point mass 1". Each format now spells it
+    as the scene reader names it, and the dot is a separator without operator space."""
+    text = (ROOT / "data/scenes/double_pendulum.toml").read_text(encoding="utf-8")
+    path = tmp_path / "unnamed.toml"
+    path.write_text(text.replace('{ name = "bob1", kind', "{ kind"), encoding="utf-8")
+    expl = explain(load_system(path))
+    tex, page = render(expl, "latex"), render(expl, "html")
+    assert "W_{upper.point\\_mass\\_1}" in tex and "gravity:upper.point\\_mass\\_1" in tex
+    assert "point\\ mass" not in tex
+    assert ('<msub><mi>W</mi><mrow><mi>upper</mi><mo lspace="0" rspace="0">.</mo><mi>point_mass_1</mi>'
+            '</mrow></msub>') in page
+    assert "<td>gravity:upper.point_mass_1</td>" in page and "point mass 1" not in page
