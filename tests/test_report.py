@@ -878,3 +878,25 @@ def test_a_truncated_or_damaged_cache_file_leaves_the_template_to_be_compiled(tm
     for damaged in (bc_magic, bc_magic + checksum[:20] + b"\x00garbage"):
         written.write_bytes(damaged)
         assert rendered() == "<b>1</b>"
+
+
+def test_a_display_wider_than_the_page_is_laid_out_one_term_a_row(built):
+    """QA 20 #7: paper.html's Example 2 moment equation about C was one display wider than a 1000 px
+    page, scrolled inside its box and cut when printed. It is now laid out as the worked solution's
+    HTML lays out its equations, one term a row with its note beside it: three terms on the left (the
+    weight's moment, F_a's, the inertial term) and I_C alpha on the right, four rows. The displays that
+    fit (about P, Example 1's about A) stay one row each."""
+    from solver.mathml import mathml_width
+
+    page = (Path(built["out"]) / "paper.html").read_text(encoding="utf-8")
+    about_c = re.search(r"generalized Euler equation about C \(Eq\. \(11\)\):</p>\s*(<div class=\"terms-eq\">.*?</table></div>)",
+                        page, flags=re.S)
+    assert about_c is not None
+    rows = re.findall(r"<tr>(.*?)</tr>", about_c.group(1), flags=re.S)
+    notes = [re.sub(r"<[^>]*>", "", re.search(r'<span class="note">(.*?)</span>', r, re.S).group(1)) for r in rows]
+    assert notes == ["moment of weight of bar about C", "moment of F_a about C",
+                     "inertial term \u2212r_G/C \u00d7 m a_C", "I_C alpha"]
+    assert max(mathml_width(r) for r in rows) < 50  # each row well inside the page (75 units wide)
+    for point in ("P", "A"):
+        display = re.search(rf"generalized Euler equation about {point} \(Eq\. \(1[01]\)\):</p>\s*<(\w+)", page)
+        assert display.group(1) == "math", point
