@@ -153,7 +153,11 @@ class MathmlProse:
             elif kind == UNIT:  # (a thin space, then the unit upright)
                 out.append(f"<mspace width=\"0.167em\"/>{unit_mathml(value)}")
             elif kind == "op":
-                out.append({"*": "<mo>&#8290;</mo>"}.get(value) or f"<mo>{_h(_RELATIONS.get(value, value))}</mo>")
+                prev = [(k, v) for k, v in tokens[:i] if k != "space"]
+                if value == "-" and (not prev or prev[-1][0] == "op" or prev[-1][1] in ("(", ",")):
+                    out.append('<mo form="prefix">-</mo>')  # a sign, (-A_x, 0): no space as around a binary minus
+                else:
+                    out.append({"*": "<mo>&#8290;</mo>"}.get(value) or f"<mo>{_h(_RELATIONS.get(value, value))}</mo>")
             elif kind != "space":
                 out.append(f"<mo>{_h(value)}</mo>")
             i += 1
