@@ -613,9 +613,10 @@ def _xlsx_error(e: Exception, source: str, row: "int | None" = None,
 
 def _sheet_fault(e, source: str, title: str) -> SurveyInputError:
     """One line for a sheet the fast reader refused (:class:`analysis.xlsx_sheet.SheetFault`),
-    naming the sheet and the cell."""
-    where = f"sheet {title!r}" + (f", cell {e.cell}" if e.cell else "")
-    return SurveyInputError(f"{where}: {e.reason}", source, e.row)
+    naming the place once: the sheet and the cell (whose reference holds its row), else the sheet
+    and the row."""
+    where = f"sheet {title!r}" + (f", cell {e.cell}" if e.cell else f", row {e.row}" if e.row is not None else "")
+    return SurveyInputError(f"{where}: {e.reason}", source)
 
 
 def _xlsx_rows(content: bytes, source: str, sheet: "str | None" = None):

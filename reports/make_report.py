@@ -38,6 +38,7 @@ from reports import checks as checks_mod
 from reports import figures, mathfont, paper, provenance
 from reports.cli import cyclic_gc_paused, main, validate_build
 from reports.mathml import equation_mathml, latex_display, name_text, to_mathml, transcription_mathml
+from solver.mathml import minus_signs
 from reports.published import ReportInputError, load_equations
 from solver.drawing.svg_ids import inline_svg
 from solver.errors import InputError
@@ -585,8 +586,8 @@ def _build(root: Path, out: Path | None, pdf: str, log) -> dict:
         # ---------------- render
         t0 = time.perf_counter()
         html = html_environment()
-        (staging / "report.html").write_text(html.get_template("report.html.j2").render(**context), encoding="utf-8")
-        (staging / "paper.html").write_text(html.get_template("paper.html.j2").render(**context), encoding="utf-8")
+        for page in ("report.html", "paper.html"):  # every minus shown as U+2212, as the worked solution's
+            (staging / page).write_text(minus_signs(html.get_template(f"{page}.j2").render(**context)), encoding="utf-8")
         fig_dir = staging / "figures"
         fig_dir.mkdir()
         for fig in figs.values():

@@ -615,11 +615,22 @@ def _latex_text(text: str) -> str:
     return latex_escape(text)
 
 
+PAGE_WIDTH_EM = 75.0
+"""The widest display paper.html shows in one row, in :func:`solver.mathml.mathml_width` units. In a
+1000 px window the page's column is about 950 px wide, and Chromium draws the paper's displays at
+about 11.5 px a unit (Example 1's moment equation about A, 62 units, is 710 px wide; about P, 69 units,
+800 px): 950 / 11.5 is about 82 units, less the estimate's tenth, 75. A wider display (Example 2's
+about C, 82 units) is laid out one term a row (:func:`solver.explain.render.terms_table`)."""
+
+
 def terms_shown(eq) -> Shown:
     """An :class:`solver.explain.content.Equation` with its terms kept apart, for both outputs."""
-    from markupsafe import Markup
+    from markupsafe import Markup, escape
 
     from reports.mathml import _wrap
+    from solver.explain.content import Term
+    from solver.explain.render import terms_table
+    from solver.mathml import mathml_width
 
     if eq.name:
         head_m = _mathml_body(sp.Symbol(eq.name.replace("/", "")))
@@ -627,7 +638,13 @@ def terms_shown(eq) -> Shown:
     else:
         head_m, head_x = _term_parts(eq.lhs)
     rhs_m, rhs_x = _term_parts(eq.rhs)
-    mathml = _wrap(f"<mrow>{head_m}<mo>=</mo>{rhs_m}</mrow>", "block")
+    row = f"<mrow>{head_m}<mo>=</mo>{rhs_m}</mrow>"
+    if mathml_width(row) > PAGE_WIDTH_EM:  # wider than the page: one term a row, as the worked solution's HTML
+        lhs = (Term(sp.Symbol(eq.name.replace("/", ""))),) if eq.name else eq.lhs
+        notes = lambda note: escape(note_text(note))  # noqa: E731
+        mathml = f"<div class=\"terms-eq\">{terms_table(lhs, eq.rhs, '<mo>=</mo>', '', notes)}</div>"
+    else:
+        mathml = _wrap(row, "block")
     return Shown(mathml=Markup(mathml), latex=f"{head_x} = {rhs_x}",
                  sides=(eq.name or eq.left, eq.right), label=eq.label, ref=eq.ref)
 

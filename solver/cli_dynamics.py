@@ -266,16 +266,16 @@ def _simulate_multibody(args, system, t_end) -> int:
         print_json(payload)
         return 0
     _print_run(args, system, res.status, res.reason, res.nfev, res.columns_with_time(system.output_units),
-               res.energy_drift, res.events)
+               res.energy_drift, res.events, res.energy_drift_note)
     return 0
 
 
 def _print_run(args, scene, status: str, reason: str, nfev: int, columns: dict, drift: float | None,
-               events=()) -> None:
+               events=(), no_drift: str = "") -> None:
     """The text of ``simulate``, one layout for one freedom and for n: the scene, the status, the
     integrator, each regime switch, the final sample of every CSV column (``columns``: name ->
     (values, unit) in the output units, as the file has them; the energy left out) and the energy
-    drift (None: the loads do work, nothing is conserved)."""
+    drift (None: not applicable, ``no_drift`` saying why)."""
     t_values, _ = columns["t"]
     print(f"scene   {scene.name}  ({_where(scene)})")
     print(f"status  {status}: {reason}   ({nfev} rhs evaluations, {len(t_values)} samples)")
@@ -292,7 +292,7 @@ def _print_run(args, scene, status: str, reason: str, nfev: int, columns: dict, 
     print("final sample:")
     print(format_table(("name", "value", "unit"), rows, align="lrl"))
     print(f"\nenergy drift over the run: {format_number(drift, 3)} (of the largest kinetic energy)" if drift is not None
-          else "\nenergy drift: not applicable (the loads depend on time or rate: they do work)")
+          else f"\nenergy drift: not applicable ({no_drift})")
     if args.out is not None:
         units = ", ".join(f"{n} [{u}]" for n, (_, u) in columns.items())
         print(f"\ntime history written to {args.out} (columns in the scene's output units: {units})")
@@ -343,7 +343,8 @@ def simulate_command(args: argparse.Namespace) -> int:
             payload["out"] = str(args.out)
         print_json(payload)
         return 0
-    _print_run(args, scene, res.status, res.reason, res.nfev, res.columns(scene.output_units), res.energy_drift)
+    _print_run(args, scene, res.status, res.reason, res.nfev, res.columns(scene.output_units), res.energy_drift,
+               no_drift=res.energy_drift_note)
     return 0
 
 

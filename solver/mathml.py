@@ -20,7 +20,7 @@ from sympy.printing.precedence import PRECEDENCE
 
 from .notation import compound_subscript
 
-__all__ = ["to_mathml", "equation_mathml", "mathml_body", "printed_once", "wrap", "mathml_text", "mathml_width", "MATHML_NS", "MINUS"]
+__all__ = ["to_mathml", "equation_mathml", "mathml_body", "printed_once", "wrap", "mathml_text", "mathml_width", "MATHML_NS", "MINUS", "minus_signs"]
 
 MATHML_NS = "http://www.w3.org/1998/Math/MathML"
 _DOTS = (("_ddot", "\u00a8"), ("_dot", "\u02d9"))
@@ -89,7 +89,10 @@ class _Printer(MathMLPresentationPrinter):
                 row.appendChild(space)
             else:
                 node = self.dom.createElement("mo" if kind == "mark" else "mn" if text.isdigit() else "mi")
-                node.appendChild(self.dom.createTextNode(text.replace("_", " ")))
+                node.appendChild(self.dom.createTextNode(text))
+                if text == ".":  # a body's element (upper.bob1): a separator inside a name, not an operator
+                    node.setAttribute("lspace", "0")
+                    node.setAttribute("rspace", "0")
                 row.appendChild(node)
         sub = self.dom.createElement("msub")
         sub.appendChild(self._print_Symbol(sp.Symbol(parts[0][1]), style))
@@ -107,7 +110,45 @@ class _Printer(MathMLPresentationPrinter):
 
 
 MINUS = "\u2212"
-"""The minus sign of every MathML operator (sympy's printer writes the hyphen-minus "-")."""
+"""The minus sign of every HTML output (sympy's printer and Python's numbers write the hyphen-minus "-")."""
+
+_PIECE = re.compile(r"(<[^>]*>)")
+_VERBATIM = ("svg", "style", "script", "code", "pre", "textarea")  # text shown or read as written
+# a sign before a number or a name (-2.5, (-0.3, -r_G, but not x-1, 2-3, --point or 1e-16), or an
+# operator between spaces (lhs - rhs)
+_TEXT_MINUS = re.compile(r"(?<![\w.\-\u2212])-(?=\.?[\w(])|(?<=\s)-(?=\s)")
+
+
+def minus_signs(page: str) -> str:
+    """``page`` (HTML, or a MathML fragment) with every minus shown as U+2212: a ``<mo>-</mo>``
+    operator, the sign of an ``<mn>`` number (``10`` to the ``-16``) and of a number or a name in the
+    text (``-7.35``, ``-r_G``), and a hyphen between spaces in the text (``lhs - rhs``: the prose writes no dash so). Tags and their attributes, and the text of ``<svg>``, ``<style>``, ``<script>``,
+    ``<code>``, ``<pre>`` and ``<textarea>`` (a command to copy, a drawing) are left as they are;
+    so are hyphens in words and ranges (``mass-centre``, ``1-5``) and a lone "-" in a table cell
+    (an empty value).
+
+    The one rule for the minus sign of the HTML outputs: every MathML expression
+    (:func:`mathml_body`), the worked solution's page and the report's pages pass through here.
+    """
+    pieces = _PIECE.split(page)
+    verbatim, tag = 0, ""
+    for i, piece in enumerate(pieces):
+        if i % 2:  # a tag
+            m = re.match(r"<(/?)([A-Za-z][\w:-]*)", piece)
+            if m:
+                tag = m[2].lower() if not m[1] else ""
+                if m[2].lower() in _VERBATIM and not piece.endswith("/>"):
+                    verbatim += -1 if m[1] else 1
+            continue
+        if verbatim or "-" not in piece:
+            continue
+        if tag == "mo" and piece.strip() == "-":
+            pieces[i] = piece.replace("-", MINUS)
+        elif tag == "mn" and piece.lstrip().startswith("-"):
+            pieces[i] = piece.replace("-", MINUS, 1)
+        else:
+            pieces[i] = _TEXT_MINUS.sub(MINUS, piece)
+    return "".join(pieces)
 
 
 def printed_once(doprint):
@@ -128,8 +169,9 @@ def printed_once(doprint):
 def _mathml_body(expr: sp.Basic) -> str:
     """The MathML of one expression without its ``<math>`` element, printed once per process
     however often it is shown (the report prints each transcribed equation in block and inline
-    form, the worked solution shows a point's velocity in several steps). A minus is U+2212."""
-    return _Printer({"mul_symbol": None}).doprint(expr).replace("<mo>-</mo>", f"<mo>{MINUS}</mo>")
+    form, the worked solution shows a point's velocity in several steps). A minus is U+2212
+    (:func:`minus_signs`)."""
+    return minus_signs(_Printer({"mul_symbol": None}).doprint(expr))
 
 
 mathml_body = printed_once(_mathml_body)

@@ -45,10 +45,11 @@ _SUBSCRIPT_TOKEN = re.compile(r"[A-Za-z0-9_]+|\s+|.")
 
 def compound_subscript(name: str):
     """The parts of a symbol name whose subscript names a point by two lines (``r_G/I(A_x,B_y)``)
-    or an element of a body (``W_upper.bob1``, ``W_coupler.slender bar 1``), or None for any other
+    or an element of a body (``W_upper.bob1``, ``W_upper.point_mass_1``), or None for any other
     name (sympy's printers read those). Each part is ``("name", text)`` for a symbol inside the
-    brackets (``A_x``, itself subscripted), ``("word", text)`` for a word of the name (its
-    underscores join words), ``("space", " ")`` or ``("mark", text)`` for ``( ) , / .``; the
+    brackets (``A_x``, itself subscripted), ``("word", text)`` for a word of the name (spelled as
+    the scene and the force list spell it, underscores kept: ``point_mass_1``), ``("space", " ")``
+    or ``("mark", text)`` for ``( ) , / .``; the
     nucleus comes first as ``("head", text)``. The one reading of such names, for LaTeX
     (:func:`compound_latex`) and MathML (:mod:`solver.mathml`).
 
@@ -76,8 +77,8 @@ def compound_latex(name: str) -> str | None:
     r"""LaTeX of a compound name (:func:`compound_subscript`), None for any other name: the crossing
     point's names keep their own subscripts, words stay apart.
 
-    >>> compound_latex("r_G/I(A_x,B_y)"), compound_latex("W_upper.bob1")
-    ('r_{G/I(A_{x},B_{y})}', 'W_{upper.bob1}')
+    >>> compound_latex("r_G/I(A_x,B_y)"), compound_latex("W_upper.point_mass_1")
+    ('r_{G/I(A_{x},B_{y})}', 'W_{upper.point\\_mass\\_1}')
     """
     parts = compound_subscript(name)
     if parts is None:
@@ -87,7 +88,7 @@ def compound_latex(name: str) -> str | None:
         if kind == "name":
             out.append(sp.latex(sp.Symbol(text)))
         elif kind == "word":
-            out.append(text.replace("_", r"\ "))
+            out.append(latex_escape(text))
         else:
             out.append(r"\ " if kind == "space" else latex_escape(text))
     return sp.latex(sp.Symbol(parts[0][1])) + "_{" + "".join(out) + "}"

@@ -156,6 +156,16 @@ class SimulationResult:
             return 0.0
         return change / self.kinetic_max if self.kinetic_max > 0 else None  # never moved: no scale
 
+    @property
+    def energy_drift_note(self) -> str:
+        """Why :attr:`energy_drift` is None (the words of :data:`solver.analyses.motion.NO_DRIFT`);
+        empty when it is a number."""
+        from .analyses.motion import NO_DRIFT
+
+        if self.energy_drift is not None:
+            return ""
+        return NO_DRIFT["work"] if self.conserved is None else NO_DRIFT["rest"]
+
     def columns(self, units: Mapping[str, str] | None = None) -> dict[str, tuple[np.ndarray, str]]:
         """Ordered columns name -> (values, unit) as written to CSV: SI, or in the units of a
         scene's ``[output_units]`` (:func:`solver.output_units.columns_in_output_units`)."""

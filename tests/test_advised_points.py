@@ -295,3 +295,21 @@ def test_a_crossing_is_written_in_the_coordinates_and_its_acceleration_derived()
     assert "derived" in kinematics.text[0] and "follow from the joints" not in kinematics.text[0]
     advice = {row[1]: row[-1] for row in expl.sections[-1].step("advice").table.rows}
     assert advice[name] == "derive"
+
+
+def test_about_the_mass_centre_no_acceleration_is_derived():
+    """QA 19: `explain double_pendulum.toml --suggest-point` listed `lower B ... a_P derive`, though the
+    lower body is a point mass at B: about its mass centre r_G/B = 0, the inertial term
+    -r_G/B x m a_B vanishes (Eq. 10), and no a_B is needed. The same holds for G of any body (the
+    sliding bar's G, a derived point before). The scene data put the bob at B (lower's only element)."""
+    dp = load_system(ROOT / "data/scenes/double_pendulum.toml")
+    state = start_state(dp)
+    (b,) = [c for c in rank_points(dp, "lower", state) if c.name == "B"]
+    assert b.needless and not b.known
+    assert b.cost == "B is the mass centre: the inertial term -r_G/B x m a_B vanishes, so a_B is not needed"
+    bar = load_system(ROOT / "data/scenes/sliding_bar.toml")
+    (g,) = [c for c in rank_points(bar, "body", start_state(bar)) if c.name == "G"]
+    assert g.needless and "a_G is not needed" in g.cost and "derived" not in g.cost
+    (advice,) = [s for s in explain(dp).steps() if s.kind == "advice"]
+    row = [r for r in advice.table.rows if r[:2] == ("lower", "B")]
+    assert row and row[0][-1] == "not needed (G)"

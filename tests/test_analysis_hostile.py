@@ -419,7 +419,7 @@ def test_rows_out_of_order_or_repeated_are_refused(tmp_path, analysis_cli, edit,
     f = tmp_path / "rows.xlsx"
     f.write_bytes(xf.rewrite_sheet(xf.workbook(_FOUR), edit))
     code, out, err = analysis_cli("summarize", str(f))
-    _one_error_line(code, err, str(f), "sheet 'Sheet'", *([f"row {row}: "] if row else ["numbered 0"]))
+    _one_error_line(code, err, str(f), *([f"sheet 'Sheet', row {row}: "] if row else ["sheet 'Sheet'", "numbered 0"]))
     assert out == ""
 
 
@@ -429,28 +429,32 @@ def _cell(ref: bytes, new: bytes):
 
 
 @pytest.mark.parametrize("edit, shared, needles", [
-    (_cell(b"A3", b'<c r="A3" s="x"><v>2</v></c>'), False, ["row 3: ", "cell A3", "style"]),
-    (_cell(b"A3", b'<c r="A3" t="b"><v>true</v></c>'), False, ["row 3: ", "cell A3", "'true'"]),
-    (_cell(b"A3", b'<c r="A3"><v>1,5</v></c>'), False, ["row 3: ", "cell A3", "'1,5'"]),
-    (_cell(b"B3", b'<c r="B3" t="s"><v>99</v></c>'), True, ["row 3: ", "cell B3", "shared string 99"]),
+    (_cell(b"A3", b'<c r="A3" s="x"><v>2</v></c>'), False, ["sheet 'Sheet', cell A3: ", "style"]),
+    (_cell(b"A3", b'<c r="A3" t="b"><v>true</v></c>'), False, ["sheet 'Sheet', cell A3: ", "'true'"]),
+    (_cell(b"A3", b'<c r="A3"><v>1,5</v></c>'), False, ["sheet 'Sheet', cell A3: ", "'1,5'"]),
+    (_cell(b"B3", b'<c r="B3" t="s"><v>99</v></c>'), True, ["sheet 'Sheet', cell B3: ", "shared string 99"]),
     # a negative index read the last shared string ('Agree') in Disagree's place, unsaid
-    (_cell(b"B3", b'<c r="B3" t="s"><v>-1</v></c>'), True, ["row 3: ", "cell B3", "shared string -1"]),
-    (_cell(b"B3", b'<c r="3" t="inlineStr"><is><t>Agree</t></is></c>'), False, ["row 3: ", "'3' names no column"]),
-    (_cell(b"B3", b'<c r="B3"><v>2</v></c><c r="B3"><v>3</v></c>'), False, ["row 3: ", "cell B3", "twice"]),
+    (_cell(b"B3", b'<c r="B3" t="s"><v>-1</v></c>'), True, ["sheet 'Sheet', cell B3: ", "shared string -1"]),
+    (_cell(b"B3", b'<c r="3" t="inlineStr"><is><t>Agree</t></is></c>'), False, ["sheet 'Sheet', row 3: ", "'3' names no column"]),
+    (_cell(b"B3", b'<c r="B3"><v>2</v></c><c r="B3"><v>3</v></c>'), False, ["sheet 'Sheet', cell B3: ", "twice"]),
     # (QA 20) a cell naming row 9 inside row 3: read as row 3's, where openpyxl puts it in row 9
-    (_cell(b"B3", b'<c r="B9" t="inlineStr"><is><t>Agree</t></is></c>'), False, ["row 3: ", "'B9'", "inside row 3"]),
+    (_cell(b"B3", b'<c r="B9" t="inlineStr"><is><t>Agree</t></is></c>'), False, ["sheet 'Sheet', row 3: ", "'B9'", "inside row 3"]),
     (_cell(b"B3", b'<c r="XFD3"><v>2</v></c>'), False, ["row 3: ", "16384 columns"]),
 ])
 def test_a_bad_cell_is_named_by_its_reference(tmp_path, analysis_cli, edit, shared, needles):
     """QA 18 #7: a cell its type cannot hold was refused as 'not a readable .xlsx workbook:
     ValueError' (or IndexError), and a cell too far right as in row 1. The line names the sheet,
-    the row and the cell, and says what is wrong."""
+    the row and the cell, and says what is wrong. QA 20 #7: it named the place twice ("row 2:
+    sheet 'Form Responses 1', cell E2: ..."); the cell's reference holds its row, so a cell's
+    fault is named by the sheet and the cell alone, a row's by the sheet and the row."""
     book = xf.workbook(_FOUR)
     f = tmp_path / "cell.xlsx"
     f.write_bytes(xf.rewrite_sheet(xf.with_shared_strings(book) if shared else book, edit))
     code, out, err = analysis_cli("summarize", str(f))
     _one_error_line(code, err, str(f), *needles)
     assert "Error" not in err and out == ""
+    rest = err.split(".xlsx: ", 1)[1]  # the place named once: no "row 3: sheet 'Sheet', cell A3: "
+    assert re.match(r"(sheet 'Sheet', cell [AB]3|sheet 'Sheet', row 3|row 3): (?!sheet |cell [A-Z]+\d)", rest), err
 
 
 def test_a_damaged_or_broken_workbook_is_named_in_words(tmp_path, analysis_cli):

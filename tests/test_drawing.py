@@ -1232,3 +1232,43 @@ def test_a_free_body_diagram_says_when_its_contact_forces_are_one_split_of_many(
     captions = [ax.get_xlabel() for ax in drawing.figure.axes if ax.get_xlabel()]
     assert captions and all((INDETERMINATE_CAPTION in c) == indeterminate for c in captions), captions
     assert bool(drawing.solution.extra.get("indeterminate")) == indeterminate
+
+
+
+def _readme_gears(tmp_path, theta1: str) -> Path:
+    """data/scenes/README.md's `gears` example (a pinion r1 = 0.1 m at O1 = (0, 0) meshing with a wheel
+    r2 = 0.3 m at O2 = (0.4 m, 0)), as a scene file with the pinion at ``theta1``."""
+    text = (Path(__file__).resolve().parents[1] / "data/scenes/README.md").read_text(encoding="utf-8")
+    block = re.search(r'```toml\n(name = "gears"\n.*?)```', text, flags=re.S).group(1)
+    path = tmp_path / "gears.toml"
+    path.write_text(block.replace('value = "0 deg"', f'value = "{theta1}"'), encoding="utf-8")
+    return path
+
+
+@pytest.mark.parametrize("theta1", [0.0, 30.0])
+def test_a_disks_angle_is_marked_on_the_disk_clear_of_the_other_gear(tmp_path, theta1):
+    """QA 19: in README's gears drawing the pinion's angle was marked by a dotted line from O1 running
+    across the wheel, its label sat on the wheel's pivot O2 at theta1 = 0, at 30 deg the arc lay inside
+    the wheel's disk, and no line on the disk showed what turns. Now a radius of the pinion is drawn at
+    its angle; the arc and the reference line stay inside the pinion (r1 = 0.1 m from O1); the label,
+    where the figure's layout leaves it, lies outside the wheel's disk (0.3 m about O2 = (0.4, 0)) and
+    off O2. README's data; distances in metres, 1e-9 for round-off."""
+    drawing = draw_system(load_system(_readme_gears(tmp_path, f"{theta1} deg")))
+    (mark,) = drawing.of_kind("coordinate")
+    ax = drawing.figure.axes[0]
+    assert mark.shape["rim"] == pytest.approx(0.1) and mark.shape["radius"] < 0.1
+    assert mark.shape["end"] == pytest.approx(math.radians(theta1))
+    lines = [np.column_stack(line.get_data()) for line in ax.lines]
+    ends = {tuple(np.round(xy[-1], 9)) for xy in lines if len(xy) == 2 and np.allclose(xy[0], (0, 0), atol=1e-9)}
+    along = (round(0.1 * math.cos(math.radians(theta1)), 9), round(0.1 * math.sin(math.radians(theta1)), 9))
+    assert (0.1, 0.0) in ends  # the dotted reference line, to the pinion's rim
+    radius = [xy for xy in lines if len(xy) == 2 and np.allclose(xy[-1], along, atol=1e-9)
+              and abs(xy[0, 0] * along[1] - xy[0, 1] * along[0]) < 1e-9]  # on the line O1-rim at theta1
+    assert radius  # the radius that turns with the pinion, to its rim at theta1
+    for xy in lines:  # nothing of the mark reaches past the pinion's rim into the wheel
+        if np.allclose(xy[0], (0, 0), atol=1e-9) or any(xy is r for r in radius):
+            assert np.all(np.hypot(xy[:, 0], xy[:, 1]) <= 0.1 + 1e-9)
+    (label,) = [t for t in ax.texts if t.get_text() == mark.label]
+    box = label.get_window_extent(drawing.figure.canvas.get_renderer())
+    corners = ax.transData.inverted().transform([[box.x0, box.y0], [box.x1, box.y0], [box.x0, box.y1], [box.x1, box.y1]])
+    assert all(np.hypot(x - 0.4, y) > 0.3 for x, y in corners), corners  # not on the wheel

@@ -568,7 +568,9 @@ def test_latex_contact_sentences(every_rendering):
             in html)
     for fmt in FORMATS:
         out = every_rendering["incline_ring", fmt]
-        assert "Rejected: incline starting to slip in the - direction: the sliding at incline would accelerate in the + direction" in out
+        minus = "\u2212" if fmt == "html" else "-"  # the HTML's minus sign
+        assert (f"Rejected: incline starting to slip in the {minus} direction: the sliding at incline would accelerate "
+                "in the + direction") in out
         assert "slip - (impending):" not in out and "least mu 0" not in out, fmt
     for name in SCENES:
         doc = every_rendering[name, "latex"]
@@ -588,7 +590,7 @@ def test_slip_sign_is_not_a_name_a_scene_can_have(every_rendering):
         every_rendering["incline_ring", "text"]
     assert "[friction terms (slipping: -sign(v_slip) mu_k N)]" in every_rendering["incline_ring", "text"]
     assert r"$-\operatorname{sign}(v_{slip}) \mu_{k} N$" in every_rendering["incline_ring", "latex"]
-    assert ("<mo>-</mo><mrow><mi>sign</mi><mo>(</mo><msub><mi>v</mi><mi>slip</mi></msub><mo>)</mo></mrow>"
+    assert ('<mo form="prefix">\u2212</mo>' "<mrow><mi>sign</mi><mo>(</mo><msub><mi>v</mi><mi>slip</mi></msub><mo>)</mo></mrow>"
             "<msub><mi>&#956;</mi><mi>k</mi></msub><mi>N</mi>") in every_rendering["incline_ring", "html"]
 
 
@@ -835,7 +837,9 @@ def test_latex_writes_names_units_and_formulae_as_latex(every_scene, every_rende
         assert "**" not in doc and "_ddot" not in doc and "_dot" not in doc, name
         unescaped = re.sub(r"\\[{}$]", "", doc)
         assert unescaped.count("{") == unescaped.count("}"), name
-        code = [m for m in _latex_maths(doc) if "*" in m or r"\_" in m or "textasciicircum" in m]
+        # (an element's name in its weight's subscript keeps its underscores, as the force list spells it)
+        code = [m for m in _latex_maths(doc) if "*" in m or r"\_" in re.sub(r"W_\{\w+\.[\w\\]+\}", "", m)
+                or "textasciicircum" in m]
         assert not code, (name, code[:2])
     example1 = every_rendering["sliding_bar", "latex"]
     assert r"$g$ & $32.174\,\mathrm{ft/s^{2}}$" in example1  # the data table: 32.174 ft/s^2
@@ -1161,7 +1165,7 @@ def test_what_alpha_stands_for_is_said_once_by_the_content(paper):
     assert render(expl, "latex").count(r"Here $\alpha = -\ddot{\theta}$, the angular acceleration") == 1
     assert render(expl, "markdown").count(r"Here alpha = -theta\_ddot, the angular acceleration") == 1
     page = html.unescape(mathml_text(render(expl, "html")))
-    assert page.count("Here \u03b1=-\u03b8\u00a8, the angular acceleration") == 1
+    assert page.count("Here \u03b1=\u2212\u03b8\u00a8, the angular acceleration") == 1  # (HTML's minus sign)
     # a scene whose equations never write alpha for q'' (two coordinates) says nothing of it
     double = explain(load_system(ROOT / "data" / "scenes" / "double_pendulum.toml"), advice=False)
     assert not any(t.startswith("Here alpha") for s in double.steps() for t in s.text)
@@ -1454,3 +1458,78 @@ def test_compound_names_keep_their_parts_in_every_format(every_rendering):
     assert ("<msub><mi>r</mi><mrow><mi>I</mi><mo>(</mo><msub><mi>A</mi><mi>x</mi></msub><mo>,</mo>"
             "<msub><mi>B</mi><mi>y</mi></msub><mo>)</mo></mrow></msub>") in page
     assert r"W_{upper.bob1} = \begin{pmatrix}" in every_rendering["double_pendulum", "latex"]
+
+
+# What a hyphen-minus shown as a minus looks like in HTML: a MathML operator or number sign, or in the
+# text a number's sign or an operator between spaces (drawings, code and the style sheet taken out)
+_MATHML_HYPHEN = re.compile(r"<mo[^>]*>-</mo>|<mn>-")
+_TEXT_HYPHEN = re.compile(r"(?<![\w.-])-(?=\.?\d)|\s-\s")
+_NOT_SHOWN_AS_TEXT = re.compile(r"<(svg|style|code|pre)\b.*?</\1>", re.S)
+
+
+def test_html_shows_every_minus_as_the_minus_sign(every_rendering):
+    """QA 20 #7: the worked solution's HTML wrote hyphen-minus in the prose's MathML ("M_O - r_G/O x
+    m a_O", the "- omega^2 r" note), in numbers (<mn>-1.703</mn>, the exponent of 10 to the -16) and in
+    the free-body table's "(-A_x, 0)", beside U+2212 in the displayed equations. Every shipped
+    scene's page now writes U+2212; text, Markdown and LaTeX keep "-"."""
+    for (name, fmt), page in every_rendering.items():
+        if fmt != "html":
+            assert "\u2212" not in page, (name, fmt)
+            continue
+        hit = _MATHML_HYPHEN.search(page)
+        assert hit is None, (name, page[max(0, hit.start() - 120):hit.end() + 40])
+        for text in re.split(r"<[^>]*>", _NOT_SHOWN_AS_TEXT.sub("", page)):
+            assert _TEXT_HYPHEN.search(text) is None, (name, text)
+    page = every_rendering["double_pendulum", "html"]
+    # a sign, without the space of a binary minus: (-A_x, 0), as the displayed equations write it
+    assert ('<mo>(</mo><mo form="prefix">\u2212</mo><msub><mi>A</mi><mi>x</mi></msub><mo>,</mo><mn>0</mn><mo>)</mo>'
+            in page)
+    assert "<mo>\u2212</mo><msup><mi>&#969;</mi>" in page  # a = a_O + alpha x r - omega^2 r
+
+
+def test_minus_signs_leaves_words_ranges_code_and_drawings():
+    """The rule's edges, written out by hand: signs and spaced operators become U+2212; a hyphen in a
+    word, a range, an exponent written as code (1e-16), a lone "-" cell, a command and a drawing stay."""
+    from solver.mathml import minus_signs
+
+    page = ('<p>lhs - rhs, mass-centre, items 1-5, -7.35 N, (-0.3, -r_G, 1e-16</p><td>-</td>'
+            '<math><mo>-</mo><mn>-1.703</mn><mo>-&gt;</mo></math><code>--point -1</code>'
+            '<svg><text x="-1">-2</text></svg><p class="a-b" id="eq-1">-4</p>')
+    m = "\u2212"
+    assert minus_signs(page) == (
+        f'<p>lhs {m} rhs, mass-centre, items 1-5, {m}7.35 N, ({m}0.3, {m}r_G, 1e-16</p><td>-</td>'
+        f'<math><mo>{m}</mo><mn>{m}1.703</mn><mo>-&gt;</mo></math><code>--point -1</code>'
+        f'<svg><text x="-1">-2</text></svg><p class="a-b" id="eq-1">{m}4</p>')
+
+
+def test_html_round_off_line_writes_numbers_as_the_tables_do(solver_cli):
+    """QA 20 #7: the upright pendulum's "0 to round-off" line printed "computed -2.56e-15, error bound
+    1.2e-13" in code notation on a page whose tables write 2.4 x 10 to the -16. The values (README:
+    theta_ddot computed -2.56e-15 rad/s**2 beside a bound of 1.2e-13) are now written -2.56 x 10 to the
+    -15 and 1.2 x 10 to the -13 rad/s squared, and no prose of the page keeps a number like 1e-16."""
+    code, page, _ = solver_cli("explain", str(ROOT / "data/scenes/compound_pendulum.toml"), "--set",
+                               "theta=180 deg", "--format", "html")
+    assert code == 0
+    line = next(p for p in page.split("<p>") if p.startswith("0 to round-off"))
+    power = "<mrow><mn>{}</mn><mo>\u00d7</mo><msup><mn>10</mn><mn>{}</mn></msup></mrow>"
+    assert power.format("\u22122.56", "\u221215") in line
+    assert power.format("1.2", "\u221213") + "</math>&#8201;rad/s<sup>2</sup>)" in line
+    for text in re.split(r"<[^>]*>", _NOT_SHOWN_AS_TEXT.sub("", page)):
+        assert re.search(r"\de[-+\u2212]?\d", text) is None, text
+
+
+def test_an_element_is_spelled_alike_in_equations_and_force_list(tmp_path):
+    """QA 20 #7: an element without a name (the reader names it point_mass_1) had its weight written
+    W_{upper.point mass 1} in the equations and gravity:upper.point_mass_1 in the force list and the
+    notes; in MathML the "." was an operator, spaced "upper . point mass 1". Each format now spells it
+    as the scene reader names it, and the dot is a separator without operator space."""
+    text = (ROOT / "data/scenes/double_pendulum.toml").read_text(encoding="utf-8")
+    path = tmp_path / "unnamed.toml"
+    path.write_text(text.replace('{ name = "bob1", kind', "{ kind"), encoding="utf-8")
+    expl = explain(load_system(path))
+    tex, page = render(expl, "latex"), render(expl, "html")
+    assert "W_{upper.point\\_mass\\_1}" in tex and "gravity:upper.point\\_mass\\_1" in tex
+    assert "point\\ mass" not in tex
+    assert ('<msub><mi>W</mi><mrow><mi>upper</mi><mo lspace="0" rspace="0">.</mo><mi>point_mass_1</mi>'
+            '</mrow></msub>') in page
+    assert "<td>gravity:upper.point_mass_1</td>" in page and "point mass 1" not in page

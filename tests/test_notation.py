@@ -49,7 +49,7 @@ def _mathml_value(node, env):
     if tag == "mi":
         return env[node.firstChild.data]
     if tag == "mn":
-        return float(node.firstChild.data)
+        return float(node.firstChild.data.replace("\u2212", "-"))  # a sign shown as the minus sign
     if tag == "mfrac":
         return _mathml_value(kids[0], env) / _mathml_value(kids[1], env)
     if tag == "msup":

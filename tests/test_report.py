@@ -84,6 +84,21 @@ def test_each_page_has_unique_ids_and_every_reference_resolves(built):
         assert page_ids(text) == ([], []), name
 
 
+def test_pages_show_every_minus_as_the_minus_sign(built):
+    """QA 20 #7: report.html and paper.html write a minus as U+2212, as the worked solution's HTML does:
+    in the tables' numbers (-6.937 lbf s^2), the checks' details ("printed lhs - rhs", "cos(beta -
+    theta)"), and MathML; no hyphen-minus shows as a sign or a spaced operator outside drawings and code.
+    paper.tex and verification.json keep "-"."""
+    shown = re.compile(r"<mo>-</mo>|<mn>-|>[^<]*(?:(?<![\w.-])-(?=\.?\d)|\s-\s)[^<]*<")
+    for name in ("report.html", "paper.html"):
+        text = (Path(built["out"]) / name).read_text(encoding="utf-8")
+        text = re.sub(r"<(svg|style|code|pre)\b.*?</\1>", "", text, flags=re.S)
+        hit = shown.search(text)
+        assert hit is None, (name, hit and hit.group(0)[:200])
+        assert "\u2212" in text
+    assert "\u2212" not in (Path(built["out"]) / "verification.json").read_text(encoding="utf-8")
+
+
 def test_build_writes_every_output(built):
     out = Path(built["out"])
     for name in ("report.html", "paper.html", "paper.tex", "verification.json"):
@@ -112,7 +127,7 @@ def test_printed_column_shows_the_value_as_printed(built):
         row = re.search(rf'<tr id="row-{row_id}">(.*?)</tr>', page, flags=re.S).group(1)
         return re.sub(r"\s+", " ", re.findall(r"<td[^>]*>(.*?)</td>", row, flags=re.S)[2]).strip()
 
-    assert printed_cell("eq29-r1-alpha") == "-0.05080"  # example1.toml: printed "0.05080", value -0.05080
+    assert printed_cell("eq29-r1-alpha") == "\u22120.05080"  # example1.toml: printed "0.05080", value -0.05080, a minus sign
     assert printed_cell("table1-item1-definitely-agree") == "50.0 %"  # table1.csv prints 50.0
 
 
@@ -547,7 +562,8 @@ def _tex_rows(tex: str, after: str, names) -> dict[str, list[str]]:
 
 
 def _number(text: str) -> float:
-    return float(text.split()[0])
+    """The number a cell starts with, its sign the HTML's minus sign U+2212 or LaTeX's "-"."""
+    return float(text.split()[0].replace("\u2212", "-"))
 
 
 def test_example1_states_g_c_and_shows_forces_before_the_division(built):
@@ -610,7 +626,8 @@ def test_example2_numbers_table_holds_the_solver_values(built):
         # shown to 4 significant figures: off by at most half a unit in the 4th figure (5e-4 relative)
         assert _number(cell) == pytest.approx(value, rel=5e-4), name
     tex = (out / "paper.tex").read_text(encoding="utf-8")
-    assert _tex_rows(tex, "Solving the equations at the state of the data table:", expected) == table
+    shown = {name: [cell.replace("\u2212", "-") for cell in cells] for name, cells in table.items()}  # HTML's minus sign
+    assert _tex_rows(tex, "Solving the equations at the state of the data table:", expected) == shown
 
 
 def test_example2_says_both_points_work(built):
@@ -861,3 +878,25 @@ def test_a_truncated_or_damaged_cache_file_leaves_the_template_to_be_compiled(tm
     for damaged in (bc_magic, bc_magic + checksum[:20] + b"\x00garbage"):
         written.write_bytes(damaged)
         assert rendered() == "<b>1</b>"
+
+
+def test_a_display_wider_than_the_page_is_laid_out_one_term_a_row(built):
+    """QA 20 #7: paper.html's Example 2 moment equation about C was one display wider than a 1000 px
+    page, scrolled inside its box and cut when printed. It is now laid out as the worked solution's
+    HTML lays out its equations, one term a row with its note beside it: three terms on the left (the
+    weight's moment, F_a's, the inertial term) and I_C alpha on the right, four rows. The displays that
+    fit (about P, Example 1's about A) stay one row each."""
+    from solver.mathml import mathml_width
+
+    page = (Path(built["out"]) / "paper.html").read_text(encoding="utf-8")
+    about_c = re.search(r"generalized Euler equation about C \(Eq\. \(11\)\):</p>\s*(<div class=\"terms-eq\">.*?</table></div>)",
+                        page, flags=re.S)
+    assert about_c is not None
+    rows = re.findall(r"<tr>(.*?)</tr>", about_c.group(1), flags=re.S)
+    notes = [re.sub(r"<[^>]*>", "", re.search(r'<span class="note">(.*?)</span>', r, re.S).group(1)) for r in rows]
+    assert notes == ["moment of weight of bar about C", "moment of F_a about C",
+                     "inertial term \u2212r_G/C \u00d7 m a_C", "I_C alpha"]
+    assert max(mathml_width(r) for r in rows) < 50  # each row well inside the page (75 units wide)
+    for point in ("P", "A"):
+        display = re.search(rf"generalized Euler equation about {point} \(Eq\. \(1[01]\)\):</p>\s*<(\w+)", page)
+        assert display.group(1) == "math", point

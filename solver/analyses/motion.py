@@ -61,7 +61,7 @@ class MotionResult:
     nfev : int
     energy_drift : float or None
         max |E - E(0)| / max T over the run, for a system whose loads are all
-        conservative; None otherwise.
+        conservative and that moved; None otherwise, ``energy_drift_note`` saying why.
     """
 
     t: np.ndarray
@@ -71,6 +71,8 @@ class MotionResult:
     nfev: int = 0
     energy_drift: float | None = None
     events: list = field(default_factory=list)
+    energy_drift_note: str = ""
+    """Why ``energy_drift`` is None (:data:`NO_DRIFT`); empty when it is a number."""
 
     def columns_with_time(self, units=None) -> dict:
         """``t`` and every column, name -> (values, unit), as the CSV file has them: SI, or in the
@@ -89,6 +91,16 @@ class MotionResult:
                 "energy_drift": self.energy_drift,
                 "events": [{**e, "t": float(e["t"]), "state": {k: float(v) for k, v in e.get("state", {}).items()}}
                            for e in self.events]}
+
+
+NO_DRIFT = {
+    "work": "the loads depend on time or rate: they do work",
+    "rest": "nothing moved: no kinetic energy to measure a change of energy by",
+    "prescribed": "every motion is prescribed: nothing moves freely",
+    "slid": "a contact slid: its friction did work",
+    "regimes": "the contacts changed regime during the run",
+}
+"""Why a run has no energy drift (``simulate`` prints "energy drift: not applicable (WHY)")."""
 
 
 def _conservative(system) -> bool:
@@ -594,14 +606,23 @@ def _sample(base, segments, ts, status, reason, nfev):
     columns = {k: (np.array(v), units.get(k, "")) for k, v in cols.items()}
     slid = any(np.any(np.abs(columns[f"friction_work_{j.name}"][0]) > 0)
                for j in base.contacts if f"friction_work_{j.name}" in columns)
-    drift = (_energy_drift(base, columns, np.array(kept_t))
-             if _conservative(base) and free and not slid and len(segments) == 1 else None)
+    drift, why = _energy_drift(base, columns, np.array(kept_t), slid, len(segments))
     if not segments[0].ind and len(segments) == 1 and status == "completed" and not getattr(segments[0], "rest", False):
         reason = "every motion is prescribed: inverse dynamics"
-    return MotionResult(np.array(kept_t), columns, status, reason, nfev, drift)
+    return MotionResult(np.array(kept_t), columns, status, reason, nfev, drift, energy_drift_note=why)
 
 
-def _energy_drift(system, columns, ts):
+def _energy_drift(system, columns, ts, slid: bool, n_segments: int) -> tuple[float | None, str]:
+    """(max |E - E(0)| / max T over the samples, "") where the energy is conserved and something
+    moved; else (None, why the drift says nothing: the words of :data:`NO_DRIFT`)."""
+    if not system.free:
+        return None, NO_DRIFT["prescribed"]
+    if not _conservative(system):
+        return None, NO_DRIFT["work"]
+    if slid:
+        return None, NO_DRIFT["slid"]
+    if n_segments > 1:
+        return None, NO_DRIFT["regimes"]
     T = system.kinetic_energy()
     V = system.potential_energy()
     args = (*system.q, *system.qd, system.t, *system.si_values())
@@ -613,8 +634,8 @@ def _energy_drift(system, columns, ts):
     E = Tv + Vv
     scale = float(np.max(np.abs(Tv))) if len(Tv) else 0.0
     if not scale > 0:
-        return None
-    return float(np.max(np.abs(E - E[0])) / scale)
+        return None, NO_DRIFT["rest"]
+    return float(np.max(np.abs(E - E[0])) / scale), ""
 
 
 def write_motion_csv(result: MotionResult, path, units=None) -> None:

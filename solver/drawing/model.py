@@ -516,11 +516,48 @@ def _angle_mark(system, c, value, shapes, poses, span):
         # 10 deg arc at 0.16 span was all head, on the bar), within the bar and 0.4 span
         longest = min(0.4 * span, 0.9 * dims["length"]) if bar is not None else 0.4 * span
         radius = min(max(0.16 * span, ARC_LENGTH * span / max(abs(end - start), 1e-9)), max(longest, 0.16 * span))
+        arc = {"type": "arc", "centre": centre.tolist(), "radius": radius, "start": start, "end": end}
+        rim = _round_rim(shape, poses[name], centre) if bar is None else None
+        if rim is not None:  # a disk turns: a radius drawn on it shows the turn, the arc inside its rim
+            others = [disk for other in shapes if other != name for disk in _round_parts(shapes[other], poses[other])]
+            arc.update(radius=min(radius, RIM_ARC * rim), rim=rim,
+                       label_at=_clear_place(centre, rim + LABEL_GAP * span, 0.5 * (start + end), others,
+                                             LABEL_GAP * span).tolist())
         return DrawnItem("coordinate", _mark_name(c), tuple(centre.tolist()), turn=1 if end >= start else -1, body=name,
-                         name=c.name, value=math.degrees(value), unit="deg",
-                         shape={"type": "arc", "centre": centre.tolist(), "radius": radius,
-                                "start": start, "end": end})
+                         name=c.name, value=math.degrees(value), unit="deg", shape=arc)
     return None
+
+
+RIM_ARC = 0.7
+"""A disk's angle arc is drawn at this fraction of its radius, inside the disk (not over its neighbours)."""
+LABEL_GAP = 0.06
+"""How far outside a disk's rim its angle's label is set, as a fraction of the scene's span (about
+the label's half width), and the least room it leaves to another body's rim."""
+
+
+def _round_parts(shape, pose):
+    """(centre, radius) of each round element of a body (disk, ring, half disk) at the pose."""
+    origin, phi = pose
+    return [(origin + _rot(phi) @ ctr, dims["radius"]) for e, ctr, ang, dims in shape.elements if "radius" in dims]
+
+
+def _round_rim(shape, pose, centre):
+    """The radius of the body's largest round element centred at ``centre`` (the point its angle is
+    marked about), or None when it has none."""
+    radii = [r for c, r in _round_parts(shape, pose) if np.linalg.norm(c - centre) <= 1e-9 * (1 + r)]
+    return max(radii) if radii else None
+
+
+def _clear_place(centre, distance: float, toward: float, others, gap: float):
+    """A point ``distance`` from ``centre``, in the direction ``toward`` or the nearest to it in steps of
+    30 degrees (counter-clockwise first) that is at least ``gap`` outside every circle of ``others``
+    ((centre, radius) pairs); ``toward`` itself when none is."""
+    for k in (0, 1, -1, 2, -2, 3, -3, 4, -4, 5, -5, 6):
+        a = toward + k * math.pi / 6
+        p = centre + distance * np.array([math.cos(a), math.sin(a)])
+        if all(np.linalg.norm(p - c) >= r + gap for c, r in others):
+            return p
+    return centre + distance * np.array([math.cos(toward), math.sin(toward)])
 
 
 def _length_mark(system, c, value, shapes, poses):

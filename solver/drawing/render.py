@@ -154,7 +154,7 @@ def _support(ax, item, span):
     _hatch_line(ax, ((x - 0.9 * s, y - s), (x + 0.9 * s, y - s)), (0, -0.4), s * 3)
 
 
-def _arc(ax, centre, radius, start, end, colour, label, dashed=False, arrow=True):
+def _arc(ax, centre, radius, start, end, colour, label, dashed=False, arrow=True, label_at=None):
     ts = np.linspace(start, end, 40)
     xs = centre[0] + radius * np.cos(ts)
     ys = centre[1] + radius * np.sin(ts)
@@ -166,10 +166,12 @@ def _arc(ax, centre, radius, start, end, colour, label, dashed=False, arrow=True
         drawn.append(head)
     mid = 0.5 * (start + end)
     out = 1.2 if abs(end - start) > 0.6 else 1.6  # a short arc: its label further out, clear of the lines
-    text = ax.annotate(label, (centre[0] + out * radius * math.cos(mid), centre[1] + out * radius * math.sin(mid)),
+    at = label_at or (centre[0] + out * radius * math.cos(mid), centre[1] + out * radius * math.sin(mid))
+    text = ax.annotate(label, tuple(at),
                        xytext=(0, 0), textcoords="offset points", fontsize=7, color=colour, ha="center",
                        va="center", zorder=6)
     _label_of(text, drawn)
+    return text
 
 
 CONNECTOR_WIDTH = 0.03
@@ -308,12 +310,21 @@ def render_scene(ax, items: list[DrawnItem], bodies: list[str], title: str = "",
         elif i.kind == "coordinate":
             s = i.shape
             if s["type"] == "arc":
-                _arc(ax, s["centre"], s["radius"], s["start"], s["end"], "0.15", i.label, arrow=abs(s["end"] - s["start"]) > 0.05)
+                label = _arc(ax, s["centre"], s["radius"], s["start"], s["end"], "0.15", i.label,
+                             arrow=abs(s["end"] - s["start"]) > 0.05, label_at=s.get("label_at"))
                 ref = s["start"]
                 c = np.array(s["centre"])
-                out = min(1.6 * s["radius"], s["radius"] + 0.1 * span)  # the reference line, just past the arc
+                # the reference line, just past the arc; on a disk, to its rim, beside the radius that turns
+                out = s["rim"] if "rim" in s else min(1.6 * s["radius"], s["radius"] + 0.1 * span)
                 ax.plot([c[0], c[0] + out * math.cos(ref)], [c[1], c[1] + out * math.sin(ref)],
                         color="0.4", linewidth=0.7, linestyle=":", zorder=3)
+                if "rim" in s:  # the radius that turns, in two halves: the label stays near the outer one
+                    u = s["rim"] * np.array([math.cos(s["end"]), math.sin(s["end"])])
+                    for k, (a, b) in enumerate(((c, c + 0.5 * u), (c + 0.5 * u, c + u))):
+                        half = ax.plot([a[0], b[0]], [a[1], b[1]], color="0.15", linewidth=1.0, zorder=3,
+                                       solid_capstyle="butt")
+                    arc = label.alt_euler_names if abs(s["end"] - s["start"]) > 0.05 else []  # (an angle of 0: a dot)
+                    label.alt_euler_names = [*half, *arc]
             elif s["type"] == "dimension":
                 a, b = np.array(s["ends"][0]), np.array(s["ends"][1])
                 off = np.array([0.0, -0.12 * span])

@@ -72,12 +72,14 @@ class Candidate:
     known: bool = False
     fixed: bool = False
     cost: str = ""
+    needless: bool = False
+    """Whether a_P is not needed at all: P is the mass centre, where the inertial term vanishes."""
     together: str = "it must be solved together with the other bodies' equations"
     """What the moment equation needs when no group of the body's equations is solvable alone."""
 
     @property
     def key(self):
-        return (0 if self.known else 1, len(self.unknowns), self.group or 99, 0 if self.fixed else 1)
+        return (0 if self.known or self.needless else 1, len(self.unknowns), self.group or 99, 0 if self.fixed else 1)
 
     def reason(self) -> str:
         from .build import counted
@@ -291,6 +293,9 @@ def rank_points(system, body: str, state, f=None, parts=None) -> list[Candidate]
                 continue
             s, _ = np.linalg.solve(M, p2 - p1)
             add(crossing_name(n1, n2), p1 + s * d1, crossing_words(n1, n2))
+    g_at = cands_g[0].position if (cands_g := [c for c in cands if c.origin == "mass centre"]) else None
+    if g_at is None and "G" in points.named:
+        g_at = tuple(_numeric(x, subs) for x in xy(points.named["G"]))
     for c in cands:
         row = body_rows.moment_row(c.position)
         c.unknowns = body_rows.unknowns_about(c.position)
@@ -300,7 +305,12 @@ def rank_points(system, body: str, state, f=None, parts=None) -> list[Candidate]
             c.together = ("it must be solved together with the joints' closure equations" if system.closure
                           else "it must be solved together with the body's other equations")
         c.fixed = c.name in points.named and c.name in b.point_names() and _fixed(system, body, c.name)
-        if c.fixed:
+        at_g = g_at is not None and all(abs(p - q) <= 1e-9 * (1 + abs(q)) for p, q in zip(c.position, g_at))
+        if at_g and not c.fixed and not c.known:  # r_G/P = 0: Eq. 10 about G is M_G = I_G alpha, whatever a_P is
+            at = "" if c.name == "G" else f"{c.name} is the mass centre: "
+            c.cost = f"{at}the inertial term -r_G/{c.name} x m a_{c.name} vanishes, so a_{c.name} is not needed"
+            c.needless = True
+        elif c.fixed:
             c.cost = f"a_{c.name} = 0 (a fixed point): no inertial term, no extra kinematics"
         elif c.known:
             c.cost = f"a_{c.name} is known from the joints (no extra kinematics)"
@@ -347,14 +357,14 @@ def advice_step(system, state, parts: dict | None = None) -> Step:
         best = ranked[0]
         label = f" of {body}" if len(system.bodies) > 1 else ""
         text.append(f"Best point{label}: {best.name} — {best.reason()}.")
-        fewer = [c for c in ranked if not c.known and len(c.unknowns) < len(best.unknowns)]
+        fewer = [c for c in ranked if not (c.known or c.needless) and len(c.unknowns) < len(best.unknowns)]
         if fewer:
             c = min(fewer, key=lambda c: c.key[1:])
             text.append(f"{c.name} ({c.origin}) would leave only {counted(len(c.unknowns), 'unknown')}, "
                         f"but a_{c.name} must be derived first.")
         for c in ranked:
             rows.append((body, c.name, c.origin, str(len(c.unknowns)), ", ".join(c.unknowns),
-                         str(c.group) if c.group else "-", "0 (fixed)" if c.fixed else "known" if c.known else "derive"))
+                         str(c.group) if c.group else "-", "0 (fixed)" if c.fixed else "known" if c.known else "not needed (G)" if c.needless else "derive"))
     return Step("advice", "Which point P?", text,
                 table=Table(("body", "point", "what", "unknowns", "which", "solvable group", "a_P"), tuple(rows)))
 

@@ -20,6 +20,8 @@ from .latex_prose import _FUNCTIONS, _NUMBER_UNIT, _UNIT, CODE, UNIT, LatexProse
 
 __all__ = ["MathmlProse", "unit_html", "unit_mathml", "name_mathml", "number_mathml"]
 
+# a number with an exponent in the prose, and the unit after it when a bracket closes there
+_E_NUMBER = re.compile(r"(?<![\w.])(?P<num>-?\d+(?:\.\d+)?e[-+]?\d+)(?:\s+(?P<unit>" + _UNIT.pattern + r")(?=\)))?")
 _RELATIONS = {">=": "\u2265", "<=": "\u2264", "=": "=", "~": "\u2248", ">": ">", "<": "<"}
 
 
@@ -86,7 +88,18 @@ class MathmlProse:
         self.decide = LatexProse(symbols, symbol_latex)
 
     def text(self, text: str, letters: bool = False) -> str:
-        """Prose as escaped HTML with an inline ``<math>`` for each name and formula."""
+        """Prose as escaped HTML with an inline ``<math>`` for each name and formula, and for each
+        number written with an exponent (``-2.56e-15``, as the tables write it: -2.56 x 10 to the
+        -15; with its unit when a bracket closes after it, ``(error bound 1.2e-13 rad/s**2)``)."""
+        out, start = [], 0
+        for m in _E_NUMBER.finditer(str(text)):
+            out.append(self._words(text[start:m.start()], letters))
+            unit = f"&#8201;{unit_html(m['unit'])}" if m["unit"] and unit_html(m["unit"]) else ""
+            out.append(str(wrap(number_mathml(m["num"]), "inline")) + unit)
+            start = m.end() if unit else m.start("unit") if m["unit"] else m.end()
+        return "".join(out) + self._words(str(text)[start:], letters)
+
+    def _words(self, text: str, letters: bool) -> str:
         return "".join(wrap(self._maths(part), "inline") if maths is True else
                        f"<code>{_h(part)}</code>" if maths == CODE else _h(part)
                        for maths, part in self.decide.segments(text, letters))
@@ -140,7 +153,11 @@ class MathmlProse:
             elif kind == UNIT:  # (a thin space, then the unit upright)
                 out.append(f"<mspace width=\"0.167em\"/>{unit_mathml(value)}")
             elif kind == "op":
-                out.append({"*": "<mo>&#8290;</mo>"}.get(value) or f"<mo>{_h(_RELATIONS.get(value, value))}</mo>")
+                prev = [(k, v) for k, v in tokens[:i] if k != "space"]
+                if value == "-" and (not prev or prev[-1][0] == "op" or prev[-1][1] in ("(", ",")):
+                    out.append('<mo form="prefix">-</mo>')  # a sign, (-A_x, 0): no space as around a binary minus
+                else:
+                    out.append({"*": "<mo>&#8290;</mo>"}.get(value) or f"<mo>{_h(_RELATIONS.get(value, value))}</mo>")
             elif kind != "space":
                 out.append(f"<mo>{_h(value)}</mo>")
             i += 1

@@ -23,7 +23,7 @@ from .content import Equation, Explanation, Step, Table, Term
 from ..notation import compound_latex
 from .latex_prose import LatexProse, latex_escape, subscripted, unit_latex
 
-__all__ = ["FORMATS", "render"]
+__all__ = ["FORMATS", "render", "terms_table"]
 
 FORMATS = ("text", "markdown", "html", "latex")
 
@@ -361,8 +361,9 @@ class _Html(_Renderer):
 
     def wrap(self, body):
         from ..mathfont import font_face_css
+        from ..mathml import minus_signs
 
-        return ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
+        return minus_signs("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
                 f"<title>{_h(self.expl.title)}</title>\n<style>{font_face_css()}\n  {_CSS}</style></head><body>\n"
                 + body + "\n</body></html>\n")
 
@@ -390,25 +391,8 @@ class _Html(_Renderer):
         if not notes:
             body = f"{_terms_mathml(lhs, eq.name)}{sign}{_terms_mathml(eq.rhs)}"
             return f"<div>{head}:</div><div class=\"eq\">{_math(body)}</div>"
-        # one row per term (left side, then right side), each with its note; a left side of one term
-        # without a note (a name, a_G) stands before the right side's first row
-        inline = len(lhs) == 1 and not lhs[0].note
-        sides = ((sign, eq.rhs),) if inline else (("", lhs), (sign, eq.rhs))
-        column, above = _term_layout(lhs, eq.rhs, inline, eq.name)
-        rows = []
-        for mark, terms in sides:
-            for i, t in enumerate(terms):
-                negative = i > 0 and _negative(t.expr)
-                op = "<mo>\u2212</mo>" if negative else "<mo>+</mo>" if i else mark
-                term = _term_mathml(-t.expr if negative else t.expr, eq.name if t in lhs and eq.name else "", column)
-                note = f"<span class=\"note\">[{self.prose.cell(t.note)}]</span>" if t.note else ""
-                left = _math(_term_mathml(lhs[0].expr, eq.name)) if inline and i == 0 else ""
-                if above and note:  # the note on a row of its own, where a wide term leaves it no room beside
-                    rows.append(f"<tr><td></td><td></td><td>{note}</td><td></td></tr>")
-                    note = ""
-                rows.append(f"<tr><td>{left}</td><td>{_math(op) if op else ''}</td><td>{_math(term)}</td>"
-                            f"<td>{note}</td></tr>")
-        return f"<div>{head}:</div><div class=\"eq\"><table class=\"terms\">{''.join(rows)}</table></div>"
+        table = terms_table(lhs, eq.rhs, sign, eq.name, lambda note: f"[{self.prose.cell(note)}]")
+        return f"<div>{head}:</div><div class=\"eq\">{table}</div>"
 
     def table(self, table):
         units = [h == "unit" for h in table.header]
@@ -423,6 +407,42 @@ class _Html(_Renderer):
     def drawing(self, svg):
         self.drawings += 1  # the project's own SVG (labels escaped by matplotlib), ids unique in the page
         return f"<figure class=\"fbd\">{inline_svg(svg, f'fbd{self.drawings}')}</figure>"
+
+
+def terms_table(lhs, rhs, sign: str, name: str, note_html) -> str:
+    """An equation laid out one term a row (left side, then right side), each with its note: the
+    worked solution's HTML for an equation whose terms carry notes, and paper.html's for a display
+    wider than its page. A left side of one term without a note (a name, a_G) stands before the
+    right side's first row; a 2-vector is written as a column and a note goes above its term where
+    the rows would still be wider than :data:`EQUATION_WIDTH_EM`.
+
+    Parameters
+    ----------
+    lhs, rhs : sequence of Term
+    sign : str
+        The relation's MathML, ``<mo>=</mo>`` or ``<mo>\u2248</mo>``.
+    name : str
+        The left side's name ("" when the left side is its terms).
+    note_html : callable
+        A term's note -> its HTML (escaped), shown in a ``<span class="note">``.
+    """
+    inline = len(lhs) == 1 and not lhs[0].note
+    sides = ((sign, rhs),) if inline else (("", lhs), (sign, rhs))
+    column, above = _term_layout(lhs, rhs, inline, name)
+    rows = []
+    for mark, terms in sides:
+        for i, t in enumerate(terms):
+            negative = i > 0 and _negative(t.expr)
+            op = "<mo>\u2212</mo>" if negative else "<mo>+</mo>" if i else mark
+            term = _term_mathml(-t.expr if negative else t.expr, name if t in lhs and name else "", column)
+            note = f"<span class=\"note\">{note_html(t.note)}</span>" if t.note else ""
+            left = _math(_term_mathml(lhs[0].expr, name)) if inline and i == 0 else ""
+            if above and note:  # the note on a row of its own, where a wide term leaves it no room beside
+                rows.append(f"<tr><td></td><td></td><td>{note}</td><td></td></tr>")
+                note = ""
+            rows.append(f"<tr><td>{left}</td><td>{_math(op) if op else ''}</td><td>{_math(term)}</td>"
+                        f"<td>{note}</td></tr>")
+    return f"<table class=\"terms\">{''.join(rows)}</table>"
 
 
 def _h(text) -> str:
