@@ -1510,7 +1510,8 @@ def test_html_round_off_line_writes_numbers_as_the_tables_do(solver_cli):
     code, page, _ = solver_cli("explain", str(ROOT / "data/scenes/compound_pendulum.toml"), "--set",
                                "theta=180 deg", "--format", "html")
     assert code == 0
-    line = next(p for p in page.split("<p>") if p.startswith("0 to round-off"))
+    # the Solution's line (the equations with the data entered give their known side's line before it)
+    line = [p for p in page.split("<p>") if p.startswith("0 to round-off")][-1]
     power = "<mrow><mn>{}</mn><mo>\u00d7</mo><msup><mn>10</mn><mn>{}</mn></msup></mrow>"
     assert power.format("\u22122.56", "\u221215") in line
     assert power.format("1.2", "\u221213") + "</math>&#8201;rad/s<sup>2</sup>)" in line
