@@ -22,20 +22,28 @@ settings.load_profile("ci" if os.environ.get("CI") else "default")
 # unit, so the session builds the report once instead of once per worker.
 REPORT_BUILD_FILES = frozenset({"tests/test_report.py", "tests/test_browser.py", "tests/test_drawing.py",
                                 "tests/test_report_text.py"})
-# The costliest units first (CPU seconds of each file, measured serially with a per-test
-# process-time hook, 23 November 2026: report build group ~22 (browser 8, drawing 8, report 6),
-# explain ~16, routes ~15, extremes ~10, display ~10, multibody scenes ~9, multibody properties ~8,
-# friction regimes ~7, analysis tables and analysis report ~6 each, period ~5, fuzz solver and
-# multibody joints ~4, command line ~3; 26 November: precision ~4.5, analysis compare, institution and
-# advised points ~2.5 each, the hash-seed subprocesses ~2), the rest after them in xdist's order.
+# The costliest units first (CPU seconds of each file in one worker of make test, measured with a
+# per-test process-time hook, 26 November 2026, the mean of two runs): report build group ~13 (drawing
+# 8.4, browser 2.5 and Chromium's own, report 2), display ~12, explain ~9, routes ~6, precision and
+# multibody joints ~5 each, friction regimes ~5, multibody scenes and extremes ~4 each, analysis
+# institution and compare ~3.3 each, multibody properties ~3.2, analysis tables, period, advised points,
+# analysis report and large rates ~2.7 each, analysis ingest and strprint ~2.4 each, the hash-seed
+# subprocesses ~2 (waited for, not in the worker's CPU), analysis hostile ~2, fuzz analysis ~1.7, command
+# line ~1.7 and its subprocesses, fuzz solver, joint vectors, system derivative and analysis likert ~1.2
+# each, friction ~1.1, multibody errors ~1; the rest (each under 1) after them in xdist's order.
 # Longest-first keeps the two workers finishing together: xdist alone orders by number of tests,
-# which sent the 2-test, 8 s multibody-properties file last. Only the order changes, never what runs.
-HEAVY_FIRST = ("report-build", "tests/test_explain.py", "tests/test_routes.py", "tests/test_extremes.py",
-               "tests/test_display.py", "tests/test_multibody_scenes.py", "tests/test_multibody_properties.py",
-               "tests/test_friction_regimes.py", "tests/test_precision.py", "tests/test_analysis_tables.py",
-               "tests/test_analysis_report.py", "tests/test_period.py", "tests/test_fuzz_solver.py",
-               "tests/test_multibody_joints.py", "tests/test_analysis_compare.py", "tests/test_analysis_institution.py",
-               "tests/test_advised_points.py", "tests/test_hash_seed.py", "tests/test_cli_solver.py")
+# which sent the 2-test multibody-properties file (8 s then) last; and a 2 s file left among the last
+# units ends one worker that much after the other. Only the order changes, never what runs.
+HEAVY_FIRST = ("report-build", "tests/test_display.py", "tests/test_explain.py", "tests/test_routes.py",
+               "tests/test_precision.py", "tests/test_multibody_joints.py", "tests/test_friction_regimes.py",
+               "tests/test_multibody_scenes.py", "tests/test_extremes.py", "tests/test_analysis_institution.py",
+               "tests/test_analysis_compare.py", "tests/test_multibody_properties.py", "tests/test_analysis_tables.py",
+               "tests/test_period.py", "tests/test_advised_points.py", "tests/test_analysis_report.py",
+               "tests/test_large_rates.py", "tests/test_analysis_ingest.py", "tests/test_strprint.py",
+               "tests/test_hash_seed.py", "tests/test_analysis_hostile.py", "tests/test_fuzz_analysis.py",
+               "tests/test_cli_solver.py", "tests/test_fuzz_solver.py", "tests/test_joint_vectors.py",
+               "tests/test_system_derivative.py", "tests/test_analysis_likert.py", "tests/test_friction.py",
+               "tests/test_multibody_errors.py")
 
 
 # The cyclic garbage collector in a test process. Its full collections walk every live object,

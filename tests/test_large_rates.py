@@ -6,10 +6,12 @@ zero and the centripetal acceleration of G points at O), -7.3575 rad/s**2 at 30 
 """
 from __future__ import annotations
 
+import functools
 import json
 import math
 
 import pytest
+import sympy as sp
 
 PIN_BAR = "tests/data/multibody/pin_bar.toml"
 EXACT = -1.5 * 9.81 * math.sin(math.radians(30)) / 1.0  # -7.3575 rad/s**2
@@ -164,8 +166,17 @@ def _sliding_bar_theta_ddot(theta, theta_dot):
     60 digits (the omega**2 terms of 1e26 at 1e13 rad/s leave 30 of them): sympy's own evalf of the
     same expression gave -16.47 for -2.41 at 22.5 deg and 1e9 rad/s."""
     import mpmath
-    import sympy as sp
 
+    q, w, theta_ddot = _sliding_bar_theta_ddot_expression()
+    with mpmath.workdps(60):
+        return float(sp.lambdify((q, w), theta_ddot, "mpmath")(theta, mpmath.mpf(theta_dot)))
+
+
+@functools.lru_cache(maxsize=None)
+def _sliding_bar_theta_ddot_expression():
+    """:func:`_sliding_bar_theta_ddot`'s Lagrange equation solved for theta_ddot, derived once per
+    process (two tests evaluate it; the derivation and ``sympy.solve`` cost about 0.4 s of CPU).
+    Returns (theta, theta_dot, theta_ddot(theta, theta_dot))."""
     L, g, beta = 4, sp.Rational(32174, 1000), sp.pi / 4
     t, q, w, a = sp.symbols("t q w a")
     th = sp.Function("th")(t)
@@ -173,8 +184,7 @@ def _sliding_bar_theta_ddot(theta, theta_dot):
     yg = L * sp.sin(th) / 2
     lag = (xg.diff(t) ** 2 + yg.diff(t) ** 2) / 2 + sp.Rational(L ** 2, 24) * th.diff(t) ** 2 - g * yg
     eom = (lag.diff(th.diff(t)).diff(t) - lag.diff(th)).subs(th.diff(t, 2), a).subs(th.diff(t), w).subs(th, q)
-    with mpmath.workdps(60):
-        return float(sp.lambdify((q, w), sp.solve(eom, a)[0], "mpmath")(theta, mpmath.mpf(theta_dot)))
+    return q, w, sp.solve(eom, a)[0]
 
 
 @pytest.mark.parametrize("scene, argv, name, exact", [
