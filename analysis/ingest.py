@@ -1000,7 +1000,8 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
     exclude = {j for j, h in enumerate(raw.header)
                if not platforms.candidate(shape, h, text_row[j])}
     group_names = _as_list(group)
-    group_idx = [_column_index(raw, g, names, text_row) for g in group_names]
+    group_idx = [column_index(raw.source, raw.header, g, names, text_row)
+                 for g in group_names]
     exclude |= set(group_idx)
     keep = _as_slice(keep)
     cols = [(j, _Column(names[j], c.cats, c.codes[keep], c.name))
@@ -1020,7 +1021,7 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
     item_idx = set(chosen)                        # built once: the column scan stays linear
     item_names = [names[j] for j in chosen]
     by_index = dict(cols)                   # answer text after any code map
-    groups = {_group_key(raw.header[j], names[j], g): np.array(
+    groups = {group_column_name(raw.header[j], names[j], g): np.array(
         by_index[j].cats, dtype=object)[by_index[j].codes] for g, j in zip(group_names, group_idx)}
     others = _other_columns(raw, shape, names, item_idx, lambda j: (
         "grouping column" if j in group_idx else "metadata" if j in exclude
@@ -1592,37 +1593,44 @@ def _as_list(x) -> list[str]:
     return list(x)
 
 
-def _column_index(raw: _Raw, name: str, names: "list[str] | None" = None,
-                  texts: "list[str] | None" = None) -> int:
-    """The column a grouping flag names: by its header (any case and spacing), else, given
-    the columns' question ``names`` (a Qualtrics export's texts, as items are named), by
-    its question text, as ``--items`` takes an item (:func:`analysis.platforms.item_matches`).
-    ``texts`` are the question texts as the export writes them: a text two questions share
-    (each then named by its field id) is refused as ambiguous, naming them."""
+def column_index(source: str, header: list[str], name: str, names: "list[str] | None" = None,
+                 texts: "list[str] | None" = None, flag: "str | None" = None) -> int:
+    """The column a grouping flag names (``--group`` here, ``--by`` in
+    :mod:`analysis.institution`: one rule): by its header, any case and spacing (a header cell
+    on two lines is named with one space), else, given the columns' question ``names`` (a
+    Qualtrics export's texts, as items are named), by its question text, as ``--items`` takes
+    an item (:func:`analysis.platforms.item_matches`). ``texts`` are the question texts as
+    the export writes them: a text two questions share (each then named by its field id) is
+    refused as ambiguous, naming them. ``flag`` names the flag in the refusal."""
     key = normalize_answer(name)
-    for j, h in enumerate(raw.header):
+    for j, h in enumerate(header):
         if normalize_answer(h) == key:
             return j
     named = {j: n for j, n in enumerate(names or []) if normalize_answer(n) != normalize_answer(
-        raw.header[j])}
+        header[j])}
     hits = [j for j, n in named.items() if platforms.item_matches(name, n)]
     if len(hits) == 1:
         return hits[0]
     hits = hits or [j for j, t in enumerate(texts or []) if t.strip() and normalize_answer(
-        t) != normalize_answer(raw.header[j]) and platforms.item_matches(name, t)]
+        t) != normalize_answer(header[j]) and platforms.item_matches(name, t)]
+    shown = [platforms.spaced_name(h) for h in header]
     if len(hits) > 1:
         raise SurveyInputError(f"{name!r} is the question text of columns "
-                               f"{[raw.header[j] for j in hits]!r}; name one of them", raw.source, 1)
+                               f"{[shown[j] for j in hits]!r}; name one of them", source, 1)
     if hits:
         return hits[0]
     also = f"; question texts are {list(named.values())!r}" if named else ""
-    raise SurveyInputError(f"no column {name!r}; columns are {raw.header!r}{also}", raw.source, 1)
+    head = f"{flag} {name!r}: no such column" if flag else f"no column {name!r}"
+    raise SurveyInputError(f"{head}; columns are {shown!r}{also}", source, 1)
 
 
-def _group_key(header: str, text: str, given: str) -> str:
-    """A grouping column's name in :attr:`SurveyData.groups` and every output: its header, or
-    its question text when the flag named it so (``--group Section`` for Qualtrics' ``Q2``)."""
-    return header if normalize_answer(header) == normalize_answer(given) else text
+def group_column_name(header: str, text: str, given: str) -> str:
+    """A grouping column's name in :attr:`SurveyData.groups` and every output, on both routes:
+    its header with white space collapsed (:func:`analysis.platforms.spaced_name`), or its
+    question text when the flag named it so (``--group Section`` for Qualtrics' ``Q2``)."""
+    if normalize_answer(header) == normalize_answer(given):
+        return platforms.spaced_name(header)
+    return text
 
 
 _resolve_reverse = platforms.resolve_reverse
@@ -2229,9 +2237,10 @@ def _build_long(raw: _Raw, scale, items, unknown, group, reverse, respondents):
         why = platforms.long_column_refusal("--group", g, raw.header)
         if why:
             raise SurveyInputError(why, source)
-        col = raw.columns[_column_index(raw, g)]
+        col = raw.columns[column_index(source, raw.header, g)]
         _refuse_two_groups(source, col, resp_code, resp_ids, first_idx, rows)
-        groups[col.name] = np.array(col.cats, dtype=object)[col.codes][first_idx]
+        groups[platforms.spaced_name(col.name)] = np.array(col.cats, dtype=object)[
+            col.codes][first_idx]
     names = [item_names[k] for k in wanted]
     data = SurveyData(source=source, shape="long", scale=scale_obj, items=names,
                       item_texts=list(names), answers=answers, rows=first_rows,
