@@ -1933,8 +1933,8 @@ def _why_not_item(col: _Column, scale: Scale, items, long: bool, notes: list,
     (index, column) of the items taken."""
     if items:
         return "not named by --items"
-    if not long and _ID_LIKE.match(col.name.strip()):
-        return "an identifier column"
+    if not long and (_ID_LIKE.match(col.name.strip()) or person_id_column([col.name]) == 0):
+        return "an identifier column"         # (an email or a username too: pairing's ids)
     if any(repr(col.name) in n for n in notes):
         return "see the note"
     if _unanswered(_column_stats(col, scale)):

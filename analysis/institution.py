@@ -39,7 +39,7 @@ import numpy as np
 from . import platforms
 from ._io import (ShortRecords, is_regular_file, refuse_values_beyond_header, short_records_note,
                   sniff_delimiter)
-from .disclosure import BLANK_GROUP, respondents_text, suppress_groups
+from .disclosure import BLANK_GROUP, count_text, respondents_text, suppress_groups
 from .dropped import FOOTER, DroppedRow, is_footer_note
 from .errors import SurveyInputError
 from .export import reversal_columns
@@ -231,9 +231,9 @@ class GroupedSummary:
     def format_text(self, decimals: int = 1) -> str:
         """One line per (group, item), institution-wide first; the agreement share printed
         to ``decimals`` places by the project's rounding rule, with its interval."""
-        out = [f"{self.source}: {int(self.respondents.sum())} respondents in {len(self.groups)} "
-               f"groups by {', '.join(self.by)}; scale {self.scale.name!r}; {self.shape} file "
-               f"counted out of core (DuckDB); agreement with its "
+        out = [f"{self.source}: {respondents_text(int(self.respondents.sum()))} in "
+               f"{count_text(len(self.groups), 'group')} by {', '.join(self.by)}; scale "
+               f"{self.scale.name!r}; {self.shape} file counted out of core (DuckDB); agreement with its "
                f"{interval_label(self.confidence_level, self.ci_method)}"]
         labels = list(self.scale.labels)
         withheld = self.suppression()
