@@ -1023,9 +1023,10 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
     by_index = dict(cols)                   # answer text after any code map
     groups = {group_column_name(raw.header[j], names[j], g): np.array(
         by_index[j].cats, dtype=object)[by_index[j].codes] for g, j in zip(group_names, group_idx)}
+    places = _ItemPlaces.of(item_cols)
     others = _other_columns(raw, shape, names, item_idx, lambda j: (
         "grouping column" if j in group_idx else "metadata" if j in exclude
-        else _why_not_item(by_index[j], scale_obj, items, False, notes, j, item_cols)))
+        else _why_not_item(by_index[j], scale_obj, items, False, notes, j, places)))
     data = SurveyData(source=raw.source, shape=shape, scale=scale_obj, items=item_names,
                       item_texts=item_names, answers=answers,
                       rows=np.asarray(rows, dtype=np.int64), groups=groups,
@@ -1346,8 +1347,10 @@ def _note_mapped_attributes(source, chosen, mapped: set, scale: Scale, notes: li
     an item beside the others (:func:`_looks_like_an_item`: a year of study 1-4 beside 5-point
     items). The map applies to every column whose answers are mostly its codes, so the column
     stays an item, counted; the note says so and how to leave it out."""
+    places = _ItemPlaces.of(chosen)
     for j, c in chosen:
-        if j in mapped and len(chosen) > 1 and not _looks_like_an_item(j, c, scale, chosen):
+        if j in mapped and len(chosen) > 1 and not _looks_like_an_item(j, c, scale, places,
+                                                                        taken=True):
             notes.append(f"{source}: column {(c.field or c.name)!r} is read through the code "
                          f"map as an item (its answers are mostly the map's codes), though "
                          f"{_UNLIKE}; if it is {_ATTRIBUTE}, list the item columns in the code "
@@ -1887,16 +1890,36 @@ def choose_items_from_counts(source: str, columns, scale=None, items=None,
     if scale is None:
         _note_no_neutral(scale_obj, notes)
     taken = {j for j, _ in chosen}
-    not_items = {c.name: _why_not_item(c, scale_obj, items, long, notes, j, chosen)
+    places = _ItemPlaces.of(chosen)
+    not_items = {c.name: _why_not_item(c, scale_obj, items, long, notes, j, places)
                  for j, c in cols if j not in taken}
     return scale_obj, [c.name for _, c in chosen], not_items, notes
 
 
-def _looks_like_an_item(j: int, col: _Column, scale: Scale, items: list) -> str:
+@dataclass(frozen=True)
+class _ItemPlaces:
+    """The items taken, as :func:`_looks_like_an_item` compares a column with them: how many
+    items have each header shape, and the index of the first and of the last item."""
+    shapes: dict
+    first: int
+    last: int
+
+    @classmethod
+    def of(cls, items: list) -> "_ItemPlaces":
+        """From (index, column) pairs; built once per file, not once per column."""
+        shapes: dict = {}
+        for _, c in items:
+            shapes[_header_shape(c)] = shapes.get(_header_shape(c), 0) + 1
+        idx = [i for i, _ in items]
+        return cls(shapes, min(idx, default=0), max(idx, default=-1))
+
+
+def _looks_like_an_item(j: int, col: _Column, scale: Scale, places: _ItemPlaces,
+                        taken: bool = False) -> str:
     """How column ``j``, whose answers are codes of ``scale`` (numbers, or the labels a code
-    map gave them), looks like an item in codes beside the ``items`` (index, column) taken;
-    ``""`` when it does not, as a respondent's attribute such as a year of study (1-4) or a
-    section (1-3) beside 5-point items does not.
+    map gave them), looks like an item in codes beside the items at ``places`` (``taken``:
+    itself among them); ``""`` when it does not, as a respondent's attribute such as a year
+    of study (1-4) or a section (1-3) beside 5-point items does not.
 
     It looks like one when its answers run from the scale's lowest code to its highest, when
     its header is shaped like an item's (``Q2`` among ``Q1``, ``Q3``: digits aside), or when it
@@ -1913,9 +1936,9 @@ def _looks_like_an_item(j: int, col: _Column, scale: Scale, items: list) -> str:
             used.add(m)
     if {0, scale.k - 1} <= used:
         return "numbers from the scale's lowest code to its highest"
-    if _header_shape(col) in {_header_shape(c) for i, c in items if i != j}:
+    if places.shapes.get(_header_shape(col), 0) > int(taken):
         return "numbers among the scale's codes, and its name is like the items' names"
-    if any(i < j for i, _ in items) and any(i > j for i, _ in items):
+    if places.first < j < places.last:
         return "numbers among the scale's codes, and it stands among the items"
     return ""
 
@@ -1928,9 +1951,9 @@ _ATTRIBUTE = "an attribute of the respondent (a year of study, a section)"
 
 
 def _why_not_item(col: _Column, scale: Scale, items, long: bool, notes: list,
-                  j: int = -1, chosen: list = ()) -> str:
-    """Why :func:`_choose_items` left column ``j`` out, in words; ``chosen`` holds the
-    (index, column) of the items taken."""
+                  j: int = -1, places: "_ItemPlaces | None" = None) -> str:
+    """Why :func:`_choose_items` left column ``j`` out, in words; ``places``: the items taken
+    (:meth:`_ItemPlaces.of`)."""
     if items:
         return "not named by --items"
     if not long and (_ID_LIKE.match(col.name.strip()) or person_id_column([col.name]) == 0):
@@ -1941,7 +1964,7 @@ def _why_not_item(col: _Column, scale: Scale, items, long: bool, notes: list,
         return "no answer in any row"
     answers = [str(c) for c, n in zip(col.cats, col.counts()) if n and str(c).strip()]
     if answers and all(scale.matches_code(c) for c in answers):
-        like = _looks_like_an_item(j, col, scale, list(chosen))
+        like = _looks_like_an_item(j, col, scale, places or _ItemPlaces.of([]))
         if not like:
             return f"its answers are numbers among the scale's codes, but {_UNLIKE}; taken for {_ATTRIBUTE}"
         reason = (f"its answers are {like}; if it is an item in numeric codes, which end means "
@@ -2242,13 +2265,14 @@ def _build_long(raw: _Raw, scale, items, unknown, group, reverse, respondents):
         groups[platforms.spaced_name(col.name)] = np.array(col.cats, dtype=object)[
             col.codes][first_idx]
     names = [item_names[k] for k in wanted]
+    places = _ItemPlaces.of(chosen)
     data = SurveyData(source=source, shape="long", scale=scale_obj, items=names,
                       item_texts=list(names), answers=answers, rows=first_rows,
                       groups=groups, unknown_answers=unknowns,
                       reverse=_resolve_reverse(source, names, reverse),
                       other_columns=[item_names[k] for k in range(nitem) if k not in wanted],
                       not_item_reasons={item_names[k]: _why_not_item(
-                          per_item[k][1], scale_obj, items, True, notes, k, chosen)
+                          per_item[k][1], scale_obj, items, True, notes, k, places)
                           for k in range(nitem) if k not in wanted},
                       comments=list(raw.comments), notes=notes)
     _narrower_items(data, counts, scale is None)
