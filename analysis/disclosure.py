@@ -15,12 +15,17 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-__all__ = ["BLANK_GROUP", "Suppression", "suppress_groups", "respondents_text"]
+__all__ = ["BLANK_GROUP", "Suppression", "suppress_groups", "respondents_text", "count_text"]
+
+
+def count_text(n: int, noun: str) -> str:
+    """``"1 group"``, ``"5 groups"``: a count of a regular ``noun`` as a sentence says it."""
+    return f"{n} {noun}{'' if n == 1 else 's'}"
 
 
 def respondents_text(n: int) -> str:
     """``"1 respondent"``, ``"5 respondents"``: a count of respondents as a sentence says it."""
-    return f"{n} respondent{'' if n == 1 else 's'}"
+    return count_text(n, "respondent")
 
 #: The name every output (text, JSON, tables, HTML) gives the group of blank grouping
 #: values, on both routes (``--group`` and ``--by``).

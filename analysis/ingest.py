@@ -1001,16 +1001,20 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
     exclude = {j for j, h in enumerate(raw.header)
                if not platforms.candidate(shape, h, text_row[j])}
     group_names = _as_list(group)
-    group_idx = [_column_index(raw, g, names, text_row) for g in group_names]
+    group_idx = [column_index(raw.source, raw.header, g, names, text_row)
+                 for g in group_names]
     exclude |= set(group_idx)
     keep = _as_slice(keep)
     cols = [(j, _Column(names[j], c.cats, c.codes[keep], c.name))
             for j, c in enumerate(raw.columns)]
+    mapped = set()
     if codes is not None:
-        cols = _apply_codebook(cols, codes, exclude - set(group_idx), notes, raw.source)
+        cols, mapped = _apply_codebook(cols, codes, exclude - set(group_idx), notes, raw.source)
     scale_obj, item_cols = _choose_items(raw.source, names, cols, exclude, scale, items,
                                          notes=notes,
                                          codes_file=None if codes is None else codes.source)
+    if not items:                      # (columns named by --items are items by choice)
+        _note_mapped_attributes(raw.source, item_cols, mapped, scale_obj, notes)
     answers, unknowns = _match(raw.source, scale_obj, item_cols, rows, unknown)
     counts = label_counts(answers, scale_obj.k)
     _scale_notes(scale_obj, counts, scale is None, notes)
@@ -1018,11 +1022,12 @@ def _build(raw: _Raw, peek, scale, items, shape, unknown, group, reverse, respon
     item_idx = set(chosen)                        # built once: the column scan stays linear
     item_names = [names[j] for j in chosen]
     by_index = dict(cols)                   # answer text after any code map
-    groups = {_group_key(raw.header[j], names[j], g): np.array(
+    groups = {group_column_name(raw.header[j], names[j], g): np.array(
         by_index[j].cats, dtype=object)[by_index[j].codes] for g, j in zip(group_names, group_idx)}
+    places = _ItemPlaces.of(item_cols)
     others = _other_columns(raw, shape, names, item_idx, lambda j: (
         "grouping column" if j in group_idx else "metadata" if j in exclude
-        else _why_not_item(by_index[j], scale_obj, items, False, notes)))
+        else _why_not_item(by_index[j], scale_obj, items, False, notes, j, places)))
     data = SurveyData(source=raw.source, shape=shape, scale=scale_obj, items=item_names,
                       item_texts=item_names, answers=answers,
                       rows=np.asarray(rows, dtype=np.int64), groups=groups,
@@ -1298,7 +1303,9 @@ def _mostly_codes_of(col: _Column, keys: list[str], m: dict) -> bool:
 
 
 def _apply_codebook(cols, book, exclude, notes, source):
-    """Columns with their codes replaced by answer text, where the code map covers them."""
+    """Columns with their codes replaced by answer text, where the code map covers them,
+    and the indices of those the map's general codes were applied to (by their answers,
+    :func:`_mostly_codes_of`, not by a column it names)."""
     from .codebook import Codebook
     out = []
     mapped_general = []
@@ -1321,6 +1328,7 @@ def _apply_codebook(cols, book, exclude, notes, source):
             mapped_general.append((j, set(used)))
     # a column coded 1/2 among 5-point items is a question of its own (e.g. a section)
     most = max((len(d) for _, d in mapped_general), default=0)
+    narrow = set()
     if book.default is not None and len(book.default) >= 4 and most >= 3:
         narrow = {j for j, d in mapped_general if d == {"1", "2"}}
         for i, (j, c) in enumerate(out):
@@ -1332,7 +1340,22 @@ def _apply_codebook(cols, book, exclude, notes, source):
                              "(e.g. a section), not an item; to take it as one, list the item "
                              "columns in the code map: columns = [\"Q1\", \"Q2\"] under "
                              "[codes]")
-    return out
+    return out, {j for j, _ in mapped_general} - narrow
+
+
+def _note_mapped_attributes(source, chosen, mapped: set, scale: Scale, notes: list) -> None:
+    """Say which items the code map's general codes made of a column that does not look like
+    an item beside the others (:func:`_looks_like_an_item`: a year of study 1-4 beside 5-point
+    items). The map applies to every column whose answers are mostly its codes, so the column
+    stays an item, counted; the note says so and how to leave it out."""
+    places = _ItemPlaces.of(chosen)
+    for j, c in chosen:
+        if j in mapped and len(chosen) > 1 and not _looks_like_an_item(j, c, scale, places,
+                                                                        taken=True):
+            notes.append(f"{source}: column {(c.field or c.name)!r} is read through the code "
+                         f"map as an item (its answers are mostly the map's codes), though "
+                         f"{_UNLIKE}; if it is {_ATTRIBUTE}, list the item columns in the code "
+                         f"map: columns = [\"Q1\", \"Q2\"] under [codes]")
 
 
 def _scale_notes(scale: Scale, counts: np.ndarray, detected: bool, notes: list) -> None:
@@ -1574,37 +1597,44 @@ def _as_list(x) -> list[str]:
     return list(x)
 
 
-def _column_index(raw: _Raw, name: str, names: "list[str] | None" = None,
-                  texts: "list[str] | None" = None) -> int:
-    """The column a grouping flag names: by its header (any case and spacing), else, given
-    the columns' question ``names`` (a Qualtrics export's texts, as items are named), by
-    its question text, as ``--items`` takes an item (:func:`analysis.platforms.item_matches`).
-    ``texts`` are the question texts as the export writes them: a text two questions share
-    (each then named by its field id) is refused as ambiguous, naming them."""
+def column_index(source: str, header: list[str], name: str, names: "list[str] | None" = None,
+                 texts: "list[str] | None" = None, flag: "str | None" = None) -> int:
+    """The column a grouping flag names (``--group`` here, ``--by`` in
+    :mod:`analysis.institution`: one rule): by its header, any case and spacing (a header cell
+    on two lines is named with one space), else, given the columns' question ``names`` (a
+    Qualtrics export's texts, as items are named), by its question text, as ``--items`` takes
+    an item (:func:`analysis.platforms.item_matches`). ``texts`` are the question texts as
+    the export writes them: a text two questions share (each then named by its field id) is
+    refused as ambiguous, naming them. ``flag`` names the flag in the refusal."""
     key = normalize_answer(name)
-    for j, h in enumerate(raw.header):
+    for j, h in enumerate(header):
         if normalize_answer(h) == key:
             return j
     named = {j: n for j, n in enumerate(names or []) if normalize_answer(n) != normalize_answer(
-        raw.header[j])}
+        header[j])}
     hits = [j for j, n in named.items() if platforms.item_matches(name, n)]
     if len(hits) == 1:
         return hits[0]
     hits = hits or [j for j, t in enumerate(texts or []) if t.strip() and normalize_answer(
-        t) != normalize_answer(raw.header[j]) and platforms.item_matches(name, t)]
+        t) != normalize_answer(header[j]) and platforms.item_matches(name, t)]
+    shown = [platforms.spaced_name(h) for h in header]
     if len(hits) > 1:
         raise SurveyInputError(f"{name!r} is the question text of columns "
-                               f"{[raw.header[j] for j in hits]!r}; name one of them", raw.source, 1)
+                               f"{[shown[j] for j in hits]!r}; name one of them", source, 1)
     if hits:
         return hits[0]
     also = f"; question texts are {list(named.values())!r}" if named else ""
-    raise SurveyInputError(f"no column {name!r}; columns are {raw.header!r}{also}", raw.source, 1)
+    head = f"{flag} {name!r}: no such column" if flag else f"no column {name!r}"
+    raise SurveyInputError(f"{head}; columns are {shown!r}{also}", source, 1)
 
 
-def _group_key(header: str, text: str, given: str) -> str:
-    """A grouping column's name in :attr:`SurveyData.groups` and every output: its header, or
-    its question text when the flag named it so (``--group Section`` for Qualtrics' ``Q2``)."""
-    return header if normalize_answer(header) == normalize_answer(given) else text
+def group_column_name(header: str, text: str, given: str) -> str:
+    """A grouping column's name in :attr:`SurveyData.groups` and every output, on both routes:
+    its header with white space collapsed (:func:`analysis.platforms.spaced_name`), or its
+    question text when the flag named it so (``--group Section`` for Qualtrics' ``Q2``)."""
+    if normalize_answer(header) == normalize_answer(given):
+        return platforms.spaced_name(header)
+    return text
 
 
 _resolve_reverse = platforms.resolve_reverse
@@ -1861,33 +1891,85 @@ def choose_items_from_counts(source: str, columns, scale=None, items=None,
     if scale is None:
         _note_no_neutral(scale_obj, notes)
     taken = {j for j, _ in chosen}
-    not_items = {c.name: _why_not_item(c, scale_obj, items, long, notes)
+    places = _ItemPlaces.of(chosen)
+    not_items = {c.name: _why_not_item(c, scale_obj, items, long, notes, j, places)
                  for j, c in cols if j not in taken}
     return scale_obj, [c.name for _, c in chosen], not_items, notes
 
 
-def _spans_the_codes(answers: list, scale: Scale) -> bool:
-    """Whether ``answers`` (numeric codes of ``scale``) use both its lowest and its highest code, as
-    an item answered in codes does and a year of study (1-4) or a section (1-3) beside 5-point
-    items does not."""
-    used = {scale.code_keys()[code_key(a)] for a in answers}
-    return 0 in used and len(scale.labels) - 1 in used
+@dataclass(frozen=True)
+class _ItemPlaces:
+    """The items taken, as :func:`_looks_like_an_item` compares a column with them: how many
+    items have each header shape, and the index of the first and of the last item."""
+    shapes: dict
+    first: int
+    last: int
+
+    @classmethod
+    def of(cls, items: list) -> "_ItemPlaces":
+        """From (index, column) pairs; built once per file, not once per column."""
+        shapes: dict = {}
+        for _, c in items:
+            shapes[_header_shape(c)] = shapes.get(_header_shape(c), 0) + 1
+        idx = [i for i, _ in items]
+        return cls(shapes, min(idx, default=0), max(idx, default=-1))
 
 
-def _why_not_item(col: _Column, scale: Scale, items, long: bool, notes: list) -> str:
-    """Why :func:`_choose_items` left a column out, in words."""
+def _looks_like_an_item(j: int, col: _Column, scale: Scale, places: _ItemPlaces,
+                        taken: bool = False) -> str:
+    """How column ``j``, whose answers are codes of ``scale`` (numbers, or the labels a code
+    map gave them), looks like an item in codes beside the items at ``places`` (``taken``:
+    itself among them); ``""`` when it does not, as a respondent's attribute such as a year
+    of study (1-4) or a section (1-3) beside 5-point items does not.
+
+    It looks like one when its answers run from the scale's lowest code to its highest, when
+    its header is shaped like an item's (``Q2`` among ``Q1``, ``Q3``: digits aside), or when it
+    stands among the items (one before it and one after it). A small class may leave an
+    item's end unanswered (2-5), so the span alone does not decide. Both routes and the code
+    map's note ask here (:func:`_why_not_item`, :func:`_note_mapped_attributes`).
+    """
+    used = set()
+    for t, n in zip(col.cats, col.counts()):
+        m = scale.match(t, accept_codes=False) if n else None
+        if n and m is None:
+            m = scale.code_keys().get(code_key(t))
+        if m is not None and m >= 0:
+            used.add(m)
+    if {0, scale.k - 1} <= used:
+        return "numbers from the scale's lowest code to its highest"
+    if places.shapes.get(_header_shape(col), 0) > int(taken):
+        return "numbers among the scale's codes, and its name is like the items' names"
+    if places.first < j < places.last:
+        return "numbers among the scale's codes, and it stands among the items"
+    return ""
+
+
+#: Why a column of codes does not look like an item (:func:`_looks_like_an_item`), in words.
+_UNLIKE = ("it does not look like an item: its answers do not run from the lowest code to the "
+           "highest, and it is neither named like the items nor placed among them")
+#: What such a column may be instead.
+_ATTRIBUTE = "an attribute of the respondent (a year of study, a section)"
+
+
+def _why_not_item(col: _Column, scale: Scale, items, long: bool, notes: list,
+                  j: int = -1, places: "_ItemPlaces | None" = None) -> str:
+    """Why :func:`_choose_items` left column ``j`` out, in words; ``places``: the items taken
+    (:meth:`_ItemPlaces.of`)."""
     if items:
         return "not named by --items"
-    if not long and _ID_LIKE.match(col.name.strip()):
-        return "an identifier column"
+    if not long and (_ID_LIKE.match(col.name.strip()) or person_id_column([col.name]) == 0):
+        return "an identifier column"         # (an email or a username too: pairing's ids)
     if any(repr(col.name) in n for n in notes):
         return "see the note"
     if _unanswered(_column_stats(col, scale)):
         return "no answer in any row"
     answers = [str(c) for c, n in zip(col.cats, col.counts()) if n and str(c).strip()]
-    if answers and all(scale.matches_code(c) for c in answers) and _spans_the_codes(answers, scale):
-        reason = (f"its answers are numbers from the scale's lowest code to its highest; if it is an item "
-                  f"in numeric codes, which end means agreement is not known: {CODES_HINT}")
+    if answers and all(scale.matches_code(c) for c in answers):
+        like = _looks_like_an_item(j, col, scale, places or _ItemPlaces.of([]))
+        if not like:
+            return f"its answers are numbers among the scale's codes, but {_UNLIKE}; taken for {_ATTRIBUTE}"
+        reason = (f"its answers are {like}; if it is an item in numeric codes, which end means "
+                  f"agreement is not known: {CODES_HINT}")
         note = f"column {col.name!r} is left out of the table: {reason}"
         if note not in notes:  # (both routes ask for the reason of a column once each)
             notes.append(note)
@@ -2179,17 +2261,19 @@ def _build_long(raw: _Raw, scale, items, unknown, group, reverse, respondents):
         why = platforms.long_column_refusal("--group", g, raw.header)
         if why:
             raise SurveyInputError(why, source)
-        col = raw.columns[_column_index(raw, g)]
+        col = raw.columns[column_index(source, raw.header, g)]
         _refuse_two_groups(source, col, resp_code, resp_ids, first_idx, rows)
-        groups[col.name] = np.array(col.cats, dtype=object)[col.codes][first_idx]
+        groups[platforms.spaced_name(col.name)] = np.array(col.cats, dtype=object)[
+            col.codes][first_idx]
     names = [item_names[k] for k in wanted]
+    places = _ItemPlaces.of(chosen)
     data = SurveyData(source=source, shape="long", scale=scale_obj, items=names,
                       item_texts=list(names), answers=answers, rows=first_rows,
                       groups=groups, unknown_answers=unknowns,
                       reverse=_resolve_reverse(source, names, reverse),
                       other_columns=[item_names[k] for k in range(nitem) if k not in wanted],
                       not_item_reasons={item_names[k]: _why_not_item(
-                          per_item[k][1], scale_obj, items, True, notes)
+                          per_item[k][1], scale_obj, items, True, notes, k, places)
                           for k in range(nitem) if k not in wanted},
                       comments=list(raw.comments), notes=notes)
     _narrower_items(data, counts, scale is None)

@@ -39,7 +39,7 @@ import numpy as np
 from . import platforms
 from ._io import (ShortRecords, is_regular_file, refuse_values_beyond_header, short_records_note,
                   sniff_delimiter)
-from .disclosure import BLANK_GROUP, respondents_text, suppress_groups
+from .disclosure import BLANK_GROUP, count_text, respondents_text, suppress_groups
 from .dropped import FOOTER, DroppedRow, is_footer_note
 from .errors import SurveyInputError
 from .export import reversal_columns
@@ -231,9 +231,9 @@ class GroupedSummary:
     def format_text(self, decimals: int = 1) -> str:
         """One line per (group, item), institution-wide first; the agreement share printed
         to ``decimals`` places by the project's rounding rule, with its interval."""
-        out = [f"{self.source}: {int(self.respondents.sum())} respondents in {len(self.groups)} "
-               f"groups by {', '.join(self.by)}; scale {self.scale.name!r}; {self.shape} file "
-               f"counted out of core (DuckDB); agreement with its "
+        out = [f"{self.source}: {respondents_text(int(self.respondents.sum()))} in "
+               f"{count_text(len(self.groups), 'group')} by {', '.join(self.by)}; scale "
+               f"{self.scale.name!r}; {self.shape} file counted out of core (DuckDB); agreement with its "
                f"{interval_label(self.confidence_level, self.ci_method)}"]
         labels = list(self.scale.labels)
         withheld = self.suppression()
@@ -645,16 +645,17 @@ def _count(p, by, scale, items, min_group, memory_limit, threads,
         why = platforms.repeated_column(_given_header(con, p, header))
         if why:                     # DuckDB renames a repeated Q1 to Q1_1 (and q1 too)
             raise SurveyInputError(why, str(p))
-        gcols = []
+        from .ingest import column_index, group_column_name, header_item_names
+        peek = [header] if p.suffix.lower() == ".parquet" else sniff_delimiter(_head(p))[1]
+        statements = dict(zip(header, header_item_names(header, peek)[0]))
+        gcols, shown = [], []              # as the file names them; as outputs print them
         for b in by:
             why = platforms.long_column_refusal("--by", b, header)
             if why:
                 raise SurveyInputError(why, str(p))
-            j = platforms.find_column(header, (b.strip().casefold(),))
-            if j is None:
-                raise SurveyInputError(f"--by {b!r}: no such column; columns are {header!r}",
-                                       str(p), 1)
+            j = column_index(str(p), header, b, list(statements.values()), flag="--by")
             gcols.append(header[j])
+            shown.append(group_column_name(header[j], statements[header[j]], b))
         ri, ii, ai = (platforms.find_column(header, platforms.LONG_RESP),
                       platforms.find_column(header, platforms.LONG_ITEM),
                       platforms.find_column(header, platforms.LONG_ANSWER))
@@ -667,9 +668,6 @@ def _count(p, by, scale, items, min_group, memory_limit, threads,
             idcols = {header[j] for j in range(len(header)) if platforms.find_column(
                 [header[j]], platforms.LONG_RESP) is not None}
             cand = [h for h in header if h not in gcols and h not in idcols]
-            from .ingest import header_item_names
-            peek = [header] if p.suffix.lower() == ".parquet" else sniff_delimiter(_head(p))[1]
-            statements = dict(zip(header, header_item_names(header, peek)[0]))
             if items:
                 from .ingest import unmatched_item
                 for pat in items:         # a pattern matching no column, as read_survey says
@@ -703,9 +701,10 @@ def _count(p, by, scale, items, min_group, memory_limit, threads,
     res = _assemble(str(p), gcols, shape, rows, scale, items, min_group,
                     cand if shape == "wide" else None, locate,
                     statements if shape == "wide" else None)
+    res.by = shown
     res.dropped, res.notes = dropped, footer_notes + res.notes
     if shape == "wide" and idcol is not None:
-        note = _repeated_ids(p, gcols, idcol, repeats, spelled)
+        note = _repeated_ids(p, gcols, idcol, repeats, spelled, shown)
         res.notes += [note] if note else []
     if shape == "wide":         # in the file's column order, named as read_survey names them
         res.not_items = {statements[h]: left_out.get(h) or res.not_items[h] for h in header
@@ -713,12 +712,6 @@ def _count(p, by, scale, items, min_group, memory_limit, threads,
         res.fields = list(res.items)
         res.items = [statements[n] for n in res.items]
     return res
-
-
-def _spaced(name: str) -> str:
-    """A column name as ``read_survey`` names it: runs of white space (a line break in a
-    quoted header cell) as one space."""
-    return " ".join(str(name).split()) or name
 
 
 def _check_serial(error: Exception, parallel: bool) -> None:
@@ -806,7 +799,8 @@ def _refuse_two_groups(path: Path, resp: str, gcols: list, torn: set) -> None:
         for col, was, now in zip(gcols, seen, values):
             if normalize_answer(was) != normalize_answer(now):
                 raise SurveyInputError(two_groups_message(who, col, was, now), str(path), row, col)
-    raise SurveyInputError(f"respondents in two groups by {', '.join(gcols)}, e.g. "
+    raise SurveyInputError(f"respondents in two groups by "
+                           f"{', '.join(map(platforms.spaced_name, gcols))}, e.g. "
                            f"{min(torn)!r}", str(path))
 
 
@@ -985,18 +979,20 @@ def _id_spellings(con, src: str, idcol: str, keys: list) -> dict:
                             f"({', '.join(['?'] * len(keys))}) GROUP BY 1", keys).fetchall())
 
 
-def _repeated_ids(path: Path, gcols, idcol: str, repeats: list, spelled: dict) -> "str | None":
+def _repeated_ids(path: Path, gcols, idcol: str, repeats: list, spelled: dict,
+                  shown: list) -> "str | None":
     """The note of :func:`analysis.ingest.repeated_ids_note` on the kind-2 rows of
     :func:`_count_wide` (ids matched in lower case), naming the first three ids as the file
     writes them (on their first row, as ``read_survey`` does) with their rows, found by reading
-    the file again; a file too long for that gives the rows' number and the ``spelled`` ids."""
+    the file again; a file too long for that gives the rows' number and the ``spelled`` ids.
+    The grouping columns are named as ``shown``."""
     from .ingest import repeated_ids_note
     if not repeats:
         return None
     ng = len(gcols)
     first = {(_raw_key(r[:ng]), str(r[ng + 1])): [] for r in repeats[:3]}
     if path.stat().st_size > _MAX_REREAD:      # too long to read again in Python: counts
-        return repeated_ids_note(str(path), idcol, list(gcols), len(repeats),
+        return repeated_ids_note(str(path), idcol, list(shown), len(repeats),
                                  [(spelled.get(r[ng + 1], str(r[ng + 1])), int(r[ng + 3]))
                                   for r in repeats[:3]])
     written = {}
@@ -1005,7 +1001,7 @@ def _repeated_ids(path: Path, gcols, idcol: str, repeats: list, spelled: dict) -
         if key in first:
             first[key].append(row)
             written.setdefault(key, cells[ng].strip())
-    return repeated_ids_note(str(path), idcol, list(gcols), len(repeats),
+    return repeated_ids_note(str(path), idcol, list(shown), len(repeats),
                              [(written.get(k, k[1]), rows) for k, rows in first.items()])
 
 

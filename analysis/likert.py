@@ -42,6 +42,7 @@ from fractions import Fraction
 
 import numpy as np
 
+from .disclosure import respondents_text
 from .rounding import (largest_remainder, largest_remainder_tie, number_text, percent_text, quartile_texts,
                        round_fraction, share_percent_text)
 
@@ -402,7 +403,7 @@ class SurveySummary:
     def format_text(self, decimals: int = 1, method: str = "round") -> str:
         """Plain-text Table 1 with n, missing and the agreement interval."""
         labels = list(self.scale.labels)
-        out = [f"{self.source}: {self.respondents} respondents, scale {self.scale.name!r}, "
+        out = [f"{self.source}: {respondents_text(self.respondents)}, scale {self.scale.name!r}, "
                f"shape {self.shape}"]
         width = max([len(_name(i)) for i in self.items] + [4])
         cw = max([len(lab) for lab in labels] + [14])

@@ -98,6 +98,12 @@ def long_column_refusal(flag: str, name: str, header: list[str]) -> "str | None"
     return None
 
 
+def spaced_name(name: str) -> str:
+    """A column name as every output prints it and as items are named: runs of white space
+    (a line break in a quoted header cell) as one space, outer spaces trimmed."""
+    return " ".join(str(name).split()) or str(name)
+
+
 def find_column(header: list[str], names) -> "int | None":
     """Index of the first of ``names`` among the header (ignoring case and outer spaces)."""
     keys = [h.strip().casefold() for h in header]

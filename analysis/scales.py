@@ -175,11 +175,13 @@ def two_groups_message(respondent: str, column: str, first: str, other: str) -> 
     "respondent 's1' is in two groups by 'Section': 'A' on an earlier row, (blank) on this one; a respondent's rows must give one group"
     """
     from .disclosure import BLANK_GROUP
+    from .platforms import spaced_name
 
     def shown(v):
         return repr(v) if str(v).strip() else BLANK_GROUP
-    return (f"respondent {respondent!r} is in two groups by {column!r}: {shown(first)} on an "
-            f"earlier row, {shown(other)} on this one; a respondent's rows must give one group")
+    return (f"respondent {respondent!r} is in two groups by {spaced_name(column)!r}: "
+            f"{shown(first)} on an earlier row, {shown(other)} on this one; a respondent's rows "
+            f"must give one group")
 
 
 def _code_key(text: str) -> str | None:

@@ -734,6 +734,26 @@ def test_a_paired_item_is_tested_only_on_enough_pairs_that_changed(analysis_cli,
     assert (q2["test"], q2["pairs"], q2["pairs_unchanged"]) == ("none", 10, 10)
 
 
+def test_a_count_of_one_group_is_singular_and_an_email_is_an_identifier(tmp_path, analysis_cli):
+    """QA 21 #11: --by printed "2 respondents in 1 groups", and the Email column used for pairing
+    was left out as "its answers are not labels of scale 'agree5'". By hand: one section (A), two
+    rows; Email identifies the respondent (analysis.ingest's person-id list names it)."""
+    f = tmp_path / "one.csv"
+    f.write_text("Email,Sec,Q1\na@x.edu,A,Agree\nb@x.edu,A,Disagree\n")
+    code, out, err = analysis_cli("summarize", str(f), "--by", "Sec", "--min-group", "1")
+    assert code == 0, err
+    assert f"{f}: 2 respondents in 1 group by Sec; scale" in out, out
+    for route in ([], ["--by", "Sec", "--min-group", "1"]):
+        code, out, err = analysis_cli("summarize", str(f), "--json", *route)
+        assert code == 0, err
+        assert json.loads(out)["not_item_reasons"]["Email"] == "an identifier column"
+    one = tmp_path / "single.csv"
+    one.write_text("Email,Q1\na@x.edu,Agree\n")
+    code, out, err = analysis_cli("summarize", str(one))
+    assert code == 0, err
+    assert f"{one}: 1 respondent, scale" in out, out
+
+
 def test_a_count_of_one_respondent_is_singular(tmp_path, analysis_cli):
     """QA 19 #10: ``--min-group 1`` printed "groups under 1 respondents suppressed", and a group of
     one "b: 1 respondents". Section b has one respondent, a has two."""

@@ -868,3 +868,60 @@ def test_a_numeric_column_among_labelled_items_says_codes_would_bring_it_in(anal
     assert "'Year'" not in notes
     assert len([n for n in result["notes"] if "'Q2'" in n]) == 1  # (QA 20: it was given twice)
     assert "Q2" not in result.get("items", {}) and "Q2" in json.dumps(result.get("not_items"))
+
+
+#: QA 21 #2's file: Q1 in codes 1-5, Q2 in codes nobody answered 1 to (2-5), Q3 labelled; Year
+#: 1-4 ahead of the items. "The pace was right" (2-4) stands between two labelled statements.
+_CODED_BESIDE_LABELS = ("id,Year,Q1,Q2,Q3\na,1,1,2,Agree\nb,2,5,3,Disagree\nc,3,3,4,Agree\n"
+                        "d,4,2,5,Strongly agree\ne,2,4,4,Neutral\nf,1,5,2,Agree\n")
+_CODED_AMONG_STATEMENTS = ("id,Section,I learned a lot,The pace was right,Labs helped\n"
+                           "a,1,Agree,2,Disagree\nb,2,Disagree,3,Agree\nc,3,Strongly agree,4,Agree\n")
+
+
+@pytest.mark.parametrize("route", [[], ["--by", "id"]])
+@pytest.mark.parametrize("text, coded, attribute", [
+    (_CODED_BESIDE_LABELS, ["Q1", "Q2"], "Year"),
+    (_CODED_AMONG_STATEMENTS, ["The pace was right"], "Section")])
+def test_an_item_in_codes_missing_an_end_keeps_the_codes_hint(analysis_cli, tmp_path, route, text,
+                                                               coded, attribute):
+    """QA 21 #2 (regression from 8d7f39a): Q2, answered 2-5 (nobody chose 1), was listed as 'its
+    answers are not labels of scale agree5', with no note and no word of --codes, because only a
+    column using both end codes got them. By hand: Q2 is shaped like Q3 (Q#), "The pace was right"
+    stands between two labelled items; Year (1-4) and Section (1-3) stand ahead of the items,
+    named otherwise, using neither end, so they get no --codes note, and no 'not labels' reason
+    either (their answers are codes of the scale)."""
+    f = tmp_path / "coded.csv"
+    f.write_text(text)
+    code, out, err = analysis_cli("summarize", str(f), "--json", "--min-group", "1", *route)
+    assert code == 0, err
+    result = json.loads(out)
+    reasons = result["not_item_reasons"]
+    for name in coded:
+        assert "--codes" in reasons[name], reasons[name]
+        assert [n for n in result["notes"] if f"{name!r} is left out" in n and "--codes" in n]
+    assert not any(repr(attribute) in n for n in result["notes"])
+    assert reasons[attribute] == ("its answers are numbers among the scale's codes, but it does not "
+                                  "look like an item: its answers do not run from the lowest code to "
+                                  "the highest, and it is neither named like the items nor placed "
+                                  "among them; taken for an attribute of the respondent (a year of "
+                                  "study, a section)")
+
+
+def test_a_code_map_says_when_it_makes_an_item_of_a_year_of_study(analysis_cli, tmp_path):
+    """QA 21 #2: with a code map 1..5, Year (1-4, ahead of Q1-Q3) became an item with no word.
+    The README's map applies to every column whose answers are mostly its codes, so Year stays
+    counted (by hand: 1, 2, 3, 4, 2, 1 -> SD 2, D 2, N 1, A 1, SA 0), and a note names it and the
+    way to leave it out; Q1-Q3, like each other, get no note."""
+    f = tmp_path / "coded.csv"
+    f.write_text(_CODED_BESIDE_LABELS)
+    m = tmp_path / "map.toml"
+    m.write_text('[codes]\n1 = "Strongly disagree"\n2 = "Disagree"\n3 = "Neutral"\n4 = "Agree"\n'
+                 '5 = "Strongly agree"\n')
+    code, out, err = analysis_cli("summarize", str(f), "--codes", str(m), "--json")
+    assert code == 0, err
+    result = json.loads(out)
+    year = next(it for it in result["items"] if it["item"] == "Year")
+    assert list(year["counts"].values()) == [2, 2, 1, 1, 0]
+    said = [n for n in result["notes"] if "column 'Year' is read through the code map as an item" in n]
+    assert len(said) == 1 and 'columns = ["Q1", "Q2"]' in said[0], result["notes"]
+    assert not any(f"'{q}'" in n for n in result["notes"] for q in ("Q1", "Q2", "Q3"))

@@ -591,6 +591,28 @@ def test_both_routes_read_quoted_line_breaks_alike(tmp_path, capsys):
     assert (two.tallies == summarize_by(f, ["Section"]).tallies).all()
 
 
+def test_both_flags_name_a_two_line_header_cell_with_one_space(tmp_path, capsys):
+    """QA 21 #4: --by "Class section" was refused ("no such column") for a header cell written
+    on two lines, which --group takes, and --group printed the column as 'Class\\nsection'.
+    By hand: sections A (a, b) and B (c, d); Q1 answers Agree, Strongly agree | Agree, Disagree."""
+    f = tmp_path / "nl.csv"
+    f.write_bytes(b'\xef\xbb\xbfid,"Class\nsection",Q1,Q2\na,A,Agree,Disagree\n'
+                  b'b,A,Strongly agree,Neutral\nc,B,Agree,Agree\nd,B,Disagree,Agree\n')
+    assert main(["summarize", str(f), "--by", "Class section", "--min-group", "1", "--json"]) == 0
+    big = json.loads(capsys.readouterr().out)
+    assert big["by"] == ["Class section"]
+    q1 = {r["Class section"]: [r[f"{lab} (count)"] for lab in AGREE5] for r in big["rows"]
+          if r["item"] == "Q1"}
+    assert q1 == {"(all)": [0, 1, 0, 2, 1], "A": [0, 0, 0, 1, 1], "B": [0, 1, 0, 1, 0]}
+    assert main(["summarize", str(f), "--by", "Class section", "--min-group", "1"]) == 0
+    assert "groups by Class section; scale" in capsys.readouterr().out
+    assert main(["summarize", str(f), "--group", "Class section", "--min-group", "1"]) == 0
+    assert "groups by 'Class section' (" in capsys.readouterr().out
+    assert main(["summarize", str(f), "--by", "Section", "--min-group", "1"]) == 2
+    assert capsys.readouterr().err.endswith(
+        "--by 'Section': no such column; columns are ['id', 'Class section', 'Q1', 'Q2']\n")
+
+
 def test_by_reads_a_quote_first_met_after_row_20480(tmp_path):
     """Regression: DuckDB's sniffer saw no quote in its 20,480-row sample, read the file
     as unquoted, and split the row with "Strongly\\nagree" in two (a blank respondent id
