@@ -163,11 +163,12 @@ def add_joint_point(system, point: str | None) -> None:
     the lines of action cross, so that the moment equation can be taken about it. Other names are
     left to the formulation to accept or refuse.
 
-    A joint's point's offset from its body's reference point is that of the scene's state, a
-    constant (with the coordinates' values there) as an instant point's is. A crossing's stays a
-    function of the coordinates, so that its position reads as the crossing itself (``(x, L*sin(theta))``,
-    not the state's numbers); its velocity and acceleration are still those of the material point
-    there at the instant, and the drawing places it by its value at the scene's state.
+    The point's offset from its body's reference point stays a function of the coordinates, so that
+    its position reads as the place itself: the joint's own point (a contact on a circle at
+    ``R*(sin(theta), -cos(theta))``, the joint's symbolic point) or the crossing (``(x, L*sin(theta))``),
+    not the state's numbers, which would leave the joint's loads at a twin point and the "exact"
+    answers rounded. Its velocity and acceleration are still those of the material point there at
+    the instant (Eq. 6), and the drawing places it by its value at the scene's state.
     """
     from ..analyses.regimes import start_state
     from ..model.bodies import Point
@@ -198,10 +199,7 @@ def add_joint_point(system, point: str | None) -> None:
         if at is None:
             continue
         ref = next((n for n, p in b.points.items() if not p.is_instant), "G")
-        coordinates = {**dict(zip(system.q, map(sp.Float, state.q))), system.t: sp.Float(state.t)}
         offset = sp.Matrix(at) - system.point_position(b.name, ref)
-        if not crossing:  # (a crossing stays a function of the coordinates: _crossing_source)
-            offset = offset.xreplace(coordinates)
         b.points[name] = Point(name, _vec(offset), frame="instant", relative_to=ref)
         system.reset()
         placed = True
