@@ -28,7 +28,8 @@ import sympy as sp
 from ..model.joints import copy_vec, cross_k, k_cross, vadd, vec, vscale, vsub, xy
 from ..model.system import derivative
 from .content import SLIP_VELOCITY_NOTE, Equation, Explanation, Section, Step, Table, Term, slip_friction
-from ..display import coefficient, could_extract_minus_sign, expanded, is_identically_zero, term_powers, tidy, tidy_linear
+from ..display import (coefficient, could_extract_minus_sign, expanded, is_identically_zero, term_powers, tidy, tidy_linear,
+                       without_known_abs)
 from ..strprint import FastStrPrinter, sstr
 
 __all__ = ["explain", "latex_names"]
@@ -55,7 +56,7 @@ def _same_place(r, at) -> bool:
 
 
 def _zero(expr) -> bool:
-    expr = expanded(expr)
+    expr = expanded(without_known_abs(expr))  # (|r1 + r2| of positive radii is r1 + r2, as shown)
     if expr == 0:
         return True
     return bool(is_identically_zero(expr))
