@@ -17,6 +17,7 @@ from __future__ import annotations
 import keyword
 import math
 import re
+import unicodedata
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -343,6 +344,23 @@ class _SceneLoader:
             raise self.fail(key, f"expected text in quotes, got {type(value).__name__} {value!r}")
         return value
 
+    def scene_texts(self, data: dict) -> tuple[str, str]:
+        """The scene's ``name`` (default: the file's stem) and ``description``, each text of at most
+        its length (:data:`MAX_NAME_LENGTH`, :data:`MAX_DESCRIPTION_LENGTH`) on one line with no
+        control character: a NUL or an escape would reach the terminal, the HTML, the .tex and the
+        SVG (where XML refuses it) as they are. Both formats read them here."""
+        out = []
+        for key, default, limit in (("name", self.path.stem, MAX_NAME_LENGTH), ("description", "", MAX_DESCRIPTION_LENGTH)):
+            text = self.text(data.get(key, default), key)
+            if len(text) > limit:
+                raise self.fail(key, f"{len(text)} characters long; the limit is {limit}")
+            bad = next(((i, ch) for i, ch in enumerate(text) if unicodedata.category(ch) == "Cc"), None)
+            if bad is not None:
+                raise self.fail(key, f"control character U+{ord(bad[1]):04X} at character {bad[0] + 1}; "
+                                     f"a scene's {key} is one line of printable text")
+            out.append(text)
+        return out[0], out[1]
+
     def identifier(self, value: Any, key: str, what: str) -> str:
         name = self.text(value, key)
         if not _NAME.match(name) or keyword.iskeyword(name):
@@ -554,11 +572,7 @@ class _SceneLoader:
         if "coordinate" not in data and "body" not in data:  # nor [coordinates]/[[bodies]]: not multibody
             raise self.fail("", "not a scene: neither the multibody format ([coordinates] and [[bodies]]) nor "
                                 "the one-body format ([coordinate] and [body]) was found (data/scenes/README.md)")
-        name = self.text(data.get("name", self.path.stem), "name")
-        description = self.text(data.get("description", ""), "description")
-        for key, text, limit in (("name", name, MAX_NAME_LENGTH), ("description", description, MAX_DESCRIPTION_LENGTH)):
-            if len(text) > limit:
-                raise self.fail(key, f"{len(text)} characters long; the limit is {limit}")
+        name, description = self.scene_texts(data)
 
         self._read_parameters(self.table(self.require(data, "parameters", "parameters", "the table [parameters]"), "parameters"))
         coordinate, state = self._read_coordinate(

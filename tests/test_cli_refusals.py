@@ -206,3 +206,21 @@ def test_an_unknown_flag_is_named_with_its_command(capsys, command: str, require
     err = _one_line(*_run(capsys, command, str(SCENES / "compound_pendulum.toml"), *required, "--mu", "0.3", "--bogus"))
     unknown = "--bogus" if command == "simulate" else "--mu 0.3 --bogus"  # --mu is one of simulate's
     assert f"python -m solver {command}: unrecognized arguments: {unknown} " in err
+
+
+@pytest.mark.parametrize("scene", ["compound_pendulum", "double_pendulum"])  # the one-body format, multibody
+@pytest.mark.parametrize("key, text, where", [("name", r"a\u0000b", "U+0000 at character 2"),
+                                              ("description", r"red \u001b[31m", "U+001B at character 5")])
+def test_a_control_character_in_a_scenes_name_or_description_is_refused(capsys, tmp_path, scene, key, text, where):
+    """QA 21 #8: a TOML ``\\u0000`` or ``\\u001b`` in ``name`` or ``description`` was accepted and
+    copied into the SVG (then no longer XML), the HTML, the .tex and the terminal. It is refused at
+    read, in one line naming the file, the key and the character, by both formats' reader."""
+    source = (SCENES / f"{scene}.toml").read_text(encoding="utf-8")
+    head, table, rest = source.partition("\n[")  # the top-level keys come before the first table
+    head = "\n".join(line for line in head.splitlines() if not line.startswith((f"{key} ", f"{key}=")))
+    path = tmp_path / "ctl.toml"
+    path.write_text(f'{key} = "{text}"\n' + head + table + rest, encoding="utf-8")
+    for command in (["solve", str(path)], ["draw", str(path), "-o", str(tmp_path / "x.svg")]):
+        err = _one_line(*_run(capsys, *command))
+        assert err == f"error: {path}: {key}: control character {where}; a scene's {key} is one line of printable text\n"
+    assert not (tmp_path / "x.svg").exists()
