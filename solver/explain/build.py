@@ -27,7 +27,7 @@ import sympy as sp
 
 from ..model.joints import copy_vec, cross_k, k_cross, vadd, vec, vscale, vsub, xy
 from ..model.system import derivative
-from .content import SLIP_VELOCITY_NOTE, Equation, Explanation, Section, Step, Table, Term, slip_friction
+from .content import SLIP_VELOCITY_NOTE, Equation, Explanation, SceneText, Section, Step, Table, Term, slip_friction
 from ..display import (coefficient, could_extract_minus_sign, expanded, is_identically_zero, term_powers, tidy, tidy_linear,
                        without_known_abs)
 from ..strprint import FastStrPrinter, sstr
@@ -1007,7 +1007,7 @@ def _system_data_section(system, state) -> Section:
             coords.append((c.name, shown(math.degrees(v), "deg"), shown(r, "rad/s")))
         else:
             coords.append((c.name, shown(v, "m"), shown(r, "m/s")))
-    step = Step("data", "Data and state", [system.description] if system.description else [],
+    step = Step("data", "Data and state", [SceneText(system.description)] if system.description else [],
                 table=Table(("parameter", "value"), rows))
     state_step = Step("data", "State", ["The instant solved (dependent coordinates from the closure equations)."]
                       if system.dependent else [], table=Table(("coordinate", "value", "rate"), tuple(coords)))
