@@ -377,6 +377,19 @@ class _SceneLoader:
         return value
 
     # -- expressions ----------------------------------------------------------------
+    def _where_allowed(self, name: str) -> str:
+        """Where the state's name ``name`` (a coordinate, a rate or t) may be used, in each format
+        (data/scenes/README.md, "Where each name may be used"; the one-body format's "Expressions")."""
+        multibody = "t" in self.names.with_q  # (the one-body format's orientation and position take no t)
+        loads = "force components and couple moments"
+        if name == "t":
+            return ("t is allowed only in ground points, orientation, position.at, position_angle, motion, motor "
+                    f"angle, actuator position and {loads}" if multibody else f"t is allowed only in {loads}")
+        if name not in self.names.with_q:
+            return f"a rate is allowed only in {loads}"
+        return (f"a coordinate is allowed only in orientation, position.at, position_angle and {loads}" if multibody
+                else f"the coordinate is allowed only in body.orientation, body.position and {loads}")
+
     def expr(self, value: Any, key: str, names: Mapping[str, sp.Symbol], need: UnitsContainer) -> sp.Expr:
         """Parse an expression and check its dimension is ``need``."""
         if isinstance(value, bool):
@@ -396,10 +409,7 @@ class _SceneLoader:
             state_names = set(self.names.with_state_t) - set(names)
             unknown = re.search(r"unknown name '(\w+)'", message)
             if unknown and unknown.group(1) in state_names:
-                message += (
-                    f"; {unknown.group(1)} cannot be used here (the coordinate is allowed only in "
-                    "body.orientation, body.position and loads; its rate and t only in force and couple loads)"
-                )
+                message += f"; {unknown.group(1)} cannot be used here: {self._where_allowed(unknown.group(1))}"
             elif _QUANTITY.match(value) and _QUANTITY.match(value).group(2):
                 message += (
                     "; quantities with units belong in [parameters] (e.g. m_1 = \"2 kg\"), "

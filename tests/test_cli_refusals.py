@@ -224,3 +224,31 @@ def test_a_control_character_in_a_scenes_name_or_description_is_refused(capsys, 
         err = _one_line(*_run(capsys, *command))
         assert err == f"error: {path}: {key}: control character {where}; a scene's {key} is one line of printable text\n"
     assert not (tmp_path / "x.svg").exists()
+
+
+@pytest.mark.parametrize("scene, old, new, key, why", [
+    ("double_pendulum", 'g = "g"', 'g = "g*theta1/theta1"', "loads[0].g",
+     "theta1 cannot be used here: a coordinate is allowed only in orientation, position.at, position_angle "
+     "and force components and couple moments"),
+    ("double_pendulum", 'orientation = "theta2 - pi/2"', 'orientation = "theta2_dot - pi/2"', "bodies[1].orientation",
+     "theta2_dot cannot be used here: a rate is allowed only in force components and couple moments"),
+    ("compound_pendulum", 'g    = "g"', 'g    = "g*theta/theta"', "loads[0].g",
+     "theta cannot be used here: the coordinate is allowed only in body.orientation, body.position and force "
+     "components and couple moments"),
+    ("compound_pendulum", 'orientation     = "theta - pi/2"', 'orientation     = "theta + t - pi/2"',
+     "body.orientation", "t cannot be used here: t is allowed only in force components and couple moments"),
+])
+def test_a_state_name_where_it_is_not_allowed_says_where_it_is(capsys, tmp_path, scene, old, new, key, why):
+    """QA 21 #10: a coordinate in a torsional spring's free_angle was refused with "the coordinate is
+    allowed only in body.orientation, body.position and loads; its rate and t only in force and
+    couple loads": the refused key was itself in loads, and t is allowed in ground points, motion,
+    motor angle, orientation and position too. The message now says, for the name refused, where
+    it may be used, by data/scenes/README.md's table "Where each name may be used" (multibody) and
+    its one-body "Expressions" (the coordinate in orientation, position and force and couple loads,
+    its rate and t in those loads only)."""
+    source = (SCENES / f"{scene}.toml").read_text(encoding="utf-8")
+    assert source.count(old) == 1
+    path = tmp_path / "state_name.toml"
+    path.write_text(source.replace(old, new), encoding="utf-8")
+    err = _one_line(*_run(capsys, "solve", str(path)))
+    assert err.startswith(f"error: {path}: {key}: unknown name ") and err.endswith(f"; {why}\n"), err
