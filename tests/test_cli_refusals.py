@@ -252,3 +252,24 @@ def test_a_state_name_where_it_is_not_allowed_says_where_it_is(capsys, tmp_path,
     path.write_text(source.replace(old, new), encoding="utf-8")
     err = _one_line(*_run(capsys, "solve", str(path)))
     assert err.startswith(f"error: {path}: {key}: unknown name ") and err.endswith(f"; {why}\n"), err
+
+
+def test_an_element_centre_on_a_one_element_body_is_said_to_be_g(capsys) -> None:
+    """QA 21 #11: --point coupler:G_slender_bar_1 on four_bar (each link one slender bar) was refused
+    with a list ending "or one the advisor names ...: G_<element>", the very form refused. The advisor
+    names G_<element> on bodies of several elements only; on a body of one, its centre is G."""
+    for point, bodies in (("coupler:G_slender_bar_1", "coupler"), ("G_slender_bar_1", "crank, coupler, rocker")):
+        err = _one_line(*_run(capsys, "solve", str(SCENES / "four_bar.toml"), "--point", point))
+        assert err.endswith(f"; slender_bar_1 is the only element of {bodies}, whose mass centre is G: G_<element> "
+                            "names an element's mass centre on a body of several elements)\n"), err
+        assert "or one the advisor names" not in err
+
+
+def test_explain_says_total_mass_m_once_when_it_is_the_scenes_m(capsys, tmp_path) -> None:
+    """QA 21 #11: a one-element body whose mass parameter is m read 'total mass m = m.'"""
+    assert main(["explain", str(ROOT / "tests" / "data" / "multibody" / "pin_bar.toml")]) == 0  # one bar of mass m
+    out = capsys.readouterr().out
+    assert "1 element, total mass m." in out and "total mass m = m" not in out
+    assert main(["explain", str(SCENES / "slider_crank.toml")]) == 0
+    out = capsys.readouterr().out
+    assert "Body crank: 1 element, total mass m = m_c." in out

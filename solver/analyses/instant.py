@@ -934,8 +934,9 @@ def round_off_zeros(system, res: dict, names, lost: dict, state: State) -> dict:
     accelerations = [zeros[str(c.qdd)] for c in system.free if str(c.qdd) in zeros]
     if len(system.bodies) == 1 and accelerations:
         body = next(iter(system.bodies))
-        zeros["alpha"] = {"computed": {"value": _alpha_value(system, body, state, computed), "unit": "rad/s**2"},
-                          "error_bound": max((a["error_bound"] for a in accelerations), key=lambda b: b["value"])}
+        alpha = {"computed": {"value": _alpha_value(system, body, state, computed), "unit": "rad/s**2"},
+                 "error_bound": max((a["error_bound"] for a in accelerations), key=lambda b: b["value"])}
+        zeros = {"alpha": alpha, **zeros}  # (first, as the table of unknowns lists it)
     return zeros
 
 

@@ -371,7 +371,8 @@ def _data_step(system, body: str, printer: FastStrPrinter | None = None) -> Step
     rows = []
     for e in b.elements:
         rows.append((e.name, e.kind or type(e).__name__, sstr(e.mass, printer), sstr(tidy(e.I_G), printer)))
-    text = [f"Body {body}: {counted(len(b.elements), 'element')}, total mass m = {sstr(b.total_mass, printer)}."]
+    mass = sstr(b.total_mass, printer)
+    text = [f"Body {body}: {counted(len(b.elements), 'element')}, total mass m" + ("." if mass == "m" else f" = {mass}.")]
     if len(b.elements) > 1:
         text.append("A composite body (Eqs. 11-14): each element keeps its own mass centre and centroidal inertia.")
     return Step("data", f"Data of {body}", text, table=Table(("element", "kind", "mass m_k", "I_G,k"), tuple(rows)))
