@@ -33,6 +33,7 @@ from solver.cli_common import (
     in_output_units,
     load_scene_from_args,
     print_json,
+    round_off_zero_text,
     to_output_units,
 )
 from solver.errors import InputError
@@ -271,11 +272,12 @@ def _simulate_multibody(args, system, t_end) -> int:
 
 
 def _print_run(args, scene, status: str, reason: str, nfev: int, columns: dict, drift: float | None,
-               events=(), no_drift: str = "") -> None:
+               events=(), no_drift: str = "", zeros=None) -> None:
     """The text of ``simulate``, one layout for one freedom and for n: the scene, the status, the
     integrator, each regime switch, the final sample of every CSV column (``columns``: name ->
-    (values, unit) in the output units, as the file has them; the energy left out) and the energy
-    drift (None: not applicable, ``no_drift`` saying why)."""
+    (values, unit) in the output units, as the file has them, an angle in degrees too, as the status
+    line gives it; the energy left out; ``zeros``: the unknowns 0 to round-off there, given as 0 with
+    the line that says so) and the energy drift (None: not applicable, ``no_drift`` saying why)."""
     t_values, _ = columns["t"]
     print(f"scene   {scene.name}  ({_where(scene)})")
     print(f"status  {status}: {reason}   ({nfev} rhs evaluations, {len(t_values)} samples)")
@@ -286,11 +288,21 @@ def _print_run(args, scene, status: str, reason: str, nfev: int, columns: dict, 
         for ev in events:
             t, t_unit = in_output_units(ev["t"], "s", scene.output_units)
             print(f"  t = {format_number(t, 10)} {t_unit}  {ev['joint']}: {ev['from']} -> {ev['to']}  ({ev['cause']})")
-    rows = [(name, format_number(float(values[-1]), 10), unit) for name, (values, unit) in columns.items()
-            if name != "energy" and math.isfinite(float(values[-1]))]
+    zeros = zeros or {}
+    rows = []
+    for name, (values, unit) in columns.items():
+        value = 0.0 if name in zeros else float(values[-1])
+        if name == "energy" or not math.isfinite(value):
+            continue
+        if unit == "rad":  # (the CSV's unit, and the degrees the status line and `state` lines give)
+            degrees, shown = in_output_units(math.degrees(value), "deg", scene.output_units)
+            unit = f"rad (= {format_number(degrees, 10)} {shown})"
+        rows.append((name, format_number(value, 10), unit))
     print()
     print("final sample:")
     print(format_table(("name", "value", "unit"), rows, align="lrl"))
+    if zeros:
+        print(round_off_zero_text(zeros, scene.output_units))
     print(f"\nenergy drift over the run: {format_number(drift, 3)} (of the largest kinetic energy)" if drift is not None
           else f"\nenergy drift: not applicable ({no_drift})")
     if args.out is not None:
@@ -343,9 +355,26 @@ def simulate_command(args: argparse.Namespace) -> int:
             payload["out"] = str(args.out)
         print_json(payload)
         return 0
+    zeros = _final_round_off(scene, args, res.theta[-1], res.theta_dot[-1], res.t[-1])
     _print_run(args, scene, res.status, res.reason, res.nfev, res.columns(scene.output_units), res.energy_drift,
-               no_drift=res.energy_drift_note)
+               no_drift=res.energy_drift_note, zeros=zeros)
     return 0
+
+
+def _final_round_off(system, args, q: float, qd: float, t: float) -> dict:
+    """The unknowns of a one-freedom run's final sample that are 0 to round-off, as `solve` gives
+    them at that state (:func:`solver.analyses.instant.solved_at_state`, its ``zero_to_round_off``):
+    the normal force where the contact is lost, computed as -1.3e-14 N beside terms of 20 N. None
+    where that state's solve is singular (the run says why it stopped)."""
+    from solver.analyses.instant import State, solved_at_state
+    from solver.errors import SingularConfigurationError
+
+    try:
+        _, extra, _ = solved_at_state(system, args.point, getattr(args, "method", "generalized_euler"),
+                                      State((float(q),), (float(qd),), float(t)))
+    except (SingularConfigurationError, InputError):
+        return {}
+    return extra.get("zero_to_round_off", {})
 
 
 def _animate(args, system, times, q_columns, qd_columns) -> None:

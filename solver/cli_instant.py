@@ -212,6 +212,9 @@ def kinematics_command(args: argparse.Namespace) -> int:
             x, y = p[what]["value"]
             rows.append((name, what, format_number(x), format_number(y), p[what]["unit"]))
     print(format_table(("point", "quantity", "x", "y", "unit"), rows, align="llrrl"))
+    if "zero_to_round_off" in result:
+        print()
+        print(round_off_zero_text(result["zero_to_round_off"]))  # (already in the output units)
     return 0
 
 

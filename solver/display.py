@@ -26,7 +26,7 @@ from sympy.core.mul import _keep_coeff, _mulsort
 
 from .tree_value import DOUBLE, NotEvaluable, tree_value
 
-__all__ = ["expanded", "reduce_trig", "numerator_reduces_to_zero", "constant_value", "tidy", "positive_parameters", "tidy_fraction", "tidy_linear",
+__all__ = ["expanded", "reduce_trig", "numerator_reduces_to_zero", "constant_value", "tidy", "positive_parameters", "without_known_abs", "tidy_fraction", "tidy_linear",
            "is_identically_zero", "free_symbols_of", "tree_size", "term_powers", "could_extract_minus_sign", "coefficient",
            "MAX_TIDY_NODES"]
 
@@ -1042,8 +1042,10 @@ def positive_parameters(system):
     assumption would change every symbol that code builds to look a value up), so the square root
     of ``L**2*X`` becomes ``Abs(L)*sqrt(X)`` (QA 19 #10, a spring from a bar's tip). The scene's
     equations hold at its parameters' values, where |L| = L: nothing computed changes, only what
-    is shown. A parameter of zero or negative value keeps its Abs."""
-    positive = {sp.Abs(s): s for s, v in system.si_values().items() if v > 0}
+    is shown. A parameter of zero or negative value keeps its Abs. So does a sum or product of
+    parameters only when its sign is not known from theirs: ``Abs(r1 + r2)`` of two positive radii
+    is ``r1 + r2`` (QA 21 #7, a gear pair's centre distance), and the form is tidied again."""
+    positive = {s: sp.Dummy(s.name, positive=True) for s, v in system.si_values().items() if v > 0}
     token = _POSITIVE.set(positive or None)
     try:
         yield
@@ -1055,8 +1057,28 @@ def tidy(expr: sp.Expr, max_nodes: int = MAX_TIDY_NODES) -> sp.Expr:
     """:func:`_tidy`, with each parameter known positive written without its Abs inside a
     :func:`positive_parameters` block."""
     shown = _tidy(expr, max_nodes)
+    bare = without_known_abs(shown)
+    if bare is shown or not any(not a.args[0].is_Symbol and not bare.has(a) for a in shown.atoms(sp.Abs)):
+        return bare  # (none, or only parameters' |p| written p)
+    return _tidy(bare, max_nodes)  # (Abs(r1 + r2) written r1 + r2 may cancel: tidied again)
+
+
+def without_known_abs(expr: sp.Expr) -> sp.Expr:
+    """``expr`` with each ``Abs(a)`` whose argument is known positive within a
+    :func:`positive_parameters` block written ``a``; ``expr`` itself (the same object) when there
+    is none, or outside such a block."""
     positive = _POSITIVE.get()
-    return shown.xreplace(positive) if positive and shown.has(sp.Abs) else shown
+    if not positive or not isinstance(expr, sp.Basic) or not expr.has(sp.Abs):
+        return expr
+    known = {a: a.args[0] for a in expr.atoms(sp.Abs) if _known_positive(a.args[0], positive)}
+    return expr.xreplace(known) if known else expr
+
+
+def _known_positive(expr: sp.Expr, positive: dict) -> bool:
+    """Whether ``expr``, a function of parameters only, is positive when each of ``positive``'s
+    parameters (symbol -> a positive Dummy) is: a parameter, a sum or product of them with positive
+    numbers (sympy's assumptions decide)."""
+    return expr.free_symbols <= positive.keys() and expr.xreplace(positive).is_positive is True
 
 
 tidy.cache_clear, tidy.cache_info = (lambda: _tidy.cache_clear()), (lambda: _tidy.cache_info())

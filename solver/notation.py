@@ -44,12 +44,14 @@ _SUBSCRIPT_TOKEN = re.compile(r"[A-Za-z0-9_]+|\s+|.")
 
 
 def compound_subscript(name: str):
-    """The parts of a symbol name whose subscript names a point by two lines (``r_G/I(A_x,B_y)``)
-    or an element of a body (``W_upper.bob1``, ``W_upper.point_mass_1``), or None for any other
-    name (sympy's printers read those). Each part is ``("name", text)`` for a symbol inside the
-    brackets (``A_x``, itself subscripted), ``("word", text)`` for a word of the name (spelled as
-    the scene and the force list spell it, underscores kept: ``point_mass_1``), ``("space", " ")``
-    or ``("mark", text)`` for ``( ) , / .``; the
+    """The parts of a symbol name whose subscript names a point by two lines (``r_G/I(A_x,B_y)``),
+    an element of a body (``W_upper.bob1``, ``W_upper.point_mass_1``) or a point named by words
+    joined by underscores (``a_C_floor``, ``r_G/C_floor``, ``I_G_shank``: a joint's or an element's
+    point), or None for any other name (sympy's printers read those; a rate ``theta_1_dot`` too).
+    Each part is ``("name", text)`` for a symbol inside the brackets (``A_x``, itself subscripted),
+    ``("word", text)`` for a word of the name (spelled as the scene and the force list spell it,
+    underscores kept: ``point_mass_1``, ``C_floor``), ``("space", " ")`` or ``("mark", text)`` for
+    ``( ) , / .``; the
     nucleus comes first as ``("head", text)``. The one reading of such names, for LaTeX
     (:func:`compound_latex`) and MathML (:mod:`solver.mathml`).
 
@@ -59,7 +61,8 @@ def compound_subscript(name: str):
     True
     """
     head, _, tail = name.partition("_")
-    if not tail or not head or not _COMPOUND.search(tail) or _COMPOUND.search(head):
+    joined = "_" in tail and not name.endswith(("_dot", "_ddot"))
+    if not tail or not head or not (joined or _COMPOUND.search(tail)) or _COMPOUND.search(head):
         return None  # (I(O_x,A_y) itself is a point's name, no nucleus with a subscript)
     parts, depth = [("head", head)], 0
     for token in _SUBSCRIPT_TOKEN.findall(tail):
@@ -77,8 +80,8 @@ def compound_latex(name: str) -> str | None:
     r"""LaTeX of a compound name (:func:`compound_subscript`), None for any other name: the crossing
     point's names keep their own subscripts, words stay apart.
 
-    >>> compound_latex("r_G/I(A_x,B_y)"), compound_latex("W_upper.point_mass_1")
-    ('r_{G/I(A_{x},B_{y})}', 'W_{upper.point\\_mass\\_1}')
+    >>> compound_latex("r_G/I(A_x,B_y)"), compound_latex("W_upper.point_mass_1"), compound_latex("r_G/C_floor")
+    ('r_{G/I(A_{x},B_{y})}', 'W_{upper.point\\_mass\\_1}', 'r_{G/C\\_floor}')
     """
     parts = compound_subscript(name)
     if parts is None:

@@ -17,6 +17,7 @@ from __future__ import annotations
 import keyword
 import math
 import re
+import unicodedata
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -343,6 +344,23 @@ class _SceneLoader:
             raise self.fail(key, f"expected text in quotes, got {type(value).__name__} {value!r}")
         return value
 
+    def scene_texts(self, data: dict) -> tuple[str, str]:
+        """The scene's ``name`` (default: the file's stem) and ``description``, each text of at most
+        its length (:data:`MAX_NAME_LENGTH`, :data:`MAX_DESCRIPTION_LENGTH`) on one line with no
+        control character: a NUL or an escape would reach the terminal, the HTML, the .tex and the
+        SVG (where XML refuses it) as they are. Both formats read them here."""
+        out = []
+        for key, default, limit in (("name", self.path.stem, MAX_NAME_LENGTH), ("description", "", MAX_DESCRIPTION_LENGTH)):
+            text = self.text(data.get(key, default), key)
+            if len(text) > limit:
+                raise self.fail(key, f"{len(text)} characters long; the limit is {limit}")
+            bad = next(((i, ch) for i, ch in enumerate(text) if unicodedata.category(ch) == "Cc"), None)
+            if bad is not None:
+                raise self.fail(key, f"control character U+{ord(bad[1]):04X} at character {bad[0] + 1}; "
+                                     f"a scene's {key} is one line of printable text")
+            out.append(text)
+        return out[0], out[1]
+
     def identifier(self, value: Any, key: str, what: str) -> str:
         name = self.text(value, key)
         if not _NAME.match(name) or keyword.iskeyword(name):
@@ -359,6 +377,19 @@ class _SceneLoader:
         return value
 
     # -- expressions ----------------------------------------------------------------
+    def _where_allowed(self, name: str) -> str:
+        """Where the state's name ``name`` (a coordinate, a rate or t) may be used, in each format
+        (data/scenes/README.md, "Where each name may be used"; the one-body format's "Expressions")."""
+        multibody = "t" in self.names.with_q  # (the one-body format's orientation and position take no t)
+        loads = "force components and couple moments"
+        if name == "t":
+            return ("t is allowed only in ground points, orientation, position.at, position_angle, motion, motor "
+                    f"angle, actuator position and {loads}" if multibody else f"t is allowed only in {loads}")
+        if name not in self.names.with_q:
+            return f"a rate is allowed only in {loads}"
+        return (f"a coordinate is allowed only in orientation, position.at, position_angle and {loads}" if multibody
+                else f"the coordinate is allowed only in body.orientation, body.position and {loads}")
+
     def expr(self, value: Any, key: str, names: Mapping[str, sp.Symbol], need: UnitsContainer) -> sp.Expr:
         """Parse an expression and check its dimension is ``need``."""
         if isinstance(value, bool):
@@ -378,10 +409,7 @@ class _SceneLoader:
             state_names = set(self.names.with_state_t) - set(names)
             unknown = re.search(r"unknown name '(\w+)'", message)
             if unknown and unknown.group(1) in state_names:
-                message += (
-                    f"; {unknown.group(1)} cannot be used here (the coordinate is allowed only in "
-                    "body.orientation, body.position and loads; its rate and t only in force and couple loads)"
-                )
+                message += f"; {unknown.group(1)} cannot be used here: {self._where_allowed(unknown.group(1))}"
             elif _QUANTITY.match(value) and _QUANTITY.match(value).group(2):
                 message += (
                     "; quantities with units belong in [parameters] (e.g. m_1 = \"2 kg\"), "
@@ -554,11 +582,7 @@ class _SceneLoader:
         if "coordinate" not in data and "body" not in data:  # nor [coordinates]/[[bodies]]: not multibody
             raise self.fail("", "not a scene: neither the multibody format ([coordinates] and [[bodies]]) nor "
                                 "the one-body format ([coordinate] and [body]) was found (data/scenes/README.md)")
-        name = self.text(data.get("name", self.path.stem), "name")
-        description = self.text(data.get("description", ""), "description")
-        for key, text, limit in (("name", name, MAX_NAME_LENGTH), ("description", description, MAX_DESCRIPTION_LENGTH)):
-            if len(text) > limit:
-                raise self.fail(key, f"{len(text)} characters long; the limit is {limit}")
+        name, description = self.scene_texts(data)
 
         self._read_parameters(self.table(self.require(data, "parameters", "parameters", "the table [parameters]"), "parameters"))
         coordinate, state = self._read_coordinate(

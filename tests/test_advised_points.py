@@ -313,3 +313,69 @@ def test_about_the_mass_centre_no_acceleration_is_derived():
     (advice,) = [s for s in explain(dp).steps() if s.kind == "advice"]
     row = [r for r in advice.table.rows if r[:2] == ("lower", "B")]
     assert row and row[0][-1] == "not needed (G)"
+
+
+TRACK = """
+name = "disk_in_track"
+[parameters]
+m = "2 kg"
+r = "0.1 m"
+R = "0.5 m"
+g = "9.81 m/s^2"
+[coordinates]
+theta = { value = "30 deg", rate = "2 rad/s" }
+[ground.points]
+O = ["0", "0"]
+[[bodies]]
+name = "disk"
+points = { P = ["0", "0"] }
+elements = [{ name = "rim", kind = "uniform_disk", mass = "m", center = "P", radius = "r" }]
+[[joints]]
+kind = "rolling_on_circle"
+name = "track"
+element = "disk:rim"
+center = ["0", "0"]
+radius = "R"
+side = "inside"
+position_angle = "theta - pi/2"
+friction = "F"
+normal = "N"
+[[loads]]
+kind = "gravity"
+g = "g"
+"""
+
+
+def test_a_contact_point_on_a_circle_is_written_in_the_coordinates(tmp_path: Path, capsys) -> None:
+    """QA 21 #1: about C_track (data/scenes/README's disk_in_track, a disk of radius r rolling inside a
+    track of radius R) the contact point was placed at the state's offset with cos 30 deg frozen in as
+    0.866025403784439: the worked solution printed floats, named a twin C_track', said F and N drop out
+    "at this state only", and precision's "exact" theta_ddot was wrong from its 17th digit.
+
+    By hand: the centre P is at (R - r)(sin th, -cos th) and the contact point r further along the
+    same ray, at R (sin th, -cos th); rolling makes the contact point's velocity 0. The moment about
+    it: -m g r sin th = I_C alpha with I_C = 3 m r^2 / 2 and alpha = -(R - r) th''/r, so
+    th'' = -2 g sin th / (3 (R - r)) = -2 (9.81)(1/2) / (3 (0.4)) = -8.175 rad/s^2 exactly, and
+    F = m (R - r) th'' + m g sin th (Newton along the tangent) = 3.27 N exactly."""
+    import json
+    import sympy as sp
+
+    th, R = sp.Symbol("theta", real=True), sp.Symbol("R", real=True)
+    path = tmp_path / "track.toml"
+    path.write_text(TRACK)
+    expl = explain(load_system(path), "C_track")
+    kinematics = expl.section("disk").step("kinematics")
+    for tag, (ex, ey) in {"pos:C_track": (R * sp.sin(th), -R * sp.cos(th)), "vel:C_track": (0, 0)}.items():
+        got = kinematics.equation(tag).right
+        assert sp.expand(got[0] - ex) == 0 and sp.expand(got[1] - ey) == 0, (tag, got)
+    floats = {f for step in expl.section("disk").steps for e in step.equations for t in (*e.lhs, *e.rhs)
+              for f in sp.sympify(t.expr).atoms(sp.Float)}
+    assert not floats, floats
+    assert main(["explain", str(path), "--point", "C_track"]) == 0
+    text = capsys.readouterr().out
+    assert "C_track'" not in text and "at this state only" not in text
+    assert "F drops out of the moment equation: its line of action passes through C_track." in text
+    assert main(["precision", str(path), "--point", "C_track", "--precision", "exact", "--json"]) == 0
+    exact = json.loads(capsys.readouterr().out)["solutions"]["exact"]["unknowns"]
+    assert exact["theta_ddot"]["text"] == "-8.175" + "0" * 46
+    assert exact["F"]["text"] == "3.27" + "0" * 47

@@ -206,3 +206,70 @@ def test_an_unknown_flag_is_named_with_its_command(capsys, command: str, require
     err = _one_line(*_run(capsys, command, str(SCENES / "compound_pendulum.toml"), *required, "--mu", "0.3", "--bogus"))
     unknown = "--bogus" if command == "simulate" else "--mu 0.3 --bogus"  # --mu is one of simulate's
     assert f"python -m solver {command}: unrecognized arguments: {unknown} " in err
+
+
+@pytest.mark.parametrize("scene", ["compound_pendulum", "double_pendulum"])  # the one-body format, multibody
+@pytest.mark.parametrize("key, text, where", [("name", r"a\u0000b", "U+0000 at character 2"),
+                                              ("description", r"red \u001b[31m", "U+001B at character 5")])
+def test_a_control_character_in_a_scenes_name_or_description_is_refused(capsys, tmp_path, scene, key, text, where):
+    """QA 21 #8: a TOML ``\\u0000`` or ``\\u001b`` in ``name`` or ``description`` was accepted and
+    copied into the SVG (then no longer XML), the HTML, the .tex and the terminal. It is refused at
+    read, in one line naming the file, the key and the character, by both formats' reader."""
+    source = (SCENES / f"{scene}.toml").read_text(encoding="utf-8")
+    head, table, rest = source.partition("\n[")  # the top-level keys come before the first table
+    head = "\n".join(line for line in head.splitlines() if not line.startswith((f"{key} ", f"{key}=")))
+    path = tmp_path / "ctl.toml"
+    path.write_text(f'{key} = "{text}"\n' + head + table + rest, encoding="utf-8")
+    for command in (["solve", str(path)], ["draw", str(path), "-o", str(tmp_path / "x.svg")]):
+        err = _one_line(*_run(capsys, *command))
+        assert err == f"error: {path}: {key}: control character {where}; a scene's {key} is one line of printable text\n"
+    assert not (tmp_path / "x.svg").exists()
+
+
+@pytest.mark.parametrize("scene, old, new, key, why", [
+    ("double_pendulum", 'g = "g"', 'g = "g*theta1/theta1"', "loads[0].g",
+     "theta1 cannot be used here: a coordinate is allowed only in orientation, position.at, position_angle "
+     "and force components and couple moments"),
+    ("double_pendulum", 'orientation = "theta2 - pi/2"', 'orientation = "theta2_dot - pi/2"', "bodies[1].orientation",
+     "theta2_dot cannot be used here: a rate is allowed only in force components and couple moments"),
+    ("compound_pendulum", 'g    = "g"', 'g    = "g*theta/theta"', "loads[0].g",
+     "theta cannot be used here: the coordinate is allowed only in body.orientation, body.position and force "
+     "components and couple moments"),
+    ("compound_pendulum", 'orientation     = "theta - pi/2"', 'orientation     = "theta + t - pi/2"',
+     "body.orientation", "t cannot be used here: t is allowed only in force components and couple moments"),
+])
+def test_a_state_name_where_it_is_not_allowed_says_where_it_is(capsys, tmp_path, scene, old, new, key, why):
+    """QA 21 #10: a coordinate in a torsional spring's free_angle was refused with "the coordinate is
+    allowed only in body.orientation, body.position and loads; its rate and t only in force and
+    couple loads": the refused key was itself in loads, and t is allowed in ground points, motion,
+    motor angle, orientation and position too. The message now says, for the name refused, where
+    it may be used, by data/scenes/README.md's table "Where each name may be used" (multibody) and
+    its one-body "Expressions" (the coordinate in orientation, position and force and couple loads,
+    its rate and t in those loads only)."""
+    source = (SCENES / f"{scene}.toml").read_text(encoding="utf-8")
+    assert source.count(old) == 1
+    path = tmp_path / "state_name.toml"
+    path.write_text(source.replace(old, new), encoding="utf-8")
+    err = _one_line(*_run(capsys, "solve", str(path)))
+    assert err.startswith(f"error: {path}: {key}: unknown name ") and err.endswith(f"; {why}\n"), err
+
+
+def test_an_element_centre_on_a_one_element_body_is_said_to_be_g(capsys) -> None:
+    """QA 21 #11: --point coupler:G_slender_bar_1 on four_bar (each link one slender bar) was refused
+    with a list ending "or one the advisor names ...: G_<element>", the very form refused. The advisor
+    names G_<element> on bodies of several elements only; on a body of one, its centre is G."""
+    for point, bodies in (("coupler:G_slender_bar_1", "coupler"), ("G_slender_bar_1", "crank, coupler, rocker")):
+        err = _one_line(*_run(capsys, "solve", str(SCENES / "four_bar.toml"), "--point", point))
+        assert err.endswith(f"; slender_bar_1 is the only element of {bodies}, whose mass centre is G: G_<element> "
+                            "names an element's mass centre on a body of several elements)\n"), err
+        assert "or one the advisor names" not in err
+
+
+def test_explain_says_total_mass_m_once_when_it_is_the_scenes_m(capsys, tmp_path) -> None:
+    """QA 21 #11: a one-element body whose mass parameter is m read 'total mass m = m.'"""
+    assert main(["explain", str(ROOT / "tests" / "data" / "multibody" / "pin_bar.toml")]) == 0  # one bar of mass m
+    out = capsys.readouterr().out
+    assert "1 element, total mass m." in out and "total mass m = m" not in out
+    assert main(["explain", str(SCENES / "slider_crank.toml")]) == 0
+    out = capsys.readouterr().out
+    assert "Body crank: 1 element, total mass m = m_c." in out

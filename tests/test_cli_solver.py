@@ -577,3 +577,35 @@ def test_a_multibody_point_error_names_its_full_place(capsys: pytest.CaptureFixt
     status, out, err = run_main(capsys, "solve", str(path))
     assert status == 2 and out == ""
     assert err.startswith(f"error: {path}: bodies[0].points.A: expected a pair"), err
+
+
+def test_kinematics_gives_round_off_as_zero_and_keeps_true_small_values(capsys):
+    """QA 21 #5: the piston of slider_crank slides on the line y = 0 (its slider), so its y velocity
+    and acceleration are exactly 0; kinematics printed -8.88e-16 m/s and -2.84e-14 m/s**2, the
+    round-off of the rod's cancelling terms. They are now 0, with the line that says so, as `solve`
+    does. A true small value is kept: the compound pendulum at theta = 1e-9 rad, at rest, has by
+    hand theta'' = -g (m_p a/2 + m_t a) sin(theta) / I_O with
+    I_O = m_p (a^2 + b^2)/12 + m_p (a/2)^2 + m_t a^2, and its tip T = a (sin th, -cos th)
+    accelerates at a theta'' (cos th, sin th), 1.3e-8 and 1.3e-17 m/s**2 (rtol 1e-12: a few
+    roundings of a handful of operations)."""
+    assert main(["kinematics", "data/scenes/slider_crank.toml", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    for point in ("rod:B", "piston:B", "piston:G"):
+        for what in ("velocity", "acceleration"):
+            assert out["points"][point][what]["value"][1] == 0.0
+            assert f"{point} {what} y" in out["zero_to_round_off"]
+    assert main(["kinematics", "data/scenes/slider_crank.toml"]) == 0
+    text = capsys.readouterr().out
+    table = text.split("0 to round-off")[0]
+    assert "e-16" not in table and "e-14" not in table
+    assert "0 to round-off (a value within its own error bound is given as 0): rod:B velocity y (computed" in text
+
+    assert main(["kinematics", "data/scenes/compound_pendulum.toml", "--set", "theta=1e-9 rad", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    m_p, a, b, m_t, g, th = 2.0, 0.6, 0.1, 0.5, 9.80665, 1e-9
+    I_O = m_p * (a**2 + b**2) / 12 + m_p * (a / 2) ** 2 + m_t * a**2
+    thdd = -g * (m_p * a / 2 + m_t * a) * math.sin(th) / I_O
+    got = out["points"]["body:T"]["acceleration"]["value"]
+    assert got[0] == pytest.approx(a * thdd * math.cos(th), rel=1e-12)
+    assert got[1] == pytest.approx(a * thdd * math.sin(th), rel=1e-12)
+    assert "zero_to_round_off" not in out

@@ -823,3 +823,23 @@ def test_tidy_keeps_abs_outside_a_positive_parameters_block():
     """Outside :func:`positive_parameters` nothing is assumed: sqrt(L**2 X) of a real L is |L| sqrt(X)."""
     L, x = sp.symbols("L x", real=True)
     assert tidy(sp.sqrt(L ** 2 * (x ** 2 + 1))).has(sp.Abs)
+
+
+def test_a_sum_of_positive_parameters_loses_its_abs_and_the_form_reduces():
+    """QA 21 #7: a gear pair with its centres one above the other, radii r1, r2 > 0, printed the
+    wheel's reaction term as F_t*(r1**2 + 2*r1*r2 - r1*Abs(r1 + r2) + r2**2)/Abs(r1 + r2). By hand
+    |r1 + r2| = r1 + r2, the numerator is r2 (r1 + r2), and the term is F_t*r2; the pitch point's
+    offset r1*(r1 + r2)/Abs(r1 + r2) is r1. A difference of them, whose sign the parameters' do not
+    decide, keeps its Abs."""
+    from types import SimpleNamespace
+
+    from solver.display import positive_parameters
+
+    r1, r2, F = sp.symbols("r1 r2 F_t", real=True)
+    system = SimpleNamespace(si_values=lambda: {r1: 0.05, r2: 0.1})
+    term = F * (r1**2 + 2 * r1 * r2 - r1 * sp.Abs(r1 + r2) + r2**2) / sp.Abs(r1 + r2)
+    with positive_parameters(system):
+        assert tidy(term) == F * r2
+        assert tidy(r1 * (r1 + r2) / sp.Abs(r1 + r2)) == r1
+        assert tidy(sp.Abs(r1 - r2) * F).has(sp.Abs)
+    assert tidy(term).has(sp.Abs)  # outside the block nothing is assumed

@@ -1210,6 +1210,42 @@ def test_a_flag_in_the_prose_is_text_to_type_and_a_long_name_keeps_its_space():
     assert r"C\_incline/" not in latex.replace(r"\texttt{--point C\_incline}", "")
 
 
+def test_a_scenes_name_and_description_stay_text_in_latex_and_html(tmp_path):
+    """QA 21 #9: the README says scene names stay escaped text, but the name and description went
+    through the prose-to-maths conversion: a title "theta_dot = 2 rad/s, alpha_max?" became a dotted
+    theta and alpha with a subscript, and "src=x" became src with a maths "= x". Expected, written by
+    hand: each character as typed, only escaped (LaTeX's _ as \\_, HTML's & as &amp;)."""
+    name, description = "Hibbeler 17-94: theta_dot = 2 rad/s, alpha_max?", "Find R_x & m*g when src=x"
+    source = (ROOT / "data" / "scenes" / "compound_pendulum.toml").read_text(encoding="utf-8")
+    source = re.sub(r'(?m)^name = .*$', f'name = "{name}"', source, count=1)
+    source = re.sub(r'(?m)^description = .*$', f'description = "{description}"', source, count=1)
+    path = tmp_path / "named.toml"
+    path.write_text(source, encoding="utf-8")
+    expl = explain(load_system(path))
+    latex, page = render(expl, "latex"), render(expl, "html")
+    tex_name = r"Hibbeler 17-94: theta\_dot = 2 rad/s, alpha\_max?"
+    assert f"\\section*{{Worked solution: {tex_name}}}" in latex
+    assert f"Scene {tex_name}; moments about body: O." in latex
+    assert r"Find R\_x \& m*g when src=x" in latex
+    assert f"<h1>Worked solution: {name}</h1>" in page and f"<p>Scene {name}; moments about body: " in page
+    assert "<p>Find R_x &amp; m*g when src=x</p>" in page
+
+
+def test_a_joint_point_inside_a_subscript_stays_in_it_in_latex_and_html():
+    """QA 21 #3: about C_incline the prose ``M_C_incline - r_G/C_incline x m a_C_incline = ...`` was
+    typeset as ``$r_{G/C}$\\_incline $x m a_{C incline} ...$``: the subscript ended before
+    ``_incline``, which followed as text, the cross product x became the variable x, and
+    ``a_{C incline}`` lost its space. Expected, by the convention of the equations' own labels
+    (``r_{C\\ incline/C}``): the whole point name in the subscript, words apart, and a cross."""
+    expl = explain(load_system(ROOT / "data" / "scenes" / "incline_disk.toml"), "C_incline")
+    latex, page = render(expl, "latex"), render(expl, "html")
+    assert r"$M_{C\ incline} - r_{G/C\ incline} \times m a_{C\ incline} = I_{C\ incline} \alpha$" in latex
+    assert r"\_incline" not in latex.replace(r"\texttt{--point C\_incline}", "")
+    assert "</math>_incline" not in page and "<mi>x</mi>" not in page
+    r_g_c = "<msub><mi>r</mi><mrow><mi>G</mi><mo>/</mo><mi>C incline</mi></mrow></msub>"
+    assert f"{r_g_c}<mo>\u00d7</mo><mi>m</mi>" in page.replace("<mo>&#8290;</mo>", "")
+
+
 def test_an_unknown_that_drops_out_for_the_parameter_values_is_not_said_to_at_this_state_only(tmp_path):
     """A bar pinned at its end O, moments about K at c = 2L/3 from O (its centre of percussion:
     I_K = m L^2/9 and the inertial term's alpha part -r_G/K x m (alpha k x r_K/O) = +m L^2/9 alpha

@@ -728,3 +728,18 @@ def test_contact_kinematics_walked_then_compiled_equal_exact_values():
             scale = max(1.0, *map(abs, exact))
             assert np.allclose(f(*values), exact, rtol=0, atol=1e-12 * scale)
         assert f._f is not None  # the calls after the first WALKS went to the compiled function
+
+
+def test_a_coefficient_of_zero_has_no_friction_to_overcome(solver_cli):
+    """QA 21 #6: with mu_B = 0 at the wall the reason read "F_B = -mu_k N_B = -0 N; it starts to slip
+    (mu_s N overcome)". By hand F_B = -mu_k N_B = 0 exactly (mu_k = 0), and a coefficient of 0 holds
+    nothing: the wall's reason now says it slips at once and slides without friction; the floor
+    (mu = 0.25) keeps its words."""
+    code, out, err = solver_cli("solve", "data/scenes/ladder_friction.toml", "--set", "mu_A=0.25", "--set", "mu_B=0")
+    assert code == 0, err
+    wall = next(line for line in out.splitlines() if line.strip().startswith("wall:"))
+    floor = next(line for line in out.splitlines() if line.strip().startswith("floor:"))
+    assert "F_B = -mu_k N_B = 0 N" in wall and "-0 N" not in wall
+    assert "it slips at once (mu_s = 0: no friction holds it), then slides without friction (mu_k = 0)" in wall
+    assert "mu_s N overcome" not in wall
+    assert "it starts to slip (mu_s N overcome), then slides with mu_k N" in floor

@@ -9,6 +9,7 @@ from __future__ import annotations
 import functools
 import json
 import math
+import re
 
 import pytest
 import sympy as sp
@@ -351,3 +352,16 @@ def test_explain_gives_a_known_side_within_its_own_bound_as_zero(solver_cli, the
     else:
         exact = -0.6 * 9.80665 * (2 + 2 * 0.5) * math.sin(math.radians(179)) / 2
         assert known == pytest.approx(exact, rel=5e-4) and "0 to round-off" not in step  # (4 figures)
+
+
+def test_the_round_off_line_lists_the_unknowns_in_the_tables_order(solver_cli):
+    """QA 21 #11: the upright pendulum's line read 'theta_ddot ...; R_x ...; alpha ...' while the
+    table lists alpha first (alpha, theta_ddot, then the reactions). The line now follows the table."""
+    argv = ("data/scenes/compound_pendulum.toml", "--set", "theta=180 deg")
+    code, out, err = solver_cli("solve", *argv)
+    assert code == 0, err
+    table = [line.split()[0] for line in out.splitlines()[5:9]]
+    line = next(x for x in out.splitlines() if x.startswith("0 to round-off"))
+    listed = re.findall(r"(?:: |; )(\w+) \(computed", line)
+    assert listed == [name for name in table if name in listed] == ["alpha", "theta_ddot", "R_x"]
+    assert list(_solve(solver_cli, *argv)["zero_to_round_off"]) == listed

@@ -361,3 +361,57 @@ def test_energy_drift_says_why_it_is_not_applicable(solver_cli, scene, why):
     if "ladder" in scene:
         rates = [row.split() for row in out.split("final sample:")[1].splitlines() if "_dot " in row]
         assert rates and all(float(r[1]) == 0 for r in rates)
+
+
+DISK_ON_CYLINDER = """
+name = "disk_on_cylinder"
+[parameters]
+m = "2 kg"
+r = "0.1 m"
+R = "0.5 m"
+g = "9.81 m/s^2"
+[coordinates]
+theta = { value = "30 deg", rate = "2 rad/s" }
+[ground.points]
+O = ["0", "0"]
+[[bodies]]
+name = "disk"
+points = { P = ["0", "0"] }
+elements = [{ name = "rim", kind = "uniform_disk", mass = "m", center = "P", radius = "r" }]
+[[joints]]
+kind = "rolling_on_circle"
+name = "track"
+element = "disk:rim"
+center = ["0", "0"]
+radius = "R"
+side = "outside"
+position_angle = "pi/2 - theta"
+friction = "F"
+normal = "N"
+[[loads]]
+kind = "gravity"
+g = "g"
+"""
+
+
+def test_the_final_sample_at_contact_loss_gives_n_as_zero_and_the_angle_in_degrees_too(tmp_path, capsys):
+    """QA 21 #5: a disk rolling off the top of a cylinder stops where N would turn negative; the
+    final sample printed N = -1.279311409e-14 N (round-off of terms of 20 N) and theta in rad
+    beside a status line in deg (the CSV's unit, kept: QA 15 #11; the degrees now beside it). By hand (energy, rolling disk T = 3/4 m v^2, v = (R + r) th', and
+    N = m g cos th - m (R + r) th'^2 = 0): cos th = (3 (R + r) th0'^2 + 4 g cos th0) / (7 g),
+    53.1501 deg; the run locates it to its tolerances (rtol 1e-9), so 1e-7 relative."""
+    from solver.__main__ import main
+
+    path = tmp_path / "top.toml"
+    path.write_text(DISK_ON_CYLINDER, encoding="utf-8")
+    assert main(["simulate", str(path), "--t-end", "2"]) == 0
+    text = capsys.readouterr().out
+    rows = {line.split()[0]: line.split()[1:] for line in text.split("final sample:")[1].splitlines()[3:]
+            if line.strip() and not line.startswith("0 to")}
+    expected = math.acos((3 * 0.6 * 2.0**2 + 4 * 9.81 * math.cos(math.radians(30))) / (7 * 9.81))
+    value, unit, equals, degrees, deg = rows["theta"]  # the CSV's rad, and the status line's deg
+    assert (unit, equals, deg) == ("rad", "(=", "deg)")
+    assert float(value) == pytest.approx(expected, rel=1e-7)
+    assert float(degrees) == pytest.approx(math.degrees(expected), rel=1e-7)
+    assert rows["N"] == ["0", "N"]
+    assert "0 to round-off (a value within its own error bound is given as 0): N (computed" in text

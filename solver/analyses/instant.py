@@ -28,7 +28,7 @@ from ..errors import InputError, SingularConfigurationError
 from ..strprint import lambdify
 from ..units import Q_
 
-__all__ = ["round_off_zeros", "round_off_bound", "CONDITION_LIMIT", "ROUND_OFF", "ERROR_BOUND_FACTOR", "SIGNIFICANT_ERROR", "entry_sizes", "refine",
+__all__ = ["round_off_zeros", "round_off_bound", "sized_input", "CONDITION_LIMIT", "ROUND_OFF", "ERROR_BOUND_FACTOR", "SIGNIFICANT_ERROR", "entry_sizes", "refine",
            "error_bounds", "NumericModel", "refuse_zero_length", "InstantSolution", "State", "assemble", "solve_instant",
            "condition_numbers", "solve_with_estimate"]
 
@@ -132,6 +132,15 @@ def round_off_bound(size: float) -> float:
     return ERROR_BOUND_FACTOR * ROUND_OFF * size
 
 
+def sized_input(value: float, bound: float):
+    """``value``, known to within ``bound``, as an input of :func:`entry_sizes`: a size whose
+    round-off bound (:func:`round_off_bound`) is at least ``bound``, so that what is computed from
+    it carries its error (times its coefficient) besides its own round-off."""
+    from ..tree_value import Sized
+
+    return Sized(float(value), abs(float(value)) + bound / (ERROR_BOUND_FACTOR * ROUND_OFF))
+
+
 SIGNIFICANT_ERROR = 1e-6
 """An unknown whose error bound exceeds this fraction of its size is flagged: its sixth significant
 digit, the last `solve` prints, may be wrong."""
@@ -141,11 +150,13 @@ def entry_sizes(entries, point: Mapping) -> np.ndarray | None:
     """The size of the round-off of each expression of ``entries`` evaluated in float64 at ``point``
     (symbol -> float): :data:`solver.tree_value.SIZED`, the sum of its terms' sizes, so that a
     cancelling sum (omega**2 terms of 1e16 leaving 7) has a size far above its value. None where
-    the walk cannot evaluate an expression (a function it does not know: then nothing is bounded)."""
+    the walk cannot evaluate an expression (a function it does not know: then nothing is bounded).
+    A value of ``point`` may be a :class:`~solver.tree_value.Sized` already (an input with a round-off
+    of its own: a solved acceleration, :func:`sized_input`)."""
     from ..tree_value import SIZED, NotEvaluable, Sized, tree_value
 
     memo: dict = {}
-    at = {k: Sized.of(v) for k, v in point.items()}
+    at = {k: v if isinstance(v, Sized) else Sized.of(v) for k, v in point.items()}
     sizes = []
     for e in entries:
         try:
@@ -768,6 +779,9 @@ class InstantSolution:
     state: State | None = None
     scene: str | None = None
     extra: dict = field(default_factory=dict)
+    error_bound: dict[str, float] = field(default_factory=dict)
+    """Each unknown's float64 error bound [SI] (:func:`error_bounds`), where the solve is bounded
+    (not printed: what derives from the unknowns, ``kinematics``, bounds its own values by it)."""
 
     def to_dict(self, units: Mapping[str, str] | None = None) -> dict:
         """JSON-ready dict; ``units`` is a scene's ``[output_units]`` (dimension names such
@@ -823,6 +837,7 @@ def solution_in_regime(system, regime, warning: str | None, state: State | None,
     if regime is None:
         res, treated, state = solved_at_state(system, point, method, state)
         extra.update(treated)
+        names = _solved_names(res)
     else:  # the regime's own system, bounded by the same rule (regime_error_bounds)
         from .regimes import INDETERMINATE_NOTE, recheck, regime_error_bounds
 
@@ -847,7 +862,15 @@ def solution_in_regime(system, regime, warning: str | None, state: State | None,
     resolve_points(system, point)  # checks the point whatever the route
     shown = shown_point(system, method, point)
     cond = float(res["condition_number"]) if "condition_number" in res else math.inf
-    return InstantSolution(unknowns, cond, shown, method, state, system.name, extra)
+    bounds = res.get("error_bound")
+    bound_of = {} if bounds is None else {n: float(e) for n, e in zip(names, bounds)}
+    return InstantSolution(unknowns, cond, shown, method, state, system.name, extra, bound_of)
+
+
+def _solved_names(res: dict) -> list[str]:
+    """The unknowns' names of a :meth:`NumericModel.solve` result, in its order (that of
+    ``res["error_bound"]``): every key but the condition number and the bounds."""
+    return [name for name in res if name not in ("condition_number", "error_bound")]
 
 
 def _round_off_treatment(system, res: dict, names, bound_at_rest, state: State, extra: dict) -> dict:
@@ -942,8 +965,9 @@ def round_off_zeros(system, res: dict, names, lost: dict, state: State) -> dict:
     accelerations = [zeros[str(c.qdd)] for c in system.free if str(c.qdd) in zeros]
     if len(system.bodies) == 1 and accelerations:
         body = next(iter(system.bodies))
-        zeros["alpha"] = {"computed": {"value": _alpha_value(system, body, state, computed), "unit": "rad/s**2"},
-                          "error_bound": max((a["error_bound"] for a in accelerations), key=lambda b: b["value"])}
+        alpha = {"computed": {"value": _alpha_value(system, body, state, computed), "unit": "rad/s**2"},
+                 "error_bound": max((a["error_bound"] for a in accelerations), key=lambda b: b["value"])}
+        zeros = {"alpha": alpha, **zeros}  # (first, as the table of unknowns lists it)
     return zeros
 
 

@@ -360,11 +360,23 @@ def _now_sliding(system, res, q, qd, t, point, method):
     out = solve_in_regime(system, kinetic, q, qd, t, point, method, strict_direction=False)
     if isinstance(out, str):
         return f"it starts to slip, but then {out}"
-    out.checks = [ContactCheck(c.joint, kinetic[c.joint], (c.reason + "; it starts to slip (mu_s N overcome), "
-                  "then slides with mu_k N") if getattr(res.regimes[c.joint], "impending", False) else c.reason,
+    out.checks = [ContactCheck(c.joint, kinetic[c.joint], c.reason + _starts_to_slip(system, c.joint)
+                               if getattr(res.regimes[c.joint], "impending", False) else c.reason,
                                c.normal, c.friction, c.needed_mu)
                   for c in out.checks]
     return out
+
+
+def _starts_to_slip(system, joint: str) -> str:
+    """The words added to the reason of a contact whose impending slip starts: mu_s N overcome, then
+    sliding with mu_k N; for a coefficient of 0, that there is no friction to overcome or slide with."""
+    contact = next(j for j in system.contacts if j.name == joint)
+    pv = system.si_values()
+    friction = contact.friction
+    mu_s, mu_k = (0.0, 0.0) if friction is None else \
+        (float(sp.sympify(mu).xreplace(pv)) for mu in (friction.static, friction.kinetic))
+    start = "it slips at once (mu_s = 0: no friction holds it)" if mu_s == 0 else "it starts to slip (mu_s N overcome)"
+    return f"; {start}, then slides " + ("without friction (mu_k = 0)" if mu_k == 0 else "with mu_k N")
 
 
 def start_state(system):

@@ -239,7 +239,8 @@ def body_shapes(system) -> dict[str, BodyShape]:
 
 def _instant_offset(system, p, si) -> np.ndarray:
     """The fixed-frame offset of the instant point ``p`` from its reference point [m]: a constant, or,
-    for one given as a function of the coordinates (a crossing of two lines of action, ``I(R1,R2)``),
+    for one given as a function of the coordinates (a joint's point ``C_<joint>`` or a crossing of two
+    lines of action ``I(R1,R2)``, as ``--point`` adds them),
     its value at the scene's state, where the worked solution takes moments about it."""
     coords = sp.Matrix(p.coords)
     if not coords.free_symbols & {*system.q, system.t}:

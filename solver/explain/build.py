@@ -27,8 +27,9 @@ import sympy as sp
 
 from ..model.joints import copy_vec, cross_k, k_cross, vadd, vec, vscale, vsub, xy
 from ..model.system import derivative
-from .content import SLIP_VELOCITY_NOTE, Equation, Explanation, Section, Step, Table, Term, slip_friction
-from ..display import coefficient, could_extract_minus_sign, expanded, is_identically_zero, term_powers, tidy, tidy_linear
+from .content import SLIP_VELOCITY_NOTE, Equation, Explanation, SceneText, Section, Step, Table, Term, slip_friction
+from ..display import (coefficient, could_extract_minus_sign, expanded, is_identically_zero, term_powers, tidy, tidy_linear,
+                       without_known_abs)
 from ..strprint import FastStrPrinter, sstr
 
 __all__ = ["explain", "latex_names"]
@@ -55,7 +56,7 @@ def _same_place(r, at) -> bool:
 
 
 def _zero(expr) -> bool:
-    expr = expanded(expr)
+    expr = expanded(without_known_abs(expr))  # (|r1 + r2| of positive radii is r1 + r2, as shown)
     if expr == 0:
         return True
     return bool(is_identically_zero(expr))
@@ -163,11 +164,12 @@ def add_joint_point(system, point: str | None) -> None:
     the lines of action cross, so that the moment equation can be taken about it. Other names are
     left to the formulation to accept or refuse.
 
-    A joint's point's offset from its body's reference point is that of the scene's state, a
-    constant (with the coordinates' values there) as an instant point's is. A crossing's stays a
-    function of the coordinates, so that its position reads as the crossing itself (``(x, L*sin(theta))``,
-    not the state's numbers); its velocity and acceleration are still those of the material point
-    there at the instant, and the drawing places it by its value at the scene's state.
+    The point's offset from its body's reference point stays a function of the coordinates, so that
+    its position reads as the place itself: the joint's own point (a contact on a circle at
+    ``R*(sin(theta), -cos(theta))``, the joint's symbolic point) or the crossing (``(x, L*sin(theta))``),
+    not the state's numbers, which would leave the joint's loads at a twin point and the "exact"
+    answers rounded. Its velocity and acceleration are still those of the material point there at
+    the instant (Eq. 6), and the drawing places it by its value at the scene's state.
     """
     from ..analyses.regimes import start_state
     from ..model.bodies import Point
@@ -198,10 +200,7 @@ def add_joint_point(system, point: str | None) -> None:
         if at is None:
             continue
         ref = next((n for n, p in b.points.items() if not p.is_instant), "G")
-        coordinates = {**dict(zip(system.q, map(sp.Float, state.q))), system.t: sp.Float(state.t)}
         offset = sp.Matrix(at) - system.point_position(b.name, ref)
-        if not crossing:  # (a crossing stays a function of the coordinates: _crossing_source)
-            offset = offset.xreplace(coordinates)
         b.points[name] = Point(name, _vec(offset), frame="instant", relative_to=ref)
         system.reset()
         placed = True
@@ -372,7 +371,8 @@ def _data_step(system, body: str, printer: FastStrPrinter | None = None) -> Step
     rows = []
     for e in b.elements:
         rows.append((e.name, e.kind or type(e).__name__, sstr(e.mass, printer), sstr(tidy(e.I_G), printer)))
-    text = [f"Body {body}: {counted(len(b.elements), 'element')}, total mass m = {sstr(b.total_mass, printer)}."]
+    mass = sstr(b.total_mass, printer)
+    text = [f"Body {body}: {counted(len(b.elements), 'element')}, total mass m" + ("." if mass == "m" else f" = {mass}.")]
     if len(b.elements) > 1:
         text.append("A composite body (Eqs. 11-14): each element keeps its own mass centre and centroidal inertia.")
     return Step("data", f"Data of {body}", text, table=Table(("element", "kind", "mass m_k", "I_G,k"), tuple(rows)))
@@ -1008,7 +1008,7 @@ def _system_data_section(system, state) -> Section:
             coords.append((c.name, shown(math.degrees(v), "deg"), shown(r, "rad/s")))
         else:
             coords.append((c.name, shown(v, "m"), shown(r, "m/s")))
-    step = Step("data", "Data and state", [system.description] if system.description else [],
+    step = Step("data", "Data and state", [SceneText(system.description)] if system.description else [],
                 table=Table(("parameter", "value"), rows))
     state_step = Step("data", "State", ["The instant solved (dependent coordinates from the closure equations)."]
                       if system.dependent else [], table=Table(("coordinate", "value", "rate"), tuple(coords)))

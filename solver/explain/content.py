@@ -13,7 +13,13 @@ import sympy as sp
 from ..model.joints import copy_vec
 from ..strprint import FastStrPrinter
 
-__all__ = ["Term", "Equation", "Table", "Step", "Section", "Explanation", "slip_friction", "SLIP_VELOCITY_NOTE"]
+__all__ = ["Term", "Equation", "Table", "Step", "Section", "Explanation", "SceneText", "slip_friction",
+           "SLIP_VELOCITY_NOTE"]
+
+
+class SceneText(str):
+    """Text the scene gives (its name, its description): shown as text in every format, escaped,
+    never read as names and formulae (a title ``theta_dot = 2 rad/s`` stays as typed)."""
 
 
 def slip_friction(normal: str = "N") -> str:

@@ -48,7 +48,7 @@ _TOKEN = re.compile(r"""
   | (?P<prose>[A-Za-z]+'[a-z]+(?![A-Za-z0-9_]))
   | (?P<name>[A-Za-z][A-Za-z0-9]*
              (?:(?:_[A-Za-z0-9]+)+(?:,[a-z](?![A-Za-z0-9]))?
-                (?:/[A-Za-z][A-Za-z0-9]*(?:\([A-Za-z0-9_,]+\)(?=[\s,.;:)]|$))?(?![A-Za-z0-9(]))?)?
+                (?:/[A-Za-z][A-Za-z0-9]*(?:_[A-Za-z0-9]+)*(?:\([A-Za-z0-9_,]+\)(?=[\s,.;:)]|$))?(?![A-Za-z0-9(]))?)?
              (?:\([A-Za-z0-9_,]+\)(?:/[A-Za-z][A-Za-z0-9]*)?(?=[\s,.;:)]|$))?'*(?![A-Za-z]))
   | (?P<num>\d+(?:\.\d+)?(?:e[-+]?\d+)?)
   | (?P<op>\*\*|>=|<=|(?<=[ ])[<>](?=[ ])|[-+*/=^|~])
@@ -161,6 +161,9 @@ class LatexProse:
     def _plain_name(self, word: str) -> str | None:
         if word in self.known:
             return self.known[word]
+        compound = compound_latex(word)  # (a_C_floor, r_G/C_floor: the one reading of such names)
+        if compound:
+            return compound
         rate = _RATE.fullmatch(word)
         if rate:
             base = self._plain_name(rate["base"])

@@ -19,7 +19,7 @@ import sympy as sp
 from ..display import could_extract_minus_sign
 from ..drawing.svg_ids import inline_svg
 from ..strprint import FastStrPrinter, join_sum, sstr
-from .content import Equation, Explanation, Step, Table, Term
+from .content import Equation, Explanation, SceneText, Step, Table, Term
 from ..notation import compound_latex
 from .latex_prose import LatexProse, latex_escape, subscripted, unit_latex
 
@@ -47,10 +47,11 @@ class _Renderer:
         self.printed = expl.printer  # each expression's text once (a point's v_P shows often)
 
     def document(self) -> str:
-        out = [self.title(self.expl.title)]
+        scene = SceneText(self.expl.scene)
+        title = self.expl.title
+        out = [self.title((title[:-len(scene)], scene) if scene and title.endswith(": " + scene) else title)]
         points = ", ".join(f"{b}: {p}" for b, p in self.expl.points.items())
-        out.append(self.paragraph(f"Scene {self.expl.scene}; moments about {points}." if points
-                                  else f"Scene {self.expl.scene}."))
+        out.append(self.paragraph(("Scene ", scene, f"; moments about {points}.") if points else ("Scene ", scene, ".")))
         for section in self.expl.sections:
             out.append(self.heading(section.title, 2))
             for step in section.steps:
@@ -71,6 +72,20 @@ class _Renderer:
         if step.table is not None:
             out.append(self.table(step.table))
         return "\n".join(out)
+
+    def words(self, text) -> str:
+        """``text`` in this format: prose (:meth:`prose_text`), or a tuple of prose and
+        :class:`~.content.SceneText` parts, the scene's own text only escaped (:meth:`plain`)."""
+        parts = text if isinstance(text, tuple) else (text,)
+        return "".join(self.plain(p) if isinstance(p, SceneText) else self.prose_text(p) for p in parts)
+
+    def plain(self, text: str) -> str:
+        """Text as it is, escaped for the format."""
+        return text
+
+    def prose_text(self, text: str) -> str:
+        """Prose with its names and formulae as the format writes maths."""
+        return text
 
     def wrap(self, body: str) -> str:
         return body
@@ -104,13 +119,15 @@ def _join_text(terms, printed: FastStrPrinter | None = None) -> str:
 
 class _Text(_Renderer):
     def title(self, text):
+        text = self.words(text)
         return f"{text}\n{'=' * len(text)}\n"
 
     def heading(self, text, level):
+        text = self.words(text)
         return f"\n{text}\n{'-' * len(text) if level == 2 else ''}".rstrip()
 
     def paragraph(self, text):
-        return f"{text}"
+        return self.words(text)
 
     def equation(self, eq: Equation) -> str:
         head = f"  {eq.label}" + (f" ({eq.ref})" if eq.ref else "") + ":"
@@ -229,14 +246,20 @@ class _Markdown(_Renderer):
         super().__init__(expl)
         self.math = _LatexMath(expl.symbol_latex)
 
+    def plain(self, text):
+        return _md(text)
+
+    def prose_text(self, text):
+        return _md(text)
+
     def title(self, text):
-        return f"# {_md(text)}\n"
+        return f"# {self.words(text)}\n"
 
     def heading(self, text, level):
-        return f"\n{'#' * level} {_md(text)}\n"
+        return f"\n{'#' * level} {self.words(text)}\n"
 
     def paragraph(self, text):
-        return _md(text) + "\n"
+        return self.words(text) + "\n"
 
     def command(self, intro, command):
         return f"{_md(intro)} {_code_span(command)}\n"
@@ -282,14 +305,20 @@ class _Latex(_Renderer):
         return ("\\documentclass{article}\n" + LATEX_ENGINE_NOTE + (LATEX_UNICODE_NOTE if beyond else "")
                 + LATEX_PREAMBLE + "\\begin{document}\n" + body + "\n\\end{document}\n")
 
+    def plain(self, text):
+        return latex_escape(text)
+
+    def prose_text(self, text):
+        return self.prose.text(text)
+
     def title(self, text):
-        return f"\\section*{{{self.prose.text(text)}}}"
+        return f"\\section*{{{self.words(text)}}}"
 
     def heading(self, text, level):
-        return f"\\{'sub' * (level - 1)}section*{{{self.prose.text(text)}}}"
+        return f"\\{'sub' * (level - 1)}section*{{{self.words(text)}}}"
 
     def paragraph(self, text):
-        return self.prose.text(text) + "\n"
+        return self.words(text) + "\n"
 
     def command(self, intro, command):
         return f"{self.prose.text(intro)} \\texttt{{{latex_escape(command)}}}\n"
@@ -367,14 +396,20 @@ class _Html(_Renderer):
                 f"<title>{_h(self.expl.title)}</title>\n<style>{font_face_css()}\n  {_CSS}</style></head><body>\n"
                 + body + "\n</body></html>\n")
 
+    def plain(self, text):
+        return _h(text)
+
+    def prose_text(self, text):
+        return self.prose.text(text)
+
     def title(self, text):
-        return f"<h1>{self.prose.text(text)}</h1>"
+        return f"<h1>{self.words(text)}</h1>"
 
     def heading(self, text, level):
-        return f"<h{level}>{self.prose.text(text)}</h{level}>"
+        return f"<h{level}>{self.words(text)}</h{level}>"
 
     def paragraph(self, text):
-        return f"<p>{self.prose.text(text)}</p>"
+        return f"<p>{self.words(text)}</p>"
 
     def command(self, intro, command):
         return f"<p>{self.prose.text(intro)} <code>{html.escape(command)}</code></p>"

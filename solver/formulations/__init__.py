@@ -95,19 +95,32 @@ def resolve_points(system, point: str | None) -> dict[str, str]:
         if not targets and len(system.bodies) == 1:
             body = next(iter(system.bodies.values()))
             raise SceneError(f"{system.label}: --point {point}: point {name!r} is not a point of the body "
-                             f"{body.name!r} (points: {', '.join(body.point_names())}{ADVISED_POINTS})")
+                             f"{body.name!r} (points: {', '.join(body.point_names())}"
+                             f"{_advised_points(system.bodies.values(), name)})")
         if not targets:
             every = sorted({f"{b}:{p}" for b, body in system.bodies.items() for p in body.point_names()})
             raise SceneError(f"{system.label}: --point {point}: no body has a point {name!r} "
-                             f"(points: {', '.join(every)}{ADVISED_POINTS})")
+                             f"(points: {', '.join(every)}{_advised_points(system.bodies.values(), name)})")
     for body in targets:
         if name not in system.bodies[body].point_names():
             raise SceneError(
                 f"{system.label}: --point {point}: point {name!r} is not a point of the body {body!r} "
-                f"(points: {', '.join(system.bodies[body].point_names())}{ADVISED_POINTS})"
+                f"(points: {', '.join(system.bodies[body].point_names())}"
+                f"{_advised_points([system.bodies[body]], name)})"
             )
         points[body] = name
     return points
+
+
+def _advised_points(bodies, name: str) -> str:
+    """The end of a refused ``--point``'s list of points: :data:`ADVISED_POINTS`, or, for the name
+    ``G_<element>`` of the only element of one of ``bodies``, that such a body's mass centre is G
+    (the advisor names ``G_<element>`` on bodies of several elements only)."""
+    alone = [b.name for b in bodies if len(b.elements) == 1 and f"G_{b.elements[0].name}" == name]
+    if alone:
+        return (f"; {name[2:]} is the only element of {', '.join(alone)}, whose mass centre is G: G_<element> "
+                "names an element's mass centre on a body of several elements")
+    return ADVISED_POINTS
 
 
 class Formulation:

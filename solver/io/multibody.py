@@ -90,8 +90,7 @@ class _MultibodyReader:
         L = self.L
         L.overrides = overrides
         L.check_keys(data, TOP_KEYS, "", "a multibody scene file")
-        name = L.text(data.get("name", L.path.stem), "name")
-        description = L.text(data.get("description", ""), "description")
+        name, description = L.scene_texts(data)
         L._read_parameters(L.table(data.get("parameters", {}), "parameters"))
         coords = L.table(L.require(data, "coordinates", "coordinates", "the table [coordinates]"), "coordinates")
         self._read_coordinates(coords, overrides)
