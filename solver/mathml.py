@@ -89,7 +89,7 @@ class _Printer(MathMLPresentationPrinter):
                 row.appendChild(space)
             else:
                 node = self.dom.createElement("mo" if kind == "mark" else "mn" if text.isdigit() else "mi")
-                node.appendChild(self.dom.createTextNode(text))
+                node.appendChild(self.dom.createTextNode(text.replace("_", " ") if kind == "point" else text))
                 if text == ".":  # a body's element (upper.bob1): a separator inside a name, not an operator
                     node.setAttribute("lspace", "0")
                     node.setAttribute("rspace", "0")

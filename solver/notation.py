@@ -49,9 +49,10 @@ def compound_subscript(name: str):
     joined by underscores (``a_C_floor``, ``r_G/C_floor``, ``I_G_shank``: a joint's or an element's
     point), or None for any other name (sympy's printers read those; a rate ``theta_1_dot`` too).
     Each part is ``("name", text)`` for a symbol inside the brackets (``A_x``, itself subscripted),
-    ``("word", text)`` for a word of the name (spelled as the scene and the force list spell it,
-    underscores kept: ``point_mass_1``, ``C_floor``), ``("space", " ")`` or ``("mark", text)`` for
-    ``( ) , / .``; the
+    ``("point", text)`` for a point named by words joined by underscores (``C_floor``, printed
+    as words apart, "C floor", as the equations' labels print it), ``("word", text)`` for a word
+    of the name (an element's spelled as the scene and the force list spell it, underscores
+    kept: ``point_mass_1``), ``("space", " ")`` or ``("mark", text)`` for ``( ) , / .``; the
     nucleus comes first as ``("head", text)``. The one reading of such names, for LaTeX
     (:func:`compound_latex`) and MathML (:mod:`solver.mathml`).
 
@@ -61,7 +62,7 @@ def compound_subscript(name: str):
     True
     """
     head, _, tail = name.partition("_")
-    joined = "_" in tail and not name.endswith(("_dot", "_ddot"))
+    joined = "_" in tail and len(head) == 1 and not name.endswith(("_dot", "_ddot"))
     if not tail or not head or not (joined or _COMPOUND.search(tail)) or _COMPOUND.search(head):
         return None  # (I(O_x,A_y) itself is a point's name, no nucleus with a subscript)
     parts, depth = [("head", head)], 0
@@ -70,7 +71,12 @@ def compound_subscript(name: str):
         if token.isspace():
             parts.append(("space", " "))
         elif re.fullmatch(r"[A-Za-z0-9_]+", token):
-            parts.append(("name" if depth > 0 and token[0].isalpha() else "word", token))
+            if depth > 0 and token[0].isalpha():
+                parts.append(("name", token))
+            elif "_" in token and parts[-1] != ("mark", "."):  # (after a dot: a body's element, a word)
+                parts.append(("point", token))
+            else:
+                parts.append(("word", token))
         else:
             parts.append(("mark", token))
     return parts
@@ -81,7 +87,7 @@ def compound_latex(name: str) -> str | None:
     point's names keep their own subscripts, words stay apart.
 
     >>> compound_latex("r_G/I(A_x,B_y)"), compound_latex("W_upper.point_mass_1"), compound_latex("r_G/C_floor")
-    ('r_{G/I(A_{x},B_{y})}', 'W_{upper.point\\_mass\\_1}', 'r_{G/C\\_floor}')
+    ('r_{G/I(A_{x},B_{y})}', 'W_{upper.point\\_mass\\_1}', 'r_{G/C\\ floor}')
     """
     parts = compound_subscript(name)
     if parts is None:
@@ -90,6 +96,8 @@ def compound_latex(name: str) -> str | None:
     for kind, text in parts[1:]:
         if kind == "name":
             out.append(sp.latex(sp.Symbol(text)))
+        elif kind == "point":
+            out.append(text.replace("_", r"\ "))
         elif kind == "word":
             out.append(latex_escape(text))
         else:
