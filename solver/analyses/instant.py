@@ -141,6 +141,22 @@ def sized_input(value: float, bound: float):
     return Sized(float(value), abs(float(value)) + bound / (ERROR_BOUND_FACTOR * ROUND_OFF))
 
 
+def singular_to_round_off(A: np.ndarray, b: np.ndarray, size_A: np.ndarray) -> "np.ndarray | None":
+    """The singularity decision (:data:`CONDITION_LIMIT`) on ``A`` with its entries that are 0 to
+    round-off set to 0 (no larger than their own bound, :func:`round_off_bound` of their terms'
+    sizes ``size_A``): that matrix where it is singular, else None.
+
+    The equilibrated condition number of ``A`` itself cannot see a column of round-off: the
+    scaling makes 1e-16 beside terms of 3 an entry like any other (a bar's angle sin(3 theta) at
+    theta = 30 deg, d(angle)/d(theta) = 3 cos(90 deg) computed as 1.8e-16)."""
+    small = (np.abs(A) <= round_off_bound(size_A)) & (A != 0)
+    if not small.any():
+        return None
+    A0 = np.where(small, 0.0, A)
+    _, cond = solve_with_estimate(A0, b)
+    return A0 if not cond <= CONDITION_LIMIT else None
+
+
 SIGNIFICANT_ERROR = 1e-6
 """An unknown whose error bound exceeds this fraction of its size is flagged: its sixth significant
 digit, the last `solve` prints, may be wrong."""
@@ -388,13 +404,9 @@ class NumericModel:
         computed as 1.8e-16: theta_ddot came out 3.5e16 rad/s**2 with bounds far above every
         unknown. Such a matrix is singular to float64's precision: decided here as
         :meth:`singular` decides it, by the same condition limit."""
-        small = (np.abs(A) <= round_off_bound(size_A)) & (A != 0)
-        if not small.any():
-            return
-        A0 = np.where(small, 0.0, A)
-        _, cond = self._solve_with_estimate(A0, b)
-        if not cond <= CONDITION_LIMIT:
-            self.singular(q, qd, t, A0, np.asarray(cond))
+        A0 = singular_to_round_off(A, b, size_A)
+        if A0 is not None:
+            self.singular(q, qd, t, A0, np.asarray(math.inf))
 
     def _refuse_round_off(self, M: np.ndarray, q, qd, t: float) -> None:
         """Raise :class:`SingularConfigurationError` saying that the matrix ``M`` (found singular at
@@ -879,7 +891,7 @@ def _round_off_treatment(system, res: dict, names, bound_at_rest, state: State, 
     scale at rest, ``bound_at_rest()``: :func:`_scale_at_rest`) into ``extra["digits_lost"]``, and
     those within their own bound set to 0 in ``res`` (:func:`round_off_zeros`) into
     ``extra["zero_to_round_off"]``, which is returned."""
-    lost = _digits_lost(system, res, names, _scale_at_rest(bound_at_rest, state, res))
+    lost = _digits_lost(system, res, names, _scale_at_rest(bound_at_rest, state, res), state)
     if lost:
         extra["digits_lost"] = lost
     zeros = round_off_zeros(system, res, names, lost, state)
@@ -942,7 +954,7 @@ def unknown_quantities(system, state: State, res: dict, names=None) -> dict[str,
 def round_off_zeros(system, res: dict, names, lost: dict, state: State) -> dict:
     """The unknowns that are 0 to round-off, set to 0 in ``res``: name -> {"computed", "error_bound"}
     (each ``{"value", "unit"}``); a one-body system's alpha, a combination of its accelerations,
-    goes with them.
+    goes with them when it is shown as 0 because they are, with its own bound (:func:`_alpha_bound`).
 
     The rule: an unknown whose computed value is no larger than its own error bound
     (``res["error_bound"]``, :func:`error_bounds`), where that bound is round-off of its scale
@@ -962,13 +974,35 @@ def round_off_zeros(system, res: dict, names, lost: dict, state: State) -> dict:
             unit = units.get(name, "")
             zeros[name] = {"computed": {"value": x, "unit": unit}, "error_bound": {"value": float(e), "unit": unit}}
             res[name] = 0.0
-    accelerations = [zeros[str(c.qdd)] for c in system.free if str(c.qdd) in zeros]
-    if len(system.bodies) == 1 and accelerations:
+    if len(system.bodies) == 1 and any(str(c.qdd) in zeros for c in system.free):
         body = next(iter(system.bodies))
-        alpha = {"computed": {"value": _alpha_value(system, body, state, computed), "unit": "rad/s**2"},
-                 "error_bound": max((a["error_bound"] for a in accelerations), key=lambda b: b["value"])}
-        zeros = {"alpha": alpha, **zeros}  # (first, as the table of unknowns lists it)
+        was, now = _alpha_value(system, body, state, computed), _alpha_value(system, body, state, res)
+        e = _alpha_bound(system, state, dict(zip(names, bound)))
+        if was != 0 and now == 0 and e is not None:  # alpha shown as 0 because its accelerations are
+            alpha = {"computed": {"value": was, "unit": "rad/s**2"}, "error_bound": {"value": e, "unit": "rad/s**2"}}
+            zeros = {"alpha": alpha, **zeros}  # (first, as the table of unknowns lists it)
     return zeros
+
+
+def _alpha_bound(system, state: State, bounds: dict) -> float | None:
+    """The float64 error bound of a one-body system's alpha [rad/s**2], a combination of its
+    accelerations: the sum of |d alpha / d q''| times each acceleration's bound (``bounds``, by
+    name), over the accelerations alpha holds at the state (a bar sliding on a rail: its
+    theta_ddot's, not x_ddot's, whose unit is m/s**2); None where one of them has no bound."""
+    body = next(iter(system.bodies))
+    al = sp.sympify(system.alpha(body))
+    point = {**system.si_values(), **dict(zip(system.q, state.q)), **dict(zip(system.qd, state.qd)),
+             system.t: state.t}
+    total = 0.0
+    for c in system.free:
+        coefficient = al.diff(c.qdd)
+        if coefficient == 0:
+            continue
+        k = abs(float(coefficient.xreplace({x: sp.Float(point[x]) for x in coefficient.free_symbols if x in point})))
+        if k and str(c.qdd) not in bounds:
+            return None
+        total += k * float(bounds.get(str(c.qdd), 0.0))
+    return total
 
 
 def _scale_at_rest(bound_at_rest, state, res) -> "np.ndarray | None":
@@ -985,10 +1019,11 @@ def _scale_at_rest(bound_at_rest, state, res) -> "np.ndarray | None":
     return None if bound is None else np.asarray(bound) / (ERROR_BOUND_FACTOR * ROUND_OFF)
 
 
-def _digits_lost(system, res: dict, names, at_rest=None) -> dict:
+def _digits_lost(system, res: dict, names, at_rest=None, state: State | None = None) -> dict:
     """The unknowns whose error bound (``res["error_bound"]``) exceeds :data:`SIGNIFICANT_ERROR` of
     their size: name -> {"digits": float64 digits lost, "error_bound": {"value", "unit"}}; a
-    one-body system's alpha, a combination of its accelerations, is named with the worst of them.
+    one-body system's alpha, a combination of its accelerations, is named when its own bound at
+    ``state`` (:func:`_alpha_bound`) exceeds that fraction of its size.
 
     The size is the larger of the unknown's value and of its scale (:func:`_scale_at_rest`,
     ``at_rest``; at rest, the size of the terms that make it): an answer that is 0 (a pendulum's
@@ -1008,9 +1043,13 @@ def _digits_lost(system, res: dict, names, at_rest=None) -> dict:
         if size and e > SIGNIFICANT_ERROR * max(size, float(scale[name])):  # (an exact 0 is not flagged)
             digits = min(16.0, max(0.0, math.log10(e / (ROUND_OFF * size))))
             lost[name] = {"digits": round(digits, 1), "error_bound": {"value": float(e), "unit": units.get(name, "")}}
-    accelerations = [lost[str(c.qdd)] for c in system.free if str(c.qdd) in lost]
-    if len(system.bodies) == 1 and accelerations:
-        lost["alpha"] = max(accelerations, key=lambda v: v["digits"])
+    if len(system.bodies) == 1 and state is not None and any(str(c.qdd) in lost for c in system.free):
+        body = next(iter(system.bodies))
+        size = abs(_alpha_value(system, body, state, res))
+        e = _alpha_bound(system, state, dict(zip(names, bound)))
+        if size and e is not None and e > SIGNIFICANT_ERROR * size:
+            digits = min(16.0, max(0.0, math.log10(e / (ROUND_OFF * size))))
+            lost["alpha"] = {"digits": round(digits, 1), "error_bound": {"value": e, "unit": "rad/s**2"}}
     return lost
 
 

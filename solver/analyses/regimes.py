@@ -567,7 +567,7 @@ def regime_error_bounds(system, regime: RegimeResult, q, qd, t, point=None, meth
     singular. A sliding contact's friction -s mu_k N errs by mu_k times N's bound."""
     from ..errors import SingularConfigurationError
     from ..formulations import formulate
-    from .instant import error_bounds, solve_with_estimate
+    from .instant import _state_text, error_bounds, singular_to_round_off, solve_with_estimate
 
     if regime.indeterminate:
         return None
@@ -575,10 +575,7 @@ def regime_error_bounds(system, regime: RegimeResult, q, qd, t, point=None, meth
     if method == "lagrange" or regime_system(system, regimes, q, qd, t) is system:
         variant = regime_system(system, regimes, q, qd, t)
         model = formulate(variant, method, point).numeric()
-        try:
-            res = model.solve(q, qd, t, once=True, bounds=True)
-        except SingularConfigurationError:
-            return None
+        res = model.solve(q, qd, t, once=True, bounds=True)  # (its singularity decision with the round-off)
         names, bound = list(model.names), res.get("error_bound")
     else:
         aug = _augmented(system, point, method)
@@ -591,6 +588,11 @@ def regime_error_bounds(system, regime: RegimeResult, q, qd, t, point=None, meth
         pv = aug.variant.si_values()
         size_A, size_b = aug.pick(sizes[0].copy(), sizes[1].copy(), rows, cols,
                                   [(n, f, abs(float(e.xreplace(pv)))) for n, f, e in mods])
+        if singular_to_round_off(A, b, size_A) is not None:
+            raise SingularConfigurationError(
+                f"{system.label}: singular configuration at {_state_text(system, q, qd, t, ())}: with the contacts "
+                f"{', '.join(f'{k} {v.label}' for k, v in regimes.items())}, the equations do not determine the "
+                "motion (an entry of their matrix that is 0 to round-off taken as 0)")
         bound = error_bounds(A, b, x, size_A, size_b)
         variant = aug.variant
     if bound is None or not np.all(np.isfinite(bound)):
