@@ -342,7 +342,7 @@ class _Builder:
         left = self.build(node.left, depth + 1)
         right = self.build(node.right, depth + 1)
         if isinstance(node.op, ast.Pow) and (_too_large_power(left, right) or _huge_power(left, right)):
-            raise self._fail(f"number too large (more than {MAX_DIGITS} digits)", node)
+            raise self._fail(f"number too large or too small (more than {MAX_DIGITS} digits)", node)
         if isinstance(node.op, ast.Pow) and _too_large_exponent(left, right):
             raise self._fail(
                 f"the exponent of {self._segment(node.left)!r} must be at most {MAX_EXPONENT} in size "

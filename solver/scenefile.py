@@ -1114,7 +1114,8 @@ class _SceneLoader:
         stronger, and ["1e-13", "0"] is the x axis. The zero vector is refused: every component
         exactly 0, or 0 to round-off (no larger than its own float64 error bound,
         :func:`solver.analyses.instant.round_off_bound`: sin(beta) at
-        beta = 180 deg, 1.2e-16 beside its terms of 3.1, has no sign)."""
+        beta = 180 deg, 1.2e-16 beside its terms of 3.1, has no sign); such a component beside
+        others that are not is taken as 0."""
         from .analyses.instant import entry_sizes, round_off_bound
 
         where = f"{key}.direction"
@@ -1129,6 +1130,9 @@ class _SceneLoader:
                                  for c, v, e in zip(direction, values, bounds) if v)
             raise self.fail(where, f"the direction is the zero vector to round-off: {shown}, within float64's "
                                    "error of 0, says no way")
+        if bounds:  # a component that is 0 to round-off is 0 (["sin(beta)", "1e-15"] at 180 deg is straight up)
+            direction = sp.Matrix([0 if abs(v) <= e else c for c, v, e in zip(direction, values, bounds)])
+            values = [0.0 if abs(v) <= e else v for v, e in zip(values, bounds)]
         norm = math.hypot(*values)
         return direction / sp.sqrt(direction[0] ** 2 + direction[1] ** 2) if abs(norm - 1.0) > 1e-12 else direction
 

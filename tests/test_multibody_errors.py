@@ -463,6 +463,11 @@ def test_a_tiny_gravity_direction_is_a_direction_and_a_round_off_one_is_refused(
     path.write_text(scene.replace("X", '"1e-13"'))
     alpha = solve_instant(load_system(path)).unknowns["theta_ddot"].to("rad/s**2").magnitude
     assert alpha == pytest.approx(3 * 9.81 * math.cos(math.radians(30)) / 2, rel=1e-13)  # (a few round-offs of 10)
+    # QA 22: beside a component that is not, one that is 0 to round-off is 0, not a tilt: ["1e-13", "sin(b)"]
+    # is the x axis (sin(b) = 1.2e-16 had tilted it by 50 deg)
+    path.write_text(scene.replace('direction = [X, "0"]', 'direction = ["1e-13", "sin(b)"]'))
+    alpha = solve_instant(load_system(path)).unknowns["theta_ddot"].to("rad/s**2").magnitude
+    assert alpha == pytest.approx(3 * 9.81 * math.cos(math.radians(30)) / 2, rel=1e-13)
     for component, argv, words in (('"s"', ("--set", "s=0"), "the direction is the zero vector"),
                                    ('"sin(b)"', (), "the direction is the zero vector to round-off: sin(b) = 1.22e-16")):
         path.write_text(scene.replace("X", component))
