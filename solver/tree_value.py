@@ -79,9 +79,12 @@ DOUBLE = Arithmetic(
     sqrt=cmath.sqrt,
     power=lambda base, exp: base ** exp,
     functions={sp.sin: cmath.sin, sp.cos: cmath.cos, sp.tan: cmath.tan, sp.exp: cmath.exp, sp.log: cmath.log,
-               sp.sinh: cmath.sinh, sp.cosh: cmath.cosh, sp.tanh: cmath.tanh, sp.Abs: abs},
+               sp.sinh: cmath.sinh, sp.cosh: cmath.cosh, sp.tanh: cmath.tanh, sp.asin: cmath.asin,
+               sp.acos: cmath.acos, sp.atan: cmath.atan, sp.Abs: abs},
 )
-"""Double-precision complex arithmetic (``cmath``)."""
+"""Double-precision complex arithmetic (``cmath``); the functions of :data:`SIZED`, so that a walk
+in one goes wherever a walk in the other does (an angle with atan in it was walked for its sizes
+but not for its values, and its matrix came from compiled entries whose omega**2 parts cancel)."""
 
 
 @dataclass(slots=True)

@@ -434,3 +434,23 @@ def test_a_round_off_column_in_a_contact_regime_is_a_singular_configuration(solv
     for command in ("solve", "explain"):
         code, out, err = solver_cli(command, str(path))
         assert code == 2 and "singular configuration at x = 0 m, th = 30 deg" in err, (command, code, out[-300:], err)
+
+
+def test_an_angle_through_atan_is_walked_as_exactly_as_one_without(solver_cli, tmp_path):
+    """QA 22 #7: the double-precision walk had no asin, acos or atan (the sized walk had), so a scene
+    using one was solved from compiled entries whose omega**2 parts cancel: the sliding bar with
+    orientation pi - theta + atan(k0), k0 = 0 (the same bar), gave 1.20688e+11 at 1e6 rad/s (digits
+    lost) and was refused at 1e8. Reference: Lagrange's equation by sympy (above) at 60 digits;
+    tolerance as the plain scene's, 1e-13 relative."""
+    import mpmath
+
+    text = open("data/scenes/sliding_bar.toml", encoding="utf-8").read()
+    text = text.replace('orientation     = "pi - theta"', 'orientation     = "pi - theta + atan(k0)"')
+    text = text.replace("[parameters]\n", '[parameters]\nk0 = "0"\n', 1)
+    path = tmp_path / "atan.toml"
+    path.write_text(text, encoding="utf-8")
+    with mpmath.workdps(60):
+        exact = _sliding_bar_theta_ddot(mpmath.pi / 6, 10 ** 8)
+    payload = _solve(solver_cli, str(path), "--set", "theta_dot=1e8 rad/s")
+    assert "digits_lost" not in payload, payload["digits_lost"]
+    assert payload["unknowns"]["theta_ddot"]["value"] == pytest.approx(exact, rel=1e-13)
