@@ -49,7 +49,9 @@ class Provenance:
     commit : str
         ``git rev-parse HEAD``, or ``"unknown"`` outside a git checkout.
     dirty : bool or None
-        Whether tracked or untracked files differ from the commit (None: unknown).
+        Whether tracked files differ from the commit, or untracked ones lie in the folders the
+        build reads (:data:`BUILD_FOLDERS`; a README example's ``crank.csv`` at the top does
+        not count), None: unknown.
     python : str
         Interpreter version.
     packages : dict[str, str]
@@ -120,6 +122,22 @@ def _version(name: str) -> str:
     return dist.version  # (no header block: the full parse decides)
 
 
+BUILD_FOLDERS = ("solver/", "analysis/", "reports/", "data/")
+"""The folders whose untracked files could change a build (its code and its inputs)."""
+
+
+def _differs(status: str) -> bool:
+    """Whether ``git status --porcelain`` output shows a change that could reach the build."""
+    for line in status.splitlines():
+        if line.startswith("?? "):
+            path = line[3:].strip().strip('"')
+            if not path.startswith(BUILD_FOLDERS):
+                continue
+        if line.strip():
+            return True
+    return False
+
+
 def collect(root: Path) -> Provenance:
     """Collect the provenance of a build from the project at ``root``.
 
@@ -142,7 +160,7 @@ def collect(root: Path) -> Provenance:
     ]
     return Provenance(
         commit=head.strip() if head else "unknown",
-        dirty=None if status is None else bool(status.strip()),
+        dirty=None if status is None else _differs(status),
         python=platform.python_version(),
         packages=packages,
         inputs=inputs,

@@ -231,3 +231,36 @@ def test_verification_json_keeps_the_printed_text_units_and_tolerance(built, row
     cells = _all_checks_cells(_page(built, "report.html"))
     for row_id, row in rows.items():  # the HTML's tolerance column is the JSON's field
         assert cells[row_id][4] == row["tolerance"], row_id
+
+
+def test_an_untracked_file_outside_the_build_folders_does_not_make_the_tree_dirty(tmp_path):
+    """README walkthrough: running the README's examples writes crank.csv, worked.html, ... at the top
+    of the checkout, and the report's provenance then said the working tree had uncommitted changes,
+    though nothing the build reads had changed (as ``git describe --dirty`` ignores untracked files).
+    An untracked file where the build reads (a new scene under data/) still counts, and so does any
+    change to a tracked file. A real git repository, made here, gives the status lines."""
+    import shutil
+    import subprocess
+
+    from reports.provenance import collect
+
+    if shutil.which("git") is None:
+        pytest.skip("git is not installed")
+
+    def git(*argv):
+        subprocess.run(["git", "-c", "user.email=t@t", "-c", "user.name=t", *argv], cwd=tmp_path, check=True,
+                       capture_output=True)
+
+    (tmp_path / "data").mkdir()
+    (tmp_path / "data" / "a.toml").write_text("a = 1\n")
+    git("init", "-q")
+    git("add", ".")
+    git("commit", "-q", "-m", "x")
+    assert collect(tmp_path).dirty is False
+    (tmp_path / "crank.csv").write_text("t\n")
+    assert collect(tmp_path).dirty is False
+    (tmp_path / "data" / "b.toml").write_text("b = 1\n")
+    assert collect(tmp_path).dirty is True
+    (tmp_path / "data" / "b.toml").unlink()
+    (tmp_path / "data" / "a.toml").write_text("a = 2\n")
+    assert collect(tmp_path).dirty is True
