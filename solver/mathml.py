@@ -113,7 +113,8 @@ MINUS = "\u2212"
 """The minus sign of every HTML output (sympy's printer and Python's numbers write the hyphen-minus "-")."""
 
 _PIECE = re.compile(r"(<[^>]*>)")
-_VERBATIM = ("svg", "style", "script", "code", "pre", "textarea")  # text shown or read as written
+_VERBATIM = ("svg", "style", "script", "code", "pre", "textarea", "bdi", "title")  # text shown or read as written:
+# <bdi> holds what a user typed (a scene's name and description), <title> the page's name in plain text
 # a sign before a number or a name (-2.5, (-0.3, -r_G, but not x-1, 2-3, --point or 1e-16), or an
 # operator between spaces (lhs - rhs)
 _TEXT_MINUS = re.compile(r"(?<![\w.\-\u2212])-(?=\.?[\w(])|(?<=\s)-(?=\s)")
@@ -123,7 +124,8 @@ def minus_signs(page: str) -> str:
     """``page`` (HTML, or a MathML fragment) with every minus shown as U+2212: a ``<mo>-</mo>``
     operator, the sign of an ``<mn>`` number (``10`` to the ``-16``) and of a number or a name in the
     text (``-7.35``, ``-r_G``), and a hyphen between spaces in the text (``lhs - rhs``: the prose writes no dash so). Tags and their attributes, and the text of ``<svg>``, ``<style>``, ``<script>``,
-    ``<code>``, ``<pre>`` and ``<textarea>`` (a command to copy, a drawing) are left as they are;
+    ``<code>``, ``<pre>``, ``<textarea>``, ``<bdi>`` and ``<title>`` (a command to copy, a drawing, text a
+    user typed such as a scene's name or description, the page's title) are left as they are;
     so are hyphens in words and ranges (``mass-centre``, ``1-5``) and a lone "-" in a table cell
     (an empty value).
 

@@ -146,15 +146,13 @@ class SimulationResult:
         that depend on the position at most; V_eff includes their potential). The scale
         ``kinetic_max`` (1/2 M qd^2 on the samples and the integrator's steps) does not
         depend on where V = 0 is put (a pendulum's E(0) may be 0 or huge). None when
-        the loads depend on time or rate (they do work: nothing is conserved).
+        the loads depend on time or rate (they do work: nothing is conserved), and when nothing
+        moved (no kinetic energy to scale a change by, even a change of 0).
         """
-        if self.conserved is None:
+        if self.conserved is None or not self.kinetic_max > 0:
             return None
         H = self.conserved
-        change = float(np.max(np.abs(H - H[0])))
-        if change == 0.0:
-            return 0.0
-        return change / self.kinetic_max if self.kinetic_max > 0 else None  # never moved: no scale
+        return float(np.max(np.abs(H - H[0]))) / self.kinetic_max
 
     @property
     def energy_drift_note(self) -> str:

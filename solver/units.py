@@ -350,6 +350,30 @@ def check_rate_unit(quantity: pint.Quantity, text: Any, where: str, name: str, a
                          f"or \"{number:g} rad/{per}\"{also}")
 
 
+def check_cycle_unit(quantity: pint.Quantity, text: Any, where: str, name: str) -> None:
+    """The mirror of :func:`check_rate_unit`, for a frequency used to count cycles (a scene's ``f``
+    in ``2*pi*f*t``, where ``2*pi`` turns cycles into radians): its unit must not measure an angle
+    per time, since pint reads ``15.9 rev/s`` as 100 per second, and ``2*pi*f`` would then turn 2 pi
+    times too fast. ``Hz``, ``1/s`` and ``Hz/s`` pass.
+
+    Examples
+    --------
+    >>> check_cycle_unit(Q_(2, "Hz"), "2 Hz", "--set f", "f")
+    >>> check_cycle_unit(Q_(120, "rpm"), "120 rpm", "--set f", "f")
+    Traceback (most recent call last):
+    ...
+    solver.errors.InputError: --set f: '120 rpm' is an angular velocity, but f counts cycles per second (a frequency): give "2 Hz" for 2 turns per second
+    """
+    kinds = {_TIME_INVERSE: ("an angular velocity", "second", "Hz", "s"),
+             _TIME_INVERSE ** 2: ("an angular acceleration", "second squared", "Hz/s", "s^2")}
+    if quantity.dimensionality not in kinds or angle_power(quantity.units) != 1:
+        return
+    kind, words, unit, per = kinds[quantity.dimensionality]
+    number = float(quantity.to(f"rev/{per}").magnitude)
+    raise InputError(f"{where}: {str(text)!r} is {kind}, but {name} counts cycles per {words} (a frequency): "
+                     f"give \"{number:g} {unit}\" for {number:g} turns per {words}")
+
+
 def check_magnitude(number: float, where: str, text: Any = None) -> float:
     """``number`` if it is finite and 0 or between 1/:data:`MAX_MAGNITUDE` and
     :data:`MAX_MAGNITUDE` in size; otherwise an :class:`InputError` naming ``where``.
@@ -556,7 +580,7 @@ def _short(err: Exception, limit: int = 120) -> str:
 
 __all__ = [
     "ureg", "Q_", "check_unit_text", "parse_unit", "parse_quantity", "parse_angle", "parse_time", "si_magnitude",
-    "check_magnitude", "check_angle", "check_angle_unit", "check_rate_unit", "not_angular", "angle_power", "zero_in", "unit_text", "check_si_magnitude", "MAX_SI_MAGNITUDE", "is_angle_unit", "DIMENSIONLESS_UNITS",
+    "check_magnitude", "check_angle", "check_angle_unit", "check_rate_unit", "check_cycle_unit", "not_angular", "angle_power", "zero_in", "unit_text", "check_si_magnitude", "MAX_SI_MAGNITUDE", "is_angle_unit", "DIMENSIONLESS_UNITS",
     "ANGLE_UNITS", "PURE_NUMBER_UNITS",
     "MAX_QUANTITY_LENGTH", "MAX_UNIT_LENGTH", "MAX_UNIT_EXPONENT", "MAX_UNIT_NESTING",
     "MAX_MAGNITUDE", "MAX_ANGLE_TURNS", "MAX_ANGLE_RAD",

@@ -1227,8 +1227,9 @@ def test_a_scenes_name_and_description_stay_text_in_latex_and_html(tmp_path):
     assert f"\\section*{{Worked solution: {tex_name}}}" in latex
     assert f"Scene {tex_name}; moments about body: O." in latex
     assert r"Find R\_x \& m*g when src=x" in latex
-    assert f"<h1>Worked solution: {name}</h1>" in page and f"<p>Scene {name}; moments about body: " in page
-    assert "<p>Find R_x &amp; m*g when src=x</p>" in page
+    assert f"<h1>Worked solution: <bdi>{name}</bdi></h1>" in page  # (<bdi>: the minus rule leaves it, QA 22 #8)
+    assert f"<p>Scene <bdi>{name}</bdi>; moments about body: " in page
+    assert "<p><bdi>Find R_x &amp; m*g when src=x</bdi></p>" in page
 
 
 def test_a_joint_point_inside_a_subscript_stays_in_it_in_latex_and_html():
@@ -1536,6 +1537,30 @@ def test_minus_signs_leaves_words_ranges_code_and_drawings():
         f'<p>lhs {m} rhs, mass-centre, items 1-5, {m}7.35 N, ({m}0.3, {m}r_G, 1e-16</p><td>-</td>'
         f'<math><mo>{m}</mo><mn>{m}1.703</mn><mo>-&gt;</mo></math><code>--point -1</code>'
         f'<svg><text x="-1">-2</text></svg><p class="a-b" id="eq-1">{m}4</p>')
+    # a scene's own text (<bdi>) and the page's <title> are shown as typed
+    assert minus_signs('<title>a - b</title><p>x - <bdi>use -o out - v2</bdi> -1</p>') == (
+        f'<title>a - b</title><p>x {m} <bdi>use -o out - v2</bdi> {m}1</p>')
+
+
+def test_scene_name_and_description_stay_as_typed_in_html(solver_cli, tmp_path):
+    """QA 22 #8: the minus rule rewrote the scene's own text: name "pin-bar - v2" became "pin-bar \u2212 v2"
+    in <title> and <h1>, a description's "use -o out.html" became "\u2212o", a flag one cannot copy.
+    The scene's name and description are data: shown as typed (escaped), while the equations keep
+    U+2212 (pin_bar's theta_ddot = -1.5 g sin(theta)/L has one)."""
+    name, description = "pin-bar - v2", "Bar - pinned; offset -10 deg, use -o out.html; a<b -x"
+    text = (ROOT / "tests/data/multibody/pin_bar.toml").read_text(encoding="utf-8")
+    assert text.count('name = "pin_bar"\n') == 1
+    scene = tmp_path / "pin.toml"
+    scene.write_text(text.replace('name = "pin_bar"\n', f'name = "{name}"\ndescription = "{description}"\n'),
+                     encoding="utf-8")
+    code, page, err = solver_cli("explain", str(scene), "--format", "html")
+    assert code == 0, err
+    escaped = description.replace("<", "&lt;")
+    assert f"<title>Worked solution: {name}</title>" in page
+    assert f"<h1>Worked solution: <bdi>{name}</bdi></h1>" in page
+    assert f"<p><bdi>{escaped}</bdi></p>" in page
+    assert "pin-bar \u2212" not in page and "\u2212o out" not in page
+    assert "<mo>\u2212</mo>" in page or '<mo form="prefix">\u2212</mo>' in page
 
 
 def test_html_round_off_line_writes_numbers_as_the_tables_do(solver_cli):

@@ -344,21 +344,29 @@ def test_the_readme_says_which_simulate_json_field_to_match(solver_cli):
     assert "`status` is the field to match" in readme
 
 
-@pytest.mark.parametrize("scene, why", [
-    ("data/scenes/ladder_friction.toml", "nothing moved"),  # at rest, sticking, gravity only (n freedoms)
-    ("data/scenes/disk_backspin.toml", "a contact slid: its friction did work"),  # it slips, then rolls
+AT_REST = ("--set", "theta=0 deg", "--set", "theta_dot=0 rad/s")  # hanging straight down, still
+
+
+@pytest.mark.parametrize("scene, why, extra", [
+    ("data/scenes/ladder_friction.toml", "nothing moved", ()),  # at rest, sticking, gravity only (n freedoms)
+    ("data/scenes/disk_backspin.toml", "a contact slid: its friction did work", ()),  # it slips, then rolls
+    # QA 22 #6: the motor prescribes the crank; the rod's angle is dependent, not free
+    ("data/scenes/slider_crank.toml", "every motion is prescribed", ()),
+    # QA 22 #6: one freedom at rest printed "energy drift over the run: 0" (of a largest kinetic energy 0)
+    ("tests/data/multibody/pin_bar.toml", "nothing moved", AT_REST),
+    ("data/scenes/compound_pendulum.toml", "nothing moved", AT_REST),
 ])
-def test_energy_drift_says_why_it_is_not_applicable(solver_cli, scene, why):
+def test_energy_drift_says_why_it_is_not_applicable(solver_cli, scene, why, extra):
     """QA 20 #7: the ladder at rest under gravity alone ended with "energy drift: not applicable (the
     loads depend on time or rate: they do work)", though its loads are conservative and it never moved:
     the run had no kinetic energy to scale a drift by. Each run now gives its own reason. (The ladder's
     final rates are 0, which the test reads from the text itself.)"""
-    code, out, err = solver_cli("simulate", scene, "--t-end", "0.01 s")
+    code, out, err = solver_cli("simulate", scene, "--t-end", "0.01 s", *extra)
     assert code == 0, err
     last = out.strip().splitlines()[-1]
     assert last.startswith("energy drift: not applicable (" + why), last
     assert "do work" not in last
-    if "ladder" in scene:
+    if "ladder" in scene or extra:
         rates = [row.split() for row in out.split("final sample:")[1].splitlines() if "_dot " in row]
         assert rates and all(float(r[1]) == 0 for r in rates)
 

@@ -323,3 +323,63 @@ def test_a_frequency_in_an_angle_is_refused_without_2_pi(solver_cli, tmp_path) -
         omega = json.loads(out)["bodies"]["crank"]["omega"]
         # the crank's rate is the motor's, d(2 pi f t)/dt; rtol: a few float64 roundings
         assert omega["unit"] == "rad/s" and omega["value"] == pytest.approx(2 * math.pi * 15.9155, rel=1e-12)
+
+
+def _hz_scene(tmp_path, scene: str, replacements) -> str:
+    """``scene`` with each (old, new) of ``replacements`` made once, written to tmp_path."""
+    text = open(scene, encoding="utf-8").read()
+    for old, new in replacements:
+        assert text.count(old) == 1, old
+        text = text.replace(old, new)
+    path = tmp_path / "s.toml"
+    path.write_text(text, encoding="utf-8")
+    return str(path)
+
+
+@pytest.mark.parametrize("scene, replacements, omega", [
+    # slider_crank's motor turns at d(angle)/dt = f * turn = 15.9155 Hz x 2 pi rad
+    ("data/scenes/slider_crank.toml", [('omega   = "100 rad/s"', 'f = "15.9155 Hz"\nturn = "1 rev"'),
+                                       ('"omega*t"', '"f*t*turn"')], 2 * math.pi * 15.9155),
+    ("data/scenes/slider_crank.toml", [('omega   = "100 rad/s"', 'f = "15.9155 Hz"\nturn = "360 deg"'),
+                                       ('"omega*t"', '"turn*f*t"')], 2 * math.pi * 15.9155),
+    # th = A sin(2 pi f t): at t = 0, th_dot = A 2 pi f with A = 30 deg = pi/6 rad, f = 2 Hz
+    ("tests/data/multibody/driven_coord.toml",
+     [('al = "2 rad/s^2"', 'f = "2 Hz"\nA = "30 deg"\nturn = "1 rev"'),
+      ('"w*t + al*t**2/2"', '"A*sin(turn*f*t)"')], math.pi / 6 * 2 * math.pi * 2),
+])
+def test_a_cycle_given_as_an_angle_parameter_counts_cycles(solver_cli, tmp_path, scene, replacements, omega) -> None:
+    """QA 22 #4: the Hz rule took only pi as what turns cycles into an angle, and refused correct
+    scenes whose cycle is a parameter in an angle unit (turn = "1 rev" or "360 deg")."""
+    import json
+
+    code, out, err = solver_cli("kinematics", _hz_scene(tmp_path, scene, replacements), "--json")
+    assert code == 0, err
+    got = json.loads(out)["bodies"]["crank"]["omega"]
+    # rtol: a few float64 roundings
+    assert got["unit"] == "rad/s" and got["value"] == pytest.approx(omega, rel=1e-12)
+
+
+@pytest.mark.parametrize("value, hz", [("15.9155 rev/s", "15.9155 Hz"), ("100 rad/s", "15.9155 Hz"),
+                                       ("954.93 rpm", "15.9155 Hz")])
+def test_set_of_a_cycle_count_in_an_angular_unit_is_refused(solver_cli, tmp_path, value, hz) -> None:
+    """QA 22 #5: slider_crank with f = "15.9155 Hz" and angle = "2*pi*f*t" turned the crank 2 pi times
+    too fast, silently, after --set f="15.9155 rev/s" (pint reads it as 100 per second). In 2*pi*f*t
+    f counts cycles: an angular velocity is refused, asking for Hz (15.9155 rev/s = 100 rad/s
+    = 954.93 rpm = 15.9155 Hz by hand)."""
+    path = _hz_scene(tmp_path, "data/scenes/slider_crank.toml",
+                     [('omega   = "100 rad/s"', 'f = "15.9155 Hz"'), ('"omega*t"', '"2*pi*f*t"')])
+    code, out, err = solver_cli("solve", path, "--set", f"f={value}")
+    assert (code, out, err.count("\n")) == (2, "", 1), err
+    assert "--set f:" in err and f"{value!r} is an angular velocity" in err and "'2*pi*f*t' at joints[1].angle" in err
+    assert f'"{hz}"' in err, err
+
+
+def test_set_of_a_frequency_read_as_radians_takes_an_angular_unit(solver_cli, tmp_path) -> None:
+    """The other role of the same rule: where the file reads a frequency as radians per time
+    (omega*t, refused in Hz), --set of omega in rad/s is what the term needs and is taken."""
+    import json
+
+    path = _hz_scene(tmp_path, "data/scenes/slider_crank.toml", [('omega   = "100 rad/s"', 'omega = "15.9155 Hz"')])
+    code, out, err = solver_cli("kinematics", path, "--set", "omega=100 rad/s", "--json")
+    assert code == 0, err
+    assert json.loads(out)["bodies"]["crank"]["omega"]["value"] == pytest.approx(100, rel=1e-12)  # rtol: roundings

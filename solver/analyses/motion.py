@@ -606,22 +606,29 @@ def _sample(base, segments, ts, status, reason, nfev):
     columns = {k: (np.array(v), units.get(k, "")) for k, v in cols.items()}
     slid = any(np.any(np.abs(columns[f"friction_work_{j.name}"][0]) > 0)
                for j in base.contacts if f"friction_work_{j.name}" in columns)
-    drift, why = _energy_drift(base, columns, np.array(kept_t), slid, len(segments))
-    if not segments[0].ind and len(segments) == 1 and status == "completed" and not getattr(segments[0], "rest", False):
+    drift, why = _energy_drift(base, columns, np.array(kept_t), slid, segments)
+    if _prescribed(segments) and len(segments) == 1 and status == "completed":
         reason = "every motion is prescribed: inverse dynamics"
     return MotionResult(np.array(kept_t), columns, status, reason, nfev, drift, energy_drift_note=why)
 
 
-def _energy_drift(system, columns, ts, slid: bool, n_segments: int) -> tuple[float | None, str]:
+def _prescribed(segments) -> bool:
+    """True when no segment of the run has an independent coordinate to integrate and none is held
+    at rest by sticking contacts: every motion is prescribed (a dependent coordinate, such as a
+    slider-crank's rod angle, follows the prescribed ones and is not free)."""
+    return not any(seg.ind or getattr(seg, "rest", False) for seg in segments)
+
+
+def _energy_drift(system, columns, ts, slid: bool, segments) -> tuple[float | None, str]:
     """(max |E - E(0)| / max T over the samples, "") where the energy is conserved and something
     moved; else (None, why the drift says nothing: the words of :data:`NO_DRIFT`)."""
-    if not system.free:
+    if _prescribed(segments):
         return None, NO_DRIFT["prescribed"]
     if not _conservative(system):
         return None, NO_DRIFT["work"]
     if slid:
         return None, NO_DRIFT["slid"]
-    if n_segments > 1:
+    if len(segments) > 1:
         return None, NO_DRIFT["regimes"]
     T = system.kinetic_energy()
     V = system.potential_energy()

@@ -397,7 +397,7 @@ class _Html(_Renderer):
                 + body + "\n</body></html>\n")
 
     def plain(self, text):
-        return _h(text)
+        return f"<bdi>{_h(text)}</bdi>"  # the scene's own text: the minus rule leaves it as typed
 
     def prose_text(self, text):
         return self.prose.text(text)
