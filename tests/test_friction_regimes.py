@@ -743,3 +743,19 @@ def test_a_coefficient_of_zero_has_no_friction_to_overcome(solver_cli):
     assert "it slips at once (mu_s = 0: no friction holds it), then slides without friction (mu_k = 0)" in wall
     assert "mu_s N overcome" not in wall
     assert "it starts to slip (mu_s N overcome), then slides with mu_k N" in floor
+
+
+@pytest.mark.parametrize("method", ["lagrange", "generalized_euler", "mass_center"])
+def test_sliding_friction_enters_every_route(solver_cli, method):
+    """QA 23 #1: the Lagrange route left a sliding contact's friction out (its multiplier gives
+    only the normal force), and printed F = -mu_k N beside accelerations of a frictionless slide.
+    By hand: a block sliding down a 30 deg ramp with mu_k = 0.4 (g = 9.81) has
+    s'' = g (sin 30 deg - 0.4 cos 30 deg); a disk (m r^2/2) thrown with backspin slides with
+    x'' = -mu g and phi'' = -mu m g r / (m r^2 / 2) = -2 mu g / r (mu = 0.2, r = 0.1 m). Tolerance:
+    the round-off of small linear solves, 1e-10 relative (REL)."""
+    out = _json(solver_cli, "solve", "tests/data/multibody/block_incline.toml", "--method", method, "--json")
+    b = math.radians(30)
+    assert out["unknowns"]["s_ddot"]["value"] == pytest.approx(9.81 * (math.sin(b) - 0.4 * math.cos(b)), rel=REL)
+    out = _json(solver_cli, "solve", "data/scenes/disk_backspin.toml", "--method", method, "--json")
+    assert out["unknowns"]["x_ddot"]["value"] == pytest.approx(-0.2 * G, rel=REL)
+    assert out["unknowns"]["phi_ddot"]["value"] == pytest.approx(-2 * 0.2 * G / 0.1, rel=REL)

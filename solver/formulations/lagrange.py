@@ -151,26 +151,55 @@ def _point(system, pose, body, point):
 
 
 def _forces(system, N, frames, origins, to_dyn):
-    """Non-conservative loads as (Point, Vector) and (Frame, Vector) pairs of the mechanics API."""
+    """Non-conservative loads as (Point, Vector) and (Frame, Vector) pairs of the mechanics API,
+    and the friction of each sliding contact (:func:`_sliding_friction`)."""
     out = []
-    t = me.dynamicsymbols._t
     for load in system.loads:
         if load.conservative:
             continue
         for a in load.applied(system):
             body = a.body
-            F, Pb = frames[body], origins[body]
             if a.force is not None:
-                # the application point, fixed in the body at the state's body coordinates
-                rel = system.prescribe(sp.Matrix(a.at) - system.origin(body))
-                rel_body = (sp.Matrix([[sp.cos(system.angle(body)), sp.sin(system.angle(body))],
-                                       [-sp.sin(system.angle(body)), sp.cos(system.angle(body))]]) * rel)
-                rel_body = rel_body.xreplace(to_dyn)
-                P = Pb.locatenew(f"P_{a.name}_{len(out)}", rel_body[0] * F.x + rel_body[1] * F.y)
-                P.v2pt_theory(Pb, N, F)
-                f = system.prescribe(sp.Matrix(a.force)).xreplace(to_dyn)
-                out.append((P, f[0] * N.x + f[1] * N.y))
+                out.append(_force_at(system, N, frames, origins, to_dyn, body, a.at, a.force, f"P_{a.name}_{len(out)}"))
             if a.couple != 0:
-                out.append((F, system.prescribe(sp.sympify(a.couple)).xreplace(to_dyn) * N.z))
-    _ = t
+                out.append((frames[body], system.prescribe(sp.sympify(a.couple)).xreplace(to_dyn) * N.z))
+    return out + _sliding_friction(system, N, frames, origins, to_dyn)
+
+
+def _force_at(system, N, frames, origins, to_dyn, body: str, at, force, name: str):
+    """(Point, Vector): ``force`` (scene coordinates) at ``at``, a point fixed in ``body`` at the
+    state's body coordinates (the material point there, whose velocity gives the virtual work)."""
+    F, Pb = frames[body], origins[body]
+    rel = system.prescribe(sp.Matrix(at) - system.origin(body))
+    c, s = sp.cos(system.angle(body)), sp.sin(system.angle(body))
+    rel_body = (sp.Matrix([[c, s], [-s, c]]) * rel).xreplace(to_dyn)
+    P = Pb.locatenew(name, rel_body[0] * F.x + rel_body[1] * F.y)
+    P.v2pt_theory(Pb, N, F)
+    f = system.prescribe(sp.Matrix(force)).xreplace(to_dyn)
+    return P, f[0] * N.x + f[1] * N.y
+
+
+def _sliding_friction(system, N, frames, origins, to_dyn) -> list:
+    """The friction -s mu_k N along each sliding contact's tangent d, on the second body at the
+    contact and, opposite, on the first (as the Newton-Euler routes apply the joint's reaction,
+    ``Joint.loads``). The constraint's multiplier gives only the normal force N n; without this
+    term a sliding block on a 30 deg ramp with mu_k = 0.4 slid as if frictionless (g sin 30 deg
+    instead of g (sin 30 deg - 0.4 cos 30 deg)). N is the reaction's own symbol (the unknown the
+    multiplier becomes), so the equations stay linear in it."""
+    pose = system._pose_fn(system.poses)
+    out = []
+    for j in system.contacts:
+        r = j.current_regime
+        s = r.friction_direction()
+        if not (r.keeps_normal and not r.keeps_tangential and s and j.friction is not None):
+            continue
+        d, _, at = j.contact_frame(pose)
+        normal = j.pair[1].symbol
+        friction = sp.Matrix(d) * (-s * r.coefficient(j.friction) * normal)
+        for jl in j.loads(pose, system.t):  # where the reaction acts on each body
+            if jl.reaction.symbol != normal or jl.body not in frames:
+                continue
+            sign = 1 if jl.body == j.second else -1
+            out.append(_force_at(system, N, frames, origins, to_dyn, jl.body, jl.at, sign * friction,
+                                 f"P_friction_{j.name}_{jl.body}"))
     return out
