@@ -126,12 +126,14 @@ BUILD_FOLDERS = ("solver/", "analysis/", "reports/", "data/")
 """The folders whose untracked files could change a build (its code and its inputs)."""
 
 
-def _differs(status: str) -> bool:
-    """Whether ``git status --porcelain`` output shows a change that could reach the build."""
+def _differs(status: str, prefix: str = "") -> bool:
+    """Whether ``git status --porcelain`` output shows a change that could reach the build;
+    ``prefix``: the project's folder inside its repository (``git rev-parse --show-prefix``), as
+    the status names paths from the repository's top."""
     for line in status.splitlines():
         if line.startswith("?? "):
             path = line[3:].strip().strip('"')
-            if not path.startswith(BUILD_FOLDERS):
+            if not path.startswith(prefix) or not path[len(prefix):].startswith(BUILD_FOLDERS):
                 continue
         if line.strip():
             return True
@@ -148,7 +150,8 @@ def collect(root: Path) -> Provenance:
     """
     _validate_collect(root)
     head = _git(root, "rev-parse", "HEAD")
-    status = _git(root, "status", "--porcelain", "--untracked-files=normal")
+    status = _git(root, "status", "--porcelain", "--untracked-files=normal", "--", ".")
+    prefix = (_git(root, "rev-parse", "--show-prefix") or "").strip()
     packages = {}
     for name in PACKAGES:
         try:
@@ -160,7 +163,7 @@ def collect(root: Path) -> Provenance:
     ]
     return Provenance(
         commit=head.strip() if head else "unknown",
-        dirty=None if status is None else _differs(status),
+        dirty=None if status is None else _differs(status, prefix),
         python=platform.python_version(),
         packages=packages,
         inputs=inputs,

@@ -264,3 +264,16 @@ def test_an_untracked_file_outside_the_build_folders_does_not_make_the_tree_dirt
     (tmp_path / "data" / "b.toml").unlink()
     (tmp_path / "data" / "a.toml").write_text("a = 2\n")
     assert collect(tmp_path).dirty is True
+    # QA 23 #4: the project in a folder of a larger repository (git names paths from the top)
+    git("checkout", "-q", "--", ".")
+    (tmp_path / "proj" / "data").mkdir(parents=True)
+    (tmp_path / "proj" / "data" / "c.toml").write_text("c = 1\n")
+    git("add", ".")
+    git("commit", "-q", "-m", "y")
+    assert collect(tmp_path / "proj").dirty is False
+    (tmp_path / "proj" / "solver").mkdir()
+    (tmp_path / "proj" / "solver" / "new.py").write_text("x = 1\n")
+    assert collect(tmp_path / "proj").dirty is True
+    (tmp_path / "data" / "b.toml").write_text("b = 1\n")  # outside the project: not its change
+    (tmp_path / "proj" / "solver" / "new.py").unlink()
+    assert collect(tmp_path / "proj").dirty is False
