@@ -465,11 +465,12 @@ class _SceneLoader:
     def _check_cycles(self, angle: sp.Expr, key: str, value: str, where: str) -> None:
         """A parameter in ``Hz`` (``kHz``, ``Hz/s``) counts cycles, 2 pi rad each, where pint would
         read it as radians per second. In an angle, each parameter that is or was (in the file,
-        before ``--set``) a frequency is checked in the role :meth:`_frequency_roles` finds: read
-        as radians per time (``omega*t``), it must have an angular unit
+        before ``--set``) a rate is checked in the role :meth:`_frequency_roles` finds: read as
+        radians per time (``omega*t``), it must not be in Hz
         (:func:`solver.units.check_rate_unit`: ``omega = "15.9 Hz"`` would turn at 15.9 rad/s, not
-        100); counting cycles (``2*pi*f*t``), it must not (:func:`solver.units.check_cycle_unit`:
-        ``--set f="15.9 rev/s"`` would turn at 2 pi x 100 rad/s). The refusal names the parameter
+        100); counting cycles (``2*pi*f*t``), it must not have an angular unit
+        (:func:`solver.units.check_cycle_unit`: ``f = "30 rpm"`` in the file or ``--set f="15.9
+        rev/s"`` would turn 2 pi times too fast). The refusal names the parameter
         (``--set NAME`` or ``parameters.NAME``) and the key that uses it."""
         for name, counts_cycles in self._frequency_roles(angle).items():
             text = self.overrides.get(name, self.parameter_texts.get(name))
@@ -485,17 +486,13 @@ class _SceneLoader:
                 raise SceneError(str(err)) from None
 
     def _frequency_roles(self, angle: sp.Expr) -> dict[str, bool]:
-        """The role in ``angle`` of each parameter given as a frequency (``Hz``, ``Hz/s``) in the file
-        or by ``--set``: True where it counts cycles, that is where every term holding it (to a net
+        """The role in ``angle`` of each parameter that is a rate (``Hz``, ``rpm``, ``rad/s``, ``Hz/s``,
+        in the file or by ``--set``): True where it counts cycles, that is where every term holding it (to a net
         nonzero power: ``f/f0`` is a pure number) also holds ``pi`` or a parameter with an angle unit
         (:func:`solver.units.is_angle_unit`), which turn cycles into an angle (``2*pi*f*t``,
         ``turn*f*t`` with ``turn = "1 rev"`` or ``"360 deg"``); False where a term reads it as radians
         per time (``f*t``)."""
-        def frequency(q: pint.Quantity) -> bool:
-            return q.dimensionality in (RATE, RATE ** 2) and units.not_angular(q.units) is not None
-
-        names = {name for name, q in self.parameters.items()
-                 if frequency(q) or frequency(self.file_parameters.get(name, q))}
+        names = {name for name, q in self.parameters.items() if q.dimensionality in (RATE, RATE ** 2)}
         roles: dict[str, bool] = {}
         for term in sp.Add.make_args(sp.expand(angle)):
             powers = {b.name: e for b, e in term.as_powers_dict().items() if b.is_Symbol and b.name in names}
@@ -684,8 +681,6 @@ class _SceneLoader:
                                      f"acceleration alpha) and cannot be a parameter name")
             self.parameters[name] = parse_quantity(value, f"{self.label}: {key}")
             self.parameter_texts[name] = value
-        self.file_parameters = dict(self.parameters)
-        """Each parameter as the file gives it, before ``--set`` (its role: :meth:`_frequency_roles`)."""
 
     def _read_coordinate(self, table: dict[str, Any]) -> tuple[str, dict[str, pint.Quantity]]:
         self.check_keys(table, COORDINATE_KEYS, "coordinate", "[coordinate]")

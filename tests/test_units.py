@@ -374,6 +374,19 @@ def test_set_of_a_cycle_count_in_an_angular_unit_is_refused(solver_cli, tmp_path
     assert f'"{hz}"' in err, err
 
 
+@pytest.mark.parametrize("given", ["954.93 rpm", "100 rad/s"])
+def test_a_cycle_count_given_in_an_angular_unit_in_the_file_is_refused(solver_cli, tmp_path, given) -> None:
+    """QA 23 #2: the rule held only for a parameter given in Hz, so f = "954.93 rpm" in the file with
+    angle = "2*pi*f*t" turned the crank at 2 pi x 100 rad/s, silently (as --set f="954.93 rpm" on the
+    Hz file is refused). In 2*pi*f*t f counts cycles, however the file gives it: refused, naming
+    parameters.f and asking for Hz (954.93 rpm = 100 rad/s = 15.9155 Hz by hand)."""
+    path = _hz_scene(tmp_path, "data/scenes/slider_crank.toml",
+                     [('omega   = "100 rad/s"', f'f = "{given}"'), ('"omega*t"', '"2*pi*f*t"')])
+    code, out, err = solver_cli("solve", path)
+    assert (code, out, err.count("\n")) == (2, "", 1), err
+    assert ": parameters.f:" in err and "'2*pi*f*t' at joints[1].angle" in err and '"15.9155 Hz"' in err, err
+
+
 def test_set_of_a_frequency_read_as_radians_takes_an_angular_unit(solver_cli, tmp_path) -> None:
     """The other role of the same rule: where the file reads a frequency as radians per time
     (omega*t, refused in Hz), --set of omega in rad/s is what the term needs and is taken."""
