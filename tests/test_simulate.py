@@ -355,6 +355,8 @@ AT_REST = ("--set", "theta=0 deg", "--set", "theta_dot=0 rad/s")  # hanging stra
     # QA 22 #6: one freedom at rest printed "energy drift over the run: 0" (of a largest kinetic energy 0)
     ("tests/data/multibody/pin_bar.toml", "nothing moved", AT_REST),
     ("data/scenes/compound_pendulum.toml", "nothing moved", AT_REST),
+    # QA 23 #5: a constant push that moves nothing (the crate held by friction) does no work
+    ("data/scenes/crate_tipping.toml", "nothing moved", ()),
 ])
 def test_energy_drift_says_why_it_is_not_applicable(solver_cli, scene, why, extra):
     """QA 20 #7: the ladder at rest under gravity alone ended with "energy drift: not applicable (the

@@ -624,6 +624,9 @@ def _energy_drift(system, columns, ts, slid: bool, segments) -> tuple[float | No
     moved; else (None, why the drift says nothing: the words of :data:`NO_DRIFT`)."""
     if _prescribed(segments):
         return None, NO_DRIFT["prescribed"]
+    still = all(not np.any(columns[f"{c.name}_dot"][0]) for c in system.free)
+    if still and not any(sp.sympify(x).has(system.t) for origin, phi in system.poses.values() for x in (*origin, phi)):
+        return None, NO_DRIFT["rest"]  # (before the loads: a constant push that moves nothing does no work)
     if not _conservative(system):
         return None, NO_DRIFT["work"]
     if slid:
