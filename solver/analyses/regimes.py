@@ -518,7 +518,7 @@ def solve_in_regime(system, regimes, q, qd, t, point=None, method="generalized_e
         Its equations are singular because contacts hold redundantly (a stick
         at rest): see :func:`_redundant_stick`.
     """
-    from .instant import CONDITION_LIMIT, solve_with_estimate
+    from .instant import CONDITION_LIMIT, refine, solve_with_estimate
 
     if method == "lagrange" or regime_system(system, regimes, q, qd, t) is system:
         # the scene as written (its own solve, unchanged), or Lagrange's equations, which are in
@@ -532,6 +532,8 @@ def solve_in_regime(system, regimes, q, qd, t, point=None, method="generalized_e
         if all(r.keeps_tangential or r == SEPARATED or not r.friction_direction() for r in regimes.values()):
             raise RedundantConstraints(f"{system.label}: singular with every contact holding")
         return f"its equations are singular (condition number {cond:.3g})"
+    if A.ndim == 2:  # refined once, as the solve without contacts: left with the round-off of A and b only,
+        x = refine(A, b, x)  # which regime_error_bounds bounds (crate_tipping's x_ddot, exactly 0, was -1.4e-16)
     values = dict(zip(cols, map(float, x)))
     values["condition_number"] = cond
     qdd = [values[c] for c in aug.qdd]
