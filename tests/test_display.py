@@ -9,6 +9,7 @@ import pytest
 import sympy as sp
 
 from solver.display import is_identically_zero, numerator_reduces_to_zero, reduce_trig, tidy
+from trees import same_tree
 
 phi, beta, g, m, t, W = sp.symbols("phi beta g m t Omega", real=True)
 s, c = sp.sin(phi), sp.cos(phi)
@@ -20,17 +21,6 @@ def _at(expr, point: dict) -> float:
     but some 8 times cheaper (subs sorts and matches its arguments first). The tests' tolerances
     assume a double-precision evaluation, which this is."""
     return float(expr.xreplace({x: sp.Float(v) for x, v in point.items()}))
-
-
-def _same_tree(a, b) -> bool:
-    """True when ``a`` and ``b`` are the same tree, as ``srepr(a) == srepr(b)`` says, without printing
-    both (the printing was some 1 s of this file's CPU): sympy's ``==`` compares trees node for node
-    (the class of each node, the arguments in order, a number's class and a Float's precision, a
-    symbol's assumptions); the class check adds what ``==`` leaves out at the top, a Python int
-    against an Integer. Tuples (a numerator and denominator) item for item."""
-    if isinstance(a, tuple) or isinstance(b, tuple):
-        return type(a) is type(b) and len(a) == len(b) and all(map(_same_tree, a, b))
-    return type(a) is type(b) and a == b
 
 
 def test_the_issue_denominator_is_three():
@@ -179,7 +169,7 @@ def test_the_fast_together_is_sympys_together():
         e = sum(rng.randint(-4, 4) * rng.choice(pieces) * rng.choice(pieces) * rng.choice(pieces)
                 for _ in range(rng.randint(1, 4)))
         for expr in (e, sp.expand(e)):
-            assert _same_tree(_together(expr), sp.together(expr))
+            assert same_tree(_together(expr), sp.together(expr))
 
 
 def test_the_single_term_fraction_is_sympys_cancel():
@@ -206,7 +196,7 @@ def test_the_single_term_fraction_is_sympys_cancel():
         fast = _single_term_fraction(e)
         if fast is not None:
             taken += 1
-            assert _same_tree(fast, sp.fraction(sp.cancel(_together(e)))), e
+            assert same_tree(fast, sp.fraction(sp.cancel(_together(e)))), e
     assert taken > 100
 
 
@@ -232,9 +222,9 @@ def test_the_fast_factor_terms_is_sympys():
             common = rng.choice(gens) ** rng.randint(1, 2) * sp.Rational(rng.randint(1, 5), rng.randint(1, 4))
             terms = [t * common for t in terms]
         p = sp.expand(sp.Add(*terms))
-        assert _same_tree(factor_monomial_terms(p), sp.factor_terms(p)), p
+        assert same_tree(factor_monomial_terms(p), sp.factor_terms(p)), p
     for other in (g * (x + m) ** 2 / 2 + g * m / 2, sp.sin(x + m) / 3 + m / 6):
-        assert _same_tree(factor_monomial_terms(other), sp.factor_terms(other))
+        assert same_tree(factor_monomial_terms(other), sp.factor_terms(other))
 
 
 def test_a_plain_monomial_is_left_as_it_is():
@@ -248,7 +238,7 @@ def test_a_plain_monomial_is_left_as_it_is():
     for _ in range(60):
         mono = rng.choice(coefficients) * sp.Mul(*rng.sample(factors, rng.randint(1, 4)))
         assert _plain_monomial(mono)
-        assert _same_tree(_tidy_general(mono), mono)
+        assert same_tree(_tidy_general(mono), mono)
     # not plain: a sum, a denominator, an argument that is not a symbol
     for other in (phi + g, g / m, sp.sin(2 * phi) * g, sp.Rational(1, 2)):
         assert not _plain_monomial(other)
@@ -284,7 +274,7 @@ def test_terms_by_power_of_the_rate_as_collect():
     for _ in range(60):
         e = sp.expand(sum(rng.choice(pieces) * rng.choice(pieces) * rng.choice(pieces) for _ in range(rng.randint(1, 6))))
         ours, theirs = _by_powers(e, w), sp.collect(e, w, evaluate=False)
-        assert ours.keys() == theirs.keys() and all(_same_tree(v, theirs[k]) for k, v in ours.items())
+        assert ours.keys() == theirs.keys() and all(same_tree(v, theirs[k]) for k, v in ours.items())
 
 
 def test_tidy_linear_removes_the_collected_terms_as_expand_does():
@@ -298,7 +288,7 @@ def test_tidy_linear_removes_the_collected_terms_as_expand_does():
     for _ in range(80):
         e = sp.expand(sum(rng.choice(pieces) * rng.choice(pieces) * rng.choice(pieces) for _ in range(rng.randint(1, 6))))
         for v in (qdd, qd**2, R, qd):
-            assert _same_tree(_without_factor(e, v), sp.expand(e - e.coeff(v) * v))
+            assert same_tree(_without_factor(e, v), sp.expand(e - e.coeff(v) * v))
 
 
 def test_the_walk_reads_numbers_as_complex_does():
@@ -657,7 +647,7 @@ def test_expanded_is_sympys_expand():
     from solver.io.scenes import load_system
 
     def same(e):
-        assert _same_tree(expanded(e), sp.expand(e)), e
+        assert same_tree(expanded(e), sp.expand(e)), e
 
     root = Path(__file__).resolve().parents[1]
     for name in ("sliding_bar", "disk_bar", "wheel_on_incline", "slider_crank"):
@@ -764,7 +754,7 @@ def test_coefficient_is_what_coeff_gives():
     for _ in range(120):  # (120 sums of up to 6 products: 720 comparisons, every kind of term met many times)
         expr = sp.expand(sp.Add(*[sp.Mul(*rng.sample(factors, rng.randint(1, 4))) for _ in range(rng.randint(1, 6))]))
         for v in (x, y, x**2, y**3, s**2, x * y):
-            assert _same_tree(coefficient(expr, v), expr.coeff(v)), (expr, v)
+            assert same_tree(coefficient(expr, v), expr.coeff(v)), (expr, v)
     assert coefficient(x, x) == 1 and coefficient(x**2, x**2) == 1 and coefficient(x**2, x) == 0
 
 
