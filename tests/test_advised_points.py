@@ -315,35 +315,7 @@ def test_about_the_mass_centre_no_acceleration_is_derived():
     assert row and row[0][-1] == "not needed (G)"
 
 
-TRACK = """
-name = "disk_in_track"
-[parameters]
-m = "2 kg"
-r = "0.1 m"
-R = "0.5 m"
-g = "9.81 m/s^2"
-[coordinates]
-theta = { value = "30 deg", rate = "2 rad/s" }
-[ground.points]
-O = ["0", "0"]
-[[bodies]]
-name = "disk"
-points = { P = ["0", "0"] }
-elements = [{ name = "rim", kind = "uniform_disk", mass = "m", center = "P", radius = "r" }]
-[[joints]]
-kind = "rolling_on_circle"
-name = "track"
-element = "disk:rim"
-center = ["0", "0"]
-radius = "R"
-side = "inside"
-position_angle = "theta - pi/2"
-friction = "F"
-normal = "N"
-[[loads]]
-kind = "gravity"
-g = "g"
-"""
+TRACK = (ROOT / "tests/data/multibody/disk_in_track.toml").read_text(encoding="utf-8")
 
 
 def test_a_contact_point_on_a_circle_is_written_in_the_coordinates(tmp_path: Path, capsys) -> None:

@@ -13,6 +13,7 @@ Independent references:
 from __future__ import annotations
 
 import csv
+from pathlib import Path
 import json
 import math
 import os
@@ -373,35 +374,10 @@ def test_energy_drift_says_why_it_is_not_applicable(solver_cli, scene, why, extr
         assert rates and all(float(r[1]) == 0 for r in rates)
 
 
-DISK_ON_CYLINDER = """
-name = "disk_on_cylinder"
-[parameters]
-m = "2 kg"
-r = "0.1 m"
-R = "0.5 m"
-g = "9.81 m/s^2"
-[coordinates]
-theta = { value = "30 deg", rate = "2 rad/s" }
-[ground.points]
-O = ["0", "0"]
-[[bodies]]
-name = "disk"
-points = { P = ["0", "0"] }
-elements = [{ name = "rim", kind = "uniform_disk", mass = "m", center = "P", radius = "r" }]
-[[joints]]
-kind = "rolling_on_circle"
-name = "track"
-element = "disk:rim"
-center = ["0", "0"]
-radius = "R"
-side = "outside"
-position_angle = "pi/2 - theta"
-friction = "F"
-normal = "N"
-[[loads]]
-kind = "gravity"
-g = "g"
-"""
+# the same disk on the outside of the cylinder, released near its top
+DISK_ON_CYLINDER = (Path(__file__).parent / "data/multibody/disk_in_track.toml").read_text(encoding="utf-8").replace(
+    'name = "disk_in_track"', 'name = "disk_on_cylinder"').replace('side = "inside"', 'side = "outside"').replace(
+    'position_angle = "theta - pi/2"', 'position_angle = "pi/2 - theta"')
 
 
 def test_the_final_sample_at_contact_loss_gives_n_as_zero_and_the_angle_in_degrees_too(tmp_path, capsys):
