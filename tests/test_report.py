@@ -889,10 +889,10 @@ def test_a_display_wider_than_the_page_is_laid_out_one_term_a_row(built):
     from solver.mathml import mathml_width
 
     page = (Path(built["out"]) / "paper.html").read_text(encoding="utf-8")
-    about_c = re.search(r"generalized Euler equation about C \(Eq\. \(11\)\):</p>\s*(<div class=\"terms-eq\">.*?</table></div>)",
-                        page, flags=re.S)
-    assert about_c is not None
-    rows = re.findall(r"<tr>(.*?)</tr>", about_c.group(1), flags=re.S)
+    about_c = re.findall(r"generalized Euler equation about C \(Eq\. \(11\)\):</p>\s*(<div class=\"terms-eq\">.*?</table></div>)",
+                         page, flags=re.S)
+    assert len(about_c) == 1  # the one display about C, laid out as a table of terms
+    rows = re.findall(r"<tr>(.*?)</tr>", about_c[0], flags=re.S)
     notes = [re.sub(r"<[^>]*>", "", re.search(r'<span class="note">(.*?)</span>', r, re.S).group(1)) for r in rows]
     assert notes == ["moment of weight of bar about C", "moment of F_a about C",
                      "inertial term \u2212r_G/C \u00d7 m a_C", "I_C alpha"]
