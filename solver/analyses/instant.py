@@ -991,14 +991,12 @@ def _alpha_bound(system, state: State, bounds: dict) -> float | None:
     theta_ddot's, not x_ddot's, whose unit is m/s**2); None where one of them has no bound."""
     body = next(iter(system.bodies))
     al = sp.sympify(system.alpha(body))
-    point = {**system.si_values(), **dict(zip(system.q, state.q)), **dict(zip(system.qd, state.qd)),
-             system.t: state.t}
     total = 0.0
     for c in system.free:
         coefficient = al.diff(c.qdd)
         if coefficient == 0:
             continue
-        k = abs(float(coefficient.xreplace({x: sp.Float(point[x]) for x in coefficient.free_symbols if x in point})))
+        k = abs(_at_state(system, coefficient, state))
         if k and str(c.qdd) not in bounds:
             return None
         total += k * float(bounds.get(str(c.qdd), 0.0))
@@ -1054,16 +1052,22 @@ def _digits_lost(system, res: dict, names, at_rest=None, state: State | None = N
 
 
 def _alpha_value(system, body, state, res) -> float:
-    """The angular acceleration of ``body`` at ``state`` with the accelerations ``res``: its
-    expression with a Float put for each of its own symbols (only those: a Float made for every
-    parameter cost more than the substitution)."""
-    al = sp.sympify(system.alpha(body))
+    """The angular acceleration of ``body`` at ``state`` with the accelerations ``res``
+    (:func:`_at_state`)."""
+    return _at_state(system, sp.sympify(system.alpha(body)), state, res) + 0.0  # (no -0.0)
+
+
+def _at_state(system, expr: sp.Expr, state: State, res: dict | None = None) -> float:
+    """``expr`` at ``state`` (the accelerations from ``res``, SI by name, where given), with a Float
+    put for each of its own symbols only (a Float made for every parameter cost more than the
+    substitution)."""
     vals = dict(zip(system.q, state.q))
     vals.update(zip(system.qd, state.qd))
-    vals.update({c.qdd: float(res[str(c.qdd)]) for c in system.free})
+    if res is not None:
+        vals.update({c.qdd: float(res[str(c.qdd)]) for c in system.free})
     vals[system.t] = state.t
     vals.update(system.si_values())
-    return float(al.xreplace({k: sp.Float(vals[k]) for k in al.free_symbols if k in vals})) + 0.0  # (no -0.0)
+    return float(expr.xreplace({k: sp.Float(vals[k]) for k in expr.free_symbols if k in vals}))
 
 
 def _check_limits(system, state: State) -> None:
