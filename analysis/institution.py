@@ -901,22 +901,13 @@ def _records(path: Path, columns: list[str]):
     """``(spreadsheet row, cell texts of columns)`` of every data row, in file order (the
     header is row 1); nothing when a column cannot be found. The file is read again:
     for error messages only."""
-    import duckdb
-    con = duckdb.connect()
-    try:
-        if path.suffix.lower() == ".parquet":
-            cur = con.execute(f"SELECT file_row_number, {', '.join(map(_quote, columns))} FROM "
-                              f"read_parquet({_literal(path)}, file_row_number = true) "
-                              f"ORDER BY file_row_number")
-            while batch := cur.fetchmany(10_000):
-                for rec in batch:
-                    yield int(rec[0]) + 2, tuple("" if v is None else str(v) for v in rec[1:])
-            return
-        sep = _delimiter(path)
-    except (duckdb.Error, OSError):
+    if path.suffix.lower() == ".parquet":
+        yield from _parquet_records(path, columns)
         return
-    finally:
-        con.close()
+    try:
+        sep = _delimiter(path)
+    except OSError:
+        return
     import csv
     with open(path, encoding="utf-8", errors="replace", newline="") as f:
         reader = csv.reader(f, delimiter=sep or ",")
@@ -926,6 +917,23 @@ def _records(path: Path, columns: list[str]):
         idx = [header.index(c) for c in columns]
         for row, rec in enumerate(reader, start=2):
             yield row, tuple(rec[j] if j < len(rec) else "" for j in idx)
+
+
+def _parquet_records(path: Path, columns: list[str]):
+    """:func:`_records` of a Parquet file (DuckDB reads it; a CSV file needs no connection)."""
+    import duckdb
+    con = duckdb.connect()
+    try:
+        cur = con.execute(f"SELECT file_row_number, {', '.join(map(_quote, columns))} FROM "
+                          f"read_parquet({_literal(path)}, file_row_number = true) "
+                          f"ORDER BY file_row_number")
+        while batch := cur.fetchmany(10_000):
+            for rec in batch:
+                yield int(rec[0]) + 2, tuple("" if v is None else str(v) for v in rec[1:])
+    except (duckdb.Error, OSError):
+        return
+    finally:
+        con.close()
 
 
 def _find_row(path: Path, tests: list) -> "int | None":

@@ -15,6 +15,7 @@ Public API: :func:`render_report` -> ``str``, :func:`build_report` -> ``Path``.
 """
 from __future__ import annotations
 
+from functools import cache
 from pathlib import Path
 
 from jinja2 import Environment, FileSystemLoader, StrictUndefined
@@ -42,6 +43,13 @@ def template_environment() -> Environment:
     env.filters["num"] = number_text             # a statistic to N places, by the same rule
     env.filters["sig"] = significant_text        # to N significant digits, by the same rule
     return env
+
+
+@cache
+def _report_environment() -> Environment:
+    """The one environment the reports of a process render with: Jinja2 compiles a template
+    once per environment (some 30 ms), and checks the file's time stamp on each use."""
+    return template_environment()
 
 
 def _fmt(x, digits: int = 1) -> str:
@@ -112,8 +120,7 @@ def render_report(data: SurveyData, claims=None, group: str | None = None, min_g
         rel = cronbach_alpha_for(data, None, confidence_level)
     rounding = ("half away from zero to %d decimal(s)" % decimals if percent_method == "round"
                 else "by largest remainder so that every row adds up to exactly 100")
-    env = template_environment()
-    return env.get_template("survey_report.html.j2").render(
+    return _report_environment().get_template("survey_report.html.j2").render(
         title=title or f"Survey report: {Path(data.source).name}", s=s,
         printed=[it.printed_percent(decimals, percent_method) for it in s.items],
         decimals=decimals, percent_method=percent_method, rounding_note=rounding,

@@ -114,10 +114,11 @@ def attainable_counts(printed: Fraction, decimals: int, n: int,
         Ascending; empty when the printed value is not attainable.
     """
     p = Fraction(printed)
+    start = _bracket(p, decimals, n, rule)
 
     def first(above: bool) -> int:
         """Smallest k in 0..n+1 printing above p (above) or at least p (not above)."""
-        lo, hi = 0, n + 1                 # rounding is non-decreasing in k: bisect
+        lo, hi = start                    # rounding is non-decreasing in k: bisect
         while lo < hi:
             mid = (lo + hi) // 2
             r = round_fraction(Fraction(100 * mid, n), decimals, rule)
@@ -127,6 +128,23 @@ def attainable_counts(printed: Fraction, decimals: int, n: int,
                 lo = mid + 1
         return lo
     return list(range(first(False), first(True)))
+
+
+def _bracket(p: Fraction, decimals: int, n: int, rule: str) -> tuple[int, int]:
+    """Where :func:`attainable_counts` bisects: counts ``lo..hi`` within 0..n+1 holding both
+    its answers. A rounded value lies less than one printed step ``u = 10**-decimals`` from
+    the exact one, so every k with ``100 k / n <= p - u`` prints below p, and every k with
+    ``100 k / n >= p + u`` above it: about ``2 u n / 100`` counts are left, not n + 2.
+    The whole range 0..n+1 when n or decimals is not a Python int, or n < 1."""
+    if type(n) is not int or type(decimals) is not int or n < 1:
+        return 0, n + 1
+    _validate_rule(rule)              # as the first rounding of the whole range would
+    # in integers: p = a / b, u = un / ud, (p -+ u) n / 100 = (a ud -+ b un) n / (100 b ud)
+    a, b = p.numerator, p.denominator
+    un, ud = (1, 10**decimals) if decimals >= 0 else (10**-decimals, 1)
+    den = 100 * b * ud
+    lo = min(max((a * ud - b * un) * n // den + 1, 0), n + 1)
+    return lo, max(min(-(-(a * ud + b * un) * n // den), n + 1), lo)
 
 
 def nearest_attainable(printed: Fraction, decimals: int, n: int,
