@@ -112,7 +112,7 @@ class _Printer(MathMLPresentationPrinter):
 MINUS = "\u2212"
 """The minus sign of every HTML output (sympy's printer and Python's numbers write the hyphen-minus "-")."""
 
-_PIECE = re.compile(r"(<[^>]*>)")
+_PIECE = re.compile(r"(<(/?)([A-Za-z][\w:-]*)?[^>]*>)")  # a tag; its "/" if closing, and its name
 _VERBATIM = ("svg", "style", "script", "code", "pre", "textarea", "bdi", "title")  # text shown or read as written:
 # <bdi> holds what a user typed (a scene's name and description), <title> the page's name in plain text
 # a sign before a number or a name (-2.5, (-0.3, -r_G, but not x-1, 2-3, --point or 1e-16), or an
@@ -132,25 +132,34 @@ def minus_signs(page: str) -> str:
     The one rule for the minus sign of the HTML outputs: every MathML expression
     (:func:`mathml_body`), the worked solution's page and the report's pages pass through here.
     """
-    pieces = _PIECE.split(page)
+    parts = _PIECE.split(page)  # text, then per tag: the tag, its "/" or "", its name or None, the text after
+    pieces = parts[::4]  # the text between the tags
     verbatim, tag = 0, ""
-    for i, piece in enumerate(pieces):
-        if i % 2:  # a tag
-            m = re.match(r"<(/?)([A-Za-z][\w:-]*)", piece)
-            if m:
-                tag = m[2].lower() if not m[1] else ""
-                if m[2].lower() in _VERBATIM and not piece.endswith("/>"):
-                    verbatim += -1 if m[1] else 1
-            continue
-        if verbatim or "-" not in piece:
-            continue
-        if tag == "mo" and piece.strip() == "-":
-            pieces[i] = piece.replace("-", MINUS)
-        elif tag == "mn" and piece.lstrip().startswith("-"):
-            pieces[i] = piece.replace("-", MINUS, 1)
-        else:
-            pieces[i] = _TEXT_MINUS.sub(MINUS, piece)
-    return "".join(pieces)
+    for i in range(len(pieces)):
+        if i:  # the tag before this text
+            name = parts[4 * i - 1]
+            if name is not None:
+                name = name.lower()
+                closing = parts[4 * i - 2]
+                tag = "" if closing else name
+                if name in _VERBATIM and not parts[4 * i - 3].endswith("/>"):
+                    verbatim += -1 if closing else 1
+        piece = pieces[i]
+        if not verbatim and "-" in piece:
+            pieces[i] = _text_minus(piece, tag)
+    out = [""] * (2 * len(pieces) - 1)
+    out[::2], out[1::2] = pieces, parts[1::4]
+    return "".join(out)
+
+
+def _text_minus(piece: str, tag: str) -> str:
+    """One text of a page outside the verbatim elements, with its minus signs (:func:`minus_signs`);
+    ``tag``: the element it is in (``mo``, ``mn``, or another)."""
+    if tag == "mo" and piece.strip() == "-":
+        return piece.replace("-", MINUS)
+    if tag == "mn" and piece.lstrip().startswith("-"):
+        return piece.replace("-", MINUS, 1)
+    return _TEXT_MINUS.sub(MINUS, piece)
 
 
 def printed_once(doprint):

@@ -188,6 +188,9 @@ class Explanation:
         The sympy text of the expressions, each printed once for the whole explanation: the steps
         that put an expression's text in a table or compare two forms' lengths, and the text
         renderings, all print the same expressions.
+    latex : dict
+        Each expression's LaTeX (with :attr:`symbol_latex`'s names), printed once for the
+        explanation: its Markdown and LaTeX renderings write the same equations alike.
     """
 
     title: str
@@ -196,6 +199,7 @@ class Explanation:
     sections: list[Section] = field(default_factory=list)
     symbol_latex: dict = field(default_factory=dict)
     printer: FastStrPrinter = field(default_factory=FastStrPrinter, repr=False, compare=False)
+    latex: dict = field(default_factory=dict, repr=False, compare=False)
 
     def section(self, body: str | None) -> Section:
         for s in self.sections:

@@ -12,15 +12,18 @@ __all__ = ["attach_figures", "attach_drawing_commands"]
 
 
 def attach_figures(explanation, system, point: str | None = None) -> None:
-    """Draw the free-body diagram of every step that asks for one (in place)."""
+    """Draw the free-body diagram of every step that asks for one (in place): the system solved
+    at its state once, by the first drawing, and each body's drawn from that solution."""
     from solver.drawing import draw_system, figure_bytes
 
+    solution = None
     for section in explanation.sections:
         for step in section.steps:
             request = step.figure_request
             if not request or not request.get("fbd"):
                 continue
-            drawing = draw_system(system, fbd=True, point=point, bodies=[request["body"]])
+            drawing = draw_system(system, fbd=True, point=point, bodies=[request["body"]], solution=solution)
+            solution = drawing.solution
             svg = figure_bytes(drawing.figure, ".svg").decode("utf-8")
             step.figure_svg = svg[svg.find("<svg"):]  # inline: without the XML prolog and doctype
 

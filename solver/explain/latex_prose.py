@@ -136,11 +136,18 @@ class LatexProse:
     def __init__(self, symbols, symbol_latex: dict):
         self.known = {str(s): compound_latex(s.name) or sp.latex(s, symbol_names=symbol_latex) for s in symbols}
         self.known.update({str(s): tex for s, tex in symbol_latex.items()})
+        self._names: dict = {}  # word -> its LaTeX or None: each word decided once (a worked solution
+        self._segments: dict = {}  # names a few dozen thousand times); (text, letters) -> its segments
 
     # -- names ------------------------------------------------------------------------------------
 
     def name(self, word: str) -> str | None:
         """The LaTeX of a name, or None when the word is not a name of maths."""
+        if word not in self._names:
+            self._names[word] = self._name(word)
+        return self._names[word]
+
+    def _name(self, word: str) -> str | None:
         primes = len(word) - len(word.rstrip("'"))
         word = word.rstrip("'")
         point, slash, reference = word.rpartition("/")
@@ -194,12 +201,19 @@ class LatexProse:
                        r"\texttt{" + latex_escape(part) + "}" if maths == CODE else latex_escape(part)
                        for maths, part in self.segments(text, letters))
 
-    def segments(self, text: str, letters: bool = False):
+    def segments(self, text: str, letters: bool = False) -> tuple:
         """The prose split into words and formulae: ``(False, text)`` for text, ``(True, tokens)`` for a
         formula (its ``(kind, value)`` tokens), ``(CODE, text)`` for a command-line flag as typed
         (``--point C_contact``: text a user types, never maths). The one decision of what is maths
         in the worked solution's prose, for LaTeX (:meth:`text`) and for HTML's MathML
-        (:mod:`.mathml_prose`)."""
+        (:mod:`.mathml_prose`). Each text is split once (table cells and notes repeat)."""
+        key = (str(text), letters)
+        if key not in self._segments:
+            self._segments[key] = tuple(self._split(*key))
+        return self._segments[key]
+
+    def _split(self, text: str, letters: bool):
+        """The segments of :meth:`segments`, one at a time."""
         tokens = _mark_units([(m.lastgroup, m.group()) for m in _TOKEN.finditer(str(text))])
         i, words = 0, ""
         while i < len(tokens):

@@ -168,9 +168,10 @@ def _name_latex(name: str) -> str:
 
 
 class _LatexMath:
-    def __init__(self, names, note=None):
+    def __init__(self, names, note=None, printed: dict | None = None):
         self.names = names
-        self.printed: dict = {}  # expression -> its LaTeX, for this rendering
+        # expression -> its LaTeX with ``names``: the explanation's (:attr:`Explanation.latex`), or this one's
+        self.printed = {} if printed is None else printed
         self.note = note or latex_escape  # a term's note as the text of \text{...}
 
     def expr(self, e) -> str:
@@ -244,7 +245,7 @@ def _latex_too_wide(eq: Equation) -> bool:
 class _Markdown(_Renderer):
     def __init__(self, expl):
         super().__init__(expl)
-        self.math = _LatexMath(expl.symbol_latex)
+        self.math = _LatexMath(expl.symbol_latex, printed=expl.latex)
 
     def plain(self, text):
         return _md(text)
@@ -298,7 +299,7 @@ class _Latex(_Renderer):
         symbols = set().union(*[sp.sympify(t.expr).free_symbols for s in expl.steps() for e in s.equations
                                 for t in (*e.lhs, *e.rhs)])
         self.prose = LatexProse(symbols, expl.symbol_latex)
-        self.math = _LatexMath(expl.symbol_latex, note=self.prose.cell)
+        self.math = _LatexMath(expl.symbol_latex, note=self.prose.cell, printed=expl.latex)
 
     def wrap(self, body):
         beyond = _beyond_latin(body)
