@@ -115,12 +115,26 @@ def derivative(expr, x: sp.Symbol, free: set | None = None):
         return sp.S.Zero
     if expr.is_Symbol:  # x itself (the only symbol free in it): sympy's Piecewise of the order gives 1
         return sp.S.One
-    out = _sum_or_product_derivative(expr, x)
+    key = (expr, x)
+    out = _DERIVATIVES.get(key)
     if out is None:
-        out = expr._eval_derivative_n_times(x, sp.S.One)
-    if out is None or out.has(sp.Derivative):
-        return sp.diff(expr, x)
+        out = _sum_or_product_derivative(expr, x)
+        if out is None:
+            out = expr._eval_derivative_n_times(x, sp.S.One)
+        if out is None or out.has(sp.Derivative):
+            out = sp.diff(expr, x)
+        _DERIVATIVES[key] = out
+        if len(_DERIVATIVES) > DERIVATIVES_KEPT:
+            del _DERIVATIVES[next(iter(_DERIVATIVES))]
     return out
+
+
+DERIVATIVES_KEPT = 50000
+_DERIVATIVES: dict = {}
+"""(expression, symbol) -> :func:`derivative`'s result, the last :data:`DERIVATIVES_KEPT` made in the
+process: a scene loaded again (a command after another, each test of a suite) differentiates the
+same expressions, and sympy objects are equal only when they are structurally the same, so an equal
+key gives the same object a new derivation would."""
 
 
 def _sum_or_product_derivative(expr, x: sp.Symbol):
