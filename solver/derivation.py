@@ -98,6 +98,24 @@ class FrequencyResult:
         }
 
 
+def berkowitz_det(A: sp.Matrix) -> sp.Expr:
+    """``A.det(method="berkowitz")``, remembered per process (the last :data:`DETERMINANTS_KEPT`): a
+    scene loaded again (a command after another, each test of a suite) gives the same matrices, and
+    their division-free determinants are most of a derivation's cost. The key is the matrix's
+    entries (sympy objects, equal only when structurally the same) and the domain they are held in
+    (matrices compare equal across domains)."""
+    key = (A.as_immutable(), A._rep.domain)  # noqa: SLF001 - the domain has no public name
+    det = _DETERMINANTS.get(key)
+    if det is None:
+        det = _DETERMINANTS[key] = A.det(method="berkowitz")
+        if len(_DETERMINANTS) > DETERMINANTS_KEPT:
+            del _DETERMINANTS[next(iter(_DETERMINANTS))]
+    return det
+
+
+DETERMINANTS_KEPT = 256
+_DETERMINANTS: dict = {}
+
 
 class _OneDofNumeric:
     """The numeric model of a one-coordinate system, called with scalar or array q, qd."""
@@ -286,12 +304,12 @@ class Derivation:
             structured = self._solution_by_structure(A, b)
             if structured is not None:
                 return structured
-            det = A.det(method="berkowitz")
+            det = berkowitz_det(A)
             x = []
             for i in range(A.shape[1]):
                 Ai = A.copy()
                 Ai[:, i] = b
-                x.append(Ai.det(method="berkowitz") / det)
+                x.append(berkowitz_det(Ai) / det)
             return {str(s): x[i] for i, s in enumerate(self.unknowns)}
         sol = self._memo("solution", build)
         n = len(self.system.free)

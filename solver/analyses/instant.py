@@ -652,10 +652,12 @@ def assemble(system, q=None, qd=None, t=None) -> State:
     if not _closes(res, q):
         _refuse_unclosed(system, funcs, guesses, t, dep, res)
     turns = [i for i in dep if free[i].kind == "angle"]  # each angle in the turn of its guess
-    near = q.copy()
-    near[turns] -= 2 * math.pi * np.round((q[turns] - guesses[turns]) / (2 * math.pi))
-    if _closes(np.array(fPhi(*near, t, *pv), dtype=float), near):
-        q = near
+    whole = np.round((q[turns] - guesses[turns]) / (2 * math.pi))
+    if np.any(whole):  # (else q is that already, and closes)
+        near = q.copy()
+        near[turns] -= 2 * math.pi * whole
+        if _closes(np.array(fPhi(*near, t, *pv), dtype=float), near):
+            q = near
     J = np.array(fJ(*q, t, *pv), dtype=float).reshape(m, n)
     Pt = np.array(fPt(*q, t, *pv), dtype=float)
     if dep:

@@ -80,12 +80,14 @@ def _cramer(rows, unknowns) -> dict:
     quotient of two expanded determinants (what :func:`solver.display.tidy` shortens best)."""
     A = sp.Matrix([[row.coeff(u) for u in unknowns] for row in rows])
     b = sp.Matrix([-row.xreplace({u: 0 for u in unknowns}) for row in rows])
-    det = sp.expand(A.det(method="berkowitz"))
+    from ..derivation import berkowitz_det
+
+    det = sp.expand(berkowitz_det(A))
     out = {}
     for i, u in enumerate(unknowns):
         Ai = A.copy()
         Ai[:, i] = b
-        out[u] = sp.expand(Ai.det(method="berkowitz")) / det
+        out[u] = sp.expand(berkowitz_det(Ai)) / det
     return out
 
 

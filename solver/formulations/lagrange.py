@@ -18,6 +18,8 @@ properties, joint geometry and applied forces at the state.
 """
 from __future__ import annotations
 
+from collections import OrderedDict
+
 import sympy as sp
 from sympy.physics import mechanics as me
 
@@ -79,10 +81,9 @@ def lagrange_equations(system) -> list[NamedEquation]:
         system._bind_prescribed(j)
         for row in j.rows(pose, tt):
             rows.append(sp.sympify(system.prescribe(sp.sympify(row))).xreplace(to_dyn))
-    lm = me.LagrangesMethod(L, coords, hol_coneqs=rows, forcelist=forcelist or None, frame=N)
-    eom = lm.form_lagranges_equations()
+    eom, lam_vec = _lagranges_equations(L, coords, rows, forcelist, N)
     reactions = [r.symbol for r in system.reactions]
-    lam = {l: -R for l, R in zip(lm.lam_vec, reactions)}
+    lam = {l: -R for l, R in zip(lam_vec, reactions)}
     # body coordinates through the scene's coordinates
     subs = {}
     for name in system.bodies:
@@ -105,6 +106,41 @@ def lagrange_equations(system) -> list[NamedEquation]:
     from .newton_euler import closure_equations
 
     return out + closure_equations(system)
+
+
+def _lagranges_equations(L, coords, rows, forcelist, N) -> tuple:
+    """(eom, multipliers) of ``LagrangesMethod(L, coords, hol_coneqs=rows, forcelist=forcelist,
+    frame=N).form_lagranges_equations()``, made once per process for equal inputs (the last
+    :data:`LAGRANGE_KEPT`): a scene loaded again (each test of a suite, a command after another)
+    gives the same Lagrangian, constraints and forces, and forming the equations is most of
+    :func:`lagrange_equations`' cost (about 0.17 s a scene).
+
+    The key holds what the equations depend on: the Lagrangian, the coordinates and the constraint
+    rows (sympy objects, equal only when they are structurally the same), and of each force the
+    velocity (of its point, or its frame's angular velocity) and the force, each vector as its
+    components with the name of the frame they are in. A frame's name says which frame it is:
+    :func:`lagrange_equations` makes N and each body's F_<body> (at the angle phi_<body> about
+    N.z) the same way every time."""
+    from sympy.physics.mechanics.functions import _f_list_parser
+
+    def vector(v):
+        return tuple((m.as_immutable(), frame.name) for m, frame in v.args)
+
+    velocities, forces = _f_list_parser(forcelist, N)
+    key = (L, tuple(coords), tuple(rows), tuple((vector(v), vector(f)) for v, f in zip(velocities, forces)))
+    if key in _LAGRANGE:
+        _LAGRANGE.move_to_end(key)
+        return _LAGRANGE[key]
+    lm = me.LagrangesMethod(L, coords, hol_coneqs=rows, forcelist=forcelist or None, frame=N)
+    found = (lm.form_lagranges_equations().as_immutable(), tuple(lm.lam_vec))
+    _LAGRANGE[key] = found
+    if len(_LAGRANGE) > LAGRANGE_KEPT:
+        _LAGRANGE.popitem(last=False)
+    return found
+
+
+LAGRANGE_KEPT = 64
+_LAGRANGE: OrderedDict = OrderedDict()
 
 
 def _plain(expr, subs, back_d, back, t, tt):

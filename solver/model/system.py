@@ -27,7 +27,7 @@ from __future__ import annotations
 import math
 import random
 from dataclasses import dataclass, field
-from functools import cached_property
+from functools import cached_property, lru_cache
 from typing import Iterable
 
 import numpy as np
@@ -115,6 +115,15 @@ def derivative(expr, x: sp.Symbol, free: set | None = None):
         return sp.S.Zero
     if expr.is_Symbol:  # x itself (the only symbol free in it): sympy's Piecewise of the order gives 1
         return sp.S.One
+    return _derivative_of(expr, x)
+
+
+@lru_cache(maxsize=50000)
+def _derivative_of(expr: sp.Expr, x: sp.Symbol):
+    """:func:`derivative` of an expression in which ``x`` is free, remembered per process (the last
+    50000): a scene loaded again (a command after another, each test of a suite) differentiates the
+    same expressions, and sympy objects are equal only when they are structurally the same, so an
+    equal argument gives the object a new derivation would."""
     out = _sum_or_product_derivative(expr, x)
     if out is None:
         out = expr._eval_derivative_n_times(x, sp.S.One)
