@@ -28,6 +28,7 @@ import sympy as sp
 from .analyses.instant import CONDITION_LIMIT, InstantSolution, NumericModel, State
 from .analyses.instant import solve_instant as _solve_system
 from .errors import InputError, NoRestoringError, SceneError, SingularConfigurationError
+from .kept import Kept
 from .formulations import METHODS, NamedEquation, formulate
 from .io.convert import system_from_scene
 from .display import expanded
@@ -99,22 +100,16 @@ class FrequencyResult:
 
 
 def berkowitz_det(A: sp.Matrix) -> sp.Expr:
-    """``A.det(method="berkowitz")``, remembered per process (the last :data:`DETERMINANTS_KEPT`): a
+    """``A.det(method="berkowitz")``, remembered per process (the last 256, a :class:`solver.kept.Kept`): a
     scene loaded again (a command after another, each test of a suite) gives the same matrices, and
     their division-free determinants are most of a derivation's cost. The key is the matrix's
     entries (sympy objects, equal only when structurally the same) and the domain they are held in
     (matrices compare equal across domains)."""
     key = (A.as_immutable(), A._rep.domain)  # noqa: SLF001 - the domain has no public name
-    det = _DETERMINANTS.get(key)
-    if det is None:
-        det = _DETERMINANTS[key] = A.det(method="berkowitz")
-        if len(_DETERMINANTS) > DETERMINANTS_KEPT:
-            del _DETERMINANTS[next(iter(_DETERMINANTS))]
-    return det
+    return _DETERMINANTS.get(key, lambda: A.det(method="berkowitz"))
 
 
-DETERMINANTS_KEPT = 256
-_DETERMINANTS: dict = {}
+_DETERMINANTS = Kept(256)
 
 
 class _OneDofNumeric:

@@ -30,7 +30,6 @@ The text is sympy's own: ``tests/test_strprint.py`` compares it with
 """
 from __future__ import annotations
 
-from collections import OrderedDict
 
 import sympy as sp
 from sympy.core.exprtools import decompose_power
@@ -42,6 +41,7 @@ from sympy.printing.pycode import PythonCodePrinter
 from sympy.printing.str import StrPrinter
 
 from .display import could_extract_minus_sign
+from .kept import Kept
 
 __all__ = ["FastStrPrinter", "sstr", "join_sum", "lambdify"]
 
@@ -369,26 +369,19 @@ def lambdify(args, expr, modules: str, cse: bool = False):
     expression into it, about half its cost; nobody reads these functions' docstrings). Other
     ``modules`` (``"mpmath"``) keep lambdify's own printer, without the docstring.
 
-    The function made for equal arguments is made once per process (:data:`_LAMBDIFIED`, the last
-    :data:`LAMBDIFIED_KEPT`): a scene loaded again (a command after another, each test of a suite)
+    The function made for equal arguments is made once per process (the last 1024, a
+    :class:`solver.kept.Kept`): a scene loaded again (a command after another, each test of a suite)
     gives the same expressions, and printing them into code is most of the cost."""
-    key = _lambdify_key(args, expr, modules, cse)
-    if key is not None and key in _LAMBDIFIED:
-        _LAMBDIFIED.move_to_end(key)
-        return _LAMBDIFIED[key]
-    fast = {"numpy": _FastNumPyPrinter, "math": _FastPythonCodePrinter}.get(modules)
-    printer = None if fast is None else fast(
-        {"fully_qualified_modules": False, "inline": True, "allow_unknown_functions": True, "user_functions": {}})
-    f = sp.lambdify(args, expr, modules=modules, printer=printer, cse=cse, docstring_limit=0)
-    if key is not None:
-        _LAMBDIFIED[key] = f
-        if len(_LAMBDIFIED) > LAMBDIFIED_KEPT:
-            _LAMBDIFIED.popitem(last=False)
-    return f
+    def make():
+        fast = {"numpy": _FastNumPyPrinter, "math": _FastPythonCodePrinter}.get(modules)
+        printer = None if fast is None else fast(
+            {"fully_qualified_modules": False, "inline": True, "allow_unknown_functions": True, "user_functions": {}})
+        return sp.lambdify(args, expr, modules=modules, printer=printer, cse=cse, docstring_limit=0)
+
+    return _LAMBDIFIED.get(_lambdify_key(args, expr, modules, cse), make)
 
 
-LAMBDIFIED_KEPT = 1024
-_LAMBDIFIED: OrderedDict = OrderedDict()
+_LAMBDIFIED = Kept(1024)
 
 
 def _lambdify_key(args, expr, modules: str, cse: bool):

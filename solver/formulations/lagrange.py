@@ -18,11 +18,10 @@ properties, joint geometry and applied forces at the state.
 """
 from __future__ import annotations
 
-from collections import OrderedDict
-
 import sympy as sp
 from sympy.physics import mechanics as me
 
+from ..kept import Kept
 from .newton_euler import NamedEquation
 
 __all__ = ["lagrange_equations"]
@@ -111,7 +110,7 @@ def lagrange_equations(system) -> list[NamedEquation]:
 def _lagranges_equations(L, coords, rows, forcelist, N) -> tuple:
     """(eom, multipliers) of ``LagrangesMethod(L, coords, hol_coneqs=rows, forcelist=forcelist,
     frame=N).form_lagranges_equations()``, made once per process for equal inputs (the last
-    :data:`LAGRANGE_KEPT`): a scene loaded again (each test of a suite, a command after another)
+    64, a :class:`solver.kept.Kept`): a scene loaded again (each test of a suite, a command after another)
     gives the same Lagrangian, constraints and forces, and forming the equations is most of
     :func:`lagrange_equations`' cost (about 0.17 s a scene).
 
@@ -128,19 +127,15 @@ def _lagranges_equations(L, coords, rows, forcelist, N) -> tuple:
 
     velocities, forces = _f_list_parser(forcelist, N)
     key = (L, tuple(coords), tuple(rows), tuple((vector(v), vector(f)) for v, f in zip(velocities, forces)))
-    if key in _LAGRANGE:
-        _LAGRANGE.move_to_end(key)
-        return _LAGRANGE[key]
-    lm = me.LagrangesMethod(L, coords, hol_coneqs=rows, forcelist=forcelist or None, frame=N)
-    found = (lm.form_lagranges_equations().as_immutable(), tuple(lm.lam_vec))
-    _LAGRANGE[key] = found
-    if len(_LAGRANGE) > LAGRANGE_KEPT:
-        _LAGRANGE.popitem(last=False)
-    return found
+
+    def make():
+        lm = me.LagrangesMethod(L, coords, hol_coneqs=rows, forcelist=forcelist or None, frame=N)
+        return lm.form_lagranges_equations().as_immutable(), tuple(lm.lam_vec)
+
+    return _LAGRANGE.get(key, make)
 
 
-LAGRANGE_KEPT = 64
-_LAGRANGE: OrderedDict = OrderedDict()
+_LAGRANGE = Kept(64)
 
 
 def _plain(expr, subs, back_d, back, t, tt):
