@@ -31,11 +31,13 @@ venv: $(STAMP)
 # rather than once per worker. Bytecode is written even where PYTHONDONTWRITEBYTECODE is set
 # (into the git-ignored __pycache__ folders): each worker then loads the project's modules and
 # pytest's rewritten test modules from bytecode instead of compiling them, about 2 s of CPU per
-# worker from the second run on.
+# worker from the second run on. --max-worker-restart=0: a worker that dies (a test past pytest-timeout's
+# limit ends its process) fails the run at once, naming the test it was running; with a replacement
+# worker, xdist's file scheduling waited for ever (26 November 2026).
 TEST_WORKERS ?= 2
 .PHONY: test
 test: $(STAMP)
-	PYTHONDONTWRITEBYTECODE= $(PY) -m pytest -n $(TEST_WORKERS) --dist loadfile
+	PYTHONDONTWRITEBYTECODE= $(PY) -m pytest -n $(TEST_WORKERS) --dist loadfile --max-worker-restart=0
 
 ## bench: time the solver, the survey analytics and the report build (results in reports/build/bench/)
 .PHONY: bench

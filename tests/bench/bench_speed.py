@@ -30,7 +30,7 @@ the tool a user would otherwise pick, measured in the same run.
    loads, listed by the build itself; the two timed in turns, the least of five runs
    each: on a shared machine a ratio from three moved by about 0.1); a second
    ``make report`` does nothing, in under 0.1 s.
-4. ``make test``: the whole suite on 2 workers (``pytest -n 2 --dist loadfile``, as ``make test``) in
+4. ``make test``: the whole suite on 2 workers (``pytest -n 2 --dist loadfile --max-worker-restart=0``, as ``make test``) in
    under 60 s of wall time (also reported: its CPU time). ``BENCH_SKIP_TESTS=1`` skips it.
 
 Writes reports/build/bench/speed.json: ``targets`` (one row per target: measured,
