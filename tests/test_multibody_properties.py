@@ -35,12 +35,14 @@ import tempfile
 from pathlib import Path
 
 import numpy as np
+import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from solver.formulations import formulate
 from solver.io.scenes import load_system
 
+ROOT = Path(__file__).resolve().parents[1]
 COND_MAX = 1e7  # random chains worse conditioned than this are skipped (the tolerance scales with cond)
 N_STATES = 4  # states per system, solved at once by the vectorised model
 
@@ -184,3 +186,36 @@ def test_lagrange_route_agrees(chain):
     assume(_well_posed(system, states))
     assert_same(system, answers(system, "lagrange", None, states),
                 answers(system, "generalized_euler", None, states), "lagrange vs generalized_euler")
+
+
+
+def test_lagrange_equations_are_lagranges_methods():
+    """The Lagrange route forms its equations term by term (``lagrange._formed``) rather than
+    through ``LagrangesMethod``, to skip the mass and forcing matrices it never reads; the result
+    must be the very expression tree (== is structural in sympy) and the multipliers of
+    ``LagrangesMethod(...).form_lagranges_equations()`` on the same inputs. The inputs exercise
+    every term: a bar in body coordinates (x, y, phi) with a Lagrangian holding gravity, two
+    constraint rows (its end pinned at the origin), a force at a point of the bar (through that
+    point's velocity) and a couple on its frame (through the frame's angular velocity)."""
+    import sympy as sp
+    from sympy.physics import mechanics as me
+
+    from solver.formulations.lagrange import _formed
+
+    x, y, phi = me.dynamicsymbols("x y phi")
+    m, l, g, c, k = sp.symbols("m l g c k", positive=True)
+    N = me.ReferenceFrame("N")
+    B = N.orientnew("B", "Axis", [phi, N.z])
+    O = me.Point("O")
+    O.set_vel(N, 0)
+    G = O.locatenew("G", x * N.x + y * N.y)
+    G.set_vel(N, x.diff() * N.x + y.diff() * N.y)
+    bar = me.RigidBody("bar", G, B, m, (me.inertia(B, 0, 0, m * l**2 / 12), G))
+    L = sp.expand(me.Lagrangian(N, bar) - m * g * y)
+    rows = [x - l / 2 * sp.cos(phi), y - l / 2 * sp.sin(phi)]
+    tip = G.locatenew("T", l / 2 * B.x)
+    tip.v2pt_theory(G, N, B)
+    forcelist = [(tip, -c * x.diff() * N.x + k * N.y), (B, -c * phi.diff() * N.z)]
+    method = me.LagrangesMethod(L, [x, y, phi], hol_coneqs=rows, forcelist=forcelist, frame=N)
+    assert _formed(L, [x, y, phi], rows, forcelist, N) == (method.form_lagranges_equations().as_immutable(),
+                                                            tuple(method.lam_vec))

@@ -6,8 +6,8 @@ of the free coordinates, then every reaction):
 * ``"generalized_euler"``: per body, Newton (Eq. 1 / Eq. 14 with Eq. 15) and
   the generalized Euler equation about a point P of that body (Eq. 10 / 11);
 * ``"mass_center"``: per body, Eqs. (1)-(2) about its mass centre G;
-* ``"lagrange"``: Lagrange's equations with multipliers, built with
-  ``sympy.physics.mechanics.LagrangesMethod`` in body coordinates.
+* ``"lagrange"``: Lagrange's equations with multipliers in body coordinates, built
+  with ``sympy.physics.mechanics`` and formed as its ``LagrangesMethod`` forms them.
 
 A :class:`Formulation` is cached on its system (cleared with the system).
 """

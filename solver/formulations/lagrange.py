@@ -1,5 +1,9 @@
 """The independent route: Lagrange's equations with multipliers, by sympy.physics.mechanics.
 
+The kinematics, the Lagrangian and the generalized forces come from the mechanics API; the
+equations are formed term by term as ``LagrangesMethod.form_lagranges_equations`` forms them
+(:func:`_formed`, proven equal to the method's own in tests/test_multibody_properties.py).
+
 Every body gets its own three body coordinates (x_b, y_b, phi_b) as
 ``dynamicsymbols``; its kinetic energy is built from the elements' masses and
 centroidal inertias with ``ReferenceFrame``/``Point``/``RigidBody`` and
@@ -109,9 +113,10 @@ def lagrange_equations(system) -> list[NamedEquation]:
 
 def _lagranges_equations(L, coords, rows, forcelist, N) -> tuple:
     """(eom, multipliers) of ``LagrangesMethod(L, coords, hol_coneqs=rows, forcelist=forcelist,
-    frame=N).form_lagranges_equations()``, made once per process for equal inputs (the last
-    64, a :class:`solver.kept.Kept`): a scene loaded again (each test of a suite, a command after another)
-    gives the same Lagrangian, constraints and forces, and forming the equations is most of
+    frame=N).form_lagranges_equations()`` (formed by :func:`_formed`), made once per process for
+    equal inputs (the last 64, a :class:`solver.kept.Kept`): a scene loaded again (each test of
+    a suite, a command after another) gives the same Lagrangian, constraints and forces, and
+    forming the equations is most of
     :func:`lagrange_equations`' cost (about 0.17 s a scene).
 
     The key holds what the equations depend on: the Lagrangian, the coordinates and the constraint
@@ -128,11 +133,40 @@ def _lagranges_equations(L, coords, rows, forcelist, N) -> tuple:
     velocities, forces = _f_list_parser(forcelist, N)
     key = (L, tuple(coords), tuple(rows), tuple((vector(v), vector(f)) for v, f in zip(velocities, forces)))
 
-    def make():
-        lm = me.LagrangesMethod(L, coords, hol_coneqs=rows, forcelist=forcelist or None, frame=N)
-        return lm.form_lagranges_equations().as_immutable(), tuple(lm.lam_vec)
+    return _LAGRANGE.get(key, lambda: _formed(L, coords, rows, forcelist, N))
 
-    return _LAGRANGE.get(key, make)
+
+def _formed(L, coords, rows, forcelist, N) -> tuple:
+    """Lagrange's equations with multipliers, formed term by term exactly as
+    ``LagrangesMethod.form_lagranges_equations`` forms its ``eom`` (so the result is the same
+    expression tree):
+
+        d/dt (dL/dq')^T - (dL/dq)^T - Q - (-dC'/dq')^T lambda = 0,
+
+    with C' the time derivatives of the holonomic rows, one multiplier ``lam1``, ``lam2``, ...
+    per row, and Q_i = sum over the force list of (dv/dq'_i) . F. What it leaves out is only
+    what this route never reads: the method's separate mass and forcing matrices of the
+    equations and of the differentiated constraints (jacobians in q'' and substitutions of
+    q'' = 0 over every equation), which were about 40 % of forming the equations of the
+    slider-crank, four-bar and parallel-link scenes."""
+    from sympy.physics.mechanics.functions import _f_list_parser
+
+    t = me.dynamicsymbols._t
+    q = sp.Matrix(coords)
+    qds = q.diff(t)
+    Lm = sp.Matrix([L])
+    term1 = Lm.jacobian(qds).diff(t).T
+    term2 = Lm.jacobian(q).T
+    term4 = sp.zeros(len(q), 1)
+    if forcelist:
+        for i, qd in enumerate(qds):
+            term4[i] = sum(v.diff(qd, N).dot(f) for v, f in zip(*_f_list_parser(forcelist, N)))
+    without_lam = term1 - term2 - term4
+    if not rows:
+        return without_lam.as_immutable(), ()
+    coneqs = sp.Matrix(rows).diff(t)
+    lam_vec = sp.Matrix(me.dynamicsymbols("lam1:" + str(len(rows) + 1)))
+    return (without_lam - (-coneqs.jacobian(qds)).T * lam_vec).as_immutable(), tuple(lam_vec)
 
 
 _LAGRANGE = Kept(64)
