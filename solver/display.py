@@ -62,8 +62,81 @@ def _expanded(expr: sp.Expr) -> sp.Expr:
     """:func:`expanded` of an expression."""
     products = _monomials(expr, [0])
     if products is None:
-        return sp.expand(expr)
+        return _sympy_expand(expr)
     return sp.Add(*[_monomial(p) for p in products])
+
+
+_EXPAND_HINTS = {"basic": True, "log": True, "multinomial": True, "mul": True, "power_base": True, "power_exp": True}
+"""``sympy.expand``'s default hints, as its passes receive them."""
+
+
+def _sympy_expand(expr: sp.Expr) -> sp.Expr:
+    """``sympy.expand(expr)``, the same tree, without the passes over the tree that cannot change it.
+
+    ``expand`` passes each hint over the whole tree (basic, log, multinomial, mul, power_base,
+    power_exp), then multinomial, mul and log again until nothing changes; a pass calls the hint's
+    method of each node that has one. Here a pass is made only where a node could act on it
+    (:func:`_hint_nodes`): a power of a sum for multinomial, a power of a product for power_base,
+    and mul always. basic, log and power_exp act only on integrals and sums, logarithms,
+    exponentials and powers whose exponent is not a number; an expression that holds one goes to
+    ``sympy.expand`` itself. The passes made are sympy's own, in its order, with its hints. (The
+    passes skipped cost about as much as those made, on the model's expressions, which are
+    products of sums.)
+    """
+    from sympy.core.expr import Expr
+
+    def run(e, hint):
+        return Expr._expand_hint(e, "_eval_expand_" + hint, deep=True, **_EXPAND_HINTS)[0]
+
+    found = _hint_nodes(expr)
+    if found is None:
+        return sp.expand(expr)
+    e = run(expr, "multinomial") if "multinomial" in found else expr
+    e = run(e, "mul")
+    found = _hint_nodes(e)
+    if found is None:
+        return sp.expand(expr)
+    if "power_base" in found:
+        e = run(e, "power_base")
+    while True:
+        was = e
+        found = _hint_nodes(e)
+        if found is None:
+            return sp.expand(expr)
+        if "multinomial" in found:
+            e = run(e, "multinomial")
+        e = run(e, "mul")
+        if e == was:
+            return e
+
+
+def _hint_nodes(e: sp.Expr) -> set | None:
+    """Which of the passes multinomial and power_base of ``sympy.expand`` could change ``e`` (a power
+    of a sum whose exponent's size exceeds 1, a power of a product); None when basic, log or
+    power_exp could (see :func:`_sympy_expand`)."""
+    found, stack = set(), [e]
+    while stack:
+        x = stack.pop()
+        kind = type(x)
+        if kind is sp.Pow:
+            base, exp = x.args
+            if not exp.is_Number:
+                return None
+            if base.is_Add and exp.is_Rational and abs(exp.p) > exp.q:
+                found.add("multinomial")
+            elif base.is_Mul:
+                found.add("power_base")
+        elif _expand_hints_of(kind):
+            return None
+        stack.extend(x.args)
+    return found
+
+
+@lru_cache(maxsize=None)
+def _expand_hints_of(kind: type) -> bool:
+    """Whether a node of class ``kind`` (not a power) has a method for expand's basic, log,
+    power_exp, power_base or multinomial hint."""
+    return any(hasattr(kind, "_eval_expand_" + h) for h in ("basic", "log", "power_exp", "power_base", "multinomial"))
 
 
 def _monomial(factors: tuple) -> sp.Expr:
