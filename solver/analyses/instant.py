@@ -344,6 +344,11 @@ class NumericModel:
             with np.errstate(all="ignore"):
                 vals = self._compiled()(*arrays, *self._param_values)
         m, k = self.shape
+        if not shape:  # one state: its values as one array (each converted as an assignment converts it)
+            try:
+                return np.array(vals[: m * k], dtype=float).reshape(m, k), np.array(vals[m * k:], dtype=float)
+            except ValueError:
+                pass
         A = np.empty(shape + (m * k,))
         b = np.empty(shape + (m,))
         for i, v in enumerate(vals[: m * k]):
@@ -645,19 +650,19 @@ def assemble(system, q=None, qd=None, t=None) -> State:
         return State(tuple(q), tuple(qd), t)
     fPhi, fJ, fPt, pv, m, _ = funcs
     n = len(free)
-    dep = [i for i, c in enumerate(free) if c.dependent]
-    ind = [i for i, c in enumerate(free) if not c.dependent]
-    guesses = q.copy()
-    q, res = _newton_closure(funcs, q, t, dep, [i for i in dep if free[i].kind == "angle"])
+    dep, ind, turns = _closure_indices(system)
+    guesses = q  # (_newton_closure works on a copy)
+    q, res = _newton_closure(funcs, q, t, dep, turns)
     if not _closes(res, q):
         _refuse_unclosed(system, funcs, guesses, t, dep, res)
-    turns = [i for i in dep if free[i].kind == "angle"]  # each angle in the turn of its guess
-    whole = np.round((q[turns] - guesses[turns]) / (2 * math.pi))
-    if np.any(whole):  # (else q is that already, and closes)
-        near = q.copy()
-        near[turns] -= 2 * math.pi * whole
-        if _closes(np.array(fPhi(*near, t, *pv), dtype=float), near):
-            q = near
+    # each angle in the turn of its guess: a whole turn is a quotient past one half (or nan)
+    if any(not abs((float(q[i]) - float(guesses[i])) / (2 * math.pi)) <= 0.5 for i in turns):
+        whole = np.round((q[turns] - guesses[turns]) / (2 * math.pi))
+        if np.any(whole):  # (else q is that already, and closes)
+            near = q.copy()
+            near[turns] -= 2 * math.pi * whole
+            if _closes(np.array(fPhi(*near, t, *pv), dtype=float), near):
+                q = near
     J = np.array(fJ(*q, t, *pv), dtype=float).reshape(m, n)
     Pt = np.array(fPt(*q, t, *pv), dtype=float)
     if dep:
@@ -666,6 +671,16 @@ def assemble(system, q=None, qd=None, t=None) -> State:
         sol, *_ = np.linalg.lstsq(J[:, dep], rhs, rcond=None)
         qd[dep] = sol
     return State(tuple(q), tuple(qd), t)
+
+
+def _closure_indices(system) -> tuple[list[int], list[int], list[int]]:
+    """(dependent, independent, dependent angles): indices into ``system.free``, as :func:`assemble`
+    takes them at every state (cached on the system)."""
+    def build():
+        free = system.free
+        dep = [i for i, c in enumerate(free) if c.dependent]
+        return dep, [i for i, c in enumerate(free) if not c.dependent], [i for i in dep if free[i].kind == "angle"]
+    return system._memo("closure_indices", build)
 
 
 _MAX_ANGLE_STEP = 1.0
@@ -685,7 +700,7 @@ def _newton_closure(funcs, q, t, dep, angles=()):
     for _ in range(_NEWTON_STEPS):
         res = np.array(fPhi(*q, t, *pv), dtype=float)
         if _closes(res, q, 1e-13) or not dep:
-            break
+            return q, res  # (the residual at this very q)
         J = np.array(fJ(*q, t, *pv), dtype=float).reshape(m, len(q))
         step, *_ = np.linalg.lstsq(J[:, dep], -res, rcond=None)
         widest = float(np.max(np.abs(step[turning]), initial=0.0))
@@ -698,8 +713,15 @@ def _newton_closure(funcs, q, t, dep, angles=()):
 
 
 def _closes(res, q, tol=1e-9) -> bool:
-    """Whether the closure residual ``res`` is zero to ``tol`` of the coordinates' size."""
-    return bool(np.all(np.abs(res) < tol * (1 + np.abs(q).max())))
+    """Whether the closure residual ``res`` is zero to ``tol`` of the coordinates' size.
+
+    In Python floats (the same roundings as numpy's, a tenth of its time on a few values) unless
+    a coordinate is nan, which numpy's largest propagates and Python's ``max`` may skip."""
+    qs = q.tolist()
+    if not qs or any(x != x for x in qs):
+        return bool(np.all(np.abs(res) < tol * (1 + np.abs(q).max())))
+    limit = tol * (1 + max(map(abs, qs)))
+    return all(abs(r) < limit for r in res.tolist())
 
 
 _CLOSURE_STARTS = 81
@@ -752,6 +774,8 @@ infinite. A regular assembly this close to a dead centre (1e-6 rad) is refused t
 
 
 def _check_closure_jacobian(system, Jd: np.ndarray, q, t) -> None:
+    if Jd.shape == (1, 1) and math.isfinite(Jd[0, 0]) and Jd[0, 0] != 0:
+        return  # (one finite entry not 0, scaled by its own size: condition number 1)
     with np.errstate(all="ignore"):
         s = np.linalg.svd(Jd / np.maximum(np.max(np.abs(Jd), axis=0), 1e-300), compute_uv=False)
     cond = s[0] / s[-1] if s[-1] > 0 else math.inf
