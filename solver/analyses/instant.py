@@ -25,6 +25,7 @@ import sympy as sp
 
 from ..display import free_symbols_of
 from ..errors import InputError, SingularConfigurationError
+from ..kept import Kept
 from ..strprint import lambdify
 from ..units import Q_
 
@@ -212,7 +213,20 @@ def exact_inverse(A: np.ndarray) -> np.ndarray | None:
     Elimination in float64 leaves round-off of about u |A^-1| |A| |A^-1| where the exact inverse is
     0: at large rates that couples an unknown to equations whose terms are omega**2 times its own
     (a pendulum's reactions at 1e13 rad/s), and the bound grew as omega**2 for an answer that
-    stays exact."""
+    stays exact.
+
+    Kept per process by the matrix's values (:data:`_EXACT_INVERSES`, read-only): the solve at rest
+    that scales an unknown (:func:`_scale_at_rest`) has the matrix of the solve at the state, whose
+    entries hold no rate, and a scene solved again has it too."""
+    n = A.shape[0]
+    if n > EXACT_INVERSE_MAX or not np.all(np.isfinite(A)):
+        return None
+    A = np.array(A, dtype=float)
+    return _EXACT_INVERSES.get((A.shape, A.tobytes()), lambda: _rational_inverse(A))
+
+
+def _rational_inverse(A: np.ndarray) -> np.ndarray | None:
+    """:func:`exact_inverse` of a finite square matrix, computed (read-only)."""
     from fractions import Fraction
 
     from sympy import QQ
@@ -220,14 +234,18 @@ def exact_inverse(A: np.ndarray) -> np.ndarray | None:
     from sympy.polys.matrices.exceptions import DMNonInvertibleMatrixError
 
     n = A.shape[0]
-    if n > EXACT_INVERSE_MAX or not np.all(np.isfinite(A)):
-        return None
     M = DomainMatrix([[QQ(Fraction(float(v))) for v in row] for row in A], (n, n), QQ)
     try:
         inv = M.inv()
     except (DMNonInvertibleMatrixError, ZeroDivisionError):
         return None
-    return np.array([[float(v) for v in row] for row in inv.to_list()], dtype=float)
+    out = np.array([[float(v) for v in row] for row in inv.to_list()], dtype=float)
+    out.setflags(write=False)
+    return out
+
+
+_EXACT_INVERSES = Kept(256)
+""":func:`exact_inverse`'s results by (shape, bytes) of the matrix (:class:`solver.kept.Kept`)."""
 
 
 def error_bounds(A: np.ndarray, b: np.ndarray, x: np.ndarray, size_A: np.ndarray, size_b: np.ndarray) -> np.ndarray:
