@@ -622,6 +622,8 @@ class State:
 
 
 def _closure_functions(system):
+    from ..model.system import derivative
+
     def build():
         rows = [r.expr for r in system.closure]
         dep = [c.q for c in system.dependent]
@@ -632,11 +634,13 @@ def _closure_functions(system):
         if not rows:
             return None
         Phi = sp.Matrix(rows)
-        J = Phi.jacobian(sp.Matrix(system.q)) if system.q else sp.zeros(len(rows), 0)
-        Pt = sp.diff(Phi, system.t)
+        # the Jacobian and d/dt by the model's derivative (sympy's, remembered per process: a scene
+        # loaded again differentiates the same rows), row by row as Matrix.jacobian lists them
+        J = [derivative(r, x) for r in Phi for x in system.q]
+        Pt = [derivative(r, system.t) for r in Phi]
         fPhi = lambdify((*args, *params), list(Phi), "numpy", cse=True)
-        fJ = lambdify((*args, *params), list(J), "numpy", cse=True)
-        fPt = lambdify((*args, *params), list(Pt), "numpy", cse=True)
+        fJ = lambdify((*args, *params), J, "numpy", cse=True)
+        fPt = lambdify((*args, *params), Pt, "numpy", cse=True)
         return fPhi, fJ, fPt, pv, len(rows), dep
     return system._memo("closure_numeric", build)
 
