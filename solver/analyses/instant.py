@@ -44,11 +44,11 @@ path, whose set-up is cheaper."""
 
 def _equilibrate(A: np.ndarray):
     """(As, row scales, column scales): A scaled by its columns' then its rows' largest entries."""
-    with np.errstate(all="ignore"):
-        col = np.max(np.abs(A), axis=-2, keepdims=True)
+    with np.errstate(all="ignore"):  # (the arrays' own reductions: numpy's functions, less their wrapping)
+        col = np.abs(A).max(axis=-2, keepdims=True)
         col = np.where(col > 0, col, 1.0)
         As = A / col
-        row = np.max(np.abs(As), axis=-1, keepdims=True)
+        row = np.abs(As).max(axis=-1, keepdims=True)
         row = np.where(row > 0, row, 1.0)
         As = As / row
     return As, row[..., 0], col[..., 0, :]
@@ -89,12 +89,11 @@ def solve_with_estimate(A: np.ndarray, b: np.ndarray):
     """
     n = A.shape[-1]
     As, row, col = _equilibrate(A)
-    finite = np.array(np.all(np.isfinite(As), axis=(-2, -1)) & np.all(np.isfinite(b), axis=-1), dtype=bool)
-    z = np.ones((n, 2))
-    z[1::2, 0] = -1.0
-    z[: n // 2, 1] = -1.0
-    rhs = np.concatenate([(b / row)[..., None], np.broadcast_to(z, As.shape[:-2] + (n, 2))], axis=-1)
-    As = np.where(finite[..., None, None], As, np.eye(n))
+    finite = np.array(np.isfinite(As).all(axis=(-2, -1)) & np.isfinite(b).all(axis=-1), dtype=bool)
+    rhs = np.concatenate([(b / row)[..., None], np.broadcast_to(_estimate_columns(n), As.shape[:-2] + (n, 2))],
+                         axis=-1)
+    if not finite.all():
+        As = np.where(finite[..., None, None], As, np.eye(n))
     try:
         with np.errstate(all="ignore"):
             sol = np.linalg.solve(As, rhs)
@@ -106,12 +105,28 @@ def solve_with_estimate(A: np.ndarray, b: np.ndarray):
             except np.linalg.LinAlgError:
                 finite[idx] = False
     with np.errstate(all="ignore"):
-        norm_A = np.max(np.sum(np.abs(As), axis=-2), axis=-1)
-        est = np.max(np.sum(np.abs(sol[..., 1:]), axis=-2), axis=-1) / n
+        norm_A = np.abs(As).sum(axis=-2).max(axis=-1)
+        est = np.abs(sol[..., 1:]).sum(axis=-2).max(axis=-1) / n
         cond = norm_A * est
         x = sol[..., 0] / col
-    cond = np.where(finite & np.isfinite(cond) & np.all(np.isfinite(x), axis=-1), cond, np.inf)
+    cond = np.where(finite & np.isfinite(cond) & np.isfinite(x).all(axis=-1), cond, np.inf)
     return x, cond
+
+
+_ESTIMATE_COLUMNS: dict[int, np.ndarray] = {}
+"""n -> :func:`_estimate_columns` (read-only, made once per size)."""
+
+
+def _estimate_columns(n: int) -> np.ndarray:
+    """The two fixed +/-1 right-hand sides z (n, 2) of :func:`solve_with_estimate`'s estimate."""
+    z = _ESTIMATE_COLUMNS.get(n)
+    if z is None:
+        z = np.ones((n, 2))
+        z[1::2, 0] = -1.0
+        z[: n // 2, 1] = -1.0
+        z.setflags(write=False)
+        z = _ESTIMATE_COLUMNS[n] = z
+    return z
 
 
 ROUND_OFF = 2.0 ** -53
@@ -395,10 +410,9 @@ class NumericModel:
         if self.shape[0] != self.shape[1]:
             raise InputError(f"{self.label}: the equations are not square ({self.shape[0]} equations, "
                              f"{self.shape[1]} unknowns)")
-        arrays = np.broadcast_arrays(*[np.asarray(v, dtype=float) for v in (*q, *qd, t)])
-        shape = arrays[0].shape
-        if arrays[0].size >= STRUCTURED_MIN_STATES and self.structured().usable:
-            x, cond = self._solve_structured(arrays)
+        shape = np.broadcast_shapes(*(np.shape(v) for v in (*q, *qd, t)))  # (no arrays made for one state)
+        if math.prod(shape) >= STRUCTURED_MIN_STATES and self.structured().usable:
+            x, cond = self._solve_structured(np.broadcast_arrays(*[np.asarray(v, dtype=float) for v in (*q, *qd, t)]))
             out = {name: x[i].reshape(shape) for i, name in enumerate(self.names)}
             out["condition_number"] = cond.reshape(shape)
             return out
