@@ -739,11 +739,11 @@ def _newton_closure(funcs, q, t, dep, angles=()):
             return q, res  # (the residual at this very q)
         J = np.array(fJ(*q, t, *pv), dtype=float).reshape(m, len(q))
         step, *_ = np.linalg.lstsq(J[:, dep], -res, rcond=None)
-        widest = float(np.max(np.abs(step[turning]), initial=0.0))
+        widest = float(np.abs(step[turning]).max(initial=0.0))
         if widest > _MAX_ANGLE_STEP:
             step = step * (_MAX_ANGLE_STEP / widest)
         q[dep] += step
-        if not np.all(np.isfinite(q)):
+        if not np.isfinite(q).all():
             break
     return q, np.array(fPhi(*q, t, *pv), dtype=float)
 
