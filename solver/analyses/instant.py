@@ -125,7 +125,7 @@ def _estimate_columns(n: int) -> np.ndarray:
         z[1::2, 0] = -1.0
         z[: n // 2, 1] = -1.0
         z.setflags(write=False)
-        z = _ESTIMATE_COLUMNS[n] = z
+        _ESTIMATE_COLUMNS[n] = z
     return z
 
 
