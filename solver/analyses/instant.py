@@ -25,6 +25,7 @@ import sympy as sp
 
 from ..display import free_symbols_of
 from ..errors import InputError, SingularConfigurationError
+from ..kept import Kept
 from ..strprint import lambdify
 from ..units import Q_
 
@@ -43,11 +44,11 @@ path, whose set-up is cheaper."""
 
 def _equilibrate(A: np.ndarray):
     """(As, row scales, column scales): A scaled by its columns' then its rows' largest entries."""
-    with np.errstate(all="ignore"):
-        col = np.max(np.abs(A), axis=-2, keepdims=True)
+    with np.errstate(all="ignore"):  # (the arrays' own reductions: numpy's functions, less their wrapping)
+        col = np.abs(A).max(axis=-2, keepdims=True)
         col = np.where(col > 0, col, 1.0)
         As = A / col
-        row = np.max(np.abs(As), axis=-1, keepdims=True)
+        row = np.abs(As).max(axis=-1, keepdims=True)
         row = np.where(row > 0, row, 1.0)
         As = As / row
     return As, row[..., 0], col[..., 0, :]
@@ -88,12 +89,11 @@ def solve_with_estimate(A: np.ndarray, b: np.ndarray):
     """
     n = A.shape[-1]
     As, row, col = _equilibrate(A)
-    finite = np.array(np.all(np.isfinite(As), axis=(-2, -1)) & np.all(np.isfinite(b), axis=-1), dtype=bool)
-    z = np.ones((n, 2))
-    z[1::2, 0] = -1.0
-    z[: n // 2, 1] = -1.0
-    rhs = np.concatenate([(b / row)[..., None], np.broadcast_to(z, As.shape[:-2] + (n, 2))], axis=-1)
-    As = np.where(finite[..., None, None], As, np.eye(n))
+    finite = np.array(np.isfinite(As).all(axis=(-2, -1)) & np.isfinite(b).all(axis=-1), dtype=bool)
+    rhs = np.concatenate([(b / row)[..., None], np.broadcast_to(_estimate_columns(n), As.shape[:-2] + (n, 2))],
+                         axis=-1)
+    if not finite.all():
+        As = np.where(finite[..., None, None], As, np.eye(n))
     try:
         with np.errstate(all="ignore"):
             sol = np.linalg.solve(As, rhs)
@@ -105,12 +105,28 @@ def solve_with_estimate(A: np.ndarray, b: np.ndarray):
             except np.linalg.LinAlgError:
                 finite[idx] = False
     with np.errstate(all="ignore"):
-        norm_A = np.max(np.sum(np.abs(As), axis=-2), axis=-1)
-        est = np.max(np.sum(np.abs(sol[..., 1:]), axis=-2), axis=-1) / n
+        norm_A = np.abs(As).sum(axis=-2).max(axis=-1)
+        est = np.abs(sol[..., 1:]).sum(axis=-2).max(axis=-1) / n
         cond = norm_A * est
         x = sol[..., 0] / col
-    cond = np.where(finite & np.isfinite(cond) & np.all(np.isfinite(x), axis=-1), cond, np.inf)
+    cond = np.where(finite & np.isfinite(cond) & np.isfinite(x).all(axis=-1), cond, np.inf)
     return x, cond
+
+
+_ESTIMATE_COLUMNS: dict[int, np.ndarray] = {}
+"""n -> :func:`_estimate_columns` (read-only, made once per size)."""
+
+
+def _estimate_columns(n: int) -> np.ndarray:
+    """The two fixed +/-1 right-hand sides z (n, 2) of :func:`solve_with_estimate`'s estimate."""
+    z = _ESTIMATE_COLUMNS.get(n)
+    if z is None:
+        z = np.ones((n, 2))
+        z[1::2, 0] = -1.0
+        z[: n // 2, 1] = -1.0
+        z.setflags(write=False)
+        _ESTIMATE_COLUMNS[n] = z
+    return z
 
 
 ROUND_OFF = 2.0 ** -53
@@ -212,7 +228,20 @@ def exact_inverse(A: np.ndarray) -> np.ndarray | None:
     Elimination in float64 leaves round-off of about u |A^-1| |A| |A^-1| where the exact inverse is
     0: at large rates that couples an unknown to equations whose terms are omega**2 times its own
     (a pendulum's reactions at 1e13 rad/s), and the bound grew as omega**2 for an answer that
-    stays exact."""
+    stays exact.
+
+    Kept per process by the matrix's values (:data:`_EXACT_INVERSES`, read-only): the solve at rest
+    that scales an unknown (:func:`_scale_at_rest`) has the matrix of the solve at the state, whose
+    entries hold no rate, and a scene solved again has it too."""
+    n = A.shape[0]
+    if n > EXACT_INVERSE_MAX or not np.all(np.isfinite(A)):
+        return None
+    A = np.array(A, dtype=float)
+    return _EXACT_INVERSES.get((A.shape, A.tobytes()), lambda: _rational_inverse(A))
+
+
+def _rational_inverse(A: np.ndarray) -> np.ndarray | None:
+    """:func:`exact_inverse` of a finite square matrix, computed (read-only)."""
     from fractions import Fraction
 
     from sympy import QQ
@@ -220,14 +249,18 @@ def exact_inverse(A: np.ndarray) -> np.ndarray | None:
     from sympy.polys.matrices.exceptions import DMNonInvertibleMatrixError
 
     n = A.shape[0]
-    if n > EXACT_INVERSE_MAX or not np.all(np.isfinite(A)):
-        return None
     M = DomainMatrix([[QQ(Fraction(float(v))) for v in row] for row in A], (n, n), QQ)
     try:
         inv = M.inv()
     except (DMNonInvertibleMatrixError, ZeroDivisionError):
         return None
-    return np.array([[float(v) for v in row] for row in inv.to_list()], dtype=float)
+    out = np.array([[float(v) for v in row] for row in inv.to_list()], dtype=float)
+    out.setflags(write=False)
+    return out
+
+
+_EXACT_INVERSES = Kept(256)
+""":func:`exact_inverse`'s results by (shape, bytes) of the matrix (:class:`solver.kept.Kept`)."""
 
 
 def error_bounds(A: np.ndarray, b: np.ndarray, x: np.ndarray, size_A: np.ndarray, size_b: np.ndarray) -> np.ndarray:
@@ -344,6 +377,11 @@ class NumericModel:
             with np.errstate(all="ignore"):
                 vals = self._compiled()(*arrays, *self._param_values)
         m, k = self.shape
+        if not shape:  # one state: its values as one array (each converted as an assignment converts it)
+            try:
+                return np.array(vals[: m * k], dtype=float).reshape(m, k), np.array(vals[m * k:], dtype=float)
+            except ValueError:
+                pass
         A = np.empty(shape + (m * k,))
         b = np.empty(shape + (m,))
         for i, v in enumerate(vals[: m * k]):
@@ -372,10 +410,9 @@ class NumericModel:
         if self.shape[0] != self.shape[1]:
             raise InputError(f"{self.label}: the equations are not square ({self.shape[0]} equations, "
                              f"{self.shape[1]} unknowns)")
-        arrays = np.broadcast_arrays(*[np.asarray(v, dtype=float) for v in (*q, *qd, t)])
-        shape = arrays[0].shape
-        if arrays[0].size >= STRUCTURED_MIN_STATES and self.structured().usable:
-            x, cond = self._solve_structured(arrays)
+        shape = np.broadcast_shapes(*(np.shape(v) for v in (*q, *qd, t)))  # (no arrays made for one state)
+        if math.prod(shape) >= STRUCTURED_MIN_STATES and self.structured().usable:
+            x, cond = self._solve_structured(np.broadcast_arrays(*[np.asarray(v, dtype=float) for v in (*q, *qd, t)]))
             out = {name: x[i].reshape(shape) for i, name in enumerate(self.names)}
             out["condition_number"] = cond.reshape(shape)
             return out
@@ -599,6 +636,8 @@ class State:
 
 
 def _closure_functions(system):
+    from ..model.system import derivative
+
     def build():
         rows = [r.expr for r in system.closure]
         dep = [c.q for c in system.dependent]
@@ -609,11 +648,13 @@ def _closure_functions(system):
         if not rows:
             return None
         Phi = sp.Matrix(rows)
-        J = Phi.jacobian(sp.Matrix(system.q)) if system.q else sp.zeros(len(rows), 0)
-        Pt = sp.diff(Phi, system.t)
+        # the Jacobian and d/dt by the model's derivative (sympy's, remembered per process: a scene
+        # loaded again differentiates the same rows), row by row as Matrix.jacobian lists them
+        J = [derivative(r, x) for r in Phi for x in system.q]
+        Pt = [derivative(r, system.t) for r in Phi]
         fPhi = lambdify((*args, *params), list(Phi), "numpy", cse=True)
-        fJ = lambdify((*args, *params), list(J), "numpy", cse=True)
-        fPt = lambdify((*args, *params), list(Pt), "numpy", cse=True)
+        fJ = lambdify((*args, *params), J, "numpy", cse=True)
+        fPt = lambdify((*args, *params), Pt, "numpy", cse=True)
         return fPhi, fJ, fPt, pv, len(rows), dep
     return system._memo("closure_numeric", build)
 
@@ -645,19 +686,19 @@ def assemble(system, q=None, qd=None, t=None) -> State:
         return State(tuple(q), tuple(qd), t)
     fPhi, fJ, fPt, pv, m, _ = funcs
     n = len(free)
-    dep = [i for i, c in enumerate(free) if c.dependent]
-    ind = [i for i, c in enumerate(free) if not c.dependent]
-    guesses = q.copy()
-    q, res = _newton_closure(funcs, q, t, dep, [i for i in dep if free[i].kind == "angle"])
+    dep, ind, turns = _closure_indices(system)
+    guesses = q  # (_newton_closure works on a copy)
+    q, res = _newton_closure(funcs, q, t, dep, turns)
     if not _closes(res, q):
         _refuse_unclosed(system, funcs, guesses, t, dep, res)
-    turns = [i for i in dep if free[i].kind == "angle"]  # each angle in the turn of its guess
-    whole = np.round((q[turns] - guesses[turns]) / (2 * math.pi))
-    if np.any(whole):  # (else q is that already, and closes)
-        near = q.copy()
-        near[turns] -= 2 * math.pi * whole
-        if _closes(np.array(fPhi(*near, t, *pv), dtype=float), near):
-            q = near
+    # each angle in the turn of its guess: a whole turn is a quotient past one half (or nan)
+    if any(not abs((float(q[i]) - float(guesses[i])) / (2 * math.pi)) <= 0.5 for i in turns):
+        whole = np.round((q[turns] - guesses[turns]) / (2 * math.pi))
+        if np.any(whole):  # (else q is that already, and closes)
+            near = q.copy()
+            near[turns] -= 2 * math.pi * whole
+            if _closes(np.array(fPhi(*near, t, *pv), dtype=float), near):
+                q = near
     J = np.array(fJ(*q, t, *pv), dtype=float).reshape(m, n)
     Pt = np.array(fPt(*q, t, *pv), dtype=float)
     if dep:
@@ -666,6 +707,16 @@ def assemble(system, q=None, qd=None, t=None) -> State:
         sol, *_ = np.linalg.lstsq(J[:, dep], rhs, rcond=None)
         qd[dep] = sol
     return State(tuple(q), tuple(qd), t)
+
+
+def _closure_indices(system) -> tuple[list[int], list[int], list[int]]:
+    """(dependent, independent, dependent angles): indices into ``system.free``, as :func:`assemble`
+    takes them at every state (cached on the system)."""
+    def build():
+        free = system.free
+        dep = [i for i, c in enumerate(free) if c.dependent]
+        return dep, [i for i, c in enumerate(free) if not c.dependent], [i for i in dep if free[i].kind == "angle"]
+    return system._memo("closure_indices", build)
 
 
 _MAX_ANGLE_STEP = 1.0
@@ -685,21 +736,28 @@ def _newton_closure(funcs, q, t, dep, angles=()):
     for _ in range(_NEWTON_STEPS):
         res = np.array(fPhi(*q, t, *pv), dtype=float)
         if _closes(res, q, 1e-13) or not dep:
-            break
+            return q, res  # (the residual at this very q)
         J = np.array(fJ(*q, t, *pv), dtype=float).reshape(m, len(q))
         step, *_ = np.linalg.lstsq(J[:, dep], -res, rcond=None)
-        widest = float(np.max(np.abs(step[turning]), initial=0.0))
+        widest = float(np.abs(step[turning]).max(initial=0.0))
         if widest > _MAX_ANGLE_STEP:
             step = step * (_MAX_ANGLE_STEP / widest)
         q[dep] += step
-        if not np.all(np.isfinite(q)):
+        if not np.isfinite(q).all():
             break
     return q, np.array(fPhi(*q, t, *pv), dtype=float)
 
 
 def _closes(res, q, tol=1e-9) -> bool:
-    """Whether the closure residual ``res`` is zero to ``tol`` of the coordinates' size."""
-    return bool(np.all(np.abs(res) < tol * (1 + np.abs(q).max())))
+    """Whether the closure residual ``res`` is zero to ``tol`` of the coordinates' size.
+
+    In Python floats (the same roundings as numpy's, a tenth of its time on a few values) unless
+    a coordinate is nan, which numpy's largest propagates and Python's ``max`` may skip."""
+    qs = q.tolist()
+    if not qs or any(x != x for x in qs):
+        return bool(np.all(np.abs(res) < tol * (1 + np.abs(q).max())))
+    limit = tol * (1 + max(map(abs, qs)))
+    return all(abs(r) < limit for r in res.tolist())
 
 
 _CLOSURE_STARTS = 81
@@ -752,6 +810,8 @@ infinite. A regular assembly this close to a dead centre (1e-6 rad) is refused t
 
 
 def _check_closure_jacobian(system, Jd: np.ndarray, q, t) -> None:
+    if Jd.shape == (1, 1) and math.isfinite(Jd[0, 0]) and Jd[0, 0] != 0:
+        return  # (one finite entry not 0, scaled by its own size: condition number 1)
     with np.errstate(all="ignore"):
         s = np.linalg.svd(Jd / np.maximum(np.max(np.abs(Jd), axis=0), 1e-300), compute_uv=False)
     cond = s[0] / s[-1] if s[-1] > 0 else math.inf
