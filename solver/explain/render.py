@@ -23,7 +23,7 @@ from .content import Equation, Explanation, SceneText, Step, Table, Term
 from ..notation import compound_latex
 from .latex_prose import LatexProse, latex_escape, subscripted, unit_latex
 
-__all__ = ["FORMATS", "render", "terms_table"]
+__all__ = ["FORMATS", "render", "terms_table", "prose_names"]
 
 FORMATS = ("text", "markdown", "html", "latex")
 
@@ -167,6 +167,24 @@ def _name_latex(name: str) -> str:
     return subscripted(head, tail) if tail else head
 
 
+def prose_names(expl: Explanation) -> LatexProse:
+    """The one decision of which words of ``expl``'s prose are maths (:class:`LatexProse`: the names
+    of the symbols its equations hold, written with its LaTeX names), kept on the explanation
+    (:attr:`Explanation.prose`) for the symbols and names it was made for: its LaTeX and HTML
+    renderings split each text and decide each word once between them."""
+    symbols = set().union(*[_free_symbols(t.expr) for s in expl.steps() for e in s.equations for t in (*e.lhs, *e.rhs)])
+    key = (frozenset(symbols), frozenset(expl.symbol_latex.items()))
+    if key not in expl.prose:
+        expl.prose[key] = LatexProse(symbols, expl.symbol_latex)
+    return expl.prose[key]
+
+
+def _free_symbols(expr) -> set:
+    """The free symbols of a term: an expression's, a 2-vector's (without copying the Matrix into an
+    immutable one, as ``sympify`` does), none of a number's."""
+    return expr.free_symbols if isinstance(expr, (sp.Basic, sp.MatrixBase)) else sp.sympify(expr).free_symbols
+
+
 class _LatexMath:
     def __init__(self, names, note=None, printed: dict | None = None):
         self.names = names
@@ -296,9 +314,7 @@ class _Latex(_Renderer):
 
     def __init__(self, expl):
         super().__init__(expl)
-        symbols = set().union(*[sp.sympify(t.expr).free_symbols for s in expl.steps() for e in s.equations
-                                for t in (*e.lhs, *e.rhs)])
-        self.prose = LatexProse(symbols, expl.symbol_latex)
+        self.prose = prose_names(expl)
         self.math = _LatexMath(expl.symbol_latex, note=self.prose.cell, printed=expl.latex)
 
     def wrap(self, body):
@@ -358,10 +374,15 @@ fontspec (\\ifPDFTeX from the iftex package, which every distribution with hyper
 _LATIN_PUNCTUATION = set("\u2013\u2014\u2018\u2019\u201c\u201d\u2026")
 
 
+_BEYOND_LATIN = re.compile("[^\x00-\u017f" + "".join(sorted(_LATIN_PUNCTUATION)) + "]")
+"""One character beyond Latin Extended-A that is none of :data:`_LATIN_PUNCTUATION`."""
+
+
 def _beyond_latin(text: str) -> bool:
     """Whether ``text`` holds a character pdflatex's T1/UTF-8 setup does not set: beyond Latin
-    Extended-A (U+017F), typographic dashes, quotes and the ellipsis apart."""
-    return any(ord(ch) > 0x17F and ch not in _LATIN_PUNCTUATION for ch in text)
+    Extended-A (U+017F), typographic dashes, quotes and the ellipsis apart (one regular expression
+    over the document, not a test per character)."""
+    return _BEYOND_LATIN.search(text) is not None
 
 
 # -- HTML ------------------------------------------------------------------------------------------
@@ -384,9 +405,7 @@ class _Html(_Renderer):
         super().__init__(expl)
         from .mathml_prose import MathmlProse
 
-        symbols = set().union(*[sp.sympify(t.expr).free_symbols for s in expl.steps() for e in s.equations
-                                for t in (*e.lhs, *e.rhs)])
-        self.prose = MathmlProse(symbols, expl.symbol_latex)
+        self.prose = MathmlProse(decide=prose_names(expl))
         self.drawings = 0  # the free-body diagrams inlined so far: each one's ids get its number
 
     def wrap(self, body):
