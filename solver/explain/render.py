@@ -18,6 +18,7 @@ import sympy as sp
 
 from ..display import could_extract_minus_sign
 from ..drawing.svg_ids import inline_svg
+from ..kept import Kept
 from ..strprint import FastStrPrinter, join_sum, sstr
 from .content import Equation, Explanation, SceneText, Step, Table, Term
 from ..notation import compound_latex
@@ -197,7 +198,7 @@ class _LatexMath:
             return r"\begin{pmatrix}" + r" \\ ".join(self.expr(x) for x in e) + r"\end{pmatrix}"
         text = self.printed.get(e)
         if text is None:
-            text = self.printed[e] = sp.latex(e, symbol_names=self._names(e))
+            text = self.printed[e] = _latex(e, self._names(e))
         return text
 
     def _names(self, e) -> dict:
@@ -239,6 +240,20 @@ class _LatexMath:
             rows.append(f"&{relation} {rhs[0][1]}")
         rows += [f"&{{}}{op.strip()} {s}" for op, s in rhs[1:]]
         return "\\begin{aligned}\n" + " \\\\\n".join(rows) + "\n\\end{aligned}"
+
+
+_LATEX = Kept(4096)
+"""Expressions' LaTeX, by expression and the names of its symbols (:func:`_latex`)."""
+
+
+def _latex(e, names: dict) -> str:
+    """``sympy.latex(e, symbol_names=names)``, kept per process (:class:`solver.kept.Kept`) by ``e``
+    and the names given to the symbols it holds (the only ones the printer reads): an explanation
+    made again, of a scene loaded again (a command after another in one process, each test of a
+    suite), prints the same expressions, which :attr:`Explanation.latex` keeps for one explanation only."""
+    held = e.atoms(sp.Symbol) if isinstance(e, sp.Basic) else ()
+    key = (e, frozenset((x, names[x]) for x in held if x in names))
+    return _LATEX.get(key, lambda: sp.latex(e, symbol_names=names))
 
 
 LATEX_LINE_EM = 44.0
