@@ -191,10 +191,6 @@ class Explanation:
     latex : dict
         Each expression's LaTeX (with :attr:`symbol_latex`'s names), printed once for the
         explanation: its Markdown and LaTeX renderings write the same equations alike.
-    prose : dict
-        The decision of which words of the prose are maths (a :class:`.latex_prose.LatexProse`, by
-        the symbols and LaTeX names it was made for), made once for the explanation: its LaTeX and
-        HTML renderings split the same texts alike (:func:`solver.explain.render.prose_names`).
     """
 
     title: str
@@ -204,7 +200,6 @@ class Explanation:
     symbol_latex: dict = field(default_factory=dict)
     printer: FastStrPrinter = field(default_factory=FastStrPrinter, repr=False, compare=False)
     latex: dict = field(default_factory=dict, repr=False, compare=False)
-    prose: dict = field(default_factory=dict, repr=False, compare=False)
 
     def section(self, body: str | None) -> Section:
         for s in self.sections:

@@ -83,7 +83,7 @@ class MathmlProse:
     symbols, symbol_latex
         As :class:`LatexProse` takes them: they decide which words are names of maths.
     decide : LatexProse, optional
-        That decision made already (the explanation's, shared with its LaTeX rendering:
+        That decision made already (shared with the LaTeX rendering:
         :func:`solver.explain.render.prose_names`); then ``symbols`` and ``symbol_latex`` are not read.
     """
 

@@ -168,16 +168,18 @@ def _name_latex(name: str) -> str:
     return subscripted(head, tail) if tail else head
 
 
+_PROSE = Kept(64)
+"""The decisions of which words are maths, by symbols and LaTeX names (:func:`prose_names`)."""
+
+
 def prose_names(expl: Explanation) -> LatexProse:
     """The one decision of which words of ``expl``'s prose are maths (:class:`LatexProse`: the names
-    of the symbols its equations hold, written with its LaTeX names), kept on the explanation
-    (:attr:`Explanation.prose`) for the symbols and names it was made for: its LaTeX and HTML
-    renderings split each text and decide each word once between them."""
+    of the symbols its equations hold, written with its LaTeX names), kept per process for those
+    symbols and names (:class:`solver.kept.Kept`): the LaTeX and HTML renderings of an explanation,
+    and of one made again of the same scene, split each text and decide each word once."""
     symbols = set().union(*[_free_symbols(t.expr) for s in expl.steps() for e in s.equations for t in (*e.lhs, *e.rhs)])
-    key = (frozenset(symbols), frozenset(expl.symbol_latex.items()))
-    if key not in expl.prose:
-        expl.prose[key] = LatexProse(symbols, expl.symbol_latex)
-    return expl.prose[key]
+    return _PROSE.get((frozenset(symbols), frozenset(expl.symbol_latex.items())),
+                      lambda: LatexProse(symbols, expl.symbol_latex))
 
 
 def _free_symbols(expr) -> set:
