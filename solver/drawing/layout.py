@@ -67,8 +67,9 @@ class MeasuredLayout(LayoutEngine):
 def agg_renderer(fig):
     """The renderer that measures the figure's texts: its canvas's, or an Agg canvas's (a figure
     made without pyplot has a canvas that cannot render), reading each font's heights once
-    (:class:`FontHeights`); for a figure saved only in vector formats (:func:`measure_as_vector`),
-    measuring each text as those formats draw it (:class:`_VectorTextSizes`)."""
+    (:class:`FontHeights`) and each plain text once per process (:class:`_RasterTextSizes`); for a
+    figure saved only in vector formats (:func:`measure_as_vector`), measuring each text as those
+    formats draw it (:class:`_VectorTextSizes`)."""
     canvas = fig.canvas
     if not hasattr(canvas, "get_renderer"):
         from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -77,10 +78,19 @@ def agg_renderer(fig):
     renderer = canvas.get_renderer()
     if not hasattr(renderer, "_get_font_height_metrics"):
         renderer._get_font_height_metrics = FontHeights(renderer.dpi)
-    if getattr(fig, _VECTOR_FLAG, False) and not isinstance(renderer.__dict__.get("get_text_width_height_descent"),
-                                                             _VectorTextSizes):
-        renderer.get_text_width_height_descent = _VectorTextSizes(renderer)
+    measure = renderer.__dict__.get("get_text_width_height_descent")
+    if getattr(fig, _VECTOR_FLAG, False):
+        if not isinstance(measure, _VectorTextSizes):
+            renderer.get_text_width_height_descent = _VectorTextSizes(renderer)
+    elif measure is None and type(renderer) is _agg_renderer_class():
+        renderer.get_text_width_height_descent = _RasterTextSizes(renderer)
     return renderer
+
+
+def _agg_renderer_class():
+    from matplotlib.backends.backend_agg import RendererAgg
+
+    return RendererAgg
 
 
 _VECTOR_FLAG = "_alt_euler_vector_text"
@@ -142,6 +152,42 @@ class _VectorTextSizes:
             return self._measure(renderer, s, prop, ismath)
         scale = renderer.points_to_pixels(1.0)
         return tuple(value * scale for value in vector_text_metrics(s, prop, ismath))
+
+
+_RASTER_SIZES: dict = {}
+"""(text, font files, size, dpi, hinting, hinting and kerning factors, last-resort font) -> (width,
+height, descent) [pixels] (:class:`_RasterTextSizes`)."""
+
+
+class _RasterTextSizes:
+    """An Agg renderer's ``get_text_width_height_descent``, its plain texts measured once per process
+    for each text, font files, size and dpi (:data:`_RASTER_SIZES`).
+
+    matplotlib keeps a renderer's measures for that renderer only, and every drawing makes its own
+    (a figure, its canvas): the same labels (a point's name, a force's) were measured again in every
+    drawing, each measure laying the text's glyphs out in FreeType. The Agg measure is a function of
+    the text, the fonts, their size, the dpi and the hinting and kerning settings alone, which the
+    key holds, so a measure kept is the one the renderer would give. Mathematical and TeX text is
+    measured by the renderer each time."""
+
+    def __init__(self, renderer):
+        self._renderer = weakref.ref(renderer)  # (the renderer holds this object)
+        self._measure = type(renderer).get_text_width_height_descent
+
+    def __call__(self, s, prop, ismath):
+        renderer = self._renderer()
+        if ismath:
+            return self._measure(renderer, s, prop, ismath)
+        from matplotlib import rcParams
+        from matplotlib.font_manager import fontManager
+
+        key = (s, tuple(fontManager._find_fonts_by_props(prop)), prop.get_size_in_points(), renderer.dpi,
+               rcParams["text.hinting"], rcParams["text.hinting_factor"], rcParams["text.kerning_factor"],
+               rcParams["font.enable_last_resort"])
+        sizes = _RASTER_SIZES.get(key)
+        if sizes is None:
+            sizes = _RASTER_SIZES[key] = self._measure(renderer, s, prop, ismath)
+        return sizes
 
 
 _HEIGHT_TABLES = (("OS/2", "sTypoLineGap", "sTypoAscender", "sTypoDescender"), ("hhea", "lineGap", "ascent", "descent"))

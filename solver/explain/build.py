@@ -331,10 +331,10 @@ def _forces_on(system, body: str, points: _Points) -> list[_Force]:
         if contact is not None and force is not None:  # N n, and the friction -sign(v_slip) mu_k N d apart
             joint, d, n = contact
             out.append(_Force(jl.reaction.name, f"normal reaction of contact {joint.name}",
-                              sym * n * sp.expand(jl.force.dot(n)), jl.at, 0, reaction=jl.reaction, point=point))
+                              sym * n * expanded(jl.force.dot(n)), jl.at, 0, reaction=jl.reaction, point=point))
             name = joint.friction_reaction.name if joint.friction_reaction is not None else f"friction_{joint.name}"
             out.append(_Force(name, f"friction of contact {joint.name}, slipping: {slip_friction(jl.reaction.name)}",
-                              sym * d * sp.expand(jl.force.dot(d)), jl.at, 0, point=point))
+                              sym * d * expanded(jl.force.dot(d)), jl.at, 0, point=point))
             continue
         out.append(_Force(jl.reaction.name, f"reaction of joint {jl.reaction.joint}", force, jl.at,
                           sym * jl.couple, reaction=jl.reaction, point=point))
@@ -700,7 +700,7 @@ def _collected_equation(system, body: str, P: str, euler: Equation) -> Equation 
     positive (Eq. 27 -> Eq. 28).
     None when there is nothing to collect."""
     unknowns = list(system.qdd) + [r.symbol for r in system.reactions]
-    e = sp.expand(euler.residual)
+    e = expanded(euler.residual)
     terms = [t for t in sp.Add.make_args(e) if t != 0]
     coefs = {u: c for u, (c, zero) in _coefficients(system, e, unknowns).items() if not zero}
     if not terms or not coefs:
@@ -712,8 +712,8 @@ def _collected_equation(system, body: str, P: str, euler: Equation) -> Equation 
         if k.is_Integer and k > 0:
             common *= p**k
             divided.append(sstr(p**k))
-    rest = sp.expand(e - sp.Add(*[c * u for u, c in coefs.items()]))
-    rhs = tidy(sp.expand(-rest / common))
+    rest = expanded(e - sp.Add(*[c * u for u, c in coefs.items()]))
+    rhs = tidy(expanded(-rest / common))
     reactions = [c for u, c in coefs.items() if u not in system.qdd]
     lead = reactions[0] if reactions else -rhs  # the first reaction's coefficient reads positive (Eq. 28)
     sign = -1 if could_extract_minus_sign(sp.sympify(lead)) else 1
@@ -721,7 +721,7 @@ def _collected_equation(system, body: str, P: str, euler: Equation) -> Equation 
     lhs = []
     for u, c in coefs.items():
         shown, k = rename.get(u, (u, 1))
-        lhs.append(Term(tidy(sp.expand(sign * c / common / k)) * shown, str(shown)))
+        lhs.append(Term(tidy(expanded(sign * c / common / k)) * shown, str(shown)))
     how = f"divided by {' '.join(divided)} and collected" if divided else "collected"
     return Equation(tuple(lhs), (Term(sign * rhs, "known"),), f"the moment equation about {P} {how}",
                     tag="collected")
@@ -1027,7 +1027,7 @@ def _single_reaction_substitution(system, f, body: str):
     subs, used = {}, []
     for r in left:
         for axis in ("Newton x", "Newton y"):
-            e = sp.expand(eqs[axis])
+            e = expanded(eqs[axis])
             held = _unknowns_in(system, e, reactions)
             if held == [r] and axis not in used:
                 subs[r] = -e.xreplace({r: 0}) / coefficient(e, r)  # linear in r
@@ -1057,7 +1057,7 @@ def _motion_step(system, f, expl) -> Step | None:
             eqs.append(Equation((Term(r),), (Term(tidy_linear(value, qdd + rates)),),
                                 f"{r} from {', '.join(used)}", tag=f"from_newton:{r}", name=str(r)))
         if subs:
-            eliminated = sp.expand(euler.xreplace(subs))
+            eliminated = expanded(euler.xreplace(subs))
             eqs.append(Equation((Term(tidy_linear(eliminated, qdd + rates)),), (Term(sp.Integer(0)),),
                                 f"moment equation with {', '.join(map(str, subs))} substituted", tag="eliminated"))
             text.append(f"The moment equation about {f.points[body]} still holds "
@@ -1098,11 +1098,11 @@ def _projected(system, f) -> list[sp.Expr]:
         for body, (nx, ny, eu) in per_body.items():
             v, w = system.point_velocity(body, f.points[body]), system.omega(body)
             terms += [derivative(v[0], c.qd) * nx, derivative(v[1], c.qd) * ny, derivative(w, c.qd) * eu]
-        e = sp.expand(-sp.Add(*terms))
+        e = expanded(-sp.Add(*terms))
         for r in system.reactions:
             coef = coefficient(e, r.symbol)
             if coef != 0 and _zero(coef):  # a workless reaction: it drops out
-                e = sp.expand(e - coef * r.symbol)
+                e = expanded(e - coef * r.symbol)
         out.append(e)
     return out
 
@@ -1115,7 +1115,7 @@ def _reaction_from_body_equations(expl, r, known: dict, unknown: set):
             continue
         for kind, tag in (("newton", "newton_x"), ("newton", "newton_y"), ("euler", "euler")):
             try:
-                e = sp.expand(sp.sympify(section.step(kind).equation(tag).residual).xreplace(known))
+                e = expanded(sp.sympify(section.step(kind).equation(tag).residual).xreplace(known))
             except KeyError:
                 continue
             coef = coefficient(e, r)
@@ -1134,7 +1134,7 @@ def _normal_force_from_newton(expl, contact, r, known: dict, unknown: set):
         newton = expl.section(joint.second).step("newton")
     except KeyError:
         return None
-    e = sp.expand((n[0] * newton.equation("newton_x").residual
+    e = expanded((n[0] * newton.equation("newton_x").residual
                    + n[1] * newton.equation("newton_y").residual).xreplace(known))
     coef = coefficient(e, r)
     if _zero(coef) or any(not _zero(coefficient(e, x)) for x in unknown - {r}):
@@ -1157,24 +1157,24 @@ def _structured_eom(system, c, e, q, keep, ref: str = "projected on the partial 
     """M q'' + (rate terms) + (configuration terms) - (reaction terms in ``keep``) = Q for one coordinate
     (``e + q``: the equation with the generalized force ``q`` moved to the right)."""
     rates = [a * b for i, a in enumerate(system.qd) for b in system.qd[i:]]
-    e = sp.expand(e + q)
+    e = expanded(e + q)
     lhs, taken = [], []
     for x, label in [(x, "M") for x in system.qdd] + [(lam, "reaction term") for lam in keep]:
         coef = coefficient(e, x)
         if coef != 0:
             lhs.append(Term(tidy(coef) * x, f"{label} {x}"))
             taken.append(coef * x)  # (the coefficient as it is: its tidy form differs by sin**2 + cos**2 - 1)
-    rest = sp.expand(e - sp.Add(*taken))
+    rest = expanded(e - sp.Add(*taken))
     for x in rates:
         coef = coefficient(rest, x)
         if coef != 0 and not coef.has(*system.qd):
             lhs.append(Term(tidy(coef) * x, f"rate terms {x}"))
-            rest = sp.expand(rest - coef * x)
+            rest = expanded(rest - coef * x)
     mus = _kinetic_coefficients(system)
     friction = sp.Add(*[t for t in sp.Add.make_args(rest) if mus and t.has(*mus)])
     if friction != 0:  # the slipping friction -sign(v_slip) mu_k N with N substituted: not a configuration term
         lhs.append(Term(tidy(friction), f"friction terms (slipping: {slip_friction()})"))
-        rest = sp.expand(rest - friction)
+        rest = expanded(rest - friction)
     if rest != 0:
         lhs.append(Term(tidy(rest), "configuration terms"))
     return Equation(tuple(lhs) or (Term(sp.Integer(0)),), (Term(tidy(q), "Q"),),
@@ -1203,7 +1203,7 @@ def _constrained_motion_step(system, f, expl, state) -> Step:
         if found is None:
             continue
         value, where = found
-        known[r] = sp.expand(value)
+        known[r] = expanded(value)
         eqs.append(Equation((Term(r),), (Term(tidy(known[r])),), f"{r} from {where}",
                             tag=f"from_newton:{r}", name=str(r)))
         text.append(f"{r} does work through the slipping friction {slip_friction(r)}, so it stays in the projected "
@@ -1214,11 +1214,11 @@ def _constrained_motion_step(system, f, expl, state) -> Step:
     keep = closure + [r for r in working if r not in known]
     Q = system.generalized_forces()
     for c, e, q in zip(system.free, projected, Q):
-        eqs.append(_structured_eom(system, c, sp.expand(e.xreplace(known)), q, keep))
+        eqs.append(_structured_eom(system, c, expanded(e.xreplace(known)), q, keep))
     for row in system.closure:
-        acc = sp.expand(system.D(system.D(row.expr)))
+        acc = expanded(system.D(system.D(row.expr)))
         terms = [Term(tidy(coefficient(acc, x)) * x, f"C {x}") for x in system.qdd if coefficient(acc, x) != 0]
-        rest = sp.expand(acc - sp.Add(*[coefficient(acc, x) * x for x in system.qdd]))
+        rest = expanded(acc - sp.Add(*[coefficient(acc, x) * x for x in system.qdd]))
         if rest != 0:
             terms.append(Term(tidy(rest), "-gamma (rate terms)"))
         eqs.append(Equation(tuple(terms) or (Term(sp.Integer(0)),), (Term(sp.Integer(0)),),
@@ -1245,7 +1245,7 @@ def _zero_parameters_set(system, eom: Equation) -> sp.Expr:
     """The residual of the equation of motion ``eom``, expanded, with the parameters that are zero
     in the scene set to zero: what the small-oscillation steps linearise (Eqs. 45-46)."""
     zero = {sp.Symbol(n, real=True): 0 for n, q in system.parameters.items() if q.magnitude == 0}
-    return sp.expand(eom.residual.xreplace(zero))
+    return expanded(eom.residual.xreplace(zero))
 
 
 def _small_motion_rules(system, e: sp.Expr) -> list[Equation]:
@@ -1415,7 +1415,7 @@ def _numbers_at_state(system, residual, unknowns: list, state) -> tuple[dict, fl
     except (NotEvaluable, KeyError, TypeError, ValueError, ZeroDivisionError, OverflowError):
         values = None
     if values is None or any(v.imag != 0 for v in values):
-        coefficients, known = _numeric_row(sp.expand(_at_state(system, residual, state)), unknowns)
+        coefficients, known = _numeric_row(expanded(_at_state(system, residual, state)), unknowns)
         return {u: float(c) for u, c in coefficients.items()}, float(known)
     return {u: v.real for u, v in zip(unknowns, values[1:])}, values[0].real
 

@@ -82,10 +82,13 @@ class MathmlProse:
     ----------
     symbols, symbol_latex
         As :class:`LatexProse` takes them: they decide which words are names of maths.
+    decide : LatexProse, optional
+        That decision made already (shared with the LaTeX rendering:
+        :func:`solver.explain.render.prose_names`); then ``symbols`` and ``symbol_latex`` are not read.
     """
 
-    def __init__(self, symbols, symbol_latex: dict):
-        self.decide = LatexProse(symbols, symbol_latex)
+    def __init__(self, symbols=(), symbol_latex: dict | None = None, decide: LatexProse | None = None):
+        self.decide = decide if decide is not None else LatexProse(symbols, symbol_latex or {})
 
     def text(self, text: str, letters: bool = False) -> str:
         """Prose as escaped HTML with an inline ``<math>`` for each name and formula, and for each

@@ -18,12 +18,13 @@ import sympy as sp
 
 from ..display import could_extract_minus_sign
 from ..drawing.svg_ids import inline_svg
+from ..kept import Kept
 from ..strprint import FastStrPrinter, join_sum, sstr
 from .content import Equation, Explanation, SceneText, Step, Table, Term
 from ..notation import compound_latex
 from .latex_prose import LatexProse, latex_escape, subscripted, unit_latex
 
-__all__ = ["FORMATS", "render", "terms_table"]
+__all__ = ["FORMATS", "render", "terms_table", "prose_names"]
 
 FORMATS = ("text", "markdown", "html", "latex")
 
@@ -167,6 +168,26 @@ def _name_latex(name: str) -> str:
     return subscripted(head, tail) if tail else head
 
 
+_PROSE = Kept(64)
+"""The decisions of which words are maths, by symbols and LaTeX names (:func:`prose_names`)."""
+
+
+def prose_names(expl: Explanation) -> LatexProse:
+    """The one decision of which words of ``expl``'s prose are maths (:class:`LatexProse`: the names
+    of the symbols its equations hold, written with its LaTeX names), kept per process for those
+    symbols and names (:class:`solver.kept.Kept`): the LaTeX and HTML renderings of an explanation,
+    and of one made again of the same scene, split each text and decide each word once."""
+    symbols = set().union(*[_free_symbols(t.expr) for s in expl.steps() for e in s.equations for t in (*e.lhs, *e.rhs)])
+    return _PROSE.get((frozenset(symbols), frozenset(expl.symbol_latex.items())),
+                      lambda: LatexProse(symbols, expl.symbol_latex))
+
+
+def _free_symbols(expr) -> set:
+    """The free symbols of a term: an expression's, a 2-vector's (without copying the Matrix into an
+    immutable one, as ``sympify`` does), none of a number's."""
+    return expr.free_symbols if isinstance(expr, (sp.Basic, sp.MatrixBase)) else sp.sympify(expr).free_symbols
+
+
 class _LatexMath:
     def __init__(self, names, note=None, printed: dict | None = None):
         self.names = names
@@ -179,7 +200,7 @@ class _LatexMath:
             return r"\begin{pmatrix}" + r" \\ ".join(self.expr(x) for x in e) + r"\end{pmatrix}"
         text = self.printed.get(e)
         if text is None:
-            text = self.printed[e] = sp.latex(e, symbol_names=self._names(e))
+            text = self.printed[e] = _latex(e, self._names(e))
         return text
 
     def _names(self, e) -> dict:
@@ -221,6 +242,20 @@ class _LatexMath:
             rows.append(f"&{relation} {rhs[0][1]}")
         rows += [f"&{{}}{op.strip()} {s}" for op, s in rhs[1:]]
         return "\\begin{aligned}\n" + " \\\\\n".join(rows) + "\n\\end{aligned}"
+
+
+_LATEX = Kept(4096)
+"""Expressions' LaTeX, by expression and the names of its symbols (:func:`_latex`)."""
+
+
+def _latex(e, names: dict) -> str:
+    """``sympy.latex(e, symbol_names=names)``, kept per process (:class:`solver.kept.Kept`) by ``e``
+    and the names given to the symbols it holds (the only ones the printer reads): an explanation
+    made again, of a scene loaded again (a command after another in one process, each test of a
+    suite), prints the same expressions, which :attr:`Explanation.latex` keeps for one explanation only."""
+    held = e.atoms(sp.Symbol) if isinstance(e, sp.Basic) else ()
+    key = (e, frozenset((x, names[x]) for x in held if x in names))
+    return _LATEX.get(key, lambda: sp.latex(e, symbol_names=names))
 
 
 LATEX_LINE_EM = 44.0
@@ -296,9 +331,7 @@ class _Latex(_Renderer):
 
     def __init__(self, expl):
         super().__init__(expl)
-        symbols = set().union(*[sp.sympify(t.expr).free_symbols for s in expl.steps() for e in s.equations
-                                for t in (*e.lhs, *e.rhs)])
-        self.prose = LatexProse(symbols, expl.symbol_latex)
+        self.prose = prose_names(expl)
         self.math = _LatexMath(expl.symbol_latex, note=self.prose.cell, printed=expl.latex)
 
     def wrap(self, body):
@@ -358,10 +391,15 @@ fontspec (\\ifPDFTeX from the iftex package, which every distribution with hyper
 _LATIN_PUNCTUATION = set("\u2013\u2014\u2018\u2019\u201c\u201d\u2026")
 
 
+_BEYOND_LATIN = re.compile("[^\x00-\u017f" + "".join(sorted(_LATIN_PUNCTUATION)) + "]")
+"""One character beyond Latin Extended-A that is none of :data:`_LATIN_PUNCTUATION`."""
+
+
 def _beyond_latin(text: str) -> bool:
     """Whether ``text`` holds a character pdflatex's T1/UTF-8 setup does not set: beyond Latin
-    Extended-A (U+017F), typographic dashes, quotes and the ellipsis apart."""
-    return any(ord(ch) > 0x17F and ch not in _LATIN_PUNCTUATION for ch in text)
+    Extended-A (U+017F), typographic dashes, quotes and the ellipsis apart (one regular expression
+    over the document, not a test per character)."""
+    return _BEYOND_LATIN.search(text) is not None
 
 
 # -- HTML ------------------------------------------------------------------------------------------
@@ -384,9 +422,7 @@ class _Html(_Renderer):
         super().__init__(expl)
         from .mathml_prose import MathmlProse
 
-        symbols = set().union(*[sp.sympify(t.expr).free_symbols for s in expl.steps() for e in s.equations
-                                for t in (*e.lhs, *e.rhs)])
-        self.prose = MathmlProse(symbols, expl.symbol_latex)
+        self.prose = MathmlProse(decide=prose_names(expl))
         self.drawings = 0  # the free-body diagrams inlined so far: each one's ids get its number
 
     def wrap(self, body):
