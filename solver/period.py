@@ -398,13 +398,21 @@ class OneDofSystem:
 
     def qdd_scalar_fn(self) -> Callable[[float, float, float], float]:
         """theta_ddot(q, qd, t) on Python floats (``math`` module: the fast rhs)."""
+        f, vals, _ = self.qdd_scalar_parts()
+        return lambda q, qd, t: float(f(q, qd, t, *vals))
+
+    def qdd_scalar_parts(self) -> tuple[Callable, tuple[float, ...], bool]:
+        """(f, values, plain): theta_ddot = f(q, qd, t, *values), lambdified for the ``math`` module
+        (``plain`` True: on Python floats it gives a Python number, float or a constant int) or,
+        where ``math`` lacks a function, for numpy (``plain`` False: convert with ``float``).
+        For a right-hand side called hundreds of thousands of times without the wrapper of
+        :meth:`qdd_scalar_fn`."""
         try:
             f = self._fn("qdd", (self.q, self.qd, self.t), self.qdd_expression, "math")
             f(0.1, 0.2, 0.0, *self.values)
+            return f, self.values, True
         except (NameError, TypeError, AttributeError, KeyError, ZeroDivisionError, ValueError, OverflowError):
-            f = self._fn("qdd", (self.q, self.qd, self.t), self.qdd_expression, "numpy")
-        vals = self.values
-        return lambda q, qd, t: float(f(q, qd, t, *vals))
+            return self._fn("qdd", (self.q, self.qd, self.t), self.qdd_expression, "numpy"), self.values, False
 
     def linear_system_fn(self) -> Callable[[Any, Any, Any], tuple[np.ndarray, np.ndarray]]:
         """Vectorised (A, b) of the instantaneous linear system, shapes (..., n, n) and (..., n)."""
@@ -499,18 +507,31 @@ class OneDofSystem:
         vals = self.values
         last: dict = {}
 
+        rows, cols = range(n), range(n + 1)
+
         def solve(q, qd, t):
+            # (written out for speed inside event functions, which run at every step; the
+            # arithmetic, its order and the choice of pivots are max()'s and sum()'s: the same bits)
             key = (q, qd, t)
             if last.get("key") == key:
                 return last["out"]
             e = [float(v) for v in f(q, qd, t, *vals)]
-            M = [e[i * n:(i + 1) * n] + [e[n * n + i]] for i in range(n)]
+            M = [e[i * n:(i + 1) * n] + [e[n * n + i]] for i in rows]
             det = 1.0
             for row in M:  # row scaling for a meaningful determinant
-                s = max(abs(x) for x in row[:n]) or 1.0
+                s = abs(row[0])  # the first largest |entry| (max's choice), 1 for a zero row
+                for i in range(1, n):
+                    a = abs(row[i])
+                    if a > s:
+                        s = a
+                s = s or 1.0
                 row[:] = [x / s for x in row]
-            for c in range(n):
-                p = max(range(c, n), key=lambda r: abs(M[r][c]))
+            for c in rows:
+                p, best = c, abs(M[c][c])  # partial pivoting: the first largest |entry| of the column
+                for r in range(c + 1, n):
+                    a = abs(M[r][c])
+                    if a > best:
+                        p, best = r, a
                 if M[p][c] == 0.0:
                     out = ([math.nan] * n, 0.0)
                     last.update(key=key, out=out)
@@ -518,14 +539,18 @@ class OneDofSystem:
                 if p != c:
                     M[c], M[p] = M[p], M[c]
                     det = -det
-                det *= M[c][c]
+                Mc = M[c]
+                pivot = Mc[c]
+                det *= pivot
                 for r in range(c + 1, n):
-                    k = M[r][c] / M[c][c]
+                    k = M[r][c] / pivot
                     if k:
-                        M[r] = [x - k * y for x, y in zip(M[r], M[c])]
+                        Mr = M[r]
+                        M[r] = [Mr[j] - k * Mc[j] for j in cols]
             x = [0.0] * n
             for r in range(n - 1, -1, -1):
-                x[r] = (M[r][n] - sum(M[r][j] * x[j] for j in range(r + 1, n))) / M[r][r]
+                Mr = M[r]
+                x[r] = (Mr[n] - sum([Mr[j] * x[j] for j in range(r + 1, n)])) / Mr[r]
             out = (x, det)
             last.update(key=key, out=out)
             return out
