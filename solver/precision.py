@@ -124,8 +124,8 @@ def _dependent_state(system: Any, subs: dict, dps: int) -> dict:
     with mpmath.workdps(digits):
         num = {k: mpmath.mpf(str(sp.N(v, digits + 5))) for k, v in fixed.items()}
         args = (*q_dep, *num.keys())
-        f_phi = sp.lambdify(args, list(rows), "mpmath")
-        f_jac = sp.lambdify(args, rows.jacobian(q_dep).tolist(), "mpmath")
+        f_phi = lambdify(args, list(rows), "mpmath")
+        f_jac = lambdify(args, rows.jacobian(q_dep).tolist(), "mpmath")
         x = [mpmath.mpf(str(sp.N(subs[q], 20))) for q in q_dep]
         for _ in range(2 * digits):  # quadratic convergence from a float64 start: a few steps
             J = mpmath.matrix(f_jac(*x, *num.values()))
@@ -330,7 +330,7 @@ def solve_precise(derivation: Any, precision: str = "float64", dps: int = 50,
     # mpmath ----------------------------------------------------------------
     with mpmath.workdps(dps + 5):
         mvals = [mpmath.mpf(str(sp.N(subs[a], dps + 10))) for a in args]
-        fm = sp.lambdify(args, [list(A.row(i)) for i in range(A.rows)] + [list(b)], modules="mpmath")
+        fm = lambdify(args, [list(A.row(i)) for i in range(A.rows)] + [list(b)], "mpmath")
         rows = fm(*mvals)
         Am = mpmath.matrix(rows[:-1])
         bm = mpmath.matrix(rows[-1])
@@ -340,7 +340,7 @@ def solve_precise(derivation: Any, precision: str = "float64", dps: int = 50,
             raise SingularConfigurationError(where) from None
         vals = {n: xm[i] for i, n in enumerate(names)}
         if alpha_expr is not None:
-            malpha = sp.lambdify((*args, *accelerations), alpha_expr, "mpmath")
+            malpha = lambdify((*args, *accelerations), alpha_expr, "mpmath")
             vals["alpha"] = malpha(*mvals, *[vals[str(a)] for a in accelerations])
         text = {n: mpmath.nstr(v, dps) for n, v in vals.items()}
         err = {n: _relerr(fl[n], v) for n, v in vals.items()}
