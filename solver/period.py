@@ -1412,6 +1412,20 @@ def _float_sums(fns: _Compiled, ends: tuple[float, float], n: int, err_ends: flo
     return _SQRT2_PI * h * mean, _SQRT2_PI * h * mean_n, err + 2.0 * _EPS + err_ends, True
 
 
+@functools.lru_cache(maxsize=16)
+def _mp_nodes(n: int, dps: int) -> tuple:
+    """(sin u, sin(w)**2, cos(w)**2) at each of :func:`_mp_sum`'s 3n nodes, u = -pi/2 + pi (k + 1/2) / (3n),
+    w = pi/4 - u/2, in mpmath at ``dps`` digits: the same for every system and amplitude, so made
+    once (the same numbers, made at the same precision, as made at each call)."""
+    with mpmath.workdps(dps):
+        out = []
+        for k in range(3 * n):
+            u = -mpmath.pi / 2 + mpmath.pi * (k + mpmath.mpf(1) / 2) / (3 * n)
+            w = mpmath.pi / 4 - u / 2
+            out.append((mpmath.sin(u), mpmath.sin(w) ** 2, mpmath.cos(w) ** 2))
+        return tuple(out)
+
+
 def _mp_sum(system, q0, q1, n, dps=_MP_DPS):
     """The same midpoint sums (3n and n nodes) with V0 - V(q) and the nodes in mpmath at
     ``dps`` digits: (T, T_n, ok). ``q0`` is the release point (exact), ``q1`` the other
@@ -1428,12 +1442,10 @@ def _mp_sum(system, q0, q1, n, dps=_MP_DPS):
             pass
         qm, h = (mq0 + mq1) / 2, (mq0 - mq1) / 2
         total, coarse = mpmath.mpf(0), mpmath.mpf(0)
-        for k in range(3 * n):
-            u = -mpmath.pi / 2 + mpmath.pi * (k + mpmath.mpf(1) / 2) / (3 * n)
-            w = mpmath.pi / 4 - u / 2
-            d0 = 2 * h * mpmath.sin(w) ** 2
-            d1 = 2 * h * mpmath.cos(w) ** 2
-            q = qm + h * mpmath.sin(u)
+        for k, (sin_u, sin2_w, cos2_w) in enumerate(_mp_nodes(n, dps)):
+            d0 = 2 * h * sin2_w
+            d1 = 2 * h * cos2_w
+            q = qm + h * sin_u
             g = (V0 - Vmp(q)) / (d0 * d1)
             if not g > 0:
                 return math.nan, math.nan, False
