@@ -507,51 +507,13 @@ class OneDofSystem:
         vals = self.values
         last: dict = {}
 
-        rows, cols = range(n), range(n + 1)
+        eliminate = _eliminate3 if n == 3 else (lambda e: _eliminate(e, n))
 
         def solve(q, qd, t):
-            # (written out for speed inside event functions, which run at every step; the
-            # arithmetic, its order and the choice of pivots are max()'s and sum()'s: the same bits)
             key = (q, qd, t)
             if last.get("key") == key:
                 return last["out"]
-            e = [float(v) for v in f(q, qd, t, *vals)]
-            M = [e[i * n:(i + 1) * n] + [e[n * n + i]] for i in rows]
-            det = 1.0
-            for row in M:  # row scaling for a meaningful determinant
-                s = abs(row[0])  # the first largest |entry| (max's choice), 1 for a zero row
-                for i in range(1, n):
-                    a = abs(row[i])
-                    if a > s:
-                        s = a
-                s = s or 1.0
-                row[:] = [x / s for x in row]
-            for c in rows:
-                p, best = c, abs(M[c][c])  # partial pivoting: the first largest |entry| of the column
-                for r in range(c + 1, n):
-                    a = abs(M[r][c])
-                    if a > best:
-                        p, best = r, a
-                if M[p][c] == 0.0:
-                    out = ([math.nan] * n, 0.0)
-                    last.update(key=key, out=out)
-                    return out
-                if p != c:
-                    M[c], M[p] = M[p], M[c]
-                    det = -det
-                Mc = M[c]
-                pivot = Mc[c]
-                det *= pivot
-                for r in range(c + 1, n):
-                    k = M[r][c] / pivot
-                    if k:
-                        Mr = M[r]
-                        M[r] = [Mr[j] - k * Mc[j] for j in cols]
-            x = [0.0] * n
-            for r in range(n - 1, -1, -1):
-                Mr = M[r]
-                x[r] = (Mr[n] - sum([Mr[j] * x[j] for j in range(r + 1, n)])) / Mr[r]
-            out = (x, det)
+            out = eliminate([float(v) for v in f(q, qd, t, *vals)])
             last.update(key=key, out=out)
             return out
 
@@ -967,6 +929,83 @@ def _potential_difference(system: OneDofSystem) -> tuple[sp.Expr, sp.Expr | None
         return _difference(sp.Add(*[c * f for f, c in groups.items()]), system.q)
 
     return system._memo(("V difference", system._zero_parameters()), build)
+
+
+def _eliminate(e: list[float], n: int) -> tuple[list[float], float]:
+    """(x, det): A x = b by Gaussian elimination with partial pivoting on Python floats, A's rows
+    first scaled by their largest |entry| (det is the scaled A's); ``e`` holds A row by row, then b.
+    ([nan] * n, 0.0) when a pivot is 0. Pivots and scales are the first largest (as ``max``
+    chooses), and each sum starts from 0 (as ``sum`` does)."""
+    M = [e[i * n:(i + 1) * n] + [e[n * n + i]] for i in range(n)]
+    det = 1.0
+    for row in M:  # row scaling for a meaningful determinant
+        s = max(abs(x) for x in row[:n]) or 1.0
+        row[:] = [x / s for x in row]
+    for c in range(n):
+        p = max(range(c, n), key=lambda r: abs(M[r][c]))
+        if M[p][c] == 0.0:
+            return [math.nan] * n, 0.0
+        if p != c:
+            M[c], M[p] = M[p], M[c]
+            det = -det
+        det *= M[c][c]
+        for r in range(c + 1, n):
+            k = M[r][c] / M[c][c]
+            if k:
+                M[r] = [x - k * y for x, y in zip(M[r], M[c])]
+    x = [0.0] * n
+    for r in range(n - 1, -1, -1):
+        x[r] = (M[r][n] - sum(M[r][j] * x[j] for j in range(r + 1, n))) / M[r][r]
+    return x, det
+
+
+def _scaled_row(a: float, b: float, c: float, d: float) -> list[float]:
+    """[a, b, c, d] over the first largest of |a|, |b|, |c| (1 when they are all 0)."""
+    s = abs(a)
+    t = abs(b)
+    if t > s:
+        s = t
+    t = abs(c)
+    if t > s:
+        s = t
+    s = s or 1.0
+    return [a / s, b / s, c / s, d / s]
+
+
+def _eliminate3(e: list[float]) -> tuple[list[float], float]:
+    """:func:`_eliminate` for n = 3 written out: the same operations in the same order, so the
+    same numbers to the last bit, at about a third of the time (it runs in event functions, at
+    every step of an integration)."""
+    M = [_scaled_row(e[0], e[1], e[2], e[9]), _scaled_row(e[3], e[4], e[5], e[10]),
+         _scaled_row(e[6], e[7], e[8], e[11])]
+    det = 1.0
+    for c in (0, 1):
+        p, best = c, abs(M[c][c])
+        for r in range(c + 1, 3):
+            a = abs(M[r][c])
+            if a > best:
+                p, best = r, a
+        if M[p][c] == 0.0:
+            return [math.nan] * 3, 0.0
+        if p != c:
+            M[c], M[p] = M[p], M[c]
+            det = -det
+        P = M[c]
+        pivot = P[c]
+        det *= pivot
+        for r in range(c + 1, 3):
+            R = M[r]
+            k = R[c] / pivot
+            if k:
+                M[r] = [R[0] - k * P[0], R[1] - k * P[1], R[2] - k * P[2], R[3] - k * P[3]]
+    r0, r1, r2 = M
+    if r2[2] == 0.0:
+        return [math.nan] * 3, 0.0
+    det *= r2[2]
+    x2 = (r2[3] - 0) / r2[2]  # (0: the empty sum's int, as in _eliminate)
+    x1 = (r1[3] - sum([r1[2] * x2])) / r1[1]
+    x0 = (r0[3] - sum([r0[1] * x1, r0[2] * x2])) / r0[0]
+    return [x0, x1, x2], det
 
 
 def _scalar(system: OneDofSystem, key, args: tuple, expr: Callable[[], Any]) -> Callable:
