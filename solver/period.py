@@ -398,13 +398,21 @@ class OneDofSystem:
 
     def qdd_scalar_fn(self) -> Callable[[float, float, float], float]:
         """theta_ddot(q, qd, t) on Python floats (``math`` module: the fast rhs)."""
+        f, vals, _ = self.qdd_scalar_parts()
+        return lambda q, qd, t: float(f(q, qd, t, *vals))
+
+    def qdd_scalar_parts(self) -> tuple[Callable, tuple[float, ...], bool]:
+        """(f, values, plain): theta_ddot = f(q, qd, t, *values), lambdified for the ``math`` module
+        (``plain`` True: on Python floats it gives a Python number, float or a constant int) or,
+        where ``math`` lacks a function, for numpy (``plain`` False: convert with ``float``).
+        For a right-hand side called hundreds of thousands of times without the wrapper of
+        :meth:`qdd_scalar_fn`."""
         try:
             f = self._fn("qdd", (self.q, self.qd, self.t), self.qdd_expression, "math")
             f(0.1, 0.2, 0.0, *self.values)
+            return f, self.values, True
         except (NameError, TypeError, AttributeError, KeyError, ZeroDivisionError, ValueError, OverflowError):
-            f = self._fn("qdd", (self.q, self.qd, self.t), self.qdd_expression, "numpy")
-        vals = self.values
-        return lambda q, qd, t: float(f(q, qd, t, *vals))
+            return self._fn("qdd", (self.q, self.qd, self.t), self.qdd_expression, "numpy"), self.values, False
 
     def linear_system_fn(self) -> Callable[[Any, Any, Any], tuple[np.ndarray, np.ndarray]]:
         """Vectorised (A, b) of the instantaneous linear system, shapes (..., n, n) and (..., n)."""
@@ -499,34 +507,13 @@ class OneDofSystem:
         vals = self.values
         last: dict = {}
 
+        eliminate = _eliminate3 if n == 3 else (lambda e: _eliminate(e, n))
+
         def solve(q, qd, t):
             key = (q, qd, t)
             if last.get("key") == key:
                 return last["out"]
-            e = [float(v) for v in f(q, qd, t, *vals)]
-            M = [e[i * n:(i + 1) * n] + [e[n * n + i]] for i in range(n)]
-            det = 1.0
-            for row in M:  # row scaling for a meaningful determinant
-                s = max(abs(x) for x in row[:n]) or 1.0
-                row[:] = [x / s for x in row]
-            for c in range(n):
-                p = max(range(c, n), key=lambda r: abs(M[r][c]))
-                if M[p][c] == 0.0:
-                    out = ([math.nan] * n, 0.0)
-                    last.update(key=key, out=out)
-                    return out
-                if p != c:
-                    M[c], M[p] = M[p], M[c]
-                    det = -det
-                det *= M[c][c]
-                for r in range(c + 1, n):
-                    k = M[r][c] / M[c][c]
-                    if k:
-                        M[r] = [x - k * y for x, y in zip(M[r], M[c])]
-            x = [0.0] * n
-            for r in range(n - 1, -1, -1):
-                x[r] = (M[r][n] - sum(M[r][j] * x[j] for j in range(r + 1, n))) / M[r][r]
-            out = (x, det)
+            out = eliminate([float(v) for v in f(q, qd, t, *vals)])
             last.update(key=key, out=out)
             return out
 
@@ -942,6 +929,83 @@ def _potential_difference(system: OneDofSystem) -> tuple[sp.Expr, sp.Expr | None
         return _difference(sp.Add(*[c * f for f, c in groups.items()]), system.q)
 
     return system._memo(("V difference", system._zero_parameters()), build)
+
+
+def _eliminate(e: list[float], n: int) -> tuple[list[float], float]:
+    """(x, det): A x = b by Gaussian elimination with partial pivoting on Python floats, A's rows
+    first scaled by their largest |entry| (det is the scaled A's); ``e`` holds A row by row, then b.
+    ([nan] * n, 0.0) when a pivot is 0. Pivots and scales are the first largest (as ``max``
+    chooses), and each sum starts from 0 (as ``sum`` does)."""
+    M = [e[i * n:(i + 1) * n] + [e[n * n + i]] for i in range(n)]
+    det = 1.0
+    for row in M:  # row scaling for a meaningful determinant
+        s = max(abs(x) for x in row[:n]) or 1.0
+        row[:] = [x / s for x in row]
+    for c in range(n):
+        p = max(range(c, n), key=lambda r: abs(M[r][c]))
+        if M[p][c] == 0.0:
+            return [math.nan] * n, 0.0
+        if p != c:
+            M[c], M[p] = M[p], M[c]
+            det = -det
+        det *= M[c][c]
+        for r in range(c + 1, n):
+            k = M[r][c] / M[c][c]
+            if k:
+                M[r] = [x - k * y for x, y in zip(M[r], M[c])]
+    x = [0.0] * n
+    for r in range(n - 1, -1, -1):
+        x[r] = (M[r][n] - sum(M[r][j] * x[j] for j in range(r + 1, n))) / M[r][r]
+    return x, det
+
+
+def _scaled_row(a: float, b: float, c: float, d: float) -> list[float]:
+    """[a, b, c, d] over the first largest of |a|, |b|, |c| (1 when they are all 0)."""
+    s = abs(a)
+    t = abs(b)
+    if t > s:
+        s = t
+    t = abs(c)
+    if t > s:
+        s = t
+    s = s or 1.0
+    return [a / s, b / s, c / s, d / s]
+
+
+def _eliminate3(e: list[float]) -> tuple[list[float], float]:
+    """:func:`_eliminate` for n = 3 written out: the same operations in the same order, so the
+    same numbers to the last bit, at about a third of the time (it runs in event functions, at
+    every step of an integration)."""
+    M = [_scaled_row(e[0], e[1], e[2], e[9]), _scaled_row(e[3], e[4], e[5], e[10]),
+         _scaled_row(e[6], e[7], e[8], e[11])]
+    det = 1.0
+    for c in (0, 1):
+        p, best = c, abs(M[c][c])
+        for r in range(c + 1, 3):
+            a = abs(M[r][c])
+            if a > best:
+                p, best = r, a
+        if M[p][c] == 0.0:
+            return [math.nan] * 3, 0.0
+        if p != c:
+            M[c], M[p] = M[p], M[c]
+            det = -det
+        P = M[c]
+        pivot = P[c]
+        det *= pivot
+        for r in range(c + 1, 3):
+            R = M[r]
+            k = R[c] / pivot
+            if k:
+                M[r] = [R[0] - k * P[0], R[1] - k * P[1], R[2] - k * P[2], R[3] - k * P[3]]
+    r0, r1, r2 = M
+    if r2[2] == 0.0:
+        return [math.nan] * 3, 0.0
+    det *= r2[2]
+    x2 = (r2[3] - 0) / r2[2]  # (0: the empty sum's int, as in _eliminate)
+    x1 = (r1[3] - sum([r1[2] * x2])) / r1[1]
+    x0 = (r0[3] - sum([r0[1] * x1, r0[2] * x2])) / r0[0]
+    return [x0, x1, x2], det
 
 
 def _scalar(system: OneDofSystem, key, args: tuple, expr: Callable[[], Any]) -> Callable:
@@ -1387,6 +1451,20 @@ def _float_sums(fns: _Compiled, ends: tuple[float, float], n: int, err_ends: flo
     return _SQRT2_PI * h * mean, _SQRT2_PI * h * mean_n, err + 2.0 * _EPS + err_ends, True
 
 
+@functools.lru_cache(maxsize=16)
+def _mp_nodes(n: int, dps: int) -> tuple:
+    """(sin u, sin(w)**2, cos(w)**2) at each of :func:`_mp_sum`'s 3n nodes, u = -pi/2 + pi (k + 1/2) / (3n),
+    w = pi/4 - u/2, in mpmath at ``dps`` digits: the same for every system and amplitude, so made
+    once (the same numbers, made at the same precision, as made at each call)."""
+    with mpmath.workdps(dps):
+        out = []
+        for k in range(3 * n):
+            u = -mpmath.pi / 2 + mpmath.pi * (k + mpmath.mpf(1) / 2) / (3 * n)
+            w = mpmath.pi / 4 - u / 2
+            out.append((mpmath.sin(u), mpmath.sin(w) ** 2, mpmath.cos(w) ** 2))
+        return tuple(out)
+
+
 def _mp_sum(system, q0, q1, n, dps=_MP_DPS):
     """The same midpoint sums (3n and n nodes) with V0 - V(q) and the nodes in mpmath at
     ``dps`` digits: (T, T_n, ok). ``q0`` is the release point (exact), ``q1`` the other
@@ -1403,12 +1481,10 @@ def _mp_sum(system, q0, q1, n, dps=_MP_DPS):
             pass
         qm, h = (mq0 + mq1) / 2, (mq0 - mq1) / 2
         total, coarse = mpmath.mpf(0), mpmath.mpf(0)
-        for k in range(3 * n):
-            u = -mpmath.pi / 2 + mpmath.pi * (k + mpmath.mpf(1) / 2) / (3 * n)
-            w = mpmath.pi / 4 - u / 2
-            d0 = 2 * h * mpmath.sin(w) ** 2
-            d1 = 2 * h * mpmath.cos(w) ** 2
-            q = qm + h * mpmath.sin(u)
+        for k, (sin_u, sin2_w, cos2_w) in enumerate(_mp_nodes(n, dps)):
+            d0 = 2 * h * sin2_w
+            d1 = 2 * h * cos2_w
+            q = qm + h * sin_u
             g = (V0 - Vmp(q)) / (d0 * d1)
             if not g > 0:
                 return math.nan, math.nan, False

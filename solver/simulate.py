@@ -342,19 +342,35 @@ def simulate(
     if y0 is None:
         y0 = (0.0, 0.0)
     q0, qd0 = float(y0[0]), float(y0[1])
-    rhs_qdd = system.qdd_scalar_fn()
+    qdd, vals, plain = system.qdd_scalar_parts()
     _check_periods(system, q0, float(t_end))
-    calls = [0]
+    calls = 0
 
-    def state_rate(t, y):
-        q, qd = y.tolist()  # Python floats: the math-module rhs runs faster on them than on numpy scalars
-        return (qd, rhs_qdd(q, qd, t))
+    # (the compiled theta_ddot called directly: a long run calls the rhs hundreds of thousands
+    # of times, and each wrapper around it cost about as much as the stepper's own work per call)
+    if plain:
+        def state_rate(t, y):
+            q, qd = y.tolist()  # Python floats: the math-module rhs runs faster on them than on numpy scalars
+            return (qd, qdd(q, qd, t, *vals))
 
-    def rhs(t, y):
-        calls[0] += 1
-        if calls[0] > MAX_RHS_EVALUATIONS:
-            raise _TooManySteps(float(t))
-        return state_rate(t, y)
+        def rhs(t, y):
+            nonlocal calls
+            calls += 1
+            if calls > MAX_RHS_EVALUATIONS:
+                raise _TooManySteps(float(t))
+            q, qd = y.tolist()
+            return (qd, qdd(q, qd, t, *vals))
+    else:
+        def state_rate(t, y):
+            q, qd = y.tolist()
+            return (qd, float(qdd(q, qd, t, *vals)))
+
+        def rhs(t, y):
+            nonlocal calls
+            calls += 1
+            if calls > MAX_RHS_EVALUATIONS:
+                raise _TooManySteps(float(t))
+            return state_rate(t, y)
 
     # event functions -------------------------------------------------------
     scalar_R = system.reaction_scalar_fns() if (events and system.reactions) else {}
@@ -468,33 +484,43 @@ class _LazyDenseOutput(DenseOutput):
     evaluation that fails there is reported as the integration's failures are (InputError,
     "integration failed"), not as a traceback."""
 
-    def __init__(self, solver: DOP853, fun: Callable, label: str):
+    def __init__(self, solver: DOP853, shared: tuple):
         super().__init__(solver.t_old, solver.t)
-        self._state = SimpleNamespace(
-            K_extended=solver.K_extended.copy(), h_previous=solver.h_previous, t_old=solver.t_old,
-            y_old=solver.y_old, y=solver.y, t=solver.t, f=solver.f, n=solver.n, n_stages=solver.n_stages,
-            A_EXTRA=solver.A_EXTRA, C_EXTRA=solver.C_EXTRA, D=solver.D,
-            fun=lambda t, y: np.asarray(fun(t, y), dtype=float))
-        self._label = label
+        # (this step's own numbers only: what every step of the run shares is in ``shared``, made
+        # once per run, and the namespace the interpolant is made from is built when asked for)
+        self._step = (solver.K_extended.copy(), solver.h_previous, solver.y_old, solver.y, solver.f)
+        self._shared = shared
         self._made = None
 
     def _call_impl(self, t):
         if self._made is None:
+            K, h, y_old, y, f = self._step
+            n, n_stages, a_extra, c_extra, d, fun, label = self._shared
+            state = SimpleNamespace(K_extended=K, h_previous=h, t_old=self.t_old, y_old=y_old, y=y,
+                                    t=self.t, f=f, n=n, n_stages=n_stages, A_EXTRA=a_extra,
+                                    C_EXTRA=c_extra, D=d, fun=fun)
             try:
                 with np.errstate(all="ignore"):
-                    self._made = DOP853._dense_output_impl(self._state)
+                    self._made = DOP853._dense_output_impl(state)
             except (ZeroDivisionError, ValueError, OverflowError) as exc:
-                raise InputError(f"{self._label}: integration failed: {exc}") from None
-            self._state = None
+                raise InputError(f"{label}: integration failed: {exc}") from None
+            self._step = None
         return self._made._call_impl(t)
 
 
 def _lazy_dop853(fun: Callable, label: str = "simulate") -> type:
     """scipy's DOP853, taking the same steps, with :class:`_LazyDenseOutput` interpolants."""
 
+    def as_array(t, y):
+        return np.asarray(fun(t, y), dtype=float)
+
     class LazyDOP853(DOP853):
+        _shared = None
+
         def _dense_output_impl(self):
-            return _LazyDenseOutput(self, fun, label)
+            if self._shared is None:
+                self._shared = (self.n, self.n_stages, self.A_EXTRA, self.C_EXTRA, self.D, as_array, label)
+            return _LazyDenseOutput(self, self._shared)
 
     return LazyDOP853
 

@@ -25,6 +25,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 from scipy.integrate import solve_ivp
+from scipy.integrate._ivp.rk import Dop853DenseOutput
 
 from ..errors import InputError, SingularConfigurationError
 from .instant import assemble
@@ -537,6 +538,17 @@ def _work_at(seg, t):
     return np.asarray(seg.dense(t)[2 * len(seg.ind):], float)
 
 
+def _works_at(seg, tk) -> np.ndarray:
+    """The friction work of every contact at the times ``tk`` of a segment: one row per time, as
+    :func:`_work_at` gives each. DOP853's interpolants are evaluated at all the times together
+    (their arithmetic is elementwise, so a time's numbers are those of a call at it alone); the
+    other methods' (a matrix product, which may round otherwise) one time at a time."""
+    n = len(tk)
+    if seg.dense is not None and all(isinstance(i, Dop853DenseOutput) for i in seg.dense.interpolants):
+        return np.asarray(seg.dense(tk), float)[2 * len(seg.ind):].T.reshape(n, -1)
+    return np.array([_work_at(seg, t) for t in tk]).reshape(n, -1)
+
+
 def _sample(base, segments, ts, status, reason, nfev):
     """Columns at the times ``ts``: coordinates, rates, accelerations, every reaction
     (a sliding contact's friction -s mu_k N, a separated contact's forces 0), each
@@ -580,7 +592,7 @@ def _sample(base, segments, ts, status, reason, nfev):
             else:
                 value = res[r.name] if r.name in res else 0.0
             cols.setdefault(r.name, []).extend(np.broadcast_to(value, (n,)))
-        work = np.array([_work_at(seg, t) for t in tk]).reshape(n, -1)
+        work = _works_at(seg, tk)
         kin = {c.name: c for c in seg.kin}
         for i, j in enumerate(base.contacts):
             if j.friction is None:
