@@ -3,10 +3,13 @@
 A scene loaded again (a command after another in one process, each test of a suite) gives
 structurally the same sympy expressions, and some functions of them cost most of a derivation:
 printing an expression into code (:func:`solver.strprint.lambdify`), Lagrange's equations
-(:mod:`solver.formulations.lagrange`) and division-free determinants
-(:func:`solver.derivation.berkowitz_det`). Each keeps its last results in a :class:`Kept`,
-keyed by values that compare structurally (sympy objects are equal only when they are the
-same tree), never by ``id()``. A function whose arguments are themselves the key
+(:mod:`solver.formulations.lagrange`), division-free determinants
+(:func:`solver.derivation.berkowitz_det`) and exact inverses
+(:mod:`solver.analyses.instant`); a worked solution's LaTeX and its choice of which words are
+maths (:mod:`solver.explain.render`), and a drawing's text measures
+(:mod:`solver.drawing.layout`), repeat in the same way. Each keeps its last results in a
+:class:`Kept`, keyed by values that compare structurally (sympy objects are equal only when
+they are the same tree), never by ``id()``. A function whose arguments are themselves the key
 (:func:`solver.model.system.derivative`) uses ``functools.lru_cache`` instead.
 """
 from __future__ import annotations

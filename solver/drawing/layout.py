@@ -15,6 +15,8 @@ import weakref
 from matplotlib import rc_context
 from matplotlib.layout_engine import LayoutEngine
 
+from ..kept import Kept
+
 __all__ = ["fix_layout", "MeasuredLayout", "measured_layout", "agg_renderer", "FontHeights", "font_key", "LAYOUT_PAD",
            "measure_as_vector", "vector_text_metrics"]
 
@@ -154,9 +156,9 @@ class _VectorTextSizes:
         return tuple(value * scale for value in vector_text_metrics(s, prop, ismath))
 
 
-_RASTER_SIZES: dict = {}
+_RASTER_SIZES = Kept(4096)
 """(text, font files, size, dpi, hinting, hinting and kerning factors, last-resort font) -> (width,
-height, descent) [pixels] (:class:`_RasterTextSizes`)."""
+height, descent) [pixels] (:class:`_RasterTextSizes`), the last 4096 kept."""
 
 
 class _RasterTextSizes:
@@ -184,10 +186,7 @@ class _RasterTextSizes:
         key = (s, tuple(fontManager._find_fonts_by_props(prop)), prop.get_size_in_points(), renderer.dpi,
                rcParams["text.hinting"], rcParams["text.hinting_factor"], rcParams["text.kerning_factor"],
                rcParams["font.enable_last_resort"])
-        sizes = _RASTER_SIZES.get(key)
-        if sizes is None:
-            sizes = _RASTER_SIZES[key] = self._measure(renderer, s, prop, ismath)
-        return sizes
+        return _RASTER_SIZES.get(key, lambda: self._measure(renderer, s, prop, ismath))
 
 
 _HEIGHT_TABLES = (("OS/2", "sTypoLineGap", "sTypoAscender", "sTypoDescender"), ("hhea", "lineGap", "ascent", "descent"))
