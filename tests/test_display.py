@@ -678,6 +678,35 @@ def test_expanded_is_sympys_expand():
         same(tree(3 if trial % 5 == 0 else 2))
 
 
+def test_sympys_expand_passes_make_sympys_tree():
+    """display._sympy_expand (expanded's fallback) makes only the passes of sympy.expand that can
+    change the tree and stops once the last pass is known to give it back: the same tree (srepr) as
+    sympy.expand, on random sums, products, quotients and powers of the nodes it is given (sums in
+    denominators, products of such, powers of sums and of products, Abs, sqrt, floats, sin of a
+    sum) and of nodes it must hand to sympy.expand whole (exp)."""
+    from solver.display import _sympy_expand
+
+    rng = random.Random(5)
+    pool = [phi, beta, g, m, s, c**-1, sp.Rational(3, 4), sp.Integer(-2), sp.Float(0.5), sp.Abs(phi - g),
+            1 / (g + m), sp.sqrt(g), sp.sin(phi + beta), (g * m) ** sp.Rational(1, 2), (g + m) ** -2]
+    for trial in range(100):
+        def tree(depth):
+            if depth == 0 or rng.random() < 0.25:
+                return rng.choice(pool + ([sp.exp(phi)] if trial % 10 == 0 else []))
+            kind = rng.randrange(5)
+            parts = [tree(depth - 1) for _ in range(rng.randint(2, 3))]
+            if kind == 0:
+                return sp.Add(*parts)
+            if kind == 1:
+                return sp.Mul(*parts)
+            if kind == 2:
+                return parts[0] / sp.Add(*parts[1:])
+            if kind == 3:
+                return sp.Pow(sp.Mul(*parts[:2]), rng.choice([2, -1, sp.Rational(1, 2)]))
+            return sp.Pow(sp.Add(*parts[:2]), rng.choice([2, -2, 3]))
+        e = tree(3 if trial % 3 == 0 else 2)
+        assert same_tree(_sympy_expand(e), sp.expand(e)), e
+
 def test_sums_of_angle_products_collapse_to_the_angle_difference():
     """sin(a)*sin(b) + cos(a)*cos(b) is shown as cos(a - b), sin(a)*cos(b) - sin(b)*cos(a) as sin(a - b)
     (the angle-addition formulas read backwards, QA 15 #7), common factors of the two terms allowed.
