@@ -343,34 +343,25 @@ def simulate(
         y0 = (0.0, 0.0)
     q0, qd0 = float(y0[0]), float(y0[1])
     qdd, vals, plain = system.qdd_scalar_parts()
+    if not plain:  # (numpy's lambdified function: its number as a Python float)
+        compiled = qdd
+        qdd = lambda q, qd, t, *v: float(compiled(q, qd, t, *v))  # noqa: E731
     _check_periods(system, q0, float(t_end))
     calls = 0
 
     # (the compiled theta_ddot called directly: a long run calls the rhs hundreds of thousands
     # of times, and each wrapper around it cost about as much as the stepper's own work per call)
-    if plain:
-        def state_rate(t, y):
-            q, qd = y.tolist()  # Python floats: the math-module rhs runs faster on them than on numpy scalars
-            return (qd, qdd(q, qd, t, *vals))
+    def state_rate(t, y):
+        q, qd = y.tolist()  # Python floats: the math-module rhs runs faster on them than on numpy scalars
+        return (qd, qdd(q, qd, t, *vals))
 
-        def rhs(t, y):
-            nonlocal calls
-            calls += 1
-            if calls > MAX_RHS_EVALUATIONS:
-                raise _TooManySteps(float(t))
-            q, qd = y.tolist()
-            return (qd, qdd(q, qd, t, *vals))
-    else:
-        def state_rate(t, y):
-            q, qd = y.tolist()
-            return (qd, float(qdd(q, qd, t, *vals)))
-
-        def rhs(t, y):
-            nonlocal calls
-            calls += 1
-            if calls > MAX_RHS_EVALUATIONS:
-                raise _TooManySteps(float(t))
-            return state_rate(t, y)
+    def rhs(t, y):
+        nonlocal calls
+        calls += 1
+        if calls > MAX_RHS_EVALUATIONS:
+            raise _TooManySteps(float(t))
+        q, qd = y.tolist()
+        return (qd, qdd(q, qd, t, *vals))
 
     # event functions -------------------------------------------------------
     scalar_R = system.reaction_scalar_fns() if (events and system.reactions) else {}

@@ -17,6 +17,7 @@ from __future__ import annotations
 import itertools
 import math
 from dataclasses import dataclass, field
+from functools import lru_cache
 from typing import Mapping
 
 import numpy as np
@@ -113,19 +114,14 @@ def solve_with_estimate(A: np.ndarray, b: np.ndarray):
     return x, cond
 
 
-_ESTIMATE_COLUMNS: dict[int, np.ndarray] = {}
-"""n -> :func:`_estimate_columns` (read-only, made once per size)."""
-
-
+@lru_cache(maxsize=64)
 def _estimate_columns(n: int) -> np.ndarray:
-    """The two fixed +/-1 right-hand sides z (n, 2) of :func:`solve_with_estimate`'s estimate."""
-    z = _ESTIMATE_COLUMNS.get(n)
-    if z is None:
-        z = np.ones((n, 2))
-        z[1::2, 0] = -1.0
-        z[: n // 2, 1] = -1.0
-        z.setflags(write=False)
-        _ESTIMATE_COLUMNS[n] = z
+    """The two fixed +/-1 right-hand sides z (n, 2) of :func:`solve_with_estimate`'s estimate
+    (read-only, made once per size)."""
+    z = np.ones((n, 2))
+    z[1::2, 0] = -1.0
+    z[: n // 2, 1] = -1.0
+    z.setflags(write=False)
     return z
 
 
